@@ -1,0 +1,110 @@
+"""shaders_map: Cycles node trees -> Rendezvous material descriptions.
+
+Pure Python, no bpy import: it works on bpy data and on stand-in objects alike.
+
+    desc = translate_material(material.node_tree, name=material.name)   # neutral IR
+    params, warning = convert_material(material, image_average=fn)      # engine params
+
+``convert_*`` return the engine's JSON parameters and ONE warning string (or None)
+naming every node that was approximated or is unsupported.
+"""
+
+from . import nodes  # noqa: F401  (fills the registries)
+from .graph import Context, find_output_node, find_socket, node_label
+from .ir import Const, Expr, Closure, to_dict
+from .issues import Issues
+from .lowering import lower_surface, lower_world, DEFAULT_SURFACE, ENGINE_TYPES
+from .registry import maps, evaluates, supported_nodes, HANDLERS
+
+__all__ = [
+    "translate_material", "translate_world", "convert_material", "convert_world",
+    "MaterialDescription", "WorldDescription", "maps", "evaluates", "supported_nodes",
+    "Const", "Expr", "Closure", "Issues", "DEFAULT_SURFACE", "ENGINE_TYPES",
+]
+
+
+class MaterialDescription:
+    """The engine-neutral description of one material's active Cycles output."""
+
+    def __init__(self, name):
+        self.name = name
+        self.surface = None
+        self.volume = None
+        self.displacement_linked = False
+        self.output_label = "Material Output"
+        self.issues = Issues()
+
+    def to_dict(self):
+        return {"name": self.name, "surface": to_dict(self.surface), "volume": to_dict(self.volume),
+                "displacement": self.displacement_linked,
+                "issues": {k: v for k, v in self.issues.items()}}
+
+
+class WorldDescription(MaterialDescription):
+    pass
+
+
+def _translate(tree, desc, output_ids):
+    if tree is None:
+        return desc
+    try:
+        out = find_output_node(tree, output_ids)
+    except Exception as exc:  # malformed tree
+        desc.issues.add("node tree", "could not be read (%s)" % exc)
+        return desc
+    if out is None:
+        return desc
+    ctx = Context(tree, desc.issues)
+    desc.output_label = ctx.label(out)
+    try:
+        desc.surface = ctx.closure(out, "Surface")
+        desc.volume = ctx.closure(out, "Volume")
+        if ctx.socket(out, "Displacement") is not None and ctx.is_linked(out, "Displacement"):
+            desc.displacement_linked = True
+    except Exception as exc:  # never let a strange tree stop the render
+        desc.issues.add(desc.output_label, "translation failed (%s: %s)" % (type(exc).__name__, exc))
+    return desc
+
+
+def translate_material(node_tree, name=""):
+    return _translate(node_tree, MaterialDescription(name), ("ShaderNodeOutputMaterial",))
+
+
+def translate_world(node_tree, name=""):
+    return _translate(node_tree, WorldDescription(name), ("ShaderNodeOutputWorld",))
+
+
+def _rgb(v, default):
+    try:
+        t = tuple(float(x) for x in v)
+        return list(t[:3])
+    except Exception:
+        return list(default)
+
+
+def convert_material(material, image_average=None):
+    """A bpy Material (or stand-in) -> (engine params, warning or None)."""
+    name = getattr(material, "name", "?")
+    if material is None:
+        return dict(DEFAULT_SURFACE), None
+    tree = getattr(material, "node_tree", None)
+    if not getattr(material, "use_nodes", False) or tree is None:
+        # Cycles: a material without nodes is a diffuse BSDF of its viewport colour.
+        return {"type": "diffuse", "color": _rgb(getattr(material, "diffuse_color", None),
+                                                 (0.8, 0.8, 0.8))}, None
+    desc = translate_material(tree, name)
+    params, issues = lower_surface(desc, image_average)
+    return params, issues.format("Material", name)
+
+
+def convert_world(world, image_average=None):
+    """A bpy World (or stand-in, or None) -> ({"color", "strength"}, warning or None)."""
+    if world is None:
+        return {"color": [0.0, 0.0, 0.0], "strength": 1.0}, None
+    name = getattr(world, "name", "?")
+    tree = getattr(world, "node_tree", None)
+    if not getattr(world, "use_nodes", False) or tree is None:
+        return {"color": _rgb(getattr(world, "color", None), (0.05, 0.05, 0.05)), "strength": 1.0}, None
+    desc = translate_world(tree, name)
+    params, issues = lower_world(desc, image_average)
+    return params, issues.format("World", name)

@@ -1,0 +1,115 @@
+"""BSDF nodes: Principled, Diffuse, Glossy/Anisotropic, Glass, Refraction,
+Transparent, Translucent, Velvet, Toon, Sheen (as closures with their inputs)."""
+
+from ..ir import Closure, Const
+from ..registry import maps
+
+# Principled inputs: our key -> socket identifiers/names, 3.x first, then 4.x.
+PRINCIPLED_INPUTS = {
+    "base_color": ("Base Color",),
+    "subsurface": ("Subsurface", "Subsurface Weight"),
+    "subsurface_radius": ("Subsurface Radius",),
+    "subsurface_color": ("Subsurface Color",),
+    "metallic": ("Metallic",),
+    "specular": ("Specular", "Specular IOR Level"),
+    "specular_tint": ("Specular Tint",),
+    "roughness": ("Roughness",),
+    "anisotropic": ("Anisotropic",),
+    "anisotropic_rotation": ("Anisotropic Rotation",),
+    "sheen": ("Sheen", "Sheen Weight"),
+    "sheen_tint": ("Sheen Tint",),
+    "clearcoat": ("Clearcoat", "Coat Weight", "Coat"),
+    "clearcoat_roughness": ("Clearcoat Roughness", "Coat Roughness"),
+    "ior": ("IOR",),
+    "transmission": ("Transmission", "Transmission Weight"),
+    "transmission_roughness": ("Transmission Roughness",),
+    "emission": ("Emission", "Emission Color"),
+    "emission_strength": ("Emission Strength",),
+    "alpha": ("Alpha",),
+    "normal": ("Normal",),
+    "clearcoat_normal": ("Clearcoat Normal", "Coat Normal"),
+}
+
+PRINCIPLED_DEFAULTS = {
+    "base_color": (0.8, 0.8, 0.8), "subsurface": 0.0, "subsurface_radius": (1.0, 0.2, 0.1),
+    "subsurface_color": (0.8, 0.8, 0.8), "metallic": 0.0, "specular": 0.5, "specular_tint": 0.0,
+    "roughness": 0.5, "anisotropic": 0.0, "anisotropic_rotation": 0.0, "sheen": 0.0,
+    "sheen_tint": 0.5, "clearcoat": 0.0, "clearcoat_roughness": 0.03, "ior": 1.45,
+    "transmission": 0.0, "transmission_roughness": 0.0, "emission": (0.0, 0.0, 0.0),
+    "emission_strength": 1.0, "alpha": 1.0, "normal": (0.0, 0.0, 0.0),
+    "clearcoat_normal": (0.0, 0.0, 0.0),
+}
+
+
+@maps("ShaderNodeBsdfPrincipled")
+def principled(ctx, node, socket):
+    params = {}
+    for key, names in PRINCIPLED_INPUTS.items():
+        if ctx.has_input(node, *names):
+            params[key] = ctx.input(node, *names)
+        elif key == "emission_strength" and ctx.has_input(node, "Emission", "Emission Color"):
+            params[key] = Const(1.0)
+        else:
+            params[key] = Const(PRINCIPLED_DEFAULTS[key])
+    props = {"distribution": getattr(node, "distribution", "GGX"),
+             "subsurface_method": getattr(node, "subsurface_method", "RANDOM_WALK")}
+    return Closure("principled", ctx.label(node), params, props=props)
+
+
+@maps("ShaderNodeBsdfDiffuse")
+def diffuse(ctx, node, socket):
+    return Closure("diffuse", ctx.label(node), {
+        "color": ctx.input(node, "Color", default=(0.8, 0.8, 0.8)),
+        "roughness": ctx.input(node, "Roughness", default=0.0),
+        "normal": ctx.input(node, "Normal", default=(0.0, 0.0, 0.0)),
+    })
+
+
+@maps("ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic")
+def glossy(ctx, node, socket):
+    params = {
+        "color": ctx.input(node, "Color", default=(0.8, 0.8, 0.8)),
+        "roughness": ctx.input(node, "Roughness", default=0.5),
+        "normal": ctx.input(node, "Normal", default=(0.0, 0.0, 0.0)),
+    }
+    # 4.x merged Anisotropic into Glossy: the sockets exist on both there.
+    if ctx.has_input(node, "Anisotropy"):
+        params["anisotropy"] = ctx.input(node, "Anisotropy")
+        params["rotation"] = ctx.input(node, "Rotation")
+    kind = "anisotropic" if getattr(node, "bl_idname", "") == "ShaderNodeBsdfAnisotropic" else "glossy"
+    return Closure(kind, ctx.label(node), params,
+                   props={"distribution": getattr(node, "distribution", "GGX")})
+
+
+@maps("ShaderNodeBsdfGlass", "ShaderNodeBsdfRefraction")
+def glass(ctx, node, socket):
+    kind = "glass" if getattr(node, "bl_idname", "") == "ShaderNodeBsdfGlass" else "refraction"
+    return Closure(kind, ctx.label(node), {
+        "color": ctx.input(node, "Color", default=(1.0, 1.0, 1.0)),
+        "roughness": ctx.input(node, "Roughness", default=0.0),
+        "ior": ctx.input(node, "IOR", default=1.45),
+        "normal": ctx.input(node, "Normal", default=(0.0, 0.0, 0.0)),
+    }, props={"distribution": getattr(node, "distribution", "BECKMANN")})
+
+
+@maps("ShaderNodeBsdfTransparent")
+def transparent(ctx, node, socket):
+    return Closure("transparent", ctx.label(node),
+                   {"color": ctx.input(node, "Color", default=(1.0, 1.0, 1.0))})
+
+
+@maps("ShaderNodeBsdfTranslucent")
+def translucent(ctx, node, socket):
+    return Closure("translucent", ctx.label(node), {
+        "color": ctx.input(node, "Color", default=(0.8, 0.8, 0.8)),
+        "normal": ctx.input(node, "Normal", default=(0.0, 0.0, 0.0)),
+    })
+
+
+@maps("ShaderNodeBsdfVelvet", "ShaderNodeBsdfSheen", "ShaderNodeBsdfToon",
+      "ShaderNodeSubsurfaceScattering", "ShaderNodeBsdfHair", "ShaderNodeBsdfHairPrincipled")
+def other_bsdf(ctx, node, socket):
+    """BSDFs with no neutral model yet: kept by name so lowering can fall back and warn."""
+    color = ctx.input(node, "Color", "Base Color", default=(0.8, 0.8, 0.8))
+    return Closure("unsupported", ctx.label(node), {"color": color},
+                   props={"bl_idname": getattr(node, "bl_idname", "?")})

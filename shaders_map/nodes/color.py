@@ -1,0 +1,270 @@
+"""Colour nodes: Mix RGB (legacy and 3.4+ Mix), Invert, Color Ramp, Gamma,
+Bright/Contrast, Hue/Saturation, Separate/Combine colour, RGB to BW."""
+
+from ..ir import Expr, Const
+from ..registry import maps, evaluates
+from ..graph import to_float
+
+
+def _clamp01(x):
+    return 0.0 if x < 0.0 else 1.0 if x > 1.0 else x
+
+
+@maps("ShaderNodeMixRGB")
+def mix_rgb(ctx, node, socket):
+    return Expr("mix_color", ctx.label(node), {
+        "fac": ctx.input(node, "Fac", default=0.5),
+        "a": ctx.input(node, "Color1", default=(0.5, 0.5, 0.5)),
+        "b": ctx.input(node, "Color2", default=(0.5, 0.5, 0.5)),
+    }, {"blend_type": getattr(node, "blend_type", "MIX"),
+        "clamp_result": getattr(node, "use_clamp", False), "clamp_factor": True})
+
+
+@maps("ShaderNodeMix")
+def mix(ctx, node, socket):
+    dtype = getattr(node, "data_type", "FLOAT")
+    suffix = {"FLOAT": "Float", "VECTOR": "Vector", "RGBA": "Color"}.get(dtype, "Float")
+    non_uniform = dtype == "VECTOR" and getattr(node, "factor_mode", "UNIFORM") == "NON_UNIFORM"
+    fac = ctx.input(node, "Factor_Vector" if non_uniform else "Factor_Float", "Factor", default=0.5)
+    a = ctx.input(node, "A_" + suffix, default=0.0)
+    b = ctx.input(node, "B_" + suffix, default=0.0)
+    props = {"clamp_factor": getattr(node, "clamp_factor", True),
+             "clamp_result": getattr(node, "clamp_result", False)}
+    if dtype == "RGBA":
+        props["blend_type"] = getattr(node, "blend_type", "MIX")
+        return Expr("mix_color", ctx.label(node), {"fac": fac, "a": a, "b": b}, props)
+    props["data_type"] = dtype
+    return Expr("mix_value", ctx.label(node), {"fac": fac, "a": a, "b": b}, props)
+
+
+@evaluates("mix_value")
+def eval_mix_value(ev, e):
+    fac = ev.value(e.args["fac"])
+    a, b = ev.value(e.args["a"]), ev.value(e.args["b"])
+    if e.props.get("data_type") == "FLOAT":
+        f = ev.float(e.args["fac"])
+        if e.props.get("clamp_factor", True):
+            f = _clamp01(f)
+        return float((1 - f) * _f(a) + f * _f(b))
+    av, bv = _v(a), _v(b)
+    fv = _v(fac)
+    if e.props.get("clamp_factor", True):
+        fv = tuple(_clamp01(x) for x in fv)
+    return tuple((1 - f) * x + f * y for f, x, y in zip(fv, av, bv))
+
+
+def _f(v):
+    return v if isinstance(v, float) else to_float(v)
+
+
+def _v(v):
+    return (v, v, v) if isinstance(v, float) else tuple(v)
+
+
+def _blend(kind, t, a, b):
+    """Blender's ramp_blend (per channel where it can be)."""
+    tm = 1.0 - t
+    if kind == "MIX":
+        return tuple(tm * x + t * y for x, y in zip(a, b))
+    if kind == "ADD":
+        return tuple(x + t * y for x, y in zip(a, b))
+    if kind == "MULTIPLY":
+        return tuple(x * (tm + t * y) for x, y in zip(a, b))
+    if kind == "SUBTRACT":
+        return tuple(x - t * y for x, y in zip(a, b))
+    if kind == "SCREEN":
+        return tuple(1.0 - (tm + t * (1.0 - y)) * (1.0 - x) for x, y in zip(a, b))
+    if kind == "DIVIDE":
+        return tuple(tm * x + t * x / y if y != 0.0 else x for x, y in zip(a, b))
+    if kind == "DIFFERENCE":
+        return tuple(tm * x + t * abs(x - y) for x, y in zip(a, b))
+    if kind == "DARKEN":
+        return tuple(tm * x + t * min(x, y) for x, y in zip(a, b))
+    if kind == "LIGHTEN":
+        return tuple(tm * x + t * max(x, y) for x, y in zip(a, b))
+    if kind == "OVERLAY":
+        return tuple(x * (tm + 2.0 * t * y) if x < 0.5 else 1.0 - (tm + 2.0 * t * (1.0 - y)) * (1.0 - x)
+                     for x, y in zip(a, b))
+    if kind == "DODGE":
+        out = []
+        for x, y in zip(a, b):
+            if x != 0.0:
+                tmp = 1.0 - t * y
+                out.append(1.0 if tmp <= 0.0 else min(x / tmp, 1.0))
+            else:
+                out.append(x)
+        return tuple(out)
+    if kind == "BURN":
+        out = []
+        for x, y in zip(a, b):
+            tmp = tm + t * y
+            out.append(0.0 if tmp <= 0.0 else _clamp01(1.0 - (1.0 - x) / tmp))
+        return tuple(out)
+    if kind == "SOFT_LIGHT":
+        out = []
+        for x, y in zip(a, b):
+            scr = 1.0 - (1.0 - y) * (1.0 - x)
+            out.append(tm * x + t * ((1.0 - x) * y * x + x * scr))
+        return tuple(out)
+    if kind == "LINEAR_LIGHT":
+        return tuple(x + t * (2.0 * (y - 0.5)) if y > 0.5 else x + t * (2.0 * y - 1.0) for x, y in zip(a, b))
+    return None  # HUE, SATURATION, VALUE, COLOR
+
+
+@evaluates("mix_color")
+def eval_mix_color(ev, e):
+    t = ev.float(e.args["fac"])
+    if e.props.get("clamp_factor", True):
+        t = _clamp01(t)
+    a, b = ev.color(e.args["a"]), ev.color(e.args["b"])
+    kind = e.props.get("blend_type", "MIX")
+    out = _blend(kind, t, a, b)
+    if out is None:
+        ev.approx(e, "blend mode %s approximated by MIX" % kind)
+        out = _blend("MIX", t, a, b)
+    if e.props.get("clamp_result"):
+        out = tuple(_clamp01(x) for x in out)
+    return out
+
+
+@maps("ShaderNodeInvert")
+def invert(ctx, node, socket):
+    return Expr("invert", ctx.label(node), {
+        "fac": ctx.input(node, "Fac", default=1.0),
+        "color": ctx.input(node, "Color", default=(0.0, 0.0, 0.0))})
+
+
+@evaluates("invert")
+def eval_invert(ev, e):
+    f = ev.float(e.args["fac"])
+    c = ev.color(e.args["color"])
+    return tuple((1.0 - f) * x + f * (1.0 - x) for x in c)
+
+
+@maps("ShaderNodeValToRGB")
+def color_ramp(ctx, node, socket):
+    ramp = getattr(node, "color_ramp", None)
+    elements = []
+    for el in list(getattr(ramp, "elements", ()) or ()):
+        col = tuple(float(x) for x in el.color)
+        elements.append((float(el.position), col[:3], col[3] if len(col) > 3 else 1.0))
+    elements.sort(key=lambda x: x[0])
+    return Expr("color_ramp", ctx.label(node), {"fac": ctx.input(node, "Fac", default=0.5)}, {
+        "elements": elements,
+        "interpolation": getattr(ramp, "interpolation", "LINEAR"),
+        "color_mode": getattr(ramp, "color_mode", "RGB"),
+        "output": getattr(socket, "identifier", "Color")})
+
+
+@evaluates("color_ramp")
+def eval_color_ramp(ev, e):
+    els = e.props.get("elements") or []
+    alpha_out = e.props.get("output") == "Alpha"
+    if not els:
+        return 0.0 if alpha_out else (0.0, 0.0, 0.0)
+    t = ev.float(e.args["fac"])
+    interp = e.props.get("interpolation", "LINEAR")
+    if interp not in ("LINEAR", "CONSTANT", "EASE"):
+        ev.approx(e, "%s interpolation approximated as linear" % interp)
+    if e.props.get("color_mode", "RGB") != "RGB":
+        ev.approx(e, "%s colour mode approximated as RGB" % e.props.get("color_mode"))
+    if t <= els[0][0]:
+        rgb, a = els[0][1], els[0][2]
+    elif t >= els[-1][0]:
+        rgb, a = els[-1][1], els[-1][2]
+    else:
+        rgb, a = els[-1][1], els[-1][2]
+        for (p0, c0, a0), (p1, c1, a1) in zip(els, els[1:]):
+            if p0 <= t <= p1:
+                if interp == "CONSTANT":
+                    rgb, a = c0, a0
+                    break
+                f = (t - p0) / (p1 - p0) if p1 > p0 else 0.0
+                if interp == "EASE":
+                    f = f * f * (3.0 - 2.0 * f)
+                rgb = tuple((1 - f) * x + f * y for x, y in zip(c0, c1))
+                a = (1 - f) * a0 + f * a1
+                break
+    return float(a) if alpha_out else tuple(rgb)
+
+
+@maps("ShaderNodeGamma")
+def gamma(ctx, node, socket):
+    return Expr("gamma", ctx.label(node), {"color": ctx.input(node, "Color", default=(1, 1, 1)),
+                                           "gamma": ctx.input(node, "Gamma", default=1.0)})
+
+
+@evaluates("gamma")
+def eval_gamma(ev, e):
+    g = ev.float(e.args["gamma"])
+    return tuple(x ** g if x > 0.0 else x for x in ev.color(e.args["color"]))
+
+
+@maps("ShaderNodeBrightContrast")
+def bright_contrast(ctx, node, socket):
+    return Expr("bright_contrast", ctx.label(node), {
+        "color": ctx.input(node, "Color", default=(1, 1, 1)),
+        "bright": ctx.input(node, "Bright", default=0.0),
+        "contrast": ctx.input(node, "Contrast", default=0.0)})
+
+
+@evaluates("bright_contrast")
+def eval_bright_contrast(ev, e):
+    bright, contrast = ev.float(e.args["bright"]), ev.float(e.args["contrast"])
+    a = 1.0 + contrast
+    b = bright - contrast * 0.5
+    return tuple(max(a * x + b, 0.0) for x in ev.color(e.args["color"]))
+
+
+@maps("ShaderNodeHueSaturation")
+def hue_saturation(ctx, node, socket):
+    return Expr("hue_saturation", ctx.label(node), {
+        "color": ctx.input(node, "Color", default=(0.8, 0.8, 0.8)),
+        "fac": ctx.input(node, "Fac", default=1.0)})
+
+
+@evaluates("hue_saturation")
+def eval_hue_saturation(ev, e):
+    ev.approx(e, "hue/saturation adjustment ignored")
+    return ev.color(e.args["color"])
+
+
+@maps("ShaderNodeSeparateColor", "ShaderNodeSeparateRGB", "ShaderNodeSeparateXYZ")
+def separate(ctx, node, socket):
+    ident = getattr(socket, "identifier", "Red")
+    index = {"Red": 0, "R": 0, "X": 0, "Green": 1, "G": 1, "Y": 1, "Blue": 2, "B": 2, "Z": 2}.get(ident, 0)
+    mode = getattr(node, "mode", "RGB")
+    src = ctx.input(node, "Color", "Image", "Vector", default=(0, 0, 0))
+    if mode != "RGB":
+        ctx.warn(node, "%s mode approximated as RGB" % mode)
+    return Expr("separate", ctx.label(node), {"value": src}, {"index": index})
+
+
+@evaluates("separate")
+def eval_separate(ev, e):
+    return float(ev.color(e.args["value"])[e.props["index"]])
+
+
+@maps("ShaderNodeCombineColor", "ShaderNodeCombineRGB", "ShaderNodeCombineXYZ")
+def combine(ctx, node, socket):
+    mode = getattr(node, "mode", "RGB")
+    if mode != "RGB":
+        ctx.warn(node, "%s mode approximated as RGB" % mode)
+    return Expr("combine", ctx.label(node), {
+        "x": ctx.input(node, "Red", "R", "X", default=0.0),
+        "y": ctx.input(node, "Green", "G", "Y", default=0.0),
+        "z": ctx.input(node, "Blue", "B", "Z", default=0.0)})
+
+
+@evaluates("combine")
+def eval_combine(ev, e):
+    return (ev.float(e.args["x"]), ev.float(e.args["y"]), ev.float(e.args["z"]))
+
+
+@maps("ShaderNodeRGBToBW")
+def rgb_to_bw(ctx, node, socket):
+    return Expr("to_float", ctx.label(node), {"value": ctx.input(node, "Color", default=(0.5, 0.5, 0.5))},
+                {"from": "RGBA"})
+
+
+__all__ = ["Const"]

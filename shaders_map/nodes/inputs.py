@@ -1,0 +1,41 @@
+"""Input nodes: RGB, Value, Vertex Color (Color Attribute), Attribute."""
+
+from ..ir import Const, Expr
+from ..registry import maps, evaluates
+from ..graph import socket_value
+
+
+@maps("ShaderNodeRGB")
+def rgb(ctx, node, socket):
+    outs = list(getattr(node, "outputs", ()))
+    return Const(socket_value(outs[0]) if outs else (0.5, 0.5, 0.5))
+
+
+@maps("ShaderNodeValue")
+def value(ctx, node, socket):
+    outs = list(getattr(node, "outputs", ()))
+    return Const(socket_value(outs[0]) if outs else 0.0)
+
+
+@maps("ShaderNodeVertexColor")
+def vertex_color(ctx, node, socket):
+    return Expr("vertex_color", ctx.label(node), {}, {
+        "layer_name": getattr(node, "layer_name", ""),
+        "output": getattr(socket, "identifier", "Color")})
+
+
+@maps("ShaderNodeAttribute")
+def attribute(ctx, node, socket):
+    return Expr("attribute", ctx.label(node), {}, {
+        "attribute_name": getattr(node, "attribute_name", ""),
+        "attribute_type": getattr(node, "attribute_type", "GEOMETRY"),
+        "output": getattr(socket, "identifier", "Color")})
+
+
+@evaluates("vertex_color", "attribute")
+def eval_attribute(ev, e):
+    ev.approx(e, "per-vertex colour/attribute approximated by white")
+    out = e.props.get("output", "Color")
+    if out in ("Fac", "Alpha"):
+        return 1.0
+    return (1.0, 1.0, 1.0)

@@ -1,0 +1,102 @@
+"""Vector nodes: Texture Coordinate, UV Map, Mapping, Normal Map, Bump."""
+
+import math
+
+from ..ir import Expr
+from ..registry import maps, evaluates
+
+
+@maps("ShaderNodeTexCoord")
+def texcoord(ctx, node, socket):
+    obj = getattr(node, "object", None)
+    return Expr("texcoord", ctx.label(node), {}, {
+        "output": getattr(socket, "identifier", "Generated"),
+        "object": getattr(obj, "name", None),
+        "from_instancer": getattr(node, "from_instancer", False)})
+
+
+@maps("ShaderNodeUVMap")
+def uvmap(ctx, node, socket):
+    return Expr("uvmap", ctx.label(node), {}, {
+        "uv_map": getattr(node, "uv_map", ""),
+        "from_instancer": getattr(node, "from_instancer", False)})
+
+
+@evaluates("texcoord", "uvmap")
+def eval_coords(ev, e):
+    ev.approx(e, "texture coordinates vary over the surface")
+    return (0.0, 0.0, 0.0)
+
+
+@maps("ShaderNodeMapping")
+def mapping(ctx, node, socket):
+    vtype = getattr(node, "vector_type", "POINT")
+    return Expr("mapping", ctx.label(node), {
+        "vector": ctx.input(node, "Vector", default=(0, 0, 0)),
+        "location": ctx.input(node, "Location", default=(0, 0, 0)),
+        "rotation": ctx.input(node, "Rotation", default=(0, 0, 0)),
+        "scale": ctx.input(node, "Scale", default=(1, 1, 1)),
+    }, {"vector_type": vtype})
+
+
+def _euler_xyz(r):
+    cx, cy, cz = math.cos(r[0]), math.cos(r[1]), math.cos(r[2])
+    sx, sy, sz = math.sin(r[0]), math.sin(r[1]), math.sin(r[2])
+    # R = Rz * Ry * Rx (Blender's XYZ Euler)
+    return (
+        (cy * cz, sx * sy * cz - cx * sz, cx * sy * cz + sx * sz),
+        (cy * sz, sx * sy * sz + cx * cz, cx * sy * sz - sx * cz),
+        (-sy, sx * cy, cx * cy),
+    )
+
+
+def _mul(m, v):
+    return tuple(m[i][0] * v[0] + m[i][1] * v[1] + m[i][2] * v[2] for i in range(3))
+
+
+def _mul_t(m, v):
+    return tuple(m[0][i] * v[0] + m[1][i] * v[1] + m[2][i] * v[2] for i in range(3))
+
+
+@evaluates("mapping")
+def eval_mapping(ev, e):
+    v = ev.color(e.args["vector"])
+    loc = ev.color(e.args["location"])
+    rot = _euler_xyz(ev.color(e.args["rotation"]))
+    s = ev.color(e.args["scale"])
+    t = e.props.get("vector_type", "POINT")
+    if t == "POINT":
+        return tuple(a + b for a, b in zip(_mul(rot, tuple(x * y for x, y in zip(v, s))), loc))
+    if t == "TEXTURE":
+        d = _mul_t(rot, tuple(a - b for a, b in zip(v, loc)))
+        return tuple(x / y if y != 0.0 else 0.0 for x, y in zip(d, s))
+    if t == "VECTOR":
+        return _mul(rot, tuple(x * y for x, y in zip(v, s)))
+    # NORMAL
+    n = _mul(rot, tuple(x / y if y != 0.0 else 0.0 for x, y in zip(v, s)))
+    length = math.sqrt(sum(x * x for x in n))
+    return tuple(x / length for x in n) if length > 0 else n
+
+
+@maps("ShaderNodeNormalMap")
+def normal_map(ctx, node, socket):
+    return Expr("normal_map", ctx.label(node), {
+        "strength": ctx.input(node, "Strength", default=1.0),
+        "color": ctx.input(node, "Color", default=(0.5, 0.5, 1.0)),
+    }, {"space": getattr(node, "space", "TANGENT"), "uv_map": getattr(node, "uv_map", "")})
+
+
+@maps("ShaderNodeBump")
+def bump(ctx, node, socket):
+    return Expr("bump", ctx.label(node), {
+        "strength": ctx.input(node, "Strength", default=1.0),
+        "distance": ctx.input(node, "Distance", default=1.0),
+        "height": ctx.input(node, "Height", default=1.0),
+        "normal": ctx.input(node, "Normal", default=(0, 0, 0)),
+    }, {"invert": getattr(node, "invert", False)})
+
+
+@evaluates("normal_map", "bump")
+def eval_normal(ev, e):
+    ev.approx(e, "normal perturbation ignored")
+    return (0.0, 0.0, 0.0)

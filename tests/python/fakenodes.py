@@ -1,0 +1,180 @@
+"""Stand-in node trees with the attributes shaders_map reads from bpy."""
+
+from node_specs import SPECS
+
+# Nodes the dump did not cover (layout of Blender 3.4.1).
+EXTRA_SPECS = {
+    "ShaderNodeOutputMaterial": ([("Surface", "Surface", "SHADER", None), ("Volume", "Volume", "SHADER", None),
+                                  ("Displacement", "Displacement", "VECTOR", (0.0, 0.0, 0.0)),
+                                  ("Thickness", "Thickness", "VALUE", 0.0)], []),
+    "ShaderNodeTexWave": ([("Vector", "Vector", "VECTOR", (0.0, 0.0, 0.0)), ("Scale", "Scale", "VALUE", 5.0)],
+                          [("Color", "Color", "RGBA", (0.0, 0.0, 0.0, 0.0)), ("Fac", "Fac", "VALUE", 0.0)]),
+    "ShaderNodeFancyUnknownBsdf": ([("Color", "Color", "RGBA", (0.3, 0.6, 0.9, 1.0))],
+                                   [("BSDF", "BSDF", "SHADER", None)]),
+}
+
+
+class Socket:
+    def __init__(self, node, identifier, name, type_, default, is_output):
+        self.node = node
+        self.identifier = identifier
+        self.name = name
+        self.type = type_
+        self.enabled = True
+        self.is_output = is_output
+        if isinstance(default, tuple):
+            default = list(default)
+        self.default_value = default
+
+    def __repr__(self):
+        return "<Socket %s.%s>" % (self.node.name, self.identifier)
+
+
+class InternalLink:
+    def __init__(self, from_socket, to_socket):
+        self.from_socket = from_socket
+        self.to_socket = to_socket
+
+
+class Link:
+    def __init__(self, from_socket, to_socket):
+        self.from_socket = from_socket
+        self.to_socket = to_socket
+        self.from_node = from_socket.node
+        self.to_node = to_socket.node
+        self.is_muted = False
+        self.is_valid = True
+
+
+class Element:
+    def __init__(self, position, color):
+        self.position = position
+        self.color = list(color)
+
+
+class Ramp:
+    def __init__(self, elements, interpolation="LINEAR"):
+        self.elements = [Element(p, c) for p, c in elements]
+        self.interpolation = interpolation
+        self.color_mode = "RGB"
+
+
+class Node:
+    def __init__(self, tree, bl_idname, name, inputs, outputs):
+        self.tree = tree
+        self.bl_idname = bl_idname
+        self.name = name
+        self.mute = False
+        self.inputs = [Socket(self, *s, is_output=False) for s in inputs]
+        self.outputs = [Socket(self, *s, is_output=True) for s in outputs]
+        self.internal_links = []
+
+    def set(self, **props):
+        for k, v in props.items():
+            setattr(self, k, v)
+        return self
+
+    def inp(self, ident):
+        for s in self.inputs:
+            if s.identifier == ident:
+                return s
+        for s in self.inputs:
+            if s.name == ident:
+                return s
+        raise KeyError(ident)
+
+    def out(self, ident=None):
+        if ident is None:
+            return self.outputs[0]
+        for s in self.outputs:
+            if s.identifier == ident or s.name == ident:
+                return s
+        raise KeyError(ident)
+
+    def mute_with_passthrough(self):
+        """Mute like Blender: the first input of the output's type passes through."""
+        self.mute = True
+        self.internal_links = []
+        for o in self.outputs:
+            for i in self.inputs:
+                if i.type == o.type or (o.type in ("RGBA", "VECTOR") and i.type in ("RGBA", "VECTOR")):
+                    self.internal_links.append(InternalLink(i, o))
+                    break
+        return self
+
+
+class Tree:
+    def __init__(self, name="tree"):
+        self.name = name
+        self.nodes = []
+        self.links = []
+
+    def new(self, bl_idname, name=None, **props):
+        spec = SPECS.get(bl_idname) or EXTRA_SPECS.get(bl_idname)
+        if spec is None:
+            raise KeyError(bl_idname)
+        inputs, outputs = spec
+        n = Node(self, bl_idname, name or bl_idname, inputs, outputs)
+        if bl_idname.startswith("ShaderNodeOutput"):
+            n.is_active_output = True
+            n.target = "ALL"
+        n.set(**props)
+        self.nodes.append(n)
+        return n
+
+    def link(self, from_socket, to_socket):
+        link = Link(from_socket, to_socket)
+        self.links.append(link)
+        return link
+
+    def output(self):
+        return self.new("ShaderNodeOutputMaterial", "Material Output")
+
+    def group_node(self, inner, name="Group"):
+        """A group node whose sockets mirror the inner tree's Group Input/Output."""
+        gin = next((n for n in inner.nodes if n.bl_idname == "NodeGroupInput"), None)
+        gout = next((n for n in inner.nodes if n.bl_idname == "NodeGroupOutput"), None)
+        ins = [(s.identifier, s.name, s.type, s.default_value) for s in (gin.outputs if gin else [])]
+        outs = [(s.identifier, s.name, s.type, None) for s in (gout.inputs if gout else [])]
+        n = Node(self, "ShaderNodeGroup", name, ins, outs)
+        n.node_tree = inner
+        self.nodes.append(n)
+        return n
+
+
+def group_tree(name, inputs, outputs):
+    """inputs/outputs: [(identifier, name, type, default)]; returns (tree, gin, gout)."""
+    t = Tree(name)
+    gin = Node(t, "NodeGroupInput", "Group Input", [], inputs)
+    gout = Node(t, "NodeGroupOutput", "Group Output", [(i, n, ty, d) for i, n, ty, d in outputs], [])
+    gout.is_active_output = True
+    t.nodes += [gin, gout]
+    return t, gin, gout
+
+
+class Material:
+    def __init__(self, name, tree=None, use_nodes=True, diffuse_color=(0.8, 0.8, 0.8, 1.0)):
+        self.name = name
+        self.node_tree = tree
+        self.use_nodes = use_nodes
+        self.diffuse_color = list(diffuse_color)
+
+
+class World:
+    def __init__(self, name, tree=None, use_nodes=True, color=(0.05, 0.05, 0.05)):
+        self.name = name
+        self.node_tree = tree
+        self.use_nodes = use_nodes
+        self.color = list(color)
+
+
+class Image:
+    def __init__(self, name, filepath="//tex.png", average=((0.25, 0.5, 0.75), 1.0), missing=False):
+        self.name = name
+        self.filepath = filepath
+        self.average = average
+        self.missing = missing
+
+
+def image_average(image):
+    return "missing" if image.missing else image.average

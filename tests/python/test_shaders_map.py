@@ -1,0 +1,667 @@
+"""shaders_map with stand-in nodes: run with `python3 -m unittest discover -s tests/python`
+(from the repository root; the repository root must be importable)."""
+
+import os
+import sys
+import time
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, HERE)
+sys.path.insert(0, ROOT)
+
+import shaders_map as sm  # noqa: E402
+from fakenodes import Tree, Material, World, Image, Ramp, group_tree, image_average  # noqa: E402
+
+
+def material_with(build, name="M", image_average_fn=image_average):
+    """build(tree) returns the socket to plug into the output's Surface."""
+    t = Tree(name)
+    out = t.output()
+    sock = build(t)
+    if sock is not None:
+        t.link(sock, out.inp("Surface"))
+    return sm.convert_material(Material(name, t), image_average=image_average_fn)
+
+
+def close(a, b, tol=1e-5):
+    if isinstance(a, (int, float)):
+        return abs(a - b) <= tol
+    return all(abs(x - y) <= tol for x, y in zip(a, b)) and len(a) == len(b)
+
+
+class TestBsdfs(unittest.TestCase):
+    def test_diffuse_exact(self):
+        p, w = material_with(lambda t: t.new("ShaderNodeBsdfDiffuse", "D").set().out()
+                             if False else _diffuse(t, (0.2, 0.4, 0.6)).out())
+        self.assertEqual(p["type"], "diffuse")
+        self.assertTrue(close(p["color"], (0.2, 0.4, 0.6)))
+        self.assertIsNone(w)
+
+    def test_diffuse_roughness_warns(self):
+        def b(t):
+            d = _diffuse(t, (0.5, 0.5, 0.5))
+            d.inp("Roughness").default_value = 0.5
+            return d.out()
+        p, w = material_with(b)
+        self.assertEqual(p["type"], "diffuse")
+        self.assertIn("Oren-Nayar", w)
+
+    def test_glossy(self):
+        def b(t):
+            g = t.new("ShaderNodeBsdfGlossy", "Shiny", distribution="GGX")
+            g.inp("Color").default_value = [0.9, 0.8, 0.7, 1.0]
+            g.inp("Roughness").default_value = 0.3
+            return g.out()
+        p, w = material_with(b)
+        self.assertEqual(p, {"type": "glossy", "color": p["color"], "roughness": p["roughness"]})
+        self.assertTrue(close(p["color"], (0.9, 0.8, 0.7)))
+        self.assertTrue(close(p["roughness"], 0.3))
+        self.assertIsNone(w)
+
+    def test_glossy_beckmann_warns(self):
+        p, w = material_with(lambda t: t.new("ShaderNodeBsdfGlossy", "B", distribution="BECKMANN").out())
+        self.assertEqual(p["type"], "glossy")
+        self.assertIn("Glossy BSDF 'B'", w)
+        self.assertIn("BECKMANN", w)
+
+    def test_anisotropic(self):
+        def b(t):
+            a = t.new("ShaderNodeBsdfAnisotropic", "Aniso", distribution="GGX")
+            return a.out()
+        p, w = material_with(b)
+        self.assertEqual(p["type"], "glossy")
+        self.assertIn("Anisotropic BSDF 'Aniso'", w)
+        self.assertIn("anisotropy ignored", w)
+
+    def test_fallbacks_name_the_node(self):
+        for idname, label in (("ShaderNodeBsdfGlass", "Glass BSDF"), ("ShaderNodeBsdfRefraction", "Refraction BSDF"),
+                              ("ShaderNodeBsdfTranslucent", "Translucent BSDF"),
+                              ("ShaderNodeBsdfTransparent", "Transparent BSDF")):
+            with self.subTest(idname):
+                p, w = material_with(lambda t: t.new(idname, "X").out())
+                self.assertEqual(p["type"], "diffuse")
+                self.assertIsNotNone(w)
+                self.assertIn("%s 'X'" % label, w)
+
+    def test_emission(self):
+        def b(t):
+            e = t.new("ShaderNodeEmission", "Glow")
+            e.inp("Color").default_value = [1.0, 0.5, 0.25, 1.0]
+            e.inp("Strength").default_value = 4.0
+            return e.out()
+        p, w = material_with(b)
+        self.assertEqual(p["type"], "emission")
+        radiance = [c * p["strength"] for c in p["color"]]
+        self.assertTrue(close(radiance, (4.0, 2.0, 1.0)))
+        self.assertIsNone(w)
+
+    def test_principled_default_is_diffuse_with_one_warning(self):
+        p, w = material_with(lambda t: t.new("ShaderNodeBsdfPrincipled", "Principled BSDF").out())
+        self.assertEqual(p["type"], "diffuse")
+        self.assertTrue(close(p["color"], (0.8, 0.8, 0.8)))
+        self.assertIn("Principled BSDF 'Principled BSDF'", w)
+        self.assertIn("specular", w)
+        self.assertEqual(w.count("Material 'M'"), 1)
+
+    def test_principled_metal(self):
+        def b(t):
+            n = t.new("ShaderNodeBsdfPrincipled", "P")
+            n.inp("Base Color").default_value = [0.9, 0.6, 0.2, 1.0]
+            n.inp("Metallic").default_value = 1.0
+            n.inp("Roughness").default_value = 0.2
+            return n.out()
+        p, w = material_with(b)
+        self.assertEqual(p["type"], "glossy")
+        self.assertTrue(close(p["color"], (0.9, 0.6, 0.2)))
+        self.assertTrue(close(p["roughness"], 0.2))
+        self.assertIsNone(w)
+
+    def test_principled_emission_4x_socket_name(self):
+        """Blender 4.x calls the socket 'Emission Color' and defaults it to white."""
+        def b(t):
+            n = t.new("ShaderNodeBsdfPrincipled", "P")
+            n.inp("Emission").identifier = "Emission Color"
+            n.inp("Emission Color").name = "Emission Color"
+            n.inp("Emission Color").default_value = [1.0, 1.0, 1.0, 1.0]
+            n.inp("Emission Strength").default_value = 10.0
+            n.inp("Specular").default_value = 0.0
+            return n.out()
+        p, w = material_with(b)
+        self.assertEqual(p["type"], "emission")
+        self.assertTrue(close([c * p["strength"] for c in p["color"]], (10.0, 10.0, 10.0)))
+        self.assertIn("diffuse part dropped", w)
+
+
+def _diffuse(t, color, name="D"):
+    d = t.new("ShaderNodeBsdfDiffuse", name)
+    d.inp("Color").default_value = list(color) + [1.0]
+    return d
+
+
+class TestCombinators(unittest.TestCase):
+    def test_mix_two_diffuse_is_exact(self):
+        def b(t):
+            m = t.new("ShaderNodeMixShader", "Mix")
+            m.inp("Fac").default_value = 0.25
+            t.link(_diffuse(t, (1, 0, 0), "A").out(), m.inp("Shader"))
+            t.link(_diffuse(t, (0, 0, 1), "B").out(), m.inp("Shader_001"))
+            return m.out()
+        p, w = material_with(b)
+        self.assertTrue(close(p["color"], (0.75, 0.0, 0.25)))
+        self.assertIsNone(w)
+
+    def test_add_two_diffuse_sums(self):
+        def b(t):
+            a = t.new("ShaderNodeAddShader", "Add")
+            t.link(_diffuse(t, (0.25, 0.0, 0.0), "A").out(), a.inp("Shader"))
+            t.link(_diffuse(t, (0.0, 0.5, 0.0), "B").out(), a.inp("Shader_001"))
+            return a.out()
+        p, w = material_with(b)
+        self.assertTrue(close(p["color"], (0.25, 0.5, 0.0)))
+
+    def test_mix_diffuse_emission_keeps_dominant_and_warns(self):
+        def b(t):
+            m = t.new("ShaderNodeMixShader", "Mix")
+            m.inp("Fac").default_value = 0.5
+            e = t.new("ShaderNodeEmission", "Lamp")
+            e.inp("Strength").default_value = 10.0
+            t.link(_diffuse(t, (0.5, 0.5, 0.5), "Matte").out(), m.inp("Shader"))
+            t.link(e.out(), m.inp("Shader_001"))
+            return m.out()
+        p, w = material_with(b)
+        self.assertEqual(p["type"], "emission")
+        self.assertIn("Diffuse BSDF 'Matte'", w)
+
+    def test_mix_with_linked_fac_is_evaluated(self):
+        def b(t):
+            m = t.new("ShaderNodeMixShader", "Mix")
+            v = t.new("ShaderNodeValue", "V")
+            v.out().default_value = 1.0
+            t.link(v.out(), m.inp("Fac"))
+            t.link(_diffuse(t, (1, 0, 0), "A").out(), m.inp("Shader"))
+            t.link(_diffuse(t, (0, 1, 0), "B").out(), m.inp("Shader_001"))
+            return m.out()
+        p, w = material_with(b)
+        self.assertTrue(close(p["color"], (0, 1, 0)))
+        self.assertIsNone(w)
+
+    def test_color_into_shader_socket_is_emission(self):
+        def b(t):
+            rgb = t.new("ShaderNodeRGB", "RGB")
+            rgb.out().default_value = [0.5, 0.25, 1.0, 1.0]
+            return rgb.out()
+        p, w = material_with(b)
+        self.assertEqual(p["type"], "emission")
+        self.assertTrue(close([c * p["strength"] for c in p["color"]], (0.5, 0.25, 1.0)))
+
+    def test_no_surface_is_black(self):
+        p, w = material_with(lambda t: None)
+        self.assertEqual(p, {"type": "diffuse", "color": [0.0, 0.0, 0.0]})
+        self.assertIsNone(w)
+
+    def test_holdout_warns(self):
+        p, w = material_with(lambda t: t.new("ShaderNodeHoldout", "H").out())
+        self.assertIn("Holdout 'H'", w)
+
+
+class TestValues(unittest.TestCase):
+    def _color_into_diffuse(self, build):
+        def b(t):
+            d = t.new("ShaderNodeBsdfDiffuse", "D")
+            t.link(build(t), d.inp("Color"))
+            return d.out()
+        return material_with(b)
+
+    def test_rgb_and_value(self):
+        def b(t):
+            rgb = t.new("ShaderNodeRGB", "RGB")
+            rgb.out().default_value = [0.1, 0.2, 0.3, 1.0]
+            return rgb.out()
+        p, w = self._color_into_diffuse(b)
+        self.assertTrue(close(p["color"], (0.1, 0.2, 0.3)))
+        self.assertIsNone(w)
+
+    def test_value_to_color_broadcasts(self):
+        def b(t):
+            v = t.new("ShaderNodeValue", "V")
+            v.out().default_value = 0.3
+            return v.out()
+        p, w = self._color_into_diffuse(b)
+        self.assertTrue(close(p["color"], (0.3, 0.3, 0.3)))
+
+    def test_mix_rgb_modes(self):
+        cases = {"MIX": (0.5, 0.35, 0.3), "MULTIPLY": (0.2 * (0.5 + 0.5 * 0.8), 0.5 * (0.5 + 0.5 * 0.2), 0.3 * (0.5 + 0.5 * 0.3)),
+                 "ADD": (0.2 + 0.4, 0.5 + 0.1, 0.3 + 0.15), "SUBTRACT": (0.2 - 0.4, 0.5 - 0.1, 0.3 - 0.15)}
+        for mode, expect in cases.items():
+            with self.subTest(mode):
+                def b(t):
+                    m = t.new("ShaderNodeMixRGB", "MixRGB", blend_type=mode, use_clamp=False)
+                    m.inp("Fac").default_value = 0.5
+                    m.inp("Color1").default_value = [0.2, 0.5, 0.3, 1.0]
+                    m.inp("Color2").default_value = [0.8, 0.2, 0.3, 1.0]
+                    return m.out()
+                p, w = self._color_into_diffuse(b)
+                self.assertTrue(close(p["color"], expect), (mode, p["color"], expect))
+                self.assertIsNone(w)
+
+    def test_mix_node_34_rgba_and_float(self):
+        def b(t):
+            m = t.new("ShaderNodeMix", "Mix", data_type="RGBA", blend_type="MIX", clamp_factor=True,
+                      clamp_result=False, factor_mode="UNIFORM")
+            f = t.new("ShaderNodeMix", "MixF", data_type="FLOAT", clamp_factor=True, clamp_result=False,
+                      factor_mode="UNIFORM")
+            f.inp("Factor_Float").default_value = 0.5
+            f.inp("A_Float").default_value = 0.0
+            f.inp("B_Float").default_value = 0.5  # -> 0.25
+            t.link(f.out("Result_Float"), m.inp("Factor_Float"))
+            m.inp("A_Color").default_value = [1.0, 1.0, 1.0, 1.0]
+            m.inp("B_Color").default_value = [0.0, 0.0, 0.0, 1.0]
+            return m.out("Result_Color")
+        p, w = self._color_into_diffuse(b)
+        self.assertTrue(close(p["color"], (0.75, 0.75, 0.75)))
+        self.assertIsNone(w)
+
+    def test_math_chain(self):
+        def b(t):
+            m1 = t.new("ShaderNodeMath", "Mul", operation="MULTIPLY", use_clamp=False)
+            m1.inputs[0].default_value = 0.5
+            m1.inputs[1].default_value = 0.5
+            m2 = t.new("ShaderNodeMath", "Pow", operation="POWER", use_clamp=False)
+            t.link(m1.out(), m2.inputs[0])
+            m2.inputs[1].default_value = 0.5  # sqrt(0.25) = 0.5
+            m3 = t.new("ShaderNodeMath", "Div0", operation="DIVIDE", use_clamp=True)
+            t.link(m2.out(), m3.inputs[0])
+            m3.inputs[1].default_value = 0.0  # safe divide -> 0
+            m4 = t.new("ShaderNodeMath", "Add", operation="ADD", use_clamp=True)
+            t.link(m3.out(), m4.inputs[0])
+            t.link(m2.out(), m4.inputs[1])
+            return m4.out()
+        p, w = self._color_into_diffuse(b)
+        self.assertTrue(close(p["color"], (0.5, 0.5, 0.5)))
+        self.assertIsNone(w)
+
+    def test_every_math_operation_evaluates(self):
+        from shaders_map.nodes.converter import MATH
+        for op in MATH:
+            with self.subTest(op):
+                def b(t):
+                    m = t.new("ShaderNodeMath", "M", operation=op, use_clamp=False)
+                    return m.out()
+                p, w = self._color_into_diffuse(b)
+                self.assertEqual(len(p["color"]), 3)
+                self.assertIsNone(w)
+
+    def test_color_ramp(self):
+        def b(t):
+            r = t.new("ShaderNodeValToRGB", "Ramp",
+                      color_ramp=Ramp([(0.0, (0, 0, 0, 1)), (1.0, (1.0, 0.5, 0.0, 1))]))
+            r.inp("Fac").default_value = 0.25
+            return r.out("Color")
+        p, w = self._color_into_diffuse(b)
+        self.assertTrue(close(p["color"], (0.25, 0.125, 0.0)))
+        self.assertIsNone(w)
+
+    def test_color_ramp_constant(self):
+        def b(t):
+            r = t.new("ShaderNodeValToRGB", "Ramp",
+                      color_ramp=Ramp([(0.0, (0.1, 0.1, 0.1, 1)), (0.5, (0.9, 0.9, 0.9, 1))], "CONSTANT"))
+            r.inp("Fac").default_value = 0.4
+            return r.out("Color")
+        p, w = self._color_into_diffuse(b)
+        self.assertTrue(close(p["color"], (0.1, 0.1, 0.1)))
+
+    def test_invert(self):
+        def b(t):
+            n = t.new("ShaderNodeInvert", "Inv")
+            n.inp("Color").default_value = [0.2, 0.4, 1.0, 1.0]
+            return n.out()
+        p, w = self._color_into_diffuse(b)
+        self.assertTrue(close(p["color"], (0.8, 0.6, 0.0)))
+
+    def test_color_to_float_is_luminance(self):
+        def b(t):
+            rgb = t.new("ShaderNodeRGB", "RGB")
+            rgb.out().default_value = [1.0, 0.0, 0.0, 1.0]
+            m = t.new("ShaderNodeMath", "Add", operation="ADD", use_clamp=False)
+            t.link(rgb.out(), m.inputs[0])
+            m.inputs[1].default_value = 0.0
+            return m.out()
+        p, w = self._color_into_diffuse(b)
+        self.assertTrue(close(p["color"], (0.2126,) * 3))
+
+    def test_image_texture_average_and_mapping_chain(self):
+        img = Image("wood.png", average=((0.25, 0.5, 0.75), 1.0))
+
+        def b(t):
+            tc = t.new("ShaderNodeTexCoord", "TexCoord")
+            mp = t.new("ShaderNodeMapping", "Mapping", vector_type="POINT")
+            uv = t.new("ShaderNodeUVMap", "UVMap", uv_map="UVMap")
+            tex = t.new("ShaderNodeTexImage", "Wood", image=img)
+            t.link(tc.out("UV"), mp.inp("Vector"))
+            t.link(mp.out(), tex.inp("Vector"))
+            tex2 = t.new("ShaderNodeTexImage", "Wood2", image=img)
+            t.link(uv.out(), tex2.inp("Vector"))
+            mix = t.new("ShaderNodeMixRGB", "MixRGB", blend_type="MIX", use_clamp=False)
+            t.link(tex.out("Color"), mix.inp("Color1"))
+            t.link(tex2.out("Color"), mix.inp("Color2"))
+            return mix.out()
+        p, w = self._color_into_diffuse(b)
+        self.assertTrue(close(p["color"], (0.25, 0.5, 0.75)))
+        self.assertIn("Image Texture 'Wood'", w)
+        self.assertIn("Image Texture 'Wood2'", w)
+        self.assertNotIn("Mapping", w)
+        self.assertNotIn("TexCoord", w)
+
+    def test_missing_image_is_magenta_and_named(self):
+        img = Image("gone.png", filepath="/nope/gone.png", missing=True)
+        p, w = self._color_into_diffuse(lambda t: t.new("ShaderNodeTexImage", "Tex", image=img).out("Color"))
+        self.assertTrue(close(p["color"], (1.0, 0.0, 1.0)))
+        self.assertIn("/nope/gone.png", w)
+        self.assertIn("not found", w)
+
+    def test_image_without_callback_is_grey(self):
+        img = Image("a.png")
+        p, w = material_with(lambda t: _tex_diffuse(t, img), image_average_fn=None)
+        self.assertTrue(close(p["color"], (0.5, 0.5, 0.5)))
+        self.assertIn("Image Texture 'Tex'", w)
+
+    def test_procedural_textures_average(self):
+        for idname, expect in (("ShaderNodeTexChecker", (0.5, 0.5, 0.5)), ("ShaderNodeTexNoise", (0.5, 0.5, 0.5)),
+                               ("ShaderNodeTexGradient", (0.5, 0.5, 0.5))):
+            with self.subTest(idname):
+                p, w = self._color_into_diffuse(lambda t: t.new(idname, "Tex").out("Color"))
+                self.assertTrue(close(p["color"], expect), p)
+                self.assertIn("'Tex'", w)
+
+    def test_normal_map_and_bump_named(self):
+        def b(t):
+            d = t.new("ShaderNodeBsdfDiffuse", "D")
+            nm = t.new("ShaderNodeNormalMap", "NMap", space="TANGENT", uv_map="")
+            bump = t.new("ShaderNodeBump", "Bumpy", invert=False)
+            t.link(nm.out(), bump.inp("Normal"))
+            t.link(bump.out(), d.inp("Normal"))
+            return d.out()
+        p, w = material_with(b)
+        self.assertEqual(p["type"], "diffuse")
+        self.assertIn("Bump 'Bumpy'", w)
+        self.assertIn("normal input ignored", w)
+
+
+def _tex_diffuse(t, img):
+    d = t.new("ShaderNodeBsdfDiffuse", "D")
+    tex = t.new("ShaderNodeTexImage", "Tex", image=img)
+    t.link(tex.out("Color"), d.inp("Color"))
+    return d.out()
+
+
+class TestGraph(unittest.TestCase):
+    def test_reroute_chain(self):
+        def b(t):
+            d = _diffuse(t, (0.1, 0.7, 0.2))
+            prev = d.out()
+            for i in range(5):
+                r = t.new("NodeReroute", "Reroute.%d" % i)
+                t.link(prev, r.inp("Input"))
+                prev = r.out()
+            return prev
+        p, w = material_with(b)
+        self.assertTrue(close(p["color"], (0.1, 0.7, 0.2)))
+        self.assertIsNone(w)
+
+    def test_muted_color_node_passes_through(self):
+        def b(t):
+            d = t.new("ShaderNodeBsdfDiffuse", "D")
+            m = t.new("ShaderNodeMixRGB", "MixRGB", blend_type="MULTIPLY", use_clamp=False)
+            m.inp("Fac").default_value = 1.0
+            m.inp("Color1").default_value = [0.3, 0.3, 0.3, 1.0]
+            m.inp("Color2").default_value = [0.0, 0.0, 0.0, 1.0]
+            m.mute_with_passthrough()  # internal link: Fac (VALUE) is not RGBA -> Color1
+            t.link(m.out(), d.inp("Color"))
+            return d.out()
+        p, w = material_with(b)
+        self.assertTrue(close(p["color"], (0.3, 0.3, 0.3)), p)
+
+    def test_muted_shader_without_passthrough_is_nothing(self):
+        def b(t):
+            d = _diffuse(t, (0.5, 0.5, 0.5))
+            d.mute = True
+            return d.out()
+        p, w = material_with(b)
+        self.assertEqual(p["color"], [0.0, 0.0, 0.0])
+
+    def test_muted_mix_shader_passes_first_shader(self):
+        def b(t):
+            m = t.new("ShaderNodeMixShader", "Mix")
+            t.link(_diffuse(t, (1, 0, 0), "A").out(), m.inp("Shader"))
+            t.link(_diffuse(t, (0, 0, 1), "B").out(), m.inp("Shader_001"))
+            m.mute_with_passthrough()
+            return m.out()
+        p, w = material_with(b)
+        self.assertTrue(close(p["color"], (1, 0, 0)))
+
+    def test_muted_link_is_ignored(self):
+        def b(t):
+            d = t.new("ShaderNodeBsdfDiffuse", "D")
+            rgb = t.new("ShaderNodeRGB", "RGB")
+            rgb.out().default_value = [1.0, 0.0, 0.0, 1.0]
+            t.link(rgb.out(), d.inp("Color")).is_muted = True
+            return d.out()
+        p, w = material_with(b)
+        self.assertTrue(close(p["color"], (0.8, 0.8, 0.8)))
+
+    def test_node_group(self):
+        inner, gin, gout = group_tree("Tint", [("Input_0", "Color", "RGBA", (1, 1, 1, 1)),
+                                               ("Input_1", "Amount", "VALUE", 0.5)],
+                                      [("Output_0", "Shader", "SHADER", None)])
+        mix = inner.new("ShaderNodeMixRGB", "Darken", blend_type="MULTIPLY", use_clamp=False)
+        inner.link(gin.out("Input_0"), mix.inp("Color1"))
+        inner.link(gin.out("Input_1"), mix.inp("Fac"))
+        mix.inp("Color2").default_value = [0.0, 0.0, 0.0, 1.0]
+        d = inner.new("ShaderNodeBsdfDiffuse", "D")
+        inner.link(mix.out(), d.inp("Color"))
+        inner.link(d.out(), gout.inp("Output_0"))
+
+        def b(t):
+            g = t.group_node(inner, "MyGroup")
+            rgb = t.new("ShaderNodeRGB", "RGB")
+            rgb.out().default_value = [0.8, 0.4, 0.2, 1.0]
+            t.link(rgb.out(), g.inp("Input_0"))
+            g.inp("Input_1").default_value = 0.25  # -> colour * 0.75
+            return g.out()
+        p, w = material_with(b)
+        self.assertTrue(close(p["color"], (0.6, 0.3, 0.15)), p)
+        self.assertIsNone(w)
+
+    def test_nested_groups_and_warning_path(self):
+        inner, gin, gout = group_tree("Inner", [], [("Output_0", "Shader", "SHADER", None)])
+        wave = inner.new("ShaderNodeTexWave", "Waves")
+        d = inner.new("ShaderNodeBsdfDiffuse", "D")
+        inner.link(wave.out("Color"), d.inp("Color"))
+        inner.link(d.out(), gout.inp("Output_0"))
+        outer, ogin, ogout = group_tree("Outer", [], [("Output_0", "Shader", "SHADER", None)])
+        gi = outer.group_node(inner, "InnerGroup")
+        outer.link(gi.out(), ogout.inp("Output_0"))
+
+        def b(t):
+            return t.group_node(outer, "OuterGroup").out()
+        p, w = material_with(b)
+        self.assertTrue(close(p["color"], (0.5, 0.5, 0.5)))
+        self.assertIn("OuterGroup/InnerGroup/Waves", w)
+        self.assertIn("unsupported node ShaderNodeTexWave", w)
+
+    def test_unsupported_shader_node_falls_back_to_its_colour(self):
+        p, w = material_with(lambda t: t.new("ShaderNodeFancyUnknownBsdf", "Fancy").out())
+        self.assertEqual(p["type"], "diffuse")
+        self.assertTrue(close(p["color"], (0.3, 0.6, 0.9)))
+        self.assertIn("'Fancy'", w)
+        self.assertIn("ShaderNodeFancyUnknownBsdf", w)
+
+    def test_velvet_is_known_but_unsupported(self):
+        p, w = material_with(lambda t: t.new("ShaderNodeBsdfVelvet", "Soft").out())
+        self.assertEqual(p["type"], "diffuse")
+        self.assertIn("Velvet BSDF 'Soft'", w)
+
+    def test_one_warning_names_every_node(self):
+        def b(t):
+            m = t.new("ShaderNodeMixShader", "Mix")
+            t.link(t.new("ShaderNodeBsdfGlass", "GlassA").out(), m.inp("Shader"))
+            d = t.new("ShaderNodeBsdfDiffuse", "D")
+            t.link(t.new("ShaderNodeTexWave", "WaveB").out("Color"), d.inp("Color"))
+            t.link(d.out(), m.inp("Shader_001"))
+            return m.out()
+        p, w = material_with(b, name="Combo")
+        self.assertIsInstance(w, str)
+        self.assertEqual(w.count("Material 'Combo'"), 1)
+        self.assertIn("GlassA", w)
+        self.assertIn("WaveB", w)
+        self.assertNotIn("\n", w)
+
+    def test_cycle_does_not_hang(self):
+        def b(t):
+            a = t.new("ShaderNodeMath", "A", operation="ADD", use_clamp=False)
+            c = t.new("ShaderNodeMath", "C", operation="ADD", use_clamp=False)
+            t.link(a.out(), c.inputs[0])
+            t.link(c.out(), a.inputs[0])
+            d = t.new("ShaderNodeBsdfDiffuse", "D")
+            t.link(c.out(), d.inp("Color"))
+            m = t.new("ShaderNodeMixShader", "Mix")
+            t.link(m.out(), m.inp("Shader"))  # a shader cycle too
+            t.link(d.out(), m.inp("Shader_001"))
+            return m.out()
+        start = time.time()
+        p, w = material_with(b)
+        self.assertLess(time.time() - start, 2.0)
+        self.assertIn("cycle", w)
+
+    def test_recursive_group_does_not_hang(self):
+        inner, gin, gout = group_tree("Loop", [], [("Output_0", "Shader", "SHADER", None)])
+        g = inner.group_node(inner, "Self")  # a group containing itself (malformed)
+        inner.link(g.out(), gout.inp("Output_0"))
+        start = time.time()
+        p, w = material_with(lambda t: t.group_node(inner, "Top").out())
+        self.assertLess(time.time() - start, 2.0)
+        self.assertIsNotNone(w)
+
+    def test_very_deep_chain_does_not_crash(self):
+        def b(t):
+            prev = None
+            for i in range(2000):
+                m = t.new("ShaderNodeMath", "M%d" % i, operation="ADD", use_clamp=False)
+                if prev is not None:
+                    t.link(prev.out(), m.inputs[0])
+                prev = m
+            d = t.new("ShaderNodeBsdfDiffuse", "D")
+            t.link(prev.out(), d.inp("Color"))
+            return d.out()
+        p, w = material_with(b)
+        self.assertIn("too deep", w)
+
+    def test_diamond_graph_is_linear_time(self):
+        def b(t):
+            prev = t.new("ShaderNodeValue", "V")
+            prev.out().default_value = 0.0
+            for i in range(60):  # 2^60 paths without memoisation
+                m = t.new("ShaderNodeMath", "M%d" % i, operation="MAXIMUM", use_clamp=False)
+                t.link(prev.out(), m.inputs[0])
+                t.link(prev.out(), m.inputs[1])
+                prev = m
+            d = t.new("ShaderNodeBsdfDiffuse", "D")
+            t.link(prev.out(), d.inp("Color"))
+            return d.out()
+        start = time.time()
+        material_with(b)
+        self.assertLess(time.time() - start, 2.0)
+
+    def test_output_selection(self):
+        t = Tree("M")
+        eevee = t.output()
+        eevee.target = "EEVEE"
+        inactive = t.output()
+        inactive.is_active_output = False
+        active = t.output()
+        t.link(_diffuse(t, (1, 0, 0), "Red").out(), eevee.inp("Surface"))
+        t.link(_diffuse(t, (0, 1, 0), "Green").out(), inactive.inp("Surface"))
+        t.link(_diffuse(t, (0, 0, 1), "Blue").out(), active.inp("Surface"))
+        p, w = sm.convert_material(Material("M", t))
+        self.assertTrue(close(p["color"], (0, 0, 1)))
+
+    def test_material_without_nodes(self):
+        p, w = sm.convert_material(Material("Plain", None, use_nodes=False, diffuse_color=(0.1, 0.2, 0.3, 1)))
+        self.assertEqual(p, {"type": "diffuse", "color": [0.1, 0.2, 0.3]})
+        self.assertIsNone(w)
+
+    def test_translate_gives_serialisable_description(self):
+        import json
+        t = Tree("M")
+        out = t.output()
+        t.link(t.new("ShaderNodeBsdfPrincipled", "P").out(), out.inp("Surface"))
+        desc = sm.translate_material(t, "M")
+        text = json.dumps(desc.to_dict())
+        self.assertIn("principled", text)
+
+    def test_displacement_and_volume_warn(self):
+        def b(t):
+            out = next(n for n in t.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+            t.link(t.new("ShaderNodeValue", "H").out(), out.inp("Displacement"))
+            return _diffuse(t, (0.5, 0.5, 0.5)).out()
+        p, w = material_with(b)
+        self.assertIn("displacement ignored", w)
+
+
+class TestWorld(unittest.TestCase):
+    def _world(self, build):
+        t = Tree("W")
+        out = t.new("ShaderNodeOutputWorld", "World Output")
+        t.link(build(t), out.inp("Surface"))
+        return sm.convert_world(World("W", t), image_average=image_average)
+
+    def test_background(self):
+        def b(t):
+            bg = t.new("ShaderNodeBackground", "Background")
+            bg.inp("Color").default_value = [0.2, 0.4, 0.8, 1.0]
+            bg.inp("Strength").default_value = 2.0
+            return bg.out()
+        p, w = self._world(b)
+        self.assertTrue(close([c * p["strength"] for c in p["color"]], (0.4, 0.8, 1.6)))
+        self.assertIsNone(w)
+
+    def test_environment_texture_average(self):
+        img = Image("sky.hdr", average=((2.0, 1.0, 0.5), 1.0))
+
+        def b(t):
+            bg = t.new("ShaderNodeBackground", "Background")
+            env = t.new("ShaderNodeTexEnvironment", "Sky", image=img)
+            t.link(env.out("Color"), bg.inp("Color"))
+            return bg.out()
+        p, w = self._world(b)
+        self.assertTrue(close([c * p["strength"] for c in p["color"]], (2.0, 1.0, 0.5)))
+        self.assertIn("Environment Texture 'Sky'", w)
+
+    def test_world_without_nodes_and_none(self):
+        p, w = sm.convert_world(World("W", None, use_nodes=False, color=(0.1, 0.2, 0.3)))
+        self.assertEqual(p, {"color": [0.1, 0.2, 0.3], "strength": 1.0})
+        p, w = sm.convert_world(None)
+        self.assertEqual(p["color"], [0.0, 0.0, 0.0])
+
+
+class TestRegistry(unittest.TestCase):
+    def test_issue_node_list_is_covered(self):
+        required = ["ShaderNodeBsdfPrincipled", "ShaderNodeBsdfDiffuse", "ShaderNodeBsdfGlossy",
+                    "ShaderNodeBsdfAnisotropic", "ShaderNodeBsdfGlass", "ShaderNodeBsdfRefraction",
+                    "ShaderNodeBsdfTransparent", "ShaderNodeBsdfTranslucent", "ShaderNodeEmission",
+                    "ShaderNodeMixShader", "ShaderNodeAddShader", "ShaderNodeTexImage", "ShaderNodeTexEnvironment",
+                    "ShaderNodeMapping", "ShaderNodeTexCoord", "ShaderNodeUVMap", "ShaderNodeNormalMap",
+                    "ShaderNodeBump", "ShaderNodeMixRGB", "ShaderNodeMix", "ShaderNodeMath", "ShaderNodeValToRGB",
+                    "ShaderNodeInvert", "ShaderNodeRGB", "ShaderNodeValue", "ShaderNodeTexChecker",
+                    "ShaderNodeTexNoise", "ShaderNodeTexGradient", "ShaderNodeBackground"]
+        missing = [n for n in required if n not in sm.supported_nodes()]
+        self.assertEqual(missing, [])
+
+    def test_no_bpy_import(self):
+        self.assertNotIn("bpy", sys.modules)
+
+
+if __name__ == "__main__":
+    unittest.main()
