@@ -1,0 +1,167 @@
+/*
+ * rendezvous.h - the one public header of the Rendezvous render engine.
+ *
+ * A plain C ABI: opaque handles, POD arrays, status codes. No C++ type and no
+ * exception crosses it. Every call returns an rdv_status; on failure
+ * rdv_last_error() returns a message (thread-local) naming the object and the
+ * field at fault.
+ *
+ * Conventions (the same as Blender's, so the add-on passes its data through):
+ *  - right-handed, Z up; a camera looks down its local -Z with +Y up;
+ *  - matrices are 4x4, row-major, float, mapping local to world (p' = M p);
+ *  - lengths are scene units (Blender units = metres unless scaled);
+ *  - colours are scene-linear Rec.709 RGB.
+ *
+ * Parameter descriptions (materials, lights, camera, world, render settings) are
+ * JSON objects of key/value pairs, passed as UTF-8 strings. Unknown keys are
+ * reported as an error naming the object and the key, never silently ignored.
+ * docs/scene-format.md lists every key.
+ *
+ * Threading: a scene may be edited from one thread at a time and must not be
+ * edited while a session that renders it is running (stop or cancel it first).
+ * rdv_session_progress / rdv_session_read_film / rdv_session_cancel may be
+ * called from any thread while the session renders.
+ */
+#ifndef RENDEZVOUS_H
+#define RENDEZVOUS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(_WIN32)
+#define RDV_API __declspec(dllexport)
+#else
+#define RDV_API __attribute__((visibility("default")))
+#endif
+
+/* Bumped on every incompatible change of this header. */
+#define RDV_API_VERSION 1
+
+typedef enum rdv_status {
+  RDV_OK = 0,
+  RDV_ERROR_INVALID_ARGUMENT = 1, /* a NULL handle, a malformed or out-of-range value */
+  RDV_ERROR_UNKNOWN_PARAMETER = 2, /* a key the object type does not have */
+  RDV_ERROR_IO = 3,               /* a file could not be read or written */
+  RDV_ERROR_STATE = 4,            /* the call is not allowed now (e.g. edit while rendering) */
+  RDV_ERROR_INTERNAL = 5          /* a bug or out of memory: the message says more */
+} rdv_status;
+
+typedef struct rdv_scene rdv_scene;
+typedef struct rdv_session rdv_session;
+
+/* ---- library ---------------------------------------------------------------- */
+RDV_API int rdv_api_version(void);
+/* Message of the last failed call on this thread ("" if none). */
+RDV_API const char *rdv_last_error(void);
+
+/* ---- scene ------------------------------------------------------------------ */
+RDV_API rdv_status rdv_scene_create(rdv_scene **out_scene);
+RDV_API rdv_status rdv_scene_destroy(rdv_scene *scene);
+
+/* Materials. params is a JSON object, e.g. {"type":"diffuse","color":[0.8,0.8,0.8]}.
+ * Types: "diffuse", "emission", "glossy" (GGX conductor); see docs/scene-format.md. */
+RDV_API rdv_status rdv_scene_add_material(rdv_scene *scene, const char *name,
+                                          const char *params_json, uint32_t *out_material);
+
+/* A triangle mesh from caller-owned arrays; the engine copies what it keeps.
+ *   positions      3 * num_vertices floats
+ *   normals        3 * num_vertices floats, or NULL (flat shading)
+ *   uvs            2 * num_vertices floats, or NULL
+ *   indices        3 * num_triangles vertex indices
+ *   material_ids   num_triangles material ids from rdv_scene_add_material, or NULL
+ *                  (then every triangle uses default_material)
+ * Triangles with non-finite or degenerate (zero-area) corners are dropped with a
+ * warning (rdv_scene_messages); an index out of range rejects the whole mesh. */
+RDV_API rdv_status rdv_scene_add_mesh(rdv_scene *scene, const char *name,
+                                      const float *positions, uint32_t num_vertices,
+                                      const float *normals, const float *uvs,
+                                      const uint32_t *indices, uint32_t num_triangles,
+                                      const uint32_t *material_ids, uint32_t default_material,
+                                      uint32_t *out_mesh);
+
+/* An instance of a mesh: the mesh is stored once however many instances use it. */
+RDV_API rdv_status rdv_scene_add_instance(rdv_scene *scene, uint32_t mesh,
+                                          const float transform[16], uint32_t *out_instance);
+RDV_API rdv_status rdv_scene_set_instance_transform(rdv_scene *scene, uint32_t instance,
+                                                    const float transform[16]);
+
+/* Lights: {"type":"point"|"spot"|"sun"|"area", "transform":[16], ...}. Units are
+ * Blender's: Watts for point/spot/area, irradiance (W/m^2) for sun. */
+RDV_API rdv_status rdv_scene_add_light(rdv_scene *scene, const char *name,
+                                       const char *params_json, uint32_t *out_light);
+/* World background: {"color":[r,g,b],"strength":s} (radiance). */
+RDV_API rdv_status rdv_scene_set_world(rdv_scene *scene, const char *params_json);
+/* Camera: {"type":"perspective"|"orthographic","transform":[16],"focal_length":mm,...}. */
+RDV_API rdv_status rdv_scene_set_camera(rdv_scene *scene, const char *params_json);
+
+/* Builds acceleration structures and light tables; called implicitly by
+ * rdv_session_start. Fails cleanly (e.g. no camera). */
+RDV_API rdv_status rdv_scene_commit(rdv_scene *scene);
+
+/* Warnings collected while building the scene, one per line (valid until the
+ * next call on this scene). */
+RDV_API rdv_status rdv_scene_messages(rdv_scene *scene, const char **out_text);
+/* What the engine modelled, as a JSON object (meshes, triangles, instances,
+ * lights by type, media, memory). Valid until the next call on this scene. */
+RDV_API rdv_status rdv_scene_summary(rdv_scene *scene, const char **out_json);
+
+/* ---- render session ------------------------------------------------------------ */
+/* settings JSON: {"width":W,"height":H,"integrator":"path","samples":N,
+ *   "time_limit":seconds,"max_bounces":B,"seed":S,"threads":T,"clamp":C,
+ *   "border":[x0,y0,x1,y1]}. A session always has a halt condition: samples
+ *   or time_limit (if neither is given, samples defaults to 128). */
+RDV_API rdv_status rdv_session_create(rdv_scene *scene, const char *settings_json,
+                                      rdv_session **out_session);
+/* Starts rendering in the engine's own threads and returns at once. */
+RDV_API rdv_status rdv_session_start(rdv_session *session);
+/* Blocks until the render halts (samples reached, time limit, or cancel). */
+RDV_API rdv_status rdv_session_wait(rdv_session *session);
+/* Requests a stop; rendering threads stop within ~100 ms. Does not block. */
+RDV_API rdv_status rdv_session_cancel(rdv_session *session);
+RDV_API rdv_status rdv_session_destroy(rdv_session *session);
+
+typedef struct rdv_progress {
+  uint32_t samples_done;      /* complete passes over the whole image */
+  uint32_t samples_target;    /* 0 when only a time limit halts */
+  double elapsed_seconds;
+  double time_limit_seconds;  /* 0 when off */
+  double fraction_done;       /* 0..1, whichever halt comes first */
+  uint64_t rays_traced;       /* closest-hit plus shadow rays */
+  double rays_per_second;
+  uint64_t samples_dropped;   /* NaN / Inf samples discarded (never enter the film) */
+  int32_t finished;           /* 1 once the render halted */
+  int32_t cancelled;          /* 1 if it halted because of rdv_session_cancel */
+} rdv_progress;
+RDV_API rdv_status rdv_session_progress(rdv_session *session, rdv_progress *out_progress);
+
+typedef enum rdv_pass {
+  RDV_PASS_COMBINED = 0, /* RGBA, 4 floats per pixel */
+  RDV_PASS_DEPTH = 1,    /* camera-space distance along -Z, 1 float (1e10 = nothing hit) */
+  RDV_PASS_NORMAL = 2,   /* world-space shading normal of the first hit, 3 floats */
+  RDV_PASS_ALBEDO = 3    /* first-hit albedo (Blender's Diffuse Color), 3 floats */
+} rdv_pass;
+RDV_API int rdv_pass_channels(rdv_pass pass);
+
+/* Copies a rectangle of the film into out (row-major, rows from the TOP of the
+ * image down when top_down != 0, else bottom-up as Blender's RenderResult wants),
+ * width * height * rdv_pass_channels(pass) floats. Coordinates are in pixels of the
+ * full image. Safe to call while rendering. */
+RDV_API rdv_status rdv_session_read_film(rdv_session *session, rdv_pass pass, uint32_t x,
+                                         uint32_t y, uint32_t width, uint32_t height,
+                                         int32_t top_down, float *out);
+
+/* Writes the film: ".exr" (scene-linear float, with passes as layers) or ".png"
+ * through an OpenColorIO view transform (view: "Standard" or "Filmic"; NULL =
+ * "Standard"; Blender's config.ocio). */
+RDV_API rdv_status rdv_session_write_image(rdv_session *session, const char *path,
+                                           const char *view);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* RENDEZVOUS_H */

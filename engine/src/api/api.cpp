@@ -1,0 +1,252 @@
+// The C ABI boundary: every entry point catches everything, so no C++ exception
+// ever reaches the caller (Blender's process); failures become a status code plus
+// a thread-local message for rdv_last_error().
+#include <memory>
+#include <new>
+#include <string>
+#include "core/error.h"
+#include "core/log.h"
+#include "film/image_output.h"
+#include "render/session.h"
+#include "rendezvous.h"
+
+struct rdv_scene {
+  std::shared_ptr<rdv::Scene> scene;
+  std::string text;  // backing store for strings handed out (messages, summary)
+};
+
+struct rdv_session {
+  std::unique_ptr<rdv::Session> session;
+};
+
+namespace {
+
+thread_local std::string g_last_error;
+
+template <class F>
+rdv_status guarded(F &&body) {
+  try {
+    g_last_error.clear();
+    body();
+    return RDV_OK;
+  } catch (const rdv::Error &e) {
+    g_last_error = e.what();
+    return e.status;
+  } catch (const std::bad_alloc &) {
+    g_last_error = "out of memory";
+    return RDV_ERROR_INTERNAL;
+  } catch (const std::exception &e) {
+    g_last_error = std::string("internal error: ") + e.what();
+    return RDV_ERROR_INTERNAL;
+  } catch (...) {
+    g_last_error = "internal error: unknown exception";
+    return RDV_ERROR_INTERNAL;
+  }
+}
+
+void require(const void *p, const char *what) {
+  if (!p) rdv::fail(std::string(what) + " is NULL");
+}
+
+std::string name_or(const char *name, const char *fallback) { return name && *name ? name : fallback; }
+
+rdv::Scene &editable(rdv_scene *s) {
+  require(s, "scene");
+  if (s->scene.use_count() > 1)
+    rdv::fail("scene: cannot be edited while a render session uses it (destroy the session first)", RDV_ERROR_STATE);
+  return *s->scene;
+}
+
+}  // namespace
+
+extern "C" {
+
+int rdv_api_version(void) { return RDV_API_VERSION; }
+const char *rdv_last_error(void) { return g_last_error.c_str(); }
+
+rdv_status rdv_scene_create(rdv_scene **out) {
+  return guarded([&] {
+    require(out, "out_scene");
+    *out = nullptr;
+    auto s = std::make_unique<rdv_scene>();
+    s->scene = std::make_shared<rdv::Scene>();
+    *out = s.release();
+  });
+}
+
+rdv_status rdv_scene_destroy(rdv_scene *scene) {
+  return guarded([&] { delete scene; });  // a live session keeps its own reference
+}
+
+rdv_status rdv_scene_add_material(rdv_scene *s, const char *name, const char *params, uint32_t *out) {
+  return guarded([&] {
+    std::string n = name_or(name, "unnamed");
+    rdv::Params p(params ? params : "", "material '" + n + "'");
+    uint32_t id = editable(s).add_material(n, p);
+    if (out) *out = id;
+  });
+}
+
+rdv_status rdv_scene_add_mesh(rdv_scene *s, const char *name, const float *positions, uint32_t num_vertices,
+                              const float *normals, const float *uvs, const uint32_t *indices,
+                              uint32_t num_triangles, const uint32_t *material_ids, uint32_t default_material,
+                              uint32_t *out) {
+  return guarded([&] {
+    uint32_t id = editable(s).add_mesh(name_or(name, "unnamed"), positions, num_vertices, normals, uvs, indices,
+                                       num_triangles, material_ids, default_material);
+    if (out) *out = id;
+  });
+}
+
+rdv_status rdv_scene_add_instance(rdv_scene *s, uint32_t mesh, const float transform[16], uint32_t *out) {
+  return guarded([&] {
+    require(transform, "transform");
+    uint32_t id = editable(s).add_instance(mesh, rdv::Transform::from_row_major(transform));
+    if (out) *out = id;
+  });
+}
+
+rdv_status rdv_scene_set_instance_transform(rdv_scene *s, uint32_t instance, const float transform[16]) {
+  return guarded([&] {
+    require(transform, "transform");
+    editable(s).set_instance_transform(instance, rdv::Transform::from_row_major(transform));
+  });
+}
+
+rdv_status rdv_scene_add_light(rdv_scene *s, const char *name, const char *params, uint32_t *out) {
+  return guarded([&] {
+    std::string n = name_or(name, "unnamed");
+    rdv::Params p(params ? params : "", "light '" + n + "'");
+    uint32_t id = editable(s).add_light(n, p);
+    if (out) *out = id;
+  });
+}
+
+rdv_status rdv_scene_set_world(rdv_scene *s, const char *params) {
+  return guarded([&] {
+    rdv::Params p(params ? params : "", "world");
+    editable(s).set_world(p);
+  });
+}
+
+rdv_status rdv_scene_set_camera(rdv_scene *s, const char *params) {
+  return guarded([&] {
+    rdv::Params p(params ? params : "", "camera");
+    editable(s).set_camera(p);
+  });
+}
+
+rdv_status rdv_scene_commit(rdv_scene *s) {
+  return guarded([&] { editable(s).commit(); });
+}
+
+rdv_status rdv_scene_messages(rdv_scene *s, const char **out) {
+  return guarded([&] {
+    require(s, "scene");
+    require(out, "out_text");
+    s->text = s->scene->messages();
+    *out = s->text.c_str();
+  });
+}
+
+rdv_status rdv_scene_summary(rdv_scene *s, const char **out) {
+  return guarded([&] {
+    require(s, "scene");
+    require(out, "out_json");
+    s->text = s->scene->summary_json();
+    *out = s->text.c_str();
+  });
+}
+
+rdv_status rdv_session_create(rdv_scene *s, const char *settings, rdv_session **out) {
+  return guarded([&] {
+    require(s, "scene");
+    require(out, "out_session");
+    *out = nullptr;
+    rdv::Params p(settings ? settings : "", "render settings");
+    rdv::RenderSettings rs = rdv::RenderSettings::from_params(p);
+    editable(s);  // no other session may be rendering this scene
+    auto sess = std::make_unique<rdv_session>();
+    sess->session = std::make_unique<rdv::Session>(s->scene, rs);
+    *out = sess.release();
+  });
+}
+
+rdv_status rdv_session_start(rdv_session *s) {
+  return guarded([&] {
+    require(s, "session");
+    s->session->start();
+  });
+}
+
+rdv_status rdv_session_wait(rdv_session *s) {
+  return guarded([&] {
+    require(s, "session");
+    s->session->wait();
+  });
+}
+
+rdv_status rdv_session_cancel(rdv_session *s) {
+  return guarded([&] {
+    require(s, "session");
+    s->session->cancel();
+  });
+}
+
+rdv_status rdv_session_destroy(rdv_session *s) {
+  return guarded([&] { delete s; });
+}
+
+rdv_status rdv_session_progress(rdv_session *s, rdv_progress *out) {
+  return guarded([&] {
+    require(s, "session");
+    require(out, "out_progress");
+    rdv::Progress p = s->session->progress();
+    out->samples_done = p.samples_done;
+    out->samples_target = p.samples_target;
+    out->elapsed_seconds = p.elapsed;
+    out->time_limit_seconds = p.time_limit;
+    out->fraction_done = p.fraction;
+    out->rays_traced = p.rays;
+    out->rays_per_second = p.rays_per_second;
+    out->samples_dropped = p.dropped;
+    out->finished = p.finished;
+    out->cancelled = p.cancelled;
+  });
+}
+
+int rdv_pass_channels(rdv_pass pass) {
+  switch (pass) {
+    case RDV_PASS_COMBINED: return 4;
+    case RDV_PASS_DEPTH: return 1;
+    case RDV_PASS_NORMAL: return 3;
+    case RDV_PASS_ALBEDO: return 3;
+  }
+  return 0;
+}
+
+rdv_status rdv_session_read_film(rdv_session *s, rdv_pass pass, uint32_t x, uint32_t y, uint32_t w, uint32_t h,
+                                 int32_t top_down, float *out) {
+  return guarded([&] {
+    require(s, "session");
+    require(out, "out");
+    if (rdv_pass_channels(pass) == 0) rdv::fail("read_film: unknown pass " + std::to_string(int(pass)));
+    const rdv::Film &film = s->session->film();
+    if (uint64_t(x) + w > uint64_t(film.width()) || uint64_t(y) + h > uint64_t(film.height()))
+      rdv::fail("read_film: rectangle " + std::to_string(x) + "," + std::to_string(y) + " " + std::to_string(w) +
+                "x" + std::to_string(h) + " lies outside the " + std::to_string(film.width()) + "x" +
+                std::to_string(film.height()) + " image");
+    film.read(pass, int(x), int(y), int(w), int(h), top_down != 0, out);
+  });
+}
+
+rdv_status rdv_session_write_image(rdv_session *s, const char *path, const char *view) {
+  return guarded([&] {
+    require(s, "session");
+    require(path, "path");
+    std::string warning = rdv::write_image(s->session->film(), path, view ? view : "Standard");
+    if (!warning.empty()) rdv::log_warning(warning);
+  });
+}
+
+}  // extern "C"

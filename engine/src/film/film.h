@@ -1,0 +1,55 @@
+// The film: per-pixel sample accumulation (owned by one thread per pixel at a time,
+// so no locks and a deterministic sum), a separate splat buffer that any thread adds
+// to anywhere (light tracing, BDPT's t = 1 strategies, MLT), and first-hit AOVs.
+#pragma once
+#include <atomic>
+#include <vector>
+#include "core/math.h"
+#include "rendezvous.h"
+
+namespace rdv {
+
+struct Rect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // [x0, x1) x [y0, y1), pixels, (0,0) top-left
+  int width() const { return x1 - x0; }
+  int height() const { return y1 - y0; }
+};
+
+class Film {
+ public:
+  Film(int width, int height, Rect region);
+  int width() const { return width_; }
+  int height() const { return height_; }
+  const Rect &region() const { return region_; }
+
+  void add_sample(int x, int y, Color L) {
+    Pixel &p = pixels_[index(x, y)];
+    p.sum += L;
+    p.count += 1;
+  }
+  void add_splat(Vec2 raster, Color L);
+  void add_first_hit(int x, int y, float depth, Vec3 normal, Color albedo) {
+    Aov &a = aovs_[index(x, y)];
+    a.depth = std::min(a.depth, depth);
+    a.normal += normal;
+    a.albedo += albedo;
+  }
+  // Splats are normalised by the number of samples per pixel taken over the whole image.
+  void set_splat_scale(float s) { splat_scale_.store(s, std::memory_order_relaxed); }
+
+  // Rectangle of a pass, row order top-down or bottom-up.
+  void read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float *out) const;
+
+ private:
+  struct Pixel { Color sum{0.0f}; float count = 0; };
+  struct Aov { float depth = 1e10f; Vec3 normal{0.0f}; Color albedo{0.0f}; };
+  size_t index(int x, int y) const { return size_t(y) * width_ + x; }
+  int width_, height_;
+  Rect region_;
+  std::vector<Pixel> pixels_;
+  std::vector<Aov> aovs_;
+  std::vector<std::atomic<float>> splats_;  // 3 per pixel
+  std::atomic<float> splat_scale_{0.0f};
+};
+
+}  // namespace rdv

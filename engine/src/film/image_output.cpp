@@ -1,0 +1,99 @@
+#include "film/image_output.h"
+#include <OpenColorIO/OpenColorIO.h>
+#include <OpenImageIO/imageio.h>
+#include <cstdlib>
+#include <filesystem>
+#include "core/error.h"
+
+namespace OCIO = OCIO_NAMESPACE;
+
+namespace rdv {
+
+std::string find_ocio_config() {
+  if (const char *env = std::getenv("OCIO"); env && std::filesystem::exists(env)) return env;
+  const char *candidates[] = {"/usr/share/blender/datafiles/colormanagement/config.ocio",
+                              "/usr/share/blender/3.4/datafiles/colormanagement/config.ocio"};
+  for (const char *c : candidates)
+    if (std::filesystem::exists(c)) return c;
+  return "";
+}
+
+static float srgb_oetf(float v) {
+  v = clampf(v, 0.0f, 1.0f);
+  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+// Applies the display/view transform in place on RGBA pixels.
+static std::string apply_view_transform(std::vector<float> &rgba, int w, int h, const std::string &view) {
+  std::string config_path = find_ocio_config();
+  if (!config_path.empty()) {
+    try {
+      OCIO::ConstConfigRcPtr config = OCIO::Config::CreateFromFile(config_path.c_str());
+      const char *display = config->getDefaultDisplay();
+      auto t = OCIO::DisplayViewTransform::Create();
+      t->setSrc(OCIO::ROLE_SCENE_LINEAR);
+      t->setDisplay(display);
+      t->setView(view.c_str());
+      OCIO::ConstProcessorRcPtr processor = config->getProcessor(t);
+      OCIO::PackedImageDesc desc(rgba.data(), w, h, 4);
+      processor->getDefaultCPUProcessor()->apply(desc);
+      return "";
+    } catch (const OCIO::Exception &e) {
+      std::string msg = std::string("OpenColorIO: ") + e.what() + "; wrote plain sRGB instead of view '" + view + "'";
+      for (size_t i = 0; i < rgba.size(); i += 4)
+        for (int c = 0; c < 3; ++c) rgba[i + c] = srgb_oetf(rgba[i + c]);
+      return msg;
+    }
+  }
+  for (size_t i = 0; i < rgba.size(); i += 4)
+    for (int c = 0; c < 3; ++c) rgba[i + c] = srgb_oetf(rgba[i + c]);
+  return "no OpenColorIO config found (install blender or set $OCIO); wrote plain sRGB";
+}
+
+std::string write_image(const Film &film, const std::string &path, const std::string &view) {
+  int w = film.width(), h = film.height();
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char &c : ext) c = static_cast<char>(std::tolower(c));
+  std::vector<float> rgba(size_t(w) * h * 4);
+  film.read(RDV_PASS_COMBINED, 0, 0, w, h, true, rgba.data());
+  std::string warning;
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out) fail("cannot write '" + path + "': " + OIIO::geterror(), RDV_ERROR_IO);
+  if (ext == ".exr") {
+    // Combined RGBA plus the AOVs, as named channels.
+    std::vector<float> depth(size_t(w) * h), normal(size_t(w) * h * 3), albedo(size_t(w) * h * 3);
+    film.read(RDV_PASS_DEPTH, 0, 0, w, h, true, depth.data());
+    film.read(RDV_PASS_NORMAL, 0, 0, w, h, true, normal.data());
+    film.read(RDV_PASS_ALBEDO, 0, 0, w, h, true, albedo.data());
+    const int nc = 11;
+    std::vector<float> all(size_t(w) * h * nc);
+    for (size_t i = 0; i < size_t(w) * h; ++i) {
+      float *d = &all[i * nc];
+      for (int c = 0; c < 4; ++c) d[c] = rgba[i * 4 + c];
+      d[4] = depth[i];
+      for (int c = 0; c < 3; ++c) { d[5 + c] = normal[i * 3 + c]; d[8 + c] = albedo[i * 3 + c]; }
+    }
+    OIIO::ImageSpec spec(w, h, nc, OIIO::TypeDesc::FLOAT);
+    spec.channelnames = {"R", "G", "B", "A", "Depth.Z", "Normal.X", "Normal.Y", "Normal.Z",
+                         "Albedo.R", "Albedo.G", "Albedo.B"};
+    spec.alpha_channel = 3;
+    spec.z_channel = 4;
+    spec.attribute("compression", "zip");
+    if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, all.data()) || !out->close())
+      fail("cannot write '" + path + "': " + out->geterror(), RDV_ERROR_IO);
+    return warning;
+  }
+  warning = apply_view_transform(rgba, w, h, view);
+  std::vector<uint8_t> bytes(rgba.size());
+  for (size_t i = 0; i < rgba.size(); ++i) {
+    // Ordered dither of half a quantum hides banding in smooth gradients.
+    float dither = ((i * 2654435761u >> 16) & 0xff) / 255.0f - 0.5f;
+    bytes[i] = static_cast<uint8_t>(clampf(rgba[i] * 255.0f + 0.5f + dither * 0.5f, 0.0f, 255.0f));
+  }
+  OIIO::ImageSpec spec(w, h, 4, OIIO::TypeDesc::UINT8);
+  if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::UINT8, bytes.data()) || !out->close())
+    fail("cannot write '" + path + "': " + out->geterror(), RDV_ERROR_IO);
+  return warning;
+}
+
+}  // namespace rdv

@@ -1,0 +1,30 @@
+// Blackman-Harris pixel filter of Blender's width (Cycles' default 1.5 px), applied
+// by filter importance sampling: each sample lands at an offset drawn from the
+// filter, and counts with weight 1 in its own pixel. This is what Cycles does, so
+// images compare pixel for pixel, and no sample touches a neighbour's pixel
+// (which keeps per-pixel accumulation free of locks and deterministic).
+#pragma once
+#include <vector>
+#include "core/math.h"
+
+namespace rdv {
+
+class PixelFilter {
+ public:
+  explicit PixelFilter(float width = 1.5f);
+  float width() const { return width_; }
+  // Cycles' filter_func_blackman_harris, x in [-width/2, width/2].
+  float evaluate(float x) const;
+  // Offset from the pixel centre along one axis (the filter is separable).
+  float sample(float u) const;
+  // The density sample() draws from (normalised 1D).
+  float pdf(float x) const;
+
+ private:
+  float width_;
+  std::vector<float> cdf_;  // tabulated, kTableSize + 1 entries
+  float integral_ = 1;
+  static constexpr int kTableSize = 1024;
+};
+
+}  // namespace rdv

@@ -1,0 +1,282 @@
+#include "lights/light.h"
+#include "core/sampling.h"
+
+namespace rdv {
+
+static float smoothstep(float e0, float e1, float x) {
+  float t = clampf((x - e0) / (e1 - e0), 0.0f, 1.0f);
+  return t * t * (3.0f - 2.0f * t);
+}
+
+// Cycles 3.4's spot_attenuation: cos(theta) x smoothstep over the blend region.
+static float spot_attenuation(const Light &l, Vec3 dir_from_light) {
+  float c = dot(l.axis, dir_from_light);
+  if (c <= l.cos_half_spot) return 0.0f;
+  float t = c - l.cos_half_spot;
+  if (l.spot_smooth > 0 && t < l.spot_smooth) c *= smoothstep(0.0f, l.spot_smooth, t);
+  return c;
+}
+
+Light make_light(Params &p) {
+  Light l;
+  std::string type = p.get_string("type", "point");
+  Color color = p.get_vec3("color", Color(1.0f));
+  if (color.x < 0 || color.y < 0 || color.z < 0) fail(p.what() + ": 'color' must not be negative");
+  Transform t;
+  if (p.has("transform")) {
+    t = p.get_transform("transform", Transform());
+  } else {
+    Vec3 pos = p.get_vec3("position", Vec3(0.0f));
+    Vec3 dir = p.get_vec3("direction", Vec3(0, 0, -1));
+    if (length(dir) == 0) fail(p.what() + ": 'direction' must not be zero");
+    nlohmann::json la = {{"look_at", {{"from", {pos.x, pos.y, pos.z}}, {"to", {pos.x + dir.x, pos.y + dir.y, pos.z + dir.z}}}}};
+    t = parse_transform(la, p.what());
+  }
+  l.position = t.column(3);
+  Vec3 z = t.column(2);
+  if (length(z) == 0) fail(p.what() + ": 'transform' has a zero Z axis");
+  l.axis = -normalize(z);
+  auto non_negative = [&](const char *key, float fallback) {
+    float v = p.get_float(key, fallback);
+    if (v < 0) fail(p.what() + ": '" + key + "' must not be negative");
+    return v;
+  };
+  if (type == "point" || type == "spot") {
+    l.type = type == "point" ? LightType::Point : LightType::Spot;
+    float power = non_negative("power", 1000.0f);
+    l.radius = non_negative("radius", 0.1f);
+    l.inv_area = l.radius > 0 ? 1.0f / (kPi * l.radius * l.radius) : 1.0f;
+    l.radiance = color * (power * kInv4Pi * l.inv_area);
+    if (l.type == LightType::Spot) {
+      float size = clampf(p.get_float("spot_size", 0.785398f), 1e-4f, kPi);
+      float blend = clampf(p.get_float("spot_blend", 0.15f), 0.0f, 1.0f);
+      l.cos_half_spot = std::cos(size * 0.5f);
+      l.spot_smooth = (1.0f - l.cos_half_spot) * blend;
+    }
+  } else if (type == "sun") {
+    l.type = LightType::Sun;
+    float strength = non_negative("strength", 1.0f);
+    float angle = clampf(p.get_float("angle", 0.00918043f), 0.0f, kPi * 0.999f);
+    l.radius = std::tan(angle * 0.5f);
+    l.inv_area = l.radius > 0 ? 1.0f / (kPi * l.radius * l.radius) : 1.0f;
+    l.radiance = color * strength;
+  } else if (type == "area") {
+    l.type = LightType::Area;
+    float power = non_negative("power", 10.0f);
+    std::string shape = p.get_string("shape", "square");
+    float size = p.get_float("size", 1.0f);
+    float size_y = p.get_float("size_y", 1.0f);
+    if (shape == "square" || shape == "disk") size_y = size;
+    else if (shape != "rectangle" && shape != "ellipse")
+      fail(p.what() + ": 'shape' must be square, rectangle, disk or ellipse, got '" + shape + "'");
+    l.ellipse = shape == "disk" || shape == "ellipse";
+    l.edge_u = t.column(0) * size;  // Cycles scales the light's axes by the object's scale
+    l.edge_v = t.column(1) * size_y;
+    float area = length(cross(l.edge_u, l.edge_v)) * (l.ellipse ? kPi * 0.25f : 1.0f);
+    if (!(area > 0)) fail(p.what() + ": the area light has zero area (size or scale is 0)");
+    l.inv_area = 1.0f / area;
+    l.radiance = color * (0.25f * power * l.inv_area);
+  } else {
+    fail(p.what() + ": unknown light type '" + type + "' (point, spot, sun, area)");
+  }
+  p.check_all_used();
+  return l;
+}
+
+Light make_triangle_light(Vec3 a, Vec3 b, Vec3 c, Color radiance) {
+  Light l;
+  l.type = LightType::Triangle;
+  l.p0 = a;
+  l.edge_u = b - a;
+  l.edge_v = c - a;
+  Vec3 n = cross(l.edge_u, l.edge_v);
+  l.axis = normalize(n);
+  l.inv_area = 2.0f / length(n);
+  l.radiance = radiance;
+  return l;
+}
+
+Light make_background_light(Color radiance) {
+  Light l;
+  l.type = LightType::Background;
+  l.radiance = radiance;
+  return l;
+}
+
+void compute_light_power(Light &l, float scene_radius) {
+  float a = average(l.radiance);
+  float disk = kPi * scene_radius * scene_radius;
+  switch (l.type) {
+    case LightType::Point:
+    case LightType::Spot: l.power = 4 * kPi * a / l.inv_area; break;
+    case LightType::Area: l.power = kPi * a / l.inv_area; break;
+    case LightType::Triangle: l.power = 2 * kPi * a / l.inv_area; break;
+    case LightType::Sun: l.power = a * disk; break;
+    case LightType::Background: l.power = kPi * a * disk; break;
+  }
+  if (!std::isfinite(l.power)) l.power = 0;
+}
+
+// Point on an area light from u, relative to its centre.
+static Vec3 area_offset(const Light &l, Vec2 u) {
+  if (l.ellipse) {
+    Vec2 d = concentric_disk(u);
+    return l.edge_u * (0.5f * d.x) + l.edge_v * (0.5f * d.y);
+  }
+  return l.edge_u * (u.x - 0.5f) + l.edge_v * (u.y - 0.5f);
+}
+
+// Converts an area density on a surface with normal n at point p into solid angle at ref.
+static bool to_solid_angle(Vec3 ref, Vec3 p, Vec3 n, float inv_area, bool two_sided, LightSample &s) {
+  Vec3 d = p - ref;
+  float dist2 = length_squared(d);
+  if (!(dist2 > 0)) return false;
+  s.dist = std::sqrt(dist2);
+  s.wi = d / s.dist;
+  float cos_l = -dot(n, s.wi);
+  if (two_sided) cos_l = std::fabs(cos_l);
+  if (cos_l <= 1e-7f) return false;
+  s.pdf = dist2 * inv_area / cos_l;
+  s.p = p;
+  return std::isfinite(s.pdf);
+}
+
+bool sample_light(const Light &l, Vec3 ref, Vec2 u, LightSample &s) {
+  switch (l.type) {
+    case LightType::Point:
+    case LightType::Spot: {
+      Vec3 to_ref = ref - l.position;
+      float d2 = length_squared(to_ref);
+      if (!(d2 > 0)) return false;
+      Vec3 n = to_ref / std::sqrt(d2);  // the disk faces the shaded point
+      if (l.radius > 0) {
+        Frame f(n);
+        Vec2 d = concentric_disk(u) * l.radius;
+        Vec3 p = l.position + f.s * d.x + f.t * d.y;
+        if (!to_solid_angle(ref, p, -n, l.inv_area, false, s)) return false;
+        s.L = l.radiance;
+      } else {
+        s.dist = std::sqrt(d2);
+        s.wi = -n;
+        s.p = l.position;
+        s.pdf = 1;
+        s.L = l.radiance / d2;  // intensity / r^2
+      }
+      if (l.type == LightType::Spot) s.L *= spot_attenuation(l, -s.wi);
+      return !is_black(s.L);
+    }
+    case LightType::Sun: {
+      Vec3 to_light = -l.axis;
+      if (l.radius > 0) {
+        Frame f(to_light);
+        Vec2 d = concentric_disk(u) * l.radius;
+        s.wi = normalize(to_light + f.s * d.x + f.t * d.y);
+        float c = dot(to_light, s.wi);
+        s.pdf = l.inv_area / (c * c * c);
+        s.L = l.radiance * s.pdf;  // radiance E / (pi r^2 cos^3): contribution E cos
+      } else {
+        s.wi = to_light;
+        s.pdf = 1;
+        s.L = l.radiance;
+      }
+      s.dist = kInf;
+      return true;
+    }
+    case LightType::Area: {
+      Vec3 p = l.position + area_offset(l, u);
+      if (!to_solid_angle(ref, p, l.axis, l.inv_area, false, s)) return false;
+      s.L = l.radiance;
+      return true;
+    }
+    case LightType::Triangle: {
+      Vec2 b = uniform_triangle(u);
+      Vec3 p = l.p0 + l.edge_u * b.x + l.edge_v * b.y;
+      if (!to_solid_angle(ref, p, l.axis, l.inv_area, true, s)) return false;
+      s.L = l.radiance;
+      return true;
+    }
+    case LightType::Background: {
+      s.wi = uniform_sphere(u);
+      s.pdf = uniform_sphere_pdf();
+      s.dist = kInf;
+      s.L = l.radiance;
+      return true;
+    }
+  }
+  return false;
+}
+
+float light_pdf(const Light &l, Vec3 ref, Vec3 wi, float dist) {
+  switch (l.type) {
+    case LightType::Point:
+    case LightType::Spot: {
+      if (l.radius == 0) return 0;
+      Vec3 n = normalize(ref - l.position);
+      float cos_l = dot(n, -wi);
+      return cos_l > 0 ? dist * dist * l.inv_area / cos_l : 0.0f;
+    }
+    case LightType::Sun: {
+      if (l.radius == 0) return 0;
+      float c = dot(-l.axis, wi);
+      if (c <= 0 || (1.0f - c * c) > sqr(l.radius * c)) return 0;  // tan(theta) > radius
+      return l.inv_area / (c * c * c);
+    }
+    case LightType::Area: {
+      float cos_l = -dot(l.axis, wi);
+      return cos_l > 0 ? dist * dist * l.inv_area / cos_l : 0.0f;
+    }
+    case LightType::Triangle: {
+      float cos_l = std::fabs(dot(l.axis, wi));
+      return cos_l > 0 ? dist * dist * l.inv_area / cos_l : 0.0f;
+    }
+    case LightType::Background: return uniform_sphere_pdf();
+  }
+  return 0;
+}
+
+bool intersect_light(const Light &l, const Ray &ray, float tmax, float &t, Color &L) {
+  switch (l.type) {
+    case LightType::Point:
+    case LightType::Spot: {
+      if (l.radius == 0) return false;
+      Vec3 n = ray.o - l.position;
+      float d2 = length_squared(n);
+      if (d2 <= l.radius * l.radius) return false;
+      n = n / std::sqrt(d2);
+      float denom = dot(ray.d, n);
+      if (denom >= 0) return false;
+      t = dot(l.position - ray.o, n) / denom;
+      if (!(t > 0 && t < tmax)) return false;
+      Vec3 q = ray.o + ray.d * t - l.position;
+      if (length_squared(q) > l.radius * l.radius) return false;
+      L = l.radiance;
+      if (l.type == LightType::Spot) L *= spot_attenuation(l, -ray.d);
+      return true;
+    }
+    case LightType::Area: {
+      float denom = dot(ray.d, l.axis);
+      if (denom >= 0) return false;  // one-sided: only its emitting face is visible
+      t = dot(l.position - ray.o, l.axis) / denom;
+      if (!(t > 0 && t < tmax)) return false;
+      Vec3 q = ray.o + ray.d * t - l.position;
+      float uu = dot(q, l.edge_u) / length_squared(l.edge_u);
+      float vv = dot(q, l.edge_v) / length_squared(l.edge_v);
+      bool inside = l.ellipse ? sqr(2 * uu) + sqr(2 * vv) <= 1.0f : std::fabs(uu) <= 0.5f && std::fabs(vv) <= 0.5f;
+      if (!inside) return false;
+      L = l.radiance;
+      return true;
+    }
+    default: return false;
+  }
+}
+
+Color infinite_light_radiance(const Light &l, Vec3 d) {
+  if (l.type == LightType::Background) return l.radiance;
+  if (l.type == LightType::Sun && l.radius > 0) {
+    float pdf = light_pdf(l, Vec3(0.0f), d, kInf);
+    return pdf > 0 ? l.radiance * pdf : Color(0.0f);
+  }
+  return Color(0.0f);
+}
+
+}  // namespace rdv

@@ -1,0 +1,66 @@
+// Light sources, in Blender 3.4 / Cycles units (intern/cycles/blender/light.cpp):
+//  point/spot: power P in Watts, radiant intensity P / (4 pi); with a radius, a disk
+//              facing the shaded point with radiance P / (4 pi * pi r^2);
+//  spot:       times cos(theta) * smoothstep of the cone blend;
+//  sun:        irradiance E; with an angle, directions over a disk of radius
+//              tan(angle / 2) at unit distance, radiance E / (pi r^2 cos^3);
+//  area:       one-sided (local -Z), radiance P / (4 A);
+//  triangle:   an emissive mesh triangle, radiance from its material, two-sided;
+//  background: constant world radiance.
+// One plain struct, dispatched by a switch on the type.
+#pragma once
+#include <string>
+#include "core/math.h"
+#include "core/params.h"
+
+namespace rdv {
+
+enum class LightType : uint8_t { Point, Spot, Sun, Area, Triangle, Background };
+
+struct Light {
+  LightType type = LightType::Point;
+  Color radiance{0.0f};  // see the table above; sun: irradiance E
+  Vec3 position{0.0f};
+  Vec3 axis{0, 0, -1};   // the direction the light shines (spot, sun, area)
+  float radius = 0;      // point/spot disk radius; sun: tan(angle / 2)
+  float inv_area = 1;    // of the emitting disk / rectangle / triangle
+  // spot
+  float cos_half_spot = -1, spot_smooth = 0;
+  // area: centre = position, half axes; triangle: p0 + edges
+  Vec3 edge_u{0.0f}, edge_v{0.0f};
+  bool ellipse = false;
+  Vec3 p0{0.0f};
+  float power = 0;       // for light selection (scalar)
+
+  bool is_delta() const {
+    return ((type == LightType::Point || type == LightType::Spot) && radius == 0) ||
+           (type == LightType::Sun && radius == 0);
+  }
+  bool is_infinite() const { return type == LightType::Sun || type == LightType::Background; }
+};
+
+struct LightSample {
+  Vec3 wi;        // from the shaded point toward the light
+  float dist = kInf;
+  Vec3 p;         // point on the light (finite lights)
+  Color L{0.0f};  // radiance (or intensity-derived value for delta lights) arriving
+  float pdf = 0;  // solid angle; 1 for delta lights
+};
+
+// Builds a user light from its parameters (rdv_scene_add_light).
+Light make_light(Params &p);
+Light make_triangle_light(Vec3 a, Vec3 b, Vec3 c, Color radiance);
+Light make_background_light(Color radiance);
+// scene_radius: radius of the scene's bounding sphere, for the power of infinite lights.
+void compute_light_power(Light &light, float scene_radius);
+
+bool sample_light(const Light &light, Vec3 ref, Vec2 u, LightSample &out);
+// Solid-angle density of sample_light choosing direction wi from ref, given the ray
+// reached the light at distance dist (triangles: also needs light normal via geometry).
+float light_pdf(const Light &light, Vec3 ref, Vec3 wi, float dist);
+// Analytic lights a ray can hit (disks, rectangles, the sun's disk). Returns radiance.
+bool intersect_light(const Light &light, const Ray &ray, float tmax, float &t, Color &L);
+// Radiance of an infinite light seen along an escaping direction.
+Color infinite_light_radiance(const Light &light, Vec3 d);
+
+}  // namespace rdv

@@ -1,0 +1,96 @@
+#include "scene/camera.h"
+#include "core/sampling.h"
+
+namespace rdv {
+
+Camera Camera::from_params(Params &p) {
+  Camera c;
+  std::string type = p.get_string("type", "perspective");
+  if (type == "perspective") c.type = Type::Perspective;
+  else if (type == "orthographic") c.type = Type::Orthographic;
+  else fail(p.what() + ": 'type' must be perspective or orthographic, got '" + type + "'");
+  c.to_world = p.get_transform("transform", Transform());
+  if (std::fabs(c.to_world.det3()) < 1e-20f) fail(p.what() + ": 'transform' is degenerate (zero scale)");
+  c.focal_length = p.get_float("focal_length", 50);
+  c.sensor_width = p.get_float("sensor_width", 36);
+  c.sensor_height = p.get_float("sensor_height", 24);
+  std::string fit = p.get_string("sensor_fit", "AUTO");
+  if (fit == "AUTO") c.sensor_fit = 0;
+  else if (fit == "HORIZONTAL") c.sensor_fit = 1;
+  else if (fit == "VERTICAL") c.sensor_fit = 2;
+  else fail(p.what() + ": 'sensor_fit' must be AUTO, HORIZONTAL or VERTICAL");
+  c.shift_x = p.get_float("shift_x", 0);
+  c.shift_y = p.get_float("shift_y", 0);
+  c.ortho_scale = p.get_float("ortho_scale", 6);
+  c.clip_start = p.get_float("clip_start", 0.1f);
+  c.clip_end = p.get_float("clip_end", 1000.0f);
+  float fstop = p.get_float("fstop", 0);
+  c.aperture_radius = p.get_float("aperture_radius", 0);
+  if (fstop > 0) {  // Blender: radius = lens_mm * 1e-3 / (2 fstop) (perspective), 1 / (2 fstop) (ortho)
+    c.aperture_radius = c.type == Type::Perspective ? c.focal_length * 1e-3f / (2 * fstop) : 1.0f / (2 * fstop);
+  }
+  c.focus_distance = p.get_float("focus_distance", 10);
+  c.blades = p.get_int("blades", 0);
+  c.blade_rotation = p.get_float("blade_rotation", 0);
+  if (c.focal_length <= 0 || c.sensor_width <= 0 || c.sensor_height <= 0 || c.ortho_scale <= 0)
+    fail(p.what() + ": focal_length, sensor sizes and ortho_scale must be positive");
+  if (c.clip_start < 0 || c.clip_end <= c.clip_start) fail(p.what() + ": need 0 <= clip_start < clip_end");
+  if (c.aperture_radius < 0 || c.focus_distance <= 0) fail(p.what() + ": aperture must be >= 0 and focus_distance > 0");
+  if (c.blades != 0 && c.blades < 3) fail(p.what() + ": 'blades' must be 0 (round) or at least 3");
+  return c;
+}
+
+void Camera::set_resolution(int width, int height) {
+  width_ = width;
+  height_ = height;
+  // Cycles' blender_camera_viewplane: the fitted sensor dimension spans 2 units of
+  // the viewplane's longer side; shift is in units of that fitted dimension.
+  float xratio = static_cast<float>(width), yratio = static_cast<float>(height);
+  bool horizontal_fit = sensor_fit == 0 ? xratio > yratio : sensor_fit == 1;
+  float sensor = sensor_fit == 2 ? sensor_height : sensor_width;
+  float aspect = horizontal_fit ? xratio / yratio : yratio / xratio;
+  float xaspect = horizontal_fit ? aspect : 1.0f, yaspect = horizontal_fit ? 1.0f : aspect;
+  // Scale so that the fitted dimension's half-extent is sensor / (2 f) (perspective)
+  // or ortho_scale / 2 (orthographic).
+  float half_fitted = type == Type::Perspective ? sensor / (2.0f * focal_length) : ortho_scale * 0.5f;
+  float scale = half_fitted / aspect;
+  left = -xaspect * scale;
+  right = xaspect * scale;
+  bottom = -yaspect * scale;
+  top = yaspect * scale;
+  float dx = 2.0f * aspect * shift_x * scale, dy = 2.0f * aspect * shift_y * scale;
+  left += dx; right += dx; bottom += dy; top += dy;
+}
+
+Ray Camera::generate_ray(Vec2 raster, Vec2 u_lens) const {
+  float fx = raster.x / width_, fy = raster.y / height_;
+  Vec3 plane{left + fx * (right - left), top - fy * (top - bottom), 0};
+  Vec3 o, d;
+  if (type == Type::Perspective) {
+    o = Vec3(0.0f);
+    d = Vec3(plane.x, plane.y, -1.0f);
+  } else {
+    o = Vec3(plane.x, plane.y, 0.0f);
+    d = Vec3(0, 0, -1.0f);
+  }
+  if (aperture_radius > 0) {
+    Vec2 lens = blades >= 3 ? regular_polygon(u_lens, blades, blade_rotation) : concentric_disk(u_lens);
+    Vec3 lens_p{lens.x * aperture_radius, lens.y * aperture_radius, 0};
+    Vec3 focus = o + d * focus_distance;  // d.z == -1: this point lies on the focal plane
+    o = o + lens_p;
+    d = focus - o;
+  }
+  d = normalize(d);
+  // Clip planes are depths along the camera's -Z axis.
+  float inv_depth_per_t = 1.0f / -d.z;
+  Ray ray;
+  Vec3 o_clip = o + d * (clip_start * inv_depth_per_t);
+  ray.o = to_world.point(o_clip);
+  Vec3 dw = to_world.vector(d);
+  float len = length(dw);
+  ray.d = dw / len;
+  ray.tmax = (clip_end - clip_start) * inv_depth_per_t * len;
+  return ray;
+}
+
+}  // namespace rdv

@@ -1,0 +1,108 @@
+#include "scene/embree_accel.h"
+#include <string>
+#include "core/error.h"
+#include "core/log.h"
+
+namespace rdv {
+
+static void embree_error(void *, RTCError code, const char *message) {
+  log_warning(std::string("Embree error ") + std::to_string(static_cast<int>(code)) + ": " + (message ? message : ""));
+}
+
+bool EmbreeAccel::memory_monitor(void *user, ssize_t bytes, bool) {
+  static_cast<EmbreeAccel *>(user)->memory_ += bytes;
+  return true;
+}
+
+EmbreeAccel::EmbreeAccel() {
+  device_ = rtcNewDevice(nullptr);
+  if (!device_) fail("Embree: could not create a device", RDV_ERROR_INTERNAL);
+  rtcSetDeviceErrorFunction(device_, embree_error, nullptr);
+  rtcSetDeviceMemoryMonitorFunction(device_, memory_monitor, this);
+}
+
+EmbreeAccel::~EmbreeAccel() {
+  if (top_) rtcReleaseScene(top_);
+  for (RTCScene s : mesh_scenes_)
+    if (s) rtcReleaseScene(s);
+  if (device_) rtcReleaseDevice(device_);
+}
+
+void EmbreeAccel::build(const std::vector<Mesh> &meshes, const std::vector<Instance> &instances) {
+  bool new_meshes = false;
+  while (mesh_scenes_.size() < meshes.size()) {
+    const Mesh &m = meshes[mesh_scenes_.size()];
+    RTCScene scene = rtcNewScene(device_);
+    rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);  // no cracks between adjacent triangles
+    if (m.num_triangles() > 0) {
+      RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+      // Shared, not copied: Mesh::positions carries the padding Embree's SSE loads need.
+      rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, m.positions.data(), 0,
+                                 sizeof(Vec3), m.num_vertices());
+      rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, m.indices.data(), 0,
+                                 3 * sizeof(uint32_t), m.num_triangles());
+      rtcCommitGeometry(geom);
+      rtcAttachGeometryByID(scene, geom, 0);
+      rtcReleaseGeometry(geom);
+    }
+    rtcCommitScene(scene);
+    mesh_scenes_.push_back(scene);
+    new_meshes = true;
+  }
+  if (!top_dirty_ && !new_meshes && top_) return;
+  if (top_) rtcReleaseScene(top_);
+  top_ = rtcNewScene(device_);
+  for (uint32_t i = 0; i < instances.size(); ++i) {
+    const Instance &inst = instances[i];
+    if (!inst.enabled) continue;
+    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(geom, mesh_scenes_[inst.mesh]);
+    // Our 4x4 row-major matrix starts with the 3x4 row-major block Embree wants.
+    rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &inst.to_world.m[0][0]);
+    rtcCommitGeometry(geom);
+    rtcAttachGeometryByID(top_, geom, i);
+    rtcReleaseGeometry(geom);
+  }
+  rtcCommitScene(top_);
+  top_dirty_ = false;
+}
+
+bool EmbreeAccel::intersect(const Ray &ray, RawHit &hit) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh;
+  rh.ray.org_x = ray.o.x; rh.ray.org_y = ray.o.y; rh.ray.org_z = ray.o.z;
+  rh.ray.dir_x = ray.d.x; rh.ray.dir_y = ray.d.y; rh.ray.dir_z = ray.d.z;
+  rh.ray.tnear = 0.0f;
+  rh.ray.tfar = ray.tmax;
+  rh.ray.mask = 0xffffffffu;
+  rh.ray.flags = 0;
+  rh.ray.time = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(top_, &ctx, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  hit.t = rh.ray.tfar;
+  hit.u = rh.hit.u;
+  hit.v = rh.hit.v;
+  hit.instance = rh.hit.instID[0];
+  hit.prim = rh.hit.primID;
+  return true;
+}
+
+bool EmbreeAccel::occluded(Vec3 o, Vec3 d, float tmax) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRay r;
+  r.org_x = o.x; r.org_y = o.y; r.org_z = o.z;
+  r.dir_x = d.x; r.dir_y = d.y; r.dir_z = d.z;
+  r.tnear = 0.0f;
+  r.tfar = tmax;
+  r.mask = 0xffffffffu;
+  r.flags = 0;
+  r.time = 0;
+  rtcOccluded1(top_, &ctx, &r);
+  return r.tfar < 0;  // Embree sets tfar = -inf on a hit
+}
+
+}  // namespace rdv

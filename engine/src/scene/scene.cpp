@@ -1,0 +1,274 @@
+#include "scene/scene.h"
+#include <map>
+#include <nlohmann/json.hpp>
+#include "core/log.h"
+
+namespace rdv {
+
+Scene::Scene() = default;
+
+void Scene::warn(const std::string &message) {
+  log_warning(message);
+  messages_ += message;
+  messages_ += '\n';
+}
+
+uint32_t Scene::add_material(const std::string &name, Params &params) {
+  materials_.push_back(Material::from_params(params, name));
+  dirty_ = true;
+  return static_cast<uint32_t>(materials_.size() - 1);
+}
+
+uint32_t Scene::add_error_material(const std::string &name) {
+  materials_.push_back(Material::error_material(name));
+  return static_cast<uint32_t>(materials_.size() - 1);
+}
+
+uint32_t Scene::add_mesh(const std::string &name, const float *positions, uint32_t num_vertices, const float *normals,
+                         const float *uvs, const uint32_t *indices, uint32_t num_triangles,
+                         const uint32_t *material_ids, uint32_t default_material) {
+  const std::string what = "mesh '" + name + "'";
+  if (num_vertices > 0 && !positions) fail(what + ": 'positions' is NULL");
+  if (num_triangles > 0 && !indices) fail(what + ": 'indices' is NULL");
+  if (!material_ids && default_material >= materials_.size())
+    fail(what + ": default material " + std::to_string(default_material) + " does not exist (" +
+         std::to_string(materials_.size()) + " materials)");
+  // Validate everything before keeping anything: a rejected mesh leaves no trace.
+  for (uint32_t i = 0; i < 3ull * num_triangles; ++i)
+    if (indices[i] >= num_vertices)
+      fail(what + ": triangle " + std::to_string(i / 3) + " uses vertex " + std::to_string(indices[i]) +
+           " but the mesh has " + std::to_string(num_vertices) + " vertices");
+  if (material_ids)
+    for (uint32_t i = 0; i < num_triangles; ++i)
+      if (material_ids[i] >= materials_.size())
+        fail(what + ": triangle " + std::to_string(i) + " uses material " + std::to_string(material_ids[i]) +
+             " which does not exist (" + std::to_string(materials_.size()) + " materials)");
+
+  Mesh m;
+  m.name = name;
+  m.positions.resize(size_t(num_vertices) + 1);  // +1: padding for Embree
+  uint32_t bad_vertices = 0;
+  std::vector<bool> vertex_ok(num_vertices, true);
+  for (uint32_t i = 0; i < num_vertices; ++i) {
+    Vec3 p{positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]};
+    if (!is_finite(p)) { vertex_ok[i] = false; ++bad_vertices; p = Vec3(0.0f); }
+    m.positions[i] = p;
+  }
+  if (normals) {
+    m.normals.resize(num_vertices);
+    uint32_t bad_normals = 0;
+    for (uint32_t i = 0; i < num_vertices; ++i) {
+      Vec3 n{normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]};
+      float len = length(n);
+      if (!std::isfinite(len) || len == 0) { ++bad_normals; n = Vec3(0.0f); }
+      else n = n / len;
+      m.normals[i] = n;  // zero marks "use the face normal"
+    }
+    if (bad_normals) warn(what + ": " + std::to_string(bad_normals) + " vertex normals are zero or not finite; those corners use the face normal");
+  }
+  if (uvs) {
+    m.uvs.resize(num_vertices);
+    uint32_t bad_uvs = 0;
+    for (uint32_t i = 0; i < num_vertices; ++i) {
+      Vec2 uv{uvs[2 * i], uvs[2 * i + 1]};
+      if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) { ++bad_uvs; uv = {0, 0}; }
+      m.uvs[i] = uv;
+    }
+    if (bad_uvs) warn(what + ": " + std::to_string(bad_uvs) + " UVs are not finite; set to (0, 0)");
+  }
+  uint32_t dropped_nonfinite = 0, dropped_degenerate = 0;
+  m.indices.reserve(3ull * num_triangles);
+  m.materials.reserve(num_triangles);
+  for (uint32_t t = 0; t < num_triangles; ++t) {
+    uint32_t a = indices[3 * t], b = indices[3 * t + 1], c = indices[3 * t + 2];
+    if (!vertex_ok[a] || !vertex_ok[b] || !vertex_ok[c]) { ++dropped_nonfinite; continue; }
+    Vec3 n = cross(m.positions[b] - m.positions[a], m.positions[c] - m.positions[a]);
+    if (!(length_squared(n) > 0) || !is_finite(n)) { ++dropped_degenerate; continue; }
+    m.indices.insert(m.indices.end(), {a, b, c});
+    m.materials.push_back(material_ids ? material_ids[t] : default_material);
+  }
+  if (bad_vertices)
+    warn(what + ": " + std::to_string(bad_vertices) + " vertices are NaN or infinite; " +
+         std::to_string(dropped_nonfinite) + " triangles using them are not rendered");
+  if (dropped_degenerate)
+    warn(what + ": " + std::to_string(dropped_degenerate) + " zero-area triangles are not rendered");
+  if (num_triangles == 0) warn(what + ": has no faces; nothing to render");
+  dropped_triangles_ += dropped_nonfinite + dropped_degenerate;
+  m.indices.shrink_to_fit();
+  m.materials.shrink_to_fit();
+  meshes_.push_back(std::move(m));
+  dirty_ = true;
+  return static_cast<uint32_t>(meshes_.size() - 1);
+}
+
+static bool invertible(const Transform &t) { return std::fabs(t.det3()) > 1e-30f && t.is_finite(); }
+
+uint32_t Scene::add_instance(uint32_t mesh, const Transform &to_world) {
+  if (mesh >= meshes_.size())
+    fail("instance of mesh " + std::to_string(mesh) + ": no such mesh (" + std::to_string(meshes_.size()) + " meshes)");
+  if (!to_world.is_finite()) fail("instance of mesh '" + meshes_[mesh].name + "': transform is not finite");
+  Instance inst;
+  inst.mesh = mesh;
+  instances_.push_back(inst);
+  set_instance_transform(static_cast<uint32_t>(instances_.size() - 1), to_world);
+  return static_cast<uint32_t>(instances_.size() - 1);
+}
+
+void Scene::set_instance_transform(uint32_t id, const Transform &to_world) {
+  if (id >= instances_.size()) fail("instance " + std::to_string(id) + ": no such instance");
+  if (!to_world.is_finite()) fail("instance of mesh '" + meshes_[instances_[id].mesh].name + "': transform is not finite");
+  Instance &inst = instances_[id];
+  inst.to_world = to_world;
+  inst.enabled = invertible(to_world);
+  if (inst.enabled) inst.to_object = to_world.inverse();
+  else warn("instance of mesh '" + meshes_[inst.mesh].name + "': transform has zero scale; not rendered");
+  accel_.mark_instances_dirty();
+  dirty_ = true;
+}
+
+uint32_t Scene::add_light(const std::string &name, Params &params) {
+  user_lights_.push_back(make_light(params));
+  user_light_names_.push_back(name);
+  dirty_ = true;
+  return static_cast<uint32_t>(user_lights_.size() - 1);
+}
+
+void Scene::set_world(Params &params) {
+  Color c = params.get_vec3("color", Color(0.05f));
+  float s = params.get_float("strength", 1.0f);
+  if (c.x < 0 || c.y < 0 || c.z < 0 || s < 0) fail(params.what() + ": colour and strength must not be negative");
+  params.check_all_used();
+  world_radiance_ = c * s;
+  dirty_ = true;
+}
+
+void Scene::set_camera(Params &params) {
+  Camera c = Camera::from_params(params);
+  params.check_all_used();
+  camera_ = c;
+  has_camera_ = true;
+}
+
+void Scene::commit() {
+  if (!has_camera_) fail("scene: no camera was set (rdv_scene_set_camera)", RDV_ERROR_STATE);
+  if (!dirty_) return;
+  accel_.build(meshes_, instances_);
+  // Bounding sphere of the instanced geometry: sizes the power of infinite lights.
+  Vec3 lo(kInf), hi(-kInf);
+  for (const Instance &inst : instances_) {
+    if (!inst.enabled) continue;
+    const Mesh &m = meshes_[inst.mesh];
+    for (uint32_t i = 0; i < m.num_vertices(); ++i) {
+      Vec3 p = inst.to_world.point(m.positions[i]);
+      lo = vmin(lo, p);
+      hi = vmax(hi, p);
+    }
+  }
+  if (lo.x <= hi.x) {
+    bounding_center_ = (lo + hi) * 0.5f;
+    bounding_radius_ = std::max(length(hi - lo) * 0.5f, 1e-6f);
+  }
+  build_lights();
+  dirty_ = false;
+}
+
+void Scene::build_lights() {
+  lights_ = user_lights_;
+  emissive_triangles_ = 0;
+  for (Mesh &m : meshes_) {
+    m.emissive_rank.assign(m.num_triangles(), Mesh::kNotEmissive);
+    m.num_emissive = 0;
+    for (uint32_t t = 0; t < m.num_triangles(); ++t)
+      if (materials_[m.materials[t]].emits()) m.emissive_rank[t] = m.num_emissive++;
+  }
+  for (Instance &inst : instances_) {
+    const Mesh &m = meshes_[inst.mesh];
+    inst.light_base = static_cast<uint32_t>(lights_.size());
+    if (!inst.enabled || m.num_emissive == 0) continue;
+    for (uint32_t t = 0; t < m.num_triangles(); ++t) {
+      if (m.emissive_rank[t] == Mesh::kNotEmissive) continue;
+      Vec3 a = inst.to_world.point(m.positions[m.indices[3 * t]]);
+      Vec3 b = inst.to_world.point(m.positions[m.indices[3 * t + 1]]);
+      Vec3 c = inst.to_world.point(m.positions[m.indices[3 * t + 2]]);
+      lights_.push_back(make_triangle_light(a, b, c, materials_[m.materials[t]].emission));
+      ++emissive_triangles_;
+    }
+  }
+  if (!is_black(world_radiance_)) lights_.push_back(make_background_light(world_radiance_));
+  hittable_lights_.clear();
+  infinite_lights_.clear();
+  std::vector<float> power;
+  for (uint32_t i = 0; i < lights_.size(); ++i) {
+    Light &l = lights_[i];
+    compute_light_power(l, bounding_radius_);
+    power.push_back(l.power);
+    if (l.is_infinite()) infinite_lights_.push_back(i);
+    else if (l.type != LightType::Triangle && !l.is_delta()) hittable_lights_.push_back(i);
+  }
+  light_distribution_ = Distribution1D(power);
+  if (lights_.empty()) warn("scene: there are no lights and no emissive materials; the image will be black");
+}
+
+bool Scene::intersect(const Ray &ray, SurfaceHit &hit) const {
+  RawHit raw;
+  if (!accel_.intersect(ray, raw)) return false;
+  const Instance &inst = instances_[raw.instance];
+  const Mesh &m = meshes_[inst.mesh];
+  const uint32_t *tri = &m.indices[3 * raw.prim];
+  float b0 = 1.0f - raw.u - raw.v;
+  Vec3 p0 = m.positions[tri[0]], p1 = m.positions[tri[1]], p2 = m.positions[tri[2]];
+  // Position from barycentrics in object space: more precise than o + t d.
+  hit.p = inst.to_world.point(p0 * b0 + p1 * raw.u + p2 * raw.v);
+  Vec3 ng = normalize(inst.to_object.normal_by_inverse(cross(p1 - p0, p2 - p0)));
+  Vec3 ns = ng;
+  if (!m.normals.empty()) {
+    Vec3 n = m.normals[tri[0]] * b0 + m.normals[tri[1]] * raw.u + m.normals[tri[2]] * raw.v;
+    float len2 = length_squared(n);
+    if (len2 > 1e-12f) {
+      ns = normalize(inst.to_object.normal_by_inverse(n));
+      if (dot(ns, ng) < 0) ng = -ng;  // the vertex normals say which side is the front
+    }
+  }
+  hit.ng = ng;
+  hit.ns = ns;
+  hit.uv = m.uvs.empty() ? Vec2(raw.u, raw.v)
+                         : m.uvs[tri[0]] * b0 + m.uvs[tri[1]] * raw.u + m.uvs[tri[2]] * raw.v;
+  hit.t = raw.t;
+  hit.instance = raw.instance;
+  hit.prim = raw.prim;
+  hit.material = m.materials[raw.prim];
+  return true;
+}
+
+std::string Scene::summary_json() const {
+  nlohmann::json j;
+  uint64_t stored = 0, instanced = 0;
+  size_t mesh_bytes = 0;
+  for (const Mesh &m : meshes_) { stored += m.num_triangles(); mesh_bytes += m.memory_bytes(); }
+  uint32_t enabled = 0;
+  for (const Instance &inst : instances_)
+    if (inst.enabled) { ++enabled; instanced += meshes_[inst.mesh].num_triangles(); }
+  std::map<std::string, int> light_types;
+  for (const Light &l : user_lights_) {
+    static const char *names[] = {"point", "spot", "sun", "area", "triangle", "background"};
+    light_types[names[static_cast<int>(l.type)]]++;
+  }
+  std::map<std::string, int> material_types;
+  for (const Material &m : materials_) material_types[m.type_name()]++;
+  j["meshes"] = meshes_.size();
+  j["triangles_stored"] = stored;
+  j["instances"] = enabled;
+  j["triangles_instanced"] = instanced;
+  j["triangles_dropped"] = dropped_triangles_;
+  j["lights"] = light_types;
+  j["emissive_triangles"] = emissive_triangles_;
+  j["world"] = is_black(world_radiance_) ? "none" : "constant";
+  j["materials"] = material_types;
+  j["textures"] = 0;
+  j["media"] = "none";
+  j["memory_bytes"] = {{"meshes", mesh_bytes}, {"embree", accel_.memory_bytes()},
+                       {"lights", lights_.size() * sizeof(Light)}};
+  return j.dump();
+}
+
+}  // namespace rdv

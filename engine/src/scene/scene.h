@@ -1,0 +1,92 @@
+// The scene: meshes, instances, materials, lights, world and camera, plus what
+// commit() derives from them (Embree BVHs, emissive-triangle lights, the light
+// sampler). Only what the scene contains is built.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+#include "bsdfs/material.h"
+#include "core/distribution.h"
+#include "lights/light.h"
+#include "scene/camera.h"
+#include "scene/embree_accel.h"
+#include "scene/mesh.h"
+
+namespace rdv {
+
+struct SurfaceHit {
+  Vec3 p;        // world-space position, reconstructed from barycentrics
+  Vec3 ng;       // geometric normal (unit), on the same side as ns
+  Vec3 ns;       // shading normal (unit)
+  Vec2 uv;
+  float t = 0;
+  uint32_t instance = 0, prim = 0, material = 0;
+};
+
+class Scene {
+ public:
+  Scene();
+
+  uint32_t add_material(const std::string &name, Params &params);
+  uint32_t add_error_material(const std::string &name);
+  uint32_t add_mesh(const std::string &name, const float *positions, uint32_t num_vertices, const float *normals,
+                    const float *uvs, const uint32_t *indices, uint32_t num_triangles,
+                    const uint32_t *material_ids, uint32_t default_material);
+  uint32_t add_instance(uint32_t mesh, const Transform &to_world);
+  void set_instance_transform(uint32_t instance, const Transform &to_world);
+  uint32_t add_light(const std::string &name, Params &params);
+  void set_world(Params &params);
+  void set_camera(Params &params);
+  void commit();
+
+  // Ray queries (after commit).
+  bool intersect(const Ray &ray, SurfaceHit &hit) const;
+  bool occluded(Vec3 o, Vec3 d, float tmax) const { return accel_.occluded(o, d, tmax); }
+
+  const Camera &camera() const { return camera_; }
+  Camera &camera() { return camera_; }
+  bool has_camera() const { return has_camera_; }
+  const Material &material(uint32_t id) const { return materials_[id]; }
+  const std::vector<Light> &lights() const { return lights_; }
+  // The light an emissive triangle is, for MIS when a path hits it.
+  uint32_t triangle_light(uint32_t instance, uint32_t prim) const {
+    const Instance &inst = instances_[instance];
+    return inst.light_base + meshes_[inst.mesh].emissive_rank[prim];
+  }
+  const Distribution1D &light_distribution() const { return light_distribution_; }
+  // Lights a ray can hit (disks, rectangles) apart from mesh emitters; infinite lights.
+  const std::vector<uint32_t> &hittable_lights() const { return hittable_lights_; }
+  const std::vector<uint32_t> &infinite_lights() const { return infinite_lights_; }
+  float bounding_radius() const { return bounding_radius_; }
+  Vec3 bounding_center() const { return bounding_center_; }
+
+  void warn(const std::string &message);
+  const std::string &messages() const { return messages_; }
+  std::string summary_json() const;
+
+ private:
+  void build_lights();
+  std::vector<Material> materials_;
+  std::vector<Mesh> meshes_;
+  std::vector<Instance> instances_;
+  std::vector<Light> user_lights_;
+  std::vector<std::string> user_light_names_;
+  Color world_radiance_{0.05f};
+  Camera camera_;
+  bool has_camera_ = false;
+  bool dirty_ = true;
+
+  // Derived by commit().
+  EmbreeAccel accel_;
+  std::vector<Light> lights_;
+  Distribution1D light_distribution_;
+  std::vector<uint32_t> hittable_lights_, infinite_lights_;
+  Vec3 bounding_center_{0.0f};
+  float bounding_radius_ = 1;
+  uint64_t emissive_triangles_ = 0;
+  uint32_t dropped_triangles_ = 0;
+
+  std::string messages_;
+};
+
+}  // namespace rdv

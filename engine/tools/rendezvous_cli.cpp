@@ -1,0 +1,123 @@
+// rendezvous: the command-line renderer. Renders a JSON scene (docs/scene-format.md)
+// to PNG (through Blender's OpenColorIO view transform) or EXR (scene-linear float).
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+#include "rendezvous.h"
+#include "scene_file.h"
+
+namespace {
+
+void usage() {
+  std::fprintf(stderr,
+               "usage: rendezvous SCENE.json [options]\n"
+               "  -o, --output FILE      image to write (.png or .exr; default render.png)\n"
+               "  --samples N            samples per pixel\n"
+               "  --time SECONDS         time limit (0 = off)\n"
+               "  --threads N            worker threads (0 = all cores)\n"
+               "  --seed N               random seed\n"
+               "  --resolution WxH       image size\n"
+               "  --integrator NAME      path\n"
+               "  --max-bounces N        maximum path length\n"
+               "  --view NAME            PNG view transform: Standard (default) or Filmic\n"
+               "  --summary              print what the engine modelled (JSON)\n"
+               "  --quiet                no progress bar\n");
+}
+
+bool check(rdv_status s, const char *what) {
+  if (s == RDV_OK) return true;
+  std::fprintf(stderr, "rendezvous: %s: %s\n", what, rdv_last_error());
+  return false;
+}
+
+}  // namespace
+
+int main(int argc, char **argv) {
+  std::string scene_path, output = "render.png", view = "Standard";
+  nlohmann::json overrides = nlohmann::json::object();
+  bool quiet = false, summary = false;
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) { std::fprintf(stderr, "rendezvous: %s needs a value\n", a.c_str()); std::exit(2); }
+      return argv[++i];
+    };
+    try {
+      if (a == "-h" || a == "--help") { usage(); return 0; }
+      else if (a == "-o" || a == "--output") output = next();
+      else if (a == "--samples") overrides["samples"] = std::stoi(next());
+      else if (a == "--time") overrides["time_limit"] = std::stod(next());
+      else if (a == "--threads") overrides["threads"] = std::stoi(next());
+      else if (a == "--seed") overrides["seed"] = std::stoi(next());
+      else if (a == "--integrator") overrides["integrator"] = next();
+      else if (a == "--max-bounces") overrides["max_bounces"] = std::stoi(next());
+      else if (a == "--view") view = next();
+      else if (a == "--quiet") quiet = true;
+      else if (a == "--summary") summary = true;
+      else if (a == "--resolution") {
+        std::string v = next();
+        size_t x = v.find('x');
+        if (x == std::string::npos) throw std::invalid_argument(v);
+        overrides["width"] = std::stoi(v.substr(0, x));
+        overrides["height"] = std::stoi(v.substr(x + 1));
+      } else if (!a.empty() && a[0] == '-') { std::fprintf(stderr, "rendezvous: unknown option %s\n", a.c_str()); usage(); return 2; }
+      else scene_path = a;
+    } catch (const std::exception &) {
+      std::fprintf(stderr, "rendezvous: bad value for %s\n", a.c_str());
+      return 2;
+    }
+  }
+  if (scene_path.empty()) { usage(); return 2; }
+
+  rdv_scene *scene = nullptr;
+  if (!check(rdv_scene_create(&scene), "scene")) return 1;
+  rdv_tools::LoadedScene loaded;
+  try {
+    loaded = rdv_tools::load_scene_file(scene_path, scene);
+  } catch (const std::exception &e) {
+    std::fprintf(stderr, "rendezvous: %s\n", e.what());
+    rdv_scene_destroy(scene);
+    return 1;
+  }
+  for (const auto &p : loaded.problems) std::fprintf(stderr, "rendezvous: warning: %s\n", p.c_str());
+  nlohmann::json settings = nlohmann::json::parse(loaded.settings_json);
+  if (overrides.contains("time_limit") && !overrides.contains("samples") && !settings.contains("samples"))
+    overrides["samples"] = 0;  // a time limit alone renders until the time is up
+  settings.update(overrides);
+
+  rdv_session *session = nullptr;
+  if (!check(rdv_session_create(scene, settings.dump().c_str(), &session), "render settings")) {
+    rdv_scene_destroy(scene);
+    return 1;
+  }
+  const char *text = nullptr;
+  if (rdv_scene_messages(scene, &text) == RDV_OK && text && *text)
+    std::fprintf(stderr, "rendezvous: warnings:\n%s", text);
+  if (summary && rdv_scene_summary(scene, &text) == RDV_OK) std::printf("%s\n", text);
+
+  check(rdv_session_start(session), "start");
+  rdv_progress p{};
+  while (true) {
+    rdv_session_progress(session, &p);
+    if (!quiet) {
+      int bar = int(p.fraction_done * 40);
+      std::fprintf(stderr, "\r[%-40s] %3d%%  %u spp  %.1f s  %.2f Mrays/s", std::string(bar, '#').c_str(),
+                   int(p.fraction_done * 100), p.samples_done, p.elapsed_seconds, p.rays_per_second * 1e-6);
+    }
+    if (p.finished) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  rdv_session_wait(session);
+  rdv_session_progress(session, &p);
+  if (!quiet) std::fprintf(stderr, "\n");
+  std::fprintf(stderr, "rendezvous: %u samples/pixel in %.2f s, %.2f Mrays/s, %llu dropped samples\n",
+               p.samples_done, p.elapsed_seconds, p.rays_per_second * 1e-6, (unsigned long long)p.samples_dropped);
+  int rc = check(rdv_session_write_image(session, output.c_str(), view.c_str()), "write image") ? 0 : 1;
+  if (rc == 0) std::fprintf(stderr, "rendezvous: wrote %s\n", output.c_str());
+  rdv_session_destroy(session);
+  rdv_scene_destroy(scene);
+  return rc;
+}

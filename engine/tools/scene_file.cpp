@@ -1,0 +1,301 @@
+#include "scene_file.h"
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
+#include "core/params.h"
+
+namespace rdv_tools {
+
+using nlohmann::json;
+
+namespace {
+
+struct MeshArrays {
+  std::vector<float> positions, normals, uvs;
+  std::vector<uint32_t> indices;
+  std::vector<uint32_t> slots;  // per triangle
+};
+
+constexpr float kPi = 3.14159265358979f;
+
+void make_sphere(MeshArrays &m, float radius, int segments) {
+  int rings = std::max(segments / 2, 2);
+  segments = std::max(segments, 3);
+  for (int r = 0; r <= rings; ++r) {
+    float theta = kPi * r / rings;
+    for (int s = 0; s <= segments; ++s) {
+      float phi = 2 * kPi * s / segments;
+      float n[3] = {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
+      for (float c : n) { m.positions.push_back(c * radius); m.normals.push_back(c); }
+      m.uvs.push_back(float(s) / segments);
+      m.uvs.push_back(1.0f - float(r) / rings);
+    }
+  }
+  for (int r = 0; r < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      uint32_t a = r * (segments + 1) + s, b = a + segments + 1;
+      if (r > 0) m.indices.insert(m.indices.end(), {a, b, a + 1});            // skip the degenerate pole triangles
+      if (r < rings - 1) m.indices.insert(m.indices.end(), {a + 1, b, b + 1});
+    }
+}
+
+void make_quad(MeshArrays &m, float sx, float sy) {
+  m.positions = {-sx / 2, -sy / 2, 0, sx / 2, -sy / 2, 0, sx / 2, sy / 2, 0, -sx / 2, sy / 2, 0};
+  m.normals = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+  m.uvs = {0, 0, 1, 0, 1, 1, 0, 1};
+  m.indices = {0, 1, 2, 0, 2, 3};
+}
+
+void make_disk(MeshArrays &m, float radius, int segments) {
+  segments = std::max(segments, 3);
+  m.positions = {0, 0, 0};
+  m.normals = {0, 0, 1};
+  m.uvs = {0.5f, 0.5f};
+  for (int s = 0; s < segments; ++s) {
+    float phi = 2 * kPi * s / segments;
+    m.positions.insert(m.positions.end(), {radius * std::cos(phi), radius * std::sin(phi), 0});
+    m.normals.insert(m.normals.end(), {0, 0, 1});
+    m.uvs.insert(m.uvs.end(), {0.5f + 0.5f * std::cos(phi), 0.5f + 0.5f * std::sin(phi)});
+    m.indices.insert(m.indices.end(), {0u, uint32_t(1 + s), uint32_t(1 + (s + 1) % segments)});
+  }
+}
+
+void make_box(MeshArrays &m, float sx, float sy, float sz) {
+  // Six faces with their own vertices (flat shading), normals pointing out.
+  const float n[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  for (int f = 0; f < 6; ++f) {
+    float nx = n[f][0], ny = n[f][1], nz = n[f][2];
+    // Two tangents u, v with u x v = n.
+    float u[3], v[3];
+    if (nx != 0) { u[0] = 0; u[1] = nx; u[2] = 0; v[0] = 0; v[1] = 0; v[2] = 1; }
+    else if (ny != 0) { u[0] = 0; u[1] = 0; u[2] = ny; v[0] = 1; v[1] = 0; v[2] = 0; }
+    else { u[0] = nz; u[1] = 0; u[2] = 0; v[0] = 0; v[1] = 1; v[2] = 0; }
+    uint32_t base = uint32_t(m.positions.size() / 3);
+    const float corners[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+    for (auto &c : corners) {
+      float p[3];
+      for (int k = 0; k < 3; ++k) p[k] = n[f][k] + c[0] * u[k] + c[1] * v[k];
+      m.positions.insert(m.positions.end(), {p[0] * sx / 2, p[1] * sy / 2, p[2] * sz / 2});
+      m.normals.insert(m.normals.end(), {nx, ny, nz});
+    }
+    m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+  }
+}
+
+template <class T>
+std::vector<T> numbers(const json &j, const std::string &what) {
+  if (!j.is_array()) throw std::runtime_error(what + " must be an array of numbers");
+  std::vector<T> v;
+  v.reserve(j.size());
+  for (const auto &e : j) {
+    if (e.is_number()) v.push_back(e.get<T>());
+    else if (e.is_null() && std::is_floating_point_v<T>) v.push_back(T(NAN));  // JSON has no NaN literal
+    else throw std::runtime_error(what + " must be an array of numbers");
+  }
+  return v;
+}
+
+template <class T>
+std::vector<T> read_binary(std::ifstream &f, uint64_t offset, uint64_t count, const std::string &what) {
+  std::vector<T> v(count);
+  f.seekg(std::streamoff(offset));
+  f.read(reinterpret_cast<char *>(v.data()), std::streamsize(count * sizeof(T)));
+  if (!f) throw std::runtime_error(what + ": side file is too short");
+  return v;
+}
+
+MeshArrays mesh_arrays(const json &j, const std::string &what, const std::string &base_dir) {
+  MeshArrays m;
+  if (j.contains("shape")) {
+    const json &s = j["shape"];
+    std::string type = s.value("type", "");
+    if (type == "sphere") make_sphere(m, s.value("radius", 1.0f), s.value("segments", 48));
+    else if (type == "quad") {
+      float size = s.value("size", 2.0f);
+      make_quad(m, s.value("size_x", size), s.value("size_y", size));
+    } else if (type == "disk") make_disk(m, s.value("radius", 1.0f), s.value("segments", 64));
+    else if (type == "box") {
+      auto size = s.contains("size") ? numbers<float>(s["size"], what + " shape size") : std::vector<float>{2, 2, 2};
+      if (size.size() != 3) throw std::runtime_error(what + ": box size needs 3 numbers");
+      make_box(m, size[0], size[1], size[2]);
+    } else throw std::runtime_error(what + ": unknown shape type '" + type + "' (sphere, quad, disk, box)");
+  } else if (j.contains("binary")) {
+    const json &b = j["binary"];
+    std::string file = (std::filesystem::path(base_dir) / b.value("file", "")).string();
+    std::ifstream f(file, std::ios::binary);
+    if (!f) throw std::runtime_error(what + ": cannot open side file '" + file + "'");
+    uint64_t nv = b.value("num_vertices", 0ull), nt = b.value("num_triangles", 0ull);
+    m.positions = read_binary<float>(f, b.value("positions", 0ull), nv * 3, what);
+    m.indices = read_binary<uint32_t>(f, b.value("indices", 0ull), nt * 3, what);
+    if (b.contains("normals")) m.normals = read_binary<float>(f, b["normals"].get<uint64_t>(), nv * 3, what);
+    if (b.contains("uvs")) m.uvs = read_binary<float>(f, b["uvs"].get<uint64_t>(), nv * 2, what);
+    if (b.contains("material_indices"))
+      m.slots = read_binary<uint32_t>(f, b["material_indices"].get<uint64_t>(), nt, what);
+  } else {
+    if (!j.contains("positions") || !j.contains("indices"))
+      throw std::runtime_error(what + ": needs 'positions' and 'indices', a 'shape' or a 'binary' file");
+    m.positions = numbers<float>(j["positions"], what + " 'positions'");
+    m.indices = numbers<uint32_t>(j["indices"], what + " 'indices'");
+    if (j.contains("normals")) m.normals = numbers<float>(j["normals"], what + " 'normals'");
+    if (j.contains("uvs")) m.uvs = numbers<float>(j["uvs"], what + " 'uvs'");
+  }
+  if (j.contains("material_indices")) m.slots = numbers<uint32_t>(j["material_indices"], what + " 'material_indices'");
+  if (m.positions.size() % 3) throw std::runtime_error(what + ": 'positions' length is not a multiple of 3");
+  if (m.indices.size() % 3) throw std::runtime_error(what + ": 'indices' length is not a multiple of 3");
+  size_t nv = m.positions.size() / 3;
+  if (!m.normals.empty() && m.normals.size() != nv * 3)
+    throw std::runtime_error(what + ": 'normals' must have 3 numbers per vertex");
+  if (!m.uvs.empty() && m.uvs.size() != nv * 2) throw std::runtime_error(what + ": 'uvs' must have 2 numbers per vertex");
+  if (!m.slots.empty() && m.slots.size() != m.indices.size() / 3)
+    throw std::runtime_error(what + ": 'material_indices' must have one entry per triangle");
+  return m;
+}
+
+std::string without(const json &j, std::initializer_list<const char *> keys) {
+  json copy = j;
+  for (const char *k : keys) copy.erase(k);
+  return copy.dump();
+}
+
+const std::map<std::string, int> kTopLevelKeys = {{"settings", 0}, {"camera", 0}, {"world", 0}, {"materials", 0},
+                                                  {"meshes", 0}, {"instances", 0}, {"lights", 0}, {"version", 0}};
+
+}  // namespace
+
+LoadedScene load_scene_json(const std::string &text, const std::string &base_dir, rdv_scene *scene) {
+  LoadedScene out;
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::exception &e) {
+    throw std::runtime_error(std::string("malformed JSON: ") + e.what());
+  }
+  if (!doc.is_object()) throw std::runtime_error("the scene must be a JSON object");
+  for (auto it = doc.begin(); it != doc.end(); ++it)
+    if (!kTopLevelKeys.count(it.key())) out.problems.push_back("unknown top-level key '" + it.key() + "' ignored");
+  auto report = [&](const std::string &what) { out.problems.push_back(what + ": " + rdv_last_error()); };
+
+  std::map<std::string, uint32_t> materials;
+  for (const json &m : doc.value("materials", json::array())) {
+    std::string name = m.value("name", "material " + std::to_string(materials.size()));
+    uint32_t id;
+    if (rdv_scene_add_material(scene, name.c_str(), without(m, {"name"}).c_str(), &id) != RDV_OK) {
+      out.problems.push_back(std::string(rdv_last_error()) + "; rendering it magenta");
+      rdv_scene_add_material(scene, name.c_str(), R"({"type":"diffuse","color":[1,0,1]})", &id);
+    }
+    materials[name] = id;
+  }
+  uint32_t default_material = 0;
+  bool have_default = false;
+  auto get_default = [&]() {
+    if (!have_default) {
+      rdv_scene_add_material(scene, "default", R"({"type":"diffuse","color":[0.8,0.8,0.8]})", &default_material);
+      have_default = true;
+    }
+    return default_material;
+  };
+
+  struct MeshEntry { uint32_t id; json transform; bool instanced = false; };
+  std::map<std::string, MeshEntry> meshes;
+  for (const json &j : doc.value("meshes", json::array())) {
+    std::string name = j.value("name", "mesh " + std::to_string(meshes.size()));
+    std::string what = "mesh '" + name + "'";
+    try {
+      MeshArrays a = mesh_arrays(j, what, base_dir);
+      std::vector<uint32_t> slot_ids;
+      for (const json &s : j.value("materials", json::array())) {
+        std::string mname = s.is_string() ? s.get<std::string>() : "";
+        auto it = materials.find(mname);
+        if (it == materials.end()) {
+          out.problems.push_back(what + ": material '" + mname + "' does not exist; using the default");
+          slot_ids.push_back(get_default());
+        } else slot_ids.push_back(it->second);
+      }
+      if (slot_ids.empty()) slot_ids.push_back(get_default());
+      std::vector<uint32_t> ids(a.indices.size() / 3, slot_ids[0]);
+      for (size_t t = 0; t < a.slots.size(); ++t) {
+        if (a.slots[t] >= slot_ids.size())
+          throw std::runtime_error(what + ": triangle " + std::to_string(t) + " uses material slot " +
+                                   std::to_string(a.slots[t]) + " of " + std::to_string(slot_ids.size()));
+        ids[t] = slot_ids[a.slots[t]];
+      }
+      uint32_t id;
+      if (rdv_scene_add_mesh(scene, name.c_str(), a.positions.data(), uint32_t(a.positions.size() / 3),
+                             a.normals.empty() ? nullptr : a.normals.data(), a.uvs.empty() ? nullptr : a.uvs.data(),
+                             a.indices.data(), uint32_t(a.indices.size() / 3), ids.data(), 0, &id) != RDV_OK) {
+        out.problems.push_back(std::string(rdv_last_error()) + "; mesh left out");
+        continue;
+      }
+      meshes[name] = {id, j.value("transform", json()), false};
+    } catch (const std::exception &e) {
+      out.problems.push_back(std::string(e.what()) + "; mesh left out");
+    }
+  }
+
+  auto add_instance = [&](uint32_t mesh, const json &transform, const std::string &what) {
+    // The engine's own transform rules (16 numbers, or translate/rotate/scale).
+    rdv::Transform t;
+    try {
+      if (!transform.is_null()) t = rdv::parse_transform(transform, what);
+    } catch (const rdv::Error &e) {
+      throw std::runtime_error(e.what());
+    }
+    if (rdv_scene_add_instance(scene, mesh, &t.m[0][0], nullptr) != RDV_OK) report(what);
+  };
+
+  for (const json &j : doc.value("instances", json::array())) {
+    std::string mesh = j.value("mesh", "");
+    auto it = meshes.find(mesh);
+    if (it == meshes.end()) {
+      out.problems.push_back("instance of mesh '" + mesh + "': no such mesh; instance left out");
+      continue;
+    }
+    it->second.instanced = true;
+    try {
+      add_instance(it->second.id, j.value("transform", json()), "instance of mesh '" + mesh + "'");
+    } catch (const std::exception &e) {
+      out.problems.push_back(e.what());
+    }
+  }
+  for (auto &[name, entry] : meshes) {
+    if (entry.instanced) continue;
+    try {
+      add_instance(entry.id, entry.transform, "mesh '" + name + "'");
+    } catch (const std::exception &e) {
+      out.problems.push_back(e.what());
+    }
+  }
+
+  int light_index = 0;
+  for (const json &j : doc.value("lights", json::array())) {
+    std::string name = j.value("name", "light " + std::to_string(light_index++));
+    if (rdv_scene_add_light(scene, name.c_str(), without(j, {"name"}).c_str(), nullptr) != RDV_OK)
+      out.problems.push_back(std::string(rdv_last_error()) + "; light left out");
+  }
+  if (doc.contains("world") && rdv_scene_set_world(scene, doc["world"].dump().c_str()) != RDV_OK)
+    out.problems.push_back(std::string(rdv_last_error()) + "; using the default world");
+  if (!doc.contains("camera")) throw std::runtime_error("the scene has no 'camera'");
+  if (rdv_scene_set_camera(scene, doc["camera"].dump().c_str()) != RDV_OK)
+    throw std::runtime_error(rdv_last_error());
+  out.settings_json = doc.value("settings", json::object()).dump();
+  return out;
+}
+
+LoadedScene load_scene_file(const std::string &path, rdv_scene *scene) {
+  std::ifstream f(path);
+  if (!f) throw std::runtime_error("cannot open scene file '" + path + "'");
+  std::stringstream ss;
+  ss << f.rdbuf();
+  std::string base = std::filesystem::path(path).parent_path().string();
+  try {
+    return load_scene_json(ss.str(), base.empty() ? "." : base, scene);
+  } catch (const std::exception &e) {
+    throw std::runtime_error("scene file '" + path + "': " + e.what());
+  }
+}
+
+}  // namespace rdv_tools
