@@ -1,0 +1,366 @@
+"""ctypes mirror of engine/include/rendezvous.h.
+
+Every call checks its rdv_status and raises EngineError(rdv_last_error()) on failure.
+A missing or broken library raises LibraryError with a message meant for the user.
+No bpy import here: the binding works in plain Python too (tests, tools).
+"""
+
+import ctypes
+import json
+import os
+import sys
+
+API_VERSION = 1  # RDV_API_VERSION this binding mirrors
+
+LIB_NAMES = {"linux": "librendezvous.so", "darwin": "librendezvous.dylib", "win32": "rendezvous.dll"}
+
+# rdv_status
+RDV_OK = 0
+STATUS_NAMES = {0: "OK", 1: "INVALID_ARGUMENT", 2: "UNKNOWN_PARAMETER", 3: "IO", 4: "STATE", 5: "INTERNAL"}
+
+# rdv_pass
+PASS_COMBINED = 0
+PASS_DEPTH = 1
+PASS_NORMAL = 2
+PASS_ALBEDO = 3
+PASS_CHANNELS = {PASS_COMBINED: 4, PASS_DEPTH: 1, PASS_NORMAL: 3, PASS_ALBEDO: 3}
+
+
+class EngineError(RuntimeError):
+    """A call into the engine failed; the message is the engine's rdv_last_error()."""
+
+    def __init__(self, message, status=None, call=None):
+        super().__init__(message)
+        self.status = status
+        self.call = call
+
+
+class LibraryError(EngineError):
+    """The engine library could not be found or loaded."""
+
+
+class Progress(ctypes.Structure):
+    _fields_ = [
+        ("samples_done", ctypes.c_uint32),
+        ("samples_target", ctypes.c_uint32),
+        ("elapsed_seconds", ctypes.c_double),
+        ("time_limit_seconds", ctypes.c_double),
+        ("fraction_done", ctypes.c_double),
+        ("rays_traced", ctypes.c_uint64),
+        ("rays_per_second", ctypes.c_double),
+        ("samples_dropped", ctypes.c_uint64),
+        ("finished", ctypes.c_int32),
+        ("cancelled", ctypes.c_int32),
+    ]
+
+    def as_dict(self):
+        return {name: getattr(self, name) for name, _ in self._fields_}
+
+
+_c_float_p = ctypes.POINTER(ctypes.c_float)
+_c_uint32_p = ctypes.POINTER(ctypes.c_uint32)
+_scene_p = ctypes.c_void_p
+_session_p = ctypes.c_void_p
+_status = ctypes.c_int
+
+_PROTOTYPES = {
+    "rdv_api_version": (ctypes.c_int, []),
+    "rdv_last_error": (ctypes.c_char_p, []),
+    "rdv_scene_create": (_status, [ctypes.POINTER(_scene_p)]),
+    "rdv_scene_destroy": (_status, [_scene_p]),
+    "rdv_scene_add_material": (_status, [_scene_p, ctypes.c_char_p, ctypes.c_char_p, _c_uint32_p]),
+    "rdv_scene_add_mesh": (_status, [_scene_p, ctypes.c_char_p, ctypes.c_void_p, ctypes.c_uint32,
+                                     ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_uint32,
+                                     ctypes.c_void_p, ctypes.c_uint32, _c_uint32_p]),
+    "rdv_scene_add_instance": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_void_p, _c_uint32_p]),
+    "rdv_scene_set_instance_transform": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_void_p]),
+    "rdv_scene_add_light": (_status, [_scene_p, ctypes.c_char_p, ctypes.c_char_p, _c_uint32_p]),
+    "rdv_scene_set_world": (_status, [_scene_p, ctypes.c_char_p]),
+    "rdv_scene_set_camera": (_status, [_scene_p, ctypes.c_char_p]),
+    "rdv_scene_commit": (_status, [_scene_p]),
+    "rdv_scene_messages": (_status, [_scene_p, ctypes.POINTER(ctypes.c_char_p)]),
+    "rdv_scene_summary": (_status, [_scene_p, ctypes.POINTER(ctypes.c_char_p)]),
+    "rdv_session_create": (_status, [_scene_p, ctypes.c_char_p, ctypes.POINTER(_session_p)]),
+    "rdv_session_start": (_status, [_session_p]),
+    "rdv_session_wait": (_status, [_session_p]),
+    "rdv_session_cancel": (_status, [_session_p]),
+    "rdv_session_destroy": (_status, [_session_p]),
+    "rdv_session_progress": (_status, [_session_p, ctypes.POINTER(Progress)]),
+    "rdv_pass_channels": (ctypes.c_int, [ctypes.c_int]),
+    "rdv_session_read_film": (_status, [_session_p, ctypes.c_int, ctypes.c_uint32, ctypes.c_uint32,
+                                        ctypes.c_uint32, ctypes.c_uint32, ctypes.c_int32, ctypes.c_void_p]),
+    "rdv_session_write_image": (_status, [_session_p, ctypes.c_char_p, ctypes.c_char_p]),
+}
+
+
+def _addon_dir():
+    return os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def library_candidates():
+    """Where the library is looked for, in order."""
+    name = LIB_NAMES.get(sys.platform, "librendezvous.so")
+    out = []
+    env = os.environ.get("RDV_LIBRARY")
+    if env:
+        out.append(env)
+    addon = _addon_dir()
+    out.append(os.path.join(addon, name))
+    # Running from the source tree (addon/ inside the repository): the build directory.
+    repo = os.path.dirname(os.path.realpath(addon))
+    for build in ("build", "build-release", "build-debug"):
+        out.append(os.path.join(repo, build, "engine", name))
+    return out
+
+
+class Library:
+    """The loaded engine library with typed entry points."""
+
+    def __init__(self, path):
+        self.path = path
+        try:
+            # RTLD_LOCAL: keep the engine's symbols (Embree, TBB) away from Blender's own.
+            self._dll = ctypes.CDLL(path, mode=getattr(os, "RTLD_LOCAL", 0) | getattr(os, "RTLD_NOW", 0))
+        except OSError as exc:
+            raise LibraryError("Rendezvous: the engine library %s could not be loaded: %s" % (path, exc))
+        missing = []
+        for fname, (restype, argtypes) in _PROTOTYPES.items():
+            try:
+                fn = getattr(self._dll, fname)
+            except AttributeError:
+                missing.append(fname)
+                continue
+            fn.restype = restype
+            fn.argtypes = argtypes
+            setattr(self, fname, fn)
+        if missing:
+            raise LibraryError("Rendezvous: the engine library %s is incomplete (missing %s); rebuild it"
+                               % (path, ", ".join(missing)))
+        version = self.rdv_api_version()
+        if version != API_VERSION:
+            raise LibraryError("Rendezvous: the engine library %s has API version %d but this add-on needs %d; "
+                               "install the add-on and library from the same build" % (path, version, API_VERSION))
+        self.version = version
+
+    def last_error(self):
+        msg = self.rdv_last_error()
+        return msg.decode("utf-8", "replace") if msg else ""
+
+    def check(self, status, call):
+        if status != RDV_OK:
+            msg = self.last_error() or "%s failed" % call
+            raise EngineError("%s: %s (%s)" % (call, msg, STATUS_NAMES.get(status, status)), status, call)
+
+
+_library = None
+_library_error = None
+
+
+def load(path=None, reload=False):
+    """The engine library (loaded once).  Raises LibraryError with a user-facing message."""
+    global _library, _library_error
+    if path is not None:
+        return Library(path)
+    if _library is not None and not reload:
+        return _library
+    if _library_error is not None and not reload:
+        raise LibraryError(_library_error)
+    tried = []
+    for cand in library_candidates():
+        if os.path.isfile(cand):
+            try:
+                _library = Library(cand)
+                _library_error = None
+                return _library
+            except LibraryError as exc:
+                _library_error = str(exc)
+                raise
+        tried.append(cand)
+    _library_error = ("Rendezvous: engine library not found (looked in: %s). Build the engine and install the "
+                      "add-on with `cmake --build build && cmake --install build`, or set RDV_LIBRARY."
+                      % ", ".join(tried))
+    raise LibraryError(_library_error)
+
+
+def reset():
+    """Forget the cached load result (the next load() looks again)."""
+    global _library, _library_error
+    _library = None
+    _library_error = None
+
+
+def status_message():
+    """None when the library loads, else the reason (for the UI)."""
+    try:
+        load()
+        return None
+    except LibraryError as exc:
+        return str(exc)
+
+
+def _json(params):
+    return json.dumps(params, allow_nan=False, separators=(",", ":")).encode("utf-8")
+
+
+def _ptr(arr):
+    return None if arr is None else ctypes.c_void_p(arr.ctypes.data)
+
+
+def _check_array(arr, dtype, name, length=None):
+    import numpy as np
+    if arr is None:
+        return None
+    if arr.dtype != dtype or not arr.flags["C_CONTIGUOUS"]:
+        arr = np.ascontiguousarray(arr, dtype=dtype)
+    if length is not None and arr.size != length:
+        raise EngineError("%s: expected %d values, got %d" % (name, length, arr.size))
+    return arr
+
+
+def _matrix16(m):
+    m = list(m)
+    if len(m) == 4:  # rows
+        m = [float(x) for row in m for x in row]
+    if len(m) != 16:
+        raise EngineError("a transform needs 16 numbers")
+    return (ctypes.c_float * 16)(*[float(x) for x in m])
+
+
+class Scene:
+    """An engine scene.  Use as a context manager or call close()."""
+
+    handle = None
+
+    def __init__(self, lib=None):
+        self.lib = lib or load()
+        h = _scene_p()
+        self.lib.check(self.lib.rdv_scene_create(ctypes.byref(h)), "rdv_scene_create")
+        self.handle = h
+
+    def close(self):
+        if self.handle:
+            self.lib.rdv_scene_destroy(self.handle)
+            self.handle = None
+
+    __del__ = close
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def add_material(self, name, params):
+        out = ctypes.c_uint32()
+        self.lib.check(self.lib.rdv_scene_add_material(self.handle, name.encode("utf-8"), _json(params),
+                                                       ctypes.byref(out)), "material '%s'" % name)
+        return out.value
+
+    def add_mesh(self, name, positions, indices, normals=None, uvs=None, material_ids=None,
+                 default_material=0):
+        """positions (V,3) float32, indices (T,3) uint32; normals (V,3), uvs (V,2), material_ids (T,)."""
+        import numpy as np
+        positions = _check_array(positions, np.float32, "positions")
+        nv = positions.size // 3
+        indices = _check_array(indices, np.uint32, "indices")
+        nt = indices.size // 3
+        normals = _check_array(normals, np.float32, "normals", nv * 3)
+        uvs = _check_array(uvs, np.float32, "uvs", nv * 2)
+        material_ids = _check_array(material_ids, np.uint32, "material_ids", nt)
+        out = ctypes.c_uint32()
+        self.lib.check(self.lib.rdv_scene_add_mesh(
+            self.handle, name.encode("utf-8"), _ptr(positions), nv, _ptr(normals), _ptr(uvs), _ptr(indices), nt,
+            _ptr(material_ids), int(default_material), ctypes.byref(out)), "mesh '%s'" % name)
+        return out.value
+
+    def add_instance(self, mesh, transform):
+        out = ctypes.c_uint32()
+        self.lib.check(self.lib.rdv_scene_add_instance(self.handle, int(mesh), _matrix16(transform),
+                                                       ctypes.byref(out)), "instance of mesh %d" % mesh)
+        return out.value
+
+    def set_instance_transform(self, instance, transform):
+        self.lib.check(self.lib.rdv_scene_set_instance_transform(self.handle, int(instance), _matrix16(transform)),
+                       "instance %d" % instance)
+
+    def add_light(self, name, params):
+        out = ctypes.c_uint32()
+        self.lib.check(self.lib.rdv_scene_add_light(self.handle, name.encode("utf-8"), _json(params),
+                                                    ctypes.byref(out)), "light '%s'" % name)
+        return out.value
+
+    def set_world(self, params):
+        self.lib.check(self.lib.rdv_scene_set_world(self.handle, _json(params)), "world")
+
+    def set_camera(self, params):
+        self.lib.check(self.lib.rdv_scene_set_camera(self.handle, _json(params)), "camera")
+
+    def commit(self):
+        self.lib.check(self.lib.rdv_scene_commit(self.handle), "scene commit")
+
+    def messages(self):
+        out = ctypes.c_char_p()
+        self.lib.check(self.lib.rdv_scene_messages(self.handle, ctypes.byref(out)), "scene messages")
+        text = out.value.decode("utf-8", "replace") if out.value else ""
+        return [line for line in text.splitlines() if line.strip()]
+
+    def summary(self):
+        out = ctypes.c_char_p()
+        self.lib.check(self.lib.rdv_scene_summary(self.handle, ctypes.byref(out)), "scene summary")
+        try:
+            return json.loads(out.value.decode("utf-8")) if out.value else {}
+        except ValueError:
+            return {"raw": out.value.decode("utf-8", "replace")}
+
+
+class Session:
+    handle = None
+
+    def __init__(self, scene, settings):
+        self.lib = scene.lib
+        self.scene = scene  # keep the scene alive while the session exists
+        h = _session_p()
+        self.lib.check(self.lib.rdv_session_create(scene.handle, _json(settings), ctypes.byref(h)),
+                       "session settings")
+        self.handle = h
+        self._progress = Progress()
+
+    def close(self):
+        if self.handle:
+            self.lib.rdv_session_destroy(self.handle)
+            self.handle = None
+
+    __del__ = close
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def start(self):
+        self.lib.check(self.lib.rdv_session_start(self.handle), "session start")
+
+    def wait(self):
+        self.lib.check(self.lib.rdv_session_wait(self.handle), "session wait")
+
+    def cancel(self):
+        self.lib.check(self.lib.rdv_session_cancel(self.handle), "session cancel")
+
+    def progress(self):
+        self.lib.check(self.lib.rdv_session_progress(self.handle, ctypes.byref(self._progress)), "session progress")
+        return self._progress
+
+    def read_film(self, pass_, x, y, width, height, out, top_down=False):
+        """Fills `out` (C-contiguous float32 with width*height*channels values)."""
+        need = width * height * PASS_CHANNELS[pass_]
+        if out.dtype.name != "float32" or not out.flags["C_CONTIGUOUS"] or out.size != need:
+            raise EngineError("read_film: output must be C-contiguous float32 with %d values" % need)
+        self.lib.check(self.lib.rdv_session_read_film(self.handle, int(pass_), x, y, width, height,
+                                                      1 if top_down else 0, ctypes.c_void_p(out.ctypes.data)),
+                       "read film")
+        return out
+
+    def write_image(self, path, view=None):
+        self.lib.check(self.lib.rdv_session_write_image(self.handle, path.encode("utf-8"),
+                                                        view.encode("utf-8") if view else None), "write image")

@@ -1,0 +1,163 @@
+"""Final renders (F12, `blender -b ... -f N` / `-a`): export, start the engine session in
+its own threads, stream the film into the RenderResult every ~0.5 s, poll test_break()."""
+
+import time
+import traceback
+
+import numpy as np
+
+from .. import binding
+from ..binding import EngineError, LibraryError
+from ..export import SceneExporter, ExportError, session_settings, resolution, border_rect
+from ..utils import Messages
+from ..utils.images import image_average, clear_cache
+
+PUSH_INTERVAL = 0.5   # seconds between film copies into Blender
+POLL_INTERVAL = 0.02  # seconds between test_break() polls (cancel within 100 ms)
+
+# Blender pass name -> (engine pass, channels, chan_id, type)
+PASSES = {
+    "Combined": (binding.PASS_COMBINED, 4),
+    "Depth": (binding.PASS_DEPTH, 1),
+    "Normal": (binding.PASS_NORMAL, 3),
+    "DiffCol": (binding.PASS_ALBEDO, 3),
+}
+
+
+def register_passes(engine, scene, layer):
+    if scene is None or layer is None:
+        return
+    engine.register_pass(scene, layer, "Combined", 4, "RGBA", "COLOR")
+    if getattr(layer, "use_pass_z", False):
+        engine.register_pass(scene, layer, "Depth", 1, "Z", "VALUE")
+    if getattr(layer, "use_pass_normal", False):
+        engine.register_pass(scene, layer, "Normal", 3, "XYZ", "VECTOR")
+    if getattr(layer, "use_pass_diffuse_color", False):
+        engine.register_pass(scene, layer, "DiffCol", 3, "RGB", "COLOR")
+
+
+def _integrator_label(settings):
+    return {"path": "Path Tracing", "bdpt": "Bidirectional", "mlt": "MLT"}.get(settings.get("integrator"), "?")
+
+
+def _stats_text(settings, p):
+    parts = ["Rendezvous", _integrator_label(settings)]
+    if p.samples_target:
+        parts.append("Sample %d/%d" % (min(p.samples_done, p.samples_target), p.samples_target))
+    else:
+        parts.append("Sample %d" % p.samples_done)
+    t = p.elapsed_seconds
+    parts.append("Time %02d:%05.2f" % (int(t // 60), t % 60))
+    if p.time_limit_seconds > 0:
+        parts[-1] += "/%ds" % int(p.time_limit_seconds)
+    parts.append("%.2f Mrays/s" % (p.rays_per_second / 1e6))
+    if p.samples_dropped:
+        parts.append("%d NaN samples dropped" % p.samples_dropped)
+    return " | ".join(parts)
+
+
+class _Film:
+    """Preallocated float32 arrays for each pass of the RenderResult layer."""
+
+    def __init__(self, session, result, rect):
+        self.session = session
+        self.result = result
+        self.x, self.y, self.w, self.h = rect
+        self.passes = []
+        layer = result.layers[0]
+        for rp in layer.passes:
+            info = PASSES.get(rp.name)
+            if info is None:
+                continue
+            engine_pass, channels = info
+            if rp.channels != channels:
+                continue
+            arr = np.zeros((self.w * self.h, channels), dtype=np.float32)
+            self.passes.append((rp, engine_pass, arr))
+
+    def push(self, combined_only=False):
+        for rp, engine_pass, arr in self.passes:
+            if combined_only and engine_pass != binding.PASS_COMBINED:
+                continue
+            self.session.read_film(engine_pass, self.x, self.y, self.w, self.h, arr.reshape(-1), top_down=False)
+            rp.rect.foreach_set(arr)
+
+
+def render(engine, depsgraph):
+    try:
+        _render(engine, depsgraph)
+    except LibraryError as exc:
+        print(str(exc))
+        engine.report({"ERROR"}, str(exc))
+    except (EngineError, ExportError) as exc:
+        print("Rendezvous: %s" % exc)
+        engine.report({"ERROR"}, "Rendezvous: %s" % exc)
+    except Exception as exc:  # a bug: say so loudly instead of saving a blank frame
+        traceback.print_exc()
+        engine.report({"ERROR"}, "Rendezvous: internal error %s: %s (see the console)" % (type(exc).__name__, exc))
+
+
+def _render(engine, depsgraph):
+    lib = binding.load()
+    scene = depsgraph.scene
+    props = scene.rendezvous
+    messages = Messages()
+    settings = session_settings(scene, props, frame=scene.frame_current, warn=messages.warn)
+
+    engine.update_stats("", "Rendezvous | Exporting scene")
+    clear_cache()
+    rscene = binding.Scene(lib)
+    session = None
+    try:
+        exporter = SceneExporter(depsgraph, rscene, image_average=image_average, messages=messages)
+        stats = exporter.export()
+        if engine.test_break():
+            return
+        engine.update_stats("", "Rendezvous | Building acceleration structures")
+        rscene.commit()
+        messages.extend(rscene.messages())
+        for line in messages.lines:
+            engine.report({"WARNING"}, line)
+        print("Rendezvous: exported %d meshes (%d triangles), %d instances, %d lights, %d materials in %.3f s"
+              % (stats.meshes, stats.triangles, stats.instances, stats.lights, stats.materials, stats.seconds))
+
+        session = binding.Session(rscene, settings)
+        engine.session = session
+        width, height = resolution(scene.render)
+        rect = border_rect(scene.render, width, height) or (0, 0, width, height)
+        session.start()
+        result = engine.begin_result(0, 0, rect[2], rect[3], layer=depsgraph.view_layer.name)
+        film = _Film(session, result, rect)
+        cancelled = False
+        last_push = time.monotonic()
+        while True:
+            if engine.test_break():
+                session.cancel()
+                cancelled = True
+                break
+            p = session.progress()
+            if p.finished:
+                break
+            now = time.monotonic()
+            if now - last_push >= PUSH_INTERVAL:
+                film.push(combined_only=True)
+                engine.update_result(result)
+                engine.update_progress(min(max(p.fraction_done, 0.0), 1.0))
+                engine.update_stats("", _stats_text(settings, p))
+                last_push = now
+            time.sleep(POLL_INTERVAL)
+        session.wait()
+        p = session.progress()
+        film.push()
+        engine.update_progress(1.0 if not cancelled else min(max(p.fraction_done, 0.0), 1.0))
+        engine.update_stats("", _stats_text(settings, p) + (" | Cancelled" if cancelled else ""))
+        engine.end_result(result)
+    finally:
+        engine.session = None
+        if session is not None:
+            try:
+                session.cancel()
+            except EngineError:
+                pass
+            session.close()
+        rscene.close()

@@ -1,0 +1,222 @@
+"""Evaluated depsgraph -> engine scene calls.
+
+The exporter talks to a *sink* with the engine's scene calls (add_material, add_mesh,
+add_instance, add_light, set_world, set_camera): the ctypes binding's Scene for a render,
+or dump.JsonSink for the bug-report JSON.  So both paths run the same export.
+"""
+
+import time
+
+from .. import shaders_map
+from ..utils import Messages, determinant3, is_finite_matrix
+from .camera import camera_params
+from .lights import light_params
+from .materials import MaterialCache
+from .mesh import mesh_arrays
+from .settings import session_settings, resolution, border_rect  # noqa: F401
+
+GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
+UV_NODES = {"ShaderNodeTexImage", "ShaderNodeUVMap", "ShaderNodeNormalMap", "ShaderNodeTexChecker"}
+
+
+class ExportStats:
+    def __init__(self):
+        self.meshes = 0
+        self.instances = 0
+        self.lights = 0
+        self.triangles = 0
+        self.materials = 0
+        self.seconds = 0.0
+
+    def as_dict(self):
+        return dict(self.__dict__)
+
+
+def _tree_uses_uvs(tree, depth=0):
+    """(uses_uvs, uv_map_name) for a material node tree (groups followed a few levels)."""
+    if tree is None or depth > 4:
+        return False, None
+    uses, name = False, None
+    for node in tree.nodes:
+        idname = node.bl_idname
+        if idname in UV_NODES:
+            uses = True
+            if idname == "ShaderNodeUVMap" and node.uv_map:
+                name = node.uv_map
+        elif idname == "ShaderNodeGroup" and node.node_tree is not None:
+            u, n = _tree_uses_uvs(node.node_tree, depth + 1)
+            uses = uses or u
+            name = name or n
+    return uses, name
+
+
+class SceneExporter:
+    def __init__(self, depsgraph, sink, image_average=None, messages=None, is_viewport=False):
+        self.depsgraph = depsgraph
+        self.scene = depsgraph.scene
+        self.sink = sink
+        self.messages = messages if messages is not None else Messages()
+        self.materials = MaterialCache(sink, self.messages, image_average)
+        self.image_average = image_average
+        self.stats = ExportStats()
+        self._meshes = {}  # (data pointer, materials) -> engine mesh id or None
+        self._mesh_names = set()
+        self._light_names = set()
+        self._uv_cache = {}
+        self.is_viewport = is_viewport
+
+    def warn(self, text):
+        self.messages.warn(text)
+
+    # ---- whole scene ------------------------------------------------------------
+    def export(self):
+        t0 = time.perf_counter()
+        self.export_camera()
+        self.export_world()
+        self.export_objects()
+        self.stats.materials = len(self.materials._ids)
+        self.stats.seconds = time.perf_counter() - t0
+        return self.stats
+
+    def export_camera(self):
+        cam = self.scene.camera
+        if cam is None:
+            raise ExportError("Scene '%s' has no camera" % self.scene.name)
+        cam_eval = cam.evaluated_get(self.depsgraph)
+        self.sink.set_camera(camera_params(cam_eval, self.warn))
+
+    def export_world(self):
+        params, warning = shaders_map.convert_world(self.scene.world, image_average=self.image_average)
+        if warning:
+            self.warn(warning)
+        self.sink.set_world(params)
+
+    def export_objects(self):
+        for inst in self.depsgraph.object_instances:
+            is_instance = inst.is_instance
+            ob = inst.instance_object if is_instance else inst.object
+            if ob is None:
+                continue
+            if not is_instance and not inst.show_self:
+                continue
+            otype = ob.type
+            if otype == "LIGHT":
+                self._light(ob, inst.matrix_world)
+            elif otype in GEOMETRY_TYPES:
+                self._geometry(ob, inst.matrix_world)
+            elif otype in ("VOLUME", "CURVES", "POINTCLOUD"):
+                self.warn("Object '%s': %s objects not supported yet, skipped" % (ob.name, otype.lower()))
+
+    # ---- lights -------------------------------------------------------------------
+    def _light(self, ob, matrix):
+        m16 = [*matrix[0], *matrix[1], *matrix[2], *matrix[3]]
+        if not is_finite_matrix(m16):
+            self.warn("Light '%s': non-finite transform, skipped" % ob.name)
+            return
+        params = light_params(ob.data, m16, ob.name, self.warn)
+        if params is None:
+            return
+        name = self._unique(ob.name, self._light_names)
+        self.sink.add_light(name, params)
+        self.stats.lights += 1
+
+    # ---- geometry -------------------------------------------------------------------
+    def _object_materials(self, ob):
+        mats = [slot.material for slot in ob.material_slots]
+        if not mats and ob.data is not None and hasattr(ob.data, "materials"):
+            mats = list(ob.data.materials)
+        return mats
+
+    def _uv_needs(self, mats):
+        uses, name = False, None
+        for m in mats:
+            if m is None or not m.use_nodes:
+                continue
+            key = m.name_full
+            if key not in self._uv_cache:
+                self._uv_cache[key] = _tree_uses_uvs(m.node_tree)
+            u, n = self._uv_cache[key]
+            uses = uses or u
+            name = name or n
+        return uses, name
+
+    def _geometry(self, ob, matrix):
+        m16 = [*matrix[0], *matrix[1], *matrix[2], *matrix[3]]
+        if not is_finite_matrix(m16):
+            self.warn("Object '%s': non-finite transform, skipped" % ob.name)
+            return
+        if abs(determinant3(m16)) < 1e-24:
+            self.warn("Object '%s': zero scale, skipped" % ob.name)
+            return
+        if not getattr(ob, "visible_camera", True):
+            self.warn("Object '%s': camera ray visibility off is not supported yet, object rendered normally"
+                      % ob.name)
+        if getattr(ob, "is_holdout", False):
+            self.warn("Object '%s': holdout not supported yet, object rendered normally" % ob.name)
+        mats = self._object_materials(ob)
+        data = ob.data
+        key = (data.as_pointer() if data is not None else ob.as_pointer(),
+               tuple(m.name_full if m is not None else None for m in mats))
+        if key in self._meshes:
+            mesh_id = self._meshes[key]
+        else:
+            mesh_id = self._meshes[key] = self._add_mesh(ob, mats)
+        if mesh_id is None:
+            return
+        self.sink.add_instance(mesh_id, m16)
+        self.stats.instances += 1
+
+    def _add_mesh(self, ob, mats):
+        need_uvs, uv_name = self._uv_needs(mats)
+        owned = False
+        me = None
+        if ob.type == "MESH" and ob.mode != "EDIT":
+            me = ob.data
+        else:
+            try:
+                me = ob.to_mesh()
+                owned = True
+            except RuntimeError:
+                me = None
+        if me is None:
+            self.warn("Object '%s': could not be converted to a mesh, skipped" % ob.name)
+            return None
+        try:
+            arrays = mesh_arrays(me, need_uvs=need_uvs, uv_name=uv_name)
+        finally:
+            if owned:
+                ob.to_mesh_clear()
+        if arrays is None:
+            self.warn("Object '%s': no faces, nothing to render" % ob.name)
+            return None
+        if arrays.num_nonfinite:
+            self.warn("Object '%s': %d vertices with non-finite (NaN/Inf) positions; their triangles are dropped"
+                      % (ob.name, arrays.num_nonfinite))
+        if mats:
+            import numpy as np
+            slot_ids = np.array([self.materials.get(m) for m in mats], dtype=np.uint32)
+            idx = np.minimum(arrays.slot_indices, len(slot_ids) - 1)
+            material_ids = slot_ids[idx]
+            default = int(slot_ids[0])
+        else:
+            material_ids = None
+            default = self.materials.default()
+        name = self._unique(ob.name, self._mesh_names)
+        mesh_id = self.sink.add_mesh(name, arrays.positions, arrays.indices, normals=arrays.normals,
+                                     uvs=arrays.uvs, material_ids=material_ids, default_material=default)
+        self.stats.meshes += 1
+        self.stats.triangles += arrays.num_triangles
+        return mesh_id
+
+    @staticmethod
+    def _unique(name, used):
+        out, n = name, 1
+        while out in used:
+            n += 1
+            out = "%s#%d" % (name, n)
+        used.add(out)
+        return out
+
+
+class ExportError(RuntimeError):
+    """The scene cannot be rendered (e.g. no camera); the message is for the user."""

@@ -1,0 +1,61 @@
+"""Render settings JSON for rdv_session_create, and the output rectangle."""
+
+INTEGRATORS = {"PATH": "path", "BDPT": "bdpt", "MLT": "mlt"}
+DEFAULT_SAMPLES = 128
+
+
+def resolution(render):
+    pct = render.resolution_percentage / 100.0
+    return max(1, int(render.resolution_x * pct)), max(1, int(render.resolution_y * pct))
+
+
+def border_rect(render, width, height):
+    """(x, y_top, w, h) in pixels of the full image, rows counted from the top, or None.
+
+    Blender's border is given from the bottom-left in fractions; like Cycles, truncate."""
+    if not render.use_border:
+        return None
+    x0 = int(render.border_min_x * width)
+    x1 = int(render.border_max_x * width)
+    y0 = int(render.border_min_y * height)  # from the bottom
+    y1 = int(render.border_max_y * height)
+    x0, x1 = max(0, min(x0, width)), max(0, min(x1, width))
+    y0, y1 = max(0, min(y0, height)), max(0, min(y1, height))
+    if x1 <= x0 or y1 <= y0:
+        return None
+    if x0 == 0 and y0 == 0 and x1 == width and y1 == height:
+        return None
+    return (x0, height - y1, x1 - x0, y1 - y0)
+
+
+def session_settings(scene, props, frame=None, warn=print):
+    """props: scene.rendezvous (or a stand-in with the same fields)."""
+    render = scene.render
+    width, height = resolution(render)
+    samples = int(props.samples)
+    time_limit = float(props.time_limit)
+    if samples <= 0 and time_limit <= 0.0:
+        samples = DEFAULT_SAMPLES  # a render always halts
+    seed = int(props.seed)
+    if props.use_animated_seed:
+        seed += int(scene.frame_current if frame is None else frame)
+    s = {
+        "width": width,
+        "height": height,
+        "integrator": INTEGRATORS.get(props.integrator, "path"),
+        "max_bounces": int(props.max_bounces),
+        "seed": seed & 0x7FFFFFFF,
+        "threads": int(props.threads),
+        "clamp": float(props.clamp),
+    }
+    if samples > 0:
+        s["samples"] = samples
+    if time_limit > 0.0:
+        s["time_limit"] = time_limit
+    rect = border_rect(render, width, height)
+    if rect is not None:
+        x, y, w, h = rect
+        s["border"] = [x, y, x + w, y + h]
+    if abs(render.pixel_aspect_x - render.pixel_aspect_y) > 1e-6:
+        warn("Render: non-square pixel aspect not supported yet, using square pixels")
+    return s

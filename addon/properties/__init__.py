@@ -1,0 +1,43 @@
+"""scene.rendezvous: the render settings (shown in Render properties)."""
+
+import bpy
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty
+
+INTEGRATOR_ITEMS = [
+    ("PATH", "Path Tracing", "Unidirectional path tracing with next-event estimation"),
+    ("BDPT", "Bidirectional", "Bidirectional path tracing (caustics, hard-to-reach lights)"),
+]
+
+
+class RendezvousRenderSettings(bpy.types.PropertyGroup):
+    integrator: EnumProperty(name="Integrator", items=INTEGRATOR_ITEMS, default="PATH",
+                             description="Light transport algorithm")
+    samples: IntProperty(name="Samples", default=128, min=1, soft_max=4096,
+                         description="Samples per pixel; the render stops when they are done")
+    time_limit: FloatProperty(name="Time Limit", default=0.0, min=0.0, subtype="TIME_ABSOLUTE", unit="TIME_ABSOLUTE",
+                              description="Stop after this many seconds (0 = off); whichever halt comes first")
+    max_bounces: IntProperty(name="Max Bounces", default=12, min=0, max=1024,
+                             description="Maximum number of bounces of a path")
+    seed: IntProperty(name="Seed", default=0, min=0, description="Seed of the random sequences")
+    use_animated_seed: BoolProperty(name="Animated Seed", default=False,
+                                    description="Add the frame number to the seed (noise changes per frame)")
+    clamp: FloatProperty(name="Clamp", default=0.0, min=0.0,
+                         description="Cap on the luminance of a sample, reduces fireflies (0 = off)")
+    threads: IntProperty(name="Threads", default=0, min=0, max=1024,
+                         description="Render threads (0 = all cores)")
+
+
+classes = (RendezvousRenderSettings,)
+
+
+def register():
+    for cls in classes:
+        bpy.utils.register_class(cls)
+    bpy.types.Scene.rendezvous = PointerProperty(type=RendezvousRenderSettings, name="Rendezvous")
+
+
+def unregister():
+    if hasattr(bpy.types.Scene, "rendezvous"):
+        del bpy.types.Scene.rendezvous
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)

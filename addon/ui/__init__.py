@@ -1,0 +1,96 @@
+"""Render-properties panels, the bug-report operator, and Cycles' panels for our engine."""
+
+import bpy
+
+from .. import binding
+from . import compat, operators
+
+ENGINE_ID = "RENDEZVOUS"
+
+
+class RendezvousPanel:
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "render"
+    COMPAT_ENGINES = {ENGINE_ID}
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES
+
+
+class RENDEZVOUS_PT_sampling(RendezvousPanel, bpy.types.Panel):
+    bl_label = "Sampling"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        props = context.scene.rendezvous
+        problem = binding.status_message()
+        if problem:
+            box = layout.box()
+            box.alert = True
+            for line in _wrap(problem, 60):
+                box.label(text=line, icon="ERROR" if line is _wrap(problem, 60)[0] else "BLANK1")
+        layout.prop(props, "integrator")
+        col = layout.column(align=True)
+        col.prop(props, "samples")
+        col.prop(props, "time_limit")
+        col = layout.column(align=True)
+        col.prop(props, "seed")
+        col.prop(props, "use_animated_seed")
+
+
+class RENDEZVOUS_PT_light_paths(RendezvousPanel, bpy.types.Panel):
+    bl_label = "Light Paths"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        props = context.scene.rendezvous
+        layout.prop(props, "max_bounces")
+        layout.prop(props, "clamp")
+
+
+class RENDEZVOUS_PT_performance(RendezvousPanel, bpy.types.Panel):
+    bl_label = "Performance"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        layout.prop(context.scene.rendezvous, "threads")
+        layout.operator(operators.RENDEZVOUS_OT_export_scene.bl_idname, icon="EXPORT")
+
+
+def _wrap(text, width):
+    words, lines, cur = text.split(), [], ""
+    for w in words:
+        if len(cur) + len(w) + 1 > width and cur:
+            lines.append(cur)
+            cur = w
+        else:
+            cur = (cur + " " + w).strip()
+    if cur:
+        lines.append(cur)
+    return lines
+
+
+classes = (RENDEZVOUS_PT_sampling, RENDEZVOUS_PT_light_paths, RENDEZVOUS_PT_performance)
+
+
+def register():
+    operators.register()
+    for cls in classes:
+        bpy.utils.register_class(cls)
+    compat.register()
+
+
+def unregister():
+    compat.unregister()
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)
+    operators.unregister()
