@@ -1,7 +1,8 @@
 """Lowering: the engine-neutral description -> what the engine's materials accept today.
 
 This is the ONE place that knows the engine's material types.  Today the engine takes
-``diffuse`` {color}, ``emission`` {color, strength} and ``glossy`` {color, roughness};
+``diffuse`` {color}, ``emission`` {color, strength} and ``glossy`` {color, roughness},
+diffuse/glossy with optional ``emission``/``emission_strength``;
 when it gains Principled, glass, textures, ... only this module changes.
 
 A closure tree is flattened into weighted lobes (Mix/Add are linear), lobes of one type
@@ -171,24 +172,33 @@ def _combine(lobes, issues, owner_default):
     def weight(t):
         return sum(luminance(lobe.color) for lobe in by_type[t])
 
-    chosen = max(by_type, key=lambda t: (weight(t), t == "emission"))
+    # Emission rides along on diffuse/glossy ("emission" key); only scattering types compete.
+    emission = by_type.pop("emission", None)
+    emitted = [sum(lobe.color[i] for lobe in emission) for i in range(3)] if emission else None
+    if not by_type:
+        col, strength = _emission_params(emitted)
+        return {"type": "emission", "color": col, "strength": strength}
+    chosen = max(by_type, key=lambda t: (weight(t), t == "diffuse"))
     for t, ls in by_type.items():
         if t != chosen:
             for lobe in ls:
                 issues.add(lobe.node, "%s part dropped (the engine material is %s only)" % (t, chosen))
     ls = by_type[chosen]
     color = [sum(lobe.color[i] for lobe in ls) for i in range(3)]
-    if chosen == "emission":
-        col, strength = _emission_params(color)
-        return {"type": "emission", "color": col, "strength": strength}
     if chosen == "glossy":
         wsum = sum(max(luminance(lobe.color), 1e-9) for lobe in ls)
         rough = sum(lobe.roughness * max(luminance(lobe.color), 1e-9) for lobe in ls) / wsum
         if max(lobe.roughness for lobe in ls) - min(lobe.roughness for lobe in ls) > 1e-3:
             for lobe in ls:
                 issues.add(lobe.node, "roughness averaged with other glossy parts")
-        return {"type": "glossy", "color": color, "roughness": rough}
-    return {"type": "diffuse", "color": color}
+        params = {"type": "glossy", "color": color, "roughness": rough}
+    else:
+        params = {"type": "diffuse", "color": color}
+    if emitted is not None:
+        col, strength = _emission_params(emitted)
+        params["emission"] = col
+        params["emission_strength"] = strength
+    return params
 
 
 def lower_surface(desc, image_average=None):

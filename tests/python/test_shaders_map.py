@@ -129,9 +129,10 @@ class TestBsdfs(unittest.TestCase):
             n.inp("Specular").default_value = 0.0
             return n.out()
         p, w = material_with(b)
-        self.assertEqual(p["type"], "emission")
-        self.assertTrue(close([c * p["strength"] for c in p["color"]], (10.0, 10.0, 10.0)))
-        self.assertIn("diffuse part dropped", w)
+        self.assertEqual(p["type"], "diffuse")
+        self.assertTrue(close(p["color"], (0.8, 0.8, 0.8)))
+        self.assertTrue(close([c * p["emission_strength"] for c in p["emission"]], (10.0, 10.0, 10.0)))
+        self.assertIsNone(w)
 
 
 def _diffuse(t, color, name="D"):
@@ -171,8 +172,23 @@ class TestCombinators(unittest.TestCase):
             t.link(e.out(), m.inp("Shader_001"))
             return m.out()
         p, w = material_with(b)
-        self.assertEqual(p["type"], "emission")
-        self.assertIn("Diffuse BSDF 'Matte'", w)
+        self.assertEqual(p["type"], "diffuse")
+        self.assertTrue(close(p["color"], (0.25, 0.25, 0.25)))
+        self.assertTrue(close([c * p["emission_strength"] for c in p["emission"]], (5.0, 5.0, 5.0)))
+        self.assertIsNone(w)
+
+    def test_mix_diffuse_glossy_keeps_dominant_and_warns(self):
+        def b(t):
+            m = t.new("ShaderNodeMixShader", "Mix")
+            m.inp("Fac").default_value = 0.3
+            g = t.new("ShaderNodeBsdfGlossy", "Coat", distribution="GGX")
+            t.link(_diffuse(t, (0.5, 0.5, 0.5), "Matte").out(), m.inp("Shader"))
+            t.link(g.out(), m.inp("Shader_001"))
+            return m.out()
+        p, w = material_with(b)
+        self.assertEqual(p["type"], "diffuse")
+        self.assertIn("Glossy BSDF 'Coat'", w)
+        self.assertIn("glossy part dropped", w)
 
     def test_mix_with_linked_fac_is_evaluated(self):
         def b(t):
