@@ -1,0 +1,332 @@
+"""Builds the Blender test scenes (Cycles scenes that Rendezvous must render like Cycles).
+
+Inside Blender:
+    import build_scenes; build_scenes.build("plane_point")      # replaces the current scene's content
+Save them all as .blend files:
+    blender -b --factory-startup --python scenes/blend/build_scenes.py -- --out DIR [NAME ...]
+
+Every scene is small (64x64 by default) so tests stay fast.
+"""
+
+import math
+import os
+import sys
+
+import bpy
+
+RES = 64
+
+
+# ---- helpers ------------------------------------------------------------------------------
+def reset(res=RES):
+    for ob in list(bpy.data.objects):
+        bpy.data.objects.remove(ob, do_unlink=True)
+    for coll in (bpy.data.meshes, bpy.data.lights, bpy.data.cameras, bpy.data.materials, bpy.data.images,
+                 bpy.data.node_groups, bpy.data.worlds, bpy.data.particles):
+        for block in list(coll):
+            coll.remove(block)
+    for c in list(bpy.data.collections):
+        bpy.data.collections.remove(c)
+    scene = bpy.context.scene
+    scene.render.resolution_x = res
+    scene.render.resolution_y = res
+    scene.render.resolution_percentage = 100
+    scene.render.use_border = False
+    scene.render.film_transparent = False
+    scene.view_settings.view_transform = "Standard"
+    scene.view_settings.look = "None"
+    scene.view_settings.exposure = 0.0
+    scene.view_settings.gamma = 1.0
+    world = bpy.data.worlds.new("World")
+    world.use_nodes = True
+    bg = world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+    bg.inputs["Strength"].default_value = 1.0
+    scene.world = world
+    return scene
+
+
+def link(ob):
+    bpy.context.scene.collection.objects.link(ob)
+    return ob
+
+
+def diffuse_material(name, color=(0.8, 0.8, 0.8)):
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    nt = m.node_tree
+    for n in list(nt.nodes):
+        nt.nodes.remove(n)
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    d = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    d.inputs["Color"].default_value = (*color, 1.0)
+    nt.links.new(d.outputs["BSDF"], out.inputs["Surface"])
+    return m
+
+
+def emission_material(name, color=(1.0, 1.0, 1.0), strength=1.0):
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    nt = m.node_tree
+    for n in list(nt.nodes):
+        nt.nodes.remove(n)
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    e = nt.nodes.new("ShaderNodeEmission")
+    e.inputs["Color"].default_value = (*color, 1.0)
+    e.inputs["Strength"].default_value = strength
+    nt.links.new(e.outputs["Emission"], out.inputs["Surface"])
+    return m
+
+
+def quad_mesh(name, size_x, size_y=None):
+    size_y = size_x if size_y is None else size_y
+    me = bpy.data.meshes.new(name)
+    hx, hy = size_x / 2, size_y / 2
+    me.from_pydata([(-hx, -hy, 0), (hx, -hy, 0), (hx, hy, 0), (-hx, hy, 0)], [], [(0, 1, 2, 3)])
+    me.update()
+    return me
+
+
+def plane(name="Floor", size=20.0, material=None, location=(0, 0, 0)):
+    ob = link(bpy.data.objects.new(name, quad_mesh(name + "Mesh", size)))
+    ob.location = location
+    ob.data.materials.append(material or diffuse_material(name + "Mat"))
+    return ob
+
+
+def camera_down(height=3.0, lens=50.0, location=(0.0, 0.0)):
+    cam = bpy.data.cameras.new("Camera")
+    cam.lens = lens
+    cam.clip_start = 0.05
+    cam.clip_end = 100.0
+    ob = link(bpy.data.objects.new("Camera", cam))
+    ob.location = (location[0], location[1], height)
+    ob.rotation_euler = (0.0, 0.0, 0.0)  # looks down -Z
+    bpy.context.scene.camera = ob
+    return ob
+
+
+def light(kind, name, energy, location, rotation=(0.0, 0.0, 0.0), **props):
+    data = bpy.data.lights.new(name, kind)
+    data.energy = energy
+    for k, v in props.items():
+        setattr(data, k, v)
+    ob = link(bpy.data.objects.new(name, data))
+    ob.location = location
+    ob.rotation_euler = rotation
+    return ob
+
+
+# ---- scenes -------------------------------------------------------------------------------
+def plane_point():
+    reset()
+    plane()
+    camera_down(3.0)
+    light("POINT", "Point", 100.0, (0.3, 0.2, 1.5), shadow_soft_size=0.1)
+
+
+def plane_spot():
+    reset()
+    plane()
+    camera_down(3.0)
+    light("SPOT", "Spot", 300.0, (0.0, 0.0, 2.0), rotation=(math.radians(10), 0, 0),
+          spot_size=math.radians(40.0), spot_blend=0.3, shadow_soft_size=0.05)
+
+
+def plane_sun():
+    reset()
+    plane()
+    camera_down(3.0)
+    light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(30), 0, math.radians(20)), angle=math.radians(1.0))
+
+
+def plane_area():
+    reset()
+    plane()
+    camera_down(3.0)
+    light("AREA", "Area", 60.0, (0.0, 0.0, 1.2), rotation=(math.radians(15), 0, 0), shape="RECTANGLE",
+          size=0.8, size_y=0.4)
+
+
+def plane_area_disk_scaled():
+    reset()
+    plane()
+    camera_down(3.0)
+    ob = light("AREA", "AreaDisk", 40.0, (0.2, 0.0, 1.0), shape="DISK", size=0.5)
+    ob.scale = (2.0, 1.0, 1.0)
+
+
+def world_color():
+    scene = reset()
+    plane()
+    cam = camera_down(3.0, lens=20.0)
+    cam.rotation_euler = (math.radians(60), 0, 0)  # sees the floor and the sky
+    bg = scene.world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (0.2, 0.3, 0.5, 1.0)
+    bg.inputs["Strength"].default_value = 1.5
+
+
+def emissive_mesh():
+    reset()
+    plane()
+    camera_down(4.0, lens=35.0)
+    panel = link(bpy.data.objects.new("Panel", quad_mesh("PanelMesh", 1.0, 0.6)))
+    panel.location = (0.4, 0.0, 1.0)
+    panel.rotation_euler = (math.radians(180), 0, 0)  # faces down (both faces emit anyway)
+    panel.data.materials.append(emission_material("Glow", (1.0, 0.8, 0.6), 5.0))
+
+
+def hdri_path():
+    d = os.environ.get("RDV_TEST_TMP") or bpy.app.tempdir or "/tmp"
+    return os.path.join(d, "rdv_test_sky.exr")
+
+
+def hdri():
+    """An environment image that varies with longitude only: a floor facing up receives
+    exactly its average, so a constant-average approximation is exact for the floor."""
+    scene = reset()
+    plane(size=200.0)
+    camera_down(3.0)
+    w, h = 64, 32
+    img = bpy.data.images.new("sky_src", w, h, float_buffer=True, alpha=False)
+    import numpy as np
+    u = (np.arange(w) + 0.5) / w
+    row = np.stack([0.5 + 0.4 * np.cos(2 * np.pi * u), 0.6 + 0.3 * np.sin(2 * np.pi * u), np.full(w, 0.9),
+                    np.ones(w)], axis=1).astype(np.float32)
+    px = np.tile(row[None, :, :], (h, 1, 1)).reshape(-1)
+    img.pixels.foreach_set(px)
+    path = hdri_path()
+    img.filepath_raw = path
+    img.file_format = "OPEN_EXR"
+    img.save()
+    bpy.data.images.remove(img)
+    sky = bpy.data.images.load(path)
+    nt = scene.world.node_tree
+    env = nt.nodes.new("ShaderNodeTexEnvironment")
+    env.image = sky
+    nt.links.new(env.outputs["Color"], nt.nodes["Background"].inputs["Color"])
+    nt.nodes["Background"].inputs["Strength"].default_value = 1.0
+
+
+def bad_input():
+    """Objects the exporter must warn about by name, while the render goes on."""
+    reset()
+    plane()
+    camera_down(4.0, lens=35.0)
+    light("SUN", "Sun", 2.0, (0, 0, 5))
+    # NaN vertex
+    me = quad_mesh("NaNMesh", 0.5)
+    me.vertices[2].co = (float("nan"), 0.0, 0.0)
+    ob = link(bpy.data.objects.new("NaNObject", me))
+    ob.location = (-1, -1, 0.5)
+    # no faces
+    me = bpy.data.meshes.new("EdgesOnly")
+    me.from_pydata([(0, 0, 0), (1, 0, 0)], [(0, 1)], [])
+    link(bpy.data.objects.new("NoFacesObject", me)).location = (1, 1, 0.5)
+    # zero scale
+    ob = link(bpy.data.objects.new("ZeroScaleObject", quad_mesh("ZeroMesh", 0.5)))
+    ob.scale = (0.0, 0.0, 0.0)
+    # unsupported node (Wave texture)
+    m = diffuse_material("WavyMaterial")
+    wave = m.node_tree.nodes.new("ShaderNodeTexWave")
+    wave.name = "UnsupportedWave"
+    m.node_tree.links.new(wave.outputs["Color"], m.node_tree.nodes["Diffuse BSDF"].inputs["Color"])
+    ob = link(bpy.data.objects.new("WavyObject", quad_mesh("WavyMesh", 0.6)))
+    ob.location = (1, -1, 0.3)
+    ob.data.materials.append(m)
+    # missing texture file
+    m = diffuse_material("MissingTexMaterial")
+    tex = m.node_tree.nodes.new("ShaderNodeTexImage")
+    tex.name = "MissingImage"
+    img = bpy.data.images.new("missing.png", 4, 4)
+    img.source = "FILE"
+    img.filepath = "/nonexistent/rendezvous/missing.png"
+    tex.image = img
+    m.node_tree.links.new(tex.outputs["Color"], m.node_tree.nodes["Diffuse BSDF"].inputs["Color"])
+    ob = link(bpy.data.objects.new("MissingTexObject", quad_mesh("TexMesh", 0.6)))
+    ob.location = (-1, 1, 0.3)
+    ob.data.materials.append(m)
+
+
+def showcase():
+    """Materials, instances (collection instance, shared mesh), smooth and flat shading."""
+    reset(96)
+    plane(material=diffuse_material("FloorMat", (0.6, 0.6, 0.6)))
+    cam = camera_down(6.0, lens=35.0)
+    cam.location = (0, -6, 4)
+    cam.rotation_euler = (math.radians(55), 0, 0)
+    light("AREA", "Key", 300.0, (2, -2, 4), rotation=(math.radians(30), math.radians(20), 0), size=2.0)
+    bpy.context.scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.05, 0.06, 0.08, 1)
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.6, location=(-1.2, 0, 0.6))
+    sphere = bpy.context.active_object
+    bpy.ops.object.shade_smooth()
+    m = bpy.data.materials.new("Principled")
+    m.use_nodes = True
+    m.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (0.8, 0.2, 0.1, 1)
+    sphere.data.materials.append(m)
+    bpy.ops.mesh.primitive_cube_add(size=0.8, location=(1.2, 0, 0.4))
+    cube = bpy.context.active_object
+    g = bpy.data.materials.new("Metal")
+    g.use_nodes = True
+    p = g.node_tree.nodes["Principled BSDF"]
+    p.inputs["Metallic"].default_value = 1.0
+    p.inputs["Roughness"].default_value = 0.3
+    cube.data.materials.append(g)
+    # a collection instanced three times
+    coll = bpy.data.collections.new("Pillars")
+    bpy.ops.mesh.primitive_cylinder_add(radius=0.15, depth=1.0, location=(0, 0, 0.5))
+    pillar = bpy.context.active_object
+    for c in pillar.users_collection:
+        c.objects.unlink(pillar)
+    coll.objects.link(pillar)
+    for i, x in enumerate((-1.5, 0.0, 1.5)):
+        inst = bpy.data.objects.new("PillarInstance%d" % i, None)
+        inst.instance_type = "COLLECTION"
+        inst.instance_collection = coll
+        inst.location = (x, 1.5, 0)
+        link(inst)
+    # a second object sharing the sphere's mesh
+    twin = link(bpy.data.objects.new("SphereTwin", sphere.data))
+    twin.location = (0, -0.8, 0.6)
+
+
+SCENES = {
+    "plane_point": plane_point,
+    "plane_spot": plane_spot,
+    "plane_sun": plane_sun,
+    "plane_area": plane_area,
+    "plane_area_disk_scaled": plane_area_disk_scaled,
+    "world_color": world_color,
+    "emissive_mesh": emissive_mesh,
+    "hdri": hdri,
+    "bad_input": bad_input,
+    "showcase": showcase,
+}
+
+# Scenes whose brightness must agree with Cycles.
+BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
+                     "world_color", "emissive_mesh", "hdri"]
+
+
+def build(name):
+    SCENES[name]()
+    bpy.context.view_layer.update()
+    return bpy.context.scene
+
+
+def main(argv):
+    import argparse
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--out", required=True)
+    ap.add_argument("names", nargs="*")
+    a = ap.parse_args(argv)
+    os.makedirs(a.out, exist_ok=True)
+    for name in a.names or list(SCENES):
+        build(name)
+        path = os.path.join(os.path.abspath(a.out), name + ".blend")
+        bpy.ops.wm.save_as_mainfile(filepath=path, copy=True)
+        print("wrote", path)
+
+
+if __name__ == "__main__":
+    main(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])

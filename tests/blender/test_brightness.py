@@ -1,0 +1,147 @@
+"""Brightness agrees with Cycles: each scene is rendered by Cycles and by Rendezvous in
+this Blender process; the image means must agree within 2% and 8x8-pixel block means
+within their noise.
+
+    run_blender.py --script test_brightness.py -- [--samples N] SCENE [SCENE ...]
+"""
+
+import argparse
+import os
+import sys
+import time
+import traceback
+
+import bpy
+import numpy as np
+
+ROOT = os.environ.get("RDV_REPO_ROOT") or os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "scenes", "blend"))
+import build_scenes  # noqa: E402
+
+MEAN_TOLERANCE = 0.02
+BLOCK = 8
+BLOCK_REL = 0.03      # a block passes if within 3% ...
+BLOCK_Z = 5.0         # ... or within 5 standard errors of the noise
+
+
+def out_dir():
+    d = os.path.join(os.getcwd(), "blender_test_output")
+    os.makedirs(d, exist_ok=True)
+    return d
+
+
+def read_render(scene, path):
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.image_settings.color_depth = "32"
+    scene.render.image_settings.color_mode = "RGBA"
+    bpy.data.images["Render Result"].save_render(path)
+    im = bpy.data.images.load(path, check_existing=False)
+    px = np.empty(im.size[0] * im.size[1] * 4, np.float32)
+    im.pixels.foreach_get(px)
+    shape = (im.size[1], im.size[0], 4)
+    bpy.data.images.remove(im)
+    return px.reshape(shape)[:, :, :3].astype(np.float64)
+
+
+def render_cycles(scene, samples, path):
+    scene.render.engine = "CYCLES"
+    c = scene.cycles
+    c.device = "CPU"
+    c.samples = samples
+    c.use_adaptive_sampling = False
+    c.use_denoising = False
+    c.seed = 1
+    c.light_sampling_threshold = 0.0
+    c.sample_clamp_direct = 0.0
+    c.sample_clamp_indirect = 0.0
+    c.max_bounces = 12
+    c.use_auto_tile = False
+    scene.render.threads_mode = "AUTO"
+    t = time.time()
+    bpy.ops.render.render()
+    dt = time.time() - t
+    return read_render(scene, path), dt
+
+
+def render_rendezvous(scene, samples, path):
+    scene.render.engine = "RENDEZVOUS"
+    p = scene.rendezvous
+    p.samples = samples
+    p.time_limit = 0.0
+    p.max_bounces = 12
+    p.seed = 1
+    p.clamp = 0.0
+    t = time.time()
+    bpy.ops.render.render()
+    dt = time.time() - t
+    return read_render(scene, path), dt
+
+
+def local_noise_var(img):
+    """Per-pixel noise variance from neighbour differences (signal assumed smooth)."""
+    lum = img.mean(axis=2)
+    d = np.diff(lum, axis=1)
+    var = np.zeros_like(lum)
+    var[:, :-1] += 0.25 * d * d
+    var[:, 1:] += 0.25 * d * d
+    return var
+
+
+def block_means(a):
+    h, w = a.shape[:2]
+    hb, wb = h // BLOCK, w // BLOCK
+    a = a[:hb * BLOCK, :wb * BLOCK]
+    return a.reshape(hb, BLOCK, wb, BLOCK, *a.shape[2:]).mean(axis=(1, 3))
+
+
+def compare(name, ref, test):
+    mref, mtest = ref.reshape(-1, 3).mean(axis=0), test.reshape(-1, 3).mean(axis=0)
+    lum_ref, lum_test = mref.mean(), mtest.mean()
+    ratio = lum_test / lum_ref if lum_ref > 0 else float("inf")
+    ok_mean = abs(ratio - 1.0) <= MEAN_TOLERANCE
+    bref = block_means(ref.mean(axis=2))
+    btest = block_means(test.mean(axis=2))
+    var = block_means(local_noise_var(ref) + local_noise_var(test)) / (BLOCK * BLOCK)
+    se = np.sqrt(np.maximum(var, 1e-12))
+    diff = np.abs(btest - bref)
+    rel = diff / np.maximum(np.abs(bref), 1e-6)
+    z = diff / se
+    bad = (rel > BLOCK_REL) & (z > BLOCK_Z)
+    ok_blocks = not bad.any()
+    print("BRIGHTNESS %-24s cycles mean %s  rendezvous mean %s  ratio %.4f  worst block rel %.3f z %.1f  "
+          "bad blocks %d/%d  -> %s" % (name, np.round(mref, 4), np.round(mtest, 4), ratio, rel.max(), z.max(),
+                                        int(bad.sum()), bad.size, "ok" if ok_mean and ok_blocks else "FAIL"))
+    return ok_mean, ok_blocks, ratio
+
+
+def main():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--samples", type=int, default=128)
+    ap.add_argument("scenes", nargs="*")
+    a = ap.parse_args(argv)
+    names = a.scenes or build_scenes.BRIGHTNESS_SCENES
+    failures = []
+    odir = out_dir()
+    for name in names:
+        try:
+            scene = build_scenes.build(name)
+            ref, tc = render_cycles(scene, a.samples, os.path.join(odir, name + "_cycles.exr"))
+            test, tr = render_rendezvous(scene, a.samples, os.path.join(odir, name + "_rendezvous.exr"))
+            print("  %s: Cycles %.2f s, Rendezvous %.2f s" % (name, tc, tr))
+            ok_mean, ok_blocks, ratio = compare(name, ref, test)
+            if not ok_mean:
+                failures.append("%s: mean ratio Rendezvous/Cycles = %.4f (tolerance %.0f%%)"
+                                % (name, ratio, 100 * MEAN_TOLERANCE))
+            if not ok_blocks:
+                failures.append("%s: block means differ beyond noise" % name)
+        except Exception as exc:
+            traceback.print_exc()
+            failures.append("%s: %s" % (name, exc))
+    if failures:
+        print("BRIGHTNESS TEST FAILED (images in %s):\n  %s" % (odir, "\n  ".join(failures)))
+        sys.exit(1)
+    print("BRIGHTNESS TEST PASSED")
+
+
+main()
