@@ -123,6 +123,7 @@ MeshArrays mesh_arrays(const json &j, const std::string &what, const std::string
       if (size.size() != 3) throw std::runtime_error(what + ": box size needs 3 numbers");
       make_box(m, size[0], size[1], size[2]);
     } else throw std::runtime_error(what + ": unknown shape type '" + type + "' (sphere, quad, disk, box)");
+    if (!s.value("smooth", true)) m.normals.clear();  // flat shading: face normals only
   } else if (j.contains("binary")) {
     const json &b = j["binary"];
     std::string file = (std::filesystem::path(base_dir) / b.value("file", "")).string();

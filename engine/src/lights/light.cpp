@@ -153,7 +153,7 @@ bool sample_light(const Light &l, Vec3 ref, Vec2 u, LightSample &s) {
         Frame f(n);
         Vec2 d = concentric_disk(u) * l.radius;
         Vec3 p = l.position + f.s * d.x + f.t * d.y;
-        if (!to_solid_angle(ref, p, -n, l.inv_area, false, s)) return false;
+        if (!to_solid_angle(ref, p, n, l.inv_area, false, s)) return false;
         s.L = l.radiance;
       } else {
         s.dist = std::sqrt(d2);

@@ -1,0 +1,80 @@
+#include "render_helpers.h"
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
+
+namespace rdv::test {
+
+bool Image::all_finite() const {
+  for (float v : rgba)
+    if (!std::isfinite(v)) return false;
+  return true;
+}
+
+static Image render_scene(rdv_scene *scene, const rdv_tools::LoadedScene &loaded, const std::string &override_json) {
+  Image img;
+  for (const auto &p : loaded.problems) img.warnings += p + "\n";
+  nlohmann::json settings = nlohmann::json::parse(loaded.settings_json);
+  settings.update(nlohmann::json::parse(override_json));
+  rdv_session *session = nullptr;
+  if (rdv_session_create(scene, settings.dump().c_str(), &session) != RDV_OK)
+    throw std::runtime_error(std::string("session: ") + rdv_last_error());
+  const char *text = nullptr;
+  if (rdv_scene_messages(scene, &text) == RDV_OK && text) img.warnings += text;
+  rdv_session_start(session);
+  rdv_session_wait(session);
+  rdv_session_progress(session, &img.progress);
+  img.width = settings.value("width", 640);
+  img.height = settings.value("height", 480);
+  img.rgba.resize(size_t(img.width) * img.height * 4);
+  if (rdv_session_read_film(session, RDV_PASS_COMBINED, 0, 0, img.width, img.height, 1, img.rgba.data()) != RDV_OK)
+    throw std::runtime_error(std::string("read_film: ") + rdv_last_error());
+  rdv_session_destroy(session);
+  return img;
+}
+
+Image render_json(const std::string &scene_json, const std::string &settings_override) {
+  rdv_scene *scene = nullptr;
+  rdv_scene_create(&scene);
+  try {
+    auto loaded = rdv_tools::load_scene_json(scene_json, ".", scene);
+    Image img = render_scene(scene, loaded, settings_override);
+    rdv_scene_destroy(scene);
+    return img;
+  } catch (...) {
+    rdv_scene_destroy(scene);
+    throw;
+  }
+}
+
+Image render_file(const std::string &path, const std::string &settings_override) {
+  rdv_scene *scene = nullptr;
+  rdv_scene_create(&scene);
+  try {
+    auto loaded = rdv_tools::load_scene_file(path, scene);
+    Image img = render_scene(scene, loaded, settings_override);
+    rdv_scene_destroy(scene);
+    return img;
+  } catch (...) {
+    rdv_scene_destroy(scene);
+    throw;
+  }
+}
+
+MeanEstimate pixel_mean(const Image &img, int channel) {
+  double s = 0, s2 = 0;
+  int n = img.width * img.height;
+  for (int i = 0; i < n; ++i) {
+    double v = img.rgba[size_t(i) * 4 + channel];
+    s += v;
+    s2 += v * v;
+  }
+  double mean = s / n;
+  return {mean, std::sqrt(std::max(0.0, s2 / n - mean * mean) / n)};
+}
+
+std::string source_path(const std::string &relative) { return std::string(RDV_SOURCE_DIR) + "/" + relative; }
+
+}  // namespace rdv::test

@@ -1,0 +1,38 @@
+// Rendering a scene through the public C ABI, as the add-on and the CLI do, and
+// simple statistics on the result.
+#pragma once
+#include <string>
+#include <vector>
+#include "rendezvous.h"
+#include "scene_file.h"
+
+namespace rdv::test {
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<float> rgba;  // top-down
+  std::string warnings;     // scene messages + loader problems
+  rdv_progress progress{};
+  float luminance(int x, int y) const {
+    const float *p = &rgba[(size_t(y) * width + x) * 4];
+    return 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];
+  }
+  float channel_mean(int c) const {
+    double s = 0;
+    for (int i = 0; i < width * height; ++i) s += rgba[size_t(i) * 4 + c];
+    return float(s / (width * height));
+  }
+  bool all_finite() const;
+};
+
+// Renders JSON scene text; settings_override is merged into the scene's settings.
+Image render_json(const std::string &scene_json, const std::string &settings_override = "{}");
+Image render_file(const std::string &path, const std::string &settings_override = "{}");
+
+// Mean and standard error of the per-pixel means (pixels are independent estimates).
+struct MeanEstimate { double mean, standard_error; };
+MeanEstimate pixel_mean(const Image &img, int channel);
+
+std::string source_path(const std::string &relative);  // RDV_SOURCE_DIR + relative
+
+}  // namespace rdv::test

@@ -1,0 +1,102 @@
+// Camera framing (Blender's sensor fit and shift), parameter parsing, the sampler.
+#include <gtest/gtest.h>
+#include "core/params.h"
+#include "samplers/sampler.h"
+#include "scene/camera.h"
+
+using namespace rdv;
+
+static Camera camera(const std::string &json, int w, int h) {
+  Params p(json, "camera");
+  Camera c = Camera::from_params(p);
+  c.set_resolution(w, h);
+  return c;
+}
+
+TEST(Camera, SensorFitAutoUsesTheWiderDimension) {
+  Camera c = camera(R"({"focal_length":50,"sensor_width":36})", 1920, 1080);
+  EXPECT_NEAR(c.right, 0.36f, 1e-6f);  // tan(half fov) = 18 / 50
+  EXPECT_NEAR(c.top, 0.36f * 1080 / 1920, 1e-6f);
+  Camera portrait = camera(R"({"focal_length":50,"sensor_width":36})", 1080, 1920);
+  EXPECT_NEAR(portrait.top, 0.36f, 1e-6f);
+}
+
+TEST(Camera, SensorFitVerticalAndShift) {
+  Camera c = camera(R"({"focal_length":50,"sensor_height":24,"sensor_fit":"VERTICAL","shift_x":0.1})", 1920, 1080);
+  EXPECT_NEAR(c.top, 0.24f, 1e-6f);
+  float half_w = 0.24f * 1920 / 1080;
+  // Shift is in units of the fitted dimension (here the height, 2 * 0.24).
+  EXPECT_NEAR(c.left, -half_w + 0.1f * 0.48f, 1e-5f);
+}
+
+TEST(Camera, OrthographicScaleAndRays) {
+  Camera c = camera(R"({"type":"orthographic","ortho_scale":4})", 200, 100);
+  EXPECT_NEAR(c.right, 2.0f, 1e-6f);
+  EXPECT_NEAR(c.top, 1.0f, 1e-6f);
+  Ray r = c.generate_ray({0, 0}, {0.5f, 0.5f});  // top-left corner
+  EXPECT_NEAR(r.o.x, -2.0f, 1e-5f);
+  EXPECT_NEAR(r.o.y, 1.0f, 1e-5f);
+  EXPECT_NEAR(r.d.z, -1.0f, 1e-6f);
+}
+
+TEST(Camera, ThinLensRaysMeetOnTheFocalPlane) {
+  Camera c = camera(R"({"fstop":1.4,"focal_length":50,"focus_distance":3})", 64, 64);
+  EXPECT_NEAR(c.aperture_radius, 0.05f / 2.8f, 1e-6f);
+  Vec3 p0, p1;
+  for (int i = 0; i < 2; ++i) {
+    Ray r = c.generate_ray({20.0f, 40.0f}, {i ? 0.9f : 0.1f, i ? 0.2f : 0.7f});
+    float t = (-3.0f - r.o.z) / r.d.z;  // plane z = -3 (camera looks down -Z)
+    (i ? p1 : p0) = r.o + r.d * t;
+  }
+  EXPECT_NEAR(p0.x, p1.x, 1e-4f);
+  EXPECT_NEAR(p0.y, p1.y, 1e-4f);
+}
+
+TEST(Params, TransformFromTranslateRotateScale) {
+  Params p(R"({"transform":{"translate":[1,2,3],"rotate":[0,0,90],"scale":2}})", "thing");
+  Transform t = p.get_transform("transform", Transform());
+  Vec3 x = t.point(Vec3(1, 0, 0));
+  EXPECT_NEAR(x.x, 1.0f, 1e-5f);
+  EXPECT_NEAR(x.y, 4.0f, 1e-5f);
+  EXPECT_NEAR(x.z, 3.0f, 1e-5f);
+  p.check_all_used();
+}
+
+TEST(Params, LookAtPointsMinusZAtTarget) {
+  Params p(R"({"transform":{"look_at":{"from":[0,-5,0],"to":[0,0,0]}}})", "camera");
+  Transform t = p.get_transform("transform", Transform());
+  Vec3 forward = -t.column(2);
+  EXPECT_NEAR(forward.y, 1.0f, 1e-6f);
+  EXPECT_NEAR(t.column(1).z, 1.0f, 1e-6f) << "up stays +Z";
+}
+
+// Owen-scrambled Sobol: values in [0,1), and the first 2^k samples of a 2D
+// dimension are stratified: every cell of a 2^k-cell elementary grid gets exactly one.
+TEST(Sampler, SobolIsStratifiedAndInRange) {
+  SobolSampler s(7);
+  const int n = 256;
+  std::vector<int> cells(16 * 16, 0);
+  for (int i = 0; i < n; ++i) {
+    s.start_sample(3, 5, i);
+    s.get_2d();  // dimension 0 (pixel filter)
+    Vec2 u = s.get_2d();
+    ASSERT_GE(u.x, 0.0f);
+    ASSERT_LT(u.x, 1.0f);
+    ASSERT_GE(u.y, 0.0f);
+    ASSERT_LT(u.y, 1.0f);
+    cells[int(u.y * 16) * 16 + int(u.x * 16)]++;
+  }
+  for (int c : cells) EXPECT_EQ(c, 1);
+}
+
+TEST(Sampler, DependsOnPixelSeedAndIndexOnly) {
+  SobolSampler a(1), b(1), c(2);
+  a.start_sample(10, 20, 5);
+  b.start_sample(10, 20, 5);
+  c.start_sample(10, 20, 5);
+  float va = a.get_1d(), vb = b.get_1d(), vc = c.get_1d();
+  EXPECT_EQ(va, vb);
+  EXPECT_NE(va, vc);
+  a.start_sample(11, 20, 5);
+  EXPECT_NE(a.get_1d(), vb);
+}
