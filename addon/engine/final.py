@@ -13,6 +13,10 @@ from ..utils import Messages
 from ..utils.images import image_average, clear_cache
 
 PUSH_INTERVAL = 0.5   # seconds between film copies into Blender
+
+# For tests and tools: what the last render did, and an extra cancel request.
+last_render = {}
+cancel_hook = None  # callable() -> bool; True cancels like test_break()
 POLL_INTERVAL = 0.02  # seconds between test_break() polls (cancel within 100 ms)
 
 # Blender pass name -> (engine pass, channels, chan_id, type)
@@ -76,6 +80,11 @@ class _Film:
             self.passes.append((rp, engine_pass, arr))
 
     def push(self, combined_only=False):
+        t0 = time.perf_counter()
+        self._push(combined_only)
+        last_render.setdefault("push_seconds", []).append(time.perf_counter() - t0)
+
+    def _push(self, combined_only):
         for rp, engine_pass, arr in self.passes:
             if combined_only and engine_pass != binding.PASS_COMBINED:
                 continue
@@ -103,6 +112,8 @@ def _render(engine, depsgraph):
     props = scene.rendezvous
     messages = Messages()
     settings = session_settings(scene, props, frame=scene.frame_current, warn=messages.warn)
+    last_render.clear()
+    last_render.update(messages=messages.lines, settings=settings, cancelled=False)
 
     engine.update_stats("", "Rendezvous | Exporting scene")
     clear_cache()
@@ -131,9 +142,10 @@ def _render(engine, depsgraph):
         cancelled = False
         last_push = time.monotonic()
         while True:
-            if engine.test_break():
+            if engine.test_break() or (cancel_hook is not None and cancel_hook()):
                 session.cancel()
                 cancelled = True
+                last_render["cancel_requested"] = time.monotonic()
                 break
             p = session.progress()
             if p.finished:
@@ -148,6 +160,8 @@ def _render(engine, depsgraph):
             time.sleep(POLL_INTERVAL)
         session.wait()
         p = session.progress()
+        last_render.update(stats=stats.as_dict(), progress=p.as_dict(), cancelled=cancelled,
+                           engine_stopped=time.monotonic())
         film.push()
         engine.update_progress(1.0 if not cancelled else min(max(p.fraction_done, 0.0), 1.0))
         engine.update_stats("", _stats_text(settings, p) + (" | Cancelled" if cancelled else ""))

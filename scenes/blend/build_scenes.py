@@ -24,6 +24,8 @@ def reset(res=RES):
     for coll in (bpy.data.meshes, bpy.data.lights, bpy.data.cameras, bpy.data.materials, bpy.data.images,
                  bpy.data.node_groups, bpy.data.worlds, bpy.data.particles):
         for block in list(coll):
+            if getattr(block, "type", None) == "RENDER_RESULT":
+                continue
             coll.remove(block)
     for c in list(bpy.data.collections):
         bpy.data.collections.remove(c)
