@@ -1,0 +1,241 @@
+"""Export helpers of the add-on with fake Blender data (no bpy): lights in Blender's
+units, camera, render settings and halt conditions, the JSON dump sink, the binding's
+library search.  Needs numpy (Debian's python3-numpy)."""
+
+import importlib.util
+import json
+import math
+import os
+import sys
+import tempfile
+import types
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+
+try:
+    import numpy as np
+except ImportError:  # pragma: no cover
+    np = None
+
+
+def load_addon():
+    """Imports addon/ as the package `rendezvous` (source-tree layout, no bpy needed)."""
+    if "rendezvous" in sys.modules:
+        return sys.modules["rendezvous"]
+    spec = importlib.util.spec_from_file_location("rendezvous", os.path.join(ROOT, "addon", "__init__.py"),
+                                                  submodule_search_locations=[os.path.join(ROOT, "addon")])
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules["rendezvous"] = mod
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def ns(**kw):
+    return types.SimpleNamespace(**kw)
+
+
+def translation(x, y, z, scale=(1.0, 1.0, 1.0)):
+    return [scale[0], 0, 0, x, 0, scale[1], 0, y, 0, 0, scale[2], z, 0, 0, 0, 1]
+
+
+@unittest.skipIf(np is None, "numpy not available")
+class TestLights(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        load_addon()
+        from rendezvous.export import lights
+        cls.lights = lights
+
+    def params(self, light, m16=None):
+        warnings = []
+        p = self.lights.light_params(light, m16 or translation(1, 2, 3), "L", warnings.append)
+        return p, warnings
+
+    def test_point(self):
+        p, w = self.params(ns(type="POINT", color=(1, 0.5, 0.25), energy=100.0, shadow_soft_size=0.2))
+        self.assertEqual(p["type"], "point")
+        self.assertEqual(p["power"], 100.0)
+        self.assertAlmostEqual(p["radius"], 0.2)
+        self.assertEqual(p["color"], [1.0, 0.5, 0.25])
+        self.assertEqual(p["transform"][3], 1.0)
+        self.assertEqual(w, [])
+
+    def test_spot(self):
+        p, w = self.params(ns(type="SPOT", color=(1, 1, 1), energy=50.0, shadow_soft_size=0.0,
+                              spot_size=math.radians(45), spot_blend=0.2))
+        self.assertEqual(p["type"], "spot")
+        self.assertAlmostEqual(p["spot_size"], math.radians(45))
+        self.assertAlmostEqual(p["spot_blend"], 0.2)
+
+    def test_sun_strength(self):
+        p, w = self.params(ns(type="SUN", color=(1, 1, 1), energy=3.0, angle=0.1))
+        self.assertEqual(p, {"type": "sun", "color": [1.0, 1.0, 1.0], "transform": p["transform"],
+                             "strength": 3.0, "angle": 0.1})
+
+    def test_area_scale_goes_into_size(self):
+        light = ns(type="AREA", color=(1, 1, 1), energy=10.0, shape="SQUARE", size=0.5, size_y=9.0)
+        p, w = self.params(light, translation(0, 0, 2, scale=(2.0, 3.0, 1.0)))
+        self.assertEqual(p["shape"], "rectangle")  # a square scaled non-uniformly
+        self.assertAlmostEqual(p["size"], 1.0)
+        self.assertAlmostEqual(p["size_y"], 1.5)
+        self.assertAlmostEqual(p["transform"][0], 1.0)  # the transform has no scale left
+        self.assertAlmostEqual(p["transform"][5], 1.0)
+
+    def test_area_disk_rectangle(self):
+        p, w = self.params(ns(type="AREA", color=(1, 1, 1), energy=10.0, shape="ELLIPSE", size=1.0, size_y=0.5))
+        self.assertEqual((p["shape"], p["size"], p["size_y"]), ("ellipse", 1.0, 0.5))
+
+
+@unittest.skipIf(np is None, "numpy not available")
+class TestCameraSettings(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        load_addon()
+
+    def cam(self, **kw):
+        dof = ns(use_dof=kw.pop("use_dof", False), aperture_fstop=2.0, focus_object=None, focus_distance=4.0,
+                 aperture_blades=6, aperture_rotation=0.1, aperture_ratio=1.0)
+        data = ns(type=kw.pop("type", "PERSP"), lens=35.0, sensor_width=36.0, sensor_height=24.0, sensor_fit="AUTO",
+                  shift_x=0.1, shift_y=-0.2, clip_start=0.01, clip_end=500.0, ortho_scale=7.0, dof=dof)
+        rows = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 5], [0, 0, 0, 1]]
+        return ns(data=data, name="Camera", matrix_world=rows)
+
+    def test_perspective_and_dof(self):
+        from rendezvous.export.camera import camera_params
+        ob = self.cam(use_dof=True)
+        p = camera_params(ob, print)
+        self.assertEqual(p["type"], "perspective")
+        self.assertEqual((p["focal_length"], p["shift_x"], p["shift_y"]), (35.0, 0.1, -0.2))
+        self.assertAlmostEqual(p["aperture_radius"], 35e-3 / 4.0)
+        self.assertEqual(p["focus_distance"], 4.0)
+        self.assertEqual(p["transform"][11], 5.0)
+
+    def test_ortho(self):
+        from rendezvous.export.camera import camera_params
+        p = camera_params(self.cam(type="ORTHO"), print)
+        self.assertEqual((p["type"], p["ortho_scale"]), ("orthographic", 7.0))
+        self.assertNotIn("aperture_radius", p)
+
+    def render(self, **kw):
+        r = ns(resolution_x=200, resolution_y=100, resolution_percentage=50, use_border=False, border_min_x=0.0,
+               border_max_x=1.0, border_min_y=0.0, border_max_y=1.0, pixel_aspect_x=1.0, pixel_aspect_y=1.0)
+        for k, v in kw.items():
+            setattr(r, k, v)
+        return r
+
+    def props(self, **kw):
+        p = ns(integrator="PATH", samples=64, time_limit=0.0, max_bounces=8, seed=5, use_animated_seed=False,
+               clamp=0.0, threads=0)
+        for k, v in kw.items():
+            setattr(p, k, v)
+        return p
+
+    def test_settings_resolution_seed_halt(self):
+        from rendezvous.export.settings import session_settings
+        scene = ns(render=self.render(), frame_current=7)
+        s = session_settings(scene, self.props(use_animated_seed=True, integrator="BDPT"))
+        self.assertEqual((s["width"], s["height"], s["samples"], s["seed"], s["integrator"]), (100, 50, 64, 12, "bdpt"))
+        self.assertNotIn("time_limit", s)
+        s = session_settings(scene, self.props(samples=0, time_limit=0.0))
+        self.assertGreater(s["samples"], 0)  # a render always halts
+        s = session_settings(scene, self.props(samples=0, time_limit=2.5))
+        self.assertEqual(s["time_limit"], 2.5)
+        self.assertNotIn("samples", s)
+
+    def test_border_rows_from_top(self):
+        from rendezvous.export.settings import session_settings, border_rect
+        r = self.render(use_border=True, border_min_x=0.25, border_max_x=0.75, border_min_y=0.0, border_max_y=0.5)
+        self.assertEqual(border_rect(r, 100, 50), (25, 25, 50, 25))  # bottom half = rows 25..49 from the top
+        s = session_settings(ns(render=r, frame_current=1), self.props())
+        self.assertEqual(s["border"], [25, 25, 75, 50])
+
+
+@unittest.skipIf(np is None, "numpy not available")
+class TestDumpSink(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        load_addon()
+
+    def fill(self, sink):
+        red = sink.add_material("red", {"type": "diffuse", "color": [1, 0, 0]})
+        blue = sink.add_material("blue", {"type": "diffuse", "color": [0, 0, 1]})
+        pos = np.array([0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0], np.float32)
+        idx = np.array([0, 1, 2, 0, 2, 3], np.uint32)
+        m = sink.add_mesh("quad", pos, idx, material_ids=np.array([blue, red], np.uint32))
+        sink.add_instance(m, translation(0, 0, 0))
+        sink.add_instance(m, translation(2, 0, 0))
+        sink.add_light("sun", {"type": "sun", "strength": 2.0})
+        sink.set_world({"color": [0.1, 0.1, 0.1], "strength": 1.0})
+        sink.set_camera({"type": "perspective"})
+        return sink.document({"width": 8, "height": 8, "samples": 1})
+
+    def test_inline(self):
+        from rendezvous.export.dump import JsonSink
+        doc = json.loads(json.dumps(self.fill(JsonSink())))
+        mesh = doc["meshes"][0]
+        self.assertEqual(mesh["materials"], ["red", "blue"])
+        self.assertEqual(mesh["material_indices"], [1, 0])
+        self.assertEqual(len(mesh["positions"]), 12)
+        self.assertEqual([i["mesh"] for i in doc["instances"]], ["quad", "quad"])
+        self.assertEqual(doc["lights"][0]["name"], "sun")
+        self.assertEqual(set(doc), {"settings", "camera", "world", "materials", "meshes", "instances", "lights"})
+
+    def test_binary(self):
+        from rendezvous.export.dump import JsonSink
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "s.bin")
+            with open(path, "wb") as f:
+                doc = self.fill(JsonSink(f, "s.bin"))
+            b = doc["meshes"][0]["binary"]
+            with open(path, "rb") as f:
+                data = f.read()
+            pos = np.frombuffer(data, "<f4", 12, b["positions"])
+            idx = np.frombuffer(data, "<u4", 6, b["indices"])
+            self.assertEqual(pos[3], 1.0)
+            self.assertEqual(list(idx), [0, 1, 2, 0, 2, 3])
+            self.assertEqual((b["num_vertices"], b["num_triangles"]), (4, 2))
+
+
+class TestBinding(unittest.TestCase):
+    def test_missing_library_message(self):
+        load_addon()
+        from rendezvous import binding
+        old = os.environ.get("RDV_LIBRARY")
+        os.environ["RDV_LIBRARY"] = "/nonexistent/librendezvous.so"
+        try:
+            binding.reset()
+            cands = binding.library_candidates()
+            self.assertEqual(cands[0], "/nonexistent/librendezvous.so")
+            if not any(os.path.isfile(c) for c in cands):
+                msg = binding.status_message()
+                self.assertIn("not found", msg)
+                self.assertIn("cmake --install", msg)
+        finally:
+            if old is None:
+                os.environ.pop("RDV_LIBRARY", None)
+            else:
+                os.environ["RDV_LIBRARY"] = old
+            binding.reset()
+
+    def test_broken_library_message(self):
+        load_addon()
+        from rendezvous import binding
+        with tempfile.NamedTemporaryFile(suffix=".so") as f:
+            f.write(b"not an ELF file")
+            f.flush()
+            with self.assertRaises(binding.LibraryError) as cm:
+                binding.load(f.name)
+            self.assertIn("could not be loaded", str(cm.exception))
+
+    def test_progress_struct_layout(self):
+        load_addon()
+        from rendezvous import binding
+        import ctypes
+        # uint32 x2, double x3, uint64, double, uint64, int32 x2 (C layout, 8-byte aligned)
+        self.assertEqual(ctypes.sizeof(binding.Progress), 4 + 4 + 8 * 3 + 8 + 8 + 8 + 4 + 4)
+
+
+if __name__ == "__main__":
+    unittest.main()
