@@ -1,4 +1,5 @@
-"""Ctrl-C during `blender -b scene.blend -E RENDEZVOUS -f 1`: Blender's test_break() turns
+"""Headless renders as users run them.  First `blender -b scene.blend -E RENDEZVOUS -o ... -f 1`
+must write the frame and exit 0.  Then Ctrl-C during `blender -b scene.blend -E RENDEZVOUS -f 1`: Blender's test_break() turns
 true, the engine session is cancelled and Blender exits promptly.  Plain Python driver.
 
     python3 cancel_sigint.py --blender blender --lib build/engine/librendezvous.so
@@ -45,6 +46,24 @@ def main():
             f.write(MAKE % (os.path.join(install_addon.ROOT, "scenes", "blend"), blend))
         subprocess.run([a.blender, "-b", "--factory-startup", "--addons", "rendezvous", "--python", make],
                        env=env, check=True, stdout=subprocess.DEVNULL)
+        # 1. a normal headless frame (samples overridden small through a tiny Python expression)
+        small = os.path.join(tmp, "small.blend")
+        subprocess.run([a.blender, "-b", "--factory-startup", "--addons", "rendezvous", blend, "--python-expr",
+                        "import bpy; bpy.context.scene.rendezvous.samples = 4; "
+                        "bpy.ops.wm.save_as_mainfile(filepath=%r)" % small],
+                       env=env, check=True, stdout=subprocess.DEVNULL)
+        t = time.monotonic()
+        proc = subprocess.run([a.blender, "-b", "--factory-startup", "--addons", "rendezvous", small, "-E",
+                               "RENDEZVOUS", "-o", os.path.join(tmp, "frame_"), "-F", "PNG", "-f", "1"],
+                              env=env, capture_output=True, text=True)
+        frame = os.path.join(tmp, "frame_0001.png")
+        print("HEADLESS: exit code %d, %.2f s, wrote %s: %s" % (proc.returncode, time.monotonic() - t, frame,
+                                                                os.path.exists(frame)))
+        if proc.returncode != 0 or not os.path.exists(frame):
+            print(proc.stdout[-3000:], proc.stderr[-3000:])
+            print("FAILED: headless frame")
+            return 1
+        # 2. Ctrl-C during a render that would take forever
         cmd = [a.blender, "-b", "--factory-startup", "--addons", "rendezvous", blend, "-E", "RENDEZVOUS",
                "-o", os.path.join(tmp, "out_"), "-F", "OPEN_EXR", "-f", "1"]
         proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1)
