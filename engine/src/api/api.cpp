@@ -8,16 +8,9 @@
 #include "core/log.h"
 #include "film/image_output.h"
 #include "render/session.h"
+#include "api/handles.h"
 #include "rendezvous.h"
 
-struct rdv_scene {
-  std::shared_ptr<rdv::Scene> scene;
-  std::string text;  // backing store for strings handed out (messages, summary)
-};
-
-struct rdv_session {
-  std::unique_ptr<rdv::Session> session;
-};
 
 namespace {
 

@@ -21,6 +21,22 @@ class Sampler {
 // Hash-based Owen Scrambling"): each pair of dimensions uses the first two Sobol
 // dimensions of an index shuffled by a hash-seeded nested uniform scramble.
 class SobolSampler final : public Sampler {
+  struct SobolTables {
+    uint32_t t[4][256];
+    SobolTables() {
+      uint32_t v[32];
+      v[0] = 1u << 31;
+      for (int k = 1; k < 32; ++k) v[k] = v[k - 1] ^ (v[k - 1] >> 1);
+      for (int b = 0; b < 4; ++b)
+        for (int byte = 0; byte < 256; ++byte) {
+          uint32_t r = 0;
+          for (int j = 0; j < 8; ++j)
+            if (byte & (1 << j)) r ^= v[8 * b + j];
+          t[b][byte] = r;
+        }
+    }
+  };
+
  public:
   explicit SobolSampler(uint32_t seed) : seed_(hash_u32(seed ^ 0x5bd1e995u)) {}
   void start_sample(uint32_t px, uint32_t py, uint32_t sample_index) override {
@@ -30,14 +46,16 @@ class SobolSampler final : public Sampler {
   }
   float get_1d() override {
     uint32_t d = dimension_++;
-    uint32_t i = nested_uniform_scramble(index_, hash_combine(pixel_seed_, 2 * d));
-    return to_float(nested_uniform_scramble(reverse_bits(i), hash_combine(pixel_seed_, 2 * d + 1)));
+    uint32_t h = hash_combine(pixel_seed_, d);
+    uint32_t i = nested_uniform_scramble(index_, h);
+    return to_float(nested_uniform_scramble(reverse_bits(i), hash_u32(h ^ 0x68bc21ebu)));
   }
   Vec2 get_2d() override {
     uint32_t d = dimension_++;
-    uint32_t i = nested_uniform_scramble(index_, hash_combine(pixel_seed_, 3 * d + 0x10000));
-    uint32_t x = nested_uniform_scramble(reverse_bits(i), hash_combine(pixel_seed_, 3 * d + 0x10001));
-    uint32_t y = nested_uniform_scramble(sobol_dimension1(i), hash_combine(pixel_seed_, 3 * d + 0x10002));
+    uint32_t h = hash_combine(pixel_seed_, d + 0x10000);
+    uint32_t i = nested_uniform_scramble(index_, h);
+    uint32_t x = nested_uniform_scramble(reverse_bits(i), hash_u32(h ^ 0x68bc21ebu));
+    uint32_t y = nested_uniform_scramble(sobol_dimension1(i), hash_u32(h ^ 0x02e5be93u));
     return {to_float(x), to_float(y)};
   }
 
@@ -48,12 +66,13 @@ class SobolSampler final : public Sampler {
     v = ((v >> 8) & 0x00ff00ffu) | ((v & 0x00ff00ffu) << 8);
     return (v >> 16) | (v << 16);
   }
-  // Second Sobol dimension (generator matrix: Pascal's triangle mod 2), bit-reversed output.
+  // Second Sobol dimension (generator matrix: Pascal's triangle mod 2). The shuffled
+  // index uses all 32 bits, so the matrix-vector product goes a byte at a time
+  // through precomputed tables instead of a 32-step loop.
   static uint32_t sobol_dimension1(uint32_t index) {
-    uint32_t result = 0;
-    for (uint32_t v = 1u << 31; index; index >>= 1, v ^= v >> 1)
-      if (index & 1) result ^= v;
-    return result;
+    static const SobolTables tables;
+    return tables.t[0][index & 0xff] ^ tables.t[1][(index >> 8) & 0xff] ^ tables.t[2][(index >> 16) & 0xff] ^
+           tables.t[3][index >> 24];
   }
   // Laine-Karras style hash acting as a nested uniform (Owen) scramble on reversed bits.
   static uint32_t nested_uniform_scramble(uint32_t x, uint32_t seed) {
