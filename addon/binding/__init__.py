@@ -108,8 +108,9 @@ def library_candidates():
     out.append(os.path.join(addon, name))
     # Running from the source tree (addon/ inside the repository): the build directory.
     repo = os.path.dirname(os.path.realpath(addon))
-    for build in ("build", "build-release", "build-debug"):
-        out.append(os.path.join(repo, build, "engine", name))
+    if os.path.isfile(os.path.join(repo, "engine", "include", "rendezvous.h")):
+        for build in ("build", "build-release", "build-debug"):
+            out.append(os.path.join(repo, build, "engine", name))
     return out
 
 
