@@ -76,7 +76,8 @@ class _Film:
             engine_pass, channels = info
             if rp.channels != channels:
                 continue
-            arr = np.zeros((self.w * self.h, channels), dtype=np.float32)
+            arr = np.empty((self.w * self.h, channels), dtype=np.float32)
+            arr.fill(0.0)  # touch the pages now, not during the first push
             self.passes.append((rp, engine_pass, arr))
 
     def push(self, combined_only=False):

@@ -134,7 +134,8 @@ def main():
     scene.render.engine = "RENDEZVOUS"
     scene.render.resolution_x, scene.render.resolution_y = 1920, 1080
     scene.render.resolution_percentage = 100
-    scene.rendezvous.samples = 1
+    scene.rendezvous.samples = 100000
+    scene.rendezvous.time_limit = 2.2  # a few pushes at the 0.5 s interval
     bpy.ops.render.render()
     pushes = final.last_render.get("push_seconds", [])
     print("BENCH film push 1920x1080 (Combined, read_film + foreach_set): %s ms"
