@@ -9,7 +9,7 @@ static float smoothstep(float e0, float e1, float x) {
 }
 
 // Cycles 3.4's spot_attenuation: cos(theta) x smoothstep over the blend region.
-static float spot_attenuation(const Light &l, Vec3 dir_from_light) {
+float spot_attenuation(const Light &l, Vec3 dir_from_light) {
   float c = dot(l.axis, dir_from_light);
   if (c <= l.cos_half_spot) return 0.0f;
   float t = c - l.cos_half_spot;
@@ -79,6 +79,7 @@ Light make_light(Params &p) {
   } else {
     fail(p.what() + ": unknown light type '" + type + "' (point, spot, sun, area)");
   }
+  l.visible_camera = p.get_bool("visible_camera", false);
   p.check_all_used();
   return l;
 }
@@ -100,6 +101,7 @@ Light make_background_light(Color radiance) {
   Light l;
   l.type = LightType::Background;
   l.radiance = radiance;
+  l.visible_camera = true;  // the world is the background
   return l;
 }
 

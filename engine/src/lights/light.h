@@ -31,6 +31,9 @@ struct Light {
   bool ellipse = false;
   Vec3 p0{0.0f};
   float power = 0;       // for light selection (scalar)
+  // Whether camera rays see the lamp itself. Off by default: Cycles 3.4 never shows
+  // lamps to the camera (it does show them in reflections).
+  bool visible_camera = false;
 
   bool is_delta() const {
     return ((type == LightType::Point || type == LightType::Spot) && radius == 0) ||
@@ -47,6 +50,8 @@ struct LightSample {
   float pdf = 0;  // solid angle; 1 for delta lights
 };
 
+// Cycles 3.4's spot falloff along a direction leaving the light.
+float spot_attenuation(const Light &light, Vec3 dir_from_light);
 // Builds a user light from its parameters (rdv_scene_add_light).
 Light make_light(Params &p);
 Light make_triangle_light(Vec3 a, Vec3 b, Vec3 c, Color radiance);
@@ -62,5 +67,24 @@ float light_pdf(const Light &light, Vec3 ref, Vec3 wi, float dist);
 bool intersect_light(const Light &light, const Ray &ray, float tmax, float &t, Color &L);
 // Radiance of an infinite light seen along an escaping direction.
 Color infinite_light_radiance(const Light &light, Vec3 d);
+
+// ---- Emission sampling, for light subpaths (BDPT) -- lights/light_emission.cpp ----
+struct EmissionSample {
+  Ray ray;          // leaves the light
+  Vec3 n{0.0f};     // emitting surface normal; zero for point-like lights (no cosine)
+  Color Le{0.0f};   // radiance (or intensity for delta-position lights) along ray
+  float pdf_pos = 0;  // area density of the origin (1 for delta positions; 1/(pi R^2) for infinite lights)
+  float pdf_dir = 0;  // solid-angle density of the direction (1 for delta directions)
+};
+// scene_center / scene_radius: the disk infinite lights emit through.
+bool sample_emission(const Light &light, Vec2 u_pos, Vec2 u_dir, Vec3 scene_center, float scene_radius,
+                     EmissionSample &out);
+// Densities with which sample_emission would emit from `p` (normal n) along `dir`.
+void emission_pdf(const Light &light, Vec3 p, Vec3 n, Vec3 dir, float scene_radius, float &pdf_pos, float &pdf_dir);
+// True if the light's position is a delta (point and spot without radius) or its
+// direction is (sun without angle): such a light vertex cannot be hit or connected to
+// as a surface.
+bool light_is_delta_position(const Light &light);
+bool light_is_delta_direction(const Light &light);
 
 }  // namespace rdv

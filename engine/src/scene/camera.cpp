@@ -37,6 +37,8 @@ Camera Camera::from_params(Params &p) {
   if (c.clip_start < 0 || c.clip_end <= c.clip_start) fail(p.what() + ": need 0 <= clip_start < clip_end");
   if (c.aperture_radius < 0 || c.focus_distance <= 0) fail(p.what() + ": aperture must be >= 0 and focus_distance > 0");
   if (c.blades != 0 && c.blades < 3) fail(p.what() + ": 'blades' must be 0 (round) or at least 3");
+  c.to_camera_ = c.to_world.inverse();
+  c.forward_ = normalize(-c.to_world.column(2));
   return c;
 }
 
@@ -62,7 +64,12 @@ void Camera::set_resolution(int width, int height) {
   left += dx; right += dx; bottom += dy; top += dy;
 }
 
-Ray Camera::generate_ray(Vec2 raster, Vec2 u_lens) const {
+Vec2 Camera::lens_sample(Vec2 u) const {
+  Vec2 lens = blades >= 3 ? regular_polygon(u, blades, blade_rotation) : concentric_disk(u);
+  return lens * aperture_radius;
+}
+
+Ray Camera::generate_ray(Vec2 raster, Vec2 u_lens, Vec3 *lens_point) const {
   float fx = raster.x / width_, fy = raster.y / height_;
   Vec3 plane{left + fx * (right - left), top - fy * (top - bottom), 0};
   Vec3 o, d;
@@ -74,13 +81,13 @@ Ray Camera::generate_ray(Vec2 raster, Vec2 u_lens) const {
     d = Vec3(0, 0, -1.0f);
   }
   if (aperture_radius > 0) {
-    Vec2 lens = blades >= 3 ? regular_polygon(u_lens, blades, blade_rotation) : concentric_disk(u_lens);
-    Vec3 lens_p{lens.x * aperture_radius, lens.y * aperture_radius, 0};
+    Vec2 lens = lens_sample(u_lens);
     Vec3 focus = o + d * focus_distance;  // d.z == -1: this point lies on the focal plane
-    o = o + lens_p;
+    o = o + Vec3(lens.x, lens.y, 0);
     d = focus - o;
   }
   d = normalize(d);
+  if (lens_point) *lens_point = to_world.point(o);
   // Clip planes are depths along the camera's -Z axis.
   float inv_depth_per_t = 1.0f / -d.z;
   Ray ray;
@@ -93,4 +100,50 @@ Ray Camera::generate_ray(Vec2 raster, Vec2 u_lens) const {
   return ray;
 }
 
+// pbrt's PerspectiveCamera::We: importance 1 / (A * lens_area * cos^4) inside the
+// image, where A is the image's area on the plane at unit distance.
+float Camera::importance(const Ray &ray, Vec2 *raster) const {
+  if (type != Type::Perspective) return 0;
+  float cos_theta = dot(ray.d, forward_);
+  if (cos_theta <= 0) return 0;
+  Vec3 focus = ray.o + ray.d * ((aperture_radius > 0 ? focus_distance : 1.0f) / cos_theta);
+  Vec3 pc = to_camera_.point(focus);
+  if (pc.z >= 0) return 0;
+  float px = pc.x / -pc.z, py = pc.y / -pc.z;
+  Vec2 r{(px - left) / (right - left) * width_, (top - py) / (top - bottom) * height_};
+  if (r.x < 0 || r.x >= width_ || r.y < 0 || r.y >= height_) return 0;
+  if (raster) *raster = r;
+  float area = (right - left) * (top - bottom);
+  float c2 = cos_theta * cos_theta;
+  return 1.0f / (area * lens_area() * c2 * c2);
+}
+
+void Camera::importance_pdf(const Ray &ray, float &pdf_pos, float &pdf_dir) const {
+  pdf_pos = pdf_dir = 0;
+  if (type != Type::Perspective) return;
+  float cos_theta = dot(ray.d, forward_);
+  if (cos_theta <= 0 || importance(ray, nullptr) == 0) return;
+  float area = (right - left) * (top - bottom);
+  pdf_pos = 1.0f / lens_area();
+  pdf_dir = 1.0f / (area * cos_theta * cos_theta * cos_theta);
+}
+
+bool Camera::sample_importance(Vec3 ref, Vec2 u_lens, ImportanceSample &out) const {
+  if (type != Type::Perspective) return false;
+  Vec2 lens = aperture_radius > 0 ? lens_sample(u_lens) : Vec2(0, 0);
+  out.lens_point = to_world.point(Vec3(lens.x, lens.y, 0));
+  Vec3 to_lens = out.lens_point - ref;
+  float d2 = length_squared(to_lens);
+  if (!(d2 > 0)) return false;
+  out.dist = std::sqrt(d2);
+  out.wi = to_lens / out.dist;
+  // The camera sees nothing nearer than clip_start or beyond clip_end.
+  float depth = dot(ref - position(), forward_);
+  if (depth < clip_start || depth > clip_end) return false;
+  float cos_lens = absdot(forward_, out.wi);
+  if (cos_lens <= 0) return false;
+  out.pdf = d2 / (cos_lens * lens_area());
+  out.We = importance(Ray{out.lens_point, -out.wi, kInf}, &out.raster);
+  return out.We > 0;
+}
 }  // namespace rdv

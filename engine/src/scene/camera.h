@@ -25,13 +25,34 @@ struct Camera {
   void set_resolution(int width, int height);
 
   // raster: continuous pixel coordinates, (0,0) = top-left corner of the image.
-  // u_lens in [0,1)^2. Returns the ray and its valid length.
-  Ray generate_ray(Vec2 raster, Vec2 u_lens) const;
+  // u_lens in [0,1)^2. Returns the ray (starting at the near clip plane) and its valid
+  // length; lens_point receives the point on the lens the ray comes from.
+  Ray generate_ray(Vec2 raster, Vec2 u_lens, Vec3 *lens_point = nullptr) const;
+
+  // ---- Importance, for light tracing and BDPT's t = 1 strategies (pbrt's We) ----
+  // Only perspective cameras (pinhole or thin lens) can be reached by light paths;
+  // an orthographic camera's directions are a delta.
+  bool can_be_connected() const { return type == Type::Perspective; }
+  float lens_area() const { return aperture_radius > 0 ? kPi * aperture_radius * aperture_radius : 1.0f; }
+  // Importance of a ray leaving the lens at ray.o along ray.d; raster receives where it
+  // lands. Zero outside the image.
+  float importance(const Ray &ray, Vec2 *raster) const;
+  void importance_pdf(const Ray &ray, float &pdf_pos, float &pdf_dir) const;
+  struct ImportanceSample {
+    Vec3 lens_point, wi;  // wi: from the reference point toward the lens
+    float dist = 0, pdf = 0, We = 0;
+    Vec2 raster;
+  };
+  // A point on the lens seen from ref, with its solid-angle pdf at ref.
+  bool sample_importance(Vec3 ref, Vec2 u_lens, ImportanceSample &out) const;
   Vec3 position() const { return to_world.column(3); }
-  Vec3 forward() const { return normalize(-to_world.column(2)); }
+  Vec3 forward() const { return forward_; }
 
  private:
+  Vec2 lens_sample(Vec2 u) const;
   int width_ = 1, height_ = 1;
+  Transform to_camera_;
+  Vec3 forward_{0, 0, -1};
 };
 
 }  // namespace rdv

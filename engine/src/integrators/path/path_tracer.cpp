@@ -51,6 +51,7 @@ Color PathTracer::Li(const Ray &camera_ray, Sampler &sampler, RayStats &stats, F
     int hit_light = -1;
     Color light_L;
     for (uint32_t li : scene_.hittable_lights()) {
+      if (depth == 0 && !scene_.lights()[li].visible_camera) continue;
       float t;
       Color Le;
       if (intersect_light(scene_.lights()[li], ray, tmax, t, Le)) { tmax = t; hit_light = int(li); light_L = Le; }
@@ -63,6 +64,7 @@ Color PathTracer::Li(const Ray &camera_ray, Sampler &sampler, RayStats &stats, F
     if (!found) {
       for (uint32_t li : scene_.infinite_lights()) {  // the world, beyond clip_end too
         const Light &light = scene_.lights()[li];
+        if (depth == 0 && !light.visible_camera) continue;
         Color Le = infinite_light_radiance(light, ray.d);
         if (!is_black(Le)) L += beta * Le * emission_weight(li, light_pdf(light, prev_p, ray.d, kInf));
       }

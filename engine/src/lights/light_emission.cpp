@@ -1,0 +1,145 @@
+// Where light subpaths start: a point on the light and a direction it emits in, with
+// the densities BDPT's MIS needs. Point and spot lights with a radius emit from
+// Blender 3.4's disk that faces the receiver: the disk perpendicular to the emitted
+// direction (parallel rays from the disk; first-order exact for receivers further
+// away than the radius, which is what the disk model itself assumes).
+#include "core/sampling.h"
+#include "lights/light.h"
+
+namespace rdv {
+
+// Uniform direction in the cone around axis with cos >= cos_max.
+static Vec3 uniform_cone(Vec3 axis, float cos_max, Vec2 u) {
+  float c = 1.0f - u.x * (1.0f - cos_max);
+  float s = safe_sqrt(1.0f - c * c), phi = 2.0f * kPi * u.y;
+  Frame f(axis);
+  return f.to_world(Vec3(s * std::cos(phi), s * std::sin(phi), c));
+}
+
+bool light_is_delta_position(const Light &l) {
+  return (l.type == LightType::Point || l.type == LightType::Spot) && l.radius == 0;
+}
+bool light_is_delta_direction(const Light &l) { return l.type == LightType::Sun && l.radius == 0; }
+
+bool sample_emission(const Light &l, Vec2 u_pos, Vec2 u_dir, Vec3 center, float radius, EmissionSample &out) {
+  switch (l.type) {
+    case LightType::Point:
+    case LightType::Spot: {
+      Vec3 d;
+      if (l.type == LightType::Spot) {
+        d = uniform_cone(l.axis, l.cos_half_spot, u_dir);
+        out.pdf_dir = 1.0f / (2.0f * kPi * (1.0f - l.cos_half_spot));
+      } else {
+        d = uniform_sphere(u_dir);
+        out.pdf_dir = uniform_sphere_pdf();
+      }
+      Vec3 o = l.position;
+      if (l.radius > 0) {
+        Frame f(d);
+        Vec2 q = concentric_disk(u_pos) * l.radius;
+        o = o + f.s * q.x + f.t * q.y;
+      }
+      out.pdf_pos = l.inv_area;  // 1 / (pi r^2), or 1 for a delta position
+      out.ray = {o, d, kInf};
+      out.n = Vec3(0.0f);
+      out.Le = l.radiance;       // disk radiance, or intensity for r = 0
+      if (l.type == LightType::Spot) out.Le *= spot_attenuation(l, d);
+      return !is_black(out.Le);
+    }
+    case LightType::Area:
+    case LightType::Triangle: {
+      Vec3 p;
+      if (l.type == LightType::Area) {
+        if (l.ellipse) {
+          Vec2 q = concentric_disk(u_pos);
+          p = l.position + l.edge_u * (0.5f * q.x) + l.edge_v * (0.5f * q.y);
+        } else {
+          p = l.position + l.edge_u * (u_pos.x - 0.5f) + l.edge_v * (u_pos.y - 0.5f);
+        }
+      } else {
+        Vec2 b = uniform_triangle(u_pos);
+        p = l.p0 + l.edge_u * b.x + l.edge_v * b.y;
+      }
+      Vec3 n = l.axis;
+      Vec2 ud = u_dir;
+      float side_pdf = 1.0f;
+      if (l.type == LightType::Triangle) {  // two-sided: pick a side
+        side_pdf = 0.5f;
+        if (ud.x < 0.5f) { n = -n; ud.x *= 2.0f; }
+        else ud.x = (ud.x - 0.5f) * 2.0f;
+        ud.x = std::min(ud.x, 0.99999994f);
+      }
+      Vec3 local = cosine_hemisphere(ud);
+      Vec3 d = Frame(n).to_world(local);
+      out.pdf_pos = l.inv_area;
+      out.pdf_dir = side_pdf * cosine_hemisphere_pdf(local.z);
+      out.ray = {p, d, kInf};
+      out.n = n;
+      out.Le = l.radiance;
+      return out.pdf_dir > 0;
+    }
+    case LightType::Sun:
+    case LightType::Background: {
+      // Direction toward the light, then an origin on a disk covering the scene.
+      Vec3 to_light;
+      Color L;
+      if (l.type == LightType::Background) {
+        to_light = uniform_sphere(u_dir);
+        out.pdf_dir = uniform_sphere_pdf();
+        L = l.radiance;
+      } else if (l.radius > 0) {
+        Frame f(-l.axis);
+        Vec2 q = concentric_disk(u_dir) * l.radius;
+        to_light = normalize(-l.axis + f.s * q.x + f.t * q.y);
+        float c = dot(-l.axis, to_light);
+        out.pdf_dir = l.inv_area / (c * c * c);
+        L = l.radiance * out.pdf_dir;
+      } else {
+        to_light = -l.axis;
+        out.pdf_dir = 1.0f;
+        L = l.radiance;
+      }
+      Frame f(to_light);
+      Vec2 q = concentric_disk(u_pos) * radius;
+      Vec3 o = center + to_light * radius + f.s * q.x + f.t * q.y;
+      out.ray = {o, -to_light, kInf};
+      out.pdf_pos = 1.0f / (kPi * radius * radius);
+      out.n = -to_light;
+      out.Le = L;
+      return true;
+    }
+  }
+  return false;
+}
+
+void emission_pdf(const Light &l, Vec3 p, Vec3 n, Vec3 dir, float radius, float &pdf_pos, float &pdf_dir) {
+  pdf_pos = pdf_dir = 0;
+  switch (l.type) {
+    case LightType::Point:
+      pdf_pos = l.inv_area;
+      pdf_dir = uniform_sphere_pdf();
+      break;
+    case LightType::Spot:
+      pdf_pos = l.inv_area;
+      pdf_dir = dot(l.axis, dir) > l.cos_half_spot ? 1.0f / (2.0f * kPi * (1.0f - l.cos_half_spot)) : 0.0f;
+      break;
+    case LightType::Area:
+      pdf_pos = l.inv_area;
+      pdf_dir = cosine_hemisphere_pdf(dot(l.axis, dir));
+      break;
+    case LightType::Triangle:
+      pdf_pos = l.inv_area;
+      pdf_dir = 0.5f * absdot(l.axis, dir) * kInvPi;
+      break;
+    case LightType::Sun:
+    case LightType::Background:
+      pdf_pos = 1.0f / (kPi * radius * radius);
+      pdf_dir = light_pdf(l, Vec3(0.0f), -dir, kInf);
+      if (light_is_delta_direction(l)) pdf_dir = 0;  // cannot be chosen by chance
+      break;
+  }
+  (void)p;
+  (void)n;
+}
+
+}  // namespace rdv
