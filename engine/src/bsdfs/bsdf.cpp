@@ -1,14 +1,27 @@
 #include "bsdfs/bsdf.h"
 #include "bsdfs/conductor.h"
+#include "bsdfs/dielectric.h"
 #include "bsdfs/diffuse.h"
+#include "bsdfs/oren_nayar.h"
+#include "bsdfs/sheen.h"
+#include "bsdfs/translucent.h"
+#include "bsdfs/transparent.h"
+#include <cstring>
+#include "core/hash.h"
 
 namespace rdv {
 
-Color lobe_eval(const Lobe &lobe, Vec3 wo, Vec3 wi) {
+Color lobe_eval(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode) {
   switch (lobe.type) {
     case LobeType::Lambert: return diffuse::eval(lobe, wo, wi);
     case LobeType::GgxConductor: return conductor::eval(lobe, wo, wi);
-    case LobeType::SpecularConductor: return Color(0.0f);
+    case LobeType::GgxDielectric: return dielectric::eval(lobe, wo, wi, mode);
+    case LobeType::OrenNayar: return oren_nayar::eval(lobe, wo, wi);
+    case LobeType::Translucent: return translucent::eval(lobe, wo, wi);
+    case LobeType::Sheen: return sheen::eval(lobe, wo, wi);
+    case LobeType::SpecularConductor:
+    case LobeType::SmoothDielectric:
+    case LobeType::Transparent: return Color(0.0f);  // delta lobes have no density
   }
   return Color(0.0f);
 }
@@ -17,23 +30,44 @@ float lobe_pdf(const Lobe &lobe, Vec3 wo, Vec3 wi) {
   switch (lobe.type) {
     case LobeType::Lambert: return diffuse::pdf(lobe, wo, wi);
     case LobeType::GgxConductor: return conductor::pdf(lobe, wo, wi);
-    case LobeType::SpecularConductor: return 0;
+    case LobeType::GgxDielectric: return dielectric::pdf(lobe, wo, wi);
+    case LobeType::OrenNayar: return oren_nayar::pdf(lobe, wo, wi);
+    case LobeType::Translucent: return translucent::pdf(lobe, wo, wi);
+    case LobeType::Sheen: return sheen::pdf(lobe, wo, wi);
+    case LobeType::SpecularConductor:
+    case LobeType::SmoothDielectric:
+    case LobeType::Transparent: return 0;
   }
   return 0;
 }
 
-bool lobe_sample(const Lobe &lobe, Vec3 wo, Vec2 u, Vec3 &wi, Color &weight, float &pdf) {
+bool lobe_sample(const Lobe &lobe, Vec3 wo, Vec2 u, Vec3 &wi, Color &weight, float &pdf, TransportMode mode,
+                 float uc) {
+  if (uc < 0) {  // no third dimension given: derive one that is independent of u in practice
+    uint32_t a, b;
+    std::memcpy(&a, &u.x, 4);
+    std::memcpy(&b, &u.y, 4);
+    uc = u32_to_unit_float(hash_combine(a, b));
+  }
   switch (lobe.type) {
     case LobeType::Lambert: return diffuse::sample(lobe, wo, u, wi, weight, pdf);
-    case LobeType::GgxConductor: return conductor::sample(lobe, wo, u, wi, weight, pdf);
+    case LobeType::GgxConductor: return conductor::sample(lobe, wo, u, uc, wi, weight, pdf);
     case LobeType::SpecularConductor: pdf = 1; return conductor::sample_specular(lobe, wo, wi, weight);
+    case LobeType::SmoothDielectric: return dielectric::sample_smooth(lobe, wo, u, wi, weight, pdf, mode);
+    case LobeType::GgxDielectric: return dielectric::sample(lobe, wo, u, uc, wi, weight, pdf, mode);
+    case LobeType::OrenNayar: return oren_nayar::sample(lobe, wo, u, wi, weight, pdf);
+    case LobeType::Transparent: return transparent::sample(lobe, wo, wi, weight, pdf);
+    case LobeType::Translucent: return translucent::sample(lobe, wo, u, wi, weight, pdf);
+    case LobeType::Sheen: return sheen::sample(lobe, wo, u, wi, weight, pdf);
   }
   return false;
 }
 
 Bsdf::Bsdf(Vec3 ng, Vec3 ns, Vec3 wo) {
-  // Two-sided surfaces: put both normals on the viewer's side of the geometry.
-  if (dot(ng, wo) < 0) ng = -ng;
+  // Two-sided surfaces: put both normals on the viewer's side of the geometry. A
+  // viewer behind the front face sees dielectrics from the inside (inverse IOR).
+  backfacing_ = dot(ng, wo) < 0;
+  if (backfacing_) ng = -ng;
   if (dot(ns, ng) < 0) ns = -ns;
   // A shading normal that faces away from the viewer would make the surface black
   // (the "shadow terminator"): fall back to the geometric normal there.
@@ -45,6 +79,7 @@ Bsdf::Bsdf(Vec3 ng, Vec3 ns, Vec3 wo) {
 void Bsdf::add_lobe(const Lobe &lobe, float sample_weight) {
   if (n_ == kMaxLobes || !(sample_weight > 0)) return;
   lobes_[n_] = lobe;
+  if (lobe.is_dielectric() && backfacing_) lobes_[n_].ior = 1.0f / lobe.ior;
   raw_weight_[n_] = sample_weight;
   ++n_;
   float total = 0;
@@ -58,29 +93,48 @@ bool Bsdf::is_delta() const {
   return n_ > 0;
 }
 
-// Veach's adjoint correction for shading normals on light paths:
-// |wo.ng| |wi.ns| / (|wo.ns| |wi.ng|), which keeps light tracing and BDPT consistent
-// with path tracing on smooth-shaded meshes.
+bool Bsdf::has_transmission() const {
+  for (int i = 0; i < n_; ++i)
+    if (lobes_[i].is_transmissive()) return true;
+  return false;
+}
+
+// Veach's adjoint correction for shading normals on light paths (1997, eq. 5.17; as
+// pbrt-v3's CorrectShadingNormal): |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|), with wo toward
+// the light-side vertex and wi the sampled direction. It keeps light tracing and BDPT
+// consistent with path tracing on smooth-shaded meshes.
 float Bsdf::shading_correction(Vec3 wo, Vec3 wi, TransportMode mode) const {
   if (mode == TransportMode::Radiance) return 1.0f;
-  float num = absdot(wo, ng_) * absdot(wi, frame_.n);
-  float den = absdot(wo, frame_.n) * absdot(wi, ng_);
+  float num = absdot(wo, frame_.n) * absdot(wi, ng_);
+  float den = absdot(wo, ng_) * absdot(wi, frame_.n);
   return den > 0 ? num / den : 0.0f;
 }
 
-Color Bsdf::eval(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
-  // Reflection lobes only: both directions on the same side of the geometry,
-  // otherwise light would leak through the surface via the shading normal.
-  if (dot(wo_w, ng_) <= 0 || dot(wi_w, ng_) <= 0) return Color(0.0f);
+// A direction counts only if the geometric and the shading normal agree on its side:
+// reflection stays above both, transmission goes below both. Otherwise light would
+// leak through the surface via the shading normal.
+static bool consistent_side(Vec3 wi_world, Vec3 ng, float wi_local_z) {
+  float g = dot(wi_world, ng);
+  return (g > 0 && wi_local_z > 0) || (g < 0 && wi_local_z < 0);
+}
+
+Color Bsdf::f(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
+  if (dot(wo_w, ng_) <= 0) return Color(0.0f);
   Vec3 wo = frame_.to_local(wo_w), wi = frame_.to_local(wi_w);
+  if (!consistent_side(wi_w, ng_, wi.z)) return Color(0.0f);
   Color f(0.0f);
-  for (int i = 0; i < n_; ++i) f += lobe_eval(lobes_[i], wo, wi);
-  return f * (std::fabs(wi.z) * shading_correction(wo_w, wi_w, mode));
+  for (int i = 0; i < n_; ++i) f += lobe_eval(lobes_[i], wo, wi, mode);
+  return f * shading_correction(wo_w, wi_w, mode);
+}
+
+Color Bsdf::eval(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
+  return f(wo_w, wi_w, mode) * absdot(wi_w, frame_.n);
 }
 
 float Bsdf::pdf(Vec3 wo_w, Vec3 wi_w) const {
-  if (dot(wo_w, ng_) <= 0 || dot(wi_w, ng_) <= 0) return 0;
+  if (dot(wo_w, ng_) <= 0) return 0;
   Vec3 wo = frame_.to_local(wo_w), wi = frame_.to_local(wi_w);
+  if (!consistent_side(wi_w, ng_, wi.z)) return 0;
   float p = 0;
   for (int i = 0; i < n_; ++i) p += pick_[i] * lobe_pdf(lobes_[i], wo, wi);
   return p;
@@ -94,16 +148,18 @@ bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSampl
     if (u_lobe < cdf + pick_[chosen]) break;
     cdf += pick_[chosen];
   }
+  // The remainder of u_lobe drives choices inside the lobe (reflect or refract).
+  float uc = clampf((u_lobe - cdf) / pick_[chosen], 0.0f, 0.99999994f);
   const Lobe &lobe = lobes_[chosen];
   Vec3 wo = frame_.to_local(wo_w), wi;
   Color weight;
   float pdf;
-  if (!lobe_sample(lobe, wo, u, wi, weight, pdf)) return false;
+  if (!lobe_sample(lobe, wo, u, wi, weight, pdf, mode, uc)) return false;
   out.wi = frame_.to_world(wi);
-  if (dot(out.wi, ng_) <= 0) return false;  // below the geometric surface
+  if (!consistent_side(out.wi, ng_, wi.z)) return false;
   if (lobe.is_delta()) {
     out.is_delta = true;
-    out.pdf = pick_[chosen];
+    out.pdf = pick_[chosen] * pdf;
     out.weight = weight * (shading_correction(wo_w, out.wi, mode) / pick_[chosen]);
     return true;
   }

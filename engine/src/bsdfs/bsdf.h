@@ -16,22 +16,60 @@ namespace rdv {
 enum class TransportMode { Radiance, Importance };
 
 enum class LobeType : uint8_t {
-  Lambert,           // f = color / pi
-  GgxConductor,      // GGX reflection, Fresnel none (tint) or complex IOR
-  SpecularConductor  // perfect mirror (GGX below Cycles' smoothness limit)
+  Lambert,            // f = color / pi                                    (diffuse.cpp)
+  GgxConductor,       // GGX reflection, Fresnel tint / complex IOR / Schlick (conductor.cpp)
+  SpecularConductor,  // perfect mirror (GGX below Cycles' smoothness limit)  (conductor.cpp)
+  SmoothDielectric,   // delta reflection + refraction, Fresnel-weighted      (dielectric.cpp)
+  GgxDielectric,      // rough GGX reflection + refraction (Walter 2007)      (dielectric.cpp)
+  OrenNayar,          // Cycles' (Fujii's) Oren-Nayar, sigma = roughness      (oren_nayar.cpp)
+  Transparent,        // straight pass-through (Transparent BSDF, alpha)     (transparent.cpp)
+  Translucent,        // Lambertian transmission                            (translucent.cpp)
+  Sheen               // Cycles 3.4 Principled sheen: (1 - |wi.h|)^5          (sheen.cpp)
+};
+
+// How a microfacet reflection lobe colours its Fresnel term.
+enum class FresnelMode : uint8_t {
+  Tint,       // F = color (Glossy BSDF)
+  Conductor,  // F = color * conductor Fresnel from complex IOR eta + i k
+  Schlick,    // F = color * (f0 + (1 - f0) (1 - cos)^5) (Principled specular, clearcoat)
+  Dielectric  // F = color * dielectric Fresnel of the real IOR `ior`
 };
 
 struct Lobe {
   LobeType type = LobeType::Lambert;
-  Color color{1.0f};          // tint / albedo
+  FresnelMode fresnel_mode = FresnelMode::Tint;
+  bool multiscatter = false;  // GgxConductor: Kulla-Conty energy compensation (Multiscatter GGX)
+  Color color{1.0f};          // tint / albedo / closure weight
   GgxDistribution ggx{1, 1};
-  bool use_conductor_fresnel = false;
-  Color eta{1.0f}, k{0.0f};
+  Color eta{1.0f}, k{0.0f};   // conductor complex IOR
+  Color f0{0.04f};            // Schlick reflectance at normal incidence
+  // Dielectrics: IOR of the side below the local frame (z < 0) relative to the side
+  // above (where wo is). The Bsdf inverts it when the ray arrives from the back face.
+  float ior = 1.5f;
+  float sigma = 0;            // Oren-Nayar roughness in [0, 1]
 
   Color fresnel(float cos_i) const {
-    return use_conductor_fresnel ? color * fresnel_conductor(cos_i, eta, k) : color;
+    switch (fresnel_mode) {
+      case FresnelMode::Tint: return color;
+      case FresnelMode::Conductor: return color * fresnel_conductor(cos_i, eta, k);
+      case FresnelMode::Schlick: {
+        float m = clampf(1.0f - cos_i, 0.0f, 1.0f), m2 = m * m;
+        return color * (f0 + (Color(1.0f) - f0) * (m2 * m2 * m));
+      }
+      case FresnelMode::Dielectric: return color * fresnel_dielectric(cos_i, ior);
+    }
+    return color;
   }
-  bool is_delta() const { return type == LobeType::SpecularConductor; }
+  bool is_delta() const {
+    return type == LobeType::SpecularConductor || type == LobeType::SmoothDielectric ||
+           type == LobeType::Transparent;
+  }
+  // Scatters to the other side of the surface (needs the refraction rules of the Bsdf).
+  bool is_transmissive() const {
+    return type == LobeType::SmoothDielectric || type == LobeType::GgxDielectric ||
+           type == LobeType::Transparent || type == LobeType::Translucent;
+  }
+  bool is_dielectric() const { return type == LobeType::SmoothDielectric || type == LobeType::GgxDielectric; }
 };
 
 struct BsdfSample {
@@ -43,20 +81,27 @@ struct BsdfSample {
 
 class Bsdf {
  public:
-  static constexpr int kMaxLobes = 4;
+  static constexpr int kMaxLobes = 8;
 
   Bsdf() = default;
   // ng: geometric normal, ns: shading normal (both unit); wo: direction to the viewer
   // (for light paths, to the previous vertex). Two-sided: the frame is flipped to
   // wo's side of the geometry.
+  // ng must point to the FRONT of the surface (the outside of a closed dielectric):
+  // a ray arriving from the back face sees the inverse IOR.
   Bsdf(Vec3 ng, Vec3 ns, Vec3 wo);
 
   void add_lobe(const Lobe &lobe, float sample_weight);
   int num_lobes() const { return n_; }
   bool is_delta() const;  // every lobe is delta: no point connecting to lights
   bool has_lobes() const { return n_ > 0; }
+  bool has_transmission() const;
+  bool backfacing() const { return backfacing_; }
 
   Color eval(Vec3 wo, Vec3 wi, TransportMode mode) const;  // f * |cos(wi, ns)|
+  // The BSDF value alone, without the cosine (BDPT's connections put the cosines
+  // into their geometry term), including the importance-mode correction.
+  Color f(Vec3 wo, Vec3 wi, TransportMode mode) const;
   float pdf(Vec3 wo, Vec3 wi) const;
   bool sample(Vec3 wo, float u_lobe, Vec2 u, TransportMode mode, BsdfSample &out) const;
   // Directional albedo-like colour for the Diffuse Color AOV.
@@ -68,16 +113,23 @@ class Bsdf {
   float shading_correction(Vec3 wo, Vec3 wi, TransportMode mode) const;
   Frame frame_;
   Vec3 ng_;
+  bool backfacing_ = false;
   int n_ = 0;
   std::array<Lobe, kMaxLobes> lobes_{};
   std::array<float, kMaxLobes> raw_weight_{};  // as given to add_lobe
   std::array<float, kMaxLobes> pick_{};        // normalised lobe selection probabilities
 };
 
-// Per-lobe routines in the local frame, exposed for the statistical tests.
-Color lobe_eval(const Lobe &lobe, Vec3 wo, Vec3 wi);  // f (without cosine)
+// Per-lobe routines in the local frame (wo.z > 0), exposed for the statistical tests.
+// mode matters only for refraction: in Radiance mode transmitted f is divided by
+// eta^2 (eta = lobe.ior, the relative IOR of the side wi enters), in Importance mode not.
+Color lobe_eval(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode = TransportMode::Radiance);  // f (without cosine)
 float lobe_pdf(const Lobe &lobe, Vec3 wo, Vec3 wi);
-// Returns false when no direction is sampled. weight = f * cos / pdf.
-bool lobe_sample(const Lobe &lobe, Vec3 wo, Vec2 u, Vec3 &wi, Color &weight, float &pdf);
+// Returns false when no direction is sampled. weight = f * |cos| / pdf. For delta lobes
+// pdf is the discrete probability of the chosen event (reflect / refract).
+// uc: a third uniform variate for discrete choices inside the lobe (reflect or
+// refract, single or multiple scattering); negative: derived from a hash of u.
+bool lobe_sample(const Lobe &lobe, Vec3 wo, Vec2 u, Vec3 &wi, Color &weight, float &pdf,
+                 TransportMode mode = TransportMode::Radiance, float uc = -1.0f);
 
 }  // namespace rdv

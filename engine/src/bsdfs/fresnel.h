@@ -22,4 +22,29 @@ inline Color fresnel_conductor(float cos_i, Color eta, Color k) {
           fresnel_conductor(cos_i, eta.z, k.z)};
 }
 
+// Unpolarised Fresnel reflectance of a dielectric interface. cos_i > 0 on the side
+// the light arrives from; eta = IOR of the far side / IOR of the near side.
+// Total internal reflection returns 1.
+inline float fresnel_dielectric(float cos_i, float eta) {
+  cos_i = clampf(cos_i, -1.0f, 1.0f);
+  if (cos_i < 0) { eta = 1.0f / eta; cos_i = -cos_i; }
+  float sin2_t = (1.0f - cos_i * cos_i) / (eta * eta);
+  if (sin2_t >= 1.0f) return 1.0f;
+  float cos_t = safe_sqrt(1.0f - sin2_t);
+  float r_parl = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+  float r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+  return 0.5f * (r_parl * r_parl + r_perp * r_perp);
+}
+
+// Refraction of w (pointing away from the surface, on the side of n) through the
+// interface with normal n; eta = IOR of the far side / near side. False on TIR.
+inline bool refract(Vec3 w, Vec3 n, float eta, Vec3 &wt) {
+  float cos_i = dot(n, w);
+  float sin2_t = std::max(0.0f, 1.0f - cos_i * cos_i) / (eta * eta);
+  if (sin2_t >= 1.0f) return false;
+  float cos_t = std::sqrt(1.0f - sin2_t);
+  wt = -w / eta + n * (cos_i / eta - cos_t);
+  return true;
+}
+
 }  // namespace rdv

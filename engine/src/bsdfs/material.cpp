@@ -31,8 +31,13 @@ Material Material::from_params(Params &p, const std::string &name) {
       m.eta = non_negative_color(p, "eta", Color(1.0f));
       m.k = non_negative_color(p, "k", Color(0.0f));
     }
+  } else if (type == "glass") {
+    m.type = MaterialType::Glass;
+    m.color = non_negative_color(p, "color", Color(1.0f));
+    m.roughness = clampf(p.get_float("roughness", 0.0f), 0.0f, 1.0f);
+    m.ior = clampf(p.get_float("ior", 1.45f), 1.0001f, 4.0f);
   } else {
-    fail(p.what() + ": unknown material type '" + type + "' (diffuse, emission, glossy)");
+    fail(p.what() + ": unknown material type '" + type + "' (diffuse, emission, glossy, glass)");
   }
   if (m.type != MaterialType::Emission) {  // a surface may scatter and emit (Principled's Emission)
     Color e = non_negative_color(p, "emission", Color(0.0f));
@@ -57,6 +62,7 @@ const char *Material::type_name() const {
     case MaterialType::Diffuse: return "diffuse";
     case MaterialType::Emission: return "emission";
     case MaterialType::Glossy: return "glossy";
+    case MaterialType::Glass: return "glass";
   }
   return "?";
 }
@@ -77,9 +83,19 @@ Bsdf Material::make_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const {
       l.ggx = {alpha, alpha};
       l.type = l.ggx.is_smooth() ? LobeType::SpecularConductor : LobeType::GgxConductor;
       l.color = color;
-      l.use_conductor_fresnel = use_conductor_fresnel;
+      l.fresnel_mode = use_conductor_fresnel ? FresnelMode::Conductor : FresnelMode::Tint;
       l.eta = eta;
       l.k = k;
+      bsdf.add_lobe(l, 1.0f);
+      break;
+    }
+    case MaterialType::Glass: {
+      Lobe l;
+      float alpha = roughness * roughness;
+      l.ggx = {alpha, alpha};
+      l.type = l.ggx.is_smooth() ? LobeType::SmoothDielectric : LobeType::GgxDielectric;
+      l.color = color;
+      l.ior = ior;
       bsdf.add_lobe(l, 1.0f);
       break;
     }

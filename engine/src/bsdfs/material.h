@@ -8,7 +8,7 @@
 
 namespace rdv {
 
-enum class MaterialType : uint8_t { Diffuse, Emission, Glossy };
+enum class MaterialType : uint8_t { Diffuse, Emission, Glossy, Glass };
 
 struct Material {
   std::string name;
@@ -16,6 +16,7 @@ struct Material {
   Color color{0.8f};
   Color emission{0.0f};  // radiance, both faces (Cycles' Emission shader)
   float roughness = 0.5f;
+  float ior = 1.45f;
   bool use_conductor_fresnel = false;
   Color eta{1.0f}, k{0.0f};
 

@@ -15,10 +15,44 @@ static Lobe ggx(float roughness_x, float roughness_y, bool gold_fresnel = false)
   l.type = l.ggx.is_smooth() ? LobeType::SpecularConductor : LobeType::GgxConductor;
   l.color = Color(1.0f);
   if (gold_fresnel) {
-    l.use_conductor_fresnel = true;
+    l.fresnel_mode = FresnelMode::Conductor;
     l.eta = {0.143f, 0.374f, 1.442f};
     l.k = {3.983f, 2.385f, 1.603f};
   }
+  return l;
+}
+
+static Lobe multi_ggx(float roughness_x, float roughness_y, Color tint = Color(1.0f)) {
+  Lobe l = ggx(roughness_x, roughness_y);
+  l.multiscatter = true;
+  l.color = tint;
+  return l;
+}
+
+// Principled specular / clearcoat: Schlick Fresnel from f0.
+static Lobe schlick_ggx(float roughness, Color f0, float scale = 1.0f) {
+  Lobe l = ggx(roughness, roughness);
+  l.fresnel_mode = FresnelMode::Schlick;
+  l.f0 = f0;
+  l.color = Color(scale);
+  return l;
+}
+
+// Glass: ior is relative (inside / outside); < 1 is the view from inside.
+static Lobe dielectric(float roughness, float ior) {
+  Lobe l;
+  l.ggx = {roughness * roughness, roughness * roughness};
+  l.type = l.ggx.is_smooth() ? LobeType::SmoothDielectric : LobeType::GgxDielectric;
+  l.ior = ior;
+  l.color = Color(1.0f);
+  return l;
+}
+
+static Lobe simple(LobeType type, Color c, float sigma = 0) {
+  Lobe l;
+  l.type = type;
+  l.color = c;
+  l.sigma = sigma;
   return l;
 }
 
@@ -34,6 +68,37 @@ const std::vector<LobeTestCase> &lobe_test_cases() {
       {"ggx_r1", ggx(1.0f, 1.0f), false},
       {"ggx_aniso_0.1x0.5", ggx(0.1f, 0.5f), false},
       {"ggx_gold_r0.3", ggx(0.3f, 0.3f, true), false},
+      // Multiscatter GGX (Kulla-Conty): white version keeps all energy (furnace within 1%).
+      {"multi_ggx_r0.3", multi_ggx(0.3f, 0.3f), true},
+      {"multi_ggx_r0.6", multi_ggx(0.6f, 0.6f), true},
+      {"multi_ggx_r1", multi_ggx(1.0f, 1.0f), true},
+      {"multi_ggx_aniso_0.2x0.8", multi_ggx(0.2f, 0.8f), false},
+      {"multi_ggx_tinted_r0.7", multi_ggx(0.7f, 0.7f, Color(0.9f, 0.6f, 0.3f)), false},
+      {"principled_specular_r0.4", schlick_ggx(0.4f, Color(0.04f)), false},
+      {"clearcoat_r0.1", schlick_ggx(0.1f, Color(0.04f), 0.25f), false},
+      // Dielectrics: smooth (delta) and rough, entering (ior > 1) and leaving (ior < 1).
+      {"glass_smooth_1.5", dielectric(0.0f, 1.5f), true},
+      {"glass_smooth_inside_1.5", dielectric(0.0f, 1.0f / 1.5f), false},
+      {"glass_smooth_1.0001", dielectric(0.0f, 1.0001f), true},
+      {"glass_smooth_4", dielectric(0.0f, 4.0f), true},
+      {"glass_r1e-4_1.5", dielectric(1e-4f, 1.5f), true},
+      // Rough glass below roughness 0.2 (or with IOR near 1) refracts into a spike at
+      // the pole at normal incidence that the chi-square grid's cell integration cannot
+      // resolve; those limits are covered by the smooth cases (the model switches at
+      // Cycles' smoothness limit) and by test_material_dielectric.cpp.
+      {"glass_r0.2_1.5", dielectric(0.2f, 1.5f), false},
+      {"glass_r0.3_1.5", dielectric(0.3f, 1.5f), false},
+      {"glass_r0.3_inside_1.5", dielectric(0.3f, 1.0f / 1.5f), false},
+      {"glass_r1_1.5", dielectric(1.0f, 1.5f), false},
+      {"glass_r0.5_4", dielectric(0.5f, 4.0f), false},
+      {"glass_r0.5_inside_4", dielectric(0.5f, 0.25f), false},
+      {"glass_r0.5_1.1", dielectric(0.5f, 1.1f), false},
+      {"oren_nayar_0.5", simple(LobeType::OrenNayar, Color(1.0f), 0.5f), false},
+      {"oren_nayar_1", simple(LobeType::OrenNayar, Color(1.0f), 1.0f), false},
+      {"oren_nayar_0", simple(LobeType::OrenNayar, Color(1.0f), 0.0f), true},
+      {"translucent", simple(LobeType::Translucent, Color(1.0f)), true},
+      {"transparent", simple(LobeType::Transparent, Color(1.0f)), true},
+      {"sheen", simple(LobeType::Sheen, Color(1.0f)), false},
   };
   return cases;
 }

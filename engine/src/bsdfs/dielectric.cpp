@@ -1,0 +1,106 @@
+// Conventions (local frame, z = shading normal on wo's side): lobe.ior = eta is the
+// IOR of the z < 0 side relative to the z > 0 side. Refracted radiance is scaled by
+// 1 / eta^2 in Radiance mode (camera paths) and not in Importance mode (light paths),
+// which makes f_importance(wo, wi) = f_radiance(wi, wo) (Veach 1997, ch. 5.2).
+#include "bsdfs/dielectric.h"
+
+namespace rdv::dielectric {
+
+namespace {
+
+float radiance_scale(float eta, TransportMode mode) {
+  return mode == TransportMode::Radiance ? 1.0f / (eta * eta) : 1.0f;
+}
+
+// Generalised half vector of a refraction pair, facing +z; false if degenerate.
+bool refraction_half_vector(Vec3 wo, Vec3 wi, float eta, Vec3 &h) {
+  h = wo + wi * eta;
+  float len2 = length_squared(h);
+  if (!(len2 > 0)) return false;
+  h = h / std::sqrt(len2);
+  if (h.z < 0) h = -h;
+  // Both directions must see the microfacet from the correct side.
+  return dot(wo, h) > 0 && dot(wi, h) < 0;
+}
+
+}  // namespace
+
+Color eval(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode) {
+  if (wo.z <= 0 || wi.z == 0) return Color(0.0f);
+  const float eta = lobe.ior;
+  if (wi.z > 0) {  // reflection
+    Vec3 h = normalize(wo + wi);
+    float d = lobe.ggx.D(h);
+    if (d == 0) return Color(0.0f);
+    float F = fresnel_dielectric(dot(wo, h), eta);
+    return lobe.color * (F * d * lobe.ggx.G2(wo, wi) / (4.0f * wo.z * wi.z));
+  }
+  Vec3 h;
+  if (!refraction_half_vector(wo, wi, eta, h)) return Color(0.0f);
+  float d = lobe.ggx.D(h);
+  if (d == 0) return Color(0.0f);
+  float woh = dot(wo, h), wih = dot(wi, h);
+  float F = fresnel_dielectric(woh, eta);
+  float denom = sqr(wih * eta + woh);
+  float f = (1.0f - F) * d * lobe.ggx.G2(wo, wi) * eta * eta * std::fabs(wih * woh) / (denom * wo.z * std::fabs(wi.z));
+  return lobe.color * (f * radiance_scale(eta, mode));
+}
+
+float pdf(const Lobe &lobe, Vec3 wo, Vec3 wi) {
+  if (wo.z <= 0 || wi.z == 0) return 0;
+  const float eta = lobe.ior;
+  if (wi.z > 0) {
+    Vec3 h = normalize(wo + wi);
+    float woh = dot(wo, h);
+    if (woh <= 0) return 0;
+    float F = fresnel_dielectric(woh, eta);
+    return F * lobe.ggx.D_visible(wo, h) / (4.0f * woh);
+  }
+  Vec3 h;
+  if (!refraction_half_vector(wo, wi, eta, h)) return 0;
+  float woh = dot(wo, h), wih = dot(wi, h);
+  float F = fresnel_dielectric(woh, eta);
+  float jacobian = eta * eta * std::fabs(wih) / sqr(wih * eta + woh);
+  return (1.0f - F) * lobe.ggx.D_visible(wo, h) * jacobian;
+}
+
+bool sample(const Lobe &lobe, Vec3 wo, Vec2 u, float uc, Vec3 &wi, Color &weight, float &pdf_out, TransportMode mode) {
+  if (wo.z <= 0) return false;
+  const float eta = lobe.ior;
+  Vec3 h = lobe.ggx.sample_visible_normal(wo, u);
+  float woh = dot(wo, h);
+  if (woh <= 0) return false;
+  float F = fresnel_dielectric(woh, eta);  // uc chooses reflection with probability F
+  float dvis = lobe.ggx.D_visible(wo, h);
+  if (uc < F) {
+    wi = h * (2.0f * woh) - wo;
+    if (wi.z <= 0) return false;
+    pdf_out = F * dvis / (4.0f * woh);
+    weight = lobe.color * (lobe.ggx.G2(wo, wi) / lobe.ggx.G1(wo));
+  } else {
+    if (!refract(wo, h, eta, wi)) return false;  // cannot happen when F < 1
+    if (wi.z >= 0) return false;
+    float wih = dot(wi, h);
+    pdf_out = (1.0f - F) * dvis * eta * eta * std::fabs(wih) / sqr(wih * eta + woh);
+    weight = lobe.color * (lobe.ggx.G2(wo, wi) / lobe.ggx.G1(wo) * radiance_scale(eta, mode));
+  }
+  return pdf_out > 0 && std::isfinite(pdf_out);
+}
+
+bool sample_smooth(const Lobe &lobe, Vec3 wo, Vec2 u, Vec3 &wi, Color &weight, float &pdf_out, TransportMode mode) {
+  if (wo.z <= 0) return false;
+  const float eta = lobe.ior;
+  float F = fresnel_dielectric(wo.z, eta);
+  if (u.x < F) {
+    wi = Vec3(-wo.x, -wo.y, wo.z);
+    pdf_out = F;
+    weight = lobe.color;  // F / F
+    return true;
+  }
+  if (!refract(wo, Vec3(0, 0, 1), eta, wi)) return false;
+  pdf_out = 1.0f - F;
+  weight = lobe.color * radiance_scale(eta, mode);  // (1 - F) / (1 - F)
+  return true;
+}
+
+}  // namespace rdv::dielectric

@@ -1,0 +1,81 @@
+#include "bsdfs/ggx_albedo.h"
+#include <mutex>
+#include <vector>
+#include "bsdfs/microfacet.h"
+
+namespace rdv {
+
+namespace {
+
+constexpr int kMu = 32, kRough = 32, kStrata = 48;  // 48 x 48 stratified samples per entry
+
+struct AlbedoTable {
+  std::vector<float> e, eavg;  // e[r * kMu + m]; table axes: mu = m / (kMu - 1), sqrt(alpha) = r / (kRough - 1)
+  AlbedoTable() : e(kMu * kRough), eavg(kRough) {
+    for (int r = 0; r < kRough; ++r) {
+      float rough = float(r) / (kRough - 1);
+      float alpha = std::max(rough * rough, 1e-4f);
+      GgxDistribution ggx{alpha, alpha};
+      for (int m = 0; m < kMu; ++m) {
+        float mu = std::max(float(m) / (kMu - 1), 1e-3f);
+        Vec3 wo(safe_sqrt(1 - mu * mu), 0, mu);
+        double sum = 0;
+        for (int i = 0; i < kStrata; ++i)
+          for (int j = 0; j < kStrata; ++j) {
+            Vec2 u{(i + 0.5f) / kStrata, (j + 0.5f) / kStrata};
+            Vec3 h = ggx.sample_visible_normal(wo, u);
+            float woh = dot(wo, h);
+            if (woh <= 0) continue;
+            Vec3 wi = h * (2.0f * woh) - wo;
+            if (wi.z <= 0) continue;
+            sum += ggx.G2(wo, wi) / ggx.G1(wo);
+          }
+        e[r * kMu + m] = std::min(1.0f, float(sum / (kStrata * kStrata)));
+      }
+      // E_avg = 2 int_0^1 E(mu) mu dmu, exact for the piecewise-linear interpolant,
+      // so the compensation lobe integrates to exactly 1 - E(wo) in the furnace.
+      double avg = 0, h = 1.0 / (kMu - 1);
+      for (int m = 0; m + 1 < kMu; ++m) {
+        double a = m * h, e0 = e[r * kMu + m], e1 = e[r * kMu + m + 1];
+        // int_a^{a+h} (e0 + (e1 - e0)(x - a)/h) x dx
+        avg += e0 * (a * h + h * h / 2) + (e1 - e0) * (a * h / 2 + h * h / 3);
+      }
+      eavg[r] = float(std::min(1.0, 2 * avg));
+    }
+  }
+};
+
+const AlbedoTable &table() {
+  static const AlbedoTable t;
+  return t;
+}
+
+void coords(float x, int n, int &i, float &f) {
+  x = clampf(x, 0.0f, 1.0f) * (n - 1);
+  i = std::min(int(x), n - 2);
+  f = x - i;
+}
+
+}  // namespace
+
+float ggx_albedo(float mu, float alpha) {
+  const AlbedoTable &t = table();
+  int m, r;
+  float fm, fr;
+  coords(mu, kMu, m, fm);
+  coords(std::sqrt(std::max(alpha, 0.0f)), kRough, r, fr);
+  auto at = [&](int rr, int mm) { return t.e[rr * kMu + mm]; };
+  float e0 = at(r, m) * (1 - fm) + at(r, m + 1) * fm;
+  float e1 = at(r + 1, m) * (1 - fm) + at(r + 1, m + 1) * fm;
+  return e0 * (1 - fr) + e1 * fr;
+}
+
+float ggx_average_albedo(float alpha) {
+  const AlbedoTable &t = table();
+  int r;
+  float fr;
+  coords(std::sqrt(std::max(alpha, 0.0f)), kRough, r, fr);
+  return t.eavg[r] * (1 - fr) + t.eavg[r + 1] * fr;
+}
+
+}  // namespace rdv

@@ -1,0 +1,14 @@
+// Directional albedo E(mu, alpha) of single-scattering GGX reflection with a white
+// Fresnel, tabulated once (lazily, ~0.1 s) by stratified visible-normal sampling, and
+// its cosine-weighted average E_avg(alpha). They drive the Kulla-Conty (2017) energy
+// compensation lobe that stands in for Cycles' Multiscatter GGX:
+//   f_ms(wo, wi) = F_ms (1 - E(wo)) (1 - E(wi)) / (pi (1 - E_avg)),
+//   F_ms = F_avg^2 E_avg / (1 - F_avg (1 - E_avg)),
+// so a white rough conductor reflects all the energy (white furnace = 1).
+#pragma once
+
+namespace rdv {
+// mu = cos(theta_o) in [0,1]; alpha = GGX alpha (isotropic; sqrt(ax ay) for anisotropic).
+float ggx_albedo(float mu, float alpha);
+float ggx_average_albedo(float alpha);
+}  // namespace rdv
