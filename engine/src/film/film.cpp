@@ -4,16 +4,24 @@ namespace rdv {
 
 Film::Film(int width, int height, Rect region)
     : width_(width), height_(height), region_(region), pixels_(size_t(width) * height),
-      aovs_(size_t(width) * height), splats_(size_t(width) * height * 3) {
-  for (auto &s : splats_) s.store(0.0f, std::memory_order_relaxed);
-}
+      aovs_(size_t(width) * height), splats_(size_t(width) * height, Color(0.0f)) {}
 
-void Film::add_splat(Vec2 raster, Color L) {
-  int x = static_cast<int>(std::floor(raster.x)), y = static_cast<int>(std::floor(raster.y));
-  if (x < region_.x0 || x >= region_.x1 || y < region_.y0 || y >= region_.y1) return;
+void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter) {
   if (!is_finite(L)) return;
-  size_t i = index(x, y) * 3;
-  for (int c = 0; c < 3; ++c) splats_[i + c].fetch_add(L[c], std::memory_order_relaxed);
+  float radius = 0.5f * filter.width();
+  float norm = 1.0f / (filter.integral() * filter.integral());
+  int x0 = std::max(region_.x0, int(std::floor(raster.x - radius - 0.5f)));
+  int x1 = std::min(region_.x1 - 1, int(std::ceil(raster.x + radius - 0.5f)));
+  int y0 = std::max(region_.y0, int(std::floor(raster.y - radius - 0.5f)));
+  int y1 = std::min(region_.y1 - 1, int(std::ceil(raster.y + radius - 0.5f)));
+  for (int y = y0; y <= y1; ++y) {
+    float wy = filter.evaluate(raster.y - (y + 0.5f));
+    if (wy <= 0) continue;
+    for (int x = x0; x <= x1; ++x) {
+      float w = wy * filter.evaluate(raster.x - (x + 0.5f));
+      if (w > 0) splats_[index(x, y)] += L * (w * norm);
+    }
+  }
 }
 
 void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float *out) const {
@@ -32,7 +40,7 @@ void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float 
       switch (pass) {
         case RDV_PASS_COMBINED: {
           Color c = n > 0 ? p.sum / n : Color(0.0f);
-          for (int k = 0; k < 3; ++k) c[k] += splat_scale * splats_[3 * i + k].load(std::memory_order_relaxed);
+          c += splats_[i] * splat_scale;
           dst[0] = c.x; dst[1] = c.y; dst[2] = c.z; dst[3] = 1.0f;
           break;
         }

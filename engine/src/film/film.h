@@ -5,6 +5,7 @@
 #include <atomic>
 #include <vector>
 #include "core/math.h"
+#include "film/pixel_filter.h"
 #include "rendezvous.h"
 
 namespace rdv {
@@ -27,7 +28,11 @@ class Film {
     p.sum += L;
     p.count += 1;
   }
-  void add_splat(Vec2 raster, Color L);
+  // Spreads L over the pixels whose filter covers `raster`, with the same normalised
+  // Blackman-Harris weights filter importance sampling gives camera samples, so that
+  // splatted and sampled estimates converge to the same image. Not thread-safe: the
+  // session applies splats in a fixed order after each pass (deterministic sums).
+  void add_splat(Vec2 raster, Color L, const PixelFilter &filter);
   void add_first_hit(int x, int y, float depth, Vec3 normal, Color albedo) {
     Aov &a = aovs_[index(x, y)];
     a.depth = std::min(a.depth, depth);
@@ -48,7 +53,7 @@ class Film {
   Rect region_;
   std::vector<Pixel> pixels_;
   std::vector<Aov> aovs_;
-  std::vector<std::atomic<float>> splats_;  // 3 per pixel
+  std::vector<Color> splats_;
   std::atomic<float> splat_scale_{0.0f};
 };
 

@@ -19,6 +19,7 @@ class PixelFilter {
   float sample(float u) const;
   // The density sample() draws from (normalised 1D).
   float pdf(float x) const;
+  float integral() const { return integral_; }
 
  private:
   float width_;

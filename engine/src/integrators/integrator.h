@@ -3,6 +3,7 @@
 #pragma once
 #include <memory>
 #include <string>
+#include <vector>
 #include "core/params.h"
 #include "film/film.h"
 #include "samplers/sampler.h"
@@ -22,6 +23,9 @@ struct RenderSettings {
   float clamp = 0;         // 0 = off
   float filter_width = 1.5f;
   Rect border;             // the rendered region
+  // BDPT debug view: only the (s, t) strategy contributes, MIS-weighted unless unweighted.
+  int strategy_s = -1, strategy_t = -1;
+  bool strategy_unweighted = false;
 
   static RenderSettings from_params(Params &p);
 };
@@ -37,11 +41,24 @@ struct FirstHit {
   Color albedo{0.0f};
 };
 
+// A contribution to wherever on the image a light path reaches the camera.
+struct Splat {
+  Vec2 raster;
+  Color L;
+};
+
+struct CameraRay {
+  Ray ray;          // starts at the near clip plane
+  Vec3 lens_point;  // where on the lens it comes from (BDPT's camera vertex)
+};
+
 class Integrator {
  public:
   virtual ~Integrator() = default;
-  // Radiance arriving at the camera along `ray`.
-  virtual Color Li(const Ray &ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit) const = 0;
+  // Radiance arriving at the camera along the ray. Integrators that also reach the
+  // camera from the light side append those contributions to `splats`.
+  virtual Color Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
+                   std::vector<Splat> &splats) const = 0;
 };
 
 // The registry: one line per integrator.

@@ -1,11 +1,20 @@
 #include "integrators/integrator.h"
+#include "integrators/bdpt/bdpt.h"
 #include "integrators/path/path_tracer.h"
 
 namespace rdv {
 
 std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, const Scene &scene) {
   if (settings.integrator == "path") return std::make_unique<PathTracer>(scene, settings.max_bounces);
-  fail("render settings: unknown integrator '" + settings.integrator + "' (available: path)");
+  if (settings.integrator == "bdpt") {
+    bdpt::BdptSettings b;
+    b.max_bounces = settings.max_bounces;
+    b.strategy_s = settings.strategy_s;
+    b.strategy_t = settings.strategy_t;
+    b.strategy_unweighted = settings.strategy_unweighted;
+    return std::make_unique<bdpt::Bdpt>(scene, b);
+  }
+  fail("render settings: unknown integrator '" + settings.integrator + "' (available: path, bdpt)");
 }
 
 RenderSettings RenderSettings::from_params(Params &p) {
@@ -32,6 +41,12 @@ RenderSettings RenderSettings::from_params(Params &p) {
   s.clamp = p.get_float("clamp", 0);
   if (s.clamp < 0) fail(p.what() + ": 'clamp' must not be negative");
   s.filter_width = clampf(p.get_float("filter_width", 1.5f), 0.01f, 10.0f);
+  auto strategy = p.get_floats("strategy", 2, {-1, -1});
+  s.strategy_s = int(strategy[0]);
+  s.strategy_t = int(strategy[1]);
+  if ((s.strategy_s >= 0) != (s.strategy_t >= 1) && !(s.strategy_s < 0 && s.strategy_t < 0))
+    fail(p.what() + ": 'strategy' must be [s, t] with s >= 0 and t >= 1");
+  s.strategy_unweighted = p.get_bool("strategy_unweighted", false);
   s.border = {0, 0, s.width, s.height};
   auto b = p.get_floats("border", 4, {0, 0, float(s.width), float(s.height)});
   s.border = {std::max(0, int(b[0])), std::max(0, int(b[1])), std::min(s.width, int(b[2])), std::min(s.height, int(b[3]))};

@@ -17,6 +17,7 @@ Session::Session(std::shared_ptr<Scene> scene, const RenderSettings &settings)
   for (int y = r.y0; y < r.y1; y += kTileSize)
     for (int x = r.x0; x < r.x1; x += kTileSize)
       tiles_.push_back({x, y, std::min(x + kTileSize, r.x1), std::min(y + kTileSize, r.y1)});
+  tile_splats_.resize(tiles_.size());
 }
 
 Session::~Session() {
@@ -46,7 +47,10 @@ bool Session::should_stop() const {
          (settings_.time_limit > 0 && elapsed() >= settings_.time_limit);
 }
 
-void Session::render_tile(const Rect &tile, uint32_t first, uint32_t last) {
+void Session::render_tile(size_t tile_index, uint32_t first, uint32_t last) {
+  const Rect &tile = tiles_[tile_index];
+  std::vector<Splat> &splats = tile_splats_[tile_index];
+  splats.clear();
   SobolSampler sobol(settings_.seed);
   IndependentSampler independent(settings_.seed);
   Sampler &sampler = settings_.sampler == "sobol" ? static_cast<Sampler &>(sobol) : independent;
@@ -60,9 +64,10 @@ void Session::render_tile(const Rect &tile, uint32_t first, uint32_t last) {
         sampler.start_sample(uint32_t(x), uint32_t(y), s);
         Vec2 uf = sampler.get_2d();
         Vec2 raster{x + 0.5f + filter_.sample(uf.x), y + 0.5f + filter_.sample(uf.y)};
-        Ray ray = camera.generate_ray(raster, sampler.get_2d());
+        CameraRay cr;
+        cr.ray = camera.generate_ray(raster, sampler.get_2d(), &cr.lens_point);
         FirstHit first_hit;
-        Color L = integrator_->Li(ray, sampler, stats, &first_hit);
+        Color L = integrator_->Li(cr, sampler, stats, &first_hit, splats);
         if (!is_finite(L) || L.x < 0 || L.y < 0 || L.z < 0) {  // never let NaN/Inf into the film
           ++dropped;
           continue;
@@ -92,13 +97,18 @@ void Session::render_loop() {
     auto pass_start = std::chrono::steady_clock::now();
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles_.size(), 1), [&](const tbb::blocked_range<size_t> &r) {
-        for (size_t i = r.begin(); i != r.end(); ++i) render_tile(tiles_[i], done, last);
+        for (size_t i = r.begin(); i != r.end(); ++i) render_tile(i, done, last);
       });
     });
-    if (should_stop()) break;  // an interrupted pass does not count as done
+    if (should_stop()) break;  // an interrupted pass does not count, nor do its splats
+    for (auto &splats : tile_splats_)  // in tile order: the same sums on any thread count
+      for (const Splat &sp : splats) film_.add_splat(sp.raster, sp.L, filter_);
     done = last;
     samples_done_.store(done);
-    film_.set_splat_scale(1.0f / float(done));
+    // One light path per camera sample, over the rendered region only; the camera's
+    // importance is normalised over the whole image.
+    const Rect &b = settings_.border;
+    film_.set_splat_scale(float(settings_.width) * settings_.height / (float(b.width()) * b.height() * done));
     // Grow the batch while passes are short, so progress updates stay ~4 per second.
     double pass_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - pass_start).count();
     if (pass_seconds < 0.125 && batch < 64) batch *= 2;

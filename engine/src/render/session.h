@@ -33,7 +33,7 @@ class Session {
 
   // Renders samples [first, last) of every pixel of one tile; used by the render
   // loop and by tests that need a single deterministic pass.
-  void render_tile(const Rect &tile, uint32_t first, uint32_t last);
+  void render_tile(size_t tile_index, uint32_t first, uint32_t last);
 
  private:
   void render_loop();
@@ -46,6 +46,7 @@ class Session {
   PixelFilter filter_;
   std::unique_ptr<Integrator> integrator_;
   std::vector<Rect> tiles_;
+  std::vector<std::vector<Splat>> tile_splats_;  // per tile, applied in tile order after a pass
 
   std::thread thread_;
   std::atomic<bool> cancel_requested_{false}, running_{false}, finished_{false}, cancelled_{false};

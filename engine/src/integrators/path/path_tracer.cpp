@@ -27,9 +27,10 @@ Color PathTracer::sample_direct_light(const SurfaceHit &hit, const Bsdf &bsdf, V
   return f * ls.L * (weight / light_pdf);
 }
 
-Color PathTracer::Li(const Ray &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit) const {
+Color PathTracer::Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
+                     std::vector<Splat> &) const {
   Color L(0.0f), beta(1.0f);
-  Ray ray = camera_ray;
+  Ray ray = camera_ray.ray;
   bool specular_bounce = true;  // camera rays count as specular: no MIS on what they see
   float prev_pdf = 0;
   Vec3 prev_p = ray.o;

@@ -9,7 +9,8 @@ namespace rdv {
 class PathTracer final : public Integrator {
  public:
   PathTracer(const Scene &scene, int max_bounces) : scene_(scene), max_bounces_(max_bounces) {}
-  Color Li(const Ray &ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit) const override;
+  Color Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
+           std::vector<Splat> &splats) const override;
 
  private:
   Color sample_direct_light(const SurfaceHit &hit, const Bsdf &bsdf, Vec3 wo, Sampler &sampler,

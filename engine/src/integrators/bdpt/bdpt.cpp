@@ -1,0 +1,42 @@
+#include "integrators/bdpt/bdpt.h"
+
+namespace rdv::bdpt {
+
+Color Bdpt::Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
+               std::vector<Splat> &splats) const {
+  // Subpath storage reused across samples: no allocation in the sample loop.
+  thread_local std::vector<PathVertex> camera_path, light_path;
+  const size_t capacity = size_t(settings_.max_bounces) + 2;
+  if (camera_path.size() < capacity) { camera_path.resize(capacity); light_path.resize(capacity); }
+
+  int nc = camera_subpath(camera_ray, sampler, stats, camera_path.data());
+  if (first_hit && nc > 1 && camera_path[1].type == VertexType::Surface) {
+    const Camera &cam = scene_.camera();
+    const PathVertex &v = camera_path[1];
+    first_hit->valid = true;
+    first_hit->depth = dot(v.p - cam.position(), cam.forward());
+    first_hit->normal = dot(v.ns, v.wo) < 0 ? -v.ns : v.ns;
+    first_hit->albedo = v.bsdf.albedo();
+  }
+  int nl = light_subpath(sampler, stats, light_path.data());
+
+  Color L(0.0f);
+  const bool one_strategy = settings_.strategy_s >= 0;
+  for (int t = 1; t <= nc; ++t) {
+    for (int s = 0; s <= nl; ++s) {
+      int depth = s + t - 2;
+      if ((s == 1 && t == 1) || depth < 0 || depth > settings_.max_bounces) continue;
+      if (one_strategy && (s != settings_.strategy_s || t != settings_.strategy_t)) continue;
+      Vec2 raster;
+      float w = 1;
+      Color c = connect(light_path.data(), camera_path.data(), s, t, sampler, stats, &raster, &w);
+      if (one_strategy && settings_.strategy_unweighted && w > 0) c = c / w;
+      if (!is_finite(c) || is_black(c)) continue;
+      if (t == 1) splats.push_back({raster, c});
+      else L += c;
+    }
+  }
+  return L;
+}
+
+}  // namespace rdv::bdpt

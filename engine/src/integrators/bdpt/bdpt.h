@@ -1,0 +1,54 @@
+// Bidirectional path tracing (Lafortune & Willems 1993; Veach 1997, ch. 10): a camera
+// subpath and a light subpath, connected in every way (s light vertices, t camera
+// vertices): s = 0 (the camera path finds an emitter), s = 1 (next-event estimation),
+// t = 1 (light tracing: splatted wherever it lands on the image), and every inner
+// connection; combined with multiple importance sampling (power heuristic) computed
+// from ratios of densities, so long paths never overflow.
+#pragma once
+#include <vector>
+#include "integrators/bdpt/path_vertex.h"
+#include "integrators/integrator.h"
+
+namespace rdv::bdpt {
+
+struct BdptSettings {
+  int max_bounces = 12;
+  // Debug view: render only the (s, t) strategy with s + t - 2 == debug_depth... see
+  // strategy_s / strategy_t: when >= 0, only that strategy contributes.
+  int strategy_s = -1, strategy_t = -1;
+  bool strategy_unweighted = false;  // that strategy without its MIS weight
+};
+
+class Bdpt final : public Integrator {
+ public:
+  Bdpt(const Scene &scene, const BdptSettings &settings) : scene_(scene), settings_(settings) {}
+  Color Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
+           std::vector<Splat> &splats) const override;
+
+  // Subpath generation (subpaths.cpp). Return the number of vertices.
+  int camera_subpath(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, PathVertex *path) const;
+  int light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path) const;
+  // One connection strategy (connect.cpp); raster receives the pixel for t == 1.
+  Color connect(PathVertex *light_path, PathVertex *camera_path, int s, int t, Sampler &sampler, RayStats &stats,
+                Vec2 *raster, float *mis_weight_out) const;
+
+ private:
+  int random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, float pdf, int max_vertices,
+                  TransportMode mode, PathVertex *path) const;
+  // Densities (mis.cpp).
+  float pdf(const PathVertex &v, const PathVertex *prev, const PathVertex &next) const;
+  float pdf_light(const PathVertex &light_vertex, const PathVertex &v) const;
+  float pdf_light_origin(const PathVertex &light_vertex, const PathVertex &v) const;
+  float infinite_light_density(Vec3 dir) const;
+  float mis_weight(PathVertex *light_path, PathVertex *camera_path, PathVertex &sampled, int s, int t) const;
+  // Vertex helpers.
+  Color f(const PathVertex &v, const PathVertex &next, TransportMode mode) const;
+  Color Le(const PathVertex &v, const PathVertex &toward) const;
+  float G(const PathVertex &a, const PathVertex &b, RayStats &stats) const;
+  bool visible(const PathVertex &a, const PathVertex &b, RayStats &stats) const;
+
+  const Scene &scene_;
+  BdptSettings settings_;
+};
+
+}  // namespace rdv::bdpt

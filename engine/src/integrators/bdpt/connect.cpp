@@ -1,0 +1,125 @@
+// Connecting a light subpath prefix of s vertices to a camera subpath prefix of t
+// vertices (pbrt-v3's ConnectBDPT), with the vertex quantities the connection needs.
+#include "core/ray_offset.h"
+#include "integrators/bdpt/bdpt.h"
+
+namespace rdv::bdpt {
+
+static Vec3 direction_to(const PathVertex &from, const PathVertex &to) {
+  return to.infinite ? to.dir : normalize(to.p - from.p);
+}
+
+Color Bdpt::f(const PathVertex &v, const PathVertex &next, TransportMode mode) const {
+  if (v.type != VertexType::Surface) return Color(0.0f);
+  return v.bsdf.f(v.wo, direction_to(v, next), mode);
+}
+
+// Radiance a light vertex (or an emissive surface) sends toward `toward`.
+Color Bdpt::Le(const PathVertex &v, const PathVertex &toward) const {
+  if (!v.is_light()) return Color(0.0f);
+  bool seen_by_camera = toward.type == VertexType::Camera;
+  if (v.infinite) {
+    Color L(0.0f);
+    for (uint32_t li : scene_.infinite_lights()) {
+      const Light &light = scene_.lights()[li];
+      if (seen_by_camera && !light.visible_camera) continue;
+      L += infinite_light_radiance(light, v.dir);
+    }
+    return L;
+  }
+  if (v.type == VertexType::Light) return v.emitted;
+  return scene_.material(v.material).emission;  // emissive surfaces glow on both sides
+}
+
+bool Bdpt::visible(const PathVertex &a, const PathVertex &b, RayStats &stats) const {
+  Vec3 d = b.p - a.p;
+  float dist = length(d);
+  if (!(dist > 0)) return false;
+  d = d / dist;
+  Vec3 o = a.on_surface() && a.type == VertexType::Surface ? spawn_origin(a.p, a.ng, d) : a.p;
+  // Stop short of b (it may lie on a surface in the BVH); shorten from b's side too.
+  Vec3 target = b.on_surface() && b.type == VertexType::Surface ? spawn_origin(b.p, b.ng, -d) : b.p;
+  float len = length(target - o);
+  ++stats.rays;
+  return !scene_.occluded(o, d, shadow_tmax(len));
+}
+
+float Bdpt::G(const PathVertex &a, const PathVertex &b, RayStats &stats) const {
+  Vec3 d = b.p - a.p;
+  float d2 = length_squared(d);
+  if (!(d2 > 0)) return 0;
+  float g = 1.0f / d2;
+  d = d * std::sqrt(g);
+  if (a.on_surface()) g *= absdot(a.ns, d);
+  if (b.on_surface()) g *= absdot(b.ns, d);
+  return g > 0 && visible(a, b, stats) ? g : 0.0f;
+}
+
+Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int t, Sampler &sampler,
+                    RayStats &stats, Vec2 *raster, float *mis_weight_out) const {
+  Color L(0.0f);
+  PathVertex &pt = camera_path[t - 1];
+  // A camera path that ended on a light only counts as s = 0.
+  if (t > 1 && s != 0 && pt.type == VertexType::Light) return L;
+  PathVertex sampled;
+  if (s == 0) {
+    if (pt.is_light()) L = Le(pt, camera_path[t - 2]) * pt.beta;
+  } else if (t == 1) {
+    // Light tracing: connect the light subpath to a point on the lens.
+    PathVertex &qs = light_path[s - 1];
+    if (!qs.connectible(scene_) || qs.type != VertexType::Surface) return L;
+    const Camera &camera = scene_.camera();
+    Camera::ImportanceSample is;
+    Vec2 u = sampler.get_2d();
+    if (!camera.can_be_connected() || !camera.sample_importance(qs.p, u, is) || !(is.pdf > 0)) return L;
+    sampled = PathVertex{};
+    sampled.type = VertexType::Camera;
+    sampled.p = is.lens_point;
+    sampled.ng = sampled.ns = camera.forward();
+    sampled.beta = Color(is.We / is.pdf);
+    L = qs.beta * f(qs, sampled, TransportMode::Importance) * sampled.beta * absdot(is.wi, qs.ns);
+    if (!is_black(L) && !visible(qs, sampled, stats)) L = Color(0.0f);
+    *raster = is.raster;
+  } else if (s == 1) {
+    // Next-event estimation: a fresh point on a light chosen by power.
+    if (!pt.connectible(scene_)) return L;
+    float u_light = sampler.get_1d();
+    Vec2 u = sampler.get_2d();
+    const Distribution1D &dist = scene_.light_distribution();
+    if (dist.size() == 0 || dist.total() <= 0) return L;
+    float pmf;
+    uint32_t index = uint32_t(dist.sample_discrete(u_light, &pmf));
+    const Light &light = scene_.lights()[index];
+    LightSample ls;
+    if (!sample_light(light, pt.p, u, ls) || !(ls.pdf > 0)) return L;
+    sampled = PathVertex{};
+    sampled.type = VertexType::Light;
+    sampled.light = int(index);
+    sampled.beta = ls.L / (ls.pdf * pmf);
+    if (light.is_infinite()) {
+      sampled.infinite = true;
+      sampled.dir = ls.wi;
+    } else {
+      sampled.p = ls.p;
+      if (light.type == LightType::Area || light.type == LightType::Triangle) sampled.ng = sampled.ns = light.axis;
+    }
+    sampled.pdf_fwd = pdf_light_origin(sampled, pt);
+    L = pt.beta * f(pt, sampled, TransportMode::Radiance) * sampled.beta * absdot(ls.wi, pt.ns);
+    if (!is_black(L)) {
+      Vec3 o = spawn_origin(pt.p, pt.ng, ls.wi);
+      float tmax = std::isinf(ls.dist) ? kInf : shadow_tmax(length(ls.p - o));
+      ++stats.rays;
+      if (scene_.occluded(o, ls.wi, tmax)) L = Color(0.0f);
+    }
+  } else {
+    PathVertex &qs = light_path[s - 1];
+    if (!qs.connectible(scene_) || !pt.connectible(scene_)) return L;
+    L = qs.beta * f(qs, pt, TransportMode::Importance) * f(pt, qs, TransportMode::Radiance) * pt.beta;
+    if (!is_black(L)) L *= G(qs, pt, stats);
+  }
+  float w = is_black(L) ? 0.0f : mis_weight(light_path, camera_path, sampled, s, t);
+  if (mis_weight_out) *mis_weight_out = w;
+  return L * w;
+}
+
+}  // namespace rdv::bdpt

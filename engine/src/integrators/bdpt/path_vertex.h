@@ -1,0 +1,36 @@
+// An explicit path vertex (Veach 1997, ch. 10; pbrt-v3's bdpt.h): camera, light or
+// surface, with the throughput of its subpath and the forward and reverse densities
+// of generating it, both in area measure (solid angle for infinite lights). BDPT's
+// MIS, light tracing and, later, path-space mutations all work on these.
+#pragma once
+#include "bsdfs/bsdf.h"
+#include "scene/scene.h"
+
+namespace rdv::bdpt {
+
+enum class VertexType : uint8_t { Camera, Light, Surface };
+
+struct PathVertex {
+  VertexType type = VertexType::Surface;
+  Color beta{0.0f};     // subpath throughput up to and including this vertex
+  Vec3 p{0.0f};
+  Vec3 ng{0.0f};        // geometric normal (zero: a point-like vertex, no cosine)
+  Vec3 ns{0.0f};        // shading normal
+  Vec3 wo{0.0f};        // toward the vertex this one was reached from
+  float pdf_fwd = 0, pdf_rev = 0;
+  bool delta = false;   // scattered by a delta lobe: cannot be connected to
+  int light = -1;       // light index: light vertices, and surfaces on emitters
+  bool infinite = false;  // an infinite light (escaped ray or light-subpath start); p unused, dir set
+  Vec3 dir{0.0f};       // infinite lights: direction from the scene toward the light
+  Color emitted{0.0f};  // radiance of an analytic lamp where a camera path hit it
+  uint32_t material = 0;
+  Bsdf bsdf;
+
+  bool on_surface() const { return ng.x != 0 || ng.y != 0 || ng.z != 0; }
+  bool is_light() const { return type == VertexType::Light || (type == VertexType::Surface && light >= 0); }
+  bool connectible(const Scene &scene) const;
+  // Density conversion from solid angle at this vertex to area at `next`.
+  float convert_density(float pdf_solid_angle, const PathVertex &next) const;
+};
+
+}  // namespace rdv::bdpt

@@ -1,0 +1,180 @@
+// Camera and light subpaths: random walks that record each vertex with its forward
+// density and, once the next direction is chosen, the reverse density of the vertex
+// before it (pbrt-v3's RandomWalk), plus Russian roulette.
+#include "core/ray_offset.h"
+#include "integrators/bdpt/bdpt.h"
+
+namespace rdv::bdpt {
+
+bool PathVertex::connectible(const Scene &scene) const {
+  switch (type) {
+    case VertexType::Camera: return !delta;
+    case VertexType::Light: return infinite || !light_is_delta_direction(scene.lights()[light]);
+    case VertexType::Surface: return bsdf.has_lobes() && !bsdf.is_delta();
+  }
+  return false;
+}
+
+float PathVertex::convert_density(float pdf, const PathVertex &next) const {
+  if (next.infinite) return pdf;
+  Vec3 w = next.p - p;
+  float d2 = length_squared(w);
+  if (!(d2 > 0)) return 0;
+  float inv_d2 = 1.0f / d2;
+  if (next.on_surface()) pdf *= absdot(next.ng, w * std::sqrt(inv_d2));
+  return pdf * inv_d2;
+}
+
+int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, float pdf_fwd, int max_vertices,
+                      TransportMode mode, PathVertex *path) const {
+  if (max_vertices <= 0) return 0;
+  const float beta_start = std::max(max_component(beta), 1e-30f);
+  int n = 0;
+  while (true) {
+    PathVertex &prev = path[n];
+    PathVertex &v = path[n + 1];
+    SurfaceHit hit;
+    ++stats.rays;
+    bool found = scene_.intersect(ray, hit);
+    float tmax = found ? hit.t : ray.tmax;
+    if (mode == TransportMode::Radiance) {
+      // Lamps a camera path can run into (they are not in the BVH). Light paths pass
+      // through them: lamps do not reflect.
+      int lamp = -1;
+      Color lamp_L;
+      for (uint32_t li : scene_.hittable_lights()) {
+        const Light &light = scene_.lights()[li];
+        if (n == 0 && !light.visible_camera) continue;
+        float t;
+        Color Le;
+        if (intersect_light(light, ray, tmax, t, Le)) { tmax = t; lamp = int(li); lamp_L = Le; }
+      }
+      if (lamp >= 0) {
+        const Light &light = scene_.lights()[lamp];
+        v = PathVertex{};
+        v.type = VertexType::Light;
+        v.light = lamp;
+        v.p = ray.o + ray.d * tmax;
+        v.ng = v.ns = light.type == LightType::Area ? light.axis : Vec3(0.0f);
+        v.wo = -ray.d;
+        v.beta = beta;
+        v.emitted = lamp_L;
+        v.pdf_fwd = prev.convert_density(pdf_fwd, v);
+        return n + 1;
+      }
+    }
+    if (!found) {
+      if (mode == TransportMode::Radiance && !scene_.infinite_lights().empty()) {
+        v = PathVertex{};
+        v.type = VertexType::Light;
+        v.infinite = true;
+        v.dir = ray.d;
+        v.wo = -ray.d;
+        v.beta = beta;
+        v.pdf_fwd = pdf_fwd;  // infinite lights keep solid-angle densities
+        ++n;
+      }
+      return n;
+    }
+    const Material &material = scene_.material(hit.material);
+    v = PathVertex{};
+    v.type = VertexType::Surface;
+    v.p = hit.p;
+    v.ng = hit.ng;
+    v.ns = hit.ns;
+    v.wo = -ray.d;
+    v.beta = beta;
+    v.material = hit.material;
+    v.bsdf = material.make_bsdf(hit.ng, hit.ns, v.wo);
+    if (material.emits()) v.light = int(scene_.triangle_light(hit.instance, hit.prim));
+    v.pdf_fwd = prev.convert_density(pdf_fwd, v);
+    ++n;
+    if (n >= max_vertices || !v.bsdf.has_lobes()) return n;
+
+    BsdfSample bs;
+    float u_lobe = sampler.get_1d();
+    Vec2 u = sampler.get_2d();
+    if (!v.bsdf.sample(v.wo, u_lobe, u, mode, bs)) return n;
+    beta *= bs.weight;
+    float pdf_rev;
+    if (bs.is_delta) {
+      v.delta = true;
+      pdf_fwd = pdf_rev = 0;
+    } else {
+      pdf_fwd = bs.pdf;
+      pdf_rev = v.bsdf.pdf(bs.wi, v.wo);
+    }
+    prev.pdf_rev = v.convert_density(pdf_rev, prev);
+    ray = Ray{spawn_origin(hit.p, hit.ng, bs.wi), bs.wi, kInf};
+
+    // Russian roulette on the throughput relative to the subpath's start. The MIS
+    // densities leave it out, as is usual: the weights still sum to one.
+    if (n >= 3) {
+      float q = std::max(0.05f, 1.0f - max_component(beta) / beta_start);
+      if (sampler.get_1d() < q) return n;
+      beta *= 1.0f / (1.0f - q);
+    }
+    if (is_black(beta)) return n;
+  }
+}
+
+int Bdpt::camera_subpath(const CameraRay &cr, Sampler &sampler, RayStats &stats, PathVertex *path) const {
+  const Camera &camera = scene_.camera();
+  PathVertex &v = path[0];
+  v = PathVertex{};
+  v.type = VertexType::Camera;
+  v.p = cr.lens_point;
+  v.beta = Color(1.0f);
+  float pdf_pos = 0, pdf_dir = 0;
+  camera.importance_pdf(Ray{cr.lens_point, cr.ray.d, kInf}, pdf_pos, pdf_dir);
+  // Light paths cannot reach an orthographic camera, nor a ray leaving the image
+  // (the pixel filter reaches 0.75 px past the border): no t = 1 strategy there.
+  v.delta = pdf_dir == 0;
+  if (pdf_dir == 0) pdf_dir = 1;
+  return 1 + random_walk(cr.ray, sampler, stats, Color(1.0f), pdf_dir, settings_.max_bounces + 1,
+                         TransportMode::Radiance, path);
+}
+
+int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path) const {
+  const Distribution1D &dist = scene_.light_distribution();
+  float u_light = sampler.get_1d();
+  Vec2 u_pos = sampler.get_2d(), u_dir = sampler.get_2d();
+  if (dist.size() == 0 || dist.total() <= 0) return 0;
+  float pmf;
+  uint32_t index = uint32_t(dist.sample_discrete(u_light, &pmf));
+  const Light &light = scene_.lights()[index];
+  EmissionSample es;
+  if (!sample_emission(light, u_pos, u_dir, scene_.bounding_center(), scene_.bounding_radius(), es)) return 0;
+  if (!(es.pdf_pos > 0) || !(es.pdf_dir > 0) || is_black(es.Le)) return 0;
+  // Emissive triangles are in the BVH: leave them as any surface is left.
+  Ray ray = es.ray;
+  if (light.type == LightType::Triangle) ray.o = spawn_origin(ray.o, light.axis, ray.d);
+  PathVertex &v = path[0];
+  v = PathVertex{};
+  v.type = VertexType::Light;
+  v.light = int(index);
+  v.p = es.ray.o;
+  v.ng = v.ns = es.n;
+  v.beta = es.Le;
+  v.pdf_fwd = pmf * es.pdf_pos;
+  v.infinite = light.is_infinite();
+  if (v.infinite) {
+    v.dir = -es.ray.d;
+    v.ng = v.ns = Vec3(0.0f);
+  }
+  float cos_emit = is_black(es.n) ? 1.0f : absdot(es.n, es.ray.d);
+  Color beta = es.Le * (cos_emit / (pmf * es.pdf_pos * es.pdf_dir));
+  int n = random_walk(ray, sampler, stats, beta, es.pdf_dir, settings_.max_bounces, TransportMode::Importance, path);
+  if (v.infinite) {
+    // Infinite lights: the first hit's density is the planar one of the emission disk,
+    // and the light vertex's own density is directional.
+    if (n > 0) {
+      path[1].pdf_fwd = es.pdf_pos;
+      if (path[1].on_surface()) path[1].pdf_fwd *= absdot(es.ray.d, path[1].ng);
+    }
+    v.pdf_fwd = infinite_light_density(v.dir);
+  }
+  return n + 1;
+}
+
+}  // namespace rdv::bdpt
