@@ -76,6 +76,15 @@ Bsdf::Bsdf(Vec3 ng, Vec3 ns, Vec3 wo) {
   frame_ = Frame(ns);
 }
 
+Bsdf::Bsdf(Vec3 ng, Vec3 ns, Vec3 wo, Vec3 tangent) : Bsdf(ng, ns, wo) {
+  Vec3 n = frame_.n;
+  Vec3 t = tangent - n * dot(n, tangent);
+  float len2 = length_squared(t);
+  if (!(len2 > 1e-12f)) return;
+  t = t / std::sqrt(len2);
+  frame_ = Frame(t, cross(n, t), n);
+}
+
 void Bsdf::add_lobe(const Lobe &lobe, float sample_weight) {
   if (n_ == kMaxLobes || !(sample_weight > 0)) return;
   lobes_[n_] = lobe;
@@ -118,12 +127,32 @@ static bool consistent_side(Vec3 wi_world, Vec3 ng, float wi_local_z) {
   return (g > 0 && wi_local_z > 0) || (g < 0 && wi_local_z < 0);
 }
 
+// Evaluation from either side. The Bsdf is set up facing the direction it was
+// reached from, but BDPT's MIS also needs densities for scattering the other way (a
+// light path leaving through a refraction that a camera path entered by). Seen from
+// behind, the surface is its mirror image: local z flips and dielectrics invert IOR.
+bool Bsdf::local_pair(Vec3 wo_w, Vec3 wi_w, Vec3 &wo, Vec3 &wi, bool &flipped) const {
+  float side = dot(wo_w, ng_);
+  if (side == 0) return false;
+  flipped = side < 0;
+  wo = frame_.to_local(wo_w);
+  wi = frame_.to_local(wi_w);
+  if (flipped) { wo.z = -wo.z; wi.z = -wi.z; }
+  return consistent_side(wi_w, flipped ? -ng_ : ng_, wi.z);
+}
+
+static Lobe seen_from_behind(const Lobe &lobe) {
+  Lobe l = lobe;
+  if (l.is_dielectric()) l.ior = 1.0f / l.ior;
+  return l;
+}
+
 Color Bsdf::f(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
-  if (dot(wo_w, ng_) <= 0) return Color(0.0f);
-  Vec3 wo = frame_.to_local(wo_w), wi = frame_.to_local(wi_w);
-  if (!consistent_side(wi_w, ng_, wi.z)) return Color(0.0f);
+  Vec3 wo, wi;
+  bool flipped;
+  if (!local_pair(wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
   Color f(0.0f);
-  for (int i = 0; i < n_; ++i) f += lobe_eval(lobes_[i], wo, wi, mode);
+  for (int i = 0; i < n_; ++i) f += lobe_eval(flipped ? seen_from_behind(lobes_[i]) : lobes_[i], wo, wi, mode);
   return f * shading_correction(wo_w, wi_w, mode);
 }
 
@@ -132,11 +161,11 @@ Color Bsdf::eval(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
 }
 
 float Bsdf::pdf(Vec3 wo_w, Vec3 wi_w) const {
-  if (dot(wo_w, ng_) <= 0) return 0;
-  Vec3 wo = frame_.to_local(wo_w), wi = frame_.to_local(wi_w);
-  if (!consistent_side(wi_w, ng_, wi.z)) return 0;
+  Vec3 wo, wi;
+  bool flipped;
+  if (!local_pair(wo_w, wi_w, wo, wi, flipped)) return 0;
   float p = 0;
-  for (int i = 0; i < n_; ++i) p += pick_[i] * lobe_pdf(lobes_[i], wo, wi);
+  for (int i = 0; i < n_; ++i) p += pick_[i] * lobe_pdf(flipped ? seen_from_behind(lobes_[i]) : lobes_[i], wo, wi);
   return p;
 }
 

@@ -90,6 +90,8 @@ class Bsdf {
   // ng must point to the FRONT of the surface (the outside of a closed dielectric):
   // a ray arriving from the back face sees the inverse IOR.
   Bsdf(Vec3 ng, Vec3 ns, Vec3 wo);
+  // With a tangent (anisotropy direction; zero = any): the frame's x axis follows it.
+  Bsdf(Vec3 ng, Vec3 ns, Vec3 wo, Vec3 tangent);
 
   void add_lobe(const Lobe &lobe, float sample_weight);
   int num_lobes() const { return n_; }
@@ -111,6 +113,7 @@ class Bsdf {
 
  private:
   float shading_correction(Vec3 wo, Vec3 wi, TransportMode mode) const;
+  bool local_pair(Vec3 wo_w, Vec3 wi_w, Vec3 &wo, Vec3 &wi, bool &flipped) const;
   Frame frame_;
   Vec3 ng_;
   bool backfacing_ = false;
