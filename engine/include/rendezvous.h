@@ -63,7 +63,9 @@ RDV_API rdv_status rdv_scene_create(rdv_scene **out_scene);
 RDV_API rdv_status rdv_scene_destroy(rdv_scene *scene);
 
 /* Materials. params is a JSON object, e.g. {"type":"diffuse","color":[0.8,0.8,0.8]}.
- * Types: "diffuse", "emission", "glossy" (GGX conductor); see docs/scene-format.md. */
+ * Types: "diffuse", "emission", "glossy" (GGX conductor), "glass", "principled",
+ * "transparent", "translucent", "sheen", "mix", "add"; any colour or float parameter
+ * may be a texture graph; see docs/scene-format.md. */
 RDV_API rdv_status rdv_scene_add_material(rdv_scene *scene, const char *name,
                                           const char *params_json, uint32_t *out_material);
 
@@ -82,6 +84,16 @@ RDV_API rdv_status rdv_scene_add_mesh(rdv_scene *scene, const char *name,
                                       const uint32_t *indices, uint32_t num_triangles,
                                       const uint32_t *material_ids, uint32_t default_material,
                                       uint32_t *out_mesh);
+
+/* A named per-vertex attribute of a mesh (added after rdv_scene_add_mesh, before
+ * rendering): kind "uv" (a UV map, num_components = 2) or "color" (a vertex colour,
+ * num_components 3 or 4, scene-linear RGB(A)). num_vertices must equal the mesh's.
+ * Texture nodes read them by name ({"node":"uv","layer":name},
+ * {"node":"vertex_color","layer":name}, {"node":"attribute","name":name}).
+ * The mesh's own uvs array is the default UV map. Adding a name again replaces it. */
+RDV_API rdv_status rdv_scene_add_mesh_attribute(rdv_scene *scene, uint32_t mesh, const char *name,
+                                                const char *kind, const float *data,
+                                                uint32_t num_components, uint32_t num_vertices);
 
 /* An instance of a mesh: the mesh is stored once however many instances use it. */
 RDV_API rdv_status rdv_scene_add_instance(rdv_scene *scene, uint32_t mesh,

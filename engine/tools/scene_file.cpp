@@ -231,6 +231,17 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
         out.problems.push_back(std::string(rdv_last_error()) + "; mesh left out");
         continue;
       }
+      // Named per-vertex attributes: [{"name", "kind": "uv"|"color", "components", "data"}].
+      for (const json &at : j.value("attributes", json::array())) {
+        std::string an = at.value("name", ""), kind = at.value("kind", "color");
+        uint32_t comps = at.value("components", kind == "uv" ? 2u : 3u);
+        std::vector<float> data = numbers<float>(at.value("data", json::array()), what + " attribute '" + an + "'");
+        if (comps == 0 || data.size() % comps)
+          throw std::runtime_error(what + " attribute '" + an + "': data length is not a multiple of its components");
+        if (rdv_scene_add_mesh_attribute(scene, id, an.c_str(), kind.c_str(), data.data(), comps,
+                                         uint32_t(data.size() / comps)) != RDV_OK)
+          out.problems.push_back(std::string(rdv_last_error()) + "; attribute left out");
+      }
       meshes[name] = {id, j.value("transform", json()), false};
     } catch (const std::exception &e) {
       out.problems.push_back(std::string(e.what()) + "; mesh left out");

@@ -91,6 +91,13 @@ rdv_status rdv_scene_add_mesh(rdv_scene *s, const char *name, const float *posit
   });
 }
 
+rdv_status rdv_scene_add_mesh_attribute(rdv_scene *s, uint32_t mesh, const char *name, const char *kind,
+                                        const float *data, uint32_t num_components, uint32_t num_vertices) {
+  return guarded([&] {
+    editable(s).add_mesh_attribute(mesh, name ? name : "", kind ? kind : "", data, num_components, num_vertices);
+  });
+}
+
 rdv_status rdv_scene_add_instance(rdv_scene *s, uint32_t mesh, const float transform[16], uint32_t *out) {
   return guarded([&] {
     require(transform, "transform");

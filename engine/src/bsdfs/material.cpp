@@ -2,50 +2,204 @@
 
 namespace rdv {
 
-static Color non_negative_color(Params &p, const char *key, Color fallback) {
-  Color c = p.get_vec3(key, fallback);
-  if (c.x < 0 || c.y < 0 || c.z < 0) fail(p.what() + ": '" + key + "' must not be negative");
-  return c;
-}
+namespace {
+
+using nlohmann::json;
+using Factor = Closure::Factor;
+
+struct Parser {
+  Material &m;
+
+  // A colour / float parameter: constant (validated non-negative when asked) or texture graph.
+  int value(Params &p, const char *key, Color fallback, bool non_negative = true) {
+    const json *j = p.get_json(key);
+    if (!j) return m.graph.constant(fallback);
+    int node = m.graph.parse(*j, p.what() + " '" + key + "'", m.warnings);
+    if (non_negative && m.graph.is_constant(node)) {
+      Color c = m.graph.node(node).value;
+      if (c.x < 0 || c.y < 0 || c.z < 0) fail(p.what() + ": '" + key + "' must not be negative");
+    }
+    return node;
+  }
+  // The first of several spellings (Blender 3.4 and 4.x socket names) that is present.
+  int value_any(Params &p, std::initializer_list<const char *> keys, Color fallback, const char **used = nullptr) {
+    const char *chosen = *keys.begin();
+    for (const char *k : keys)
+      if (p.has(k)) { chosen = k; break; }
+    for (const char *k : keys)
+      if (k != chosen && p.has(k)) fail(p.what() + ": give '" + chosen + "' or '" + k + "', not both");
+    for (const char *k : keys) (void)p.get_json(k);  // mark the spellings as known
+    if (used) *used = chosen;
+    return p.has(chosen) ? m.graph.parse(*p.get_json(chosen), p.what() + " '" + chosen + "'", m.warnings)
+                         : m.graph.constant(fallback);
+  }
+  int normal(Params &p, const char *key) {
+    const json *j = p.get_json(key);
+    if (!j) return -1;
+    int node = m.graph.parse(*j, p.what() + " '" + key + "'", m.warnings);
+    TexNodeType t = m.graph.node(node).type;
+    if (t != TexNodeType::NormalMap && t != TexNodeType::Bump)
+      fail(p.what() + ": '" + key + "' must be a normal_map or bump node");
+    return node;
+  }
+  // Constant part of a weight (emission must be constant: it is sampled as a light).
+  float constant_weight(const std::vector<Factor> &w, const std::string &what) {
+    float k = 1;
+    for (const Factor &f : w) {
+      if (!m.graph.is_constant(f.node))
+        m.warnings.push_back(what + ": a textured mix factor on an emission is not supported; using its value at uv (0, 0)");
+      float v = clampf(m.graph.eval_float(f.node, ShadingPoint{}), 0, 1);
+      k *= f.invert ? 1 - v : v;
+    }
+    return k;
+  }
+  void emission(Params &p, const std::vector<Factor> &w, const char *color_key, const char *strength_key,
+                Color color_default, float strength_default, std::initializer_list<const char *> aliases = {}) {
+    int c = aliases.size() ? value_any(p, aliases, color_default) : value(p, color_key, color_default);
+    float s = p.get_float(strength_key, strength_default);
+    if (s < 0) fail(p.what() + ": '" + strength_key + "' must not be negative");
+    if (!m.graph.is_constant(c))
+      m.warnings.push_back(p.what() + ": textured emission is not supported; using its value at uv (0, 0)");
+    Color e = m.graph.eval(c, ShadingPoint{}) * s;
+    if (e.x < 0 || e.y < 0 || e.z < 0) fail(p.what() + ": emission must not be negative");
+    if (!is_black(e)) m.emission += e * constant_weight(w, p.what());
+  }
+
+  void shader(Params &p, const std::string &type, const std::vector<Factor> &w) {
+    Closure c;
+    c.weight = w;
+    if (type == "mix" || type == "add") {
+      int fac = type == "mix" ? value(p, "fac", Color(0.5f)) : -1;
+      const char *keys[2] = {"shader1", "shader2"};
+      for (int i = 0; i < 2; ++i) {
+        const json *j = p.get_json(keys[i]);
+        if (!j) continue;  // an unconnected shader socket contributes nothing (black)
+        if (!j->is_object()) fail(p.what() + ": '" + keys[i] + "' must be a material object");
+        Params child(j->dump(), p.what() + " " + keys[i]);
+        std::vector<Factor> cw = w;
+        if (fac >= 0) cw.push_back({fac, i == 0});
+        shader(child, child.get_string("type", "diffuse"), cw);
+        child.check_all_used();
+      }
+      return;
+    }
+    if (type == "emission") {
+      emission(p, w, "color", "strength", Color(1.0f), 1.0f);
+      return;
+    }
+    if (type == "diffuse") {
+      c.type = MaterialType::Diffuse;
+      c.in[kBaseColor] = value(p, "color", Color(0.8f));
+      c.in[kRoughness] = value(p, "roughness", Color(0.0f));
+      emission(p, w, "emission", "emission_strength", Color(0.0f), 1.0f);
+    } else if (type == "glossy") {
+      c.type = MaterialType::Glossy;
+      c.in[kBaseColor] = value(p, "color", Color(0.8f));
+      c.in[kRoughness] = value(p, "roughness", Color(0.5f));
+      c.in[kAnisotropic] = value(p, "anisotropy", Color(0.0f), false);
+      c.in[kAnisoRotation] = value(p, "rotation", Color(0.0f), false);
+      if (p.has("eta") || p.has("k")) {
+        c.fresnel = FresnelMode::Conductor;
+        c.eta = p.get_vec3("eta", Color(1.0f));
+        c.k = p.get_vec3("k", Color(0.0f));
+        if (c.eta.x < 0 || c.eta.y < 0 || c.eta.z < 0 || c.k.x < 0 || c.k.y < 0 || c.k.z < 0)
+          fail(p.what() + ": 'eta' and 'k' must not be negative");
+      }
+      distribution(p, c, "GGX");
+      emission(p, w, "emission", "emission_strength", Color(0.0f), 1.0f);
+    } else if (type == "glass") {
+      c.type = MaterialType::Glass;
+      c.in[kBaseColor] = value(p, "color", Color(1.0f));
+      c.in[kRoughness] = value(p, "roughness", Color(0.0f));
+      c.in[kIor] = value(p, "ior", Color(1.45f));
+      distribution(p, c, "GGX");
+      if (c.multiscatter)
+        m.warnings.push_back(p.what() + ": Multiscatter GGX glass is approximated by single-scattering GGX glass");
+      c.multiscatter = false;
+    } else if (type == "transparent") {
+      c.type = MaterialType::Transparent;
+      c.in[kBaseColor] = value(p, "color", Color(1.0f));
+    } else if (type == "translucent") {
+      c.type = MaterialType::Translucent;
+      c.in[kBaseColor] = value(p, "color", Color(0.8f));
+    } else if (type == "sheen") {
+      c.type = MaterialType::Sheen;
+      c.in[kBaseColor] = value(p, "color", Color(0.8f));
+    } else if (type == "principled") {
+      principled(p, c, w);
+    } else {
+      fail(p.what() + ": unknown material type '" + type +
+           "' (diffuse, emission, glossy, glass, principled, transparent, translucent, sheen, mix, add)");
+    }
+    c.normal = normal(p, "normal");
+    m.closures.push_back(c);
+  }
+
+  void distribution(Params &p, Closure &c, const char *fallback) {
+    std::string d = p.get_string("distribution", fallback);
+    for (char &ch : d) ch = char(std::toupper(static_cast<unsigned char>(ch)));
+    if (d == "MULTI_GGX" || d == "MULTISCATTER_GGX") c.multiscatter = true;
+    else if (d == "SHARP") c.in[kRoughness] = m.graph.constant(Color(0.0f));
+    else if (d == "BECKMANN" || d == "ASHIKHMIN_SHIRLEY")
+      m.warnings.push_back(p.what() + ": distribution " + d + " is approximated by GGX");
+    else if (d != "GGX") fail(p.what() + ": 'distribution' must be GGX, MULTI_GGX, SHARP, BECKMANN or ASHIKHMIN_SHIRLEY");
+  }
+
+  void principled(Params &p, Closure &c, const std::vector<Factor> &w) {
+    c.type = MaterialType::Principled;
+    c.in[kBaseColor] = value(p, "base_color", Color(0.8f));
+    c.in[kSubsurface] = value_any(p, {"subsurface", "subsurface_weight"}, Color(0.0f));
+    c.in[kSubsurfaceColor] = value(p, "subsurface_color", Color(0.8f));
+    for (const char *ignored : {"subsurface_radius", "subsurface_ior", "subsurface_anisotropy", "subsurface_scale",
+                                "subsurface_method", "sheen_roughness", "coat_ior", "coat_tint"})
+      (void)p.get_json(ignored);
+    if (!m.graph.is_constant(c.in[kSubsurface]) || m.graph.node(c.in[kSubsurface]).value.x > 0)
+      m.warnings.push_back(p.what() + ": subsurface scattering is approximated as diffuse reflection of the subsurface colour");
+    c.in[kMetallic] = value(p, "metallic", Color(0.0f));
+    c.in[kSpecular] = value_any(p, {"specular", "specular_ior_level"}, Color(0.5f));
+    const char *tint_key;
+    c.in[kSpecularTint] = value_any(p, {"specular_tint"}, Color(0.0f), &tint_key);
+    c.specular_tint_is_color = p.has("specular_tint") && p.get_json("specular_tint")->is_array();
+    c.in[kRoughness] = value(p, "roughness", Color(0.5f));
+    c.in[kAnisotropic] = value(p, "anisotropic", Color(0.0f));
+    c.in[kAnisoRotation] = value(p, "anisotropic_rotation", Color(0.0f), false);
+    c.in[kSheen] = value_any(p, {"sheen", "sheen_weight"}, Color(0.0f));
+    c.in[kSheenTint] = value(p, "sheen_tint", Color(0.5f));
+    c.sheen_tint_is_color = p.has("sheen_tint") && p.get_json("sheen_tint")->is_array();
+    c.in[kClearcoat] = value_any(p, {"clearcoat", "coat_weight"}, Color(0.0f));
+    c.in[kClearcoatRoughness] = value_any(p, {"clearcoat_roughness", "coat_roughness"}, Color(0.03f));
+    c.in[kIor] = value(p, "ior", Color(1.45f));
+    c.in[kTransmission] = value_any(p, {"transmission", "transmission_weight"}, Color(0.0f));
+    c.in[kTransmissionRoughness] = value(p, "transmission_roughness", Color(0.0f));
+    c.in[kAlpha] = value(p, "alpha", Color(1.0f));
+    emission(p, w, "emission", "emission_strength", Color(0.0f), 1.0f, {"emission", "emission_color"});
+    for (const char *k : {"clearcoat_normal", "coat_normal"})
+      if (p.get_json(k)) m.warnings.push_back(p.what() + ": '" + k + "' is approximated by the main normal");
+    if (p.get_json("tangent")) m.warnings.push_back(p.what() + ": 'tangent' is ignored; anisotropy follows the default UV map");
+    distribution(p, c, "GGX");
+  }
+};
+
+}  // namespace
 
 Material Material::from_params(Params &p, const std::string &name) {
   Material m;
   m.name = name;
   std::string type = p.get_string("type", "diffuse");
-  if (type == "diffuse") {
-    m.type = MaterialType::Diffuse;
-    m.color = non_negative_color(p, "color", Color(0.8f));
-  } else if (type == "emission") {
-    m.type = MaterialType::Emission;
-    Color c = non_negative_color(p, "color", Color(1.0f));
-    float strength = p.get_float("strength", 1.0f);
-    if (strength < 0) fail(p.what() + ": 'strength' must not be negative");
-    m.emission = c * strength;
-    m.color = Color(0.0f);
-  } else if (type == "glossy") {
-    m.type = MaterialType::Glossy;
-    m.color = non_negative_color(p, "color", Color(0.8f));
-    m.roughness = clampf(p.get_float("roughness", 0.5f), 0.0f, 1.0f);
-    if (p.has("eta") || p.has("k")) {
-      m.use_conductor_fresnel = true;
-      m.eta = non_negative_color(p, "eta", Color(1.0f));
-      m.k = non_negative_color(p, "k", Color(0.0f));
-    }
-  } else if (type == "glass") {
-    m.type = MaterialType::Glass;
-    m.color = non_negative_color(p, "color", Color(1.0f));
-    m.roughness = clampf(p.get_float("roughness", 0.0f), 0.0f, 1.0f);
-    m.ior = clampf(p.get_float("ior", 1.45f), 1.0001f, 4.0f);
-  } else {
-    fail(p.what() + ": unknown material type '" + type + "' (diffuse, emission, glossy, glass)");
-  }
-  if (m.type != MaterialType::Emission) {  // a surface may scatter and emit (Principled's Emission)
-    Color e = non_negative_color(p, "emission", Color(0.0f));
-    float strength = p.get_float("emission_strength", 1.0f);
-    if (strength < 0) fail(p.what() + ": 'emission_strength' must not be negative");
-    m.emission = e * strength;
-  }
+  static const std::pair<const char *, MaterialType> kTypes[] = {
+      {"diffuse", MaterialType::Diffuse}, {"emission", MaterialType::Emission}, {"glossy", MaterialType::Glossy},
+      {"glass", MaterialType::Glass}, {"principled", MaterialType::Principled},
+      {"transparent", MaterialType::Transparent}, {"translucent", MaterialType::Translucent},
+      {"sheen", MaterialType::Sheen}, {"mix", MaterialType::Mix},
+      {"add", MaterialType::Add}};
+  for (auto &[n, t] : kTypes)
+    if (type == n) m.type = t;
+  Parser{m}.shader(p, type, {});
   p.check_all_used();
+  for (std::string &w : m.warnings)
+    if (w.rfind("material", 0) != 0 && w.rfind("image", 0) != 0) w = "material '" + name + "': " + w;
+  for (std::string &w : m.warnings)
+    if (w.rfind("image", 0) == 0) w = "material '" + name + "': " + w;
   return m;
 }
 
@@ -53,8 +207,18 @@ Material Material::error_material(const std::string &name) {
   Material m;
   m.name = name;
   m.type = MaterialType::Diffuse;
-  m.color = Color(1.0f, 0.0f, 1.0f);
+  Closure c;
+  c.type = MaterialType::Diffuse;
+  c.in[kBaseColor] = m.graph.constant(Color(1.0f, 0.0f, 1.0f));
+  c.in[kRoughness] = m.graph.constant(Color(0.0f));
+  m.closures.push_back(c);
   return m;
+}
+
+bool Material::has_textures() const {
+  for (size_t i = 0; i < graph.size(); ++i)
+    if (graph.node(int(i)).type != TexNodeType::Constant) return true;
+  return false;
 }
 
 const char *Material::type_name() const {
@@ -63,43 +227,187 @@ const char *Material::type_name() const {
     case MaterialType::Emission: return "emission";
     case MaterialType::Glossy: return "glossy";
     case MaterialType::Glass: return "glass";
+    case MaterialType::Principled: return "principled";
+    case MaterialType::Transparent: return "transparent";
+    case MaterialType::Translucent: return "translucent";
+    case MaterialType::Sheen: return "sheen";
+    case MaterialType::Mix: return "mix";
+    case MaterialType::Add: return "add";
   }
   return "?";
 }
 
+namespace {
+
+Lobe ggx_lobe(float roughness, float anisotropic) {
+  Lobe l;
+  float a = sqr(clampf(roughness, 0.0f, 1.0f));
+  float aniso = clampf(anisotropic, -1.0f, 1.0f);
+  if (aniso != 0) {  // Cycles 3.4: aspect = sqrt(1 - 0.9 anisotropic)
+    float aspect = std::sqrt(1.0f - std::max(aniso, 0.0f) * 0.9f);
+    if (aniso < 0) aspect = 1.0f / std::sqrt(1.0f + aniso * 0.9f);
+    l.ggx = {std::min(a / aspect, 1.0f), a * aspect};
+  } else {
+    l.ggx = {a, a};
+  }
+  l.type = l.ggx.is_smooth() ? LobeType::SpecularConductor : LobeType::GgxConductor;
+  return l;
+}
+
+Lobe dielectric_lobe(float roughness, float ior, Color color) {
+  Lobe l;
+  float a = sqr(clampf(roughness, 0.0f, 1.0f));
+  l.ggx = {a, a};
+  l.type = l.ggx.is_smooth() ? LobeType::SmoothDielectric : LobeType::GgxDielectric;
+  l.ior = clampf(ior, 1.0001f, 4.0f);
+  l.color = color;
+  return l;
+}
+
+float sample_weight(Color c) { return std::max(luminance(c), 1e-3f); }
+
+}  // namespace
+
 Bsdf Material::make_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const {
-  Bsdf bsdf(ng, ns, wo);
-  switch (type) {
-    case MaterialType::Diffuse: {
-      Lobe l;
-      l.type = LobeType::Lambert;
-      l.color = color;
-      bsdf.add_lobe(l, 1.0f);
-      break;
+  ShadingPoint sp;
+  sp.ng = ng;
+  sp.ns = ns;
+  sp.p_object = sp.generated = Vec3(0.0f);
+  return make_bsdf(sp, wo);
+}
+
+Bsdf Material::make_bsdf(const ShadingPoint &sp, Vec3 wo) const {
+  // One shading frame per Bsdf: the first closure with a normal input sets it.
+  Vec3 ns = sp.ns;
+  for (const Closure &c : closures)
+    if (c.normal >= 0) { ns = graph.eval_normal(c.normal, sp); break; }
+  // Anisotropy follows the default UV map's u direction, rotated about the normal.
+  Vec3 tangent(0.0f);
+  for (const Closure &c : closures) {
+    if (c.in[kAnisotropic] < 0 || !sp.has_uv_frame) continue;
+    if (graph.eval_float(c.in[kAnisotropic], sp) == 0) continue;
+    float rot = graph.eval_float(c.in[kAnisoRotation], sp) * 2.0f * kPi;
+    Vec3 t = sp.dpdu - ns * dot(ns, sp.dpdu);
+    if (!(length_squared(t) > 0)) break;
+    t = normalize(t);
+    Vec3 b = cross(ns, t);
+    tangent = t * std::cos(rot) + b * std::sin(rot);
+    break;
+  }
+  Bsdf bsdf(sp.ng, ns, wo, tangent);
+  for (const Closure &c : closures) {
+    float w = 1;
+    for (const Closure::Factor &f : c.weight) {
+      float v = clampf(graph.eval_float(f.node, sp), 0.0f, 1.0f);
+      w *= f.invert ? 1 - v : v;
     }
-    case MaterialType::Glossy: {
-      Lobe l;
-      float alpha = roughness * roughness;  // Blender's roughness convention
-      l.ggx = {alpha, alpha};
-      l.type = l.ggx.is_smooth() ? LobeType::SpecularConductor : LobeType::GgxConductor;
-      l.color = color;
-      l.fresnel_mode = use_conductor_fresnel ? FresnelMode::Conductor : FresnelMode::Tint;
-      l.eta = eta;
-      l.k = k;
-      bsdf.add_lobe(l, 1.0f);
-      break;
+    if (!(w > 0)) continue;
+    auto col = [&](ClosureInput i) { return graph.eval(c.in[i], sp); };
+    auto num = [&](ClosureInput i) { return graph.eval_float(c.in[i], sp); };
+    switch (c.type) {
+      case MaterialType::Diffuse: {
+        Lobe l;
+        float sigma = clampf(num(kRoughness), 0.0f, 1.0f);
+        l.type = sigma > 0 ? LobeType::OrenNayar : LobeType::Lambert;
+        l.sigma = sigma;
+        l.color = vmax(col(kBaseColor), Color(0.0f)) * w;
+        bsdf.add_lobe(l, sample_weight(l.color));
+        break;
+      }
+      case MaterialType::Glossy: {
+        Lobe l = ggx_lobe(num(kRoughness), num(kAnisotropic));
+        l.color = vmax(col(kBaseColor), Color(0.0f)) * w;
+        l.fresnel_mode = c.fresnel;
+        l.eta = c.eta;
+        l.k = c.k;
+        l.multiscatter = c.multiscatter;
+        bsdf.add_lobe(l, sample_weight(l.color));
+        break;
+      }
+      case MaterialType::Glass: {
+        Lobe l = dielectric_lobe(num(kRoughness), num(kIor), vmax(col(kBaseColor), Color(0.0f)) * w);
+        bsdf.add_lobe(l, sample_weight(l.color));
+        break;
+      }
+      case MaterialType::Transparent:
+      case MaterialType::Translucent:
+      case MaterialType::Sheen: {
+        Lobe l;
+        l.type = c.type == MaterialType::Transparent ? LobeType::Transparent
+                 : c.type == MaterialType::Translucent ? LobeType::Translucent : LobeType::Sheen;
+        l.color = vmax(col(kBaseColor), Color(0.0f)) * w;
+        bsdf.add_lobe(l, sample_weight(l.color) * (c.type == MaterialType::Sheen ? 0.2f : 1.0f));
+        break;
+      }
+      case MaterialType::Principled: {
+        // Blender 3.4's Principled BSDF (intern/cycles/kernel/svm/closure.h) from the lobes.
+        Color base = vmax(col(kBaseColor), Color(0.0f));
+        float sss = clampf(num(kSubsurface), 0.0f, 1.0f);
+        if (sss > 0) base = base * (1 - sss) + vmax(col(kSubsurfaceColor), Color(0.0f)) * sss;
+        float metallic = clampf(num(kMetallic), 0.0f, 1.0f);
+        float transmission = clampf(num(kTransmission), 0.0f, 1.0f);
+        float alpha = clampf(num(kAlpha), 0.0f, 1.0f);
+        float diffuse_w = (1 - metallic) * (1 - transmission);
+        float trans_w = transmission * (1 - metallic);
+        float spec_w = 1 - trans_w;
+        float ww = w * alpha;
+        if (alpha < 1) {
+          Lobe t;
+          t.type = LobeType::Transparent;
+          t.color = Color(w * (1 - alpha));
+          bsdf.add_lobe(t, w * (1 - alpha));
+        }
+        if (!(ww > 0)) break;
+        float lum = luminance(base);
+        Color tint = lum > 0 ? base / lum : Color(1.0f);
+        float roughness = clampf(num(kRoughness), 0.0f, 1.0f);
+        if (diffuse_w > 0) {
+          Lobe d;
+          d.type = LobeType::Lambert;
+          d.color = base * (diffuse_w * ww);
+          bsdf.add_lobe(d, sample_weight(d.color));
+          float sheen = std::max(num(kSheen), 0.0f);
+          if (sheen > 0) {
+            Lobe s;
+            s.type = LobeType::Sheen;
+            Color st = c.sheen_tint_is_color ? col(kSheenTint)
+                                             : Color(1.0f) * (1 - num(kSheenTint)) + tint * num(kSheenTint);
+            s.color = vmax(st, Color(0.0f)) * (sheen * diffuse_w * ww);
+            bsdf.add_lobe(s, 0.2f * sample_weight(s.color));
+          }
+        }
+        if (spec_w > 0) {
+          Lobe s = ggx_lobe(roughness, num(kAnisotropic));
+          float specular = std::max(num(kSpecular), 0.0f);
+          Color st = c.specular_tint_is_color ? vmax(col(kSpecularTint), Color(0.0f))
+                                              : Color(1.0f) * (1 - num(kSpecularTint)) + tint * num(kSpecularTint);
+          Color f0 = st * (specular * 0.08f) * (1 - metallic) + base * metallic;
+          s.fresnel_mode = FresnelMode::Schlick;
+          s.f0 = vmin(f0, Color(1.0f));
+          s.color = Color(spec_w * ww);
+          s.multiscatter = c.multiscatter;
+          bsdf.add_lobe(s, sample_weight(s.color * (s.f0 + (Color(1.0f) - s.f0) * 0.1f)));
+        }
+        if (trans_w > 0) {
+          float tr = clampf(num(kTransmissionRoughness), 0.0f, 1.0f);
+          float r = 1 - (1 - roughness) * (1 - tr);
+          Lobe g = dielectric_lobe(r, num(kIor), base * (trans_w * ww));
+          bsdf.add_lobe(g, sample_weight(g.color));
+        }
+        float clearcoat = std::max(num(kClearcoat), 0.0f);
+        if (clearcoat > 0) {
+          Lobe cc = ggx_lobe(num(kClearcoatRoughness), 0.0f);
+          cc.fresnel_mode = FresnelMode::Schlick;
+          cc.f0 = Color(0.04f);
+          cc.color = Color(0.25f * clearcoat * ww);
+          bsdf.add_lobe(cc, sample_weight(cc.color * 0.2f));
+        }
+        break;
+      }
+      case MaterialType::Emission:
+      case MaterialType::Mix:
+      case MaterialType::Add: break;
     }
-    case MaterialType::Glass: {
-      Lobe l;
-      float alpha = roughness * roughness;
-      l.ggx = {alpha, alpha};
-      l.type = l.ggx.is_smooth() ? LobeType::SmoothDielectric : LobeType::GgxDielectric;
-      l.color = color;
-      l.ior = ior;
-      bsdf.add_lobe(l, 1.0f);
-      break;
-    }
-    case MaterialType::Emission: break;  // emits only; no scattering
   }
   return bsdf;
 }

@@ -1,30 +1,64 @@
 // A material as the scene stores it, and the Bsdf it yields at a surface point.
-// Only the lobes a material needs are built: a diffuse material runs no
-// microfacet code.
+//
+// A material is a flat list of closures (diffuse, glossy, glass, principled, ...), each
+// with a weight that is a product of Mix Shader factors (fac or 1 - fac, possibly
+// textured): "mix" and "add" nodes of any depth flatten into that list when the
+// material is parsed. Every colour / float parameter of a closure is a node of the
+// material's TextureGraph (a constant or a texture graph), evaluated at the shading
+// point. Only the lobes a material needs are built: a diffuse material runs no
+// microfacet code. docs/scene-format.md lists the JSON keys.
 #pragma once
 #include <string>
+#include <vector>
 #include "bsdfs/bsdf.h"
 #include "core/params.h"
+#include "textures/texture_graph.h"
 
 namespace rdv {
 
-enum class MaterialType : uint8_t { Diffuse, Emission, Glossy, Glass };
+enum class MaterialType : uint8_t {
+  Diffuse, Emission, Glossy, Glass, Principled, Transparent, Translucent, Sheen, Mix, Add
+};
+
+// Inputs of a closure (index into Closure::in). Not every closure uses every input.
+enum ClosureInput : uint8_t {
+  kBaseColor, kRoughness, kIor, kMetallic, kSpecular, kSpecularTint, kAnisotropic, kAnisoRotation, kSheen,
+  kSheenTint, kClearcoat, kClearcoatRoughness, kTransmission, kTransmissionRoughness, kAlpha, kSubsurface,
+  kSubsurfaceColor, kNumClosureInputs
+};
+
+struct Closure {
+  MaterialType type = MaterialType::Diffuse;
+  int in[kNumClosureInputs];  // texture-graph node per input (-1: unused)
+  int normal = -1;            // normal_map / bump node, or -1 (the interpolated normal)
+  // Mix Shader factors along the path from the root: weight = prod (invert ? 1 - f : f).
+  struct Factor { int node; bool invert; };
+  std::vector<Factor> weight;
+  // Glossy: conductor Fresnel from a complex IOR (constant), multiscatter flag.
+  FresnelMode fresnel = FresnelMode::Tint;
+  Color eta{1.0f}, k{0.0f};
+  bool multiscatter = false;
+  bool specular_tint_is_color = false, sheen_tint_is_color = false;  // Blender 4.x sockets
+  Closure() { for (int &i : in) i = -1; }
+};
 
 struct Material {
   std::string name;
-  MaterialType type = MaterialType::Diffuse;
-  Color color{0.8f};
-  Color emission{0.0f};  // radiance, both faces (Cycles' Emission shader)
-  float roughness = 0.5f;
-  float ior = 1.45f;
-  bool use_conductor_fresnel = false;
-  Color eta{1.0f}, k{0.0f};
+  MaterialType type = MaterialType::Diffuse;  // of the root node (for summaries)
+  Color emission{0.0f};  // radiance, both faces (constant; Cycles' Emission / Principled Emission)
+  std::vector<Closure> closures;
+  TextureGraph graph;
+  std::vector<std::string> warnings;  // for Scene::warn (missing images, approximations)
 
   static Material from_params(Params &p, const std::string &name);
   // The magenta stand-in Blender shows for a material it cannot use.
   static Material error_material(const std::string &name);
   bool emits() const { return !is_black(emission); }
+  bool has_textures() const;
   const char *type_name() const;
+  // Bsdf at a surface point (textures, normal maps, bump, named attributes).
+  Bsdf make_bsdf(const ShadingPoint &sp, Vec3 wo) const;
+  // Without surface information (textures see uv = 0): for callers that have none.
   Bsdf make_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const;
 };
 

@@ -55,6 +55,11 @@ std::string Params::get_string(const char *key, const std::string &fallback) {
   return v.get<std::string>();
 }
 
+const nlohmann::json *Params::get_json(const char *key) {
+  used_.insert(key);
+  return has(key) ? &json_.at(key) : nullptr;
+}
+
 std::vector<float> Params::get_floats(const char *key, size_t count, std::vector<float> fallback) {
   if (!has(key)) { used_.insert(key); return fallback; }
   const auto &v = lookup(key);

@@ -26,6 +26,9 @@ class Params {
   Vec3 get_vec3(const char *key, Vec3 fallback);
   Transform get_transform(const char *key, const Transform &fallback);
   std::vector<float> get_floats(const char *key, size_t count, std::vector<float> fallback);
+  // The raw JSON value of a key (marked as used), or nullptr if absent: for values
+  // that may be a number, a colour or a nested object (texture graphs, shaders).
+  const nlohmann::json *get_json(const char *key);
 
   // Throws RDV_ERROR_UNKNOWN_PARAMETER listing the keys nobody asked for.
   void check_all_used() const;

@@ -6,6 +6,14 @@
 
 namespace rdv {
 
+// A named per-vertex attribute: a UV map (2 components) or a colour (3 or 4).
+struct MeshAttribute {
+  uint32_t id = 0;  // attribute_id(name) (textures/shading_point.h)
+  std::string name;
+  int components = 0;
+  std::vector<float> data;  // components per vertex
+};
+
 struct Mesh {
   std::string name;
   // positions has one padding element past the end: Embree reads vertices with
@@ -15,6 +23,8 @@ struct Mesh {
   std::vector<Vec2> uvs;       // empty: no UVs
   std::vector<uint32_t> indices;  // 3 per triangle
   std::vector<uint32_t> materials;  // 1 per triangle (scene material id)
+  std::vector<MeshAttribute> attributes;  // named UV maps and vertex colours
+  Vec3 bbox_lo{0.0f}, bbox_hi{1.0f};     // object space, for generated coordinates
   // Index of each triangle among this mesh's emissive triangles, or kNotEmissive.
   std::vector<uint32_t> emissive_rank;
   uint32_t num_emissive = 0;
@@ -24,7 +34,13 @@ struct Mesh {
   uint32_t num_triangles() const { return static_cast<uint32_t>(indices.size() / 3); }
   size_t memory_bytes() const {
     return positions.capacity() * sizeof(Vec3) + normals.capacity() * sizeof(Vec3) +
-           uvs.capacity() * sizeof(Vec2) + (indices.capacity() + materials.capacity() + emissive_rank.capacity()) * 4;
+           uvs.capacity() * sizeof(Vec2) + (indices.capacity() + materials.capacity() + emissive_rank.capacity()) * 4 +
+           attribute_bytes();
+  }
+  size_t attribute_bytes() const {
+    size_t b = 0;
+    for (const MeshAttribute &a : attributes) b += a.data.capacity() * sizeof(float);
+    return b;
   }
 };
 

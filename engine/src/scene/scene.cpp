@@ -15,6 +15,7 @@ void Scene::warn(const std::string &message) {
 
 uint32_t Scene::add_material(const std::string &name, Params &params) {
   materials_.push_back(Material::from_params(params, name));
+  for (const std::string &w : materials_.back().warnings) warn(w);
   dirty_ = true;
   return static_cast<uint32_t>(materials_.size() - 1);
 }
@@ -96,9 +97,48 @@ uint32_t Scene::add_mesh(const std::string &name, const float *positions, uint32
   dropped_triangles_ += dropped_nonfinite + dropped_degenerate;
   m.indices.shrink_to_fit();
   m.materials.shrink_to_fit();
+  if (num_vertices > 0) {  // object-space bounds: Generated texture coordinates
+    m.bbox_lo = Vec3(kInf);
+    m.bbox_hi = Vec3(-kInf);
+    for (uint32_t i = 0; i < num_vertices; ++i)
+      if (vertex_ok[i]) { m.bbox_lo = vmin(m.bbox_lo, m.positions[i]); m.bbox_hi = vmax(m.bbox_hi, m.positions[i]); }
+    if (!(m.bbox_lo.x <= m.bbox_hi.x)) { m.bbox_lo = Vec3(0.0f); m.bbox_hi = Vec3(1.0f); }
+  }
   meshes_.push_back(std::move(m));
   dirty_ = true;
   return static_cast<uint32_t>(meshes_.size() - 1);
+}
+
+void Scene::add_mesh_attribute(uint32_t mesh, const std::string &name, const std::string &kind, const float *data,
+                               uint32_t num_components, uint32_t num_vertices) {
+  if (mesh >= meshes_.size()) fail("attribute '" + name + "': no mesh " + std::to_string(mesh));
+  Mesh &m = meshes_[mesh];
+  const std::string what = "mesh '" + m.name + "' attribute '" + name + "'";
+  if (name.empty()) fail(what + ": needs a name");
+  if (!data) fail(what + ": 'data' is NULL");
+  if (kind == "uv") {
+    if (num_components != 2) fail(what + ": a UV map has 2 components, got " + std::to_string(num_components));
+  } else if (kind == "color") {
+    if (num_components != 3 && num_components != 4)
+      fail(what + ": a colour has 3 or 4 components, got " + std::to_string(num_components));
+  } else {
+    fail(what + ": kind must be \"uv\" or \"color\", got '" + kind + "'");
+  }
+  if (num_vertices != m.num_vertices())
+    fail(what + ": has " + std::to_string(num_vertices) + " values but the mesh has " + std::to_string(m.num_vertices()) +
+         " vertices (attributes are per vertex)");
+  MeshAttribute a;
+  a.name = name;
+  a.id = attribute_id(name);
+  a.components = int(num_components);
+  a.data.assign(data, data + size_t(num_vertices) * num_components);
+  uint32_t bad = 0;
+  for (float &v : a.data)
+    if (!std::isfinite(v)) { v = 0; ++bad; }
+  if (bad) warn(what + ": " + std::to_string(bad) + " values are not finite; set to 0");
+  for (MeshAttribute &old : m.attributes)
+    if (old.id == a.id) { old = std::move(a); return; }
+  m.attributes.push_back(std::move(a));
 }
 
 static bool invertible(const Transform &t) { return std::fabs(t.det3()) > 1e-30f && t.is_finite(); }
@@ -234,10 +274,57 @@ bool Scene::intersect(const Ray &ray, SurfaceHit &hit) const {
   hit.uv = m.uvs.empty() ? Vec2(raw.u, raw.v)
                          : m.uvs[tri[0]] * b0 + m.uvs[tri[1]] * raw.u + m.uvs[tri[2]] * raw.v;
   hit.t = raw.t;
+  hit.b1 = raw.u;
+  hit.b2 = raw.v;
   hit.instance = raw.instance;
   hit.prim = raw.prim;
   hit.material = m.materials[raw.prim];
   return true;
+}
+
+ShadingPoint Scene::shading_point(const SurfaceHit &hit) const {
+  ShadingPoint sp;
+  const Instance &inst = instances_[hit.instance];
+  const Mesh &m = meshes_[inst.mesh];
+  const uint32_t *tri = &m.indices[3 * hit.prim];
+  sp.p = hit.p;
+  sp.ng = hit.ng;
+  sp.ns = hit.ns;
+  sp.uv = hit.uv;
+  sp.mesh = &m;
+  sp.v[0] = tri[0]; sp.v[1] = tri[1]; sp.v[2] = tri[2];
+  sp.b[0] = 1.0f - hit.b1 - hit.b2; sp.b[1] = hit.b1; sp.b[2] = hit.b2;
+  Vec3 p0 = m.positions[tri[0]], p1 = m.positions[tri[1]], p2 = m.positions[tri[2]];
+  sp.p_object = p0 * sp.b[0] + p1 * sp.b[1] + p2 * sp.b[2];
+  Vec3 extent = m.bbox_hi - m.bbox_lo;
+  for (int i = 0; i < 3; ++i) sp.generated_scale[i] = extent[i] > 0 ? 1.0f / extent[i] : 0.0f;
+  sp.generated = (sp.p_object - m.bbox_lo) * sp.generated_scale;
+  sp.object_to_world = &inst.to_world.m[0][0];
+  // dp/du, dp/dv from the triangle's UVs (pbrt's triangle derivatives).
+  Vec3 e1 = p1 - p0, e2 = p2 - p0;
+  bool frame = false;
+  if (!m.uvs.empty()) {
+    Vec2 t0 = m.uvs[tri[0]], t1 = m.uvs[tri[1]], t2 = m.uvs[tri[2]];
+    Vec2 d1 = t1 - t0, d2 = t2 - t0;
+    float det = d1.x * d2.y - d1.y * d2.x;
+    if (std::fabs(det) > 1e-12f) {
+      float inv = 1.0f / det;
+      sp.dpdu_object = (e1 * d2.y - e2 * d1.y) * inv;
+      sp.dpdv_object = (e2 * d1.x - e1 * d2.x) * inv;
+      frame = is_finite(sp.dpdu_object) && is_finite(sp.dpdv_object);
+    }
+  }
+  if (!frame) {  // any frame in the triangle's plane, in object units
+    Vec3 n = cross(e1, e2);
+    float len = length(n);
+    Frame f(len > 0 ? n / len : Vec3(0, 0, 1));
+    sp.dpdu_object = f.s;
+    sp.dpdv_object = f.t;
+  }
+  sp.has_uv_frame = frame;
+  sp.dpdu = inst.to_world.vector(sp.dpdu_object);
+  sp.dpdv = inst.to_world.vector(sp.dpdv_object);
+  return sp;
 }
 
 std::string Scene::summary_json() const {
@@ -264,7 +351,9 @@ std::string Scene::summary_json() const {
   j["emissive_triangles"] = emissive_triangles_;
   j["world"] = is_black(world_radiance_) ? "none" : "constant";
   j["materials"] = material_types;
-  j["textures"] = 0;
+  int textures = 0;
+  for (const Material &mat : materials_) textures += mat.graph.num_images();
+  j["textures"] = textures;
   j["media"] = "none";
   j["memory_bytes"] = {{"meshes", mesh_bytes}, {"embree", accel_.memory_bytes()},
                        {"lights", lights_.size() * sizeof(Light)}};

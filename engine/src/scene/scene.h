@@ -21,6 +21,7 @@ struct SurfaceHit {
   Vec2 uv;
   float t = 0;
   uint32_t instance = 0, prim = 0, material = 0;
+  float b1 = 0, b2 = 0;  // barycentrics of vertices 1 and 2 (for textures: Scene::shading_point)
 };
 
 class Scene {
@@ -32,6 +33,9 @@ class Scene {
   uint32_t add_mesh(const std::string &name, const float *positions, uint32_t num_vertices, const float *normals,
                     const float *uvs, const uint32_t *indices, uint32_t num_triangles,
                     const uint32_t *material_ids, uint32_t default_material);
+  // A named per-vertex attribute: kind "uv" (2 floats per vertex) or "color" (3 or 4).
+  void add_mesh_attribute(uint32_t mesh, const std::string &name, const std::string &kind, const float *data,
+                          uint32_t num_components, uint32_t num_vertices);
   uint32_t add_instance(uint32_t mesh, const Transform &to_world);
   void set_instance_transform(uint32_t instance, const Transform &to_world);
   uint32_t add_light(const std::string &name, Params &params);
@@ -42,6 +46,8 @@ class Scene {
   // Ray queries (after commit).
   bool intersect(const Ray &ray, SurfaceHit &hit) const;
   bool occluded(Vec3 o, Vec3 d, float tmax) const { return accel_.occluded(o, d, tmax); }
+  // What textures need at a hit: object / generated coordinates, named attributes, UV tangents.
+  ShadingPoint shading_point(const SurfaceHit &hit) const;
 
   const Camera &camera() const { return camera_; }
   Camera &camera() { return camera_; }

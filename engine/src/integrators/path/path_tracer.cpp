@@ -79,7 +79,7 @@ Color PathTracer::Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &st
       float pdf = light_pdf(scene_.lights()[li], prev_p, ray.d, hit.t);
       L += beta * material.emission * emission_weight(li, pdf);
     }
-    Bsdf bsdf = material.make_bsdf(hit.ng, hit.ns, wo);
+    Bsdf bsdf = material.make_bsdf(scene_.shading_point(hit), wo);
     if (depth == 0 && first_hit) {
       const Camera &cam = scene_.camera();
       first_hit->valid = true;

@@ -1,0 +1,48 @@
+// Image textures through OpenImageIO's TextureSystem: tiled, MIP-mapped, filtered
+// lookups behind a cache of bounded size (untiled files are tiled and MIP-mapped on
+// demand by OIIO's autotile / automip), with Blender's interpolation (Linear, Closest,
+// Cubic; Smart = Cubic) and extension (Repeat, Extend, Clip, Mirror) modes. Texel values
+// are converted to scene-linear Rec.709 with OpenColorIO using Blender's own config
+// (sRGB, Non-Color, Linear, Filmic Log, ...). One process-wide TextureSystem: images
+// used by several scenes are cached once.
+//
+// No ray differentials reach the textures yet: lookups use the finest MIP level with
+// the requested interpolation (as Cycles does for Closest / Linear).
+#pragma once
+#include <cstddef>
+#include <string>
+#include "core/math.h"
+
+namespace rdv {
+
+enum class TexInterp : uint8_t { Linear, Closest, Cubic };
+enum class TexExtension : uint8_t { Repeat, Extend, Clip, Mirror };
+
+class ImageTextures {
+ public:
+  static ImageTextures &instance();
+  // Registers an image. Returns an id, or -1 with `problem` set when the file is
+  // missing or unreadable. colorspace "" = Blender's default: sRGB for 8/16-bit
+  // integer files, Linear for float (half / float EXR, HDR).
+  int load(const std::string &path, const std::string &colorspace, std::string &problem);
+  // (u, v) in Blender's convention (v = 0 at the bottom row). Returns scene-linear RGB
+  // and the alpha (1 for files without alpha).
+  Color lookup(int id, float u, float v, TexInterp interp, TexExtension ext, float *alpha) const;
+  void set_cache_megabytes(float mb);
+  float cache_megabytes() const;
+  // Bytes the tile cache holds now (never above the limit plus one tile per thread).
+  size_t cache_memory_bytes() const;
+  int num_images() const;
+  std::string stats() const;
+
+ private:
+  ImageTextures();
+  struct Impl;
+  Impl *impl_;
+};
+
+// Converts one colour from a named colour space of Blender's config to scene-linear.
+// Returns false (and leaves c unchanged) if the space is unknown.
+bool to_scene_linear(const std::string &colorspace, Color &c);
+
+}  // namespace rdv

@@ -1,0 +1,36 @@
+// What textures see of a surface point: positions in world / object / generated
+// space, the default UV map, named mesh attributes (UV maps, vertex colours), and
+// the tangent frame (dp/du, dp/dv) that normal maps and bump need.
+#pragma once
+#include <cstdint>
+#include <string>
+#include "core/math.h"
+
+namespace rdv {
+
+struct Mesh;
+
+struct ShadingPoint {
+  Vec3 p{0.0f};          // world position
+  Vec3 ng{0, 0, 1};      // geometric normal (front side), world
+  Vec3 ns{0, 0, 1};      // interpolated shading normal, world
+  Vec2 uv;               // default (active render) UV map; barycentrics when the mesh has none
+  Vec3 p_object{0.0f};   // object-space position (Texture Coordinate: Object)
+  Vec3 generated{0.0f};  // position in the mesh's bounding box, 0..1 (Generated)
+  Vec3 dpdu{1, 0, 0}, dpdv{0, 1, 0};  // world-space derivatives along the default UV map
+  Vec3 dpdu_object{1, 0, 0}, dpdv_object{0, 1, 0};  // the same in object space
+  Vec3 generated_scale{1.0f};          // d(generated) / d(object position)
+  bool has_uv_frame = false;           // dpdu/dpdv come from real UVs
+  const Mesh *mesh = nullptr;          // for named attributes
+  uint32_t v[3] = {0, 0, 0};           // triangle vertex indices
+  float b[3] = {1, 0, 0};              // barycentrics
+  const float *object_to_world = nullptr;  // row-major 3x4, for object-space normal maps
+
+  // Interpolated attribute (id from attribute_id()); false if the mesh lacks it.
+  bool attribute(uint32_t id, float out[4], int &components) const;
+};
+
+// Process-wide ids for attribute names ("UVMap.001", "Col"), so lookups compare integers.
+uint32_t attribute_id(const std::string &name);
+
+}  // namespace rdv

@@ -1,0 +1,708 @@
+#include "textures/texture_graph.h"
+#include <algorithm>
+#include <map>
+#include <set>
+#include "core/error.h"
+
+namespace rdv {
+
+using nlohmann::json;
+
+namespace {
+
+// ---- small colour helpers ----------------------------------------------------------
+Color rgb_to_hsv(Color c) {
+  float cmax = max_component(c), cmin = std::min(c.x, std::min(c.y, c.z)), d = cmax - cmin;
+  float h = 0, s = cmax != 0 ? d / cmax : 0;
+  if (s != 0) {
+    Color cc = (Color(cmax) - c) / d;
+    if (c.x == cmax) h = cc.z - cc.y;
+    else if (c.y == cmax) h = 2.0f + cc.x - cc.z;
+    else h = 4.0f + cc.y - cc.x;
+    h /= 6.0f;
+    if (h < 0) h += 1.0f;
+  }
+  return {h, s, cmax};
+}
+
+Color hsv_to_rgb(Color hsv) {
+  float h = hsv.x, s = hsv.y, v = hsv.z;
+  if (s == 0) return Color(v);
+  if (h == 1.0f) h = 0;
+  h *= 6.0f;
+  float i = std::floor(h), f = h - i, p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
+  switch (int(i)) {
+    case 0: return {v, t, p};
+    case 1: return {q, v, p};
+    case 2: return {p, v, t};
+    case 3: return {p, q, v};
+    case 4: return {t, p, v};
+    default: return {v, p, q};
+  }
+}
+
+Color lerp(Color a, Color b, float t) { return a * (1 - t) + b * t; }
+Color clamp01(Color c) { return vmin(vmax(c, Color(0.0f)), Color(1.0f)); }
+
+Vec3 euler_rotate(Vec3 v, Vec3 r) {  // XYZ Euler (Blender): R = Rz Ry Rx
+  float c, s, y, z, x;
+  c = std::cos(r.x); s = std::sin(r.x); y = c * v.y - s * v.z; z = s * v.y + c * v.z; v.y = y; v.z = z;
+  c = std::cos(r.y); s = std::sin(r.y); x = c * v.x + s * v.z; z = -s * v.x + c * v.z; v.x = x; v.z = z;
+  c = std::cos(r.z); s = std::sin(r.z); x = c * v.x - s * v.y; y = s * v.x + c * v.y; v.x = x; v.y = y;
+  return v;
+}
+Vec3 euler_rotate_inverse(Vec3 v, Vec3 r) {
+  float c, s, y, z, x;
+  c = std::cos(-r.z); s = std::sin(-r.z); x = c * v.x - s * v.y; y = s * v.x + c * v.y; v.x = x; v.y = y;
+  c = std::cos(-r.y); s = std::sin(-r.y); x = c * v.x + s * v.z; z = -s * v.x + c * v.z; v.x = x; v.z = z;
+  c = std::cos(-r.x); s = std::sin(-r.x); y = c * v.y - s * v.z; z = s * v.y + c * v.z; v.y = y; v.z = z;
+  return v;
+}
+
+std::string upper(std::string s) {
+  for (char &c : s) c = char(std::toupper(static_cast<unsigned char>(c)));
+  for (char &c : s) if (c == ' ') c = '_';
+  return s;
+}
+
+// Mode tables (Blender's enum identifiers; matched case-insensitively).
+const std::vector<std::string> kBlendTypes = {"MIX", "ADD", "MULTIPLY", "SUBTRACT", "SCREEN", "DIVIDE", "DIFFERENCE",
+                                              "DARKEN", "LIGHTEN", "OVERLAY", "DODGE", "BURN", "HUE", "SATURATION",
+                                              "VALUE", "COLOR", "SOFT_LIGHT", "LINEAR_LIGHT"};
+const std::vector<std::string> kMathOps = {"ADD", "SUBTRACT", "MULTIPLY", "DIVIDE", "MULTIPLY_ADD", "POWER", "LOGARITHM",
+                                           "SQRT", "INVERSE_SQRT", "ABSOLUTE", "EXPONENT", "MINIMUM", "MAXIMUM",
+                                           "LESS_THAN", "GREATER_THAN", "SIGN", "COMPARE", "ROUND", "FLOOR", "CEIL",
+                                           "TRUNC", "FRACT", "MODULO", "WRAP", "SNAP", "PINGPONG", "SINE", "COSINE",
+                                           "TANGENT", "ARCSINE", "ARCCOSINE", "ARCTANGENT", "ARCTAN2", "SINH", "COSH",
+                                           "TANH", "RADIANS", "DEGREES", "SMOOTH_MIN", "SMOOTH_MAX"};
+const std::vector<std::string> kGradients = {"LINEAR", "QUADRATIC", "EASING", "DIAGONAL", "SPHERICAL",
+                                             "QUADRATIC_SPHERE", "RADIAL"};
+enum Coord : uint8_t { kUv, kGenerated, kObject, kPosition, kNormal };
+
+// Tracks the keys a node object uses, so unknown keys are reported.
+struct NodeReader {
+  const json &j;
+  std::string what;
+  std::set<std::string> used{"node"};
+  bool has(const char *k) { used.insert(k); return j.contains(k); }
+  std::string str(const char *k, const std::string &fallback) {
+    if (!has(k)) return fallback;
+    if (!j[k].is_string()) fail(what + ": '" + k + "' must be a string");
+    return j[k].get<std::string>();
+  }
+  float num(const char *k, float fallback) {
+    if (!has(k)) return fallback;
+    if (!j[k].is_number()) fail(what + ": '" + k + "' must be a number");
+    return j[k].get<float>();
+  }
+  bool flag(const char *k, bool fallback) {
+    if (!has(k)) return fallback;
+    if (!j[k].is_boolean()) fail(what + ": '" + k + "' must be true or false");
+    return j[k].get<bool>();
+  }
+  Vec3 vec(const char *k, Vec3 fallback) {
+    if (!has(k)) return fallback;
+    const json &v = j[k];
+    if (v.is_number()) return Vec3(v.get<float>());
+    if (!v.is_array() || v.size() < 3) fail(what + ": '" + k + "' must be 3 numbers");
+    return {v[0].get<float>(), v[1].get<float>(), v[2].get<float>()};
+  }
+  uint8_t choice(const char *k, const std::vector<std::string> &options, const std::string &fallback) {
+    std::string v = upper(str(k, fallback));
+    for (size_t i = 0; i < options.size(); ++i)
+      if (options[i] == v) return uint8_t(i);
+    std::string all;
+    for (auto &o : options) all += (all.empty() ? "" : ", ") + o;
+    fail(what + ": '" + k + "' is '" + v + "'; expected one of " + all);
+  }
+  void check() const {
+    for (auto it = j.begin(); it != j.end(); ++it)
+      if (!used.count(it.key())) fail(what + ": unknown key '" + it.key() + "'", RDV_ERROR_UNKNOWN_PARAMETER);
+  }
+};
+
+}  // namespace
+
+int TextureGraph::constant(Color c) {
+  TexNode n;
+  n.type = TexNodeType::Constant;
+  n.value = c;
+  return add(n);
+}
+
+int TextureGraph::num_images() const {
+  std::set<int> ids;
+  for (const TexNode &n : nodes_)
+    if (n.type == TexNodeType::Image) ids.insert(n.image);
+  return int(ids.size());
+}
+
+int TextureGraph::parse(const json &j, const std::string &what, std::vector<std::string> &warnings) {
+  if (j.is_number()) return constant(Color(j.get<float>()));
+  if (j.is_array()) {
+    if (j.size() != 3 && j.size() != 4) fail(what + ": a colour needs 3 (or 4) numbers");
+    for (const json &v : j)
+      if (!v.is_number()) fail(what + ": a colour needs 3 (or 4) numbers");
+    return constant(Color(j[0].get<float>(), j[1].get<float>(), j[2].get<float>()));
+  }
+  if (j.is_object()) return parse_node(j, what, warnings);
+  fail(what + ": must be a number, a colour [r,g,b] or a texture node {\"node\": ...}");
+}
+
+int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vector<std::string> &warnings) {
+  if (!j.contains("node") || !j["node"].is_string()) fail(what_in + ": a texture node needs \"node\": \"<type>\"");
+  std::string type = j["node"].get<std::string>();
+  std::string what = what_in + " (" + type + " node)";
+  NodeReader r{j, what};
+  TexNode n;
+  auto input = [&](const char *key, const json &fallback) {
+    return r.has(key) ? parse(j[key], what + " '" + key + "'", warnings) : parse(fallback, what, warnings);
+  };
+  auto vector_input = [&](const char *key, Coord def) {
+    if (r.has(key)) return parse(j[key], what + " '" + key + "'", warnings);
+    TexNode c;
+    c.type = TexNodeType::TexCoord;
+    c.mode = def;
+    return add(c);
+  };
+  auto outputs = [&](const std::vector<std::string> &names) {
+    std::string o = r.str("output", names[0]);
+    for (size_t i = 0; i < names.size(); ++i)
+      if (o == names[i]) return uint8_t(i);
+    fail(what + ": unknown output '" + o + "'");
+  };
+
+  if (type == "image") {
+    n.type = TexNodeType::Image;
+    std::string file = r.str("file", "");
+    std::string name = r.str("name", file);
+    std::string cs = r.str("colorspace", "");
+    std::string interp = upper(r.str("interpolation", "Linear"));
+    if (interp == "LINEAR") n.interp = TexInterp::Linear;
+    else if (interp == "CLOSEST") n.interp = TexInterp::Closest;
+    else if (interp == "CUBIC" || interp == "SMART") n.interp = TexInterp::Cubic;
+    else fail(what + ": 'interpolation' must be Linear, Closest, Cubic or Smart");
+    std::string ext = upper(r.str("extension", "REPEAT"));
+    if (ext == "REPEAT") n.ext = TexExtension::Repeat;
+    else if (ext == "EXTEND") n.ext = TexExtension::Extend;
+    else if (ext == "CLIP") n.ext = TexExtension::Clip;
+    else if (ext == "MIRROR") n.ext = TexExtension::Mirror;
+    else fail(what + ": 'extension' must be REPEAT, EXTEND, CLIP or MIRROR");
+    n.output = outputs({"color", "alpha"});
+    n.in[0] = vector_input("vector", kUv);
+    std::string problem;
+    n.image = file.empty() ? -1 : ImageTextures::instance().load(file, cs, problem);
+    if (file.empty()) problem = "no 'file' given";
+    if (n.image < 0)
+      warnings.push_back("image '" + name + "': " + problem + "; rendering it magenta (as Blender does)");
+    else if (!problem.empty())
+      warnings.push_back("image '" + name + "': " + problem);
+  } else if (type == "checker") {
+    n.type = TexNodeType::Checker;
+    n.in[0] = vector_input("vector", kGenerated);
+    n.in[1] = input("color1", json::array({0.8, 0.8, 0.8}));
+    n.in[2] = input("color2", json::array({0.2, 0.2, 0.2}));
+    n.in[3] = input("scale", 5.0);
+    n.output = outputs({"color", "fac"});
+  } else if (type == "noise") {
+    n.type = TexNodeType::Noise;
+    n.in[0] = vector_input("vector", kGenerated);
+    n.in[1] = input("scale", 5.0);
+    n.detail = std::clamp(r.num("detail", 2.0f), 0.0f, 15.0f);
+    n.roughness = std::clamp(r.num("roughness", 0.5f), 0.0f, 1.0f);
+    n.output = outputs({"fac", "color"});
+  } else if (type == "gradient") {
+    n.type = TexNodeType::Gradient;
+    n.in[0] = vector_input("vector", kGenerated);
+    n.mode = r.choice("gradient_type", kGradients, "LINEAR");
+    n.output = outputs({"fac", "color"});
+  } else if (type == "mix") {
+    n.type = TexNodeType::MixRgb;
+    n.mode = r.choice("blend_type", kBlendTypes, "MIX");
+    n.in[0] = input("fac", 0.5);
+    n.in[1] = input("color1", json::array({0.5, 0.5, 0.5}));
+    n.in[2] = input("color2", json::array({0.5, 0.5, 0.5}));
+    n.clamp = r.flag("clamp", false);
+  } else if (type == "math") {
+    n.type = TexNodeType::Math;
+    n.mode = r.choice("operation", kMathOps, "ADD");
+    n.in[0] = input("value1", 0.5);
+    n.in[1] = input("value2", 0.5);
+    n.in[2] = input("value3", 0.0);
+    n.clamp = r.flag("clamp", false);
+  } else if (type == "color_ramp") {
+    n.type = TexNodeType::ColorRamp;
+    n.in[0] = input("fac", 0.5);
+    n.mode = r.choice("interpolation", {"LINEAR", "CONSTANT", "EASE", "B_SPLINE", "CARDINAL"}, "LINEAR");
+    if (n.mode >= 3) {
+      warnings.push_back(what + ": B-spline / cardinal interpolation is approximated as linear");
+      n.mode = 0;
+    }
+    if (r.has("elements")) {
+      for (const json &e : j["elements"]) {
+        if (!e.is_object() || !e.contains("position") || !e.contains("color"))
+          fail(what + ": each of 'elements' needs 'position' and 'color'");
+        const json &c = e["color"];
+        if (!c.is_array() || c.size() < 3) fail(what + ": an element's 'color' needs 3 or 4 numbers");
+        n.ramp.push_back({e["position"].get<float>(), Color(c[0].get<float>(), c[1].get<float>(), c[2].get<float>()),
+                          c.size() > 3 ? c[3].get<float>() : 1.0f});
+      }
+    }
+    if (n.ramp.empty()) n.ramp = {{0, Color(0.0f), 1}, {1, Color(1.0f), 1}};
+    std::stable_sort(n.ramp.begin(), n.ramp.end(), [](const RampStop &a, const RampStop &b) { return a.position < b.position; });
+    n.output = outputs({"color", "alpha"});
+  } else if (type == "invert") {
+    n.type = TexNodeType::Invert;
+    n.in[0] = input("fac", 1.0);
+    n.in[1] = input("color", json::array({0, 0, 0}));
+  } else if (type == "hue_saturation") {
+    n.type = TexNodeType::HueSat;
+    n.in[0] = input("hue", 0.5);
+    n.in[1] = input("saturation", 1.0);
+    n.in[2] = input("value", 1.0);
+    n.in[3] = input("fac", 1.0);
+    n.in[4] = input("color", json::array({0.8, 0.8, 0.8}));
+  } else if (type == "attribute" || type == "vertex_color" || type == "uv") {
+    n.type = TexNodeType::Attribute;
+    std::string name = r.str(type == "attribute" ? "name" : "layer", "");
+    n.default_uv = name.empty() && type != "vertex_color";
+    if (name.empty() && type != "uv") fail(what + ": needs the attribute's name ('" + (type == "attribute" ? "name" : "layer") + "')");
+    n.attribute = name.empty() ? 0 : attribute_id(name);
+    n.output = type == "uv" ? 0 : outputs({"color", "fac", "alpha", "vector"});
+    if (n.output == 3) n.output = 0;
+  } else if (type == "texture_coordinate") {
+    n.type = TexNodeType::TexCoord;
+    std::string o = r.str("output", "generated");
+    static const std::map<std::string, Coord> outs = {{"uv", kUv}, {"generated", kGenerated}, {"object", kObject},
+                                                      {"position", kPosition}, {"normal", kNormal}};
+    auto it = outs.find(o);
+    if (it == outs.end()) fail(what + ": 'output' must be uv, generated, object, position or normal");
+    n.mode = it->second;
+  } else if (type == "mapping") {
+    n.type = TexNodeType::Mapping;
+    n.mode = r.choice("type", {"POINT", "TEXTURE", "VECTOR", "NORMAL"}, "POINT");
+    n.in[0] = vector_input("vector", kGenerated);
+    n.loc = r.vec("location", Vec3(0.0f));
+    n.rot = r.vec("rotation", Vec3(0.0f));
+    n.scale = r.vec("scale", Vec3(1.0f));
+  } else if (type == "normal_map") {
+    n.type = TexNodeType::NormalMap;
+    n.mode = r.choice("space", {"TANGENT", "OBJECT", "WORLD"}, "TANGENT");
+    n.in[0] = input("color", json::array({0.5, 0.5, 1.0}));
+    n.in[1] = input("strength", 1.0);
+    if (r.has("uv_map") && !j["uv_map"].get<std::string>().empty())
+      warnings.push_back(what + ": tangents come from the default UV map, not '" + j["uv_map"].get<std::string>() + "'");
+  } else if (type == "bump") {
+    n.type = TexNodeType::Bump;
+    n.in[0] = input("height", 0.0);
+    n.in[1] = input("strength", 1.0);
+    n.in[2] = input("distance", 1.0);
+    n.clamp = r.flag("invert", false);  // clamp doubles as "invert" here
+    if (r.has("normal")) n.in[3] = parse(j["normal"], what + " 'normal'", warnings);
+  } else if (type == "separate_rgb" || type == "separate_color") {
+    n.type = TexNodeType::SeparateRgb;
+    n.in[0] = input("color", json::array({0.8, 0.8, 0.8}));
+    n.output = outputs({"r", "g", "b"});
+  } else if (type == "combine_rgb" || type == "combine_color") {
+    n.type = TexNodeType::CombineRgb;
+    n.in[0] = input("r", 0.0);
+    n.in[1] = input("g", 0.0);
+    n.in[2] = input("b", 0.0);
+  } else if (type == "rgb_to_bw") {
+    n.type = TexNodeType::RgbToBw;
+    n.in[0] = input("color", json::array({0.5, 0.5, 0.5}));
+  } else if (type == "bright_contrast") {
+    n.type = TexNodeType::BrightContrast;
+    n.in[0] = input("color", json::array({1, 1, 1}));
+    n.in[1] = input("bright", 0.0);
+    n.in[2] = input("contrast", 0.0);
+  } else if (type == "gamma") {
+    n.type = TexNodeType::Gamma;
+    n.in[0] = input("color", json::array({1, 1, 1}));
+    n.in[1] = input("gamma", 1.0);
+  } else {
+    fail(what_in + ": unknown texture node '" + type +
+         "' (image, checker, noise, gradient, mix, math, color_ramp, invert, hue_saturation, attribute, vertex_color, "
+         "uv, texture_coordinate, mapping, normal_map, bump, separate_rgb, combine_rgb, rgb_to_bw, bright_contrast, gamma)");
+  }
+  r.used.insert("output");
+  r.check();
+  return add(n);
+}
+
+// ---- evaluation ------------------------------------------------------------------------
+namespace {
+
+float math_op(int op, float a, float b, float c) {
+  switch (op) {
+    case 0: return a + b;
+    case 1: return a - b;
+    case 2: return a * b;
+    case 3: return b != 0 ? a / b : 0.0f;
+    case 4: return a * b + c;
+    case 5: {  // Cycles' safe power
+      if (a < 0 && b != std::floor(b)) return 0.0f;
+      return std::pow(a, b);
+    }
+    case 6: return (a > 0 && b > 0 && b != 1) ? std::log(a) / std::log(b) : 0.0f;
+    case 7: return a > 0 ? std::sqrt(a) : 0.0f;
+    case 8: return a > 0 ? 1.0f / std::sqrt(a) : 0.0f;
+    case 9: return std::fabs(a);
+    case 10: return std::exp(a);
+    case 11: return std::min(a, b);
+    case 12: return std::max(a, b);
+    case 13: return a < b ? 1.0f : 0.0f;
+    case 14: return a > b ? 1.0f : 0.0f;
+    case 15: return a > 0 ? 1.0f : (a < 0 ? -1.0f : 0.0f);
+    case 16: return std::fabs(a - b) <= std::max(c, 1e-5f) ? 1.0f : 0.0f;
+    case 17: return std::floor(a + 0.5f);
+    case 18: return std::floor(a);
+    case 19: return std::ceil(a);
+    case 20: return std::trunc(a);
+    case 21: return a - std::floor(a);
+    case 22: return b != 0 ? std::fmod(a, b) : 0.0f;
+    case 23: {  // wrap(a, max=b, min=c)
+      float range = b - c;
+      return range != 0 ? a - range * std::floor((a - c) / range) : c;
+    }
+    case 24: return b != 0 ? std::floor(a / b) * b : 0.0f;
+    case 25: {  // pingpong
+      if (b == 0) return 0.0f;
+      float t = (a - b) / (b * 2);
+      return std::fabs((t - std::floor(t)) * b * 2 - b);
+    }
+    case 26: return std::sin(a);
+    case 27: return std::cos(a);
+    case 28: return std::tan(a);
+    case 29: return std::asin(clampf(a, -1, 1));
+    case 30: return std::acos(clampf(a, -1, 1));
+    case 31: return std::atan(a);
+    case 32: return std::atan2(a, b);
+    case 33: return std::sinh(a);
+    case 34: return std::cosh(a);
+    case 35: return std::tanh(a);
+    case 36: return a * (kPi / 180.0f);
+    case 37: return a * (180.0f / kPi);
+    case 38: case 39: {  // smooth min / max with distance c
+      float s = op == 39 ? -1.0f : 1.0f;
+      a *= s; b *= s;
+      float r = c != 0 ? std::min(a, b) - sqr(std::max(c - std::fabs(a - b), 0.0f)) / (4 * c) : std::min(a, b);
+      return r * s;
+    }
+  }
+  return 0.0f;
+}
+
+Color blend(int type, float t, Color a, Color b) {
+  float tm = 1 - t;
+  switch (type) {
+    case 0: return lerp(a, b, t);
+    case 1: return a + b * t;
+    case 2: return a * (Color(tm) + b * t);
+    case 3: return a - b * t;
+    case 4: return Color(1.0f) - (Color(tm) + (Color(1.0f) - b) * t) * (Color(1.0f) - a);
+    case 5: {
+      Color r = a;
+      for (int i = 0; i < 3; ++i)
+        if (b[i] != 0) r[i] = tm * a[i] + t * a[i] / b[i];
+      return r;
+    }
+    case 6: return {tm * a.x + t * std::fabs(a.x - b.x), tm * a.y + t * std::fabs(a.y - b.y), tm * a.z + t * std::fabs(a.z - b.z)};
+    case 7: return lerp(a, vmin(a, b), t);
+    case 8: return lerp(a, vmax(a, b), t);
+    case 9: {
+      Color r;
+      for (int i = 0; i < 3; ++i)
+        r[i] = a[i] < 0.5f ? a[i] * (tm + 2 * t * b[i]) : 1 - (tm + 2 * t * (1 - b[i])) * (1 - a[i]);
+      return r;
+    }
+    case 10: {  // dodge
+      Color r = a;
+      for (int i = 0; i < 3; ++i)
+        if (a[i] != 0) {
+          float tmp = 1 - t * b[i];
+          r[i] = tmp <= 0 ? 1.0f : std::min(1.0f, a[i] / tmp);
+        }
+      return r;
+    }
+    case 11: {  // burn
+      Color r;
+      for (int i = 0; i < 3; ++i) {
+        float tmp = tm + t * b[i];
+        r[i] = tmp <= 0 ? 0.0f : clampf(1 - (1 - a[i]) / tmp, 0, 1);
+      }
+      return r;
+    }
+    case 12: case 13: case 14: case 15: {  // hue, saturation, value, color
+      Color ha = rgb_to_hsv(a), hb = rgb_to_hsv(b);
+      if (type == 12) { if (hb.y == 0) return a; ha.x = hb.x; return lerp(a, hsv_to_rgb(ha), t); }
+      if (type == 13) { if (ha.y == 0) return a; ha.y = tm * ha.y + t * hb.y; return hsv_to_rgb(ha); }
+      if (type == 14) { ha.z = tm * ha.z + t * hb.z; return hsv_to_rgb(ha); }
+      if (hb.y == 0) return a;
+      ha.x = hb.x; ha.y = hb.y;
+      return lerp(a, hsv_to_rgb(ha), t);
+    }
+    case 16: {  // soft light
+      Color scr = Color(1.0f) - (Color(1.0f) - b) * (Color(1.0f) - a);
+      return a * tm + ((Color(1.0f) - a) * b * a + a * scr) * t;
+    }
+    case 17: return a + (b * 2.0f - Color(1.0f)) * t;  // linear light
+  }
+  return lerp(a, b, t);
+}
+
+float gradient(int type, Vec3 p) {
+  switch (type) {
+    case 0: return p.x;
+    case 1: { float r = std::max(p.x, 0.0f); return r * r; }
+    case 2: { float r = clampf(p.x, 0, 1), t = r * r; return 3 * t - 2 * t * r; }
+    case 3: return (p.x + p.y) * 0.5f;
+    case 4: return std::max(0.999999f - length(p), 0.0f);
+    case 5: { float r = std::max(0.999999f - length(p), 0.0f); return r * r; }
+    case 6: return std::atan2(p.y, p.x) / (2 * kPi) + 0.5f;
+  }
+  return 0;
+}
+
+}  // namespace
+
+Color TextureGraph::eval(int idx, const ShadingPoint &sp) const {
+  const TexNode &n = nodes_[size_t(idx)];
+  auto in = [&](int k) { return eval(n.in[k], sp); };
+  auto inf = [&](int k) { return eval_float(n.in[k], sp); };
+  switch (n.type) {
+    case TexNodeType::Constant: return n.value;
+    case TexNodeType::Image: {
+      if (n.image < 0) return n.output == 1 ? Color(1.0f) : Color(1, 0, 1);
+      Vec3 uv = in(0);
+      float a;
+      Color c = ImageTextures::instance().lookup(n.image, uv.x, uv.y, n.interp, n.ext, &a);
+      return n.output == 1 ? Color(a) : c;
+    }
+    case TexNodeType::Checker: {
+      Vec3 p = in(0) * inf(3);
+      auto cell = [](float x) { return std::abs(int(std::floor((x + 0.000001f) * 0.999999f))) % 2; };
+      bool first = ((cell(p.x) == cell(p.y)) == bool(cell(p.z)));
+      if (n.output == 1) return Color(first ? 1.0f : 0.0f);
+      return first ? in(1) : in(2);
+    }
+    case TexNodeType::Noise: {
+      Vec3 p = in(0) * inf(1);
+      if (n.output == 0) return Color(fbm_noise(p, n.detail, n.roughness));
+      return {fbm_noise(p, n.detail, n.roughness), fbm_noise(p + Vec3(97.13f, 11.7f, 43.1f), n.detail, n.roughness),
+              fbm_noise(p + Vec3(-31.9f, 71.3f, 5.77f), n.detail, n.roughness)};
+    }
+    case TexNodeType::Gradient: return Color(clampf(gradient(n.mode, in(0)), 0, 1));
+    case TexNodeType::MixRgb: {
+      Color c = blend(n.mode, clampf(inf(0), 0, 1), in(1), in(2));
+      return n.clamp ? clamp01(c) : c;
+    }
+    case TexNodeType::Math: {
+      float v = math_op(n.mode, inf(0), inf(1), inf(2));
+      if (!std::isfinite(v)) v = 0;
+      return Color(n.clamp ? clampf(v, 0, 1) : v);
+    }
+    case TexNodeType::ColorRamp: {
+      float f = inf(0);
+      const auto &s = n.ramp;
+      RampStop out = s.front();
+      if (f >= s.back().position) out = s.back();
+      else if (f > s.front().position) {
+        size_t i = 1;
+        while (i < s.size() && s[i].position < f) ++i;
+        const RampStop &a = s[i - 1], &b = s[i];
+        if (n.mode == 1) out = a;  // constant
+        else {
+          float t = b.position > a.position ? (f - a.position) / (b.position - a.position) : 0.0f;
+          if (n.mode == 2) t = t * t * (3 - 2 * t);  // ease
+          out = {f, lerp(a.color, b.color, t), a.alpha * (1 - t) + b.alpha * t};
+        }
+      }
+      return n.output == 1 ? Color(out.alpha) : out.color;
+    }
+    case TexNodeType::Invert: {
+      Color c = in(1);
+      return lerp(c, Color(1.0f) - c, inf(0));
+    }
+    case TexNodeType::HueSat: {
+      Color c = in(4);
+      Color hsv = rgb_to_hsv(c);
+      hsv.x += inf(0) + 0.5f;
+      hsv.x -= std::floor(hsv.x);
+      hsv.y = clampf(hsv.y * inf(1), 0, 1);
+      hsv.z *= inf(2);
+      Color r = vmax(hsv_to_rgb(hsv), Color(0.0f));
+      return lerp(c, r, inf(3));
+    }
+    case TexNodeType::Attribute: {
+      if (n.default_uv) return {sp.uv.x, sp.uv.y, 0};
+      float v[4] = {0, 0, 0, 1};
+      int comps = 0;
+      if (!sp.attribute(n.attribute, v, comps)) return Color(0.0f);
+      if (n.output == 2) return Color(comps == 4 ? v[3] : 1.0f);
+      Color c(v[0], v[1], comps >= 3 ? v[2] : 0.0f);
+      return n.output == 1 ? Color(luminance(c)) : c;
+    }
+    case TexNodeType::TexCoord:
+      switch (n.mode) {
+        case kUv: return {sp.uv.x, sp.uv.y, 0};
+        case kGenerated: return sp.generated;
+        case kObject: return sp.p_object;
+        case kPosition: return sp.p;
+        default: return sp.ns;
+      }
+    case TexNodeType::Mapping: {
+      Vec3 v = in(0);
+      switch (n.mode) {
+        case 0: return euler_rotate(v * n.scale, n.rot) + n.loc;
+        case 1: return euler_rotate_inverse(v - n.loc, n.rot) / vmax(n.scale, Vec3(1e-8f));
+        case 2: return euler_rotate(v * n.scale, n.rot);
+        default: {
+          Vec3 r = euler_rotate(v / vmax(n.scale, Vec3(1e-8f)), n.rot);
+          float l = length(r);
+          return l > 0 ? r / l : r;
+        }
+      }
+    }
+    case TexNodeType::NormalMap:
+    case TexNodeType::Bump: return eval_normal(idx, sp);
+    case TexNodeType::SeparateRgb: return Color(in(0)[n.output]);
+    case TexNodeType::CombineRgb: return {inf(0), inf(1), inf(2)};
+    case TexNodeType::RgbToBw: return Color(luminance(in(0)));
+    case TexNodeType::BrightContrast: {  // Cycles: a = 1 + contrast, b = bright - contrast / 2
+      float a = 1 + inf(2), b = inf(1) - inf(2) * 0.5f;
+      return vmax(in(0) * a + Color(b), Color(0.0f));
+    }
+    case TexNodeType::Gamma: {
+      Color c = in(0);
+      float g = inf(1);
+      for (int i = 0; i < 3; ++i)
+        if (c[i] > 0) c[i] = std::pow(c[i], g);
+      return c;
+    }
+  }
+  return Color(0.0f);
+}
+
+Vec3 TextureGraph::eval_normal(int idx, const ShadingPoint &sp) const {
+  const TexNode &n = nodes_[size_t(idx)];
+  Vec3 N = sp.ns;
+  if (n.type == TexNodeType::NormalMap) {
+    Color c = eval(n.in[0], sp);
+    Vec3 m = c * 2.0f - Vec3(1.0f);
+    Vec3 out;
+    if (n.mode == 0) {  // tangent space, tangents from the default UV map
+      Vec3 t = sp.dpdu - N * dot(N, sp.dpdu);
+      if (!sp.has_uv_frame || !(length_squared(t) > 0)) return N;
+      t = normalize(t);
+      Vec3 b = cross(N, t);
+      if (dot(b, sp.dpdv) < 0) b = -b;
+      out = t * m.x + b * m.y + N * m.z;
+    } else if (n.mode == 1 && sp.object_to_world) {
+      const float *M = sp.object_to_world;
+      out = {M[0] * m.x + M[1] * m.y + M[2] * m.z, M[4] * m.x + M[5] * m.y + M[6] * m.z,
+             M[8] * m.x + M[9] * m.y + M[10] * m.z};
+    } else {
+      out = m;
+    }
+    float len = length(out);
+    if (!(len > 0)) return N;
+    out = out / len;
+    float strength = std::max(eval_float(n.in[1], sp), 0.0f);
+    if (strength != 1.0f) {
+      out = N + (out - N) * strength;
+      float l = length(out);
+      out = l > 0 ? out / l : N;
+    }
+    return out;
+  }
+  if (n.type == TexNodeType::Bump) {
+    if (n.in[3] >= 0) N = eval_normal(n.in[3], sp);
+    // Finite differences of the height along the surface (no ray differentials yet):
+    // steps of 1e-3 in UV (or object units without UVs), as Cycles' bump node does
+    // with its dP differentials.
+    const float h = 1e-3f;
+    ShadingPoint sx = sp, sy = sp;
+    sx.uv = {sp.uv.x + h, sp.uv.y};
+    sy.uv = {sp.uv.x, sp.uv.y + h};
+    sx.p = sp.p + sp.dpdu * h;
+    sy.p = sp.p + sp.dpdv * h;
+    sx.p_object = sp.p_object + sp.dpdu_object * h;
+    sy.p_object = sp.p_object + sp.dpdv_object * h;
+    sx.generated = sp.generated + sp.dpdu_object * sp.generated_scale * h;
+    sy.generated = sp.generated + sp.dpdv_object * sp.generated_scale * h;
+    float h0 = eval_float(n.in[0], sp), hx = eval_float(n.in[0], sx), hy = eval_float(n.in[0], sy);
+    Vec3 dpdx = sp.dpdu * h, dpdy = sp.dpdv * h;
+    Vec3 rx = cross(dpdy, N), ry = cross(N, dpdx);
+    float det = dot(dpdx, rx);
+    Vec3 surfgrad = rx * (hx - h0) + ry * (hy - h0);
+    float strength = std::max(eval_float(n.in[1], sp), 0.0f);
+    float distance = eval_float(n.in[2], sp) * (n.clamp ? -1.0f : 1.0f);
+    Vec3 out = N * std::fabs(det) - surfgrad * (distance * (det < 0 ? -1.0f : 1.0f));
+    float len = length(out);
+    if (!(len > 0) || !std::isfinite(len)) return N;
+    out = out / len;
+    out = out * strength + N * (1 - strength);
+    len = length(out);
+    return len > 0 ? out / len : N;
+  }
+  return N;
+}
+
+// ---- Perlin noise ------------------------------------------------------------------------
+namespace {
+const uint8_t kPerm[256] = {
+    151, 160, 137, 91,  90,  15,  131, 13,  201, 95,  96,  53,  194, 233, 7,   225, 140, 36,  103, 30,  69,  142,
+    8,   99,  37,  240, 21,  10,  23,  190, 6,   148, 247, 120, 234, 75,  0,   26,  197, 62,  94,  252, 219, 203,
+    117, 35,  11,  32,  57,  177, 33,  88,  237, 149, 56,  87,  174, 20,  125, 136, 171, 168, 68,  175, 74,  165,
+    71,  134, 139, 48,  27,  166, 77,  146, 158, 231, 83,  111, 229, 122, 60,  211, 133, 230, 220, 105, 92,  41,
+    55,  46,  245, 40,  244, 102, 143, 54,  65,  25,  63,  161, 1,   216, 80,  73,  209, 76,  132, 187, 208, 89,
+    18,  169, 200, 196, 135, 130, 116, 188, 159, 86,  164, 100, 109, 198, 173, 186, 3,   64,  52,  217, 226, 250,
+    124, 123, 5,   202, 38,  147, 118, 126, 255, 82,  85,  212, 207, 206, 59,  227, 47,  16,  58,  17,  182, 189,
+    28,  42,  223, 183, 170, 213, 119, 248, 152, 2,   44,  154, 163, 70,  221, 153, 101, 155, 167, 43,  172, 9,
+    129, 22,  39,  253, 19,  98,  108, 110, 79,  113, 224, 232, 178, 185, 112, 104, 218, 246, 97,  228, 251, 34,
+    242, 193, 238, 210, 144, 12,  191, 179, 162, 241, 81,  51,  145, 235, 249, 14,  239, 107, 49,  192, 214, 31,
+    181, 199, 106, 157, 184, 84,  204, 176, 115, 121, 50,  45,  127, 4,   150, 254, 138, 236, 205, 93,  222, 114,
+    67,  29,  24,  72,  243, 141, 128, 195, 78,  66,  215, 61,  156, 180};
+inline int perm(int i) { return kPerm[i & 255]; }
+inline float fade(float t) { return t * t * t * (t * (t * 6 - 15) + 10); }
+inline float grad(int h, float x, float y, float z) {
+  h &= 15;
+  float u = h < 8 ? x : y, v = h < 4 ? y : (h == 12 || h == 14 ? x : z);
+  return ((h & 1) ? -u : u) + ((h & 2) ? -v : v);
+}
+inline float mixf(float a, float b, float t) { return a + t * (b - a); }
+}  // namespace
+
+float perlin_noise(Vec3 p) {
+  float fx = std::floor(p.x), fy = std::floor(p.y), fz = std::floor(p.z);
+  int X = int(fx) & 255, Y = int(fy) & 255, Z = int(fz) & 255;
+  float x = p.x - fx, y = p.y - fy, z = p.z - fz;
+  float u = fade(x), v = fade(y), w = fade(z);
+  int A = perm(X) + Y, AA = perm(A) + Z, AB = perm(A + 1) + Z, B = perm(X + 1) + Y, BA = perm(B) + Z, BB = perm(B + 1) + Z;
+  return mixf(mixf(mixf(grad(perm(AA), x, y, z), grad(perm(BA), x - 1, y, z), u),
+                   mixf(grad(perm(AB), x, y - 1, z), grad(perm(BB), x - 1, y - 1, z), u), v),
+              mixf(mixf(grad(perm(AA + 1), x, y, z - 1), grad(perm(BA + 1), x - 1, y, z - 1), u),
+                   mixf(grad(perm(AB + 1), x, y - 1, z - 1), grad(perm(BB + 1), x - 1, y - 1, z - 1), u), v),
+              w);
+}
+
+float fbm_noise(Vec3 p, float detail, float roughness) {
+  float fscale = 1, amp = 1, maxamp = 0, sum = 0;
+  int octaves = int(detail);
+  for (int i = 0; i <= octaves; ++i) {
+    sum += perlin_noise(p * fscale) * amp;
+    maxamp += amp;
+    amp *= roughness;
+    fscale *= 2;
+  }
+  float rmd = detail - std::floor(detail);
+  if (rmd != 0) {
+    float t = perlin_noise(p * fscale) * amp;
+    float s1 = sum / maxamp, s2 = (sum + t) / (maxamp + amp);
+    return clampf(0.5f * ((1 - rmd) * s1 + rmd * s2) + 0.5f, 0, 1);
+  }
+  return clampf(0.5f * sum / maxamp + 0.5f, 0, 1);
+}
+
+}  // namespace rdv

@@ -1,0 +1,74 @@
+// Texture graphs: any colour or float parameter of a material may be a constant or a
+// small graph of texture nodes evaluated at the shading point (docs/scene-format.md,
+// "Textures"). Nodes live in one vector per material; inputs refer to other nodes by
+// index, so evaluation is a recursive switch without allocation.
+//
+// Values are RGB triples; a float is stored as (v, v, v), and a colour used as a float
+// is reduced to its Rec.709 luminance (as Cycles converts colour to float).
+#pragma once
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+#include "core/math.h"
+#include "textures/image_texture.h"
+#include "textures/shading_point.h"
+
+namespace rdv {
+
+enum class TexNodeType : uint8_t {
+  Constant, Image, Checker, Noise, Gradient, MixRgb, Math, ColorRamp, Invert, HueSat,
+  Attribute,  // named UV map or vertex colour
+  TexCoord,   // uv / generated / object / world position / normal
+  Mapping, NormalMap, Bump, SeparateRgb, CombineRgb, RgbToBw, BrightContrast, Gamma
+};
+
+struct RampStop { float position; Color color; float alpha; };
+
+struct TexNode {
+  TexNodeType type = TexNodeType::Constant;
+  uint8_t mode = 0;     // node-specific enum (blend type, math op, gradient type, ...)
+  uint8_t output = 0;   // which output: 0 = color / value / vector, 1 = alpha / fac, 2.. per node
+  bool clamp = false;
+  Color value{0.0f};    // Constant
+  int in[6] = {-1, -1, -1, -1, -1, -1};  // input nodes (-1: unused)
+  // Image
+  int image = -1;       // ImageTextures id; -1: missing (magenta)
+  TexInterp interp = TexInterp::Linear;
+  TexExtension ext = TexExtension::Repeat;
+  // Attribute
+  uint32_t attribute = 0;
+  bool default_uv = false;
+  // Mapping: location, rotation (radians, XYZ Euler), scale
+  Vec3 loc{0.0f}, rot{0.0f}, scale{1.0f};
+  // Noise
+  float detail = 2, roughness = 0.5f;
+  std::vector<RampStop> ramp;  // ColorRamp
+};
+
+class TextureGraph {
+ public:
+  // Parses a parameter value: a number, [r,g,b] / [r,g,b,a], or a node object.
+  // Returns a node index. Problems that do not stop rendering (missing image) are
+  // appended to warnings; malformed input throws (fail()) naming `what`.
+  int parse(const nlohmann::json &j, const std::string &what, std::vector<std::string> &warnings);
+  int constant(Color c);
+  Color eval(int node, const ShadingPoint &sp) const;
+  float eval_float(int node, const ShadingPoint &sp) const { return luminance(eval(node, sp)); }
+  bool is_constant(int node) const { return node >= 0 && nodes_[size_t(node)].type == TexNodeType::Constant; }
+  const TexNode &node(int i) const { return nodes_[size_t(i)]; }
+  size_t size() const { return nodes_.size(); }
+  int num_images() const;
+  // A normal-perturbing node (normal_map / bump) evaluated to a world-space unit normal.
+  Vec3 eval_normal(int node, const ShadingPoint &sp) const;
+
+ private:
+  int add(const TexNode &n) { nodes_.push_back(n); return int(nodes_.size() - 1); }
+  int parse_node(const nlohmann::json &j, const std::string &what, std::vector<std::string> &warnings);
+  std::vector<TexNode> nodes_;
+};
+
+// Perlin noise (improved, Perlin 2002) in [-1, 1], and Blender-style fBm in [0, 1].
+float perlin_noise(Vec3 p);
+float fbm_noise(Vec3 p, float detail, float roughness);
+
+}  // namespace rdv

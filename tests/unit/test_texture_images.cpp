@@ -1,0 +1,267 @@
+// Image textures and texture graphs: known images written at run time (PNG 8-bit,
+// TIFF 16-bit, EXR half and float, HDR, JPEG) sampled at known UVs give known values
+// in each colour space of Blender's config; Blender's interpolation and extension
+// modes; v = 0 at the bottom row; a missing or unreadable file gives a warning naming
+// the image and renders magenta, never a crash; procedural and utility nodes; named
+// mesh attributes. Deterministic (no false alarms).
+#include <gtest/gtest.h>
+#include <OpenImageIO/imageio.h>
+#include <filesystem>
+#include <fstream>
+#include "bsdfs/material.h"
+#include "rendezvous.h"
+#include "scene/mesh.h"
+#include "textures/image_texture.h"
+#include "textures/texture_graph.h"
+
+using namespace rdv;
+using nlohmann::json;
+
+namespace {
+
+std::string temp_dir() {
+  std::string d = (std::filesystem::temp_directory_path() / "rdv_texture_tests").string();
+  std::filesystem::create_directories(d);
+  return d;
+}
+
+// A 4 x 2 image; texel (x, y) from the top row: value = (x + 1) / 8 + y * 0.5 in R,
+// 1 - that in G, 0.25 in B; alpha 0.5 when asked.
+std::string write_image(const std::string &name, OIIO::TypeDesc format, int channels = 3) {
+  std::string path = temp_dir() + "/" + name;
+  const int w = 4, h = 2;
+  std::vector<float> px(size_t(w) * h * channels);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      float v = (x + 1) / 8.0f + y * 0.5f;
+      float *p = &px[(size_t(y) * w + x) * channels];
+      p[0] = v;
+      if (channels > 1) p[1] = 1 - v;
+      if (channels > 2) p[2] = 0.25f;
+      if (channels > 3) p[3] = 0.5f;
+    }
+  auto out = OIIO::ImageOutput::create(path);
+  EXPECT_TRUE(out) << path;
+  OIIO::ImageSpec spec(w, h, channels, format);
+  EXPECT_TRUE(out->open(path, spec)) << out->geterror();
+  EXPECT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, px.data()));
+  out->close();
+  return path;
+}
+
+// Texel (x, y) (y from the top) centre in Blender's UV convention.
+float tu(int x) { return (x + 0.5f) / 4.0f; }
+float tv(int y) { return 1.0f - (y + 0.5f) / 2.0f; }
+
+float texel_value(int x, int y) { return (x + 1) / 8.0f + y * 0.5f; }
+
+Color lookup(const std::string &path, const std::string &cs, float u, float v, TexInterp interp = TexInterp::Closest,
+             TexExtension ext = TexExtension::Repeat, float *alpha = nullptr) {
+  std::string problem;
+  int id = ImageTextures::instance().load(path, cs, problem);
+  EXPECT_GE(id, 0) << problem;
+  if (id < 0) return Color(-1.0f);
+  return ImageTextures::instance().lookup(id, u, v, interp, ext, alpha);
+}
+
+TextureGraph graph_of(const std::string &node_json, int &node, std::vector<std::string> &warnings) {
+  TextureGraph g;
+  node = g.parse(json::parse(node_json), "test", warnings);
+  return g;
+}
+
+}  // namespace
+
+TEST(TextureImages, KnownValuesInEachFormatLinearAndNonColor) {
+  struct F { const char *name; OIIO::TypeDesc fmt; float tol; };
+  for (F f : {F{"a.exr", OIIO::TypeDesc::FLOAT, 1e-6f}, F{"h.exr", OIIO::TypeDesc::HALF, 1e-3f},
+              F{"b.png", OIIO::TypeDesc::UINT8, 1.0f / 255}, F{"c.tif", OIIO::TypeDesc::UINT16, 1.0f / 65535},
+              F{"d.hdr", OIIO::TypeDesc::FLOAT, 0.01f}}) {
+    std::string path = write_image(f.name, f.fmt);
+    for (int y = 0; y < 2; ++y)
+      for (int x = 0; x < 4; ++x) {
+        Color c = lookup(path, "Non-Color", tu(x), tv(y));
+        EXPECT_NEAR(c.x, texel_value(x, y), f.tol + 1e-6f) << f.name << " texel " << x << "," << y;
+        EXPECT_NEAR(c.z, 0.25f, f.tol + 1e-6f) << f.name;
+      }
+  }
+  // JPEG is lossy: only roughly, and its default space is sRGB.
+  std::string jpg = write_image("e.jpg", OIIO::TypeDesc::UINT8);
+  EXPECT_NEAR(lookup(jpg, "Non-Color", tu(1), tv(0)).z, 0.25f, 0.06f);
+}
+
+TEST(TextureImages, SrgbAndOtherSpacesThroughBlendersConfig) {
+  std::string png = write_image("srgb.png", OIIO::TypeDesc::UINT8);
+  auto srgb = [](float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); };
+  for (int x = 0; x < 4; ++x) {
+    float raw = std::round(texel_value(x, 0) * 255) / 255;
+    Color def = lookup(png, "", tu(x), tv(0));      // 8-bit default: sRGB
+    Color exp = lookup(png, "sRGB", tu(x), tv(0));
+    EXPECT_NEAR(exp.x, srgb(raw), 2e-3f) << x;   // Blender's sRGB is the standard curve
+    EXPECT_NEAR(def.x, exp.x, 1e-6f);
+    EXPECT_NEAR(lookup(png, "Non-Color", tu(x), tv(0)).x, raw, 1e-6f);
+  }
+  // Float files default to Linear (no conversion).
+  std::string exr = write_image("lin.exr", OIIO::TypeDesc::FLOAT);
+  EXPECT_NEAR(lookup(exr, "", tu(2), tv(1)).x, texel_value(2, 1), 1e-6f);
+  // Filmic Log: whatever OCIO says, the image lookup agrees with a direct conversion
+  // and is not the raw value.
+  Color raw(texel_value(1, 0), 1 - texel_value(1, 0), 0.25f), conv = raw;
+  ASSERT_TRUE(to_scene_linear("Filmic Log", conv));
+  Color looked = lookup(exr, "Filmic Log", tu(1), tv(0));
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(looked[k], conv[k], 1e-5f);
+  EXPECT_GT(std::fabs(conv.x - raw.x), 1e-3f);
+  Color bogus(0.5f);
+  EXPECT_FALSE(to_scene_linear("No Such Space", bogus));
+}
+
+TEST(TextureImages, InterpolationExtensionAndOrientation) {
+  std::string exr = write_image("modes.exr", OIIO::TypeDesc::FLOAT, 4);
+  // v = 0 is the bottom row (the file's last row).
+  EXPECT_NEAR(lookup(exr, "Linear", tu(0), 0.01f).x, texel_value(0, 1), 1e-6f);
+  EXPECT_NEAR(lookup(exr, "Linear", tu(0), 0.99f).x, texel_value(0, 0), 1e-6f);
+  // Linear: halfway between texel centres 1 and 2 of the top row.
+  float mid = 0.5f * (texel_value(1, 0) + texel_value(2, 0));
+  EXPECT_NEAR(lookup(exr, "Linear", 0.5f, tv(0), TexInterp::Linear).x, mid, 1e-5f);
+  EXPECT_NEAR(lookup(exr, "Linear", 0.51f, tv(0), TexInterp::Closest).x, texel_value(2, 0), 1e-6f);
+  // Cubic is the uniform cubic B-spline (as Cycles' Cubic): symmetric in x, and at a
+  // texel centre in y it blends 1/6 of each neighbouring row (the row above clamps).
+  EXPECT_NEAR(lookup(exr, "Linear", 0.5f, tv(0), TexInterp::Cubic, TexExtension::Extend).x, mid + 0.5f / 6, 1e-4f);
+  // Repeat / Extend / Clip / Mirror outside [0, 1].
+  EXPECT_NEAR(lookup(exr, "Linear", 1.0f + tu(1), tv(0)).x, texel_value(1, 0), 1e-6f);
+  EXPECT_NEAR(lookup(exr, "Linear", 1.6f, tv(0), TexInterp::Closest, TexExtension::Extend).x, texel_value(3, 0), 1e-6f);
+  float a = -1;
+  Color clip = lookup(exr, "Linear", 1.6f, tv(0), TexInterp::Closest, TexExtension::Clip, &a);
+  EXPECT_EQ(clip.x, 0.0f);
+  EXPECT_EQ(a, 0.0f);
+  lookup(exr, "Linear", tu(1), tv(0), TexInterp::Closest, TexExtension::Clip, &a);
+  EXPECT_NEAR(a, 0.5f, 1e-6f) << "straight alpha from the file";
+  EXPECT_NEAR(lookup(exr, "Linear", 1.0f + tu(0), tv(0), TexInterp::Closest, TexExtension::Mirror).x, texel_value(3, 0), 1e-6f);
+}
+
+TEST(TextureImages, MissingOrUnreadableFileWarnsAndRendersMagenta) {
+  std::string garbage = temp_dir() + "/garbage.png";
+  { std::ofstream(garbage) << "this is not a png"; }
+  for (std::string file : {std::string("/nonexistent/dir/brick_wall.png"), garbage}) {
+    rdv_scene *scene = nullptr;
+    ASSERT_EQ(RDV_OK, rdv_scene_create(&scene));
+    json mat = {{"type", "principled"},
+                {"base_color", {{"node", "image"}, {"file", file}, {"name", "Bricks"}}}};
+    uint32_t id;
+    ASSERT_EQ(RDV_OK, rdv_scene_add_material(scene, "Wall", mat.dump().c_str(), &id)) << rdv_last_error();
+    const char *messages = nullptr;
+    ASSERT_EQ(RDV_OK, rdv_scene_messages(scene, &messages));
+    std::string m = messages;
+    EXPECT_NE(m.find("image 'Bricks'"), std::string::npos) << m;
+    EXPECT_NE(m.find("magenta"), std::string::npos) << m;
+    EXPECT_NE(m.find("material 'Wall'"), std::string::npos) << m;
+    rdv_scene_destroy(scene);
+    // The node itself evaluates to magenta.
+    std::vector<std::string> w;
+    int n;
+    TextureGraph g = graph_of(json{{"node", "image"}, {"file", file}}.dump(), n, w);
+    Color c = g.eval(n, ShadingPoint{});
+    EXPECT_EQ(c.x, 1.0f);
+    EXPECT_EQ(c.y, 0.0f);
+    EXPECT_EQ(c.z, 1.0f);
+    ASSERT_EQ(w.size(), 1u);
+  }
+}
+
+TEST(TextureGraphs, ProceduralAndUtilityNodes) {
+  std::vector<std::string> w;
+  int n;
+  ShadingPoint sp;
+  // Checker (Blender's formula): scale 2 over generated (0.1, 0.1, 0.1) -> cell (0,0,0): color2.
+  TextureGraph g = graph_of(R"({"node":"checker","scale":2,"color1":[1,0,0],"color2":[0,0,1]})", n, w);
+  sp.generated = {0.1f, 0.1f, 0.1f};
+  EXPECT_EQ(g.eval(n, sp).z, 1.0f);
+  sp.generated = {0.6f, 0.1f, 0.1f};
+  EXPECT_EQ(g.eval(n, sp).x, 1.0f);
+  // Gradient linear along x, clamped.
+  g = graph_of(R"({"node":"gradient","output":"fac"})", n, w);
+  sp.generated = {0.3f, 0.9f, 0};
+  EXPECT_NEAR(g.eval(n, sp).x, 0.3f, 1e-6f);
+  // Math, mix, invert, ramp, hue/saturation identities.
+  g = graph_of(R"({"node":"math","operation":"POWER","value1":2,"value2":3})", n, w);
+  EXPECT_EQ(g.eval(n, sp).x, 8.0f);
+  g = graph_of(R"({"node":"mix","blend_type":"MULTIPLY","fac":1,"color1":[0.5,0.5,0.5],"color2":[0.5,1,0]})", n, w);
+  EXPECT_NEAR(g.eval(n, sp).x, 0.25f, 1e-6f);
+  EXPECT_NEAR(g.eval(n, sp).z, 0.0f, 1e-6f);
+  g = graph_of(R"({"node":"invert","color":[0.2,0.3,0.4]})", n, w);
+  EXPECT_NEAR(g.eval(n, sp).y, 0.7f, 1e-6f);
+  g = graph_of(R"({"node":"color_ramp","fac":0.25,"elements":[{"position":0,"color":[0,0,0,1]},{"position":0.5,"color":[1,1,1,1]}]})", n, w);
+  EXPECT_NEAR(g.eval(n, sp).x, 0.5f, 1e-6f);
+  g = graph_of(R"({"node":"hue_saturation","color":[0.8,0.3,0.1]})", n, w);
+  EXPECT_NEAR(g.eval(n, sp).x, 0.8f, 1e-5f);
+  EXPECT_NEAR(g.eval(n, sp).y, 0.3f, 1e-5f);
+  g = graph_of(R"({"node":"hue_saturation","color":[0.8,0.3,0.1],"saturation":0})", n, w);
+  EXPECT_NEAR(g.eval(n, sp).y, 0.8f, 1e-5f);
+  // Noise stays in [0, 1] and varies.
+  g = graph_of(R"({"node":"noise","scale":3,"detail":4})", n, w);
+  float lo = 1, hi = 0;
+  for (int i = 0; i < 200; ++i) {
+    sp.generated = {i * 0.0137f, i * 0.0071f, 0.3f};
+    float v = g.eval(n, sp).x;
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
+  }
+  EXPECT_GE(lo, 0.0f);
+  EXPECT_LE(hi, 1.0f);
+  EXPECT_GT(hi - lo, 0.2f);
+  // A graph: image coordinates through a mapping node (Texture Coordinate -> Mapping).
+  g = graph_of(R"({"node":"mapping","vector":{"node":"texture_coordinate","output":"object"},"location":[1,2,3],"scale":[2,2,2]})", n, w);
+  sp.p_object = {1, 1, 1};
+  Color m = g.eval(n, sp);
+  EXPECT_NEAR(m.x, 3.0f, 1e-6f);
+  EXPECT_NEAR(m.z, 5.0f, 1e-6f);
+  EXPECT_TRUE(w.empty());
+  // Malformed input is an error naming the key.
+  EXPECT_THROW(graph_of(R"({"node":"checker","colour1":[1,0,0]})", n, w), Error);
+  EXPECT_THROW(graph_of(R"({"node":"wood"})", n, w), Error);
+}
+
+TEST(TextureGraphs, NamedUvMapsAndVertexColours) {
+  Mesh mesh;
+  MeshAttribute uv2{attribute_id("UVMap.001"), "UVMap.001", 2, {0, 0, 1, 0, 0, 1}};
+  MeshAttribute col{attribute_id("Col"), "Col", 4, {1, 0, 0, 1, 0, 1, 0, 1, 0, 0, 1, 0}};
+  mesh.attributes = {uv2, col};
+  ShadingPoint sp;
+  sp.mesh = &mesh;
+  sp.v[0] = 0; sp.v[1] = 1; sp.v[2] = 2;
+  sp.b[0] = 0.5f; sp.b[1] = 0.25f; sp.b[2] = 0.25f;
+  std::vector<std::string> w;
+  int n;
+  TextureGraph g = graph_of(R"({"node":"uv","layer":"UVMap.001"})", n, w);
+  Color uv = g.eval(n, sp);
+  EXPECT_NEAR(uv.x, 0.25f, 1e-6f);
+  EXPECT_NEAR(uv.y, 0.25f, 1e-6f);
+  g = graph_of(R"({"node":"vertex_color","layer":"Col"})", n, w);
+  Color c = g.eval(n, sp);
+  EXPECT_NEAR(c.x, 0.5f, 1e-6f);
+  EXPECT_NEAR(c.y, 0.25f, 1e-6f);
+  EXPECT_NEAR(c.z, 0.25f, 1e-6f);
+  g = graph_of(R"({"node":"vertex_color","layer":"Col","output":"alpha"})", n, w);
+  EXPECT_NEAR(g.eval(n, sp).x, 0.75f, 1e-6f);
+  // An attribute the mesh lacks reads as black (as in Cycles).
+  g = graph_of(R"({"node":"attribute","name":"nope"})", n, w);
+  EXPECT_EQ(g.eval(n, sp).x, 0.0f);
+}
+
+TEST(TextureGraphs, MeshAttributesThroughTheCAbi) {
+  rdv_scene *scene = nullptr;
+  ASSERT_EQ(RDV_OK, rdv_scene_create(&scene));
+  uint32_t mat, mesh;
+  ASSERT_EQ(RDV_OK, rdv_scene_add_material(scene, "m", R"({"type":"diffuse","color":{"node":"vertex_color","layer":"Col"}})", &mat));
+  float pos[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  uint32_t idx[] = {0, 1, 2};
+  ASSERT_EQ(RDV_OK, rdv_scene_add_mesh(scene, "tri", pos, 3, nullptr, nullptr, idx, 1, nullptr, mat, &mesh));
+  float col[] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  EXPECT_EQ(RDV_OK, rdv_scene_add_mesh_attribute(scene, mesh, "Col", "color", col, 3, 3)) << rdv_last_error();
+  EXPECT_NE(RDV_OK, rdv_scene_add_mesh_attribute(scene, mesh, "Col", "color", col, 3, 2));
+  EXPECT_NE(std::string(rdv_last_error()).find("vertices"), std::string::npos);
+  EXPECT_NE(RDV_OK, rdv_scene_add_mesh_attribute(scene, mesh, "UV", "uv", col, 3, 3));
+  EXPECT_NE(RDV_OK, rdv_scene_add_mesh_attribute(scene, mesh, "X", "weights", col, 3, 3));
+  EXPECT_NE(RDV_OK, rdv_scene_add_mesh_attribute(scene, 7, "Col", "color", col, 3, 3));
+  rdv_scene_destroy(scene);
+}
