@@ -1,5 +1,6 @@
 #include "lights/light.h"
 #include "core/sampling.h"
+#include "lights/environment.h"
 
 namespace rdv {
 
@@ -105,8 +106,17 @@ Light make_background_light(Color radiance) {
   return l;
 }
 
+Light make_environment_light(const EnvironmentMap *env) {
+  Light l;
+  l.type = LightType::Background;
+  l.env = env;
+  l.radiance = env->mean();
+  l.visible_camera = true;  // the world is the background
+  return l;
+}
+
 void compute_light_power(Light &l, float scene_radius) {
-  float a = average(l.radiance);
+  float a = average(l.radiance);  // environment: its mean radiance
   float disk = kPi * scene_radius * scene_radius;
   switch (l.type) {
     case LightType::Point:
@@ -198,6 +208,10 @@ bool sample_light(const Light &l, Vec3 ref, Vec2 u, LightSample &s) {
       return true;
     }
     case LightType::Background: {
+      if (l.env) {
+        s.dist = kInf;
+        return l.env->sample(u, s.wi, s.L, s.pdf) && !is_black(s.L);
+      }
       s.wi = uniform_sphere(u);
       s.pdf = uniform_sphere_pdf();
       s.dist = kInf;
@@ -231,7 +245,7 @@ float light_pdf(const Light &l, Vec3 ref, Vec3 wi, float dist) {
       float cos_l = std::fabs(dot(l.axis, wi));
       return cos_l > 0 ? dist * dist * l.inv_area / cos_l : 0.0f;
     }
-    case LightType::Background: return uniform_sphere_pdf();
+    case LightType::Background: return l.env ? l.env->pdf(wi) : uniform_sphere_pdf();
   }
   return 0;
 }
@@ -273,7 +287,7 @@ bool intersect_light(const Light &l, const Ray &ray, float tmax, float &t, Color
 }
 
 Color infinite_light_radiance(const Light &l, Vec3 d) {
-  if (l.type == LightType::Background) return l.radiance;
+  if (l.type == LightType::Background) return l.env ? l.env->eval(d) : l.radiance;
   if (l.type == LightType::Sun && l.radius > 0) {
     float pdf = light_pdf(l, Vec3(0.0f), d, kInf);
     return pdf > 0 ? l.radiance * pdf : Color(0.0f);

@@ -15,6 +15,8 @@
 
 namespace rdv {
 
+class EnvironmentMap;  // lights/environment.h
+
 enum class LightType : uint8_t { Point, Spot, Sun, Area, Triangle, Background };
 
 struct Light {
@@ -34,6 +36,9 @@ struct Light {
   // Whether camera rays see the lamp itself. Off by default: Cycles 3.4 never shows
   // lamps to the camera (it does show them in reflections).
   bool visible_camera = false;
+  // Background: an importance-sampled equirectangular HDRI (owned by the Scene), or
+  // null for the constant `radiance`.
+  const EnvironmentMap *env = nullptr;
 
   bool is_delta() const {
     return ((type == LightType::Point || type == LightType::Spot) && radius == 0) ||
@@ -56,6 +61,7 @@ float spot_attenuation(const Light &light, Vec3 dir_from_light);
 Light make_light(Params &p);
 Light make_triangle_light(Vec3 a, Vec3 b, Vec3 c, Color radiance);
 Light make_background_light(Color radiance);
+Light make_environment_light(const EnvironmentMap *env);
 // scene_radius: radius of the scene's bounding sphere, for the power of infinite lights.
 void compute_light_power(Light &light, float scene_radius);
 

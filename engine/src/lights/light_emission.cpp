@@ -5,6 +5,7 @@
 // away than the radius, which is what the disk model itself assumes).
 #include "core/sampling.h"
 #include "lights/light.h"
+#include "lights/environment.h"
 
 namespace rdv {
 
@@ -83,7 +84,9 @@ bool sample_emission(const Light &l, Vec2 u_pos, Vec2 u_dir, Vec3 center, float 
       // Direction toward the light, then an origin on a disk covering the scene.
       Vec3 to_light;
       Color L;
-      if (l.type == LightType::Background) {
+      if (l.type == LightType::Background && l.env) {  // importance-sampled HDRI
+        if (!l.env->sample(u_dir, to_light, L, out.pdf_dir)) return false;
+      } else if (l.type == LightType::Background) {
         to_light = uniform_sphere(u_dir);
         out.pdf_dir = uniform_sphere_pdf();
         L = l.radiance;

@@ -2,6 +2,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include "core/log.h"
+#include "textures/image_texture.h"
 
 namespace rdv {
 
@@ -174,10 +175,30 @@ uint32_t Scene::add_light(const std::string &name, Params &params) {
 }
 
 void Scene::set_world(Params &params) {
-  Color c = params.get_vec3("color", Color(0.05f));
+  // With an "environment" HDRI, "color" tints it (default white); radiance = image x color x strength.
+  const nlohmann::json *env = params.get_json("environment");
+  Color c = params.get_vec3("color", env ? Color(1.0f) : Color(0.05f));
   float s = params.get_float("strength", 1.0f);
   if (c.x < 0 || c.y < 0 || c.z < 0 || s < 0) fail(params.what() + ": colour and strength must not be negative");
+  std::shared_ptr<EnvironmentMap> map;
+  if (env) {
+    Params e(env->dump(), params.what() + " environment");
+    std::string file = e.get_string("file", "");
+    std::string colorspace = e.get_string("colorspace", "");
+    Vec3 rotation = e.get_vec3("rotation", Vec3(0.0f));
+    e.check_all_used();
+    params.check_all_used();
+    try {
+      if (file.empty()) fail(params.what() + ": 'environment' needs a 'file'");
+      map = EnvironmentMap::load(file, colorspace, rotation, c * s);
+    } catch (const Error &err) {  // as Blender: a missing image renders magenta
+      warn("world: environment image '" + file + "' cannot be used (" + err.what() + "); rendering it magenta");
+      map.reset();
+      c = Color(1, 0, 1);
+    }
+  }
   params.check_all_used();
+  environment_ = map;
   world_radiance_ = c * s;
   dirty_ = true;
 }
@@ -234,7 +255,11 @@ void Scene::build_lights() {
       ++emissive_triangles_;
     }
   }
-  if (!is_black(world_radiance_)) lights_.push_back(make_background_light(world_radiance_));
+  if (environment_) {
+    if (!is_black(environment_->mean())) lights_.push_back(make_environment_light(environment_.get()));
+  } else if (!is_black(world_radiance_)) {
+    lights_.push_back(make_background_light(world_radiance_));
+  }
   hittable_lights_.clear();
   infinite_lights_.clear();
   std::vector<float> power;
@@ -349,14 +374,16 @@ std::string Scene::summary_json() const {
   j["triangles_dropped"] = dropped_triangles_;
   j["lights"] = light_types;
   j["emissive_triangles"] = emissive_triangles_;
-  j["world"] = is_black(world_radiance_) ? "none" : "constant";
+  j["world"] = environment_ ? "environment" : is_black(world_radiance_) ? "none" : "constant";
   j["materials"] = material_types;
   int textures = 0;
   for (const Material &mat : materials_) textures += mat.graph.num_images();
   j["textures"] = textures;
   j["media"] = "none";
   j["memory_bytes"] = {{"meshes", mesh_bytes}, {"embree", accel_.memory_bytes()},
-                       {"lights", lights_.size() * sizeof(Light)}};
+                       {"lights", lights_.size() * sizeof(Light)},
+                       {"environment", environment_ ? environment_->memory_bytes() : 0},
+                       {"texture_cache_limit", size_t(ImageTextures::instance().cache_megabytes() * 1048576.0)}};
   return j.dump();
 }
 

@@ -7,6 +7,7 @@
 #include <vector>
 #include "bsdfs/material.h"
 #include "core/distribution.h"
+#include "lights/environment.h"
 #include "lights/light.h"
 #include "scene/camera.h"
 #include "scene/embree_accel.h"
@@ -68,6 +69,7 @@ class Scene {
 
   void warn(const std::string &message);
   const std::string &messages() const { return messages_; }
+  const EnvironmentMap *environment() const { return environment_.get(); }
   std::string summary_json() const;
 
  private:
@@ -78,6 +80,7 @@ class Scene {
   std::vector<Light> user_lights_;
   std::vector<std::string> user_light_names_;
   Color world_radiance_{0.05f};
+  std::shared_ptr<EnvironmentMap> environment_;  // world HDRI, or null
   Camera camera_;
   bool has_camera_ = false;
   bool dirty_ = true;
