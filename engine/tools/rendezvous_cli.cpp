@@ -20,7 +20,9 @@ void usage() {
                "  --threads N            worker threads (0 = all cores)\n"
                "  --seed N               random seed\n"
                "  --resolution WxH       image size\n"
-               "  --integrator NAME      path\n"
+               "  --integrator NAME      path or bdpt\n"
+               "  --strategy S,T         bdpt: render only strategy (s, t), MIS-weighted\n"
+               "  --unweighted           with --strategy: without its MIS weight\n"
                "  --max-bounces N        maximum path length\n"
                "  --view NAME            PNG view transform: Standard (default) or Filmic\n"
                "  --summary              print what the engine modelled (JSON)\n"
@@ -53,6 +55,12 @@ int main(int argc, char **argv) {
       else if (a == "--threads") overrides["threads"] = std::stoi(next());
       else if (a == "--seed") overrides["seed"] = std::stoi(next());
       else if (a == "--integrator") overrides["integrator"] = next();
+      else if (a == "--strategy") {
+        std::string v = next();
+        size_t c = v.find(',');
+        if (c == std::string::npos) throw std::invalid_argument(v);
+        overrides["strategy"] = {std::stoi(v.substr(0, c)), std::stoi(v.substr(c + 1))};
+      } else if (a == "--unweighted") overrides["strategy_unweighted"] = true;
       else if (a == "--max-bounces") overrides["max_bounces"] = std::stoi(next());
       else if (a == "--view") view = next();
       else if (a == "--quiet") quiet = true;

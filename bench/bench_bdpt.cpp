@@ -1,0 +1,136 @@
+// Benchmark (prints numbers, asserts nothing): the speed-for-accuracy trade of BDPT
+// against path tracing. For each scene, both integrators render for the same wall
+// time at several budgets; their relative MSE is measured against a long reference.
+// The reference is the mean of two independent BDPT renders; half their mutual
+// relMSE estimates the reference's own noise, which is subtracted, so long budgets are
+// not flattered or penalised by a noisy reference.
+//   bench_bdpt [--budgets 5,20,60] [--reference 150] [--width 160] [scene.json ...]
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+#include "rendezvous.h"
+#include "scene_file.h"
+
+using nlohmann::json;
+
+namespace {
+
+struct Render {
+  std::vector<float> rgb;
+  rdv_progress progress{};
+};
+
+Render render(const std::string &scene_text, const std::string &base, json settings) {
+  rdv_scene *scene = nullptr;
+  rdv_scene_create(&scene);
+  auto loaded = rdv_tools::load_scene_json(scene_text, base, scene);
+  json s = json::parse(loaded.settings_json);
+  s.update(settings);
+  rdv_session *session = nullptr;
+  Render r;
+  if (rdv_session_create(scene, s.dump().c_str(), &session) != RDV_OK) {
+    std::fprintf(stderr, "bench_bdpt: %s\n", rdv_last_error());
+    std::exit(1);
+  }
+  rdv_session_start(session);
+  rdv_session_wait(session);
+  rdv_session_progress(session, &r.progress);
+  int w = s["width"], h = s["height"];
+  std::vector<float> rgba(size_t(w) * h * 4);
+  rdv_session_read_film(session, RDV_PASS_COMBINED, 0, 0, w, h, 1, rgba.data());
+  r.rgb.resize(size_t(w) * h * 3);
+  for (size_t i = 0; i < size_t(w) * h; ++i)
+    for (int c = 0; c < 3; ++c) r.rgb[3 * i + c] = rgba[4 * i + c];
+  rdv_session_destroy(session);
+  rdv_scene_destroy(scene);
+  return r;
+}
+
+// Relative MSE (pbrt / Mitsuba convention): mean of (x - ref)^2 / (ref^2 + 1e-2).
+double rel_mse(const std::vector<float> &x, const std::vector<double> &ref) {
+  double s = 0;
+  for (size_t i = 0; i < x.size(); ++i) s += (x[i] - ref[i]) * (x[i] - ref[i]) / (ref[i] * ref[i] + 1e-2);
+  return s / x.size();
+}
+
+std::string read_file(const std::string &p) {
+  std::ifstream f(p);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+}  // namespace
+
+int main(int argc, char **argv) {
+  std::vector<double> budgets = {5, 20, 60};
+  double reference_seconds = 150;
+  int width = 160;
+  std::vector<std::string> scenes;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--budgets") && i + 1 < argc) {
+      budgets.clear();
+      std::stringstream ss(argv[++i]);
+      std::string item;
+      while (std::getline(ss, item, ',')) budgets.push_back(std::stod(item));
+    } else if (!std::strcmp(argv[i], "--reference") && i + 1 < argc) {
+      reference_seconds = std::stod(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--width") && i + 1 < argc) {
+      width = std::stoi(argv[++i]);
+    } else {
+      scenes.push_back(argv[i]);
+    }
+  }
+  std::string dir = std::string(RDV_SOURCE_DIR) + "/scenes/";
+  if (scenes.empty())
+    for (const char *s : {"door_gap.json", "caustic.json", "cornell_box.json", "light_types.json"}) scenes.push_back(dir + s);
+
+  std::printf("BDPT vs path tracing at equal time; relMSE against a reference of 2 x %.0f s BDPT; %d px wide\n",
+              reference_seconds, width);
+  std::printf("%-18s %7s | %12s %9s | %12s %9s | %10s\n", "scene", "budget", "PT relMSE", "PT spp", "BDPT relMSE",
+              "BDPT spp", "BDPT/PT");
+  for (const std::string &path : scenes) {
+    std::string text = read_file(path);
+    std::string base = path.substr(0, path.find_last_of('/'));
+    json doc = json::parse(text);
+    double aspect = double(doc["settings"].value("height", 480)) / doc["settings"].value("width", 640);
+    int height = std::max(1, int(std::lround(width * aspect)));
+    json common = {{"width", width}, {"height", height}, {"samples", 0}, {"threads", 0}};
+    json ref_settings = common;
+    ref_settings["integrator"] = "bdpt";
+    ref_settings["time_limit"] = reference_seconds;
+    ref_settings["seed"] = 9001;
+    Render ra = render(text, base, ref_settings);
+    ref_settings["seed"] = 9002;
+    Render rb = render(text, base, ref_settings);
+    std::vector<double> ref(ra.rgb.size());
+    for (size_t i = 0; i < ref.size(); ++i) ref[i] = 0.5 * (double(ra.rgb[i]) + rb.rgb[i]);
+    std::vector<double> ref_a(ra.rgb.begin(), ra.rgb.end());
+    // relMSE(a, b) ~ 2 var_single; the mean's own error is var_single / 2 = relMSE(a, b) / 4.
+    double ref_noise = rel_mse(rb.rgb, ref_a) / 4;
+    std::string name = path.substr(path.find_last_of('/') + 1);
+    for (double budget : budgets) {
+      json s = common;
+      s["time_limit"] = budget;
+      s["seed"] = 17;
+      s["integrator"] = "path";
+      Render pt = render(text, base, s);
+      s["integrator"] = "bdpt";
+      Render bd = render(text, base, s);
+      double e_pt = rel_mse(pt.rgb, ref) - ref_noise, e_bd = rel_mse(bd.rgb, ref) - ref_noise;
+      std::printf("%-18s %6.0fs | %12.3e %9u | %12.3e %9u | %10.3f\n", name.c_str(), budget, e_pt, pt.progress.samples_done,
+                  e_bd, bd.progress.samples_done, e_bd / e_pt);
+      std::fflush(stdout);
+    }
+    std::printf("%-18s reference noise (subtracted) %.3e; BDPT %.2f Mrays/s, %.3f Msamples/s; reference spp %u + %u\n",
+                name.c_str(), ref_noise, ra.progress.rays_per_second * 1e-6,
+                double(width) * height * ra.progress.samples_done / ra.progress.elapsed_seconds * 1e-6,
+                ra.progress.samples_done, rb.progress.samples_done);
+  }
+  return 0;
+}
