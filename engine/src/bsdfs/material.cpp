@@ -1,4 +1,5 @@
 #include "bsdfs/material.h"
+#include "bsdfs/shading_normal.h"
 
 namespace rdv {
 
@@ -279,8 +280,14 @@ Bsdf Material::make_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const {
 Bsdf Material::make_bsdf(const ShadingPoint &sp, Vec3 wo) const {
   // One shading frame per Bsdf: the first closure with a normal input sets it.
   Vec3 ns = sp.ns;
+  bool mapped = false;
   for (const Closure &c : closures)
-    if (c.normal >= 0) { ns = graph.eval_normal(c.normal, sp); break; }
+    if (c.normal >= 0) { ns = graph.eval_normal(c.normal, sp); mapped = true; break; }
+  if (mapped) {  // bend a mapped normal that would reflect below the surface (as Cycles)
+    Vec3 ngf = dot(sp.ng, wo) < 0 ? -sp.ng : sp.ng;
+    if (dot(ns, ngf) < 0) ns = -ns;
+    ns = ensure_valid_reflection(ngf, wo, ns);
+  }
   // Anisotropy follows the default UV map's u direction, rotated about the normal.
   Vec3 tangent(0.0f);
   for (const Closure &c : closures) {

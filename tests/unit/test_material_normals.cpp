@@ -1,0 +1,98 @@
+// Shading normals from normal maps and bump, and the normal bending that keeps
+// grazing views from going black (Cycles' ensure_valid_reflection). Deterministic.
+#include <gtest/gtest.h>
+#include "bsdfs/material.h"
+#include "bsdfs/shading_normal.h"
+#include "textures/texture_graph.h"
+
+using namespace rdv;
+using nlohmann::json;
+
+namespace {
+
+ShadingPoint plane_point() {
+  ShadingPoint sp;
+  sp.ng = sp.ns = Vec3(0, 0, 1);
+  sp.dpdu = sp.dpdu_object = Vec3(1, 0, 0);
+  sp.dpdv = sp.dpdv_object = Vec3(0, 1, 0);
+  sp.has_uv_frame = true;
+  sp.uv = {0.3f, 0.4f};
+  return sp;
+}
+
+Vec3 normal_of(const std::string &node, const ShadingPoint &sp) {
+  TextureGraph g;
+  std::vector<std::string> w;
+  int n = g.parse(json::parse(node), "test", w);
+  return g.eval_normal(n, sp);
+}
+
+void expect_vec(Vec3 a, Vec3 b, float tol = 1e-4f) {
+  EXPECT_NEAR(a.x, b.x, tol);
+  EXPECT_NEAR(a.y, b.y, tol);
+  EXPECT_NEAR(a.z, b.z, tol);
+}
+
+}  // namespace
+
+TEST(ShadingNormals, TangentSpaceNormalMap) {
+  ShadingPoint sp = plane_point();
+  expect_vec(normal_of(R"({"node":"normal_map","color":[0.5,0.5,1]})", sp), Vec3(0, 0, 1));
+  expect_vec(normal_of(R"({"node":"normal_map","color":[1,0.5,0.5]})", sp), Vec3(1, 0, 0));  // along +u
+  expect_vec(normal_of(R"({"node":"normal_map","color":[0.5,1,0.5]})", sp), Vec3(0, 1, 0));  // along +v
+  Vec3 half = normal_of(R"({"node":"normal_map","color":[1,0.5,0.5],"strength":0.5})", sp);
+  expect_vec(half, normalize(Vec3(0.5f, 0, 0.5f)));
+  // Mirrored UVs (dpdv flipped) flip the bitangent.
+  sp.dpdv = Vec3(0, -1, 0);
+  expect_vec(normal_of(R"({"node":"normal_map","color":[0.5,1,0.5]})", sp), Vec3(0, -1, 0));
+  // World space: the colour is the normal.
+  expect_vec(normal_of(R"({"node":"normal_map","space":"WORLD","color":[0.5,1,0.5]})", sp), Vec3(0, 1, 0));
+}
+
+TEST(ShadingNormals, BumpFromAHeightRamp) {
+  ShadingPoint sp = plane_point();
+  // h = 0.5 u: the normal tilts against the slope: normalize(-0.5, 0, 1).
+  Vec3 n = normal_of(R"({"node":"bump","height":{"node":"math","operation":"MULTIPLY","value1":{"node":"separate_rgb","color":{"node":"uv"},"output":"r"},"value2":0.5}})", sp);
+  expect_vec(n, normalize(Vec3(-0.5f, 0, 1)), 2e-3f);
+  Vec3 inv = normal_of(R"({"node":"bump","invert":true,"height":{"node":"math","operation":"MULTIPLY","value1":{"node":"separate_rgb","color":{"node":"uv"},"output":"r"},"value2":0.5}})", sp);
+  expect_vec(inv, normalize(Vec3(0.5f, 0, 1)), 2e-3f);
+  Vec3 none = normal_of(R"({"node":"bump","strength":0,"height":{"node":"uv"}})", sp);
+  expect_vec(none, Vec3(0, 0, 1));
+  // Chained: bump on top of a normal map.
+  Vec3 chained = normal_of(R"({"node":"bump","height":0.3,"normal":{"node":"normal_map","color":[1,0.5,0.5]}})", sp);
+  expect_vec(chained, Vec3(1, 0, 0));
+}
+
+TEST(ShadingNormals, BendingKeepsReflectionAboveTheSurface) {
+  Vec3 ng(0, 0, 1);
+  for (float tilt : {0.3f, 0.8f, 1.2f, 1.5f})
+    for (float view : {0.02f, 0.1f, 0.5f, 1.2f}) {
+      Vec3 n(std::sin(tilt), 0, std::cos(tilt));
+      Vec3 wo(-std::cos(view), 0.1f, std::sin(view));
+      wo = normalize(wo);
+      Vec3 b = ensure_valid_reflection(ng, wo, n);
+      EXPECT_NEAR(length(b), 1.0f, 1e-4f);
+      Vec3 r = b * (2 * dot(b, wo)) - wo;
+      EXPECT_GE(dot(r, ng), std::min(0.9f * dot(ng, wo), 0.01f) - 1e-3f) << tilt << " " << view;
+    }
+  // A normal that is already fine is left alone.
+  Vec3 n = normalize(Vec3(0.1f, 0, 1));
+  expect_vec(ensure_valid_reflection(Vec3(0, 0, 1), normalize(Vec3(0.3f, 0, 1)), n), n, 0);
+}
+
+TEST(ShadingNormals, MaterialUsesTheMappedNormalWithoutLeaking) {
+  Params p(R"({"type":"diffuse","color":[1,1,1],"normal":{"node":"normal_map","color":[0.9,0.5,0.6]}})", "material 'n'");
+  Material m = Material::from_params(p, "n");
+  ShadingPoint sp = plane_point();
+  Vec3 wo = normalize(Vec3(0.2f, 0.1f, 1));
+  Bsdf bsdf = m.make_bsdf(sp, wo);
+  EXPECT_GT(bsdf.frame().n.x, 0.3f) << "tilted toward +u";
+  // Light from below the geometric surface never arrives, whatever the shading normal.
+  EXPECT_TRUE(is_black(bsdf.eval(wo, normalize(Vec3(0.9f, 0, -0.1f)), TransportMode::Radiance)));
+  EXPECT_TRUE(is_black(bsdf.eval(wo, normalize(Vec3(0.9f, 0, -0.1f)), TransportMode::Importance)));
+  // A grazing view across the tilt still reflects (no black terminator).
+  Vec3 grazing = normalize(Vec3(-1, 0, 0.05f));
+  Bsdf g = m.make_bsdf(sp, grazing);
+  EXPECT_GT(dot(g.frame().n, grazing), 0.0f);
+  EXPECT_FALSE(is_black(g.eval(grazing, normalize(Vec3(0.3f, 0.2f, 1)), TransportMode::Radiance)));
+}
