@@ -33,12 +33,15 @@ class ImageTextures {
   // Bytes the tile cache holds now (never above the limit plus one tile per thread).
   size_t cache_memory_bytes() const;
   int num_images() const;
+  // Bytes of small images kept decoded outside the cache (bounded at 128 MB in all).
+  size_t resident_bytes() const;
   std::string stats() const;
+  struct Impl;  // defined in image_texture.cpp
 
  private:
   ImageTextures();
-  struct Impl;
   Impl *impl_;
+
 };
 
 // Converts one colour from a named colour space of Blender's config to scene-linear.
