@@ -57,6 +57,8 @@ typedef struct rdv_session rdv_session;
 RDV_API int rdv_api_version(void);
 /* Message of the last failed call on this thread ("" if none). */
 RDV_API const char *rdv_last_error(void);
+/* How many scenes and sessions exist in this process (leak checks); either may be NULL. */
+RDV_API rdv_status rdv_live_objects(uint32_t *out_scenes, uint32_t *out_sessions);
 
 /* ---- scene ------------------------------------------------------------------ */
 RDV_API rdv_status rdv_scene_create(rdv_scene **out_scene);
@@ -94,6 +96,18 @@ RDV_API rdv_status rdv_scene_add_mesh(rdv_scene *scene, const char *name,
 RDV_API rdv_status rdv_scene_add_mesh_attribute(rdv_scene *scene, uint32_t mesh, const char *name,
                                                 const char *kind, const float *data,
                                                 uint32_t num_components, uint32_t num_vertices);
+
+/* In-place edits for interactive rendering (like every edit: not while a session on the
+ * scene exists). Replace material `material` (same id, same name; triangles keep using it),
+ * mesh `mesh`'s geometry (arguments as rdv_scene_add_mesh; its attributes are dropped, add
+ * them again; at the next commit only this mesh's BVH and the top level are rebuilt), or
+ * light `light` (to switch a light off, give it zero power or strength). */
+RDV_API rdv_status rdv_scene_set_material(rdv_scene *scene, uint32_t material, const char *params_json);
+RDV_API rdv_status rdv_scene_set_mesh(rdv_scene *scene, uint32_t mesh, const float *positions,
+                                      uint32_t num_vertices, const float *normals, const float *uvs,
+                                      const uint32_t *indices, uint32_t num_triangles,
+                                      const uint32_t *material_ids, uint32_t default_material);
+RDV_API rdv_status rdv_scene_set_light(rdv_scene *scene, uint32_t light, const char *params_json);
 
 /* An instance of a mesh: the mesh is stored once however many instances use it. */
 RDV_API rdv_status rdv_scene_add_instance(rdv_scene *scene, uint32_t mesh,

@@ -1,6 +1,7 @@
 // The C ABI boundary: every entry point catches everything, so no C++ exception
 // ever reaches the caller (Blender's process); failures become a status code plus
 // a thread-local message for rdv_last_error().
+#include <atomic>
 #include <memory>
 #include <new>
 #include <string>
@@ -15,6 +16,7 @@
 namespace {
 
 thread_local std::string g_last_error;
+std::atomic<uint32_t> g_live_scenes{0}, g_live_sessions{0};
 
 template <class F>
 rdv_status guarded(F &&body) {
@@ -57,6 +59,12 @@ extern "C" {
 int rdv_api_version(void) { return RDV_API_VERSION; }
 const char *rdv_last_error(void) { return g_last_error.c_str(); }
 
+rdv_status rdv_live_objects(uint32_t *out_scenes, uint32_t *out_sessions) {
+  if (out_scenes) *out_scenes = g_live_scenes.load();
+  if (out_sessions) *out_sessions = g_live_sessions.load();
+  return RDV_OK;
+}
+
 rdv_status rdv_scene_create(rdv_scene **out) {
   return guarded([&] {
     require(out, "out_scene");
@@ -64,11 +72,38 @@ rdv_status rdv_scene_create(rdv_scene **out) {
     auto s = std::make_unique<rdv_scene>();
     s->scene = std::make_shared<rdv::Scene>();
     *out = s.release();
+    ++g_live_scenes;
   });
 }
 
 rdv_status rdv_scene_destroy(rdv_scene *scene) {
-  return guarded([&] { delete scene; });  // a live session keeps its own reference
+  return guarded([&] {
+    if (scene) --g_live_scenes;
+    delete scene;  // a live session keeps its own reference
+  });
+}
+
+rdv_status rdv_scene_set_material(rdv_scene *s, uint32_t material, const char *params) {
+  return guarded([&] {
+    rdv::Params p(params ? params : "", "material " + std::to_string(material));
+    editable(s).set_material(material, p);
+  });
+}
+
+rdv_status rdv_scene_set_mesh(rdv_scene *s, uint32_t mesh, const float *positions, uint32_t num_vertices,
+                              const float *normals, const float *uvs, const uint32_t *indices,
+                              uint32_t num_triangles, const uint32_t *material_ids, uint32_t default_material) {
+  return guarded([&] {
+    editable(s).set_mesh(mesh, positions, num_vertices, normals, uvs, indices, num_triangles, material_ids,
+                         default_material);
+  });
+}
+
+rdv_status rdv_scene_set_light(rdv_scene *s, uint32_t light, const char *params) {
+  return guarded([&] {
+    rdv::Params p(params ? params : "", "light " + std::to_string(light));
+    editable(s).set_light(light, p);
+  });
 }
 
 rdv_status rdv_scene_add_material(rdv_scene *s, const char *name, const char *params, uint32_t *out) {
@@ -169,6 +204,7 @@ rdv_status rdv_session_create(rdv_scene *s, const char *settings, rdv_session **
     auto sess = std::make_unique<rdv_session>();
     sess->session = std::make_unique<rdv::Session>(s->scene, rs);
     *out = sess.release();
+    ++g_live_sessions;
   });
 }
 
@@ -194,7 +230,10 @@ rdv_status rdv_session_cancel(rdv_session *s) {
 }
 
 rdv_status rdv_session_destroy(rdv_session *s) {
-  return guarded([&] { delete s; });
+  return guarded([&] {
+    if (s) --g_live_sessions;
+    delete s;
+  });
 }
 
 rdv_status rdv_session_progress(rdv_session *s, rdv_progress *out) {

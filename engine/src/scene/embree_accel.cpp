@@ -29,9 +29,7 @@ EmbreeAccel::~EmbreeAccel() {
 }
 
 void EmbreeAccel::build(const std::vector<Mesh> &meshes, const std::vector<Instance> &instances) {
-  bool new_meshes = false;
-  while (mesh_scenes_.size() < meshes.size()) {
-    const Mesh &m = meshes[mesh_scenes_.size()];
+  auto mesh_scene = [&](const Mesh &m) {
     RTCScene scene = rtcNewScene(device_);
     rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);  // no cracks between adjacent triangles
     if (m.num_triangles() > 0) {
@@ -46,7 +44,18 @@ void EmbreeAccel::build(const std::vector<Mesh> &meshes, const std::vector<Insta
       rtcReleaseGeometry(geom);
     }
     rtcCommitScene(scene);
-    mesh_scenes_.push_back(scene);
+    return scene;
+  };
+  bool new_meshes = false;
+  for (uint32_t id : dirty_meshes_) {  // replaced geometry (Scene::set_mesh)
+    if (id >= mesh_scenes_.size()) continue;  // not built yet: built below
+    if (mesh_scenes_[id]) rtcReleaseScene(mesh_scenes_[id]);
+    mesh_scenes_[id] = mesh_scene(meshes[id]);
+    new_meshes = true;
+  }
+  dirty_meshes_.clear();
+  while (mesh_scenes_.size() < meshes.size()) {
+    mesh_scenes_.push_back(mesh_scene(meshes[mesh_scenes_.size()]));
     new_meshes = true;
   }
   if (!top_dirty_ && !new_meshes && top_) return;

@@ -26,6 +26,8 @@ class EmbreeAccel {
   // Builds what changed: mesh BVHs for meshes not built yet, then the top level.
   void build(const std::vector<Mesh> &meshes, const std::vector<Instance> &instances);
   void mark_instances_dirty() { top_dirty_ = true; }
+  // The mesh's geometry was replaced: rebuild its BVH (and the top level) at the next build().
+  void mark_mesh_dirty(uint32_t mesh) { dirty_meshes_.push_back(mesh); top_dirty_ = true; }
 
   bool intersect(const Ray &ray, RawHit &hit) const;
   bool occluded(Vec3 o, Vec3 d, float tmax) const;
@@ -37,6 +39,7 @@ class EmbreeAccel {
   RTCScene top_ = nullptr;
   std::vector<RTCScene> mesh_scenes_;
   bool top_dirty_ = true;
+  std::vector<uint32_t> dirty_meshes_;
   std::atomic<ssize_t> memory_{0};
 };
 

@@ -26,9 +26,45 @@ uint32_t Scene::add_error_material(const std::string &name) {
   return static_cast<uint32_t>(materials_.size() - 1);
 }
 
+void Scene::set_material(uint32_t id, Params &params) {
+  if (id >= materials_.size())
+    fail("material " + std::to_string(id) + ": no such material (" + std::to_string(materials_.size()) + " materials)");
+  Material m = Material::from_params(params, materials_[id].name);
+  for (const std::string &w : m.warnings) warn(w);
+  materials_[id] = std::move(m);
+  dirty_ = true;  // emission may have changed: rebuild the light tables
+}
+
+void Scene::set_light(uint32_t id, Params &params) {
+  if (id >= user_lights_.size())
+    fail("light " + std::to_string(id) + ": no such light (" + std::to_string(user_lights_.size()) + " lights)");
+  user_lights_[id] = make_light(params);
+  dirty_ = true;
+}
+
 uint32_t Scene::add_mesh(const std::string &name, const float *positions, uint32_t num_vertices, const float *normals,
                          const float *uvs, const uint32_t *indices, uint32_t num_triangles,
                          const uint32_t *material_ids, uint32_t default_material) {
+  meshes_.push_back(make_mesh(name, positions, num_vertices, normals, uvs, indices, num_triangles, material_ids,
+                              default_material));
+  dirty_ = true;
+  return static_cast<uint32_t>(meshes_.size() - 1);
+}
+
+void Scene::set_mesh(uint32_t id, const float *positions, uint32_t num_vertices, const float *normals,
+                     const float *uvs, const uint32_t *indices, uint32_t num_triangles, const uint32_t *material_ids,
+                     uint32_t default_material) {
+  if (id >= meshes_.size())
+    fail("mesh " + std::to_string(id) + ": no such mesh (" + std::to_string(meshes_.size()) + " meshes)");
+  meshes_[id] = make_mesh(meshes_[id].name, positions, num_vertices, normals, uvs, indices, num_triangles,
+                          material_ids, default_material);
+  accel_.mark_mesh_dirty(id);
+  dirty_ = true;
+}
+
+Mesh Scene::make_mesh(const std::string &name, const float *positions, uint32_t num_vertices, const float *normals,
+                      const float *uvs, const uint32_t *indices, uint32_t num_triangles,
+                      const uint32_t *material_ids, uint32_t default_material) {
   const std::string what = "mesh '" + name + "'";
   if (num_vertices > 0 && !positions) fail(what + ": 'positions' is NULL");
   if (num_triangles > 0 && !indices) fail(what + ": 'indices' is NULL");
@@ -105,9 +141,7 @@ uint32_t Scene::add_mesh(const std::string &name, const float *positions, uint32
       if (vertex_ok[i]) { m.bbox_lo = vmin(m.bbox_lo, m.positions[i]); m.bbox_hi = vmax(m.bbox_hi, m.positions[i]); }
     if (!(m.bbox_lo.x <= m.bbox_hi.x)) { m.bbox_lo = Vec3(0.0f); m.bbox_hi = Vec3(1.0f); }
   }
-  meshes_.push_back(std::move(m));
-  dirty_ = true;
-  return static_cast<uint32_t>(meshes_.size() - 1);
+  return m;
 }
 
 void Scene::add_mesh_attribute(uint32_t mesh, const std::string &name, const std::string &kind, const float *data,

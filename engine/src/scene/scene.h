@@ -37,6 +37,14 @@ class Scene {
   // A named per-vertex attribute: kind "uv" (2 floats per vertex) or "color" (3 or 4).
   void add_mesh_attribute(uint32_t mesh, const std::string &name, const std::string &kind, const float *data,
                           uint32_t num_components, uint32_t num_vertices);
+  // In-place edits for interactive rendering (ids from the add_* calls): a replaced mesh
+  // rebuilds only its own BVH (and the top level); materials and lights mark the light
+  // tables for rebuilding at the next commit.
+  void set_material(uint32_t id, Params &params);
+  void set_mesh(uint32_t id, const float *positions, uint32_t num_vertices, const float *normals, const float *uvs,
+                const uint32_t *indices, uint32_t num_triangles, const uint32_t *material_ids,
+                uint32_t default_material);
+  void set_light(uint32_t id, Params &params);
   uint32_t add_instance(uint32_t mesh, const Transform &to_world);
   void set_instance_transform(uint32_t instance, const Transform &to_world);
   uint32_t add_light(const std::string &name, Params &params);
@@ -74,6 +82,9 @@ class Scene {
 
  private:
   void build_lights();
+  Mesh make_mesh(const std::string &name, const float *positions, uint32_t num_vertices, const float *normals,
+                 const float *uvs, const uint32_t *indices, uint32_t num_triangles, const uint32_t *material_ids,
+                 uint32_t default_material);
   std::vector<Material> materials_;
   std::vector<Mesh> meshes_;
   std::vector<Instance> instances_;

@@ -1,0 +1,124 @@
+// In-place scene edits for the interactive viewport (rdv_scene_set_material / _set_mesh /
+// _set_light) and the live-object counters: an edit changes the image like a rebuilt
+// scene would, ids stay valid, edits are refused while a session exists.
+#include <gtest/gtest.h>
+#include <vector>
+#include "rendezvous.h"
+
+namespace {
+
+const float kIdentity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+// A floor quad 4x4 at z=0 and a camera 3 units above looking down.
+const float kQuad[] = {-2, -2, 0, 2, -2, 0, 2, 2, 0, -2, 2, 0};
+const uint32_t kQuadIdx[] = {0, 1, 2, 0, 2, 3};
+const char *kCamera = R"({"type":"perspective","focal_length":50,"transform":[1,0,0,0, 0,1,0,0, 0,0,1,3, 0,0,0,1]})";
+const char *kSettings = R"({"width":16,"height":16,"samples":4,"threads":1,"seed":1})";
+
+struct Fixture {
+  rdv_scene *s = nullptr;
+  uint32_t mat = 0, mesh = 0, inst = 0, light = 0;
+  Fixture() {
+    EXPECT_EQ(RDV_OK, rdv_scene_create(&s));
+    EXPECT_EQ(RDV_OK, rdv_scene_add_material(s, "Floor", R"({"type":"diffuse","color":[0.8,0.8,0.8]})", &mat));
+    EXPECT_EQ(RDV_OK, rdv_scene_add_mesh(s, "Quad", kQuad, 4, nullptr, nullptr, kQuadIdx, 2, nullptr, mat, &mesh));
+    EXPECT_EQ(RDV_OK, rdv_scene_add_instance(s, mesh, kIdentity, &inst));
+    EXPECT_EQ(RDV_OK, rdv_scene_add_light(
+                          s, "Sun", R"({"type":"sun","strength":3,"angle":0.1,"transform":[1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1]})",
+                          &light));
+    EXPECT_EQ(RDV_OK, rdv_scene_set_world(s, R"({"color":[0,0,0],"strength":0})"));
+    EXPECT_EQ(RDV_OK, rdv_scene_set_camera(s, kCamera));
+  }
+  ~Fixture() { rdv_scene_destroy(s); }
+  // Mean RGB of a small render.
+  std::vector<double> render() {
+    rdv_session *sess = nullptr;
+    EXPECT_EQ(RDV_OK, rdv_session_create(s, kSettings, &sess)) << rdv_last_error();
+    if (!sess) return {0, 0, 0};
+    EXPECT_EQ(RDV_OK, rdv_session_start(sess));
+    EXPECT_EQ(RDV_OK, rdv_session_wait(sess));
+    std::vector<float> px(16 * 16 * 4);
+    EXPECT_EQ(RDV_OK, rdv_session_read_film(sess, RDV_PASS_COMBINED, 0, 0, 16, 16, 1, px.data()));
+    rdv_session_destroy(sess);
+    std::vector<double> mean(3, 0.0);
+    for (size_t i = 0; i < px.size(); i += 4)
+      for (int c = 0; c < 3; ++c) mean[c] += px[i + c] / (16.0 * 16.0);
+    return mean;
+  }
+};
+
+}  // namespace
+
+TEST(SceneEdits, SetMaterialChangesColourInPlace) {
+  Fixture f;
+  std::vector<double> grey = f.render();
+  EXPECT_GT(grey[0], 0.1);
+  EXPECT_NEAR(grey[0], grey[2], 1e-3 + 0.01 * grey[0]);
+  ASSERT_EQ(RDV_OK, rdv_scene_set_material(f.s, f.mat, R"({"type":"diffuse","color":[0.8,0.0,0.0]})"))
+      << rdv_last_error();
+  std::vector<double> red = f.render();
+  EXPECT_NEAR(red[0], grey[0], 0.02 * grey[0]);  // same sun, same red reflectance
+  EXPECT_LT(red[2], 1e-6);
+  // An emissive material added in place becomes a light (the light tables are rebuilt).
+  ASSERT_EQ(RDV_OK, rdv_scene_set_light(f.s, f.light, R"({"type":"sun","strength":0,"transform":[1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1]})"));
+  ASSERT_EQ(RDV_OK, rdv_scene_set_material(f.s, f.mat, R"({"type":"emission","color":[0,1,0],"strength":2})"));
+  std::vector<double> green = f.render();
+  EXPECT_GT(green[1], 1.0);
+  EXPECT_LT(green[0], 1e-6);
+  EXPECT_EQ(RDV_ERROR_INVALID_ARGUMENT, rdv_scene_set_material(f.s, 99, R"({"type":"diffuse"})"));
+  EXPECT_NE(std::string(rdv_last_error()).find("no such material"), std::string::npos) << rdv_last_error();
+}
+
+TEST(SceneEdits, SetLightChangesBrightness) {
+  Fixture f;
+  std::vector<double> a = f.render();
+  ASSERT_EQ(RDV_OK, rdv_scene_set_light(
+                        f.s, f.light, R"({"type":"sun","strength":6,"angle":0.1,"transform":[1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1]})"))
+      << rdv_last_error();
+  std::vector<double> b = f.render();
+  EXPECT_NEAR(b[0], 2.0 * a[0], 0.02 * b[0]);
+  ASSERT_EQ(RDV_OK, rdv_scene_set_light(f.s, f.light, R"({"type":"sun","strength":0,"transform":[1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1]})"));
+  EXPECT_LT(f.render()[0], 1e-6);
+  EXPECT_NE(RDV_OK, rdv_scene_set_light(f.s, 7, R"({"type":"sun","strength":1})"));
+}
+
+TEST(SceneEdits, SetMeshReplacesGeometryAndKeepsInstances) {
+  Fixture f;
+  std::vector<double> full = f.render();
+  // A quad covering only x > 0: about half of the view goes black.
+  const float half[] = {0, -2, 0, 2, -2, 0, 2, 2, 0, 0, 2, 0};
+  ASSERT_EQ(RDV_OK, rdv_scene_set_mesh(f.s, f.mesh, half, 4, nullptr, nullptr, kQuadIdx, 2, nullptr, f.mat))
+      << rdv_last_error();
+  std::vector<double> h = f.render();
+  EXPECT_NEAR(h[0], 0.5 * full[0], 0.1 * full[0]);
+  // The instance transform applies to the replaced geometry: stretched back over the view.
+  const float moved[16] = {2, 0, 0, -2, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};  // x in [0,2] -> [-2,2]
+  ASSERT_EQ(RDV_OK, rdv_scene_set_instance_transform(f.s, f.inst, moved));
+  std::vector<double> m = f.render();
+  EXPECT_NEAR(m[0], full[0], 0.1 * full[0]);
+  const uint32_t bad_idx[] = {0, 1, 9};
+  EXPECT_EQ(RDV_ERROR_INVALID_ARGUMENT, rdv_scene_set_mesh(f.s, f.mesh, half, 4, nullptr, nullptr, bad_idx, 1, nullptr, f.mat));
+  EXPECT_NE(RDV_OK, rdv_scene_set_mesh(f.s, 5, half, 4, nullptr, nullptr, kQuadIdx, 2, nullptr, f.mat));
+}
+
+TEST(SceneEdits, EditsRefusedWhileASessionExistsAndCountsTrackObjects) {
+  uint32_t scenes0 = 0, sessions0 = 0;
+  ASSERT_EQ(RDV_OK, rdv_live_objects(&scenes0, &sessions0));
+  {
+    Fixture f;
+    rdv_session *sess = nullptr;
+    ASSERT_EQ(RDV_OK, rdv_session_create(f.s, kSettings, &sess));
+    uint32_t scenes = 0, sessions = 0;
+    rdv_live_objects(&scenes, &sessions);
+    EXPECT_EQ(scenes0 + 1, scenes);
+    EXPECT_EQ(sessions0 + 1, sessions);
+    EXPECT_EQ(RDV_ERROR_STATE, rdv_scene_set_material(f.s, f.mat, R"({"type":"diffuse"})"));
+    EXPECT_EQ(RDV_ERROR_STATE, rdv_scene_set_light(f.s, f.light, R"({"type":"sun","strength":1})"));
+    EXPECT_EQ(RDV_ERROR_STATE, rdv_scene_set_mesh(f.s, f.mesh, kQuad, 4, nullptr, nullptr, kQuadIdx, 2, nullptr, f.mat));
+    rdv_session_destroy(sess);
+    EXPECT_EQ(RDV_OK, rdv_scene_set_material(f.s, f.mat, R"({"type":"diffuse"})"));
+  }
+  uint32_t scenes = 0, sessions = 0;
+  rdv_live_objects(&scenes, &sessions);
+  EXPECT_EQ(scenes0, scenes);
+  EXPECT_EQ(sessions0, sessions);
+}
