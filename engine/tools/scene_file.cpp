@@ -156,6 +156,25 @@ MeshArrays mesh_arrays(const json &j, const std::string &what, const std::string
   return m;
 }
 
+// Image files named in materials ({"node":"image","file":...}) and the world's
+// environment are relative to the scene file, as side files are.
+json with_resolved_files(json j, const std::string &base_dir, bool holds_file = false) {
+  if (j.is_object()) {
+    bool image = holds_file || (j.contains("node") && j["node"] == "image");
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      if (image && it.key() == "file" && it.value().is_string()) {
+        std::filesystem::path f = it.value().get<std::string>();
+        if (f.is_relative() && !f.empty()) it.value() = (std::filesystem::path(base_dir) / f).lexically_normal().string();
+      } else {
+        it.value() = with_resolved_files(it.value(), base_dir, it.key() == "environment");
+      }
+    }
+  } else if (j.is_array()) {
+    for (auto &v : j) v = with_resolved_files(v, base_dir);
+  }
+  return j;
+}
+
 std::string without(const json &j, std::initializer_list<const char *> keys) {
   json copy = j;
   for (const char *k : keys) copy.erase(k);
@@ -184,7 +203,8 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
   for (const json &m : doc.value("materials", json::array())) {
     std::string name = m.value("name", "material " + std::to_string(materials.size()));
     uint32_t id;
-    if (rdv_scene_add_material(scene, name.c_str(), without(m, {"name"}).c_str(), &id) != RDV_OK) {
+    if (rdv_scene_add_material(scene, name.c_str(), without(with_resolved_files(m, base_dir), {"name"}).c_str(), &id) !=
+        RDV_OK) {
       out.problems.push_back(std::string(rdv_last_error()) + "; rendering it magenta");
       rdv_scene_add_material(scene, name.c_str(), R"({"type":"diffuse","color":[1,0,1]})", &id);
     }
@@ -288,7 +308,7 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
     if (rdv_scene_add_light(scene, name.c_str(), without(j, {"name"}).c_str(), nullptr) != RDV_OK)
       out.problems.push_back(std::string(rdv_last_error()) + "; light left out");
   }
-  if (doc.contains("world") && rdv_scene_set_world(scene, doc["world"].dump().c_str()) != RDV_OK)
+  if (doc.contains("world") && rdv_scene_set_world(scene, with_resolved_files(doc["world"], base_dir).dump().c_str()) != RDV_OK)
     out.problems.push_back(std::string(rdv_last_error()) + "; using the default world");
   if (!doc.contains("camera")) throw std::runtime_error("the scene has no 'camera'");
   if (rdv_scene_set_camera(scene, doc["camera"].dump().c_str()) != RDV_OK)
