@@ -50,10 +50,13 @@ inline Vec2 uniform_triangle(Vec2 u) {
   return {b0, b1};
 }
 
+// Written with the ratio of the densities: squaring a solid-angle density of a far
+// light (1e23 across a fog bank) would overflow and give inf / inf.
 inline float power_heuristic(float pdf_a, float pdf_b) {
+  if (!(pdf_a > 0)) return 0.0f;
   if (std::isinf(pdf_a)) return 1.0f;
-  float a = pdf_a * pdf_a, b = pdf_b * pdf_b;
-  return a + b > 0 ? a / (a + b) : 0.0f;
+  float r = pdf_b / pdf_a;
+  return 1.0f / (1.0f + r * r);
 }
 
 }  // namespace rdv

@@ -2,6 +2,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include "core/log.h"
+#include "core/ray_offset.h"
 #include "textures/image_texture.h"
 
 namespace rdv {
@@ -15,14 +16,35 @@ void Scene::warn(const std::string &message) {
 }
 
 uint32_t Scene::add_material(const std::string &name, Params &params) {
-  materials_.push_back(Material::from_params(params, name));
-  for (const std::string &w : materials_.back().warnings) warn(w);
+  // A "volume" object fills the inside of the meshes that use this material.
+  int interior = -1;
+  Medium medium;
+  if (const nlohmann::json *volume = params.get_json("volume")) {
+    Params v(volume->dump(), params.what() + " volume");
+    medium = Medium::from_params(v, name);
+    v.check_all_used();
+    interior = int(media_.size());
+  }
+  bool boundary_only = params.has("type") && params.get_string("type", "") == "volume";
+  if (boundary_only) {
+    params.check_all_used();
+    if (interior < 0) fail(params.what() + ": type 'volume' needs a 'volume' object");
+    materials_.push_back(Material::error_material(name));  // never shaded: rays pass through
+  } else {
+    materials_.push_back(Material::from_params(params, name));
+    for (const std::string &w : materials_.back().warnings) warn(w);
+  }
+  if (interior >= 0) media_.push_back(medium);
+  material_interior_.push_back(interior);
+  material_boundary_.push_back(boundary_only ? 1 : 0);
   dirty_ = true;
   return static_cast<uint32_t>(materials_.size() - 1);
 }
 
 uint32_t Scene::add_error_material(const std::string &name) {
   materials_.push_back(Material::error_material(name));
+  material_interior_.push_back(-1);
+  material_boundary_.push_back(0);
   return static_cast<uint32_t>(materials_.size() - 1);
 }
 
@@ -209,6 +231,13 @@ uint32_t Scene::add_light(const std::string &name, Params &params) {
 }
 
 void Scene::set_world(Params &params) {
+  if (const nlohmann::json *volume = params.get_json("volume")) {  // fog everywhere
+    Params v(volume->dump(), params.what() + " volume");
+    Medium m = Medium::from_params(v, "world");
+    v.check_all_used();
+    if (world_medium_ >= 0) media_[world_medium_] = m;
+    else { world_medium_ = int(media_.size()); media_.push_back(m); }
+  }
   // With an "environment" HDRI, "color" tints it (default white); radiance = image x color x strength.
   const nlohmann::json *env = params.get_json("environment");
   Color c = params.get_vec3("color", env ? Color(1.0f) : Color(0.05f));
@@ -246,7 +275,10 @@ void Scene::set_camera(Params &params) {
 
 void Scene::commit() {
   if (!has_camera_) fail("scene: no camera was set (rdv_scene_set_camera)", RDV_ERROR_STATE);
-  if (!dirty_) return;
+  if (!dirty_) {
+    find_camera_media();  // the camera may have moved into or out of a volume
+    return;
+  }
   accel_.build(meshes_, instances_);
   // Bounding sphere of the instanced geometry: sizes the power of infinite lights.
   Vec3 lo(kInf), hi(-kInf);
@@ -264,7 +296,29 @@ void Scene::commit() {
     bounding_radius_ = std::max(length(hi - lo) * 0.5f, 1e-6f);
   }
   build_lights();
+  find_camera_media();
   dirty_ = false;
+}
+
+// Which media the camera starts in: walk a ray out of the scene and note the medium
+// boundaries it leaves without having entered them (innermost first).
+void Scene::find_camera_media() {
+  camera_media_.clear();
+  if (media_.empty()) return;
+  std::vector<int> exited, entered;
+  Ray ray{camera_.position(), normalize(Vec3(0.3141f, 0.2718f, 0.9101f)), kInf};
+  for (int guard = 0; guard < 256; ++guard) {
+    SurfaceHit hit;
+    if (!intersect(ray, hit)) break;
+    int m = material_interior_[hit.material];
+    if (m >= 0) {
+      if (dot(ray.d, hit.ng) < 0) entered.push_back(m);
+      else if (!entered.empty() && entered.back() == m) entered.pop_back();
+      else exited.push_back(m);
+    }
+    ray.o = spawn_origin(hit.p, hit.ng, ray.d);
+  }
+  camera_media_.assign(exited.rbegin(), exited.rend());  // outermost first, innermost last
 }
 
 void Scene::build_lights() {
@@ -413,7 +467,8 @@ std::string Scene::summary_json() const {
   int textures = 0;
   for (const Material &mat : materials_) textures += mat.graph.num_images();
   j["textures"] = textures;
-  j["media"] = "none";
+  if (media_.empty()) j["media"] = "none";
+  else j["media"] = {{"homogeneous", media_.size()}, {"world", world_medium_ >= 0}};
   j["memory_bytes"] = {{"meshes", mesh_bytes}, {"embree", accel_.memory_bytes()},
                        {"lights", lights_.size() * sizeof(Light)},
                        {"environment", environment_ ? environment_->memory_bytes() : 0},

@@ -9,6 +9,7 @@
 #include "core/distribution.h"
 #include "lights/environment.h"
 #include "lights/light.h"
+#include "media/medium.h"
 #include "scene/camera.h"
 #include "scene/embree_accel.h"
 #include "scene/mesh.h"
@@ -62,6 +63,16 @@ class Scene {
   Camera &camera() { return camera_; }
   bool has_camera() const { return has_camera_; }
   const Material &material(uint32_t id) const { return materials_[id]; }
+  // ---- Participating media (scene.cpp). A scene without them pays nothing: the
+  // integrators test has_media() once per sample, never per ray.
+  bool has_media() const { return !media_.empty(); }
+  const Medium &medium(int id) const { return media_[id]; }
+  int world_medium() const { return world_medium_; }
+  int interior_medium(uint32_t material) const { return material_interior_[material]; }
+  // A material with no surface ("type": "volume"): an index-matched medium boundary
+  // that rays and shadow rays pass straight through.
+  bool is_boundary_only(uint32_t material) const { return material_boundary_[material] != 0; }
+  const std::vector<int> &camera_media() const { return camera_media_; }  // innermost last
   const std::vector<Light> &lights() const { return lights_; }
   // The light an emissive triangle is, for MIS when a path hits it.
   uint32_t triangle_light(uint32_t instance, uint32_t prim) const {
@@ -86,6 +97,12 @@ class Scene {
                  const float *uvs, const uint32_t *indices, uint32_t num_triangles, const uint32_t *material_ids,
                  uint32_t default_material);
   std::vector<Material> materials_;
+  std::vector<int> material_interior_;     // medium inside meshes of this material, or -1
+  std::vector<uint8_t> material_boundary_;  // 1: no surface, only a medium boundary
+  std::vector<Medium> media_;
+  int world_medium_ = -1;
+  std::vector<int> camera_media_;
+  void find_camera_media();
   std::vector<Mesh> meshes_;
   std::vector<Instance> instances_;
   std::vector<Light> user_lights_;

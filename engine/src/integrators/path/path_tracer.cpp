@@ -1,45 +1,76 @@
 #include "integrators/path/path_tracer.h"
 #include "core/ray_offset.h"
 #include "core/sampling.h"
+#include "media/medium_stack.h"
 
 namespace rdv {
 
 // Next-event estimation: one light chosen by power, one point on it, MIS-weighted
-// against the BSDF having sampled the same direction.
-Color PathTracer::sample_direct_light(const SurfaceHit &hit, const Bsdf &bsdf, Vec3 wo, Sampler &sampler,
-                                      RayStats &stats) const {
+// against the scattering function having sampled the same direction.
+//   scatter(wi, &pdf) returns f * |cos| (surfaces) or the phase function (media).
+//   ng: geometric normal at p (zero inside a medium).
+//   media_toward(wi) gives the media a shadow ray along wi starts in.
+// With media, the shadow ray carries transmittance through media and index-matched
+// boundaries; without, it is a plain occlusion query.
+template <bool kMedia, class Scatter, class MediaToward>
+static Color sample_direct_light(const Scene &scene, Vec3 p, Vec3 ng, const Scatter &scatter,
+                                 const MediaToward &media_toward, Sampler &sampler, RayStats &stats) {
   float u_light = sampler.get_1d();
   Vec2 u = sampler.get_2d();
-  const Distribution1D &dist = scene_.light_distribution();
+  const Distribution1D &dist = scene.light_distribution();
   if (dist.size() == 0 || dist.total() <= 0) return Color(0.0f);
   float pmf;
-  const Light &light = scene_.lights()[dist.sample_discrete(u_light, &pmf)];
+  const Light &light = scene.lights()[dist.sample_discrete(u_light, &pmf)];
   LightSample ls;
-  if (!sample_light(light, hit.p, u, ls) || !(ls.pdf > 0)) return Color(0.0f);
-  Color f = bsdf.eval(wo, ls.wi, TransportMode::Radiance);
+  if (!sample_light(light, p, u, ls) || !(ls.pdf > 0)) return Color(0.0f);
+  float scatter_pdf;
+  Color f = scatter(ls.wi, &scatter_pdf);
   if (is_black(f)) return Color(0.0f);
-  Vec3 o = spawn_origin(hit.p, hit.ng, ls.wi);
-  float tmax = std::isinf(ls.dist) ? kInf : shadow_tmax(length(ls.p - o));
-  ++stats.rays;
-  if (scene_.occluded(o, ls.wi, tmax)) return Color(0.0f);
+  Color tr(1.0f);
+  if constexpr (kMedia) {
+    tr = medium_transmittance(scene, p, ng, ls.wi, ls.dist, media_toward(ls.wi), stats.rays);
+    if (is_black(tr)) return Color(0.0f);
+  } else {
+    Vec3 o = spawn_origin(p, ng, ls.wi);
+    float tmax = std::isinf(ls.dist) ? kInf : shadow_tmax(length(ls.p - o));
+    ++stats.rays;
+    if (scene.occluded(o, ls.wi, tmax)) return Color(0.0f);
+  }
   float light_pdf = pmf * ls.pdf;
-  float weight = light.is_delta() ? 1.0f : power_heuristic(light_pdf, bsdf.pdf(wo, ls.wi));
-  return f * ls.L * (weight / light_pdf);
+  float weight = light.is_delta() ? 1.0f : power_heuristic(light_pdf, scatter_pdf);
+  return f * ls.L * tr * (weight / light_pdf);
 }
 
 Color PathTracer::Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
                      std::vector<Splat> &) const {
+  // Decided once per sample: a scene without media runs the loop without medium code.
+  return scene_.has_media() ? trace<true>(camera_ray, sampler, stats, first_hit)
+                            : trace<false>(camera_ray, sampler, stats, first_hit);
+}
+
+template <bool kMedia>
+Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit) const {
   Color L(0.0f), beta(1.0f);
   Ray ray = camera_ray.ray;
   bool specular_bounce = true;  // camera rays count as specular: no MIS on what they see
   float prev_pdf = 0;
   Vec3 prev_p = ray.o;
   const Distribution1D &dist = scene_.light_distribution();
+  MediumStack stack;
+  if constexpr (kMedia) stack = MediumStack::for_camera(scene_);
+  int boundary_crossings = 0;
 
   // MIS weight for emission found by BSDF sampling, given that light's solid-angle pdf.
   auto emission_weight = [&](uint32_t light, float pdf_light_sa) {
     if (specular_bounce) return 1.0f;
     return power_heuristic(prev_pdf, dist.pmf(light) * pdf_light_sa);
+  };
+  auto russian_roulette = [&](int depth) {
+    if (depth < 3) return true;
+    float q = std::max(0.05f, 1.0f - max_component(beta));
+    if (sampler.get_1d() < q) return false;
+    beta *= 1.0f / (1.0f - q);
+    return true;
   };
 
   for (int depth = 0;; ++depth) {
@@ -57,8 +88,41 @@ Color PathTracer::Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &st
       Color Le;
       if (intersect_light(scene_.lights()[li], ray, tmax, t, Le)) { tmax = t; hit_light = int(li); light_L = Le; }
     }
+
+    if constexpr (kMedia) {
+      int m = stack.current(scene_);
+      if (m >= 0) {
+        const Medium &medium = scene_.medium(m);
+        Vec2 u = sampler.get_2d();
+        MediumSample ms = medium.sample_distance(tmax, u.x, u.y);
+        L += beta * ms.emission;
+        beta *= ms.weight;
+        if (ms.scattered) {
+          // A scattering event in the medium: next-event estimation with the phase
+          // function, then a new direction from it.
+          Vec3 p = ray.o + ray.d * ms.t;
+          Vec3 wo = -ray.d;
+          if (depth >= max_bounces_) break;
+          auto phase = [&](Vec3 wi, float *pdf) {
+            *pdf = medium.phase.pdf(wo, wi);
+            return Color(medium.phase.eval(wo, wi));
+          };
+          auto same_medium = [&](Vec3) { return stack; };
+          L += beta * sample_direct_light<true>(scene_, p, Vec3(0.0f), phase, same_medium, sampler, stats);
+          Vec3 wi = medium.phase.sample(wo, sampler.get_2d());
+          specular_bounce = false;
+          prev_pdf = medium.phase.pdf(wo, wi);
+          prev_p = p;
+          ray = Ray{p, wi, kInf};
+          if (!russian_roulette(depth) || is_black(beta)) break;
+          continue;
+        }
+      }
+    }
+
     if (hit_light >= 0) {
-      float pdf = light_pdf(scene_.lights()[hit_light], prev_p, ray.d, tmax);
+      Vec3 q = ray.o + ray.d * tmax;
+      float pdf = light_pdf(scene_.lights()[hit_light], prev_p, ray.d, length(q - prev_p));
       L += beta * light_L * emission_weight(hit_light, pdf);
       break;
     }
@@ -72,11 +136,22 @@ Color PathTracer::Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &st
       break;
     }
 
+    if constexpr (kMedia) {
+      // An index-matched medium boundary: change medium and carry straight on.
+      if (scene_.is_boundary_only(hit.material)) {
+        stack.cross(scene_, hit, ray.d);
+        ray = Ray{spawn_origin(hit.p, hit.ng, ray.d), ray.d, kInf};
+        if (++boundary_crossings > 256) break;
+        --depth;  // not a bounce
+        continue;
+      }
+    }
+
     const Material &material = scene_.material(hit.material);
     Vec3 wo = -ray.d;
     if (material.emits()) {
       uint32_t li = scene_.triangle_light(hit.instance, hit.prim);
-      float pdf = light_pdf(scene_.lights()[li], prev_p, ray.d, hit.t);
+      float pdf = light_pdf(scene_.lights()[li], prev_p, ray.d, length(hit.p - prev_p));
       L += beta * material.emission * emission_weight(li, pdf);
     }
     Bsdf bsdf = material.make_bsdf(scene_.shading_point(hit), wo);
@@ -89,7 +164,25 @@ Color PathTracer::Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &st
     }
     if (depth >= max_bounces_ || !bsdf.has_lobes()) break;
 
-    if (!bsdf.is_delta()) L += beta * sample_direct_light(hit, bsdf, wo, sampler, stats);
+    if (!bsdf.is_delta()) {
+      auto surface = [&](Vec3 wi, float *pdf) {
+        *pdf = bsdf.pdf(wo, wi);
+        return bsdf.eval(wo, wi, TransportMode::Radiance);
+      };
+      if constexpr (kMedia) {
+        // The shadow ray starts in the medium on wi's side: reflection stays in the
+        // current one, transmission crosses into the other.
+        auto media_toward = [&](Vec3 wi) {
+          MediumStack s = stack;
+          if (dot(wi, hit.ng) * dot(ray.d, hit.ng) > 0) s.cross(scene_, hit, wi);
+          return s;
+        };
+        L += beta * sample_direct_light<true>(scene_, hit.p, hit.ng, surface, media_toward, sampler, stats);
+      } else {
+        auto unused = [](Vec3) { return 0; };
+        L += beta * sample_direct_light<false>(scene_, hit.p, hit.ng, surface, unused, sampler, stats);
+      }
+    }
 
     BsdfSample bs;
     float u_lobe = sampler.get_1d();
@@ -99,15 +192,11 @@ Color PathTracer::Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &st
     specular_bounce = bs.is_delta;
     prev_pdf = bs.pdf;
     prev_p = hit.p;
-    ray = Ray{spawn_origin(hit.p, hit.ng, bs.wi), bs.wi, kInf};
-
-    // Russian roulette once the path has had a few bounces to pick up light.
-    if (depth >= 3) {
-      float q = std::max(0.05f, 1.0f - max_component(beta));
-      if (sampler.get_1d() < q) break;
-      beta *= 1.0f / (1.0f - q);
+    if constexpr (kMedia) {
+      if (dot(bs.wi, hit.ng) * dot(ray.d, hit.ng) > 0) stack.cross(scene_, hit, bs.wi);  // refracted through
     }
-    if (is_black(beta)) break;
+    ray = Ray{spawn_origin(hit.p, hit.ng, bs.wi), bs.wi, kInf};
+    if (!russian_roulette(depth) || is_black(beta)) break;
   }
   return L;
 }

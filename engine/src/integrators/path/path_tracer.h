@@ -1,5 +1,7 @@
 // Unidirectional path tracing with next-event estimation, multiple importance
-// sampling (power heuristic) between light and BSDF sampling, and Russian roulette.
+// sampling (power heuristic) between light and BSDF sampling, and Russian roulette;
+// with homogeneous participating media when the scene has them (distance sampling,
+// phase-function NEE through media and index-matched boundaries).
 // The reference every other integrator is checked against.
 #pragma once
 #include "integrators/integrator.h"
@@ -13,8 +15,10 @@ class PathTracer final : public Integrator {
            std::vector<Splat> &splats) const override;
 
  private:
-  Color sample_direct_light(const SurfaceHit &hit, const Bsdf &bsdf, Vec3 wo, Sampler &sampler,
-                            RayStats &stats) const;
+  // The path loop, compiled twice: with participating media and without (a scene
+  // without media runs no medium code at all).
+  template <bool kMedia>
+  Color trace(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit) const;
   const Scene &scene_;
   int max_bounces_;
 };

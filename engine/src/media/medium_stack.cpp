@@ -1,0 +1,54 @@
+#include "media/medium_stack.h"
+#include "core/ray_offset.h"
+
+namespace rdv {
+
+MediumStack MediumStack::for_camera(const Scene &scene) {
+  MediumStack s;
+  for (int m : scene.camera_media())
+    if (s.n_ < int(s.media_.size())) s.media_[s.n_++] = int16_t(m);
+  return s;
+}
+
+void MediumStack::cross(const Scene &scene, const SurfaceHit &hit, Vec3 d) {
+  int m = scene.interior_medium(hit.material);
+  if (m < 0) return;
+  if (dot(d, hit.ng) < 0) {  // entering (the geometric normal points out of a closed mesh)
+    if (n_ < int(media_.size())) media_[n_++] = int16_t(m);
+  } else {
+    // Leaving: remove the innermost entry of this medium (media may overlap imperfectly).
+    for (int i = n_ - 1; i >= 0; --i)
+      if (media_[i] == m) {
+        for (int k = i; k < n_ - 1; ++k) media_[k] = media_[k + 1];
+        --n_;
+        break;
+      }
+  }
+}
+
+Color medium_transmittance(const Scene &scene, Vec3 p, Vec3 ng, Vec3 d, float distance, MediumStack stack,
+                           uint64_t &rays) {
+  Color tr(1.0f);
+  Vec3 o = is_black(ng) ? p : spawn_origin(p, ng, d);
+  float remaining = std::isinf(distance) ? kInf : shadow_tmax(distance);
+  for (int guard = 0; guard < 64; ++guard) {
+    SurfaceHit hit;
+    ++rays;
+    bool found = scene.intersect(Ray{o, d, remaining}, hit);
+    float seg = found ? hit.t : remaining;
+    int m = stack.current(scene);
+    if (m >= 0) {
+      tr *= scene.medium(m).transmittance(seg);
+      if (is_black(tr)) return tr;
+    }
+    if (!found) return tr;
+    if (!scene.is_boundary_only(hit.material)) return Color(0.0f);  // a real surface blocks
+    stack.cross(scene, hit, d);
+    o = spawn_origin(hit.p, hit.ng, d);
+    if (!std::isinf(remaining)) remaining -= hit.t;
+    if (remaining <= 0) return tr;
+  }
+  return Color(0.0f);
+}
+
+}  // namespace rdv

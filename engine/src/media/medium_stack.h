@@ -1,0 +1,30 @@
+// Which medium a path is in: a small stack, so media may nest (fog in a glass of
+// smoke in a foggy room). Entering a closed mesh whose material has a volume pushes
+// that medium; leaving it pops it. The world's medium lies under everything.
+#pragma once
+#include <array>
+#include "scene/scene.h"
+
+namespace rdv {
+
+struct RayStats;
+
+class MediumStack {
+ public:
+  static MediumStack for_camera(const Scene &scene);
+  int current(const Scene &scene) const { return n_ > 0 ? media_[n_ - 1] : scene.world_medium(); }
+  // The path crosses the surface of `hit` travelling along d.
+  void cross(const Scene &scene, const SurfaceHit &hit, Vec3 d);
+
+ private:
+  std::array<int16_t, 8> media_{};
+  int n_ = 0;
+};
+
+// Transmittance from p along unit d over `distance` (infinite: to the world), through
+// index-matched boundaries and the media between them; 0 if any real surface blocks.
+// ng: geometric normal at p (zero for points in a medium), to leave the surface.
+Color medium_transmittance(const Scene &scene, Vec3 p, Vec3 ng, Vec3 d, float distance, MediumStack stack,
+                           uint64_t &rays);
+
+}  // namespace rdv
