@@ -72,6 +72,12 @@ _PROTOTYPES = {
     "rdv_scene_add_mesh": (_status, [_scene_p, ctypes.c_char_p, ctypes.c_void_p, ctypes.c_uint32,
                                      ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_uint32,
                                      ctypes.c_void_p, ctypes.c_uint32, _c_uint32_p]),
+    "rdv_scene_set_material": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_char_p]),
+    "rdv_scene_set_mesh": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_void_p, ctypes.c_uint32,
+                                     ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_uint32,
+                                     ctypes.c_void_p, ctypes.c_uint32]),
+    "rdv_scene_set_light": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_char_p]),
+    "rdv_live_objects": (_status, [_c_uint32_p, _c_uint32_p]),
     "rdv_scene_add_instance": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_void_p, _c_uint32_p]),
     "rdv_scene_set_instance_transform": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_void_p]),
     "rdv_scene_add_light": (_status, [_scene_p, ctypes.c_char_p, ctypes.c_char_p, _c_uint32_p]),
@@ -190,6 +196,14 @@ def reset():
     _library_error = None
 
 
+def live_objects():
+    """(scenes, sessions) alive in the engine library (leak checks)."""
+    lib = load()
+    scenes, sessions = ctypes.c_uint32(), ctypes.c_uint32()
+    lib.check(lib.rdv_live_objects(ctypes.byref(scenes), ctypes.byref(sessions)), "live objects")
+    return scenes.value, sessions.value
+
+
 def status_message():
     """None when the library loads, else the reason (for the UI)."""
     try:
@@ -257,8 +271,20 @@ class Scene:
                                                        ctypes.byref(out)), "material '%s'" % name)
         return out.value
 
+    def set_material(self, material, params):
+        """Replaces material `material` in place (no session may exist)."""
+        self.lib.check(self.lib.rdv_scene_set_material(self.handle, int(material), _json(params)),
+                       "material %d" % material)
+
+    def set_light(self, light, params):
+        self.lib.check(self.lib.rdv_scene_set_light(self.handle, int(light), _json(params)), "light %d" % light)
+
+    def set_mesh(self, mesh, positions, indices, normals=None, uvs=None, material_ids=None, default_material=0):
+        """Replaces mesh `mesh`'s geometry in place (same arrays as add_mesh)."""
+        return self.add_mesh(None, positions, indices, normals, uvs, material_ids, default_material, replace=mesh)
+
     def add_mesh(self, name, positions, indices, normals=None, uvs=None, material_ids=None,
-                 default_material=0):
+                 default_material=0, replace=None):
         """positions (V,3) float32, indices (T,3) uint32; normals (V,3), uvs (V,2), material_ids (T,)."""
         import numpy as np
         positions = _check_array(positions, np.float32, "positions")
@@ -268,6 +294,11 @@ class Scene:
         normals = _check_array(normals, np.float32, "normals", nv * 3)
         uvs = _check_array(uvs, np.float32, "uvs", nv * 2)
         material_ids = _check_array(material_ids, np.uint32, "material_ids", nt)
+        if replace is not None:
+            self.lib.check(self.lib.rdv_scene_set_mesh(
+                self.handle, int(replace), _ptr(positions), nv, _ptr(normals), _ptr(uvs), _ptr(indices), nt,
+                _ptr(material_ids), int(default_material)), "mesh %d" % replace)
+            return int(replace)
         out = ctypes.c_uint32()
         self.lib.check(self.lib.rdv_scene_add_mesh(
             self.handle, name.encode("utf-8"), _ptr(positions), nv, _ptr(normals), _ptr(uvs), _ptr(indices), nt,

@@ -1,8 +1,560 @@
-"""Interactive viewport rendering (view_update / view_draw) - not implemented yet.
+"""Interactive viewport rendering: the 3D view's Rendered shading (view_update / view_draw).
 
-Plan (see shared/guides/blender-integration.md, "Viewport"): keep one engine scene alive,
-apply depsgraph.updates (transforms via rdv_scene_set_instance_transform, geometry and
-shading edits by re-export), restart the session on change, and in view_draw upload the
-newest film as a GPU texture through the display-space shader.  The exporter already
-takes a sink and an `is_viewport` flag so the same export code serves both.
+One `ViewportRenderer` per viewport (one per RenderEngine instance Blender creates for a
+3D view in Rendered mode).  It keeps one engine scene alive and at most one session:
+
+* view_update (depsgraph edits): the session is destroyed (the engine refuses edits while
+  one exists), the edits are applied in place - instance transforms
+  (rdv_scene_set_instance_transform), one material (rdv_scene_set_material), one light
+  (rdv_scene_set_light), the world, one mesh's geometry (rdv_scene_set_mesh) - and a new
+  session starts.  Adding or removing objects rebuilds the engine scene.
+* view_draw: the view (view matrix, window matrix, perspective, region size) is compared with
+  the last one; a change only sets the engine camera and restarts (nothing re-exported).
+* Every restart renders 1/4 of the resolution first (1 sample), then 1/2, then the full
+  resolution up to the viewport samples; view_draw waits up to FIRST_FRAME_WAIT for the
+  first pass of a restart so the next frame drawn already shows the change.
+* A timer (main thread, every POLL_INTERVAL) copies new film samples, advances the stages and
+  tags the 3D views for redraw only when there is something new: no redraws, no CPU once the
+  viewport samples are reached (or while paused).
+
+Threading: Blender calls view_update, view_draw and the timer on the main thread; a
+material preview (preview.py) runs on a job thread with its own engine scene and session.
+The engine allows calls on different scenes from different threads, and progress /
+read_film / cancel from any thread while a session renders; scene edits only when no
+session exists.  A lock per renderer serialises its own calls anyway.
 """
+
+import threading
+import time
+import traceback
+import weakref
+
+import numpy as np
+
+from .. import binding, shaders_map
+from ..binding import EngineError, LibraryError
+from ..export import SceneExporter, ExportError, GEOMETRY_TYPES
+from ..export.lights import light_params
+from ..export.settings import INTEGRATORS
+from ..utils import Messages, normalize_frame, is_finite_matrix, determinant3
+from ..utils.images import image_average
+
+# (resolution divisor, samples): None = the viewport samples setting.
+STAGES = ((4, 1), (2, 1), (1, None))
+MIN_REDUCED_PIXELS = 64 * 64   # below this many full-resolution pixels, skip the reduced stages
+FIRST_FRAME_WAIT = 0.25        # s: how long view_draw waits for a restart's first pass
+POLL_INTERVAL = 0.025          # s: timer polling the sessions
+
+# For tests and benchmarks: counters and timestamps of what the viewports did.
+stats = {"full_exports": 0, "mesh_exports": 0, "material_updates": 0, "light_updates": 0, "world_updates": 0,
+         "transform_updates": 0, "camera_restarts": 0, "restarts": 0, "draws": 0, "uploads": 0,
+         "last_restart": 0.0, "last_restart_reason": "", "first_new_frame_drawn": 0.0,
+         "first_frame_after_restart": 0.0, "errors": []}
+
+_renderers = weakref.WeakSet()
+_timer_running = False
+
+
+def _key(inst, ob):
+    if inst.is_instance:
+        parent = inst.parent
+        return (parent.name_full if parent is not None else "", tuple(inst.persistent_id), ob.name_full)
+    return ("", (), ob.name_full)
+
+
+def _m16(matrix):
+    return [*matrix[0], *matrix[1], *matrix[2], *matrix[3]]
+
+
+class _Record:
+    __slots__ = ("kind", "engine_id", "m16", "ob_name", "mesh_id", "params")
+
+    def __init__(self, kind, engine_id, m16, ob_name, mesh_id=None, params=None):
+        self.kind, self.engine_id, self.m16, self.ob_name = kind, engine_id, m16, ob_name
+        self.mesh_id, self.params = mesh_id, params
+
+
+class _Sink:
+    """Forwards the exporter's calls to the engine scene and records ids per depsgraph instance."""
+
+    def __init__(self, rscene, exporter):
+        self.rscene = rscene
+        self.exp = exporter
+
+    def add_material(self, name, params):
+        return self.rscene.add_material(name, params)
+
+    def add_mesh(self, name, positions, indices, **kw):
+        if self.exp.replace_mesh is not None:
+            return self.rscene.set_mesh(self.exp.replace_mesh, positions, indices, **kw)
+        return self.rscene.add_mesh(name, positions, indices, **kw)
+
+    def add_instance(self, mesh_id, m16):
+        iid = self.rscene.add_instance(mesh_id, m16)
+        e = self.exp
+        e.records[e.current_key] = _Record("mesh", iid, list(m16), e.current_name, mesh_id=mesh_id)
+        return iid
+
+    def add_light(self, name, params):
+        lid = self.rscene.add_light(name, params)
+        e = self.exp
+        e.records[e.current_key] = _Record("light", lid, None, e.current_name, params=params)
+        return lid
+
+    def set_world(self, params):
+        self.rscene.set_world(params)
+
+    def set_camera(self, params):
+        self.rscene.set_camera(params)
+
+
+class ViewportExporter(SceneExporter):
+    """The final render's exporter, remembering which engine ids each depsgraph instance got."""
+
+    def __init__(self, depsgraph, rscene, messages):
+        self.records = {}      # instance key -> _Record
+        self.visited = set()   # keys of every geometry/light instance seen (exported or skipped)
+        self.current_key = None
+        self.current_name = None
+        self.replace_mesh = None
+        super().__init__(depsgraph, _Sink(rscene, self), image_average=image_average, messages=messages,
+                         is_viewport=True)
+
+    def export_camera(self):
+        pass  # the viewport's own camera comes from the region (ViewportRenderer.view_camera)
+
+    def export_objects(self):
+        for inst, ob in self._instances(self.depsgraph):
+            self.current_key = _key(inst, ob)
+            self.current_name = ob.name_full
+            self.visited.add(self.current_key)
+            if ob.type == "LIGHT":
+                self._light(ob, inst.matrix_world)
+            else:
+                self._geometry(ob, inst.matrix_world)
+        self.current_key = None
+
+    @staticmethod
+    def _instances(depsgraph):
+        for inst in depsgraph.object_instances:
+            is_instance = inst.is_instance
+            ob = inst.instance_object if is_instance else inst.object
+            if ob is None or (not is_instance and not inst.show_self):
+                continue
+            if ob.type == "LIGHT" or ob.type in GEOMETRY_TYPES:
+                yield inst, ob
+
+    # ---- in-place updates -----------------------------------------------------------------
+    def sync_instances(self, depsgraph):
+        """Applies changed transforms and light parameters; False if objects were added or
+        removed (the caller rebuilds the scene)."""
+        self.depsgraph = depsgraph
+        seen = 0
+        rscene = self.sink.rscene
+        for inst, ob in self._instances(depsgraph):
+            key = _key(inst, ob)
+            if key not in self.visited:
+                return False
+            seen += 1
+            rec = self.records.get(key)
+            if rec is None:
+                continue  # skipped at export (e.g. no faces) and still there
+            m16 = _m16(inst.matrix_world)
+            if rec.kind == "mesh":
+                if m16 != rec.m16:
+                    if not is_finite_matrix(m16) or abs(determinant3(m16)) < 1e-24:
+                        return False
+                    rscene.set_instance_transform(rec.engine_id, m16)
+                    rec.m16 = m16
+                    stats["transform_updates"] += 1
+            else:
+                if not is_finite_matrix(m16):
+                    return False
+                params = light_params(ob.data, m16, ob.name, self.warn)
+                if params is None:
+                    return False
+                if params != rec.params:
+                    rscene.set_light(rec.engine_id, params)
+                    rec.params = params
+                    stats["light_updates"] += 1
+        return seen == len(self.visited)
+
+    def update_geometry(self, ob):
+        """Re-exports the meshes object `ob` (evaluated) uses, in place. False: rebuild."""
+        mesh_ids = {rec.mesh_id for rec in self.records.values() if rec.kind == "mesh" and rec.ob_name == ob.name_full}
+        for mesh_id in mesh_ids:
+            self.replace_mesh = mesh_id
+            try:
+                if self._add_mesh(ob, self._object_materials(ob)) is None:
+                    return False
+            finally:
+                self.replace_mesh = None
+            stats["mesh_exports"] += 1
+        return True
+
+    def update_material(self, material):
+        """Re-translates one material in place; False if the scene does not use it."""
+        mid = self.materials._ids.get(material.name_full)
+        if mid is None:
+            return False
+        self._uv_cache.pop(material.name_full, None)
+        try:
+            params, warning = shaders_map.convert_material(material, image_average=self.image_average)
+        except Exception as exc:  # a node handler bug must not break the viewport
+            params, warning = dict(shaders_map.DEFAULT_SURFACE), "Material '%s': translation failed (%s: %s)" % (
+                material.name_full, type(exc).__name__, exc)
+        if warning:
+            self.warn(warning)
+        self.sink.rscene.set_material(mid, params)
+        stats["material_updates"] += 1
+        return True
+
+
+def view_camera(region, rv3d, width, height):
+    """Engine camera parameters for the 3D view's current view (any perspective, camera view
+    zoom/offset included: everything comes from the view and window matrices)."""
+    view_inv = rv3d.view_matrix.inverted()
+    P = rv3d.window_matrix
+    frame, _ = normalize_frame(_m16(view_inv))
+    p = {"sensor_fit": "HORIZONTAL", "sensor_width": 36.0, "sensor_height": 24.0}
+    if rv3d.is_perspective:
+        n = P[2][3] / (P[2][2] - 1.0)
+        f = P[2][3] / (P[2][2] + 1.0)
+        p.update(type="perspective", focal_length=18.0 * P[0][0], shift_x=P[0][2] / 2.0,
+                 shift_y=P[1][2] * P[0][0] / (2.0 * P[1][1]), clip_start=max(n, 1e-5), clip_end=max(f, n * 2.0),
+                 transform=frame)
+    else:
+        n = (P[2][3] + 1.0) / P[2][2]
+        f = (P[2][3] - 1.0) / P[2][2]
+        # The view's near plane may lie behind the view point: start the rays there.
+        back = -n
+        m = list(frame)
+        for r in range(3):
+            m[4 * r + 3] += m[4 * r + 2] * back
+        p.update(type="orthographic", ortho_scale=2.0 / P[0][0], shift_x=-P[0][3] / 2.0,
+                 shift_y=-P[1][3] * P[0][0] / (2.0 * P[1][1]), clip_start=0.0, clip_end=max(f - n, 1e-3),
+                 transform=m)
+    return p
+
+
+def _view_key(region, rv3d):
+    return (tuple(tuple(r) for r in rv3d.view_matrix), tuple(tuple(r) for r in rv3d.window_matrix),
+            rv3d.view_perspective, region.width, region.height)
+
+
+def viewport_settings(scene):
+    props = scene.rendezvous
+    return {"integrator": INTEGRATORS.get(props.viewport_integrator, "path"),
+            "samples": max(1, int(props.viewport_samples)), "max_bounces": int(props.max_bounces),
+            "clamp": float(props.clamp), "threads": int(props.threads), "seed": int(props.seed) & 0x7FFFFFFF,
+            "pause": bool(props.viewport_pause)}
+
+
+class ViewportRenderer:
+    def __init__(self):
+        self.lock = threading.RLock()
+        self.lib = binding.load()
+        self.rscene = None
+        self.exporter = None
+        self.messages = Messages()
+        self.session = None
+        self.stage = 0
+        self.size = (0, 0)           # region size
+        self.session_size = (0, 0)   # film size of the running session
+        self.camera = None
+        self.view_key = None
+        self.settings = None
+        self.frame = None            # (float32 array (h*w*4), w, h), bottom-up rows
+        self.read_samples = 0
+        self.frame_dirty = False
+        self.first_drawn = True
+        self.frame_new_since_restart = False
+        self.texture = None
+        self.restarted_at = 0.0
+        self.converged = False
+        self.error = None
+        self.progress_text = ""
+        _renderers.add(self)
+        _ensure_timer()
+
+    # ---- scene --------------------------------------------------------------------------------
+    def export(self, depsgraph):
+        self._stop()
+        if self.rscene is not None:
+            self.rscene.close()
+        self.messages = Messages()
+        self.rscene = binding.Scene(self.lib)
+        self.exporter = ViewportExporter(depsgraph, self.rscene, self.messages)
+        self.exporter.export()
+        stats["full_exports"] += 1
+
+    def update(self, depsgraph):
+        """Applies depsgraph.updates in place. Returns True if something changed."""
+        if self.rscene is None:
+            self.export(depsgraph)
+            return True
+        geometry, materials, world, instances = [], [], False, False
+        for u in depsgraph.updates:
+            idt = type(u.id).__name__
+            if idt == "Object":
+                instances = True
+                if u.is_updated_geometry and u.id.type in GEOMETRY_TYPES:
+                    geometry.append(u.id)
+            elif idt == "Material":
+                materials.append(u.id)
+            elif idt == "World":
+                world = True
+            elif idt in ("Collection", "Scene", "Light", "Mesh"):
+                instances = True
+        if not (geometry or materials or world or instances):
+            return False
+        self._stop()
+        exp = self.exporter
+        exp.depsgraph = depsgraph
+        exp.scene = depsgraph.scene
+        try:
+            if instances and not exp.sync_instances(depsgraph):
+                self.export(depsgraph)
+                return True
+            for ob in geometry:
+                if not exp.update_geometry(ob.evaluated_get(depsgraph)):
+                    self.export(depsgraph)
+                    return True
+            for m in materials:
+                exp.update_material(m)
+            if world:
+                exp.export_world()
+                stats["world_updates"] += 1
+        except EngineError as exc:  # e.g. a parameter the in-place call refuses: start over
+            print("Rendezvous viewport: %s; re-exporting the scene" % exc)
+            self.export(depsgraph)
+        return True
+
+    # ---- sessions -----------------------------------------------------------------------------
+    def _stop(self):
+        s, self.session = self.session, None
+        if s is not None:
+            try:
+                s.cancel()
+            except EngineError:
+                pass
+            s.close()
+
+    def restart(self, reason):
+        """(Re)starts rendering from the first stage with the current camera and settings."""
+        with self.lock:
+            self._stop()
+            self.converged = False
+            stats["restarts"] += 1
+            stats["last_restart"] = self.restarted_at = time.perf_counter()
+            stats["last_restart_reason"] = reason
+            self.frame_new_since_restart = False
+            self.first_drawn = False
+            if self.rscene is None or self.camera is None or self.settings is None:
+                return
+            if self.settings["pause"]:
+                return
+            self.rscene.set_camera(self.camera)
+            w, h = self.size
+            self.stage = 0 if w * h >= MIN_REDUCED_PIXELS else len(STAGES) - 1
+            self._start_stage()
+
+    def _start_stage(self):
+        div, samples = STAGES[self.stage]
+        w, h = self.size
+        sw, sh = max(1, (w + div - 1) // div), max(1, (h + div - 1) // div)
+        st = self.settings
+        settings = {"width": sw, "height": sh, "samples": samples or st["samples"], "integrator": st["integrator"],
+                    "max_bounces": st["max_bounces"], "seed": st["seed"], "threads": st["threads"],
+                    "clamp": st["clamp"]}
+        self.session = binding.Session(self.rscene, settings)
+        self.session_size = (sw, sh)
+        self.session_samples = settings["samples"]
+        self.read_samples = 0
+        self.session.start()
+
+    def poll(self):
+        """Copies new samples, advances stages. Returns True when a redraw is wanted."""
+        with self.lock:
+            s = self.session
+            if s is None:
+                return self.frame_dirty
+            p = s.progress()
+            done = p.samples_done
+            if done > self.read_samples:
+                w, h = self.session_size
+                arr = np.empty(w * h * 4, dtype=np.float32)
+                s.read_film(binding.PASS_COMBINED, 0, 0, w, h, arr, top_down=False)
+                self.frame = (arr, w, h)
+                self.read_samples = done
+                self.frame_dirty = True
+                if not self.frame_new_since_restart:
+                    self.frame_new_since_restart = True
+                    stats["first_frame_after_restart"] = time.perf_counter() - self.restarted_at
+            self.progress_text = self._stats_text(p)
+            if p.finished:
+                if p.cancelled:
+                    self._stop()
+                elif self.stage + 1 < len(STAGES):
+                    self._stop()
+                    self.stage += 1
+                    self._start_stage()
+                else:
+                    self._stop()  # converged: the film is copied, the threads are gone
+                    self.converged = True
+            return self.frame_dirty
+
+    def _stats_text(self, p):
+        label = {"path": "Path Tracing", "bdpt": "Bidirectional"}.get(self.settings["integrator"], "?")
+        div = STAGES[self.stage][0]
+        if div > 1:
+            return "Rendezvous | %s | Preview 1/%d resolution" % (label, div)
+        return "Rendezvous | %s | Sample %d/%d" % (label, min(p.samples_done, self.session_samples),
+                                                  self.session_samples)
+
+    def wait_first_frame(self, timeout):
+        end = time.perf_counter() + timeout
+        while True:
+            self.poll()
+            if self.frame_new_since_restart or self.session is None or time.perf_counter() > end:
+                return
+            time.sleep(0.001)
+
+    def free(self):
+        with self.lock:
+            self._stop()
+            if self.rscene is not None:
+                self.rscene.close()
+                self.rscene = None
+            self.texture = None
+            self.frame = None
+        _renderers.discard(self)
+
+
+# ---- the timer that polls all viewports ------------------------------------------------------
+def _timer():
+    global _timer_running
+    live = list(_renderers)
+    if not live:
+        _timer_running = False
+        return None
+    want = False
+    for r in live:
+        try:
+            want = r.poll() or want
+        except EngineError as exc:
+            r.error = str(exc)
+            stats["errors"].append(str(exc))
+            r._stop()
+    if want:
+        _tag_redraw()
+    return POLL_INTERVAL
+
+
+def _ensure_timer():
+    global _timer_running
+    if _timer_running:
+        return
+    import bpy
+    _timer_running = True
+    bpy.app.timers.register(_timer, first_interval=POLL_INTERVAL, persistent=True)
+
+
+def _tag_redraw():
+    import bpy
+    wm = bpy.context.window_manager
+    if wm is None:
+        return
+    for window in wm.windows:
+        for area in window.screen.areas:
+            if area.type != "VIEW_3D":
+                continue
+            for space in area.spaces:
+                if space.type == "VIEW_3D" and space.shading.type in ("RENDERED", "MATERIAL"):
+                    area.tag_redraw()
+                    break
+
+
+def stop_all():
+    """Unregistering the add-on: stop every viewport's threads."""
+    for r in list(_renderers):
+        r.free()
+
+
+# ---- RenderEngine hooks ------------------------------------------------------------------------
+def _report_error(engine, exc):
+    msg = str(exc) if isinstance(exc, (LibraryError, EngineError, ExportError)) else \
+        "internal error %s: %s (see the console)" % (type(exc).__name__, exc)
+    if not isinstance(exc, (LibraryError, EngineError, ExportError)):
+        traceback.print_exc()
+    stats["errors"].append(msg)
+    engine.update_stats("", "Rendezvous | Error: %s" % msg)
+
+
+def view_update(engine, context, depsgraph):
+    try:
+        r = engine.viewport
+        if r is None:
+            r = engine.viewport = ViewportRenderer()
+        with r.lock:
+            changed = r.update(depsgraph)
+            settings = viewport_settings(depsgraph.scene)
+            if settings != r.settings:
+                r.settings = settings
+                changed = True
+            if changed and r.camera is not None:
+                r.restart("edit")
+                r.wait_first_frame(FIRST_FRAME_WAIT)
+    except Exception as exc:
+        _report_error(engine, exc)
+
+
+def view_draw(engine, context, depsgraph):
+    import gpu
+    from gpu_extras.presets import draw_texture_2d
+    r = engine.viewport
+    if r is None:
+        return
+    region = context.region
+    rv3d = context.region_data
+    scene = depsgraph.scene
+    try:
+        with r.lock:
+            stats["draws"] += 1
+            key = _view_key(region, rv3d)
+            settings = viewport_settings(scene)
+            restart = None
+            if key != r.view_key:
+                r.view_key = key
+                r.size = (region.width, region.height)
+                r.camera = view_camera(region, rv3d, region.width, region.height)
+                restart = "camera"
+                stats["camera_restarts"] += 1
+            if settings != r.settings:
+                r.settings = settings
+                restart = restart or "settings"
+            if restart:
+                r.restart(restart)
+                r.wait_first_frame(FIRST_FRAME_WAIT)
+            r.poll()
+            if r.frame_dirty and r.frame is not None:
+                arr, w, h = r.frame
+                buf = gpu.types.Buffer("FLOAT", w * h * 4, arr)
+                r.texture = gpu.types.GPUTexture((w, h), format="RGBA32F", data=buf)
+                r.frame_dirty = False
+                stats["uploads"] += 1
+                if r.frame_new_since_restart and not r.first_drawn:
+                    r.first_drawn = True
+                    stats["first_new_frame_drawn"] = time.perf_counter()
+            if r.texture is not None:
+                gpu.state.blend_set("ALPHA_PREMULT")
+                engine.bind_display_space_shader(scene)
+                draw_texture_2d(r.texture, (0, 0), region.width, region.height)
+                engine.unbind_display_space_shader()
+                gpu.state.blend_set("NONE")
+            text = r.progress_text
+            if r.settings and r.settings["pause"]:
+                text += " | Paused"
+            engine.update_stats("", text)
+    except Exception as exc:
+        _report_error(engine, exc)

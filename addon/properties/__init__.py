@@ -23,6 +23,13 @@ class RendezvousRenderSettings(bpy.types.PropertyGroup):
                                     description="Add the frame number to the seed (noise changes per frame)")
     clamp: FloatProperty(name="Clamp", default=0.0, min=0.0,
                          description="Cap on the luminance of a sample, reduces fireflies (0 = off)")
+    viewport_integrator: EnumProperty(name="Viewport Integrator", items=INTEGRATOR_ITEMS, default="PATH",
+                                      description="Light transport algorithm of the 3D view's Rendered mode")
+    viewport_samples: IntProperty(name="Viewport Samples", default=64, min=1, soft_max=4096,
+                                  description="Samples per pixel in the viewport; rendering (and CPU use) "
+                                              "stops when they are reached")
+    viewport_pause: BoolProperty(name="Pause Viewport", default=False,
+                                 description="Pause the viewport render (the last image stays)")
     threads: IntProperty(name="Threads", default=0, min=0, max=1024,
                          description="Render threads (0 = all cores)")
 

@@ -37,6 +37,10 @@ class RENDEZVOUS_PT_sampling(RendezvousPanel, bpy.types.Panel):
         col = layout.column(align=True)
         col.prop(props, "samples")
         col.prop(props, "time_limit")
+        col = layout.column(align=True, heading="Viewport")
+        col.prop(props, "viewport_integrator", text="Integrator")
+        col.prop(props, "viewport_samples", text="Samples")
+        col.prop(props, "viewport_pause", text="Pause")
         col = layout.column(align=True)
         col.prop(props, "seed")
         col.prop(props, "use_animated_seed")
@@ -79,6 +83,14 @@ def _wrap(text, width):
     return lines
 
 
+def draw_view3d_header(self, context):
+    """The 3D view header's pause toggle in Rendered mode (as Cycles)."""
+    view = context.space_data
+    if context.engine == ENGINE_ID and view is not None and view.shading.type == "RENDERED":
+        props = context.scene.rendezvous
+        self.layout.prop(props, "viewport_pause", text="", icon="PLAY" if props.viewport_pause else "PAUSE")
+
+
 classes = (RENDEZVOUS_PT_sampling, RENDEZVOUS_PT_light_paths, RENDEZVOUS_PT_performance)
 
 
@@ -87,9 +99,11 @@ def register():
     for cls in classes:
         bpy.utils.register_class(cls)
     compat.register()
+    bpy.types.VIEW3D_HT_header.append(draw_view3d_header)
 
 
 def unregister():
+    bpy.types.VIEW3D_HT_header.remove(draw_view3d_header)
     compat.unregister()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

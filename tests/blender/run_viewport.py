@@ -1,0 +1,91 @@
+"""ctest driver for tests that need a real Blender window (the viewport): starts Xvfb on a
+free display, installs the add-on into a temporary BLENDER_USER_SCRIPTS, and runs
+`blender --factory-startup --addons rendezvous --python SCRIPT` (no -b) on that display.
+
+    python3 run_viewport.py --blender /usr/bin/blender --lib librendezvous.so --script test_viewport.py [-- args]
+
+Exits 77 (ctest SKIP_RETURN_CODE) only when Xvfb is missing or cannot start.
+"""
+
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import install_addon  # noqa: E402
+from run_blender import blender_env  # noqa: E402
+
+SKIP = 77
+
+
+def start_xvfb():
+    xvfb = shutil.which("Xvfb")
+    if xvfb is None:
+        print("SKIP: Xvfb not installed (apt-get install xvfb)")
+        return None, None
+    for display in range(90, 140):
+        if os.path.exists("/tmp/.X11-unix/X%d" % display) or os.path.exists("/tmp/.X%d-lock" % display):
+            continue
+        proc = subprocess.Popen([xvfb, ":%d" % display, "-screen", "0", "1280x800x24", "-nolisten", "tcp"],
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        for _ in range(100):  # up to 5 s for the socket
+            if proc.poll() is not None:
+                break
+            if os.path.exists("/tmp/.X11-unix/X%d" % display):
+                return proc, ":%d" % display
+            time.sleep(0.05)
+        if proc.poll() is None:
+            proc.terminate()
+            proc.wait()
+    print("SKIP: Xvfb could not start")
+    return None, None
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--blender", default="blender")
+    ap.add_argument("--lib", default=None)
+    ap.add_argument("--script", required=True)
+    ap.add_argument("--timeout", type=float, default=300)
+    ap.add_argument("--scene", default="showcase", help="scenes/blend/build_scenes.py scene opened in the window "
+                    "(a file on the command line also keeps the splash screen away)")
+    ap.add_argument("rest", nargs="*")
+    a = ap.parse_args()
+    xvfb, display = start_xvfb()
+    if xvfb is None:
+        return SKIP
+    try:
+        with tempfile.TemporaryDirectory(prefix="rdv_viewport_") as tmp:
+            scripts = os.path.join(tmp, "scripts")
+            install_addon.install(scripts, a.lib)
+            env = blender_env()
+            env["BLENDER_USER_SCRIPTS"] = scripts
+            env["RDV_TEST_TMP"] = tmp
+            env["RDV_REPO_ROOT"] = install_addon.ROOT
+            env["DISPLAY"] = display
+            env.pop("RDV_LIBRARY", None)
+            build = os.path.join(install_addon.ROOT, "scenes", "blend", "build_scenes.py")
+            subprocess.run([a.blender, "-b", "--factory-startup", "-noaudio", "--python", build, "--", "--out", tmp,
+                            a.scene], env=env, check=True, stdout=subprocess.DEVNULL, timeout=120)
+            blend = os.path.join(tmp, a.scene + ".blend")
+            cmd = [a.blender, "--factory-startup", "-noaudio", "--addons", "rendezvous", blend,
+                   "--python-exit-code", "1", "--python", os.path.join(HERE, a.script), "--"] + a.rest
+            print("DISPLAY=%s %s" % (display, " ".join(cmd)), flush=True)
+            try:
+                proc = subprocess.run(cmd, env=env, timeout=a.timeout)
+            except subprocess.TimeoutExpired:
+                print("TIMEOUT after %.0f s" % a.timeout)
+                return 1
+            return proc.returncode
+    finally:
+        xvfb.terminate()
+        xvfb.wait()
+
+
+if __name__ == "__main__":
+    sys.exit(main())
