@@ -28,6 +28,7 @@ const std::vector<Case> &cases() {
       {"principled_sheen_clearcoat", R"({"type":"principled","sheen":1,"sheen_tint":0.5,"clearcoat":1,"clearcoat_roughness":0.2,"roughness":0.6})", false, true},
       {"principled_4x_names", R"({"type":"principled","coat_weight":0.5,"coat_roughness":0.2,"sheen_weight":0.5,"specular_ior_level":0.5,"transmission_weight":0.2,"roughness":0.5})", false, true},
       {"oren_nayar", R"({"type":"diffuse","color":[0.9,0.9,0.9],"roughness":0.8})", false},
+      {"rough_refraction", R"({"type":"refraction","roughness":0.3,"ior":1.33})", false},
       {"mix_diffuse_rough_glass", R"({"type":"mix","fac":0.3,"shader1":{"type":"diffuse","color":[1,1,1]},"shader2":{"type":"glass","roughness":0.4,"ior":1.45}})", false},
       {"mix_translucent_glossy", R"({"type":"mix","fac":0.5,"shader1":{"type":"translucent","color":[1,1,1]},"shader2":{"type":"glossy","color":[1,1,1],"roughness":0.3,"distribution":"MULTI_GGX"}})", true},
       {"add_halves", R"({"type":"add","shader1":{"type":"diffuse","color":[0.5,0.5,0.5]},"shader2":{"type":"glossy","color":[0.5,0.5,0.5],"roughness":0.5}})", false},
@@ -162,4 +163,22 @@ TEST(MaterialSampling, AlphaIsStraightTransmission) {
     }
   }
   EXPECT_GT(through, 0);
+}
+
+// Reciprocity of whole non-transmissive materials (shading normal = geometric normal):
+// f(wo, wi) = f(wi, wo) for every lobe combination the Principled BSDF and mixes build.
+TEST(MaterialReciprocity, NonTransmissiveMaterialsAreSymmetric) {
+  Pcg32 rng(17);
+  for (const char *json : {R"({"type":"principled","sheen":1,"clearcoat":1,"roughness":0.4,"metallic":0.3})",
+                           R"({"type":"principled","base_color":[0.9,0.6,0.3],"metallic":1,"roughness":0.6,"distribution":"MULTI_GGX"})",
+                           R"({"type":"mix","fac":0.4,"shader1":{"type":"diffuse","roughness":0.7},"shader2":{"type":"glossy","roughness":0.3}})"}) {
+    Material m = material(json);
+    Bsdf bsdf = m.make_bsdf(point(), Vec3(0, 0, 1));
+    for (int i = 0; i < 2000; ++i) {
+      Vec3 a = uniform_hemisphere_for_test(std::max(rng.next_float(), 1e-3f), rng.next_float());
+      Vec3 b = uniform_hemisphere_for_test(std::max(rng.next_float(), 1e-3f), rng.next_float());
+      Color fab = bsdf.eval(a, b, TransportMode::Radiance) / b.z, fba = bsdf.eval(b, a, TransportMode::Radiance) / a.z;
+      for (int k = 0; k < 3; ++k) EXPECT_NEAR(fab[k], fba[k], 1e-3f * std::max(1.0f, fab[k])) << json;
+    }
+  }
 }

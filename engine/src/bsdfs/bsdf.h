@@ -47,6 +47,7 @@ struct Lobe {
   // above (where wo is). The Bsdf inverts it when the ray arrives from the back face.
   float ior = 1.5f;
   float sigma = 0;            // Oren-Nayar roughness in [0, 1]
+  bool refraction_only = false;  // dielectrics: Cycles' Refraction BSDF (no reflection, no Fresnel)
 
   Color fresnel(float cos_i) const {
     switch (fresnel_mode) {

@@ -29,6 +29,7 @@ Color eval(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode) {
   if (wo.z <= 0 || wi.z == 0) return Color(0.0f);
   const float eta = lobe.ior;
   if (wi.z > 0) {  // reflection
+    if (lobe.refraction_only) return Color(0.0f);
     Vec3 h = normalize(wo + wi);
     float d = lobe.ggx.D(h);
     if (d == 0) return Color(0.0f);
@@ -40,7 +41,8 @@ Color eval(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode) {
   float d = lobe.ggx.D(h);
   if (d == 0) return Color(0.0f);
   float woh = dot(wo, h), wih = dot(wi, h);
-  float F = fresnel_dielectric(woh, eta);
+  float F = lobe.refraction_only ? 0.0f : fresnel_dielectric(woh, eta);
+  if (F >= 1.0f) return Color(0.0f);  // total internal reflection
   float denom = sqr(wih * eta + woh);
   float f = (1.0f - F) * d * lobe.ggx.G2(wo, wi) * eta * eta * std::fabs(wih * woh) / (denom * wo.z * std::fabs(wi.z));
   return lobe.color * (f * radiance_scale(eta, mode));
@@ -50,6 +52,7 @@ float pdf(const Lobe &lobe, Vec3 wo, Vec3 wi) {
   if (wo.z <= 0 || wi.z == 0) return 0;
   const float eta = lobe.ior;
   if (wi.z > 0) {
+    if (lobe.refraction_only) return 0;
     Vec3 h = normalize(wo + wi);
     float woh = dot(wo, h);
     if (woh <= 0) return 0;
@@ -59,7 +62,7 @@ float pdf(const Lobe &lobe, Vec3 wo, Vec3 wi) {
   Vec3 h;
   if (!refraction_half_vector(wo, wi, eta, h)) return 0;
   float woh = dot(wo, h), wih = dot(wi, h);
-  float F = fresnel_dielectric(woh, eta);
+  float F = lobe.refraction_only ? (fresnel_dielectric(woh, eta) >= 1.0f ? 1.0f : 0.0f) : fresnel_dielectric(woh, eta);
   float jacobian = eta * eta * std::fabs(wih) / sqr(wih * eta + woh);
   return (1.0f - F) * lobe.ggx.D_visible(wo, h) * jacobian;
 }
@@ -71,6 +74,10 @@ bool sample(const Lobe &lobe, Vec3 wo, Vec2 u, float uc, Vec3 &wi, Color &weight
   float woh = dot(wo, h);
   if (woh <= 0) return false;
   float F = fresnel_dielectric(woh, eta);  // uc chooses reflection with probability F
+  if (lobe.refraction_only) {
+    if (F >= 1.0f) return false;  // total internal reflection: the Refraction BSDF is black
+    F = 0.0f;
+  }
   float dvis = lobe.ggx.D_visible(wo, h);
   if (uc < F) {
     wi = h * (2.0f * woh) - wo;
@@ -91,6 +98,10 @@ bool sample_smooth(const Lobe &lobe, Vec3 wo, Vec2 u, Vec3 &wi, Color &weight, f
   if (wo.z <= 0) return false;
   const float eta = lobe.ior;
   float F = fresnel_dielectric(wo.z, eta);
+  if (lobe.refraction_only) {
+    if (F >= 1.0f) return false;
+    F = 0.0f;
+  }
   if (u.x < F) {
     wi = Vec3(-wo.x, -wo.y, wo.z);
     pdf_out = F;

@@ -108,14 +108,14 @@ struct Parser {
       }
       distribution(p, c, "GGX");
       emission(p, w, "emission", "emission_strength", Color(0.0f), 1.0f);
-    } else if (type == "glass") {
-      c.type = MaterialType::Glass;
+    } else if (type == "glass" || type == "refraction") {
+      c.type = type == "glass" ? MaterialType::Glass : MaterialType::Refraction;
       c.in[kBaseColor] = value(p, "color", Color(1.0f));
       c.in[kRoughness] = value(p, "roughness", Color(0.0f));
       c.in[kIor] = value(p, "ior", Color(1.45f));
       distribution(p, c, "GGX");
       if (c.multiscatter)
-        m.warnings.push_back(p.what() + ": Multiscatter GGX glass is approximated by single-scattering GGX glass");
+        m.warnings.push_back(p.what() + ": Multiscatter GGX " + type + " is approximated by single-scattering GGX");
       c.multiscatter = false;
     } else if (type == "transparent") {
       c.type = MaterialType::Transparent;
@@ -130,7 +130,7 @@ struct Parser {
       principled(p, c, w);
     } else {
       fail(p.what() + ": unknown material type '" + type +
-           "' (diffuse, emission, glossy, glass, principled, transparent, translucent, sheen, mix, add)");
+           "' (diffuse, emission, glossy, glass, refraction, principled, transparent, translucent, sheen, mix, add)");
     }
     c.normal = normal(p, "normal");
     m.closures.push_back(c);
@@ -189,7 +189,7 @@ Material Material::from_params(Params &p, const std::string &name) {
   std::string type = p.get_string("type", "diffuse");
   static const std::pair<const char *, MaterialType> kTypes[] = {
       {"diffuse", MaterialType::Diffuse}, {"emission", MaterialType::Emission}, {"glossy", MaterialType::Glossy},
-      {"glass", MaterialType::Glass}, {"principled", MaterialType::Principled},
+      {"glass", MaterialType::Glass}, {"refraction", MaterialType::Refraction}, {"principled", MaterialType::Principled},
       {"transparent", MaterialType::Transparent}, {"translucent", MaterialType::Translucent},
       {"sheen", MaterialType::Sheen}, {"mix", MaterialType::Mix},
       {"add", MaterialType::Add}};
@@ -228,6 +228,7 @@ const char *Material::type_name() const {
     case MaterialType::Emission: return "emission";
     case MaterialType::Glossy: return "glossy";
     case MaterialType::Glass: return "glass";
+    case MaterialType::Refraction: return "refraction";
     case MaterialType::Principled: return "principled";
     case MaterialType::Transparent: return "transparent";
     case MaterialType::Translucent: return "translucent";
@@ -331,8 +332,10 @@ Bsdf Material::make_bsdf(const ShadingPoint &sp, Vec3 wo) const {
         bsdf.add_lobe(l, sample_weight(l.color));
         break;
       }
-      case MaterialType::Glass: {
+      case MaterialType::Glass:
+      case MaterialType::Refraction: {
         Lobe l = dielectric_lobe(num(kRoughness), num(kIor), vmax(col(kBaseColor), Color(0.0f)) * w);
+        l.refraction_only = c.type == MaterialType::Refraction;
         bsdf.add_lobe(l, sample_weight(l.color));
         break;
       }

@@ -17,7 +17,7 @@
 namespace rdv {
 
 enum class MaterialType : uint8_t {
-  Diffuse, Emission, Glossy, Glass, Principled, Transparent, Translucent, Sheen, Mix, Add
+  Diffuse, Emission, Glossy, Glass, Refraction, Principled, Transparent, Translucent, Sheen, Mix, Add
 };
 
 // Inputs of a closure (index into Closure::in). Not every closure uses every input.

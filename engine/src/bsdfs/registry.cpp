@@ -48,6 +48,12 @@ static Lobe dielectric(float roughness, float ior) {
   return l;
 }
 
+static Lobe refraction(float roughness, float ior) {
+  Lobe l = dielectric(roughness, ior);
+  l.refraction_only = true;
+  return l;
+}
+
 static Lobe simple(LobeType type, Color c, float sigma = 0) {
   Lobe l;
   l.type = type;
@@ -93,6 +99,10 @@ const std::vector<LobeTestCase> &lobe_test_cases() {
       {"glass_r0.5_4", dielectric(0.5f, 4.0f), false},
       {"glass_r0.5_inside_4", dielectric(0.5f, 0.25f), false},
       {"glass_r0.5_1.1", dielectric(0.5f, 1.1f), false},
+      // Refraction BSDF (transmission only, no Fresnel): lossless except total internal reflection.
+      {"refraction_smooth_1.5", refraction(0.0f, 1.5f), true},
+      {"refraction_r0.4_1.5", refraction(0.4f, 1.5f), false},
+      {"refraction_r1_inside_1.3", refraction(1.0f, 1.0f / 1.3f), false},
       {"oren_nayar_0.5", simple(LobeType::OrenNayar, Color(1.0f), 0.5f), false},
       {"oren_nayar_1", simple(LobeType::OrenNayar, Color(1.0f), 1.0f), false},
       {"oren_nayar_0", simple(LobeType::OrenNayar, Color(1.0f), 0.0f), true},
