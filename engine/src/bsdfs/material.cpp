@@ -197,6 +197,12 @@ Material Material::from_params(Params &p, const std::string &name) {
     if (type == n) m.type = t;
   Parser{m}.shader(p, type, {});
   p.check_all_used();
+  for (const Closure &c : m.closures) {
+    if (c.type == MaterialType::Transparent) m.transparent = true;
+    if (c.type == MaterialType::Principled &&
+        (!m.graph.is_constant(c.in[kAlpha]) || m.graph.node(c.in[kAlpha]).value.x < 1.0f))
+      m.transparent = true;
+  }
   for (std::string &w : m.warnings)
     if (w.rfind("material", 0) != 0 && w.rfind("image", 0) != 0) w = "material '" + name + "': " + w;
   for (std::string &w : m.warnings)
@@ -269,6 +275,22 @@ Lobe dielectric_lobe(float roughness, float ior, Color color) {
 float sample_weight(Color c) { return std::max(luminance(c), 1e-3f); }
 
 }  // namespace
+
+Color Material::shadow_transmission(const ShadingPoint &sp) const {
+  Color t(0.0f);
+  for (const Closure &c : closures) {
+    if (c.type != MaterialType::Transparent && c.type != MaterialType::Principled) continue;
+    float w = 1;
+    for (const Closure::Factor &f : c.weight) {
+      float v = clampf(graph.eval_float(f.node, sp), 0.0f, 1.0f);
+      w *= f.invert ? 1 - v : v;
+    }
+    if (!(w > 0)) continue;
+    if (c.type == MaterialType::Transparent) t += vmax(graph.eval(c.in[kBaseColor], sp), Color(0.0f)) * w;
+    else t += Color(w * (1.0f - clampf(graph.eval_float(c.in[kAlpha], sp), 0.0f, 1.0f)));
+  }
+  return vmin(t, Color(1.0f));
+}
 
 Bsdf Material::make_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const {
   ShadingPoint sp;

@@ -49,6 +49,7 @@ struct Material {
   std::vector<Closure> closures;
   TextureGraph graph;
   std::vector<std::string> warnings;  // for Scene::warn (missing images, approximations)
+  bool transparent = false;  // may let shadow rays through (Transparent BSDF, Principled alpha)
 
   static Material from_params(Params &p, const std::string &name);
   // The magenta stand-in Blender shows for a material it cannot use.
@@ -58,6 +59,8 @@ struct Material {
   const char *type_name() const;
   // Bsdf at a surface point (textures, normal maps, bump, named attributes).
   Bsdf make_bsdf(const ShadingPoint &sp, Vec3 wo) const;
+  // What passes straight through at sp (the Transparent lobes' weight): for shadow rays.
+  Color shadow_transmission(const ShadingPoint &sp) const;
   // Without surface information (textures see uv = 0): for callers that have none.
   Bsdf make_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const;
 };

@@ -296,6 +296,8 @@ void Scene::commit() {
     bounding_radius_ = std::max(length(hi - lo) * 0.5f, 1e-6f);
   }
   build_lights();
+  has_transparency_ = false;
+  for (const Material &m : materials_) has_transparency_ = has_transparency_ || m.transparent;
   find_camera_media();
   dirty_ = false;
 }

@@ -73,6 +73,8 @@ class Scene {
   // that rays and shadow rays pass straight through.
   bool is_boundary_only(uint32_t material) const { return material_boundary_[material] != 0; }
   const std::vector<int> &camera_media() const { return camera_media_; }  // innermost last
+  // Some material lets shadow rays through (Transparent BSDF, Principled alpha).
+  bool has_transparency() const { return has_transparency_; }
   const std::vector<Light> &lights() const { return lights_; }
   // The light an emissive triangle is, for MIS when a path hits it.
   uint32_t triangle_light(uint32_t instance, uint32_t prim) const {
@@ -109,6 +111,7 @@ class Scene {
   std::vector<std::string> user_light_names_;
   Color world_radiance_{0.05f};
   std::shared_ptr<EnvironmentMap> environment_;  // world HDRI, or null
+  bool has_transparency_ = false;
   Camera camera_;
   bool has_camera_ = false;
   bool dirty_ = true;

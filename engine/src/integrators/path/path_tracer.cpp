@@ -1,4 +1,5 @@
 #include "integrators/path/path_tracer.h"
+#include "bsdfs/transparency.h"
 #include "core/ray_offset.h"
 #include "core/sampling.h"
 #include "media/medium_stack.h"
@@ -34,7 +35,12 @@ static Color sample_direct_light(const Scene &scene, Vec3 p, Vec3 ng, const Scat
     Vec3 o = spawn_origin(p, ng, ls.wi);
     float tmax = std::isinf(ls.dist) ? kInf : shadow_tmax(length(ls.p - o));
     ++stats.rays;
-    if (scene.occluded(o, ls.wi, tmax)) return Color(0.0f);
+    if (scene.occluded(o, ls.wi, tmax)) {
+      // Transparent shadows (alpha, Transparent BSDF): look through what blocked the ray.
+      if (!scene.has_transparency()) return Color(0.0f);
+      tr = transparent_shadow(scene, o, ls.wi, tmax, stats.rays);
+      if (is_black(tr)) return Color(0.0f);
+    }
   }
   float light_pdf = pmf * ls.pdf;
   float weight = light.is_delta() ? 1.0f : power_heuristic(light_pdf, scatter_pdf);

@@ -1,0 +1,15 @@
+// Transparent shadows: shadow rays pass through surfaces whose material is partly
+// transparent (Transparent BSDF, Principled alpha), tinted by the transparent weight,
+// as Cycles' transparent shadows do. Opaque surfaces block as before.
+#pragma once
+#include "scene/scene.h"
+
+namespace rdv {
+
+// Transmittance along o + t d, t < tmax (o already offset off its surface). Returns
+// black at the first opaque surface. At most max_layers transparent surfaces are
+// crossed (Cycles' transparent max bounces); beyond that the ray counts as blocked.
+// rays is incremented per traced ray.
+Color transparent_shadow(const Scene &scene, Vec3 o, Vec3 d, float tmax, uint64_t &rays, int max_layers = 16);
+
+}  // namespace rdv
