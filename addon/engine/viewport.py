@@ -39,8 +39,10 @@ from ..export.settings import INTEGRATORS
 from ..utils import Messages, normalize_frame, is_finite_matrix, determinant3
 from ..utils.images import image_average
 
-# (resolution divisor, samples): None = the viewport samples setting.
+# (resolution divisor, samples): None = the viewport samples setting.  The first divisor
+# grows on big regions so the first pass stays around FIRST_STAGE_PIXELS pixels.
 STAGES = ((4, 1), (2, 1), (1, None))
+FIRST_STAGE_PIXELS = 16000
 MIN_REDUCED_PIXELS = 64 * 64   # below this many full-resolution pixels, skip the reduced stages
 FIRST_FRAME_WAIT = 0.25        # s: how long view_draw waits for a restart's first pass
 POLL_INTERVAL = 0.025          # s: timer polling the sessions
@@ -117,6 +119,7 @@ class ViewportExporter(SceneExporter):
         self.current_key = None
         self.current_name = None
         self.replace_mesh = None
+        self.edits = 0         # in-place edits applied (a selection change applies none)
         super().__init__(depsgraph, _Sink(rscene, self), image_average=image_average, messages=messages,
                          is_viewport=True)
 
@@ -166,6 +169,7 @@ class ViewportExporter(SceneExporter):
                         return False
                     rscene.set_instance_transform(rec.engine_id, m16)
                     rec.m16 = m16
+                    self.edits += 1
                     stats["transform_updates"] += 1
             else:
                 if not is_finite_matrix(m16):
@@ -176,6 +180,7 @@ class ViewportExporter(SceneExporter):
                 if params != rec.params:
                     rscene.set_light(rec.engine_id, params)
                     rec.params = params
+                    self.edits += 1
                     stats["light_updates"] += 1
         return seen == len(self.visited)
 
@@ -190,6 +195,7 @@ class ViewportExporter(SceneExporter):
             finally:
                 self.replace_mesh = None
             stats["mesh_exports"] += 1
+            self.edits += 1
         return True
 
     def update_material(self, material):
@@ -206,6 +212,7 @@ class ViewportExporter(SceneExporter):
         if warning:
             self.warn(warning)
         self.sink.rscene.set_material(mid, params)
+        self.edits += 1
         stats["material_updates"] += 1
         return True
 
@@ -308,8 +315,9 @@ class ViewportRenderer:
                 instances = True
         if not (geometry or materials or world or instances):
             return False
-        self._stop()
+        self._stop()  # the engine refuses edits while a session exists
         exp = self.exporter
+        edits = exp.edits
         exp.depsgraph = depsgraph
         exp.scene = depsgraph.scene
         try:
@@ -325,10 +333,12 @@ class ViewportRenderer:
             if world:
                 exp.export_world()
                 stats["world_updates"] += 1
+                exp.edits += 1
         except EngineError as exc:  # e.g. a parameter the in-place call refuses: start over
             print("Rendezvous viewport: %s; re-exporting the scene" % exc)
             self.export(depsgraph)
-        return True
+            return True
+        return exp.edits != edits
 
     # ---- sessions -----------------------------------------------------------------------------
     def _stop(self):
@@ -362,6 +372,8 @@ class ViewportRenderer:
     def _start_stage(self):
         div, samples = STAGES[self.stage]
         w, h = self.size
+        if self.stage == 0:
+            div = max(div, int((w * h / FIRST_STAGE_PIXELS) ** 0.5 + 0.999))
         sw, sh = max(1, (w + div - 1) // div), max(1, (h + div - 1) // div)
         st = self.settings
         settings = {"width": sw, "height": sh, "samples": samples or st["samples"], "integrator": st["integrator"],
@@ -406,9 +418,9 @@ class ViewportRenderer:
 
     def _stats_text(self, p):
         label = {"path": "Path Tracing", "bdpt": "Bidirectional"}.get(self.settings["integrator"], "?")
-        div = STAGES[self.stage][0]
-        if div > 1:
-            return "Rendezvous | %s | Preview 1/%d resolution" % (label, div)
+        if STAGES[self.stage][0] > 1:
+            w = self.session_size[0]
+            return "Rendezvous | %s | Preview 1/%d resolution" % (label, max(1, round(self.size[0] / max(w, 1))))
         return "Rendezvous | %s | Sample %d/%d" % (label, min(p.samples_done, self.session_samples),
                                                   self.session_samples)
 
@@ -502,7 +514,8 @@ def view_update(engine, context, depsgraph):
             if settings != r.settings:
                 r.settings = settings
                 changed = True
-            if changed and r.camera is not None:
+            # No real edit (e.g. a selection change) on an unfinished render: resume it too.
+            if (changed or (r.session is None and not r.converged)) and r.camera is not None:
                 r.restart("edit")
                 r.wait_first_frame(FIRST_FRAME_WAIT)
     except Exception as exc:
