@@ -85,3 +85,108 @@ TEST(MediaRender, ExtremesStayFinite) {
         EXPECT_EQ(img.progress.samples_dropped, 0u) << "density " << density << " g " << g << " albedo " << albedo;
       }
 }
+
+// ---- BDPT with media against path tracing -----------------------------------------
+// K = 8 renders per integrator with independent seeds, 8x8-pixel blocks compared with
+// Welch's t-test; false-alarm rate 1% over all blocks of these scenes (Sidak).
+#include <fstream>
+#include <sstream>
+#include "statistics.h"
+
+namespace {
+
+json media_scene(const std::string &name) {
+  std::ifstream f(source_path("scenes/" + name));
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return json::parse(ss.str());
+}
+
+// Blocks of 16x16 pixels: in-scattering near a lamp is heavy-tailed, and larger blocks
+// keep the block means close enough to normal for the t-test.
+constexpr int kMediaScenes = 6;
+const double kMediaAlpha = 1.0 - std::pow(1.0 - 0.01, 1.0 / (kMediaScenes * 4));
+
+void expect_bdpt_matches_path(const json &scene, const std::string &what, int spp_path, int spp_bdpt) {
+  auto runs = [&](const char *integrator, int spp, uint32_t seed0) {
+    std::vector<std::vector<double>> out;
+    for (int k = 0; k < 8; ++k) {
+      json s = {{"width", 32}, {"height", 32}, {"integrator", integrator}, {"samples", spp}, {"seed", seed0 + k}, {"max_bounces", 8}};
+      Image img = render_json(scene.dump(), s.dump());
+      EXPECT_TRUE(img.all_finite()) << what;
+      EXPECT_EQ(img.progress.samples_dropped, 0u) << what;
+      std::vector<double> v(size_t(img.width) * img.height);
+      for (size_t i = 0; i < v.size(); ++i) v[i] = double(img.rgba[4 * i]) + img.rgba[4 * i + 1] + img.rgba[4 * i + 2];
+      out.push_back(v);
+    }
+    return out;
+  };
+  auto pt = runs("path", spp_path, 1);
+  auto bd = runs("bdpt", spp_bdpt, 2001);
+  BlockComparison c = compare_blocks(bd, pt, 32, 32, 16, kMediaAlpha);
+  EXPECT_EQ(c.failed, 0) << what << ": " << c.detail;
+  std::printf("[ bdpt vs path ] %-16s %s\n", what.c_str(), c.detail.substr(0, 110).c_str());
+}
+
+}  // namespace
+
+// Fog box lit by a spot with an occluder.
+TEST(MediaBdptVsPath, FogLitBySpot) {
+  json scene = media_scene("fog_spot.json");
+  scene["lights"][0]["radius"] = 0.0;  // a delta spot: next-event estimation serves both integrators
+  expect_bdpt_matches_path(scene, "fog + spot", 256, 32);
+}
+
+// The same with the camera standing inside the fog.
+TEST(MediaBdptVsPath, CameraInsideFog) {
+  json scene = media_scene("fog_spot.json");
+  scene["lights"][0]["radius"] = 0.0;
+  scene["camera"]["transform"] = {{"look_at", {{"from", {0, -3, 1.6}}, {"to", {0, 0, 1.2}}}}};
+  expect_bdpt_matches_path(scene, "camera in fog", 256, 32);
+}
+
+// A glass ball in world fog: the volume caustic.
+TEST(MediaBdptVsPath, GlassBallInFog) {
+  json scene = media_scene("volume_caustic.json");
+  scene["lights"][0]["radius"] = 0.4;
+  expect_bdpt_matches_path(scene, "volume caustic", 256, 32);
+}
+
+// A chromatic medium (different extinction per channel) with backward scattering.
+TEST(MediaBdptVsPath, ChromaticMedium) {
+  json scene = media_scene("fog_spot.json");
+  scene["lights"][0]["radius"] = 0.0;
+  scene["materials"][3]["volume"] = {{"sigma_a", {0.02, 0.1, 0.3}}, {"sigma_s", {0.4, 0.2, 0.05}}, {"anisotropy", -0.4}};
+  expect_bdpt_matches_path(scene, "chromatic", 128, 32);
+}
+
+// An emissive volume (a glowing ball of smoke) in fog, lighting the floor.
+TEST(MediaBdptVsPath, EmissiveVolume) {
+  json scene = media_scene("fog_spot.json");
+  scene["lights"] = json::array();
+  scene["materials"].push_back({{"name", "glow"}, {"type", "volume"},
+                                {"volume", {{"density", 2.0}, {"color", 0.5}, {"emission_color", {1.0, 0.5, 0.2}}, {"emission_strength", 3.0}}}});
+  scene["meshes"][2]["materials"] = {"glow"};
+  expect_bdpt_matches_path(scene, "emissive volume", 64, 32);
+}
+
+// Nested media: smoke inside a glass ball inside the fog.
+TEST(MediaBdptVsPath, SmokeInGlassInFog) {
+  json scene = media_scene("volume_caustic.json");
+  scene["lights"][0]["radius"] = 0.4;
+  scene["materials"][0]["volume"] = {{"density", 1.5}, {"color", 0.8}, {"anisotropy", 0.2}};
+  expect_bdpt_matches_path(scene, "smoke in glass", 256, 32);
+}
+
+TEST(MediaBdpt, VolumetricFurnaceInsideEnclosure) {
+  const double Le = 0.6;
+  json j = {{"camera", {{"focal_length", 18}, {"transform", {{"look_at", {{"from", {0.1, -0.2, 0.05}}, {"to", {1, 0.3, 0.2}}}}}}}},
+            {"world", {{"color", {0, 0, 0}}}},
+            {"materials", {{{"name", "shell"}, {"type", "diffuse"}, {"color", {0, 0, 0}}, {"emission", {Le, Le, Le}},
+                            {"volume", {{"sigma_a", {0.3, 0.9, 2.0}}, {"sigma_s", {1.5, 0.4, 0.2}}, {"anisotropy", 0.6},
+                                        {"emission", {0.3 * Le, 0.9 * Le, 2.0 * Le}}}}}}},
+            {"meshes", {{{"name", "sphere"}, {"shape", {{"type", "sphere"}, {"radius", 1}, {"segments", 24}, {"smooth", false}}},
+                         {"materials", {"shell"}}}}}};
+  expect_channels(render_json(j.dump(), R"({"integrator":"bdpt","width":12,"height":12,"samples":64,"max_bounces":1000})"),
+                  {Le, Le, Le}, "volumetric furnace, bdpt");
+}

@@ -7,9 +7,6 @@ namespace rdv {
 std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, const Scene &scene) {
   if (settings.integrator == "path") return std::make_unique<PathTracer>(scene, settings.max_bounces);
   if (settings.integrator == "bdpt") {
-    if (scene.has_media())
-      fail("render settings: the bdpt integrator does not render participating media yet; use 'path' for this scene",
-           RDV_ERROR_INVALID_ARGUMENT);
     bdpt::BdptSettings b;
     b.max_bounces = settings.max_bounces;
     b.strategy_s = settings.strategy_s;

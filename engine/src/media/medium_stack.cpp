@@ -3,17 +3,17 @@
 
 namespace rdv {
 
-MediumStack MediumStack::for_camera(const Scene &scene) {
+MediumStack MediumStack::from(const std::vector<int> &media) {
   MediumStack s;
-  for (int m : scene.camera_media())
+  for (int m : media)
     if (s.n_ < int(s.media_.size())) s.media_[s.n_++] = int16_t(m);
   return s;
 }
 
-void MediumStack::cross(const Scene &scene, const SurfaceHit &hit, Vec3 d) {
-  int m = scene.interior_medium(hit.material);
+void MediumStack::cross(const Scene &scene, uint32_t material, Vec3 ng, Vec3 d) {
+  int m = scene.interior_medium(material);
   if (m < 0) return;
-  if (dot(d, hit.ng) < 0) {  // entering (the geometric normal points out of a closed mesh)
+  if (dot(d, ng) < 0) {  // entering (the geometric normal points out of a closed mesh)
     if (n_ < int(media_.size())) media_[n_++] = int16_t(m);
   } else {
     // Leaving: remove the innermost entry of this medium (media may overlap imperfectly).

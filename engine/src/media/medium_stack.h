@@ -11,10 +11,12 @@ struct RayStats;
 
 class MediumStack {
  public:
-  static MediumStack for_camera(const Scene &scene);
+  static MediumStack for_camera(const Scene &scene) { return from(scene.camera_media()); }
+  static MediumStack from(const std::vector<int> &outermost_first);
   int current(const Scene &scene) const { return n_ > 0 ? media_[n_ - 1] : scene.world_medium(); }
   // The path crosses the surface of `hit` travelling along d.
-  void cross(const Scene &scene, const SurfaceHit &hit, Vec3 d);
+  void cross(const Scene &scene, const SurfaceHit &hit, Vec3 d) { cross(scene, hit.material, hit.ng, d); }
+  void cross(const Scene &scene, uint32_t material, Vec3 ng, Vec3 d);
 
  private:
   std::array<int16_t, 8> media_{};

@@ -302,13 +302,16 @@ void Scene::commit() {
   dirty_ = false;
 }
 
-// Which media the camera starts in: walk a ray out of the scene and note the medium
-// boundaries it leaves without having entered them (innermost first).
+// Which media the camera starts in.
 void Scene::find_camera_media() {
   camera_media_.clear();
   if (media_.empty()) return;
+  camera_media_ = media_along(camera_.position(), normalize(Vec3(0.3141f, 0.2718f, 0.9101f)));
+}
+
+std::vector<int> Scene::media_along(Vec3 o, Vec3 d) const {
   std::vector<int> exited, entered;
-  Ray ray{camera_.position(), normalize(Vec3(0.3141f, 0.2718f, 0.9101f)), kInf};
+  Ray ray{o, d, kInf};
   for (int guard = 0; guard < 256; ++guard) {
     SurfaceHit hit;
     if (!intersect(ray, hit)) break;
@@ -320,7 +323,7 @@ void Scene::find_camera_media() {
     }
     ray.o = spawn_origin(hit.p, hit.ng, ray.d);
   }
-  camera_media_.assign(exited.rbegin(), exited.rend());  // outermost first, innermost last
+  return {exited.rbegin(), exited.rend()};  // outermost first, innermost last
 }
 
 void Scene::build_lights() {

@@ -73,6 +73,9 @@ class Scene {
   // that rays and shadow rays pass straight through.
   bool is_boundary_only(uint32_t material) const { return material_boundary_[material] != 0; }
   const std::vector<int> &camera_media() const { return camera_media_; }  // innermost last
+  // The media a point is in, found by walking a ray from o along d out of the scene
+  // (the boundaries it leaves without having entered); outermost first.
+  std::vector<int> media_along(Vec3 o, Vec3 d) const;
   // Some material lets shadow rays through (Transparent BSDF, Principled alpha).
   bool has_transparency() const { return has_transparency_; }
   const std::vector<Light> &lights() const { return lights_; }

@@ -4,12 +4,21 @@ namespace rdv::bdpt {
 
 Color Bdpt::Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
                std::vector<Splat> &splats) const {
+  // Decided once per sample: a scene without media runs no medium code.
+  return scene_.has_media() ? li<true>(camera_ray, sampler, stats, first_hit, splats)
+                            : li<false>(camera_ray, sampler, stats, first_hit, splats);
+}
+
+template <bool kMedia>
+Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
+               std::vector<Splat> &splats) const {
   // Subpath storage reused across samples: no allocation in the sample loop.
   thread_local std::vector<PathVertex> camera_path, light_path;
   const size_t capacity = size_t(settings_.max_bounces) + 2;
   if (camera_path.size() < capacity) { camera_path.resize(capacity); light_path.resize(capacity); }
 
-  int nc = camera_subpath(camera_ray, sampler, stats, camera_path.data());
+  Color L(0.0f);  // starts with volume emission met by the camera path
+  int nc = camera_subpath<kMedia>(camera_ray, sampler, stats, camera_path.data(), &L);
   if (first_hit && nc > 1 && camera_path[1].type == VertexType::Surface) {
     const Camera &cam = scene_.camera();
     const PathVertex &v = camera_path[1];
@@ -18,9 +27,8 @@ Color Bdpt::Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
     first_hit->normal = dot(v.ns, v.wo) < 0 ? -v.ns : v.ns;
     first_hit->albedo = v.bsdf.albedo();
   }
-  int nl = light_subpath(sampler, stats, light_path.data());
+  int nl = light_subpath<kMedia>(sampler, stats, light_path.data());
 
-  Color L(0.0f);
   const bool one_strategy = settings_.strategy_s >= 0;
   for (int t = 1; t <= nc; ++t) {
     for (int s = 0; s <= nl; ++s) {
@@ -29,7 +37,7 @@ Color Bdpt::Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
       if (one_strategy && (s != settings_.strategy_s || t != settings_.strategy_t)) continue;
       Vec2 raster;
       float w = 1;
-      Color c = connect(light_path.data(), camera_path.data(), s, t, sampler, stats, &raster, &w);
+      Color c = connect<kMedia>(light_path.data(), camera_path.data(), s, t, sampler, stats, &raster, &w);
       if (one_strategy && settings_.strategy_unweighted && w > 0) c = c / w;
       if (!is_finite(c) || is_black(c)) continue;
       if (t == 1) splats.push_back({raster, c});

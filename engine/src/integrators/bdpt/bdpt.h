@@ -25,27 +25,42 @@ class Bdpt final : public Integrator {
   Color Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
            std::vector<Splat> &splats) const override;
 
-  // Subpath generation (subpaths.cpp). Return the number of vertices.
-  int camera_subpath(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, PathVertex *path) const;
+  // Each is compiled with and without participating media (kMedia): a scene without
+  // media runs no medium code.
+  // Subpath generation (subpaths.cpp). Return the number of vertices; camera subpaths
+  // add volume emission met on the way to *emitted (no other strategy samples it).
+  template <bool kMedia>
+  int camera_subpath(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, PathVertex *path,
+                     Color *emitted) const;
+  template <bool kMedia>
   int light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path) const;
   // One connection strategy (connect.cpp); raster receives the pixel for t == 1.
+  template <bool kMedia>
   Color connect(PathVertex *light_path, PathVertex *camera_path, int s, int t, Sampler &sampler, RayStats &stats,
                 Vec2 *raster, float *mis_weight_out) const;
 
  private:
+  template <bool kMedia>
+  Color li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
+           std::vector<Splat> &splats) const;
+  template <bool kMedia>
   int random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, float pdf, int max_vertices,
-                  TransportMode mode, PathVertex *path) const;
+                  TransportMode mode, PathVertex *path, Color *emitted) const;
   // Densities (mis.cpp).
   float pdf(const PathVertex &v, const PathVertex *prev, const PathVertex &next) const;
   float pdf_light(const PathVertex &light_vertex, const PathVertex &v) const;
   float pdf_light_origin(const PathVertex &light_vertex, const PathVertex &v) const;
   float infinite_light_density(Vec3 dir) const;
   float mis_weight(PathVertex *light_path, PathVertex *camera_path, PathVertex &sampled, int s, int t) const;
-  // Vertex helpers.
+  // Vertex helpers (connect.cpp).
   Color f(const PathVertex &v, const PathVertex &next, TransportMode mode) const;
   Color Le(const PathVertex &v, const PathVertex &toward) const;
-  float G(const PathVertex &a, const PathVertex &b, RayStats &stats) const;
-  bool visible(const PathVertex &a, const PathVertex &b, RayStats &stats) const;
+  // Geometry term with visibility (and transmittance through media).
+  template <bool kMedia>
+  Color G(const PathVertex &a, const PathVertex &b, RayStats &stats) const;
+  // Visibility (0 or 1) or, with media, transmittance from a to b.
+  template <bool kMedia>
+  Color transmittance(const PathVertex &a, const PathVertex &b, RayStats &stats) const;
 
   const Scene &scene_;
   BdptSettings settings_;

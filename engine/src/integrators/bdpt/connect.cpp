@@ -1,6 +1,7 @@
 // Connecting a light subpath prefix of s vertices to a camera subpath prefix of t
 // vertices (pbrt-v3's ConnectBDPT), with the vertex quantities the connection needs.
 #include "core/ray_offset.h"
+#include "media/medium_stack.h"
 #include "integrators/bdpt/bdpt.h"
 
 namespace rdv::bdpt {
@@ -10,8 +11,10 @@ static Vec3 direction_to(const PathVertex &from, const PathVertex &to) {
 }
 
 Color Bdpt::f(const PathVertex &v, const PathVertex &next, TransportMode mode) const {
+  Vec3 wi = direction_to(v, next);
+  if (v.type == VertexType::Medium) return Color(scene_.medium(v.medium).phase.eval(v.wo, wi));
   if (v.type != VertexType::Surface) return Color(0.0f);
-  return v.bsdf.f(v.wo, direction_to(v, next), mode);
+  return v.bsdf.f(v.wo, wi, mode);
 }
 
 // Radiance a light vertex (or an emissive surface) sends toward `toward`.
@@ -31,30 +34,38 @@ Color Bdpt::Le(const PathVertex &v, const PathVertex &toward) const {
   return scene_.material(v.material).emission;  // emissive surfaces glow on both sides
 }
 
-bool Bdpt::visible(const PathVertex &a, const PathVertex &b, RayStats &stats) const {
+template <bool kMedia>
+Color Bdpt::transmittance(const PathVertex &a, const PathVertex &b, RayStats &stats) const {
   Vec3 d = b.p - a.p;
   float dist = length(d);
-  if (!(dist > 0)) return false;
+  if (!(dist > 0)) return Color(0.0f);
   d = d / dist;
-  Vec3 o = a.on_surface() && a.type == VertexType::Surface ? spawn_origin(a.p, a.ng, d) : a.p;
-  // Stop short of b (it may lie on a surface in the BVH); shorten from b's side too.
-  Vec3 target = b.on_surface() && b.type == VertexType::Surface ? spawn_origin(b.p, b.ng, -d) : b.p;
-  float len = length(target - o);
-  ++stats.rays;
-  return !scene_.occluded(o, d, shadow_tmax(len));
+  Vec3 ng = a.type == VertexType::Surface ? a.ng : Vec3(0.0f);
+  // Stop short of b (it may lie on a surface in the BVH); from b's side too.
+  Vec3 target = b.type == VertexType::Surface ? spawn_origin(b.p, b.ng, -d) : b.p;
+  if constexpr (kMedia) {
+    Vec3 o = is_black(ng) ? a.p : spawn_origin(a.p, ng, d);
+    return medium_transmittance(scene_, o, Vec3(0.0f), d, length(target - o), a.media_toward(scene_, d), stats.rays);
+  } else {
+    Vec3 o = is_black(ng) ? a.p : spawn_origin(a.p, ng, d);
+    ++stats.rays;
+    return scene_.occluded(o, d, shadow_tmax(length(target - o))) ? Color(0.0f) : Color(1.0f);
+  }
 }
 
-float Bdpt::G(const PathVertex &a, const PathVertex &b, RayStats &stats) const {
+template <bool kMedia>
+Color Bdpt::G(const PathVertex &a, const PathVertex &b, RayStats &stats) const {
   Vec3 d = b.p - a.p;
   float d2 = length_squared(d);
-  if (!(d2 > 0)) return 0;
+  if (!(d2 > 0)) return Color(0.0f);
   float g = 1.0f / d2;
   d = d * std::sqrt(g);
   if (a.on_surface()) g *= absdot(a.ns, d);
   if (b.on_surface()) g *= absdot(b.ns, d);
-  return g > 0 && visible(a, b, stats) ? g : 0.0f;
+  return g > 0 ? transmittance<kMedia>(a, b, stats) * g : Color(0.0f);
 }
 
+template <bool kMedia>
 Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int t, Sampler &sampler,
                     RayStats &stats, Vec2 *raster, float *mis_weight_out) const {
   Color L(0.0f);
@@ -67,7 +78,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
   } else if (t == 1) {
     // Light tracing: connect the light subpath to a point on the lens.
     PathVertex &qs = light_path[s - 1];
-    if (!qs.connectible(scene_) || qs.type != VertexType::Surface) return L;
+    if (!qs.connectible(scene_) || (qs.type != VertexType::Surface && qs.type != VertexType::Medium)) return L;
     const Camera &camera = scene_.camera();
     Camera::ImportanceSample is;
     Vec2 u = sampler.get_2d();
@@ -77,8 +88,10 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     sampled.p = is.lens_point;
     sampled.ng = sampled.ns = camera.forward();
     sampled.beta = Color(is.We / is.pdf);
-    L = qs.beta * f(qs, sampled, TransportMode::Importance) * sampled.beta * absdot(is.wi, qs.ns);
-    if (!is_black(L) && !visible(qs, sampled, stats)) L = Color(0.0f);
+    if constexpr (kMedia) sampled.media = MediumStack::for_camera(scene_);
+    L = qs.beta * f(qs, sampled, TransportMode::Importance) * sampled.beta;
+    if (qs.on_surface()) L *= absdot(is.wi, qs.ns);
+    if (!is_black(L)) L *= transmittance<kMedia>(qs, sampled, stats);
     *raster = is.raster;
   } else if (s == 1) {
     // Next-event estimation: a fresh point on a light chosen by power.
@@ -104,22 +117,31 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
       if (light.type == LightType::Area || light.type == LightType::Triangle) sampled.ng = sampled.ns = light.axis;
     }
     sampled.pdf_fwd = pdf_light_origin(sampled, pt);
-    L = pt.beta * f(pt, sampled, TransportMode::Radiance) * sampled.beta * absdot(ls.wi, pt.ns);
+    L = pt.beta * f(pt, sampled, TransportMode::Radiance) * sampled.beta;
+    if (pt.on_surface()) L *= absdot(ls.wi, pt.ns);
     if (!is_black(L)) {
-      Vec3 o = spawn_origin(pt.p, pt.ng, ls.wi);
-      float tmax = std::isinf(ls.dist) ? kInf : shadow_tmax(length(ls.p - o));
-      ++stats.rays;
-      if (scene_.occluded(o, ls.wi, tmax)) L = Color(0.0f);
+      Vec3 ng = pt.type == VertexType::Surface ? pt.ng : Vec3(0.0f);
+      if constexpr (kMedia) {
+        L *= medium_transmittance(scene_, pt.p, ng, ls.wi, ls.dist, pt.media_toward(scene_, ls.wi), stats.rays);
+      } else {
+        Vec3 o = spawn_origin(pt.p, ng, ls.wi);
+        float tmax = std::isinf(ls.dist) ? kInf : shadow_tmax(length(ls.p - o));
+        ++stats.rays;
+        if (scene_.occluded(o, ls.wi, tmax)) L = Color(0.0f);
+      }
     }
   } else {
     PathVertex &qs = light_path[s - 1];
     if (!qs.connectible(scene_) || !pt.connectible(scene_)) return L;
     L = qs.beta * f(qs, pt, TransportMode::Importance) * f(pt, qs, TransportMode::Radiance) * pt.beta;
-    if (!is_black(L)) L *= G(qs, pt, stats);
+    if (!is_black(L)) L *= G<kMedia>(qs, pt, stats);
   }
   float w = is_black(L) ? 0.0f : mis_weight(light_path, camera_path, sampled, s, t);
   if (mis_weight_out) *mis_weight_out = w;
   return L * w;
 }
+
+template Color Bdpt::connect<false>(PathVertex *, PathVertex *, int, int, Sampler &, RayStats &, Vec2 *, float *) const;
+template Color Bdpt::connect<true>(PathVertex *, PathVertex *, int, int, Sampler &, RayStats &, Vec2 *, float *) const;
 
 }  // namespace rdv::bdpt

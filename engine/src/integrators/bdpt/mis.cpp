@@ -21,6 +21,9 @@ float Bdpt::pdf(const PathVertex &v, const PathVertex *prev, const PathVertex &n
   if (v.type == VertexType::Camera) {
     float pdf_pos;
     scene_.camera().importance_pdf(Ray{v.p, wn, kInf}, pdf_pos, p);
+  } else if (v.type == VertexType::Medium) {
+    Vec3 wp = prev ? (prev->infinite ? prev->dir : normalize(prev->p - v.p)) : v.wo;
+    p = scene_.medium(v.medium).phase.pdf(wp, wn);
   } else {
     Vec3 wp = prev ? (prev->infinite ? prev->dir : normalize(prev->p - v.p)) : v.wo;
     p = v.bsdf.pdf(wp, wn);

@@ -4,11 +4,12 @@
 // MIS, light tracing and, later, path-space mutations all work on these.
 #pragma once
 #include "bsdfs/bsdf.h"
+#include "media/medium_stack.h"
 #include "scene/scene.h"
 
 namespace rdv::bdpt {
 
-enum class VertexType : uint8_t { Camera, Light, Surface };
+enum class VertexType : uint8_t { Camera, Light, Surface, Medium };
 
 struct PathVertex {
   VertexType type = VertexType::Surface;
@@ -25,6 +26,16 @@ struct PathVertex {
   Color emitted{0.0f};  // radiance of an analytic lamp where a camera path hit it
   uint32_t material = 0;
   Bsdf bsdf;
+  int medium = -1;      // medium vertices: the medium that scattered (its phase function)
+  MediumStack media;    // the media the path was in when it reached this vertex
+
+  // The media a connection leaving this vertex along w starts in: surfaces that w
+  // goes through (transmission) hand over to the medium on the other side.
+  MediumStack media_toward(const Scene &scene, Vec3 w) const {
+    MediumStack s = media;
+    if (type == VertexType::Surface && dot(w, ng) * dot(-wo, ng) > 0) s.cross(scene, material, ng, w);
+    return s;
+  }
 
   bool on_surface() const { return ng.x != 0 || ng.y != 0 || ng.z != 0; }
   bool is_light() const { return type == VertexType::Light || (type == VertexType::Surface && light >= 0); }

@@ -11,6 +11,7 @@ bool PathVertex::connectible(const Scene &scene) const {
     case VertexType::Camera: return !delta;
     case VertexType::Light: return infinite || !light_is_delta_direction(scene.lights()[light]);
     case VertexType::Surface: return bsdf.has_lobes() && !bsdf.is_delta();
+    case VertexType::Medium: return true;
   }
   return false;
 }
@@ -25,11 +26,20 @@ float PathVertex::convert_density(float pdf, const PathVertex &next) const {
   return pdf * inv_d2;
 }
 
+template <bool kMedia>
 int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, float pdf_fwd, int max_vertices,
-                      TransportMode mode, PathVertex *path) const {
+                      TransportMode mode, PathVertex *path, Color *emitted) const {
   if (max_vertices <= 0) return 0;
   const float beta_start = std::max(max_component(beta), 1e-30f);
-  int n = 0;
+  MediumStack media = path[0].media;
+  int n = 0, boundary_crossings = 0;
+  auto russian_roulette = [&]() {
+    if (n < 3) return true;
+    float q = std::max(0.05f, 1.0f - max_component(beta) / beta_start);
+    if (sampler.get_1d() < q) return false;
+    beta *= 1.0f / (1.0f - q);
+    return true;
+  };
   while (true) {
     PathVertex &prev = path[n];
     PathVertex &v = path[n + 1];
@@ -37,11 +47,11 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     ++stats.rays;
     bool found = scene_.intersect(ray, hit);
     float tmax = found ? hit.t : ray.tmax;
+    int lamp = -1;
+    Color lamp_L;
     if (mode == TransportMode::Radiance) {
       // Lamps a camera path can run into (they are not in the BVH). Light paths pass
       // through them: lamps do not reflect.
-      int lamp = -1;
-      Color lamp_L;
       for (uint32_t li : scene_.hittable_lights()) {
         const Light &light = scene_.lights()[li];
         if (n == 0 && !light.visible_camera) continue;
@@ -49,19 +59,49 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
         Color Le;
         if (intersect_light(light, ray, tmax, t, Le)) { tmax = t; lamp = int(li); lamp_L = Le; }
       }
-      if (lamp >= 0) {
-        const Light &light = scene_.lights()[lamp];
-        v = PathVertex{};
-        v.type = VertexType::Light;
-        v.light = lamp;
-        v.p = ray.o + ray.d * tmax;
-        v.ng = v.ns = light.type == LightType::Area ? light.axis : Vec3(0.0f);
-        v.wo = -ray.d;
-        v.beta = beta;
-        v.emitted = lamp_L;
-        v.pdf_fwd = prev.convert_density(pdf_fwd, v);
-        return n + 1;
+    }
+    if constexpr (kMedia) {
+      int m = media.current(scene_);
+      if (m >= 0) {
+        const Medium &medium = scene_.medium(m);
+        Vec2 u = sampler.get_2d();
+        MediumSample ms = medium.sample_distance(tmax, u.x, u.y);
+        if (emitted && mode == TransportMode::Radiance) *emitted += beta * ms.emission;
+        beta *= ms.weight;
+        if (is_black(beta)) return n;
+        if (ms.scattered) {
+          v = PathVertex{};
+          v.type = VertexType::Medium;
+          v.p = ray.o + ray.d * ms.t;
+          v.wo = -ray.d;
+          v.beta = beta;
+          v.medium = m;
+          v.media = media;
+          v.pdf_fwd = prev.convert_density(pdf_fwd, v);
+          ++n;
+          if (n >= max_vertices) return n;
+          Vec3 wi = medium.phase.sample(v.wo, sampler.get_2d());
+          pdf_fwd = medium.phase.pdf(v.wo, wi);  // the phase function is symmetric
+          prev.pdf_rev = v.convert_density(pdf_fwd, prev);
+          ray = Ray{v.p, wi, kInf};
+          if (!russian_roulette()) return n;
+          continue;
+        }
       }
+    }
+    if (lamp >= 0) {
+      const Light &light = scene_.lights()[lamp];
+      v = PathVertex{};
+      v.type = VertexType::Light;
+      v.light = lamp;
+      v.p = ray.o + ray.d * tmax;
+      v.ng = v.ns = light.type == LightType::Area ? light.axis : Vec3(0.0f);
+      v.wo = -ray.d;
+      v.beta = beta;
+      v.emitted = lamp_L;
+      v.media = media;
+      v.pdf_fwd = prev.convert_density(pdf_fwd, v);
+      return n + 1;
     }
     if (!found) {
       if (mode == TransportMode::Radiance && !scene_.infinite_lights().empty()) {
@@ -76,6 +116,14 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       }
       return n;
     }
+    if constexpr (kMedia) {
+      if (scene_.is_boundary_only(hit.material)) {  // an index-matched boundary: no vertex
+        media.cross(scene_, hit, ray.d);
+        ray = Ray{spawn_origin(hit.p, hit.ng, ray.d), ray.d, kInf};
+        if (++boundary_crossings > 256) return n;
+        continue;
+      }
+    }
     const Material &material = scene_.material(hit.material);
     v = PathVertex{};
     v.type = VertexType::Surface;
@@ -85,7 +133,8 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     v.wo = -ray.d;
     v.beta = beta;
     v.material = hit.material;
-    v.bsdf = material.make_bsdf(hit.ng, hit.ns, v.wo);
+    v.media = media;
+    v.bsdf = material.make_bsdf(scene_.shading_point(hit), v.wo);
     if (material.emits()) v.light = int(scene_.triangle_light(hit.instance, hit.prim));
     v.pdf_fwd = prev.convert_density(pdf_fwd, v);
     ++n;
@@ -105,36 +154,38 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       pdf_rev = v.bsdf.pdf(bs.wi, v.wo);
     }
     prev.pdf_rev = v.convert_density(pdf_rev, prev);
+    if constexpr (kMedia) {
+      if (dot(bs.wi, hit.ng) * dot(ray.d, hit.ng) > 0) media.cross(scene_, hit, bs.wi);  // refracted through
+    }
     ray = Ray{spawn_origin(hit.p, hit.ng, bs.wi), bs.wi, kInf};
 
     // Russian roulette on the throughput relative to the subpath's start. The MIS
     // densities leave it out, as is usual: the weights still sum to one.
-    if (n >= 3) {
-      float q = std::max(0.05f, 1.0f - max_component(beta) / beta_start);
-      if (sampler.get_1d() < q) return n;
-      beta *= 1.0f / (1.0f - q);
-    }
-    if (is_black(beta)) return n;
+    if (!russian_roulette() || is_black(beta)) return n;
   }
 }
 
-int Bdpt::camera_subpath(const CameraRay &cr, Sampler &sampler, RayStats &stats, PathVertex *path) const {
+template <bool kMedia>
+int Bdpt::camera_subpath(const CameraRay &cr, Sampler &sampler, RayStats &stats, PathVertex *path,
+                         Color *emitted) const {
   const Camera &camera = scene_.camera();
   PathVertex &v = path[0];
   v = PathVertex{};
   v.type = VertexType::Camera;
   v.p = cr.lens_point;
   v.beta = Color(1.0f);
+  if constexpr (kMedia) v.media = MediumStack::for_camera(scene_);
   float pdf_pos = 0, pdf_dir = 0;
   camera.importance_pdf(Ray{cr.lens_point, cr.ray.d, kInf}, pdf_pos, pdf_dir);
   // Light paths cannot reach an orthographic camera, nor a ray leaving the image
   // (the pixel filter reaches 0.75 px past the border): no t = 1 strategy there.
   v.delta = pdf_dir == 0;
   if (pdf_dir == 0) pdf_dir = 1;
-  return 1 + random_walk(cr.ray, sampler, stats, Color(1.0f), pdf_dir, settings_.max_bounces + 1,
-                         TransportMode::Radiance, path);
+  return 1 + random_walk<kMedia>(cr.ray, sampler, stats, Color(1.0f), pdf_dir, settings_.max_bounces + 1,
+                                 TransportMode::Radiance, path, emitted);
 }
 
+template <bool kMedia>
 int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path) const {
   const Distribution1D &dist = scene_.light_distribution();
   float u_light = sampler.get_1d();
@@ -162,9 +213,14 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path) con
     v.dir = -es.ray.d;
     v.ng = v.ns = Vec3(0.0f);
   }
+  if constexpr (kMedia) {
+    // The media the lamp sits in (infinite lights shine from outside everything).
+    if (!v.infinite) v.media = MediumStack::from(scene_.media_along(ray.o, ray.d));
+  }
   float cos_emit = is_black(es.n) ? 1.0f : absdot(es.n, es.ray.d);
   Color beta = es.Le * (cos_emit / (pmf * es.pdf_pos * es.pdf_dir));
-  int n = random_walk(ray, sampler, stats, beta, es.pdf_dir, settings_.max_bounces, TransportMode::Importance, path);
+  int n = random_walk<kMedia>(ray, sampler, stats, beta, es.pdf_dir, settings_.max_bounces, TransportMode::Importance,
+                              path, nullptr);
   if (v.infinite) {
     // Infinite lights: the first hit's density is the planar one of the emission disk,
     // and the light vertex's own density is directional.
@@ -176,5 +232,10 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path) con
   }
   return n + 1;
 }
+
+template int Bdpt::camera_subpath<false>(const CameraRay &, Sampler &, RayStats &, PathVertex *, Color *) const;
+template int Bdpt::camera_subpath<true>(const CameraRay &, Sampler &, RayStats &, PathVertex *, Color *) const;
+template int Bdpt::light_subpath<false>(Sampler &, RayStats &, PathVertex *) const;
+template int Bdpt::light_subpath<true>(Sampler &, RayStats &, PathVertex *) const;
 
 }  // namespace rdv::bdpt
