@@ -190,3 +190,25 @@ TEST(MediaBdpt, VolumetricFurnaceInsideEnclosure) {
   expect_channels(render_json(j.dump(), R"({"integrator":"bdpt","width":12,"height":12,"samples":64,"max_bounces":1000})"),
                   {Le, Le, Le}, "volumetric furnace, bdpt");
 }
+
+// Replacing a material in place (the viewport's edit path) replaces its medium too.
+TEST(MediaRender, SetMaterialReplacesTheMedium) {
+  rdv_scene *scene = nullptr;
+  rdv_scene_create(&scene);
+  auto loaded = rdv_tools::load_scene_json(R"({
+    "camera": {"type": "orthographic", "ortho_scale": 0.5, "transform": {"look_at": {"from": [0, -5, 0], "to": [0, 0, 0]}}},
+    "world": {"color": [1, 1, 1]},
+    "materials": [{"name": "smoke", "type": "volume", "volume": {"sigma_a": 1.0, "sigma_s": 0}}],
+    "meshes": [{"name": "slab", "shape": {"type": "box", "size": [3, 1, 3]}, "materials": ["smoke"]}]})", ".", scene);
+  ASSERT_TRUE(loaded.problems.empty());
+  ASSERT_EQ(RDV_OK, rdv_scene_set_material(scene, 0, R"({"type": "volume", "volume": {"sigma_a": 2.0, "sigma_s": 0}})"));
+  rdv_session *session = nullptr;
+  ASSERT_EQ(RDV_OK, rdv_session_create(scene, R"({"width":4,"height":4,"samples":4})", &session));
+  rdv_session_start(session);
+  rdv_session_wait(session);
+  float px[4 * 4 * 4];
+  rdv_session_read_film(session, RDV_PASS_COMBINED, 0, 0, 4, 4, 1, px);
+  EXPECT_NEAR(px[0], std::exp(-2.0), 1e-4);  // the new absorption, not exp(-1)
+  rdv_session_destroy(session);
+  rdv_scene_destroy(scene);
+}

@@ -15,28 +15,34 @@ void Scene::warn(const std::string &message) {
   messages_ += '\n';
 }
 
-uint32_t Scene::add_material(const std::string &name, Params &params) {
-  // A "volume" object fills the inside of the meshes that use this material.
-  int interior = -1;
-  Medium medium;
+// A material description may carry a "volume" (the medium inside meshes using it), and
+// "type": "volume" means no surface at all: an index-matched medium boundary.
+Scene::ParsedMaterial Scene::parse_material(const std::string &name, Params &params) {
+  ParsedMaterial pm;
   if (const nlohmann::json *volume = params.get_json("volume")) {
     Params v(volume->dump(), params.what() + " volume");
-    medium = Medium::from_params(v, name);
+    pm.medium = Medium::from_params(v, name);
     v.check_all_used();
-    interior = int(media_.size());
+    pm.has_medium = true;
   }
-  bool boundary_only = params.has("type") && params.get_string("type", "") == "volume";
-  if (boundary_only) {
+  pm.boundary_only = params.has("type") && params.get_string("type", "") == "volume";
+  if (pm.boundary_only) {
     params.check_all_used();
-    if (interior < 0) fail(params.what() + ": type 'volume' needs a 'volume' object");
-    materials_.push_back(Material::error_material(name));  // never shaded: rays pass through
+    if (!pm.has_medium) fail(params.what() + ": type 'volume' needs a 'volume' object");
+    pm.material = Material::error_material(name);  // never shaded: rays pass through
   } else {
-    materials_.push_back(Material::from_params(params, name));
-    for (const std::string &w : materials_.back().warnings) warn(w);
+    pm.material = Material::from_params(params, name);
   }
-  if (interior >= 0) media_.push_back(medium);
-  material_interior_.push_back(interior);
-  material_boundary_.push_back(boundary_only ? 1 : 0);
+  return pm;
+}
+
+uint32_t Scene::add_material(const std::string &name, Params &params) {
+  ParsedMaterial pm = parse_material(name, params);
+  for (const std::string &w : pm.material.warnings) warn(w);
+  materials_.push_back(std::move(pm.material));
+  material_interior_.push_back(pm.has_medium ? int(media_.size()) : -1);
+  if (pm.has_medium) media_.push_back(pm.medium);
+  material_boundary_.push_back(pm.boundary_only ? 1 : 0);
   dirty_ = true;
   return static_cast<uint32_t>(materials_.size() - 1);
 }
@@ -51,9 +57,18 @@ uint32_t Scene::add_error_material(const std::string &name) {
 void Scene::set_material(uint32_t id, Params &params) {
   if (id >= materials_.size())
     fail("material " + std::to_string(id) + ": no such material (" + std::to_string(materials_.size()) + " materials)");
-  Material m = Material::from_params(params, materials_[id].name);
-  for (const std::string &w : m.warnings) warn(w);
-  materials_[id] = std::move(m);
+  ParsedMaterial pm = parse_material(materials_[id].name, params);
+  for (const std::string &w : pm.material.warnings) warn(w);
+  materials_[id] = std::move(pm.material);
+  material_boundary_[id] = pm.boundary_only ? 1 : 0;
+  if (!pm.has_medium) {
+    material_interior_[id] = -1;  // its old medium stays in the list, unused
+  } else if (material_interior_[id] >= 0) {
+    media_[material_interior_[id]] = pm.medium;
+  } else {
+    material_interior_[id] = int(media_.size());
+    media_.push_back(pm.medium);
+  }
   dirty_ = true;  // emission may have changed: rebuild the light tables
 }
 

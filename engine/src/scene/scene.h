@@ -102,6 +102,12 @@ class Scene {
                  const float *uvs, const uint32_t *indices, uint32_t num_triangles, const uint32_t *material_ids,
                  uint32_t default_material);
   std::vector<Material> materials_;
+  struct ParsedMaterial {
+    Material material;
+    Medium medium;
+    bool has_medium = false, boundary_only = false;
+  };
+  ParsedMaterial parse_material(const std::string &name, Params &params);
   std::vector<int> material_interior_;     // medium inside meshes of this material, or -1
   std::vector<uint8_t> material_boundary_;  // 1: no surface, only a medium boundary
   std::vector<Medium> media_;
