@@ -56,6 +56,7 @@ inline Vec3 normalize(Vec3 v) { return v / length(v); }
 inline Vec3 vmin(Vec3 a, Vec3 b) { return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)}; }
 inline Vec3 vmax(Vec3 a, Vec3 b) { return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)}; }
 inline float max_component(Vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
+inline float min_component(Vec3 v) { return std::min(v.x, std::min(v.y, v.z)); }
 inline float average(Color c) { return (c.x + c.y + c.z) * (1.0f / 3.0f); }
 // Rec.709 luminance.
 inline float luminance(Color c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }

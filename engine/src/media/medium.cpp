@@ -36,6 +36,18 @@ Medium Medium::from_params(Params &p, const std::string &name) {
 
 MediumSample Medium::sample_distance(float tmax, float u_channel, float u_distance) const {
   MediumSample s;
+  if (max_component(sigma_s) == 0) {
+    // Nothing scatters: attenuate exactly (zero variance) and integrate emission in
+    // closed form, epsilon (1 - Tr) / sigma_t per channel (epsilon t where sigma_t = 0).
+    s.scattered = false;
+    s.t = tmax;
+    s.weight = transmittance(tmax);
+    if (is_emissive())
+      for (int c = 0; c < 3; ++c)
+        s.emission[c] = sigma_t[c] > 0 ? emission[c] * (1.0f - s.weight[c]) / sigma_t[c]
+                                       : (std::isinf(tmax) ? (emission[c] > 0 ? kInf : 0.0f) : emission[c] * tmax);
+    return s;
+  }
   int c = std::min(int(u_channel * 3.0f), 2);
   float st = sigma_t[c];
   float t = st > 0 ? -std::log(1.0f - u_distance) / st : kInf;
@@ -57,8 +69,6 @@ MediumSample Medium::sample_distance(float tmax, float u_channel, float u_distan
   s.scattered = false;
   s.t = tmax;
   s.weight = p_surface > 0 ? tr / p_surface : Color(0.0f);
-  // A purely emissive medium (no extinction) never collides: integrate exactly.
-  if (is_emissive() && max_component(sigma_t) == 0 && std::isfinite(tmax)) s.emission = emission * tmax;
   return s;
 }
 

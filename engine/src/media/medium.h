@@ -35,7 +35,8 @@ struct Medium {
     if (std::isinf(distance)) return {sigma_t.x > 0 ? 0.0f : 1.0f, sigma_t.y > 0 ? 0.0f : 1.0f, sigma_t.z > 0 ? 0.0f : 1.0f};
     return {std::exp(-sigma_t.x * distance), std::exp(-sigma_t.y * distance), std::exp(-sigma_t.z * distance)};
   }
-  // u_channel picks the channel, u_distance the distance. tmax may be infinite.
+  // u_channel picks the channel, u_distance the distance. tmax may be infinite. A
+  // medium that does not scatter is attenuated deterministically instead.
   MediumSample sample_distance(float tmax, float u_channel, float u_distance) const;
   bool is_emissive() const { return !is_black(emission); }
 };

@@ -250,6 +250,8 @@ void Scene::set_world(Params &params) {
     Params v(volume->dump(), params.what() + " volume");
     Medium m = Medium::from_params(v, "world");
     v.check_all_used();
+    if (m.is_emissive() && min_component(m.sigma_t) == 0)
+      fail(params.what() + ": an emitting world volume needs density in every channel (it would glow infinitely)");
     if (world_medium_ >= 0) media_[world_medium_] = m;
     else { world_medium_ = int(media_.size()); media_.push_back(m); }
   }
