@@ -92,7 +92,7 @@ TEST(BsdfEnergy, AlbedoAtMostOne) {
         sum2 += v * v;
       }
       double mean = sum / n, se = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n);
-      EXPECT_LE(mean, 1.0 + 4 * se + 1e-4) << c.name << " albedo " << mean;
+      if (!c.exceeds_one_by_design) EXPECT_LE(mean, 1.0 + 4 * se + 1e-4) << c.name << " albedo " << mean;
       if (c.energy_conserving) EXPECT_NEAR(mean, 1.0, 0.01) << c.name;
     }
   }

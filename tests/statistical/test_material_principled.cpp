@@ -13,20 +13,23 @@ using namespace rdv;
 
 namespace {
 
-// lossless: keeps all energy. additive: Blender 3.4's Principled BSDF adds its layers
-// without albedo scaling (Cycles 3.4 does the same), so at grazing incidence sheen +
-// specular + clearcoat over a bright base can exceed 1; those are checked at
-// wo.z >= 0.5 only.
+// lossless: keeps all energy (white furnace within 1.5%; 4% at 87 degrees). additive: the Principled
+// BSDF's "layering": "additive" (Cycles 3.4 exactly: Disney diffuse, layers added
+// without albedo scaling) can exceed 1 at grazing incidence; checked at wo.z >= 0.5 only.
+// The default energy-conserving Principled BSDF is checked everywhere.
 struct Case { const char *name; const char *json; bool lossless; bool additive = false; };
 
 const std::vector<Case> &cases() {
   static const std::vector<Case> c = {
-      {"principled_default", R"({"type":"principled"})", false, true},
-      {"principled_metal_aniso", R"({"type":"principled","base_color":[0.9,0.6,0.3],"metallic":1,"roughness":0.4,"anisotropic":0.7,"anisotropic_rotation":0.1})", false, true},
-      {"principled_multiscatter_metal", R"({"type":"principled","base_color":[1,1,1],"metallic":1,"roughness":0.8,"distribution":"MULTI_GGX"})", false, true},
-      {"principled_rough_glass", R"({"type":"principled","transmission":1,"roughness":0.3,"ior":1.5,"base_color":[1,1,1]})", false, true},
-      {"principled_sheen_clearcoat", R"({"type":"principled","sheen":1,"sheen_tint":0.5,"clearcoat":1,"clearcoat_roughness":0.2,"roughness":0.6})", false, true},
-      {"principled_4x_names", R"({"type":"principled","coat_weight":0.5,"coat_roughness":0.2,"sheen_weight":0.5,"specular_ior_level":0.5,"transmission_weight":0.2,"roughness":0.5})", false, true},
+      {"principled_default", R"({"type":"principled"})", false},
+      {"principled_metal_aniso", R"({"type":"principled","base_color":[0.9,0.6,0.3],"metallic":1,"roughness":0.4,"anisotropic":0.7,"anisotropic_rotation":0.1})", false},
+      {"principled_multiscatter_metal", R"({"type":"principled","base_color":[1,1,1],"metallic":1,"roughness":0.8,"distribution":"MULTI_GGX"})", false},
+      {"principled_rough_glass", R"({"type":"principled","transmission":1,"roughness":0.3,"ior":1.5,"base_color":[1,1,1]})", false},
+      {"principled_sheen_clearcoat", R"({"type":"principled","sheen":1,"sheen_tint":0.5,"clearcoat":1,"clearcoat_roughness":0.2,"roughness":0.6})", false},
+      {"principled_4x_names", R"({"type":"principled","coat_weight":0.5,"coat_roughness":0.2,"sheen_weight":0.5,"specular_ior_level":0.5,"transmission_weight":0.2,"roughness":0.5})", false},
+      {"principled_white_furnace", R"({"type":"principled","base_color":[1,1,1],"sheen":1,"clearcoat":1,"clearcoat_roughness":0.2,"roughness":0.6})", true},
+      {"principled_white_smooth_furnace", R"({"type":"principled","base_color":[1,1,1],"roughness":0.1,"clearcoat":0.5,"clearcoat_roughness":0.3})", true},
+      {"principled_additive", R"({"type":"principled","layering":"additive","sheen":1,"clearcoat":1,"clearcoat_roughness":0.2})", false, true},
       {"oren_nayar", R"({"type":"diffuse","color":[0.9,0.9,0.9],"roughness":0.8})", false},
       {"rough_refraction", R"({"type":"refraction","roughness":0.3,"ior":1.33})", false},
       {"mix_diffuse_rough_glass", R"({"type":"mix","fac":0.3,"shader1":{"type":"diffuse","color":[1,1,1]},"shader2":{"type":"glass","roughness":0.4,"ior":1.45}})", false},
@@ -125,7 +128,10 @@ TEST(MaterialEnergy, MixturesConserveEnergy) {
       double mean = sum / n, se = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n);
       if (!c.additive || wo.z >= 0.5f)
         EXPECT_LE(mean, 1.0 + 4 * se + 1e-4) << c.name << " wo.z=" << wo.z << " albedo " << mean;
-      if (c.lossless && wo.z > 0.5f) EXPECT_NEAR(mean, 1.0, 0.015) << c.name;
+      // Lossless within 1.5%; at 87 degrees 4%: a clearcoat over a glossy lobe takes
+      // its layer albedo at the lobe's (grazing) outgoing directions, more than the
+      // cosine-weighted normalisation assumes.
+      if (c.lossless) EXPECT_NEAR(mean, 1.0, wo.z > 0.2f ? 0.015 : 0.04) << c.name << " wo.z=" << wo.z << " albedo " << mean;
     }
   }
 }

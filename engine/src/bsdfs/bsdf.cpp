@@ -1,17 +1,20 @@
 #include "bsdfs/bsdf.h"
 #include "bsdfs/conductor.h"
 #include "bsdfs/dielectric.h"
+#include "bsdfs/layering.h"
 #include "bsdfs/diffuse.h"
 #include "bsdfs/oren_nayar.h"
+#include "bsdfs/principled_diffuse.h"
 #include "bsdfs/sheen.h"
 #include "bsdfs/translucent.h"
 #include "bsdfs/transparent.h"
 #include <cstring>
+#include <new>
 #include "core/hash.h"
 
 namespace rdv {
 
-Color lobe_eval(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode) {
+static Color lobe_eval_base(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode) {
   switch (lobe.type) {
     case LobeType::Lambert: return diffuse::eval(lobe, wo, wi);
     case LobeType::GgxConductor: return conductor::eval(lobe, wo, wi);
@@ -19,6 +22,7 @@ Color lobe_eval(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode) {
     case LobeType::OrenNayar: return oren_nayar::eval(lobe, wo, wi);
     case LobeType::Translucent: return translucent::eval(lobe, wo, wi);
     case LobeType::Sheen: return sheen::eval(lobe, wo, wi);
+    case LobeType::PrincipledDiffuse: return principled_diffuse::eval(lobe, wo, wi);
     case LobeType::SpecularConductor:
     case LobeType::SmoothDielectric:
     case LobeType::Transparent: return Color(0.0f);  // delta lobes have no density
@@ -34,6 +38,7 @@ float lobe_pdf(const Lobe &lobe, Vec3 wo, Vec3 wi) {
     case LobeType::OrenNayar: return oren_nayar::pdf(lobe, wo, wi);
     case LobeType::Translucent: return translucent::pdf(lobe, wo, wi);
     case LobeType::Sheen: return sheen::pdf(lobe, wo, wi);
+    case LobeType::PrincipledDiffuse: return principled_diffuse::pdf(lobe, wo, wi);
     case LobeType::SpecularConductor:
     case LobeType::SmoothDielectric:
     case LobeType::Transparent: return 0;
@@ -41,8 +46,24 @@ float lobe_pdf(const Lobe &lobe, Vec3 wo, Vec3 wi) {
   return 0;
 }
 
+Color lobe_eval(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode) {
+  Color f = lobe_eval_base(lobe, wo, wi, mode) * lobe.scale;
+  return lobe.num_layers ? f * layer_factor(lobe, wo, wi) : f;  // energy-conserving layering
+}
+
+static bool lobe_sample_base(const Lobe &lobe, Vec3 wo, Vec2 u, Vec3 &wi, Color &weight, float &pdf,
+                             TransportMode mode, float uc);
+
 bool lobe_sample(const Lobe &lobe, Vec3 wo, Vec2 u, Vec3 &wi, Color &weight, float &pdf, TransportMode mode,
                  float uc) {
+  if (!lobe_sample_base(lobe, wo, u, wi, weight, pdf, mode, uc)) return false;
+  weight *= lobe.scale;
+  if (lobe.num_layers) weight *= layer_factor(lobe, wo, wi);
+  return true;
+}
+
+static bool lobe_sample_base(const Lobe &lobe, Vec3 wo, Vec2 u, Vec3 &wi, Color &weight, float &pdf,
+                             TransportMode mode, float uc) {
   if (uc < 0) {  // no third dimension given: derive one that is independent of u in practice
     uint32_t a, b;
     std::memcpy(&a, &u.x, 4);
@@ -59,6 +80,7 @@ bool lobe_sample(const Lobe &lobe, Vec3 wo, Vec2 u, Vec3 &wi, Color &weight, flo
     case LobeType::Transparent: return transparent::sample(lobe, wo, wi, weight, pdf);
     case LobeType::Translucent: return translucent::sample(lobe, wo, u, wi, weight, pdf);
     case LobeType::Sheen: return sheen::sample(lobe, wo, u, wi, weight, pdf);
+    case LobeType::PrincipledDiffuse: return principled_diffuse::sample(lobe, wo, u, wi, weight, pdf);
   }
   return false;
 }
@@ -87,7 +109,7 @@ Bsdf::Bsdf(Vec3 ng, Vec3 ns, Vec3 wo, Vec3 tangent) : Bsdf(ng, ns, wo) {
 
 void Bsdf::add_lobe(const Lobe &lobe, float sample_weight) {
   if (n_ == kMaxLobes || !(sample_weight > 0)) return;
-  lobes_[n_] = lobe;
+  new (&lobes_[n_]) Lobe(lobe);
   if (lobe.is_dielectric() && backfacing_) lobes_[n_].ior = 1.0f / lobe.ior;
   raw_weight_[n_] = sample_weight;
   ++n_;
@@ -188,6 +210,7 @@ bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSampl
   if (!consistent_side(out.wi, ng_, wi.z)) return false;
   if (lobe.is_delta()) {
     out.is_delta = true;
+    out.pass_through = lobe.type == LobeType::Transparent;
     out.pdf = pick_[chosen] * pdf;
     out.weight = weight * (shading_correction(wo_w, out.wi, mode) / pick_[chosen]);
     return true;
@@ -206,7 +229,7 @@ bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSampl
 
 Color Bsdf::albedo() const {
   Color a(0.0f);
-  for (int i = 0; i < n_; ++i) a += lobes_[i].color;
+  for (int i = 0; i < n_; ++i) a += lobes_[i].color * lobes_[i].scale;
   return vmin(a, Color(1.0f));
 }
 

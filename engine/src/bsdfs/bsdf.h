@@ -7,6 +7,7 @@
 //    lobes), by the eta^2 radiance scaling.
 #pragma once
 #include <array>
+#include <type_traits>
 #include "bsdfs/fresnel.h"
 #include "bsdfs/microfacet.h"
 #include "core/math.h"
@@ -24,7 +25,8 @@ enum class LobeType : uint8_t {
   OrenNayar,          // Cycles' (Fujii's) Oren-Nayar, sigma = roughness      (oren_nayar.cpp)
   Transparent,        // straight pass-through (Transparent BSDF, alpha)     (transparent.cpp)
   Translucent,        // Lambertian transmission                            (translucent.cpp)
-  Sheen               // Cycles 3.4 Principled sheen: (1 - |wi.h|)^5          (sheen.cpp)
+  Sheen,              // Cycles 3.4 Principled sheen: (1 - |wi.h|)^5          (sheen.cpp)
+  PrincipledDiffuse   // Cycles 3.4 Principled diffuse (Disney), roughness in sigma (principled_diffuse.cpp)
 };
 
 // How a microfacet reflection lobe colours its Fresnel term.
@@ -33,6 +35,22 @@ enum class FresnelMode : uint8_t {
   Conductor,  // F = color * conductor Fresnel from complex IOR eta + i k
   Schlick,    // F = color * (f0 + (1 - f0) (1 - cos)^5) (Principled specular, clearcoat)
   Dielectric  // F = color * dielectric Fresnel of the real IOR `ior`
+};
+
+// A reflecting layer above a lobe (Principled specular, sheen, clearcoat). The lobe
+// below is scaled by (1 - A(wo)) (1 - A(wi)) / (1 - A_avg), with A the layer's
+// directional albedo: reciprocal, and a Lambertian base under it then reflects exactly
+// base x (1 - A(wo)), so layer + base never exceed 1 (layering.cpp).
+struct LayerAbove {
+  enum Kind : uint8_t { SchlickGgx, Sheen } kind = SchlickGgx;
+  Color f0{0.04f};     // SchlickGgx
+  float alpha = 0;     // SchlickGgx: GGX alpha (isotropic equivalent)
+  bool multiscatter = false;
+  Color weight{1.0f};  // the layer lobe's colour (closure weight x tint)
+  // Memo (per Bsdf, per thread): the layer's albedo at the last |cos| asked for, which
+  // is wo's for most calls, and 1 / (1 - A_avg).
+  mutable float memo_mu = -1;
+  mutable Color memo_albedo{0.0f}, memo_norm{-1.0f};
 };
 
 struct Lobe {
@@ -48,6 +66,11 @@ struct Lobe {
   float ior = 1.5f;
   float sigma = 0;            // Oren-Nayar roughness in [0, 1]
   bool refraction_only = false;  // dielectrics: Cycles' Refraction BSDF (no reflection, no Fresnel)
+  // Closure weight (Mix Shader factors, Principled layer weights): multiplies f. Kept
+  // apart from `color`, which multiscatter compensation compounds like a Fresnel tint.
+  float scale = 1.0f;
+  uint8_t num_layers = 0;        // layers above this lobe (energy-conserving Principled)
+  LayerAbove layers[3];
 
   Color fresnel(float cos_i) const {
     switch (fresnel_mode) {
@@ -78,6 +101,9 @@ struct BsdfSample {
   Color weight;       // f * |cos| / pdf, including the transport-mode correction
   float pdf = 0;      // solid angle; for delta lobes the discrete selection probability
   bool is_delta = false;
+  // A straight pass-through (Transparent BSDF, alpha): not a scattering event. The
+  // path tracer keeps its MIS state across it, as transparent shadows see through it.
+  bool pass_through = false;
 };
 
 class Bsdf {
@@ -119,7 +145,15 @@ class Bsdf {
   Vec3 ng_;
   bool backfacing_ = false;
   int n_ = 0;
-  std::array<Lobe, kMaxLobes> lobes_{};
+  // Raw storage: only the lobes that are added get written (a Bsdf is built per hit;
+  // constructing all kMaxLobes defaults cost more than shading a diffuse surface).
+  struct LobeArray {
+    alignas(Lobe) unsigned char raw[kMaxLobes * sizeof(Lobe)];
+    Lobe &operator[](int i) { return reinterpret_cast<Lobe *>(raw)[i]; }
+    const Lobe &operator[](int i) const { return reinterpret_cast<const Lobe *>(raw)[i]; }
+  };
+  static_assert(std::is_trivially_copyable_v<Lobe> && std::is_trivially_destructible_v<Lobe>);
+  LobeArray lobes_;
   std::array<float, kMaxLobes> raw_weight_{};  // as given to add_lobe
   std::array<float, kMaxLobes> pick_{};        // normalised lobe selection probabilities
 };

@@ -10,8 +10,10 @@ namespace {
 constexpr int kMu = 32, kRough = 32, kStrata = 48;  // 48 x 48 stratified samples per entry
 
 struct AlbedoTable {
+  static float average(const std::vector<float> &t, int r);
   std::vector<float> e, eavg;  // e[r * kMu + m]; table axes: mu = m / (kMu - 1), sqrt(alpha) = r / (kRough - 1)
-  AlbedoTable() : e(kMu * kRough), eavg(kRough) {
+  std::vector<float> e1, e1avg;  // the Schlick (1 - wo.h)^5 part
+  AlbedoTable() : e(kMu * kRough), eavg(kRough), e1(kMu * kRough), e1avg(kRough) {
     for (int r = 0; r < kRough; ++r) {
       float rough = float(r) / (kRough - 1);
       float alpha = std::max(rough * rough, 1e-4f);
@@ -19,7 +21,7 @@ struct AlbedoTable {
       for (int m = 0; m < kMu; ++m) {
         float mu = std::max(float(m) / (kMu - 1), 1e-3f);
         Vec3 wo(safe_sqrt(1 - mu * mu), 0, mu);
-        double sum = 0;
+        double sum = 0, sum1 = 0;
         for (int i = 0; i < kStrata; ++i)
           for (int j = 0; j < kStrata; ++j) {
             Vec2 u{(i + 0.5f) / kStrata, (j + 0.5f) / kStrata};
@@ -28,22 +30,30 @@ struct AlbedoTable {
             if (woh <= 0) continue;
             Vec3 wi = h * (2.0f * woh) - wo;
             if (wi.z <= 0) continue;
-            sum += ggx.G2(wo, wi) / ggx.G1(wo);
+            float w = ggx.G2(wo, wi) / ggx.G1(wo), s = 1.0f - woh, s2 = s * s;
+            sum += w;
+            sum1 += w * s2 * s2 * s;
           }
         e[r * kMu + m] = std::min(1.0f, float(sum / (kStrata * kStrata)));
+        e1[r * kMu + m] = std::min(1.0f, float(sum1 / (kStrata * kStrata)));
       }
       // E_avg = 2 int_0^1 E(mu) mu dmu, exact for the piecewise-linear interpolant,
       // so the compensation lobe integrates to exactly 1 - E(wo) in the furnace.
-      double avg = 0, h = 1.0 / (kMu - 1);
-      for (int m = 0; m + 1 < kMu; ++m) {
-        double a = m * h, e0 = e[r * kMu + m], e1 = e[r * kMu + m + 1];
-        // int_a^{a+h} (e0 + (e1 - e0)(x - a)/h) x dx
-        avg += e0 * (a * h + h * h / 2) + (e1 - e0) * (a * h / 2 + h * h / 3);
-      }
-      eavg[r] = float(std::min(1.0, 2 * avg));
+      eavg[r] = average(e, r);
+      e1avg[r] = average(e1, r);
     }
   }
 };
+
+float AlbedoTable::average(const std::vector<float> &t, int r) {
+  double avg = 0, h = 1.0 / (kMu - 1);
+  for (int m = 0; m + 1 < kMu; ++m) {
+    double a = m * h, v0 = t[r * kMu + m], v1 = t[r * kMu + m + 1];
+    // int_a^{a+h} (v0 + (v1 - v0)(x - a)/h) x dx
+    avg += v0 * (a * h + h * h / 2) + (v1 - v0) * (a * h / 2 + h * h / 3);
+  }
+  return float(std::min(1.0, 2 * avg));
+}
 
 const AlbedoTable &table() {
   static const AlbedoTable t;
@@ -56,7 +66,30 @@ void coords(float x, int n, int &i, float &f) {
   f = x - i;
 }
 
+
+float lookup(const std::vector<float> &e, float mu, float alpha) {
+  int m, r;
+  float fm, fr;
+  coords(mu, kMu, m, fm);
+  coords(std::sqrt(std::max(alpha, 0.0f)), kRough, r, fr);
+  auto at = [&](int rr, int mm) { return e[rr * kMu + mm]; };
+  float e0 = at(r, m) * (1 - fm) + at(r, m + 1) * fm;
+  float e1 = at(r + 1, m) * (1 - fm) + at(r + 1, m + 1) * fm;
+  return e0 * (1 - fr) + e1 * fr;
+}
+
+float lookup_average(const std::vector<float> &avg, float alpha) {
+  int r;
+  float fr;
+  coords(std::sqrt(std::max(alpha, 0.0f)), kRough, r, fr);
+  return avg[r] * (1 - fr) + avg[r + 1] * fr;
+}
+
 }  // namespace
+
+float ggx_schlick_albedo(float mu, float alpha) { return lookup(table().e1, mu, alpha); }
+float ggx_schlick_average_albedo(float alpha) { return lookup_average(table().e1avg, alpha); }
+
 
 float ggx_albedo(float mu, float alpha) {
   const AlbedoTable &t = table();

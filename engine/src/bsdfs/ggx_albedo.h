@@ -11,4 +11,8 @@ namespace rdv {
 // mu = cos(theta_o) in [0,1]; alpha = GGX alpha (isotropic; sqrt(ax ay) for anisotropic).
 float ggx_albedo(float mu, float alpha);
 float ggx_average_albedo(float alpha);
+// The same for the Schlick term alone: E1(mu) = albedo with F = (1 - wo.h)^5. A GGX
+// lobe with Schlick Fresnel f0 reflects f0 E + (1 - f0) E1 (exact: linear in f0).
+float ggx_schlick_albedo(float mu, float alpha);
+float ggx_schlick_average_albedo(float alpha);
 }  // namespace rdv

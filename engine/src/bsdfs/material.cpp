@@ -178,6 +178,10 @@ struct Parser {
       if (p.get_json(k)) m.warnings.push_back(p.what() + ": '" + k + "' is approximated by the main normal");
     if (p.get_json("tangent")) m.warnings.push_back(p.what() + ": 'tangent' is ignored; anisotropy follows the default UV map");
     distribution(p, c, "GGX");
+    std::string layering = p.get_string("layering", "energy_conserving");
+    if (layering == "additive") c.additive_layers = true;
+    else if (layering != "energy_conserving")
+      fail(p.what() + ": 'layering' must be energy_conserving or additive, got '" + layering + "'");
   }
 };
 
@@ -346,12 +350,13 @@ Bsdf Material::make_bsdf(const ShadingPoint &sp, Vec3 wo) const {
       }
       case MaterialType::Glossy: {
         Lobe l = ggx_lobe(num(kRoughness), num(kAnisotropic));
-        l.color = vmax(col(kBaseColor), Color(0.0f)) * w;
+        l.color = vmax(col(kBaseColor), Color(0.0f));
+        l.scale = w;
         l.fresnel_mode = c.fresnel;
         l.eta = c.eta;
         l.k = c.k;
         l.multiscatter = c.multiscatter;
-        bsdf.add_lobe(l, sample_weight(l.color));
+        bsdf.add_lobe(l, sample_weight(l.color * l.scale));
         break;
       }
       case MaterialType::Glass:
@@ -393,46 +398,79 @@ Bsdf Material::make_bsdf(const ShadingPoint &sp, Vec3 wo) const {
         float lum = luminance(base);
         Color tint = lum > 0 ? base / lum : Color(1.0f);
         float roughness = clampf(num(kRoughness), 0.0f, 1.0f);
+        // Energy-conserving layering (default): each lobe is scaled by the albedo of the
+        // layers above it (coat over everything, specular over diffuse and sheen, sheen
+        // over diffuse; layering.cpp), with a Lambertian base. "additive": Cycles 3.4
+        // exactly (Disney diffuse, layers simply added), brighter than 1 at grazing angles.
+        const bool layered = !c.additive_layers;
+        float clearcoat = std::max(num(kClearcoat), 0.0f);
+        LayerAbove coat_layer;
+        float coat_rough = clampf(num(kClearcoatRoughness), 0.0f, 1.0f);
+        coat_layer.alpha = std::max(sqr(coat_rough), 1e-4f);
+        coat_layer.f0 = Color(0.04f);
+        coat_layer.weight = Color(0.25f * clearcoat);
+        auto add_layer = [&](Lobe &l, const LayerAbove &layer) {
+          if (layered && l.num_layers < 3 && max_component(layer.weight) > 0) l.layers[l.num_layers++] = layer;
+        };
+        float specular = std::max(num(kSpecular), 0.0f);
+        Color spec_tint = c.specular_tint_is_color ? vmax(col(kSpecularTint), Color(0.0f))
+                                                   : Color(1.0f) * (1 - num(kSpecularTint)) + tint * num(kSpecularTint);
+        Color f0_dielectric = vmin(spec_tint * (specular * 0.08f), Color(1.0f));
+        Lobe s = ggx_lobe(roughness, num(kAnisotropic));
+        LayerAbove spec_layer;  // the dielectric specular above the diffuse / sheen
+        spec_layer.alpha = std::max(std::sqrt(s.ggx.ax * s.ggx.ay), 1e-4f);
+        spec_layer.f0 = f0_dielectric;
+        spec_layer.multiscatter = c.multiscatter;
+        spec_layer.weight = Color(1.0f);
+        float sheen = std::max(num(kSheen), 0.0f);
+        Color sheen_color = (c.sheen_tint_is_color ? vmax(col(kSheenTint), Color(0.0f))
+                                                   : Color(1.0f) * (1 - num(kSheenTint)) + tint * num(kSheenTint)) * sheen;
         if (diffuse_w > 0) {
           Lobe d;
-          d.type = LobeType::Lambert;
+          d.type = layered ? LobeType::Lambert : LobeType::PrincipledDiffuse;  // Cycles 3.4's Disney diffuse
+          d.sigma = roughness;
           d.color = base * (diffuse_w * ww);
-          bsdf.add_lobe(d, sample_weight(d.color));
-          float sheen = std::max(num(kSheen), 0.0f);
           if (sheen > 0) {
-            Lobe s;
-            s.type = LobeType::Sheen;
-            Color st = c.sheen_tint_is_color ? col(kSheenTint)
-                                             : Color(1.0f) * (1 - num(kSheenTint)) + tint * num(kSheenTint);
-            s.color = vmax(st, Color(0.0f)) * (sheen * diffuse_w * ww);
-            bsdf.add_lobe(s, 0.2f * sample_weight(s.color));
+            LayerAbove sl;
+            sl.kind = LayerAbove::Sheen;
+            sl.weight = sheen_color;
+            add_layer(d, sl);
+          }
+          add_layer(d, spec_layer);
+          add_layer(d, coat_layer);
+          bsdf.add_lobe(d, sample_weight(d.color));
+          if (sheen > 0) {
+            Lobe sh;
+            sh.type = LobeType::Sheen;
+            sh.color = sheen_color * (diffuse_w * ww);
+            add_layer(sh, spec_layer);
+            add_layer(sh, coat_layer);
+            bsdf.add_lobe(sh, 0.2f * sample_weight(sh.color));
           }
         }
         if (spec_w > 0) {
-          Lobe s = ggx_lobe(roughness, num(kAnisotropic));
-          float specular = std::max(num(kSpecular), 0.0f);
-          Color st = c.specular_tint_is_color ? vmax(col(kSpecularTint), Color(0.0f))
-                                              : Color(1.0f) * (1 - num(kSpecularTint)) + tint * num(kSpecularTint);
-          Color f0 = st * (specular * 0.08f) * (1 - metallic) + base * metallic;
+          Color f0 = f0_dielectric * (1 - metallic) + base * metallic;
           s.fresnel_mode = FresnelMode::Schlick;
           s.f0 = vmin(f0, Color(1.0f));
-          s.color = Color(spec_w * ww);
+          s.color = Color(1.0f);
+          s.scale = spec_w * ww;
           s.multiscatter = c.multiscatter;
-          bsdf.add_lobe(s, sample_weight(s.color * (s.f0 + (Color(1.0f) - s.f0) * 0.1f)));
+          add_layer(s, coat_layer);
+          bsdf.add_lobe(s, sample_weight((s.f0 + (Color(1.0f) - s.f0) * 0.1f) * s.scale));
         }
         if (trans_w > 0) {
           float tr = clampf(num(kTransmissionRoughness), 0.0f, 1.0f);
           float r = 1 - (1 - roughness) * (1 - tr);
           Lobe g = dielectric_lobe(r, num(kIor), base * (trans_w * ww));
+          add_layer(g, coat_layer);
           bsdf.add_lobe(g, sample_weight(g.color));
         }
-        float clearcoat = std::max(num(kClearcoat), 0.0f);
         if (clearcoat > 0) {
-          Lobe cc = ggx_lobe(num(kClearcoatRoughness), 0.0f);
+          Lobe cc = ggx_lobe(coat_rough, 0.0f);
           cc.fresnel_mode = FresnelMode::Schlick;
           cc.f0 = Color(0.04f);
-          cc.color = Color(0.25f * clearcoat * ww);
-          bsdf.add_lobe(cc, sample_weight(cc.color * 0.2f));
+          cc.scale = 0.25f * clearcoat * ww;
+          bsdf.add_lobe(cc, sample_weight(Color(cc.scale * 0.2f)));
         }
         break;
       }

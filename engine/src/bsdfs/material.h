@@ -39,6 +39,7 @@ struct Closure {
   Color eta{1.0f}, k{0.0f};
   bool multiscatter = false;
   bool specular_tint_is_color = false, sheen_tint_is_color = false;  // Blender 4.x sockets
+  bool additive_layers = false;  // Principled "layering": "additive" (Cycles 3.4 exactly)
   Closure() { for (int &i : in) i = -1; }
 };
 

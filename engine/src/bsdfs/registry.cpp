@@ -109,6 +109,11 @@ const std::vector<LobeTestCase> &lobe_test_cases() {
       {"translucent", simple(LobeType::Translucent, Color(1.0f)), true},
       {"transparent", simple(LobeType::Transparent, Color(1.0f)), true},
       {"sheen", simple(LobeType::Sheen, Color(1.0f)), false},
+      // Principled diffuse (Disney, Cycles 3.4): retro-reflection exceeds albedo 1 at
+      // grazing angles for high roughness (chi-square / weight / reciprocity still apply).
+      {"principled_diffuse_r0", simple(LobeType::PrincipledDiffuse, Color(0.8f), 0.0f), false, true},
+      {"principled_diffuse_r0.5", simple(LobeType::PrincipledDiffuse, Color(0.8f), 0.5f), false, true},
+      {"principled_diffuse_r1", simple(LobeType::PrincipledDiffuse, Color(0.8f), 1.0f), false, true},
   };
   return cases;
 }

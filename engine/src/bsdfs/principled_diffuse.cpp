@@ -1,0 +1,34 @@
+#include "bsdfs/principled_diffuse.h"
+#include "core/sampling.h"
+
+namespace rdv::principled_diffuse {
+
+static float schlick_weight(float c) {
+  float m = clampf(1.0f - c, 0.0f, 1.0f), m2 = m * m;
+  return m2 * m2 * m;
+}
+
+Color eval(const Lobe &lobe, Vec3 wo, Vec3 wi) {
+  if (wo.z <= 0 || wi.z <= 0) return Color(0.0f);
+  float fv = schlick_weight(wo.z), fl = schlick_weight(wi.z);
+  float f = (1.0f - 0.5f * fv) * (1.0f - 0.5f * fl);
+  float rr = clampf(lobe.sigma, 0.0f, 1.0f) * (dot(wi, wo) + 1.0f);
+  f += rr * (fl + fv + fl * fv * (rr - 1.0f));
+  return lobe.color * (std::max(f, 0.0f) * kInvPi);
+}
+
+float pdf(const Lobe &, Vec3 wo, Vec3 wi) {
+  if (wo.z <= 0) return 0;
+  return cosine_hemisphere_pdf(wi.z);
+}
+
+bool sample(const Lobe &lobe, Vec3 wo, Vec2 u, Vec3 &wi, Color &weight, float &pdf_out) {
+  if (wo.z <= 0) return false;
+  wi = cosine_hemisphere(u);
+  pdf_out = cosine_hemisphere_pdf(wi.z);
+  if (pdf_out <= 0) return false;
+  weight = eval(lobe, wo, wi) * (wi.z / pdf_out);
+  return true;
+}
+
+}  // namespace rdv::principled_diffuse
