@@ -27,7 +27,7 @@ void MediumStack::cross(const Scene &scene, uint32_t material, Vec3 ng, Vec3 d) 
 }
 
 Color medium_transmittance(const Scene &scene, Vec3 p, Vec3 ng, Vec3 d, float distance, MediumStack stack,
-                           uint64_t &rays) {
+                           uint64_t &rays, bool see_through_transparent) {
   Color tr(1.0f);
   Vec3 o = is_black(ng) ? p : spawn_origin(p, ng, d);
   float remaining = std::isinf(distance) ? kInf : shadow_tmax(distance);
@@ -42,7 +42,13 @@ Color medium_transmittance(const Scene &scene, Vec3 p, Vec3 ng, Vec3 d, float di
       if (is_black(tr)) return tr;
     }
     if (!found) return tr;
-    if (!scene.is_boundary_only(hit.material)) return Color(0.0f);  // a real surface blocks
+    if (!scene.is_boundary_only(hit.material)) {
+      // A real surface blocks, unless it is partly transparent (transparent shadows).
+      const Material &mat = scene.material(hit.material);
+      if (!see_through_transparent || !mat.transparent) return Color(0.0f);
+      tr *= mat.shadow_transmission(scene.shading_point(hit));
+      if (is_black(tr)) return tr;
+    }
     stack.cross(scene, hit, d);
     o = spawn_origin(hit.p, hit.ng, d);
     if (!std::isinf(remaining)) remaining -= hit.t;

@@ -26,7 +26,9 @@ class MediumStack {
 // Transmittance from p along unit d over `distance` (infinite: to the world), through
 // index-matched boundaries and the media between them; 0 if any real surface blocks.
 // ng: geometric normal at p (zero for points in a medium), to leave the surface.
+// see_through_transparent: partly transparent surfaces tint instead of blocking (the
+// path tracer's transparent shadows; BDPT makes such surfaces path vertices instead).
 Color medium_transmittance(const Scene &scene, Vec3 p, Vec3 ng, Vec3 d, float distance, MediumStack stack,
-                           uint64_t &rays);
+                           uint64_t &rays, bool see_through_transparent = false);
 
 }  // namespace rdv

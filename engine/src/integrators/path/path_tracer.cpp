@@ -29,7 +29,7 @@ static Color sample_direct_light(const Scene &scene, Vec3 p, Vec3 ng, const Scat
   if (is_black(f)) return Color(0.0f);
   Color tr(1.0f);
   if constexpr (kMedia) {
-    tr = medium_transmittance(scene, p, ng, ls.wi, ls.dist, media_toward(ls.wi), stats.rays);
+    tr = medium_transmittance(scene, p, ng, ls.wi, ls.dist, media_toward(ls.wi), stats.rays, true);
     if (is_black(tr)) return Color(0.0f);
   } else {
     Vec3 o = spawn_origin(p, ng, ls.wi);
@@ -195,6 +195,15 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     Vec2 u = sampler.get_2d();
     if (!bsdf.sample(wo, u_lobe, u, TransportMode::Radiance, bs)) break;
     beta *= bs.weight;
+    if (bs.pass_through) {
+      // Straight through a transparent surface: not a bounce, and the MIS state of the
+      // last scattering vertex stays (transparent shadows give NEE the same paths).
+      if constexpr (kMedia) stack.cross(scene_, hit, ray.d);
+      ray = Ray{spawn_origin(hit.p, hit.ng, ray.d), ray.d, kInf};
+      if (++boundary_crossings > 256 || is_black(beta)) break;
+      --depth;
+      continue;
+    }
     specular_bounce = bs.is_delta;
     prev_pdf = bs.pdf;
     prev_p = hit.p;
