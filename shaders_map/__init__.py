@@ -3,7 +3,10 @@
 Pure Python, no bpy import: it works on bpy data and on stand-in objects alike.
 
     desc = translate_material(material.node_tree, name=material.name)   # neutral IR
-    params, warning = convert_material(material, image_average=fn)      # engine params
+    params, warning = convert_material(material, image_average=fn, image_file=fn2)  # engine params
+
+``image_file(image)`` gives the path of a file the engine can read for a bpy image (or None:
+the image is then replaced by its average colour, with a warning).
 
 ``convert_*`` return the engine's JSON parameters and ONE warning string (or None)
 naming every node that was approximated or is unsupported.
@@ -13,13 +16,13 @@ from . import nodes  # noqa: F401  (fills the registries)
 from .graph import Context, find_output_node, find_socket, node_label
 from .ir import Const, Expr, Closure, to_dict
 from .issues import Issues
-from .lowering import lower_surface, lower_world, DEFAULT_SURFACE, ENGINE_TYPES
+from .lowering import lower_surface, lower_world, DEFAULT_SURFACE, ENGINE_TYPES, DEFAULT_COLOR_ATTRIBUTE
 from .registry import maps, evaluates, supported_nodes, HANDLERS
 
 __all__ = [
     "translate_material", "translate_world", "convert_material", "convert_world",
     "MaterialDescription", "WorldDescription", "maps", "evaluates", "supported_nodes",
-    "Const", "Expr", "Closure", "Issues", "DEFAULT_SURFACE", "ENGINE_TYPES",
+    "Const", "Expr", "Closure", "Issues", "DEFAULT_SURFACE", "ENGINE_TYPES", "DEFAULT_COLOR_ATTRIBUTE",
 ]
 
 
@@ -82,7 +85,7 @@ def _rgb(v, default):
         return list(default)
 
 
-def convert_material(material, image_average=None):
+def convert_material(material, image_average=None, image_file=None):
     """A bpy Material (or stand-in) -> (engine params, warning or None)."""
     name = getattr(material, "name", "?")
     if material is None:
@@ -93,12 +96,12 @@ def convert_material(material, image_average=None):
         return {"type": "diffuse", "color": _rgb(getattr(material, "diffuse_color", None),
                                                  (0.8, 0.8, 0.8))}, None
     desc = translate_material(tree, name)
-    params, issues = lower_surface(desc, image_average)
+    params, issues = lower_surface(desc, image_average, image_file)
     return params, issues.format("Material", name)
 
 
-def convert_world(world, image_average=None):
-    """A bpy World (or stand-in, or None) -> ({"color", "strength"}, warning or None)."""
+def convert_world(world, image_average=None, image_file=None):
+    """A bpy World (or stand-in, or None) -> ({"color", "strength", ...}, warning or None)."""
     if world is None:
         return {"color": [0.0, 0.0, 0.0], "strength": 1.0}, None
     name = getattr(world, "name", "?")
@@ -106,5 +109,5 @@ def convert_world(world, image_average=None):
     if not getattr(world, "use_nodes", False) or tree is None:
         return {"color": _rgb(getattr(world, "color", None), (0.05, 0.05, 0.05)), "strength": 1.0}, None
     desc = translate_world(tree, name)
-    params, issues = lower_world(desc, image_average)
+    params, issues = lower_world(desc, image_average, image_file)
     return params, issues.format("World", name)

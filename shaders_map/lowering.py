@@ -1,240 +1,736 @@
-"""Lowering: the engine-neutral description -> what the engine's materials accept today.
+"""Lowering: the engine-neutral description -> the engine's material JSON.
 
-This is the ONE place that knows the engine's material types.  Today the engine takes
-``diffuse`` {color}, ``emission`` {color, strength} and ``glossy`` {color, roughness},
-diffuse/glossy with optional ``emission``/``emission_strength``;
-when it gains Principled, glass, textures, ... only this module changes.
+This is the ONE place that knows the engine's material format (docs/scene-format.md):
+closure types ``diffuse``, ``emission``, ``glossy``, ``glass``, ``refraction``,
+``principled``, ``transparent``, ``translucent``, ``sheen``, ``mix``, ``add`` (nested to any
+depth), per-material ``volume`` media (``"type": "volume"`` for a surface-less boundary),
+and texture graphs (``{"node": ...}``) for every colour/float input.
 
-A closure tree is flattened into weighted lobes (Mix/Add are linear), lobes of one type
-are summed exactly, and when several types remain the dominant one is kept.  Every node
-that could not be represented exactly is recorded, and the caller gets ONE warning per
+IR values that do not vary over the surface are folded into constants when the folding is
+exact; everything else becomes an engine texture node.  A node that cannot be represented
+exactly (an image without a readable file, Toon/Hair BSDFs, a textured emission, ...) is
+replaced by its best constant/closure and recorded, and the caller gets ONE warning per
 material naming those nodes.
 """
 
-from .ir import Const, Closure
+from .ir import Const, Expr, Closure
+from .issues import Issues
 from .evaluate import Evaluator, is_constant
 from .graph import LUMINANCE
 
-ENGINE_TYPES = ("diffuse", "emission", "glossy")
+ENGINE_TYPES = ("diffuse", "emission", "glossy", "glass", "refraction", "principled", "transparent",
+                "translucent", "sheen", "mix", "add", "volume")
 
 DEFAULT_SURFACE = {"type": "diffuse", "color": [0.8, 0.8, 0.8]}
+
+# Name under which the exporter stores a mesh's default (active render) colour attribute,
+# for Color Attribute nodes that leave the layer empty.
+DEFAULT_COLOR_ATTRIBUTE = "__rdv_default_color"
+
+PRINCIPLED_KEYS = ("base_color", "subsurface", "subsurface_radius", "subsurface_color", "metallic", "specular",
+                   "specular_tint", "roughness", "anisotropic", "anisotropic_rotation", "sheen", "sheen_tint",
+                   "clearcoat", "clearcoat_roughness", "ior", "transmission", "transmission_roughness", "alpha")
+COLOR_KEYS = {"base_color", "subsurface_color", "color", "subsurface_radius"}
+
+TEXCOORD_OUTPUTS = {"Generated": "generated", "UV": "uv", "Object": "object", "Normal": "normal"}
 
 
 def luminance(c):
     return LUMINANCE[0] * c[0] + LUMINANCE[1] * c[1] + LUMINANCE[2] * c[2]
 
 
-def _scale(c, w):
-    return tuple(x * y for x, y in zip(c, w))
-
-
 def _clamp01(x):
     return 0.0 if x < 0.0 else 1.0 if x > 1.0 else x
 
 
-class Lobe:
-    __slots__ = ("type", "color", "roughness", "node")
-
-    def __init__(self, type_, color, node, roughness=None):
-        self.type = type_
-        self.color = tuple(float(x) for x in color)
-        self.node = node
-        self.roughness = roughness
+def _num(v):
+    if isinstance(v, float):
+        return v
+    return [float(x) for x in v]
 
 
 class _Lowerer:
-    def __init__(self, evaluator, context):
-        self.ev = evaluator
-        self.issues = evaluator.issues
+    def __init__(self, issues, image_average, image_file, context):
+        self.issues = issues
+        self.ev = Evaluator(issues, image_average)
+        self.image_average = image_average
+        self.image_file = image_file
         self.context = context  # "surface" or "world"
+        self._memo = {}
 
     def approx(self, node, reason):
         self.issues.add(node, reason)
 
-    def _normal(self, c):
-        n = c.params.get("normal")
-        if n is not None and not isinstance(n, Const) and not is_constant(n):
-            self.ev.value(n)  # records the Normal Map / Bump node as approximated
-            self.approx(c.node, "normal input ignored")
+    # ---- values ------------------------------------------------------------------
+    def fold(self, ir):
+        """The constant value of ir when it is constant and folds exactly, else None."""
+        if ir is None:
+            return None
+        if isinstance(ir, Const):
+            return ir.value
+        if isinstance(ir, Closure) or not is_constant(ir):
+            return None
+        scratch = Issues()
+        v = Evaluator(scratch, self.image_average).value(ir)
+        return None if scratch else v
 
-    def collect(self, c, w, out, depth=0):
+    def const(self, ir, what=None):
+        """A constant, approximating varying values (recorded)."""
+        v = self.ev.value(ir)
+        if what and isinstance(ir, Expr) and not is_constant(ir):
+            self.approx(ir.node, what)
+        return v
+
+    def value(self, ir, color=False):
+        """IR value -> number, [r,g,b] or a texture node object."""
+        if ir is None:
+            return 0.0
+        v = self.fold(ir)
+        if v is not None:
+            v = _num(v)
+            if color and not isinstance(v, float) and min(v) < 0.0:
+                v = [max(x, 0.0) for x in v]
+            if color and isinstance(v, float) and v < 0.0:
+                v = 0.0
+            return v
+        key = id(ir)
+        if key in self._memo:
+            return self._memo[key][1]
+        if not self._varies(ir):
+            # Only approximated leaves (images without a file, ...): one constant, recorded.
+            v = self.ev.value(ir)
+            out = _num(v) if not color or isinstance(v, float) else [max(float(x), 0.0) for x in v]
+            self._memo[key] = (ir, out)
+            return out
+        out = self._node(ir)
+        self._memo[key] = (ir, out)
+        return out
+
+    def _varies(self, ir, depth=0):
+        """True when the engine texture graph for ir really varies over the surface."""
+        if not isinstance(ir, Expr) or depth > 200:
+            return False
+        op = ir.op
+        if op in ("tex_image", "tex_environment"):
+            return op == "tex_image" and self._image_file(ir) is not None
+        if op in ("texcoord", "uvmap", "tex_checker", "tex_noise", "tex_gradient", "vertex_color",
+                  "normal_map", "bump"):
+            return True
+        if op == "attribute":
+            return ir.props.get("attribute_type", "GEOMETRY") == "GEOMETRY" and bool(ir.props.get("attribute_name"))
+        return any(self._varies(a, depth + 1) for a in ir.args.values())
+
+    def _const_node(self, e):
+        return _num(self.ev.value(e))
+
+    def _node(self, e):
+        if not isinstance(e, Expr):
+            return 0.0
+        fn = getattr(self, "_n_" + e.op, None)
+        if fn is None:
+            return self._const_node(e)  # the evaluator records the approximation
+        return fn(e)
+
+    def _vector(self, d, e, key="vector"):
+        a = e.args.get(key)
+        if a is not None and not isinstance(a, Const):
+            d[key] = self.value(a, False)
+        elif isinstance(a, Const) and key != "vector":
+            d[key] = _num(a.value)
+        return d
+
+    def _n_to_float(self, e):
+        inner = e.args["value"]
+        if e.props.get("from") == "VECTOR":
+            v = self.value(inner)
+            sep = [{"node": "separate_rgb", "color": v, "output": o} for o in ("r", "g", "b")]
+            s = {"node": "math", "operation": "ADD", "value1": sep[0], "value2": sep[1]}
+            s = {"node": "math", "operation": "ADD", "value1": s, "value2": sep[2]}
+            return {"node": "math", "operation": "MULTIPLY", "value1": s, "value2": 1.0 / 3.0}
+        return {"node": "rgb_to_bw", "color": self.value(inner, True)}
+
+    def _n_to_vec3(self, e):
+        return self.value(e.args["value"])
+
+    def _image_file(self, e):
+        image = e.props.get("image")
+        if image is None or self.image_file is None:
+            return None
+        try:
+            return self.image_file(image)
+        except Exception:  # never let a bad image stop the export
+            return None
+
+    def _n_tex_image(self, e):
+        path = self._image_file(e)
+        if path is None:
+            return self._const_node(e)  # average colour, recorded by the evaluator
+        d = {"node": "image", "file": path}
+        if e.props.get("image_name"):
+            d["name"] = e.props["image_name"]
+        if e.props.get("colorspace"):
+            d["colorspace"] = e.props["colorspace"]
+        d["interpolation"] = e.props.get("interpolation", "Linear")
+        d["extension"] = e.props.get("extension", "REPEAT")
+        if e.props.get("projection", "FLAT") != "FLAT":
+            self.approx(e.node, "%s projection approximated as flat" % e.props["projection"])
+        self._vector(d, e)
+        if e.props.get("output") == "Alpha":
+            d["output"] = "alpha"
+        return d
+
+    def _n_tex_environment(self, e):
+        self.approx(e.node, "environment texture in a material approximated by its average")
+        return self._const_node(e)
+
+    def _n_tex_checker(self, e):
+        d = {"node": "checker", "color1": self.value(e.args["color1"], True),
+             "color2": self.value(e.args["color2"], True), "scale": self.value(e.args["scale"])}
+        self._vector(d, e)
+        if e.props.get("output") == "Fac":
+            d["output"] = "fac"
+        return d
+
+    def _n_tex_noise(self, e):
+        d = {"node": "noise"}
+        for k in ("scale", "detail", "roughness"):
+            d[k] = self.value(e.args[k])
+        self._vector(d, e)
+        self.approx(e.node, "Perlin noise, not Blender's exact pattern")
+        if e.props.get("dimensions", "3D") != "3D":
+            self.approx(e.node, "%s noise approximated as 3D" % e.props.get("dimensions"))
+        dist = self.fold(e.args.get("distortion"))
+        if dist is None or (isinstance(dist, float) and dist != 0.0):
+            self.approx(e.node, "distortion ignored")
+        d["output"] = "color" if e.props.get("output") == "Color" else "fac"
+        return d
+
+    def _n_tex_gradient(self, e):
+        d = {"node": "gradient", "gradient_type": e.props.get("gradient_type", "LINEAR")}
+        self._vector(d, e)
+        d["output"] = "color" if e.props.get("output") == "Color" else "fac"
+        return d
+
+    def _n_mix_color(self, e):
+        if not e.props.get("clamp_factor", True):
+            self.approx(e.node, "unclamped factor clamped")
+        return {"node": "mix", "blend_type": e.props.get("blend_type", "MIX"), "fac": self.value(e.args["fac"]),
+                "color1": self.value(e.args["a"]), "color2": self.value(e.args["b"]),
+                "clamp": bool(e.props.get("clamp_result", False))}
+
+    def _n_mix_value(self, e):
+        fac = e.args["fac"]
+        if e.props.get("data_type") == "VECTOR" and not isinstance(self.fold(fac), (float, type(None))):
+            self.approx(e.node, "non-uniform factor approximated by its luminance")
+        return {"node": "mix", "blend_type": "MIX", "fac": self.value(fac), "color1": self.value(e.args["a"]),
+                "color2": self.value(e.args["b"])}
+
+    def _n_math(self, e):
+        d = {"node": "math", "operation": e.props.get("operation", "ADD")}
+        for k, name in (("a", "value1"), ("b", "value2"), ("c", "value3")):
+            if k in e.args:
+                d[name] = self.value(e.args[k])
+        if e.props.get("use_clamp"):
+            d["clamp"] = True
+        return d
+
+    def _n_clamp(self, e):
+        v, lo, hi = (self.value(e.args[k]) for k in ("value", "min", "max"))
+        if e.props.get("clamp_type") == "RANGE":
+            lo, hi = ({"node": "math", "operation": "MINIMUM", "value1": lo, "value2": hi},
+                      {"node": "math", "operation": "MAXIMUM", "value1": lo, "value2": hi})
+        return {"node": "math", "operation": "MINIMUM", "value2": hi,
+                "value1": {"node": "math", "operation": "MAXIMUM", "value1": v, "value2": lo}}
+
+    def _n_map_range(self, e):
+        if e.props.get("interpolation_type", "LINEAR") != "LINEAR":
+            self.approx(e.node, "%s interpolation approximated as linear" % e.props.get("interpolation_type"))
+        v, a, b, c, d_ = (self.value(e.args[k]) for k in ("value", "from_min", "from_max", "to_min", "to_max"))
+
+        def m(op, x, y):
+            return {"node": "math", "operation": op, "value1": x, "value2": y}
+        f = m("DIVIDE", m("SUBTRACT", v, a), m("SUBTRACT", b, a))
+        r = m("ADD", c, m("MULTIPLY", f, m("SUBTRACT", d_, c)))
+        if e.props.get("clamp", True):
+            r = m("MINIMUM", m("MAXIMUM", r, m("MINIMUM", c, d_)), m("MAXIMUM", c, d_))
+        return r
+
+    def _n_vector_math(self, e):
+        op = e.props.get("operation", "ADD")
+        blend = {"ADD": "ADD", "SUBTRACT": "SUBTRACT", "MULTIPLY": "MULTIPLY", "DIVIDE": "DIVIDE",
+                 "SCALE": "MULTIPLY"}.get(op)
+        if blend is None or e.props.get("output") == "Value":
+            self.approx(e.node, "vector math %s evaluated as a constant" % op)
+            return self._const_node(e)
+        b = self.value(e.args["scale"]) if op == "SCALE" else self.value(e.args.get("b", Const((0, 0, 0))))
+        return {"node": "mix", "blend_type": blend, "fac": 1.0, "color1": self.value(e.args.get("a")),
+                "color2": b, "clamp": False}
+
+    def _n_invert(self, e):
+        return {"node": "invert", "fac": self.value(e.args["fac"]), "color": self.value(e.args["color"], True)}
+
+    def _n_color_ramp(self, e):
+        els = [{"position": p, "color": list(c) + [a]} for p, c, a in (e.props.get("elements") or [])]
+        if not els:
+            return self._const_node(e)
+        if e.props.get("color_mode", "RGB") != "RGB":
+            self.approx(e.node, "%s colour mode approximated as RGB" % e.props.get("color_mode"))
+        interp = e.props.get("interpolation", "LINEAR")
+        if interp not in ("LINEAR", "CONSTANT", "EASE"):
+            self.approx(e.node, "%s interpolation approximated as linear" % interp)
+            interp = "LINEAR"
+        d = {"node": "color_ramp", "fac": self.value(e.args["fac"]), "interpolation": interp, "elements": els}
+        if e.props.get("output") == "Alpha":
+            d["output"] = "alpha"
+        return d
+
+    def _n_gamma(self, e):
+        return {"node": "gamma", "color": self.value(e.args["color"], True), "gamma": self.value(e.args["gamma"])}
+
+    def _n_bright_contrast(self, e):
+        return {"node": "bright_contrast", "color": self.value(e.args["color"], True),
+                "bright": self.value(e.args["bright"]), "contrast": self.value(e.args["contrast"])}
+
+    def _n_hue_saturation(self, e):
+        d = {"node": "hue_saturation", "color": self.value(e.args["color"], True), "fac": self.value(e.args["fac"])}
+        for k in ("hue", "saturation", "value"):
+            if k in e.args:
+                d[k] = self.value(e.args[k])
+        return d
+
+    def _n_separate(self, e):
+        return {"node": "separate_rgb", "color": self.value(e.args["value"]),
+                "output": "rgb"[e.props.get("index", 0)]}
+
+    def _n_combine(self, e):
+        return {"node": "combine_rgb", "r": self.value(e.args["x"]), "g": self.value(e.args["y"]),
+                "b": self.value(e.args["z"])}
+
+    def _n_texcoord(self, e):
+        out = e.props.get("output", "Generated")
+        o = TEXCOORD_OUTPUTS.get(out)
+        if o is None:
+            self.approx(e.node, "%s coordinates approximated by generated ones" % out)
+            o = "generated"
+        if o == "object" and e.props.get("object"):
+            self.approx(e.node, "object '%s' ignored, own object space used" % e.props["object"])
+        return {"node": "texture_coordinate", "output": o}
+
+    def _n_uvmap(self, e):
+        return {"node": "uv", "layer": e.props.get("uv_map", "") or ""}
+
+    def _n_mapping(self, e):
+        d = {"node": "mapping", "type": e.props.get("vector_type", "POINT")}
+        self._vector(d, e)
+        for k in ("location", "rotation", "scale"):
+            a = e.args.get(k)
+            v = self.fold(a)
+            if v is None:
+                v = self.const(a, "textured mapping %s evaluated as a constant" % k)
+            d[k] = list(v) if not isinstance(v, float) else [v, v, v]
+        return d
+
+    def _n_normal_map(self, e):
+        space = e.props.get("space", "TANGENT")
+        if space.startswith("BLENDER_"):
+            self.approx(e.node, "%s space approximated as %s" % (space, space[8:]))
+            space = space[8:]
+        if e.props.get("uv_map"):
+            self.approx(e.node, "tangents from the default UV map, not '%s'" % e.props["uv_map"])
+        return {"node": "normal_map", "space": space, "color": self.value(e.args["color"], True),
+                "strength": self.value(e.args["strength"])}
+
+    def _n_bump(self, e):
+        d = {"node": "bump", "height": self.value(e.args["height"]), "strength": self.value(e.args["strength"]),
+             "distance": self.value(e.args["distance"]), "invert": bool(e.props.get("invert", False))}
+        n = self.normal(e.args.get("normal"), e.node)
+        if n is not None:
+            d["normal"] = n
+        return d
+
+    def _n_vertex_color(self, e):
+        d = {"node": "vertex_color", "layer": e.props.get("layer_name") or DEFAULT_COLOR_ATTRIBUTE}
+        if e.props.get("output") == "Alpha":
+            d["output"] = "alpha"
+        return d
+
+    def _n_attribute(self, e):
+        if e.props.get("attribute_type", "GEOMETRY") != "GEOMETRY" or not e.props.get("attribute_name"):
+            return self._const_node(e)
+        out = {"Color": "color", "Vector": "vector", "Fac": "fac", "Alpha": "alpha"}.get(e.props.get("output"),
+                                                                                         "color")
+        return {"node": "attribute", "name": e.props["attribute_name"], "output": out}
+
+    def normal(self, ir, owner):
+        """A Normal input -> a normal_map/bump node, or None (the shading normal)."""
+        if ir is None or isinstance(ir, Const):
+            return None
+        x = ir
+        while isinstance(x, Expr) and x.op == "to_vec3":
+            x = x.args.get("value")
+        if isinstance(x, Expr) and x.op in ("normal_map", "bump"):
+            return self.value(x)
+        if isinstance(x, Expr):
+            self.approx(owner, "normal input from %s ignored" % x.node)
+        return None
+
+    # ---- closures -----------------------------------------------------------------
+    def _with_normal(self, d, c, key="normal"):
+        n = self.normal(c.params.get("normal"), c.node)
+        if n is not None:
+            d[key] = n
+        return d
+
+    def _const_color(self, ir, node, what):
+        v = self.fold(ir)
+        if v is None:
+            v = self.ev.value(ir)
+            self.approx(node, "textured %s evaluated as a constant" % what)
+        v = (v, v, v) if isinstance(v, float) else v
+        return [max(float(x), 0.0) for x in v]
+
+    def _const_float(self, ir, node, what):
+        v = self.fold(ir)
+        if v is None:
+            v = self.ev.float(ir)
+            self.approx(node, "textured %s evaluated as a constant" % what)
+        if not isinstance(v, float):
+            v = luminance(v)
+        return float(v)
+
+    def shader(self, c, depth=0):
+        """A Closure -> an engine material object (without name), or None (black)."""
         if c is None or depth > 200:
-            return
-        if max(w) <= 0.0:
-            return
+            return None
         k = c.kind
-        ev = self.ev
+        p = c.params
         if k == "mix":
-            f = _clamp01(ev.float(c.params.get("fac", Const(0.5))))
             a, b = (c.children + [None, None])[:2]
-            self.collect(a, tuple(x * (1.0 - f) for x in w), out, depth + 1)
-            self.collect(b, tuple(x * f for x in w), out, depth + 1)
-        elif k == "add":
-            for ch in c.children:
-                self.collect(ch, w, out, depth + 1)
-        elif k in ("emission", "background"):
-            col = _scale(ev.color(c.params["color"]), w)
-            s = ev.float(c.params.get("strength", Const(1.0)))
+            fac = p.get("fac", Const(0.5))
+            if self._has_emission(c) and self.fold(fac) is None:
+                f = _clamp01(self._const_float(fac, c.node, "factor above an emission"))
+            else:
+                f = self.value(fac)
+                if isinstance(f, float):
+                    f = _clamp01(f)
+            s1, s2 = self.shader(a, depth + 1), self.shader(b, depth + 1)
+            if isinstance(f, float) and f <= 0.0:
+                return s1
+            if isinstance(f, float) and f >= 1.0:
+                return s2
+            if isinstance(f, float):
+                merged = _merge(_weighted(s1, 1.0 - f), _weighted(s2, f))
+                if merged is not None:
+                    return merged
+            if s1 is None and s2 is None:
+                return None
+            d = {"type": "mix", "fac": f}
+            if s1 is not None:
+                d["shader1"] = s1
+            if s2 is not None:
+                d["shader2"] = s2
+            return d
+        if k == "add":
+            ch = [self.shader(x, depth + 1) for x in c.children[:2]]
+            ch = [x for x in ch if x is not None]
+            if not ch:
+                return None
+            if len(ch) == 1:
+                return ch[0]
+            merged = _merge(ch[0], ch[1])
+            if merged is not None:
+                return merged
+            return {"type": "add", "shader1": ch[0], "shader2": ch[1]}
+        if k in ("emission", "background"):
             if k == "background" and self.context == "surface":
                 self.approx(c.node, "Background shader in a material treated as emission")
-            if k == "emission" and self.context == "world":
-                pass  # Cycles treats an emission on the world output like a background
-            out.append(Lobe("emission", _scale(col, (s, s, s)), c.node))
-        elif k == "diffuse":
-            self._normal(c)
-            r = c.params.get("roughness")
-            if r is not None and ev.float(r) > 0.0:
-                self.approx(c.node, "Oren-Nayar roughness ignored")
-            out.append(Lobe("diffuse", _scale(ev.color(c.params["color"]), w), c.node))
-        elif k in ("glossy", "anisotropic"):
-            self._normal(c)
+            col = self._const_color(p["color"], c.node, "emission colour")
+            s = self._const_float(p.get("strength", Const(1.0)), c.node, "emission strength")
+            if max(col) <= 0.0 or s == 0.0:
+                return None
+            return {"type": "emission", "color": col, "strength": s}
+        if k == "diffuse":
+            d = {"type": "diffuse", "color": self.value(p["color"], True)}
+            r = p.get("roughness")
+            if r is not None and self.fold(r) != 0.0:
+                d["roughness"] = self.value(r)
+            return self._with_normal(d, c)
+        if k in ("glossy", "anisotropic"):
             dist = c.props.get("distribution", "GGX")
-            if dist not in ("GGX", "MULTI_GGX"):
+            if dist in ("BECKMANN", "ASHIKHMIN_SHIRLEY"):
                 self.approx(c.node, "%s distribution approximated as GGX" % dist)
-            an = c.params.get("anisotropy")
-            if an is not None and abs(ev.float(an)) > 1e-6:
-                self.approx(c.node, "anisotropy ignored")
-            out.append(Lobe("glossy", _scale(ev.color(c.params["color"]), w), c.node,
-                            _clamp01(ev.float(c.params.get("roughness", Const(0.5))))))
-        elif k == "principled":
-            self._principled(c, w, out)
-        elif k in ("glass", "refraction", "translucent"):
-            self._normal(c)
-            self.approx(c.node, "%s not supported by the engine yet, shown as diffuse" % k)
-            out.append(Lobe("diffuse", _scale(ev.color(c.params["color"]), w), c.node))
-        elif k == "transparent":
-            self.approx(c.node, "transparency not supported by the engine yet, ignored")
-            out.append(Lobe("transparent", _scale(ev.color(c.params["color"]), w), c.node))
-        elif k == "holdout":
-            self.approx(c.node, "holdout not supported by the engine yet, ignored")
-        elif k == "unsupported":
-            self.approx(c.node, "unsupported shader %s, shown as diffuse" % c.props.get("bl_idname", "?"))
-            out.append(Lobe("diffuse", _scale(ev.color(c.params["color"]), w), c.node))
-        else:
-            self.approx(c.node, "unknown closure '%s' ignored" % k)
+            d = {"type": "glossy", "color": self.value(p["color"], True),
+                 "roughness": self.value(p.get("roughness", Const(0.5))), "distribution": dist}
+            an = p.get("anisotropy")
+            if an is not None and self.fold(an) != 0.0:
+                d["anisotropy"] = self.value(an)
+                d["rotation"] = self.value(p.get("rotation", Const(0.0)))
+            if c.props.get("tangent_linked"):
+                self.approx(c.node, "tangent input ignored (default UV map's u)")
+            return self._with_normal(d, c)
+        if k in ("glass", "refraction"):
+            dist = c.props.get("distribution", "BECKMANN")
+            if dist == "BECKMANN":
+                self.approx(c.node, "BECKMANN distribution approximated as GGX")
+                dist = "GGX"
+            elif dist == "MULTI_GGX" and k == "glass":
+                self.approx(c.node, "MULTI_GGX glass approximated as GGX")
+                dist = "GGX"
+            d = {"type": k, "color": self.value(p["color"], True), "roughness": self.value(p["roughness"]),
+                 "ior": self.value(p["ior"]), "distribution": dist}
+            return self._with_normal(d, c)
+        if k == "principled":
+            return self._principled(c)
+        if k == "transparent":
+            return {"type": "transparent", "color": self.value(p["color"], True)}
+        if k in ("translucent", "sheen"):
+            return self._with_normal({"type": k, "color": self.value(p["color"], True)}, c)
+        if k == "holdout":
+            self.approx(c.node, "holdout not supported, rendered black")
+            return None
+        if k == "unsupported":
+            idname = c.props.get("bl_idname", "?")
+            if idname == "ShaderNodeBsdfVelvet":
+                self.approx(c.node, "Velvet approximated by the Principled sheen lobe")
+                return self._with_normal({"type": "sheen", "color": self.value(p["color"], True)}, c)
+            self.approx(c.node, "unsupported shader %s, shown as diffuse" % idname)
+            return {"type": "diffuse", "color": self.value(p["color"], True)}
+        if k == "volume":
+            self.approx(c.node, "volume shader on a surface ignored")
+            return None
+        self.approx(c.node, "unknown closure '%s' ignored" % k)
+        return None
 
-    def _principled(self, c, w, out):
-        ev = self.ev
+    def _has_emission(self, c, depth=0):
+        if c is None or depth > 50:
+            return False
+        if c.kind in ("emission", "background"):
+            return True
+        if c.kind == "principled":
+            em = self.fold(c.params.get("emission"))
+            return em is None or max(_num(em) if not isinstance(em, float) else [em]) > 0.0
+        return any(self._has_emission(x, depth + 1) for x in c.children)
+
+    def _principled(self, c):
         p = c.params
-        f = lambda key: ev.float(p[key])  # noqa: E731
-        self._normal(c)
-        base = ev.color(p["base_color"])
-        metallic = _clamp01(f("metallic"))
-        transmission = _clamp01(f("transmission"))
-        rough = _clamp01(f("roughness"))
-        dropped = []
-        for key, label in (("specular", "specular"), ("subsurface", "subsurface"), ("sheen", "sheen"),
-                           ("clearcoat", "clearcoat")):
-            if f(key) > 0.0 and (key != "specular" or metallic < 1.0):
-                dropped.append(label)
-        if transmission > 0.0 and metallic < 1.0:
-            dropped.append("transmission")
-        if f("alpha") < 1.0:
-            dropped.append("alpha")
-        if f("anisotropic") > 0.0 and metallic > 0.0:
-            dropped.append("anisotropy")
-        if dropped:
-            self.approx(c.node, "approximated as diffuse + metal; %s dropped" % "/".join(dropped))
-        dw = (1.0 - metallic) * (1.0 - transmission)
-        if dw > 0.0:
-            out.append(Lobe("diffuse", _scale(base, tuple(x * dw for x in w)), c.node))
-        if metallic > 0.0:
-            out.append(Lobe("glossy", _scale(base, tuple(x * metallic for x in w)), c.node, rough))
-        if transmission > 0.0 and metallic < 1.0:
-            tw = (1.0 - metallic) * transmission
-            out.append(Lobe("diffuse", _scale(base, tuple(x * tw for x in w)), c.node))
-        em = _scale(ev.color(p["emission"]), w)
-        s = f("emission_strength")
-        if max(em) > 0.0 and s > 0.0:
-            out.append(Lobe("emission", _scale(em, (s, s, s)), c.node))
+        d = {"type": "principled"}
+        for key in PRINCIPLED_KEYS:
+            if key in p:
+                d[key] = self.value(p[key], key in COLOR_KEYS)
+        dist = c.props.get("distribution", "GGX")
+        d["distribution"] = dist if dist in ("GGX", "MULTI_GGX") else "GGX"
+        sub = self.fold(p.get("subsurface", Const(0.0)))
+        if sub is None or sub > 0.0:
+            self.approx(c.node, "subsurface approximated by diffuse")
+        em = self._const_color(p.get("emission", Const(0.0)), c.node, "emission colour")
+        if max(em) > 0.0:
+            d["emission"] = em
+            d["emission_strength"] = self._const_float(p.get("emission_strength", Const(1.0)), c.node,
+                                                       "emission strength")
+        self._with_normal(d, c)
+        cn = p.get("clearcoat_normal")
+        if cn is not None and not isinstance(cn, Const):
+            cc = self.fold(p.get("clearcoat", Const(0.0)))
+            if cc is None or cc > 0.0:
+                self.approx(c.node, "clearcoat normal ignored (main normal used)")
+        if c.props.get("tangent_linked"):
+            self.approx(c.node, "tangent input ignored (default UV map's u)")
+        return d
+
+    # ---- volumes --------------------------------------------------------------------
+    def volume(self, c, depth=0):
+        """A Volume closure -> list of (weight, kind, params) media parts, or [] for none."""
+        if c is None or depth > 50:
+            return []
+        if c.kind == "mix":
+            f = _clamp01(self._const_float(c.params.get("fac", Const(0.5)), c.node, "volume mix factor"))
+            a, b = (c.children + [None, None])[:2]
+            return ([(w * (1 - f), m) for w, m in self.volume(a, depth + 1)]
+                    + [(w * f, m) for w, m in self.volume(b, depth + 1)])
+        if c.kind == "add":
+            return [x for ch in c.children for x in self.volume(ch, depth + 1)]
+        if c.kind == "volume":
+            p = c.params
+            m = {k: (self._const_color(v, c.node, "volume " + k) if k.endswith("color")
+                     else self._const_float(v, c.node, "volume " + k)) for k, v in p.items()}
+            if c.props.get("blackbody"):
+                self.approx(c.node, "blackbody emission ignored")
+            if c.props.get("attributes"):
+                self.approx(c.node, "density/colour attributes ignored (grids not supported)")
+            return [(1.0, m)]
+        if c.kind == "emission":
+            col = self._const_color(c.params["color"], c.node, "emission colour")
+            s = self._const_float(c.params.get("strength", Const(1.0)), c.node, "emission strength")
+            return [(1.0, {"density": 0.0, "emission_color": col, "emission_strength": s})]
+        self.approx(c.node, "%s shader in a Volume socket ignored" % c.kind)
+        return []
+
+    def medium(self, c):
+        parts = [(w, m) for w, m in self.volume(c) if w > 0.0]
+        if not parts:
+            return None
+        if len(parts) == 1 and parts[0][0] == 1.0 and parts[0][1].get("density", 0.0) > 0.0:
+            return parts[0][1]
+        # Several media (or emission only): sum physical coefficients.
+        sa, ss, em = [0.0] * 3, [0.0] * 3, [0.0] * 3
+        g_num = g_den = 0.0
+        for w, m in parts:
+            dens = m.get("density", 0.0) * w
+            col = m.get("color", [0.5, 0.5, 0.5])
+            acol = m.get("absorption_color", [0.0, 0.0, 0.0])
+            for i in range(3):
+                s = col[i] * dens
+                ss[i] += s
+                sa[i] += (1 - acol[i]) * (1 - col[i]) * dens
+                em[i] += m.get("emission_color", [1, 1, 1])[i] * m.get("emission_strength", 0.0) * w
+            g_num += m.get("anisotropy", 0.0) * luminance([col[i] * dens for i in range(3)])
+            g_den += luminance([col[i] * dens for i in range(3)])
+        out = {"sigma_a": sa, "sigma_s": ss, "anisotropy": g_num / g_den if g_den > 0 else 0.0}
+        if max(em) > 0.0:
+            out["emission"] = em
+        return out
 
 
-def _emission_params(radiance):
-    m = max(radiance)
-    if m <= 0.0:
-        return [0.0, 0.0, 0.0], 0.0
-    return [x / m for x in radiance], m
+_LINEAR_TYPES = ("diffuse", "glossy", "glass", "refraction", "transparent", "translucent", "sheen")
 
 
-def _combine(lobes, issues, owner_default):
-    by_type = {}
-    for lobe in lobes:
-        if max(lobe.color) <= 0.0 and lobe.type != "transparent":
-            continue
-        by_type.setdefault(lobe.type, []).append(lobe)
-    if "transparent" in by_type and len(by_type) > 1:
-        del by_type["transparent"]
-    elif "transparent" in by_type:
-        by_type = {"diffuse": by_type.pop("transparent")}
-    if not by_type:
-        return owner_default
-
-    def weight(t):
-        return sum(luminance(lobe.color) for lobe in by_type[t])
-
-    # Emission rides along on diffuse/glossy ("emission" key); only scattering types compete.
-    emission = by_type.pop("emission", None)
-    emitted = [sum(lobe.color[i] for lobe in emission) for i in range(3)] if emission else None
-    if not by_type:
-        col, strength = _emission_params(emitted)
-        return {"type": "emission", "color": col, "strength": strength}
-    chosen = max(by_type, key=lambda t: (weight(t), t == "diffuse"))
-    for t, ls in by_type.items():
-        if t != chosen:
-            for lobe in ls:
-                issues.add(lobe.node, "%s part dropped (the engine material is %s only)" % (t, chosen))
-    ls = by_type[chosen]
-    color = [sum(lobe.color[i] for lobe in ls) for i in range(3)]
-    if chosen == "glossy":
-        wsum = sum(max(luminance(lobe.color), 1e-9) for lobe in ls)
-        rough = sum(lobe.roughness * max(luminance(lobe.color), 1e-9) for lobe in ls) / wsum
-        if max(lobe.roughness for lobe in ls) - min(lobe.roughness for lobe in ls) > 1e-3:
-            for lobe in ls:
-                issues.add(lobe.node, "roughness averaged with other glossy parts")
-        params = {"type": "glossy", "color": color, "roughness": rough}
-    else:
-        params = {"type": "diffuse", "color": color}
-    if emitted is not None:
-        col, strength = _emission_params(emitted)
-        params["emission"] = col
-        params["emission_strength"] = strength
-    return params
+def _is_list(v):
+    return isinstance(v, list) and len(v) == 3 and all(isinstance(x, float) for x in v)
 
 
-def lower_surface(desc, image_average=None):
+def _weighted(d, w):
+    """A closure scaled by a constant weight, when its colour is a constant multiplier (else None)."""
+    if d is None:
+        return False  # black: nothing to scale
+    t = d.get("type")
+    if t == "emission":
+        return dict(d, strength=d["strength"] * w)
+    if t in _LINEAR_TYPES and _is_list(d.get("color")) and "emission" not in d:
+        return dict(d, color=[x * w for x in d["color"]])
+    return None
+
+
+def _merge(a, b):
+    """Sum of two (weighted) closures as one engine closure when that is exact, else None."""
+    if a is None or b is None:
+        return None
+    if a is False or b is False:
+        other = b if a is False else a
+        return None if other is False else other
+    if a["type"] == "emission" and b["type"] != "emission":
+        a, b = b, a
+    if b["type"] == "emission":
+        rad = [x * b["strength"] for x in b["color"]]
+        if a["type"] == "emission":
+            rad = [x * a["strength"] + y for x, y in zip(a["color"], rad)]
+            m = max(rad)
+            return {"type": "emission", "color": [x / m for x in rad] if m > 0 else rad, "strength": m}
+        if a["type"] in ("diffuse", "glossy") and "emission" not in a:
+            m = max(rad)
+            return dict(a, emission=[x / m for x in rad] if m > 0 else rad, emission_strength=m)
+        return None
+    if a["type"] == b["type"] and a["type"] in _LINEAR_TYPES and _is_list(a.get("color")) and \
+            _is_list(b.get("color")):
+        ka = {k: v for k, v in a.items() if k != "color"}
+        kb = {k: v for k, v in b.items() if k != "color"}
+        if ka == kb:
+            return dict(a, color=[x + y for x, y in zip(a["color"], b["color"])])
+    return None
+
+
+def lower_surface(desc, image_average=None, image_file=None):
     """MaterialDescription -> (engine params dict, Issues)."""
-    ev = Evaluator(desc.issues, image_average)
-    low = _Lowerer(ev, "surface")
+    low = _Lowerer(desc.issues, image_average, image_file, "surface")
+    medium = low.medium(desc.volume) if desc.volume is not None else None
     if desc.surface is None:
-        params = {"type": "diffuse", "color": [0.0, 0.0, 0.0]}  # Cycles: no closure = black
+        if medium is not None:
+            params = {"type": "volume"}  # Cycles: volume only = a transparent boundary
+        else:
+            params = {"type": "diffuse", "color": [0.0, 0.0, 0.0]}  # Cycles: no closure = black
     else:
-        lobes = []
-        low.collect(desc.surface, (1.0, 1.0, 1.0), lobes)
-        params = _combine(lobes, desc.issues, {"type": "diffuse", "color": [0.0, 0.0, 0.0]})
-    if desc.volume is not None:
-        desc.issues.add(desc.volume.node if hasattr(desc.volume, "node") else "Volume",
-                        "volume shader not supported by the engine yet, ignored")
+        params = low.shader(desc.surface)
+        if params is None:
+            params = {"type": "diffuse", "color": [0.0, 0.0, 0.0]}
+    if medium is not None:
+        params["volume"] = medium
     if desc.displacement_linked:
         desc.issues.add(desc.output_label, "displacement ignored")
     return params, desc.issues
 
 
-def lower_world(desc, image_average=None):
-    """WorldDescription -> ({"color": [...], "strength": s}, Issues)."""
-    ev = Evaluator(desc.issues, image_average)
-    low = _Lowerer(ev, "world")
-    lobes = []
-    if desc.surface is not None:
-        low.collect(desc.surface, (1.0, 1.0, 1.0), lobes)
-    radiance = [0.0, 0.0, 0.0]
-    for lobe in lobes:
-        if lobe.type == "emission":
-            radiance = [a + b for a, b in zip(radiance, lobe.color)]
+def _unwrap(x):
+    while isinstance(x, Expr) and x.op == "to_vec3":
+        x = x.args.get("value")
+    return x
+
+
+def _environment(low, c):
+    """Background(color = Environment Texture [via Mapping]) -> world params, or None."""
+    if c is None or c.kind != "background":
+        return None
+    col = _unwrap(c.params.get("color"))
+    if not isinstance(col, Expr) or col.op != "tex_environment" or col.props.get("output") == "Alpha":
+        return None
+    path = low._image_file(col)
+    if path is None:
+        return None
+    env = {"file": path}
+    if col.props.get("colorspace"):
+        env["colorspace"] = col.props["colorspace"]
+    if col.props.get("projection", "EQUIRECTANGULAR") != "EQUIRECTANGULAR":
+        low.approx(col.node, "%s projection approximated as equirectangular" % col.props.get("projection"))
+    vec = _unwrap(col.args.get("vector"))
+    if isinstance(vec, Expr) and vec.op == "mapping":
+        rot = low.fold(vec.args.get("rotation"))
+        loc, scale = low.fold(vec.args.get("location")), low.fold(vec.args.get("scale"))
+        if rot is None or vec.props.get("vector_type", "POINT") not in ("POINT", "VECTOR"):
+            low.approx(vec.node, "only a constant rotation is supported here")
         else:
-            desc.issues.add(lobe.node, "%s shader on the world ignored" % lobe.type)
-    if desc.volume is not None:
-        desc.issues.add(getattr(desc.volume, "node", "Volume"), "world volume not supported yet, ignored")
-    m = max(radiance)
-    if m > 1.0:
-        return {"color": [x / m for x in radiance], "strength": m}, desc.issues
-    return {"color": radiance, "strength": 1.0}, desc.issues
+            env["rotation"] = list(rot) if not isinstance(rot, float) else [rot] * 3
+        if (loc is not None and any(abs(x) > 1e-9 for x in _num(loc))) or \
+                (scale is not None and any(abs(x - 1.0) > 1e-9 for x in _num(scale))):
+            low.approx(vec.node, "location/scale ignored (rotation only)")
+        inner = _unwrap(vec.args.get("vector"))
+        if inner is not None and not isinstance(inner, Const) and \
+                not (isinstance(inner, Expr) and inner.op == "texcoord" and inner.props.get("output") == "Generated"):
+            low.approx(vec.node, "input vector ignored (view direction used)")
+    elif vec is not None and not isinstance(vec, Const) and \
+            not (isinstance(vec, Expr) and vec.op == "texcoord" and vec.props.get("output") == "Generated"):
+        low.approx(col.node, "vector input ignored (view direction used)")
+    s = low._const_float(c.params.get("strength", Const(1.0)), c.node, "background strength")
+    return {"environment": env, "color": [1.0, 1.0, 1.0], "strength": s}
+
+
+def lower_world(desc, image_average=None, image_file=None):
+    """WorldDescription -> ({"color", "strength"[, "environment", "volume"]}, Issues)."""
+    low = _Lowerer(desc.issues, image_average, image_file, "world")
+    medium = low.medium(desc.volume) if desc.volume is not None else None
+    params = _environment(low, desc.surface)
+    if params is None:
+        radiance = _world_radiance(low, desc.surface)
+        m = max(radiance)
+        params = ({"color": [x / m for x in radiance], "strength": m} if m > 1.0
+                  else {"color": radiance, "strength": 1.0})
+    if medium is not None:
+        params["volume"] = medium
+    return params, desc.issues
+
+
+def _world_radiance(low, c, depth=0):
+    """Constant radiance of a world surface closure (mix/add of backgrounds)."""
+    if c is None or depth > 50:
+        return [0.0, 0.0, 0.0]
+    if c.kind == "mix":
+        f = _clamp01(low.ev.float(c.params.get("fac", Const(0.5))))
+        a, b = (c.children + [None, None])[:2]
+        ra, rb = _world_radiance(low, a, depth + 1), _world_radiance(low, b, depth + 1)
+        return [(1 - f) * x + f * y for x, y in zip(ra, rb)]
+    if c.kind == "add":
+        rs = [_world_radiance(low, x, depth + 1) for x in c.children]
+        return [sum(r[i] for r in rs) for i in range(3)]
+    if c.kind in ("emission", "background"):
+        col = low.ev.color(c.params["color"])
+        s = low.ev.float(c.params.get("strength", Const(1.0)))
+        return [max(x * s, 0.0) for x in col]
+    low.approx(c.node, "%s shader on the world ignored" % c.kind)
+    return [0.0, 0.0, 0.0]

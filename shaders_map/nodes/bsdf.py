@@ -52,7 +52,8 @@ def principled(ctx, node, socket):
         else:
             params[key] = Const(PRINCIPLED_DEFAULTS[key])
     props = {"distribution": getattr(node, "distribution", "GGX"),
-             "subsurface_method": getattr(node, "subsurface_method", "RANDOM_WALK")}
+             "subsurface_method": getattr(node, "subsurface_method", "RANDOM_WALK"),
+             "tangent_linked": ctx.is_linked(node, "Tangent")}
     return Closure("principled", ctx.label(node), params, props=props)
 
 
@@ -78,7 +79,8 @@ def glossy(ctx, node, socket):
         params["rotation"] = ctx.input(node, "Rotation")
     kind = "anisotropic" if getattr(node, "bl_idname", "") == "ShaderNodeBsdfAnisotropic" else "glossy"
     return Closure(kind, ctx.label(node), params,
-                   props={"distribution": getattr(node, "distribution", "GGX")})
+                   props={"distribution": getattr(node, "distribution", "GGX"),
+                          "tangent_linked": ctx.is_linked(node, "Tangent")})
 
 
 @maps("ShaderNodeBsdfGlass", "ShaderNodeBsdfRefraction")
@@ -106,7 +108,16 @@ def translucent(ctx, node, socket):
     })
 
 
-@maps("ShaderNodeBsdfVelvet", "ShaderNodeBsdfSheen", "ShaderNodeBsdfToon",
+@maps("ShaderNodeBsdfSheen")
+def sheen(ctx, node, socket):
+    """Blender 4.x Sheen BSDF (the engine's Principled sheen lobe)."""
+    return Closure("sheen", ctx.label(node), {
+        "color": ctx.input(node, "Color", default=(0.8, 0.8, 0.8)),
+        "normal": ctx.input(node, "Normal", default=(0.0, 0.0, 0.0)),
+    })
+
+
+@maps("ShaderNodeBsdfVelvet", "ShaderNodeBsdfToon",
       "ShaderNodeSubsurfaceScattering", "ShaderNodeBsdfHair", "ShaderNodeBsdfHairPrincipled")
 def other_bsdf(ctx, node, socket):
     """BSDFs with no neutral model yet: kept by name so lowering can fall back and warn."""

@@ -220,13 +220,25 @@ def eval_bright_contrast(ev, e):
 def hue_saturation(ctx, node, socket):
     return Expr("hue_saturation", ctx.label(node), {
         "color": ctx.input(node, "Color", default=(0.8, 0.8, 0.8)),
-        "fac": ctx.input(node, "Fac", default=1.0)})
+        "fac": ctx.input(node, "Fac", default=1.0),
+        "hue": ctx.input(node, "Hue", default=0.5),
+        "saturation": ctx.input(node, "Saturation", default=1.0),
+        "value": ctx.input(node, "Value", default=1.0)})
 
 
 @evaluates("hue_saturation")
 def eval_hue_saturation(ev, e):
-    ev.approx(e, "hue/saturation adjustment ignored")
-    return ev.color(e.args["color"])
+    import colorsys
+    c = ev.color(e.args["color"])
+    if "hue" not in e.args:
+        return c
+    h, s, v = colorsys.rgb_to_hsv(*[max(x, 0.0) for x in c])
+    h = (h + ev.float(e.args["hue"]) + 0.5) % 1.0
+    s = _clamp01(s * ev.float(e.args["saturation"]))
+    v = v * ev.float(e.args["value"])
+    out = colorsys.hsv_to_rgb(h, s, v)
+    f = ev.float(e.args["fac"])
+    return tuple(max((1 - f) * a + f * b, 0.0) for a, b in zip(c, out))
 
 
 @maps("ShaderNodeSeparateColor", "ShaderNodeSeparateRGB", "ShaderNodeSeparateXYZ")

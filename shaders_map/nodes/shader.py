@@ -42,3 +42,40 @@ def background(ctx, node, socket):
 @maps("ShaderNodeHoldout")
 def holdout(ctx, node, socket):
     return Closure("holdout", ctx.label(node), {})
+
+
+def _volume(ctx, node, params, **props):
+    return Closure("volume", ctx.label(node), params, props=props)
+
+
+@maps("ShaderNodeVolumePrincipled")
+def volume_principled(ctx, node, socket):
+    bb = ctx.input_const(node, "Blackbody Intensity", default=0.0)
+    return _volume(ctx, node, {
+        "color": ctx.input(node, "Color", default=(0.5, 0.5, 0.5)),
+        "density": ctx.input(node, "Density", default=1.0),
+        "anisotropy": ctx.input(node, "Anisotropy", default=0.0),
+        "absorption_color": ctx.input(node, "Absorption Color", default=(0.0, 0.0, 0.0)),
+        "emission_strength": ctx.input(node, "Emission Strength", default=0.0),
+        "emission_color": ctx.input(node, "Emission Color", default=(1.0, 1.0, 1.0)),
+    }, blackbody=bb is None or bb > 0.0)
+
+
+@maps("ShaderNodeVolumeScatter")
+def volume_scatter(ctx, node, socket):
+    return _volume(ctx, node, {
+        "color": ctx.input(node, "Color", default=(0.8, 0.8, 0.8)),
+        "density": ctx.input(node, "Density", default=1.0),
+        "anisotropy": ctx.input(node, "Anisotropy", default=0.0),
+        "absorption_color": Const((1.0, 1.0, 1.0)),  # scattering only
+    })
+
+
+@maps("ShaderNodeVolumeAbsorption")
+def volume_absorption(ctx, node, socket):
+    # Cycles: sigma_a = (1 - color) density.  Engine: (1 - absorption_color)(1 - color) density.
+    return _volume(ctx, node, {
+        "color": Const((0.0, 0.0, 0.0)),
+        "density": ctx.input(node, "Density", default=1.0),
+        "absorption_color": ctx.input(node, "Color", default=(0.8, 0.8, 0.8)),
+    })

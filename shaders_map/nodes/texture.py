@@ -9,14 +9,14 @@ from ..registry import maps, evaluates
 from ..evaluate import MAGENTA
 
 
-def _image_props(node, socket):
+def _image_props(node, socket, projection="FLAT"):
     image = getattr(node, "image", None)
     props = {
         "output": getattr(socket, "identifier", "Color"),
         "image": image,
         "image_name": getattr(image, "name", None),
         "filepath": getattr(image, "filepath", None),
-        "projection": getattr(node, "projection", "FLAT"),
+        "projection": getattr(node, "projection", projection),
         "interpolation": getattr(node, "interpolation", "Linear"),
         "extension": getattr(node, "extension", "REPEAT"),
     }
@@ -35,7 +35,8 @@ def tex_image(ctx, node, socket):
 @maps("ShaderNodeTexEnvironment")
 def tex_environment(ctx, node, socket):
     return Expr("tex_environment", ctx.label(node),
-                {"vector": ctx.input(node, "Vector", default=(0, 0, 0))}, _image_props(node, socket))
+                {"vector": ctx.input(node, "Vector", default=(0, 0, 0))},
+                _image_props(node, socket, "EQUIRECTANGULAR"))
 
 
 @evaluates("tex_image", "tex_environment")

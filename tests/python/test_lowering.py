@@ -1,0 +1,372 @@
+"""Lowering to the engine's full material format (docs/scene-format.md), with stand-in nodes,
+and every lowered material checked by the real engine (the `rendezvous` command-line renderer
+next to RDV_TEST_LIBRARY, or build/engine/rendezvous) at 16x16."""
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, HERE)
+sys.path.insert(0, ROOT)
+
+import shaders_map as sm  # noqa: E402
+from fakenodes import Tree, Material, World, Image, Ramp, image_average  # noqa: E402
+
+TMP = tempfile.mkdtemp(prefix="rdv_lowering_")
+
+
+def _ppm(path, w=4, h=4):
+    with open(path, "wb") as f:
+        f.write(b"P6 %d %d 255\n" % (w, h))
+        f.write(bytes(v for y in range(h) for x in range(w) for v in (x * 60 % 256, y * 60 % 256, 128)))
+    return path
+
+
+IMG_PATH = _ppm(os.path.join(TMP, "tex.ppm"))
+
+
+def image_file(image):
+    return None if getattr(image, "missing", False) else getattr(image, "engine_file", IMG_PATH)
+
+
+def convert(build, name="M", volume=None):
+    t = Tree(name)
+    out = t.output()
+    sock = build(t) if build is not None else None
+    if sock is not None:
+        t.link(sock, out.inp("Surface"))
+    if volume is not None:
+        t.link(volume(t), out.inp("Volume"))
+    return sm.convert_material(Material(name, t), image_average=image_average, image_file=image_file)
+
+
+def _find_cli():
+    lib = os.environ.get("RDV_TEST_LIBRARY")
+    cands = [os.path.join(os.path.dirname(lib), "rendezvous")] if lib else []
+    cands.append(os.path.join(ROOT, "build", "engine", "rendezvous"))
+    for c in cands:
+        if os.path.isfile(c) and os.access(c, os.X_OK):
+            return c
+    return None
+
+
+CLI = _find_cli()
+ENGINE_CASES = {}  # name -> (params, warning): every material built below, rendered once by the engine
+
+
+def keep(name, result):
+    ENGINE_CASES[name] = result
+    return result
+
+
+def principled(t, name="P", **inputs):
+    n = t.new("ShaderNodeBsdfPrincipled", name)
+    for k, v in inputs.items():
+        n.inp(k.replace("_", " ")).default_value = list(v) + [1.0] if isinstance(v, tuple) else v
+    return n
+
+
+class TestClosures(unittest.TestCase):
+    def test_principled_is_principled(self):
+        p, w = keep("principled", convert(lambda t: principled(
+            t, Base_Color=(0.9, 0.6, 0.2), Metallic=0.5, Roughness=0.2, Clearcoat=0.3, Sheen=0.2,
+            Transmission=0.1, Alpha=0.9).out()))
+        self.assertEqual(p["type"], "principled")
+        self.assertEqual(p["base_color"], [0.9, 0.6, 0.2])
+        self.assertAlmostEqual(p["metallic"], 0.5)
+        self.assertAlmostEqual(p["clearcoat"], 0.3)
+        self.assertAlmostEqual(p["alpha"], 0.9)
+        self.assertNotIn("emission", p)
+        self.assertIsNone(w)
+
+    def test_principled_subsurface_warns_and_emission_kept(self):
+        p, w = keep("principled_sss", convert(lambda t: principled(
+            t, Subsurface=0.5, Emission=(1.0, 0.5, 0.0), Emission_Strength=3.0).out()))
+        self.assertEqual(p["emission"], [1.0, 0.5, 0.0])
+        self.assertAlmostEqual(p["emission_strength"], 3.0)
+        self.assertIn("subsurface", w)
+
+    def test_glass_refraction_translucent_transparent(self):
+        for idname, kind in (("ShaderNodeBsdfGlass", "glass"), ("ShaderNodeBsdfRefraction", "refraction"),
+                             ("ShaderNodeBsdfTranslucent", "translucent"),
+                             ("ShaderNodeBsdfTransparent", "transparent")):
+            with self.subTest(idname):
+                dist = {"distribution": "GGX"} if kind in ("glass", "refraction") else {}
+                p, w = keep(kind, convert(lambda t: t.new(idname, "X", **dist).out()))
+                self.assertEqual(p["type"], kind)
+                self.assertIsNone(w)
+
+    def test_glass_beckmann_is_ggx_with_warning(self):
+        p, w = keep("glass_beckmann", convert(lambda t: t.new("ShaderNodeBsdfGlass", "G",
+                                                               distribution="BECKMANN").out()))
+        self.assertEqual(p["distribution"], "GGX")
+        self.assertIn("Glass BSDF 'G'", w)
+
+    def test_anisotropic_glossy(self):
+        def b(t):
+            a = t.new("ShaderNodeBsdfAnisotropic", "Aniso", distribution="GGX")
+            a.inp("Anisotropy").default_value = 0.5
+            a.inp("Rotation").default_value = 0.25
+            return a.out()
+        p, w = keep("anisotropic", convert(b))
+        self.assertEqual((p["type"], p["anisotropy"], p["rotation"]), ("glossy", 0.5, 0.25))
+        self.assertIsNone(w)
+
+    def test_velvet_is_sheen_with_warning(self):
+        p, w = keep("velvet", convert(lambda t: t.new("ShaderNodeBsdfVelvet", "Soft").out()))
+        self.assertEqual(p["type"], "sheen")
+        self.assertIn("Velvet BSDF 'Soft'", w)
+
+    def test_mix_of_different_closures_is_a_mix(self):
+        def b(t):
+            m = t.new("ShaderNodeMixShader", "Mix")
+            m.inp("Fac").default_value = 0.3
+            t.link(t.new("ShaderNodeBsdfDiffuse", "D").out(), m.inp("Shader"))
+            t.link(t.new("ShaderNodeBsdfGlossy", "G", distribution="GGX").out(), m.inp("Shader_001"))
+            a = t.new("ShaderNodeAddShader", "Add")
+            t.link(m.out(), a.inp("Shader"))
+            t.link(t.new("ShaderNodeBsdfGlass", "Gl", distribution="GGX").out(), a.inp("Shader_001"))
+            return a.out()
+        p, w = keep("mix_add", convert(b))
+        self.assertEqual(p["type"], "add")
+        self.assertEqual(p["shader1"]["type"], "mix")
+        self.assertAlmostEqual(p["shader1"]["fac"], 0.3)
+        self.assertEqual(p["shader1"]["shader1"]["type"], "diffuse")
+        self.assertEqual(p["shader1"]["shader2"]["type"], "glossy")
+        self.assertEqual(p["shader2"]["type"], "glass")
+        self.assertIsNone(w)
+
+    def test_textured_mix_factor(self):
+        def b(t):
+            m = t.new("ShaderNodeMixShader", "Mix")
+            chk = t.new("ShaderNodeTexChecker", "Chk")
+            t.link(chk.out("Fac"), m.inp("Fac"))
+            t.link(t.new("ShaderNodeBsdfDiffuse", "D").out(), m.inp("Shader"))
+            t.link(t.new("ShaderNodeBsdfTransparent", "T").out(), m.inp("Shader_001"))
+            return m.out()
+        p, w = keep("textured_mix", convert(b))
+        self.assertEqual(p["fac"]["node"], "checker")
+        self.assertEqual(p["fac"]["output"], "fac")
+        self.assertIsNone(w)
+
+    def test_textured_fac_above_emission_is_constant_with_warning(self):
+        def b(t):
+            m = t.new("ShaderNodeMixShader", "Mix")
+            t.link(t.new("ShaderNodeTexChecker", "Chk").out("Fac"), m.inp("Fac"))
+            t.link(t.new("ShaderNodeBsdfDiffuse", "D").out(), m.inp("Shader"))
+            t.link(t.new("ShaderNodeEmission", "E").out(), m.inp("Shader_001"))
+            return m.out()
+        p, w = keep("emission_mix", convert(b))
+        self.assertIn("Mix", w)
+        self.assertEqual(p["type"], "diffuse")  # constant fac 0.5 merges into diffuse + emission
+        self.assertEqual(w.count("Material 'M'"), 1)
+
+    def test_volume_only_and_surface_with_volume(self):
+        def vol(t):
+            v = t.new("ShaderNodeVolumePrincipled", "Fog")
+            v.inp("Density").default_value = 0.5
+            return v.out()
+        p, w = keep("volume_only", convert(None, volume=vol))
+        self.assertEqual(p["type"], "volume")
+        self.assertAlmostEqual(p["volume"]["density"], 0.5)
+        self.assertIsNone(w)
+        p, w = keep("glass_smoke", convert(lambda t: t.new("ShaderNodeBsdfGlass", "G", distribution="GGX").out(),
+                                           volume=lambda t: t.new("ShaderNodeVolumeAbsorption", "Abs").out()))
+        self.assertEqual(p["type"], "glass")
+        self.assertEqual(p["volume"]["color"], [0.0, 0.0, 0.0])
+        self.assertEqual(p["volume"]["absorption_color"], [0.8, 0.8, 0.8])
+
+    def test_added_volumes_are_physical(self):
+        def vol(t):
+            a = t.new("ShaderNodeAddShader", "AddV")
+            t.link(t.new("ShaderNodeVolumeScatter", "S").out(), a.inp("Shader"))
+            t.link(t.new("ShaderNodeVolumeAbsorption", "A").out(), a.inp("Shader_001"))
+            return a.out()
+        p, w = keep("volume_add", convert(None, volume=vol))
+        v = p["volume"]
+        self.assertTrue(all(abs(x - 0.8) < 1e-6 for x in v["sigma_s"]))  # scatter: color 0.8 x density 1
+        self.assertTrue(all(abs(x - 0.2) < 1e-6 for x in v["sigma_a"]))  # absorption: (1 - 0.8) x 1
+
+
+class TestTextures(unittest.TestCase):
+    def test_image_through_mapping_and_uv(self):
+        img = Image("wood.png")
+
+        def b(t):
+            d = t.new("ShaderNodeBsdfPrincipled", "P")
+            uv = t.new("ShaderNodeUVMap", "UVMap", uv_map="Second")
+            mp = t.new("ShaderNodeMapping", "Mapping", vector_type="POINT")
+            mp.inp("Scale").default_value = [4.0, 4.0, 1.0]
+            tex = t.new("ShaderNodeTexImage", "Wood", image=img, interpolation="Closest", extension="EXTEND")
+            t.link(uv.out(), mp.inp("Vector"))
+            t.link(mp.out(), tex.inp("Vector"))
+            t.link(tex.out("Color"), d.inp("Base Color"))
+            t.link(tex.out("Alpha"), d.inp("Alpha"))
+            return d.out()
+        p, w = keep("image", convert(b))
+        bc = p["base_color"]
+        self.assertEqual((bc["node"], bc["file"], bc["interpolation"], bc["extension"]),
+                         ("image", IMG_PATH, "Closest", "EXTEND"))
+        self.assertEqual(bc["vector"]["node"], "mapping")
+        self.assertEqual(bc["vector"]["scale"], [4.0, 4.0, 1.0])
+        self.assertEqual(bc["vector"]["vector"], {"node": "uv", "layer": "Second"})
+        self.assertEqual(p["alpha"]["output"], "alpha")
+        self.assertIsNone(w)
+
+    def test_missing_image_stays_magenta_constant(self):
+        img = Image("gone.png", filepath="/nope/gone.png", missing=True)
+
+        def b(t):
+            d = t.new("ShaderNodeBsdfDiffuse", "D")
+            t.link(t.new("ShaderNodeTexImage", "Tex", image=img).out("Color"), d.inp("Color"))
+            return d.out()
+        p, w = keep("missing_image", convert(b))
+        self.assertEqual(p["color"], [1.0, 0.0, 1.0])
+        self.assertIn("not found", w)
+
+    def test_procedural_and_color_nodes(self):
+        def b(t):
+            d = t.new("ShaderNodeBsdfDiffuse", "D")
+            noise = t.new("ShaderNodeTexNoise", "Noise")
+            ramp = t.new("ShaderNodeValToRGB", "Ramp", color_ramp=Ramp([(0.2, (1, 0, 0, 1)), (0.8, (0, 0, 1, 1))]))
+            t.link(noise.out("Fac"), ramp.inp("Fac"))
+            mix = t.new("ShaderNodeMixRGB", "MixRGB", blend_type="MULTIPLY", use_clamp=True)
+            t.link(ramp.out("Color"), mix.inp("Color1"))
+            grad = t.new("ShaderNodeTexGradient", "Grad", gradient_type="RADIAL")
+            tc = t.new("ShaderNodeTexCoord", "TC")
+            t.link(tc.out("Object"), grad.inp("Vector"))
+            t.link(grad.out("Color"), mix.inp("Color2"))
+            inv = t.new("ShaderNodeInvert", "Inv")
+            t.link(mix.out(), inv.inp("Color"))
+            math = t.new("ShaderNodeMath", "Math", operation="POWER", use_clamp=False)
+            t.link(grad.out("Fac"), math.inputs[0])
+            t.link(math.out(), d.inp("Roughness"))
+            t.link(inv.out(), d.inp("Color"))
+            return d.out()
+        p, w = keep("procedural", convert(b))
+        c = p["color"]
+        self.assertEqual(c["node"], "invert")
+        self.assertEqual(c["color"]["node"], "mix")
+        self.assertEqual(c["color"]["blend_type"], "MULTIPLY")
+        self.assertEqual(c["color"]["color1"]["node"], "color_ramp")
+        self.assertEqual(c["color"]["color1"]["fac"]["node"], "noise")
+        self.assertEqual(c["color"]["color2"]["vector"], {"node": "texture_coordinate", "output": "object"})
+        self.assertEqual(p["roughness"]["node"], "math")
+        self.assertIn("Noise", w)  # Perlin noise, not Blender's pattern
+        self.assertNotIn("Ramp", w)
+
+    def test_constant_chains_still_fold(self):
+        def b(t):
+            d = t.new("ShaderNodeBsdfDiffuse", "D")
+            hs = t.new("ShaderNodeHueSaturation", "HS")
+            hs.inp("Color").default_value = [0.8, 0.2, 0.2, 1.0]
+            hs.inp("Saturation").default_value = 0.0
+            t.link(hs.out(), d.inp("Color"))
+            return d.out()
+        p, w = keep("hue_sat_const", convert(b))
+        self.assertTrue(all(abs(x - 0.8) < 1e-6 for x in p["color"]))  # desaturated: value kept
+        self.assertIsNone(w)
+
+    def test_normal_map_bump_chain_and_vertex_color(self):
+        img = Image("n.png")
+
+        def b(t):
+            d = t.new("ShaderNodeBsdfPrincipled", "P")
+            tex = t.new("ShaderNodeTexImage", "N", image=img)
+            nm = t.new("ShaderNodeNormalMap", "NMap", space="TANGENT", uv_map="")
+            t.link(tex.out("Color"), nm.inp("Color"))
+            bump = t.new("ShaderNodeBump", "Bumpy", invert=True)
+            vc = t.new("ShaderNodeVertexColor", "VC", layer_name="")
+            t.link(vc.out("Color"), bump.inp("Height"))
+            t.link(nm.out(), bump.inp("Normal"))
+            t.link(bump.out(), d.inp("Normal"))
+            attr = t.new("ShaderNodeVertexColor", "VC2", layer_name="Col")
+            t.link(attr.out("Color"), d.inp("Base Color"))
+            return d.out()
+        p, w = keep("normal_bump", convert(b))
+        n = p["normal"]
+        self.assertEqual((n["node"], n["invert"]), ("bump", True))
+        self.assertEqual(n["normal"]["node"], "normal_map")
+        self.assertEqual(n["height"]["node"], "rgb_to_bw")
+        self.assertEqual(n["height"]["color"]["layer"], sm.DEFAULT_COLOR_ATTRIBUTE)
+        self.assertEqual(p["base_color"], {"node": "vertex_color", "layer": "Col"})
+        self.assertIsNone(w)
+
+
+class TestWorld(unittest.TestCase):
+    def _world(self, build, volume=None):
+        t = Tree("W")
+        out = t.new("ShaderNodeOutputWorld", "World Output")
+        t.link(build(t), out.inp("Surface"))
+        if volume is not None:
+            t.link(volume(t), out.inp("Volume"))
+        return sm.convert_world(World("W", t), image_average=image_average, image_file=image_file)
+
+    def test_environment_file_with_rotation(self):
+        img = Image("sky.exr")
+
+        def b(t):
+            bg = t.new("ShaderNodeBackground", "Background")
+            bg.inp("Strength").default_value = 2.0
+            env = t.new("ShaderNodeTexEnvironment", "Sky", image=img)
+            mp = t.new("ShaderNodeMapping", "Mapping", vector_type="POINT")
+            mp.inp("Rotation").default_value = [0.0, 0.0, 1.5]
+            t.link(t.new("ShaderNodeTexCoord", "TC").out("Generated"), mp.inp("Vector"))
+            t.link(mp.out(), env.inp("Vector"))
+            t.link(env.out("Color"), bg.inp("Color"))
+            return bg.out()
+        p, w = self._world(b)
+        self.assertEqual(p["environment"], {"file": IMG_PATH, "rotation": [0.0, 0.0, 1.5]})
+        self.assertEqual(p["strength"], 2.0)
+        self.assertIsNone(w)
+        keep("world_env", ({"type": "diffuse"}, None))[0]["__world"] = p
+
+    def test_world_volume(self):
+        def b(t):
+            return t.new("ShaderNodeBackground", "Background").out()
+        p, w = self._world(b, volume=lambda t: t.new("ShaderNodeVolumeScatter", "Fog").out())
+        self.assertEqual(p["volume"]["absorption_color"], [1.0, 1.0, 1.0])
+        self.assertIsNone(w)
+
+
+@unittest.skipIf(CLI is None, "the rendezvous command-line renderer is not built")
+class TestZEngineAcceptsLowering(unittest.TestCase):
+    """Runs last (class name order): every material kept above, on one quad each."""
+
+    def test_engine_renders_every_lowered_material(self):
+        self.assertGreater(len(ENGINE_CASES), 10)
+        for name, (params, _w) in sorted(ENGINE_CASES.items()):
+            with self.subTest(name):
+                world = params.pop("__world", None) if isinstance(params, dict) else None
+                mat = dict(params, name="m")
+                if world is not None:
+                    mat = {"name": "m", "type": "diffuse"}
+                scene = {
+                    "settings": {"width": 16, "height": 16, "samples": 2},
+                    "camera": {"type": "perspective", "transform": {"look_at": {"from": [0, -3, 1], "to": [0, 0, 0]}}},
+                    "world": world or {"color": [0.2, 0.2, 0.2], "volume": {"density": 0.01}}
+                    if name.startswith("volume") else (world or {"color": [0.2, 0.2, 0.2]}),
+                    "materials": [mat],
+                    "meshes": [{"name": "box", "shape": {"type": "box", "size": [1, 1, 1]}, "materials": ["m"]}],
+                    "lights": [{"name": "l", "type": "point", "position": [0, -2, 3], "power": 200}],
+                }
+                path = os.path.join(TMP, name + ".json")
+                with open(path, "w") as f:
+                    json.dump(scene, f)
+                r = subprocess.run([CLI, path, "-o", os.path.join(TMP, name + ".png"), "--quiet", "--threads", "1"],
+                                   capture_output=True, text=True, timeout=60)
+                self.assertEqual(r.returncode, 0, "%s\n%s\n%s" % (json.dumps(mat), r.stdout, r.stderr))
+
+
+def tearDownModule():
+    import shutil
+    shutil.rmtree(TMP, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    unittest.main()
