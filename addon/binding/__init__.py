@@ -72,6 +72,8 @@ _PROTOTYPES = {
     "rdv_scene_add_mesh": (_status, [_scene_p, ctypes.c_char_p, ctypes.c_void_p, ctypes.c_uint32,
                                      ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_uint32,
                                      ctypes.c_void_p, ctypes.c_uint32, _c_uint32_p]),
+    "rdv_scene_add_mesh_attribute": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_char_p, ctypes.c_char_p,
+                                               ctypes.c_void_p, ctypes.c_uint32, ctypes.c_uint32]),
     "rdv_scene_set_material": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_char_p]),
     "rdv_scene_set_mesh": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_void_p, ctypes.c_uint32,
                                      ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_uint32,
@@ -279,13 +281,31 @@ class Scene:
     def set_light(self, light, params):
         self.lib.check(self.lib.rdv_scene_set_light(self.handle, int(light), _json(params)), "light %d" % light)
 
-    def set_mesh(self, mesh, positions, indices, normals=None, uvs=None, material_ids=None, default_material=0):
-        """Replaces mesh `mesh`'s geometry in place (same arrays as add_mesh)."""
-        return self.add_mesh(None, positions, indices, normals, uvs, material_ids, default_material, replace=mesh)
+    def set_mesh(self, mesh, positions, indices, normals=None, uvs=None, material_ids=None, default_material=0,
+                 attributes=None):
+        """Replaces mesh `mesh`'s geometry in place (same arrays as add_mesh; attributes are added again)."""
+        return self.add_mesh(None, positions, indices, normals, uvs, material_ids, default_material, replace=mesh,
+                             attributes=attributes)
+
+    def add_mesh_attribute(self, mesh, name, kind, data, components):
+        """A named per-vertex UV map (kind "uv", 2 components) or colour ("color", 3 or 4)."""
+        import numpy as np
+        data = _check_array(data, np.float32, "attribute '%s'" % name)
+        nv = data.size // int(components)
+        self.lib.check(self.lib.rdv_scene_add_mesh_attribute(
+            self.handle, int(mesh), name.encode("utf-8"), kind.encode("utf-8"), _ptr(data), int(components), nv),
+            "mesh %d attribute '%s'" % (mesh, name))
 
     def add_mesh(self, name, positions, indices, normals=None, uvs=None, material_ids=None,
-                 default_material=0, replace=None):
-        """positions (V,3) float32, indices (T,3) uint32; normals (V,3), uvs (V,2), material_ids (T,)."""
+                 default_material=0, replace=None, attributes=None):
+        """positions (V,3) float32, indices (T,3) uint32; normals (V,3), uvs (V,2), material_ids (T,);
+        attributes: [(name, "uv"|"color", data (V*components,), components)]."""
+        mid = self._add_mesh(name, positions, indices, normals, uvs, material_ids, default_material, replace)
+        for aname, kind, data, comps in attributes or ():
+            self.add_mesh_attribute(mid, aname, kind, data, comps)
+        return mid
+
+    def _add_mesh(self, name, positions, indices, normals, uvs, material_ids, default_material, replace):
         import numpy as np
         positions = _check_array(positions, np.float32, "positions")
         nv = positions.size // 3

@@ -12,11 +12,12 @@ from ..utils import Messages, determinant3, is_finite_matrix
 from .camera import camera_params
 from .lights import light_params
 from .materials import MaterialCache
+from . import images
 from .mesh import mesh_arrays
 from .settings import session_settings, resolution, border_rect  # noqa: F401
 
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
-UV_NODES = {"ShaderNodeTexImage", "ShaderNodeUVMap", "ShaderNodeNormalMap", "ShaderNodeTexChecker"}
+UV_NODES = {"ShaderNodeTexImage", "ShaderNodeNormalMap", "ShaderNodeTexCoord", "ShaderNodeBsdfAnisotropic"}
 
 
 class ExportStats:
@@ -33,30 +34,44 @@ class ExportStats:
 
 
 def _tree_uses_uvs(tree, depth=0):
-    """(uses_uvs, uv_map_name) for a material node tree (groups followed a few levels)."""
+    """(uses_default_uvs, set of attribute names) for a material node tree (groups followed a few
+    levels): the default UV map (image textures, tangents, ...) and the named UV maps / colour
+    attributes that UV Map, Color Attribute and Attribute nodes read."""
     if tree is None or depth > 4:
-        return False, None
-    uses, name = False, None
+        return False, set()
+    uses, names = False, set()
     for node in tree.nodes:
         idname = node.bl_idname
         if idname in UV_NODES:
             uses = True
-            if idname == "ShaderNodeUVMap" and node.uv_map:
-                name = node.uv_map
+        elif idname == "ShaderNodeUVMap":
+            if node.uv_map:
+                names.add(node.uv_map)
+            else:
+                uses = True
+        elif idname == "ShaderNodeVertexColor":
+            names.add(node.layer_name or shaders_map.DEFAULT_COLOR_ATTRIBUTE)
+        elif idname == "ShaderNodeAttribute":
+            if getattr(node, "attribute_type", "GEOMETRY") == "GEOMETRY" and node.attribute_name:
+                names.add(node.attribute_name)
         elif idname == "ShaderNodeGroup" and node.node_tree is not None:
             u, n = _tree_uses_uvs(node.node_tree, depth + 1)
             uses = uses or u
-            name = name or n
-    return uses, name
+            names |= n
+    return uses, names
 
 
 class SceneExporter:
-    def __init__(self, depsgraph, sink, image_average=None, messages=None, is_viewport=False):
+    def __init__(self, depsgraph, sink, image_average=None, messages=None, is_viewport=False, image_file=None):
         self.depsgraph = depsgraph
         self.scene = depsgraph.scene
         self.sink = sink
         self.messages = messages if messages is not None else Messages()
-        self.materials = MaterialCache(sink, self.messages, image_average)
+        if image_file is None:
+            images.clear_cache()
+            image_file = images.image_file
+        self.image_file = image_file
+        self.materials = MaterialCache(sink, self.messages, image_average, image_file)
         self.image_average = image_average
         self.stats = ExportStats()
         self._meshes = {}  # (data pointer, materials) -> engine mesh id or None
@@ -86,7 +101,8 @@ class SceneExporter:
         self.sink.set_camera(camera_params(cam_eval, self.warn))
 
     def export_world(self):
-        params, warning = shaders_map.convert_world(self.scene.world, image_average=self.image_average)
+        params, warning = shaders_map.convert_world(self.scene.world, image_average=self.image_average,
+                                                    image_file=self.image_file)
         if warning:
             self.warn(warning)
         self.sink.set_world(params)
@@ -128,7 +144,7 @@ class SceneExporter:
         return mats
 
     def _uv_needs(self, mats):
-        uses, name = False, None
+        uses, names = False, set()
         for m in mats:
             if m is None or not m.use_nodes:
                 continue
@@ -137,8 +153,8 @@ class SceneExporter:
                 self._uv_cache[key] = _tree_uses_uvs(m.node_tree)
             u, n = self._uv_cache[key]
             uses = uses or u
-            name = name or n
-        return uses, name
+            names |= n
+        return uses, sorted(names)
 
     def _geometry(self, ob, matrix):
         m16 = [*matrix[0], *matrix[1], *matrix[2], *matrix[3]]
@@ -167,7 +183,7 @@ class SceneExporter:
         self.stats.instances += 1
 
     def _add_mesh(self, ob, mats):
-        need_uvs, uv_name = self._uv_needs(mats)
+        need_uvs, attr_names = self._uv_needs(mats)
         owned = False
         me = None
         if ob.type == "MESH" and ob.mode != "EDIT":
@@ -182,7 +198,7 @@ class SceneExporter:
             self.warn("Object '%s': could not be converted to a mesh, skipped" % ob.name)
             return None
         try:
-            arrays = mesh_arrays(me, need_uvs=need_uvs, uv_name=uv_name)
+            arrays = mesh_arrays(me, need_uvs=need_uvs, attributes=attr_names)
         finally:
             if owned:
                 ob.to_mesh_clear()
@@ -202,8 +218,9 @@ class SceneExporter:
             material_ids = None
             default = self.materials.default()
         name = self._unique(ob.name, self._mesh_names)
+        kw = {"attributes": arrays.attributes} if arrays.attributes else {}
         mesh_id = self.sink.add_mesh(name, arrays.positions, arrays.indices, normals=arrays.normals,
-                                     uvs=arrays.uvs, material_ids=material_ids, default_material=default)
+                                     uvs=arrays.uvs, material_ids=material_ids, default_material=default, **kw)
         self.stats.meshes += 1
         self.stats.triangles += arrays.num_triangles
         return mesh_id

@@ -55,7 +55,8 @@ class JsonSink:
             self._bin.write(b"\0" * pad)
         return offset
 
-    def add_mesh(self, name, positions, indices, normals=None, uvs=None, material_ids=None, default_material=0):
+    def add_mesh(self, name, positions, indices, normals=None, uvs=None, material_ids=None, default_material=0,
+                 attributes=None):
         positions = np.asarray(positions, dtype=np.float32).reshape(-1)
         indices = np.asarray(indices, dtype=np.uint32).reshape(-1)
         d = {"name": name}
@@ -83,6 +84,9 @@ class JsonSink:
                 d["normals"] = _floats(normals)
             if uvs is not None:
                 d["uvs"] = _floats(uvs)
+        if attributes:
+            d["attributes"] = [{"name": n, "kind": k, "components": int(c), "data": _floats(a)}
+                               for n, k, a, c in attributes]
         self.meshes.append(d)
         return len(self.meshes) - 1
 

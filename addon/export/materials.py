@@ -6,10 +6,11 @@ DEFAULT_NAME = "__rendezvous_default"
 
 
 class MaterialCache:
-    def __init__(self, sink, messages, image_average=None):
+    def __init__(self, sink, messages, image_average=None, image_file=None):
         self.sink = sink
         self.messages = messages
         self.image_average = image_average
+        self.image_file = image_file
         self._ids = {}
         self._names = set()
         self._default = None
@@ -27,7 +28,8 @@ class MaterialCache:
         if mid is not None:
             return mid
         try:
-            params, warning = shaders_map.convert_material(material, image_average=self.image_average)
+            params, warning = shaders_map.convert_material(material, image_average=self.image_average,
+                                                           image_file=self.image_file)
         except Exception as exc:  # a bug in a node handler must not stop the render
             params, warning = dict(shaders_map.DEFAULT_SURFACE), "Material '%s': translation failed (%s: %s)" % (
                 key, type(exc).__name__, exc)

@@ -14,11 +14,15 @@ Vertex layout:
 import numpy as np
 
 
+DEFAULT_COLOR_ATTRIBUTE = "__rdv_default_color"  # = shaders_map.DEFAULT_COLOR_ATTRIBUTE
+
+
 class MeshArrays:
     __slots__ = ("positions", "normals", "uvs", "indices", "slot_indices", "num_nonfinite", "num_vertices",
-                 "num_triangles")
+                 "num_triangles", "attributes")
 
-    def __init__(self, positions, normals, uvs, indices, slot_indices, num_nonfinite=0):
+    def __init__(self, positions, normals, uvs, indices, slot_indices, num_nonfinite=0, attributes=None):
+        self.attributes = attributes or []  # [(name, "uv"|"color", float32 data per engine vertex, components)]
         self.positions = positions
         self.normals = normals
         self.uvs = uvs
@@ -84,9 +88,68 @@ def _uv_layer(me, uv_name):
     return layers.active
 
 
-def mesh_arrays(me, need_uvs=False, uv_name=None):
+def _default_color_name(me):
+    cas = getattr(me, "color_attributes", None)
+    if cas is None or len(cas) == 0:
+        return None
+    idx = getattr(cas, "render_color_index", -1)
+    if idx is not None and 0 <= idx < len(cas):
+        return cas[idx].name
+    active = getattr(cas, "active_color", None)
+    return active.name if active is not None else cas[0].name
+
+
+def _corner_attributes(me, names, n_loops, loop_vi, npoly):
+    """Named UV maps / colour / generic attributes as per-corner float32 arrays."""
+    out = []
+    loop_poly = None
+    for name in names:
+        real = _default_color_name(me) if name == DEFAULT_COLOR_ATTRIBUTE else name
+        if not real:
+            continue
+        layers = getattr(me, "uv_layers", None)
+        if layers is not None and name != DEFAULT_COLOR_ATTRIBUTE and layers.get(real) is not None:
+            out.append((name, "uv", _get(layers[real].data, "uv", n_loops, np.float32, 2), 2))
+            continue
+        attrs = getattr(me, "attributes", None)
+        attr = attrs.get(real) if attrs is not None else None
+        if attr is None:
+            continue
+        dt = attr.data_type
+        if dt in ("FLOAT_COLOR", "BYTE_COLOR"):
+            width, prop, kind = 4, "color", "color"
+        elif dt == "FLOAT_VECTOR":
+            width, prop, kind = 3, "vector", "color"
+        elif dt == "FLOAT2":
+            width, prop, kind = 2, "vector", "uv"
+        elif dt in ("FLOAT", "INT", "BOOLEAN"):
+            width, prop, kind = 1, "value", "color"
+        else:
+            continue
+        n = len(attr.data)
+        data = _get(attr.data, prop, n, np.float32, width).reshape(n, width)
+        if attr.domain == "CORNER":
+            pass
+        elif attr.domain == "POINT":
+            data = data[loop_vi]
+        elif attr.domain == "FACE":
+            if loop_poly is None:
+                loop_poly = np.repeat(np.arange(npoly, dtype=np.uint32),
+                                      _get(me.polygons, "loop_total", npoly, np.uint32))
+            data = data[loop_poly]
+        else:
+            continue
+        if width == 1:
+            data = np.repeat(data, 3, axis=1)
+            width = 3
+        out.append((name, kind, np.ascontiguousarray(data, dtype=np.float32).reshape(-1), width))
+    return out
+
+
+def mesh_arrays(me, need_uvs=False, uv_name=None, attributes=()):
     """me: an evaluated bpy.types.Mesh (e.g. from Object.to_mesh()). Returns MeshArrays or None
-    when the mesh has no triangles."""
+    when the mesh has no triangles.  attributes: names of UV maps / colour attributes the
+    materials read (shaders_map's DEFAULT_COLOR_ATTRIBUTE = the default colour attribute)."""
     me.calc_loop_triangles()
     nt = len(me.loop_triangles)
     if nt == 0:
@@ -117,7 +180,7 @@ def mesh_arrays(me, need_uvs=False, uv_name=None):
 
     uv_layer = _uv_layer(me, uv_name) if need_uvs else None
 
-    if uv_layer is None and not split and (all_flat or all_smooth):
+    if uv_layer is None and not split and (all_flat or all_smooth) and not attributes:
         loop_vi = _get(me.loops, "vertex_index", n_loops, np.uint32)
         indices = loop_vi[tri_loops]
         normals = None if all_flat else _vertex_normals(me, nv)
@@ -139,5 +202,6 @@ def mesh_arrays(me, need_uvs=False, uv_name=None):
             normals[flat_loops] = pn[loop_poly[flat_loops]]
         normals = normals.reshape(-1)
     uvs = _get(uv_layer.data, "uv", n_loops, np.float32, 2) if uv_layer is not None else None
+    attrs = _corner_attributes(me, attributes, n_loops, loop_vi, npoly) if attributes else []
     return MeshArrays(positions, np.ascontiguousarray(normals, dtype=np.float32), uvs, tri_loops, slot_indices,
-                      num_nonfinite)
+                      num_nonfinite, attrs)

@@ -59,6 +59,30 @@ class TestBindingLive(unittest.TestCase):
                 self.assertLess(time.monotonic() - t, 0.5)
                 self.assertTrue(s.progress().cancelled)
 
+    def test_mesh_attribute_colour_renders(self):
+        """A floor whose 'Col' colour attribute is red, read by a vertex_color texture node."""
+        with self.b.Scene(self.lib) as sc:
+            mat = sc.add_material("vc", {"type": "diffuse",
+                                         "color": {"node": "vertex_color", "layer": "Col"}})
+            pos = np.array([[-5, -5, 0], [5, -5, 0], [5, 5, 0], [-5, 5, 0]], np.float32)
+            idx = np.array([[0, 1, 2], [0, 2, 3]], np.uint32)
+            col = np.tile(np.array([1.0, 0.0, 0.0, 1.0], np.float32), 4)
+            uv2 = np.zeros(8, np.float32)
+            mesh = sc.add_mesh("floor", pos, idx, default_material=mat,
+                               attributes=[("Col", "color", col, 4), ("UV2", "uv", uv2, 2)])
+            sc.add_instance(mesh, translation(0, 0, 0))
+            sc.add_light("sun", {"type": "sun", "strength": 1.0, "transform": translation(0, 0, 5)})
+            sc.set_world({"color": [0.0, 0.0, 0.0], "strength": 1.0})
+            sc.set_camera({"type": "perspective", "transform": translation(0, 0, 3)})
+            sc.commit()
+            with self.b.Session(sc, {"width": 8, "height": 8, "samples": 4, "threads": 1}) as s:
+                s.start()
+                s.wait()
+                out = np.zeros((8 * 8, 4), np.float32)
+                s.read_film(self.b.PASS_COMBINED, 0, 0, 8, 8, out.reshape(-1))
+                self.assertAlmostEqual(float(out[:, 0].mean()), 1.0 / np.pi, places=2)
+                self.assertAlmostEqual(float(out[:, 1].mean()), 0.0, places=3)
+
     def test_errors_raise_engine_error(self):
         with self.b.Scene(self.lib) as sc:
             with self.assertRaises(self.b.EngineError) as cm:
