@@ -457,7 +457,10 @@ class _Lowerer:
             return self._with_normal(d, c)
         if k in ("glossy", "anisotropic"):
             dist = c.props.get("distribution", "GGX")
-            if dist in ("BECKMANN", "ASHIKHMIN_SHIRLEY"):
+            smooth = self.fold(p.get("roughness", Const(0.5))) == 0.0  # the distribution does not matter
+            if dist in ("BECKMANN", "ASHIKHMIN_SHIRLEY") and smooth:
+                dist = "GGX"
+            elif dist in ("BECKMANN", "ASHIKHMIN_SHIRLEY"):
                 self.approx(c.node, "%s distribution approximated as GGX" % dist)
             d = {"type": "glossy", "color": self.value(p["color"], True),
                  "roughness": self.value(p.get("roughness", Const(0.5))), "distribution": dist}
@@ -470,7 +473,9 @@ class _Lowerer:
             return self._with_normal(d, c)
         if k in ("glass", "refraction"):
             dist = c.props.get("distribution", "BECKMANN")
-            if dist == "BECKMANN":
+            if dist == "BECKMANN" and self.fold(p["roughness"]) == 0.0:
+                dist = "GGX"  # smooth: the distribution does not matter
+            elif dist == "BECKMANN":
                 self.approx(c.node, "BECKMANN distribution approximated as GGX")
                 dist = "GGX"
             elif dist == "MULTI_GGX" and k == "glass":

@@ -105,6 +105,14 @@ class TestClosures(unittest.TestCase):
         p, w = keep("glass_beckmann", convert(lambda t: t.new("ShaderNodeBsdfGlass", "G",
                                                                distribution="BECKMANN").out()))
         self.assertEqual(p["distribution"], "GGX")
+        self.assertIsNone(w)  # smooth glass: the distribution does not matter
+
+        def rough(t):
+            g = t.new("ShaderNodeBsdfGlass", "G", distribution="BECKMANN")
+            g.inp("Roughness").default_value = 0.3
+            return g.out()
+        p, w = keep("glass_beckmann_rough", convert(rough))
+        self.assertEqual(p["distribution"], "GGX")
         self.assertIn("Glass BSDF 'G'", w)
 
     def test_anisotropic_glossy(self):
