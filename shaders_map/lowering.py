@@ -49,6 +49,12 @@ def _num(v):
     return [float(x) for x in v]
 
 
+def _is_principled_v4(node):
+    """Blender 4.x's Principled BSDF has sockets that 3.x lacks (Coat Weight, ...)."""
+    names = {getattr(sock, "name", "") for sock in getattr(node, "inputs", ()) or ()}
+    return "Coat Weight" in names or "Specular IOR Level" in names
+
+
 class _Lowerer:
     def __init__(self, issues, image_average, image_file, context):
         self.issues = issues
@@ -524,6 +530,9 @@ class _Lowerer:
                 d[key] = self.value(p[key], key in COLOR_KEYS)
         dist = c.props.get("distribution", "GGX")
         d["distribution"] = dist if dist in ("GGX", "MULTI_GGX") else "GGX"
+        # Match the Blender the node comes from: 3.x's Principled adds its layers
+        # (Cycles 3.4), 4.x's conserves energy (the engine's own default).
+        d["layering"] = "energy_conserving" if _is_principled_v4(c.node) else "additive"
         sub = self.fold(p.get("subsurface", Const(0.0)))
         if sub is None or sub > 0.0:
             self.approx(c.node, "subsurface approximated by diffuse")

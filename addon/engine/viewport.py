@@ -205,7 +205,8 @@ class ViewportExporter(SceneExporter):
             return False
         self._uv_cache.pop(material.name_full, None)
         try:
-            params, warning = shaders_map.convert_material(material, image_average=self.image_average)
+            params, warning = shaders_map.convert_material(material, image_average=self.image_average,
+                                                           image_file=self.image_file)
         except Exception as exc:  # a node handler bug must not break the viewport
             params, warning = dict(shaders_map.DEFAULT_SURFACE), "Material '%s': translation failed (%s: %s)" % (
                 material.name_full, type(exc).__name__, exc)
