@@ -1,4 +1,5 @@
 #include "bsdfs/oren_nayar.h"
+#include "bsdfs/cosine_lobe.h"
 #include "core/sampling.h"
 
 namespace rdv::oren_nayar {
@@ -12,18 +13,10 @@ Color eval(const Lobe &lobe, Vec3 wo, Vec3 wi) {
   return lobe.color * std::max(0.0f, a + b * t);
 }
 
-float pdf(const Lobe &, Vec3 wo, Vec3 wi) {
-  if (wo.z <= 0) return 0;
-  return cosine_hemisphere_pdf(wi.z);
-}
+float pdf(const Lobe &, Vec3 wo, Vec3 wi) { return cosine_lobe_pdf(wo, wi); }
 
 bool sample(const Lobe &lobe, Vec3 wo, Vec2 u, Vec3 &wi, Color &weight, float &pdf_out) {
-  if (wo.z <= 0) return false;
-  wi = cosine_hemisphere(u);
-  pdf_out = cosine_hemisphere_pdf(wi.z);
-  if (pdf_out <= 0) return false;
-  weight = eval(lobe, wo, wi) * (wi.z / pdf_out);
-  return true;
+  return sample_cosine_lobe(wo, u, wi, weight, pdf_out, [&](Vec3 w) { return eval(lobe, wo, w); });
 }
 
 }  // namespace rdv::oren_nayar

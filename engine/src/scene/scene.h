@@ -88,6 +88,19 @@ class Scene {
   // Lights a ray can hit (disks, rectangles) apart from mesh emitters; infinite lights.
   const std::vector<uint32_t> &hittable_lights() const { return hittable_lights_; }
   const std::vector<uint32_t> &infinite_lights() const { return infinite_lights_; }
+  // The nearest lamp (disk, rectangle) along the ray before tmax, or -1; lamps hidden
+  // from the camera are skipped for camera rays. Sets tmax to its distance and L to its
+  // radiance.
+  int nearest_lamp(const Ray &ray, bool camera_ray, float &tmax, Color &L) const {
+    int lamp = -1;
+    for (uint32_t li : hittable_lights_) {
+      if (camera_ray && !lights_[li].visible_camera) continue;
+      float t;
+      Color Le;
+      if (intersect_light(lights_[li], ray, tmax, t, Le)) { tmax = t; lamp = int(li); L = Le; }
+    }
+    return lamp;
+  }
   float bounding_radius() const { return bounding_radius_; }
   Vec3 bounding_center() const { return bounding_center_; }
 

@@ -47,19 +47,10 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     ++stats.rays;
     bool found = scene_.intersect(ray, hit);
     float tmax = found ? hit.t : ray.tmax;
-    int lamp = -1;
+    // Lamps a camera path can run into (they are not in the BVH). Light paths pass
+    // through them: lamps do not reflect.
     Color lamp_L;
-    if (mode == TransportMode::Radiance) {
-      // Lamps a camera path can run into (they are not in the BVH). Light paths pass
-      // through them: lamps do not reflect.
-      for (uint32_t li : scene_.hittable_lights()) {
-        const Light &light = scene_.lights()[li];
-        if (n == 0 && !light.visible_camera) continue;
-        float t;
-        Color Le;
-        if (intersect_light(light, ray, tmax, t, Le)) { tmax = t; lamp = int(li); lamp_L = Le; }
-      }
-    }
+    int lamp = mode == TransportMode::Radiance ? scene_.nearest_lamp(ray, n == 0, tmax, lamp_L) : -1;
     if constexpr (kMedia) {
       int m = media.current(scene_);
       if (m >= 0) {

@@ -86,14 +86,8 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     float tmax = found ? hit.t : ray.tmax;
 
     // Analytic lights (disks, rectangles) in front of the surface.
-    int hit_light = -1;
     Color light_L;
-    for (uint32_t li : scene_.hittable_lights()) {
-      if (depth == 0 && !scene_.lights()[li].visible_camera) continue;
-      float t;
-      Color Le;
-      if (intersect_light(scene_.lights()[li], ray, tmax, t, Le)) { tmax = t; hit_light = int(li); light_L = Le; }
-    }
+    int hit_light = scene_.nearest_lamp(ray, depth == 0, tmax, light_L);
 
     if constexpr (kMedia) {
       int m = stack.current(scene_);
