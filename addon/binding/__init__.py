@@ -243,20 +243,15 @@ def _matrix16(m):
     return (ctypes.c_float * 16)(*[float(x) for x in m])
 
 
-class Scene:
-    """An engine scene.  Use as a context manager or call close()."""
+class _Handle:
+    """Owns one engine handle: closed explicitly, by `with`, or when collected."""
+    _destroy = None  # name of the rdv_*_destroy function
 
     handle = None
 
-    def __init__(self, lib=None):
-        self.lib = lib or load()
-        h = _scene_p()
-        self.lib.check(self.lib.rdv_scene_create(ctypes.byref(h)), "rdv_scene_create")
-        self.handle = h
-
     def close(self):
         if self.handle:
-            self.lib.rdv_scene_destroy(self.handle)
+            getattr(self.lib, self._destroy)(self.handle)
             self.handle = None
 
     __del__ = close
@@ -266,6 +261,19 @@ class Scene:
 
     def __exit__(self, *exc):
         self.close()
+
+
+class Scene(_Handle):
+    _destroy = "rdv_scene_destroy"
+    """An engine scene.  Use as a context manager or call close()."""
+
+    handle = None
+
+    def __init__(self, lib=None):
+        self.lib = lib or load()
+        h = _scene_p()
+        self.lib.check(self.lib.rdv_scene_create(ctypes.byref(h)), "rdv_scene_create")
+        self.handle = h
 
     def add_material(self, name, params):
         out = ctypes.c_uint32()
@@ -365,7 +373,8 @@ class Scene:
             return {"raw": out.value.decode("utf-8", "replace")}
 
 
-class Session:
+class Session(_Handle):
+    _destroy = "rdv_session_destroy"
     handle = None
 
     def __init__(self, scene, settings):
@@ -376,19 +385,6 @@ class Session:
                        "session settings")
         self.handle = h
         self._progress = Progress()
-
-    def close(self):
-        if self.handle:
-            self.lib.rdv_session_destroy(self.handle)
-            self.handle = None
-
-    __del__ = close
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
     def start(self):
         self.lib.check(self.lib.rdv_session_start(self.handle), "session start")

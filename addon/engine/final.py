@@ -44,6 +44,18 @@ def _integrator_label(settings):
     return {"path": "Path Tracing", "bdpt": "Bidirectional", "mlt": "MLT"}.get(settings.get("integrator"), "?")
 
 
+def stop_and_close(session, rscene):
+    """Stops the engine's render threads and frees the session and scene (either may be None)."""
+    if session is not None:
+        try:
+            session.cancel()
+        except EngineError:
+            pass
+        session.close()
+    if rscene is not None:
+        rscene.close()
+
+
 def _stats_text(settings, p):
     parts = ["Rendezvous", _integrator_label(settings)]
     if p.samples_target:
@@ -169,10 +181,4 @@ def _render(engine, depsgraph):
         engine.end_result(result)
     finally:
         engine.session = None
-        if session is not None:
-            try:
-                session.cancel()
-            except EngineError:
-                pass
-            session.close()
-        rscene.close()
+        stop_and_close(session, rscene)

@@ -13,6 +13,7 @@ from ..binding import EngineError, LibraryError
 from ..export import SceneExporter, ExportError, resolution
 from ..utils import Messages
 from ..utils.images import image_average
+from .final import stop_and_close
 
 SAMPLES = 32
 MAX_BOUNCES = 8
@@ -79,10 +80,4 @@ def _render(engine, depsgraph):
         last_preview.update(samples=p.samples_done, seconds=time.perf_counter() - last_preview["started"],
                             mean=float(arr[:, :3].mean()), finite=bool(np.isfinite(arr).all()))
     finally:
-        if session is not None:
-            try:
-                session.cancel()
-            except EngineError:
-                pass
-            session.close()
-        rscene.close()
+        stop_and_close(session, rscene)

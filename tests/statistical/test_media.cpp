@@ -43,45 +43,46 @@ static Medium chromatic_medium() {
   return m;
 }
 
-// The probability of passing a slab unscattered, weighted as the estimator weights it,
-// reproduces exp(-sigma_t d) in every channel (chromatic one-sample MIS is unbiased).
-TEST(DistanceSampling, ChromaticTransmittanceIsUnbiased) {
-  Medium m = chromatic_medium();
-  const float d = 1.3f;
-  Pcg32 rng(9);
+// Mean and standard error of the estimator weight over a slab of thickness d, counting
+// either the samples that scattered or those that passed.
+struct WeightEstimate { double mean[3], se[3]; };
+static WeightEstimate mean_weight(const Medium &m, float d, uint64_t seed, bool scattered) {
+  Pcg32 rng(seed);
   const int n = 400000;
   Color sum(0.0f), sum2(0.0f);
   for (int i = 0; i < n; ++i) {
     float a = rng.next_float();
     MediumSample s = m.sample_distance(d, a, rng.next_float());
-    Color v = s.scattered ? Color(0.0f) : s.weight;
+    Color v = s.scattered == scattered ? s.weight : Color(0.0f);
     sum += v;
     sum2 += v * v;
   }
+  WeightEstimate e;
   for (int c = 0; c < 3; ++c) {
-    double mean = sum[c] / n, se = std::sqrt(std::max(0.0, sum2[c] / n - mean * mean) / n);
-    EXPECT_NEAR(mean, std::exp(-m.sigma_t[c] * d), 4.5 * se + 1e-6) << "channel " << c;
+    e.mean[c] = sum[c] / n;
+    e.se[c] = std::sqrt(std::max(0.0, sum2[c] / n - e.mean[c] * e.mean[c]) / n);
   }
+  return e;
+}
+
+// The probability of passing a slab unscattered, weighted as the estimator weights it,
+// reproduces exp(-sigma_t d) in every channel (chromatic one-sample MIS is unbiased).
+TEST(DistanceSampling, ChromaticTransmittanceIsUnbiased) {
+  Medium m = chromatic_medium();
+  const float d = 1.3f;
+  auto est = mean_weight(m, d, 9, false);
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(est.mean[c], std::exp(-m.sigma_t[c] * d), 4.5 * est.se[c] + 1e-6) << "channel " << c;
 }
 
 // Collisions: E[weight at a scattering event] = integral of sigma_s Tr = sigma_s/sigma_t (1 - Tr(d)).
 TEST(DistanceSampling, ScatteringWeightIsUnbiased) {
   Medium m = chromatic_medium();
   const float d = 0.7f;
-  Pcg32 rng(10);
-  const int n = 400000;
-  Color sum(0.0f), sum2(0.0f);
-  for (int i = 0; i < n; ++i) {
-    float a = rng.next_float();
-    MediumSample s = m.sample_distance(d, a, rng.next_float());
-    Color v = s.scattered ? s.weight : Color(0.0f);
-    sum += v;
-    sum2 += v * v;
-  }
+  auto est = mean_weight(m, d, 10, true);
   for (int c = 0; c < 3; ++c) {
     double expected = m.sigma_s[c] / m.sigma_t[c] * (1 - std::exp(-m.sigma_t[c] * d));
-    double mean = sum[c] / n, se = std::sqrt(std::max(0.0, sum2[c] / n - mean * mean) / n);
-    EXPECT_NEAR(mean, expected, 4.5 * se + 1e-6) << "channel " << c;
+    EXPECT_NEAR(est.mean[c], expected, 4.5 * est.se[c] + 1e-6) << "channel " << c;
   }
 }
 
