@@ -110,7 +110,15 @@ class Bsdf {
  public:
   static constexpr int kMaxLobes = 8;
 
-  Bsdf() = default;
+  // User-provided, so `Bsdf{}` / `PathVertex{}` do not zero the 2 KB of lobe storage.
+  Bsdf() {}
+  // Copies move only the lobes in use: path vertices and make_bsdf's return value copy
+  // Bsdfs on every bounce, and a plain diffuse one uses 1 of kMaxLobes.
+  Bsdf(const Bsdf &o) { copy_from(o); }
+  Bsdf &operator=(const Bsdf &o) {
+    if (this != &o) copy_from(o);
+    return *this;
+  }
   // ng: geometric normal, ns: shading normal (both unit); wo: direction to the viewer
   // (for light paths, to the previous vertex). Two-sided: the frame is flipped to
   // wo's side of the geometry.
@@ -140,6 +148,17 @@ class Bsdf {
 
  private:
   float shading_correction(Vec3 wo, Vec3 wi, TransportMode mode) const;
+  void copy_from(const Bsdf &o) {
+    frame_ = o.frame_;
+    ng_ = o.ng_;
+    backfacing_ = o.backfacing_;
+    n_ = o.n_;
+    for (int i = 0; i < n_; ++i) {
+      new (&lobes_[i]) Lobe(o.lobes_[i]);
+      raw_weight_[i] = o.raw_weight_[i];
+      pick_[i] = o.pick_[i];
+    }
+  }
   bool local_pair(Vec3 wo_w, Vec3 wi_w, Vec3 &wo, Vec3 &wi, bool &flipped) const;
   Frame frame_;
   Vec3 ng_;
@@ -154,8 +173,9 @@ class Bsdf {
   };
   static_assert(std::is_trivially_copyable_v<Lobe> && std::is_trivially_destructible_v<Lobe>);
   LobeArray lobes_;
-  std::array<float, kMaxLobes> raw_weight_{};  // as given to add_lobe
-  std::array<float, kMaxLobes> pick_{};        // normalised lobe selection probabilities
+  // Entries [0, n_) are valid, as in lobes_.
+  std::array<float, kMaxLobes> raw_weight_;  // as given to add_lobe
+  std::array<float, kMaxLobes> pick_;        // normalised lobe selection probabilities
 };
 
 // Per-lobe routines in the local frame (wo.z > 0), exposed for the statistical tests.

@@ -51,7 +51,8 @@ class Bdpt final : public Integrator {
   float pdf_light(const PathVertex &light_vertex, const PathVertex &v) const;
   float pdf_light_origin(const PathVertex &light_vertex, const PathVertex &v) const;
   float infinite_light_density(Vec3 dir) const;
-  float mis_weight(PathVertex *light_path, PathVertex *camera_path, PathVertex &sampled, int s, int t) const;
+  float mis_weight(const PathVertex *light_path, const PathVertex *camera_path, const PathVertex &sampled, int s,
+                   int t) const;
   // Vertex helpers (connect.cpp).
   Color f(const PathVertex &v, const PathVertex &next, TransportMode mode) const;
   Color Le(const PathVertex &v, const PathVertex &toward) const;

@@ -63,60 +63,48 @@ float Bdpt::pdf_light_origin(const PathVertex &lv, const PathVertex &v) const {
 
 namespace {
 float remap0(float f) { return f != 0 ? f : 1.0f; }
-
-// Sets a value for the duration of a scope, then restores it.
-template <class T>
-struct Scoped {
-  T *target = nullptr;
-  T saved{};
-  Scoped() = default;
-  Scoped(T *t, T value) : target(t) {
-    if (target) { saved = *target; *target = value; }
-  }
-  Scoped(const Scoped &) = delete;
-  Scoped &operator=(Scoped &&o) noexcept {
-    std::swap(target, o.target);
-    std::swap(saved, o.saved);
-    return *this;
-  }
-  ~Scoped() { if (target) *target = saved; }
-};
 }  // namespace
 
-float Bdpt::mis_weight(PathVertex *light_path, PathVertex *camera_path, PathVertex &sampled, int s, int t) const {
+float Bdpt::mis_weight(const PathVertex *light_path, const PathVertex *camera_path, const PathVertex &sampled, int s,
+                       int t) const {
   if (s + t == 2) return 1.0f;
-  PathVertex *qs = s > 0 ? &light_path[s - 1] : nullptr;
-  PathVertex *pt = t > 0 ? &camera_path[t - 1] : nullptr;
-  PathVertex *qs_minus = s > 1 ? &light_path[s - 2] : nullptr;
-  PathVertex *pt_minus = t > 1 ? &camera_path[t - 2] : nullptr;
-
   // The vertex a strategy sampled afresh (s = 1: the light point; t = 1: the lens
-  // point) replaces the subpath's own while the densities are evaluated.
-  Scoped<PathVertex> a1;
-  if (s == 1) a1 = Scoped<PathVertex>(qs, sampled);
-  else if (t == 1) a1 = Scoped<PathVertex>(pt, sampled);
-  // The connection vertices are connectible by construction.
-  Scoped<bool> a2(pt ? &pt->delta : nullptr, false), a3(qs ? &qs->delta : nullptr, false);
-  // Reverse densities at the connection and its neighbours.
-  Scoped<float> a4(pt ? &pt->pdf_rev : nullptr,
-                   pt ? (s > 0 ? pdf(*qs, qs_minus, *pt) : pdf_light_origin(*pt, *pt_minus)) : 0.0f);
-  Scoped<float> a5(pt_minus ? &pt_minus->pdf_rev : nullptr,
-                   pt_minus ? (s > 0 ? pdf(*pt, qs, *pt_minus) : pdf_light(*pt, *pt_minus)) : 0.0f);
-  Scoped<float> a6(qs ? &qs->pdf_rev : nullptr, qs ? pdf(*pt, pt_minus, *qs) : 0.0f);
-  Scoped<float> a7(qs_minus ? &qs_minus->pdf_rev : nullptr, qs_minus ? pdf(*qs, pt, *qs_minus) : 0.0f);
+  // point) stands in for the subpath's own. Nothing is copied or modified: the few
+  // densities that differ for this strategy are overrides read by the sums below.
+  const PathVertex *qs = s == 1 ? &sampled : s > 1 ? &light_path[s - 1] : nullptr;
+  const PathVertex *pt = t == 1 ? &sampled : &camera_path[t - 1];
+  const PathVertex *qs_minus = s > 1 ? &light_path[s - 2] : nullptr;
+  const PathVertex *pt_minus = t > 1 ? &camera_path[t - 2] : nullptr;
 
+  // Reverse densities at the connection and its neighbours.
+  const float pt_rev = s > 0 ? pdf(*qs, qs_minus, *pt) : pdf_light_origin(*pt, *pt_minus);
+  const float pt_minus_rev = pt_minus ? (s > 0 ? pdf(*pt, qs, *pt_minus) : pdf_light(*pt, *pt_minus)) : 0.0f;
+  const float qs_rev = qs ? pdf(*pt, pt_minus, *qs) : 0.0f;
+  const float qs_minus_rev = qs_minus ? pdf(*qs, pt, *qs_minus) : 0.0f;
+
+  // Camera side: strategies with fewer camera vertices. The connection vertices are
+  // connectible by construction (never delta here).
   float sum = 0, ri = 1;
   for (int i = t - 1; i > 0; --i) {
-    ri *= remap0(camera_path[i].pdf_rev) / remap0(camera_path[i].pdf_fwd);
-    if (!camera_path[i].delta && !camera_path[i - 1].delta) sum += ri * ri;
+    float rev = i == t - 1 ? pt_rev : i == t - 2 ? pt_minus_rev : camera_path[i].pdf_rev;
+    ri *= remap0(rev) / remap0(camera_path[i].pdf_fwd);
+    bool delta = i != t - 1 && camera_path[i].delta;
+    if (!delta && !camera_path[i - 1].delta) sum += ri * ri;
   }
+  // Light side: strategies with fewer light vertices.
+  const PathVertex &light_start = s == 1 ? sampled : light_path[0];
+  const bool delta_light =
+      s > 0 && light_start.light >= 0 &&
+      ((!light_start.infinite && light_is_delta_position(scene_.lights()[light_start.light])) ||
+       light_is_delta_direction(scene_.lights()[light_start.light]));
   ri = 1;
   for (int i = s - 1; i >= 0; --i) {
-    ri *= remap0(light_path[i].pdf_rev) / remap0(light_path[i].pdf_fwd);
-    bool delta_light = i > 0 ? light_path[i - 1].delta
-                             : (!light_path[0].infinite && light_is_delta_position(scene_.lights()[light_path[0].light])) ||
-                                   (light_path[0].light >= 0 && light_is_delta_direction(scene_.lights()[light_path[0].light]));
-    if (!light_path[i].delta && !delta_light) sum += ri * ri;
+    const PathVertex &v = i == 0 ? light_start : light_path[i];
+    float rev = i == s - 1 ? qs_rev : i == s - 2 ? qs_minus_rev : v.pdf_rev;
+    ri *= remap0(rev) / remap0(v.pdf_fwd);
+    bool delta = i != s - 1 && v.delta;
+    bool delta_before = i > 0 ? light_path[i - 1].delta : delta_light;
+    if (!delta && !delta_before) sum += ri * ri;
   }
   return 1.0f / (1.0f + sum);
 }
