@@ -211,6 +211,7 @@ Material Material::from_params(Params &p, const std::string &name) {
     if (w.rfind("material", 0) != 0 && w.rfind("image", 0) != 0) w = "material '" + name + "': " + w;
   for (std::string &w : m.warnings)
     if (w.rfind("image", 0) == 0) w = "material '" + name + "': " + w;
+  m.resolve_if_constant();
   return m;
 }
 
@@ -223,6 +224,7 @@ Material Material::error_material(const std::string &name) {
   c.in[kBaseColor] = m.graph.constant(Color(1.0f, 0.0f, 1.0f));
   c.in[kRoughness] = m.graph.constant(Color(0.0f));
   m.closures.push_back(c);
+  m.resolve_if_constant();
   return m;
 }
 
@@ -296,40 +298,14 @@ Color Material::shadow_transmission(const ShadingPoint &sp) const {
   return vmin(t, Color(1.0f));
 }
 
-Bsdf Material::make_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const {
-  ShadingPoint sp;
-  sp.ng = ng;
-  sp.ns = ns;
-  sp.p_object = sp.generated = Vec3(0.0f);
-  return make_bsdf(sp, wo);
-}
+namespace {
 
-Bsdf Material::make_bsdf(const ShadingPoint &sp, Vec3 wo) const {
-  // One shading frame per Bsdf: the first closure with a normal input sets it.
-  Vec3 ns = sp.ns;
-  bool mapped = false;
-  for (const Closure &c : closures)
-    if (c.normal >= 0) { ns = graph.eval_normal(c.normal, sp); mapped = true; break; }
-  if (mapped) {  // bend a mapped normal that would reflect below the surface (as Cycles)
-    Vec3 ngf = dot(sp.ng, wo) < 0 ? -sp.ng : sp.ng;
-    if (dot(ns, ngf) < 0) ns = -ns;
-    ns = ensure_valid_reflection(ngf, wo, ns);
-  }
-  // Anisotropy follows the default UV map's u direction, rotated about the normal.
-  Vec3 tangent(0.0f);
-  for (const Closure &c : closures) {
-    if (c.in[kAnisotropic] < 0 || !sp.has_uv_frame) continue;
-    if (graph.eval_float(c.in[kAnisotropic], sp) == 0) continue;
-    float rot = graph.eval_float(c.in[kAnisoRotation], sp) * 2.0f * kPi;
-    Vec3 t = sp.dpdu - ns * dot(ns, sp.dpdu);
-    if (!(length_squared(t) > 0)) break;
-    t = normalize(t);
-    Vec3 b = cross(ns, t);
-    tangent = t * std::cos(rot) + b * std::sin(rot);
-    break;
-  }
-  Bsdf bsdf(sp.ng, ns, wo, tangent);
-  for (const Closure &c : closures) {
+// The lobes of every closure at sp, handed to sink.add_lobe(lobe, sample_weight): a
+// Bsdf, or a Material's ResolvedLobes.
+template <class Sink>
+void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
+  const TextureGraph &graph = m.graph;
+  for (const Closure &c : m.closures) {
     float w = 1;
     for (const Closure::Factor &f : c.weight) {
       float v = clampf(graph.eval_float(f.node, sp), 0.0f, 1.0f);
@@ -479,6 +455,62 @@ Bsdf Material::make_bsdf(const ShadingPoint &sp, Vec3 wo) const {
       case MaterialType::Add: break;
     }
   }
+}
+
+}  // namespace
+
+// One named result and one return: the Bsdf (kilobytes) is built in place, not copied.
+Bsdf Material::resolved_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const {
+  Bsdf bsdf(ng, ns, wo);
+  for (int i = 0; i < resolved.n; ++i) bsdf.add_lobe(resolved.lobe[i], resolved.weight[i]);
+  return bsdf;
+}
+
+void Material::resolve_if_constant() {
+  resolved.n = -1;
+  if (has_textures()) return;  // normal maps and bump are texture nodes too
+  for (const Closure &c : closures)
+    if (c.in[kAnisotropic] >= 0 && graph.node(c.in[kAnisotropic]).value.x != 0) return;  // needs the UV tangent
+  resolved.n = 0;
+  add_closure_lobes(*this, ShadingPoint{}, resolved);
+}
+
+Bsdf Material::make_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const {
+  if (is_constant()) return resolved_bsdf(ng, ns, wo);
+  ShadingPoint sp;
+  sp.ng = ng;
+  sp.ns = ns;
+  sp.p_object = sp.generated = Vec3(0.0f);
+  return make_bsdf(sp, wo);
+}
+
+Bsdf Material::make_bsdf(const ShadingPoint &sp, Vec3 wo) const {
+  if (is_constant()) return resolved_bsdf(sp.ng, sp.ns, wo);
+  // One shading frame per Bsdf: the first closure with a normal input sets it.
+  Vec3 ns = sp.ns;
+  bool mapped = false;
+  for (const Closure &c : closures)
+    if (c.normal >= 0) { ns = graph.eval_normal(c.normal, sp); mapped = true; break; }
+  if (mapped) {  // bend a mapped normal that would reflect below the surface (as Cycles)
+    Vec3 ngf = dot(sp.ng, wo) < 0 ? -sp.ng : sp.ng;
+    if (dot(ns, ngf) < 0) ns = -ns;
+    ns = ensure_valid_reflection(ngf, wo, ns);
+  }
+  // Anisotropy follows the default UV map's u direction, rotated about the normal.
+  Vec3 tangent(0.0f);
+  for (const Closure &c : closures) {
+    if (c.in[kAnisotropic] < 0 || !sp.has_uv_frame) continue;
+    if (graph.eval_float(c.in[kAnisotropic], sp) == 0) continue;
+    float rot = graph.eval_float(c.in[kAnisoRotation], sp) * 2.0f * kPi;
+    Vec3 t = sp.dpdu - ns * dot(ns, sp.dpdu);
+    if (!(length_squared(t) > 0)) break;
+    t = normalize(t);
+    Vec3 b = cross(ns, t);
+    tangent = t * std::cos(rot) + b * std::sin(rot);
+    break;
+  }
+  Bsdf bsdf(sp.ng, ns, wo, tangent);
+  add_closure_lobes(*this, sp, bsdf);
   return bsdf;
 }
 

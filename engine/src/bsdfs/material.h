@@ -51,19 +51,36 @@ struct Material {
   TextureGraph graph;
   std::vector<std::string> warnings;  // for Scene::warn (missing images, approximations)
   bool transparent = false;  // may let shadow rays through (Transparent BSDF, Principled alpha)
+  // A constant material (no texture, normal map or anisotropy) has its lobes resolved
+  // once, when parsed: shading a hit then copies them, and needs no ShadingPoint.
+  struct ResolvedLobes {
+    int n = -1;  // -1: not constant
+    Lobe lobe[Bsdf::kMaxLobes];
+    float weight[Bsdf::kMaxLobes];
+    void add_lobe(const Lobe &l, float w) {  // the same rules as Bsdf::add_lobe
+      if (n < Bsdf::kMaxLobes && w > 0) { lobe[n] = l; weight[n] = w; ++n; }
+    }
+  };
+  ResolvedLobes resolved;
 
   static Material from_params(Params &p, const std::string &name);
   // The magenta stand-in Blender shows for a material it cannot use.
   static Material error_material(const std::string &name);
   bool emits() const { return !is_black(emission); }
   bool has_textures() const;
+  bool is_constant() const { return resolved.n >= 0; }
   const char *type_name() const;
   // Bsdf at a surface point (textures, normal maps, bump, named attributes).
   Bsdf make_bsdf(const ShadingPoint &sp, Vec3 wo) const;
   // What passes straight through at sp (the Transparent lobes' weight): for shadow rays.
   Color shadow_transmission(const ShadingPoint &sp) const;
-  // Without surface information (textures see uv = 0): for callers that have none.
+  // Without surface information (textures see uv = 0): for callers that have none,
+  // and for constant materials, which need none.
   Bsdf make_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const;
+
+ private:
+  void resolve_if_constant();
+  Bsdf resolved_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const;
 };
 
 }  // namespace rdv

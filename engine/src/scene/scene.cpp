@@ -462,6 +462,11 @@ ShadingPoint Scene::shading_point(const SurfaceHit &hit) const {
   return sp;
 }
 
+Bsdf Scene::bsdf(const SurfaceHit &hit, Vec3 wo) const {
+  const Material &m = materials_[hit.material];
+  return m.is_constant() ? m.make_bsdf(hit.ng, hit.ns, wo) : m.make_bsdf(shading_point(hit), wo);
+}
+
 std::string Scene::summary_json() const {
   nlohmann::json j;
   uint64_t stored = 0, instanced = 0;

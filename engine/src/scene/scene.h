@@ -58,6 +58,8 @@ class Scene {
   bool occluded(Vec3 o, Vec3 d, float tmax) const { return accel_.occluded(o, d, tmax); }
   // What textures need at a hit: object / generated coordinates, named attributes, UV tangents.
   ShadingPoint shading_point(const SurfaceHit &hit) const;
+  // The hit's material as a Bsdf toward wo (constant materials need no ShadingPoint).
+  Bsdf bsdf(const SurfaceHit &hit, Vec3 wo) const;
 
   const Camera &camera() const { return camera_; }
   Camera &camera() { return camera_; }

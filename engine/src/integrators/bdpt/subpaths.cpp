@@ -125,7 +125,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     v.beta = beta;
     v.material = hit.material;
     v.media = media;
-    v.bsdf = material.make_bsdf(scene_.shading_point(hit), v.wo);
+    v.bsdf = scene_.bsdf(hit, v.wo);
     if (material.emits()) v.light = int(scene_.triangle_light(hit.instance, hit.prim));
     v.pdf_fwd = prev.convert_density(pdf_fwd, v);
     ++n;

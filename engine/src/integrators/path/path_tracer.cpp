@@ -154,7 +154,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       float pdf = light_pdf(scene_.lights()[li], prev_p, ray.d, length(hit.p - prev_p));
       L += beta * material.emission * emission_weight(li, pdf);
     }
-    Bsdf bsdf = material.make_bsdf(scene_.shading_point(hit), wo);
+    Bsdf bsdf = scene_.bsdf(hit, wo);
     if (depth == 0 && first_hit) {
       const Camera &cam = scene_.camera();
       first_hit->valid = true;
