@@ -10,6 +10,7 @@
 #include "bsdfs/transparent.h"
 #include <cstring>
 #include <new>
+#include <optional>
 #include "core/hash.h"
 
 namespace rdv {
@@ -163,10 +164,13 @@ bool Bsdf::local_pair(Vec3 wo_w, Vec3 wi_w, Vec3 &wo, Vec3 &wi, bool &flipped) c
   return consistent_side(wi_w, flipped ? -ng_ : ng_, wi.z);
 }
 
-static Lobe seen_from_behind(const Lobe &lobe) {
-  Lobe l = lobe;
-  if (l.is_dielectric()) l.ior = 1.0f / l.ior;
-  return l;
+// The lobe as seen from the side wo is on. Only a dielectric seen from behind differs
+// (inverse IOR); that one is copied into `scratch`, every other lobe is used in place.
+static const Lobe &lobe_from_side(const Lobe &lobe, bool flipped, std::optional<Lobe> &scratch) {
+  if (!flipped || !lobe.is_dielectric()) return lobe;
+  scratch.emplace(lobe);
+  scratch->ior = 1.0f / lobe.ior;
+  return *scratch;
 }
 
 Color Bsdf::f(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
@@ -174,7 +178,8 @@ Color Bsdf::f(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
   bool flipped;
   if (!local_pair(wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
   Color f(0.0f);
-  for (int i = 0; i < n_; ++i) f += lobe_eval(flipped ? seen_from_behind(lobes_[i]) : lobes_[i], wo, wi, mode);
+  std::optional<Lobe> scratch;  // constructed only when needed
+  for (int i = 0; i < n_; ++i) f += lobe_eval(lobe_from_side(lobes_[i], flipped, scratch), wo, wi, mode);
   return f * shading_correction(wo_w, wi_w, mode);
 }
 
@@ -182,12 +187,36 @@ Color Bsdf::eval(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
   return f(wo_w, wi_w, mode) * absdot(wi_w, frame_.n);
 }
 
+Color Bsdf::f_and_pdfs(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_fwd, float &pdf_rev) const {
+  pdf_fwd = pdf_rev = 0;
+  Vec3 wo, wi;
+  bool flipped;
+  if (!local_pair(wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
+  // The reverse pair as local_pair(wi_w, wo_w) would set it up: flipped by wi's side.
+  float side_rev = dot(wi_w, ng_);
+  bool flipped_rev = side_rev < 0;
+  bool rev_ok = side_rev != 0;
+  Vec3 wo_rev = wo, wi_rev = wi;  // local coordinates of wo_w and wi_w for the reverse pair
+  if (flipped_rev != flipped) { wo_rev.z = -wo_rev.z; wi_rev.z = -wi_rev.z; }
+  rev_ok = rev_ok && consistent_side(wo_w, flipped_rev ? -ng_ : ng_, wo_rev.z);
+  Color f(0.0f);
+  std::optional<Lobe> scratch, scratch_rev;
+  for (int i = 0; i < n_; ++i) {
+    const Lobe &lobe = lobe_from_side(lobes_[i], flipped, scratch);
+    f += lobe_eval(lobe, wo, wi, mode);
+    pdf_fwd += pick_[i] * lobe_pdf(lobe, wo, wi);
+    if (rev_ok) pdf_rev += pick_[i] * lobe_pdf(lobe_from_side(lobes_[i], flipped_rev, scratch_rev), wi_rev, wo_rev);
+  }
+  return f * shading_correction(wo_w, wi_w, mode);
+}
+
 float Bsdf::pdf(Vec3 wo_w, Vec3 wi_w) const {
   Vec3 wo, wi;
   bool flipped;
   if (!local_pair(wo_w, wi_w, wo, wi, flipped)) return 0;
   float p = 0;
-  for (int i = 0; i < n_; ++i) p += pick_[i] * lobe_pdf(flipped ? seen_from_behind(lobes_[i]) : lobes_[i], wo, wi);
+  std::optional<Lobe> scratch;  // constructed only when needed
+  for (int i = 0; i < n_; ++i) p += pick_[i] * lobe_pdf(lobe_from_side(lobes_[i], flipped, scratch), wo, wi);
   return p;
 }
 

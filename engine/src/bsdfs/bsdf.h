@@ -140,6 +140,10 @@ class Bsdf {
   // into their geometry term), including the importance-mode correction.
   Color f(Vec3 wo, Vec3 wi, TransportMode mode) const;
   float pdf(Vec3 wo, Vec3 wi) const;
+  // f(wo, wi) as f() and, with one frame change, pdf(wo, wi) and pdf(wi, wo): what a
+  // BDPT connection needs at each end (its value and its MIS densities both ways).
+  // The densities are left 0 where f is 0 (the connection contributes nothing).
+  Color f_and_pdfs(Vec3 wo, Vec3 wi, TransportMode mode, float &pdf_fwd, float &pdf_rev) const;
   bool sample(Vec3 wo, float u_lobe, Vec2 u, TransportMode mode, BsdfSample &out) const;
   // Directional albedo-like colour for the Diffuse Color AOV.
   Color albedo() const;

@@ -9,10 +9,20 @@
 
 namespace rdv {
 
+// Separate streams of dimensions (pbrt-v3's MLTSampler idea). A sample starts on the
+// Camera stream; BDPT draws its light subpath and its connections from their own
+// streams, at positions fixed by the vertex they belong to, so a given decision (the
+// light point for next-event estimation at the first hit, say) uses the same dimension
+// in every sample of a pixel, whatever the lengths of the subpaths drawn before it.
+// Stratification needs that, and so will MLT's primary-sample-space mutations.
+enum class SampleStream : uint32_t { Camera = 0, Light = 1, LightPoint = 2, Lens = 3 };
+
 class Sampler {
  public:
   virtual ~Sampler() = default;
   virtual void start_sample(uint32_t px, uint32_t py, uint32_t sample_index) = 0;
+  // Subsequent draws come from `stream`, starting at its dimension `position`.
+  virtual void start_stream(SampleStream stream, uint32_t position) = 0;
   virtual float get_1d() = 0;
   virtual Vec2 get_2d() = 0;
 };
@@ -21,9 +31,12 @@ class Sampler {
 // Hash-based Owen Scrambling"): each pair of dimensions uses the first two Sobol
 // dimensions of an index shuffled by a hash-seeded nested uniform scramble.
 class SobolSampler final : public Sampler {
-  struct SobolTables {
+  // The second Sobol dimension (generator matrix: Pascal's triangle mod 2), bit-reversed,
+  // a byte of the index at a time: the shuffled index uses all 32 bits, so a table
+  // lookup per byte replaces a 32-step matrix-vector product.
+  struct ReversedSobolTables {
     uint32_t t[4][256];
-    SobolTables() {
+    ReversedSobolTables() {
       uint32_t v[32];
       v[0] = 1u << 31;
       for (int k = 1; k < 32; ++k) v[k] = v[k - 1] ^ (v[k - 1] >> 1);
@@ -32,7 +45,7 @@ class SobolSampler final : public Sampler {
           uint32_t r = 0;
           for (int j = 0; j < 8; ++j)
             if (byte & (1 << j)) r ^= v[8 * b + j];
-          t[b][byte] = r;
+          t[b][byte] = reverse_bits(r);
         }
     }
   };
@@ -41,21 +54,29 @@ class SobolSampler final : public Sampler {
   explicit SobolSampler(uint32_t seed) : seed_(hash_u32(seed ^ 0x5bd1e995u)) {}
   void start_sample(uint32_t px, uint32_t py, uint32_t sample_index) override {
     pixel_seed_ = hash3(px, py, seed_);
-    index_ = sample_index;
+    reversed_index_ = reverse_bits(sample_index);
     dimension_ = 0;
   }
+  // Dimensions only seed the per-dimension scramble (padding), so every dimension is
+  // as good as any other: a stream is a disjoint block of them. The Camera stream is
+  // block 0, the dimensions a sampler without streams would use.
+  void start_stream(SampleStream stream, uint32_t position) override {
+    dimension_ = (uint32_t(stream) << 24) + (position & 0xffffu);
+  }
+  // Per dimension: shuffle the sample index with a nested uniform scramble, take the
+  // first (and second) Sobol dimension of the shuffled index, and Owen-scramble those.
+  // The Sobol dimension 0 point is the bit-reversed index and the scramble works on
+  // reversed bits, so the reversals cancel in pairs and each coordinate costs one.
   float get_1d() override {
-    uint32_t d = dimension_++;
-    uint32_t h = hash_combine(pixel_seed_, d);
-    uint32_t i = nested_uniform_scramble(index_, h);
-    return to_float(nested_uniform_scramble(reverse_bits(i), hash_u32(h ^ 0x68bc21ebu)));
+    uint32_t h = hash_combine(pixel_seed_, dimension_++);
+    uint32_t i = reverse_bits(laine_karras(reversed_index_, h));
+    return to_float(reverse_bits(laine_karras(i, hash_u32(h ^ 0x68bc21ebu))));
   }
   Vec2 get_2d() override {
-    uint32_t d = dimension_++;
-    uint32_t h = hash_combine(pixel_seed_, d + 0x10000);
-    uint32_t i = nested_uniform_scramble(index_, h);
-    uint32_t x = nested_uniform_scramble(reverse_bits(i), hash_u32(h ^ 0x68bc21ebu));
-    uint32_t y = nested_uniform_scramble(sobol_dimension1(i), hash_u32(h ^ 0x02e5be93u));
+    uint32_t h = hash_combine(pixel_seed_, dimension_++ + 0x10000);
+    uint32_t i = reverse_bits(laine_karras(reversed_index_, h));
+    uint32_t x = reverse_bits(laine_karras(i, hash_u32(h ^ 0x68bc21ebu)));
+    uint32_t y = reverse_bits(laine_karras(reversed_sobol_dimension1(i), hash_u32(h ^ 0x02e5be93u)));
     return {to_float(x), to_float(y)};
   }
 
@@ -66,28 +87,25 @@ class SobolSampler final : public Sampler {
     v = ((v >> 8) & 0x00ff00ffu) | ((v & 0x00ff00ffu) << 8);
     return (v >> 16) | (v << 16);
   }
-  // Second Sobol dimension (generator matrix: Pascal's triangle mod 2). The shuffled
-  // index uses all 32 bits, so the matrix-vector product goes a byte at a time
-  // through precomputed tables instead of a 32-step loop.
-  static uint32_t sobol_dimension1(uint32_t index) {
-    static const SobolTables tables;
+  static uint32_t reversed_sobol_dimension1(uint32_t index) {
+    static const ReversedSobolTables tables;
     return tables.t[0][index & 0xff] ^ tables.t[1][(index >> 8) & 0xff] ^ tables.t[2][(index >> 16) & 0xff] ^
            tables.t[3][index >> 24];
   }
-  // Laine-Karras style hash acting as a nested uniform (Owen) scramble on reversed bits.
-  static uint32_t nested_uniform_scramble(uint32_t x, uint32_t seed) {
-    x = reverse_bits(x);
+  // Laine-Karras style hash: on bit-reversed values it acts as a nested uniform (Owen)
+  // scramble, each bit flipped depending only on the bits above it.
+  static uint32_t laine_karras(uint32_t x, uint32_t seed) {
     x += seed;
     x ^= x * 0x6c50b47cu;
     x ^= x * 0xb82f1e52u;
     x ^= x * 0xc7afe638u;
     x ^= x * 0x8d22f6e6u;
-    return reverse_bits(x);
+    return x;
   }
 
  private:
   static float to_float(uint32_t v) { return u32_to_unit_float(v); }
-  uint32_t seed_, pixel_seed_ = 0, index_ = 0, dimension_ = 0;
+  uint32_t seed_, pixel_seed_ = 0, reversed_index_ = 0, dimension_ = 0;
 };
 
 // Independent uniform numbers from a PCG stream seeded by (seed, pixel, index).
@@ -95,13 +113,18 @@ class IndependentSampler final : public Sampler {
  public:
   explicit IndependentSampler(uint32_t seed) : seed_(seed) {}
   void start_sample(uint32_t px, uint32_t py, uint32_t sample_index) override {
-    rng_ = Pcg32(hash3(px, py, seed_), (uint64_t(sample_index) << 1) | 1);
+    sample_seed_ = hash3(px, py, seed_);
+    sample_index_ = sample_index;
+    rng_ = Pcg32(sample_seed_, (uint64_t(sample_index) << 1) | 1);
+  }
+  void start_stream(SampleStream stream, uint32_t position) override {
+    rng_ = Pcg32(hash3(sample_seed_, uint32_t(stream), position), (uint64_t(sample_index_) << 1) | 1);
   }
   float get_1d() override { return rng_.next_float(); }
   Vec2 get_2d() override { float a = rng_.next_float(); return {a, rng_.next_float()}; }
 
  private:
-  uint32_t seed_;
+  uint32_t seed_, sample_seed_ = 0, sample_index_ = 0;
   Pcg32 rng_;
 };
 

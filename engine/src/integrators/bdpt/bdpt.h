@@ -19,6 +19,21 @@ struct BdptSettings {
   bool strategy_unweighted = false;  // that strategy without its MIS weight
 };
 
+// What a path vertex (surface or medium) does at a connection: its BSDF or phase
+// value from v.wo to wi and its densities of scattering v.wo -> wi (fwd) and
+// wi -> v.wo (rev), in solid angle.
+struct Scattering {
+  Color f{0.0f};
+  float pdf_fwd = 0, pdf_rev = 0;
+};
+
+// The reverse densities (area measure) that change when a strategy joins light vertex
+// q_s with camera vertex p_t: at p_t, p_(t-1), q_s and q_(s-1) (Veach 1997, sec. 10.2).
+// connect() knows them from its own evaluations; the MIS weight only reads them.
+struct ConnectionDensities {
+  float pt_rev = 0, pt_minus_rev = 0, qs_rev = 0, qs_minus_rev = 0;
+};
+
 class Bdpt final : public Integrator {
  public:
   Bdpt(const Scene &scene, const BdptSettings &settings) : scene_(scene), settings_(settings) {}
@@ -46,15 +61,15 @@ class Bdpt final : public Integrator {
   template <bool kMedia>
   int random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, float pdf, int max_vertices,
                   TransportMode mode, PathVertex *path, Color *emitted) const;
-  // Densities (mis.cpp).
-  float pdf(const PathVertex &v, const PathVertex *prev, const PathVertex &next) const;
+  // Densities (mis.cpp), area measure at the receiving vertex.
+  float pdf_camera(const PathVertex &camera, const PathVertex &v) const;
   float pdf_light(const PathVertex &light_vertex, const PathVertex &v) const;
   float pdf_light_origin(const PathVertex &light_vertex, const PathVertex &v) const;
   float infinite_light_density(Vec3 dir) const;
   float mis_weight(const PathVertex *light_path, const PathVertex *camera_path, const PathVertex &sampled, int s,
-                   int t) const;
+                   int t, const ConnectionDensities &densities) const;
   // Vertex helpers (connect.cpp).
-  Color f(const PathVertex &v, const PathVertex &next, TransportMode mode) const;
+  Scattering scatter(const PathVertex &v, Vec3 wi, TransportMode mode) const;
   Color Le(const PathVertex &v, const PathVertex &toward) const;
   // Geometry term with visibility (and transmittance through media).
   template <bool kMedia>

@@ -10,11 +10,16 @@ static Vec3 direction_to(const PathVertex &from, const PathVertex &to) {
   return to.infinite ? to.dir : normalize(to.p - from.p);
 }
 
-Color Bdpt::f(const PathVertex &v, const PathVertex &next, TransportMode mode) const {
-  Vec3 wi = direction_to(v, next);
-  if (v.type == VertexType::Medium) return Color(scene_.medium(v.medium).phase.eval(v.wo, wi));
-  if (v.type != VertexType::Surface) return Color(0.0f);
-  return v.bsdf.f(v.wo, wi, mode);
+Scattering Bdpt::scatter(const PathVertex &v, Vec3 wi, TransportMode mode) const {
+  Scattering sc;
+  if (v.type == VertexType::Medium) {
+    const HenyeyGreenstein &phase = scene_.medium(v.medium).phase;
+    sc.f = Color(phase.eval(v.wo, wi));
+    sc.pdf_fwd = sc.pdf_rev = phase.pdf(v.wo, wi);  // symmetric, and sampled exactly
+  } else if (v.type == VertexType::Surface) {
+    sc.f = v.bsdf.f_and_pdfs(v.wo, wi, mode, sc.pdf_fwd, sc.pdf_rev);
+  }
+  return sc;
 }
 
 // Radiance a light vertex (or an emissive surface) sends toward `toward`.
@@ -73,14 +78,20 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
   // A camera path that ended on a light only counts as s = 0.
   if (t > 1 && s != 0 && pt.type == VertexType::Light) return L;
   PathVertex sampled;
+  ConnectionDensities densities;
   if (s == 0) {
     if (pt.is_light()) L = Le(pt, camera_path[t - 2]) * pt.beta;
+    if (!is_black(L) && t > 2) {
+      densities.pt_rev = pdf_light_origin(pt, camera_path[t - 2]);
+      densities.pt_minus_rev = pdf_light(pt, camera_path[t - 2]);
+    }
   } else if (t == 1) {
     // Light tracing: connect the light subpath to a point on the lens.
     PathVertex &qs = light_path[s - 1];
     if (!qs.connectible(scene_) || (qs.type != VertexType::Surface && qs.type != VertexType::Medium)) return L;
     const Camera &camera = scene_.camera();
     Camera::ImportanceSample is;
+    sampler.start_stream(SampleStream::Lens, uint32_t(s));
     Vec2 u = sampler.get_2d();
     if (!camera.can_be_connected() || !camera.sample_importance(qs.p, u, is) || !(is.pdf > 0)) return L;
     sampled = PathVertex{};
@@ -89,13 +100,18 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     sampled.ng = sampled.ns = camera.forward();
     sampled.beta = Color(is.We / is.pdf);
     if constexpr (kMedia) sampled.media = MediumStack::for_camera(scene_);
-    L = qs.beta * f(qs, sampled, TransportMode::Importance) * sampled.beta;
+    Scattering sq = scatter(qs, direction_to(qs, sampled), TransportMode::Importance);
+    L = qs.beta * sq.f * sampled.beta;
     if (qs.on_surface()) L *= absdot(is.wi, qs.ns);
     if (!is_black(L)) L *= transmittance<kMedia>(qs, sampled, stats);
     *raster = is.raster;
+    densities.pt_rev = qs.convert_density(sq.pdf_fwd, sampled);
+    densities.qs_rev = pdf_camera(sampled, qs);
+    densities.qs_minus_rev = qs.convert_density(sq.pdf_rev, light_path[s - 2]);
   } else if (s == 1) {
     // Next-event estimation: a fresh point on a light chosen by power.
     if (!pt.connectible(scene_)) return L;
+    sampler.start_stream(SampleStream::LightPoint, 2 * uint32_t(t));
     float u_light = sampler.get_1d();
     Vec2 u = sampler.get_2d();
     const Distribution1D &dist = scene_.light_distribution();
@@ -117,7 +133,11 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
       if (light.type == LightType::Area || light.type == LightType::Triangle) sampled.ng = sampled.ns = light.axis;
     }
     sampled.pdf_fwd = pdf_light_origin(sampled, pt);
-    L = pt.beta * f(pt, sampled, TransportMode::Radiance) * sampled.beta;
+    Scattering sp = scatter(pt, direction_to(pt, sampled), TransportMode::Radiance);
+    L = pt.beta * sp.f * sampled.beta;
+    densities.pt_rev = pdf_light(sampled, pt);
+    densities.pt_minus_rev = pt.convert_density(sp.pdf_rev, camera_path[t - 2]);
+    densities.qs_rev = pt.convert_density(sp.pdf_fwd, sampled);
     if (pt.on_surface()) L *= absdot(ls.wi, pt.ns);
     if (!is_black(L)) {
       Vec3 ng = pt.type == VertexType::Surface ? pt.ng : Vec3(0.0f);
@@ -133,10 +153,16 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
   } else {
     PathVertex &qs = light_path[s - 1];
     if (!qs.connectible(scene_) || !pt.connectible(scene_)) return L;
-    L = qs.beta * f(qs, pt, TransportMode::Importance) * f(pt, qs, TransportMode::Radiance) * pt.beta;
+    Vec3 d = direction_to(qs, pt);
+    Scattering sq = scatter(qs, d, TransportMode::Importance), sp = scatter(pt, -d, TransportMode::Radiance);
+    L = qs.beta * sq.f * sp.f * pt.beta;
     if (!is_black(L)) L *= G<kMedia>(qs, pt, stats);
+    densities.pt_rev = qs.convert_density(sq.pdf_fwd, pt);
+    densities.pt_minus_rev = pt.convert_density(sp.pdf_rev, camera_path[t - 2]);
+    densities.qs_rev = pt.convert_density(sp.pdf_fwd, qs);
+    densities.qs_minus_rev = qs.convert_density(sq.pdf_rev, light_path[s - 2]);
   }
-  float w = is_black(L) ? 0.0f : mis_weight(light_path, camera_path, sampled, s, t);
+  float w = is_black(L) ? 0.0f : mis_weight(light_path, camera_path, sampled, s, t, densities);
   if (mis_weight_out) *mis_weight_out = w;
   return L * w;
 }

@@ -179,6 +179,7 @@ int Bdpt::camera_subpath(const CameraRay &cr, Sampler &sampler, RayStats &stats,
 template <bool kMedia>
 int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path) const {
   const Distribution1D &dist = scene_.light_distribution();
+  sampler.start_stream(SampleStream::Light, 0);
   float u_light = sampler.get_1d();
   Vec2 u_pos = sampler.get_2d(), u_dir = sampler.get_2d();
   if (dist.size() == 0 || dist.total() <= 0) return 0;
