@@ -8,7 +8,7 @@ and texture graphs (``{"node": ...}``) for every colour/float input.
 
 IR values that do not vary over the surface are folded into constants when the folding is
 exact; everything else becomes an engine texture node.  A node that cannot be represented
-exactly (an image without a readable file, Toon/Hair BSDFs, a textured emission, ...) is
+exactly (an image without a readable file, Toon/Hair BSDFs, ...) is
 replaced by its best constant/closure and recorded, and the caller gets ONE warning per
 material naming those nodes.
 """
@@ -413,12 +413,9 @@ class _Lowerer:
         if k == "mix":
             a, b = (c.children + [None, None])[:2]
             fac = p.get("fac", Const(0.5))
-            if self._has_emission(c) and self.fold(fac) is None:
-                f = _clamp01(self._const_float(fac, c.node, "factor above an emission"))
-            else:
-                f = self.value(fac)
-                if isinstance(f, float):
-                    f = _clamp01(f)
+            f = self.value(fac)  # textured factors above an emission too: the engine evaluates them per point
+            if isinstance(f, float):
+                f = _clamp01(f)
             s1, s2 = self.shader(a, depth + 1), self.shader(b, depth + 1)
             if isinstance(f, float) and f <= 0.0:
                 return s1
@@ -450,9 +447,9 @@ class _Lowerer:
         if k in ("emission", "background"):
             if k == "background" and self.context == "surface":
                 self.approx(c.node, "Background shader in a material treated as emission")
-            col = self._const_color(p["color"], c.node, "emission colour")
-            s = self._const_float(p.get("strength", Const(1.0)), c.node, "emission strength")
-            if max(col) <= 0.0 or s == 0.0:
+            col = self.value(p["color"], True)
+            s = self.value(p.get("strength", Const(1.0)))
+            if (isinstance(col, list) and max(col) <= 0.0) or s == 0.0:
                 return None
             return {"type": "emission", "color": col, "strength": s}
         if k == "diffuse":
@@ -512,16 +509,6 @@ class _Lowerer:
         self.approx(c.node, "unknown closure '%s' ignored" % k)
         return None
 
-    def _has_emission(self, c, depth=0):
-        if c is None or depth > 50:
-            return False
-        if c.kind in ("emission", "background"):
-            return True
-        if c.kind == "principled":
-            em = self.fold(c.params.get("emission"))
-            return em is None or max(_num(em) if not isinstance(em, float) else [em]) > 0.0
-        return any(self._has_emission(x, depth + 1) for x in c.children)
-
     def _principled(self, c):
         p = c.params
         d = {"type": "principled"}
@@ -536,11 +523,10 @@ class _Lowerer:
         sub = self.fold(p.get("subsurface", Const(0.0)))
         if sub is None or sub > 0.0:
             self.approx(c.node, "subsurface approximated by diffuse")
-        em = self._const_color(p.get("emission", Const(0.0)), c.node, "emission colour")
-        if max(em) > 0.0:
+        em = self.value(p.get("emission", Const(0.0)), True)
+        if not isinstance(em, list) or max(em) > 0.0:
             d["emission"] = em
-            d["emission_strength"] = self._const_float(p.get("emission_strength", Const(1.0)), c.node,
-                                                       "emission strength")
+            d["emission_strength"] = self.value(p.get("emission_strength", Const(1.0)))
         self._with_normal(d, c)
         cn = p.get("clearcoat_normal")
         if cn is not None and not isinstance(cn, Const):
@@ -618,10 +604,14 @@ def _weighted(d, w):
         return False  # black: nothing to scale
     t = d.get("type")
     if t == "emission":
-        return dict(d, strength=d["strength"] * w)
+        return dict(d, strength=d["strength"] * w) if isinstance(d["strength"], float) else None
     if t in _LINEAR_TYPES and _is_list(d.get("color")) and "emission" not in d:
         return dict(d, color=[x * w for x in d["color"]])
     return None
+
+
+def _constant_emission(d):
+    return _is_list(d["color"]) and isinstance(d["strength"], float)
 
 
 def _merge(a, b):
@@ -633,6 +623,8 @@ def _merge(a, b):
         return None if other is False else other
     if a["type"] == "emission" and b["type"] != "emission":
         a, b = b, a
+    if any(x["type"] == "emission" and not _constant_emission(x) for x in (a, b)):
+        return None
     if b["type"] == "emission":
         rad = [x * b["strength"] for x in b["color"]]
         if a["type"] == "emission":

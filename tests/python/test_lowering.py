@@ -162,17 +162,21 @@ class TestClosures(unittest.TestCase):
         self.assertEqual(p["fac"]["output"], "fac")
         self.assertIsNone(w)
 
-    def test_textured_fac_above_emission_is_constant_with_warning(self):
+    def test_textured_emission_is_kept_for_the_engine(self):
         def b(t):
             m = t.new("ShaderNodeMixShader", "Mix")
             t.link(t.new("ShaderNodeTexChecker", "Chk").out("Fac"), m.inp("Fac"))
             t.link(t.new("ShaderNodeBsdfDiffuse", "D").out(), m.inp("Shader"))
-            t.link(t.new("ShaderNodeEmission", "E").out(), m.inp("Shader_001"))
+            e = t.new("ShaderNodeEmission", "E")
+            t.link(t.new("ShaderNodeTexChecker", "Chk2").out("Color"), e.inp("Color"))
+            t.link(e.out(), m.inp("Shader_001"))
             return m.out()
         p, w = keep("emission_mix", convert(b))
-        self.assertIn("Mix", w)
-        self.assertEqual(p["type"], "diffuse")  # constant fac 0.5 merges into diffuse + emission
-        self.assertEqual(w.count("Material 'M'"), 1)
+        self.assertIsNone(w)
+        self.assertEqual(p["type"], "mix")
+        self.assertEqual(p["fac"]["node"], "checker")
+        self.assertEqual(p["shader2"]["type"], "emission")
+        self.assertEqual(p["shader2"]["color"]["node"], "checker")
 
     def test_volume_only_and_surface_with_volume(self):
         def vol(t):

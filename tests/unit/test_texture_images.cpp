@@ -265,3 +265,45 @@ TEST(TextureGraphs, MeshAttributesThroughTheCAbi) {
   EXPECT_NE(RDV_OK, rdv_scene_add_mesh_attribute(scene, 7, "Col", "color", col, 3, 3));
   rdv_scene_destroy(scene);
 }
+
+// Filtered lookups: a footprint of many texels on a one-texel checker (sRGB 0 / 255,
+// i.e. linear 0 / 1) gives its mean, 0.5 in scene-linear (an average of the encoded
+// values would give 0.21); no footprint keeps the texels; Closest is never filtered.
+// The OIIO path (Cubic) MIP-maps too. Deterministic.
+TEST(TextureImages, FootprintLookupsReturnTheMipAverage) {
+  const int w = 64;
+  std::vector<uint8_t> px(size_t(w) * w);
+  for (int y = 0; y < w; ++y)
+    for (int x = 0; x < w; ++x) px[size_t(y) * w + x] = (x + y) % 2 ? 255 : 0;
+  std::string path = temp_dir() + "/checker1.png";
+  auto out = OIIO::ImageOutput::create(path);
+  ASSERT_TRUE(out && out->open(path, OIIO::ImageSpec(w, w, 1, OIIO::TypeDesc::UINT8)));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px.data()));
+  out->close();
+  std::string problem;
+  int srgb = ImageTextures::instance().load(path, "sRGB", problem);
+  int data = ImageTextures::instance().load(path, "Non-Color", problem);
+  ASSERT_GE(srgb, 0) << problem;
+  ASSERT_GE(data, 0) << problem;
+  auto &ts = ImageTextures::instance();
+  const Vec2 none(0.0f, 0.0f);
+  for (float footprint : {4.0f, 8.0f, 16.0f, 64.0f}) {  // in texels
+    Vec2 dx(footprint / w, 0.0f), dy(0.0f, footprint / w);
+    for (float u : {0.13f, 0.5f, 0.77f}) {
+      EXPECT_NEAR(ts.lookup(srgb, u, 0.31f, TexInterp::Linear, TexExtension::Repeat, nullptr, dx, dy).x, 0.5f, 0.01f)
+          << footprint << " texels at u " << u;
+      // Grazing: a long and a short axis.
+      EXPECT_NEAR(ts.lookup(srgb, u, 0.6f, TexInterp::Linear, TexExtension::Repeat, nullptr, dx, dy * 0.1f).x, 0.5f,
+                  0.01f);
+      EXPECT_NEAR(ts.lookup(data, u, 0.31f, TexInterp::Cubic, TexExtension::Repeat, nullptr, dx, dy).x, 0.5f, 0.03f)
+          << "OIIO's MIP filtering, " << footprint << " texels";
+    }
+  }
+  for (int x = 0; x < 4; ++x) {
+    float u = (x + 0.5f) / w, v = 1.0f - 0.5f / w;  // texels (x, 0) from the top row
+    float texel = (x % 2) ? 1.0f : 0.0f;
+    EXPECT_NEAR(ts.lookup(srgb, u, v, TexInterp::Linear, TexExtension::Repeat, nullptr, none, none).x, texel, 1e-5f);
+    Vec2 big(0.5f, 0.0f);
+    EXPECT_NEAR(ts.lookup(srgb, u, v, TexInterp::Closest, TexExtension::Repeat, nullptr, big, big).x, texel, 1e-5f);
+  }
+}

@@ -43,27 +43,18 @@ struct Parser {
       fail(p.what() + ": '" + key + "' must be a normal_map or bump node");
     return node;
   }
-  // Constant part of a weight (emission must be constant: it is sampled as a light).
-  float constant_weight(const std::vector<Factor> &w, const std::string &what) {
-    float k = 1;
-    for (const Factor &f : w) {
-      if (!m.graph.is_constant(f.node))
-        m.warnings.push_back(what + ": a textured mix factor on an emission is not supported; using its value at uv (0, 0)");
-      float v = clampf(m.graph.eval_float(f.node, ShadingPoint{}), 0, 1);
-      k *= f.invert ? 1 - v : v;
-    }
-    return k;
-  }
+  // Emission: colour x strength x the Mix Shader factors. Constant terms fold into
+  // Material::emission; textured ones are kept and evaluated at each point.
   void emission(Params &p, const std::vector<Factor> &w, const char *color_key, const char *strength_key,
                 Color color_default, float strength_default, std::initializer_list<const char *> aliases = {}) {
-    int c = aliases.size() ? value_any(p, aliases, color_default) : value(p, color_key, color_default);
-    float s = p.get_float(strength_key, strength_default);
-    if (s < 0) fail(p.what() + ": '" + strength_key + "' must not be negative");
-    if (!m.graph.is_constant(c))
-      m.warnings.push_back(p.what() + ": textured emission is not supported; using its value at uv (0, 0)");
-    Color e = m.graph.eval(c, ShadingPoint{}) * s;
-    if (e.x < 0 || e.y < 0 || e.z < 0) fail(p.what() + ": emission must not be negative");
-    if (!is_black(e)) m.emission += e * constant_weight(w, p.what());
+    Material::EmissionTerm e;
+    e.color = aliases.size() ? value_any(p, aliases, color_default) : value(p, color_key, color_default);
+    e.strength = value(p, strength_key, Color(strength_default));
+    e.weight = w;
+    bool constant = m.graph.is_constant(e.color) && m.graph.is_constant(e.strength);
+    for (const Factor &f : w) constant = constant && m.graph.is_constant(f.node);
+    if (constant) m.emission += m.emission_of(e, ShadingPoint{});
+    else m.textured_emission.push_back(e);
   }
 
   void shader(Params &p, const std::string &type, const std::vector<Factor> &w) {
@@ -212,6 +203,7 @@ Material Material::from_params(Params &p, const std::string &name) {
   for (std::string &w : m.warnings)
     if (w.rfind("image", 0) == 0) w = "material '" + name + "': " + w;
   m.resolve_if_constant();
+  m.average_textured_emission();
   return m;
 }
 
@@ -225,7 +217,41 @@ Material Material::error_material(const std::string &name) {
   c.in[kRoughness] = m.graph.constant(Color(0.0f));
   m.closures.push_back(c);
   m.resolve_if_constant();
+  m.average_textured_emission();
   return m;
+}
+
+Color Material::emission_of(const EmissionTerm &e, const ShadingPoint &sp) const {
+  float w = 1;
+  for (const Closure::Factor &f : e.weight) {
+    float v = clampf(graph.eval_float(f.node, sp), 0.0f, 1.0f);
+    w *= f.invert ? 1 - v : v;
+  }
+  if (!(w > 0)) return Color(0.0f);
+  return vmax(graph.eval(e.color, sp), Color(0.0f)) * (std::max(graph.eval_float(e.strength, sp), 0.0f) * w);
+}
+
+Color Material::emission_at(const ShadingPoint &sp) const {
+  Color e = emission;
+  for (const EmissionTerm &t : textured_emission) e += emission_of(t, sp);
+  return e;
+}
+
+// The mean of the textured emission over the unit UV square (and the same square of
+// generated coordinates), 32 x 32 points: the power emissive triangles are chosen by.
+void Material::average_textured_emission() {
+  emission_average = emission;
+  if (textured_emission.empty()) return;
+  const int n = 32;
+  Color sum(0.0f);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      ShadingPoint sp;
+      sp.uv = {(i + 0.5f) / n, (j + 0.5f) / n};
+      sp.generated = sp.p_object = sp.p = Vec3(sp.uv.x, sp.uv.y, 0.5f);
+      for (const EmissionTerm &t : textured_emission) sum += emission_of(t, sp);
+    }
+  emission_average += sum / float(n * n);
 }
 
 bool Material::has_textures() const {

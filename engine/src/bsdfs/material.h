@@ -46,7 +46,15 @@ struct Closure {
 struct Material {
   std::string name;
   MaterialType type = MaterialType::Diffuse;  // of the root node (for summaries)
-  Color emission{0.0f};  // radiance, both faces (constant; Cycles' Emission / Principled Emission)
+  // Emitted radiance, both faces (Cycles' Emission / Principled Emission): the constant
+  // part here, textured terms (colour, strength or mix factor from textures) apart.
+  Color emission{0.0f};
+  struct EmissionTerm {
+    int color = -1, strength = -1;  // texture-graph nodes
+    std::vector<Closure::Factor> weight;
+  };
+  std::vector<EmissionTerm> textured_emission;
+  Color emission_average{0.0f};  // emission + the textured terms' mean over the UV square
   std::vector<Closure> closures;
   TextureGraph graph;
   std::vector<std::string> warnings;  // for Scene::warn (missing images, approximations)
@@ -66,7 +74,10 @@ struct Material {
   static Material from_params(Params &p, const std::string &name);
   // The magenta stand-in Blender shows for a material it cannot use.
   static Material error_material(const std::string &name);
-  bool emits() const { return !is_black(emission); }
+  bool emits() const { return !is_black(emission) || !textured_emission.empty(); }
+  // Radiance emitted at sp (textures evaluated there).
+  Color emission_at(const ShadingPoint &sp) const;
+  Color emission_of(const EmissionTerm &e, const ShadingPoint &sp) const;
   bool has_textures() const;
   bool is_constant() const { return resolved.n >= 0; }
   const char *type_name() const;
@@ -80,6 +91,7 @@ struct Material {
 
  private:
   void resolve_if_constant();
+  void average_textured_emission();
   Bsdf resolved_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const;
 };
 

@@ -50,6 +50,7 @@ struct Splat {
 struct CameraRay {
   Ray ray;          // starts at the near clip plane
   Vec3 lens_point;  // where on the lens it comes from (BDPT's camera vertex)
+  RayCone cone;     // its footprint, for filtered texture lookups
 };
 
 class Integrator {

@@ -32,6 +32,10 @@ struct Light {
   Vec3 edge_u{0.0f}, edge_v{0.0f};
   bool ellipse = false;
   Vec3 p0{0.0f};
+  // triangle: the mesh triangle it is; textured: its material's emission varies over
+  // it (radiance holds the mean, and Scene::sample_light evaluates the texture).
+  uint32_t instance = 0, prim = 0;
+  bool textured = false;
   float power = 0;       // for light selection (scalar)
   // Whether camera rays see the lamp itself. Off by default: Cycles 3.4 never shows
   // lamps to the camera (it does show them in reflections).

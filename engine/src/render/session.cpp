@@ -65,7 +65,7 @@ void Session::render_tile(size_t tile_index, uint32_t first, uint32_t last) {
         Vec2 uf = sampler.get_2d();
         Vec2 raster{x + 0.5f + filter_.sample(uf.x), y + 0.5f + filter_.sample(uf.y)};
         CameraRay cr;
-        cr.ray = camera.generate_ray(raster, sampler.get_2d(), &cr.lens_point);
+        cr.ray = camera.generate_ray(raster, sampler.get_2d(), &cr.lens_point, &cr.cone);
         FirstHit first_hit;
         Color L = integrator_->Li(cr, sampler, stats, &first_hit, splats);
         if (!is_finite(L) || L.x < 0 || L.y < 0 || L.z < 0) {  // never let NaN/Inf into the film

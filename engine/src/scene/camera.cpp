@@ -69,7 +69,7 @@ Vec2 Camera::lens_sample(Vec2 u) const {
   return lens * aperture_radius;
 }
 
-Ray Camera::generate_ray(Vec2 raster, Vec2 u_lens, Vec3 *lens_point) const {
+Ray Camera::generate_ray(Vec2 raster, Vec2 u_lens, Vec3 *lens_point, RayCone *cone) const {
   float fx = raster.x / width_, fy = raster.y / height_;
   Vec3 plane{left + fx * (right - left), top - fy * (top - bottom), 0};
   Vec3 o, d;
@@ -97,6 +97,17 @@ Ray Camera::generate_ray(Vec2 raster, Vec2 u_lens, Vec3 *lens_point) const {
   float len = length(dw);
   ray.d = dw / len;
   ray.tmax = (clip_end - clip_start) * inv_depth_per_t * len;
+  if (cone) {
+    // One pixel of the viewplane: at unit depth (perspective; the apex is the pinhole,
+    // the lens is ignored) or in scene units (orthographic), across the ray.
+    float pixel = std::max((right - left) / width_, (top - bottom) / height_);
+    if (type == Type::Perspective) {
+      cone->spread = pixel * -d.z;  // narrower off-axis, where a pixel is seen obliquely
+      cone->width = cone->spread * clip_start * inv_depth_per_t * len;
+    } else {
+      *cone = {pixel * len, 0.0f};
+    }
+  }
   return ray;
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 #include "core/math.h"
 #include "core/params.h"
+#include "core/ray_cone.h"
 
 namespace rdv {
 
@@ -26,8 +27,9 @@ struct Camera {
 
   // raster: continuous pixel coordinates, (0,0) = top-left corner of the image.
   // u_lens in [0,1)^2. Returns the ray (starting at the near clip plane) and its valid
-  // length; lens_point receives the point on the lens the ray comes from.
-  Ray generate_ray(Vec2 raster, Vec2 u_lens, Vec3 *lens_point = nullptr) const;
+  // length; lens_point receives the point on the lens the ray comes from, cone the
+  // ray's footprint (one pixel wide; core/ray_cone.h).
+  Ray generate_ray(Vec2 raster, Vec2 u_lens, Vec3 *lens_point = nullptr, RayCone *cone = nullptr) const;
 
   // ---- Importance, for light tracing and BDPT's t = 1 strategies (pbrt's We) ----
   // Only perspective cameras (pinhole or thin lens) can be reached by light paths;

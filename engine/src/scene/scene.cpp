@@ -352,7 +352,8 @@ void Scene::build_lights() {
     for (uint32_t t = 0; t < m.num_triangles(); ++t)
       if (materials_[m.materials[t]].emits()) m.emissive_rank[t] = m.num_emissive++;
   }
-  for (Instance &inst : instances_) {
+  for (uint32_t i = 0; i < instances_.size(); ++i) {
+    Instance &inst = instances_[i];
     const Mesh &m = meshes_[inst.mesh];
     inst.light_base = static_cast<uint32_t>(lights_.size());
     if (!inst.enabled || m.num_emissive == 0) continue;
@@ -361,7 +362,12 @@ void Scene::build_lights() {
       Vec3 a = inst.to_world.point(m.positions[m.indices[3 * t]]);
       Vec3 b = inst.to_world.point(m.positions[m.indices[3 * t + 1]]);
       Vec3 c = inst.to_world.point(m.positions[m.indices[3 * t + 2]]);
-      lights_.push_back(make_triangle_light(a, b, c, materials_[m.materials[t]].emission));
+      const Material &mat = materials_[m.materials[t]];
+      Light l = make_triangle_light(a, b, c, mat.emission_average);
+      l.instance = i;
+      l.prim = t;
+      l.textured = !mat.textured_emission.empty();
+      lights_.push_back(l);
       ++emissive_triangles_;
     }
   }
@@ -387,17 +393,23 @@ void Scene::build_lights() {
 bool Scene::intersect(const Ray &ray, SurfaceHit &hit) const {
   RawHit raw;
   if (!accel_.intersect(ray, raw)) return false;
-  const Instance &inst = instances_[raw.instance];
+  surface_at(raw.instance, raw.prim, raw.u, raw.v, hit);
+  hit.t = raw.t;
+  return true;
+}
+
+void Scene::surface_at(uint32_t instance, uint32_t prim, float b1, float b2, SurfaceHit &hit) const {
+  const Instance &inst = instances_[instance];
   const Mesh &m = meshes_[inst.mesh];
-  const uint32_t *tri = &m.indices[3 * raw.prim];
-  float b0 = 1.0f - raw.u - raw.v;
+  const uint32_t *tri = &m.indices[3 * prim];
+  float b0 = 1.0f - b1 - b2;
   Vec3 p0 = m.positions[tri[0]], p1 = m.positions[tri[1]], p2 = m.positions[tri[2]];
   // Position from barycentrics in object space: more precise than o + t d.
-  hit.p = inst.to_world.point(p0 * b0 + p1 * raw.u + p2 * raw.v);
+  hit.p = inst.to_world.point(p0 * b0 + p1 * b1 + p2 * b2);
   Vec3 ng = normalize(inst.to_object.normal_by_inverse(cross(p1 - p0, p2 - p0)));
   Vec3 ns = ng;
   if (!m.normals.empty()) {
-    Vec3 n = m.normals[tri[0]] * b0 + m.normals[tri[1]] * raw.u + m.normals[tri[2]] * raw.v;
+    Vec3 n = m.normals[tri[0]] * b0 + m.normals[tri[1]] * b1 + m.normals[tri[2]] * b2;
     float len2 = length_squared(n);
     if (len2 > 1e-12f) {
       ns = normalize(inst.to_object.normal_by_inverse(n));
@@ -406,18 +418,66 @@ bool Scene::intersect(const Ray &ray, SurfaceHit &hit) const {
   }
   hit.ng = ng;
   hit.ns = ns;
-  hit.uv = m.uvs.empty() ? Vec2(raw.u, raw.v)
-                         : m.uvs[tri[0]] * b0 + m.uvs[tri[1]] * raw.u + m.uvs[tri[2]] * raw.v;
-  hit.t = raw.t;
-  hit.b1 = raw.u;
-  hit.b2 = raw.v;
-  hit.instance = raw.instance;
-  hit.prim = raw.prim;
-  hit.material = m.materials[raw.prim];
+  hit.uv = m.uvs.empty() ? Vec2(b1, b2)
+                         : m.uvs[tri[0]] * b0 + m.uvs[tri[1]] * b1 + m.uvs[tri[2]] * b2;
+  hit.b1 = b1;
+  hit.b2 = b2;
+  hit.instance = instance;
+  hit.prim = prim;
+  hit.material = m.materials[prim];
+}
+
+Color Scene::triangle_emission(const Light &l, Vec3 p) const {
+  // Barycentrics of p: p = p0 + b1 edge_u + b2 edge_v (least squares).
+  Vec3 d = p - l.p0;
+  float uu = dot(l.edge_u, l.edge_u), uv = dot(l.edge_u, l.edge_v), vv = dot(l.edge_v, l.edge_v);
+  float du = dot(d, l.edge_u), dv = dot(d, l.edge_v), det = uu * vv - uv * uv;
+  if (!(det > 0)) return l.radiance;
+  float b1 = clampf((vv * du - uv * dv) / det, 0.0f, 1.0f), b2 = clampf((uu * dv - uv * du) / det, 0.0f, 1.0f - b1);
+  SurfaceHit hit;
+  surface_at(l.instance, l.prim, b1, b2, hit);
+  return materials_[hit.material].emission_at(shading_point(hit));
+}
+
+bool Scene::sample_light(uint32_t light, Vec3 ref, Vec2 u, LightSample &out) const {
+  const Light &l = lights_[light];
+  if (!rdv::sample_light(l, ref, u, out)) return false;
+  if (l.textured) out.L = triangle_emission(l, out.p);
   return true;
 }
 
-ShadingPoint Scene::shading_point(const SurfaceHit &hit) const {
+bool Scene::sample_emission(uint32_t light, Vec2 u_pos, Vec2 u_dir, EmissionSample &out) const {
+  const Light &l = lights_[light];
+  if (!rdv::sample_emission(l, u_pos, u_dir, bounding_center_, bounding_radius_, out)) return false;
+  if (l.textured) out.Le = triangle_emission(l, out.ray.o);
+  return true;
+}
+
+// The footprint of a ray cone `width` wide arriving along dir: one axis across the
+// plane of incidence (width long), the other along it, stretched by 1 / cos at grazing
+// angles; both expressed in (u, v) by least squares on dp/du, dp/dv (pbrt's
+// SurfaceInteraction::ComputeDifferentials).
+static void set_footprint(ShadingPoint &sp, Vec3 dir, float width) {
+  Vec3 n = sp.ng;
+  float cos_i = dot(dir, n);
+  Vec3 a = cross(dir, n);
+  float len = length(a);
+  a = len > 1e-6f ? a / len : Frame(n).s;
+  Vec3 b = cross(a, dir);
+  if (std::fabs(cos_i) > 1e-6f) b = b - dir * (dot(b, n) / cos_i);  // onto the surface along dir
+  float uu = dot(sp.dpdu, sp.dpdu), uv = dot(sp.dpdu, sp.dpdv), vv = dot(sp.dpdv, sp.dpdv);
+  float det = uu * vv - uv * uv;
+  if (!(std::fabs(det) > 1e-20f)) return;
+  auto to_uv = [&](Vec3 d) {
+    float pu = dot(sp.dpdu, d), pv = dot(sp.dpdv, d);
+    Vec2 r{(vv * pu - uv * pv) / det, (uu * pv - uv * pu) / det};
+    return std::isfinite(r.x) && std::isfinite(r.y) ? r : Vec2(0.0f, 0.0f);
+  };
+  sp.dx = to_uv(a * width);
+  sp.dy = to_uv(b * width);
+}
+
+ShadingPoint Scene::shading_point(const SurfaceHit &hit, Vec3 dir, float width) const {
   ShadingPoint sp;
   const Instance &inst = instances_[hit.instance];
   const Mesh &m = meshes_[inst.mesh];
@@ -459,12 +519,19 @@ ShadingPoint Scene::shading_point(const SurfaceHit &hit) const {
   sp.has_uv_frame = frame;
   sp.dpdu = inst.to_world.vector(sp.dpdu_object);
   sp.dpdv = inst.to_world.vector(sp.dpdv_object);
+  if (width > 0) set_footprint(sp, dir, width);
   return sp;
 }
 
-Bsdf Scene::bsdf(const SurfaceHit &hit, Vec3 wo) const {
+Bsdf Scene::bsdf(const SurfaceHit &hit, Vec3 wo, float width, Color *Le) const {
   const Material &m = materials_[hit.material];
-  return m.is_constant() ? m.make_bsdf(hit.ng, hit.ns, wo) : m.make_bsdf(shading_point(hit), wo);
+  if (m.is_constant() && (!Le || m.textured_emission.empty())) {
+    if (Le) *Le = m.emission;
+    return m.make_bsdf(hit.ng, hit.ns, wo);
+  }
+  ShadingPoint sp = shading_point(hit, -wo, width);
+  if (Le) *Le = m.emission_at(sp);
+  return m.make_bsdf(sp, wo);
 }
 
 std::string Scene::summary_json() const {

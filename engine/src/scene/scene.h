@@ -56,10 +56,17 @@ class Scene {
   // Ray queries (after commit).
   bool intersect(const Ray &ray, SurfaceHit &hit) const;
   bool occluded(Vec3 o, Vec3 d, float tmax) const { return accel_.occluded(o, d, tmax); }
-  // What textures need at a hit: object / generated coordinates, named attributes, UV tangents.
-  ShadingPoint shading_point(const SurfaceHit &hit) const;
-  // The hit's material as a Bsdf toward wo (constant materials need no ShadingPoint).
-  Bsdf bsdf(const SurfaceHit &hit, Vec3 wo) const;
+  // What textures need at a hit: object / generated coordinates, named attributes, UV
+  // tangents, and the footprint of a ray along dir that is `width` wide there.
+  ShadingPoint shading_point(const SurfaceHit &hit, Vec3 dir = Vec3(0.0f), float width = 0) const;
+  // The hit's material as a Bsdf toward wo, image textures filtered over a footprint
+  // `width` wide (RayCone::width_at); constant materials need no ShadingPoint. Le, if
+  // given, receives the radiance the surface emits there.
+  Bsdf bsdf(const SurfaceHit &hit, Vec3 wo, float width = 0, Color *Le = nullptr) const;
+  // The lights' sampling routines (lights/light.h) with textured emissive triangles
+  // evaluated at the sampled point.
+  bool sample_light(uint32_t light, Vec3 ref, Vec2 u, LightSample &out) const;
+  bool sample_emission(uint32_t light, Vec2 u_pos, Vec2 u_dir, EmissionSample &out) const;
 
   const Camera &camera() const { return camera_; }
   Camera &camera() { return camera_; }
@@ -113,6 +120,10 @@ class Scene {
 
  private:
   void build_lights();
+  // The surface point at barycentrics (b1, b2) of a triangle of an instance.
+  void surface_at(uint32_t instance, uint32_t prim, float b1, float b2, SurfaceHit &hit) const;
+  // Radiance of a textured emissive triangle at point p on it.
+  Color triangle_emission(const Light &light, Vec3 p) const;
   Mesh make_mesh(const std::string &name, const float *positions, uint32_t num_vertices, const float *normals,
                  const float *uvs, const uint32_t *indices, uint32_t num_triangles, const uint32_t *material_ids,
                  uint32_t default_material);

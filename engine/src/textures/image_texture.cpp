@@ -101,6 +101,13 @@ struct ImageTextures::Impl {
     int w = 0, h = 0;
     std::vector<uint8_t> bytes;  // 8-bit files
     std::vector<float> floats;   // everything else
+    // MIP levels 1, 2, ... of a resident image: 2 x 2 box-filtered, scene-linear floats
+    // (the colour-space conversion is not linear, so averages are taken after it).
+    struct Level {
+      int w = 0, h = 0;
+      std::vector<float> texels;
+    };
+    std::vector<Level> mips;
     // The colour-space conversion as a per-channel table over [0, 1] when it is one
     // (sRGB, most of Blender's spaces), else null (OCIO per lookup).
     std::vector<float> lut;
@@ -174,7 +181,9 @@ bool per_channel(const OCIO::ConstCPUProcessorRcPtr &p) {
 
 }  // namespace
 
-static void make_lut(ImageTextures::Impl::Image &img) {
+using Image = ImageTextures::Impl::Image;
+
+static void make_lut(Image &img) {
   using Impl = ImageTextures::Impl;
   if (!per_channel(img.processor)) return;
   img.lut.resize(Impl::kLutSize * 3);
@@ -186,11 +195,95 @@ static void make_lut(ImageTextures::Impl::Image &img) {
   }
 }
 
-static void make_resident(ImageTextures::Impl &impl, ImageTextures::Impl::Image &img, const OIIO::ImageSpec &spec) {
+// A colour in the file's space to scene-linear.
+static Color to_linear(const Image &img, Color c) {
+  using Impl = ImageTextures::Impl;
+  if (!img.lut.empty()) {
+    for (int k = 0; k < 3; ++k) {
+      float x = c[k];
+      if (x >= 0 && x <= 1) {
+        float f = x * (Impl::kLutSize - 1);
+        int i = std::min(int(f), Impl::kLutSize - 2);
+        float w = f - i;
+        c[k] = img.lut[size_t(i) * 3 + k] * (1 - w) + img.lut[size_t(i + 1) * 3 + k] * w;
+      } else {
+        float rgb[3] = {x, x, x};
+        img.processor->applyRGB(rgb);
+        c[k] = rgb[k];
+      }
+    }
+  } else if (img.processor) {
+    float rgb[3] = {c.x, c.y, c.z};
+    img.processor->applyRGB(rgb);
+    c = {rgb[0], rgb[1], rgb[2]};
+  } else if (img.builtin_srgb) {
+    c = {srgb_to_linear(c.x), srgb_to_linear(c.y), srgb_to_linear(c.z)};
+  }
+  return c;
+}
+
+// Channels as filtered (grey, grey + alpha, RGB, RGBA) to linear colour and alpha.
+static Color finish(const Image &img, const float r[4], float *alpha, bool linear) {
+  Color c;
+  float a = 1;
+  switch (img.channels) {
+    case 1: c = Color(r[0]); break;
+    case 2: c = Color(r[0]); a = r[1]; break;
+    case 3: c = {r[0], r[1], r[2]}; break;
+    default: c = {r[0], r[1], r[2]}; a = r[3]; break;
+  }
+  if (alpha) *alpha = a;
+  return linear ? c : to_linear(img, c);
+}
+
+// Level 0's texels in scene-linear floats, then 2 x 2 box-filtered levels down to 1 x 1
+// (odd sizes: the last row / column joins the one before).
+static void build_mips(Image &img) {
+  const int nc = img.channels;
+  auto level0 = [&](int x, int y, float out[4]) {
+    size_t o = (size_t(y) * img.w + x) * nc;
+    float r[4] = {0, 0, 0, 1};
+    for (int c = 0; c < nc; ++c) r[c] = img.bytes.empty() ? img.floats[o + c] : img.bytes[o + c] * (1.0f / 255.0f);
+    Color lin = finish(img, r, nullptr, false);
+    out[0] = lin.x;
+    if (nc == 2) out[1] = r[1];
+    if (nc >= 3) { out[1] = lin.y; out[2] = lin.z; }
+    if (nc == 4) out[3] = r[3];
+  };
+  int w = img.w, h = img.h;
+  const Image::Level *prev = nullptr;
+  while (w > 1 || h > 1) {
+    Image::Level l;
+    l.w = std::max(w / 2, 1);
+    l.h = std::max(h / 2, 1);
+    l.texels.assign(size_t(l.w) * l.h * nc, 0.0f);
+    for (int y = 0; y < l.h; ++y)
+      for (int x = 0; x < l.w; ++x) {
+        float *dst = &l.texels[(size_t(y) * l.w + x) * nc];
+        int x1 = x == l.w - 1 ? w - 1 : 2 * x + 1, y1 = y == l.h - 1 ? h - 1 : 2 * y + 1;
+        int count = 0;
+        for (int yy = 2 * y; yy <= y1; ++yy)
+          for (int xx = 2 * x; xx <= x1; ++xx, ++count) {
+            float t[4];
+            if (prev) std::copy_n(&prev->texels[(size_t(yy) * w + xx) * nc], nc, t);
+            else level0(xx, yy, t);
+            for (int c = 0; c < nc; ++c) dst[c] += t[c];
+          }
+        for (int c = 0; c < nc; ++c) dst[c] /= float(count);
+      }
+    img.mips.push_back(std::move(l));
+    prev = &img.mips.back();
+    w = prev->w;
+    h = prev->h;
+  }
+}
+
+static void make_resident(ImageTextures::Impl &impl, Image &img, const OIIO::ImageSpec &spec) {
   using Impl = ImageTextures::Impl;
   size_t texels = size_t(spec.width) * spec.height;
   bool is_byte = spec.format == OIIO::TypeDesc::UINT8;
   size_t bytes = texels * img.channels * (is_byte ? 1 : 4);
+  bytes += (texels / 3 + 1) * img.channels * sizeof(float);  // the MIP levels (a third of the texels)
   if (texels > Impl::kResidentTexels || impl.resident_bytes + bytes > Impl::kResidentBudget) return;
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);  // straight colour, as the cache gives it
@@ -212,6 +305,7 @@ static void make_resident(ImageTextures::Impl &impl, ImageTextures::Impl::Image 
   }
   img.w = spec.width;
   img.h = spec.height;
+  build_mips(img);
   img.resident = true;
   impl.resident_bytes += bytes;
 }
@@ -245,8 +339,8 @@ int ImageTextures::load(const std::string &path, const std::string &colorspace, 
   }
   img.processor = proc;
   img.builtin_srgb = cs == "sRGB" && !proc && !color_spaces().config;
-  make_resident(*impl_, img, spec);
   if (img.processor) make_lut(img);
+  make_resident(*impl_, img, spec);
   impl_->images.push_back(img);
   int id = int(impl_->images.size() - 1);
   impl_->by_key[key] = id;
@@ -270,15 +364,91 @@ inline int wrap_index(int i, int n, TexExtension ext) {
   return 0;
 }
 
+// Closest or bilinear filtering of a w x h level at (u, v); fetch(x, y, weight, r)
+// adds a texel (already wrapped) into r.
+template <class Fetch>
+void filter_level(int w, int h, float u, float v, bool closest, TexExtension ext, const Fetch &fetch, float r[4]) {
+  auto add = [&](int x, int y, float weight) {
+    x = wrap_index(x, w, ext);
+    y = wrap_index(y, h, ext);
+    if (x >= 0 && y >= 0) fetch(x, y, weight, r);  // Clip: transparent black outside
+  };
+  // OIIO's t runs down from the top row; Blender's v runs up from the bottom.
+  float s = u * w, t = (1.0f - v) * h;
+  if (!std::isfinite(s) || !std::isfinite(t)) s = t = 0;
+  if (closest) {
+    add(int(std::floor(s)), int(std::floor(t)), 1.0f);
+    return;
+  }
+  s -= 0.5f;
+  t -= 0.5f;
+  float fs = std::floor(s), ft = std::floor(t);
+  int x0 = int(fs), y0 = int(ft);
+  float ws = s - fs, wt = t - ft;
+  add(x0, y0, (1 - ws) * (1 - wt));
+  add(x0 + 1, y0, ws * (1 - wt));
+  add(x0, y0 + 1, (1 - ws) * wt);
+  add(x0 + 1, y0 + 1, ws * wt);
+}
+
+// Level l of a resident image (0: the file's texels), filtered, in scene-linear colour.
+Color lookup_level(const Image &img, int l, float u, float v, bool closest, TexExtension ext, float *alpha) {
+  const int nc = img.channels;
+  float r[4] = {0, 0, 0, 0};
+  if (l > 0) {
+    const Image::Level &level = img.mips[size_t(l - 1)];
+    filter_level(level.w, level.h, u, v, closest, ext, [&](int x, int y, float w, float *acc) {
+      const float *t = &level.texels[(size_t(y) * level.w + x) * nc];
+      for (int c = 0; c < nc; ++c) acc[c] += w * t[c];
+    }, r);
+    return finish(img, r, alpha, true);
+  }
+  if (!img.bytes.empty())
+    filter_level(img.w, img.h, u, v, closest, ext, [&](int x, int y, float w, float *acc) {
+      const uint8_t *t = &img.bytes[(size_t(y) * img.w + x) * nc];
+      for (int c = 0; c < nc; ++c) acc[c] += w * t[c] * (1.0f / 255.0f);
+    }, r);
+  else
+    filter_level(img.w, img.h, u, v, closest, ext, [&](int x, int y, float w, float *acc) {
+      const float *t = &img.floats[(size_t(y) * img.w + x) * nc];
+      for (int c = 0; c < nc; ++c) acc[c] += w * t[c];
+    }, r);
+  return finish(img, r, alpha, false);
+}
+
+// Trilinear MIP filtering over the footprint's longer axis (wider than a texel), else
+// level 0 with the requested interpolation.
+Color lookup_resident(const Image &img, float u, float v, TexInterp interp, TexExtension ext, float *alpha, Vec2 dx,
+                      Vec2 dy) {
+  bool closest = interp == TexInterp::Closest;
+  float width = std::max(std::hypot(dx.x * img.w, dx.y * img.h), std::hypot(dy.x * img.w, dy.y * img.h));
+  float a = 1;
+  Color c;
+  if (closest || !(width > 1.0f)) {
+    c = lookup_level(img, 0, u, v, closest, ext, &a);
+  } else {
+    float level = std::min(std::log2(width), float(img.mips.size()));
+    int l0 = int(level);
+    float t = level - float(l0);
+    c = lookup_level(img, l0, u, v, false, ext, &a);
+    if (t > 0 && l0 < int(img.mips.size())) {
+      float a1;
+      Color c1 = lookup_level(img, l0 + 1, u, v, false, ext, &a1);
+      c = c * (1 - t) + c1 * t;
+      a = a * (1 - t) + a1 * t;
+    }
+  }
+  if (ext == TexExtension::Clip && (u < 0 || u > 1 || v < 0 || v > 1)) a = 0;
+  if (alpha) *alpha = a;
+  return c;
+}
+
 }  // namespace
 
-static Color lookup_resident(const ImageTextures::Impl::Image &img, float u, float v, TexInterp interp,
-                             TexExtension ext, float *alpha);
-static Color finish(const ImageTextures::Impl::Image &img, Color c, float a, float *alpha);
-
-Color ImageTextures::lookup(int id, float u, float v, TexInterp interp, TexExtension ext, float *alpha) const {
+Color ImageTextures::lookup(int id, float u, float v, TexInterp interp, TexExtension ext, float *alpha, Vec2 dx,
+                            Vec2 dy) const {
   const Impl::Image &img = impl_->images[size_t(id)];
-  if (img.resident && interp != TexInterp::Cubic) return lookup_resident(img, u, v, interp, ext, alpha);
+  if (img.resident && interp != TexInterp::Cubic) return lookup_resident(img, u, v, interp, ext, alpha, dx, dy);
   TextureOpt opt;
   switch (ext) {
     case TexExtension::Repeat: opt.swrap = opt.twrap = TextureOpt::WrapPeriodic; break;
@@ -291,94 +461,21 @@ Color ImageTextures::lookup(int id, float u, float v, TexInterp interp, TexExten
     case TexInterp::Closest: opt.interpmode = TextureOpt::InterpClosest; break;
     case TexInterp::Cubic: opt.interpmode = TextureOpt::InterpBicubic; break;
   }
-  opt.mipmode = TextureOpt::MipModeNoMIP;  // no ray differentials yet: finest level
+  bool footprint = interp != TexInterp::Closest && (dx.x != 0 || dx.y != 0 || dy.x != 0 || dy.y != 0);
+  // Without a footprint (or Closest): the finest level. With one: OIIO's anisotropic
+  // MIP filtering. OIIO's t runs down from the top row; Blender's v runs up.
+  opt.mipmode = footprint ? TextureOpt::MipModeDefault : TextureOpt::MipModeNoMIP;
+  if (!footprint) dx = dy = Vec2(0.0f, 0.0f);
   float r[4] = {0, 0, 0, 1};
   TextureSystem *ts = impl_->ts;
-  // OIIO's t runs down from the top row; Blender's v runs up from the bottom.
-  if (!ts->texture(img.handle, ts->get_perthread_info(), opt, u, 1.0f - v, 0, 0, 0, 0, img.channels, r)) {
+  if (!ts->texture(img.handle, ts->get_perthread_info(), opt, u, 1.0f - v, dx.x, -dx.y, dy.x, -dy.y, img.channels, r)) {
     (void)ts->geterror();
     if (alpha) *alpha = 1;
     return Color(1, 0, 1);
   }
-  Color c;
-  float a = 1;
-  switch (img.channels) {
-    case 1: c = Color(r[0]); break;
-    case 2: c = Color(r[0]); a = r[1]; break;
-    case 3: c = {r[0], r[1], r[2]}; break;
-    default: c = {r[0], r[1], r[2]}; a = r[3]; break;
-  }
+  float a;
+  Color c = finish(img, r, &a, false);
   if (ext == TexExtension::Clip && (u < 0 || u > 1 || v < 0 || v > 1)) a = 0;
-  return finish(img, c, a, alpha);
-}
-
-static Color finish(const ImageTextures::Impl::Image &img, Color c, float a, float *alpha);
-
-static Color lookup_resident(const ImageTextures::Impl::Image &img, float u, float v, TexInterp interp,
-                             TexExtension ext, float *alpha) {
-  const int nc = img.channels;
-  float r[4] = {0, 0, 0, 0};
-  auto fetch = [&](int x, int y, float w) {
-    x = wrap_index(x, img.w, ext);
-    y = wrap_index(y, img.h, ext);
-    if (x < 0 || y < 0) return;  // Clip: transparent black outside
-    size_t o = (size_t(y) * img.w + x) * nc;
-    if (!img.bytes.empty())
-      for (int c = 0; c < nc; ++c) r[c] += w * img.bytes[o + c] * (1.0f / 255.0f);
-    else
-      for (int c = 0; c < nc; ++c) r[c] += w * img.floats[o + c];
-  };
-  // OIIO's t runs down from the top row; Blender's v runs up from the bottom.
-  float s = u * img.w, t = (1.0f - v) * img.h;
-  if (!std::isfinite(s) || !std::isfinite(t)) s = t = 0;
-  if (interp == TexInterp::Closest) {
-    fetch(int(std::floor(s)), int(std::floor(t)), 1.0f);
-  } else {
-    s -= 0.5f;
-    t -= 0.5f;
-    float fs = std::floor(s), ft = std::floor(t);
-    int x0 = int(fs), y0 = int(ft);
-    float ws = s - fs, wt = t - ft;
-    fetch(x0, y0, (1 - ws) * (1 - wt));
-    fetch(x0 + 1, y0, ws * (1 - wt));
-    fetch(x0, y0 + 1, (1 - ws) * wt);
-    fetch(x0 + 1, y0 + 1, ws * wt);
-  }
-  Color c;
-  float a = 1;
-  switch (nc) {
-    case 1: c = Color(r[0]); break;
-    case 2: c = Color(r[0]); a = r[1]; break;
-    case 3: c = {r[0], r[1], r[2]}; break;
-    default: c = {r[0], r[1], r[2]}; a = r[3]; break;
-  }
-  if (ext == TexExtension::Clip && (u < 0 || u > 1 || v < 0 || v > 1)) a = 0;
-  return finish(img, c, a, alpha);
-}
-
-static Color finish(const ImageTextures::Impl::Image &img, Color c, float a, float *alpha) {
-  using Impl = ImageTextures::Impl;
-  if (!img.lut.empty()) {
-    for (int k = 0; k < 3; ++k) {
-      float x = c[k];
-      if (x >= 0 && x <= 1) {
-        float f = x * (Impl::kLutSize - 1);
-        int i = std::min(int(f), Impl::kLutSize - 2);
-        float w = f - i;
-        c[k] = img.lut[size_t(i) * 3 + k] * (1 - w) + img.lut[size_t(i + 1) * 3 + k] * w;
-      } else {
-        float rgb[3] = {x, x, x};
-        img.processor->applyRGB(rgb);
-        c[k] = rgb[k];
-      }
-    }
-  } else if (img.processor) {
-    float rgb[3] = {c.x, c.y, c.z};
-    img.processor->applyRGB(rgb);
-    c = {rgb[0], rgb[1], rgb[2]};
-  } else if (img.builtin_srgb) {
-    c = {srgb_to_linear(c.x), srgb_to_linear(c.y), srgb_to_linear(c.z)};
-  }
   if (alpha) *alpha = a;
   return c;
 }

@@ -6,8 +6,11 @@
 // (sRGB, Non-Color, Linear, Filmic Log, ...). One process-wide TextureSystem: images
 // used by several scenes are cached once.
 //
-// No ray differentials reach the textures yet: lookups use the finest MIP level with
-// the requested interpolation (as Cycles does for Closest / Linear).
+// Lookups filter over the ray's footprint (dx, dy: its axes in texture space, from the
+// shading point): wider than a texel, they blend MIP levels so far and grazing surfaces
+// show the texture's average. Small images are MIP-mapped here, in scene-linear
+// colour; larger ones by OIIO (filtered in the file's colour space, then converted).
+// Closest interpolation is never filtered (as in Blender).
 #pragma once
 #include <cstddef>
 #include <string>
@@ -26,8 +29,10 @@ class ImageTextures {
   // integer files, Linear for float (half / float EXR, HDR).
   int load(const std::string &path, const std::string &colorspace, std::string &problem);
   // (u, v) in Blender's convention (v = 0 at the bottom row). Returns scene-linear RGB
-  // and the alpha (1 for files without alpha).
-  Color lookup(int id, float u, float v, TexInterp interp, TexExtension ext, float *alpha) const;
+  // and the alpha (1 for files without alpha). dx, dy: the footprint's axes in (u, v)
+  // (zero: the finest level, unfiltered beyond the interpolation).
+  Color lookup(int id, float u, float v, TexInterp interp, TexExtension ext, float *alpha,
+               Vec2 dx = Vec2(0.0f, 0.0f), Vec2 dy = Vec2(0.0f, 0.0f)) const;
   void set_cache_megabytes(float mb);
   float cache_megabytes() const;
   // Bytes the tile cache holds now (never above the limit plus one tile per thread).

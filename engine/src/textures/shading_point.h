@@ -1,6 +1,7 @@
 // What textures see of a surface point: positions in world / object / generated
-// space, the default UV map, named mesh attributes (UV maps, vertex colours), and
-// the tangent frame (dp/du, dp/dv) that normal maps and bump need.
+// space, the default UV map, named mesh attributes (UV maps, vertex colours), the
+// tangent frame (dp/du, dp/dv) that normal maps and bump need, and the ray's
+// footprint there (dx, dy) that image lookups filter over.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -21,6 +22,9 @@ struct ShadingPoint {
   Vec3 dpdu_object{1, 0, 0}, dpdv_object{0, 1, 0};  // the same in object space
   Vec3 generated_scale{1.0f};          // d(generated) / d(object position)
   bool has_uv_frame = false;           // dpdu/dpdv come from real UVs
+  // The ray's footprint on the surface: its two axes as steps in (u, v) along dpdu /
+  // dpdv (one pixel apart for camera rays; zero: a point, unfiltered lookups).
+  Vec2 dx{0.0f, 0.0f}, dy{0.0f, 0.0f};
   const Mesh *mesh = nullptr;          // for named attributes
   uint32_t v[3] = {0, 0, 0};           // triangle vertex indices
   float b[3] = {1, 0, 0};              // barycentrics
@@ -28,6 +32,19 @@ struct ShadingPoint {
 
   // Interpolated attribute (id from attribute_id()); false if the mesh lacks it.
   bool attribute(uint32_t id, float out[4], int &components) const;
+  bool has_footprint() const { return dx.x != 0 || dx.y != 0 || dy.x != 0 || dy.y != 0; }
+  // The point moved along the surface by duv (in the dpdu / dpdv parameters): for
+  // finite differences (bump, footprints of mapped coordinates). Named attributes
+  // stay those of this point.
+  ShadingPoint shifted(Vec2 duv) const {
+    ShadingPoint s = *this;
+    s.uv = {uv.x + duv.x, uv.y + duv.y};
+    s.p = p + dpdu * duv.x + dpdv * duv.y;
+    Vec3 d_object = dpdu_object * duv.x + dpdv_object * duv.y;
+    s.p_object = p_object + d_object;
+    s.generated = generated + d_object * generated_scale;
+    return s;
+  }
 };
 
 // Process-wide ids for attribute names ("UVMap.001", "Col"), so lookups compare integers.

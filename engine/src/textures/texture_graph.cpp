@@ -475,8 +475,25 @@ Color TextureGraph::eval(int idx, const ShadingPoint &sp) const {
     case TexNodeType::Image: {
       if (n.image < 0) return n.output == 1 ? Color(1.0f) : Color(1, 0, 1);
       Vec3 uv = in(0);
+      // The footprint in texture space (Closest stays unfiltered, as in Blender): the
+      // default UV map's is the shading point's own; mapped or other coordinates
+      // by finite differences across it.
+      Vec2 dx(0.0f, 0.0f), dy(0.0f, 0.0f);
+      if (n.interp != TexInterp::Closest && sp.has_footprint()) {
+        const TexNode &v = nodes_[size_t(n.in[0])];
+        bool default_uv = (v.type == TexNodeType::TexCoord && v.mode == kUv) ||
+                          (v.type == TexNodeType::Attribute && v.default_uv);
+        if (default_uv) {
+          dx = sp.dx;
+          dy = sp.dy;
+        } else {
+          Vec3 ux = eval(n.in[0], sp.shifted(sp.dx)) - uv, uy = eval(n.in[0], sp.shifted(sp.dy)) - uv;
+          dx = {ux.x, ux.y};
+          dy = {uy.x, uy.y};
+        }
+      }
       float a;
-      Color c = ImageTextures::instance().lookup(n.image, uv.x, uv.y, n.interp, n.ext, &a);
+      Color c = ImageTextures::instance().lookup(n.image, uv.x, uv.y, n.interp, n.ext, &a, dx, dy);
       return n.output == 1 ? Color(a) : c;
     }
     case TexNodeType::Checker: {
@@ -618,19 +635,11 @@ Vec3 TextureGraph::eval_normal(int idx, const ShadingPoint &sp) const {
   }
   if (n.type == TexNodeType::Bump) {
     if (n.in[3] >= 0) N = eval_normal(n.in[3], sp);
-    // Finite differences of the height along the surface (no ray differentials yet):
-    // steps of 1e-3 in UV (or object units without UVs), as Cycles' bump node does
-    // with its dP differentials.
+    // Finite differences of the height along the surface: fixed steps of 1e-3 in UV
+    // (or object units without UVs) where Cycles' bump node steps by its dP
+    // differentials; a fixed step keeps a bump the same near and far.
     const float h = 1e-3f;
-    ShadingPoint sx = sp, sy = sp;
-    sx.uv = {sp.uv.x + h, sp.uv.y};
-    sy.uv = {sp.uv.x, sp.uv.y + h};
-    sx.p = sp.p + sp.dpdu * h;
-    sy.p = sp.p + sp.dpdv * h;
-    sx.p_object = sp.p_object + sp.dpdu_object * h;
-    sy.p_object = sp.p_object + sp.dpdv_object * h;
-    sx.generated = sp.generated + sp.dpdu_object * sp.generated_scale * h;
-    sy.generated = sp.generated + sp.dpdv_object * sp.generated_scale * h;
+    ShadingPoint sx = sp.shifted({h, 0}), sy = sp.shifted({0, h});
     float h0 = eval_float(n.in[0], sp), hx = eval_float(n.in[0], sx), hy = eval_float(n.in[0], sy);
     Vec3 dpdx = sp.dpdu * h, dpdy = sp.dpdv * h;
     Vec3 rx = cross(dpdy, N), ry = cross(N, dpdx);

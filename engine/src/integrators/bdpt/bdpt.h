@@ -58,9 +58,10 @@ class Bdpt final : public Integrator {
   template <bool kMedia>
   Color li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
            std::vector<Splat> &splats) const;
+  // cone: the ray's footprint (camera paths), for filtered texture lookups.
   template <bool kMedia>
   int random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, float pdf, int max_vertices,
-                  TransportMode mode, PathVertex *path, Color *emitted) const;
+                  TransportMode mode, PathVertex *path, Color *emitted, RayCone cone = {}) const;
   // Densities (mis.cpp), area measure at the receiving vertex.
   float pdf_camera(const PathVertex &camera, const PathVertex &v) const;
   float pdf_light(const PathVertex &light_vertex, const PathVertex &v) const;

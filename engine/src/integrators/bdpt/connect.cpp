@@ -35,8 +35,7 @@ Color Bdpt::Le(const PathVertex &v, const PathVertex &toward) const {
     }
     return L;
   }
-  if (v.type == VertexType::Light) return v.emitted;
-  return scene_.material(v.material).emission;  // emissive surfaces glow on both sides
+  return v.emitted;  // lamps, and emissive surfaces (both sides; textures evaluated at the hit)
 }
 
 template <bool kMedia>
@@ -120,7 +119,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     uint32_t index = uint32_t(dist.sample_discrete(u_light, &pmf));
     const Light &light = scene_.lights()[index];
     LightSample ls;
-    if (!sample_light(light, pt.p, u, ls) || !(ls.pdf > 0)) return L;
+    if (!scene_.sample_light(index, pt.p, u, ls) || !(ls.pdf > 0)) return L;
     sampled = PathVertex{};
     sampled.type = VertexType::Light;
     sampled.light = int(index);

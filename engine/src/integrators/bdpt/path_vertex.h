@@ -23,7 +23,7 @@ struct PathVertex {
   int light = -1;       // light index: light vertices, and surfaces on emitters
   bool infinite = false;  // an infinite light (escaped ray or light-subpath start); p unused, dir set
   Vec3 dir{0.0f};       // infinite lights: direction from the scene toward the light
-  Color emitted{0.0f};  // radiance of an analytic lamp where a camera path hit it
+  Color emitted{0.0f};  // radiance of the lamp or emissive surface where a path hit it
   uint32_t material = 0;
   Bsdf bsdf;
   int medium = -1;      // medium vertices: the medium that scattered (its phase function)

@@ -28,7 +28,7 @@ float PathVertex::convert_density(float pdf, const PathVertex &next) const {
 
 template <bool kMedia>
 int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, float pdf_fwd, int max_vertices,
-                      TransportMode mode, PathVertex *path, Color *emitted) const {
+                      TransportMode mode, PathVertex *path, Color *emitted, RayCone cone) const {
   if (max_vertices <= 0) return 0;
   const float beta_start = std::max(max_component(beta), 1e-30f);
   MediumStack media = path[0].media;
@@ -125,7 +125,8 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     v.beta = beta;
     v.material = hit.material;
     v.media = media;
-    v.bsdf = scene_.bsdf(hit, v.wo);
+    v.bsdf = scene_.bsdf(hit, v.wo, cone.width_at(hit.t), &v.emitted);
+    cone = cone.after(hit.t);
     if (material.emits()) v.light = int(scene_.triangle_light(hit.instance, hit.prim));
     v.pdf_fwd = prev.convert_density(pdf_fwd, v);
     ++n;
@@ -173,7 +174,7 @@ int Bdpt::camera_subpath(const CameraRay &cr, Sampler &sampler, RayStats &stats,
   v.delta = pdf_dir == 0;
   if (pdf_dir == 0) pdf_dir = 1;
   return 1 + random_walk<kMedia>(cr.ray, sampler, stats, Color(1.0f), pdf_dir, settings_.max_bounces + 1,
-                                 TransportMode::Radiance, path, emitted);
+                                 TransportMode::Radiance, path, emitted, cr.cone);
 }
 
 template <bool kMedia>
@@ -187,7 +188,7 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path) con
   uint32_t index = uint32_t(dist.sample_discrete(u_light, &pmf));
   const Light &light = scene_.lights()[index];
   EmissionSample es;
-  if (!sample_emission(light, u_pos, u_dir, scene_.bounding_center(), scene_.bounding_radius(), es)) return 0;
+  if (!scene_.sample_emission(index, u_pos, u_dir, es)) return 0;
   if (!(es.pdf_pos > 0) || !(es.pdf_dir > 0) || is_black(es.Le)) return 0;
   // Emissive triangles are in the BVH: leave them as any surface is left.
   Ray ray = es.ray;

@@ -21,9 +21,10 @@ static Color sample_direct_light(const Scene &scene, Vec3 p, Vec3 ng, const Scat
   const Distribution1D &dist = scene.light_distribution();
   if (dist.size() == 0 || dist.total() <= 0) return Color(0.0f);
   float pmf;
-  const Light &light = scene.lights()[dist.sample_discrete(u_light, &pmf)];
+  uint32_t index = uint32_t(dist.sample_discrete(u_light, &pmf));
+  const Light &light = scene.lights()[index];
   LightSample ls;
-  if (!sample_light(light, p, u, ls) || !(ls.pdf > 0)) return Color(0.0f);
+  if (!scene.sample_light(index, p, u, ls) || !(ls.pdf > 0)) return Color(0.0f);
   float scatter_pdf;
   Color f = scatter(ls.wi, &scatter_pdf);
   if (is_black(f)) return Color(0.0f);
@@ -58,6 +59,7 @@ template <bool kMedia>
 Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit) const {
   Color L(0.0f), beta(1.0f);
   Ray ray = camera_ray.ray;
+  RayCone cone = camera_ray.cone;  // the footprint, for filtered texture lookups
   bool specular_bounce = true;  // camera rays count as specular: no MIS on what they see
   float prev_pdf = 0;
   Vec3 prev_p = ray.o;
@@ -114,6 +116,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           prev_pdf = medium.phase.pdf(wo, wi);
           prev_p = p;
           ray = Ray{p, wi, kInf};
+          cone = cone.after(ms.t);
           if (!russian_roulette(depth) || is_black(beta)) break;
           continue;
         }
@@ -141,6 +144,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       if (scene_.is_boundary_only(hit.material)) {
         stack.cross(scene_, hit, ray.d);
         ray = Ray{spawn_origin(hit.p, hit.ng, ray.d), ray.d, kInf};
+        cone = cone.after(hit.t);
         if (++boundary_crossings > 256) break;
         --depth;  // not a bounce
         continue;
@@ -149,12 +153,14 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
 
     const Material &material = scene_.material(hit.material);
     Vec3 wo = -ray.d;
+    Color Le;
+    Bsdf bsdf = scene_.bsdf(hit, wo, cone.width_at(hit.t), &Le);
+    cone = cone.after(hit.t);
     if (material.emits()) {
       uint32_t li = scene_.triangle_light(hit.instance, hit.prim);
       float pdf = light_pdf(scene_.lights()[li], prev_p, ray.d, length(hit.p - prev_p));
-      L += beta * material.emission * emission_weight(li, pdf);
+      L += beta * Le * emission_weight(li, pdf);
     }
-    Bsdf bsdf = scene_.bsdf(hit, wo);
     if (depth == 0 && first_hit) {
       const Camera &cam = scene_.camera();
       first_hit->valid = true;
