@@ -156,8 +156,8 @@ MeshArrays mesh_arrays(const json &j, const std::string &what, const std::string
   return m;
 }
 
-// Image files named in materials ({"node":"image","file":...}) and the world's
-// environment are relative to the scene file, as side files are.
+// Image files named in materials ({"node":"image","file":...}), the world's
+// environment and volume grids' VDB files are relative to the scene file, as side files are.
 json with_resolved_files(json j, const std::string &base_dir, bool holds_file = false) {
   if (j.is_object()) {
     bool image = holds_file || (j.contains("node") && j["node"] == "image");
@@ -166,7 +166,7 @@ json with_resolved_files(json j, const std::string &base_dir, bool holds_file = 
         std::filesystem::path f = it.value().get<std::string>();
         if (f.is_relative() && !f.empty()) it.value() = (std::filesystem::path(base_dir) / f).lexically_normal().string();
       } else {
-        it.value() = with_resolved_files(it.value(), base_dir, it.key() == "environment");
+        it.value() = with_resolved_files(it.value(), base_dir, it.key() == "environment" || it.key() == "grid");
       }
     }
   } else if (j.is_array()) {

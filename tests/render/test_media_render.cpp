@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <array>
 #include <nlohmann/json.hpp>
+#include "media_grids.h"
 #include "render_helpers.h"
 
 using namespace rdv::test;
@@ -104,7 +105,7 @@ json media_scene(const std::string &name) {
 
 // Blocks of 16x16 pixels: in-scattering near a lamp is heavy-tailed, and larger blocks
 // keep the block means close enough to normal for the t-test.
-constexpr int kMediaScenes = 6;
+constexpr int kMediaScenes = 7;
 const double kMediaAlpha = 1.0 - std::pow(1.0 - 0.01, 1.0 / (kMediaScenes * 4));
 
 void expect_bdpt_matches_path(const json &scene, const std::string &what, int spp_path, int spp_bdpt) {
@@ -168,6 +169,15 @@ TEST(MediaBdptVsPath, EmissiveVolume) {
                                 {"volume", {{"density", 2.0}, {"color", 0.5}, {"emission_color", {1.0, 0.5, 0.2}}, {"emission_strength", 3.0}}}});
   scene["meshes"][2]["materials"] = {"glow"};
   expect_bdpt_matches_path(scene, "emissive volume", 64, 32);
+}
+
+// A heterogeneous cloud (a grid, delta and ratio tracking) filling the fog box.
+TEST(MediaBdptVsPath, GridCloudLitBySpot) {
+  json scene = media_scene("fog_spot.json");
+  scene["lights"][0]["radius"] = 0.0;
+  scene["materials"][3]["volume"] = {{"density", 3.0}, {"color", {0.9, 0.8, 0.7}}, {"anisotropy", 0.3},
+                                     {"grid", puff_grid(32, {{-4, -4, -0.5}, {4, 4, 4}})}};
+  expect_bdpt_matches_path(scene, "grid cloud", 256, 32);
 }
 
 // Nested media: smoke inside a glass ball inside the fog.

@@ -52,7 +52,7 @@ static WeightEstimate mean_weight(const Medium &m, float d, uint64_t seed, bool 
   Color sum(0.0f), sum2(0.0f);
   for (int i = 0; i < n; ++i) {
     float a = rng.next_float();
-    MediumSample s = m.sample_distance(d, a, rng.next_float());
+    MediumSample s = m.sample_distance(Vec3(0.0f), Vec3(0, 0, 1), d, Vec2(a, rng.next_float()));
     Color v = s.scattered == scattered ? s.weight : Color(0.0f);
     sum += v;
     sum2 += v * v;

@@ -1,4 +1,5 @@
 #include "media/medium.h"
+#include "media/vdb_file.h"
 
 namespace rdv {
 
@@ -31,10 +32,68 @@ Medium Medium::from_params(Params &p, const std::string &name) {
   m.phase.g = clampf(g, -0.999f, 0.999f);
   m.sigma_t = m.sigma_a + m.sigma_s;
   if (!is_finite(m.sigma_t)) fail(p.what() + ": coefficients must be finite");
+  if (const nlohmann::json *grid = p.get_json("grid")) {
+    load_grid(m, *grid, p.what() + " grid");
+    std::string method = p.get_string("method", "tracking");
+    if (method != "tracking" && method != "ray_marching")
+      fail(p.what() + ": 'method' must be \"tracking\" or \"ray_marching\", not \"" + method + "\"");
+    if (m.grid) m.type = method == "tracking" ? MediumType::GridTracking : MediumType::GridRayMarching;  // else vacuum
+    m.step_size = p.get_float("step_size", 0.0f);
+    if (!(m.step_size >= 0)) fail(p.what() + ": 'step_size' must not be negative");
+    if (m.step_size == 0 && m.grid) {  // default: one voxel (its shortest edge in the world)
+      const Transform &g = m.grid->grid_to_world();
+      m.step_size = std::min({length(g.column(0)), length(g.column(1)), length(g.column(2))});
+    }
+  } else if (p.has("method") || p.has("step_size")) {
+    fail(p.what() + ": 'method' and 'step_size' need a 'grid'");
+  }
   return m;
 }
 
-MediumSample Medium::sample_distance(float tmax, float u_channel, float u_distance) const {
+// "grid": dense {"resolution": [nx,ny,nz], "values": [...], "bounds": [[min],[max]]} (the
+// values fill the box `bounds`, default the unit cube) or {"file": "x.vdb", "name":
+// "density"} (the file's own voxel placement); both then placed by "transform".
+void Medium::load_grid(Medium &m, const nlohmann::json &j, const std::string &what) {
+  Params g(j.dump(), what);
+  Transform to_world = g.get_transform("transform", Transform());
+  if (!to_world.is_finite() || !(std::fabs(to_world.det3()) > 0)) fail(what + ": 'transform' must be finite and invertible");
+  if (g.has("file")) {
+    std::string file = g.get_string("file", ""), grid_name = g.get_string("name", "density");
+    g.check_all_used();
+    std::string error;
+    m.grid = load_vdb_density(file, grid_name, to_world, error);
+    if (!m.grid) {
+      m.warnings.push_back("medium '" + m.name + "': " + error + "; rendering without this medium");
+      m.sigma_a = m.sigma_s = m.sigma_t = m.emission = Color(0.0f);
+    }
+    return;
+  }
+  std::vector<float> res = g.get_floats("resolution", 3, {0, 0, 0});
+  int nx = int(res[0]), ny = int(res[1]), nz = int(res[2]);
+  if (nx < 1 || ny < 1 || nz < 1 || res[0] != nx || res[1] != ny || res[2] != nz || double(nx) * ny * nz > 1e9)
+    fail(what + ": 'resolution' must be three positive integers (or give a 'file')");
+  std::vector<float> values = g.get_floats("values", size_t(nx) * ny * nz, {});
+  if (values.empty()) fail(what + ": needs 'values' (" + std::to_string(size_t(nx) * ny * nz) + " densities, x fastest)");
+  for (float v : values)
+    if (v < 0) fail(what + ": densities must not be negative");
+  Vec3 lo(0.0f), hi(1.0f);
+  if (const nlohmann::json *b = g.get_json("bounds")) {
+    if (!b->is_array() || b->size() != 2) fail(what + ": 'bounds' must be [[x0,y0,z0],[x1,y1,z1]]");
+    Params bp(nlohmann::json{{"lo", (*b)[0]}, {"hi", (*b)[1]}}.dump(), what + " 'bounds'");
+    lo = bp.get_vec3("lo", lo);
+    hi = bp.get_vec3("hi", hi);
+    if (!(hi.x > lo.x && hi.y > lo.y && hi.z > lo.z)) fail(what + ": 'bounds' must have max > min on every axis");
+  }
+  g.check_all_used();
+  // Grid coordinates [0, n] -> the box [lo, hi] -> the world.
+  Transform box;
+  Vec3 size = hi - lo;
+  box.m[0][0] = size.x / nx; box.m[1][1] = size.y / ny; box.m[2][2] = size.z / nz;
+  box.m[0][3] = lo.x; box.m[1][3] = lo.y; box.m[2][3] = lo.z;
+  m.grid = std::make_shared<DensityGrid>(nx, ny, nz, std::move(values), to_world * box);
+}
+
+MediumSample Medium::sample_homogeneous(float tmax, float u_channel, float u_distance) const {
   MediumSample s;
   if (max_component(sigma_s) == 0) {
     // Nothing scatters: attenuate exactly (zero variance) and integrate emission in

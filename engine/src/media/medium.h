@@ -3,14 +3,26 @@
 // Chromatic media sample a distance with one colour channel chosen uniformly and
 // weight with the one-sample MIS (balance heuristic) over the channels, so every
 // channel stays unbiased. A scene without media never calls any of this.
+//
+// Homogeneous media are closed-form. Grid media (density_grid.h) scale the
+// coefficients by a voxel density and are sampled by delta / ratio tracking
+// (grid_tracking.cpp, unbiased) or by Pauly et al.'s random-offset ray marching
+// (ray_marching.cpp, approximate). Their random numbers come from a small PCG stream
+// seeded by the caller (a sampler value), so a render stays a function of
+// (seed, pixel, sample) while tracking takes as many numbers as it needs.
 #pragma once
+#include <bit>
+#include <memory>
 #include <string>
+#include <vector>
+#include "core/hash.h"
 #include "core/params.h"
+#include "media/density_grid.h"
 #include "media/phase.h"
 
 namespace rdv {
 
-enum class MediumType : uint8_t { Homogeneous };
+enum class MediumType : uint8_t { Homogeneous, GridTracking, GridRayMarching };
 
 struct MediumSample {
   bool scattered = false;  // true: a scattering event at t; false: the ray reached tmax
@@ -22,23 +34,63 @@ struct MediumSample {
 struct Medium {
   std::string name;
   MediumType type = MediumType::Homogeneous;
+  // Homogeneous: the coefficients. Grid: per unit of voxel density (times "density").
   Color sigma_a{0.0f}, sigma_s{0.0f}, sigma_t{0.0f};
   Color emission{0.0f};  // emitted radiance per unit length (Cycles' volume emission)
   HenyeyGreenstein phase;
+  std::shared_ptr<const DensityGrid> grid;  // grid media only
+  float step_size = 0;                      // ray marching: world units
+  // Problems found while loading (a missing VDB file): the scene warns with them. A
+  // grid that cannot be loaded leaves an empty medium (vacuum): the render goes on
+  // without it, its boundary invisible.
+  std::vector<std::string> warnings;
 
   // From Cycles-style parameters: {"density", "color" (scattering albedo),
   // "absorption_color", "anisotropy", "emission_color", "emission_strength"} or the
-  // physical {"sigma_a", "sigma_s", "emission", "anisotropy"}.
+  // physical {"sigma_a", "sigma_s", "emission", "anisotropy"}; plus an optional "grid"
+  // (dense values or a VDB file, see docs/scene-format.md) with "method" and "step_size".
   static Medium from_params(Params &p, const std::string &name);
 
+  bool is_emissive() const { return !is_black(emission); }
+  bool is_heterogeneous() const { return type != MediumType::Homogeneous; }
+
+  // Closed-form transmittance of a homogeneous medium over a distance (may be infinite).
   Color transmittance(float distance) const {
     if (std::isinf(distance)) return {sigma_t.x > 0 ? 0.0f : 1.0f, sigma_t.y > 0 ? 0.0f : 1.0f, sigma_t.z > 0 ? 0.0f : 1.0f};
     return {std::exp(-sigma_t.x * distance), std::exp(-sigma_t.y * distance), std::exp(-sigma_t.z * distance)};
   }
-  // u_channel picks the channel, u_distance the distance. tmax may be infinite. A
-  // medium that does not scatter is attenuated deterministically instead.
-  MediumSample sample_distance(float tmax, float u_channel, float u_distance) const;
-  bool is_emissive() const { return !is_black(emission); }
+  // Transmittance from o along unit d over `distance`; grid media estimate it with
+  // random numbers from rng (ratio tracking: unbiased; ray marching: approximate).
+  Color transmittance(Vec3 o, Vec3 d, float distance, Pcg32 &rng) const {
+    switch (type) {
+      case MediumType::Homogeneous: return transmittance(distance);
+      case MediumType::GridTracking: return ratio_tracking(o, d, distance, rng);
+      case MediumType::GridRayMarching: return ray_marched_transmittance(o, d, distance, rng);
+    }
+    return Color(0.0f);
+  }
+  // A free-flight distance from o along unit d, up to tmax (may be infinite). u: two
+  // sampler values (homogeneous: channel and distance; grids: the seed of their stream).
+  // A medium that does not scatter is attenuated instead (never a scattering event).
+  MediumSample sample_distance(Vec3 o, Vec3 d, float tmax, Vec2 u) const {
+    switch (type) {
+      case MediumType::Homogeneous: return sample_homogeneous(tmax, u.x, u.y);
+      case MediumType::GridTracking: { Pcg32 rng = stream_from(u); return delta_tracking(o, d, tmax, rng); }
+      case MediumType::GridRayMarching: { Pcg32 rng = stream_from(u); return ray_marched_distance(o, d, tmax, rng); }
+    }
+    return {};
+  }
+  static Pcg32 stream_from(Vec2 u) {
+    return Pcg32((uint64_t(std::bit_cast<uint32_t>(u.x)) << 32) | std::bit_cast<uint32_t>(u.y));
+  }
+
+ private:
+  static void load_grid(Medium &m, const nlohmann::json &grid, const std::string &what);
+  MediumSample sample_homogeneous(float tmax, float u_channel, float u_distance) const;
+  MediumSample delta_tracking(Vec3 o, Vec3 d, float tmax, Pcg32 &rng) const;
+  Color ratio_tracking(Vec3 o, Vec3 d, float distance, Pcg32 &rng) const;
+  MediumSample ray_marched_distance(Vec3 o, Vec3 d, float tmax, Pcg32 &rng) const;
+  Color ray_marched_transmittance(Vec3 o, Vec3 d, float distance, Pcg32 &rng) const;
 };
 
 }  // namespace rdv

@@ -27,8 +27,9 @@ void MediumStack::cross(const Scene &scene, uint32_t material, Vec3 ng, Vec3 d) 
 }
 
 Color medium_transmittance(const Scene &scene, Vec3 p, Vec3 ng, Vec3 d, float distance, MediumStack stack,
-                           uint64_t &rays, bool see_through_transparent) {
+                           uint64_t &rays, uint64_t seed, bool see_through_transparent) {
   Color tr(1.0f);
+  Pcg32 rng(seed);
   Vec3 o = is_black(ng) ? p : spawn_origin(p, ng, d);
   float remaining = std::isinf(distance) ? kInf : shadow_tmax(distance);
   for (int guard = 0; guard < 64; ++guard) {
@@ -38,7 +39,7 @@ Color medium_transmittance(const Scene &scene, Vec3 p, Vec3 ng, Vec3 d, float di
     float seg = found ? hit.t : remaining;
     int m = stack.current(scene);
     if (m >= 0) {
-      tr *= scene.medium(m).transmittance(seg);
+      tr *= scene.medium(m).transmittance(o, d, seg, rng);
       if (is_black(tr)) return tr;
     }
     if (!found) return tr;

@@ -39,6 +39,7 @@ Scene::ParsedMaterial Scene::parse_material(const std::string &name, Params &par
 uint32_t Scene::add_material(const std::string &name, Params &params) {
   ParsedMaterial pm = parse_material(name, params);
   for (const std::string &w : pm.material.warnings) warn(w);
+  for (const std::string &w : pm.medium.warnings) warn(w);
   materials_.push_back(std::move(pm.material));
   material_interior_.push_back(pm.has_medium ? int(media_.size()) : -1);
   if (pm.has_medium) media_.push_back(pm.medium);
@@ -59,6 +60,7 @@ void Scene::set_material(uint32_t id, Params &params) {
     fail("material " + std::to_string(id) + ": no such material (" + std::to_string(materials_.size()) + " materials)");
   ParsedMaterial pm = parse_material(materials_[id].name, params);
   for (const std::string &w : pm.material.warnings) warn(w);
+  for (const std::string &w : pm.medium.warnings) warn(w);
   materials_[id] = std::move(pm.material);
   material_boundary_[id] = pm.boundary_only ? 1 : 0;
   if (!pm.has_medium) {
@@ -250,6 +252,8 @@ void Scene::set_world(Params &params) {
     Params v(volume->dump(), params.what() + " volume");
     Medium m = Medium::from_params(v, "world");
     v.check_all_used();
+    if (m.grid || !m.warnings.empty())
+      fail(params.what() + ": the world volume is homogeneous; put a grid in a material's volume (a box around it)");
     if (m.is_emissive() && min_component(m.sigma_t) == 0)
       fail(params.what() + ": an emitting world volume needs density in every channel (it would glow infinitely)");
     if (world_medium_ >= 0) media_[world_medium_] = m;
@@ -315,6 +319,8 @@ void Scene::commit() {
   build_lights();
   has_transparency_ = false;
   for (const Material &m : materials_) has_transparency_ = has_transparency_ || m.transparent;
+  has_heterogeneous_media_ = false;
+  for (const Medium &m : media_) has_heterogeneous_media_ = has_heterogeneous_media_ || m.is_heterogeneous();
   find_camera_media();
   dirty_ = false;
 }
@@ -562,7 +568,13 @@ std::string Scene::summary_json() const {
   for (const Material &mat : materials_) textures += mat.graph.num_images();
   j["textures"] = textures;
   if (media_.empty()) j["media"] = "none";
-  else j["media"] = {{"homogeneous", media_.size()}, {"world", world_medium_ >= 0}};
+  else {
+    size_t grids = 0, grid_bytes = 0;
+    for (const Medium &m : media_)
+      if (m.grid) { ++grids; grid_bytes += m.grid->memory_bytes(); }
+    j["media"] = {{"homogeneous", media_.size() - grids}, {"grid", grids}, {"grid_bytes", grid_bytes},
+                  {"world", world_medium_ >= 0}};
+  }
   j["memory_bytes"] = {{"meshes", mesh_bytes}, {"embree", accel_.memory_bytes()},
                        {"lights", lights_.size() * sizeof(Light)},
                        {"environment", environment_ ? environment_->memory_bytes() : 0},

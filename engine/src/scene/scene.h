@@ -75,6 +75,8 @@ class Scene {
   // ---- Participating media (scene.cpp). A scene without them pays nothing: the
   // integrators test has_media() once per sample, never per ray.
   bool has_media() const { return !media_.empty(); }
+  // Some medium is a grid: its estimators need random numbers of their own.
+  bool has_heterogeneous_media() const { return has_heterogeneous_media_; }
   const Medium &medium(int id) const { return media_[id]; }
   int world_medium() const { return world_medium_; }
   int interior_medium(uint32_t material) const { return material_interior_[material]; }
@@ -147,6 +149,7 @@ class Scene {
   Color world_radiance_{0.05f};
   std::shared_ptr<EnvironmentMap> environment_;  // world HDRI, or null
   bool has_transparency_ = false;
+  bool has_heterogeneous_media_ = false;  // derived by commit()
   Camera camera_;
   bool has_camera_ = false;
   bool dirty_ = true;

@@ -49,7 +49,8 @@ Color Bdpt::transmittance(const PathVertex &a, const PathVertex &b, RayStats &st
   Vec3 target = b.type == VertexType::Surface ? spawn_origin(b.p, b.ng, -d) : b.p;
   if constexpr (kMedia) {
     Vec3 o = is_black(ng) ? a.p : spawn_origin(a.p, ng, d);
-    return medium_transmittance(scene_, o, Vec3(0.0f), d, length(target - o), a.media_toward(scene_, d), stats.rays);
+    return medium_transmittance(scene_, o, Vec3(0.0f), d, length(target - o), a.media_toward(scene_, d), stats.rays,
+                                tracking_seed(a.p, b.p));
   } else {
     Vec3 o = is_black(ng) ? a.p : spawn_origin(a.p, ng, d);
     ++stats.rays;
@@ -141,7 +142,8 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     if (!is_black(L)) {
       Vec3 ng = pt.type == VertexType::Surface ? pt.ng : Vec3(0.0f);
       if constexpr (kMedia) {
-        L *= medium_transmittance(scene_, pt.p, ng, ls.wi, ls.dist, pt.media_toward(scene_, ls.wi), stats.rays);
+        L *= medium_transmittance(scene_, pt.p, ng, ls.wi, ls.dist, pt.media_toward(scene_, ls.wi), stats.rays,
+                                  tracking_seed(pt.p, ls.p));
       } else {
         Vec3 o = spawn_origin(pt.p, ng, ls.wi);
         float tmax = std::isinf(ls.dist) ? kInf : shadow_tmax(length(ls.p - o));

@@ -56,7 +56,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       if (m >= 0) {
         const Medium &medium = scene_.medium(m);
         Vec2 u = sampler.get_2d();
-        MediumSample ms = medium.sample_distance(tmax, u.x, u.y);
+        MediumSample ms = medium.sample_distance(ray.o, ray.d, tmax, u);
         if (emitted && mode == TransportMode::Radiance) *emitted += beta * ms.emission;
         beta *= ms.weight;
         if (is_black(beta)) return n;

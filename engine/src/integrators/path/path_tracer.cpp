@@ -30,7 +30,9 @@ static Color sample_direct_light(const Scene &scene, Vec3 p, Vec3 ng, const Scat
   if (is_black(f)) return Color(0.0f);
   Color tr(1.0f);
   if constexpr (kMedia) {
-    tr = medium_transmittance(scene, p, ng, ls.wi, ls.dist, media_toward(ls.wi), stats.rays, true);
+    // Grid media estimate transmittance with a stream seeded by one more sampler value.
+    uint64_t seed = scene.has_heterogeneous_media() ? std::bit_cast<uint32_t>(sampler.get_1d()) : 0;
+    tr = medium_transmittance(scene, p, ng, ls.wi, ls.dist, media_toward(ls.wi), stats.rays, seed, true);
     if (is_black(tr)) return Color(0.0f);
   } else {
     Vec3 o = spawn_origin(p, ng, ls.wi);
@@ -96,7 +98,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       if (m >= 0) {
         const Medium &medium = scene_.medium(m);
         Vec2 u = sampler.get_2d();
-        MediumSample ms = medium.sample_distance(tmax, u.x, u.y);
+        MediumSample ms = medium.sample_distance(ray.o, ray.d, tmax, u);
         L += beta * ms.emission;
         beta *= ms.weight;
         if (ms.scattered) {
