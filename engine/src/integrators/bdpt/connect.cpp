@@ -94,7 +94,6 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     sampler.start_stream(SampleStream::Lens, uint32_t(s));
     Vec2 u = sampler.get_2d();
     if (!camera.can_be_connected() || !camera.sample_importance(qs.p, u, is) || !(is.pdf > 0)) return L;
-    sampled = PathVertex{};
     sampled.type = VertexType::Camera;
     sampled.p = is.lens_point;
     sampled.ng = sampled.ns = camera.forward();
@@ -121,7 +120,6 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     const Light &light = scene_.lights()[index];
     LightSample ls;
     if (!scene_.sample_light(index, pt.p, u, ls) || !(ls.pdf > 0)) return L;
-    sampled = PathVertex{};
     sampled.type = VertexType::Light;
     sampled.light = int(index);
     sampled.beta = ls.L / (ls.pdf * pmf);
