@@ -10,7 +10,6 @@
 #include "bsdfs/transparent.h"
 #include <cstring>
 #include <new>
-#include <optional>
 #include "core/hash.h"
 
 namespace rdv {
@@ -166,11 +165,16 @@ bool Bsdf::local_pair(Vec3 wo_w, Vec3 wi_w, Vec3 &wo, Vec3 &wi, bool &flipped) c
 
 // The lobe as seen from the side wo is on. Only a dielectric seen from behind differs
 // (inverse IOR); that one is copied into `scratch`, every other lobe is used in place.
-static const Lobe &lobe_from_side(const Lobe &lobe, bool flipped, std::optional<Lobe> &scratch) {
+// Raw storage: constructing (even an empty std::optional of) a Lobe on every
+// evaluation cost more than evaluating a Lambert lobe.
+struct LobeScratch {
+  alignas(Lobe) unsigned char raw[sizeof(Lobe)];
+};
+static const Lobe &lobe_from_side(const Lobe &lobe, bool flipped, LobeScratch &scratch) {
   if (!flipped || !lobe.is_dielectric()) return lobe;
-  scratch.emplace(lobe);
-  scratch->ior = 1.0f / lobe.ior;
-  return *scratch;
+  Lobe *seen = new (scratch.raw) Lobe(lobe);
+  seen->ior = 1.0f / lobe.ior;
+  return *seen;
 }
 
 Color Bsdf::f(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
@@ -178,7 +182,7 @@ Color Bsdf::f(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
   bool flipped;
   if (!local_pair(wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
   Color f(0.0f);
-  std::optional<Lobe> scratch;  // constructed only when needed
+  LobeScratch scratch;
   for (int i = 0; i < n_; ++i) f += lobe_eval(lobe_from_side(lobes_[i], flipped, scratch), wo, wi, mode);
   return f * shading_correction(wo_w, wi_w, mode);
 }
@@ -200,7 +204,7 @@ Color Bsdf::f_and_pdfs(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_fwd,
   if (flipped_rev != flipped) { wo_rev.z = -wo_rev.z; wi_rev.z = -wi_rev.z; }
   rev_ok = rev_ok && consistent_side(wo_w, flipped_rev ? -ng_ : ng_, wo_rev.z);
   Color f(0.0f);
-  std::optional<Lobe> scratch, scratch_rev;
+  LobeScratch scratch, scratch_rev;
   for (int i = 0; i < n_; ++i) {
     const Lobe &lobe = lobe_from_side(lobes_[i], flipped, scratch);
     f += lobe_eval(lobe, wo, wi, mode);
@@ -215,7 +219,7 @@ float Bsdf::pdf(Vec3 wo_w, Vec3 wi_w) const {
   bool flipped;
   if (!local_pair(wo_w, wi_w, wo, wi, flipped)) return 0;
   float p = 0;
-  std::optional<Lobe> scratch;  // constructed only when needed
+  LobeScratch scratch;
   for (int i = 0; i < n_; ++i) p += pick_[i] * lobe_pdf(lobe_from_side(lobes_[i], flipped, scratch), wo, wi);
   return p;
 }
