@@ -24,24 +24,23 @@ SKIP = 77
 
 
 def start_xvfb():
+    """Starts Xvfb on a display it picks itself (-displayfd), so tests running in
+    parallel never share or race for a display number."""
     xvfb = shutil.which("Xvfb")
     if xvfb is None:
         print("SKIP: Xvfb not installed (apt-get install xvfb)")
         return None, None
-    for display in range(90, 140):
-        if os.path.exists("/tmp/.X11-unix/X%d" % display) or os.path.exists("/tmp/.X%d-lock" % display):
-            continue
-        proc = subprocess.Popen([xvfb, ":%d" % display, "-screen", "0", "1280x800x24", "-nolisten", "tcp"],
-                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        for _ in range(100):  # up to 5 s for the socket
-            if proc.poll() is not None:
-                break
-            if os.path.exists("/tmp/.X11-unix/X%d" % display):
-                return proc, ":%d" % display
-            time.sleep(0.05)
-        if proc.poll() is None:
-            proc.terminate()
-            proc.wait()
+    read_fd, write_fd = os.pipe()
+    proc = subprocess.Popen([xvfb, "-displayfd", str(write_fd), "-screen", "0", "1280x800x24", "-nolisten", "tcp"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, pass_fds=(write_fd,))
+    os.close(write_fd)
+    with os.fdopen(read_fd) as f:
+        number = f.readline().strip()  # written once the server listens; empty if it died
+    if proc.poll() is None and number.isdigit():
+        return proc, ":" + number
+    if proc.poll() is None:
+        proc.terminate()
+        proc.wait()
     print("SKIP: Xvfb could not start")
     return None, None
 
