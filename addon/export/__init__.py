@@ -14,6 +14,7 @@ from .lights import light_params
 from .materials import MaterialCache
 from . import images
 from .mesh import mesh_arrays
+from . import volumes
 from .settings import session_settings, resolution, border_rect  # noqa: F401
 
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
@@ -120,6 +121,8 @@ class SceneExporter:
                 self._light(ob, inst.matrix_world)
             elif otype in GEOMETRY_TYPES:
                 self._geometry(ob, inst.matrix_world)
+            elif otype == "VOLUME":
+                self._volume(ob, inst.matrix_world)
             elif otype in ("VOLUME", "CURVES", "POINTCLOUD"):
                 self.warn("Object '%s': %s objects not supported yet, skipped" % (ob.name, otype.lower()))
 
@@ -180,6 +183,45 @@ class SceneExporter:
         if mesh_id is None:
             return
         self.sink.add_instance(mesh_id, m16)
+        self.stats.instances += 1
+
+    # ---- volume objects -----------------------------------------------------------------
+    def _volume(self, ob, matrix):
+        """A Volume object: its .vdb grid as a medium inside a box around the grid (volumes.py)."""
+        import bpy
+        m16 = [*matrix[0], *matrix[1], *matrix[2], *matrix[3]]
+        if not is_finite_matrix(m16) or abs(determinant3(m16)) < 1e-24:
+            self.warn("Volume '%s': non-finite or zero-scale transform, skipped" % ob.name)
+            return
+        path, problem = volumes.volume_file(ob.data, self.scene.frame_current, bpy.path.abspath)
+        if problem:
+            self.warn("Volume '%s': %s, skipped" % (ob.name, problem))
+            return
+        corners = [tuple(c) for c in ob.bound_box]
+        lo = [min(c[a] for c in corners) for a in range(3)]
+        hi = [max(c[a] for c in corners) for a in range(3)]
+        if not all(h > l for l, h in zip(lo, hi)):
+            reason = ob.data.grids.error_message if ob.data.grids.error_message else "no voxels"
+            self.warn("Volume '%s': %s (file '%s'), skipped" % (ob.name, reason, path))
+            return
+        pad = [0.01 * (h - l) for l, h in zip(lo, hi)]  # the grid's zero margin stays inside
+        lo = [l - p for l, p in zip(lo, pad)]
+        hi = [h + p for h, p in zip(hi, pad)]
+        mats = self._object_materials(ob)
+        medium, warning = volumes.volume_material_params(mats[0] if mats else None, self.image_average,
+                                                         self.image_file)
+        if warning:
+            self.warn(warning)
+        if medium is None:
+            self.warn("Volume '%s': its material has no Volume shader, nothing to render" % ob.name)
+            return
+        medium = dict(medium, grid={"file": path, "name": "density", "transform": m16})
+        name = self._unique(ob.name, self._mesh_names)
+        material = self.sink.add_material(name, {"type": "volume", "volume": medium})
+        positions, indices = volumes.box_arrays(lo, hi)
+        mesh_id = self.sink.add_mesh(name, positions, indices, default_material=material)
+        self.sink.add_instance(mesh_id, m16)
+        self.stats.meshes += 1
         self.stats.instances += 1
 
     def _add_mesh(self, ob, mats):

@@ -239,3 +239,46 @@ class TestBinding(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class VolumeHelpers(unittest.TestCase):
+    """addon/export/volumes.py: frame sequences as Blender resolves them, the bounding box."""
+
+    def setUp(self):
+        load_addon()
+        from rendezvous.export import volumes
+        self.volumes = volumes
+
+    def test_sequence_frames(self):
+        v = self.volumes
+        vol = ns(frame_duration=10, frame_start=5, frame_offset=0, sequence_mode="CLIP")
+        self.assertEqual(v.sequence_frame(vol, 5), 1)
+        self.assertEqual(v.sequence_frame(vol, 14), 10)
+        self.assertIsNone(v.sequence_frame(vol, 15))
+        self.assertIsNone(v.sequence_frame(vol, 4))
+        vol.sequence_mode = "EXTEND"
+        self.assertEqual(v.sequence_frame(vol, 30), 10)
+        self.assertEqual(v.sequence_frame(vol, 1), 1)
+        vol.sequence_mode = "REPEAT"
+        self.assertEqual(v.sequence_frame(vol, 15), 1)
+        self.assertEqual(v.sequence_frame(vol, 14), 10)
+        vol.sequence_mode = "PING_PONG"
+        self.assertEqual(v.sequence_frame(vol, 15), 9)  # 11th frame: back down from 10
+        vol.frame_offset = 100
+        vol.sequence_mode = "CLIP"
+        self.assertEqual(v.sequence_frame(vol, 7), 103)
+
+    def test_frame_in_file_name(self):
+        v = self.volumes
+        self.assertEqual(v.with_frame("/c/fluid_data_0001.vdb", 37), "/c/fluid_data_0037.vdb")
+        self.assertEqual(v.with_frame("/c/v2/smoke_12.vdb", 3), "/c/v2/smoke_03.vdb")
+        self.assertEqual(v.with_frame("/c/smoke.vdb", 3), "/c/smoke.vdb")
+
+    def test_box_faces_point_out(self):
+        positions, indices = self.volumes.box_arrays([-1, -2, 0], [1, 2, 3])
+        self.assertEqual(indices.shape, (12, 3))
+        centre = positions.mean(axis=0)
+        for tri in indices:
+            a, b, c = positions[tri]
+            n = np.cross(b - a, c - a)
+            self.assertGreater(float(np.dot(n, (a + b + c) / 3 - centre)), 0)
