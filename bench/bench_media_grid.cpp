@@ -7,7 +7,6 @@
 // the mutual relMSE of the reference's two halves estimates the reference's own
 // noise, which every figure contains.
 //   bench_media_grid [--spp 64] [--reference-spp 2048] [--width 160]
-#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -15,52 +14,15 @@
 #include <sstream>
 #include <string>
 #include <vector>
-#include "rendezvous.h"
-#include "scene_file.h"
+#include "bench_render.h"
 
 using nlohmann::json;
 
+using namespace rdv_bench;
+
 namespace {
 
-struct Render {
-  std::vector<double> rgb;
-  double seconds = 0;
-};
-
-Render render(const json &scene_doc, json settings) {
-  rdv_scene *scene = nullptr;
-  rdv_scene_create(&scene);
-  auto loaded = rdv_tools::load_scene_json(scene_doc.dump(), RDV_SOURCE_DIR "/scenes", scene);
-  json s = json::parse(loaded.settings_json);
-  s.update(settings);
-  rdv_session *session = nullptr;
-  if (rdv_session_create(scene, s.dump().c_str(), &session) != RDV_OK) {
-    std::fprintf(stderr, "bench_media_grid: %s\n", rdv_last_error());
-    std::exit(1);
-  }
-  rdv_session_start(session);
-  rdv_session_wait(session);
-  rdv_progress progress{};
-  rdv_session_progress(session, &progress);
-  int w = s["width"], h = s["height"];
-  std::vector<float> rgba(size_t(w) * h * 4);
-  rdv_session_read_film(session, RDV_PASS_COMBINED, 0, 0, w, h, 1, rgba.data());
-  Render r;
-  r.seconds = progress.elapsed_seconds;
-  r.rgb.resize(size_t(w) * h * 3);
-  for (size_t i = 0; i < size_t(w) * h; ++i)
-    for (int c = 0; c < 3; ++c) r.rgb[3 * i + c] = rgba[4 * i + c];
-  rdv_session_destroy(session);
-  rdv_scene_destroy(scene);
-  return r;
-}
-
-// Relative MSE (pbrt / Mitsuba convention): mean of (x - ref)^2 / (ref^2 + 1e-2).
-double rel_mse(const std::vector<double> &x, const std::vector<double> &ref) {
-  double s = 0;
-  for (size_t i = 0; i < x.size(); ++i) s += (x[i] - ref[i]) * (x[i] - ref[i]) / (ref[i] * ref[i] + 1e-2);
-  return s / x.size();
-}
+std::vector<double> as_double(const std::vector<float> &v) { return {v.begin(), v.end()}; }
 
 }  // namespace
 
@@ -84,13 +46,15 @@ int main(int argc, char **argv) {
   json rs = base;
   rs["samples"] = reference_spp / 2;
   rs["seed"] = 1000;
-  Render ref_a = render(scene, rs);
+  const std::string text = scene.dump(), base = RDV_SOURCE_DIR "/scenes";
+  Render ref_a = render(text, base, rs);
   rs["seed"] = 2000;
-  Render ref_b = render(scene, rs);
+  Render ref_b = render(text, base, rs);
   std::vector<double> ref(ref_a.rgb.size());
-  for (size_t i = 0; i < ref.size(); ++i) ref[i] = 0.5 * (ref_a.rgb[i] + ref_b.rgb[i]);
+  for (size_t i = 0; i < ref.size(); ++i) ref[i] = 0.5 * (double(ref_a.rgb[i]) + ref_b.rgb[i]);
   std::printf("smoke_spot %dx%d, path tracing; reference: tracking, %d spp in %.1f s; its own noise ~ relMSE %.2e\n",
-              width, width * 3 / 4, reference_spp, ref_a.seconds + ref_b.seconds, 0.25 * rel_mse(ref_a.rgb, ref_b.rgb));
+              width, width * 3 / 4, reference_spp, ref_a.progress.elapsed_seconds + ref_b.progress.elapsed_seconds,
+              0.25 * rel_mse(ref_a.rgb, as_double(ref_b.rgb)));
   std::printf("%-28s %6s %9s %11s %13s\n", "method", "spp", "time [s]", "relMSE", "1/(t relMSE)");
 
   struct Method { const char *name, *method; double step_voxels; };
@@ -104,9 +68,9 @@ int main(int argc, char **argv) {
       json s = base;
       s["samples"] = n;
       s["seed"] = 7;
-      Render r = render(scene, s);
-      double e = rel_mse(r.rgb, ref);
-      std::printf("%-28s %6d %9.2f %11.3e %13.1f\n", m.name, n, r.seconds, e, 1.0 / (r.seconds * e));
+      Render r = render(scene.dump(), base, s);
+      double e = rel_mse(r.rgb, ref), t = r.progress.elapsed_seconds;
+      std::printf("%-28s %6d %9.2f %11.3e %13.1f\n", m.name, n, t, e, 1.0 / (t * e));
     }
   }
   return 0;

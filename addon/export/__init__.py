@@ -172,6 +172,9 @@ class SceneExporter:
                       % ob.name)
         if getattr(ob, "is_holdout", False):
             self.warn("Object '%s': holdout not supported yet, object rendered normally" % ob.name)
+        if any(m.type == "FLUID" and getattr(m, "fluid_type", "") == "DOMAIN" for m in getattr(ob, "modifiers", ())):
+            self.warn("Object '%s': fluid domain caches are not read yet; its volume material fills the domain "
+                      "uniformly" % ob.name)
         mats = self._object_materials(ob)
         data = ob.data
         key = (data.as_pointer() if data is not None else ob.as_pointer(),

@@ -7,10 +7,15 @@
     run_blender.py --script test_render.py -- dump --cli build/engine/rendezvous
                                                             the JSON dump replays in the CLI
     run_blender.py --script test_render.py -- nolib         a missing library is a clear error
+    run_blender.py --script test_render.py -- volume --vdb-writer build/tests/blender/write_test_vdb
+                                                            a Volume object from a .vdb (written by the
+                                                            test) is visible, the image finite; a missing
+                                                            file is a warning naming the object
 """
 
 import argparse
 import json
+import math
 import os
 import shutil
 import subprocess
@@ -274,8 +279,84 @@ def test_border(args):
     print("BORDER TEST PASSED")
 
 
+def build_volume_scene(vdb_path):
+    """A Volume object reading vdb_path (a Principled Volume material) before a white world."""
+    scene = bpy.context.scene
+    for ob in list(scene.objects):
+        if ob.type != "CAMERA":
+            bpy.data.objects.remove(ob)
+    cam = scene.camera
+    cam.location = (0.0, -4.0, 0.0)
+    cam.rotation_euler = (math.radians(90), 0.0, 0.0)
+    scene.world.use_nodes = True
+    bg = scene.world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    bg.inputs["Strength"].default_value = 1.0
+
+    vol = bpy.data.volumes.new("CloudData")
+    vol.filepath = vdb_path
+    ob = bpy.data.objects.new("Cloud", vol)
+    ob.location = (0.0, 0.0, 0.0)
+    ob.scale = (1.5, 1.5, 1.5)
+    scene.collection.objects.link(ob)
+    mat = bpy.data.materials.new("Smoke")
+    mat.use_nodes = True
+    nodes = mat.node_tree.nodes
+    for n in list(nodes):
+        if n.bl_idname != "ShaderNodeOutputMaterial":
+            nodes.remove(n)
+    pv = nodes.new("ShaderNodeVolumePrincipled")
+    pv.inputs["Density"].default_value = 6.0
+    pv.inputs["Color"].default_value = (0.6, 0.6, 0.6, 1.0)
+    mat.node_tree.links.new(pv.outputs["Volume"], nodes["Material Output"].inputs["Volume"])
+    vol.materials.append(mat)
+    scene.render.resolution_x = scene.render.resolution_y = 48
+    scene.render.resolution_percentage = 100
+    return scene, ob
+
+
+def centre_and_corners(px):
+    h, w = px.shape[:2]
+    centre = float(px[h * 3 // 8: h * 5 // 8, w * 3 // 8: w * 5 // 8].mean())
+    corners = float(np.mean([px[:4, :4].mean(), px[:4, -4:].mean(), px[-4:, :4].mean(), px[-4:, -4:].mean()]))
+    return centre, corners
+
+
+def test_volume(args):
+    vdb = os.path.join(TMP, "rdv_cloud.vdb")
+    subprocess.run([args.vdb_writer, vdb], check=True)
+    scene, ob = build_volume_scene(vdb)
+    result, dt = render(scene, samples=32)
+    check(result == {"FINISHED"}, "render returned %s" % result)
+    px = render_pixels(scene, "volume_object")[:, :, :3]
+    msgs = final.last_render["messages"]
+    for m in msgs:
+        print("WARNING SEEN:", m)
+    check(np.isfinite(px).all(), "non-finite pixels")
+    centre, corners = centre_and_corners(px)
+    print("VOLUME: centre %.4f corners %.4f" % (centre, corners))
+    check(abs(corners - 1.0) < 0.05, "the white world should show in the corners (%.4f)" % corners)
+    check(centre < 0.8 * corners, "the smoke is not visible (centre %.4f, corners %.4f)" % (centre, corners))
+    check(not any("Cloud" in m for m in msgs), "unexpected warnings about the volume: %s" % msgs)
+
+    # A missing file: a warning naming the object; the render goes on without it.
+    ob.data.filepath = os.path.join(TMP, "no_such_cloud.vdb")
+    result, dt = render(scene, samples=32)
+    check(result == {"FINISHED"}, "render returned %s" % result)
+    px = render_pixels(scene, "volume_missing")[:, :, :3]
+    msgs = final.last_render["messages"]
+    for m in msgs:
+        print("WARNING SEEN:", m)
+    check(np.isfinite(px).all(), "non-finite pixels with a missing file")
+    check(any("Cloud" in m for m in msgs), "no warning naming the volume object 'Cloud': %s" % msgs)
+    centre, corners = centre_and_corners(px)
+    check(abs(centre - corners) < 0.05, "a missing volume should leave the world visible (%.4f vs %.4f)"
+          % (centre, corners))
+    print("VOLUME TEST PASSED")
+
+
 MODES = {"border": test_border, "scenes": test_scenes, "bad_input": test_bad_input, "cancel": test_cancel, "passes": test_passes,
-         "dump": test_dump, "nolib": test_nolib}
+         "dump": test_dump, "nolib": test_nolib, "volume": test_volume}
 
 
 def main():
@@ -283,6 +364,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("mode", choices=sorted(MODES))
     ap.add_argument("--cli", default=None)
+    ap.add_argument("--vdb-writer", default=None)
     a = ap.parse_args(argv)
     try:
         MODES[a.mode](a)
