@@ -326,13 +326,18 @@ def test_volume(args):
     vdb = os.path.join(TMP, "rdv_cloud.vdb")
     subprocess.run([args.vdb_writer, vdb], check=True)
     scene, ob = build_volume_scene(vdb)
-    result, dt = render(scene, samples=32)
-    check(result == {"FINISHED"}, "render returned %s" % result)
-    px = render_pixels(scene, "volume_object")[:, :, :3]
-    msgs = final.last_render["messages"]
-    for m in msgs:
-        print("WARNING SEEN:", m)
-    check(np.isfinite(px).all(), "non-finite pixels")
+
+    def render_volume(name):
+        result, dt = render(scene, samples=32)
+        check(result == {"FINISHED"}, "%s: render returned %s" % (name, result))
+        px = render_pixels(scene, name)[:, :, :3]
+        msgs = final.last_render["messages"]
+        for m in msgs:
+            print("WARNING SEEN:", m)
+        check(np.isfinite(px).all(), "%s: non-finite pixels" % name)
+        return px, msgs
+
+    px, msgs = render_volume("volume_object")
     centre, corners = centre_and_corners(px)
     print("VOLUME: centre %.4f corners %.4f" % (centre, corners))
     check(abs(corners - 1.0) < 0.05, "the white world should show in the corners (%.4f)" % corners)
@@ -341,13 +346,7 @@ def test_volume(args):
 
     # A missing file: a warning naming the object; the render goes on without it.
     ob.data.filepath = os.path.join(TMP, "no_such_cloud.vdb")
-    result, dt = render(scene, samples=32)
-    check(result == {"FINISHED"}, "render returned %s" % result)
-    px = render_pixels(scene, "volume_missing")[:, :, :3]
-    msgs = final.last_render["messages"]
-    for m in msgs:
-        print("WARNING SEEN:", m)
-    check(np.isfinite(px).all(), "non-finite pixels with a missing file")
+    px, msgs = render_volume("volume_missing")
     check(any("Cloud" in m for m in msgs), "no warning naming the volume object 'Cloud': %s" % msgs)
     centre, corners = centre_and_corners(px)
     check(abs(centre - corners) < 0.05, "a missing volume should leave the world visible (%.4f vs %.4f)"
