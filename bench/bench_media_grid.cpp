@@ -34,19 +34,20 @@ int main(int argc, char **argv) {
     else if (!std::strcmp(argv[i], "--width")) width = std::atoi(argv[i + 1]);
   }
   std::ifstream f(RDV_SOURCE_DIR "/scenes/smoke_spot.json");
-  std::stringstream text;
-  text << f.rdbuf();
-  json scene = json::parse(text.str());
+  std::stringstream file_text;
+  file_text << f.rdbuf();
+  json scene = json::parse(file_text.str());
   json &volume = scene["materials"][2]["volume"];
   const double voxel = 3.0 / 40;  // the scene's grid: 40 voxels over 3 units
-  json base = {{"width", width}, {"height", width * 3 / 4}, {"integrator", "path"}};
+  json settings = {{"width", width}, {"height", width * 3 / 4}, {"integrator", "path"}};
 
   // Reference: two independent halves of tracking.
   volume["method"] = "tracking";
-  json rs = base;
+  json rs = settings;
   rs["samples"] = reference_spp / 2;
   rs["seed"] = 1000;
-  const std::string text = scene.dump(), base = RDV_SOURCE_DIR "/scenes";
+  const std::string base = RDV_SOURCE_DIR "/scenes";
+  const std::string text = scene.dump();
   Render ref_a = render(text, base, rs);
   rs["seed"] = 2000;
   Render ref_b = render(text, base, rs);
@@ -65,7 +66,7 @@ int main(int argc, char **argv) {
     if (m.step_voxels > 0) volume["step_size"] = m.step_voxels * voxel;
     else volume.erase("step_size");
     for (int n : {spp, spp * 4}) {
-      json s = base;
+      json s = settings;
       s["samples"] = n;
       s["seed"] = 7;
       Render r = render(scene.dump(), base, s);
