@@ -142,9 +142,10 @@ def plane_sun():
     light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(30), 0, math.radians(20)), angle=math.radians(1.0))
 
 
-def plane_area():
+def plane_area(floor_material=None):
+    """floor_material: a function making the floor's material (after the reset)."""
     reset()
-    plane()
+    plane(material=floor_material() if floor_material else None)
     camera_down(3.0)
     light("AREA", "Area", 60.0, (0.0, 0.0, 1.2), rotation=(math.radians(15), 0, 0), shape="RECTANGLE",
           size=0.8, size_y=0.4)
@@ -168,14 +169,46 @@ def world_color():
     bg.inputs["Strength"].default_value = 1.5
 
 
-def emissive_mesh():
+def emissive_mesh(panel_material=None):
+    """panel_material: a function making the panel's material (after the reset)."""
     reset()
     plane()
     camera_down(4.0, lens=35.0)
     panel = link(bpy.data.objects.new("Panel", quad_mesh("PanelMesh", 1.0, 0.6)))
     panel.location = (0.4, 0.0, 1.0)
     panel.rotation_euler = (math.radians(180), 0, 0)  # faces down (both faces emit anyway)
-    panel.data.materials.append(emission_material("Glow", (1.0, 0.8, 0.6), 5.0))
+    panel.data.materials.append(panel_material() if panel_material else emission_material("Glow", (1.0, 0.8, 0.6), 5.0))
+
+
+def principled_floor():
+    m = bpy.data.materials.new("PrincipledFloor")
+    m.use_nodes = True
+    p = m.node_tree.nodes["Principled BSDF"]
+    p.inputs["Base Color"].default_value = (0.8, 0.45, 0.25, 1.0)
+    p.inputs["Roughness"].default_value = 0.35
+    p.inputs["Specular"].default_value = 0.5
+    return m
+
+
+def principled_plane():
+    """plane_area with a Principled floor: diffuse plus a rough specular highlight."""
+    plane_area(principled_floor)
+
+
+def checker_glow():
+    m = emission_material("CheckerGlow", strength=5.0)
+    nt = m.node_tree
+    chk = nt.nodes.new("ShaderNodeTexChecker")
+    chk.inputs["Color1"].default_value = (1.0, 0.8, 0.6, 1.0)
+    chk.inputs["Color2"].default_value = (0.1, 0.2, 1.0, 1.0)
+    chk.inputs["Scale"].default_value = 3.0
+    nt.links.new(chk.outputs["Color"], nt.nodes["Emission"].inputs["Color"])
+    return m
+
+
+def emissive_textured():
+    """emissive_mesh with a Checker texture (generated coordinates) as the emission colour."""
+    emissive_mesh(checker_glow)
 
 
 def hdri_path():
@@ -301,13 +334,15 @@ SCENES = {
     "world_color": world_color,
     "emissive_mesh": emissive_mesh,
     "hdri": hdri,
+    "principled_plane": principled_plane,
+    "emissive_textured": emissive_textured,
     "bad_input": bad_input,
     "showcase": showcase,
 }
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri"]
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "emissive_textured"]
 
 
 def build(name):

@@ -202,7 +202,7 @@ Material Material::from_params(Params &p, const std::string &name) {
     if (w.rfind("material", 0) != 0 && w.rfind("image", 0) != 0) w = "material '" + name + "': " + w;
   for (std::string &w : m.warnings)
     if (w.rfind("image", 0) == 0) w = "material '" + name + "': " + w;
-  m.resolve_if_constant();
+  m.resolve_constants();
   m.average_textured_emission();
   return m;
 }
@@ -216,7 +216,7 @@ Material Material::error_material(const std::string &name) {
   c.in[kBaseColor] = m.graph.constant(Color(1.0f, 0.0f, 1.0f));
   c.in[kRoughness] = m.graph.constant(Color(0.0f));
   m.closures.push_back(c);
-  m.resolve_if_constant();
+  m.resolve_constants();
   m.average_textured_emission();
   return m;
 }
@@ -338,8 +338,8 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
       w *= f.invert ? 1 - v : v;
     }
     if (!(w > 0)) continue;
-    auto col = [&](ClosureInput i) { return graph.eval(c.in[i], sp); };
-    auto num = [&](ClosureInput i) { return graph.eval_float(c.in[i], sp); };
+    auto col = [&](ClosureInput i) { return c.textured >> i & 1 ? graph.eval(c.in[i], sp) : c.value[i]; };
+    auto num = [&](ClosureInput i) { return c.textured >> i & 1 ? graph.eval_float(c.in[i], sp) : c.scalar[i]; };
     switch (c.type) {
       case MaterialType::Diffuse: {
         Lobe l;
@@ -492,7 +492,15 @@ Bsdf Material::resolved_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const {
   return bsdf;
 }
 
-void Material::resolve_if_constant() {
+void Material::resolve_constants() {
+  for (Closure &c : closures) {
+    c.textured = 0;
+    for (int i = 0; i < kNumClosureInputs; ++i) {
+      if (c.in[i] < 0) continue;
+      if (!graph.is_constant(c.in[i])) c.textured |= 1u << i;
+      else c.scalar[i] = luminance(c.value[i] = graph.node(c.in[i]).value);
+    }
+  }
   resolved.n = -1;
   if (has_textures()) return;  // normal maps and bump are texture nodes too
   for (const Closure &c : closures)
@@ -511,7 +519,11 @@ Bsdf Material::make_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const {
 }
 
 Bsdf Material::make_bsdf(const ShadingPoint &sp, Vec3 wo) const {
-  if (is_constant()) return resolved_bsdf(sp.ng, sp.ns, wo);
+  return is_constant() ? resolved_bsdf(sp.ng, sp.ns, wo) : shaded_bsdf(sp, wo);
+}
+
+// Textures, normal maps and anisotropy evaluated at sp (one named result: built in place).
+Bsdf Material::shaded_bsdf(const ShadingPoint &sp, Vec3 wo) const {
   // One shading frame per Bsdf: the first closure with a normal input sets it.
   Vec3 ns = sp.ns;
   bool mapped = false;
@@ -526,7 +538,8 @@ Bsdf Material::make_bsdf(const ShadingPoint &sp, Vec3 wo) const {
   Vec3 tangent(0.0f);
   for (const Closure &c : closures) {
     if (c.in[kAnisotropic] < 0 || !sp.has_uv_frame) continue;
-    if (graph.eval_float(c.in[kAnisotropic], sp) == 0) continue;
+    if ((c.textured >> kAnisotropic & 1 ? graph.eval_float(c.in[kAnisotropic], sp) : c.scalar[kAnisotropic]) == 0)
+      continue;
     float rot = graph.eval_float(c.in[kAnisoRotation], sp) * 2.0f * kPi;
     Vec3 t = sp.dpdu - ns * dot(ns, sp.dpdu);
     if (!(length_squared(t) > 0)) break;

@@ -40,6 +40,11 @@ struct Closure {
   bool multiscatter = false;
   bool specular_tint_is_color = false, sheen_tint_is_color = false;  // Blender 4.x sockets
   bool additive_layers = false;  // Principled "layering": "additive" (Cycles 3.4 exactly)
+  // Inputs' values where they are constant (textured: bit set in `textured`), so a
+  // textured material evaluates only its textured inputs per hit.
+  uint32_t textured = 0;
+  Color value[kNumClosureInputs];
+  float scalar[kNumClosureInputs] = {};  // luminance(value): the input read as a float
   Closure() { for (int &i : in) i = -1; }
 };
 
@@ -90,9 +95,11 @@ struct Material {
   Bsdf make_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const;
 
  private:
-  void resolve_if_constant();
+  // Constant closure inputs to values; all constant: the lobes too (ResolvedLobes).
+  void resolve_constants();
   void average_textured_emission();
   Bsdf resolved_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const;
+  Bsdf shaded_bsdf(const ShadingPoint &sp, Vec3 wo) const;
 };
 
 }  // namespace rdv

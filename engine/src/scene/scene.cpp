@@ -497,9 +497,13 @@ ShadingPoint Scene::shading_point(const SurfaceHit &hit, Vec3 dir, float width) 
   sp.b[0] = 1.0f - hit.b1 - hit.b2; sp.b[1] = hit.b1; sp.b[2] = hit.b2;
   Vec3 p0 = m.positions[tri[0]], p1 = m.positions[tri[1]], p2 = m.positions[tri[2]];
   sp.p_object = p0 * sp.b[0] + p1 * sp.b[1] + p2 * sp.b[2];
+  // Blender's texture space: the bounding box to 0..1; a flat axis counts as 2 units
+  // wide around the box's middle (BKE_mesh_texspace_calc), so it maps to 0.5.
   Vec3 extent = m.bbox_hi - m.bbox_lo;
-  for (int i = 0; i < 3; ++i) sp.generated_scale[i] = extent[i] > 0 ? 1.0f / extent[i] : 0.0f;
-  sp.generated = (sp.p_object - m.bbox_lo) * sp.generated_scale;
+  for (int i = 0; i < 3; ++i) {
+    sp.generated_scale[i] = extent[i] > 0 ? 1.0f / extent[i] : 0.5f;
+    sp.generated[i] = (sp.p_object[i] - m.bbox_lo[i]) * sp.generated_scale[i] + (extent[i] > 0 ? 0.0f : 0.5f);
+  }
   sp.object_to_world = &inst.to_world.m[0][0];
   // dp/du, dp/dv from the triangle's UVs (pbrt's triangle derivatives).
   Vec3 e1 = p1 - p0, e2 = p2 - p0;

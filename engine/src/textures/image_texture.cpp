@@ -369,26 +369,47 @@ inline int wrap_index(int i, int n, TexExtension ext) {
 template <class Fetch>
 void filter_level(int w, int h, float u, float v, bool closest, TexExtension ext, const Fetch &fetch, float r[4]) {
   auto add = [&](int x, int y, float weight) {
-    x = wrap_index(x, w, ext);
-    y = wrap_index(y, h, ext);
     if (x >= 0 && y >= 0) fetch(x, y, weight, r);  // Clip: transparent black outside
   };
   // OIIO's t runs down from the top row; Blender's v runs up from the bottom.
   float s = u * w, t = (1.0f - v) * h;
   if (!std::isfinite(s) || !std::isfinite(t)) s = t = 0;
   if (closest) {
-    add(int(std::floor(s)), int(std::floor(t)), 1.0f);
+    add(wrap_index(int(std::floor(s)), w, ext), wrap_index(int(std::floor(t)), h, ext), 1.0f);
     return;
   }
   s -= 0.5f;
   t -= 0.5f;
   float fs = std::floor(s), ft = std::floor(t);
-  int x0 = int(fs), y0 = int(ft);
+  int x0 = wrap_index(int(fs), w, ext), y0 = wrap_index(int(ft), h, ext);
+  int x1 = wrap_index(int(fs) + 1, w, ext), y1 = wrap_index(int(ft) + 1, h, ext);
   float ws = s - fs, wt = t - ft;
   add(x0, y0, (1 - ws) * (1 - wt));
-  add(x0 + 1, y0, ws * (1 - wt));
-  add(x0, y0 + 1, (1 - ws) * wt);
-  add(x0 + 1, y0 + 1, ws * wt);
+  add(x1, y0, ws * (1 - wt));
+  add(x0, y1, (1 - ws) * wt);
+  add(x1, y1, ws * wt);
+}
+
+// Filters w x h texels of NC channels (scaled by `scale`: 1/255 for bytes) into r;
+// the channel count is a template argument so the per-texel loops unroll.
+template <int NC, class T>
+void filter_texels(const T *texels, float scale, int w, int h, float u, float v, bool closest, TexExtension ext,
+                   float r[4]) {
+  filter_level(w, h, u, v, closest, ext, [&](int x, int y, float weight, float *acc) {
+    const T *t = &texels[(size_t(y) * w + x) * NC];
+    for (int c = 0; c < NC; ++c) acc[c] += weight * float(t[c]) * scale;
+  }, r);
+}
+
+template <class T>
+void filter_texels(int nc, const T *texels, float scale, int w, int h, float u, float v, bool closest,
+                   TexExtension ext, float r[4]) {
+  switch (nc) {
+    case 1: return filter_texels<1>(texels, scale, w, h, u, v, closest, ext, r);
+    case 2: return filter_texels<2>(texels, scale, w, h, u, v, closest, ext, r);
+    case 3: return filter_texels<3>(texels, scale, w, h, u, v, closest, ext, r);
+    default: return filter_texels<4>(texels, scale, w, h, u, v, closest, ext, r);
+  }
 }
 
 // Level l of a resident image (0: the file's texels), filtered, in scene-linear colour.
@@ -397,22 +418,11 @@ Color lookup_level(const Image &img, int l, float u, float v, bool closest, TexE
   float r[4] = {0, 0, 0, 0};
   if (l > 0) {
     const Image::Level &level = img.mips[size_t(l - 1)];
-    filter_level(level.w, level.h, u, v, closest, ext, [&](int x, int y, float w, float *acc) {
-      const float *t = &level.texels[(size_t(y) * level.w + x) * nc];
-      for (int c = 0; c < nc; ++c) acc[c] += w * t[c];
-    }, r);
+    filter_texels(nc, level.texels.data(), 1.0f, level.w, level.h, u, v, closest, ext, r);
     return finish(img, r, alpha, true);
   }
-  if (!img.bytes.empty())
-    filter_level(img.w, img.h, u, v, closest, ext, [&](int x, int y, float w, float *acc) {
-      const uint8_t *t = &img.bytes[(size_t(y) * img.w + x) * nc];
-      for (int c = 0; c < nc; ++c) acc[c] += w * t[c] * (1.0f / 255.0f);
-    }, r);
-  else
-    filter_level(img.w, img.h, u, v, closest, ext, [&](int x, int y, float w, float *acc) {
-      const float *t = &img.floats[(size_t(y) * img.w + x) * nc];
-      for (int c = 0; c < nc; ++c) acc[c] += w * t[c];
-    }, r);
+  if (!img.bytes.empty()) filter_texels(nc, img.bytes.data(), 1.0f / 255.0f, img.w, img.h, u, v, closest, ext, r);
+  else filter_texels(nc, img.floats.data(), 1.0f, img.w, img.h, u, v, closest, ext, r);
   return finish(img, r, alpha, false);
 }
 
@@ -421,13 +431,13 @@ Color lookup_level(const Image &img, int l, float u, float v, bool closest, TexE
 Color lookup_resident(const Image &img, float u, float v, TexInterp interp, TexExtension ext, float *alpha, Vec2 dx,
                       Vec2 dy) {
   bool closest = interp == TexInterp::Closest;
-  float width = std::max(std::hypot(dx.x * img.w, dx.y * img.h), std::hypot(dy.x * img.w, dy.y * img.h));
+  float w2 = std::max(sqr(dx.x * img.w) + sqr(dx.y * img.h), sqr(dy.x * img.w) + sqr(dy.y * img.h));
   float a = 1;
   Color c;
-  if (closest || !(width > 1.0f)) {
+  if (closest || !(w2 > 1.0f)) {
     c = lookup_level(img, 0, u, v, closest, ext, &a);
   } else {
-    float level = std::min(std::log2(width), float(img.mips.size()));
+    float level = std::min(0.5f * std::log2(w2), float(img.mips.size()));  // log2 of the width in texels
     int l0 = int(level);
     float t = level - float(l0);
     c = lookup_level(img, l0, u, v, false, ext, &a);

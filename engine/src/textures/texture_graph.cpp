@@ -466,8 +466,7 @@ float gradient(int type, Vec3 p) {
 
 }  // namespace
 
-Color TextureGraph::eval(int idx, const ShadingPoint &sp) const {
-  const TexNode &n = nodes_[size_t(idx)];
+Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp) const {
   auto in = [&](int k) { return eval(n.in[k], sp); };
   auto inf = [&](int k) { return eval_float(n.in[k], sp); };
   switch (n.type) {

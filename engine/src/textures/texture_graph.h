@@ -52,7 +52,10 @@ class TextureGraph {
   // appended to warnings; malformed input throws (fail()) naming `what`.
   int parse(const nlohmann::json &j, const std::string &what, std::vector<std::string> &warnings);
   int constant(Color c);
-  Color eval(int node, const ShadingPoint &sp) const;
+  Color eval(int node, const ShadingPoint &sp) const {  // constants inline: most inputs are
+    const TexNode &n = nodes_[size_t(node)];
+    return n.type == TexNodeType::Constant ? n.value : eval_node(n, node, sp);
+  }
   float eval_float(int node, const ShadingPoint &sp) const { return luminance(eval(node, sp)); }
   bool is_constant(int node) const { return node >= 0 && nodes_[size_t(node)].type == TexNodeType::Constant; }
   const TexNode &node(int i) const { return nodes_[size_t(i)]; }
@@ -63,6 +66,7 @@ class TextureGraph {
 
  private:
   int add(const TexNode &n) { nodes_.push_back(n); return int(nodes_.size() - 1); }
+  Color eval_node(const TexNode &n, int idx, const ShadingPoint &sp) const;
   int parse_node(const nlohmann::json &j, const std::string &what, std::vector<std::string> &warnings);
   std::vector<TexNode> nodes_;
 };
