@@ -28,6 +28,28 @@ def blender_env():
     return env
 
 
+def addon_test_env(tmp, lib):
+    """The environment a test Blender runs in: the add-on installed into tmp/scripts as
+    BLENDER_USER_SCRIPTS, tmp and the repository named for the test script."""
+    scripts = os.path.join(tmp, "scripts")
+    install_addon.install(scripts, lib)
+    env = blender_env()
+    env["BLENDER_USER_SCRIPTS"] = scripts
+    env["RDV_TEST_TMP"] = tmp
+    env["RDV_REPO_ROOT"] = install_addon.ROOT
+    env.pop("RDV_LIBRARY", None)
+    return env
+
+
+def run_with_timeout(cmd, env, timeout):
+    """Runs a test Blender; its exit code, or 1 after the time limit."""
+    try:
+        return subprocess.run(cmd, env=env, timeout=timeout).returncode
+    except subprocess.TimeoutExpired:
+        print("TIMEOUT after %.0f s" % timeout)
+        return 1
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--blender", default="blender")
@@ -38,24 +60,13 @@ def main():
     ap.add_argument("rest", nargs="*")
     a = ap.parse_args()
     with tempfile.TemporaryDirectory(prefix="rdv_blender_") as tmp:
-        scripts = os.path.join(tmp, "scripts")
-        install_addon.install(scripts, a.lib)
-        env = blender_env()
-        env["BLENDER_USER_SCRIPTS"] = scripts
-        env["RDV_TEST_TMP"] = tmp
-        env["RDV_REPO_ROOT"] = install_addon.ROOT
-        env.pop("RDV_LIBRARY", None)
+        env = addon_test_env(tmp, a.lib)
         cmd = [a.blender, "-b", "--factory-startup", "-noaudio"]
         if not a.no_addon:
             cmd += ["--addons", "rendezvous"]
         cmd += ["--python-exit-code", "1", "--python", os.path.join(HERE, a.script), "--"] + a.rest
         print(" ".join(cmd), flush=True)
-        try:
-            proc = subprocess.run(cmd, env=env, timeout=a.timeout)
-        except subprocess.TimeoutExpired:
-            print("TIMEOUT after %.0f s" % a.timeout)
-            return 1
-        return proc.returncode
+        return run_with_timeout(cmd, env, a.timeout)
 
 
 if __name__ == "__main__":

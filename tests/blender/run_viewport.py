@@ -17,7 +17,7 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import install_addon  # noqa: E402
-from run_blender import blender_env  # noqa: E402
+from run_blender import addon_test_env, run_with_timeout  # noqa: E402
 
 SKIP = 77
 
@@ -59,14 +59,8 @@ def main():
         return SKIP
     try:
         with tempfile.TemporaryDirectory(prefix="rdv_viewport_") as tmp:
-            scripts = os.path.join(tmp, "scripts")
-            install_addon.install(scripts, a.lib)
-            env = blender_env()
-            env["BLENDER_USER_SCRIPTS"] = scripts
-            env["RDV_TEST_TMP"] = tmp
-            env["RDV_REPO_ROOT"] = install_addon.ROOT
+            env = addon_test_env(tmp, a.lib)
             env["DISPLAY"] = display
-            env.pop("RDV_LIBRARY", None)
             build = os.path.join(install_addon.ROOT, "scenes", "blend", "build_scenes.py")
             subprocess.run([a.blender, "-b", "--factory-startup", "-noaudio", "--python", build, "--", "--out", tmp,
                             a.scene], env=env, check=True, stdout=subprocess.DEVNULL, timeout=120)
@@ -74,12 +68,7 @@ def main():
             cmd = [a.blender, "--factory-startup", "-noaudio", "--addons", "rendezvous", blend,
                    "--python-exit-code", "1", "--python", os.path.join(HERE, a.script), "--"] + a.rest
             print("DISPLAY=%s %s" % (display, " ".join(cmd)), flush=True)
-            try:
-                proc = subprocess.run(cmd, env=env, timeout=a.timeout)
-            except subprocess.TimeoutExpired:
-                print("TIMEOUT after %.0f s" % a.timeout)
-                return 1
-            return proc.returncode
+            return run_with_timeout(cmd, env, a.timeout)
     finally:
         xvfb.terminate()
         xvfb.wait()

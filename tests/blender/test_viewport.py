@@ -243,21 +243,21 @@ def mode_preview():
     p = bpy.data.materials.new("PreviewPrincipled")
     p.use_nodes = True
     mats.append(p)
-    g = bpy.data.materials.new("PreviewGlass")
-    g.use_nodes = True
-    nt = g.node_tree
-    nt.nodes.remove(nt.nodes["Principled BSDF"])
-    glass = nt.nodes.new("ShaderNodeBsdfGlass")
-    nt.links.new(glass.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
-    mats.append(g)
-    e = bpy.data.materials.new("PreviewEmission")
-    e.use_nodes = True
-    nt = e.node_tree
-    nt.nodes.remove(nt.nodes["Principled BSDF"])
-    em = nt.nodes.new("ShaderNodeEmission")
+
+    def material_with(name, node_type):
+        """A material whose surface is one shader node in place of the Principled BSDF."""
+        m = bpy.data.materials.new(name)
+        m.use_nodes = True
+        nt = m.node_tree
+        nt.nodes.remove(nt.nodes["Principled BSDF"])
+        node = nt.nodes.new(node_type)
+        nt.links.new(node.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+        mats.append(m)
+        return m, node
+
+    material_with("PreviewGlass", "ShaderNodeBsdfGlass")
+    _, em = material_with("PreviewEmission", "ShaderNodeEmission")
     em.inputs["Strength"].default_value = 3.0
-    nt.links.new(em.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
-    mats.append(e)
     bpy.data.objects["Sphere"].data.materials[0] = p
     yield 0.3
     win, area, region, _ = view3d()
