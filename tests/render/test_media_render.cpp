@@ -105,7 +105,7 @@ json media_scene(const std::string &name) {
 
 // Blocks of 16x16 pixels: in-scattering near a lamp is heavy-tailed, and larger blocks
 // keep the block means close enough to normal for the t-test.
-constexpr int kMediaScenes = 7;
+constexpr int kMediaScenes = 8;
 const double kMediaAlpha = 1.0 - std::pow(1.0 - 0.01, 1.0 / (kMediaScenes * 4));
 
 void expect_bdpt_matches_path(const json &scene, const std::string &what, int spp_path, int spp_bdpt) {
@@ -169,6 +169,28 @@ TEST(MediaBdptVsPath, EmissiveVolume) {
                                 {"volume", {{"density", 2.0}, {"color", 0.5}, {"emission_color", {1.0, 0.5, 0.2}}, {"emission_strength", 3.0}}}});
   scene["meshes"][2]["materials"] = {"glow"};
   expect_bdpt_matches_path(scene, "emissive volume", 64, 32);
+}
+
+// Fire: a volume light whose emission follows grids (an emission grid scaling the
+// emission colour, blackbody from a temperature grid) inside thin smoke, lighting the
+// floor through fog. Light subpaths and next-event estimation start from the flame.
+TEST(MediaBdptVsPath, GridFireLightsTheFloor) {
+  json scene = media_scene("fog_spot.json");
+  scene["lights"] = json::array();
+  json bounds = {{-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}};
+  json temperature = puff_grid(16, bounds);
+  for (auto &v : temperature["values"]) v = float(v) * 1500.0f;
+  scene["materials"].push_back({{"name", "fire"}, {"type", "volume"},
+                                {"volume", {{"density", 0.8}, {"color", 0.6}, {"emission_color", {1.0, 0.4, 0.1}},
+                                            {"emission_strength", 0.5}, {"emission_grid", puff_grid(16, bounds)},
+                                            {"blackbody_intensity", 1.0}, {"temperature", 1.0},
+                                            {"temperature_grid", temperature}, {"grid", puff_grid(16, bounds)}}}});
+  scene["meshes"][2]["shape"] = {{"type", "box"}, {"size", {1, 1, 1}}};
+  scene["meshes"][2]["materials"] = {"fire"};
+  for (auto &g : {"emission_grid", "temperature_grid", "grid"})
+    scene["materials"].back()["volume"][g]["transform"] = {{"translate", {0.2, 0.5, 1.4}}};
+  scene["meshes"][2]["transform"] = {{"translate", {0.2, 0.5, 1.4}}};
+  expect_bdpt_matches_path(scene, "grid fire", 128, 32);
 }
 
 // A heterogeneous cloud (a grid, delta and ratio tracking) filling the fog box.

@@ -1,6 +1,7 @@
 #include "lights/light.h"
 #include "core/sampling.h"
 #include "lights/environment.h"
+#include "lights/volume_light.h"
 
 namespace rdv {
 
@@ -115,6 +116,13 @@ Light make_environment_light(const EnvironmentMap *env) {
   return l;
 }
 
+Light make_volume_light(const VolumeEmitter *emitter) {
+  Light l;
+  l.type = LightType::Volume;
+  l.volume = emitter;
+  return l;
+}
+
 void compute_light_power(Light &l, float scene_radius) {
   float a = average(l.radiance);  // environment: its mean radiance
   float disk = kPi * scene_radius * scene_radius;
@@ -125,6 +133,7 @@ void compute_light_power(Light &l, float scene_radius) {
     case LightType::Triangle: l.power = 2 * kPi * a / l.inv_area; break;
     case LightType::Sun: l.power = a * disk; break;
     case LightType::Background: l.power = kPi * a * disk; break;
+    case LightType::Volume: l.power = l.volume->power(); break;
   }
   if (!std::isfinite(l.power)) l.power = 0;
 }
@@ -218,6 +227,20 @@ bool sample_light(const Light &l, Vec3 ref, Vec2 u, LightSample &s) {
       s.L = l.radiance;
       return true;
     }
+    case LightType::Volume: {
+      float pdf_volume;
+      Vec3 p = l.volume->sample(u, &pdf_volume);
+      Vec3 d = p - ref;
+      float dist2 = length_squared(d);
+      if (!(pdf_volume > 0) || !(dist2 > 0)) return false;
+      s.dist = std::sqrt(dist2);
+      s.wi = d / s.dist;
+      s.p = p;
+      s.pdf = pdf_volume * dist2;  // no cosine: a point in a volume
+      s.L = l.volume->medium().emission_at(p);
+      s.medium = l.volume->medium_index();
+      return !is_black(s.L) && std::isfinite(s.pdf);
+    }
   }
   return false;
 }
@@ -246,6 +269,7 @@ float light_pdf(const Light &l, Vec3 ref, Vec3 wi, float dist) {
       return cos_l > 0 ? dist * dist * l.inv_area / cos_l : 0.0f;
     }
     case LightType::Background: return l.env ? l.env->pdf(wi) : uniform_sphere_pdf();
+    case LightType::Volume: return l.volume->pdf(ref + wi * dist) * dist * dist;
   }
   return 0;
 }

@@ -6,7 +6,9 @@
 //              tan(angle / 2) at unit distance, radiance E / (pi r^2 cos^3);
 //  area:       one-sided (local -Z), radiance P / (4 A);
 //  triangle:   an emissive mesh triangle, radiance from its material, two-sided;
-//  background: constant world radiance.
+//  background: constant world radiance;
+//  volume:     a bounded emissive medium (lights/volume_light.h), radiance per unit
+//              length from the medium, isotropic.
 // One plain struct, dispatched by a switch on the type.
 #pragma once
 #include <string>
@@ -16,8 +18,9 @@
 namespace rdv {
 
 class EnvironmentMap;  // lights/environment.h
+class VolumeEmitter;   // lights/volume_light.h
 
-enum class LightType : uint8_t { Point, Spot, Sun, Area, Triangle, Background };
+enum class LightType : uint8_t { Point, Spot, Sun, Area, Triangle, Background, Volume };
 
 struct Light {
   LightType type = LightType::Point;
@@ -43,6 +46,8 @@ struct Light {
   // Background: an importance-sampled equirectangular HDRI (owned by the Scene), or
   // null for the constant `radiance`.
   const EnvironmentMap *env = nullptr;
+  // Volume: the emitter (owned by the Scene); its medium is where the light emits.
+  const VolumeEmitter *volume = nullptr;
 
   bool is_delta() const {
     return ((type == LightType::Point || type == LightType::Spot) && radius == 0) ||
@@ -57,6 +62,9 @@ struct LightSample {
   Vec3 p;         // point on the light (finite lights)
   Color L{0.0f};  // radiance (or intensity-derived value for delta lights) arriving
   float pdf = 0;  // solid angle; 1 for delta lights
+  // Volume lights: the point emits only if it is inside the light's medium, which the
+  // caller learns from the media its shadow ray passes (MediumStack).
+  int medium = -1;
 };
 
 // Cycles 3.4's spot falloff along a direction leaving the light.
@@ -66,6 +74,7 @@ Light make_light(Params &p);
 Light make_triangle_light(Vec3 a, Vec3 b, Vec3 c, Color radiance);
 Light make_background_light(Color radiance);
 Light make_environment_light(const EnvironmentMap *env);
+Light make_volume_light(const VolumeEmitter *emitter);
 // scene_radius: radius of the scene's bounding sphere, for the power of infinite lights.
 void compute_light_power(Light &light, float scene_radius);
 

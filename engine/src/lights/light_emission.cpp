@@ -6,6 +6,7 @@
 #include "core/sampling.h"
 #include "lights/light.h"
 #include "lights/environment.h"
+#include "lights/volume_light.h"
 
 namespace rdv {
 
@@ -111,6 +112,15 @@ bool sample_emission(const Light &l, Vec2 u_pos, Vec2 u_dir, Vec3 center, float 
       out.Le = L;
       return true;
     }
+    case LightType::Volume: {
+      // A point by emitted power, a direction uniform over the sphere (isotropic).
+      Vec3 p = l.volume->sample(u_pos, &out.pdf_pos);
+      out.ray = {p, uniform_sphere(u_dir), kInf};
+      out.pdf_dir = uniform_sphere_pdf();
+      out.n = Vec3(0.0f);
+      out.Le = l.volume->medium().emission_at(p);
+      return out.pdf_pos > 0 && !is_black(out.Le);
+    }
   }
   return false;
 }
@@ -139,6 +149,10 @@ void emission_pdf(const Light &l, Vec3 p, Vec3 n, Vec3 dir, float radius, float 
       pdf_pos = 1.0f / (kPi * radius * radius);
       pdf_dir = light_pdf(l, Vec3(0.0f), -dir, kInf);
       if (light_is_delta_direction(l)) pdf_dir = 0;  // cannot be chosen by chance
+      break;
+    case LightType::Volume:
+      pdf_pos = l.volume->pdf(p);
+      pdf_dir = uniform_sphere_pdf();
       break;
   }
   (void)p;

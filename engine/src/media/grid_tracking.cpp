@@ -11,9 +11,7 @@
 // unbiased, and avg(w) never grows, so chromatic weights stay bounded. For one
 // channel this is plain delta tracking with weight albedo.
 // Transmittance is ratio tracking: the product of sigma_n / sigma_bar.
-// Emission (radiance per unit length, uniform inside the medium as in Cycles) is
-// collected at every tentative collision as w emission / sigma_bar, and in closed form
-// where there is no majorant (empty cells, outside the grid box).
+// Emission is gathered separately (media/emission_gather.h).
 #include "media/medium.h"
 
 namespace rdv {
@@ -52,23 +50,16 @@ MediumSample Medium::delta_tracking(Vec3 o, Vec3 d, float tmax, Pcg32 &rng) cons
   const DensityGrid &g = *grid;
   const GridRay r = to_grid(g, o, d);
   const float sigma_t_max = max_component(sigma_t);
-  const bool scatters = max_component(sigma_s) > 0, emissive = is_emissive();
+  const bool scatters = max_component(sigma_s) > 0;
   Color w(1.0f);
-  float covered = 0;  // emission is accounted for up to here
-  auto emission_without_majorant = [&](float t_to) {
-    if (emissive && t_to > covered) s.emission += w * emission * (t_to - covered);
-    covered = std::max(covered, t_to);
-  };
   int steps = 0;
   g.for_each_majorant_segment(r.o, r.d, tmax, [&](float t0, float t1, float majorant) {
     float sigma_bar = majorant * sigma_t_max;
-    if (!(sigma_bar > 0)) return true;  // nothing here: emission only, added when passed
-    emission_without_majorant(t0);
+    if (!(sigma_bar > 0)) return true;  // nothing here
     for (float t = t0 + exponential(rng, sigma_bar); t < t1; t += exponential(rng, sigma_bar)) {
       if (++steps > kMaxTrackingSteps) { w = Color(0.0f); return false; }
       float density = g.density(r.o + r.d * t);
       Color st = sigma_t * density, sn = vmax(Color(sigma_bar) - st, Color(0.0f));
-      if (emissive) s.emission += w * emission * (1.0f / sigma_bar);
       if (!scatters) {  // ratio tracking: always a null collision
         w *= sn * (1.0f / sigma_bar);
         if (!survives_roulette(w, rng)) return false;
@@ -84,13 +75,8 @@ MediumSample Medium::delta_tracking(Vec3 o, Vec3 d, float tmax, Pcg32 &rng) cons
       }
       w *= sn * (w_avg / p_null);
     }
-    covered = t1;
     return true;
   });
-  if (!s.scattered && !is_black(w)) {
-    float t0, t_exit;
-    emission_without_majorant(std::isinf(tmax) ? (g.clip(r.o, r.d, tmax, t0, t_exit) ? t_exit : 0.0f) : tmax);
-  }
   s.weight = w;
   return s;
 }

@@ -28,12 +28,32 @@ Medium Medium::from_params(Params &p, const std::string &name) {
     if (es < 0) fail(p.what() + ": 'emission_strength' must not be negative");
     m.emission = ec * es;
   }
+  // Blackbody emission (Principled Volume): intensity, tint, temperature in kelvin.
+  m.blackbody.intensity = p.get_float("blackbody_intensity", 0.0f);
+  m.blackbody.tint = non_negative(p.get_vec3("blackbody_tint", Color(1.0f)), "blackbody_tint");
+  m.temperature = p.get_float("temperature", 1000.0f);
+  if (!(m.blackbody.intensity >= 0) || !(m.temperature >= 0) || !std::isfinite(m.temperature))
+    fail(p.what() + ": 'blackbody_intensity' and 'temperature' must be finite and not negative");
   float g = p.get_float("anisotropy", 0.0f);
   m.phase.g = clampf(g, -0.999f, 0.999f);
   m.sigma_t = m.sigma_a + m.sigma_s;
   if (!is_finite(m.sigma_t)) fail(p.what() + ": coefficients must be finite");
+  // Grids that vary the emission: its strength, and the blackbody temperature (Cycles'
+  // Temperature Attribute). One that cannot be read turns its emission off.
+  if (const nlohmann::json *eg = p.get_json("emission_grid")) {
+    m.emission_grid = load_grid(m, *eg, p.what() + " emission_grid", "its emission");
+    if (!m.emission_grid) m.emission = Color(0.0f);
+  }
+  if (const nlohmann::json *tg = p.get_json("temperature_grid")) {
+    m.temperature_grid = load_grid(m, *tg, p.what() + " temperature_grid", "its blackbody emission");
+    if (!m.temperature_grid) m.blackbody.intensity = 0;
+  }
   if (const nlohmann::json *grid = p.get_json("grid")) {
-    load_grid(m, *grid, p.what() + " grid");
+    m.grid = load_grid(m, *grid, p.what() + " grid", "this medium");
+    if (!m.grid) {  // a density grid that cannot be read: vacuum, as the warning says
+      m.sigma_a = m.sigma_s = m.sigma_t = m.emission = Color(0.0f);
+      m.blackbody.intensity = 0;
+    }
     std::string method = p.get_string("method", "tracking");
     if (method != "tracking" && method != "ray_marching")
       fail(p.what() + ": 'method' must be \"tracking\" or \"ray_marching\", not \"" + method + "\"");
@@ -53,7 +73,8 @@ Medium Medium::from_params(Params &p, const std::string &name) {
 // "grid": dense {"resolution": [nx,ny,nz], "values": [...], "bounds": [[min],[max]]} (the
 // values fill the box `bounds`, default the unit cube) or {"file": "x.vdb", "name":
 // "density"} (the file's own voxel placement); both then placed by "transform".
-void Medium::load_grid(Medium &m, const nlohmann::json &j, const std::string &what) {
+std::shared_ptr<const DensityGrid> Medium::load_grid(Medium &m, const nlohmann::json &j, const std::string &what,
+                                                     const std::string &without) {
   Params g(j.dump(), what);
   Transform to_world = g.get_transform("transform", Transform());
   if (!to_world.is_finite() || !(std::fabs(to_world.det3()) > 0)) fail(what + ": 'transform' must be finite and invertible");
@@ -61,12 +82,9 @@ void Medium::load_grid(Medium &m, const nlohmann::json &j, const std::string &wh
     std::string file = g.get_string("file", ""), grid_name = g.get_string("name", "density");
     g.check_all_used();
     std::string error;
-    m.grid = load_vdb_density(file, grid_name, to_world, error);
-    if (!m.grid) {
-      m.warnings.push_back("medium '" + m.name + "': " + error + "; rendering without this medium");
-      m.sigma_a = m.sigma_s = m.sigma_t = m.emission = Color(0.0f);
-    }
-    return;
+    std::shared_ptr<const DensityGrid> grid = load_vdb_density(file, grid_name, to_world, error);
+    if (!grid) m.warnings.push_back("medium '" + m.name + "': " + error + "; rendering without " + without);
+    return grid;
   }
   std::vector<float> res = g.get_floats("resolution", 3, {0, 0, 0});
   int nx = int(res[0]), ny = int(res[1]), nz = int(res[2]);
@@ -90,28 +108,21 @@ void Medium::load_grid(Medium &m, const nlohmann::json &j, const std::string &wh
   Vec3 size = hi - lo;
   box.m[0][0] = size.x / nx; box.m[1][1] = size.y / ny; box.m[2][2] = size.z / nz;
   box.m[0][3] = lo.x; box.m[1][3] = lo.y; box.m[2][3] = lo.z;
-  m.grid = std::make_shared<DensityGrid>(nx, ny, nz, std::move(values), to_world * box);
+  return std::make_shared<DensityGrid>(nx, ny, nz, std::move(values), to_world * box);
 }
 
 MediumSample Medium::sample_homogeneous(float tmax, float u_channel, float u_distance) const {
   MediumSample s;
   if (max_component(sigma_s) == 0) {
-    // Nothing scatters: attenuate exactly (zero variance) and integrate emission in
-    // closed form, epsilon (1 - Tr) / sigma_t per channel (epsilon t where sigma_t = 0).
+    // Nothing scatters: attenuate exactly (zero variance).
     s.scattered = false;
     s.t = tmax;
     s.weight = transmittance(tmax);
-    if (is_emissive())
-      for (int c = 0; c < 3; ++c)
-        s.emission[c] = sigma_t[c] > 0 ? emission[c] * (1.0f - s.weight[c]) / sigma_t[c]
-                                       : (std::isinf(tmax) ? (emission[c] > 0 ? kInf : 0.0f) : emission[c] * tmax);
     return s;
   }
   int c = std::min(int(u_channel * 3.0f), 2);
   float st = sigma_t[c];
   float t = st > 0 ? -std::log(1.0f - u_distance) / st : kInf;
-  // Emission: the expected emitted radiance along the sampled segment is collected with
-  // the same estimator as scattering (Le / sigma_t per collision), which is unbiased.
   if (t < tmax) {
     Color tr = transmittance(t);
     Color density = sigma_t * tr;  // per-channel distance densities
@@ -120,7 +131,6 @@ MediumSample Medium::sample_homogeneous(float tmax, float u_channel, float u_dis
     s.scattered = true;
     s.t = t;
     s.weight = sigma_s * tr / pdf;
-    if (is_emissive()) s.emission = emission * tr / pdf;
     return s;
   }
   Color tr = transmittance(tmax);

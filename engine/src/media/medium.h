@@ -17,6 +17,7 @@
 #include <vector>
 #include "core/hash.h"
 #include "core/params.h"
+#include "media/blackbody.h"
 #include "media/density_grid.h"
 #include "media/phase.h"
 
@@ -28,7 +29,6 @@ struct MediumSample {
   bool scattered = false;  // true: a scattering event at t; false: the ray reached tmax
   float t = 0;
   Color weight{1.0f};      // sigma_s Tr / pdf (scattered) or Tr / P(no event) (reached tmax)
-  Color emission{0.0f};    // emitted radiance collected along [0, t), already weighted
 };
 
 struct Medium {
@@ -36,9 +36,21 @@ struct Medium {
   MediumType type = MediumType::Homogeneous;
   // Homogeneous: the coefficients. Grid: per unit of voxel density (times "density").
   Color sigma_a{0.0f}, sigma_s{0.0f}, sigma_t{0.0f};
-  Color emission{0.0f};  // emitted radiance per unit length (Cycles' volume emission)
+  // Emission, radiance per unit length, independent of density (as in Cycles):
+  // `emission` (colour x strength) times the `emission_grid` value where there is one,
+  // plus blackbody emission at `temperature` times the `temperature_grid` value.
+  Color emission{0.0f};
+  Blackbody blackbody;
+  float temperature = 1000;
+  std::shared_ptr<const DensityGrid> emission_grid, temperature_grid;
   HenyeyGreenstein phase;
   std::shared_ptr<const DensityGrid> grid;  // grid media only
+  // Set by the scene when the medium is a volume light (a bounded emissive medium that
+  // light subpaths and next-event estimation sample): its light, and the spacing of
+  // the points at which camera paths gather its emission (media/emission_gather.h).
+  int light = -1;
+  float emission_step = 0;
+  Vec3 light_lo{0.0f}, light_hi{0.0f};  // the world box the light emits from
   float step_size = 0;                      // ray marching: world units
   // Problems found while loading (a missing VDB file): the scene warns with them. A
   // grid that cannot be loaded leaves an empty medium (vacuum): the render goes on
@@ -51,7 +63,27 @@ struct Medium {
   // (dense values or a VDB file, see docs/scene-format.md) with "method" and "step_size".
   static Medium from_params(Params &p, const std::string &name);
 
-  bool is_emissive() const { return !is_black(emission); }
+  bool is_emissive() const { return !is_black(emission) || blackbody.active(); }
+  // Emission at a world point (inside the medium).
+  Color emission_at(Vec3 p) const {
+    Color e = emission;
+    if (emission_grid && !is_black(e)) e *= emission_grid->density(emission_grid->world_to_grid().point(p));
+    if (blackbody.active()) {
+      float T = temperature;
+      if (temperature_grid) T *= temperature_grid->density(temperature_grid->world_to_grid().point(p));
+      e += blackbody.radiance(T);
+    }
+    return e;
+  }
+  // The part of the emission that is the same everywhere in the medium.
+  Color uniform_emission() const {
+    Color e = emission_grid ? Color(0.0f) : emission;
+    if (blackbody.active() && !temperature_grid) e += blackbody.radiance(temperature);
+    return e;
+  }
+  bool has_emission_grids() const {
+    return (emission_grid && !is_black(emission)) || (blackbody.active() && temperature_grid);
+  }
   bool is_heterogeneous() const { return type != MediumType::Homogeneous; }
 
   // Closed-form transmittance of a homogeneous medium over a distance (may be infinite).
@@ -85,7 +117,10 @@ struct Medium {
   }
 
  private:
-  static void load_grid(Medium &m, const nlohmann::json &grid, const std::string &what);
+  // A dense or VDB grid (see from_params); null, with a warning in m that the render
+  // goes on `without` something, if it cannot be read.
+  static std::shared_ptr<const DensityGrid> load_grid(Medium &m, const nlohmann::json &grid, const std::string &what,
+                                                      const std::string &without);
   MediumSample sample_homogeneous(float tmax, float u_channel, float u_distance) const;
   MediumSample delta_tracking(Vec3 o, Vec3 d, float tmax, Pcg32 &rng) const;
   Color ratio_tracking(Vec3 o, Vec3 d, float distance, Pcg32 &rng) const;

@@ -27,7 +27,7 @@ void MediumStack::cross(const Scene &scene, uint32_t material, Vec3 ng, Vec3 d) 
 }
 
 Color medium_transmittance(const Scene &scene, Vec3 p, Vec3 ng, Vec3 d, float distance, MediumStack stack,
-                           uint64_t &rays, uint64_t seed, bool see_through_transparent) {
+                           uint64_t &rays, uint64_t seed, bool see_through_transparent, MediumStack *end) {
   Color tr(1.0f);
   Pcg32 rng(seed);
   Vec3 o = is_black(ng) ? p : spawn_origin(p, ng, d);
@@ -42,7 +42,10 @@ Color medium_transmittance(const Scene &scene, Vec3 p, Vec3 ng, Vec3 d, float di
       tr *= scene.medium(m).transmittance(o, d, seg, rng);
       if (is_black(tr)) return tr;
     }
-    if (!found) return tr;
+    if (!found) {
+      if (end) *end = stack;
+      return tr;
+    }
     if (!scene.is_boundary_only(hit.material)) {
       // A real surface blocks, unless it is partly transparent (transparent shadows).
       const Material &mat = scene.material(hit.material);
@@ -53,7 +56,10 @@ Color medium_transmittance(const Scene &scene, Vec3 p, Vec3 ng, Vec3 d, float di
     stack.cross(scene, hit, d);
     o = spawn_origin(hit.p, hit.ng, d);
     if (!std::isinf(remaining)) remaining -= hit.t;
-    if (remaining <= 0) return tr;
+    if (remaining <= 0) {
+      if (end) *end = stack;
+      return tr;
+    }
   }
   return Color(0.0f);
 }

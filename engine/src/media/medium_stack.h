@@ -29,8 +29,11 @@ class MediumStack {
 // see_through_transparent: partly transparent surfaces tint instead of blocking (the
 // path tracer's transparent shadows; BDPT makes such surfaces path vertices instead).
 // seed: the random stream of grid media's transmittance estimators (see tracking_seed).
+// end, if given, receives the media at the far end (a volume light's point emits only
+// inside its medium).
 Color medium_transmittance(const Scene &scene, Vec3 p, Vec3 ng, Vec3 d, float distance, MediumStack stack,
-                           uint64_t &rays, uint64_t seed, bool see_through_transparent = false);
+                           uint64_t &rays, uint64_t seed, bool see_through_transparent = false,
+                           MediumStack *end = nullptr);
 
 // A seed for the transmittance estimators of grid media along the segment a -> b:
 // a hash of the endpoints, which are themselves random, so the stream is a fresh one

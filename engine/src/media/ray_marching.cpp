@@ -6,7 +6,7 @@
 // over each step, so results are biased where it changes within a step (use tracking
 // for reference images). Distances are sampled by inverting the marched optical depth
 // of one channel chosen uniformly, weighted with the one-sample MIS over channels, as
-// in the homogeneous case; emission is integrated along the whole segment.
+// in the homogeneous case. Emission is gathered separately (media/emission_gather.h).
 #include "media/medium.h"
 
 namespace rdv {
@@ -36,24 +36,17 @@ float march(const DensityGrid &g, Vec3 o, Vec3 d, float tmax, float step_size, P
 
 Color exp_neg(Color tau) { return {std::exp(-tau.x), std::exp(-tau.y), std::exp(-tau.z)}; }
 
-// Integral of exp(-sigma x) over [0, h], per channel.
-Color step_integral(Color sigma, float h) {
-  Color r;
-  for (int c = 0; c < 3; ++c) r[c] = sigma[c] * h > 1e-4f ? (1.0f - std::exp(-sigma[c] * h)) / sigma[c] : h;
-  return r;
-}
-
 }  // namespace
 
 MediumSample Medium::ray_marched_distance(Vec3 o, Vec3 d, float tmax, Pcg32 &rng) const {
   MediumSample s;
   s.t = tmax;
-  const bool scatters = max_component(sigma_s) > 0, emissive = is_emissive();
+  const bool scatters = max_component(sigma_s) > 0;
   int channel = std::min(int(rng.next_float() * 3.0f), 2);
   float target = -std::log(1.0f - rng.next_float());  // optical depth of the event
   Color tau(0.0f);
   float t_enter;
-  float t_exit = march(*grid, o, d, tmax, step_size, rng, t_enter, [&](float a, float h, float density) {
+  march(*grid, o, d, tmax, step_size, rng, t_enter, [&](float a, float h, float density) {
     Color st = sigma_t * density;
     if (scatters && !s.scattered && st[channel] > 0 && tau[channel] + st[channel] * h >= target) {
       float t = a + (target - tau[channel]) / st[channel];
@@ -64,16 +57,11 @@ MediumSample Medium::ray_marched_distance(Vec3 o, Vec3 d, float tmax, Pcg32 &rng
         s.t = t;
         s.weight = sigma_s * density * tr / pdf;
       }
-      if (!emissive) return false;
+      return false;
     }
-    if (emissive) s.emission += emission * exp_neg(tau) * step_integral(st, h);
     tau += st * h;
     return true;
   });
-  if (emissive) {  // outside the grid box the density is zero
-    float end = std::isinf(tmax) ? t_exit : tmax;
-    s.emission += emission * (Color(t_enter) + exp_neg(tau) * std::max(end - std::max(t_exit, t_enter), 0.0f));
-  }
   if (!s.scattered) {
     Color tr = exp_neg(tau);
     float p_pass = average(tr);

@@ -377,6 +377,7 @@ void Scene::build_lights() {
       ++emissive_triangles_;
     }
   }
+  build_volume_lights();
   if (environment_) {
     if (!is_black(environment_->mean())) lights_.push_back(make_environment_light(environment_.get()));
   } else if (!is_black(world_radiance_)) {
@@ -390,10 +391,64 @@ void Scene::build_lights() {
     compute_light_power(l, bounding_radius_);
     power.push_back(l.power);
     if (l.is_infinite()) infinite_lights_.push_back(i);
-    else if (l.type != LightType::Triangle && !l.is_delta()) hittable_lights_.push_back(i);
+    else if (l.type != LightType::Triangle && l.type != LightType::Volume && !l.is_delta()) hittable_lights_.push_back(i);
   }
   light_distribution_ = Distribution1D(power);
   if (lights_.empty()) warn("scene: there are no lights and no emissive materials; the image will be black");
+}
+
+// Every emissive medium inside meshes becomes a volume light over the instances that
+// hold it (the world's fog is unbounded: camera paths gather it alone).
+void Scene::build_volume_lights() {
+  volume_emitters_.clear();
+  for (int mi = 0; mi < int(media_.size()); ++mi) {
+    Medium &medium = media_[mi];
+    medium.light = -1;
+    medium.emission_step = 0;
+    if (mi == world_medium_ || !medium.is_emissive()) continue;
+    std::vector<VolumeEmitter::Region> regions;
+    for (const Instance &inst : instances_) {
+      const Mesh &mesh = meshes_[inst.mesh];
+      if (!inst.enabled) continue;
+      Vec3 lo(kInf), hi(-kInf);
+      double volume = 0;  // divergence theorem over the triangles bounding the medium
+      for (uint32_t t = 0; t < mesh.num_triangles(); ++t) {
+        if (material_interior_[mesh.materials[t]] != mi) continue;
+        Vec3 p[3];
+        for (int k = 0; k < 3; ++k) {
+          p[k] = inst.to_world.point(mesh.positions[mesh.indices[3 * t + k]]);
+          lo = vmin(lo, p[k]);
+          hi = vmax(hi, p[k]);
+        }
+        volume += double(dot(p[0], cross(p[1], p[2]))) / 6.0;
+      }
+      if (!(hi.x >= lo.x)) continue;
+      Vec3 size = hi - lo;
+      float box = size.x * size.y * size.z;
+      float enclosed = float(std::fabs(volume));
+      regions.push_back({lo, hi, enclosed > 0 && enclosed <= box * 1.001f ? enclosed : box});
+    }
+    if (regions.empty()) continue;
+    auto emitter = std::make_unique<VolumeEmitter>(medium, mi, regions);
+    if (emitter->empty()) continue;
+    medium.light = int(lights_.size());
+    medium.light_lo = emitter->bounds_lo();
+    medium.light_hi = emitter->bounds_hi();
+    // Camera paths gather the emission at points this far apart: a voxel of the grid
+    // that shapes it, else 1/64 of the light's extent.
+    float extent = length(medium.light_hi - medium.light_lo);
+    float step = extent / 64;
+    if (const DensityGrid *g = medium.has_emission_grids()
+                                   ? (medium.emission_grid && !is_black(medium.emission) ? medium.emission_grid.get()
+                                                                                          : medium.temperature_grid.get())
+                                   : nullptr) {
+      const Transform &m = g->grid_to_world();
+      step = std::min({length(m.column(0)), length(m.column(1)), length(m.column(2))});
+    }
+    medium.emission_step = std::max(step, extent / 4096);
+    lights_.push_back(make_volume_light(emitter.get()));
+    volume_emitters_.push_back(std::move(emitter));
+  }
 }
 
 bool Scene::intersect(const Ray &ray, SurfaceHit &hit) const {

@@ -9,6 +9,7 @@
 #include "core/distribution.h"
 #include "lights/environment.h"
 #include "lights/light.h"
+#include "lights/volume_light.h"
 #include "media/medium.h"
 #include "scene/camera.h"
 #include "scene/embree_accel.h"
@@ -122,6 +123,7 @@ class Scene {
 
  private:
   void build_lights();
+  void build_volume_lights();
   // The surface point at barycentrics (b1, b2) of a triangle of an instance.
   void surface_at(uint32_t instance, uint32_t prim, float b1, float b2, SurfaceHit &hit) const;
   // Radiance of a textured emissive triangle at point p on it.
@@ -157,6 +159,7 @@ class Scene {
   // Derived by commit().
   EmbreeAccel accel_;
   std::vector<Light> lights_;
+  std::vector<std::unique_ptr<VolumeEmitter>> volume_emitters_;
   Distribution1D light_distribution_;
   std::vector<uint32_t> hittable_lights_, infinite_lights_;
   Vec3 bounding_center_{0.0f};

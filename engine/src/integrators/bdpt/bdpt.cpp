@@ -30,8 +30,11 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
   int nl = light_subpath<kMedia>(sampler, stats, light_path.data());
 
   const bool one_strategy = settings_.strategy_s >= 0;
+  // s = 1 samples its own light point: it runs even when the light subpath failed
+  // (a volume light's point outside its medium), or it would be biased by that failure.
+  const int s_max = std::max(nl, 1);
   for (int t = 1; t <= nc; ++t) {
-    for (int s = 0; s <= nl; ++s) {
+    for (int s = 0; s <= s_max; ++s) {
       int depth = s + t - 2;
       if ((s == 1 && t == 1) || depth < 0 || depth > settings_.max_bounces) continue;
       if (one_strategy && (s != settings_.strategy_s || t != settings_.strategy_t)) continue;

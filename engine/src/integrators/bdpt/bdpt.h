@@ -62,6 +62,8 @@ class Bdpt final : public Integrator {
   template <bool kMedia>
   int random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, float pdf, int max_vertices,
                   TransportMode mode, PathVertex *path, Color *emitted, RayCone cone = {}) const;
+  void gather_volume_emission(const Medium &medium, const Ray &ray, float tmax, Vec2 u, Color beta, PathVertex *path,
+                              int n, float pdf_dir, Color &emitted) const;
   // Densities (mis.cpp), area measure at the receiving vertex.
   float pdf_camera(const PathVertex &camera, const PathVertex &v) const;
   float pdf_light(const PathVertex &light_vertex, const PathVertex &v) const;

@@ -1,6 +1,7 @@
 // Connecting a light subpath prefix of s vertices to a camera subpath prefix of t
 // vertices (pbrt-v3's ConnectBDPT), with the vertex quantities the connection needs.
 #include "core/ray_offset.h"
+#include "lights/volume_light.h"
 #include "media/medium_stack.h"
 #include "integrators/bdpt/bdpt.h"
 
@@ -129,6 +130,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     } else {
       sampled.p = ls.p;
       if (light.type == LightType::Area || light.type == LightType::Triangle) sampled.ng = sampled.ns = light.axis;
+      if (light.type == LightType::Volume) sampled.gather_rate = 1.0f / light.volume->medium().emission_step;
     }
     sampled.pdf_fwd = pdf_light_origin(sampled, pt);
     Scattering sp = scatter(pt, direction_to(pt, sampled), TransportMode::Radiance);
@@ -140,8 +142,10 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     if (!is_black(L)) {
       Vec3 ng = pt.type == VertexType::Surface ? pt.ng : Vec3(0.0f);
       if constexpr (kMedia) {
+        MediumStack end;
         L *= medium_transmittance(scene_, pt.p, ng, ls.wi, ls.dist, pt.media_toward(scene_, ls.wi), stats.rays,
-                                  tracking_seed(pt.p, ls.p));
+                                  tracking_seed(pt.p, ls.p), false, &end);
+        if (ls.medium >= 0 && !is_black(L) && end.current(scene_) != ls.medium) L = Color(0.0f);  // outside its medium
       } else {
         Vec3 o = spawn_origin(pt.p, ng, ls.wi);
         float tmax = std::isinf(ls.dist) ? kInf : shadow_tmax(length(ls.p - o));

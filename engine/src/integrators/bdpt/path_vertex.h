@@ -27,6 +27,10 @@ struct PathVertex {
   uint32_t material = 0;
   Bsdf bsdf;
   int medium = -1;      // medium vertices: the medium that scattered (its phase function)
+  // Points of volume lights: camera paths gather emission at this many points per unit
+  // length (media/emission_gather.h), so the density of a camera path reaching the
+  // point is its solid-angle density / distance^2 times this rate.
+  float gather_rate = 0;
   MediumStack media;    // the media the path was in when it reached this vertex
 
   // The media a connection leaving this vertex along w starts in: surfaces that w

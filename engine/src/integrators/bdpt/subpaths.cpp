@@ -3,6 +3,7 @@
 // before it (pbrt-v3's RandomWalk), plus Russian roulette.
 #include "core/ray_offset.h"
 #include "integrators/bdpt/bdpt.h"
+#include "media/emission_gather.h"
 
 namespace rdv::bdpt {
 
@@ -23,6 +24,7 @@ float PathVertex::convert_density(float pdf, const PathVertex &next) const {
   if (!(d2 > 0)) return 0;
   float inv_d2 = 1.0f / d2;
   if (next.on_surface()) pdf *= absdot(next.ng, w * std::sqrt(inv_d2));
+  if (next.gather_rate > 0) pdf *= next.gather_rate;
   return pdf * inv_d2;
 }
 
@@ -56,8 +58,8 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       if (m >= 0) {
         const Medium &medium = scene_.medium(m);
         Vec2 u = sampler.get_2d();
+        if (emitted && medium.is_emissive()) gather_volume_emission(medium, ray, tmax, u, beta, path, n, pdf_fwd, *emitted);
         MediumSample ms = medium.sample_distance(ray.o, ray.d, tmax, u);
-        if (emitted && mode == TransportMode::Radiance) *emitted += beta * ms.emission;
         beta *= ms.weight;
         if (is_black(beta)) return n;
         if (ms.scattered) {
@@ -157,6 +159,34 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
   }
 }
 
+// Emission of the medium along a camera path's segment (s = 0 strategies ending inside
+// a volume): each gathered point is a path ending at a volume light's point, MIS-weighted
+// against the strategies that sample that point from the light. The point stands in
+// for the next vertex while its weight is computed.
+void Bdpt::gather_volume_emission(const Medium &medium, const Ray &ray, float tmax, Vec2 u, Color beta,
+                                  PathVertex *path, int n, float pdf_dir, Color &emitted) const {
+  Pcg32 rng = Medium::stream_from(Vec2(u.y, u.x));
+  const PathVertex &prev = path[n];
+  PathVertex &point = path[n + 1];
+  gather_emission(medium, ray.o, ray.d, tmax, rng, [&](Vec3 x, Color c, float rate) {
+    float w = 1;
+    if (rate > 0 && n > 0) {  // seen straight from the camera: s = 0, t = 2 is the only strategy
+      point.type = VertexType::Light;
+      point.light = medium.light;
+      point.infinite = false;
+      point.p = x;
+      point.ng = point.ns = Vec3(0.0f);
+      point.gather_rate = rate;
+      point.pdf_fwd = prev.convert_density(pdf_dir, point);
+      ConnectionDensities d;
+      d.pt_rev = pdf_light_origin(point, prev);
+      d.pt_minus_rev = pdf_light(point, prev);
+      w = mis_weight(path, path, point, 0, n + 2, d);  // s = 0 reads no light vertex
+    }
+    emitted += beta * c * w;
+  });
+}
+
 template <bool kMedia>
 int Bdpt::camera_subpath(const CameraRay &cr, Sampler &sampler, RayStats &stats, PathVertex *path,
                          Color *emitted) const {
@@ -209,6 +239,12 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path) con
   if constexpr (kMedia) {
     // The media the lamp sits in (infinite lights shine from outside everything).
     if (!v.infinite) v.media = MediumStack::from(scene_.media_along(ray.o, ray.d));
+    // A volume light's point emits only inside its medium.
+    if (light.type == LightType::Volume) {
+      const int m = light.volume->medium_index();
+      if (v.media.current(scene_) != m) return 0;
+      v.gather_rate = 1.0f / scene_.medium(m).emission_step;
+    }
   }
   float cos_emit = is_black(es.n) ? 1.0f : absdot(es.n, es.ray.d);
   Color beta = es.Le * (cos_emit / (pmf * es.pdf_pos * es.pdf_dir));

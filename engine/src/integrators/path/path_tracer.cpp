@@ -2,6 +2,7 @@
 #include "bsdfs/transparency.h"
 #include "core/ray_offset.h"
 #include "core/sampling.h"
+#include "media/emission_gather.h"
 #include "media/medium_stack.h"
 
 namespace rdv {
@@ -32,8 +33,10 @@ static Color sample_direct_light(const Scene &scene, Vec3 p, Vec3 ng, const Scat
   if constexpr (kMedia) {
     // Grid media estimate transmittance with a stream seeded by one more sampler value.
     uint64_t seed = scene.has_heterogeneous_media() ? std::bit_cast<uint32_t>(sampler.get_1d()) : 0;
-    tr = medium_transmittance(scene, p, ng, ls.wi, ls.dist, media_toward(ls.wi), stats.rays, seed, true);
+    MediumStack end;
+    tr = medium_transmittance(scene, p, ng, ls.wi, ls.dist, media_toward(ls.wi), stats.rays, seed, true, &end);
     if (is_black(tr)) return Color(0.0f);
+    if (ls.medium >= 0 && end.current(scene) != ls.medium) return Color(0.0f);  // outside the emitting medium
   } else {
     Vec3 o = spawn_origin(p, ng, ls.wi);
     float tmax = std::isinf(ls.dist) ? kInf : shadow_tmax(length(ls.p - o));
@@ -46,6 +49,9 @@ static Color sample_direct_light(const Scene &scene, Vec3 p, Vec3 ng, const Scat
     }
   }
   float light_pdf = pmf * ls.pdf;
+  // Volume lights: camera paths gather their emission at 1 / emission_step points per
+  // unit length along the sampled direction (media/emission_gather.h).
+  if (light.type == LightType::Volume) scatter_pdf /= light.volume->medium().emission_step;
   float weight = light.is_delta() ? 1.0f : power_heuristic(light_pdf, scatter_pdf);
   return f * ls.L * tr * (weight / light_pdf);
 }
@@ -98,8 +104,22 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       if (m >= 0) {
         const Medium &medium = scene_.medium(m);
         Vec2 u = sampler.get_2d();
+        if (medium.is_emissive()) {
+          // Emission along the segment, each point weighted against next-event
+          // estimation having sampled it from the volume light (densities per volume,
+          // both times the squared distance).
+          Pcg32 rng = Medium::stream_from(Vec2(u.y, u.x));
+          const Light *light = medium.light >= 0 ? &scene_.lights()[medium.light] : nullptr;
+          gather_emission(medium, ray.o, ray.d, tmax, rng, [&](Vec3 x, Color c, float rate) {
+            float w = 1;
+            if (light && rate > 0 && !specular_bounce) {
+              float pdf_light = dist.pmf(medium.light) * light->volume->pdf(x) * length_squared(x - prev_p);
+              w = power_heuristic(prev_pdf * rate, pdf_light);
+            }
+            L += beta * c * w;
+          });
+        }
         MediumSample ms = medium.sample_distance(ray.o, ray.d, tmax, u);
-        L += beta * ms.emission;
         beta *= ms.weight;
         if (ms.scattered) {
           // A scattering event in the medium: next-event estimation with the phase
