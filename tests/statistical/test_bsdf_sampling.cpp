@@ -62,8 +62,14 @@ TEST(BsdfSampling, WeightMatchesEvalOverPdf) {
         if (!lobe_sample(c.lobe, wo, {a, rng.next_float()}, wi, w, pdf, mode)) continue;
         ASSERT_GT(pdf, 0) << c.name;
         EXPECT_NEAR(pdf, lobe_pdf(c.lobe, wo, wi), 1e-3f * pdf) << c.name;
-        Color expected = lobe_eval(c.lobe, wo, wi, mode) * (std::fabs(wi.z) / pdf);
+        Color f = lobe_eval(c.lobe, wo, wi, mode);
+        Color expected = f * (std::fabs(wi.z) / pdf);
         for (int k = 0; k < 3; ++k) EXPECT_NEAR(w[k], expected[k], 2e-3f * std::max(1.0f, expected[k])) << c.name;
+        // The combined evaluation gives what eval and pdf give alone.
+        float pdf_both;
+        Color f_both = lobe_eval_and_pdf(c.lobe, wo, wi, mode, pdf_both);
+        EXPECT_NEAR(pdf_both, lobe_pdf(c.lobe, wo, wi), 1e-5f * pdf) << c.name;
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(f_both[k], f[k], 1e-5f * std::max(1.0f, f[k])) << c.name;
         ++checked;
       }
       EXPECT_GT(checked, 100) << c.name;

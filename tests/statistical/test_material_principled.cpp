@@ -98,9 +98,16 @@ TEST(MaterialSampling, WeightIsEvalOverPdfInBothModes) {
         BsdfSample s;
         float ul = rng.next_float(), a = rng.next_float();
         if (!bsdf.sample(wo, ul, {a, rng.next_float()}, mode, s) || s.is_delta) continue;
-        Color expected = bsdf.eval(wo, s.wi, mode) / bsdf.pdf(wo, s.wi);
+        Color f = bsdf.eval(wo, s.wi, mode);
+        float pdf = bsdf.pdf(wo, s.wi);
+        Color expected = f / pdf;
         for (int k = 0; k < 3; ++k)
           EXPECT_NEAR(s.weight[k], expected[k], 2e-3f * std::max(1.0f, expected[k])) << c.name;
+        // The combined evaluation (next-event estimation) gives what eval and pdf give alone.
+        float pdf_both;
+        Color f_both = bsdf.eval_and_pdf(wo, s.wi, mode, pdf_both);
+        EXPECT_NEAR(pdf_both, pdf, 1e-5f * pdf) << c.name;
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(f_both[k], f[k], 1e-5f * std::max(1.0f, f[k])) << c.name;
       }
     }
   }

@@ -51,6 +51,18 @@ Color lobe_eval(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode) {
   return lobe.num_layers ? f * layer_factor(lobe, wo, wi) : f;  // energy-conserving layering
 }
 
+Color lobe_eval_and_pdf(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode, float &pdf) {
+  Color f;
+  if (lobe.type == LobeType::GgxConductor) {
+    f = conductor::eval_and_pdf(lobe, wo, wi, pdf);
+  } else {
+    f = lobe_eval_base(lobe, wo, wi, mode);
+    pdf = lobe_pdf(lobe, wo, wi);
+  }
+  f *= lobe.scale;
+  return lobe.num_layers ? f * layer_factor(lobe, wo, wi) : f;
+}
+
 static bool lobe_sample_base(const Lobe &lobe, Vec3 wo, Vec2 u, Vec3 &wi, Color &weight, float &pdf,
                              TransportMode mode, float uc);
 
@@ -191,6 +203,21 @@ Color Bsdf::eval(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
   return f(wo_w, wi_w, mode) * absdot(wi_w, frame_.n);
 }
 
+Color Bsdf::eval_and_pdf(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf) const {
+  pdf = 0;
+  Vec3 wo, wi;
+  bool flipped;
+  if (!local_pair(wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
+  Color f(0.0f);
+  LobeScratch scratch;
+  for (int i = 0; i < n_; ++i) {
+    float p;
+    f += lobe_eval_and_pdf(lobe_from_side(lobes_[i], flipped, scratch), wo, wi, mode, p);
+    pdf += pick_[i] * p;
+  }
+  return f * shading_correction(wo_w, wi_w, mode) * absdot(wi_w, frame_.n);
+}
+
 Color Bsdf::f_and_pdfs(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_fwd, float &pdf_rev) const {
   pdf_fwd = pdf_rev = 0;
   Vec3 wo, wi;
@@ -207,8 +234,9 @@ Color Bsdf::f_and_pdfs(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_fwd,
   LobeScratch scratch, scratch_rev;
   for (int i = 0; i < n_; ++i) {
     const Lobe &lobe = lobe_from_side(lobes_[i], flipped, scratch);
-    f += lobe_eval(lobe, wo, wi, mode);
-    pdf_fwd += pick_[i] * lobe_pdf(lobe, wo, wi);
+    float p;
+    f += lobe_eval_and_pdf(lobe, wo, wi, mode, p);
+    pdf_fwd += pick_[i] * p;
     if (rev_ok) pdf_rev += pick_[i] * lobe_pdf(lobe_from_side(lobes_[i], flipped_rev, scratch_rev), wi_rev, wo_rev);
   }
   return f * shading_correction(wo_w, wi_w, mode);
@@ -238,7 +266,12 @@ bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSampl
   Vec3 wo = frame_.to_local(wo_w), wi;
   Color weight;
   float pdf;
-  if (!lobe_sample(lobe, wo, u, wi, weight, pdf, mode, uc)) return false;
+  // From a mixture of non-delta lobes only the direction is kept (the weight comes
+  // from the whole mixture below), so the lobe's own scale and layering are skipped.
+  bool mixture = n_ > 1 && !lobe.is_delta();
+  if (!(mixture ? lobe_sample_base(lobe, wo, u, wi, weight, pdf, mode, uc)
+                : lobe_sample(lobe, wo, u, wi, weight, pdf, mode, uc)))
+    return false;
   out.wi = frame_.to_world(wi);
   if (!consistent_side(out.wi, ng_, wi.z)) return false;
   if (lobe.is_delta()) {
@@ -253,9 +286,9 @@ bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSampl
     out.pdf = pdf;
     out.weight = weight * shading_correction(wo_w, out.wi, mode);
   } else {  // mixture: the weight must use the full f and the mixture pdf
-    out.pdf = this->pdf(wo_w, out.wi);
+    Color f = eval_and_pdf(wo_w, out.wi, mode, out.pdf);
     if (!(out.pdf > 0)) return false;
-    out.weight = eval(wo_w, out.wi, mode) / out.pdf;
+    out.weight = f / out.pdf;
   }
   return true;
 }

@@ -9,6 +9,7 @@
 #include <array>
 #include <type_traits>
 #include "bsdfs/fresnel.h"
+#include "bsdfs/ggx_albedo.h"
 #include "bsdfs/microfacet.h"
 #include "core/math.h"
 
@@ -40,17 +41,20 @@ enum class FresnelMode : uint8_t {
 // A reflecting layer above a lobe (Principled specular, sheen, clearcoat). The lobe
 // below is scaled by (1 - A(wo)) (1 - A(wi)) / (1 - A_avg), with A the layer's
 // directional albedo: reciprocal, and a Lambertian base under it then reflects exactly
-// base x (1 - A(wo)), so layer + base never exceed 1 (layering.cpp).
+// base x (1 - A(wo)), so layer + base never exceed 1 (layering.cpp). Made by
+// schlick_ggx_layer() / sheen_layer() (layering.h), which precompute everything that
+// does not depend on a direction.
 struct LayerAbove {
   enum Kind : uint8_t { SchlickGgx, Sheen } kind = SchlickGgx;
-  Color f0{0.04f};     // SchlickGgx
-  float alpha = 0;     // SchlickGgx: GGX alpha (isotropic equivalent)
-  bool multiscatter = false;
-  Color weight{1.0f};  // the layer lobe's colour (closure weight x tint)
+  Color f0{0.04f};        // SchlickGgx: Fresnel at normal incidence
+  Color ms{0.0f};         // SchlickGgx with multiscatter: Kulla-Conty's F_ms (else 0)
+  Color weight{1.0f};     // the layer lobe's colour (closure weight x tint)
+  GgxAlbedoRows rows;     // SchlickGgx: the GGX albedo tables at the layer's alpha
+  Color norm{1.0f};       // 1 / (1 - A_avg)
   // Memo (per Bsdf, per thread): the layer's albedo at the last |cos| asked for, which
-  // is wo's for most calls, and 1 / (1 - A_avg).
+  // is wo's for most calls.
   mutable float memo_mu = -1;
-  mutable Color memo_albedo{0.0f}, memo_norm{-1.0f};
+  mutable Color memo_albedo{0.0f};
 };
 
 struct Lobe {
@@ -140,6 +144,9 @@ class Bsdf {
   // into their geometry term), including the importance-mode correction.
   Color f(Vec3 wo, Vec3 wi, TransportMode mode) const;
   float pdf(Vec3 wo, Vec3 wi) const;
+  // eval() and pdf() with one frame change and one pass over the lobes (next-event
+  // estimation, the weight of a sampled mixture).
+  Color eval_and_pdf(Vec3 wo, Vec3 wi, TransportMode mode, float &pdf) const;
   // f(wo, wi) as f() and, with one frame change, pdf(wo, wi) and pdf(wi, wo): what a
   // BDPT connection needs at each end (its value and its MIS densities both ways).
   // The densities are left 0 where f is 0 (the connection contributes nothing).
@@ -187,6 +194,8 @@ class Bsdf {
 // eta^2 (eta = lobe.ior, the relative IOR of the side wi enters), in Importance mode not.
 Color lobe_eval(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode = TransportMode::Radiance);  // f (without cosine)
 float lobe_pdf(const Lobe &lobe, Vec3 wo, Vec3 wi);
+// lobe_eval and lobe_pdf at once (terms both need are computed once).
+Color lobe_eval_and_pdf(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode, float &pdf);
 // Returns false when no direction is sampled. weight = f * |cos| / pdf. For delta lobes
 // pdf is the discrete probability of the chosen event (reflect / refract).
 // uc: a third uniform variate for discrete choices inside the lobe (reflect or

@@ -70,6 +70,30 @@ float pdf(const Lobe &lobe, Vec3 wo, Vec3 wi) {
   return (1.0f - p_ms) * pdf_single(lobe, wo, wi) + p_ms * cosine_hemisphere_pdf(wi.z);
 }
 
+Color eval_and_pdf(const Lobe &lobe, Vec3 wo, Vec3 wi, float &pdf_out) {
+  pdf_out = 0;
+  if (wo.z <= 0 || wi.z <= 0) return Color(0.0f);
+  // eval_single and pdf_single with their common terms computed once.
+  Vec3 h = normalize(wo + wi);
+  float d = lobe.ggx.D(h);
+  float lambda_o = lobe.ggx.lambda(wo);
+  float woh = dot(wo, h);
+  Color f(0.0f);
+  float p_single = 0;
+  if (d != 0) {
+    float g = 1.0f / (1.0f + lambda_o + lobe.ggx.lambda(wi));
+    f = lobe.fresnel(dot(wi, h)) * (d * g / (4.0f * wo.z * wi.z));
+  }
+  if (woh > 0) p_single = 1.0f / (1.0f + lambda_o) * woh * d / wo.z / (4.0f * woh);
+  if (!lobe.multiscatter) {
+    pdf_out = p_single;
+    return f;
+  }
+  float p_ms = ms_probability(lobe, wo);
+  pdf_out = (1.0f - p_ms) * p_single + p_ms * cosine_hemisphere_pdf(wi.z);
+  return f + eval_multi(lobe, wo, wi);
+}
+
 bool sample(const Lobe &lobe, Vec3 wo, Vec2 u, float uc, Vec3 &wi, Color &weight, float &pdf_out) {
   if (wo.z <= 0) return false;
   float p_ms = ms_probability(lobe, wo);

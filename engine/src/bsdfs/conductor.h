@@ -9,6 +9,8 @@
 namespace rdv::conductor {
 Color eval(const Lobe &lobe, Vec3 wo, Vec3 wi);
 float pdf(const Lobe &lobe, Vec3 wo, Vec3 wi);
+// eval and pdf together: the half vector, D and Lambda(wo) are shared.
+Color eval_and_pdf(const Lobe &lobe, Vec3 wo, Vec3 wi, float &pdf);
 bool sample(const Lobe &lobe, Vec3 wo, Vec2 u, float uc, Vec3 &wi, Color &weight, float &pdf);
 bool sample_specular(const Lobe &lobe, Vec3 wo, Vec3 &wi, Color &weight);
 // Cosine-weighted hemispherical average of the lobe's Fresnel term.

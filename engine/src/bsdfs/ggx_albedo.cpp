@@ -87,6 +87,31 @@ float lookup_average(const std::vector<float> &avg, float alpha) {
 
 }  // namespace
 
+GgxAlbedoRows ggx_albedo_rows(float alpha) {
+  const AlbedoTable &t = table();
+  int r;
+  GgxAlbedoRows rows;
+  coords(std::sqrt(std::max(alpha, 0.0f)), kRough, r, rows.fr);
+  rows.e = &t.e[size_t(r) * kMu];
+  rows.e1 = &t.e1[size_t(r) * kMu];
+  rows.eavg = t.eavg[r] * (1 - rows.fr) + t.eavg[r + 1] * rows.fr;
+  rows.e1avg = t.e1avg[r] * (1 - rows.fr) + t.e1avg[r + 1] * rows.fr;
+  return rows;
+}
+
+void GgxAlbedoRows::at(float mu, float &e_mu, float &e1_mu) const {
+  int m;
+  float fm;
+  coords(mu, kMu, m, fm);
+  auto interp = [&](const float *row) {
+    float v0 = row[m] * (1 - fm) + row[m + 1] * fm;
+    float v1 = row[kMu + m] * (1 - fm) + row[kMu + m + 1] * fm;
+    return v0 * (1 - fr) + v1 * fr;
+  };
+  e_mu = interp(e);
+  e1_mu = interp(e1);
+}
+
 float ggx_schlick_albedo(float mu, float alpha) { return lookup(table().e1, mu, alpha); }
 float ggx_schlick_average_albedo(float alpha) { return lookup_average(table().e1avg, alpha); }
 

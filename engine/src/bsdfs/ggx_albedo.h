@@ -15,4 +15,15 @@ float ggx_average_albedo(float alpha);
 // lobe with Schlick Fresnel f0 reflects f0 E + (1 - f0) E1 (exact: linear in f0).
 float ggx_schlick_albedo(float mu, float alpha);
 float ggx_schlick_average_albedo(float alpha);
+
+// The tables at one alpha: a layer of fixed roughness asks for E and E1 at many
+// directions, so the alpha coordinate is found once (the same values as the
+// functions above).
+struct GgxAlbedoRows {
+  const float *e = nullptr, *e1 = nullptr;  // the row below alpha in each table (the one above follows)
+  float fr = 0;                             // weight of the row above
+  float eavg = 0, e1avg = 0;                // E_avg(alpha), E1_avg(alpha)
+  void at(float mu, float &e_mu, float &e1_mu) const;
+};
+GgxAlbedoRows ggx_albedo_rows(float alpha);
 }  // namespace rdv

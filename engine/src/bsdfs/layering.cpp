@@ -51,28 +51,41 @@ Color schlick_avg(Color f0) { return f0 + (Color(1.0f) - f0) * (1.0f / 21.0f); }
 
 }  // namespace
 
+LayerAbove schlick_ggx_layer(Color f0, float alpha, bool multiscatter, Color weight) {
+  LayerAbove l;
+  l.kind = LayerAbove::SchlickGgx;
+  l.f0 = f0;
+  l.weight = weight;
+  l.rows = ggx_albedo_rows(alpha);
+  if (multiscatter) {  // Kulla-Conty adds F_ms (1 - E(mu)) (conductor.cpp)
+    float eavg = l.rows.eavg;
+    Color favg = schlick_avg(f0);
+    l.ms = favg * favg * eavg / (Color(1.0f) - favg * (1.0f - eavg));
+  }
+  l.norm = Color(1.0f) / (Color(1.0f) - layer_average_albedo(l));
+  return l;
+}
+
+LayerAbove sheen_layer(Color weight) {
+  LayerAbove l;
+  l.kind = LayerAbove::Sheen;
+  l.weight = weight;
+  l.norm = Color(1.0f) / (Color(1.0f) - layer_average_albedo(l));
+  return l;
+}
+
 Color layer_albedo(const LayerAbove &l, float mu) {
   if (l.kind == LayerAbove::Sheen) return l.weight * sheen_table().at(mu);
-  float e = ggx_albedo(mu, l.alpha), e1 = ggx_schlick_albedo(mu, l.alpha);
-  Color a = l.f0 * e + (Color(1.0f) - l.f0) * e1;
-  if (l.multiscatter) {  // Kulla-Conty adds F_ms (1 - E(mu)) (conductor.cpp)
-    float eavg = ggx_average_albedo(l.alpha);
-    Color favg = schlick_avg(l.f0);
-    Color fms = favg * favg * eavg / (Color(1.0f) - favg * (1.0f - eavg));
-    a += fms * (1.0f - e);
-  }
+  float e, e1;
+  l.rows.at(mu, e, e1);
+  Color a = l.f0 * e + (Color(1.0f) - l.f0) * e1 + l.ms * (1.0f - e);
   return vmin(l.weight * a, Color(0.999f));
 }
 
 Color layer_average_albedo(const LayerAbove &l) {
   if (l.kind == LayerAbove::Sheen) return l.weight * sheen_table().avg;
-  float eavg = ggx_average_albedo(l.alpha), e1avg = ggx_schlick_average_albedo(l.alpha);
-  Color a = l.f0 * eavg + (Color(1.0f) - l.f0) * e1avg;
-  if (l.multiscatter) {
-    Color favg = schlick_avg(l.f0);
-    Color fms = favg * favg * eavg / (Color(1.0f) - favg * (1.0f - eavg));
-    a += fms * (1.0f - eavg);
-  }
+  float eavg = l.rows.eavg;
+  Color a = l.f0 * eavg + (Color(1.0f) - l.f0) * l.rows.e1avg + l.ms * (1.0f - eavg);
   return vmin(l.weight * a, Color(0.999f));
 }
 
@@ -80,14 +93,13 @@ Color layer_factor(const Lobe &lobe, Vec3 wo, Vec3 wi) {
   Color k(1.0f);
   for (int i = 0; i < lobe.num_layers; ++i) {
     const LayerAbove &l = lobe.layers[i];
-    if (l.memo_norm.x < 0) l.memo_norm = Color(1.0f) / (Color(1.0f) - layer_average_albedo(l));
     float mo = std::fabs(wo.z);
     if (mo != l.memo_mu) {
       l.memo_mu = mo;
       l.memo_albedo = layer_albedo(l, mo);
     }
     Color ai = layer_albedo(l, std::fabs(wi.z));
-    k *= (Color(1.0f) - l.memo_albedo) * (Color(1.0f) - ai) * l.memo_norm;
+    k *= (Color(1.0f) - l.memo_albedo) * (Color(1.0f) - ai) * l.norm;
   }
   return k;
 }

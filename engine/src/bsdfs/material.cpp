@@ -1,4 +1,5 @@
 #include "bsdfs/material.h"
+#include "bsdfs/layering.h"
 #include "bsdfs/shading_normal.h"
 
 namespace rdv {
@@ -406,24 +407,22 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
         // exactly (Disney diffuse, layers simply added), brighter than 1 at grazing angles.
         const bool layered = !c.additive_layers;
         float clearcoat = std::max(num(kClearcoat), 0.0f);
-        LayerAbove coat_layer;
         float coat_rough = clampf(num(kClearcoatRoughness), 0.0f, 1.0f);
-        coat_layer.alpha = std::max(sqr(coat_rough), 1e-4f);
-        coat_layer.f0 = Color(0.04f);
-        coat_layer.weight = Color(0.25f * clearcoat);
+        LayerAbove coat_layer;
+        const bool coated = layered && clearcoat > 0;
+        if (coated) coat_layer = schlick_ggx_layer(Color(0.04f), std::max(sqr(coat_rough), 1e-4f), false,
+                                                   Color(0.25f * clearcoat));
         auto add_layer = [&](Lobe &l, const LayerAbove &layer) {
           if (layered && l.num_layers < 3 && max_component(layer.weight) > 0) l.layers[l.num_layers++] = layer;
+        };
+        auto add_coat = [&](Lobe &l) {
+          if (coated) add_layer(l, coat_layer);
         };
         float specular = std::max(num(kSpecular), 0.0f);
         Color spec_tint = c.specular_tint_is_color ? vmax(col(kSpecularTint), Color(0.0f))
                                                    : Color(1.0f) * (1 - num(kSpecularTint)) + tint * num(kSpecularTint);
         Color f0_dielectric = vmin(spec_tint * (specular * 0.08f), Color(1.0f));
         Lobe s = ggx_lobe(roughness, num(kAnisotropic));
-        LayerAbove spec_layer;  // the dielectric specular above the diffuse / sheen
-        spec_layer.alpha = std::max(std::sqrt(s.ggx.ax * s.ggx.ay), 1e-4f);
-        spec_layer.f0 = f0_dielectric;
-        spec_layer.multiscatter = c.multiscatter;
-        spec_layer.weight = Color(1.0f);
         float sheen = std::max(num(kSheen), 0.0f);
         Color sheen_color = (c.sheen_tint_is_color ? vmax(col(kSheenTint), Color(0.0f))
                                                    : Color(1.0f) * (1 - num(kSheenTint)) + tint * num(kSheenTint)) * sheen;
@@ -432,21 +431,20 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
           d.type = layered ? LobeType::Lambert : LobeType::PrincipledDiffuse;  // Cycles 3.4's Disney diffuse
           d.sigma = roughness;
           d.color = base * (diffuse_w * ww);
-          if (sheen > 0) {
-            LayerAbove sl;
-            sl.kind = LayerAbove::Sheen;
-            sl.weight = sheen_color;
-            add_layer(d, sl);
-          }
+          LayerAbove spec_layer;  // the dielectric specular above the diffuse / sheen
+          if (layered)
+            spec_layer = schlick_ggx_layer(f0_dielectric, std::max(std::sqrt(s.ggx.ax * s.ggx.ay), 1e-4f),
+                                           c.multiscatter, Color(1.0f));
+          if (sheen > 0 && layered) add_layer(d, sheen_layer(sheen_color));
           add_layer(d, spec_layer);
-          add_layer(d, coat_layer);
+          add_coat(d);
           bsdf.add_lobe(d, sample_weight(d.color));
           if (sheen > 0) {
             Lobe sh;
             sh.type = LobeType::Sheen;
             sh.color = sheen_color * (diffuse_w * ww);
             add_layer(sh, spec_layer);
-            add_layer(sh, coat_layer);
+            add_coat(sh);
             bsdf.add_lobe(sh, 0.2f * sample_weight(sh.color));
           }
         }
@@ -457,14 +455,14 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
           s.color = Color(1.0f);
           s.scale = spec_w * ww;
           s.multiscatter = c.multiscatter;
-          add_layer(s, coat_layer);
+          add_coat(s);
           bsdf.add_lobe(s, sample_weight((s.f0 + (Color(1.0f) - s.f0) * 0.1f) * s.scale));
         }
         if (trans_w > 0) {
           float tr = clampf(num(kTransmissionRoughness), 0.0f, 1.0f);
           float r = 1 - (1 - roughness) * (1 - tr);
           Lobe g = dielectric_lobe(r, num(kIor), base * (trans_w * ww));
-          add_layer(g, coat_layer);
+          add_coat(g);
           bsdf.add_lobe(g, sample_weight(g.color));
         }
         if (clearcoat > 0) {

@@ -193,10 +193,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     if (depth >= max_bounces_ || !bsdf.has_lobes()) break;
 
     if (!bsdf.is_delta()) {
-      auto surface = [&](Vec3 wi, float *pdf) {
-        *pdf = bsdf.pdf(wo, wi);
-        return bsdf.eval(wo, wi, TransportMode::Radiance);
-      };
+      auto surface = [&](Vec3 wi, float *pdf) { return bsdf.eval_and_pdf(wo, wi, TransportMode::Radiance, *pdf); };
       if constexpr (kMedia) {
         // The shadow ray starts in the medium on wi's side: reflection stays in the
         // current one, transmission crosses into the other.
