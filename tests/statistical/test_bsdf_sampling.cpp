@@ -5,6 +5,7 @@
 #include "bsdfs/registry.h"
 #include "chi_square.h"
 #include "core/hash.h"
+#include "core/sampling.h"
 
 using namespace rdv;
 
@@ -157,4 +158,49 @@ TEST(BsdfSampling, ChiSquareMixture) {
       [&](Vec3 wi) { return bsdf.pdf(wo, wi); }, 200000, 5);
   EXPECT_FALSE(result.impossible_sample) << result.detail;
   EXPECT_GT(result.p_value, 0.01) << result.detail;
+}
+
+// A Bsdf of one Lambert lobe evaluates f and its densities from the normal components
+// alone (Bsdf::lambert_: f, eval_and_pdf, f_and_pdfs, pdf); it must agree with the general path (frame change, side and
+// lobe rules), here a Bsdf of two half-strength Lambert lobes, for directions on both
+// sides of tilted shading normals, in both transport modes. Deterministic.
+TEST(BsdfEvaluation, LambertFastPathMatchesGeneralPath) {
+  Pcg32 rng(2027);
+  Lobe lambert;
+  lambert.type = LobeType::Lambert;
+  lambert.color = Color(0.8f, 0.5f, 0.2f);
+  Lobe half = lambert;
+  half.color = lambert.color * 0.5f;
+  int nonzero = 0;
+  for (int i = 0; i < 20000; ++i) {
+    Vec3 ng = uniform_sphere({rng.next_float(), rng.next_float()});
+    Vec3 ns = normalize(ng + uniform_sphere({rng.next_float(), rng.next_float()}) * (0.6f * rng.next_float()));
+    Vec3 wo_build = uniform_sphere({rng.next_float(), rng.next_float()});
+    Vec3 wo = rng.next_float() < 0.7f ? wo_build : uniform_sphere({rng.next_float(), rng.next_float()});
+    Vec3 wi = uniform_sphere({rng.next_float(), rng.next_float()});
+    Bsdf fast(ng, ns, wo_build), general(ng, ns, wo_build);
+    fast.add_lobe(lambert, 1.0f);
+    general.add_lobe(half, 1.0f);
+    general.add_lobe(half, 1.0f);
+    for (TransportMode mode : {TransportMode::Radiance, TransportMode::Importance}) {
+      float fwd_fast, rev_fast, fwd_general, rev_general;
+      Color f_fast = fast.f_and_pdfs(wo, wi, mode, fwd_fast, rev_fast);
+      Color f_general = general.f_and_pdfs(wo, wi, mode, fwd_general, rev_general);
+      for (int k = 0; k < 3; ++k) ASSERT_NEAR(f_fast[k], f_general[k], 1e-5f * std::max(1.0f, f_general[k])) << i;
+      ASSERT_NEAR(fast.pdf(wo, wi), general.pdf(wo, wi), 1e-6f) << i;
+      Color f_alone = fast.f(wo, wi, mode), f_alone_general = general.f(wo, wi, mode);
+      float pdf_eval, pdf_eval_general;
+      Color e = fast.eval_and_pdf(wo, wi, mode, pdf_eval), e_general = general.eval_and_pdf(wo, wi, mode, pdf_eval_general);
+      for (int k = 0; k < 3; ++k) {
+        ASSERT_NEAR(f_alone[k], f_alone_general[k], 1e-5f * std::max(1.0f, f_alone_general[k])) << i;
+        ASSERT_NEAR(e[k], e_general[k], 1e-5f * std::max(1.0f, e_general[k])) << i;
+      }
+      ASSERT_NEAR(pdf_eval, pdf_eval_general, 1e-6f) << i;
+      if (is_black(f_general)) continue;  // the densities of a zero contribution are not used
+      ++nonzero;
+      ASSERT_NEAR(fwd_fast, fwd_general, 1e-6f) << i;
+      ASSERT_NEAR(rev_fast, rev_general, 1e-6f) << i;
+    }
+  }
+  EXPECT_GT(nonzero, 5000);
 }

@@ -125,6 +125,7 @@ void Bsdf::add_lobe(const Lobe &lobe, float sample_weight) {
   if (lobe.is_dielectric() && backfacing_) lobes_[n_].ior = 1.0f / lobe.ior;
   raw_weight_[n_] = sample_weight;
   ++n_;
+  lambert_ = n_ == 1 && lobe.type == LobeType::Lambert && lobe.num_layers == 0;
   float total = 0;
   for (int i = 0; i < n_; ++i) total += raw_weight_[i];
   for (int i = 0; i < n_; ++i) pick_[i] = raw_weight_[i] / total;
@@ -189,7 +190,26 @@ static const Lobe &lobe_from_side(const Lobe &lobe, bool flipped, LobeScratch &s
   return *seen;
 }
 
+// What local_pair and the Lambert lobe decide, on the normal components alone: seen
+// from wo's side of the geometry, both directions must be above both normals. On
+// success the cosines are those of that side (all positive).
+bool Bsdf::lambert_cosines(Vec3 wo_w, Vec3 wi_w, LambertCosines &c) const {
+  c = {dot(wo_w, frame_.n), dot(wi_w, frame_.n), dot(wo_w, ng_), dot(wi_w, ng_)};
+  if (c.g_wo < 0) c = {-c.wo, -c.wi, -c.g_wo, -c.g_wi};
+  return c.g_wo > 0 && c.g_wi > 0 && c.wo > 0 && c.wi > 0;
+}
+
+// The Lambert lobe's f with the shading correction, from the cosines at hand.
+Color Bsdf::lambert_f(const LambertCosines &c, TransportMode mode) const {
+  Color f = lobes_[0].color * kInvPi * lobes_[0].scale;
+  return mode == TransportMode::Radiance ? f : f * ((c.wo * c.g_wi) / (c.g_wo * c.wi));
+}
+
 Color Bsdf::f(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
+  if (lambert_) {
+    LambertCosines c;
+    return lambert_cosines(wo_w, wi_w, c) ? lambert_f(c, mode) : Color(0.0f);
+  }
   Vec3 wo, wi;
   bool flipped;
   if (!local_pair(wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
@@ -205,6 +225,12 @@ Color Bsdf::eval(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
 
 Color Bsdf::eval_and_pdf(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf) const {
   pdf = 0;
+  if (lambert_) {
+    LambertCosines c;
+    if (!lambert_cosines(wo_w, wi_w, c)) return Color(0.0f);
+    pdf = c.wi * kInvPi;  // cosine_hemisphere_pdf, as the lobe samples
+    return lambert_f(c, mode) * c.wi;
+  }
   Vec3 wo, wi;
   bool flipped;
   if (!local_pair(wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
@@ -220,6 +246,13 @@ Color Bsdf::eval_and_pdf(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf) c
 
 Color Bsdf::f_and_pdfs(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_fwd, float &pdf_rev) const {
   pdf_fwd = pdf_rev = 0;
+  if (lambert_) {
+    LambertCosines c;
+    if (!lambert_cosines(wo_w, wi_w, c)) return Color(0.0f);
+    pdf_fwd = c.wi * kInvPi;
+    pdf_rev = c.wo * kInvPi;
+    return lambert_f(c, mode);
+  }
   Vec3 wo, wi;
   bool flipped;
   if (!local_pair(wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
@@ -243,6 +276,10 @@ Color Bsdf::f_and_pdfs(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_fwd,
 }
 
 float Bsdf::pdf(Vec3 wo_w, Vec3 wi_w) const {
+  if (lambert_) {
+    LambertCosines c;
+    return lambert_cosines(wo_w, wi_w, c) ? c.wi * kInvPi : 0.0f;
+  }
   Vec3 wo, wi;
   bool flipped;
   if (!local_pair(wo_w, wi_w, wo, wi, flipped)) return 0;

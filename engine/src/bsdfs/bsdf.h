@@ -163,6 +163,7 @@ class Bsdf {
     frame_ = o.frame_;
     ng_ = o.ng_;
     backfacing_ = o.backfacing_;
+    lambert_ = o.lambert_;
     n_ = o.n_;
     for (int i = 0; i < n_; ++i) {
       new (&lobes_[i]) Lobe(o.lobes_[i]);
@@ -171,9 +172,19 @@ class Bsdf {
     }
   }
   bool local_pair(Vec3 wo_w, Vec3 wi_w, Vec3 &wo, Vec3 &wi, bool &flipped) const;
+  // One plain Lambert lobe (lambert_): f and its densities depend only on the cosines
+  // with the two normals, so evaluation skips the frame change and the lobe loop.
+  // wo, wi: with the shading normal; g_wo, g_wi: with the geometric normal.
+  struct LambertCosines {
+    float wo, wi, g_wo, g_wi;
+  };
+  // False where f is 0 (where the general code gives 0 too).
+  bool lambert_cosines(Vec3 wo_w, Vec3 wi_w, LambertCosines &c) const;
+  Color lambert_f(const LambertCosines &c, TransportMode mode) const;
   Frame frame_;
   Vec3 ng_;
   bool backfacing_ = false;
+  bool lambert_ = false;
   int n_ = 0;
   // Raw storage: only the lobes that are added get written (a Bsdf is built per hit;
   // constructing all kMaxLobes defaults cost more than shading a diffuse surface).

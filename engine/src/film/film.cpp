@@ -1,4 +1,5 @@
 #include "film/film.h"
+#include <array>
 
 namespace rdv {
 
@@ -14,11 +15,15 @@ void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter) {
   int x1 = std::min(region_.x1 - 1, int(std::ceil(raster.x + radius - 0.5f)));
   int y0 = std::max(region_.y0, int(std::floor(raster.y - radius - 0.5f)));
   int y1 = std::min(region_.y1 - 1, int(std::ceil(raster.y + radius - 0.5f)));
+  if (x1 < x0) return;
+  // The filter is separable: its weights along x are the same for every row.
+  std::array<float, PixelFilter::kMaxTaps> wx;
+  for (int x = x0; x <= x1; ++x) wx[x - x0] = filter.evaluate(raster.x - (x + 0.5f));
   for (int y = y0; y <= y1; ++y) {
     float wy = filter.evaluate(raster.y - (y + 0.5f));
     if (wy <= 0) continue;
     for (int x = x0; x <= x1; ++x) {
-      float w = wy * filter.evaluate(raster.x - (x + 0.5f));
+      float w = wy * wx[x - x0];
       if (w > 0) splats_[index(x, y)] += L * (w * norm);
     }
   }

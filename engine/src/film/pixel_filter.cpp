@@ -3,7 +3,7 @@
 
 namespace rdv {
 
-PixelFilter::PixelFilter(float width) : width_(std::max(width, 1e-3f)), cdf_(kTableSize + 1) {
+PixelFilter::PixelFilter(float width) : width_(std::clamp(width, 1e-3f, kMaxWidth)), cdf_(kTableSize + 1) {
   // Piecewise-linear CDF from a fine table of the filter: inverted exactly below.
   double sum = 0;
   cdf_[0] = 0;

@@ -11,7 +11,11 @@ namespace rdv {
 
 class PixelFilter {
  public:
+  // Widths are clamped to [1e-3, kMaxWidth] pixels.
   explicit PixelFilter(float width = 1.5f);
+  static constexpr float kMaxWidth = 10.0f;
+  // Pixels one axis of the filter can cover (splatting keeps their weights on the stack).
+  static constexpr int kMaxTaps = int(kMaxWidth) + 2;
   float width() const { return width_; }
   // Cycles' filter_func_blackman_harris, x in [-width/2, width/2].
   float evaluate(float x) const;

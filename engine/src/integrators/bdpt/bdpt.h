@@ -74,9 +74,6 @@ class Bdpt final : public Integrator {
   // Vertex helpers (connect.cpp).
   Scattering scatter(const PathVertex &v, Vec3 wi, TransportMode mode) const;
   Color Le(const PathVertex &v, const PathVertex &toward) const;
-  // Geometry term with visibility (and transmittance through media).
-  template <bool kMedia>
-  Color G(const PathVertex &a, const PathVertex &b, RayStats &stats) const;
   // Visibility (0 or 1) or, with media, transmittance from a to b.
   template <bool kMedia>
   Color transmittance(const PathVertex &a, const PathVertex &b, RayStats &stats) const;

@@ -60,28 +60,17 @@ Color Bdpt::transmittance(const PathVertex &a, const PathVertex &b, RayStats &st
 }
 
 template <bool kMedia>
-Color Bdpt::G(const PathVertex &a, const PathVertex &b, RayStats &stats) const {
-  Vec3 d = b.p - a.p;
-  float d2 = length_squared(d);
-  if (!(d2 > 0)) return Color(0.0f);
-  float g = 1.0f / d2;
-  d = d * std::sqrt(g);
-  if (a.on_surface()) g *= absdot(a.ns, d);
-  if (b.on_surface()) g *= absdot(b.ns, d);
-  return g > 0 ? transmittance<kMedia>(a, b, stats) * g : Color(0.0f);
-}
-
-template <bool kMedia>
 Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int t, Sampler &sampler,
                     RayStats &stats, Vec2 *raster, float *mis_weight_out) const {
   Color L(0.0f);
   PathVertex &pt = camera_path[t - 1];
-  // A camera path that ended on a light only counts as s = 0.
-  if (t > 1 && s != 0 && pt.type == VertexType::Light) return L;
+  // s = 0 needs a camera path that ended on an emitter; one that ended on a lamp (or
+  // the world) counts only as s = 0.
+  if (s == 0 ? !pt.is_light() : t > 1 && pt.type == VertexType::Light) return L;
   PathVertex sampled;
   ConnectionDensities densities;
   if (s == 0) {
-    if (pt.is_light()) L = Le(pt, camera_path[t - 2]) * pt.beta;
+    L = Le(pt, camera_path[t - 2]) * pt.beta;
     if (!is_black(L) && t > 2) {
       densities.pt_rev = pdf_light_origin(pt, camera_path[t - 2]);
       densities.pt_minus_rev = pdf_light(pt, camera_path[t - 2]);
@@ -107,7 +96,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     *raster = is.raster;
     densities.pt_rev = qs.convert_density(sq.pdf_fwd, sampled);
     densities.qs_rev = pdf_camera(sampled, qs);
-    densities.qs_minus_rev = qs.convert_density(sq.pdf_rev, light_path[s - 2]);
+    densities.qs_minus_rev = qs.to_prev_density(sq.pdf_rev);
   } else if (s == 1) {
     // Next-event estimation: a fresh point on a light chosen by power.
     if (!pt.connectible(scene_)) return L;
@@ -136,7 +125,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     Scattering sp = scatter(pt, direction_to(pt, sampled), TransportMode::Radiance);
     L = pt.beta * sp.f * sampled.beta;
     densities.pt_rev = pdf_light(sampled, pt);
-    densities.pt_minus_rev = pt.convert_density(sp.pdf_rev, camera_path[t - 2]);
+    densities.pt_minus_rev = pt.to_prev_density(sp.pdf_rev);
     densities.qs_rev = pt.convert_density(sp.pdf_fwd, sampled);
     if (pt.on_surface()) L *= absdot(ls.wi, pt.ns);
     if (!is_black(L)) {
@@ -154,16 +143,31 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
       }
     }
   } else {
+    // Both ends are surface or medium vertices (finite points).
     PathVertex &qs = light_path[s - 1];
     if (!qs.connectible(scene_) || !pt.connectible(scene_)) return L;
-    Vec3 d = direction_to(qs, pt);
-    Scattering sq = scatter(qs, d, TransportMode::Importance), sp = scatter(pt, -d, TransportMode::Radiance);
+    Vec3 dir = normalize(pt.p - qs.p);
+    Scattering sq = scatter(qs, dir, TransportMode::Importance);
+    if (is_black(sq.f)) return L;  // nothing to trace a shadow ray for
+    Scattering sp = scatter(pt, -dir, TransportMode::Radiance);
     L = qs.beta * sq.f * sp.f * pt.beta;
-    if (!is_black(L)) L *= G<kMedia>(qs, pt, stats);
-    densities.pt_rev = qs.convert_density(sq.pdf_fwd, pt);
-    densities.pt_minus_rev = pt.convert_density(sp.pdf_rev, camera_path[t - 2]);
-    densities.qs_rev = pt.convert_density(sp.pdf_fwd, qs);
-    densities.qs_minus_rev = qs.convert_density(sq.pdf_rev, light_path[s - 2]);
+    if (is_black(L)) return L;
+    // The geometry term and the two area-measure conversions share one distance.
+    Vec3 w = pt.p - qs.p;
+    float d2 = length_squared(w);
+    if (!(d2 > 0)) return Color(0.0f);
+    float inv_d2 = 1.0f / d2;
+    Vec3 d = w * std::sqrt(inv_d2);
+    float g = inv_d2, cos_qs = 1, cos_pt = 1;  // geometric cosines, for the densities
+    if (qs.on_surface()) { g *= absdot(qs.ns, d); cos_qs = absdot(qs.ng, d); }
+    if (pt.on_surface()) { g *= absdot(pt.ns, d); cos_pt = absdot(pt.ng, d); }
+    if (!(g > 0)) return Color(0.0f);
+    L *= transmittance<kMedia>(qs, pt, stats) * g;
+    if (is_black(L)) return L;
+    densities.pt_rev = sq.pdf_fwd * cos_pt * inv_d2;  // qs.convert_density(sq.pdf_fwd, pt)
+    densities.pt_minus_rev = pt.to_prev_density(sp.pdf_rev);
+    densities.qs_rev = sp.pdf_fwd * cos_qs * inv_d2;  // pt.convert_density(sp.pdf_fwd, qs)
+    densities.qs_minus_rev = qs.to_prev_density(sq.pdf_rev);
   }
   float w = is_black(L) ? 0.0f : mis_weight(light_path, camera_path, sampled, s, t, densities);
   if (mis_weight_out) *mis_weight_out = w;

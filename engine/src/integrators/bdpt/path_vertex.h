@@ -32,6 +32,11 @@ struct PathVertex {
   // point is its solid-angle density / distance^2 times this rate.
   float gather_rate = 0;
   MediumStack media;    // the media the path was in when it reached this vertex
+  // Surface and medium vertices: what converts densities of scattering back toward
+  // the vertex before this one on its subpath into area measure there (the cosine or
+  // gather rate there and 1 / distance^2; to_prev_density), set once by the random walk.
+  float prev_scale = 1, prev_inv_d2 = 1;
+  bool surface_connectible = false;  // a surface with a non-delta lobe
 
   // The media a connection leaving this vertex along w starts in: surfaces that w
   // goes through (transmission) hand over to the medium on the other side.
@@ -46,6 +51,10 @@ struct PathVertex {
   bool connectible(const Scene &scene) const;
   // Density conversion from solid angle at this vertex to area at `next`.
   float convert_density(float pdf_solid_angle, const PathVertex &next) const;
+  // The same toward the previous vertex of the subpath (as convert_density(pdf, prev)).
+  float to_prev_density(float pdf_solid_angle) const { return pdf_solid_angle * prev_scale * prev_inv_d2; }
+  // Records the geometry toward prev that to_prev_density uses.
+  void set_prev(const PathVertex &prev);
 };
 
 }  // namespace rdv::bdpt

@@ -11,22 +11,33 @@ bool PathVertex::connectible(const Scene &scene) const {
   switch (type) {
     case VertexType::Camera: return !delta;
     case VertexType::Light: return infinite || !light_is_delta_direction(scene.lights()[light]);
-    case VertexType::Surface: return bsdf.has_lobes() && !bsdf.is_delta();
+    case VertexType::Surface: return surface_connectible;
     case VertexType::Medium: return true;
   }
   return false;
 }
 
-float PathVertex::convert_density(float pdf, const PathVertex &next) const {
-  if (next.infinite) return pdf;
-  Vec3 w = next.p - p;
+// What turns a solid-angle density at `from` into an area density at `to` (volume
+// density at a volume light's point): scale (the cosine at a surface, or the gather
+// rate of a volume light's point) and 1 / distance^2.
+static void density_geometry(const PathVertex &from, const PathVertex &to, float &scale, float &inv_d2) {
+  scale = inv_d2 = 1;
+  if (to.infinite) return;
+  Vec3 w = to.p - from.p;
   float d2 = length_squared(w);
-  if (!(d2 > 0)) return 0;
-  float inv_d2 = 1.0f / d2;
-  if (next.on_surface()) pdf *= absdot(next.ng, w * std::sqrt(inv_d2));
-  if (next.gather_rate > 0) pdf *= next.gather_rate;
-  return pdf * inv_d2;
+  if (!(d2 > 0)) { scale = inv_d2 = 0; return; }
+  inv_d2 = 1.0f / d2;
+  if (to.on_surface()) scale = absdot(to.ng, w * std::sqrt(inv_d2));
+  if (to.gather_rate > 0) scale *= to.gather_rate;
 }
+
+float PathVertex::convert_density(float pdf, const PathVertex &next) const {
+  float scale, inv_d2;
+  density_geometry(*this, next, scale, inv_d2);
+  return pdf * scale * inv_d2;
+}
+
+void PathVertex::set_prev(const PathVertex &prev) { density_geometry(*this, prev, prev_scale, prev_inv_d2); }
 
 template <bool kMedia>
 int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, float pdf_fwd, int max_vertices,
@@ -71,11 +82,12 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
           v.medium = m;
           v.media = media;
           v.pdf_fwd = prev.convert_density(pdf_fwd, v);
+          v.set_prev(prev);
           ++n;
           if (n >= max_vertices) return n;
           Vec3 wi = medium.phase.sample(v.wo, sampler.get_2d());
           pdf_fwd = medium.phase.pdf(v.wo, wi);  // the phase function is symmetric
-          prev.pdf_rev = v.convert_density(pdf_fwd, prev);
+          prev.pdf_rev = v.to_prev_density(pdf_fwd);
           ray = Ray{v.p, wi, kInf};
           if (!russian_roulette()) return n;
           continue;
@@ -131,6 +143,8 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     cone = cone.after(hit.t);
     if (material.emits()) v.light = int(scene_.triangle_light(hit.instance, hit.prim));
     v.pdf_fwd = prev.convert_density(pdf_fwd, v);
+    v.set_prev(prev);
+    v.surface_connectible = v.bsdf.has_lobes() && !v.bsdf.is_delta();
     ++n;
     if (n >= max_vertices || !v.bsdf.has_lobes()) return n;
 
@@ -147,7 +161,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       pdf_fwd = bs.pdf;
       pdf_rev = v.bsdf.pdf(bs.wi, v.wo);
     }
-    prev.pdf_rev = v.convert_density(pdf_rev, prev);
+    prev.pdf_rev = v.to_prev_density(pdf_rev);
     if constexpr (kMedia) {
       if (dot(bs.wi, hit.ng) * dot(ray.d, hit.ng) > 0) media.cross(scene_, hit, bs.wi);  // refracted through
     }
