@@ -307,6 +307,37 @@ Lobe dielectric_lobe(float roughness, float ior, Color color) {
 
 float sample_weight(Color c) { return std::max(luminance(c), 1e-3f); }
 
+// Pieces of the Principled BSDF shared by shading (textured inputs read at the point
+// through col / num) and by resolve_constants (constant inputs).
+// The base colour, with the subsurface colour mixed in (subsurface approximated as diffuse).
+template <class Col, class Num>
+Color principled_base(const Col &col, const Num &num) {
+  Color base = vmax(col(kBaseColor), Color(0.0f));
+  float sss = clampf(num(kSubsurface), 0.0f, 1.0f);
+  if (sss > 0) base = base * (1 - sss) + vmax(col(kSubsurfaceColor), Color(0.0f)) * sss;
+  return base;
+}
+Color hue_of(Color base) {
+  float lum = luminance(base);
+  return lum > 0 ? base / lum : Color(1.0f);
+}
+// The dielectric specular's reflectance at normal incidence (specular x its tint).
+template <class Col, class Num>
+Color principled_specular_f0(const Closure &c, Color tint, const Col &col, const Num &num) {
+  float specular = std::max(num(kSpecular), 0.0f);
+  Color spec_tint = c.specular_tint_is_color ? vmax(col(kSpecularTint), Color(0.0f))
+                                             : Color(1.0f) * (1 - num(kSpecularTint)) + tint * num(kSpecularTint);
+  return vmin(spec_tint * (specular * 0.08f), Color(1.0f));
+}
+// The dielectric specular as a layer above the diffuse and sheen lobes.
+LayerAbove principled_specular_layer(Color f0, const GgxDistribution &ggx, bool multiscatter) {
+  return schlick_ggx_layer(f0, std::max(std::sqrt(ggx.ax * ggx.ay), 1e-4f), multiscatter, Color(1.0f));
+}
+// The clearcoat (f0 0.04) as a layer above every other lobe.
+LayerAbove principled_coat_layer(float clearcoat, float coat_roughness) {
+  return schlick_ggx_layer(Color(0.04f), std::max(sqr(coat_roughness), 1e-4f), false, Color(0.25f * clearcoat));
+}
+
 }  // namespace
 
 Color Material::shadow_transmission(const ShadingPoint &sp) const {
@@ -381,9 +412,7 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
       }
       case MaterialType::Principled: {
         // Blender 3.4's Principled BSDF (intern/cycles/kernel/svm/closure.h) from the lobes.
-        Color base = vmax(col(kBaseColor), Color(0.0f));
-        float sss = clampf(num(kSubsurface), 0.0f, 1.0f);
-        if (sss > 0) base = base * (1 - sss) + vmax(col(kSubsurfaceColor), Color(0.0f)) * sss;
+        Color base = principled_base(col, num);
         float metallic = clampf(num(kMetallic), 0.0f, 1.0f);
         float transmission = clampf(num(kTransmission), 0.0f, 1.0f);
         float alpha = clampf(num(kAlpha), 0.0f, 1.0f);
@@ -398,8 +427,7 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
           bsdf.add_lobe(t, w * (1 - alpha));
         }
         if (!(ww > 0)) break;
-        float lum = luminance(base);
-        Color tint = lum > 0 ? base / lum : Color(1.0f);
+        Color tint = hue_of(base);
         float roughness = clampf(num(kRoughness), 0.0f, 1.0f);
         // Energy-conserving layering (default): each lobe is scaled by the albedo of the
         // layers above it (coat over everything, specular over diffuse and sheen, sheen
@@ -410,18 +438,14 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
         float coat_rough = clampf(num(kClearcoatRoughness), 0.0f, 1.0f);
         LayerAbove coat_layer;
         const bool coated = layered && clearcoat > 0;
-        if (coated) coat_layer = schlick_ggx_layer(Color(0.04f), std::max(sqr(coat_rough), 1e-4f), false,
-                                                   Color(0.25f * clearcoat));
+        if (coated) coat_layer = c.fixed_coat_layer ? c.coat_layer : principled_coat_layer(clearcoat, coat_rough);
         auto add_layer = [&](Lobe &l, const LayerAbove &layer) {
           if (layered && l.num_layers < 3 && max_component(layer.weight) > 0) l.layers[l.num_layers++] = layer;
         };
         auto add_coat = [&](Lobe &l) {
           if (coated) add_layer(l, coat_layer);
         };
-        float specular = std::max(num(kSpecular), 0.0f);
-        Color spec_tint = c.specular_tint_is_color ? vmax(col(kSpecularTint), Color(0.0f))
-                                                   : Color(1.0f) * (1 - num(kSpecularTint)) + tint * num(kSpecularTint);
-        Color f0_dielectric = vmin(spec_tint * (specular * 0.08f), Color(1.0f));
+        Color f0_dielectric = principled_specular_f0(c, tint, col, num);
         Lobe s = ggx_lobe(roughness, num(kAnisotropic));
         float sheen = std::max(num(kSheen), 0.0f);
         Color sheen_color = (c.sheen_tint_is_color ? vmax(col(kSheenTint), Color(0.0f))
@@ -433,8 +457,8 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
           d.color = base * (diffuse_w * ww);
           LayerAbove spec_layer;  // the dielectric specular above the diffuse / sheen
           if (layered)
-            spec_layer = schlick_ggx_layer(f0_dielectric, std::max(std::sqrt(s.ggx.ax * s.ggx.ay), 1e-4f),
-                                           c.multiscatter, Color(1.0f));
+            spec_layer = c.fixed_specular_layer ? c.specular_layer
+                                                : principled_specular_layer(f0_dielectric, s.ggx, c.multiscatter);
           if (sheen > 0 && layered) add_layer(d, sheen_layer(sheen_color));
           add_layer(d, spec_layer);
           add_coat(d);
@@ -490,6 +514,29 @@ Bsdf Material::resolved_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const {
   return bsdf;
 }
 
+// Principled layers whose every input is constant are made here, once.
+static void fix_constant_layers(Closure &c) {
+  auto col = [&](ClosureInput i) { return c.value[i]; };
+  auto num = [&](ClosureInput i) { return c.scalar[i]; };
+  auto constant = [&](std::initializer_list<ClosureInput> inputs) {
+    for (ClosureInput i : inputs)
+      if (c.textured >> i & 1) return false;
+    return true;
+  };
+  // A scalar specular tint mixes in the base colour's hue.
+  bool tint_from_base = !c.specular_tint_is_color && !(constant({kSpecularTint}) && c.scalar[kSpecularTint] == 0);
+  c.fixed_specular_layer = constant({kRoughness, kAnisotropic, kSpecular, kSpecularTint}) &&
+                           (!tint_from_base || constant({kBaseColor, kSubsurface, kSubsurfaceColor}));
+  if (c.fixed_specular_layer) {
+    Color f0 = principled_specular_f0(c, hue_of(principled_base(col, num)), col, num);
+    c.specular_layer = principled_specular_layer(f0, ggx_lobe(clampf(num(kRoughness), 0.0f, 1.0f), num(kAnisotropic)).ggx,
+                                                 c.multiscatter);
+  }
+  c.fixed_coat_layer = constant({kClearcoat, kClearcoatRoughness});
+  if (c.fixed_coat_layer)
+    c.coat_layer = principled_coat_layer(std::max(num(kClearcoat), 0.0f), clampf(num(kClearcoatRoughness), 0.0f, 1.0f));
+}
+
 void Material::resolve_constants() {
   for (Closure &c : closures) {
     c.textured = 0;
@@ -498,6 +545,7 @@ void Material::resolve_constants() {
       if (!graph.is_constant(c.in[i])) c.textured |= 1u << i;
       else c.scalar[i] = luminance(c.value[i] = graph.node(c.in[i]).value);
     }
+    if (c.type == MaterialType::Principled && !c.additive_layers) fix_constant_layers(c);
   }
   resolved.n = -1;
   if (has_textures()) return;  // normal maps and bump are texture nodes too

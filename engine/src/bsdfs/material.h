@@ -45,6 +45,10 @@ struct Closure {
   uint32_t textured = 0;
   Color value[kNumClosureInputs];
   float scalar[kNumClosureInputs] = {};  // luminance(value): the input read as a float
+  // Principled layers (energy-conserving) whose inputs are all constant, made once when
+  // parsed: a textured base colour then costs no albedo-table setup per hit.
+  bool fixed_specular_layer = false, fixed_coat_layer = false;
+  LayerAbove specular_layer, coat_layer;
   Closure() { for (int &i : in) i = -1; }
 };
 

@@ -364,6 +364,18 @@ inline int wrap_index(int i, int n, TexExtension ext) {
   return 0;
 }
 
+// The two texels bilinear filtering blends along one axis, i and i + 1, wrapped. Repeat
+// (the common case) needs no integer division inside the image.
+inline void wrap_pair(int i, int n, TexExtension ext, int &i0, int &i1) {
+  if (ext == TexExtension::Repeat) {
+    i0 = i >= 0 && i < n ? i : wrap_index(i, n, ext);
+    i1 = i0 + 1 == n ? 0 : i0 + 1;
+    return;
+  }
+  i0 = wrap_index(i, n, ext);
+  i1 = wrap_index(i + 1, n, ext);
+}
+
 // Closest or bilinear filtering of a w x h level at (u, v); fetch(x, y, weight, r)
 // adds a texel (already wrapped) into r.
 template <class Fetch>
@@ -381,8 +393,9 @@ void filter_level(int w, int h, float u, float v, bool closest, TexExtension ext
   s -= 0.5f;
   t -= 0.5f;
   float fs = std::floor(s), ft = std::floor(t);
-  int x0 = wrap_index(int(fs), w, ext), y0 = wrap_index(int(ft), h, ext);
-  int x1 = wrap_index(int(fs) + 1, w, ext), y1 = wrap_index(int(ft) + 1, h, ext);
+  int x0, x1, y0, y1;
+  wrap_pair(int(fs), w, ext, x0, x1);
+  wrap_pair(int(ft), h, ext, y0, y1);
   float ws = s - fs, wt = t - ft;
   add(x0, y0, (1 - ws) * (1 - wt));
   add(x1, y0, ws * (1 - wt));
