@@ -47,8 +47,7 @@ float lobe_pdf(const Lobe &lobe, Vec3 wo, Vec3 wi) {
 }
 
 Color lobe_eval(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode) {
-  Color f = lobe_eval_base(lobe, wo, wi, mode) * lobe.scale;
-  return lobe.num_layers ? f * layer_factor(lobe, wo, wi) : f;  // energy-conserving layering
+  return lobe_eval_base(lobe, wo, wi, mode) * lobe.scale;
 }
 
 Color lobe_eval_and_pdf(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode, float &pdf) {
@@ -59,8 +58,7 @@ Color lobe_eval_and_pdf(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode, 
     f = lobe_eval_base(lobe, wo, wi, mode);
     pdf = lobe_pdf(lobe, wo, wi);
   }
-  f *= lobe.scale;
-  return lobe.num_layers ? f * layer_factor(lobe, wo, wi) : f;
+  return f * lobe.scale;
 }
 
 static bool lobe_sample_base(const Lobe &lobe, Vec3 wo, Vec2 u, Vec3 &wi, Color &weight, float &pdf,
@@ -70,7 +68,6 @@ bool lobe_sample(const Lobe &lobe, Vec3 wo, Vec2 u, Vec3 &wi, Color &weight, flo
                  float uc) {
   if (!lobe_sample_base(lobe, wo, u, wi, weight, pdf, mode, uc)) return false;
   weight *= lobe.scale;
-  if (lobe.num_layers) weight *= layer_factor(lobe, wo, wi);
   return true;
 }
 
@@ -119,13 +116,23 @@ Bsdf::Bsdf(Vec3 ng, Vec3 ns, Vec3 wo, Vec3 tangent) : Bsdf(ng, ns, wo) {
   frame_ = Frame(t, cross(n, t), n);
 }
 
+uint8_t Bsdf::add_layer(const LayerAbove &layer) {
+  if (num_layers_ == kMaxLayers) return 0;
+  new (&layers_[num_layers_]) LayerAbove(layer);
+  return uint8_t(1u << num_layers_++);
+}
+
+void Bsdf::layer_scales(Vec3 wo, Vec3 wi, LayerScales &out) const {
+  for (int j = 0; j < num_layers_; ++j) out.of_layer[j] = layer_scale(layers_[j], std::fabs(wo.z), std::fabs(wi.z));
+}
+
 void Bsdf::add_lobe(const Lobe &lobe, float sample_weight) {
   if (n_ == kMaxLobes || !(sample_weight > 0)) return;
   new (&lobes_[n_]) Lobe(lobe);
   if (lobe.is_dielectric() && backfacing_) lobes_[n_].ior = 1.0f / lobe.ior;
   raw_weight_[n_] = sample_weight;
   ++n_;
-  lambert_ = n_ == 1 && lobe.type == LobeType::Lambert && lobe.num_layers == 0;
+  lambert_ = n_ == 1 && lobe.type == LobeType::Lambert && lobe.layers_above == 0;
   float total = 0;
   for (int i = 0; i < n_; ++i) total += raw_weight_[i];
   for (int i = 0; i < n_; ++i) pick_[i] = raw_weight_[i] / total;
@@ -215,7 +222,12 @@ Color Bsdf::f(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
   if (!local_pair(wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
   Color f(0.0f);
   LobeScratch scratch;
-  for (int i = 0; i < n_; ++i) f += lobe_eval(lobe_from_side(lobes_[i], flipped, scratch), wo, wi, mode);
+  LayerScales layers;
+  if (num_layers_) layer_scales(wo, wi, layers);
+  for (int i = 0; i < n_; ++i) {
+    Color fi = lobe_eval(lobe_from_side(lobes_[i], flipped, scratch), wo, wi, mode);
+    f += lobes_[i].layers_above ? fi * layers.of(lobes_[i].layers_above) : fi;
+  }
   return f * shading_correction(wo_w, wi_w, mode);
 }
 
@@ -236,9 +248,12 @@ Color Bsdf::eval_and_pdf(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf) c
   if (!local_pair(wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
   Color f(0.0f);
   LobeScratch scratch;
+  LayerScales layers;
+  if (num_layers_) layer_scales(wo, wi, layers);
   for (int i = 0; i < n_; ++i) {
     float p;
-    f += lobe_eval_and_pdf(lobe_from_side(lobes_[i], flipped, scratch), wo, wi, mode, p);
+    Color fi = lobe_eval_and_pdf(lobe_from_side(lobes_[i], flipped, scratch), wo, wi, mode, p);
+    f += lobes_[i].layers_above ? fi * layers.of(lobes_[i].layers_above) : fi;
     pdf += pick_[i] * p;
   }
   return f * shading_correction(wo_w, wi_w, mode) * absdot(wi_w, frame_.n);
@@ -265,10 +280,13 @@ Color Bsdf::f_and_pdfs(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_fwd,
   rev_ok = rev_ok && consistent_side(wo_w, flipped_rev ? -ng_ : ng_, wo_rev.z);
   Color f(0.0f);
   LobeScratch scratch, scratch_rev;
+  LayerScales layers;
+  if (num_layers_) layer_scales(wo, wi, layers);
   for (int i = 0; i < n_; ++i) {
     const Lobe &lobe = lobe_from_side(lobes_[i], flipped, scratch);
     float p;
-    f += lobe_eval_and_pdf(lobe, wo, wi, mode, p);
+    Color fi = lobe_eval_and_pdf(lobe, wo, wi, mode, p);
+    f += lobe.layers_above ? fi * layers.of(lobe.layers_above) : fi;
     pdf_fwd += pick_[i] * p;
     if (rev_ok) pdf_rev += pick_[i] * lobe_pdf(lobe_from_side(lobes_[i], flipped_rev, scratch_rev), wi_rev, wo_rev);
   }
@@ -303,12 +321,15 @@ bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSampl
   Vec3 wo = frame_.to_local(wo_w), wi;
   Color weight;
   float pdf;
-  // From a mixture of non-delta lobes only the direction is kept (the weight comes
-  // from the whole mixture below), so the lobe's own scale and layering are skipped.
+  if (!lobe_sample(lobe, wo, u, wi, weight, pdf, mode, uc)) return false;
+  // The weight of a lone or delta lobe is its own: with the layers above it. (From a
+  // mixture of non-delta lobes only the direction is kept; its weight comes below.)
   bool mixture = n_ > 1 && !lobe.is_delta();
-  if (!(mixture ? lobe_sample_base(lobe, wo, u, wi, weight, pdf, mode, uc)
-                : lobe_sample(lobe, wo, u, wi, weight, pdf, mode, uc)))
-    return false;
+  if (!mixture && lobe.layers_above) {
+    LayerScales layers;
+    layer_scales(wo, wi, layers);
+    weight *= layers.of(lobe.layers_above);
+  }
   out.wi = frame_.to_world(wi);
   if (!consistent_side(out.wi, ng_, wi.z)) return false;
   if (lobe.is_delta()) {

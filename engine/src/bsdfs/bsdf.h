@@ -38,12 +38,13 @@ enum class FresnelMode : uint8_t {
   Dielectric  // F = color * dielectric Fresnel of the real IOR `ior`
 };
 
-// A reflecting layer above a lobe (Principled specular, sheen, clearcoat). The lobe
-// below is scaled by (1 - A(wo)) (1 - A(wi)) / (1 - A_avg), with A the layer's
+// A reflecting layer above some lobes (Principled specular, sheen, clearcoat). A lobe
+// below it is scaled by (1 - A(wo)) (1 - A(wi)) / (1 - A_avg), with A the layer's
 // directional albedo: reciprocal, and a Lambertian base under it then reflects exactly
 // base x (1 - A(wo)), so layer + base never exceed 1 (layering.cpp). Made by
 // schlick_ggx_layer() / sheen_layer() (layering.h), which precompute everything that
-// does not depend on a direction.
+// does not depend on a direction. A Bsdf holds its layers once; each lobe names the
+// ones above it (Lobe::layers_above), so lobes under the same layer share its albedo.
 struct LayerAbove {
   enum Kind : uint8_t { SchlickGgx, Sheen } kind = SchlickGgx;
   Color f0{0.04f};        // SchlickGgx: Fresnel at normal incidence
@@ -73,8 +74,8 @@ struct Lobe {
   // Closure weight (Mix Shader factors, Principled layer weights): multiplies f. Kept
   // apart from `color`, which multiscatter compensation compounds like a Fresnel tint.
   float scale = 1.0f;
-  uint8_t num_layers = 0;        // layers above this lobe (energy-conserving Principled)
-  LayerAbove layers[3];
+  // The Bsdf's layers above this lobe (energy-conserving Principled), one bit each.
+  uint8_t layers_above = 0;
 
   Color fresnel(float cos_i) const {
     switch (fresnel_mode) {
@@ -113,6 +114,7 @@ struct BsdfSample {
 class Bsdf {
  public:
   static constexpr int kMaxLobes = 8;
+  static constexpr int kMaxLayers = 8;  // bits of Lobe::layers_above
 
   // User-provided, so `Bsdf{}` / `PathVertex{}` do not zero the 2 KB of lobe storage.
   Bsdf() {}
@@ -133,6 +135,9 @@ class Bsdf {
   Bsdf(Vec3 ng, Vec3 ns, Vec3 wo, Vec3 tangent);
 
   void add_lobe(const Lobe &lobe, float sample_weight);
+  // Adds a layer; returns its bit for Lobe::layers_above (0 when all kMaxLayers are
+  // taken: the lobes below then go unscaled).
+  uint8_t add_layer(const LayerAbove &layer);
   int num_lobes() const { return n_; }
   bool is_delta() const;  // every lobe is delta: no point connecting to lights
   bool has_lobes() const { return n_ > 0; }
@@ -170,7 +175,20 @@ class Bsdf {
       raw_weight_[i] = o.raw_weight_[i];
       pick_[i] = o.pick_[i];
     }
+    num_layers_ = o.num_layers_;
+    for (int i = 0; i < num_layers_; ++i) new (&layers_[i]) LayerAbove(o.layers_[i]);
   }
+  // What the layers above a lobe scale it by, for one (wo, wi) pair (local frame).
+  struct LayerScales {
+    Color of_layer[kMaxLayers];
+    Color of(uint8_t layers_above) const {
+      Color k(1.0f);
+      for (int j = 0; layers_above; ++j, layers_above >>= 1)
+        if (layers_above & 1) k *= of_layer[j];
+      return k;
+    }
+  };
+  void layer_scales(Vec3 wo, Vec3 wi, LayerScales &out) const;
   bool local_pair(Vec3 wo_w, Vec3 wi_w, Vec3 &wo, Vec3 &wi, bool &flipped) const;
   // One plain Lambert lobe (lambert_): f and its densities depend only on the cosines
   // with the two normals, so evaluation skips the frame change and the lobe loop.
@@ -195,12 +213,21 @@ class Bsdf {
   };
   static_assert(std::is_trivially_copyable_v<Lobe> && std::is_trivially_destructible_v<Lobe>);
   LobeArray lobes_;
+  int num_layers_ = 0;
+  struct LayerArray {
+    alignas(LayerAbove) unsigned char raw[kMaxLayers * sizeof(LayerAbove)];
+    LayerAbove &operator[](int i) { return reinterpret_cast<LayerAbove *>(raw)[i]; }
+    const LayerAbove &operator[](int i) const { return reinterpret_cast<const LayerAbove *>(raw)[i]; }
+  };
+  static_assert(std::is_trivially_copyable_v<LayerAbove> && std::is_trivially_destructible_v<LayerAbove>);
+  LayerArray layers_;
   // Entries [0, n_) are valid, as in lobes_.
   std::array<float, kMaxLobes> raw_weight_;  // as given to add_lobe
   std::array<float, kMaxLobes> pick_;        // normalised lobe selection probabilities
 };
 
 // Per-lobe routines in the local frame (wo.z > 0), exposed for the statistical tests.
+// They leave out the layers above a lobe (the Bsdf applies those).
 // mode matters only for refraction: in Radiance mode transmitted f is divided by
 // eta^2 (eta = lobe.ior, the relative IOR of the side wi enters), in Importance mode not.
 Color lobe_eval(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode = TransportMode::Radiance);  // f (without cosine)

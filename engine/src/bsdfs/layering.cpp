@@ -89,19 +89,12 @@ Color layer_average_albedo(const LayerAbove &l) {
   return vmin(l.weight * a, Color(0.999f));
 }
 
-Color layer_factor(const Lobe &lobe, Vec3 wo, Vec3 wi) {
-  Color k(1.0f);
-  for (int i = 0; i < lobe.num_layers; ++i) {
-    const LayerAbove &l = lobe.layers[i];
-    float mo = std::fabs(wo.z);
-    if (mo != l.memo_mu) {
-      l.memo_mu = mo;
-      l.memo_albedo = layer_albedo(l, mo);
-    }
-    Color ai = layer_albedo(l, std::fabs(wi.z));
-    k *= (Color(1.0f) - l.memo_albedo) * (Color(1.0f) - ai) * l.norm;
+Color layer_scale(const LayerAbove &l, float mu_o, float mu_i) {
+  if (mu_o != l.memo_mu) {
+    l.memo_mu = mu_o;
+    l.memo_albedo = layer_albedo(l, mu_o);
   }
-  return k;
+  return (Color(1.0f) - l.memo_albedo) * (Color(1.0f) - layer_albedo(l, mu_i)) * l.norm;
 }
 
 }  // namespace rdv

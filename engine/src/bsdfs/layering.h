@@ -1,5 +1,5 @@
-// Energy-conserving layering (Principled BSDF): the scale a lobe gets from the
-// reflecting layers above it, reciprocal in wo and wi. See LayerAbove in bsdf.h.
+// Energy-conserving layering (Principled BSDF): the scale a lobe gets from a reflecting
+// layer above it, reciprocal in wo and wi. See LayerAbove in bsdf.h.
 #pragma once
 #include "bsdfs/bsdf.h"
 
@@ -12,7 +12,8 @@ LayerAbove sheen_layer(Color weight);
 // Directional albedo of a layer at cos(theta) = mu, and its cosine-weighted average.
 Color layer_albedo(const LayerAbove &layer, float mu);
 Color layer_average_albedo(const LayerAbove &layer);
-// prod over the lobe's layers of (1 - A(|wo.z|)) (1 - A(|wi.z|)) / (1 - A_avg).
-Color layer_factor(const Lobe &lobe, Vec3 wo, Vec3 wi);
+// What the layer scales a lobe below it by: (1 - A(mu_o)) (1 - A(mu_i)) / (1 - A_avg),
+// mu = |cos theta| of wo and wi.
+Color layer_scale(const LayerAbove &layer, float mu_o, float mu_i);
 
 }  // namespace rdv

@@ -436,39 +436,32 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
         const bool layered = !c.additive_layers;
         float clearcoat = std::max(num(kClearcoat), 0.0f);
         float coat_rough = clampf(num(kClearcoatRoughness), 0.0f, 1.0f);
-        LayerAbove coat_layer;
         const bool coated = layered && clearcoat > 0;
-        if (coated) coat_layer = c.fixed_coat_layer ? c.coat_layer : principled_coat_layer(clearcoat, coat_rough);
-        auto add_layer = [&](Lobe &l, const LayerAbove &layer) {
-          if (layered && l.num_layers < 3 && max_component(layer.weight) > 0) l.layers[l.num_layers++] = layer;
-        };
-        auto add_coat = [&](Lobe &l) {
-          if (coated) add_layer(l, coat_layer);
-        };
         Color f0_dielectric = principled_specular_f0(c, tint, col, num);
         Lobe s = ggx_lobe(roughness, num(kAnisotropic));
         float sheen = std::max(num(kSheen), 0.0f);
         Color sheen_color = (c.sheen_tint_is_color ? vmax(col(kSheenTint), Color(0.0f))
                                                    : Color(1.0f) * (1 - num(kSheenTint)) + tint * num(kSheenTint)) * sheen;
+        // The layers go into the Bsdf once; each lobe names those above it.
+        uint8_t sheen_bit = 0, spec_bit = 0, coat_bit = 0;
+        if (layered && diffuse_w > 0) {
+          if (sheen > 0 && max_component(sheen_color) > 0) sheen_bit = bsdf.add_layer(sheen_layer(sheen_color));
+          spec_bit = bsdf.add_layer(c.fixed_specular_layer ? c.specular_layer
+                                                           : principled_specular_layer(f0_dielectric, s.ggx, c.multiscatter));
+        }
+        if (coated) coat_bit = bsdf.add_layer(c.fixed_coat_layer ? c.coat_layer : principled_coat_layer(clearcoat, coat_rough));
         if (diffuse_w > 0) {
           Lobe d;
           d.type = layered ? LobeType::Lambert : LobeType::PrincipledDiffuse;  // Cycles 3.4's Disney diffuse
           d.sigma = roughness;
           d.color = base * (diffuse_w * ww);
-          LayerAbove spec_layer;  // the dielectric specular above the diffuse / sheen
-          if (layered)
-            spec_layer = c.fixed_specular_layer ? c.specular_layer
-                                                : principled_specular_layer(f0_dielectric, s.ggx, c.multiscatter);
-          if (sheen > 0 && layered) add_layer(d, sheen_layer(sheen_color));
-          add_layer(d, spec_layer);
-          add_coat(d);
+          d.layers_above = sheen_bit | spec_bit | coat_bit;
           bsdf.add_lobe(d, sample_weight(d.color));
           if (sheen > 0) {
             Lobe sh;
             sh.type = LobeType::Sheen;
             sh.color = sheen_color * (diffuse_w * ww);
-            add_layer(sh, spec_layer);
-            add_coat(sh);
+            sh.layers_above = spec_bit | coat_bit;
             bsdf.add_lobe(sh, 0.2f * sample_weight(sh.color));
           }
         }
@@ -479,14 +472,14 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
           s.color = Color(1.0f);
           s.scale = spec_w * ww;
           s.multiscatter = c.multiscatter;
-          add_coat(s);
+          s.layers_above = coat_bit;
           bsdf.add_lobe(s, sample_weight((s.f0 + (Color(1.0f) - s.f0) * 0.1f) * s.scale));
         }
         if (trans_w > 0) {
           float tr = clampf(num(kTransmissionRoughness), 0.0f, 1.0f);
           float r = 1 - (1 - roughness) * (1 - tr);
           Lobe g = dielectric_lobe(r, num(kIor), base * (trans_w * ww));
-          add_coat(g);
+          g.layers_above = coat_bit;
           bsdf.add_lobe(g, sample_weight(g.color));
         }
         if (clearcoat > 0) {
@@ -510,6 +503,7 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
 // One named result and one return: the Bsdf (kilobytes) is built in place, not copied.
 Bsdf Material::resolved_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const {
   Bsdf bsdf(ng, ns, wo);
+  for (int i = 0; i < resolved.num_layers; ++i) bsdf.add_layer(resolved.layer[i]);  // the same bits again
   for (int i = 0; i < resolved.n; ++i) bsdf.add_lobe(resolved.lobe[i], resolved.weight[i]);
   return bsdf;
 }

@@ -74,8 +74,15 @@ struct Material {
     int n = -1;  // -1: not constant
     Lobe lobe[Bsdf::kMaxLobes];
     float weight[Bsdf::kMaxLobes];
-    void add_lobe(const Lobe &l, float w) {  // the same rules as Bsdf::add_lobe
+    int num_layers = 0;
+    LayerAbove layer[Bsdf::kMaxLayers];
+    void add_lobe(const Lobe &l, float w) {  // the same rules as Bsdf::add_lobe / add_layer
       if (n < Bsdf::kMaxLobes && w > 0) { lobe[n] = l; weight[n] = w; ++n; }
+    }
+    uint8_t add_layer(const LayerAbove &l) {
+      if (num_layers == Bsdf::kMaxLayers) return 0;
+      layer[num_layers] = l;
+      return uint8_t(1u << num_layers++);
     }
   };
   ResolvedLobes resolved;
