@@ -200,14 +200,14 @@ static const Lobe &lobe_from_side(const Lobe &lobe, bool flipped, LobeScratch &s
 // What local_pair and the Lambert lobe decide, on the normal components alone: seen
 // from wo's side of the geometry, both directions must be above both normals. On
 // success the cosines are those of that side (all positive).
-bool Bsdf::lambert_cosines(Vec3 wo_w, Vec3 wi_w, LambertCosines &c) const {
+inline bool Bsdf::lambert_cosines(Vec3 wo_w, Vec3 wi_w, LambertCosines &c) const {
   c = {dot(wo_w, frame_.n), dot(wi_w, frame_.n), dot(wo_w, ng_), dot(wi_w, ng_)};
   if (c.g_wo < 0) c = {-c.wo, -c.wi, -c.g_wo, -c.g_wi};
   return c.g_wo > 0 && c.g_wi > 0 && c.wo > 0 && c.wi > 0;
 }
 
 // The Lambert lobe's f with the shading correction, from the cosines at hand.
-Color Bsdf::lambert_f(const LambertCosines &c, TransportMode mode) const {
+inline Color Bsdf::lambert_f(const LambertCosines &c, TransportMode mode) const {
   Color f = lobes_[0].color * kInvPi * lobes_[0].scale;
   return mode == TransportMode::Radiance ? f : f * ((c.wo * c.g_wi) / (c.g_wo * c.wi));
 }

@@ -3,6 +3,8 @@
 // of generating it, both in area measure (solid angle for infinite lights). BDPT's
 // MIS, light tracing and, later, path-space mutations all work on these.
 #pragma once
+#include <new>
+#include <type_traits>
 #include "bsdfs/bsdf.h"
 #include "media/medium_stack.h"
 #include "scene/scene.h"
@@ -53,8 +55,16 @@ struct PathVertex {
   float convert_density(float pdf_solid_angle, const PathVertex &next) const;
   // The same toward the previous vertex of the subpath (as convert_density(pdf, prev)).
   float to_prev_density(float pdf_solid_angle) const { return pdf_solid_angle * prev_scale * prev_inv_d2; }
-  // Records the geometry toward prev that to_prev_density uses.
-  void set_prev(const PathVertex &prev);
+  // Surface and medium vertices, on the random walk: pdf_fwd from pdf_dir, the
+  // solid-angle density with which prev sampled the direction here, and the geometry
+  // toward prev that to_prev_density uses.
+  void link_to_prev(const PathVertex &prev, float pdf_dir);
 };
+
+static_assert(std::is_trivially_destructible_v<PathVertex>);
+
+// Starts the vertex in v's storage afresh. Default-initialisation leaves the BSDF's
+// raw lobe storage alone; assigning PathVertex{} zero-filled all 3.4 KB of it.
+inline PathVertex &fresh_vertex(PathVertex &v) { return *new (&v) PathVertex; }
 
 }  // namespace rdv::bdpt

@@ -17,27 +17,38 @@ bool PathVertex::connectible(const Scene &scene) const {
   return false;
 }
 
-// What turns a solid-angle density at `from` into an area density at `to` (volume
+// What turns a solid-angle density at a vertex into an area density at `to` (volume
 // density at a volume light's point): scale (the cosine at a surface, or the gather
-// rate of a volume light's point) and 1 / distance^2.
-static void density_geometry(const PathVertex &from, const PathVertex &to, float &scale, float &inv_d2) {
-  scale = inv_d2 = 1;
-  if (to.infinite) return;
-  Vec3 w = to.p - from.p;
-  float d2 = length_squared(w);
-  if (!(d2 > 0)) { scale = inv_d2 = 0; return; }
-  inv_d2 = 1.0f / d2;
-  if (to.on_surface()) scale = absdot(to.ng, w * std::sqrt(inv_d2));
-  if (to.gather_rate > 0) scale *= to.gather_rate;
+// rate of a volume light's point), given the unit direction d between them.
+static float density_scale(const PathVertex &to, Vec3 d) {
+  float scale = to.on_surface() ? absdot(to.ng, d) : 1.0f;
+  return to.gather_rate > 0 ? scale * to.gather_rate : scale;
 }
 
 float PathVertex::convert_density(float pdf, const PathVertex &next) const {
-  float scale, inv_d2;
-  density_geometry(*this, next, scale, inv_d2);
-  return pdf * scale * inv_d2;
+  if (next.infinite) return pdf;
+  Vec3 w = next.p - p;
+  float d2 = length_squared(w);
+  if (!(d2 > 0)) return 0;
+  float inv_d2 = 1.0f / d2;
+  return pdf * density_scale(next, w * std::sqrt(inv_d2)) * inv_d2;
 }
 
-void PathVertex::set_prev(const PathVertex &prev) { density_geometry(*this, prev, prev_scale, prev_inv_d2); }
+void PathVertex::link_to_prev(const PathVertex &prev, float pdf_dir) {
+  // One distance for both directions: prev -> this (pdf_fwd) and this -> prev.
+  Vec3 w = p - prev.p;
+  float d2 = length_squared(w);
+  if (!(d2 > 0)) {
+    pdf_fwd = 0;
+    prev_scale = prev_inv_d2 = prev.infinite ? 1.0f : 0.0f;
+    return;
+  }
+  float inv_d2 = 1.0f / d2;
+  Vec3 d = w * std::sqrt(inv_d2);
+  pdf_fwd = pdf_dir * density_scale(*this, d) * inv_d2;
+  prev_scale = prev.infinite ? 1.0f : density_scale(prev, -d);
+  prev_inv_d2 = prev.infinite ? 1.0f : inv_d2;
+}
 
 template <bool kMedia>
 int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, float pdf_fwd, int max_vertices,
@@ -74,15 +85,14 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
         beta *= ms.weight;
         if (is_black(beta)) return n;
         if (ms.scattered) {
-          v = PathVertex{};
+          fresh_vertex(v);
           v.type = VertexType::Medium;
           v.p = ray.o + ray.d * ms.t;
           v.wo = -ray.d;
           v.beta = beta;
           v.medium = m;
           v.media = media;
-          v.pdf_fwd = prev.convert_density(pdf_fwd, v);
-          v.set_prev(prev);
+          v.link_to_prev(prev, pdf_fwd);
           ++n;
           if (n >= max_vertices) return n;
           Vec3 wi = medium.phase.sample(v.wo, sampler.get_2d());
@@ -96,7 +106,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     }
     if (lamp >= 0) {
       const Light &light = scene_.lights()[lamp];
-      v = PathVertex{};
+      fresh_vertex(v);
       v.type = VertexType::Light;
       v.light = lamp;
       v.p = ray.o + ray.d * tmax;
@@ -110,7 +120,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     }
     if (!found) {
       if (mode == TransportMode::Radiance && !scene_.infinite_lights().empty()) {
-        v = PathVertex{};
+        fresh_vertex(v);
         v.type = VertexType::Light;
         v.infinite = true;
         v.dir = ray.d;
@@ -130,7 +140,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       }
     }
     const Material &material = scene_.material(hit.material);
-    v = PathVertex{};
+    fresh_vertex(v);
     v.type = VertexType::Surface;
     v.p = hit.p;
     v.ng = hit.ng;
@@ -142,8 +152,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     v.bsdf = scene_.bsdf(hit, v.wo, cone.width_at(hit.t), &v.emitted);
     cone = cone.after(hit.t);
     if (material.emits()) v.light = int(scene_.triangle_light(hit.instance, hit.prim));
-    v.pdf_fwd = prev.convert_density(pdf_fwd, v);
-    v.set_prev(prev);
+    v.link_to_prev(prev, pdf_fwd);
     v.surface_connectible = v.bsdf.has_lobes() && !v.bsdf.is_delta();
     ++n;
     if (n >= max_vertices || !v.bsdf.has_lobes()) return n;
@@ -206,7 +215,7 @@ int Bdpt::camera_subpath(const CameraRay &cr, Sampler &sampler, RayStats &stats,
                          Color *emitted) const {
   const Camera &camera = scene_.camera();
   PathVertex &v = path[0];
-  v = PathVertex{};
+  fresh_vertex(v);
   v.type = VertexType::Camera;
   v.p = cr.lens_point;
   v.beta = Color(1.0f);
@@ -238,7 +247,7 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path) con
   Ray ray = es.ray;
   if (light.type == LightType::Triangle) ray.o = spawn_origin(ray.o, light.axis, ray.d);
   PathVertex &v = path[0];
-  v = PathVertex{};
+  fresh_vertex(v);
   v.type = VertexType::Light;
   v.light = int(index);
   v.p = es.ray.o;
