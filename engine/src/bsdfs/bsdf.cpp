@@ -11,6 +11,7 @@
 #include <cstring>
 #include <new>
 #include "core/hash.h"
+#include "core/ray_cone.h"
 
 namespace rdv {
 
@@ -92,6 +93,25 @@ static bool lobe_sample_base(const Lobe &lobe, Vec3 wo, Vec2 u, Vec3 &wi, Color 
     case LobeType::PrincipledDiffuse: return principled_diffuse::sample(lobe, wo, u, wi, weight, pdf);
   }
   return false;
+}
+
+// The angular width a lobe adds to a ray cone (core/ray_cone.h): none for delta lobes;
+// for GGX twice alpha (the reflected direction turns by twice the microfacet normal's
+// angle, whose median tangent is alpha), capped; the cap for diffuse-like lobes.
+static float lobe_cone_spread(const Lobe &lobe) {
+  switch (lobe.type) {
+    case LobeType::SpecularConductor:
+    case LobeType::SmoothDielectric:
+    case LobeType::Transparent: return 0;
+    case LobeType::GgxConductor:
+    case LobeType::GgxDielectric: return std::min(2.0f * std::sqrt(lobe.ggx.ax * lobe.ggx.ay), kRoughConeSpread);
+    case LobeType::Lambert:
+    case LobeType::OrenNayar:
+    case LobeType::Translucent:
+    case LobeType::Sheen:
+    case LobeType::PrincipledDiffuse: return kRoughConeSpread;
+  }
+  return kRoughConeSpread;
 }
 
 Bsdf::Bsdf(Vec3 ng, Vec3 ns, Vec3 wo) {
@@ -332,6 +352,7 @@ bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSampl
   }
   out.wi = frame_.to_world(wi);
   if (!consistent_side(out.wi, ng_, wi.z)) return false;
+  out.cone_spread = lobe_cone_spread(lobe);
   if (lobe.is_delta()) {
     out.is_delta = true;
     out.pass_through = lobe.type == LobeType::Transparent;

@@ -109,6 +109,9 @@ struct BsdfSample {
   // A straight pass-through (Transparent BSDF, alpha): not a scattering event. The
   // path tracer keeps its MIS state across it, as transparent shadows see through it.
   bool pass_through = false;
+  // How much wider the ray's footprint cone gets per unit distance after this
+  // scattering (the sampled lobe's angular width; 0 for delta lobes; core/ray_cone.h).
+  float cone_spread = 0;
 };
 
 class Bsdf {

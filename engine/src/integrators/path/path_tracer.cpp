@@ -138,7 +138,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           prev_pdf = medium.phase.pdf(wo, wi);
           prev_p = p;
           ray = Ray{p, wi, kInf};
-          cone = cone.after(ms.t);
+          cone = cone.after(ms.t).scattered(kRoughConeSpread);
           if (!russian_roulette(depth) || is_black(beta)) break;
           continue;
         }
@@ -224,6 +224,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       continue;
     }
     specular_bounce = bs.is_delta;
+    cone = cone.scattered(bs.cone_spread);  // wider after a rough bounce
     prev_pdf = bs.pdf;
     prev_p = hit.p;
     if constexpr (kMedia) {
