@@ -51,6 +51,8 @@ def principled(ctx, node, socket):
             params[key] = Const(1.0)
         else:
             params[key] = Const(PRINCIPLED_DEFAULTS[key])
+    if not ctx.has_input(node, "Subsurface Color"):
+        params["subsurface_color"] = params["base_color"]  # Blender 4.x: subsurface takes the base colour
     props = {"distribution": getattr(node, "distribution", "GGX"),
              "subsurface_method": getattr(node, "subsurface_method", "RANDOM_WALK"),
              "tangent_linked": ctx.is_linked(node, "Tangent")}

@@ -136,6 +136,20 @@ class TestBsdfs(unittest.TestCase):
         self.assertIsNone(w)
 
 
+    def test_principled_4x_subsurface_takes_the_base_colour(self):
+        """Blender 4.x has no Subsurface Color: its subsurface is coloured by the base colour."""
+        def b(t):
+            n = t.new("ShaderNodeBsdfPrincipled", "P")
+            n.inp("Subsurface").identifier = n.inp("Subsurface").name = "Subsurface Weight"
+            n.inputs = [s for s in n.inputs if s.name != "Subsurface Color"]
+            n.inp("Subsurface Weight").default_value = 1.0
+            n.inp("Base Color").default_value = [0.9, 0.1, 0.1, 1.0]
+            return n.out()
+        p, w = material_with(b)
+        self.assertTrue(close(p["subsurface_color"], (0.9, 0.1, 0.1)))
+        self.assertIn("subsurface approximated by diffuse", w)
+
+
 def _diffuse(t, color, name="D"):
     d = t.new("ShaderNodeBsdfDiffuse", name)
     d.inp("Color").default_value = list(color) + [1.0]
