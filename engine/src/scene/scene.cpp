@@ -629,10 +629,13 @@ std::string Scene::summary_json() const {
   if (media_.empty()) j["media"] = "none";
   else {
     size_t grids = 0, grid_bytes = 0;
-    for (const Medium &m : media_)
-      if (m.grid) { ++grids; grid_bytes += m.grid->memory_bytes(); }
+    for (const Medium &m : media_) {
+      if (m.grid) ++grids;
+      for (const auto *g : {m.grid.get(), m.emission_grid.get(), m.temperature_grid.get()})
+        if (g) grid_bytes += g->memory_bytes();
+    }
     j["media"] = {{"homogeneous", media_.size() - grids}, {"grid", grids}, {"grid_bytes", grid_bytes},
-                  {"world", world_medium_ >= 0}};
+                  {"world", world_medium_ >= 0}, {"volume_lights", volume_emitters_.size()}};
   }
   j["memory_bytes"] = {{"meshes", mesh_bytes}, {"embree", accel_.memory_bytes()},
                        {"lights", lights_.size() * sizeof(Light)},
