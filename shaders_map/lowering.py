@@ -49,12 +49,6 @@ def _num(v):
     return [float(x) for x in v]
 
 
-def _is_principled_v4(node):
-    """Blender 4.x's Principled BSDF has sockets that 3.x lacks (Coat Weight, ...)."""
-    names = {getattr(sock, "name", "") for sock in getattr(node, "inputs", ()) or ()}
-    return "Coat Weight" in names or "Specular IOR Level" in names
-
-
 class _Lowerer:
     def __init__(self, issues, image_average, image_file, context):
         self.issues = issues
@@ -519,7 +513,7 @@ class _Lowerer:
         d["distribution"] = dist if dist in ("GGX", "MULTI_GGX") else "GGX"
         # Match the Blender the node comes from: 3.x's Principled adds its layers
         # (Cycles 3.4), 4.x's conserves energy (the engine's own default).
-        d["layering"] = "energy_conserving" if _is_principled_v4(c.node) else "additive"
+        d["layering"] = "energy_conserving" if c.props.get("blender4") else "additive"
         sub = self.fold(p.get("subsurface", Const(0.0)))
         if sub is None or sub > 0.0:
             self.approx(c.node, "subsurface approximated by diffuse")
@@ -535,6 +529,8 @@ class _Lowerer:
                 self.approx(c.node, "clearcoat normal ignored (main normal used)")
         if c.props.get("tangent_linked"):
             self.approx(c.node, "tangent input ignored (default UV map's u)")
+        for note in c.props.get("approximated", ()):
+            self.approx(c.node, note)
         return d
 
     # ---- volumes --------------------------------------------------------------------

@@ -1,7 +1,7 @@
 """BSDF nodes: Principled, Diffuse, Glossy/Anisotropic, Glass, Refraction,
 Transparent, Translucent, Velvet, Toon, Sheen (as closures with their inputs)."""
 
-from ..ir import Closure, Const
+from ..ir import Closure, Const, Expr
 from ..registry import maps
 
 # Principled inputs: our key -> socket identifiers/names, 3.x first, then 4.x.
@@ -56,7 +56,45 @@ def principled(ctx, node, socket):
     props = {"distribution": getattr(node, "distribution", "GGX"),
              "subsurface_method": getattr(node, "subsurface_method", "RANDOM_WALK"),
              "tangent_linked": ctx.is_linked(node, "Tangent")}
+    # Blender 4.x's node has sockets that 3.x lacks.
+    props["blender4"] = ctx.has_input(node, "Specular IOR Level") or ctx.has_input(node, "Coat Weight")
+    if props["blender4"]:
+        props["approximated"] = _blender4_principled(ctx, node, params)
     return Closure("principled", ctx.label(node), params, props=props)
+
+
+def _blender4_principled(ctx, node, params):
+    """Blender 4.x semantics on the engine's 3.4-style inputs; returns what is approximated.
+
+    4.x reflects F0(IOR) x 2 x Specular IOR Level at normal incidence; the engine's
+    specular s reflects 0.08 s, so s = level x 25 F0(IOR) (exact for a constant IOR)."""
+    notes = []
+    ior = ctx.input_const(node, "IOR", default=1.5)
+    if ior is None:
+        notes.append("textured IOR: specular reflection from Specular IOR Level alone")
+    else:
+        k = 25.0 * ((ior - 1.0) / (ior + 1.0)) ** 2
+        level = params["specular"]
+        params["specular"] = (Const(level.value * k) if isinstance(level, Const) else
+                              Expr("math", ctx.label(node), {"a": level, "b": Const(k)}, {"operation": "MULTIPLY"}))
+
+    def used(weight):  # a layer weight that is not a constant 0
+        w = ctx.input_const(node, weight, default=0.0)
+        return w is None or w != 0.0
+
+    def differs(name, default):  # linked, or not at its default
+        v = ctx.input_const(node, name, default=default)
+        return v is None or (v != default if isinstance(v, float) else tuple(v)[:3] != default)
+
+    if used("Coat Weight") and differs("Coat IOR", 1.5):
+        notes.append("Coat IOR ignored (coat f0 0.04)")
+    if used("Coat Weight") and differs("Coat Tint", (1.0, 1.0, 1.0)):
+        notes.append("Coat Tint ignored (white coat)")
+    if used("Sheen Weight") and differs("Sheen Roughness", 0.5):
+        notes.append("Sheen Roughness ignored (Cycles 3.4 sheen lobe)")
+    if ctx.has_input(node, "Thin Film Thickness") and differs("Thin Film Thickness", 0.0):
+        notes.append("thin film ignored")
+    return notes
 
 
 @maps("ShaderNodeBsdfDiffuse")

@@ -12,7 +12,7 @@ sys.path.insert(0, HERE)
 sys.path.insert(0, ROOT)
 
 import shaders_map as sm  # noqa: E402
-from fakenodes import Tree, Material, World, Image, Ramp, group_tree, image_average  # noqa: E402
+from fakenodes import Tree, Material, World, Image, Ramp, Socket, group_tree, image_average  # noqa: E402
 
 
 def material_with(build, name="M", image_average_fn=image_average):
@@ -148,6 +148,37 @@ class TestBsdfs(unittest.TestCase):
         p, w = material_with(b)
         self.assertTrue(close(p["subsurface_color"], (0.9, 0.1, 0.1)))
         self.assertIn("subsurface approximated by diffuse", w)
+
+
+    def _principled_4x(self, t, **values):
+        """A Principled stand-in with Blender 4.x's socket names (and a few 4.x-only sockets)."""
+        n = t.new("ShaderNodeBsdfPrincipled", "P")
+        for old, new in (("Specular", "Specular IOR Level"), ("Clearcoat", "Coat Weight"), ("Sheen", "Sheen Weight")):
+            n.inp(old).identifier = n.inp(old).name = new
+        n.inputs += [Socket(n, k, k, t_, d, False) for k, t_, d in (("Coat IOR", "VALUE", 1.5),
+                                                                   ("Coat Tint", "RGBA", (1.0, 1.0, 1.0, 1.0)),
+                                                                   ("Sheen Roughness", "VALUE", 0.5))]
+        n.inp("IOR").default_value = 1.5  # 4.x's default
+        for k, v in values.items():
+            n.inp(k).default_value = v
+        return n
+
+    def test_principled_4x_specular_follows_the_ior(self):
+        """4.x reflects F0(IOR) x 2 x Specular IOR Level: the engine's specular is f0 / 0.08."""
+        p, w = material_with(lambda t: self._principled_4x(t).out())
+        self.assertTrue(close(p["specular"], 0.5))  # IOR 1.5, level 0.5: f0 0.04, as 3.4's default
+        self.assertEqual(p["layering"], "energy_conserving")
+        self.assertIsNone(w)
+        p, w = material_with(lambda t: self._principled_4x(t, IOR=1.33, **{"Specular IOR Level": 0.8}).out())
+        self.assertTrue(close(p["specular"], 0.8 * 25 * (0.33 / 2.33) ** 2))
+        self.assertIsNone(w)
+
+    def test_principled_4x_ignored_inputs_warn(self):
+        p, w = material_with(lambda t: self._principled_4x(
+            t, **{"Coat Weight": 0.5, "Coat IOR": 1.8, "Sheen Weight": 1.0, "Sheen Roughness": 0.2}).out())
+        self.assertIn("Coat IOR ignored", w)
+        self.assertIn("Sheen Roughness ignored", w)
+        self.assertNotIn("Coat Tint", w)  # at its default
 
 
 def _diffuse(t, color, name="D"):
