@@ -240,15 +240,27 @@ Color Bsdf::f(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
   Vec3 wo, wi;
   bool flipped;
   if (!local_pair(wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
+  return local_f(wo, wi, flipped, mode, nullptr) * shading_correction(wo_w, wi_w, mode);
+}
+
+Color Bsdf::local_f(Vec3 wo, Vec3 wi, bool flipped, TransportMode mode, float *pdf) const {
   Color f(0.0f);
   LobeScratch scratch;
   LayerScales layers;
   if (num_layers_) layer_scales(wo, wi, layers);
   for (int i = 0; i < n_; ++i) {
-    Color fi = lobe_eval(lobe_from_side(lobes_[i], flipped, scratch), wo, wi, mode);
-    f += lobes_[i].layers_above ? fi * layers.of(lobes_[i].layers_above) : fi;
+    const Lobe &lobe = lobe_from_side(lobes_[i], flipped, scratch);
+    Color fi;
+    if (pdf) {
+      float p;
+      fi = lobe_eval_and_pdf(lobe, wo, wi, mode, p);
+      *pdf += pick_[i] * p;
+    } else {
+      fi = lobe_eval(lobe, wo, wi, mode);
+    }
+    f += lobe.layers_above ? fi * layers.of(lobe.layers_above) : fi;
   }
-  return f * shading_correction(wo_w, wi_w, mode);
+  return f;
 }
 
 Color Bsdf::eval(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
@@ -266,17 +278,7 @@ Color Bsdf::eval_and_pdf(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf) c
   Vec3 wo, wi;
   bool flipped;
   if (!local_pair(wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
-  Color f(0.0f);
-  LobeScratch scratch;
-  LayerScales layers;
-  if (num_layers_) layer_scales(wo, wi, layers);
-  for (int i = 0; i < n_; ++i) {
-    float p;
-    Color fi = lobe_eval_and_pdf(lobe_from_side(lobes_[i], flipped, scratch), wo, wi, mode, p);
-    f += lobes_[i].layers_above ? fi * layers.of(lobes_[i].layers_above) : fi;
-    pdf += pick_[i] * p;
-  }
-  return f * shading_correction(wo_w, wi_w, mode) * absdot(wi_w, frame_.n);
+  return local_f(wo, wi, flipped, mode, &pdf) * shading_correction(wo_w, wi_w, mode) * absdot(wi_w, frame_.n);
 }
 
 Color Bsdf::f_and_pdfs(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_fwd, float &pdf_rev) const {

@@ -192,6 +192,9 @@ class Bsdf {
     }
   };
   void layer_scales(Vec3 wo, Vec3 wi, LayerScales &out) const;
+  // The lobes' f summed for a local pair (seen from the side local_pair found), with the
+  // layers applied; with pdf, their mixture density added into *pdf as well.
+  Color local_f(Vec3 wo, Vec3 wi, bool flipped, TransportMode mode, float *pdf) const;
   bool local_pair(Vec3 wo_w, Vec3 wi_w, Vec3 &wo, Vec3 &wi, bool &flipped) const;
   // One plain Lambert lobe (lambert_): f and its densities depend only on the cosines
   // with the two normals, so evaluation skips the frame change and the lobe loop.
@@ -207,23 +210,18 @@ class Bsdf {
   bool backfacing_ = false;
   bool lambert_ = false;
   int n_ = 0;
-  // Raw storage: only the lobes that are added get written (a Bsdf is built per hit;
-  // constructing all kMaxLobes defaults cost more than shading a diffuse surface).
-  struct LobeArray {
-    alignas(Lobe) unsigned char raw[kMaxLobes * sizeof(Lobe)];
-    Lobe &operator[](int i) { return reinterpret_cast<Lobe *>(raw)[i]; }
-    const Lobe &operator[](int i) const { return reinterpret_cast<const Lobe *>(raw)[i]; }
+  // Raw storage: only the lobes and layers that are added get written (a Bsdf is built
+  // per hit; constructing all kMaxLobes defaults cost more than shading a diffuse surface).
+  template <class T, int N>
+  struct RawArray {
+    static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
+    alignas(T) unsigned char raw[N * sizeof(T)];
+    T &operator[](int i) { return reinterpret_cast<T *>(raw)[i]; }
+    const T &operator[](int i) const { return reinterpret_cast<const T *>(raw)[i]; }
   };
-  static_assert(std::is_trivially_copyable_v<Lobe> && std::is_trivially_destructible_v<Lobe>);
-  LobeArray lobes_;
+  RawArray<Lobe, kMaxLobes> lobes_;
   int num_layers_ = 0;
-  struct LayerArray {
-    alignas(LayerAbove) unsigned char raw[kMaxLayers * sizeof(LayerAbove)];
-    LayerAbove &operator[](int i) { return reinterpret_cast<LayerAbove *>(raw)[i]; }
-    const LayerAbove &operator[](int i) const { return reinterpret_cast<const LayerAbove *>(raw)[i]; }
-  };
-  static_assert(std::is_trivially_copyable_v<LayerAbove> && std::is_trivially_destructible_v<LayerAbove>);
-  LayerArray layers_;
+  RawArray<LayerAbove, kMaxLayers> layers_;
   // Entries [0, n_) are valid, as in lobes_.
   std::array<float, kMaxLobes> raw_weight_;  // as given to add_lobe
   std::array<float, kMaxLobes> pick_;        // normalised lobe selection probabilities
