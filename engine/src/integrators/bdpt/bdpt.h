@@ -34,6 +34,14 @@ struct ConnectionDensities {
   float pt_rev = 0, pt_minus_rev = 0, qs_rev = 0, qs_minus_rev = 0;
 };
 
+// The MIS sums of a subpath's far end (Veach 1997, sec. 10.2, as running sums): for
+// vertex k, the sum over the strategies that connect at vertex i <= k of
+// prod_{j=i..k} (remap0(pdf_rev_j) / remap0(pdf_fwd_j))^2, over strategies whose two
+// vertices are not delta. Set once pdf_rev of vertex k is final, from vertex k - 1's;
+// delta_before: vertex k - 1 is delta (for k = 0, the light is). Every connection's
+// weight then reads one of them instead of walking the subpath.
+void set_mis_sum(PathVertex *path, int k, bool delta_before);
+
 class Bdpt final : public Integrator {
  public:
   Bdpt(const Scene &scene, const BdptSettings &settings) : scene_(scene), settings_(settings) {}
@@ -69,6 +77,7 @@ class Bdpt final : public Integrator {
   float pdf_light(const PathVertex &light_vertex, const PathVertex &v) const;
   float pdf_light_origin(const PathVertex &light_vertex, const PathVertex &v) const;
   float infinite_light_density(Vec3 dir) const;
+  bool light_start_is_delta(const PathVertex &light_vertex) const;
   float mis_weight(const PathVertex *light_path, const PathVertex *camera_path, const PathVertex &sampled, int s,
                    int t, const ConnectionDensities &densities) const;
   // Vertex helpers (connect.cpp).

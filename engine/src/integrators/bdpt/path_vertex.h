@@ -39,6 +39,7 @@ struct PathVertex {
   // gather rate there and 1 / distance^2; to_prev_density), set once by the random walk.
   float prev_scale = 1, prev_inv_d2 = 1;
   bool surface_connectible = false;  // a surface with a non-delta lobe
+  double mis_sum = 0;  // MIS sum of the strategies at or below this vertex (set_mis_sum)
 
   // The media a connection leaving this vertex along w starts in: surfaces that w
   // goes through (transmission) hand over to the medium on the other side.

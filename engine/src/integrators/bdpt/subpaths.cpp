@@ -98,6 +98,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
           Vec3 wi = medium.phase.sample(v.wo, sampler.get_2d());
           pdf_fwd = medium.phase.pdf(v.wo, wi);  // the phase function is symmetric
           prev.pdf_rev = v.to_prev_density(pdf_fwd);
+          if (mode == TransportMode::Radiance && n >= 2) set_mis_sum(path, n - 1, path[n - 2].delta);
           ray = Ray{v.p, wi, kInf};
           if (!russian_roulette()) return n;
           continue;
@@ -171,6 +172,9 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       pdf_rev = v.bsdf.pdf(bs.wi, v.wo);
     }
     prev.pdf_rev = v.to_prev_density(pdf_rev);
+    // Camera subpaths: the MIS sum up to prev (the camera vertex itself is no strategy);
+    // light subpaths sum theirs once complete (light_subpath).
+    if (mode == TransportMode::Radiance && n >= 2) set_mis_sum(path, n - 1, path[n - 2].delta);
     if constexpr (kMedia) {
       if (dot(bs.wi, hit.ng) * dot(ray.d, hit.ng) > 0) media.cross(scene_, hit, bs.wi);  // refracted through
     }
@@ -282,6 +286,9 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path) con
     }
     v.pdf_fwd = infinite_light_density(v.dir);
   }
+  // The MIS sums, now that every density is final (the last vertex's is never read).
+  set_mis_sum(path, 0, light_start_is_delta(path[0]));
+  for (int k = 1; k < n; ++k) set_mis_sum(path, k, path[k - 1].delta);
   return n + 1;
 }
 
