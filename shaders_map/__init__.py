@@ -85,8 +85,9 @@ def _rgb(v, default):
         return list(default)
 
 
-def convert_material(material, image_average=None, image_file=None):
-    """A bpy Material (or stand-in) -> (engine params, warning or None)."""
+def convert_material(material, image_average=None, image_file=None, volume_grids=False):
+    """A bpy Material (or stand-in) -> (engine params, warning or None).  volume_grids: for a
+    Volume object (grid references {"name": ...} in the medium, completed by the exporter)."""
     name = getattr(material, "name", "?")
     if material is None:
         return dict(DEFAULT_SURFACE), None
@@ -96,7 +97,7 @@ def convert_material(material, image_average=None, image_file=None):
         return {"type": "diffuse", "color": _rgb(getattr(material, "diffuse_color", None),
                                                  (0.8, 0.8, 0.8))}, None
     desc = translate_material(tree, name)
-    params, issues = lower_surface(desc, image_average, image_file)
+    params, issues = lower_surface(desc, image_average, image_file, volume_grids)
     return params, issues.format("Material", name)
 
 

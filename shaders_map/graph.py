@@ -172,6 +172,12 @@ class Context:
         ir = self.input(node, *names, default=default)
         return ir.value if isinstance(ir, Const) else None
 
+    def input_string(self, node, *names, default=""):
+        """The text of a string socket (Principled Volume's attribute names; never linked)."""
+        s = self.socket(node, *names)
+        v = getattr(s, "default_value", default) if s is not None else default
+        return v if isinstance(v, str) else default
+
     def closure(self, node, *names):
         s = self.socket(node, *names)
         if s is None:

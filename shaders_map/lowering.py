@@ -50,12 +50,13 @@ def _num(v):
 
 
 class _Lowerer:
-    def __init__(self, issues, image_average, image_file, context):
+    def __init__(self, issues, image_average, image_file, context, volume_grids=False):
         self.issues = issues
         self.ev = Evaluator(issues, image_average)
         self.image_average = image_average
         self.image_file = image_file
         self.context = context  # "surface" or "world"
+        self.volume_grids = volume_grids  # the material fills a Volume object: attributes name its grids
         self._memo = {}
 
     def approx(self, node, reason):
@@ -534,8 +535,73 @@ class _Lowerer:
         return d
 
     # ---- volumes --------------------------------------------------------------------
+    def grid_factor(self, ir):
+        """(grid name, constant factor) when ir is an Attribute node's value (Fac, or Color /
+        Vector made a float: one value for a float grid), possibly through Math Multiply by
+        constants; else None."""
+        factor = 1.0
+        x = ir
+        for _ in range(50):
+            if isinstance(x, Expr) and x.op == "to_float":
+                x = x.args.get("value")
+            if not isinstance(x, Expr):
+                return None
+            if x.op == "attribute":
+                name = x.props.get("attribute_name")
+                if x.props.get("attribute_type", "GEOMETRY") != "GEOMETRY" or not name or \
+                        x.props.get("output") == "Alpha":
+                    return None
+                return name, factor
+            if x.op != "math" or x.props.get("operation") != "MULTIPLY" or x.props.get("use_clamp"):
+                return None
+            a, b = self.fold(x.args.get("a")), self.fold(x.args.get("b"))
+            if isinstance(a, float):
+                factor, x = factor * a, x.args.get("b")
+            elif isinstance(b, float):
+                factor, x = factor * b, x.args.get("a")
+            else:
+                return None
+        return None
+
+    def _volume_part(self, c):
+        """One volume shader -> engine medium keys, grid references as {"name": ...} (the
+        exporter of a Volume object adds the file; volumes.attach_grids)."""
+        m = {}
+        for k, v in c.params.items():
+            grid_key = GRID_OF_SOCKET.get(k)
+            gf = self.grid_factor(v) if grid_key and self.volume_grids else None
+            if gf is not None:
+                m[grid_key], m[k] = {"name": gf[0]}, gf[1]
+            elif k.endswith("color") or k == "blackbody_tint":
+                m[k] = self._const_color(v, c.node, "volume " + k.replace("_", " "))
+            else:
+                m[k] = self._const_float(v, c.node, "volume " + k.replace("_", " "))
+        if self.volume_grids:
+            # Cycles multiplies the density / temperature by these grids where the object has them.
+            for prop, key, what in (("density_attribute", "grid", "density"),
+                                    ("temperature_attribute", "temperature_grid", "temperature")):
+                name = c.props.get(prop)
+                if not name:
+                    continue
+                if key in m:  # Cycles would multiply both grids
+                    self.approx(c.node, "%s from grid '%s' and from the attribute grid '%s': only '%s' used"
+                                % (what, m[key]["name"], name, m[key]["name"]))
+                else:
+                    m[key] = {"name": name}
+            if c.props.get("color_attribute"):
+                self.approx(c.node, "Color Attribute '%s' ignored (colour grids are not read)"
+                            % c.props["color_attribute"])
+        if not m.get("blackbody_intensity", 0.0) > 0.0:
+            for k in ("blackbody_intensity", "blackbody_tint", "temperature", "temperature_grid"):
+                m.pop(k, None)
+        if not m.get("emission_strength", 0.0) > 0.0 or max(m.get("emission_color", [1.0])) <= 0.0:
+            m.pop("emission_grid", None)
+        if not m.get("density", 0.0) > 0.0:
+            m.pop("grid", None)
+        return m
+
     def volume(self, c, depth=0):
-        """A Volume closure -> list of (weight, kind, params) media parts, or [] for none."""
+        """A Volume closure -> list of (weight, medium keys) parts, or [] for none."""
         if c is None or depth > 50:
             return []
         if c.kind == "mix":
@@ -546,14 +612,7 @@ class _Lowerer:
         if c.kind == "add":
             return [x for ch in c.children for x in self.volume(ch, depth + 1)]
         if c.kind == "volume":
-            p = c.params
-            m = {k: (self._const_color(v, c.node, "volume " + k) if k.endswith("color")
-                     else self._const_float(v, c.node, "volume " + k)) for k, v in p.items()}
-            if c.props.get("blackbody"):
-                self.approx(c.node, "blackbody emission ignored")
-            if c.props.get("attributes"):
-                self.approx(c.node, "density/colour attributes ignored (grids not supported)")
-            return [(1.0, m)]
+            return [(1.0, self._volume_part(c))]
         if c.kind == "emission":
             col = self._const_color(c.params["color"], c.node, "emission colour")
             s = self._const_float(c.params.get("strength", Const(1.0)), c.node, "emission strength")
@@ -584,7 +643,30 @@ class _Lowerer:
         out = {"sigma_a": sa, "sigma_s": ss, "anisotropy": g_num / g_den if g_den > 0 else 0.0}
         if max(em) > 0.0:
             out["emission"] = em
+        # Grids shape the summed coefficients as a whole: exact when every part that has
+        # the quantity uses the same grid.
+        for key, what, has in (("grid", "density", lambda m: m.get("density", 0.0) > 0.0),
+                               ("emission_grid", "emission", lambda m: m.get("emission_strength", 0.0) > 0.0)):
+            users = [m for w, m in parts if has(m)]
+            names = [m[key]["name"] for m in users if key in m]
+            if not names:
+                continue
+            out[key] = {"name": names[0]}
+            if len(set(names)) > 1 or len(names) < len(users):
+                self.approx(c.node, "added/mixed volumes with different %s grids: '%s' used for all" % (what, names[0]))
+        blackbody = [(w, m) for w, m in parts if "blackbody_intensity" in m]
+        if blackbody:
+            w, m = blackbody[0]
+            out.update({k: m[k] for k in ("blackbody_intensity", "temperature", "temperature_grid") if k in m})
+            out["blackbody_tint"] = [x * w for x in m.get("blackbody_tint", [1.0, 1.0, 1.0])]
+            if len(blackbody) > 1:
+                self.approx(c.node, "several blackbody volumes: only the first one emits")
         return out
+
+
+# Principled Volume sockets whose value may come from a grid (an Attribute node), and the
+# engine key of that grid.
+GRID_OF_SOCKET = {"density": "grid", "emission_strength": "emission_grid", "temperature": "temperature_grid"}
 
 
 _LINEAR_TYPES = ("diffuse", "glossy", "glass", "refraction", "transparent", "translucent", "sheen")
@@ -640,9 +722,11 @@ def _merge(a, b):
     return None
 
 
-def lower_surface(desc, image_average=None, image_file=None):
-    """MaterialDescription -> (engine params dict, Issues)."""
-    low = _Lowerer(desc.issues, image_average, image_file, "surface")
+def lower_surface(desc, image_average=None, image_file=None, volume_grids=False):
+    """MaterialDescription -> (engine params dict, Issues).  volume_grids: the material is a
+    Volume object's, whose attribute names refer to its grids (else they are ignored, as
+    Cycles ignores attributes a mesh does not have)."""
+    low = _Lowerer(desc.issues, image_average, image_file, "surface", volume_grids)
     medium = low.medium(desc.volume) if desc.volume is not None else None
     if desc.surface is None:
         if medium is not None:

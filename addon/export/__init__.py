@@ -207,7 +207,10 @@ class SceneExporter:
             reason = ob.data.grids.error_message if ob.data.grids.error_message else "no voxels"
             self.warn("Volume '%s': %s (file '%s'), skipped" % (ob.name, reason, path))
             return
-        pad = [0.01 * (h - l) for l, h in zip(lo, hi)]  # the grid's zero margin stays inside
+        grids = {g.name: (g.data_type, [list(row)[:3] for row in g.matrix_object][:3]) for g in ob.data.grids}
+        # The grids' zero margin (a voxel, plus Cycles' half-voxel shift) stays inside.
+        voxel = max((sum(x * x for x in col) ** 0.5 for _, m in grids.values() for col in zip(*m)), default=0.0)
+        pad = [max(0.01 * (h - l), 2.0 * voxel) for l, h in zip(lo, hi)]
         lo = [l - p for l, p in zip(lo, pad)]
         hi = [h + p for h, p in zip(hi, pad)]
         mats = self._object_materials(ob)
@@ -218,7 +221,9 @@ class SceneExporter:
         if medium is None:
             self.warn("Volume '%s': its material has no Volume shader, nothing to render" % ob.name)
             return
-        medium = dict(medium, grid={"file": path, "name": "density", "transform": m16})
+        medium = dict(medium)
+        for w in volumes.attach_grids(medium, path, grids, m16, "Volume '%s'" % ob.name):
+            self.warn(w)
         name = self._unique(ob.name, self._mesh_names)
         material = self.sink.add_material(name, {"type": "volume", "volume": medium})
         positions, indices = volumes.box_arrays(lo, hi)

@@ -14,8 +14,15 @@ import numpy as np
 from .. import shaders_map
 
 # Cycles renders a Volume object without a material with its default volume shader
-# (Principled Volume defaults).
-DEFAULT_VOLUME = {"density": 1.0, "color": [0.5, 0.5, 0.5]}
+# (Principled Volume defaults: density from the "density" grid).
+DEFAULT_VOLUME = {"density": 1.0, "color": [0.5, 0.5, 0.5], "grid": {"name": "density"}}
+
+# What Cycles does where a Volume object lacks a grid the material asks for: an absent
+# attribute leaves the Principled Volume's density / temperature unscaled, and an
+# Attribute node reads 0.
+MISSING_GRID_EFFECT = {"grid": "the density is uniform in its bounds",
+                       "temperature_grid": "the temperature is uniform",
+                       "emission_grid": "no emission from it"}
 
 
 def sequence_frame(vol, scene_frame):
@@ -100,8 +107,52 @@ def box_arrays(lo, hi):
 
 
 def volume_material_params(material, image_average=None, image_file=None):
-    """(medium params or None, warning or None) of a Volume object's material."""
+    """(medium params or None, warning or None) of a Volume object's material; its grids
+    are references {"name": ...} until attach_grids."""
     if material is None:
         return dict(DEFAULT_VOLUME), None
-    params, warning = shaders_map.convert_material(material, image_average=image_average, image_file=image_file)
+    params, warning = shaders_map.convert_material(material, image_average=image_average, image_file=image_file,
+                                                   volume_grids=True)
     return params.get("volume"), warning
+
+
+def voxel_centre_shift(index_to_object):
+    """Object-space offset of half a voxel along each index axis.  Cycles (3.4) puts voxel
+    i's value at index i + 0.5 (its dense textures span whole voxels), OpenVDB and the
+    engine at index i: shifting the grid by this matches Cycles."""
+    return [0.5 * sum(index_to_object[r][c] for c in range(3)) for r in range(3)]
+
+
+def shifted(transform, offset):
+    """The 4x4 row-major transform (16 numbers) applied after a translation by offset."""
+    t = list(transform)
+    for r in range(3):
+        t[4 * r + 3] += sum(t[4 * r + c] * offset[c] for c in range(3))
+    return t
+
+
+def attach_grids(medium, path, grids, transform, what):
+    """Completes the medium's grid references with the .vdb file and the object's matrix.
+
+    grids: {grid name: (Blender data_type, index-to-object 3x3 rows)} of the file.  A grid
+    the file lacks (or that is not a float grid) is dropped as Cycles does
+    (MISSING_GRID_EFFECT); returns the warnings, each naming `what` and the grid."""
+    warnings = []
+    for key in ("grid", "temperature_grid", "emission_grid"):
+        ref = medium.get(key)
+        if ref is None:
+            continue
+        name = ref["name"]
+        dtype, index_to_object = grids.get(name, (None, None))
+        if dtype == "FLOAT":
+            medium[key] = dict(ref, file=path, transform=shifted(transform, voxel_centre_shift(index_to_object)))
+            continue
+        del medium[key]
+        if key == "emission_grid":
+            medium.pop("emission_strength", None)
+            medium.pop("emission", None)
+        problem = ("no grid '%s'" % name if dtype is None
+                   else "grid '%s' is a %s grid (only float grids are read)" % (name, dtype))
+        have = ", ".join(sorted(grids)) or "none"
+        warnings.append("%s: %s in '%s' (it has: %s); %s" % (what, problem, path, have, MISSING_GRID_EFFECT[key]))
+    return warnings

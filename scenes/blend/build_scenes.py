@@ -211,6 +211,40 @@ def emissive_textured():
     emissive_mesh(checker_glow)
 
 
+def box_mesh(name, size):
+    """An axis-aligned cube of edge `size` centred on the origin (outward faces)."""
+    h = size / 2
+    verts = [(x, y, z) for x in (-h, h) for y in (-h, h) for z in (-h, h)]
+    faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    me = bpy.data.meshes.new(name)
+    me.from_pydata(verts, [], faces)
+    me.update()
+    return me
+
+
+def volume_blackbody():
+    """A cube of glowing smoke (Principled Volume blackbody at 1500 K, uniform: a mesh has
+    no temperature grid) over a floor that it lights, a black world, no lamps."""
+    reset()
+    plane()
+    camera_down(4.0, lens=35.0)
+    m = bpy.data.materials.new("Glowing smoke")
+    m.use_nodes = True
+    nt = m.node_tree
+    for n in list(nt.nodes):
+        if n.bl_idname != "ShaderNodeOutputMaterial":
+            nt.nodes.remove(n)
+    pv = nt.nodes.new("ShaderNodeVolumePrincipled")
+    pv.inputs["Density"].default_value = 0.5
+    pv.inputs["Blackbody Intensity"].default_value = 1.0
+    pv.inputs["Temperature"].default_value = 1500.0
+    pv.inputs["Blackbody Tint"].default_value = (1.0, 0.9, 0.8, 1.0)
+    nt.links.new(pv.outputs["Volume"], nt.nodes["Material Output"].inputs["Volume"])
+    cube = link(bpy.data.objects.new("Smoke", box_mesh("SmokeBox", 1.0)))
+    cube.location = (0.3, 0.0, 1.0)
+    cube.data.materials.append(m)
+
+
 def hdri_path():
     d = os.environ.get("RDV_TEST_TMP") or bpy.app.tempdir or "/tmp"
     return os.path.join(d, "rdv_test_sky.exr")
@@ -336,13 +370,15 @@ SCENES = {
     "hdri": hdri,
     "principled_plane": principled_plane,
     "emissive_textured": emissive_textured,
+    "volume_blackbody": volume_blackbody,
     "bad_input": bad_input,
     "showcase": showcase,
 }
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "emissive_textured"]
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "emissive_textured",
+                     "volume_blackbody"]
 
 
 def build(name):

@@ -50,7 +50,8 @@ def _volume(ctx, node, params, **props):
 
 @maps("ShaderNodeVolumePrincipled")
 def volume_principled(ctx, node, socket):
-    bb = ctx.input_const(node, "Blackbody Intensity", default=0.0)
+    # The attribute names select grids of a Volume object (lowering); Cycles multiplies
+    # density, colour and temperature by them where the object has them.
     return _volume(ctx, node, {
         "color": ctx.input(node, "Color", default=(0.5, 0.5, 0.5)),
         "density": ctx.input(node, "Density", default=1.0),
@@ -58,7 +59,12 @@ def volume_principled(ctx, node, socket):
         "absorption_color": ctx.input(node, "Absorption Color", default=(0.0, 0.0, 0.0)),
         "emission_strength": ctx.input(node, "Emission Strength", default=0.0),
         "emission_color": ctx.input(node, "Emission Color", default=(1.0, 1.0, 1.0)),
-    }, blackbody=bb is None or bb > 0.0)
+        "blackbody_intensity": ctx.input(node, "Blackbody Intensity", default=0.0),
+        "blackbody_tint": ctx.input(node, "Blackbody Tint", default=(1.0, 1.0, 1.0)),
+        "temperature": ctx.input(node, "Temperature", default=1000.0),
+    }, density_attribute=ctx.input_string(node, "Density Attribute"),
+        color_attribute=ctx.input_string(node, "Color Attribute"),
+        temperature_attribute=ctx.input_string(node, "Temperature Attribute"))
 
 
 @maps("ShaderNodeVolumeScatter")

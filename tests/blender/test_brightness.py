@@ -55,6 +55,7 @@ def render_cycles(scene, samples, path):
     c.sample_clamp_direct = 0.0
     c.sample_clamp_indirect = 0.0
     c.max_bounces = 12
+    c.volume_bounces = 12  # as Rendezvous (Cycles' default is 0: no scattered volume emission)
     c.use_auto_tile = False
     scene.render.threads_mode = "AUTO"
     t = time.time()

@@ -1,29 +1,57 @@
-// Writes the .vdb file of the Blender volume test (Blender 3.4 on Debian has no
-// pyopenvdb): a "density" grid of voxel size 0.05 holding a ball of smoke of radius
-// 0.8 (density 1 at the centre, falling to 0 at the rim), plus a block of active
-// empty (zero) tiles beside it.
-//   write_test_vdb out.vdb
+// Writes the .vdb files of the Blender volume tests (Blender 3.4 on Debian has no
+// pyopenvdb), with voxel size 0.05:
+//   write_test_vdb out.vdb        "density": a ball of smoke of radius 0.8 (density 1 at the
+//                                 centre, falling to 0 at the rim), plus a block of active
+//                                 empty (zero) tiles beside it.
+//   write_test_vdb out.vdb fire   "density": two balls of radius 0.4 at x = -0.6 and x = +0.6;
+//                                 "temperature": 1.5 (x 1000 K in Blender's default material)
+//                                 in the left ball only; the right ball is cold (no voxels).
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <openvdb/openvdb.h>
 
+namespace {
+
+openvdb::FloatGrid::Ptr make_grid(const char *name) {
+  openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(0.0f);
+  grid->setName(name);
+  grid->setTransform(openvdb::math::Transform::createLinearTransform(0.05));
+  return grid;
+}
+
+// Sets value(r) at the voxels of a ball of `radius` voxels around `centre`, r = distance / radius.
+template <class F>
+void ball(openvdb::FloatGrid &grid, openvdb::Coord centre, int radius, F value) {
+  auto acc = grid.getAccessor();
+  for (int i = -radius; i <= radius; ++i)
+    for (int j = -radius; j <= radius; ++j)
+      for (int k = -radius; k <= radius; ++k) {
+        double r = std::sqrt(double(i * i + j * j + k * k)) / radius;
+        if (r < 1) acc.setValue(centre.offsetBy(i, j, k), float(value(r)));
+      }
+}
+
+}  // namespace
+
 int main(int argc, char **argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: write_test_vdb out.vdb\n");
+  bool fire = argc == 3 && std::strcmp(argv[2], "fire") == 0;
+  if (argc != 2 && !fire) {
+    std::fprintf(stderr, "usage: write_test_vdb out.vdb [fire]\n");
     return 2;
   }
   openvdb::initialize();
-  openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(0.0f);
-  grid->setName("density");
-  grid->setTransform(openvdb::math::Transform::createLinearTransform(0.05));
-  auto acc = grid->getAccessor();
-  for (int i = -16; i <= 16; ++i)
-    for (int j = -16; j <= 16; ++j)
-      for (int k = -16; k <= 16; ++k) {
-        double r = std::sqrt(double(i * i + j * j + k * k)) / 16.0;
-        if (r < 1) acc.setValue(openvdb::Coord(i, j, k), float(1 - r * r));
-      }
-  grid->fill(openvdb::CoordBBox(openvdb::Coord(24, -8, -8), openvdb::Coord(39, 7, 7)), 0.0f, true);
-  openvdb::io::File(argv[1]).write({grid});
+  openvdb::FloatGrid::Ptr density = make_grid("density");
+  if (!fire) {
+    ball(*density, openvdb::Coord(0), 16, [](double r) { return 1 - r * r; });
+    density->fill(openvdb::CoordBBox(openvdb::Coord(24, -8, -8), openvdb::Coord(39, 7, 7)), 0.0f, true);
+    openvdb::io::File(argv[1]).write({density});
+    return 0;
+  }
+  openvdb::FloatGrid::Ptr temperature = make_grid("temperature");
+  ball(*density, openvdb::Coord(-12, 0, 0), 8, [](double) { return 1.0; });
+  ball(*density, openvdb::Coord(12, 0, 0), 8, [](double) { return 1.0; });
+  ball(*temperature, openvdb::Coord(-12, 0, 0), 8, [](double) { return 1.5; });
+  openvdb::io::File(argv[1]).write({density, temperature});
   return 0;
 }

@@ -33,6 +33,9 @@ EXTRA_SPECS = {
     "ShaderNodeVolumeAbsorption": ([("Color", "Color", "RGBA", (0.8, 0.8, 0.8, 1.0)),
                                     ("Density", "Density", "VALUE", 1.0), ("Weight", "Weight", "VALUE", 0.0)],
                                    [("Volume", "Volume", "SHADER", None)]),
+    "ShaderNodeAttribute": ([], [("Color", "Color", "RGBA", (0.0, 0.0, 0.0, 0.0)),
+                                 ("Vector", "Vector", "VECTOR", (0.0, 0.0, 0.0)), ("Fac", "Fac", "VALUE", 0.0),
+                                 ("Alpha", "Alpha", "VALUE", 0.0)]),
     "ShaderNodeFancyUnknownBsdf": ([("Color", "Color", "RGBA", (0.3, 0.6, 0.9, 1.0))],
                                    [("BSDF", "BSDF", "SHADER", None)]),
 }

@@ -282,3 +282,25 @@ class VolumeHelpers(unittest.TestCase):
             a, b, c = positions[tri]
             n = np.cross(b - a, c - a)
             self.assertGreater(float(np.dot(n, (a + b + c) / 3 - centre)), 0)
+
+    def test_attach_grids(self):
+        v = self.volumes
+        m = {"density": 2.0, "grid": {"name": "density"}, "temperature_grid": {"name": "temperature"},
+             "emission_grid": {"name": "flame"}, "emission_strength": 3.0, "blackbody_intensity": 1.0}
+        xf = translation(1, 2, 3, scale=(2.0, 2.0, 2.0))
+        voxel = [[0.1, 0, 0], [0, 0.1, 0], [0, 0, 0.1]]
+        grids = {"density": ("FLOAT", voxel), "flame": ("FLOAT", voxel), "velocity": ("VECTOR_FLOAT", voxel)}
+        warnings = v.attach_grids(m, "/c/fire.vdb", grids, xf, "Volume 'Fire'")
+        # Cycles' voxel centres: half a voxel (0.05, x 2 by the object) along each axis.
+        self.assertEqual(m["grid"], {"name": "density", "file": "/c/fire.vdb",
+                                     "transform": translation(1.1, 2.1, 3.1, scale=(2.0, 2.0, 2.0))})
+        self.assertEqual(m["emission_grid"]["file"], "/c/fire.vdb")
+        self.assertNotIn("temperature_grid", m)  # Cycles: a missing attribute leaves the temperature as it is
+        self.assertEqual(len(warnings), 1)
+        self.assertIn("Volume 'Fire'", warnings[0])
+        self.assertIn("no grid 'temperature'", warnings[0])
+        self.assertIn("density, flame, velocity", warnings[0])
+        m = {"emission_grid": {"name": "velocity"}, "emission_strength": 3.0}
+        warnings = v.attach_grids(m, "/c/fire.vdb", grids, xf, "Volume 'Fire'")
+        self.assertEqual(m, {})  # an Attribute node without its grid reads 0: no emission
+        self.assertIn("VECTOR_FLOAT", warnings[0])

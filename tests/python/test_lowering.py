@@ -205,6 +205,112 @@ class TestClosures(unittest.TestCase):
         self.assertTrue(all(abs(x - 0.2) < 1e-6 for x in v["sigma_a"]))  # absorption: (1 - 0.8) x 1
 
 
+class TestVolumeGrids(unittest.TestCase):
+    """Principled Volume blackbody and attributes: grids of Volume objects (references by
+    name that the exporter completes), uniform values in mesh volumes."""
+
+    def fire(self, t, **inputs):
+        v = t.new("ShaderNodeVolumePrincipled", "Fire")
+        for k, val in inputs.items():
+            v.inp(k.replace("_", " ")).default_value = list(val) + [1.0] if isinstance(val, tuple) else val
+        return v
+
+    def convert_volume_object(self, volume):
+        t = Tree("Fire")
+        t.link(volume(t), t.output().inp("Volume"))
+        return sm.convert_material(Material("Fire", t), image_average=image_average, image_file=image_file,
+                                   volume_grids=True)
+
+    def test_blackbody_from_temperature_grid(self):
+        p, w = self.convert_volume_object(lambda t: self.fire(
+            t, Blackbody_Intensity=0.8, Blackbody_Tint=(1.0, 0.5, 0.25), Temperature=1500.0).out())
+        self.assertIsNone(w)
+        v = p["volume"]
+        self.assertEqual(v["grid"], {"name": "density"})
+        self.assertEqual(v["temperature_grid"], {"name": "temperature"})
+        self.assertAlmostEqual(v["blackbody_intensity"], 0.8)
+        self.assertEqual(v["blackbody_tint"], [1.0, 0.5, 0.25])
+        self.assertAlmostEqual(v["temperature"], 1500.0)
+
+    def test_attribute_names_and_no_blackbody(self):
+        def vol(t):
+            f = self.fire(t)
+            f.inp("Density Attribute").default_value = "smoke"
+            f.inp("Temperature Attribute").default_value = "heat"
+            return f.out()
+        p, w = self.convert_volume_object(vol)
+        self.assertIsNone(w)
+        v = p["volume"]
+        self.assertEqual(v["grid"], {"name": "smoke"})
+        for k in ("temperature_grid", "blackbody_intensity", "temperature", "emission_grid"):
+            self.assertNotIn(k, v)  # blackbody intensity 0: nothing about temperature
+
+    def test_attribute_times_constant_into_emission_strength(self):
+        def vol(t):
+            f = self.fire(t, Emission_Color=(1.0, 0.4, 0.1))
+            a = t.new("ShaderNodeAttribute", "Flame", attribute_name="flame", attribute_type="GEOMETRY")
+            m = t.new("ShaderNodeMath", "Times", operation="MULTIPLY")
+            m.inp("Value_001").default_value = 5.0
+            t.link(a.out("Fac"), m.inp("Value"))
+            t.link(m.out(), f.inp("Emission Strength"))
+            return f.out()
+        p, w = self.convert_volume_object(vol)
+        self.assertIsNone(w)
+        v = p["volume"]
+        self.assertEqual(v["emission_grid"], {"name": "flame"})
+        self.assertAlmostEqual(v["emission_strength"], 5.0)
+        self.assertEqual(v["emission_color"], [1.0, 0.4, 0.1])
+
+    def test_attribute_colour_output_into_density(self):
+        def vol(t):
+            f = self.fire(t)
+            f.inp("Density Attribute").default_value = ""
+            a = t.new("ShaderNodeAttribute", "D", attribute_name="smoke", attribute_type="GEOMETRY")
+            t.link(a.out("Color"), f.inp("Density"))  # a float grid's colour is (v, v, v): luminance v
+            return f.out()
+        p, w = self.convert_volume_object(vol)
+        self.assertIsNone(w)
+        self.assertEqual(p["volume"]["grid"], {"name": "smoke"})
+        self.assertAlmostEqual(p["volume"]["density"], 1.0)
+
+    def test_unsupported_grid_uses_are_named(self):
+        def vol(t):
+            f = self.fire(t)
+            f.inp("Color Attribute").default_value = "color"
+            a = t.new("ShaderNodeAttribute", "D", attribute_name="density", attribute_type="GEOMETRY")
+            t.link(a.out("Fac"), f.inp("Density"))  # Cycles: density x density
+            return f.out()
+        p, w = self.convert_volume_object(vol)
+        self.assertIn("Color Attribute 'color' ignored", w)
+        self.assertIn("only 'density' used", w)
+        self.assertEqual(p["volume"]["grid"], {"name": "density"})
+
+    def test_mixed_volumes_keep_their_grids(self):
+        def vol(t):
+            mix = t.new("ShaderNodeMixShader", "Mix")
+            mix.inp("Fac").default_value = 0.25
+            t.link(self.fire(t, Blackbody_Intensity=1.0).out(), mix.inp("Shader"))
+            t.link(self.fire(t, Density=2.0).out(), mix.inp("Shader_001"))
+            return mix.out()
+        p, w = self.convert_volume_object(vol)
+        self.assertIsNone(w)
+        v = p["volume"]
+        self.assertIn("sigma_s", v)
+        self.assertEqual(v["grid"], {"name": "density"})
+        self.assertEqual(v["temperature_grid"], {"name": "temperature"})
+        self.assertEqual(v["blackbody_tint"], [0.75, 0.75, 0.75])  # the mix weight of the blackbody part
+
+    def test_mesh_volume_blackbody_is_uniform(self):
+        p, w = keep("volume_blackbody_mesh", convert(None, volume=lambda t: self.fire(
+            t, Density=0.5, Blackbody_Intensity=1.0, Temperature=1200.0).out()))
+        self.assertIsNone(w)
+        v = p["volume"]
+        self.assertAlmostEqual(v["blackbody_intensity"], 1.0)
+        self.assertAlmostEqual(v["temperature"], 1200.0)
+        for k in ("grid", "temperature_grid", "emission_grid"):
+            self.assertNotIn(k, v)  # a mesh has no grids: Cycles ignores the attribute names
+
+
 class TestTextures(unittest.TestCase):
     def test_image_through_mapping_and_uv(self):
         img = Image("wood.png")
