@@ -12,9 +12,8 @@
 // et al. 2021 propose, so a texture seen through a rough reflection is looked up at
 // the blurrier MIP level it is seen at. The added width stays below the lobe's own
 // blur, so prefiltering never blurs much more than the reflection itself. The path
-// tracer widens its cones so; BDPT's camera subpaths carry theirs on unwidened (narrower
-// footprints there: more noise, never blur). Light paths carry no cone (width 0:
-// unfiltered lookups).
+// tracer and BDPT's camera subpaths widen their cones so. Light paths carry no cone
+// (width 0: unfiltered lookups).
 #pragma once
 
 namespace rdv {

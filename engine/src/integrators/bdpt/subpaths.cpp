@@ -100,6 +100,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
           prev.pdf_rev = v.to_prev_density(pdf_fwd);
           if (mode == TransportMode::Radiance && n >= 2) set_mis_sum(path, n - 1, path[n - 2].delta);
           ray = Ray{v.p, wi, kInf};
+          if (mode == TransportMode::Radiance) cone = cone.after(ms.t).scattered(kRoughConeSpread);
           if (!russian_roulette()) return n;
           continue;
         }
@@ -179,6 +180,9 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       if (dot(bs.wi, hit.ng) * dot(ray.d, hit.ng) > 0) media.cross(scene_, hit, bs.wi);  // refracted through
     }
     ray = Ray{spawn_origin(hit.p, hit.ng, bs.wi), bs.wi, kInf};
+    // Camera paths: wider after a rough bounce, as in the path tracer. Light paths
+    // carry no cone (unfiltered lookups).
+    if (mode == TransportMode::Radiance) cone = cone.scattered(bs.cone_spread);
 
     // Russian roulette on the throughput relative to the subpath's start. The MIS
     // densities leave it out, as is usual: the weights still sum to one.
