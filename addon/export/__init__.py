@@ -172,9 +172,11 @@ class SceneExporter:
                       % ob.name)
         if getattr(ob, "is_holdout", False):
             self.warn("Object '%s': holdout not supported yet, object rendered normally" % ob.name)
-        if any(m.type == "FLUID" and getattr(m, "fluid_type", "") == "DOMAIN" for m in getattr(ob, "modifiers", ())):
-            self.warn("Object '%s': fluid domain caches are not read yet; its volume material fills the domain "
-                      "uniformly" % ob.name)
+        domain = next((m for m in getattr(ob, "modifiers", ()) if m.type == "FLUID"
+                       and getattr(m, "fluid_type", "") == "DOMAIN" and m.show_render), None)
+        if domain is not None and domain.domain_settings.domain_type == "GAS":
+            self._fluid_domain(ob, m16, domain.domain_settings)
+            return
         mats = self._object_materials(ob)
         data = ob.data
         key = (data.as_pointer() if data is not None else ob.as_pointer(),
@@ -222,12 +224,48 @@ class SceneExporter:
             self.warn("Volume '%s': its material has no Volume shader, nothing to render" % ob.name)
             return
         medium = dict(medium)
-        for w in volumes.attach_grids(medium, path, grids, m16, "Volume '%s'" % ob.name):
+        for w in volumes.attach_grids(medium, volumes.vdb_lookup(path, grids, m16), "Volume '%s'" % ob.name):
             self.warn(w)
         name = self._unique(ob.name, self._mesh_names)
         material = self.sink.add_material(name, {"type": "volume", "volume": medium})
         positions, indices = volumes.box_arrays(lo, hi)
         mesh_id = self.sink.add_mesh(name, positions, indices, default_material=material)
+        self.sink.add_instance(mesh_id, m16)
+        self.stats.meshes += 1
+        self.stats.instances += 1
+
+    # ---- fluid domains ------------------------------------------------------------------
+    def _fluid_domain(self, ob, m16, ds):
+        """A smoke / fire domain: its volume material over the simulation's grids for this
+        frame (what Cycles reads, any cache format), inside the domain's box."""
+        if not all(int(x) > 0 for x in ds.domain_resolution):
+            self.warn("Fluid domain '%s': no simulation data at frame %d (bake the cache, or play the frames "
+                      "with a Replay cache), skipped" % (ob.name, self.scene.frame_current))
+            return
+        # The grids fill the domain mesh's texture space (the adaptive box when adaptive).
+        me = ob.data
+        loc, size = list(me.texspace_location), list(me.texspace_size)
+        lo = [c - abs(h) for c, h in zip(loc, size)]
+        hi = [c + abs(h) for c, h in zip(loc, size)]
+        if not all(h > l for l, h in zip(lo, hi)):
+            self.warn("Fluid domain '%s': empty bounds, skipped" % ob.name)
+            return
+        mats = self._object_materials(ob)
+        medium, warning = volumes.volume_material_params(mats[0] if mats else None, self.image_average,
+                                                         self.image_file)
+        if warning:
+            self.warn(warning)
+        if medium is None:
+            self.warn("Fluid domain '%s': its material has no Volume shader, nothing to render" % ob.name)
+            return
+        medium = dict(medium)
+        lookup = volumes.fluid_lookup(ds, [lo, hi], m16, "the simulation")
+        for w in volumes.attach_grids(medium, lookup, "Fluid domain '%s'" % ob.name):
+            self.warn(w)
+        name = self._unique(ob.name, self._mesh_names)
+        mat_id = self.sink.add_material(name, {"type": "volume", "volume": medium})
+        positions, indices = volumes.box_arrays(lo, hi)
+        mesh_id = self.sink.add_mesh(name, positions, indices, default_material=mat_id)
         self.sink.add_instance(mesh_id, m16)
         self.stats.meshes += 1
         self.stats.instances += 1

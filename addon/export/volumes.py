@@ -131,28 +131,87 @@ def shifted(transform, offset):
     return t
 
 
-def attach_grids(medium, path, grids, transform, what):
-    """Completes the medium's grid references with the .vdb file and the object's matrix.
+def attach_grids(medium, lookup, what):
+    """Replaces the medium's grid references {"name": ...} by engine grid objects.
 
-    grids: {grid name: (Blender data_type, index-to-object 3x3 rows)} of the file.  A grid
-    the file lacks (or that is not a float grid) is dropped as Cycles does
-    (MISSING_GRID_EFFECT); returns the warnings, each naming `what` and the grid."""
+    lookup(name) -> (grid object, None) or (None, problem).  A grid that cannot be had is
+    dropped as Cycles drops a missing attribute (MISSING_GRID_EFFECT); returns the
+    warnings, each naming `what` and the grid."""
     warnings = []
     for key in ("grid", "temperature_grid", "emission_grid"):
         ref = medium.get(key)
         if ref is None:
             continue
-        name = ref["name"]
-        dtype, index_to_object = grids.get(name, (None, None))
-        if dtype == "FLOAT":
-            medium[key] = dict(ref, file=path, transform=shifted(transform, voxel_centre_shift(index_to_object)))
+        grid, problem = lookup(ref["name"])
+        if grid is not None:
+            medium[key] = grid
             continue
         del medium[key]
         if key == "emission_grid":
             medium.pop("emission_strength", None)
             medium.pop("emission", None)
+        warnings.append("%s: %s; %s" % (what, problem, MISSING_GRID_EFFECT[key]))
+    return warnings
+
+
+def vdb_lookup(path, grids, transform):
+    """lookup for attach_grids over a .vdb file.  grids: {grid name: (Blender data_type,
+    index-to-object 3x3 rows)}; grids are placed by `transform` shifted to Cycles' voxel
+    centres."""
+    def lookup(name):
+        dtype, index_to_object = grids.get(name, (None, None))
+        if dtype == "FLOAT":
+            return {"file": path, "name": name,
+                    "transform": shifted(transform, voxel_centre_shift(index_to_object))}, None
         problem = ("no grid '%s'" % name if dtype is None
                    else "grid '%s' is a %s grid (only float grids are read)" % (name, dtype))
-        have = ", ".join(sorted(grids)) or "none"
-        warnings.append("%s: %s in '%s' (it has: %s); %s" % (what, problem, path, have, MISSING_GRID_EFFECT[key]))
-    return warnings
+        return None, "%s in '%s' (it has: %s)" % (problem, path, ", ".join(sorted(grids)) or "none")
+    return lookup
+
+
+# ---- fluid domains (smoke and fire simulations) -----------------------------------------
+# The attribute names Cycles knows on a gas domain, and the domain's grid that holds each
+# (Blender's RNA arrays, what Cycles itself reads: "temperature" is derived from the flame
+# as ignition + flame x (max - ignition) where the flame is above 0.01, in units of 1000 K;
+# "heat" is the simulation's heat / 2).
+FLUID_GRIDS = {"density": "density_grid", "flame": "flame_grid", "heat": "heat_grid",
+               "temperature": "temperature_grid"}
+
+
+def fluid_resolution(ds, num_values):
+    """The (nx, ny, nz) of a domain's grid arrays: the domain resolution, or the noise
+    (high-resolution) one when the arrays hold that."""
+    res = [int(x) for x in ds.domain_resolution]
+    if res[0] * res[1] * res[2] == num_values:
+        return res
+    scale = int(getattr(ds, "noise_scale", 1) or 1)
+    hi = [x * scale for x in res]
+    if getattr(ds, "use_noise", False) and hi[0] * hi[1] * hi[2] == num_values:
+        return hi
+    return None
+
+
+def fluid_lookup(ds, bounds, transform, what_file):
+    """lookup for attach_grids over a gas domain's grids (dense: the voxels fill the
+    domain's texture space `bounds`, as Cycles maps them)."""
+    cache = {}
+
+    def lookup(name):
+        prop = FLUID_GRIDS.get(name)
+        if prop is None:
+            return None, "no grid '%s' in %s (it has: %s)" % (name, what_file, ", ".join(sorted(FLUID_GRIDS)))
+        if prop not in cache:
+            values = np.asarray(getattr(ds, prop)[:], dtype=np.float32)
+            res = fluid_resolution(ds, values.size)
+            if res is None or values.size == 0:
+                cache[prop] = None
+            else:
+                # Cycles clamps attributes at 0 (density, temperature); NaN counts as empty.
+                values = np.nan_to_num(np.maximum(values, 0.0), nan=0.0, posinf=0.0)
+                cache[prop] = {"resolution": res, "values": values.tolist(), "bounds": bounds,
+                               "transform": transform}
+        grid = cache[prop]
+        if grid is None:
+            return None, "grid '%s' of %s is empty at this frame" % (name, what_file)
+        return grid, None
+    return lookup

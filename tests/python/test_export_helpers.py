@@ -290,7 +290,7 @@ class VolumeHelpers(unittest.TestCase):
         xf = translation(1, 2, 3, scale=(2.0, 2.0, 2.0))
         voxel = [[0.1, 0, 0], [0, 0.1, 0], [0, 0, 0.1]]
         grids = {"density": ("FLOAT", voxel), "flame": ("FLOAT", voxel), "velocity": ("VECTOR_FLOAT", voxel)}
-        warnings = v.attach_grids(m, "/c/fire.vdb", grids, xf, "Volume 'Fire'")
+        warnings = v.attach_grids(m, v.vdb_lookup("/c/fire.vdb", grids, xf), "Volume 'Fire'")
         # Cycles' voxel centres: half a voxel (0.05, x 2 by the object) along each axis.
         self.assertEqual(m["grid"], {"name": "density", "file": "/c/fire.vdb",
                                      "transform": translation(1.1, 2.1, 3.1, scale=(2.0, 2.0, 2.0))})
@@ -301,6 +301,30 @@ class VolumeHelpers(unittest.TestCase):
         self.assertIn("no grid 'temperature'", warnings[0])
         self.assertIn("density, flame, velocity", warnings[0])
         m = {"emission_grid": {"name": "velocity"}, "emission_strength": 3.0}
-        warnings = v.attach_grids(m, "/c/fire.vdb", grids, xf, "Volume 'Fire'")
+        warnings = v.attach_grids(m, v.vdb_lookup("/c/fire.vdb", grids, xf), "Volume 'Fire'")
         self.assertEqual(m, {})  # an Attribute node without its grid reads 0: no emission
         self.assertIn("VECTOR_FLOAT", warnings[0])
+
+    def test_fluid_grids(self):
+        v = self.volumes
+        res = (2, 3, 4)
+        n = 24
+        ds = ns(domain_resolution=res, use_noise=False, noise_scale=2,
+                density_grid=[float(i) for i in range(n)], flame_grid=[0.0] * n,
+                heat_grid=[-1.0] + [float("nan")] * (n - 1), temperature_grid=[])
+        m = {"density": 5.0, "grid": {"name": "density"}, "temperature_grid": {"name": "temperature"},
+             "emission_grid": {"name": "heat"}, "emission_strength": 1.0, "blackbody_intensity": 1.0}
+        xf = translation(0, 0, 1)
+        warnings = v.attach_grids(m, v.fluid_lookup(ds, [[-1, -1, -1], [1, 1, 1]], xf, "the simulation"),
+                                  "Fluid domain 'Smoke'")
+        self.assertEqual(m["grid"], {"resolution": [2, 3, 4], "values": [float(i) for i in range(n)],
+                                     "bounds": [[-1, -1, -1], [1, 1, 1]], "transform": xf})
+        self.assertEqual(m["emission_grid"]["values"], [0.0] * n)  # negative and NaN: empty
+        self.assertNotIn("temperature_grid", m)  # no flame data at this frame
+        self.assertEqual(len(warnings), 1)
+        self.assertIn("Fluid domain 'Smoke'", warnings[0])
+        self.assertIn("'temperature'", warnings[0])
+        ds.use_noise = True
+        ds.density_grid = [0.5] * (n * 8)
+        self.assertEqual(v.fluid_resolution(ds, n * 8), [4, 6, 8])
+        self.assertIsNone(v.fluid_resolution(ds, 7))
