@@ -215,16 +215,21 @@ class SceneExporter:
         pad = [max(0.01 * (h - l), 2.0 * voxel) for l, h in zip(lo, hi)]
         lo = [l - p for l, p in zip(lo, pad)]
         hi = [h + p for h, p in zip(hi, pad)]
+        self._grid_medium(ob, "Volume '%s'" % ob.name, lo, hi, m16, volumes.vdb_lookup(path, grids, m16))
+
+    def _grid_medium(self, ob, what, lo, hi, m16, lookup):
+        """The object's volume material with its grids (attach_grids with lookup) as a
+        medium in the box [lo, hi] (object space) placed by m16."""
         mats = self._object_materials(ob)
         medium, warning = volumes.volume_material_params(mats[0] if mats else None, self.image_average,
                                                          self.image_file)
         if warning:
             self.warn(warning)
         if medium is None:
-            self.warn("Volume '%s': its material has no Volume shader, nothing to render" % ob.name)
+            self.warn("%s: its material has no Volume shader, nothing to render" % what)
             return
         medium = dict(medium)
-        for w in volumes.attach_grids(medium, volumes.vdb_lookup(path, grids, m16), "Volume '%s'" % ob.name):
+        for w in volumes.attach_grids(medium, lookup, what):
             self.warn(w)
         name = self._unique(ob.name, self._mesh_names)
         material = self.sink.add_material(name, {"type": "volume", "volume": medium})
@@ -250,25 +255,8 @@ class SceneExporter:
         if not all(h > l for l, h in zip(lo, hi)):
             self.warn("Fluid domain '%s': empty bounds, skipped" % ob.name)
             return
-        mats = self._object_materials(ob)
-        medium, warning = volumes.volume_material_params(mats[0] if mats else None, self.image_average,
-                                                         self.image_file)
-        if warning:
-            self.warn(warning)
-        if medium is None:
-            self.warn("Fluid domain '%s': its material has no Volume shader, nothing to render" % ob.name)
-            return
-        medium = dict(medium)
-        lookup = volumes.fluid_lookup(ds, [lo, hi], m16, "the simulation")
-        for w in volumes.attach_grids(medium, lookup, "Fluid domain '%s'" % ob.name):
-            self.warn(w)
-        name = self._unique(ob.name, self._mesh_names)
-        mat_id = self.sink.add_material(name, {"type": "volume", "volume": medium})
-        positions, indices = volumes.box_arrays(lo, hi)
-        mesh_id = self.sink.add_mesh(name, positions, indices, default_material=mat_id)
-        self.sink.add_instance(mesh_id, m16)
-        self.stats.meshes += 1
-        self.stats.instances += 1
+        self._grid_medium(ob, "Fluid domain '%s'" % ob.name, lo, hi, m16,
+                          volumes.fluid_lookup(ds, [lo, hi], m16, "the simulation"))
 
     def _add_mesh(self, ob, mats):
         need_uvs, attr_names = self._uv_needs(mats)

@@ -222,24 +222,30 @@ def box_mesh(name, size):
     return me
 
 
-def volume_blackbody():
-    """A cube of glowing smoke (Principled Volume blackbody at 1500 K, uniform: a mesh has
-    no temperature grid) over a floor that it lights, a black world, no lamps."""
-    reset()
-    plane()
-    camera_down(4.0, lens=35.0)
-    m = bpy.data.materials.new("Glowing smoke")
+def principled_volume_material(name, **inputs):
+    """(material, its Principled Volume node) with only a volume shader; inputs by socket
+    name with '_' for ' '."""
+    m = bpy.data.materials.new(name)
     m.use_nodes = True
     nt = m.node_tree
     for n in list(nt.nodes):
         if n.bl_idname != "ShaderNodeOutputMaterial":
             nt.nodes.remove(n)
     pv = nt.nodes.new("ShaderNodeVolumePrincipled")
-    pv.inputs["Density"].default_value = 0.5
-    pv.inputs["Blackbody Intensity"].default_value = 1.0
-    pv.inputs["Temperature"].default_value = 1500.0
-    pv.inputs["Blackbody Tint"].default_value = (1.0, 0.9, 0.8, 1.0)
+    for k, v in inputs.items():
+        pv.inputs[k.replace("_", " ")].default_value = v
     nt.links.new(pv.outputs["Volume"], nt.nodes["Material Output"].inputs["Volume"])
+    return m, pv
+
+
+def volume_blackbody():
+    """A cube of glowing smoke (Principled Volume blackbody at 1500 K, uniform: a mesh has
+    no temperature grid) over a floor that it lights, a black world, no lamps."""
+    reset()
+    plane()
+    camera_down(4.0, lens=35.0)
+    m, _ = principled_volume_material("Glowing smoke", Density=0.5, Blackbody_Intensity=1.0, Temperature=1500.0,
+                                      Blackbody_Tint=(1.0, 0.9, 0.8, 1.0))
     cube = link(bpy.data.objects.new("Smoke", box_mesh("SmokeBox", 1.0)))
     cube.location = (0.3, 0.0, 1.0)
     cube.data.materials.append(m)

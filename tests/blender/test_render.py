@@ -286,40 +286,49 @@ def test_border(args):
     print("BORDER TEST PASSED")
 
 
-def build_volume_scene(vdb_path):
-    """A Volume object reading vdb_path (a Principled Volume material) before a white world."""
+def empty_scene(camera_location, world_color):
+    """The current scene without objects but its camera, which looks along +y from
+    camera_location, a uniform world, 48x48 pixels."""
     scene = bpy.context.scene
     for ob in list(scene.objects):
         if ob.type != "CAMERA":
             bpy.data.objects.remove(ob)
     cam = scene.camera
-    cam.location = (0.0, -4.0, 0.0)
+    cam.location = camera_location
     cam.rotation_euler = (math.radians(90), 0.0, 0.0)
     scene.world.use_nodes = True
     bg = scene.world.node_tree.nodes["Background"]
-    bg.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    bg.inputs["Color"].default_value = tuple(world_color) + (1.0,)
     bg.inputs["Strength"].default_value = 1.0
+    scene.render.resolution_x = scene.render.resolution_y = 48
+    scene.render.resolution_percentage = 100
+    return scene
 
+
+def build_volume_scene(vdb_path):
+    """A Volume object reading vdb_path (a Principled Volume material) before a white world."""
+    scene = empty_scene((0.0, -4.0, 0.0), (1.0, 1.0, 1.0))
     vol = bpy.data.volumes.new("CloudData")
     vol.filepath = vdb_path
     ob = bpy.data.objects.new("Cloud", vol)
     ob.location = (0.0, 0.0, 0.0)
     ob.scale = (1.5, 1.5, 1.5)
     scene.collection.objects.link(ob)
-    mat = bpy.data.materials.new("Smoke")
-    mat.use_nodes = True
-    nodes = mat.node_tree.nodes
-    for n in list(nodes):
-        if n.bl_idname != "ShaderNodeOutputMaterial":
-            nodes.remove(n)
-    pv = nodes.new("ShaderNodeVolumePrincipled")
-    pv.inputs["Density"].default_value = 6.0
-    pv.inputs["Color"].default_value = (0.6, 0.6, 0.6, 1.0)
-    mat.node_tree.links.new(pv.outputs["Volume"], nodes["Material Output"].inputs["Volume"])
+    mat, _ = build_scenes.principled_volume_material("Smoke", Density=6.0, Color=(0.6, 0.6, 0.6, 1.0))
     vol.materials.append(mat)
-    scene.render.resolution_x = scene.render.resolution_y = 48
-    scene.render.resolution_percentage = 100
     return scene, ob
+
+
+def render_checked(scene, name, samples):
+    """Renders with Rendezvous: (finite RGB pixels, the render's warnings, seconds)."""
+    result, dt = render(scene, samples=samples)
+    check(result == {"FINISHED"}, "%s: render returned %s" % (name, result))
+    px = render_pixels(scene, name)[:, :, :3]
+    msgs = final.last_render["messages"]
+    for m in msgs:
+        print("WARNING SEEN:", m)
+    check(np.isfinite(px).all(), "%s: non-finite pixels" % name)
+    return px, msgs, dt
 
 
 def centre_and_corners(px):
@@ -335,13 +344,7 @@ def test_volume(args):
     scene, ob = build_volume_scene(vdb)
 
     def render_volume(name):
-        result, dt = render(scene, samples=32)
-        check(result == {"FINISHED"}, "%s: render returned %s" % (name, result))
-        px = render_pixels(scene, name)[:, :, :3]
-        msgs = final.last_render["messages"]
-        for m in msgs:
-            print("WARNING SEEN:", m)
-        check(np.isfinite(px).all(), "%s: non-finite pixels" % name)
+        px, msgs, _ = render_checked(scene, name, 32)
         return px, msgs
 
     px, msgs = render_volume("volume_object")
@@ -413,13 +416,7 @@ def test_fire(args):
     scene, ob, pv = build_fire_scene(vdb)
 
     def render_fire(name, samples=32):
-        result, dt = render(scene, samples=samples)
-        check(result == {"FINISHED"}, "%s: render returned %s" % (name, result))
-        px = render_pixels(scene, name)[:, :, :3]
-        msgs = final.last_render["messages"]
-        for m in msgs:
-            print("WARNING SEEN:", m)
-        check(np.isfinite(px).all(), "%s: non-finite pixels" % name)
+        px, msgs, dt = render_checked(scene, name, samples)
         hot, cold, dark = hot_cold_dark(px)
         print("FIRE %-22s hot %.5f  cold %.5f  corners %.6f  (%.2f s)" % (name, hot, cold, dark, dt))
         return px, msgs, hot, cold, dark
@@ -473,15 +470,7 @@ def build_fluid_scene(frames):
     """A tiny fire simulation (gas domain 24 voxels across, Replay cache in OpenVDB) run
     for `frames` frames, with a Quick-Fire-like Principled Volume (density 5, blackbody 1),
     before a black world and no lamps; returns the scene and the domain object."""
-    scene = bpy.context.scene
-    for ob in list(scene.objects):
-        if ob.type != "CAMERA":
-            bpy.data.objects.remove(ob)
-    cam = scene.camera
-    cam.location = (0.0, -6.0, 1.0)
-    cam.rotation_euler = (math.radians(90), 0.0, 0.0)
-    scene.world.use_nodes = True
-    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+    scene = empty_scene((0.0, -6.0, 1.0), (0.0, 0.0, 0.0))
     bpy.ops.mesh.primitive_cube_add(size=2.0, location=(0.2, 0.0, 1.0))
     domain = bpy.context.active_object
     domain.name = "Smoke Domain"
@@ -502,22 +491,11 @@ def build_fluid_scene(frames):
     fm.flow_settings.flow_type = "BOTH"
     fm.flow_settings.flow_behavior = "INFLOW"
     flow.hide_render = True
-    mat = bpy.data.materials.new("Fire")
-    mat.use_nodes = True
-    nt = mat.node_tree
-    for n in list(nt.nodes):
-        if n.bl_idname != "ShaderNodeOutputMaterial":
-            nt.nodes.remove(n)
-    pv = nt.nodes.new("ShaderNodeVolumePrincipled")
-    pv.inputs["Density"].default_value = 5.0
-    pv.inputs["Blackbody Intensity"].default_value = 1.0
-    nt.links.new(pv.outputs["Volume"], nt.nodes["Material Output"].inputs["Volume"])
+    mat, _ = build_scenes.principled_volume_material("Fire", Density=5.0, Blackbody_Intensity=1.0)
     domain.data.materials.append(mat)
     scene.frame_start, scene.frame_end = 1, frames
     for f in range(1, frames + 1):  # the Replay cache simulates as the frames play
         scene.frame_set(f)
-    scene.render.resolution_x = scene.render.resolution_y = 48
-    scene.render.resolution_percentage = 100
     return scene, domain
 
 
@@ -529,14 +507,7 @@ def centroid(px):
 
 def test_fluid(args):
     scene, domain = build_fluid_scene(8)
-    t = time.time()
-    result, dt = render(scene, samples=64)
-    check(result == {"FINISHED"}, "render returned %s" % result)
-    px = render_pixels(scene, "fluid")[:, :, :3]
-    msgs = final.last_render["messages"]
-    for m in msgs:
-        print("WARNING SEEN:", m)
-    check(np.isfinite(px).all(), "non-finite pixels")
+    px, msgs, dt = render_checked(scene, "fluid", 64)
     check(not any("Domain" in m for m in msgs), "unexpected warnings about the domain: %s" % msgs)
     mean = float(px.mean())
     check(mean > 1e-3, "the fire does not glow (mean %.5f)" % mean)
