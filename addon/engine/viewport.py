@@ -33,7 +33,7 @@ import numpy as np
 
 from .. import binding, shaders_map
 from ..binding import EngineError, LibraryError
-from ..export import SceneExporter, ExportError, GEOMETRY_TYPES
+from ..export import SceneExporter, ExportError, GEOMETRY_TYPES, gas_domain
 from ..export.lights import light_params
 from ..export.settings import INTEGRATORS
 from ..utils import Messages, normalize_frame, is_finite_matrix, determinant3
@@ -186,6 +186,8 @@ class ViewportExporter(SceneExporter):
 
     def update_geometry(self, ob):
         """Re-exports the meshes object `ob` (evaluated) uses, in place. False: rebuild."""
+        if gas_domain(ob) is not None:
+            return False  # a simulation domain is a grid medium, not a mesh
         mesh_ids = {rec.mesh_id for rec in self.records.values() if rec.kind == "mesh" and rec.ob_name == ob.name_full}
         for mesh_id in mesh_ids:
             self.replace_mesh = mesh_id

@@ -62,6 +62,15 @@ def _tree_uses_uvs(tree, depth=0):
     return uses, names
 
 
+def gas_domain(ob):
+    """The domain settings of a smoke / fire simulation domain object, else None."""
+    for m in getattr(ob, "modifiers", ()):
+        if m.type == "FLUID" and getattr(m, "fluid_type", "") == "DOMAIN" and m.show_render:
+            ds = m.domain_settings
+            return ds if ds.domain_type == "GAS" else None
+    return None
+
+
 class SceneExporter:
     def __init__(self, depsgraph, sink, image_average=None, messages=None, is_viewport=False, image_file=None):
         self.depsgraph = depsgraph
@@ -172,10 +181,9 @@ class SceneExporter:
                       % ob.name)
         if getattr(ob, "is_holdout", False):
             self.warn("Object '%s': holdout not supported yet, object rendered normally" % ob.name)
-        domain = next((m for m in getattr(ob, "modifiers", ()) if m.type == "FLUID"
-                       and getattr(m, "fluid_type", "") == "DOMAIN" and m.show_render), None)
-        if domain is not None and domain.domain_settings.domain_type == "GAS":
-            self._fluid_domain(ob, m16, domain.domain_settings)
+        domain = gas_domain(ob)
+        if domain is not None:
+            self._fluid_domain(ob, m16, domain)
             return
         mats = self._object_materials(ob)
         data = ob.data
