@@ -155,6 +155,7 @@ bool Camera::sample_importance(Vec3 ref, Vec2 u_lens, ImportanceSample &out) con
   if (cos_lens <= 0) return false;
   out.pdf = d2 / (cos_lens * lens_area());
   out.We = importance(Ray{out.lens_point, -out.wi, kInf}, &out.raster);
+  out.pdf_dir = 1.0f / ((right - left) * (top - bottom) * cos_lens * cos_lens * cos_lens);  // as importance_pdf
   return out.We > 0;
 }
 }  // namespace rdv

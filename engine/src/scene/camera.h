@@ -43,6 +43,7 @@ struct Camera {
   struct ImportanceSample {
     Vec3 lens_point, wi;  // wi: from the reference point toward the lens
     float dist = 0, pdf = 0, We = 0;
+    float pdf_dir = 0;  // density of the camera sending a ray from lens_point to ref (solid angle)
     Vec2 raster;
   };
   // A point on the lens seen from ref, with its solid-angle pdf at ref.

@@ -73,9 +73,7 @@ class Bdpt final : public Integrator {
   void gather_volume_emission(const Medium &medium, const Ray &ray, float tmax, Vec2 u, Color beta, PathVertex *path,
                               int n, float pdf_dir, Color &emitted) const;
   // Densities (mis.cpp), area measure at the receiving vertex.
-  float pdf_camera(const PathVertex &camera, const PathVertex &v) const;
-  float pdf_light(const PathVertex &light_vertex, const PathVertex &v) const;
-  float pdf_light_origin(const PathVertex &light_vertex, const PathVertex &v) const;
+  void light_densities(const PathVertex &light_vertex, const PathVertex &v, float &origin, float &toward) const;
   float infinite_light_density(Vec3 dir) const;
   bool light_start_is_delta(const PathVertex &light_vertex) const;
   float mis_weight(const PathVertex *light_path, const PathVertex *camera_path, const PathVertex &sampled, int s,

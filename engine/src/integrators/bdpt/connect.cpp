@@ -72,8 +72,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
   if (s == 0) {
     L = Le(pt, camera_path[t - 2]) * pt.beta;
     if (!is_black(L) && t > 2) {
-      densities.pt_rev = pdf_light_origin(pt, camera_path[t - 2]);
-      densities.pt_minus_rev = pdf_light(pt, camera_path[t - 2]);
+      light_densities(pt, camera_path[t - 2], densities.pt_rev, densities.pt_minus_rev);
     }
   } else if (t == 1) {
     // Light tracing: connect the light subpath to a point on the lens.
@@ -95,7 +94,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     if (!is_black(L)) L *= transmittance<kMedia>(qs, sampled, stats);
     *raster = is.raster;
     densities.pt_rev = qs.convert_density(sq.pdf_fwd, sampled);
-    densities.qs_rev = pdf_camera(sampled, qs);
+    densities.qs_rev = sampled.convert_density(is.pdf_dir, qs);
     densities.qs_minus_rev = qs.to_prev_density(sq.pdf_rev);
   } else if (s == 1) {
     // Next-event estimation: a fresh point on a light chosen by power.
@@ -121,10 +120,9 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
       if (light.type == LightType::Area || light.type == LightType::Triangle) sampled.ng = sampled.ns = light.axis;
       if (light.type == LightType::Volume) sampled.gather_rate = 1.0f / light.volume->medium().emission_step;
     }
-    sampled.pdf_fwd = pdf_light_origin(sampled, pt);
+    light_densities(sampled, pt, sampled.pdf_fwd, densities.pt_rev);
     Scattering sp = scatter(pt, direction_to(pt, sampled), TransportMode::Radiance);
     L = pt.beta * sp.f * sampled.beta;
-    densities.pt_rev = pdf_light(sampled, pt);
     densities.pt_minus_rev = pt.to_prev_density(sp.pdf_rev);
     densities.qs_rev = pt.convert_density(sp.pdf_fwd, sampled);
     if (pt.on_surface()) L *= absdot(ls.wi, pt.ns);

@@ -13,41 +13,27 @@ float Bdpt::infinite_light_density(Vec3 dir) const {
   return pdf;
 }
 
-// Density with which the camera sends a ray from its vertex toward v (area measure at v).
-float Bdpt::pdf_camera(const PathVertex &camera, const PathVertex &v) const {
-  float pdf_pos, pdf_dir;
-  scene_.camera().importance_pdf(Ray{camera.p, normalize(v.p - camera.p), kInf}, pdf_pos, pdf_dir);
-  return camera.convert_density(pdf_dir, v);
-}
-
-// Density with which a light vertex emits toward v (area measure at v).
-float Bdpt::pdf_light(const PathVertex &lv, const PathVertex &v) const {
+// The densities of light vertex lv as the start of a light subpath that goes to v:
+// of choosing it (light choice x position; for infinite lights, of the direction) and
+// of emitting toward v (area measure at v).
+void Bdpt::light_densities(const PathVertex &lv, const PathVertex &v, float &origin, float &toward) const {
   float radius = scene_.bounding_radius();
-  Vec3 w;
-  float p;
   if (lv.infinite) {
-    w = -lv.dir;
-    p = 1.0f / (kPi * radius * radius);
-  } else {
-    w = v.p - lv.p;
-    float d2 = length_squared(w);
-    if (!(d2 > 0)) return 0;
-    w = w / std::sqrt(d2);
-    float pdf_pos, pdf_dir;
-    emission_pdf(scene_.lights()[lv.light], lv.p, lv.ng, w, radius, pdf_pos, pdf_dir);
-    p = pdf_dir / d2;
+    origin = infinite_light_density(lv.dir);
+    toward = 1.0f / (kPi * radius * radius);
+    if (v.on_surface()) toward *= absdot(v.ng, -lv.dir);
+    return;
   }
-  if (v.on_surface()) p *= absdot(v.ng, w);
-  return p;
-}
-
-// Density of choosing lv as the start of a light subpath.
-float Bdpt::pdf_light_origin(const PathVertex &lv, const PathVertex &v) const {
-  if (lv.infinite) return infinite_light_density(lv.dir);
-  Vec3 w = normalize(v.p - lv.p);
+  Vec3 w = v.p - lv.p;
+  float d2 = length_squared(w);
+  w = w / std::sqrt(d2);
   float pdf_pos, pdf_dir;
-  emission_pdf(scene_.lights()[lv.light], lv.p, lv.ng, w, scene_.bounding_radius(), pdf_pos, pdf_dir);
-  return pdf_pos * scene_.light_distribution().pmf(lv.light);
+  emission_pdf(scene_.lights()[lv.light], lv.p, lv.ng, w, radius, pdf_pos, pdf_dir);
+  origin = pdf_pos * scene_.light_distribution().pmf(lv.light);
+  toward = 0;
+  if (!(d2 > 0)) return;
+  toward = pdf_dir / d2;
+  if (v.on_surface()) toward *= absdot(v.ng, w);
 }
 
 namespace {

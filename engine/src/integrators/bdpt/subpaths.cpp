@@ -210,8 +210,7 @@ void Bdpt::gather_volume_emission(const Medium &medium, const Ray &ray, float tm
       point.gather_rate = rate;
       point.pdf_fwd = prev.convert_density(pdf_dir, point);
       ConnectionDensities d;
-      d.pt_rev = pdf_light_origin(point, prev);
-      d.pt_minus_rev = pdf_light(point, prev);
+      light_densities(point, prev, d.pt_rev, d.pt_minus_rev);
       w = mis_weight(path, path, point, 0, n + 2, d);  // s = 0 reads no light vertex
     }
     emitted += beta * c * w;
