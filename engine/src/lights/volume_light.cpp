@@ -66,7 +66,7 @@ VolumeEmitter::VolumeEmitter(const Medium &medium, int medium_index, const std::
   // (b) The part that varies with a grid, on the lattice of that grid.
   double grid_power = 0;
   if (medium.has_emission_grids()) {
-    lattice_ = medium.emission_grid && !is_black(medium.emission) ? medium.emission_grid : medium.temperature_grid;
+    lattice_ = medium.emission_shape();
     const DensityGrid &g = *lattice_;
     const int nx = g.nx(), ny = g.ny(), nz = g.nz();
     const Color base = medium.uniform_emission();

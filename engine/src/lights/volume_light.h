@@ -35,6 +35,8 @@ class VolumeEmitter {
   // The world box around everything this light can emit from.
   Vec3 bounds_lo() const { return lo_; }
   Vec3 bounds_hi() const { return hi_; }
+  // The grid whose voxels the points are drawn by, or null (uniform emission only).
+  const DensityGrid *lattice() const { return lattice_.get(); }
   // A point by emitted power (u seeds the draws); pdf in volume measure.
   Vec3 sample(Vec2 u, float *pdf) const;
   float pdf(Vec3 p) const;

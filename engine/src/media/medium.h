@@ -81,9 +81,13 @@ struct Medium {
     if (blackbody.active() && !temperature_grid) e += blackbody.radiance(temperature);
     return e;
   }
-  bool has_emission_grids() const {
-    return (emission_grid && !is_black(emission)) || (blackbody.active() && temperature_grid);
+  // The grid whose voxels shape the emission (the emission grid, else the temperature
+  // grid), or null: volume lights sample by its voxels and gather at its voxel size.
+  std::shared_ptr<const DensityGrid> emission_shape() const {
+    if (emission_grid && !is_black(emission)) return emission_grid;
+    return blackbody.active() ? temperature_grid : nullptr;
   }
+  bool has_emission_grids() const { return emission_shape() != nullptr; }
   bool is_heterogeneous() const { return type != MediumType::Homogeneous; }
 
   // Closed-form transmittance of a homogeneous medium over a distance (may be infinite).

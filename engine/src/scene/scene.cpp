@@ -438,10 +438,7 @@ void Scene::build_volume_lights() {
     // that shapes it, else 1/64 of the light's extent.
     float extent = length(medium.light_hi - medium.light_lo);
     float step = extent / 64;
-    if (const DensityGrid *g = medium.has_emission_grids()
-                                   ? (medium.emission_grid && !is_black(medium.emission) ? medium.emission_grid.get()
-                                                                                          : medium.temperature_grid.get())
-                                   : nullptr) {
+    if (const DensityGrid *g = emitter->lattice()) {
       const Transform &m = g->grid_to_world();
       step = std::min({length(m.column(0)), length(m.column(1)), length(m.column(2))});
     }
