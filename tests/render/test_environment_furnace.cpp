@@ -19,9 +19,7 @@ using nlohmann::json;
 namespace {
 
 std::string write_hdri(const std::string &name, int w, int h, const std::vector<float> &rgb) {
-  std::string dir = (std::filesystem::temp_directory_path() / "rdv_env_tests").string();
-  std::filesystem::create_directories(dir);
-  std::string path = dir + "/" + name;
+  std::string path = temp_path(name);
   auto out = OIIO::ImageOutput::create(path);
   OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
   EXPECT_TRUE(out && out->open(path, spec));

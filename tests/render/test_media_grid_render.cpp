@@ -55,10 +55,6 @@ double profile_depth() {
   return s * 0.1;
 }
 
-std::string temp_path(const std::string &name) {
-  return (std::filesystem::temp_directory_path() / ("rdv_test_" + std::to_string(::getpid()) + "_" + name)).string();
-}
-
 // Writes a VDB with a "density" grid (voxel size 0.1) holding kProfile along y over
 // x, z in [-1.5, 1.5), plus a far block of active zero tiles (empty tiles) and a
 // "smoke" grid of constant 0.5.

@@ -27,16 +27,10 @@ using nlohmann::json;
 
 namespace {
 
-std::string temp_dir() {
-  std::string d = (std::filesystem::temp_directory_path() / "rdv_textured_light_tests").string();
-  std::filesystem::create_directories(d);
-  return d;
-}
-
 // A w x h single-channel image from a texel function (row 0 at the top).
 template <class F>
 std::string write_image(const std::string &name, int w, int h, OIIO::TypeDesc format, F texel) {
-  std::string path = temp_dir() + "/" + name;
+  std::string path = temp_path(name);
   std::vector<float> px(size_t(w) * h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) px[size_t(y) * w + x] = texel(x, y);

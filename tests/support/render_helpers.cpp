@@ -1,9 +1,11 @@
 #include "render_helpers.h"
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
+#include <unistd.h>
 
 namespace rdv::test {
 
@@ -76,5 +78,11 @@ MeanEstimate pixel_mean(const Image &img, int channel) {
 }
 
 std::string source_path(const std::string &relative) { return std::string(RDV_SOURCE_DIR) + "/" + relative; }
+
+std::string temp_path(const std::string &name) {
+  auto dir = std::filesystem::temp_directory_path() / ("rdv_test_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  return (dir / name).string();
+}
 
 }  // namespace rdv::test

@@ -35,4 +35,9 @@ MeanEstimate pixel_mean(const Image &img, int channel);
 
 std::string source_path(const std::string &relative);  // RDV_SOURCE_DIR + relative
 
+// A path for a file a test writes, in a directory of this process's own: ctest runs
+// test processes in parallel, and two that wrote the same name in a shared directory
+// would read each other's half-written files.
+std::string temp_path(const std::string &name);
+
 }  // namespace rdv::test

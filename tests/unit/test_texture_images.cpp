@@ -12,23 +12,19 @@
 #include "rendezvous.h"
 #include "scene/mesh.h"
 #include "textures/image_texture.h"
+#include "render_helpers.h"
 #include "textures/texture_graph.h"
 
 using namespace rdv;
+using rdv::test::temp_path;
 using nlohmann::json;
 
 namespace {
 
-std::string temp_dir() {
-  std::string d = (std::filesystem::temp_directory_path() / "rdv_texture_tests").string();
-  std::filesystem::create_directories(d);
-  return d;
-}
-
 // A 4 x 2 image; texel (x, y) from the top row: value = (x + 1) / 8 + y * 0.5 in R,
 // 1 - that in G, 0.25 in B; alpha 0.5 when asked.
 std::string write_image(const std::string &name, OIIO::TypeDesc format, int channels = 3) {
-  std::string path = temp_dir() + "/" + name;
+  std::string path = temp_path(name);
   const int w = 4, h = 2;
   std::vector<float> px(size_t(w) * h * channels);
   for (int y = 0; y < h; ++y)
@@ -140,7 +136,7 @@ TEST(TextureImages, InterpolationExtensionAndOrientation) {
 }
 
 TEST(TextureImages, MissingOrUnreadableFileWarnsAndRendersMagenta) {
-  std::string garbage = temp_dir() + "/garbage.png";
+  std::string garbage = temp_path("garbage.png");
   { std::ofstream(garbage) << "this is not a png"; }
   for (std::string file : {std::string("/nonexistent/dir/brick_wall.png"), garbage}) {
     rdv_scene *scene = nullptr;
@@ -275,7 +271,7 @@ TEST(TextureImages, FootprintLookupsReturnTheMipAverage) {
   std::vector<uint8_t> px(size_t(w) * w);
   for (int y = 0; y < w; ++y)
     for (int x = 0; x < w; ++x) px[size_t(y) * w + x] = (x + y) % 2 ? 255 : 0;
-  std::string path = temp_dir() + "/checker1.png";
+  std::string path = temp_path("checker1.png");
   auto out = OIIO::ImageOutput::create(path);
   ASSERT_TRUE(out && out->open(path, OIIO::ImageSpec(w, w, 1, OIIO::TypeDesc::UINT8)));
   ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px.data()));
