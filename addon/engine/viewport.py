@@ -6,8 +6,14 @@ One `ViewportRenderer` per viewport (one per RenderEngine instance Blender creat
 * view_update (depsgraph edits): the session is destroyed (the engine refuses edits while
   one exists), the edits are applied in place - instance transforms
   (rdv_scene_set_instance_transform), one material (rdv_scene_set_material), one light
-  (rdv_scene_set_light), the world, one mesh's geometry (rdv_scene_set_mesh) - and a new
-  session starts.  Adding or removing objects rebuilds the engine scene.
+  (rdv_scene_set_light), the world, one mesh's geometry (rdv_scene_set_mesh), one grid
+  medium (a Volume object or a smoke / fire domain: its medium's grids are placed in world
+  space, so a move, a material, file, frame or simulation change re-exports that object's
+  medium and box, nothing else) - and a new session starts.  Adding, removing, showing or
+  hiding objects rebuilds the engine scene.
+* Warnings (the final render's, e.g. a missing .vdb naming the object) are printed once to
+  the console and shown in the viewport's status text; re-exporting an object drops its old
+  ones.
 * view_draw: the view (view matrix, window matrix, perspective, region size) is compared with
   the last one; a change only sets the engine camera and restarts (nothing re-exported).
 * Every restart renders 1/4 of the resolution first (1 sample), then 1/2, then the full
@@ -34,6 +40,7 @@ import numpy as np
 from .. import binding, shaders_map
 from ..binding import EngineError, LibraryError
 from ..export import SceneExporter, ExportError, GEOMETRY_TYPES, gas_domain
+from ..export import volumes
 from ..export.lights import light_params
 from ..export.settings import INTEGRATORS
 from ..utils import Messages, normalize_frame, is_finite_matrix, determinant3
@@ -49,7 +56,7 @@ POLL_INTERVAL = 0.025          # s: timer polling the sessions
 
 # For tests and benchmarks: counters and timestamps of what the viewports did.
 stats = {"full_exports": 0, "mesh_exports": 0, "material_updates": 0, "light_updates": 0, "world_updates": 0,
-         "transform_updates": 0, "camera_restarts": 0, "restarts": 0, "draws": 0, "uploads": 0,
+         "transform_updates": 0, "volume_updates": 0, "volume_update_seconds": 0.0, "warnings": [], "camera_restarts": 0, "restarts": 0, "draws": 0, "uploads": 0,
          "last_restart": 0.0, "last_restart_reason": "", "first_new_frame_drawn": 0.0,
          "first_frame_after_restart": 0.0, "errors": []}
 
@@ -69,11 +76,15 @@ def _m16(matrix):
 
 
 class _Record:
-    __slots__ = ("kind", "engine_id", "m16", "ob_name", "mesh_id", "params")
+    """What one depsgraph instance became: kind "mesh" (an instance of mesh_id), "light"
+    (params) or "medium" (a grid medium: material_id over its grids in the box mesh_id, made
+    from the object's materials)."""
+    __slots__ = ("kind", "engine_id", "m16", "ob_name", "mesh_id", "params", "material_id", "box", "materials")
 
     def __init__(self, kind, engine_id, m16, ob_name, mesh_id=None, params=None):
         self.kind, self.engine_id, self.m16, self.ob_name = kind, engine_id, m16, ob_name
         self.mesh_id, self.params = mesh_id, params
+        self.material_id = self.box = self.materials = None
 
 
 class _Sink:
@@ -133,9 +144,22 @@ class ViewportExporter(SceneExporter):
             self.visited.add(self.current_key)
             if ob.type == "LIGHT":
                 self._light(ob, inst.matrix_world)
+            elif ob.type == "VOLUME":
+                self._volume(ob, inst.matrix_world)
             else:
                 self._geometry(ob, inst.matrix_world)
         self.current_key = None
+
+    def _grid_medium(self, ob, m16, source):
+        ids = super()._grid_medium(ob, m16, source)
+        if ids is not None:
+            rec = self.records[self.current_key]
+            rec.kind, rec.material_id, rec.box = "medium", ids[0], (source[1], source[2])
+            rec.materials = self._material_names(ob)
+        return ids
+
+    def _material_names(self, ob):
+        return [m.name_full if m is not None else None for m in self._object_materials(ob)]
 
     @staticmethod
     def _instances(depsgraph):
@@ -144,7 +168,7 @@ class ViewportExporter(SceneExporter):
             ob = inst.instance_object if is_instance else inst.object
             if ob is None or (not is_instance and not inst.show_self):
                 continue
-            if ob.type == "LIGHT" or ob.type in GEOMETRY_TYPES:
+            if ob.type == "LIGHT" or ob.type == "VOLUME" or ob.type in GEOMETRY_TYPES:
                 yield inst, ob
 
     # ---- in-place updates -----------------------------------------------------------------
@@ -163,7 +187,12 @@ class ViewportExporter(SceneExporter):
             if rec is None:
                 continue  # skipped at export (e.g. no faces) and still there
             m16 = _m16(inst.matrix_world)
-            if rec.kind == "mesh":
+            if rec.kind == "medium":
+                # Its grids sit in world space: a move re-exports the medium, as does
+                # another material in its slot (no depsgraph update names that material).
+                if (m16 != rec.m16 or self._material_names(ob) != rec.materials) and not self.update_grid(rec, ob, m16):
+                    return False
+            elif rec.kind == "mesh":
                 if m16 != rec.m16:
                     if not is_finite_matrix(m16) or abs(determinant3(m16)) < 1e-24:
                         return False
@@ -186,8 +215,10 @@ class ViewportExporter(SceneExporter):
 
     def update_geometry(self, ob):
         """Re-exports the meshes object `ob` (evaluated) uses, in place. False: rebuild."""
-        if gas_domain(ob) is not None:
-            return False  # a simulation domain is a grid medium, not a mesh
+        if ob.type == "VOLUME" or gas_domain(ob) is not None:
+            # A grid medium (a new file or frame, a simulation step): re-export its medium.
+            recs = [rec for rec in self.records.values() if rec.kind == "medium" and rec.ob_name == ob.name_full]
+            return bool(recs) and all(self.update_grid(rec, ob, rec.m16) for rec in recs)
         mesh_ids = {rec.mesh_id for rec in self.records.values() if rec.kind == "mesh" and rec.ob_name == ob.name_full}
         for mesh_id in mesh_ids:
             self.replace_mesh = mesh_id
@@ -200,11 +231,48 @@ class ViewportExporter(SceneExporter):
             self.edits += 1
         return True
 
-    def update_material(self, material):
-        """Re-translates one material in place; False if the scene does not use it."""
-        mid = self.materials._ids.get(material.name_full)
-        if mid is None:
+    def update_grid(self, rec, ob, m16):
+        """Re-exports one grid medium (a Volume object or a gas domain instance) in place:
+        its material over the grids, its box and its transform. False: rebuild (it has
+        nothing to render now, or a bad transform)."""
+        t0 = time.perf_counter()
+        if not is_finite_matrix(m16) or abs(determinant3(m16)) < 1e-24:
             return False
+        self.messages.drop(("Volume '%s'" % ob.name, "Fluid domain '%s'" % ob.name))
+        source = self.grid_source(ob, m16)
+        params = self.grid_material(ob, source[0], source[3]) if source is not None else None
+        if params is None:
+            return False
+        rscene = self.sink.rscene
+        rscene.set_material(rec.material_id, params)
+        box = (source[1], source[2])
+        if box != rec.box:
+            positions, indices = volumes.box_arrays(*box)
+            rscene.set_mesh(rec.mesh_id, positions, indices, default_material=rec.material_id)
+            rec.box = box
+        if m16 != rec.m16:
+            rscene.set_instance_transform(rec.engine_id, m16)
+            rec.m16 = m16
+        rec.materials = self._material_names(ob)
+        self.edits += 1
+        stats["volume_updates"] += 1
+        stats["volume_update_seconds"] = time.perf_counter() - t0
+        return True
+
+    def update_material(self, material):
+        """Re-translates one material in place, the grid media made from it included.
+        False: rebuild (a grid medium has nothing to render now)."""
+        name = material.name_full
+        recs = [rec for rec in self.records.values() if rec.kind == "medium" and name in rec.materials]
+        if recs:
+            evaluated = {ob.name_full: ob for ob in self.depsgraph.objects if ob.type == "VOLUME" or ob.type == "MESH"}
+            for rec in recs:
+                ob = evaluated.get(rec.ob_name)
+                if ob is None or not self.update_grid(rec, ob, rec.m16):
+                    return False
+        mid = self.materials._ids.get(name)
+        if mid is None:
+            return True  # no mesh uses it
         self._uv_cache.pop(material.name_full, None)
         try:
             params, warning = shaders_map.convert_material(material, image_average=self.image_average,
@@ -284,6 +352,8 @@ class ViewportRenderer:
         self.converged = False
         self.error = None
         self.progress_text = ""
+        self.warnings = []           # the current export's warnings (exporter's and engine's)
+        self._printed = set()
         _renderers.add(self)
         _ensure_timer()
 
@@ -295,6 +365,7 @@ class ViewportRenderer:
         self.messages = Messages()
         self.rscene = binding.Scene(self.lib)
         self.exporter = ViewportExporter(depsgraph, self.rscene, self.messages)
+        self._printed = set()
         self.exporter.export()
         stats["full_exports"] += 1
 
@@ -308,7 +379,7 @@ class ViewportRenderer:
             idt = type(u.id).__name__
             if idt == "Object":
                 instances = True
-                if u.is_updated_geometry and u.id.type in GEOMETRY_TYPES:
+                if u.is_updated_geometry and (u.id.type in GEOMETRY_TYPES or u.id.type == "VOLUME"):
                     geometry.append(u.id)
             elif idt == "Material":
                 materials.append(u.id)
@@ -332,7 +403,9 @@ class ViewportRenderer:
                     self.export(depsgraph)
                     return True
             for m in materials:
-                exp.update_material(m)
+                if not exp.update_material(m):
+                    self.export(depsgraph)
+                    return True
             if world:
                 exp.export_world()
                 stats["world_updates"] += 1
@@ -368,9 +441,22 @@ class ViewportRenderer:
             if self.settings["pause"]:
                 return
             self.rscene.set_camera(self.camera)
+            self.rscene.commit()  # here, not in the session: its warnings are read now
+            self._gather_warnings()
             w, h = self.size
             self.stage = 0 if w * h >= MIN_REDUCED_PIXELS else len(STAGES) - 1
             self._start_stage()
+
+    def _gather_warnings(self):
+        """The exporter's current warnings and the engine's; new ones go to the console."""
+        lines = list(self.messages.lines)
+        lines += [line for line in self.rscene.messages() if line not in lines]
+        for line in lines:
+            if line not in self._printed:
+                self._printed.add(line)
+                print("Rendezvous viewport: WARNING: %s" % line)
+        self.warnings = lines
+        stats["warnings"] = list(lines)
 
     def _start_stage(self):
         div, samples = STAGES[self.stage]
@@ -571,6 +657,9 @@ def view_draw(engine, context, depsgraph):
             text = r.progress_text
             if r.settings and r.settings["pause"]:
                 text += " | Paused"
+            if r.warnings:
+                text += " | Warning: %s%s" % (r.warnings[0], " (+%d more in the console)" % (len(r.warnings) - 1)
+                                              if len(r.warnings) > 1 else "")
             engine.update_stats("", text)
     except Exception as exc:
         _report_error(engine, exc)

@@ -183,7 +183,7 @@ class SceneExporter:
             self.warn("Object '%s': holdout not supported yet, object rendered normally" % ob.name)
         domain = gas_domain(ob)
         if domain is not None:
-            self._fluid_domain(ob, m16, domain)
+            self._grid_medium(ob, m16, self._fluid_source(ob, m16, domain))
             return
         mats = self._object_materials(ob)
         data = ob.data
@@ -198,36 +198,69 @@ class SceneExporter:
         self.sink.add_instance(mesh_id, m16)
         self.stats.instances += 1
 
-    # ---- volume objects -----------------------------------------------------------------
+    # ---- grid media: Volume objects and fluid domains ---------------------------------------
     def _volume(self, ob, matrix):
         """A Volume object: its .vdb grid as a medium inside a box around the grid (volumes.py)."""
-        import bpy
         m16 = [*matrix[0], *matrix[1], *matrix[2], *matrix[3]]
         if not is_finite_matrix(m16) or abs(determinant3(m16)) < 1e-24:
             self.warn("Volume '%s': non-finite or zero-scale transform, skipped" % ob.name)
             return
+        self._grid_medium(ob, m16, self.grid_source(ob, m16))
+
+    def grid_source(self, ob, m16):
+        """(what, lo, hi, lookup) of a Volume object or a gas simulation domain: its name for
+        warnings, the box [lo, hi] (object space) its grids fill, and the grid lookup for
+        attach_grids; None (warned) when it has nothing to render."""
+        if ob.type == "VOLUME":
+            return self._volume_source(ob, m16)
+        domain = gas_domain(ob)
+        return self._fluid_source(ob, m16, domain) if domain is not None else None
+
+    def _volume_source(self, ob, m16):
+        import bpy
+        what = "Volume '%s'" % ob.name
         path, problem = volumes.volume_file(ob.data, self.scene.frame_current, bpy.path.abspath)
         if problem:
-            self.warn("Volume '%s': %s, skipped" % (ob.name, problem))
-            return
+            self.warn("%s: %s, skipped" % (what, problem))
+            return None
         corners = [tuple(c) for c in ob.bound_box]
         lo = [min(c[a] for c in corners) for a in range(3)]
         hi = [max(c[a] for c in corners) for a in range(3)]
-        if not all(h > l for l, h in zip(lo, hi)):
-            reason = ob.data.grids.error_message if ob.data.grids.error_message else "no voxels"
-            self.warn("Volume '%s': %s (file '%s'), skipped" % (ob.name, reason, path))
-            return
+        # A file that went missing keeps its old bounds in a window session's render
+        # depsgraph: look at the file and its grids, not only at the bounds.
+        reason = volumes.unreadable(path, ob.data.grids, lo, hi)
+        if reason:
+            self.warn("%s: %s (file '%s'), skipped" % (what, reason, path))
+            return None
         grids = {g.name: (g.data_type, [list(row)[:3] for row in g.matrix_object][:3]) for g in ob.data.grids}
         # The grids' zero margin (a voxel, plus Cycles' half-voxel shift) stays inside.
         voxel = max((sum(x * x for x in col) ** 0.5 for _, m in grids.values() for col in zip(*m)), default=0.0)
         pad = [max(0.01 * (h - l), 2.0 * voxel) for l, h in zip(lo, hi)]
         lo = [l - p for l, p in zip(lo, pad)]
         hi = [h + p for h, p in zip(hi, pad)]
-        self._grid_medium(ob, "Volume '%s'" % ob.name, lo, hi, m16, volumes.vdb_lookup(path, grids, m16))
+        return what, lo, hi, volumes.vdb_lookup(path, grids, m16)
 
-    def _grid_medium(self, ob, what, lo, hi, m16, lookup):
-        """The object's volume material with its grids (attach_grids with lookup) as a
-        medium in the box [lo, hi] (object space) placed by m16."""
+    def _fluid_source(self, ob, m16, ds):
+        """A smoke / fire domain: the simulation's grids for this frame (what Cycles reads,
+        any cache format), filling the domain's box."""
+        what = "Fluid domain '%s'" % ob.name
+        if not all(int(x) > 0 for x in ds.domain_resolution):
+            self.warn("%s: no simulation data at frame %d (bake the cache, or play the frames "
+                      "with a Replay cache), skipped" % (what, self.scene.frame_current))
+            return None
+        # The grids fill the domain mesh's texture space (the adaptive box when adaptive).
+        me = ob.data
+        loc, size = list(me.texspace_location), list(me.texspace_size)
+        lo = [c - abs(h) for c, h in zip(loc, size)]
+        hi = [c + abs(h) for c, h in zip(loc, size)]
+        if not all(h > l for l, h in zip(lo, hi)):
+            self.warn("%s: empty bounds, skipped" % what)
+            return None
+        return what, lo, hi, volumes.fluid_lookup(ds, [lo, hi], m16, "the simulation")
+
+    def grid_material(self, ob, what, lookup):
+        """Engine material params of the object's volume material over its grids (a
+        surface-less medium boundary), or None (warned) without a Volume shader."""
         mats = self._object_materials(ob)
         medium, warning = volumes.volume_material_params(mats[0] if mats else None, self.image_average,
                                                          self.image_file)
@@ -235,36 +268,29 @@ class SceneExporter:
             self.warn(warning)
         if medium is None:
             self.warn("%s: its material has no Volume shader, nothing to render" % what)
-            return
+            return None
         medium = dict(medium)
         for w in volumes.attach_grids(medium, lookup, what):
             self.warn(w)
+        return {"type": "volume", "volume": medium}
+
+    def _grid_medium(self, ob, m16, source):
+        """The object's grid medium (grid_source, grid_material) in its box placed by m16:
+        (material id, mesh id) or None."""
+        if source is None:
+            return None
+        what, lo, hi, lookup = source
+        params = self.grid_material(ob, what, lookup)
+        if params is None:
+            return None
         name = self._unique(ob.name, self._mesh_names)
-        material = self.sink.add_material(name, {"type": "volume", "volume": medium})
+        material = self.sink.add_material(name, params)
         positions, indices = volumes.box_arrays(lo, hi)
         mesh_id = self.sink.add_mesh(name, positions, indices, default_material=material)
         self.sink.add_instance(mesh_id, m16)
         self.stats.meshes += 1
         self.stats.instances += 1
-
-    # ---- fluid domains ------------------------------------------------------------------
-    def _fluid_domain(self, ob, m16, ds):
-        """A smoke / fire domain: its volume material over the simulation's grids for this
-        frame (what Cycles reads, any cache format), inside the domain's box."""
-        if not all(int(x) > 0 for x in ds.domain_resolution):
-            self.warn("Fluid domain '%s': no simulation data at frame %d (bake the cache, or play the frames "
-                      "with a Replay cache), skipped" % (ob.name, self.scene.frame_current))
-            return
-        # The grids fill the domain mesh's texture space (the adaptive box when adaptive).
-        me = ob.data
-        loc, size = list(me.texspace_location), list(me.texspace_size)
-        lo = [c - abs(h) for c, h in zip(loc, size)]
-        hi = [c + abs(h) for c, h in zip(loc, size)]
-        if not all(h > l for l, h in zip(lo, hi)):
-            self.warn("Fluid domain '%s': empty bounds, skipped" % ob.name)
-            return
-        self._grid_medium(ob, "Fluid domain '%s'" % ob.name, lo, hi, m16,
-                          volumes.fluid_lookup(ds, [lo, hi], m16, "the simulation"))
+        return material, mesh_id
 
     def _add_mesh(self, ob, mats):
         need_uvs, attr_names = self._uv_needs(mats)

@@ -87,6 +87,20 @@ def volume_file(vol, scene_frame, abspath):
     return abspath(path, library=vol.library), None
 
 
+def unreadable(path, grids, lo, hi):
+    """Why a Volume's file gives nothing to render (Blender's grids after loading it, its
+    bounds [lo, hi]), or None."""
+    if not os.path.isfile(path):
+        return "file not found"
+    if grids.error_message:
+        return grids.error_message
+    if len(grids) == 0:
+        return "no grids"
+    if not all(h > l for l, h in zip(lo, hi)):
+        return "no voxels"
+    return None
+
+
 def box_arrays(lo, hi):
     """Positions (24, 3) and indices (12, 3) of an axis-aligned box, normals pointing out."""
     positions, indices = [], []

@@ -69,3 +69,11 @@ class Messages:
     def extend(self, lines):
         for line in lines:
             self.warn(line)
+
+    def drop(self, prefixes):
+        """Forgets the warnings that start with any of `prefixes` (a tuple), e.g. an object's
+        before it is exported again."""
+        gone = [line for line in self.lines if line.startswith(prefixes)]
+        if gone:
+            self.lines[:] = [line for line in self.lines if not line.startswith(prefixes)]
+            self._seen.difference_update(gone)

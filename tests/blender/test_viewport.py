@@ -5,6 +5,14 @@
                                                              follow, updated in place (no re-export)
     run_viewport.py --script test_viewport.py -- reopen      close/reopen 20x: no session/memory growth
     run_viewport.py --script test_viewport.py -- preview     material previews (principled, glass, emission)
+    run_viewport.py --script test_viewport.py -- volumes --vdb-writer build/tests/blender/write_test_vdb
+                                          a Volume object and a mesh volume show, as bright as in a final
+                                          render; Principled Volume edits (density, colour, emission,
+                                          blackbody) re-export only that medium; a missing .vdb gives the
+                                          final render's warning naming the object, the rest renders
+    run_viewport.py --script test_viewport.py -- volume_edits --vdb-writer build/tests/blender/write_test_vdb
+                                          moving / scaling a Volume object, another file, another frame of
+                                          a sequence (in place), hiding it, adding / removing a World volume
 
 The steps run from a bpy.app.timers generator (the window must be up); the result is printed
 and Blender exits with os._exit (0 = pass).  No timing assertions.
@@ -23,7 +31,9 @@ from rendezvous import binding  # noqa: E402
 from rendezvous.engine import viewport, preview  # noqa: E402
 
 TMP = os.environ.get("RDV_VIEWPORT_OUT") or os.environ.get("RDV_TEST_TMP") or bpy.app.tempdir  # _OUT: keep images
-MODE = sys.argv[sys.argv.index("--") + 1] if "--" in sys.argv and len(sys.argv) > sys.argv.index("--") + 1 else "view"
+ARGS = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+MODE = ARGS[0] if ARGS else "view"
+VDB_WRITER = ARGS[ARGS.index("--vdb-writer") + 1] if "--vdb-writer" in ARGS else None
 
 
 class Failure(AssertionError):
@@ -108,8 +118,13 @@ def srgb(linear):
 
 
 def final_render_display():
+    return srgb(final_render_linear())
+
+
+def final_render_linear(samples=32):
+    """The scene's final render with Rendezvous (scene-linear RGB, rows bottom-up)."""
     scene = bpy.context.scene
-    scene.rendezvous.samples = 32
+    scene.rendezvous.samples = samples
     bpy.ops.render.render()
     path = os.path.join(TMP, "final.exr")
     scene.render.image_settings.file_format = "OPEN_EXR"
@@ -119,7 +134,7 @@ def final_render_display():
     px = np.empty(w * h * 4, np.float32)
     im.pixels.foreach_get(px)
     bpy.data.images.remove(im)
-    return srgb(px.reshape(h, w, 4)[:, :, :3])
+    return px.reshape(h, w, 4)[:, :, :3]
 
 
 def wait_converged(timeout=8.0):
@@ -275,8 +290,269 @@ def mode_preview():
         check("samples" in lp, "%s: no preview was rendered with Rendezvous" % mat.name)
         check(lp["finite"] and lp["mean"] > 0.0, "%s: preview is black or not finite" % mat.name)
 
+# ---- media ------------------------------------------------------------------------------------------
+# The volume scenes: a Volume object 'Cloud' (a ball of smoke from a .vdb, left) and a cube
+# 'Fog' with a volume material (right), lit by a sun and a pale sky.  Regions in the camera
+# frame as (u0, u1, v0, v1) fractions, rows bottom-up.
+CLOUD = (0.16, 0.34, 0.38, 0.62)
+CENTRE = (0.42, 0.58, 0.38, 0.62)
+FOG = (0.66, 0.84, 0.38, 0.62)
+SKY = (0.40, 0.60, 0.80, 0.95)
+BOXES = {"cloud": CLOUD, "centre": CENTRE, "fog": FOG, "sky": SKY}
+VOLUME_COUNTERS = ("full_exports", "mesh_exports", "material_updates", "volume_updates", "world_updates",
+                   "transform_updates")
 
-MODES = {"view": mode_view, "reopen": mode_reopen, "preview": mode_preview}
+
+def write_vdb(name, kind=""):
+    import subprocess
+    check(VDB_WRITER is not None, "the volume modes need --vdb-writer")
+    path = os.path.join(TMP, name)
+    subprocess.run([VDB_WRITER, path] + ([kind] if kind else []), check=True)
+    return path
+
+
+def volume_scene(vdb, samples=4):
+    """The scene above (the showcase's objects removed), 64x48 final renders:
+    (scene, Volume object, its Principled Volume node, the Fog cube's Principled Volume)."""
+    import math
+    sys.path.insert(0, os.path.join(ROOT, "scenes", "blend"))
+    import build_scenes
+    scene = setup_scene(samples)
+    for ob in list(scene.objects):
+        if ob.type != "CAMERA":
+            bpy.data.objects.remove(ob)
+    cam = scene.camera
+    cam.location, cam.rotation_euler = (0.0, -6.0, 0.0), (math.radians(90), 0.0, 0.0)
+    cam.data.lens, cam.data.sensor_fit = 50.0, "AUTO"
+    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 64, 48, 100
+    scene.world.use_nodes = True
+    bg = scene.world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (0.6, 0.7, 0.9, 1.0)
+    bg.inputs["Strength"].default_value = 1.0
+    build_scenes.light("SUN", "Sun", 3.0, (0.0, 0.0, 5.0), rotation=(math.radians(-40), math.radians(30), 0.0))
+    vol = bpy.data.volumes.new("CloudData")
+    vol.filepath = vdb
+    cloud = build_scenes.link(bpy.data.objects.new("Cloud", vol))
+    cloud.location, cloud.scale = (-1.1, 0.0, 0.0), (0.7, 0.7, 0.7)
+    smoke, pv = build_scenes.principled_volume_material("Smoke", Density=8.0, Color=(0.8, 0.8, 0.8, 1.0))
+    vol.materials.append(smoke)
+    fog = build_scenes.link(bpy.data.objects.new("Fog", build_scenes.box_mesh("FogBox", 0.9)))
+    fog.location = (1.1, 0.0, 0.0)
+    fog_mat, fog_pv = build_scenes.principled_volume_material("FogMat", Density=1.5, Color=(0.9, 0.6, 0.3, 1.0))
+    fog.data.materials.append(fog_mat)
+    return scene, cloud, pv, fog_pv
+
+
+def viewport_film():
+    """The newest viewport film (scene-linear RGB, rows bottom-up) inside the camera frame."""
+    r = next(iter(viewport._renderers))
+    check(r.frame is not None, "the viewport has no frame")
+    arr, w, h = r.frame
+    _, _, region, _ = view3d()
+    check((w, h) == (region.width, region.height), "the viewport film is %dx%d, not the region's %dx%d"
+          % (w, h, region.width, region.height))
+    x0, y0, x1, y1 = camera_rect()
+    return arr.reshape(h, w, 4)[y0:y1, x0:x1, :3].copy()
+
+
+def region_mean(img, box):
+    h, w = img.shape[:2]
+    u0, u1, v0, v1 = box
+    return img[int(v0 * h):int(v1 * h), int(u0 * w):int(u1 * w)].reshape(-1, 3).mean(axis=0)
+
+
+def lum(rgb):
+    return float(np.dot(rgb, [0.2126, 0.7152, 0.0722]))
+
+
+def downsample(img, w, h):
+    """Box-filters img to w x h pixels (each output pixel the mean of the input pixels it covers)."""
+    ys = np.linspace(0, img.shape[0], h + 1).astype(int)
+    xs = np.linspace(0, img.shape[1], w + 1).astype(int)
+    rows = np.add.reduceat(img, ys[:-1], axis=0) / np.diff(ys)[:, None, None]
+    return np.add.reduceat(rows, xs[:-1], axis=1) / np.diff(xs)[None, :, None]
+
+
+def matches_final(img, name):
+    """The viewport film shows what a final render of the same scene shows: the regions'
+    luminances agree within BRIGHTNESS_TOLERANCE.  Returns the regions' luminances."""
+    final = final_render_linear(samples=FINAL_SAMPLES)
+    small = downsample(img, final.shape[1], final.shape[0])
+    out = {}
+    for label, box in BOXES.items():
+        v, f = lum(region_mean(small, box)), lum(region_mean(final, box))
+        out[label] = v
+        print("  %-28s %-6s viewport %.4f final %.4f (%+.1f %%)" % (name, label, v, f, 100.0 * (v - f) / max(f, 1e-6)))
+        check(abs(v - f) <= BRIGHTNESS_TOLERANCE * f + 0.002,
+              "%s: the viewport's %s (%.4f) differs from the final render's (%.4f)" % (name, label, v, f))
+    return out
+
+
+def wait_edit(before, timeout=10.0):
+    """After an edit: yields until the viewport restarted (view_update ran) and converged."""
+    t0 = time.time()
+    while viewport.stats["restarts"] == before["restarts"] and time.time() - t0 < 3.0:
+        yield 0.05
+    check(viewport.stats["restarts"] > before["restarts"], "the edit did not restart the viewport")
+    yield from wait_converged(timeout)
+    check(not viewport.stats["errors"], "viewport errors: %s" % viewport.stats["errors"])
+
+
+def edit(name, action):
+    """Applies action(), waits for the new viewport image and checks it against a final
+    render: (region luminances, counter deltas)."""
+    before = dict(viewport.stats)
+    action()
+    yield from wait_edit(before)
+    delta = {k: viewport.stats[k] - before[k] for k in VOLUME_COUNTERS}
+    print("EDIT %-28s %s" % (name, " ".join("%s %d" % kv for kv in delta.items() if kv[1]) or "no updates"))
+    img = viewport_film()
+    return matches_final(img, name), delta
+
+
+def in_place(delta, what, counter="volume_updates"):
+    """The edit was applied in place (`counter` moved) without re-exporting the scene or a mesh."""
+    check(delta["full_exports"] == 0, "%s re-exported the whole scene" % what)
+    check(delta["mesh_exports"] == 0, "%s re-exported a mesh" % what)
+    check(delta[counter] >= 1, "%s: no in-place update (%s)" % (what, counter))
+
+
+def start_volume_viewport(vdb):
+    scene, cloud, pv, fog_pv = volume_scene(vdb)
+    yield 0.3
+    set_shading("RENDERED")
+    yield from wait_converged()
+    check(not viewport.stats["errors"], "viewport errors: %s" % viewport.stats["errors"])
+    regions = matches_final(viewport_film(), "first image")
+    check(regions["cloud"] < 0.9 * regions["sky"], "the Volume object does not show in the viewport")
+    check(regions["fog"] < 0.9 * regions["sky"], "the mesh volume does not show in the viewport")
+    return scene, cloud, pv, fog_pv, regions
+
+
+def mode_volumes():
+    """A Volume object and a mesh volume in the viewport, as bright as the final render;
+    material edits (density, colour, emission, blackbody) update only that medium; a
+    missing .vdb is the final render's warning naming the object, the rest renders."""
+    scene, cloud, pv, fog_pv, base = yield from start_volume_viewport(write_vdb("cloud.vdb"))
+
+    def set_input(node, socket, value):
+        return lambda: setattr(node.inputs[socket], "default_value", value)
+
+    r, d = yield from edit("cloud density 8 -> 0.5", set_input(pv, "Density", 0.5))
+    check(r["cloud"] > base["cloud"] * 1.1, "lowering the density did not show")
+    in_place(d, "a density edit")
+    prev = r
+    r, d = yield from edit("cloud colour -> blue", set_input(pv, "Color", (0.1, 0.2, 0.9, 1.0)))
+    check(abs(r["cloud"] - prev["cloud"]) > 0.01, "the colour edit did not show")
+    in_place(d, "a colour edit")
+    prev = r
+    r, d = yield from edit("cloud emission 2", set_input(pv, "Emission Strength", 2.0))
+    check(r["cloud"] > prev["cloud"] + 0.05, "the emission did not show")
+    in_place(d, "an emission edit")
+
+    def blackbody():
+        pv.inputs["Emission Strength"].default_value = 0.0
+        pv.inputs["Blackbody Intensity"].default_value = 1.0
+        pv.inputs["Temperature"].default_value = 1500.0
+    prev = r
+    r, d = yield from edit("cloud blackbody 1500 K", blackbody)
+    in_place(d, "a blackbody edit")
+    prev = r
+    r, d = yield from edit("cloud temperature 2500 K", set_input(pv, "Temperature", 2500.0))
+    check(r["cloud"] > prev["cloud"] + 0.05, "raising the temperature did not brighten the glow")
+    in_place(d, "a temperature edit")
+
+    # The mesh's volume material: an ordinary in-place material update.
+    prev = r
+    r, d = yield from edit("fog density 1.5 -> 6", set_input(fog_pv, "Density", 6.0))
+    check(abs(r["fog"] - prev["fog"]) > 0.02, "the mesh volume's density edit did not show")
+    in_place(d, "a mesh volume material edit", "material_updates")
+
+    # A missing file: the final render's warning naming the object; the fog still renders.
+    from rendezvous.engine import final as final_engine
+    missing = os.path.join(TMP, "no_such_cloud.vdb")
+    r, d = yield from edit("cloud file missing", lambda: setattr(cloud.data, "filepath", missing))
+    warnings = viewport.stats["warnings"]
+    final_warnings = [m for m in final_engine.last_render["messages"] if "Cloud" in m]
+    print("VIEWPORT WARNINGS: %s\nFINAL WARNINGS: %s" % (warnings, final_warnings))
+    check(final_warnings and any("no_such_cloud" in m for m in final_warnings), "the final render gave no warning")
+    check(all(m in warnings for m in final_warnings), "the viewport does not give the final render's warning")
+    check(abs(r["cloud"] - r["sky"]) < 0.05 * r["sky"], "the missing volume still shows")
+    check(r["fog"] < 0.9 * r["sky"], "the rest of the scene no longer renders")
+    r, d = yield from edit("cloud file back", lambda: setattr(cloud.data, "filepath", os.path.join(TMP, "cloud.vdb")))
+    check(not any("no_such_cloud" in w for w in viewport.stats["warnings"]), "the warning stays after the file is back")
+
+
+def mode_volume_edits():
+    """Moving / scaling a Volume object, another file, another frame of a sequence, hiding
+    it, adding and removing a World volume: the viewport shows what a final render shows."""
+    cloud_vdb, fire_vdb = write_vdb("cloud.vdb"), write_vdb("fire.vdb", "fire")
+    scene, cloud, pv, fog_pv, base = yield from start_volume_viewport(cloud_vdb)
+
+    r, d = yield from edit("cloud moved to the centre", lambda: setattr(cloud.location, "x", -0.2))
+    check(r["centre"] < 0.9 * r["sky"] and r["cloud"] > base["cloud"] * 1.1, "the move did not show")
+    in_place(d, "a Volume object move")
+    r, d = yield from edit("cloud scaled 0.7 -> 1", lambda: setattr(cloud, "scale", (1.0, 1.0, 1.0)))
+    in_place(d, "a Volume object scale")
+    r, d = yield from edit("cloud file -> two balls", lambda: setattr(cloud.data, "filepath", fire_vdb))
+    in_place(d, "another .vdb file")
+
+    # A two-frame sequence: frame 1 the ball, frame 2 the two balls.
+    import shutil
+    shutil.copy(cloud_vdb, os.path.join(TMP, "seq_0001.vdb"))
+    shutil.copy(fire_vdb, os.path.join(TMP, "seq_0002.vdb"))
+
+    def sequence():
+        vol = cloud.data
+        vol.filepath = os.path.join(TMP, "seq_0001.vdb")
+        vol.is_sequence, vol.frame_start, vol.frame_duration, vol.sequence_mode = True, 1, 2, "CLIP"
+        scene.frame_set(1)
+    r1, d = yield from edit("cloud sequence at frame 1", sequence)
+    r2, d = yield from edit("frame 1 -> 2", lambda: scene.frame_set(2))
+    check(abs(r2["centre"] - r1["centre"]) > 0.01, "the frame change did not show")
+    in_place(d, "a frame change")
+
+    # Visibility (the viewport's own: the final render still has the object).
+    r, d = yield from edit_unchecked("cloud hidden", lambda: cloud.hide_set(True))
+    check(abs(r["centre"] - r["sky"]) < 0.03 * r["sky"], "the hidden volume still shows (%.4f vs sky %.4f)"
+          % (r["centre"], r["sky"]))
+    r, d = yield from edit("cloud shown", lambda: cloud.hide_set(False))
+    check(abs(r["centre"] - r2["centre"]) < 0.03 * r2["centre"], "the volume did not come back")
+
+    # A World volume: glowing fog everywhere (it hides the sky and the sun), added and
+    # removed in place.
+    world = scene.world
+    nt = world.node_tree
+    fog = nt.nodes.new("ShaderNodeVolumePrincipled")
+    fog.inputs["Density"].default_value = 0.05
+    fog.inputs["Emission Strength"].default_value = 0.02
+    out = next(n for n in nt.nodes if n.bl_idname == "ShaderNodeOutputWorld")
+    r, d = yield from edit("world volume added", lambda: nt.links.new(fog.outputs["Volume"], out.inputs["Volume"]))
+    check(abs(r["sky"] - base["sky"]) > 0.05 * base["sky"], "the world volume did not show")
+    in_place(d, "adding a world volume", "world_updates")
+    r, d = yield from edit("world volume removed", lambda: nt.links.remove(out.inputs["Volume"].links[0]))
+    check(abs(r["sky"] - base["sky"]) < 0.02 * base["sky"], "the world volume stays after its removal")
+    in_place(d, "removing a world volume", "world_updates")
+
+
+def edit_unchecked(name, action):
+    """edit() for a viewport-only change (no final render to compare with): region luminances."""
+    before = dict(viewport.stats)
+    action()
+    yield from wait_edit(before)
+    delta = {k: viewport.stats[k] - before[k] for k in VOLUME_COUNTERS}
+    print("EDIT %-28s %s" % (name, " ".join("%s %d" % kv for kv in delta.items() if kv[1]) or "no updates"))
+    img = viewport_film()
+    return {label: lum(region_mean(img, box)) for label, box in BOXES.items()}, delta
+
+
+# Region means of the viewport (4 spp on the whole region, box-filtered to 64x48) against the
+# final render (64x48 at FINAL_SAMPLES spp, fixed seeds): see the printed differences.
+FINAL_SAMPLES = 64
+BRIGHTNESS_TOLERANCE = 0.04
+
+
+MODES = {"view": mode_view, "reopen": mode_reopen, "preview": mode_preview, "volumes": mode_volumes, "volume_edits": mode_volume_edits}
 
 
 def run():

@@ -81,6 +81,20 @@ TEST(SceneEdits, SetLightChangesBrightness) {
   EXPECT_NE(RDV_OK, rdv_scene_set_light(f.s, 7, R"({"type":"sun","strength":1})"));
 }
 
+// The viewport sets the world again on every world edit: a world without "volume" removes
+// the fog an earlier one had (it used to stay).
+TEST(SceneEdits, SetWorldAddsAndRemovesTheWorldVolume) {
+  Fixture f;
+  std::vector<double> clear = f.render();
+  ASSERT_EQ(RDV_OK, rdv_scene_set_world(f.s, R"({"color":[0,0,0],"strength":0,"volume":{"density":0.5}})"))
+      << rdv_last_error();
+  std::vector<double> foggy = f.render();
+  EXPECT_LT(foggy[0], 0.5 * clear[0]);  // the sun is extinguished by fog without end
+  ASSERT_EQ(RDV_OK, rdv_scene_set_world(f.s, R"({"color":[0,0,0],"strength":0})")) << rdv_last_error();
+  std::vector<double> again = f.render();
+  EXPECT_NEAR(again[0], clear[0], 1e-4 + 1e-3 * clear[0]);  // same seed, same paths
+}
+
 TEST(SceneEdits, SetMeshReplacesGeometryAndKeepsInstances) {
   Fixture f;
   std::vector<double> full = f.render();

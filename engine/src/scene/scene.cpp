@@ -258,6 +258,8 @@ void Scene::set_world(Params &params) {
       fail(params.what() + ": an emitting world volume needs density in every channel (it would glow infinitely)");
     if (world_medium_ >= 0) media_[world_medium_] = m;
     else { world_medium_ = int(media_.size()); media_.push_back(m); }
+  } else {
+    world_medium_ = -1;  // no fog (any more): its old medium stays in the list, unused
   }
   // With an "environment" HDRI, "color" tints it (default white); radiance = image x color x strength.
   const nlohmann::json *env = params.get_json("environment");
