@@ -5,7 +5,9 @@
 // mutual relMSE estimates the reference's own noise, which every figure contains. The
 // table shows raw relMSE against the reference (so the ratio is conservative: the
 // shared reference noise pulls it toward 1) and that noise estimate.
-//   bench_bdpt [--budgets 5,20,60] [--reference 150] [--width 160] [scene.json ...]
+// --mis a,b adds rows for BDPT with other weightings (balance, lafortune_willems) at the
+// same budgets, against the same path-traced render and reference (power heuristic).
+//   bench_bdpt [--budgets 5,20,60] [--reference 150] [--width 160] [--mis NAME,...] [scene.json ...]
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -36,7 +38,7 @@ int main(int argc, char **argv) {
   std::vector<double> budgets = {5, 20, 60};
   double reference_seconds = 150;
   int width = 160;
-  std::vector<std::string> scenes;
+  std::vector<std::string> scenes, extra_mis;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--budgets") && i + 1 < argc) {
       budgets.clear();
@@ -45,6 +47,10 @@ int main(int argc, char **argv) {
       while (std::getline(ss, item, ',')) budgets.push_back(std::stod(item));
     } else if (!std::strcmp(argv[i], "--reference") && i + 1 < argc) {
       reference_seconds = std::stod(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--mis") && i + 1 < argc) {
+      std::stringstream ss(argv[++i]);
+      std::string item;
+      while (std::getline(ss, item, ',')) extra_mis.push_back(item);
     } else if (!std::strcmp(argv[i], "--width") && i + 1 < argc) {
       width = std::stoi(argv[++i]);
     } else {
@@ -93,6 +99,15 @@ int main(int argc, char **argv) {
       std::printf("%-18s %6.0fs | %12.3e %9u | %12.3e %9u | %10.3f | %10.3f\n", name.c_str(), budget, e_pt,
                   pt.progress.samples_done, e_bd, bd.progress.samples_done, e_bd / e_pt,
                   (e_bd - ref_noise) / (e_pt - ref_noise));
+      for (const std::string &mis : extra_mis) {
+        s["mis"] = mis;
+        Render other = render(text, base, s);
+        double e = rel_mse(other.rgb, ref);
+        std::string label = "  BDPT " + (mis == "lafortune_willems" ? std::string("L&W") : mis);
+        std::printf("%-18s %6.0fs | %12s %9s | %12.3e %9u | %10.3f | %10.3f\n", label.c_str(),
+                    budget, "(same)", "", e, other.progress.samples_done, e / e_pt, (e - ref_noise) / (e_pt - ref_noise));
+      }
+      s.erase("mis");
       std::fflush(stdout);
     }
     std::printf("%-18s reference noise (included in every figure) %.3e; BDPT %.2f Mrays/s, %.3f Msamples/s; reference spp %u + %u\n",

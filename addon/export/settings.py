@@ -1,6 +1,7 @@
 """Render settings JSON for rdv_session_create, and the output rectangle."""
 
 INTEGRATORS = {"PATH": "path", "BDPT": "bdpt", "MLT": "mlt"}
+MIS = {"POWER": "power", "BALANCE": "balance", "LAFORTUNE_WILLEMS": "lafortune_willems"}
 DEFAULT_SAMPLES = 128
 
 
@@ -48,6 +49,8 @@ def session_settings(scene, props, frame=None, warn=print):
         "threads": int(props.threads),
         "clamp": float(props.clamp),
     }
+    if s["integrator"] == "bdpt":
+        s["mis"] = MIS.get(getattr(props, "bdpt_mis", "POWER"), "power")
     if samples > 0:
         s["samples"] = samples
     if time_limit > 0.0:

@@ -8,10 +8,19 @@ INTEGRATOR_ITEMS = [
     ("BDPT", "Bidirectional", "Bidirectional path tracing (caustics, hard-to-reach lights)"),
 ]
 
+MIS_ITEMS = [
+    ("POWER", "Power Heuristic", "Veach's power heuristic over every strategy (the default)"),
+    ("BALANCE", "Balance Heuristic", "Veach's balance heuristic"),
+    ("LAFORTUNE_WILLEMS", "Lafortune-Willems", "The original BDPT paper's weights, by the specularity of "
+                                               "the surfaces on the camera path (for comparison)"),
+]
+
 
 class RendezvousRenderSettings(bpy.types.PropertyGroup):
     integrator: EnumProperty(name="Integrator", items=INTEGRATOR_ITEMS, default="PATH",
                              description="Light transport algorithm")
+    bdpt_mis: EnumProperty(name="Weights", items=MIS_ITEMS, default="POWER",
+                           description="How bidirectional path tracing weights the ways it finds a path")
     samples: IntProperty(name="Samples", default=128, min=1, soft_max=4096,
                          description="Samples per pixel; the render stops when they are done")
     time_limit: FloatProperty(name="Time Limit", default=0.0, min=0.0, subtype="TIME_ABSOLUTE", unit="TIME_ABSOLUTE",

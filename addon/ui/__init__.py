@@ -34,6 +34,8 @@ class RENDEZVOUS_PT_sampling(RendezvousPanel, bpy.types.Panel):
             for line in _wrap(problem, 60):
                 box.label(text=line, icon="ERROR" if line is _wrap(problem, 60)[0] else "BLANK1")
         layout.prop(props, "integrator")
+        if props.integrator == "BDPT":
+            layout.prop(props, "bdpt_mis")
         col = layout.column(align=True)
         col.prop(props, "samples")
         col.prop(props, "time_limit")

@@ -23,6 +23,7 @@ void usage() {
                "  --integrator NAME      path or bdpt\n"
                "  --strategy S,T         bdpt: render only strategy (s, t), MIS-weighted\n"
                "  --unweighted           with --strategy: without its MIS weight\n"
+               "  --mis NAME             bdpt weights: power (default), balance or lafortune_willems\n"
                "  --max-bounces N        maximum path length\n"
                "  --view NAME            PNG view transform: Standard (default) or Filmic\n"
                "  --summary              print what the engine modelled (JSON)\n"
@@ -55,6 +56,7 @@ int main(int argc, char **argv) {
       else if (a == "--threads") overrides["threads"] = std::stoi(next());
       else if (a == "--seed") overrides["seed"] = std::stoi(next());
       else if (a == "--integrator") overrides["integrator"] = next();
+      else if (a == "--mis") overrides["mis"] = next();
       else if (a == "--strategy") {
         std::string v = next();
         size_t c = v.find(',');

@@ -138,7 +138,11 @@ class TestCameraSettings(unittest.TestCase):
         s = session_settings(scene, self.props(use_animated_seed=True, integrator="BDPT"))
         self.assertEqual((s["width"], s["height"], s["samples"], s["seed"], s["integrator"]), (100, 50, 64, 12, "bdpt"))
         self.assertNotIn("time_limit", s)
+        self.assertEqual(s["mis"], "power")
+        s = session_settings(scene, self.props(integrator="BDPT", bdpt_mis="LAFORTUNE_WILLEMS"))
+        self.assertEqual(s["mis"], "lafortune_willems")
         s = session_settings(scene, self.props(samples=0, time_limit=0.0))
+        self.assertNotIn("mis", s)  # path tracing has no strategies to weight
         self.assertGreater(s["samples"], 0)  # a render always halts
         s = session_settings(scene, self.props(samples=0, time_limit=2.5))
         self.assertEqual(s["time_limit"], 2.5)

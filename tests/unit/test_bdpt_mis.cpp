@@ -10,6 +10,9 @@
 // Cornell images by under 0.3%, and 3,039 of these 5,143 weights). The s = 1 and
 // t = 1 strategies sample a fresh end vertex inside connect(), so their own weights
 // are not checked here (they enter every other strategy's weight, which is).
+// Lafortune & Willems' weights (mis = lafortune_willems) are checked the same way against
+// their definition, evaluated here forwards along the path from the camera, for every
+// strategy including s = 1 and t = 1 (their weights depend only on the path's vertices).
 // Deterministic (fixed seeds), so nothing here can fail by chance.
 #include <gtest/gtest.h>
 #include <cmath>
@@ -99,7 +102,39 @@ double brute_force_weight(const Scene &scene, const std::vector<const PathVertex
   return density(s) * density(s) / sum;
 }
 
-void expect_weights_match_brute_force(const nlohmann::json &doc, int min_checks) {
+// Lafortune & Willems' weight of the strategy with t camera vertices on the path y (y[0]
+// on the lamp, y[n-1] the camera), from their definition: walking from the camera, each
+// vertex z_k (= y[n-1-k]) where a connection can make the path gives the connections
+// there 1 - W_k of the share still left and passes W_k on; where none can (z_k or z_(k+1)
+// scatters by a delta lobe), all of it passes on. What reaches the lamp goes to the camera
+// path that finds it (s = 0); a delta lamp cannot be found, so to next-event estimation at
+// z_m, or, where z_m is delta too, to light tracing (t = 1). The vertices a strategy
+// joins scatter by the connection (path_delta false there).
+double lafortune_willems_brute_force(const std::vector<const PathVertex *> &y, int t, bool delta_light,
+                                     const std::vector<bool> &path_delta) {
+  const int n = int(y.size()), m = n - 2;
+  auto z_delta = [&](int k) { return bool(path_delta[n - 1 - k]); };
+  std::vector<double> weight(n + 1, 0.0);  // by number of camera vertices
+  double left = 1;
+  for (int k = 1; k <= m; ++k) {
+    bool connectible = !z_delta(k) && (k == m || !z_delta(k + 1));
+    if (!connectible) continue;
+    double W = y[n - 1 - k]->specularity;
+    weight[k + 1] += (1 - W) * left;
+    left *= W;
+  }
+  if (!delta_light) weight[n] += left;
+  else if (!z_delta(m)) weight[m + 1] += left;
+  else weight[1] += left;
+  return weight[t];
+}
+
+// min_light_tracing: Lafortune & Willems only, how many checked weights must be light
+// tracing's share of a path no other strategy makes (a weight wrongly 0 would hide them:
+// connect() reports no contribution then).
+void expect_weights_match_brute_force(const nlohmann::json &doc, int min_checks,
+                                      MisHeuristic mis = MisHeuristic::Power, bool delta_light = false,
+                                      int min_light_tracing = 0) {
   LoadedScene loaded;
   load(loaded, doc);
   const Scene &scene = loaded.scene();
@@ -107,11 +142,13 @@ void expect_weights_match_brute_force(const nlohmann::json &doc, int min_checks)
   loaded.handle->scene->camera().set_resolution(width, height);
   BdptSettings settings;
   settings.max_bounces = 6;
+  settings.mis = mis;
+  const bool lw = mis == MisHeuristic::LafortuneWillems;
   Bdpt bdpt(scene, settings);
   SobolSampler sampler(7);
   std::vector<PathVertex> camera_path(settings.max_bounces + 2), light_path(settings.max_bounces + 2);
   RayStats stats;
-  int checks = 0, mismatches = 0;
+  int checks = 0, mismatches = 0, light_tracing = 0;
   double worst = 0;
   for (int py = 0; py < height; ++py)
     for (int px = 0; px < width; ++px)
@@ -123,25 +160,40 @@ void expect_weights_match_brute_force(const nlohmann::json &doc, int min_checks)
         Color emitted(0.0f);
         int nc = bdpt.camera_subpath<false>(cr, sampler, stats, camera_path.data(), &emitted);
         int nl = bdpt.light_subpath<false>(sampler, stats, light_path.data());
-        for (int t = 2; t <= nc; ++t)
+        for (int t = lw ? 1 : 2; t <= nc; ++t)
           for (int s = 0; s <= nl; ++s) {
             // Inner connections, and camera paths that found the lamp: strategies whose
-            // whole path lies in the two subpaths.
+            // whole path lies in the two subpaths (for Lafortune & Willems every strategy).
             bool inner = s >= 2, found_lamp = s == 0 && t >= 3;
-            if (!inner && !found_lamp) continue;
+            if (!inner && !found_lamp && !(lw && s + t >= 3)) continue;
             if (s + t - 2 > settings.max_bounces) continue;
             float w = 0;
             Vec2 unused;
             Color c = bdpt.connect<false>(light_path.data(), camera_path.data(), s, t, sampler, stats, &unused, &w);
             if (is_black(c)) continue;
             std::vector<const PathVertex *> y;
-            if (found_lamp) {
-              for (int i = t - 1; i >= 0; --i) y.push_back(&camera_path[i]);
+            std::vector<bool> path_delta;  // scattered by a delta lobe on this path
+            if (s == 1) {  // the lamp point connect() sampled; L&W reads only whether it is delta
+              y.push_back(&light_path[0]);
+              path_delta.push_back(false);
             } else {
-              for (int i = 0; i < s; ++i) y.push_back(&light_path[i]);
-              for (int i = t - 1; i >= 0; --i) y.push_back(&camera_path[i]);
+              for (int i = 0; i < s; ++i) {
+                y.push_back(&light_path[i]);
+                path_delta.push_back(i > 0 && i < s - 1 && light_path[i].delta);
+              }
             }
-            double expected = brute_force_weight(scene, y, found_lamp ? 0 : s);
+            if (t == 1) {  // the lens point connect() sampled (the pinhole: camera_path[0])
+              y.push_back(&camera_path[0]);
+              path_delta.push_back(false);
+            } else {
+              for (int i = t - 1; i >= 0; --i) {
+                y.push_back(&camera_path[i]);
+                path_delta.push_back(i > 0 && i < t - 1 && camera_path[i].delta);
+              }
+            }
+            double expected = lw ? lafortune_willems_brute_force(y, t, delta_light, path_delta)
+                                 : brute_force_weight(scene, y, found_lamp ? 0 : s);
+            if (t == 1 && expected > 0) ++light_tracing;
             double error = std::abs(w - expected);
             worst = std::max(worst, error);
             ++checks;
@@ -152,8 +204,10 @@ void expect_weights_match_brute_force(const nlohmann::json &doc, int min_checks)
             }
           }
       }
-  std::printf("[ bdpt mis ] %d weights checked, %d mismatches, worst |difference| %.2e\n", checks, mismatches, worst);
+  std::printf("[ bdpt mis ] %d weights checked (%d light tracing with weight > 0), %d mismatches, worst |difference| %.2e\n",
+              checks, light_tracing, mismatches, worst);
   EXPECT_GE(checks, min_checks);
+  EXPECT_GE(light_tracing, min_light_tracing);
   EXPECT_EQ(mismatches, 0);
 }
 
@@ -168,4 +222,37 @@ TEST(BdptMisWeights, GlossyCornellBoxMatchesBruteForce) {
   for (auto &m : doc["materials"])
     if (m["name"] == "white") m = {{"name", "white"}, {"type", "glossy"}, {"color", {0.8, 0.8, 0.8}}, {"roughness", 0.4}};
   expect_weights_match_brute_force(doc, 2000);
+}
+
+// Lafortune & Willems' weights against their definition. Glossy walls (W = 0.6 at each
+// wall vertex) under the area lamp: a factor 1 - W dropped or misplaced changes most
+// weights. The lamp also reflects as a mirror, so a camera path that finds it may go on
+// by a delta lobe: the emitter still ends the path of s = 0 (no delta there). A mirror block, a smooth glass block and a point lamp: the shares that pass on
+// over delta vertices, next-event estimation taking the share of a lamp that cannot be
+// found, and light tracing taking what no other strategy can make.
+TEST(BdptMisWeights, LafortuneWillemsGlossyCornellBoxMatchesDefinition) {
+  nlohmann::json doc = cornell_box();
+  for (auto &m : doc["materials"])
+    if (m["name"] == "white") m = {{"name", "white"}, {"type", "glossy"}, {"color", {0.8, 0.8, 0.8}}, {"roughness", 0.4}};
+  for (auto &m : doc["materials"])
+    if (m["name"] == "lamp") {
+      nlohmann::json emission = m, mirror = {{"type", "glossy"}, {"color", {0.5, 0.5, 0.5}}, {"roughness", 0}};
+      emission.erase("name");
+      m = {{"name", "lamp"}, {"type", "add"}, {"shader1", emission}, {"shader2", mirror}};
+    }
+  expect_weights_match_brute_force(doc, 2000, MisHeuristic::LafortuneWillems);
+}
+
+TEST(BdptMisWeights, LafortuneWillemsMirrorGlassAndPointLampMatchDefinition) {
+  nlohmann::json doc = cornell_box();
+  doc["materials"].push_back({{"name", "mirror"}, {"type", "glossy"}, {"color", {0.9, 0.9, 0.9}}, {"roughness", 0}});
+  doc["materials"].push_back({{"name", "glass"}, {"type", "glass"}, {"color", {1, 1, 1}}, {"ior", 1.5}, {"roughness", 0}});
+  auto &meshes = doc["meshes"];
+  for (auto &mesh : meshes) {
+    if (mesh["name"] == "tall_block") mesh["materials"] = {"mirror"};
+    if (mesh["name"] == "short_block") mesh["materials"] = {"glass"};
+  }
+  meshes.erase(meshes.end() - 1);  // the lamp quad
+  doc["lights"] = {{{"name", "bulb"}, {"type", "point"}, {"position", {0.2, -0.2, 1.8}}, {"power", 100}, {"radius", 0}}};
+  expect_weights_match_brute_force(doc, 2000, MisHeuristic::LafortuneWillems, true, 20);
 }

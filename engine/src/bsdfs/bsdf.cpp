@@ -374,6 +374,17 @@ bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSampl
   return true;
 }
 
+float Bsdf::specularity() const {
+  float w = 0;
+  for (int i = 0; i < n_; ++i) {
+    const Lobe &lobe = lobes_[i];
+    if (lobe.is_delta()) return 1;  // connections cannot make the paths that scatter there
+    if (lobe.type == LobeType::GgxConductor || lobe.type == LobeType::GgxDielectric)
+      w += pick_[i] * (1.0f - std::min(1.0f, std::sqrt(std::sqrt(lobe.ggx.ax * lobe.ggx.ay))));  // roughness
+  }
+  return std::min(w, 1.0f);
+}
+
 Color Bsdf::albedo() const {
   Color a(0.0f);
   for (int i = 0; i < n_; ++i) a += lobes_[i].color * lobes_[i].scale;

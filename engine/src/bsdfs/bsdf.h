@@ -162,6 +162,10 @@ class Bsdf {
   bool sample(Vec3 wo, float u_lobe, Vec2 u, TransportMode mode, BsdfSample &out) const;
   // Directional albedo-like colour for the Diffuse Color AOV.
   Color albedo() const;
+  // Lafortune & Willems' "degree of specularity" in [0, 1] (BDPT's "lafortune_willems"
+  // weights): 1 if any lobe is delta, else the lobes' selection weights times 1 - roughness
+  // for GGX lobes and 0 for diffuse ones.
+  float specularity() const;
   const Frame &frame() const { return frame_; }
   Vec3 geometric_normal() const { return ng_; }
 

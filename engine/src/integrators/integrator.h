@@ -26,6 +26,9 @@ struct RenderSettings {
   // BDPT debug view: only the (s, t) strategy contributes, MIS-weighted unless unweighted.
   int strategy_s = -1, strategy_t = -1;
   bool strategy_unweighted = false;
+  // BDPT: how strategies share a path: "power" (Veach's power heuristic), "balance" or
+  // "lafortune_willems" (the original paper's specularity-based weights).
+  std::string mis = "power";
 
   static RenderSettings from_params(Params &p);
 };

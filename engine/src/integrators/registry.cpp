@@ -12,6 +12,9 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
     b.strategy_s = settings.strategy_s;
     b.strategy_t = settings.strategy_t;
     b.strategy_unweighted = settings.strategy_unweighted;
+    b.mis = settings.mis == "balance"             ? bdpt::MisHeuristic::Balance
+            : settings.mis == "lafortune_willems" ? bdpt::MisHeuristic::LafortuneWillems
+                                                  : bdpt::MisHeuristic::Power;
     return std::make_unique<bdpt::Bdpt>(scene, b);
   }
   fail("render settings: unknown integrator '" + settings.integrator + "' (available: path, bdpt)");
@@ -47,6 +50,9 @@ RenderSettings RenderSettings::from_params(Params &p) {
   if ((s.strategy_s >= 0) != (s.strategy_t >= 1) && !(s.strategy_s < 0 && s.strategy_t < 0))
     fail(p.what() + ": 'strategy' must be [s, t] with s >= 0 and t >= 1");
   s.strategy_unweighted = p.get_bool("strategy_unweighted", false);
+  s.mis = p.get_string("mis", "power");
+  if (s.mis != "power" && s.mis != "balance" && s.mis != "lafortune_willems")
+    fail(p.what() + ": 'mis' must be power, balance or lafortune_willems, got '" + s.mis + "'");
   s.border = {0, 0, s.width, s.height};
   auto b = p.get_floats("border", 4, {0, 0, float(s.width), float(s.height)});
   s.border = {std::max(0, int(b[0])), std::max(0, int(b[1])), std::min(s.width, int(b[2])), std::min(s.height, int(b[3]))};

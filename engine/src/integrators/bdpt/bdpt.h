@@ -11,8 +11,16 @@
 
 namespace rdv::bdpt {
 
+// How the strategies that can make a path share it.
+enum class MisHeuristic : uint8_t {
+  Power,            // Veach's power heuristic (exponent 2), the default
+  Balance,          // Veach's balance heuristic
+  LafortuneWillems  // Lafortune & Willems 1993: split by the specularity of camera-path vertices
+};
+
 struct BdptSettings {
   int max_bounces = 12;
+  MisHeuristic mis = MisHeuristic::Power;
   // Debug view: render only the (s, t) strategy with s + t - 2 == debug_depth... see
   // strategy_s / strategy_t: when >= 0, only that strategy contributes.
   int strategy_s = -1, strategy_t = -1;
@@ -40,7 +48,8 @@ struct ConnectionDensities {
 // vertices are not delta. Set once pdf_rev of vertex k is final, from vertex k - 1's;
 // delta_before: vertex k - 1 is delta (for k = 0, the light is). Every connection's
 // weight then reads one of them instead of walking the subpath.
-void set_mis_sum(PathVertex *path, int k, bool delta_before);
+// balance: the balance heuristic's sums (ratio products not squared).
+void set_mis_sum(PathVertex *path, int k, bool delta_before, bool balance);
 
 class Bdpt final : public Integrator {
  public:
@@ -76,6 +85,10 @@ class Bdpt final : public Integrator {
   void light_densities(const PathVertex &light_vertex, const PathVertex &v, float &origin, float &toward) const;
   float infinite_light_density(Vec3 dir) const;
   bool light_start_is_delta(const PathVertex &light_vertex) const;
+  float lafortune_willems_weight(const PathVertex *light_path, const PathVertex *camera_path,
+                                 const PathVertex &light_start, int s, int t) const;
+  float light_tracing_share(const PathVertex *light_path, int s) const;
+  bool balance() const { return settings_.mis == MisHeuristic::Balance; }
   float mis_weight(const PathVertex *light_path, const PathVertex *camera_path, const PathVertex &sampled, int s,
                    int t, const ConnectionDensities &densities) const;
   // Vertex helpers (connect.cpp).

@@ -55,15 +55,54 @@ bool Bdpt::light_start_is_delta(const PathVertex &v) const {
 // media: test_media_grid_render's extremes).
 static double ratio(float rev, const PathVertex &v) { return double(remap0(rev)) / remap0(v.pdf_fwd); }
 
-void set_mis_sum(PathVertex *path, int k, bool delta_before) {
+void set_mis_sum(PathVertex *path, int k, bool delta_before, bool balance) {
   double r = ratio(path[k].pdf_rev, path[k]);
   double below = k > 0 ? path[k - 1].mis_sum : 0.0;
-  path[k].mis_sum = r * r * ((!path[k].delta && !delta_before ? 1.0 : 0.0) + below);
+  path[k].mis_sum = (balance ? r : r * r) * ((!path[k].delta && !delta_before ? 1.0 : 0.0) + below);
+}
+
+// Lafortune & Willems 1993 ("Selecting the weights"): each camera-path vertex y_k has a
+// degree of specularity W_k in [0, 1]. At y_k the path's share still left is split: 1 - W_k
+// to the connections there (whatever the light subpath's length), W_k passed on along the
+// camera path. Strategy (s, t) connects at y_(t-1): weight (1 - W_(t-1)) prod_(k < t-1) W_k;
+// the camera path finding the emitter there (s = 0) keeps prod_(k < t-1) W_k. W is a
+// property of the path (Bsdf::specularity does not depend on the direction of travel), so
+// every strategy computes the same split and the weights of a path sum to one.
+// Where the connections at y_k cannot make the path (it scatters off a delta lobe at
+// y_(k+1): a caustic seen on a diffuse y_k), W_k counts as 1: the share passes on. The
+// vertex a strategy connects at (or the emitter, for s = 0) scatters by the connection,
+// never by a delta lobe, whatever lobe the walk sampled there afterwards.
+float Bdpt::lafortune_willems_weight(const PathVertex *light_path, const PathVertex *camera_path,
+                                     const PathVertex &light_start, int s, int t) const {
+  if (t == 1) return light_tracing_share(light_path, s);
+  float w = 1;
+  for (int k = 1; k < t - 1; ++k) w *= k + 1 < t - 1 && camera_path[k + 1].delta ? 1.0f : camera_path[k].specularity;
+  if (s == 0) return w;
+  // A delta light cannot be found by the camera path: the connection next to it (s = 1)
+  // keeps the share s = 0 would have had.
+  float specular = s == 1 && light_start_is_delta(light_start) ? 0.0f : camera_path[t - 1].specularity;
+  return w * (1.0f - specular);
+}
+
+// Light tracing (t = 1) is not one of Lafortune & Willems' strategies; it takes only the
+// share no other strategy can: a path from a delta light whose vertex next to the light is
+// delta (a point lamp's caustic through a mirror or smooth glass) cannot be made by s = 0
+// nor by next-event estimation there, and the share the camera-side split hands to the end
+// of such a path would be lost. The path seen from the camera: z_k = light_path[s - k].
+float Bdpt::light_tracing_share(const PathVertex *light_path, int s) const {
+  if (s < 3 || !light_start_is_delta(light_path[0]) || !light_path[1].delta) return 0;
+  float w = 1;
+  for (int k = 1; k < s - 2; ++k) w *= light_path[s - k - 1].delta ? 1.0f : light_path[s - k].specularity;
+  return w;  // W' of z_(s-2) is 1: the next vertex, z_(s-1) = light_path[1], is delta
 }
 
 float Bdpt::mis_weight(const PathVertex *light_path, const PathVertex *camera_path, const PathVertex &sampled, int s,
                        int t, const ConnectionDensities &c) const {
   if (s + t == 2) return 1.0f;
+  if (settings_.mis == MisHeuristic::LafortuneWillems)
+    return lafortune_willems_weight(light_path, camera_path, s == 1 ? sampled : light_path[0], s, t);
+  const bool balance = this->balance();
+  auto power = [balance](double r) { return balance ? r : r * r; };
   // Nothing is copied or modified: the densities this strategy changes are overrides
   // (c), read for the two vertices nearest the connection on each side; the strategies
   // further down each subpath are summed once per subpath (mis_sum). The connection
@@ -73,11 +112,11 @@ float Bdpt::mis_weight(const PathVertex *light_path, const PathVertex *camera_pa
   if (t >= 2) {
     const PathVertex &pt_minus = camera_path[t - 2];
     double r = ratio(c.pt_rev, camera_path[t - 1]);
-    if (!pt_minus.delta) sum += r * r;
+    if (!pt_minus.delta) sum += power(r);
     if (t >= 3) {
       const PathVertex &below = camera_path[t - 3];
       r *= ratio(c.pt_minus_rev, pt_minus);
-      sum += r * r * ((!pt_minus.delta && !below.delta ? 1.0 : 0.0) + below.mis_sum);
+      sum += power(r) * ((!pt_minus.delta && !below.delta ? 1.0 : 0.0) + below.mis_sum);
     }
   }
   // Light side: strategies with fewer light vertices (i = s - 1 down to 0). The light
@@ -86,13 +125,13 @@ float Bdpt::mis_weight(const PathVertex *light_path, const PathVertex *camera_pa
     const PathVertex &qs = s == 1 ? sampled : light_path[s - 1];
     double r = ratio(c.qs_rev, qs);
     bool delta_before = s >= 2 ? light_path[s - 2].delta : light_start_is_delta(qs);
-    if (!delta_before) sum += r * r;
+    if (!delta_before) sum += power(r);
     if (s >= 2) {
       const PathVertex &qs_minus = light_path[s - 2];
       r *= ratio(c.qs_minus_rev, qs_minus);
       bool delta_below = s >= 3 ? light_path[s - 3].delta : light_start_is_delta(qs_minus);
       double below = s >= 3 ? light_path[s - 3].mis_sum : 0.0;
-      sum += r * r * ((!qs_minus.delta && !delta_below ? 1.0 : 0.0) + below);
+      sum += power(r) * ((!qs_minus.delta && !delta_below ? 1.0 : 0.0) + below);
     }
   }
   // A sum that overflowed (or met 0 x inf) even so: weight 0, as for any overflow.

@@ -40,6 +40,7 @@ struct PathVertex {
   float prev_scale = 1, prev_inv_d2 = 1;
   bool surface_connectible = false;  // a surface with a non-delta lobe
   double mis_sum = 0;  // MIS sum of the strategies at or below this vertex (set_mis_sum)
+  float specularity = 0;  // Lafortune & Willems' weights only: their W at camera-path vertices
 
   // The media a connection leaving this vertex along w starts in: surfaces that w
   // goes through (transmission) hand over to the medium on the other side.

@@ -91,6 +91,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
           v.wo = -ray.d;
           v.beta = beta;
           v.medium = m;
+          v.specularity = std::fabs(medium.phase.g);  // forward (or back) scattering: specular-like
           v.media = media;
           v.link_to_prev(prev, pdf_fwd);
           ++n;
@@ -98,7 +99,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
           Vec3 wi = medium.phase.sample(v.wo, sampler.get_2d());
           pdf_fwd = medium.phase.pdf(v.wo, wi);  // the phase function is symmetric
           prev.pdf_rev = v.to_prev_density(pdf_fwd);
-          if (mode == TransportMode::Radiance && n >= 2) set_mis_sum(path, n - 1, path[n - 2].delta);
+          if (mode == TransportMode::Radiance && n >= 2) set_mis_sum(path, n - 1, path[n - 2].delta, balance());
           ray = Ray{v.p, wi, kInf};
           if (mode == TransportMode::Radiance) cone = cone.after(ms.t).scattered(kRoughConeSpread);
           if (!russian_roulette()) return n;
@@ -156,6 +157,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     if (material.emits()) v.light = int(scene_.triangle_light(hit.instance, hit.prim));
     v.link_to_prev(prev, pdf_fwd);
     v.surface_connectible = v.bsdf.has_lobes() && !v.bsdf.is_delta();
+    if (settings_.mis == MisHeuristic::LafortuneWillems) v.specularity = v.bsdf.specularity();
     ++n;
     if (n >= max_vertices || !v.bsdf.has_lobes()) return n;
 
@@ -175,7 +177,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     prev.pdf_rev = v.to_prev_density(pdf_rev);
     // Camera subpaths: the MIS sum up to prev (the camera vertex itself is no strategy);
     // light subpaths sum theirs once complete (light_subpath).
-    if (mode == TransportMode::Radiance && n >= 2) set_mis_sum(path, n - 1, path[n - 2].delta);
+    if (mode == TransportMode::Radiance && n >= 2) set_mis_sum(path, n - 1, path[n - 2].delta, balance());
     if constexpr (kMedia) {
       if (dot(bs.wi, hit.ng) * dot(ray.d, hit.ng) > 0) media.cross(scene_, hit, bs.wi);  // refracted through
     }
@@ -290,8 +292,8 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path) con
     v.pdf_fwd = infinite_light_density(v.dir);
   }
   // The MIS sums, now that every density is final (the last vertex's is never read).
-  set_mis_sum(path, 0, light_start_is_delta(path[0]));
-  for (int k = 1; k < n; ++k) set_mis_sum(path, k, path[k - 1].delta);
+  set_mis_sum(path, 0, light_start_is_delta(path[0]), balance());
+  for (int k = 1; k < n; ++k) set_mis_sum(path, k, path[k - 1].delta, balance());
   return n + 1;
 }
 
