@@ -215,8 +215,15 @@ def status_message():
         return str(exc)
 
 
-def _json(params):
+def params_json(params):
+    """The JSON text (bytes) the engine receives for a parameter dict; bytes pass through
+    (a caller that needs the text too serialises once)."""
+    if isinstance(params, bytes):
+        return params
     return json.dumps(params, allow_nan=False, separators=(",", ":")).encode("utf-8")
+
+
+_json = params_json
 
 
 def _ptr(arr):

@@ -30,6 +30,7 @@ read_film / cancel from any thread while a session renders; scene edits only whe
 session exists.  A lock per renderer serialises its own calls anyway.
 """
 
+import hashlib
 import threading
 import time
 import traceback
@@ -71,6 +72,10 @@ def _key(inst, ob):
     return ("", (), ob.name_full)
 
 
+def _digest(text):
+    return hashlib.blake2b(text, digest_size=16).digest()
+
+
 def _m16(matrix):
     return [*matrix[0], *matrix[1], *matrix[2], *matrix[3]]
 
@@ -95,7 +100,10 @@ class _Sink:
         self.exp = exporter
 
     def add_material(self, name, params):
-        return self.rscene.add_material(name, params)
+        text = binding.params_json(params)
+        mid = self.rscene.add_material(name, text)
+        self.exp.material_digests[mid] = _digest(text)
+        return mid
 
     def add_mesh(self, name, positions, indices, **kw):
         if self.exp.replace_mesh is not None:
@@ -130,6 +138,7 @@ class ViewportExporter(SceneExporter):
         self.current_key = None
         self.current_name = None
         self.replace_mesh = None
+        self.material_digests = {}  # engine material id -> digest of the params it was given
         self.edits = 0         # in-place edits applied (a selection change applies none)
         super().__init__(depsgraph, _Sink(rscene, self), image_average=image_average, messages=messages,
                          is_viewport=True)
@@ -233,8 +242,10 @@ class ViewportExporter(SceneExporter):
 
     def update_grid(self, rec, ob, m16):
         """Re-exports one grid medium (a Volume object or a gas domain instance) in place:
-        its material over the grids, its box and its transform. False: rebuild (it has
-        nothing to render now, or a bad transform)."""
+        its material over the grids, its box and its transform; only what differs reaches
+        the engine (a final render re-evaluates a domain: its unchanged grids come back
+        here and must not restart the viewport). False: rebuild (it has nothing to render
+        now, or a bad transform)."""
         t0 = time.perf_counter()
         if not is_finite_matrix(m16) or abs(determinant3(m16)) < 1e-24:
             return False
@@ -244,17 +255,26 @@ class ViewportExporter(SceneExporter):
         if params is None:
             return False
         rscene = self.sink.rscene
-        rscene.set_material(rec.material_id, params)
+        rec.materials = self._material_names(ob)
+        edits = self.edits
+        text = binding.params_json(params)
+        digest = _digest(text)
+        if digest != self.material_digests.get(rec.material_id):
+            rscene.set_material(rec.material_id, text)
+            self.material_digests[rec.material_id] = digest
+            self.edits += 1
         box = (source[1], source[2])
         if box != rec.box:
             positions, indices = volumes.box_arrays(*box)
             rscene.set_mesh(rec.mesh_id, positions, indices, default_material=rec.material_id)
             rec.box = box
+            self.edits += 1
         if m16 != rec.m16:
             rscene.set_instance_transform(rec.engine_id, m16)
             rec.m16 = m16
-        rec.materials = self._material_names(ob)
-        self.edits += 1
+            self.edits += 1
+        if self.edits == edits:
+            return True
         stats["volume_updates"] += 1
         stats["volume_update_seconds"] = time.perf_counter() - t0
         return True

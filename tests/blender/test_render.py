@@ -467,36 +467,9 @@ FIRE_TOLERANCE = 0.05
 
 
 def build_fluid_scene(frames):
-    """A tiny fire simulation (gas domain 24 voxels across, Replay cache in OpenVDB) run
-    for `frames` frames, with a Quick-Fire-like Principled Volume (density 5, blackbody 1),
-    before a black world and no lamps; returns the scene and the domain object."""
+    """build_scenes.fire_domain before a black world and no lamps: the scene and the domain."""
     scene = empty_scene((0.0, -6.0, 1.0), (0.0, 0.0, 0.0))
-    bpy.ops.mesh.primitive_cube_add(size=2.0, location=(0.2, 0.0, 1.0))
-    domain = bpy.context.active_object
-    domain.name = "Smoke Domain"
-    domain.scale = (1.0, 0.8, 1.2)
-    mod = domain.modifiers.new("Fluid", "FLUID")
-    mod.fluid_type = "DOMAIN"
-    ds = mod.domain_settings
-    ds.domain_type = "GAS"
-    ds.resolution_max = 24
-    ds.cache_type = "REPLAY"
-    ds.cache_data_format = "OPENVDB"
-    ds.cache_directory = os.path.join(TMP, "fluid_cache")
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.3, location=(0.4, 0.0, 0.4))
-    flow = bpy.context.active_object
-    flow.name = "Burner"
-    fm = flow.modifiers.new("Fluid", "FLUID")
-    fm.fluid_type = "FLOW"
-    fm.flow_settings.flow_type = "BOTH"
-    fm.flow_settings.flow_behavior = "INFLOW"
-    flow.hide_render = True
-    mat, _ = build_scenes.principled_volume_material("Fire", Density=5.0, Blackbody_Intensity=1.0)
-    domain.data.materials.append(mat)
-    scene.frame_start, scene.frame_end = 1, frames
-    for f in range(1, frames + 1):  # the Replay cache simulates as the frames play
-        scene.frame_set(f)
-    return scene, domain
+    return scene, build_scenes.fire_domain(os.path.join(TMP, "fluid_cache"), frames)
 
 
 def centroid(px):
