@@ -7,7 +7,11 @@
 // shared reference noise pulls it toward 1) and that noise estimate.
 // --mis a,b adds rows for BDPT with other weightings (balance, lafortune_willems) at the
 // same budgets, against the same path-traced render and reference (power heuristic).
-//   bench_bdpt [--budgets 5,20,60] [--reference 150] [--width 160] [--mis NAME,...] [scene.json ...]
+// --seeds N renders every cell N times (seeds 17, 18, ...): the table shows the mean
+// relMSE over the seeds and the ratio of the means, and the lowest and highest per-seed
+// ratio, since one seed's ratio at a short budget moves by 10-20%.
+//   bench_bdpt [--budgets 5,20,60] [--reference 150] [--width 160] [--mis NAME,...] [--seeds N] [scene.json ...]
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -32,12 +36,37 @@ std::string read_file(const std::string &p) {
   return ss.str();
 }
 
+// One table cell: an integrator's renders at one budget, one per seed.
+struct Cell {
+  std::vector<double> errors;  // relMSE per seed
+  unsigned spp = 0;            // of the first seed
+  double mean() const {
+    double s = 0;
+    for (double e : errors) s += e;
+    return s / errors.size();
+  }
+};
+
+// The lowest and highest per-seed ratio a/b, as text ("" for one seed).
+std::string ratio_range(const Cell &a, const Cell &b) {
+  if (a.errors.size() < 2) return "";
+  double lo = 1e300, hi = 0;
+  for (size_t k = 0; k < a.errors.size(); ++k) {
+    double r = a.errors[k] / b.errors[k];
+    lo = std::min(lo, r);
+    hi = std::max(hi, r);
+  }
+  char buf[64];
+  std::snprintf(buf, sizeof buf, " | %.3f-%.3f", lo, hi);
+  return buf;
+}
+
 }  // namespace
 
 int main(int argc, char **argv) {
   std::vector<double> budgets = {5, 20, 60};
   double reference_seconds = 150;
-  int width = 160;
+  int width = 160, seeds = 1;
   std::vector<std::string> scenes, extra_mis;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--budgets") && i + 1 < argc) {
@@ -51,6 +80,8 @@ int main(int argc, char **argv) {
       std::stringstream ss(argv[++i]);
       std::string item;
       while (std::getline(ss, item, ',')) extra_mis.push_back(item);
+    } else if (!std::strcmp(argv[i], "--seeds") && i + 1 < argc) {
+      seeds = std::max(1, std::stoi(argv[++i]));
     } else if (!std::strcmp(argv[i], "--width") && i + 1 < argc) {
       width = std::stoi(argv[++i]);
     } else {
@@ -61,12 +92,12 @@ int main(int argc, char **argv) {
   if (scenes.empty())
     for (const char *s : {"door_gap.json", "caustic.json", "cornell_box.json", "light_types.json"}) scenes.push_back(dir + s);
 
-  std::printf("BDPT vs path tracing at equal time; relMSE against a reference of 2 x %.0f s BDPT; %d px wide\n",
-              reference_seconds, width);
+  std::printf("BDPT vs path tracing at equal time; relMSE against a reference of 2 x %.0f s BDPT; %d px wide; "
+              "%d seed(s) per cell\n", reference_seconds, width, seeds);
   // "net": each relMSE minus the reference's own noise (independent of the renders, so
   // it adds to their expected error); printed after each scene's reference is known.
-  std::printf("%-18s %7s | %12s %9s | %12s %9s | %10s | %10s\n", "scene", "budget", "PT relMSE", "PT spp", "BDPT relMSE",
-              "BDPT spp", "BDPT/PT", "net ratio");
+  std::printf("%-18s %7s | %12s %9s | %12s %9s | %10s | %10s%s\n", "scene", "budget", "PT relMSE", "PT spp", "BDPT relMSE",
+              "BDPT spp", "BDPT/PT", "net ratio", seeds > 1 ? " | per-seed BDPT/PT" : "");
   for (const std::string &path : scenes) {
     std::string text = read_file(path);
     std::string base = path.substr(0, path.find_last_of('/'));
@@ -90,24 +121,29 @@ int main(int argc, char **argv) {
     for (double budget : budgets) {
       json s = common;
       s["time_limit"] = budget;
-      s["seed"] = 17;
-      s["integrator"] = "path";
-      Render pt = render(text, base, s);
-      s["integrator"] = "bdpt";
-      Render bd = render(text, base, s);
-      double e_pt = rel_mse(pt.rgb, ref), e_bd = rel_mse(bd.rgb, ref);
-      std::printf("%-18s %6.0fs | %12.3e %9u | %12.3e %9u | %10.3f | %10.3f\n", name.c_str(), budget, e_pt,
-                  pt.progress.samples_done, e_bd, bd.progress.samples_done, e_bd / e_pt,
-                  (e_bd - ref_noise) / (e_pt - ref_noise));
-      for (const std::string &mis : extra_mis) {
+      auto measure = [&](const std::string &integrator, const std::string &mis) {
+        Cell cell;
+        s["integrator"] = integrator;
         s["mis"] = mis;
-        Render other = render(text, base, s);
-        double e = rel_mse(other.rgb, ref);
+        for (int k = 0; k < seeds; ++k) {
+          s["seed"] = 17 + k;
+          Render r = render(text, base, s);
+          if (k == 0) cell.spp = r.progress.samples_done;
+          cell.errors.push_back(rel_mse(r.rgb, ref));
+        }
+        return cell;
+      };
+      Cell pt = measure("path", "power"), bd = measure("bdpt", "power");
+      double e_pt = pt.mean(), e_bd = bd.mean();
+      std::printf("%-18s %6.0fs | %12.3e %9u | %12.3e %9u | %10.3f | %10.3f%s\n", name.c_str(), budget, e_pt, pt.spp,
+                  e_bd, bd.spp, e_bd / e_pt, (e_bd - ref_noise) / (e_pt - ref_noise), ratio_range(bd, pt).c_str());
+      for (const std::string &mis : extra_mis) {
+        Cell other = measure("bdpt", mis);
+        double e = other.mean();
         std::string label = "  BDPT " + (mis == "lafortune_willems" ? std::string("L&W") : mis);
-        std::printf("%-18s %6.0fs | %12s %9s | %12.3e %9u | %10.3f | %10.3f\n", label.c_str(),
-                    budget, "(same)", "", e, other.progress.samples_done, e / e_pt, (e - ref_noise) / (e_pt - ref_noise));
+        std::printf("%-18s %6.0fs | %12s %9s | %12.3e %9u | %10.3f | %10.3f%s\n", label.c_str(), budget, "(same)", "", e,
+                    other.spp, e / e_pt, (e - ref_noise) / (e_pt - ref_noise), ratio_range(other, pt).c_str());
       }
-      s.erase("mis");
       std::fflush(stdout);
     }
     std::printf("%-18s reference noise (included in every figure) %.3e; BDPT %.2f Mrays/s, %.3f Msamples/s; reference spp %u + %u\n",
