@@ -9,7 +9,7 @@ import math
 import os
 
 N = 32
-BOUNDS = [[-0.4, -0.4, 0.02], [0.4, 0.4, 1.22]]  # above the floor: no coplanar faces
+BOUNDS = [[-0.4, -0.4, 0.0], [0.4, 0.4, 1.2]]  # the box stands on the floor (its bottom face in the floor plane)
 
 
 def flame(x, y, z):  # x, y, z in [0, 1]: a tapering plume, hottest low in the middle

@@ -34,8 +34,9 @@ Color medium_transmittance(const Scene &scene, Vec3 p, Vec3 ng, Vec3 d, float di
   float remaining = std::isinf(distance) ? kInf : shadow_tmax(distance);
   for (int guard = 0; guard < 64; ++guard) {
     SurfaceHit hit;
+    CoincidentBoundary boundary;
     ++rays;
-    bool found = scene.intersect(Ray{o, d, remaining}, hit);
+    bool found = scene.intersect_media(Ray{o, d, remaining}, hit, boundary);
     float seg = found ? hit.t : remaining;
     int m = stack.current(scene);
     if (m >= 0) {
@@ -53,7 +54,7 @@ Color medium_transmittance(const Scene &scene, Vec3 p, Vec3 ng, Vec3 d, float di
       tr *= mat.shadow_transmission(scene.shading_point(hit));
       if (is_black(tr)) return tr;
     }
-    stack.cross(scene, hit, d);
+    stack.cross(scene, hit, boundary, d);
     o = spawn_origin(hit.p, hit.ng, d);
     if (!std::isinf(remaining)) remaining -= hit.t;
     if (remaining <= 0) {

@@ -14,8 +14,15 @@ class MediumStack {
   static MediumStack for_camera(const Scene &scene) { return from(scene.camera_media()); }
   static MediumStack from(const std::vector<int> &outermost_first);
   int current(const Scene &scene) const { return n_ > 0 ? media_[n_ - 1] : scene.world_medium(); }
-  // The path crosses the surface of `hit` travelling along d.
-  void cross(const Scene &scene, const SurfaceHit &hit, Vec3 d) { cross(scene, hit.material, hit.ng, d); }
+  // The path crosses the surface of `hit` travelling along d, and the medium boundary
+  // lying in it if there is one (Scene::intersect_media).
+  void cross(const Scene &scene, const SurfaceHit &hit, const CoincidentBoundary &boundary, Vec3 d) {
+    cross(scene, hit.material, hit.ng, d, boundary);
+  }
+  void cross(const Scene &scene, uint32_t material, Vec3 ng, Vec3 d, const CoincidentBoundary &boundary) {
+    cross(scene, material, ng, d);
+    if (boundary.material >= 0) cross(scene, uint32_t(boundary.material), boundary.ng, d);
+  }
   void cross(const Scene &scene, uint32_t material, Vec3 ng, Vec3 d);
 
  private:

@@ -23,60 +23,96 @@ EmbreeAccel::EmbreeAccel() {
 
 EmbreeAccel::~EmbreeAccel() {
   if (top_) rtcReleaseScene(top_);
-  for (RTCScene s : mesh_scenes_)
-    if (s) rtcReleaseScene(s);
+  if (boundary_top_) rtcReleaseScene(boundary_top_);
+  for (MeshScenes &s : mesh_scenes_) release(s);
   if (device_) rtcReleaseDevice(device_);
 }
 
-void EmbreeAccel::build(const std::vector<Mesh> &meshes, const std::vector<Instance> &instances) {
-  auto mesh_scene = [&](const Mesh &m) {
+void EmbreeAccel::release(MeshScenes &s) {
+  if (s.surfaces) rtcReleaseScene(s.surfaces);
+  if (s.boundaries) rtcReleaseScene(s.boundaries);
+  s = {};
+}
+
+EmbreeAccel::MeshScenes EmbreeAccel::mesh_scenes(const Mesh &m, const std::vector<uint8_t> &boundary_material) const {
+  const uint32_t n = m.num_triangles();
+  uint32_t num_boundaries = 0;
+  for (uint32_t mat : m.materials) num_boundaries += boundary_material[mat] != 0;
+  auto bvh = [&](bool boundaries) -> RTCScene {
+    const uint32_t count = boundaries ? num_boundaries : n - num_boundaries;
+    if (count == 0) return nullptr;
     RTCScene scene = rtcNewScene(device_);
     rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);  // no cracks between adjacent triangles
-    if (m.num_triangles() > 0) {
-      RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-      // Shared, not copied: Mesh::positions carries the padding Embree's SSE loads need.
-      rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, m.positions.data(), 0,
-                                 sizeof(Vec3), m.num_vertices());
+    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    // Shared, not copied: Mesh::positions carries the padding Embree's SSE loads need.
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, m.positions.data(), 0,
+                               sizeof(Vec3), m.num_vertices());
+    if (count == n) {
       rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, m.indices.data(), 0,
-                                 3 * sizeof(uint32_t), m.num_triangles());
-      rtcCommitGeometry(geom);
-      rtcAttachGeometryByID(scene, geom, 0);
-      rtcReleaseGeometry(geom);
+                                 3 * sizeof(uint32_t), n);
+    } else {
+      // A mesh with both kinds: each BVH keeps the other kind's triangles as degenerate
+      // ones (one vertex thrice, never hit), so primitive ids stay the mesh's triangle ids.
+      auto *idx = static_cast<uint32_t *>(
+          rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), n));
+      for (uint32_t t = 0; t < n; ++t) {
+        bool keep = (boundary_material[m.materials[t]] != 0) == boundaries;
+        for (int k = 0; k < 3; ++k) idx[3 * t + k] = m.indices[3 * t + (keep ? k : 0)];
+      }
     }
+    rtcCommitGeometry(geom);
+    rtcAttachGeometryByID(scene, geom, 0);
+    rtcReleaseGeometry(geom);
     rtcCommitScene(scene);
     return scene;
   };
+  return {bvh(false), bvh(true)};
+}
+
+void EmbreeAccel::build(const std::vector<Mesh> &meshes, const std::vector<Instance> &instances,
+                        const std::vector<uint8_t> &boundary_material) {
   bool new_meshes = false;
-  for (uint32_t id : dirty_meshes_) {  // replaced geometry (Scene::set_mesh)
+  for (uint32_t id : dirty_meshes_) {  // replaced geometry (Scene::set_mesh) or materials
     if (id >= mesh_scenes_.size()) continue;  // not built yet: built below
-    if (mesh_scenes_[id]) rtcReleaseScene(mesh_scenes_[id]);
-    mesh_scenes_[id] = mesh_scene(meshes[id]);
+    release(mesh_scenes_[id]);
+    mesh_scenes_[id] = mesh_scenes(meshes[id], boundary_material);
     new_meshes = true;
   }
   dirty_meshes_.clear();
   while (mesh_scenes_.size() < meshes.size()) {
-    mesh_scenes_.push_back(mesh_scene(meshes[mesh_scenes_.size()]));
+    mesh_scenes_.push_back(mesh_scenes(meshes[mesh_scenes_.size()], boundary_material));
     new_meshes = true;
   }
   if (!top_dirty_ && !new_meshes && top_) return;
   if (top_) rtcReleaseScene(top_);
+  if (boundary_top_) rtcReleaseScene(boundary_top_);
   top_ = rtcNewScene(device_);
-  for (uint32_t i = 0; i < instances.size(); ++i) {
-    const Instance &inst = instances[i];
-    if (!inst.enabled) continue;
+  boundary_top_ = nullptr;  // made only when some instance has boundaries
+  auto add_instance = [&](RTCScene top, RTCScene mesh, const Instance &inst, uint32_t id) {
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
-    rtcSetGeometryInstancedScene(geom, mesh_scenes_[inst.mesh]);
+    rtcSetGeometryInstancedScene(geom, mesh);
     // Our 4x4 row-major matrix starts with the 3x4 row-major block Embree wants.
     rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &inst.to_world.m[0][0]);
     rtcCommitGeometry(geom);
-    rtcAttachGeometryByID(top_, geom, i);
+    rtcAttachGeometryByID(top, geom, id);
     rtcReleaseGeometry(geom);
+  };
+  for (uint32_t i = 0; i < instances.size(); ++i) {
+    const Instance &inst = instances[i];
+    if (!inst.enabled) continue;
+    const MeshScenes &ms = mesh_scenes_[inst.mesh];
+    if (ms.surfaces) add_instance(top_, ms.surfaces, inst, i);
+    if (ms.boundaries) {
+      if (!boundary_top_) boundary_top_ = rtcNewScene(device_);
+      add_instance(boundary_top_, ms.boundaries, inst, i);
+    }
   }
   rtcCommitScene(top_);
+  if (boundary_top_) rtcCommitScene(boundary_top_);
   top_dirty_ = false;
 }
 
-bool EmbreeAccel::intersect(const Ray &ray, RawHit &hit) const {
+bool EmbreeAccel::intersect(RTCScene scene, const Ray &ray, RawHit &hit) {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh;
@@ -89,7 +125,7 @@ bool EmbreeAccel::intersect(const Ray &ray, RawHit &hit) const {
   rh.ray.time = 0;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(top_, &ctx, &rh);
+  rtcIntersect1(scene, &ctx, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   hit.t = rh.ray.tfar;
   hit.u = rh.hit.u;

@@ -1,5 +1,9 @@
 // The only user of Embree: one BVH per mesh, and a top-level BVH of instances, so a
 // mesh placed 1,000 times is stored once. Moving an instance rebuilds only the top level.
+// Triangles that are index-matched medium boundaries (materials of "type": "volume")
+// go into BVHs of their own, queried separately (Scene::intersect), so that a boundary
+// lying in the plane of a real surface never hides it; a scene without such boundaries
+// has one BVH and one query per ray, as before.
 #pragma once
 #include <embree3/rtcore.h>
 #include <atomic>
@@ -24,20 +28,33 @@ class EmbreeAccel {
   EmbreeAccel &operator=(const EmbreeAccel &) = delete;
 
   // Builds what changed: mesh BVHs for meshes not built yet, then the top level.
-  void build(const std::vector<Mesh> &meshes, const std::vector<Instance> &instances);
+  // boundary_material[m] != 0: triangles of material m are medium boundaries.
+  void build(const std::vector<Mesh> &meshes, const std::vector<Instance> &instances,
+             const std::vector<uint8_t> &boundary_material);
   void mark_instances_dirty() { top_dirty_ = true; }
   // The mesh's geometry was replaced: rebuild its BVH (and the top level) at the next build().
   void mark_mesh_dirty(uint32_t mesh) { dirty_meshes_.push_back(mesh); top_dirty_ = true; }
 
-  bool intersect(const Ray &ray, RawHit &hit) const;
+  // Real surfaces only.
+  bool intersect(const Ray &ray, RawHit &hit) const { return intersect(top_, ray, hit); }
   bool occluded(Vec3 o, Vec3 d, float tmax) const;
+  // Medium boundaries only.
+  bool has_boundaries() const { return boundary_top_ != nullptr; }
+  bool intersect_boundary(const Ray &ray, RawHit &hit) const { return intersect(boundary_top_, ray, hit); }
   size_t memory_bytes() const { return memory_.load(); }
 
  private:
   static bool memory_monitor(void *user, ssize_t bytes, bool post);
+  static bool intersect(RTCScene scene, const Ray &ray, RawHit &hit);
+  // A mesh's two BVHs: its real surfaces and its medium boundaries (either may be null).
+  struct MeshScenes {
+    RTCScene surfaces = nullptr, boundaries = nullptr;
+  };
+  MeshScenes mesh_scenes(const Mesh &m, const std::vector<uint8_t> &boundary_material) const;
+  static void release(MeshScenes &s);
   RTCDevice device_ = nullptr;
-  RTCScene top_ = nullptr;
-  std::vector<RTCScene> mesh_scenes_;
+  RTCScene top_ = nullptr, boundary_top_ = nullptr;
+  std::vector<MeshScenes> mesh_scenes_;
   bool top_dirty_ = true;
   std::vector<uint32_t> dirty_meshes_;
   std::atomic<ssize_t> memory_{0};

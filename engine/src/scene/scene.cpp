@@ -62,7 +62,13 @@ void Scene::set_material(uint32_t id, Params &params) {
   for (const std::string &w : pm.material.warnings) warn(w);
   for (const std::string &w : pm.medium.warnings) warn(w);
   materials_[id] = std::move(pm.material);
-  material_boundary_[id] = pm.boundary_only ? 1 : 0;
+  if (material_boundary_[id] != uint8_t(pm.boundary_only)) {
+    // Boundaries have BVHs of their own: the meshes using this material are rebuilt.
+    material_boundary_[id] = pm.boundary_only ? 1 : 0;
+    for (uint32_t m = 0; m < meshes_.size(); ++m)
+      if (std::find(meshes_[m].materials.begin(), meshes_[m].materials.end(), id) != meshes_[m].materials.end())
+        accel_.mark_mesh_dirty(m);
+  }
   if (!pm.has_medium) {
     material_interior_[id] = -1;  // its old medium stays in the list, unused
   } else if (material_interior_[id] >= 0) {
@@ -302,7 +308,7 @@ void Scene::commit() {
     find_camera_media();  // the camera may have moved into or out of a volume
     return;
   }
-  accel_.build(meshes_, instances_);
+  accel_.build(meshes_, instances_, material_boundary_);
   // Bounding sphere of the instanced geometry: sizes the power of infinite lights.
   Vec3 lo(kInf), hi(-kInf);
   for (const Instance &inst : instances_) {
@@ -339,13 +345,17 @@ std::vector<int> Scene::media_along(Vec3 o, Vec3 d) const {
   Ray ray{o, d, kInf};
   for (int guard = 0; guard < 256; ++guard) {
     SurfaceHit hit;
-    if (!intersect(ray, hit)) break;
-    int m = material_interior_[hit.material];
-    if (m >= 0) {
-      if (dot(ray.d, hit.ng) < 0) entered.push_back(m);
+    CoincidentBoundary boundary;
+    if (!intersect_media(ray, hit, boundary)) break;
+    auto pass = [&](uint32_t material, Vec3 ng) {
+      int m = material_interior_[material];
+      if (m < 0) return;
+      if (dot(ray.d, ng) < 0) entered.push_back(m);
       else if (!entered.empty() && entered.back() == m) entered.pop_back();
       else exited.push_back(m);
-    }
+    };
+    pass(hit.material, hit.ng);
+    if (boundary.material >= 0) pass(uint32_t(boundary.material), boundary.ng);
     ray.o = spawn_origin(hit.p, hit.ng, ray.d);
   }
   return {exited.rbegin(), exited.rend()};  // outermost first, innermost last

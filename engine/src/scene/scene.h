@@ -17,6 +17,14 @@
 
 namespace rdv {
 
+// An index-matched medium boundary lying in a real surface (a smoke domain's bottom
+// face on the floor), found with it (Scene::intersect_media): a path that goes on
+// through the surface crosses the boundary too, one that is reflected does not.
+struct CoincidentBoundary {
+  int material = -1;  // none
+  Vec3 ng;
+};
+
 struct SurfaceHit {
   Vec3 p;        // world-space position, reconstructed from barycentrics
   Vec3 ng;       // geometric normal (unit), on the same side as ns
@@ -54,8 +62,20 @@ class Scene {
   void set_camera(Params &params);
   void commit();
 
-  // Ray queries (after commit).
+  // Ray queries (after commit). intersect and occluded see real surfaces only: they
+  // serve scenes without media. intersect_media finds index-matched medium boundaries
+  // too; where a boundary and a real surface lie within a ray offset of each other, the
+  // real surface is the hit and the boundary its `boundary`, whichever rounding put
+  // first (scene/boundary_hits.cpp).
   bool intersect(const Ray &ray, SurfaceHit &hit) const;
+  bool intersect_media(const Ray &ray, SurfaceHit &hit, CoincidentBoundary &boundary) const {
+    boundary.material = -1;
+    RawHit raw;
+    bool found = accel_.intersect(ray, raw);
+    if (accel_.has_boundaries()) return intersect_with_boundaries(ray, found ? &raw : nullptr, hit, boundary);
+    if (found) surface_at(raw, hit);
+    return found;
+  }
   bool occluded(Vec3 o, Vec3 d, float tmax) const { return accel_.occluded(o, d, tmax); }
   // What textures need at a hit: object / generated coordinates, named attributes, UV
   // tangents, and the footprint of a ray along dir that is `width` wide there.
@@ -126,6 +146,14 @@ class Scene {
   void build_volume_lights();
   // The surface point at barycentrics (b1, b2) of a triangle of an instance.
   void surface_at(uint32_t instance, uint32_t prim, float b1, float b2, SurfaceHit &hit) const;
+  void surface_at(const RawHit &raw, SurfaceHit &hit) const {
+    surface_at(raw.instance, raw.prim, raw.u, raw.v, hit);
+    hit.t = raw.t;
+  }
+  // intersect_media in a scene with medium boundaries; surface: the nearest real
+  // surface, or null.
+  bool intersect_with_boundaries(const Ray &ray, const RawHit *surface, SurfaceHit &hit,
+                                 CoincidentBoundary &boundary) const;
   // Radiance of a textured emissive triangle at point p on it.
   Color triangle_emission(const Light &light, Vec3 p) const;
   Mesh make_mesh(const std::string &name, const float *positions, uint32_t num_vertices, const float *normals,

@@ -27,6 +27,7 @@ struct PathVertex {
   Vec3 dir{0.0f};       // infinite lights: direction from the scene toward the light
   Color emitted{0.0f};  // radiance of the lamp or emissive surface where a path hit it
   uint32_t material = 0;
+  CoincidentBoundary boundary;  // a medium boundary lying in this surface (Scene::intersect_media)
   Bsdf bsdf;
   int medium = -1;      // medium vertices: the medium that scattered (its phase function)
   // Points of volume lights: camera paths gather emission at this many points per unit
@@ -46,7 +47,7 @@ struct PathVertex {
   // goes through (transmission) hand over to the medium on the other side.
   MediumStack media_toward(const Scene &scene, Vec3 w) const {
     MediumStack s = media;
-    if (type == VertexType::Surface && dot(w, ng) * dot(-wo, ng) > 0) s.cross(scene, material, ng, w);
+    if (type == VertexType::Surface && dot(w, ng) * dot(-wo, ng) > 0) s.cross(scene, material, ng, w, boundary);
     return s;
   }
 

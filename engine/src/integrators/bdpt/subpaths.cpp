@@ -68,8 +68,9 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     PathVertex &prev = path[n];
     PathVertex &v = path[n + 1];
     SurfaceHit hit;
+    CoincidentBoundary boundary;  // media: a medium boundary lying in the surface hit
     ++stats.rays;
-    bool found = scene_.intersect(ray, hit);
+    bool found = kMedia ? scene_.intersect_media(ray, hit, boundary) : scene_.intersect(ray, hit);
     float tmax = found ? hit.t : ray.tmax;
     // Lamps a camera path can run into (they are not in the BVH). Light paths pass
     // through them: lamps do not reflect.
@@ -136,7 +137,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     }
     if constexpr (kMedia) {
       if (scene_.is_boundary_only(hit.material)) {  // an index-matched boundary: no vertex
-        media.cross(scene_, hit, ray.d);
+        media.cross(scene_, hit, boundary, ray.d);
         ray = Ray{spawn_origin(hit.p, hit.ng, ray.d), ray.d, kInf};
         if (++boundary_crossings > 256) return n;
         continue;
@@ -151,6 +152,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     v.wo = -ray.d;
     v.beta = beta;
     v.material = hit.material;
+    if constexpr (kMedia) v.boundary = boundary;
     v.media = media;
     v.bsdf = scene_.bsdf(hit, v.wo, cone.width_at(hit.t), &v.emitted);
     cone = cone.after(hit.t);
@@ -179,7 +181,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     // light subpaths sum theirs once complete (light_subpath).
     if (mode == TransportMode::Radiance && n >= 2) set_mis_sum(path, n - 1, path[n - 2].delta, balance());
     if constexpr (kMedia) {
-      if (dot(bs.wi, hit.ng) * dot(ray.d, hit.ng) > 0) media.cross(scene_, hit, bs.wi);  // refracted through
+      if (dot(bs.wi, hit.ng) * dot(ray.d, hit.ng) > 0) media.cross(scene_, hit, boundary, bs.wi);  // refracted through
     }
     ray = Ray{spawn_origin(hit.p, hit.ng, bs.wi), bs.wi, kInf};
     // Camera paths: wider after a rough bounce, as in the path tracer. Light paths

@@ -91,8 +91,9 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
 
   for (int depth = 0;; ++depth) {
     SurfaceHit hit;
+    CoincidentBoundary boundary;  // media: a medium boundary lying in the surface hit
     ++stats.rays;
-    bool found = scene_.intersect(ray, hit);
+    bool found = kMedia ? scene_.intersect_media(ray, hit, boundary) : scene_.intersect(ray, hit);
     float tmax = found ? hit.t : ray.tmax;
 
     // Analytic lights (disks, rectangles) in front of the surface.
@@ -164,7 +165,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     if constexpr (kMedia) {
       // An index-matched medium boundary: change medium and carry straight on.
       if (scene_.is_boundary_only(hit.material)) {
-        stack.cross(scene_, hit, ray.d);
+        stack.cross(scene_, hit, boundary, ray.d);
         ray = Ray{spawn_origin(hit.p, hit.ng, ray.d), ray.d, kInf};
         cone = cone.after(hit.t);
         if (++boundary_crossings > 256) break;
@@ -199,7 +200,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
         // current one, transmission crosses into the other.
         auto media_toward = [&](Vec3 wi) {
           MediumStack s = stack;
-          if (dot(wi, hit.ng) * dot(ray.d, hit.ng) > 0) s.cross(scene_, hit, wi);
+          if (dot(wi, hit.ng) * dot(ray.d, hit.ng) > 0) s.cross(scene_, hit, boundary, wi);
           return s;
         };
         L += beta * sample_direct_light<true>(scene_, hit.p, hit.ng, surface, media_toward, sampler, stats);
@@ -217,7 +218,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     if (bs.pass_through) {
       // Straight through a transparent surface: not a bounce, and the MIS state of the
       // last scattering vertex stays (transparent shadows give NEE the same paths).
-      if constexpr (kMedia) stack.cross(scene_, hit, ray.d);
+      if constexpr (kMedia) stack.cross(scene_, hit, boundary, ray.d);
       ray = Ray{spawn_origin(hit.p, hit.ng, ray.d), ray.d, kInf};
       if (++boundary_crossings > 256 || is_black(beta)) break;
       --depth;
@@ -228,7 +229,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     prev_pdf = bs.pdf;
     prev_p = hit.p;
     if constexpr (kMedia) {
-      if (dot(bs.wi, hit.ng) * dot(ray.d, hit.ng) > 0) stack.cross(scene_, hit, bs.wi);  // refracted through
+      if (dot(bs.wi, hit.ng) * dot(ray.d, hit.ng) > 0) stack.cross(scene_, hit, boundary, bs.wi);  // refracted through
     }
     ray = Ray{spawn_origin(hit.p, hit.ng, bs.wi), bs.wi, kInf};
     if (!russian_roulette(depth) || is_black(beta)) break;
