@@ -57,7 +57,8 @@ POLL_INTERVAL = 0.025          # s: timer polling the sessions
 
 # For tests and benchmarks: counters and timestamps of what the viewports did.
 stats = {"full_exports": 0, "mesh_exports": 0, "material_updates": 0, "light_updates": 0, "world_updates": 0,
-         "transform_updates": 0, "volume_updates": 0, "volume_update_seconds": 0.0, "warnings": [], "camera_restarts": 0, "restarts": 0, "draws": 0, "uploads": 0,
+         "transform_updates": 0, "volume_updates": 0, "volume_update_seconds": 0.0, "export_seconds": 0.0,
+         "warnings": [], "camera_restarts": 0, "restarts": 0, "draws": 0, "uploads": 0,
          "last_restart": 0.0, "last_restart_reason": "", "first_new_frame_drawn": 0.0,
          "first_frame_after_restart": 0.0, "errors": []}
 
@@ -379,6 +380,7 @@ class ViewportRenderer:
 
     # ---- scene --------------------------------------------------------------------------------
     def export(self, depsgraph):
+        t0 = time.perf_counter()
         self._stop()
         if self.rscene is not None:
             self.rscene.close()
@@ -388,6 +390,7 @@ class ViewportRenderer:
         self._printed = set()
         self.exporter.export()
         stats["full_exports"] += 1
+        stats["export_seconds"] = time.perf_counter() - t0
 
     def update(self, depsgraph):
         """Applies depsgraph.updates in place. Returns True if something changed."""

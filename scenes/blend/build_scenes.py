@@ -274,6 +274,32 @@ def fire_domain(cache_dir, frames):
     return domain
 
 
+def cloud_and_fog(vdb_path):
+    """The viewport media scene: a Volume object 'Cloud' reading vdb_path (a Principled
+    Volume 'Smoke', density 8, left) and a cube 'Fog' with a volume material ('FogMat',
+    density 1.5, right), lit by a sun and a pale sky, seen along +y from 6 units; 64x48.
+    Returns (cloud, its Principled Volume, the fog's Principled Volume)."""
+    scene = reset()
+    scene.render.resolution_x, scene.render.resolution_y = 64, 48
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.6, 0.7, 0.9, 1.0)
+    cam = link(bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera")))
+    cam.location, cam.rotation_euler = (0.0, -6.0, 0.0), (math.radians(90), 0.0, 0.0)
+    cam.data.lens = 50.0
+    scene.camera = cam
+    light("SUN", "Sun", 3.0, (0.0, 0.0, 5.0), rotation=(math.radians(-40), math.radians(30), 0.0))
+    vol = bpy.data.volumes.new("CloudData")
+    vol.filepath = vdb_path
+    cloud = link(bpy.data.objects.new("Cloud", vol))
+    cloud.location, cloud.scale = (-1.1, 0.0, 0.0), (0.7, 0.7, 0.7)
+    smoke, pv = principled_volume_material("Smoke", Density=8.0, Color=(0.8, 0.8, 0.8, 1.0))
+    vol.materials.append(smoke)
+    fog = link(bpy.data.objects.new("Fog", box_mesh("FogBox", 0.9)))
+    fog.location = (1.1, 0.0, 0.0)
+    fog_mat, fog_pv = principled_volume_material("FogMat", Density=1.5, Color=(0.9, 0.6, 0.3, 1.0))
+    fog.data.materials.append(fog_mat)
+    return cloud, pv, fog_pv
+
+
 def volume_blackbody():
     """A cube of glowing smoke (Principled Volume blackbody at 1500 K, uniform: a mesh has
     no temperature grid) over a floor that it lights, a black world, no lamps."""

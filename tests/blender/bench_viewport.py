@@ -1,6 +1,13 @@
 """Viewport benchmark (label bench), in a real Blender window on Xvfb (run_viewport.py):
 
     run_viewport.py --script bench_viewport.py [-- 100000 1000000]
+    run_viewport.py --script bench_viewport.py -- volumes --vdb-writer build/tests/blender/write_test_vdb [32 128]
+
+Volumes: build_scenes.cloud_and_fog with a Volume object whose ball is N voxels across its
+radius (write_test_vdb ball N), prints the time from Rendered on to the first frame drawn
+(and Cycles'), the add-on's export time, and for Principled Volume density edits on the
+Volume object and on the mesh volume: the time to the first new frame drawn and the
+in-place re-export time (the add-on reads the grid and the engine loads the .vdb again).
 
 For a showcase scene plus one sphere of N triangles, prints:
   * time from switching to Rendered to the first Rendezvous frame drawn, and Cycles' (same run,
@@ -23,7 +30,9 @@ import numpy as np
 from rendezvous.engine import viewport
 
 ARGS = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-SIZES = [int(a) for a in ARGS] or [100000, 1000000]
+VOLUMES = "volumes" in ARGS
+VDB_WRITER = ARGS[ARGS.index("--vdb-writer") + 1] if "--vdb-writer" in ARGS else None
+SIZES = [int(a) for a in ARGS if a.isdigit()] or ([32, 128] if VOLUMES else [100000, 1000000])
 
 
 def view3d():
@@ -79,9 +88,10 @@ def wait_converged(timeout=30.0):
         yield 0.05
 
 
-def latency(action, n=5):
-    """Median time from `action()` to the first new frame drawn."""
-    out = []
+def latency(action, n=5, also=None):
+    """Median time from `action()` to the first new frame drawn (and the median of also()
+    read after each frame, if given)."""
+    out, figures = [], []
     for i in range(n):
         yield from wait_converged(10)
         t0 = time.perf_counter()
@@ -91,6 +101,10 @@ def latency(action, n=5):
         while viewport.stats["first_new_frame_drawn"] < t0 and time.perf_counter() - t0 < 10:
             yield 0.001
         out.append(viewport.stats["first_new_frame_drawn"] - t0)
+        if also is not None:
+            figures.append(also())
+    if also is not None:
+        return statistics.median(out), statistics.median(figures)
     return statistics.median(out)
 
 
@@ -115,13 +129,18 @@ def switch_time(engine):
     return float("nan")
 
 
-def bench():
-    scene = bpy.context.scene
+def bench_settings(scene):
+    """Rendezvous in the viewport, 16 samples (Cycles: CPU, 16 samples)."""
     scene.render.engine = "RENDEZVOUS"
     scene.rendezvous.viewport_samples = 16
     scene.rendezvous.max_bounces = 4
     scene.cycles.device = "CPU"
     scene.cycles.preview_samples = 16
+
+
+def bench():
+    scene = bpy.context.scene
+    bench_settings(scene)
     win, area, region, space = view3d()
     space.overlay.show_overlays = False
     space.show_gizmo = False
@@ -131,15 +150,7 @@ def bench():
     print("BENCH region %dx%d, %d cores" % (region.width, region.height, os.cpu_count()))
     for tris in SIZES:
         n = heavy_sphere(tris)
-        # Background of an empty Rendered viewport: paused Rendezvous draws nothing.
-        scene.rendezvous.viewport_pause = True
-        space.shading.type = "RENDERED"
-        area.tag_redraw()
-        yield 1.0
-        probe["background"] = probe["value"]
-        space.shading.type = "SOLID"
-        scene.rendezvous.viewport_pause = False
-        yield 0.3
+        yield from background_probe(space, area)
         t_rdv = yield from switch_time("RENDEZVOUS")
         yield from wait_converged()
         exports = dict(viewport.stats)
@@ -168,8 +179,68 @@ def bench():
     bpy.types.SpaceView3D.draw_handler_remove(handler, "WINDOW")
 
 
+def background_probe(space, area):
+    """The centre pixel of an empty Rendered viewport (paused Rendezvous draws nothing)."""
+    scene = bpy.context.scene
+    scene.rendezvous.viewport_pause = True
+    space.shading.type = "RENDERED"
+    area.tag_redraw()
+    yield 1.0
+    probe["background"] = probe["value"]
+    space.shading.type = "SOLID"
+    scene.rendezvous.viewport_pause = False
+    yield 0.3
+
+
+def bench_volumes():
+    import subprocess
+    sys.path.insert(0, os.path.join(os.environ["RDV_REPO_ROOT"], "scenes", "blend"))
+    import build_scenes
+    tmp = os.environ.get("RDV_TEST_TMP") or bpy.app.tempdir
+    win, area, region, space = view3d()
+    space.overlay.show_overlays = False
+    space.show_gizmo = False
+    handler = bpy.types.SpaceView3D.draw_handler_add(_probe, (), "WINDOW", "POST_PIXEL")
+    print("BENCH region %dx%d, %d cores" % (region.width, region.height, os.cpu_count()))
+    for n in SIZES:
+        path = os.path.join(tmp, "ball_%d.vdb" % n)
+        subprocess.run([VDB_WRITER, path, "ball", str(n)], check=True)
+        space.shading.type = "SOLID"
+        yield 0.3
+        cloud, pv, fog_pv = build_scenes.cloud_and_fog(path)
+        scene = bpy.context.scene
+        bench_settings(scene)
+        space.region_3d.view_perspective = "CAMERA"
+        yield from background_probe(space, area)
+        t_rdv = yield from switch_time("RENDEZVOUS")
+        export = viewport.stats["export_seconds"]
+        yield from wait_converged()
+        before = dict(viewport.stats)
+
+        def density(node, base):
+            return lambda i: setattr(node.inputs["Density"], "default_value", base * (1.2 if i % 2 else 0.8))
+        vol_t, vol_reexport = yield from latency(density(pv, 8.0), also=lambda: viewport.stats["volume_update_seconds"])
+        mesh_t = yield from latency(density(fog_pv, 1.5))
+        reexports = viewport.stats["full_exports"] - before["full_exports"]
+        volume_updates = viewport.stats["volume_updates"] - before["volume_updates"]
+        material_updates = viewport.stats["material_updates"] - before["material_updates"]
+        t_cycles = yield from switch_time("CYCLES")
+        yield 2.0
+        space.shading.type = "SOLID"
+        scene.render.engine = "RENDEZVOUS"
+        yield 0.5
+        voxels = (2 * n + 1) ** 3
+        print("BENCH Volume object %d voxels across (%.1f M voxels in its box, .vdb %.1f MB) + mesh volume: "
+              "Rendered on -> first frame %.3f s (export %.3f s; Cycles %.3f s); Volume material density edit: "
+              "first new frame %.1f ms, in-place re-export %.1f ms; mesh volume density edit: first new frame %.1f ms "
+              "(medians of 5); during edits %d scene re-exports, %d volume and %d material updates"
+              % (2 * n + 1, voxels / 1e6, os.path.getsize(path) / 1e6, t_rdv, export, t_cycles, vol_t * 1e3,
+                 vol_reexport * 1e3, mesh_t * 1e3, reexports, volume_updates, material_updates), flush=True)
+    bpy.types.SpaceView3D.draw_handler_remove(handler, "WINDOW")
+
+
 def run():
-    gen = bench()
+    gen = bench_volumes() if VOLUMES else bench()
 
     def step():
         try:

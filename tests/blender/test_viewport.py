@@ -315,35 +315,12 @@ def write_vdb(name, kind=""):
 
 
 def volume_scene(vdb, samples=4):
-    """The scene above (the showcase's objects removed), 64x48 final renders:
-    (scene, Volume object, its Principled Volume node, the Fog cube's Principled Volume)."""
-    import math
+    """build_scenes.cloud_and_fog in the window: (scene, Volume object, its Principled
+    Volume node, the Fog cube's Principled Volume)."""
     sys.path.insert(0, os.path.join(ROOT, "scenes", "blend"))
     import build_scenes
-    scene = setup_scene(samples)
-    for ob in list(scene.objects):
-        if ob.type != "CAMERA":
-            bpy.data.objects.remove(ob)
-    cam = scene.camera
-    cam.location, cam.rotation_euler = (0.0, -6.0, 0.0), (math.radians(90), 0.0, 0.0)
-    cam.data.lens, cam.data.sensor_fit = 50.0, "AUTO"
-    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 64, 48, 100
-    scene.world.use_nodes = True
-    bg = scene.world.node_tree.nodes["Background"]
-    bg.inputs["Color"].default_value = (0.6, 0.7, 0.9, 1.0)
-    bg.inputs["Strength"].default_value = 1.0
-    build_scenes.light("SUN", "Sun", 3.0, (0.0, 0.0, 5.0), rotation=(math.radians(-40), math.radians(30), 0.0))
-    vol = bpy.data.volumes.new("CloudData")
-    vol.filepath = vdb
-    cloud = build_scenes.link(bpy.data.objects.new("Cloud", vol))
-    cloud.location, cloud.scale = (-1.1, 0.0, 0.0), (0.7, 0.7, 0.7)
-    smoke, pv = build_scenes.principled_volume_material("Smoke", Density=8.0, Color=(0.8, 0.8, 0.8, 1.0))
-    vol.materials.append(smoke)
-    fog = build_scenes.link(bpy.data.objects.new("Fog", build_scenes.box_mesh("FogBox", 0.9)))
-    fog.location = (1.1, 0.0, 0.0)
-    fog_mat, fog_pv = build_scenes.principled_volume_material("FogMat", Density=1.5, Color=(0.9, 0.6, 0.3, 1.0))
-    fog.data.materials.append(fog_mat)
-    return scene, cloud, pv, fog_pv
+    cloud, pv, fog_pv = build_scenes.cloud_and_fog(vdb)
+    return setup_scene(samples), cloud, pv, fog_pv
 
 
 def viewport_film():
@@ -416,15 +393,17 @@ def wait_settled(timeout=10.0):
             return
 
 
-def edit(name, action, boxes=BOXES):
+def edit(name, action, boxes=BOXES, against_final=True):
     """Applies action(), waits for the new viewport image and checks it against a final
-    render: (region luminances, counter deltas)."""
+    render (not for a viewport-only change): (region luminances, counter deltas)."""
     before = dict(viewport.stats)
     action()
     yield from wait_edit(before)
     delta = {k: viewport.stats[k] - before[k] for k in VOLUME_COUNTERS}
     print("EDIT %-28s %s" % (name, " ".join("%s %d" % kv for kv in delta.items() if kv[1]) or "no updates"))
     img = viewport_film()
+    if not against_final:
+        return {label: lum(region_mean(img, box)) for label, box in boxes.items()}, delta
     return matches_final(img, name, boxes), delta
 
 
@@ -531,7 +510,7 @@ def mode_volume_edits():
     in_place(d, "a frame change")
 
     # Visibility (the viewport's own: the final render still has the object).
-    r, d = yield from edit_unchecked("cloud hidden", lambda: cloud.hide_set(True))
+    r, d = yield from edit("cloud hidden", lambda: cloud.hide_set(True), against_final=False)
     check(abs(r["centre"] - r["sky"]) < 0.03 * r["sky"], "the hidden volume still shows (%.4f vs sky %.4f)"
           % (r["centre"], r["sky"]))
     r, d = yield from edit("cloud shown", lambda: cloud.hide_set(False))
@@ -612,17 +591,6 @@ def centroid_x(img):
     """The luminance centroid's x as a fraction of the image width."""
     l = img.sum(axis=2)
     return float((l.sum(axis=0) * np.arange(l.shape[1])).sum() / max(l.sum(), 1e-12)) / l.shape[1]
-
-
-def edit_unchecked(name, action):
-    """edit() for a viewport-only change (no final render to compare with): region luminances."""
-    before = dict(viewport.stats)
-    action()
-    yield from wait_edit(before)
-    delta = {k: viewport.stats[k] - before[k] for k in VOLUME_COUNTERS}
-    print("EDIT %-28s %s" % (name, " ".join("%s %d" % kv for kv in delta.items() if kv[1]) or "no updates"))
-    img = viewport_film()
-    return {label: lum(region_mean(img, box)) for label, box in BOXES.items()}, delta
 
 
 # Region means of the viewport (4 spp on the whole region, box-filtered to 64x48) against the

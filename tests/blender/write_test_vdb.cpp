@@ -6,17 +6,20 @@
 //   write_test_vdb out.vdb fire   "density": two balls of radius 0.4 at x = -0.6 and x = +0.6;
 //                                 "temperature": 1.5 (x 1000 K in Blender's default material)
 //                                 in the left ball only; the right ball is cold (no voxels).
+//   write_test_vdb out.vdb ball N "density": the first file's ball (radius 0.8, no empty
+//                                 tiles) resolved by N voxels across its radius (benchmarks).
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <openvdb/openvdb.h>
 
 namespace {
 
-openvdb::FloatGrid::Ptr make_grid(const char *name) {
+openvdb::FloatGrid::Ptr make_grid(const char *name, double voxel_size = 0.05) {
   openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(0.0f);
   grid->setName(name);
-  grid->setTransform(openvdb::math::Transform::createLinearTransform(0.05));
+  grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel_size));
   return grid;
 }
 
@@ -36,11 +39,18 @@ void ball(openvdb::FloatGrid &grid, openvdb::Coord centre, int radius, F value) 
 
 int main(int argc, char **argv) {
   bool fire = argc == 3 && std::strcmp(argv[2], "fire") == 0;
-  if (argc != 2 && !fire) {
-    std::fprintf(stderr, "usage: write_test_vdb out.vdb [fire]\n");
+  int ball_voxels = argc == 4 && std::strcmp(argv[2], "ball") == 0 ? std::atoi(argv[3]) : 0;
+  if (argc != 2 && !fire && ball_voxels < 1) {
+    std::fprintf(stderr, "usage: write_test_vdb out.vdb [fire | ball N]\n");
     return 2;
   }
   openvdb::initialize();
+  if (ball_voxels > 0) {
+    openvdb::FloatGrid::Ptr grid = make_grid("density", 0.8 / ball_voxels);
+    ball(*grid, openvdb::Coord(0), ball_voxels, [](double r) { return 1 - r * r; });
+    openvdb::io::File(argv[1]).write({grid});
+    return 0;
+  }
   openvdb::FloatGrid::Ptr density = make_grid("density");
   if (!fire) {
     ball(*density, openvdb::Coord(0), 16, [](double r) { return 1 - r * r; });
