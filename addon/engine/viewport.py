@@ -58,7 +58,7 @@ POLL_INTERVAL = 0.025          # s: timer polling the sessions
 # For tests and benchmarks: counters and timestamps of what the viewports did.
 stats = {"full_exports": 0, "mesh_exports": 0, "material_updates": 0, "light_updates": 0, "world_updates": 0,
          "transform_updates": 0, "volume_updates": 0, "volume_update_seconds": 0.0, "export_seconds": 0.0,
-         "warnings": [], "camera_restarts": 0, "restarts": 0, "draws": 0, "uploads": 0,
+         "warnings": [], "status": "", "camera_restarts": 0, "restarts": 0, "draws": 0, "uploads": 0,
          "last_restart": 0.0, "last_restart_reason": "", "first_new_frame_drawn": 0.0,
          "first_frame_after_restart": 0.0, "errors": []}
 
@@ -684,5 +684,6 @@ def view_draw(engine, context, depsgraph):
                 text += " | Warning: %s%s" % (r.warnings[0], " (+%d more in the console)" % (len(r.warnings) - 1)
                                               if len(r.warnings) > 1 else "")
             engine.update_stats("", text)
+            stats["status"] = text
     except Exception as exc:
         _report_error(engine, exc)

@@ -474,6 +474,8 @@ def mode_volumes():
     print("VIEWPORT WARNINGS: %s\nFINAL WARNINGS: %s" % (warnings, final_warnings))
     check(final_warnings and any("no_such_cloud" in m for m in final_warnings), "the final render gave no warning")
     check(all(m in warnings for m in final_warnings), "the viewport does not give the final render's warning")
+    print("VIEWPORT STATUS: %s" % viewport.stats["status"])
+    check(any(m in viewport.stats["status"] for m in final_warnings), "the viewport's status text does not show the warning")
     check(abs(r["cloud"] - r["sky"]) < 0.05 * r["sky"], "the missing volume still shows")
     check(r["fog"] < 0.9 * r["sky"], "the rest of the scene no longer renders")
     r, d = yield from edit("cloud file back", lambda: setattr(cloud.data, "filepath", os.path.join(TMP, "cloud.vdb")))
