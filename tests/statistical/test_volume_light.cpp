@@ -108,12 +108,21 @@ TEST(Blackbody, ColoursMatchCycles) {
   for (float T : {1000.0f, 1500.0f, 3000.0f, 6500.0f, 10000.0f})
     EXPECT_NEAR(luminance(blackbody_color(T)), 1.0f, 0.02f) << T;  // negatives clipped: a little above 1 at 1000 K
   Color hot = blackbody_color(12000.0f), cycles_hot(0.8262954810464208f, 0.9945080501520986f, 1.566307710274283f);
-  for (int c = 0; c < 3; ++c) EXPECT_NEAR(hot[c], cycles_hot[c], 0.04f * cycles_hot[c]) << c;
-  // Cycles: (5.41, -0.20, -0.08) before its clamp. Only the far-red tail of the colour
-  // matching functions sees 800 K, where the analytic fit is least accurate: 4.86 here.
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(hot[c], cycles_hot[c], 0.005f * cycles_hot[c]) << c;
+  // Cycles: (5.41, -0.20, -0.08) at 800 K and below, before negatives are clipped. Only the
+  // far-red tail of the colour matching functions sees 800 K (an analytic fit of them
+  // gave 4.86; the CIE table 5.406).
   Color cold = blackbody_color(700.0f);
-  EXPECT_NEAR(cold.x, 5.41f, 0.6f);
+  EXPECT_NEAR(cold.x, 5.41f, 0.02f);
   EXPECT_EQ(cold.y + cold.z, 0.0f);
+  // On the Planckian locus: CIE 1931 chromaticity at 2000 K (0.5269, 0.4133) after Kim et
+  // al.'s fit of the locus; the colour back to xy through Rec.709 -> XYZ.
+  Color c2000 = blackbody_color(2000.0f);  // no negative component to clip
+  double X = 0.4124564 * c2000.x + 0.3575761 * c2000.y + 0.1804375 * c2000.z;
+  double Y = 0.2126729 * c2000.x + 0.7151522 * c2000.y + 0.0721750 * c2000.z;
+  double Z = 0.0193339 * c2000.x + 0.1191920 * c2000.y + 0.9503041 * c2000.z;
+  EXPECT_NEAR(X / (X + Y + Z), 0.5269, 1e-3);
+  EXPECT_NEAR(Y / (X + Y + Z), 0.4133, 1e-3);
   // Redder when colder.
   EXPECT_GT(blackbody_color(1500.0f).x, blackbody_color(3000.0f).x);
   EXPECT_LT(blackbody_color(1500.0f).z, blackbody_color(3000.0f).z);
