@@ -71,6 +71,18 @@ RDV_API rdv_status rdv_scene_destroy(rdv_scene *scene);
 RDV_API rdv_status rdv_scene_add_material(rdv_scene *scene, const char *name,
                                           const char *params_json, uint32_t *out_material);
 
+/* A dense grid from a caller-owned array (copied): nx * ny * nz floats, x fastest
+ * (values[(k * ny + j) * nx + i]), finite and not negative: the layout of a grid's JSON
+ * "values". A medium names it in place of "resolution" and "values", wherever a dense
+ * grid is accepted ("grid", "emission_grid", "temperature_grid"):
+ *   {"buffer": name, "bounds": [[x0,y0,z0],[x1,y1,z1]], "transform": [16]}
+ * Add the grid before the material that names it; an unknown name warns (naming the
+ * medium) and the medium renders without that grid, as with a missing VDB file. Adding
+ * a name again replaces its voxels (same id) for materials added or set from then on:
+ * call rdv_scene_set_material again for a material to see them. out_grid may be NULL. */
+RDV_API rdv_status rdv_scene_add_grid(rdv_scene *scene, const char *name, const float *values,
+                                      uint32_t nx, uint32_t ny, uint32_t nz, uint32_t *out_grid);
+
 /* A triangle mesh from caller-owned arrays; the engine copies what it keeps.
  *   positions      3 * num_vertices floats
  *   normals        3 * num_vertices floats, or NULL (flat shading)

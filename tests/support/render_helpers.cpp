@@ -38,9 +38,15 @@ static Image render_scene(rdv_scene *scene, const rdv_tools::LoadedScene &loaded
 }
 
 Image render_json(const std::string &scene_json, const std::string &settings_override) {
+  return render_json_prepared([](rdv_scene *) {}, scene_json, settings_override);
+}
+
+Image render_json_prepared(const std::function<void(rdv_scene *)> &prepare, const std::string &scene_json,
+                           const std::string &settings_override) {
   rdv_scene *scene = nullptr;
   rdv_scene_create(&scene);
   try {
+    prepare(scene);
     auto loaded = rdv_tools::load_scene_json(scene_json, ".", scene);
     Image img = render_scene(scene, loaded, settings_override);
     rdv_scene_destroy(scene);

@@ -1,6 +1,7 @@
 // Rendering a scene through the public C ABI, as the add-on and the CLI do, and
 // simple statistics on the result.
 #pragma once
+#include <functional>
 #include <string>
 #include <vector>
 #include "rendezvous.h"
@@ -28,6 +29,9 @@ struct Image {
 // Renders JSON scene text; settings_override is merged into the scene's settings.
 Image render_json(const std::string &scene_json, const std::string &settings_override = "{}");
 Image render_file(const std::string &path, const std::string &settings_override = "{}");
+// render_json after prepare(scene) on the empty scene (e.g. rdv_scene_add_grid).
+Image render_json_prepared(const std::function<void(rdv_scene *)> &prepare, const std::string &scene_json,
+                           const std::string &settings_override = "{}");
 
 // Mean and standard error of the per-pixel means (pixels are independent estimates).
 struct MeanEstimate { double mean, standard_error; };

@@ -115,6 +115,15 @@ rdv_status rdv_scene_add_material(rdv_scene *s, const char *name, const char *pa
   });
 }
 
+rdv_status rdv_scene_add_grid(rdv_scene *s, const char *name, const float *values, uint32_t nx, uint32_t ny,
+                              uint32_t nz, uint32_t *out) {
+  return guarded([&] {
+    require(name, "name");
+    uint32_t id = editable(s).add_grid(name, values, nx, ny, nz);
+    if (out) *out = id;
+  });
+}
+
 rdv_status rdv_scene_add_mesh(rdv_scene *s, const char *name, const float *positions, uint32_t num_vertices,
                               const float *normals, const float *uvs, const uint32_t *indices,
                               uint32_t num_triangles, const uint32_t *material_ids, uint32_t default_material,

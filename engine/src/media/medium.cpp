@@ -3,7 +3,7 @@
 
 namespace rdv {
 
-Medium Medium::from_params(Params &p, const std::string &name) {
+Medium Medium::from_params(Params &p, const std::string &name, const GridBuffers *buffers) {
   Medium m;
   m.name = name;
   auto non_negative = [&](Color c, const char *key) {
@@ -41,15 +41,15 @@ Medium Medium::from_params(Params &p, const std::string &name) {
   // Grids that vary the emission: its strength, and the blackbody temperature (Cycles'
   // Temperature Attribute). One that cannot be read turns its emission off.
   if (const nlohmann::json *eg = p.get_json("emission_grid")) {
-    m.emission_grid = load_grid(m, *eg, p.what() + " emission_grid", "its emission");
+    m.emission_grid = load_grid(m, *eg, p.what() + " emission_grid", "its emission", buffers);
     if (!m.emission_grid) m.emission = Color(0.0f);
   }
   if (const nlohmann::json *tg = p.get_json("temperature_grid")) {
-    m.temperature_grid = load_grid(m, *tg, p.what() + " temperature_grid", "its blackbody emission");
+    m.temperature_grid = load_grid(m, *tg, p.what() + " temperature_grid", "its blackbody emission", buffers);
     if (!m.temperature_grid) m.blackbody.intensity = 0;
   }
   if (const nlohmann::json *grid = p.get_json("grid")) {
-    m.grid = load_grid(m, *grid, p.what() + " grid", "this medium");
+    m.grid = load_grid(m, *grid, p.what() + " grid", "this medium", buffers);
     if (!m.grid) {  // a density grid that cannot be read: vacuum, as the warning says
       m.sigma_a = m.sigma_s = m.sigma_t = m.emission = Color(0.0f);
       m.blackbody.intensity = 0;
@@ -71,10 +71,11 @@ Medium Medium::from_params(Params &p, const std::string &name) {
 }
 
 // "grid": dense {"resolution": [nx,ny,nz], "values": [...], "bounds": [[min],[max]]} (the
-// values fill the box `bounds`, default the unit cube) or {"file": "x.vdb", "name":
-// "density"} (the file's own voxel placement); both then placed by "transform".
+// values fill the box `bounds`, default the unit cube), dense {"buffer": name, "bounds"}
+// (a grid added with rdv_scene_add_grid) or {"file": "x.vdb", "name": "density"} (the
+// file's own voxel placement); all then placed by "transform".
 std::shared_ptr<const DensityGrid> Medium::load_grid(Medium &m, const nlohmann::json &j, const std::string &what,
-                                                     const std::string &without) {
+                                                     const std::string &without, const GridBuffers *buffers) {
   Params g(j.dump(), what);
   Transform to_world = g.get_transform("transform", Transform());
   if (!to_world.is_finite() || !(std::fabs(to_world.det3()) > 0)) fail(what + ": 'transform' must be finite and invertible");
@@ -86,14 +87,30 @@ std::shared_ptr<const DensityGrid> Medium::load_grid(Medium &m, const nlohmann::
     if (!grid) m.warnings.push_back("medium '" + m.name + "': " + error + "; rendering without " + without);
     return grid;
   }
-  std::vector<float> res = g.get_floats("resolution", 3, {0, 0, 0});
-  int nx = int(res[0]), ny = int(res[1]), nz = int(res[2]);
-  if (nx < 1 || ny < 1 || nz < 1 || res[0] != nx || res[1] != ny || res[2] != nz || double(nx) * ny * nz > 1e9)
-    fail(what + ": 'resolution' must be three positive integers (or give a 'file')");
-  std::vector<float> values = g.get_floats("values", size_t(nx) * ny * nz, {});
-  if (values.empty()) fail(what + ": needs 'values' (" + std::to_string(size_t(nx) * ny * nz) + " densities, x fastest)");
-  for (float v : values)
-    if (v < 0) fail(what + ": densities must not be negative");
+  int nx = 0, ny = 0, nz = 0;
+  std::vector<float> values;
+  const GridBuffer *buffer = nullptr;
+  if (g.has("buffer")) {
+    std::string buffer_name = g.get_string("buffer", "");
+    buffer = buffers ? find_grid_buffer(*buffers, buffer_name) : nullptr;
+    if (!buffer) {
+      g.get_json("bounds");  // a missing buffer is a warning, not a malformed grid
+      g.check_all_used();
+      m.warnings.push_back("medium '" + m.name + "': no grid buffer '" + buffer_name +
+                           "' (add it with rdv_scene_add_grid first); rendering without " + without);
+      return nullptr;
+    }
+    nx = buffer->nx, ny = buffer->ny, nz = buffer->nz;
+  } else {
+    std::vector<float> res = g.get_floats("resolution", 3, {0, 0, 0});
+    nx = int(res[0]), ny = int(res[1]), nz = int(res[2]);
+    if (nx < 1 || ny < 1 || nz < 1 || res[0] != nx || res[1] != ny || res[2] != nz || double(nx) * ny * nz > 1e9)
+      fail(what + ": 'resolution' must be three positive integers (or give a 'file' or a 'buffer')");
+    values = g.get_floats("values", size_t(nx) * ny * nz, {});
+    if (values.empty()) fail(what + ": needs 'values' (" + std::to_string(size_t(nx) * ny * nz) + " densities, x fastest)");
+    for (float v : values)
+      if (v < 0) fail(what + ": densities must not be negative");
+  }
   Vec3 lo(0.0f), hi(1.0f);
   if (const nlohmann::json *b = g.get_json("bounds")) {
     if (!b->is_array() || b->size() != 2) fail(what + ": 'bounds' must be [[x0,y0,z0],[x1,y1,z1]]");
@@ -103,6 +120,7 @@ std::shared_ptr<const DensityGrid> Medium::load_grid(Medium &m, const nlohmann::
     if (!(hi.x > lo.x && hi.y > lo.y && hi.z > lo.z)) fail(what + ": 'bounds' must have max > min on every axis");
   }
   g.check_all_used();
+  if (buffer) values = buffer->values;  // each medium owns its voxels (a buffer may be replaced later)
   // Grid coordinates [0, n] -> the box [lo, hi] -> the world.
   Transform box;
   Vec3 size = hi - lo;

@@ -19,6 +19,7 @@
 #include "core/params.h"
 #include "media/blackbody.h"
 #include "media/density_grid.h"
+#include "media/grid_buffers.h"
 #include "media/phase.h"
 
 namespace rdv {
@@ -61,7 +62,8 @@ struct Medium {
   // "absorption_color", "anisotropy", "emission_color", "emission_strength"} or the
   // physical {"sigma_a", "sigma_s", "emission", "anisotropy"}; plus an optional "grid"
   // (dense values or a VDB file, see docs/scene-format.md) with "method" and "step_size".
-  static Medium from_params(Params &p, const std::string &name);
+  // A grid {"buffer": name} reads the dense grid of that name from `buffers`.
+  static Medium from_params(Params &p, const std::string &name, const GridBuffers *buffers = nullptr);
 
   bool is_emissive() const { return !is_black(emission) || blackbody.active(); }
   // Emission at a world point (inside the medium).
@@ -124,7 +126,7 @@ struct Medium {
   // A dense or VDB grid (see from_params); null, with a warning in m that the render
   // goes on `without` something, if it cannot be read.
   static std::shared_ptr<const DensityGrid> load_grid(Medium &m, const nlohmann::json &grid, const std::string &what,
-                                                      const std::string &without);
+                                                      const std::string &without, const GridBuffers *buffers);
   MediumSample sample_homogeneous(float tmax, float u_channel, float u_distance) const;
   MediumSample delta_tracking(Vec3 o, Vec3 d, float tmax, Pcg32 &rng) const;
   Color ratio_tracking(Vec3 o, Vec3 d, float distance, Pcg32 &rng) const;

@@ -21,7 +21,7 @@ Scene::ParsedMaterial Scene::parse_material(const std::string &name, Params &par
   ParsedMaterial pm;
   if (const nlohmann::json *volume = params.get_json("volume")) {
     Params v(volume->dump(), params.what() + " volume");
-    pm.medium = Medium::from_params(v, name);
+    pm.medium = Medium::from_params(v, name, &grid_buffers_);
     v.check_all_used();
     pm.has_medium = true;
   }
@@ -46,6 +46,24 @@ uint32_t Scene::add_material(const std::string &name, Params &params) {
   material_boundary_.push_back(pm.boundary_only ? 1 : 0);
   dirty_ = true;
   return static_cast<uint32_t>(materials_.size() - 1);
+}
+
+uint32_t Scene::add_grid(const std::string &name, const float *values, uint32_t nx, uint32_t ny, uint32_t nz) {
+  const std::string what = "grid '" + name + "'";
+  if (!values) fail(what + ": no values");
+  if (nx < 1 || ny < 1 || nz < 1 || double(nx) * ny * nz > 1e9)
+    fail(what + ": the resolution must be positive (at most 1e9 voxels)");
+  size_t count = size_t(nx) * ny * nz;
+  for (size_t i = 0; i < count; ++i)
+    if (!(values[i] >= 0) || !std::isfinite(values[i])) fail(what + ": densities must be finite and not negative");
+  GridBuffer buffer{name, int(nx), int(ny), int(nz), std::vector<float>(values, values + count)};
+  for (uint32_t id = 0; id < grid_buffers_.size(); ++id)
+    if (grid_buffers_[id].name == name) {  // re-added (a simulation step): replace it
+      grid_buffers_[id] = std::move(buffer);
+      return id;
+    }
+  grid_buffers_.push_back(std::move(buffer));
+  return uint32_t(grid_buffers_.size() - 1);
 }
 
 uint32_t Scene::add_error_material(const std::string &name) {

@@ -41,6 +41,9 @@ class Scene {
 
   uint32_t add_material(const std::string &name, Params &params);
   uint32_t add_error_material(const std::string &name);
+  // A dense grid (nx*ny*nz floats, x fastest, copied) that media name by {"buffer": name};
+  // adding a name again replaces its voxels for materials parsed from then on.
+  uint32_t add_grid(const std::string &name, const float *values, uint32_t nx, uint32_t ny, uint32_t nz);
   uint32_t add_mesh(const std::string &name, const float *positions, uint32_t num_vertices, const float *normals,
                     const float *uvs, const uint32_t *indices, uint32_t num_triangles,
                     const uint32_t *material_ids, uint32_t default_material);
@@ -160,6 +163,7 @@ class Scene {
                  const float *uvs, const uint32_t *indices, uint32_t num_triangles, const uint32_t *material_ids,
                  uint32_t default_material);
   std::vector<Material> materials_;
+  GridBuffers grid_buffers_;
   struct ParsedMaterial {
     Material material;
     Medium medium;
