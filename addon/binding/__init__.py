@@ -72,6 +72,8 @@ _PROTOTYPES = {
     "rdv_scene_add_mesh": (_status, [_scene_p, ctypes.c_char_p, ctypes.c_void_p, ctypes.c_uint32,
                                      ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_uint32,
                                      ctypes.c_void_p, ctypes.c_uint32, _c_uint32_p]),
+    "rdv_scene_add_grid": (_status, [_scene_p, ctypes.c_char_p, ctypes.c_void_p, ctypes.c_uint32, ctypes.c_uint32,
+                                     ctypes.c_uint32, _c_uint32_p]),
     "rdv_scene_add_mesh_attribute": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_char_p, ctypes.c_char_p,
                                                ctypes.c_void_p, ctypes.c_uint32, ctypes.c_uint32]),
     "rdv_scene_set_material": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_char_p]),
@@ -292,6 +294,17 @@ class Scene(_Handle):
         """Replaces material `material` in place (no session may exist)."""
         self.lib.check(self.lib.rdv_scene_set_material(self.handle, int(material), _json(params)),
                        "material %d" % material)
+
+    def add_grid(self, name, values, resolution):
+        """A dense grid as a binary buffer: values (nx*ny*nz,) float32, x fastest; a medium
+        names it {"buffer": name, "bounds": ...}.  Adding a name again replaces it."""
+        import numpy as np
+        nx, ny, nz = (int(x) for x in resolution)
+        values = _check_array(values, np.float32, "grid '%s'" % name, nx * ny * nz)
+        out = ctypes.c_uint32()
+        self.lib.check(self.lib.rdv_scene_add_grid(self.handle, name.encode("utf-8"), _ptr(values), nx, ny, nz,
+                                                   ctypes.byref(out)), "grid '%s'" % name)
+        return out.value
 
     def set_light(self, light, params):
         self.lib.check(self.lib.rdv_scene_set_light(self.handle, int(light), _json(params)), "light %d" % light)

@@ -103,8 +103,12 @@ class _Sink:
     def add_material(self, name, params):
         text = binding.params_json(params)
         mid = self.rscene.add_material(name, text)
-        self.exp.material_digests[mid] = _digest(text)
+        self.exp.material_digests[mid] = self.exp.material_digest(text, params)
         return mid
+
+    def add_grid(self, name, values, resolution):
+        self.rscene.add_grid(name, values, resolution)
+        self.exp.grid_digests[name] = volumes.buffer_digest(values)
 
     def add_mesh(self, name, positions, indices, **kw):
         if self.exp.replace_mesh is not None:
@@ -140,6 +144,7 @@ class ViewportExporter(SceneExporter):
         self.current_name = None
         self.replace_mesh = None
         self.material_digests = {}  # engine material id -> digest of the params it was given
+        self.grid_digests = {}  # grid buffer name -> digest of the voxels it was given
         self.edits = 0         # in-place edits applied (a selection change applies none)
         super().__init__(depsgraph, _Sink(rscene, self), image_average=image_average, messages=messages,
                          is_viewport=True)
@@ -241,6 +246,12 @@ class ViewportExporter(SceneExporter):
             self.edits += 1
         return True
 
+    def material_digest(self, text, params):
+        """Digest of a material's params text and of the grid buffers it names."""
+        volume = params.get("volume") if isinstance(params, dict) else None
+        names = [g["buffer"] for g in (volume or {}).values() if isinstance(g, dict) and "buffer" in g]
+        return _digest(text + b"".join(self.grid_digests.get(n, b"") for n in names))
+
     def update_grid(self, rec, ob, m16):
         """Re-exports one grid medium (a Volume object or a gas domain instance) in place:
         its material over the grids, its box and its transform; only what differs reaches
@@ -258,8 +269,13 @@ class ViewportExporter(SceneExporter):
         rscene = self.sink.rscene
         rec.materials = self._material_names(ob)
         edits = self.edits
+        # A simulation step changes a domain's voxels, not its params' text: only changed
+        # buffers are sent, and the digest covers them (a medium copies its buffers when
+        # its material is parsed, so the material is set again).
+        params = self.with_grid_buffers(
+            ob, params, lambda name, values: volumes.buffer_digest(values) != self.grid_digests.get(name))
         text = binding.params_json(params)
-        digest = _digest(text)
+        digest = self.material_digest(text, params)
         if digest != self.material_digests.get(rec.material_id):
             rscene.set_material(rec.material_id, text)
             self.material_digests[rec.material_id] = digest

@@ -274,6 +274,16 @@ class SceneExporter:
             self.warn(w)
         return {"type": "volume", "volume": medium}
 
+    def with_grid_buffers(self, ob, params, changed=None):
+        """The grid material params with its dense (simulation) grids sent to the sink as
+        binary buffers named after the object, not as JSON values; changed(name, values)
+        -> False skips sending an unchanged one (the viewport)."""
+        medium, buffers = volumes.split_dense_grids(params["volume"], ob.name_full)
+        for name, values, resolution in buffers:
+            if changed is None or changed(name, values):
+                self.sink.add_grid(name, values, resolution)
+        return dict(params, volume=medium)
+
     def _grid_medium(self, ob, m16, source):
         """The object's grid medium (grid_source, grid_material) in its box placed by m16:
         (material id, mesh id) or None."""
@@ -284,6 +294,7 @@ class SceneExporter:
         if params is None:
             return None
         name = self._unique(ob.name, self._mesh_names)
+        params = self.with_grid_buffers(ob, params)
         material = self.sink.add_material(name, params)
         positions, indices = volumes.box_arrays(lo, hi)
         mesh_id = self.sink.add_mesh(name, positions, indices, default_material=material)

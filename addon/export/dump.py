@@ -31,6 +31,7 @@ class JsonSink:
     def __init__(self, bin_file=None, bin_name=None):
         self.materials = []
         self._material_names = []
+        self._grids = {}
         self.meshes = []
         self.instances = []
         self.lights = []
@@ -39,9 +40,25 @@ class JsonSink:
         self._bin = bin_file
         self._bin_name = bin_name
 
+    def add_grid(self, name, values, resolution):
+        """A grid buffer: scene files have none, so materials get its values inline."""
+        self._grids[name] = {"resolution": [int(x) for x in resolution], "values": _floats(values)}
+
+    def _inline_grids(self, params):
+        volume = params.get("volume")
+        if not isinstance(volume, dict):
+            return params
+        volume = dict(volume)
+        for key, grid in volume.items():
+            if isinstance(grid, dict) and "buffer" in grid:
+                inline = {k: v for k, v in grid.items() if k != "buffer"}
+                inline.update(self._grids[grid["buffer"]])
+                volume[key] = inline
+        return dict(params, volume=volume)
+
     def add_material(self, name, params):
         d = {"name": name}
-        d.update(params)
+        d.update(self._inline_grids(params))
         self.materials.append(d)
         self._material_names.append(name)
         return len(self.materials) - 1

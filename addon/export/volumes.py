@@ -6,6 +6,7 @@ whose medium is the object's Principled Volume / Volume Scatter / Volume Absorpt
 material plus a "grid" naming the .vdb file for the current frame and the same matrix.
 """
 
+import hashlib
 import os
 import re
 
@@ -207,7 +208,8 @@ def fluid_resolution(ds, num_values):
 
 def fluid_lookup(ds, bounds, transform, what_file):
     """lookup for attach_grids over a gas domain's grids (dense: the voxels fill the
-    domain's texture space `bounds`, as Cycles maps them)."""
+    domain's texture space `bounds`, as Cycles maps them; "values" a float32 array, for
+    split_dense_grids)."""
     cache = {}
 
     def lookup(name):
@@ -222,10 +224,36 @@ def fluid_lookup(ds, bounds, transform, what_file):
             else:
                 # Cycles clamps attributes at 0 (density, temperature); NaN counts as empty.
                 values = np.nan_to_num(np.maximum(values, 0.0), nan=0.0, posinf=0.0)
-                cache[prop] = {"resolution": res, "values": values.tolist(), "bounds": bounds,
-                               "transform": transform}
+                cache[prop] = {"resolution": res, "values": values, "bounds": bounds, "transform": transform}
         grid = cache[prop]
         if grid is None:
             return None, "grid '%s' of %s is empty at this frame" % (name, what_file)
         return grid, None
     return lookup
+
+
+def split_dense_grids(medium, prefix):
+    """(medium, buffers): the medium's dense grids whose "values" are numpy arrays (a
+    domain's) replaced by buffer references {"buffer": name, ...}, and the buffers
+    [(name, values, resolution)] to add first (sink.add_grid).  A grid used twice (density
+    and temperature from one array) is one buffer, named prefix + "/" + its first key."""
+    medium = dict(medium)
+    buffers, names = [], {}
+    for key in ("grid", "temperature_grid", "emission_grid"):
+        grid = medium.get(key)
+        if grid is None or not isinstance(grid.get("values"), np.ndarray):
+            continue
+        values = grid["values"]
+        name = names.get(id(values))
+        if name is None:
+            name = names[id(values)] = "%s/%s" % (prefix, key)
+            buffers.append((name, values, grid["resolution"]))
+        ref = {k: v for k, v in grid.items() if k not in ("values", "resolution")}
+        ref["buffer"] = name
+        medium[key] = ref
+    return medium, buffers
+
+
+def buffer_digest(values):
+    """A digest of a grid buffer's voxels (to skip re-sending an unchanged one)."""
+    return hashlib.blake2b(memoryview(np.ascontiguousarray(values, np.float32)).cast("B"), digest_size=16).digest()

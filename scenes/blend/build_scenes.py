@@ -238,8 +238,8 @@ def principled_volume_material(name, **inputs):
     return m, pv
 
 
-def fire_domain(cache_dir, frames):
-    """A tiny fire simulation (gas domain 'Smoke Domain' 24 voxels across, Replay cache in
+def fire_domain(cache_dir, frames, resolution=24):
+    """A tiny fire simulation (gas domain 'Smoke Domain' `resolution` voxels across, Replay cache in
     OpenVDB under cache_dir, a burner sphere below) run for `frames` frames, with a
     Quick-Fire-like Principled Volume (density 5, blackbody 1); returns the domain object."""
     import bmesh
@@ -250,7 +250,7 @@ def fire_domain(cache_dir, frames):
     ds.fluid_type = "DOMAIN"
     ds = ds.domain_settings
     ds.domain_type = "GAS"
-    ds.resolution_max = 24
+    ds.resolution_max = resolution
     ds.cache_type = "REPLAY"
     ds.cache_data_format = "OPENVDB"
     ds.cache_directory = cache_dir

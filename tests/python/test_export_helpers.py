@@ -186,6 +186,17 @@ class TestDumpSink(unittest.TestCase):
         self.assertEqual(doc["lights"][0]["name"], "sun")
         self.assertEqual(set(doc), {"settings", "camera", "world", "materials", "meshes", "instances", "lights"})
 
+    def test_grid_buffers_inline(self):
+        """Scene files have no grid buffers: a material naming one gets its values inline."""
+        from rendezvous.export.dump import JsonSink
+        sink = JsonSink()
+        sink.add_grid("D/grid", np.array([0.5, 1.0], np.float32), (2, 1, 1))
+        sink.add_material("smoke", {"type": "volume", "volume": {"density": 2.0, "grid": {
+            "buffer": "D/grid", "bounds": [[0, 0, 0], [1, 1, 1]]}}})
+        doc = json.loads(json.dumps(sink.document({})))
+        self.assertEqual(doc["materials"][0]["volume"], {"density": 2.0, "grid": {
+            "resolution": [2, 1, 1], "values": [0.5, 1.0], "bounds": [[0, 0, 0], [1, 1, 1]]}})
+
     def test_binary(self):
         from rendezvous.export.dump import JsonSink
         with tempfile.TemporaryDirectory() as d:
@@ -321,10 +332,24 @@ class VolumeHelpers(unittest.TestCase):
         xf = translation(0, 0, 1)
         warnings = v.attach_grids(m, v.fluid_lookup(ds, [[-1, -1, -1], [1, 1, 1]], xf, "the simulation"),
                                   "Fluid domain 'Smoke'")
-        self.assertEqual(m["grid"], {"resolution": [2, 3, 4], "values": [float(i) for i in range(n)],
-                                     "bounds": [[-1, -1, -1], [1, 1, 1]], "transform": xf})
-        self.assertEqual(m["emission_grid"]["values"], [0.0] * n)  # negative and NaN: empty
+        grid = dict(m["grid"])
+        values = grid.pop("values")  # a float32 array, sent as a binary buffer
+        self.assertEqual(values.dtype.name, "float32")
+        self.assertEqual(values.tolist(), [float(i) for i in range(n)])
+        self.assertEqual(grid, {"resolution": [2, 3, 4], "bounds": [[-1, -1, -1], [1, 1, 1]], "transform": xf})
+        self.assertEqual(m["emission_grid"]["values"].tolist(), [0.0] * n)  # negative and NaN: empty
         self.assertNotIn("temperature_grid", m)  # no flame data at this frame
+        # The dense grids become buffer references and buffers, one per array.
+        m["temperature_grid"] = m["grid"]
+        split, buffers = v.split_dense_grids(m, "Smoke")
+        self.assertEqual([(name, list(r)) for name, _, r in buffers],
+                         [("Smoke/grid", [2, 3, 4]), ("Smoke/emission_grid", [2, 3, 4])])
+        self.assertIs(buffers[0][1], values)
+        self.assertEqual(split["grid"], {"buffer": "Smoke/grid", "bounds": [[-1, -1, -1], [1, 1, 1]], "transform": xf})
+        self.assertEqual(split["temperature_grid"], split["grid"])
+        self.assertEqual(split["emission_grid"]["buffer"], "Smoke/emission_grid")
+        self.assertEqual(split["density"], 5.0)
+        self.assertIn("values", m["grid"])  # the medium given is left as it was
         self.assertEqual(len(warnings), 1)
         self.assertIn("Fluid domain 'Smoke'", warnings[0])
         self.assertIn("'temperature'", warnings[0])
