@@ -31,6 +31,7 @@ void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter) {
 
 void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float *out) const {
   int channels = rdv_pass_channels(pass);
+  std::lock_guard<std::mutex> frame(frame_mutex_);
   float splat_scale = splat_scale_.load(std::memory_order_relaxed);
   for (int row = 0; row < h; ++row) {
     int py = y + row;

@@ -3,6 +3,7 @@
 // to anywhere (light tracing, BDPT's t = 1 strategies, MLT), and first-hit AOVs.
 #pragma once
 #include <atomic>
+#include <mutex>
 #include <vector>
 #include "core/math.h"
 #include "film/pixel_filter.h"
@@ -39,8 +40,12 @@ class Film {
     a.normal += normal;
     a.albedo += albedo;
   }
-  // Splats are normalised by the number of samples per pixel taken over the whole image.
+  // The integrator that makes splats knows their normalisation (samples per pixel over
+  // the whole image, or MLT's b / mutations per pixel) and sets it with them.
   void set_splat_scale(float s) { splat_scale_.store(s, std::memory_order_relaxed); }
+  // Held while splats of a pass and their scale are applied, and while the frame is
+  // read: a progressive read never sees new splats with the old scale.
+  std::mutex &frame_mutex() const { return frame_mutex_; }
 
   // Rectangle of a pass, row order top-down or bottom-up.
   void read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float *out) const;
@@ -55,6 +60,7 @@ class Film {
   std::vector<Aov> aovs_;
   std::vector<Color> splats_;
   std::atomic<float> splat_scale_{0.0f};
+  mutable std::mutex frame_mutex_;
 };
 
 }  // namespace rdv

@@ -1,11 +1,15 @@
 // What every integrator shares: the render settings, the first-hit AOV record, ray
-// statistics, and the registry that builds one by name.
+// statistics, the render context a session hands over, and the registry that builds
+// one by name.
 #pragma once
+#include <tbb/task_arena.h>
 #include <memory>
 #include <string>
 #include <vector>
 #include "core/params.h"
 #include "film/film.h"
+#include "film/pixel_filter.h"
+#include "render/render_control.h"
 #include "samplers/sampler.h"
 #include "scene/scene.h"
 
@@ -56,13 +60,27 @@ struct CameraRay {
   RayCone cone;     // its footprint, for filtered texture lookups
 };
 
+// What a session hands the integrator that renders for it (pbrt-v4's Integrator::Render
+// idea: the session schedules, halts and publishes; the integrator renders).
+struct RenderContext {
+  const Scene &scene;
+  const RenderSettings &settings;
+  Film &film;                  // the frame: pixel samples, splats (and their scale), AOVs
+  const PixelFilter &filter;
+  RenderControl &control;      // when to stop; where progress goes
+  tbb::task_arena &arena;      // the session's threads
+};
+
 class Integrator {
  public:
   virtual ~Integrator() = default;
-  // Radiance arriving at the camera along the ray. Integrators that also reach the
-  // camera from the light side append those contributions to `splats`.
-  virtual Color Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
-                   std::vector<Splat> &splats) const = 0;
+  // Renders into ctx.film until the settings' sample count is reached or
+  // ctx.control.should_stop(), publishing progress (and, for splats, their scale)
+  // after each complete pass; stops within ~100 ms of a cancel.
+  virtual void render(RenderContext &ctx) = 0;
+  // Figures of the integrator's own (MLT: acceptance, chains, normalisation), as a JSON
+  // object; readable from any thread while rendering.
+  virtual std::string stats_json() const { return "{}"; }
 };
 
 // The registry: one line per integrator.

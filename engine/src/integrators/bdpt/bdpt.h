@@ -7,7 +7,7 @@
 #pragma once
 #include <vector>
 #include "integrators/bdpt/path_vertex.h"
-#include "integrators/integrator.h"
+#include "integrators/tile_integrator.h"
 
 namespace rdv::bdpt {
 
@@ -51,7 +51,7 @@ struct ConnectionDensities {
 // balance: the balance heuristic's sums (ratio products not squared).
 void set_mis_sum(PathVertex *path, int k, bool delta_before, bool balance);
 
-class Bdpt final : public Integrator {
+class Bdpt final : public TileIntegrator {
  public:
   Bdpt(const Scene &scene, const BdptSettings &settings) : scene_(scene), settings_(settings) {}
   Color Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,

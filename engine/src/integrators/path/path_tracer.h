@@ -4,11 +4,11 @@
 // phase-function NEE through media and index-matched boundaries).
 // The reference every other integrator is checked against.
 #pragma once
-#include "integrators/integrator.h"
+#include "integrators/tile_integrator.h"
 
 namespace rdv {
 
-class PathTracer final : public Integrator {
+class PathTracer final : public TileIntegrator {
  public:
   PathTracer(const Scene &scene, int max_bounces) : scene_(scene), max_bounces_(max_bounces) {}
   Color Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
