@@ -1,6 +1,7 @@
 // Camera framing (Blender's sensor fit and shift), parameter parsing, the sampler.
 #include <gtest/gtest.h>
 #include "core/params.h"
+#include "film/film.h"
 #include "samplers/sampler.h"
 #include "scene/camera.h"
 
@@ -99,4 +100,24 @@ TEST(Sampler, DependsOnPixelSeedAndIndexOnly) {
   EXPECT_NE(va, vc);
   a.start_sample(11, 20, 5);
   EXPECT_NE(a.get_1d(), vb);
+}
+
+// The splat buffer sums in double: MLT adds millions of splats to a pixel, and a
+// float sum stops growing once a splat is below half its rounding step (2^-24 of the
+// sum). One splat of 1 and then 10^6 splats of 10^-8 each: a float sum stays at 1.
+TEST(Film, SplatsSumInDoublePrecision) {
+  rdv::Film film(4, 4, rdv::Rect{0, 0, 4, 4});
+  rdv::PixelFilter filter(1.5f);
+  film.set_splat_scale(1.0);
+  const rdv::Vec2 centre{2.0f, 2.0f};
+  auto pixel = [&] {
+    float rgba[4];
+    film.read(RDV_PASS_COMBINED, 1, 1, 1, 1, true, rgba);
+    return double(rgba[0]);
+  };
+  film.add_splat(centre, rdv::Color(1.0f), filter);
+  double one = pixel();
+  ASSERT_GT(one, 0.0);
+  for (int i = 0; i < 1000000; ++i) film.add_splat(centre, rdv::Color(1e-8f), filter);
+  EXPECT_NEAR(pixel() / one, 1.01, 1e-5);
 }

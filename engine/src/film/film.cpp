@@ -5,7 +5,7 @@ namespace rdv {
 
 Film::Film(int width, int height, Rect region)
     : width_(width), height_(height), region_(region), pixels_(size_t(width) * height),
-      aovs_(size_t(width) * height), splats_(size_t(width) * height, Color(0.0f)) {}
+      aovs_(size_t(width) * height), splats_(size_t(width) * height) {}
 
 void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter) {
   if (!is_finite(L)) return;
@@ -24,7 +24,13 @@ void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter) {
     if (wy <= 0) continue;
     for (int x = x0; x <= x1; ++x) {
       float w = wy * wx[x - x0];
-      if (w > 0) splats_[index(x, y)] += L * (w * norm);
+      if (w > 0) {
+        Color c = L * (w * norm);
+        SplatSum &sum = splats_[index(x, y)];
+        sum.r += c.x;
+        sum.g += c.y;
+        sum.b += c.z;
+      }
     }
   }
 }
@@ -32,7 +38,7 @@ void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter) {
 void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float *out) const {
   int channels = rdv_pass_channels(pass);
   std::lock_guard<std::mutex> frame(frame_mutex_);
-  float splat_scale = splat_scale_.load(std::memory_order_relaxed);
+  double splat_scale = splat_scale_.load(std::memory_order_relaxed);
   for (int row = 0; row < h; ++row) {
     int py = y + row;
     // Blender's RenderResult stores rows bottom-up: image row py is output row h-1-row.
@@ -46,7 +52,8 @@ void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float 
       switch (pass) {
         case RDV_PASS_COMBINED: {
           Color c = n > 0 ? p.sum / n : Color(0.0f);
-          c += splats_[i] * splat_scale;
+          const SplatSum &sp = splats_[i];
+          c += Color(float(sp.r * splat_scale), float(sp.g * splat_scale), float(sp.b * splat_scale));
           dst[0] = c.x; dst[1] = c.y; dst[2] = c.z; dst[3] = 1.0f;
           break;
         }

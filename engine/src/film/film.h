@@ -42,7 +42,7 @@ class Film {
   }
   // The integrator that makes splats knows their normalisation (samples per pixel over
   // the whole image, or MLT's b / mutations per pixel) and sets it with them.
-  void set_splat_scale(float s) { splat_scale_.store(s, std::memory_order_relaxed); }
+  void set_splat_scale(double s) { splat_scale_.store(s, std::memory_order_relaxed); }
   // Held while splats of a pass and their scale are applied, and while the frame is
   // read: a progressive read never sees new splats with the old scale.
   std::mutex &frame_mutex() const { return frame_mutex_; }
@@ -53,13 +53,16 @@ class Film {
  private:
   struct Pixel { Color sum{0.0f}; float count = 0; };
   struct Aov { float depth = 1e10f; Vec3 normal{0.0f}; Color albedo{0.0f}; };
+  // Splat sums in double: MLT adds millions of splats to a pixel, and a float sum
+  // stops growing once each splat is below its rounding step.
+  struct SplatSum { double r = 0, g = 0, b = 0; };
   size_t index(int x, int y) const { return size_t(y) * width_ + x; }
   int width_, height_;
   Rect region_;
   std::vector<Pixel> pixels_;
   std::vector<Aov> aovs_;
-  std::vector<Color> splats_;
-  std::atomic<float> splat_scale_{0.0f};
+  std::vector<SplatSum> splats_;
+  std::atomic<double> splat_scale_{0.0};
   mutable std::mutex frame_mutex_;
 };
 
