@@ -211,6 +211,91 @@ def emissive_textured():
     emissive_mesh(checker_glow)
 
 
+def glossy_material(name, roughness, color=(0.8, 0.8, 0.8)):
+    """A stock Glossy BSDF (GGX) of the given roughness."""
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    nt = m.node_tree
+    for n in list(nt.nodes):
+        nt.nodes.remove(n)
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    g = nt.nodes.new("ShaderNodeBsdfGlossy")
+    g.distribution = "GGX"
+    g.inputs["Color"].default_value = (*color, 1.0)
+    g.inputs["Roughness"].default_value = roughness
+    nt.links.new(g.outputs["BSDF"], out.inputs["Surface"])
+    return m
+
+
+def look_at(ob, target):
+    from mathutils import Vector
+    d = Vector(target) - Vector(ob.location)
+    ob.rotation_euler = d.to_track_quat("-Z", "Y").to_euler()
+
+
+VEACH_RADII = (0.01, 0.04, 0.13, 0.4)
+VEACH_ROUGHNESS = (0.01, 0.05, 0.1, 0.3)
+
+
+def veach_mis(kind="POINT", radii=VEACH_RADII, roughness=VEACH_ROUGHNESS, res=(96, 64), wall=True, **lamp_props):
+    """Veach's multiple importance sampling scene: glossy plates (one per roughness, the
+    sharpest nearest the camera), each tilted to reflect a row of equal-power lamps (one per
+    radius: point / spot radius, area size, sun angle in degrees) toward the camera, and a
+    diffuse wall behind the lamps. Lamps are hidden from the camera (Cycles 3.4)."""
+    from mathutils import Vector
+    scene = reset(res[0])
+    scene.render.resolution_y = res[1]
+    cam_data = bpy.data.cameras.new("Camera")
+    cam_data.lens = 50.0
+    cam_data.clip_start = 0.05
+    cam_data.clip_end = 100.0
+    cam = link(bpy.data.objects.new("Camera", cam_data))
+    cam.location = (0.0, -6.0, 2.0)
+    look_at(cam, (0.0, -0.3, 0.55))
+    scene.camera = cam
+    lamp_centre = Vector((0.0, 2.5, 2.6))
+    n = len(roughness)
+    for i, r in enumerate(roughness):
+        c = Vector((0.0, -1.6 + 3.2 * i / max(n - 1, 1) * 0.85, 0.25 * i))
+        normal = ((Vector(cam.location) - c).normalized() + (lamp_centre - c).normalized()).normalized()
+        ob = plane("Plate%d" % i, 1.0, glossy_material("Glossy%d" % i, r), tuple(c))
+        ob.scale = (4.4, 0.55, 1.0)
+        ob.rotation_euler = (math.atan2(-normal.y, normal.z), 0.0, 0.0)
+    if wall:
+        w = plane("Wall", 1.0, diffuse_material("WallMat", (0.5, 0.5, 0.5)), (0.0, 4.0, 1.5))
+        w.scale = (12.0, 6.0, 1.0)
+        w.rotation_euler = (math.radians(90), 0.0, 0.0)
+    m = len(radii)
+    for j, size in enumerate(radii):
+        x = -1.5 + 3.0 * j / max(m - 1, 1)
+        loc = (x, lamp_centre.y, lamp_centre.z)
+        if kind in ("POINT", "SPOT"):
+            ob = light(kind, "Lamp%d" % j, 60.0, loc, shadow_soft_size=size, **lamp_props)
+        elif kind == "AREA":
+            ob = light(kind, "Lamp%d" % j, 60.0, loc, size=2.0 * size, **lamp_props)
+        else:
+            raise ValueError(kind)
+        if kind != "POINT":
+            look_at(ob, (x, 0.0, 0.3))  # toward the plates
+    return scene
+
+
+def veach_point():
+    veach_mis("POINT")
+
+
+def veach_spot():
+    veach_mis("SPOT", spot_size=math.radians(60.0), spot_blend=0.2)
+
+
+def veach_area_square():
+    veach_mis("AREA", shape="SQUARE")
+
+
+def veach_area_disk():
+    veach_mis("AREA", shape="DISK")
+
+
 def box_mesh(name, size):
     """An axis-aligned cube of edge `size` centred on the origin (outward faces)."""
     h = size / 2
@@ -441,6 +526,10 @@ SCENES = {
     "volume_blackbody": volume_blackbody,
     "bad_input": bad_input,
     "showcase": showcase,
+    "veach_point": veach_point,
+    "veach_spot": veach_spot,
+    "veach_area_square": veach_area_square,
+    "veach_area_disk": veach_area_disk,
 }
 
 # Scenes whose brightness must agree with Cycles.

@@ -143,11 +143,30 @@ TEST(PixelFilter, ChiSquareBlackmanHarris) {
   PixelFilter filter(1.5f);
   double integral = 0;
   const int n = 100000;
-  for (int i = 0; i < n; ++i) integral += filter.evaluate(-0.75f + 1.5f * (i + 0.5f) / n) * 1.5 / n;
+  // Cycles 3.4 doubles a Blackman-Harris filter's width: 1.5 px reaches +-1.5 px.
+  for (int i = 0; i < n; ++i) integral += filter.evaluate(-1.5f + 3.0f * (i + 0.5f) / n) * 3.0 / n;
   auto result = test::chi_square_1d([&](float u) { return filter.sample(u); },
-                                    [&](double x) { return filter.evaluate(float(x)) / integral; }, -0.75, 0.75,
+                                    [&](double x) { return filter.evaluate(float(x)) / integral; }, -1.5, 1.5,
                                     500000, 21, 50);
   EXPECT_GT(result.p_value, 0.01) << result.detail;
   EXPECT_NEAR(filter.evaluate(0), 1.0f, 1e-5f) << "Blackman-Harris peaks at 1";
-  EXPECT_NEAR(filter.evaluate(0.75f), 0.0f, 1e-4f);
+  EXPECT_NEAR(filter.evaluate(1.5f), 0.0f, 1e-4f);
+  EXPECT_GT(filter.evaluate(0.75f), 0.3f) << "the 3.4 filter is twice Blender's width wide";
+}
+
+// A point feature's energy in the image does not depend on where it falls in a pixel:
+// the filter's copies over the pixel lattice sum to nearly 1 (0.967..1.033 per axis for
+// Cycles' 3.4 filter; the half-width filter summed to 0.21..1.86, losing most of a
+// sub-pixel lamp's reflection).
+TEST(PixelFilter, PartitionOfUnity) {
+  PixelFilter filter(1.5f);
+  double integral = 0;
+  const int n = 100000;
+  for (int i = 0; i < n; ++i) integral += filter.evaluate(-1.5f + 3.0f * (i + 0.5f) / n) * 3.0 / n;
+  for (int i = 0; i <= 20; ++i) {
+    float x = i / 20.0f;
+    double sum = 0;
+    for (int k = -3; k <= 3; ++k) sum += filter.evaluate(x - k) / integral;
+    EXPECT_NEAR(sum, 1.0, 0.035) << "offset " << x;
+  }
 }

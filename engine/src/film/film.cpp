@@ -9,7 +9,7 @@ Film::Film(int width, int height, Rect region)
 
 void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter) {
   if (!is_finite(L)) return;
-  float radius = 0.5f * filter.width();
+  float radius = filter.radius();
   float norm = 1.0f / (filter.integral() * filter.integral());
   int x0 = std::max(region_.x0, int(std::floor(raster.x - radius - 0.5f)));
   int x1 = std::min(region_.x1 - 1, int(std::ceil(raster.x + radius - 0.5f)));

@@ -7,18 +7,19 @@ PixelFilter::PixelFilter(float width) : width_(std::clamp(width, 1e-3f, kMaxWidt
   // Piecewise-linear CDF from a fine table of the filter: inverted exactly below.
   double sum = 0;
   cdf_[0] = 0;
+  const float support = 2.0f * width_;
   for (int i = 0; i < kTableSize; ++i) {
-    float x = -0.5f * width_ + (i + 0.5f) * width_ / kTableSize;
+    float x = -width_ + (i + 0.5f) * support / kTableSize;
     sum += evaluate(x);
     cdf_[i + 1] = static_cast<float>(sum);
   }
-  integral_ = static_cast<float>(sum * width_ / kTableSize);
+  integral_ = static_cast<float>(sum * support / kTableSize);
   for (float &c : cdf_) c /= static_cast<float>(sum);
 }
 
 float PixelFilter::evaluate(float x) const {
-  if (std::fabs(x) > 0.5f * width_) return 0;
-  float t = 2.0f * kPi * (x / width_ + 0.5f);
+  if (std::fabs(x) > width_) return 0;
+  float t = 2.0f * kPi * (x / (2.0f * width_) + 0.5f);
   return 0.35875f - 0.48829f * std::cos(t) + 0.14128f * std::cos(2 * t) - 0.01168f * std::cos(3 * t);
 }
 
@@ -27,13 +28,13 @@ float PixelFilter::sample(float u) const {
   i = std::clamp(i, 0, kTableSize - 1);
   float width = cdf_[i + 1] - cdf_[i];
   float frac = width > 0 ? (u - cdf_[i]) / width : 0.5f;
-  return -0.5f * width_ + (i + frac) * width_ / kTableSize;
+  return -width_ + (i + frac) * 2.0f * width_ / kTableSize;
 }
 
 float PixelFilter::pdf(float x) const {
-  if (std::fabs(x) >= 0.5f * width_) return 0;
-  int i = std::clamp(static_cast<int>((x / width_ + 0.5f) * kTableSize), 0, kTableSize - 1);
-  return (cdf_[i + 1] - cdf_[i]) * kTableSize / width_;
+  if (std::fabs(x) >= width_) return 0;
+  int i = std::clamp(static_cast<int>((x / (2.0f * width_) + 0.5f) * kTableSize), 0, kTableSize - 1);
+  return (cdf_[i + 1] - cdf_[i]) * kTableSize / (2.0f * width_);
 }
 
 }  // namespace rdv

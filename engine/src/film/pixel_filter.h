@@ -3,6 +3,10 @@
 // filter, and counts with weight 1 in its own pixel. This is what Cycles does, so
 // images compare pixel for pixel, and no sample touches a neighbour's pixel
 // (which keeps per-pixel accumulation free of locks and deterministic).
+// Cycles 3.4 (scene/film.cpp, filter_table) doubles the width for Blackman-Harris:
+// a "1.5 px" filter reaches 1.5 px either side of the pixel centre. So does this one.
+// (A filter half as wide sums to far from 1 over the pixel lattice: a sub-pixel
+// highlight, e.g. a 1 cm lamp seen in a mirror, then lost up to 85% of its energy.)
 #pragma once
 #include <vector>
 #include "core/math.h"
@@ -11,13 +15,15 @@ namespace rdv {
 
 class PixelFilter {
  public:
-  // Widths are clamped to [1e-3, kMaxWidth] pixels.
+  // Blender's filter width, clamped to [1e-3, kMaxWidth] pixels.
   explicit PixelFilter(float width = 1.5f);
   static constexpr float kMaxWidth = 10.0f;
   // Pixels one axis of the filter can cover (splatting keeps their weights on the stack).
-  static constexpr int kMaxTaps = int(kMaxWidth) + 2;
+  static constexpr int kMaxTaps = 2 * int(kMaxWidth) + 2;
   float width() const { return width_; }
-  // Cycles' filter_func_blackman_harris, x in [-width/2, width/2].
+  // Half the support: the filter is non-zero for |x| < radius() = width().
+  float radius() const { return width_; }
+  // Cycles' filter_func_blackman_harris over its doubled width, x in [-width, width].
   float evaluate(float x) const;
   // Offset from the pixel centre along one axis (the filter is separable).
   float sample(float u) const;
