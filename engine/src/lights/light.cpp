@@ -274,12 +274,12 @@ float light_pdf(const Light &l, Vec3 ref, Vec3 wi, float dist) {
   return 0;
 }
 
-bool intersect_light(const Light &l, const Ray &ray, float tmax, float &t, Color &L) {
+bool intersect_light(const Light &l, const Ray &ray, Vec3 facing, float tmax, float &t, Color &L) {
   switch (l.type) {
     case LightType::Point:
     case LightType::Spot: {
       if (l.radius == 0) return false;
-      Vec3 n = ray.o - l.position;
+      Vec3 n = facing - l.position;
       float d2 = length_squared(n);
       if (d2 <= l.radius * l.radius) return false;
       n = n / std::sqrt(d2);

@@ -82,8 +82,13 @@ bool sample_light(const Light &light, Vec3 ref, Vec2 u, LightSample &out);
 // Solid-angle density of sample_light choosing direction wi from ref, given the ray
 // reached the light at distance dist (triangles: also needs light normal via geometry).
 float light_pdf(const Light &light, Vec3 ref, Vec3 wi, float dist);
-// Analytic lights a ray can hit (disks, rectangles, the sun's disk). Returns radiance.
-bool intersect_light(const Light &light, const Ray &ray, float tmax, float &t, Color &L);
+// Analytic lights a ray can hit (disks, rectangles). Returns radiance. Point and spot
+// disks face `facing`: the vertex the ray left (Cycles 3.4 keeps the ray's origin
+// when it passes a lamp), which is also the point light sampling orients them toward.
+bool intersect_light(const Light &light, const Ray &ray, Vec3 facing, float tmax, float &t, Color &L);
+inline bool intersect_light(const Light &light, const Ray &ray, float tmax, float &t, Color &L) {
+  return intersect_light(light, ray, ray.o, tmax, t, L);
+}
 // Radiance of an infinite light seen along an escaping direction.
 Color infinite_light_radiance(const Light &light, Vec3 d);
 

@@ -124,15 +124,18 @@ class Scene {
   const std::vector<uint32_t> &hittable_lights() const { return hittable_lights_; }
   const std::vector<uint32_t> &infinite_lights() const { return infinite_lights_; }
   // The nearest lamp (disk, rectangle) along the ray before tmax, or -1; lamps hidden
-  // from the camera are skipped for camera rays. Sets tmax to its distance and L to its
-  // radiance.
-  int nearest_lamp(const Ray &ray, bool camera_ray, float &tmax, Color &L) const {
+  // from the camera are skipped for camera rays, and `skip` (the lamp the ray just
+  // passed). Sets tmax to its distance and L to its radiance. Disks face `facing` (the
+  // vertex the ray left). Lamps are transparent, as in Cycles 3.4 (shade_light goes on
+  // through them): a path that meets one adds its radiance and carries on to what lies
+  // behind it from the lamp's point (LampCrossing), and shadow rays ignore lamps.
+  int nearest_lamp(const Ray &ray, Vec3 facing, int skip, bool camera_ray, float &tmax, Color &L) const {
     int lamp = -1;
     for (uint32_t li : hittable_lights_) {
-      if (camera_ray && !lights_[li].visible_camera) continue;
+      if ((camera_ray && !lights_[li].visible_camera) || int(li) == skip) continue;
       float t;
       Color Le;
-      if (intersect_light(lights_[li], ray, tmax, t, Le)) { tmax = t; lamp = int(li); L = Le; }
+      if (intersect_light(lights_[li], ray, facing, tmax, t, Le)) { tmax = t; lamp = int(li); L = Le; }
     }
     return lamp;
   }

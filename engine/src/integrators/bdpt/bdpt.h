@@ -79,6 +79,7 @@ class Bdpt final : public TileIntegrator {
   template <bool kMedia>
   int random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, float pdf, int max_vertices,
                   TransportMode mode, PathVertex *path, Color *emitted, RayCone cone = {}) const;
+  Color lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathVertex *path, int n, float pdf_dir) const;
   void gather_volume_emission(const Medium &medium, const Ray &ray, float tmax, Vec2 u, Color beta, PathVertex *path,
                               int n, float pdf_dir, Color &emitted) const;
   // Densities (mis.cpp), area measure at the receiving vertex.

@@ -57,6 +57,10 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
   const float beta_start = std::max(max_component(beta), 1e-30f);
   MediumStack media = path[0].media;
   int n = 0, boundary_crossings = 0;
+  // Lamps are transparent (Scene::nearest_lamp): past one, the ray goes on from the lamp's
+  // point, its disks still facing the vertex the ray left, and not into the lamp it passed.
+  Vec3 lamp_facing = ray.o;
+  int lamp_passed = -1;
   auto russian_roulette = [&]() {
     if (n < 3) return true;
     float q = std::max(0.05f, 1.0f - max_component(beta) / beta_start);
@@ -72,10 +76,12 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     ++stats.rays;
     bool found = kMedia ? scene_.intersect_media(ray, hit, boundary) : scene_.intersect(ray, hit);
     float tmax = found ? hit.t : ray.tmax;
-    // Lamps a camera path can run into (they are not in the BVH). Light paths pass
-    // through them: lamps do not reflect.
+    // Lamps a camera path passes (they are not in the BVH; light paths ignore them, as
+    // lamps neither reflect nor block).
     Color lamp_L;
-    int lamp = mode == TransportMode::Radiance ? scene_.nearest_lamp(ray, n == 0, tmax, lamp_L) : -1;
+    int lamp = mode == TransportMode::Radiance && emitted
+                   ? scene_.nearest_lamp(ray, lamp_facing, lamp_passed, n == 0, tmax, lamp_L)
+                   : -1;
     if constexpr (kMedia) {
       int m = media.current(scene_);
       if (m >= 0) {
@@ -102,6 +108,8 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
           prev.pdf_rev = v.to_prev_density(pdf_fwd);
           if (mode == TransportMode::Radiance && n >= 2) set_mis_sum(path, n - 1, path[n - 2].delta, balance());
           ray = Ray{v.p, wi, kInf};
+          lamp_facing = ray.o;
+          lamp_passed = -1;
           if (mode == TransportMode::Radiance) cone = cone.after(ms.t).scattered(kRoughConeSpread);
           if (!russian_roulette()) return n;
           continue;
@@ -109,18 +117,14 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       }
     }
     if (lamp >= 0) {
-      const Light &light = scene_.lights()[lamp];
-      fresh_vertex(v);
-      v.type = VertexType::Light;
-      v.light = lamp;
-      v.p = ray.o + ray.d * tmax;
-      v.ng = v.ns = light.type == LightType::Area ? light.axis : Vec3(0.0f);
-      v.wo = -ray.d;
-      v.beta = beta;
-      v.emitted = lamp_L;
-      v.media = media;
-      v.pdf_fwd = prev.convert_density(pdf_fwd, v);
-      return n + 1;
+      // The path that ends on the lamp (s = 0), weighted here; the walk goes on past it.
+      Vec3 q = ray.o + ray.d * tmax;
+      *emitted += lamp_emission(lamp, q, -ray.d, lamp_L, beta, path, n, pdf_fwd);
+      if (++boundary_crossings > 256) return n;
+      cone = cone.after(tmax);
+      ray = Ray{q, ray.d, kInf};
+      lamp_passed = lamp;
+      continue;
     }
     if (!found) {
       if (mode == TransportMode::Radiance && !scene_.infinite_lights().empty()) {
@@ -139,6 +143,8 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       if (scene_.is_boundary_only(hit.material)) {  // an index-matched boundary: no vertex
         media.cross(scene_, hit, boundary, ray.d);
         ray = Ray{spawn_origin(hit.p, hit.ng, ray.d), ray.d, kInf};
+        lamp_facing = ray.o;
+        lamp_passed = -1;
         if (++boundary_crossings > 256) return n;
         continue;
       }
@@ -184,6 +190,8 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       if (dot(bs.wi, hit.ng) * dot(ray.d, hit.ng) > 0) media.cross(scene_, hit, boundary, bs.wi);  // refracted through
     }
     ray = Ray{spawn_origin(hit.p, hit.ng, bs.wi), bs.wi, kInf};
+    lamp_facing = ray.o;
+    lamp_passed = -1;
     // Camera paths: wider after a rough bounce, as in the path tracer. Light paths
     // carry no cone (unfiltered lookups).
     if (mode == TransportMode::Radiance) cone = cone.scattered(bs.cone_spread);
@@ -192,6 +200,33 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     // densities leave it out, as is usual: the weights still sum to one.
     if (!russian_roulette() || is_black(beta)) return n;
   }
+}
+
+// A lamp the camera path passes at q (toward wo): the path that ends there (s = 0,
+// t = n + 2), MIS-weighted against the strategies that start a light subpath there. The
+// lamp point stands in for the next vertex while its weight is computed; the walk then
+// goes on through the lamp, so the vertex is overwritten.
+Color Bdpt::lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathVertex *path, int n,
+                          float pdf_dir) const {
+  const Light &light = scene_.lights()[lamp];
+  const PathVertex &prev = path[n];
+  PathVertex &point = fresh_vertex(path[n + 1]);
+  point.type = VertexType::Light;
+  point.light = lamp;
+  point.p = q;
+  point.ng = point.ns = light.type == LightType::Area ? light.axis : Vec3(0.0f);
+  point.wo = wo;
+  point.beta = beta;
+  point.emitted = Le;
+  point.pdf_fwd = prev.convert_density(pdf_dir, point);
+  Color c = beta * Le;
+  if (n == 0) return c;  // seen straight from the camera: s = 0, t = 2 is the only strategy
+  bool one_strategy = settings_.strategy_s >= 0;
+  if (one_strategy && (settings_.strategy_s != 0 || settings_.strategy_t != n + 2)) return Color(0.0f);
+  ConnectionDensities d;
+  light_densities(point, prev, d.pt_rev, d.pt_minus_rev);
+  float w = mis_weight(path, path, point, 0, n + 2, d);  // s = 0 reads no light vertex
+  return one_strategy && settings_.strategy_unweighted ? c : c * w;
 }
 
 // Emission of the medium along a camera path's segment (s = 0 strategies ending inside

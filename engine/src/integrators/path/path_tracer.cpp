@@ -75,6 +75,15 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
   MediumStack stack;
   if constexpr (kMedia) stack = MediumStack::for_camera(scene_);
   int boundary_crossings = 0;
+  // Lamps are transparent (Scene::nearest_lamp): past one, the ray goes on from the lamp's
+  // point, its disks still facing the vertex the ray left, and not into the lamp it passed.
+  Vec3 lamp_facing = ray.o;
+  int lamp_passed = -1;
+  auto new_ray = [&](const Ray &r) {
+    ray = r;
+    lamp_facing = r.o;
+    lamp_passed = -1;
+  };
 
   // MIS weight for emission found by BSDF sampling, given that light's solid-angle pdf.
   auto emission_weight = [&](uint32_t light, float pdf_light_sa) {
@@ -98,7 +107,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
 
     // Analytic lights (disks, rectangles) in front of the surface.
     Color light_L;
-    int hit_light = scene_.nearest_lamp(ray, depth == 0, tmax, light_L);
+    int hit_light = scene_.nearest_lamp(ray, lamp_facing, lamp_passed, depth == 0, tmax, light_L);
 
     if constexpr (kMedia) {
       int m = stack.current(scene_);
@@ -138,7 +147,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           specular_bounce = false;
           prev_pdf = medium.phase.pdf(wo, wi);
           prev_p = p;
-          ray = Ray{p, wi, kInf};
+          new_ray(Ray{p, wi, kInf});
           cone = cone.after(ms.t).scattered(kRoughConeSpread);
           if (!russian_roulette(depth) || is_black(beta)) break;
           continue;
@@ -150,7 +159,13 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       Vec3 q = ray.o + ray.d * tmax;
       float pdf = light_pdf(scene_.lights()[hit_light], prev_p, ray.d, length(q - prev_p));
       L += beta * light_L * emission_weight(hit_light, pdf);
-      break;
+      // Not a bounce: on from the lamp's point to what lies behind it.
+      if (++boundary_crossings > 256) break;
+      cone = cone.after(tmax);
+      ray = Ray{q, ray.d, kInf};
+      lamp_passed = hit_light;
+      --depth;
+      continue;
     }
     if (!found) {
       for (uint32_t li : scene_.infinite_lights()) {  // the world, beyond clip_end too
@@ -166,7 +181,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       // An index-matched medium boundary: change medium and carry straight on.
       if (scene_.is_boundary_only(hit.material)) {
         stack.cross(scene_, hit, boundary, ray.d);
-        ray = Ray{spawn_origin(hit.p, hit.ng, ray.d), ray.d, kInf};
+        new_ray(Ray{spawn_origin(hit.p, hit.ng, ray.d), ray.d, kInf});
         cone = cone.after(hit.t);
         if (++boundary_crossings > 256) break;
         --depth;  // not a bounce
@@ -219,7 +234,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       // Straight through a transparent surface: not a bounce, and the MIS state of the
       // last scattering vertex stays (transparent shadows give NEE the same paths).
       if constexpr (kMedia) stack.cross(scene_, hit, boundary, ray.d);
-      ray = Ray{spawn_origin(hit.p, hit.ng, ray.d), ray.d, kInf};
+      new_ray(Ray{spawn_origin(hit.p, hit.ng, ray.d), ray.d, kInf});
       if (++boundary_crossings > 256 || is_black(beta)) break;
       --depth;
       continue;
@@ -231,7 +246,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     if constexpr (kMedia) {
       if (dot(bs.wi, hit.ng) * dot(ray.d, hit.ng) > 0) stack.cross(scene_, hit, boundary, bs.wi);  // refracted through
     }
-    ray = Ray{spawn_origin(hit.p, hit.ng, bs.wi), bs.wi, kInf};
+    new_ray(Ray{spawn_origin(hit.p, hit.ng, bs.wi), bs.wi, kInf});
     if (!russian_roulette(depth) || is_black(beta)) break;
   }
   return L;
