@@ -269,7 +269,7 @@ int Bdpt::camera_subpath(const CameraRay &cr, Sampler &sampler, RayStats &stats,
   float pdf_pos = 0, pdf_dir = 0;
   camera.importance_pdf(Ray{cr.lens_point, cr.ray.d, kInf}, pdf_pos, pdf_dir);
   // Light paths cannot reach an orthographic camera, nor a ray leaving the image
-  // (the pixel filter reaches 0.75 px past the border): no t = 1 strategy there.
+  // (the pixel filter reaches 1.5 px past the border): no t = 1 strategy there.
   v.delta = pdf_dir == 0;
   if (pdf_dir == 0) pdf_dir = 1;
   return 1 + random_walk<kMedia>(cr.ray, sampler, stats, Color(1.0f), pdf_dir, settings_.max_bounces + 1,
