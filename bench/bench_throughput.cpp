@@ -31,7 +31,7 @@ static double raw_embree_rays_per_second(const rdv::Scene &scene, int count) {
     rdv::SurfaceHit h;
     if (!scene.intersect(primary, h)) continue;
     rdv::Vec3 d = rdv::uniform_sphere({rng.next_float(), rng.next_float()});
-    rays.push_back({rdv::spawn_origin(h.p, h.ng, d), d, rdv::kInf});
+    rays.push_back({rdv::spawn_origin(h.p, h.ng, h.error, d), d, rdv::kInf});
   }
   std::atomic<int64_t> hits{0};
   auto start = Clock::now();

@@ -93,7 +93,7 @@ TEST(BoundaryHits, CoplanarBoundaryRidesOnTheFloor) {
       Vec3 up = Vec3(d.x, d.y, -d.z);
       SurfaceHit next;
       CoincidentBoundary next_boundary;
-      ASSERT_TRUE(scene.intersect_media(Ray{spawn_origin(hit.p, hit.ng, up), up, kInf}, next, next_boundary));
+      ASSERT_TRUE(scene.intersect_media(Ray{spawn_origin(hit.p, hit.ng, hit.error, up), up, kInf}, next, next_boundary));
       EXPECT_TRUE(scene.is_boundary_only(next.material));
       EXPECT_GT(next.prim, 3u);  // a side or the top, not the bottom face
     }

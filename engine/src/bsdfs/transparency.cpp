@@ -14,7 +14,7 @@ Color transparent_shadow(const Scene &scene, Vec3 o, Vec3 d, float tmax, uint64_
     if (!m.transparent) return Color(0.0f);
     tr *= m.shadow_transmission(scene.shading_point(hit));
     if (is_black(tr)) return tr;
-    o = spawn_origin(hit.p, hit.ng, d);
+    o = spawn_origin(hit.p, hit.ng, hit.error, d);
     tmax = std::isinf(tmax) ? kInf : std::max(0.0f, tmax - hit.t);
   }
   return Color(0.0f);

@@ -214,6 +214,8 @@ bool sample_light(const Light &l, Vec3 ref, Vec2 u, LightSample &s) {
       Vec3 p = l.p0 + l.edge_u * b.x + l.edge_v * b.y;
       if (!to_solid_angle(ref, p, l.axis, l.inv_area, true, s)) return false;
       s.L = l.radiance;
+      s.n = l.axis;
+      s.error = l.error;
       return true;
     }
     case LightType::Background: {

@@ -39,6 +39,7 @@ struct Light {
   // it (radiance holds the mean, and Scene::sample_light evaluates the texture).
   uint32_t instance = 0, prim = 0;
   bool textured = false;
+  Vec3 error{0.0f};      // triangle: rounding error bound of its points (core/ray_offset.h); Embree can hit it
   float power = 0;       // for light selection (scalar)
   // Whether camera rays see the lamp itself. Off by default: Cycles 3.4 never shows
   // lamps to the camera (it does show them in reflections).
@@ -60,6 +61,8 @@ struct LightSample {
   Vec3 wi;        // from the shaded point toward the light
   float dist = kInf;
   Vec3 p;         // point on the light (finite lights)
+  Vec3 n{0.0f};   // emissive triangles: their normal and the rounding error of p, so a
+  Vec3 error{0.0f};  // shadow ray stops short of the triangle itself (shadow_ray)
   Color L{0.0f};  // radiance (or intensity-derived value for delta lights) arriving
   float pdf = 0;  // solid angle; 1 for delta lights
   // Volume lights: the point emits only if it is inside the light's medium, which the

@@ -26,12 +26,13 @@ void MediumStack::cross(const Scene &scene, uint32_t material, Vec3 ng, Vec3 d) 
   }
 }
 
-Color medium_transmittance(const Scene &scene, Vec3 p, Vec3 ng, Vec3 d, float distance, MediumStack stack,
-                           uint64_t &rays, uint64_t seed, bool see_through_transparent, MediumStack *end) {
+Color medium_transmittance(const Scene &scene, const ShadowRay &ray, MediumStack stack, uint64_t &rays, uint64_t seed,
+                           bool see_through_transparent, MediumStack *end) {
   Color tr(1.0f);
   Pcg32 rng(seed);
-  Vec3 o = is_black(ng) ? p : spawn_origin(p, ng, d);
-  float remaining = std::isinf(distance) ? kInf : shadow_tmax(distance);
+  const Vec3 d = ray.d;
+  Vec3 o = ray.o;
+  float remaining = ray.tmax;
   for (int guard = 0; guard < 64; ++guard) {
     SurfaceHit hit;
     CoincidentBoundary boundary;
@@ -55,7 +56,7 @@ Color medium_transmittance(const Scene &scene, Vec3 p, Vec3 ng, Vec3 d, float di
       if (is_black(tr)) return tr;
     }
     stack.cross(scene, hit, boundary, d);
-    o = spawn_origin(hit.p, hit.ng, d);
+    o = spawn_origin(hit.p, hit.ng, hit.error, d);
     if (!std::isinf(remaining)) remaining -= hit.t;
     if (remaining <= 0) {
       if (end) *end = stack;

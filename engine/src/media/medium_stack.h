@@ -3,6 +3,7 @@
 // that medium; leaving it pops it. The world's medium lies under everything.
 #pragma once
 #include <array>
+#include "core/ray_offset.h"
 #include "scene/scene.h"
 
 namespace rdv {
@@ -38,9 +39,8 @@ class MediumStack {
 // seed: the random stream of grid media's transmittance estimators (see tracking_seed).
 // end, if given, receives the media at the far end (a volume light's point emits only
 // inside its medium).
-Color medium_transmittance(const Scene &scene, Vec3 p, Vec3 ng, Vec3 d, float distance, MediumStack stack,
-                           uint64_t &rays, uint64_t seed, bool see_through_transparent = false,
-                           MediumStack *end = nullptr);
+Color medium_transmittance(const Scene &scene, const ShadowRay &ray, MediumStack stack, uint64_t &rays, uint64_t seed,
+                           bool see_through_transparent = false, MediumStack *end = nullptr);
 
 // A seed for the transmittance estimators of grid media along the segment a -> b:
 // a hash of the endpoints, which are themselves random, so the stream is a fresh one

@@ -20,7 +20,7 @@ namespace rdv {
 // Whether a ray along d leaving `from` (a surface point with normal ng, offset to d's
 // side) starts beyond the plane of `other`: it would never meet `other`.
 static bool steps_past(const SurfaceHit &from, const SurfaceHit &other, Vec3 d) {
-  Vec3 o = spawn_origin(from.p, from.ng, d);
+  Vec3 o = spawn_origin(from.p, from.ng, from.error, d);
   return dot(o - other.p, other.ng) * dot(d, other.ng) >= 0;
 }
 

@@ -48,6 +48,8 @@ struct Instance {
   uint32_t mesh = 0;
   Transform to_world;
   Transform to_object;
+  // How the transform carries rounding errors (core/ray_offset.h): |M| and |M| |M^-1|.
+  Transform abs_linear, error_mixing;
   uint32_t light_base = 0;  // first emissive-triangle light of this instance
   bool enabled = true;      // false for a zero-scale transform: not rendered
 };

@@ -258,8 +258,17 @@ void Scene::set_instance_transform(uint32_t id, const Transform &to_world) {
   Instance &inst = instances_[id];
   inst.to_world = to_world;
   inst.enabled = invertible(to_world);
-  if (inst.enabled) inst.to_object = to_world.inverse();
-  else warn("instance of mesh '" + meshes_[inst.mesh].name + "': transform has zero scale; not rendered");
+  if (inst.enabled) {
+    inst.to_object = to_world.inverse();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) inst.abs_linear.m[r][c] = std::fabs(to_world.m[r][c]);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) {
+        float sum = 0;
+        for (int k = 0; k < 3; ++k) sum += inst.abs_linear.m[r][k] * std::fabs(inst.to_object.m[k][c]);
+        inst.error_mixing.m[r][c] = sum;
+      }
+  } else warn("instance of mesh '" + meshes_[inst.mesh].name + "': transform has zero scale; not rendered");
   accel_.mark_instances_dirty();
   dirty_ = true;
 }
@@ -374,7 +383,7 @@ std::vector<int> Scene::media_along(Vec3 o, Vec3 d) const {
     };
     pass(hit.material, hit.ng);
     if (boundary.material >= 0) pass(uint32_t(boundary.material), boundary.ng);
-    ray.o = spawn_origin(hit.p, hit.ng, ray.d);
+    ray.o = spawn_origin(hit.p, hit.ng, hit.error, ray.d);
   }
   return {exited.rbegin(), exited.rend()};  // outermost first, innermost last
 }
@@ -400,6 +409,11 @@ void Scene::build_lights() {
       Vec3 c = inst.to_world.point(m.positions[m.indices[3 * t + 2]]);
       const Material &mat = materials_[m.materials[t]];
       Light l = make_triangle_light(a, b, c, mat.emission_average);
+      // Points sampled on it are as precise as hits on it (the largest world coordinates).
+      Vec3 object_error = triangle_point_error(m.positions[m.indices[3 * t]], m.positions[m.indices[3 * t + 1]],
+                                               m.positions[m.indices[3 * t + 2]]);
+      l.error = transformed_point_error(object_error, vmax(vabs(a), vmax(vabs(b), vabs(c))), inst.abs_linear,
+                                        inst.error_mixing);
       l.instance = i;
       l.prim = t;
       l.textured = !mat.textured_emission.empty();
@@ -494,6 +508,7 @@ void Scene::surface_at(uint32_t instance, uint32_t prim, float b1, float b2, Sur
   Vec3 p0 = m.positions[tri[0]], p1 = m.positions[tri[1]], p2 = m.positions[tri[2]];
   // Position from barycentrics in object space: more precise than o + t d.
   hit.p = inst.to_world.point(p0 * b0 + p1 * b1 + p2 * b2);
+  hit.error = transformed_point_error(triangle_point_error(p0, p1, p2), hit.p, inst.abs_linear, inst.error_mixing);
   Vec3 ng = normalize(inst.to_object.normal_by_inverse(cross(p1 - p0, p2 - p0)));
   Vec3 ns = ng;
   if (!m.normals.empty()) {

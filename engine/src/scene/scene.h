@@ -27,6 +27,7 @@ struct CoincidentBoundary {
 
 struct SurfaceHit {
   Vec3 p;        // world-space position, reconstructed from barycentrics
+  Vec3 error{0.0f};  // per-coordinate bound of its rounding error (core/ray_offset.h)
   Vec3 ng;       // geometric normal (unit), on the same side as ns
   Vec3 ns;       // shading normal (unit)
   Vec2 uv;

@@ -45,17 +45,13 @@ Color Bdpt::transmittance(const PathVertex &a, const PathVertex &b, RayStats &st
   float dist = length(d);
   if (!(dist > 0)) return Color(0.0f);
   d = d / dist;
-  Vec3 ng = a.type == VertexType::Surface ? a.ng : Vec3(0.0f);
-  // Stop short of b (it may lie on a surface in the BVH); from b's side too.
-  Vec3 target = b.type == VertexType::Surface ? spawn_origin(b.p, b.ng, -d) : b.p;
+  // Both ends leave the geometry they lie on (error > 0: surfaces and emissive triangles).
+  ShadowRay shadow = shadow_ray(a.p, a.ng, a.error, b.p, b.ng, b.error);
   if constexpr (kMedia) {
-    Vec3 o = is_black(ng) ? a.p : spawn_origin(a.p, ng, d);
-    return medium_transmittance(scene_, o, Vec3(0.0f), d, length(target - o), a.media_toward(scene_, d), stats.rays,
-                                tracking_seed(a.p, b.p));
+    return medium_transmittance(scene_, shadow, a.media_toward(scene_, d), stats.rays, tracking_seed(a.p, b.p));
   } else {
-    Vec3 o = is_black(ng) ? a.p : spawn_origin(a.p, ng, d);
     ++stats.rays;
-    return scene_.occluded(o, d, shadow_tmax(length(target - o))) ? Color(0.0f) : Color(1.0f);
+    return scene_.occluded(shadow.o, shadow.d, shadow.tmax) ? Color(0.0f) : Color(1.0f);
   }
 }
 
@@ -117,6 +113,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
       sampled.dir = ls.wi;
     } else {
       sampled.p = ls.p;
+      sampled.error = ls.error;
       if (light.type == LightType::Area || light.type == LightType::Triangle) sampled.ng = sampled.ns = light.axis;
       if (light.type == LightType::Volume) sampled.gather_rate = 1.0f / light.volume->medium().emission_step;
     }
@@ -127,17 +124,16 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     densities.qs_rev = pt.convert_density(sp.pdf_fwd, sampled);
     if (pt.on_surface()) L *= absdot(ls.wi, pt.ns);
     if (!is_black(L)) {
-      Vec3 ng = pt.type == VertexType::Surface ? pt.ng : Vec3(0.0f);
+      ShadowRay shadow = std::isinf(ls.dist) ? shadow_ray_to_infinity(pt.p, pt.ng, pt.error, ls.wi)
+                                             : shadow_ray(pt.p, pt.ng, pt.error, ls.p, ls.n, ls.error);
       if constexpr (kMedia) {
         MediumStack end;
-        L *= medium_transmittance(scene_, pt.p, ng, ls.wi, ls.dist, pt.media_toward(scene_, ls.wi), stats.rays,
-                                  tracking_seed(pt.p, ls.p), false, &end);
+        L *= medium_transmittance(scene_, shadow, pt.media_toward(scene_, ls.wi), stats.rays, tracking_seed(pt.p, ls.p),
+                                  false, &end);
         if (ls.medium >= 0 && !is_black(L) && end.current(scene_) != ls.medium) L = Color(0.0f);  // outside its medium
       } else {
-        Vec3 o = spawn_origin(pt.p, ng, ls.wi);
-        float tmax = std::isinf(ls.dist) ? kInf : shadow_tmax(length(ls.p - o));
         ++stats.rays;
-        if (scene_.occluded(o, ls.wi, tmax)) L = Color(0.0f);
+        if (scene_.occluded(shadow.o, shadow.d, shadow.tmax)) L = Color(0.0f);
       }
     }
   } else {

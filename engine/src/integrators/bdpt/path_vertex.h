@@ -18,6 +18,7 @@ struct PathVertex {
   Color beta{0.0f};     // subpath throughput up to and including this vertex
   Vec3 p{0.0f};
   Vec3 ng{0.0f};        // geometric normal (zero: a point-like vertex, no cosine)
+  Vec3 error{0.0f};     // rounding error bound of p on geometry Embree can hit (core/ray_offset.h)
   Vec3 ns{0.0f};        // shading normal
   Vec3 wo{0.0f};        // toward the vertex this one was reached from
   float pdf_fwd = 0, pdf_rev = 0;

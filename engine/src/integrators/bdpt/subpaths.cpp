@@ -142,7 +142,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     if constexpr (kMedia) {
       if (scene_.is_boundary_only(hit.material)) {  // an index-matched boundary: no vertex
         media.cross(scene_, hit, boundary, ray.d);
-        ray = Ray{spawn_origin(hit.p, hit.ng, ray.d), ray.d, kInf};
+        ray = Ray{spawn_origin(hit.p, hit.ng, hit.error, ray.d), ray.d, kInf};
         lamp_facing = ray.o;
         lamp_passed = -1;
         if (++boundary_crossings > 256) return n;
@@ -153,6 +153,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     fresh_vertex(v);
     v.type = VertexType::Surface;
     v.p = hit.p;
+    v.error = hit.error;
     v.ng = hit.ng;
     v.ns = hit.ns;
     v.wo = -ray.d;
@@ -189,7 +190,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     if constexpr (kMedia) {
       if (dot(bs.wi, hit.ng) * dot(ray.d, hit.ng) > 0) media.cross(scene_, hit, boundary, bs.wi);  // refracted through
     }
-    ray = Ray{spawn_origin(hit.p, hit.ng, bs.wi), bs.wi, kInf};
+    ray = Ray{spawn_origin(hit.p, hit.ng, hit.error, bs.wi), bs.wi, kInf};
     lamp_facing = ray.o;
     lamp_passed = -1;
     // Camera paths: wider after a rough bounce, as in the path tracer. Light paths
@@ -291,13 +292,14 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path) con
   if (!(es.pdf_pos > 0) || !(es.pdf_dir > 0) || is_black(es.Le)) return 0;
   // Emissive triangles are in the BVH: leave them as any surface is left.
   Ray ray = es.ray;
-  if (light.type == LightType::Triangle) ray.o = spawn_origin(ray.o, light.axis, ray.d);
+  if (light.type == LightType::Triangle) ray.o = spawn_origin(ray.o, light.axis, light.error, ray.d);
   PathVertex &v = path[0];
   fresh_vertex(v);
   v.type = VertexType::Light;
   v.light = int(index);
   v.p = es.ray.o;
   v.ng = v.ns = es.n;
+  if (light.type == LightType::Triangle) v.error = light.error;
   v.beta = es.Le;
   v.pdf_fwd = pmf * es.pdf_pos;
   v.infinite = light.is_infinite();

@@ -10,12 +10,12 @@ namespace rdv {
 // Next-event estimation: one light chosen by power, one point on it, MIS-weighted
 // against the scattering function having sampled the same direction.
 //   scatter(wi, &pdf) returns f * |cos| (surfaces) or the phase function (media).
-//   ng: geometric normal at p (zero inside a medium).
+//   ng, p_error: geometric normal and rounding error at p (zero inside a medium).
 //   media_toward(wi) gives the media a shadow ray along wi starts in.
 // With media, the shadow ray carries transmittance through media and index-matched
 // boundaries; without, it is a plain occlusion query.
 template <bool kMedia, class Scatter, class MediaToward>
-static Color sample_direct_light(const Scene &scene, Vec3 p, Vec3 ng, const Scatter &scatter,
+static Color sample_direct_light(const Scene &scene, Vec3 p, Vec3 ng, Vec3 p_error, const Scatter &scatter,
                                  const MediaToward &media_toward, Sampler &sampler, RayStats &stats) {
   float u_light = sampler.get_1d();
   Vec2 u = sampler.get_2d();
@@ -30,21 +30,21 @@ static Color sample_direct_light(const Scene &scene, Vec3 p, Vec3 ng, const Scat
   Color f = scatter(ls.wi, &scatter_pdf);
   if (is_black(f)) return Color(0.0f);
   Color tr(1.0f);
+  ShadowRay shadow = std::isinf(ls.dist) ? shadow_ray_to_infinity(p, ng, p_error, ls.wi)
+                                         : shadow_ray(p, ng, p_error, ls.p, ls.n, ls.error);
   if constexpr (kMedia) {
     // Grid media estimate transmittance with a stream seeded by one more sampler value.
     uint64_t seed = scene.has_heterogeneous_media() ? std::bit_cast<uint32_t>(sampler.get_1d()) : 0;
     MediumStack end;
-    tr = medium_transmittance(scene, p, ng, ls.wi, ls.dist, media_toward(ls.wi), stats.rays, seed, true, &end);
+    tr = medium_transmittance(scene, shadow, media_toward(ls.wi), stats.rays, seed, true, &end);
     if (is_black(tr)) return Color(0.0f);
     if (ls.medium >= 0 && end.current(scene) != ls.medium) return Color(0.0f);  // outside the emitting medium
   } else {
-    Vec3 o = spawn_origin(p, ng, ls.wi);
-    float tmax = std::isinf(ls.dist) ? kInf : shadow_tmax(length(ls.p - o));
     ++stats.rays;
-    if (scene.occluded(o, ls.wi, tmax)) {
+    if (scene.occluded(shadow.o, shadow.d, shadow.tmax)) {
       // Transparent shadows (alpha, Transparent BSDF): look through what blocked the ray.
       if (!scene.has_transparency()) return Color(0.0f);
-      tr = transparent_shadow(scene, o, ls.wi, tmax, stats.rays);
+      tr = transparent_shadow(scene, shadow.o, shadow.d, shadow.tmax, stats.rays);
       if (is_black(tr)) return Color(0.0f);
     }
   }
@@ -142,7 +142,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
             return Color(medium.phase.eval(wo, wi));
           };
           auto same_medium = [&](Vec3) { return stack; };
-          L += beta * sample_direct_light<true>(scene_, p, Vec3(0.0f), phase, same_medium, sampler, stats);
+          L += beta * sample_direct_light<true>(scene_, p, Vec3(0.0f), Vec3(0.0f), phase, same_medium, sampler, stats);
           Vec3 wi = medium.phase.sample(wo, sampler.get_2d());
           specular_bounce = false;
           prev_pdf = medium.phase.pdf(wo, wi);
@@ -181,7 +181,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       // An index-matched medium boundary: change medium and carry straight on.
       if (scene_.is_boundary_only(hit.material)) {
         stack.cross(scene_, hit, boundary, ray.d);
-        new_ray(Ray{spawn_origin(hit.p, hit.ng, ray.d), ray.d, kInf});
+        new_ray(Ray{spawn_origin(hit.p, hit.ng, hit.error, ray.d), ray.d, kInf});
         cone = cone.after(hit.t);
         if (++boundary_crossings > 256) break;
         --depth;  // not a bounce
@@ -218,10 +218,10 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           if (dot(wi, hit.ng) * dot(ray.d, hit.ng) > 0) s.cross(scene_, hit, boundary, wi);
           return s;
         };
-        L += beta * sample_direct_light<true>(scene_, hit.p, hit.ng, surface, media_toward, sampler, stats);
+        L += beta * sample_direct_light<true>(scene_, hit.p, hit.ng, hit.error, surface, media_toward, sampler, stats);
       } else {
         auto unused = [](Vec3) { return 0; };
-        L += beta * sample_direct_light<false>(scene_, hit.p, hit.ng, surface, unused, sampler, stats);
+        L += beta * sample_direct_light<false>(scene_, hit.p, hit.ng, hit.error, surface, unused, sampler, stats);
       }
     }
 
@@ -234,7 +234,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       // Straight through a transparent surface: not a bounce, and the MIS state of the
       // last scattering vertex stays (transparent shadows give NEE the same paths).
       if constexpr (kMedia) stack.cross(scene_, hit, boundary, ray.d);
-      new_ray(Ray{spawn_origin(hit.p, hit.ng, ray.d), ray.d, kInf});
+      new_ray(Ray{spawn_origin(hit.p, hit.ng, hit.error, ray.d), ray.d, kInf});
       if (++boundary_crossings > 256 || is_black(beta)) break;
       --depth;
       continue;
@@ -246,7 +246,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     if constexpr (kMedia) {
       if (dot(bs.wi, hit.ng) * dot(ray.d, hit.ng) > 0) stack.cross(scene_, hit, boundary, bs.wi);  // refracted through
     }
-    new_ray(Ray{spawn_origin(hit.p, hit.ng, bs.wi), bs.wi, kInf});
+    new_ray(Ray{spawn_origin(hit.p, hit.ng, hit.error, bs.wi), bs.wi, kInf});
     if (!russian_roulette(depth) || is_black(beta)) break;
   }
   return L;
