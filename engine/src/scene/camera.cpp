@@ -117,8 +117,11 @@ float Camera::importance(const Ray &ray, Vec2 *raster) const {
   if (type != Type::Perspective) return 0;
   float cos_theta = dot(ray.d, forward_);
   if (cos_theta <= 0) return 0;
-  Vec3 focus = ray.o + ray.d * ((aperture_radius > 0 ? focus_distance : 1.0f) / cos_theta);
-  Vec3 pc = to_camera_.point(focus);
+  // In camera space, from the lens point's offset and the direction: a world-space
+  // point one unit in front of a camera 1e5 from the origin is rounded by 8 mm, more
+  // than a pixel's angle (light-tracing splats landed in stripes of columns).
+  Vec3 lens = aperture_radius > 0 ? to_camera_.vector(ray.o - position()) : Vec3(0.0f);
+  Vec3 pc = lens + to_camera_.vector(ray.d) * ((aperture_radius > 0 ? focus_distance : 1.0f) / cos_theta);
   if (pc.z >= 0) return 0;
   float px = pc.x / -pc.z, py = pc.y / -pc.z;
   Vec2 r{(px - left) / (right - left) * width_, (top - py) / (top - bottom) * height_};
