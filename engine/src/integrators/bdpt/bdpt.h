@@ -80,8 +80,8 @@ class Bdpt final : public TileIntegrator {
   int random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, float pdf, int max_vertices,
                   TransportMode mode, PathVertex *path, Color *emitted, RayCone cone = {}) const;
   Color lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathVertex *path, int n, float pdf_dir) const;
-  void gather_volume_emission(const Medium &medium, const Ray &ray, float tmax, Vec2 u, Color beta, PathVertex *path,
-                              int n, float pdf_dir, Color &emitted) const;
+  void gather_volume_emission(const Medium &medium, const Ray &ray, float tmax, SampleRun &rng, Color beta,
+                              PathVertex *path, int n, float pdf_dir, Color &emitted) const;
   // Densities (mis.cpp), area measure at the receiving vertex.
   void light_densities(const PathVertex &light_vertex, const PathVertex &v, float &origin, float &toward) const;
   float infinite_light_density(Vec3 dir) const;
@@ -95,9 +95,11 @@ class Bdpt final : public TileIntegrator {
   // Vertex helpers (connect.cpp).
   Scattering scatter(const PathVertex &v, Vec3 wi, TransportMode mode) const;
   Color Le(const PathVertex &v, const PathVertex &toward) const;
-  // Visibility (0 or 1) or, with media, transmittance from a to b.
+  // Visibility (0 or 1) or, with media, transmittance from a to b, its estimators
+  // drawing at `position` of `stream` (the connection's own dimensions).
   template <bool kMedia>
-  Color transmittance(const PathVertex &a, const PathVertex &b, RayStats &stats) const;
+  Color transmittance(const PathVertex &a, const PathVertex &b, Sampler &sampler, SampleStream stream,
+                      uint32_t position, RayStats &stats) const;
 
   const Scene &scene_;
   BdptSettings settings_;
