@@ -47,11 +47,12 @@ static Medium chromatic_medium() {
 // either the samples that scattered or those that passed.
 struct WeightEstimate { double mean[3], se[3]; };
 static WeightEstimate mean_weight(const Medium &m, float d, uint64_t seed, bool scattered) {
-  SampleRun rng{Pcg32(seed)};
+  Pcg32 rng(seed);
   const int n = 400000;
   Color sum(0.0f), sum2(0.0f);
   for (int i = 0; i < n; ++i) {
-    MediumSample s = m.sample_distance(Vec3(0.0f), Vec3(0, 0, 1), d, rng);
+    float a = rng.next_float();
+    MediumSample s = m.sample_distance(Vec3(0.0f), Vec3(0, 0, 1), d, Vec2(a, rng.next_float()));
     Color v = s.scattered == scattered ? s.weight : Color(0.0f);
     sum += v;
     sum2 += v * v;
