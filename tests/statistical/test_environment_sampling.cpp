@@ -56,7 +56,7 @@ TEST(EnvironmentSampling, SampleAgreesWithPdfAndEval) {
   for (int i = 0; i < n; ++i) {
     float a = rng.next_float();
     LightSample s;
-    if (!sample_light(light, Vec3(0.0f), {a, rng.next_float()}, s)) continue;
+    if (!sample_light(light, Vec3(0.0f), {a, rng.next_float()}, Vec3(0.0f), s)) continue;
     EXPECT_NEAR(s.pdf, light_pdf(light, Vec3(0.0f), s.wi, kInf), 1e-3f * s.pdf);
     Color L = infinite_light_radiance(light, s.wi);
     EXPECT_NEAR(s.L.y, L.y, 1e-5f * std::max(1.0f, L.y));

@@ -65,7 +65,7 @@ TEST(LightSampling, ChiSquareEveryLightType) {
     auto result = test::chi_square_directions(
         [&](Vec2 u, Vec3 &wi) {
           LightSample s;
-          if (!sample_light(c.light, ref, u, s)) return false;
+          if (!sample_light(c.light, ref, u, Vec3(0.0f), s)) return false;
           wi = s.wi;
           return true;
         },
@@ -89,7 +89,7 @@ static void expect_irradiance(const Light &l, double expected, const std::string
     LightSample s;
     double v = 0;
     float a = rng.next_float();
-    if (sample_light(l, Vec3(0.0f), {a, rng.next_float()}, s) && s.pdf > 0 && s.wi.z > 0)
+    if (sample_light(l, Vec3(0.0f), {a, rng.next_float()}, Vec3(0.0f), s) && s.pdf > 0 && s.wi.z > 0)
       v = average(s.L) * s.wi.z / s.pdf;
     sum += v;
     sum2 += v * v;

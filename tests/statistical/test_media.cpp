@@ -47,12 +47,11 @@ static Medium chromatic_medium() {
 // either the samples that scattered or those that passed.
 struct WeightEstimate { double mean[3], se[3]; };
 static WeightEstimate mean_weight(const Medium &m, float d, uint64_t seed, bool scattered) {
-  Pcg32 rng(seed);
+  SampleRun rng{Pcg32(seed)};
   const int n = 400000;
   Color sum(0.0f), sum2(0.0f);
   for (int i = 0; i < n; ++i) {
-    float a = rng.next_float();
-    MediumSample s = m.sample_distance(Vec3(0.0f), Vec3(0, 0, 1), d, Vec2(a, rng.next_float()));
+    MediumSample s = m.sample_distance(Vec3(0.0f), Vec3(0, 0, 1), d, rng);
     Color v = s.scattered == scattered ? s.weight : Color(0.0f);
     sum += v;
     sum2 += v * v;

@@ -68,7 +68,7 @@ void expect_z(const Stat &s, double expected, const std::string &what) {
 // Ratio tracking: E[T_hat] = exp(-sigma_t tau) in every channel.
 TEST(GridTracking, RatioTrackingIsUnbiasedOnARamp) {
   Medium m = ramp_medium();
-  Pcg32 rng(11);
+  SampleRun rng{Pcg32(11)};
   int seg_index = 0;
   for (const Segment &s : ramp_segments()) {
     Stat st[3];
@@ -98,9 +98,8 @@ TEST(GridTracking, DeltaTrackingIsUnbiasedOnARamp) {
     light.light_lo = vmin(s.o, s.o + s.d * s.length) - Vec3(1.0f);
     light.light_hi = vmax(s.o, s.o + s.d * s.length) + Vec3(1.0f);
     for (int i = 0; i < n; ++i) {
-      // The stream seed comes from two sampler values, as in the integrators.
-      Pcg32 u(hash_u32(i) ^ (uint64_t(seg_index) << 40), 7);
-      MediumSample ms = m.sample_distance(s.o, s.d, s.length, Vec2(u.next_float(), u.next_float()));
+      SampleRun u{Pcg32(hash_u32(i) ^ (uint64_t(seg_index) << 40), 7)};
+      MediumSample ms = m.sample_distance(s.o, s.d, s.length, u);
       Color gathered(0.0f);
       gather_emission(light, s.o, s.d, s.length, u, [&](Vec3, Color c, float) { gathered += c; });
       int bin = ms.scattered ? std::min(int(ms.t / s.length * bins), bins - 1) : -1;
@@ -151,7 +150,7 @@ TEST(GridTracking, RatioTrackingThroughASparseRotatedGrid) {
                       {"transform", {{"rotate", {20, -35, 50}}, {"scale", {1.3, 0.9, 1.1}}}}}}};
   Params params(p.dump(), "sparse volume");
   Medium m = Medium::from_params(params, "sparse");
-  Pcg32 rng(17);
+  SampleRun rng{Pcg32(17)};
   for (int ray = 0; ray < 6; ++ray) {
     Vec3 o(4 * rng.next_float() - 2, 4 * rng.next_float() - 2, 4 * rng.next_float() - 2);
     Vec3 target(0.4f * rng.next_float() - 0.2f, 0.4f * rng.next_float() - 0.2f, 0.2f * rng.next_float() - 0.1f);
@@ -182,13 +181,13 @@ TEST(GridTracking, OneVoxelGridIsHomogeneous) {
   json p = {{"density", 2.0}, {"color", 0.7}, {"grid", {{"resolution", {1, 1, 1}}, {"values", {1.5}}}}};
   Params params(p.dump(), "one voxel");
   Medium m = Medium::from_params(params, "one");
-  Pcg32 rng(5);
+  SampleRun rng{Pcg32(5)};
   Stat tr, pass;
   Vec3 o(0.1f, 0.2f, 0.0f), d = normalize(Vec3(0.2f, 0.1f, 1.0f));
   float len = 1.0f / d.z;
   for (int i = 0; i < 100000; ++i) {
     tr.add(m.transmittance(o, d, len, rng).x);
-    MediumSample s = m.sample_distance(o, d, len, Vec2(rng.next_float(), rng.next_float()));
+    MediumSample s = m.sample_distance(o, d, len, rng);
     pass.add(s.scattered ? 0.0 : s.weight.x);
   }
   double expected = std::exp(-m.sigma_t.x * 1.5 * len);
@@ -201,12 +200,12 @@ TEST(GridTracking, OneVoxelGridIsHomogeneous) {
 // balance between passing and scattering (albedo (1 - T) + T).
 TEST(GridRayMarching, CloseToExactOnARamp) {
   Medium m = ramp_medium("ray_marching");
-  Pcg32 rng(23);
+  SampleRun rng{Pcg32(23)};
   for (const Segment &s : ramp_segments()) {
     Stat tr[3], pass[3];
     for (int i = 0; i < 20000; ++i) {
       Color t = m.transmittance(s.o, s.d, s.length, rng);
-      MediumSample ms = m.sample_distance(s.o, s.d, s.length, Vec2(rng.next_float(), rng.next_float()));
+      MediumSample ms = m.sample_distance(s.o, s.d, s.length, rng);
       for (int c = 0; c < 3; ++c) {
         tr[c].add(t[c]);
         pass[c].add(ms.scattered ? 0.0 : ms.weight[c]);
@@ -229,11 +228,11 @@ TEST(GridTracking, ExtremesStayFinite) {
                   {"grid", {{"resolution", {3, 2, 2}}, {"values", {0, 1, 0.5, 2, 0, 0, 1, 1, 3, 0, 0.1, 5}}}}};
         Params params(p.dump(), "extreme");
         Medium m = Medium::from_params(params, "x");
-        Pcg32 rng(1);
+        SampleRun rng{Pcg32(1)};
         for (int i = 0; i < 300; ++i) {
           Vec3 o(rng.next_float(), rng.next_float(), -0.5f), d = normalize(Vec3(rng.next_float() - 0.5f, rng.next_float() - 0.5f, 1));
           Color tr = m.transmittance(o, d, 3.0f, rng);
-          MediumSample s = m.sample_distance(o, d, 3.0f, Vec2(rng.next_float(), rng.next_float()));
+          MediumSample s = m.sample_distance(o, d, 3.0f, rng);
           ASSERT_TRUE(is_finite(tr) && is_finite(s.weight) && std::isfinite(s.t))
               << method << " density " << density << " albedo " << albedo;
           ASSERT_TRUE(min_component(tr) >= 0 && min_component(s.weight) >= 0);
@@ -252,13 +251,13 @@ TEST(GridTracking, PeakAtAMajorantCellEdge) {
   Params params(p.dump(), "peak");
   Medium m = Medium::from_params(params, "peak");
   const double expected = std::exp(-1.0 * 40.0 / 32.0);
-  Pcg32 rng(31);
+  SampleRun rng{Pcg32(31)};
   for (float dir : {1.0f, -1.0f}) {
     Vec3 o(dir > 0 ? -0.5f : 1.5f, 0.5f, 0.5f), d(dir, 0, 0);
     Stat tr, pass;
     for (int i = 0; i < 200000; ++i) {
       tr.add(m.transmittance(o, d, 2.0f, rng).x);
-      MediumSample s = m.sample_distance(o, d, 2.0f, Vec2(rng.next_float(), rng.next_float()));
+      MediumSample s = m.sample_distance(o, d, 2.0f, rng);
       pass.add(s.scattered ? 0.0 : s.weight.x);
     }
     expect_z(tr, expected, dir > 0 ? "ratio tracking +x" : "ratio tracking -x");

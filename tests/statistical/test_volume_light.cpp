@@ -45,7 +45,8 @@ void expect_density_matches_pdf(const VolumeEmitter &e, const std::string &what)
   Pcg32 rng(17);
   for (int s = 0; s < n; ++s) {
     float pdf;
-    Vec3 p = e.sample(Vec2(rng.next_float(), rng.next_float()), &pdf);
+    Vec2 u(rng.next_float(), rng.next_float());
+    Vec3 p = e.sample(u, Vec3(rng.next_float(), rng.next_float(), rng.next_float()), &pdf);
     ASSERT_TRUE(pdf > 0) << what;
     ASSERT_NEAR(pdf, e.pdf(p), 1e-4f * pdf) << what << ": sample() and pdf() disagree";
     int i = std::clamp(int(p.x * kCells), 0, kCells - 1), j = std::clamp(int(p.y * kCells), 0, kCells - 1),

@@ -162,7 +162,7 @@ static bool to_solid_angle(Vec3 ref, Vec3 p, Vec3 n, float inv_area, bool two_si
   return std::isfinite(s.pdf);
 }
 
-bool sample_light(const Light &l, Vec3 ref, Vec2 u, LightSample &s) {
+bool sample_light(const Light &l, Vec3 ref, Vec2 u, Vec3 u_volume, LightSample &s) {
   switch (l.type) {
     case LightType::Point:
     case LightType::Spot: {
@@ -231,7 +231,7 @@ bool sample_light(const Light &l, Vec3 ref, Vec2 u, LightSample &s) {
     }
     case LightType::Volume: {
       float pdf_volume;
-      Vec3 p = l.volume->sample(u, &pdf_volume);
+      Vec3 p = l.volume->sample(u, u_volume, &pdf_volume);
       Vec3 d = p - ref;
       float dist2 = length_squared(d);
       if (!(pdf_volume > 0) || !(dist2 > 0)) return false;

@@ -81,7 +81,9 @@ Light make_volume_light(const VolumeEmitter *emitter);
 // scene_radius: radius of the scene's bounding sphere, for the power of infinite lights.
 void compute_light_power(Light &light, float scene_radius);
 
-bool sample_light(const Light &light, Vec3 ref, Vec2 u, LightSample &out);
+// u: the point on the light (a volume light: the choice of region or voxel), u_volume:
+// volume lights only, the point in that region or voxel.
+bool sample_light(const Light &light, Vec3 ref, Vec2 u, Vec3 u_volume, LightSample &out);
 // Solid-angle density of sample_light choosing direction wi from ref, given the ray
 // reached the light at distance dist (triangles: also needs light normal via geometry).
 float light_pdf(const Light &light, Vec3 ref, Vec3 wi, float dist);
@@ -103,9 +105,10 @@ struct EmissionSample {
   float pdf_pos = 0;  // area density of the origin (1 for delta positions; 1/(pi R^2) for infinite lights)
   float pdf_dir = 0;  // solid-angle density of the direction (1 for delta directions)
 };
-// scene_center / scene_radius: the disk infinite lights emit through.
-bool sample_emission(const Light &light, Vec2 u_pos, Vec2 u_dir, Vec3 scene_center, float scene_radius,
-                     EmissionSample &out);
+// scene_center / scene_radius: the disk infinite lights emit through. u_volume: as for
+// sample_light (volume lights: u_pos chooses the region or voxel, u_volume the point).
+bool sample_emission(const Light &light, Vec2 u_pos, Vec2 u_dir, Vec3 u_volume, Vec3 scene_center,
+                     float scene_radius, EmissionSample &out);
 // Densities with which sample_emission would emit from `p` (normal n) along `dir`.
 void emission_pdf(const Light &light, Vec3 p, Vec3 n, Vec3 dir, float scene_radius, float &pdf_pos, float &pdf_dir);
 // True if the light's position is a delta (point and spot without radius) or its

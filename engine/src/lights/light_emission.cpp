@@ -23,7 +23,8 @@ bool light_is_delta_position(const Light &l) {
 }
 bool light_is_delta_direction(const Light &l) { return l.type == LightType::Sun && l.radius == 0; }
 
-bool sample_emission(const Light &l, Vec2 u_pos, Vec2 u_dir, Vec3 center, float radius, EmissionSample &out) {
+bool sample_emission(const Light &l, Vec2 u_pos, Vec2 u_dir, Vec3 u_volume, Vec3 center, float radius,
+                     EmissionSample &out) {
   switch (l.type) {
     case LightType::Point:
     case LightType::Spot: {
@@ -114,7 +115,7 @@ bool sample_emission(const Light &l, Vec2 u_pos, Vec2 u_dir, Vec3 center, float 
     }
     case LightType::Volume: {
       // A point by emitted power, a direction uniform over the sphere (isotropic).
-      Vec3 p = l.volume->sample(u_pos, &out.pdf_pos);
+      Vec3 p = l.volume->sample(u_pos, u_volume, &out.pdf_pos);
       out.ray = {p, uniform_sphere(u_dir), kInf};
       out.pdf_dir = uniform_sphere_pdf();
       out.n = Vec3(0.0f);

@@ -1,6 +1,7 @@
 #include "lights/volume_light.h"
 #include <tbb/parallel_for.h>
-#include "core/hash.h"
+#include <algorithm>
+#include <cmath>
 
 namespace rdv {
 
@@ -13,10 +14,9 @@ bool inside(Vec3 p, Vec3 lo, Vec3 hi) {
   return p.x >= lo.x && p.y >= lo.y && p.z >= lo.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z;
 }
 
-// A uniform double in [0, 1) from two 32-bit draws (voxel CDFs may have millions of entries).
-double next_double(Pcg32 &rng) {
-  uint64_t bits = (uint64_t(rng.next_u32()) << 21) ^ rng.next_u32();
-  return double(bits & ((uint64_t(1) << 53) - 1)) * 0x1p-53;
+// u in [lo, hi) as a uniform number in [0, 1).
+double remap(double u, double lo, double hi) {
+  return hi > lo ? std::clamp((u - lo) / (hi - lo), 0.0, std::nextafter(1.0, 0.0)) : 0.0;
 }
 
 size_t sample_cdf(const std::vector<double> &cdf, double u) {
@@ -109,27 +109,29 @@ VolumeEmitter::VolumeEmitter(const Medium &medium, int medium_index, const std::
   power_ = float(4 * kPi * total);
 }
 
-Vec3 VolumeEmitter::sample(Vec2 u, float *pdf_out) const {
+Vec3 VolumeEmitter::sample(Vec2 u, Vec3 u_point, float *pdf_out) const {
   *pdf_out = 0;
   if (empty()) return Vec3(0.0f);
-  Pcg32 rng = Medium::stream_from(u);
-  size_t part = std::min<size_t>(std::lower_bound(part_cdf_.begin(), part_cdf_.end(), next_double(rng)) - part_cdf_.begin(),
+  // One number of 48 bits for the choices (voxel CDFs may have millions of entries),
+  // led by u.x: a small change of u is a small change of the choice.
+  const double c = double(u.x) + double(u.y) * 0x1p-24;
+  size_t part = std::min<size_t>(std::lower_bound(part_cdf_.begin(), part_cdf_.end(), c) - part_cdf_.begin(),
                                  part_cdf_.size() - 1);
+  const double within = remap(c, part > 0 ? part_cdf_[part - 1] : 0.0, part_cdf_[part]);
   Vec3 p;
   if (part < boxes_.size()) {
     const Region &b = boxes_[part];
-    Vec3 r(rng.next_float(), rng.next_float(), rng.next_float());
-    p = b.lo + (b.hi - b.lo) * r;
+    p = b.lo + (b.hi - b.lo) * u_point;
   } else {
     const DensityGrid &g = *lattice_;
     Vec3 cell;
-    if (next_double(rng) < kDefensiveShare) {
-      cell = Vec3(rng.next_float() * g.nx(), rng.next_float() * g.ny(), rng.next_float() * g.nz());
+    if (within < kDefensiveShare) {
+      cell = Vec3(u_point.x * g.nx(), u_point.y * g.ny(), u_point.z * g.nz());
     } else {
-      uint32_t v = voxel_index_[sample_cdf(voxel_cdf_, next_double(rng))];
+      uint32_t v = voxel_index_[sample_cdf(voxel_cdf_, remap(within, kDefensiveShare, 1.0))];
       int i = int(v % uint32_t(g.nx())), j = int(v / uint32_t(g.nx()) % uint32_t(g.ny())),
           k = int(v / (uint32_t(g.nx()) * uint32_t(g.ny())));
-      cell = Vec3(i + rng.next_float(), j + rng.next_float(), k + rng.next_float());
+      cell = Vec3(i + u_point.x, j + u_point.y, k + u_point.z);
     }
     p = g.grid_to_world().point(cell);
   }

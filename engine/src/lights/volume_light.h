@@ -37,8 +37,9 @@ class VolumeEmitter {
   Vec3 bounds_hi() const { return hi_; }
   // The grid whose voxels the points are drawn by, or null (uniform emission only).
   const DensityGrid *lattice() const { return lattice_.get(); }
-  // A point by emitted power (u seeds the draws); pdf in volume measure.
-  Vec3 sample(Vec2 u, float *pdf) const;
+  // A point by emitted power: u chooses where (a region, a voxel), u_point the point
+  // in it; pdf in volume measure.
+  Vec3 sample(Vec2 u, Vec3 u_point, float *pdf) const;
   float pdf(Vec3 p) const;
 
  private:

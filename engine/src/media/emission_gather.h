@@ -19,7 +19,7 @@
 namespace rdv {
 
 template <class F>
-void gather_emission(const Medium &m, Vec3 o, Vec3 d, float tmax, Pcg32 &rng, F &&f) {
+void gather_emission(const Medium &m, Vec3 o, Vec3 d, float tmax, SampleRun &rng, F &&f) {
   if (m.light < 0) {
     if (m.is_heterogeneous()) return;  // grid media are always inside meshes: volume lights
     Color e = m.uniform_emission(), tr = m.transmittance(tmax), sum;

@@ -30,11 +30,11 @@ GridRay to_grid(const DensityGrid &grid, Vec3 o, Vec3 d) {
   return {grid.world_to_grid().point(o), grid.world_to_grid().vector(d)};
 }
 
-float exponential(Pcg32 &rng, float rate) { return -std::log(1.0f - rng.next_float()) / rate; }
+float exponential(SampleRun &rng, float rate) { return -std::log(1.0f - rng.next_float()) / rate; }
 
 // Russian roulette on a ratio-tracking weight once little is left: unbiased, and dense
 // media end after a few steps instead of thousands. False: the walk ends (w = 0).
-bool survives_roulette(Color &w, Pcg32 &rng) {
+bool survives_roulette(Color &w, SampleRun &rng) {
   float m = max_component(w);
   if (m >= 0.1f) return true;
   if (m == 0 || rng.next_float() < 0.5f) { w = Color(0.0f); return false; }
@@ -44,7 +44,7 @@ bool survives_roulette(Color &w, Pcg32 &rng) {
 
 }  // namespace
 
-MediumSample Medium::delta_tracking(Vec3 o, Vec3 d, float tmax, Pcg32 &rng) const {
+MediumSample Medium::delta_tracking(Vec3 o, Vec3 d, float tmax, SampleRun &rng) const {
   MediumSample s;
   s.t = tmax;
   const DensityGrid &g = *grid;
@@ -81,7 +81,7 @@ MediumSample Medium::delta_tracking(Vec3 o, Vec3 d, float tmax, Pcg32 &rng) cons
   return s;
 }
 
-Color Medium::ratio_tracking(Vec3 o, Vec3 d, float distance, Pcg32 &rng) const {
+Color Medium::ratio_tracking(Vec3 o, Vec3 d, float distance, SampleRun &rng) const {
   const DensityGrid &g = *grid;
   const GridRay r = to_grid(g, o, d);
   const float sigma_t_max = max_component(sigma_t);

@@ -129,7 +129,7 @@ std::shared_ptr<const DensityGrid> Medium::load_grid(Medium &m, const nlohmann::
   return std::make_shared<DensityGrid>(nx, ny, nz, std::move(values), to_world * box);
 }
 
-MediumSample Medium::sample_homogeneous(float tmax, float u_channel, float u_distance) const {
+MediumSample Medium::sample_homogeneous(float tmax, SampleRun &rng) const {
   MediumSample s;
   if (max_component(sigma_s) == 0) {
     // Nothing scatters: attenuate exactly (zero variance).
@@ -138,8 +138,9 @@ MediumSample Medium::sample_homogeneous(float tmax, float u_channel, float u_dis
     s.weight = transmittance(tmax);
     return s;
   }
-  int c = std::min(int(u_channel * 3.0f), 2);
+  int c = std::min(int(rng.next_float() * 3.0f), 2);
   float st = sigma_t[c];
+  float u_distance = rng.next_float();
   float t = st > 0 ? -std::log(1.0f - u_distance) / st : kInf;
   if (t < tmax) {
     Color tr = transmittance(t);

@@ -7,11 +7,11 @@
 // Homogeneous media are closed-form. Grid media (density_grid.h) scale the
 // coefficients by a voxel density and are sampled by delta / ratio tracking
 // (grid_tracking.cpp, unbiased) or by Pauly et al.'s random-offset ray marching
-// (ray_marching.cpp, approximate). Their random numbers come from a small PCG stream
-// seeded by the caller (a sampler value), so a render stays a function of
-// (seed, pixel, sample) while tracking takes as many numbers as it needs.
+// (ray_marching.cpp, approximate). Every estimator draws from a SampleRun (the
+// sampler's dimensions reserved for it on the path, then a generator seeded by them),
+// so a render stays a function of the sampler's numbers while tracking takes as many
+// as it needs.
 #pragma once
-#include <bit>
 #include <memory>
 #include <string>
 #include <vector>
@@ -21,6 +21,7 @@
 #include "media/density_grid.h"
 #include "media/grid_buffers.h"
 #include "media/phase.h"
+#include "samplers/sample_run.h"
 
 namespace rdv {
 
@@ -99,7 +100,7 @@ struct Medium {
   }
   // Transmittance from o along unit d over `distance`; grid media estimate it with
   // random numbers from rng (ratio tracking: unbiased; ray marching: approximate).
-  Color transmittance(Vec3 o, Vec3 d, float distance, Pcg32 &rng) const {
+  Color transmittance(Vec3 o, Vec3 d, float distance, SampleRun &rng) const {
     switch (type) {
       case MediumType::Homogeneous: return transmittance(distance);
       case MediumType::GridTracking: return ratio_tracking(o, d, distance, rng);
@@ -107,19 +108,16 @@ struct Medium {
     }
     return Color(0.0f);
   }
-  // A free-flight distance from o along unit d, up to tmax (may be infinite). u: two
-  // sampler values (homogeneous: channel and distance; grids: the seed of their stream).
+  // A free-flight distance from o along unit d, up to tmax (may be infinite), with
+  // random numbers from rng (homogeneous: channel and distance, the first two).
   // A medium that does not scatter is attenuated instead (never a scattering event).
-  MediumSample sample_distance(Vec3 o, Vec3 d, float tmax, Vec2 u) const {
+  MediumSample sample_distance(Vec3 o, Vec3 d, float tmax, SampleRun &rng) const {
     switch (type) {
-      case MediumType::Homogeneous: return sample_homogeneous(tmax, u.x, u.y);
-      case MediumType::GridTracking: { Pcg32 rng = stream_from(u); return delta_tracking(o, d, tmax, rng); }
-      case MediumType::GridRayMarching: { Pcg32 rng = stream_from(u); return ray_marched_distance(o, d, tmax, rng); }
+      case MediumType::Homogeneous: return sample_homogeneous(tmax, rng);
+      case MediumType::GridTracking: return delta_tracking(o, d, tmax, rng);
+      case MediumType::GridRayMarching: return ray_marched_distance(o, d, tmax, rng);
     }
     return {};
-  }
-  static Pcg32 stream_from(Vec2 u) {
-    return Pcg32((uint64_t(std::bit_cast<uint32_t>(u.x)) << 32) | std::bit_cast<uint32_t>(u.y));
   }
 
  private:
@@ -127,11 +125,11 @@ struct Medium {
   // goes on `without` something, if it cannot be read.
   static std::shared_ptr<const DensityGrid> load_grid(Medium &m, const nlohmann::json &grid, const std::string &what,
                                                       const std::string &without, const GridBuffers *buffers);
-  MediumSample sample_homogeneous(float tmax, float u_channel, float u_distance) const;
-  MediumSample delta_tracking(Vec3 o, Vec3 d, float tmax, Pcg32 &rng) const;
-  Color ratio_tracking(Vec3 o, Vec3 d, float distance, Pcg32 &rng) const;
-  MediumSample ray_marched_distance(Vec3 o, Vec3 d, float tmax, Pcg32 &rng) const;
-  Color ray_marched_transmittance(Vec3 o, Vec3 d, float distance, Pcg32 &rng) const;
+  MediumSample sample_homogeneous(float tmax, SampleRun &rng) const;
+  MediumSample delta_tracking(Vec3 o, Vec3 d, float tmax, SampleRun &rng) const;
+  Color ratio_tracking(Vec3 o, Vec3 d, float distance, SampleRun &rng) const;
+  MediumSample ray_marched_distance(Vec3 o, Vec3 d, float tmax, SampleRun &rng) const;
+  Color ray_marched_transmittance(Vec3 o, Vec3 d, float distance, SampleRun &rng) const;
 };
 
 }  // namespace rdv

@@ -26,10 +26,9 @@ void MediumStack::cross(const Scene &scene, uint32_t material, Vec3 ng, Vec3 d) 
   }
 }
 
-Color medium_transmittance(const Scene &scene, const ShadowRay &ray, MediumStack stack, uint64_t &rays, uint64_t seed,
+Color medium_transmittance(const Scene &scene, const ShadowRay &ray, MediumStack stack, uint64_t &rays, SampleRun &rng,
                            bool see_through_transparent, MediumStack *end) {
   Color tr(1.0f);
-  Pcg32 rng(seed);
   const Vec3 d = ray.d;
   Vec3 o = ray.o;
   float remaining = ray.tmax;

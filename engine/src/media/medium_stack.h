@@ -36,19 +36,10 @@ class MediumStack {
 // ng: geometric normal at p (zero for points in a medium), to leave the surface.
 // see_through_transparent: partly transparent surfaces tint instead of blocking (the
 // path tracer's transparent shadows; BDPT makes such surfaces path vertices instead).
-// seed: the random stream of grid media's transmittance estimators (see tracking_seed).
-// end, if given, receives the media at the far end (a volume light's point emits only
-// inside its medium).
-Color medium_transmittance(const Scene &scene, const ShadowRay &ray, MediumStack stack, uint64_t &rays, uint64_t seed,
+// rng: the random numbers of grid media's transmittance estimators (the connection's
+// own dimensions, samplers/dimension_layout.h). end, if given, receives the media at
+// the far end (a volume light's point emits only inside its medium).
+Color medium_transmittance(const Scene &scene, const ShadowRay &ray, MediumStack stack, uint64_t &rays, SampleRun &rng,
                            bool see_through_transparent = false, MediumStack *end = nullptr);
-
-// A seed for the transmittance estimators of grid media along the segment a -> b:
-// a hash of the endpoints, which are themselves random, so the stream is a fresh one
-// per connection and the render stays a function of (seed, pixel, sample).
-inline uint64_t tracking_seed(Vec3 a, Vec3 b) {
-  uint32_t h = hash3(std::bit_cast<uint32_t>(a.x), std::bit_cast<uint32_t>(a.y), std::bit_cast<uint32_t>(a.z));
-  uint32_t k = hash3(std::bit_cast<uint32_t>(b.x), std::bit_cast<uint32_t>(b.y), std::bit_cast<uint32_t>(b.z) ^ h);
-  return (uint64_t(h) << 32) | k;
-}
 
 }  // namespace rdv

@@ -19,7 +19,7 @@ constexpr int kMaxMarchingSteps = 1 << 16;
 // to tmax, with the density at the step's random offset; f returns false to stop.
 // Returns the box exit (or 0 if the ray misses it).
 template <class F>
-float march(const DensityGrid &g, Vec3 o, Vec3 d, float tmax, float step_size, Pcg32 &rng, float &t_enter, F &&f) {
+float march(const DensityGrid &g, Vec3 o, Vec3 d, float tmax, float step_size, SampleRun &rng, float &t_enter, F &&f) {
   Vec3 go = g.world_to_grid().point(o), gd = g.world_to_grid().vector(d);
   float t_exit;
   if (!g.clip(go, gd, tmax, t_enter, t_exit)) { t_enter = t_exit = 0; return 0; }
@@ -38,7 +38,7 @@ Color exp_neg(Color tau) { return {std::exp(-tau.x), std::exp(-tau.y), std::exp(
 
 }  // namespace
 
-MediumSample Medium::ray_marched_distance(Vec3 o, Vec3 d, float tmax, Pcg32 &rng) const {
+MediumSample Medium::ray_marched_distance(Vec3 o, Vec3 d, float tmax, SampleRun &rng) const {
   MediumSample s;
   s.t = tmax;
   const bool scatters = max_component(sigma_s) > 0;
@@ -70,7 +70,7 @@ MediumSample Medium::ray_marched_distance(Vec3 o, Vec3 d, float tmax, Pcg32 &rng
   return s;
 }
 
-Color Medium::ray_marched_transmittance(Vec3 o, Vec3 d, float distance, Pcg32 &rng) const {
+Color Medium::ray_marched_transmittance(Vec3 o, Vec3 d, float distance, SampleRun &rng) const {
   Color tau(0.0f);
   float t_enter;
   march(*grid, o, d, distance, step_size, rng, t_enter, [&](float, float h, float density) {

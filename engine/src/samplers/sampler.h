@@ -10,15 +10,23 @@
 namespace rdv {
 
 // Separate streams of dimensions (pbrt-v3's MLTSampler idea). A sample starts on the
-// Camera stream; BDPT draws its light subpath and its connections from their own
-// streams, at positions fixed by the vertex they belong to, so a given decision (the
-// light point for next-event estimation at the first hit, say) uses the same dimension
-// in every sample of a pixel, whatever the lengths of the subpaths drawn before it.
-// Stratification needs that, and so will MLT's primary-sample-space mutations.
-// Strategy: multiplexed MLT's choice of path depth (position 0) and of the (s, t)
-// strategy (position 1); no other integrator draws from it.
-enum class SampleStream : uint32_t { Camera = 0, Light = 1, LightPoint = 2, Lens = 3, Strategy = 4 };
-constexpr uint32_t kSampleStreams = 5;
+// Camera stream; every decision on a path draws at a position fixed by the path vertex
+// it belongs to (samplers/dimension_layout.h), so a given decision (the light point for
+// next-event estimation at the first hit, say) uses the same dimension in every sample
+// of a pixel, whatever happened on the path before it (media, boundaries, transparent
+// layers, subpath lengths). Stratification needs that, and so do MLT's
+// primary-sample-space mutations: a small step stays a small change of the path.
+enum class SampleStream : uint32_t {
+  Camera = 0,          // the camera subpath (and the path tracer's path)
+  Light = 1,           // the light subpath
+  LightPoint = 2,      // next-event estimation (BDPT's s = 1) at each camera vertex
+  Lens = 3,            // light tracing (BDPT's t = 1) from each light vertex
+  CameraCrossing = 4,  // camera-path segments after a boundary or transparent layer
+  LightCrossing = 5,   // light-path segments after a boundary
+  Connection = 6       // BDPT's inner connections (their transmittance)
+};
+// Positions within a stream: [0, kMaxStreamPosition).
+constexpr uint32_t kStreamShift = 25, kMaxStreamPosition = 1u << kStreamShift;
 
 class Sampler {
  public:
@@ -62,9 +70,10 @@ class SobolSampler final : public Sampler {
   }
   // Dimensions only seed the per-dimension scramble (padding), so every dimension is
   // as good as any other: a stream is a disjoint block of them. The Camera stream is
-  // block 0, the dimensions a sampler without streams would use.
+  // block 0, the dimensions a sampler without streams would use. 2D draws hash their
+  // dimension with another salt: a 1D and a 2D draw at one position are independent.
   void start_stream(SampleStream stream, uint32_t position) override {
-    dimension_ = (uint32_t(stream) << 24) + (position & 0xffffu);
+    dimension_ = (uint32_t(stream) << kStreamShift) + (position & (kMaxStreamPosition - 1));
   }
   // Per dimension: shuffle the sample index with a nested uniform scramble, take the
   // first (and second) Sobol dimension of the shuffled index, and Owen-scramble those.
@@ -76,7 +85,7 @@ class SobolSampler final : public Sampler {
     return to_float(reverse_bits(laine_karras(i, hash_u32(h ^ 0x68bc21ebu))));
   }
   Vec2 get_2d() override {
-    uint32_t h = hash_combine(pixel_seed_, dimension_++ + 0x10000);
+    uint32_t h = hash_combine(pixel_seed_ ^ 0x2c1b3c6du, dimension_++);
     uint32_t i = reverse_bits(laine_karras(reversed_index_, h));
     uint32_t x = reverse_bits(laine_karras(i, hash_u32(h ^ 0x68bc21ebu)));
     uint32_t y = reverse_bits(laine_karras(reversed_sobol_dimension1(i), hash_u32(h ^ 0x02e5be93u)));

@@ -542,16 +542,16 @@ Color Scene::triangle_emission(const Light &l, Vec3 p) const {
   return materials_[hit.material].emission_at(shading_point(hit));
 }
 
-bool Scene::sample_light(uint32_t light, Vec3 ref, Vec2 u, LightSample &out) const {
+bool Scene::sample_light(uint32_t light, Vec3 ref, Vec2 u, Vec3 u_volume, LightSample &out) const {
   const Light &l = lights_[light];
-  if (!rdv::sample_light(l, ref, u, out)) return false;
+  if (!rdv::sample_light(l, ref, u, u_volume, out)) return false;
   if (l.textured) out.L = triangle_emission(l, out.p);
   return true;
 }
 
-bool Scene::sample_emission(uint32_t light, Vec2 u_pos, Vec2 u_dir, EmissionSample &out) const {
+bool Scene::sample_emission(uint32_t light, Vec2 u_pos, Vec2 u_dir, Vec3 u_volume, EmissionSample &out) const {
   const Light &l = lights_[light];
-  if (!rdv::sample_emission(l, u_pos, u_dir, bounding_center_, bounding_radius_, out)) return false;
+  if (!rdv::sample_emission(l, u_pos, u_dir, u_volume, bounding_center_, bounding_radius_, out)) return false;
   if (l.textured) out.Le = triangle_emission(l, out.ray.o);
   return true;
 }

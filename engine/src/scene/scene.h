@@ -90,8 +90,8 @@ class Scene {
   Bsdf bsdf(const SurfaceHit &hit, Vec3 wo, float width = 0, Color *Le = nullptr) const;
   // The lights' sampling routines (lights/light.h) with textured emissive triangles
   // evaluated at the sampled point.
-  bool sample_light(uint32_t light, Vec3 ref, Vec2 u, LightSample &out) const;
-  bool sample_emission(uint32_t light, Vec2 u_pos, Vec2 u_dir, EmissionSample &out) const;
+  bool sample_light(uint32_t light, Vec3 ref, Vec2 u, Vec3 u_volume, LightSample &out) const;
+  bool sample_emission(uint32_t light, Vec2 u_pos, Vec2 u_dir, Vec3 u_volume, EmissionSample &out) const;
 
   const Camera &camera() const { return camera_; }
   Camera &camera() { return camera_; }

@@ -60,20 +60,12 @@ class Bdpt final : public TileIntegrator {
   // Each is compiled with and without participating media (kMedia): a scene without
   // media runs no medium code.
   // Subpath generation (subpaths.cpp). Return the number of vertices; camera subpaths
-  // add what lamps and emissive media they pass give (s = 0 paths that end between two
-  // vertices: lamps are transparent and not in the BVH, volume emission is gathered) to
-  // emitted[n], n the vertex the segment leaves (the path has t = n + 2 vertices);
-  // emitted has room for max_vertices (or max_bounces + 2) entries, zeroed by the caller.
-  // max_vertices: at most this many (multiplexed MLT's one strategy); -1: as the
-  // settings' max_bounces allow.
+  // add volume emission met on the way to *emitted (no other strategy samples it).
   template <bool kMedia>
   int camera_subpath(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, PathVertex *path,
-                     Color *emitted, int max_vertices = -1) const;
+                     Color *emitted) const;
   template <bool kMedia>
-  int light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int max_vertices = -1) const;
-  const BdptSettings &settings() const { return settings_; }
-  // The first-hit AOVs of a camera subpath of n vertices (Depth, Normal, Albedo).
-  FirstHit first_surface(const PathVertex *camera_path, int n) const;
+  int light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path) const;
   // One connection strategy (connect.cpp); raster receives the pixel for t == 1.
   template <bool kMedia>
   Color connect(PathVertex *light_path, PathVertex *camera_path, int s, int t, Sampler &sampler, RayStats &stats,
@@ -88,8 +80,8 @@ class Bdpt final : public TileIntegrator {
   int random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, float pdf, int max_vertices,
                   TransportMode mode, PathVertex *path, Color *emitted, RayCone cone = {}) const;
   Color lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathVertex *path, int n, float pdf_dir) const;
-  void gather_volume_emission(const Medium &medium, const Ray &ray, float tmax, Vec2 u, Color beta, PathVertex *path,
-                              int n, float pdf_dir, Color &emitted) const;
+  void gather_volume_emission(const Medium &medium, const Ray &ray, float tmax, SampleRun &rng, Color beta,
+                              PathVertex *path, int n, float pdf_dir, Color &emitted) const;
   // Densities (mis.cpp), area measure at the receiving vertex.
   void light_densities(const PathVertex &light_vertex, const PathVertex &v, float &origin, float &toward) const;
   float infinite_light_density(Vec3 dir) const;
@@ -103,9 +95,11 @@ class Bdpt final : public TileIntegrator {
   // Vertex helpers (connect.cpp).
   Scattering scatter(const PathVertex &v, Vec3 wi, TransportMode mode) const;
   Color Le(const PathVertex &v, const PathVertex &toward) const;
-  // Visibility (0 or 1) or, with media, transmittance from a to b.
+  // Visibility (0 or 1) or, with media, transmittance from a to b, its estimators
+  // drawing at `position` of `stream` (the connection's own dimensions).
   template <bool kMedia>
-  Color transmittance(const PathVertex &a, const PathVertex &b, RayStats &stats) const;
+  Color transmittance(const PathVertex &a, const PathVertex &b, Sampler &sampler, SampleStream stream,
+                      uint32_t position, RayStats &stats) const;
 
   const Scene &scene_;
   BdptSettings settings_;

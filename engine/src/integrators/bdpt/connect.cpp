@@ -3,6 +3,7 @@
 #include "core/ray_offset.h"
 #include "lights/volume_light.h"
 #include "media/medium_stack.h"
+#include "samplers/dimension_layout.h"
 #include "integrators/bdpt/bdpt.h"
 
 namespace rdv::bdpt {
@@ -40,7 +41,8 @@ Color Bdpt::Le(const PathVertex &v, const PathVertex &toward) const {
 }
 
 template <bool kMedia>
-Color Bdpt::transmittance(const PathVertex &a, const PathVertex &b, RayStats &stats) const {
+Color Bdpt::transmittance(const PathVertex &a, const PathVertex &b, Sampler &sampler, SampleStream stream,
+                          uint32_t position, RayStats &stats) const {
   Vec3 d = b.p - a.p;
   float dist = length(d);
   if (!(dist > 0)) return Color(0.0f);
@@ -48,7 +50,8 @@ Color Bdpt::transmittance(const PathVertex &a, const PathVertex &b, RayStats &st
   // Both ends leave the geometry they lie on (error > 0: surfaces and emissive triangles).
   ShadowRay shadow = shadow_ray(a.p, a.ng, a.error, b.p, b.ng, b.error);
   if constexpr (kMedia) {
-    return medium_transmittance(scene_, shadow, a.media_toward(scene_, d), stats.rays, tracking_seed(a.p, b.p));
+    SampleRun run(sampler, stream, position, dims::kMediumRun);
+    return medium_transmittance(scene_, shadow, a.media_toward(scene_, d), stats.rays, run);
   } else {
     ++stats.rays;
     return scene_.occluded(shadow.o, shadow.d, shadow.tmax) ? Color(0.0f) : Color(1.0f);
@@ -76,7 +79,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     if (!qs.connectible(scene_) || (qs.type != VertexType::Surface && qs.type != VertexType::Medium)) return L;
     const Camera &camera = scene_.camera();
     Camera::ImportanceSample is;
-    sampler.start_stream(SampleStream::Lens, uint32_t(s));
+    sampler.start_stream(SampleStream::Lens, dims::lens(uint32_t(s) - 1, dims::kLensPoint));
     Vec2 u = sampler.get_2d();
     if (!camera.can_be_connected() || !camera.sample_importance(qs.p, u, is) || !(is.pdf > 0)) return L;
     sampled.type = VertexType::Camera;
@@ -87,7 +90,9 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     Scattering sq = scatter(qs, direction_to(qs, sampled), TransportMode::Importance);
     L = qs.beta * sq.f * sampled.beta;
     if (qs.on_surface()) L *= absdot(is.wi, qs.ns);
-    if (!is_black(L)) L *= transmittance<kMedia>(qs, sampled, stats);
+    if (!is_black(L))
+      L *= transmittance<kMedia>(qs, sampled, sampler, SampleStream::Lens, dims::lens(uint32_t(s) - 1, dims::kLensMedia),
+                                 stats);
     *raster = is.raster;
     densities.pt_rev = qs.convert_density(sq.pdf_fwd, sampled);
     densities.qs_rev = sampled.convert_density(is.pdf_dir, qs);
@@ -95,7 +100,8 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
   } else if (s == 1) {
     // Next-event estimation: a fresh point on a light chosen by power.
     if (!pt.connectible(scene_)) return L;
-    sampler.start_stream(SampleStream::LightPoint, 2 * uint32_t(t));
+    const uint32_t vertex = uint32_t(t) - 1;
+    sampler.start_stream(SampleStream::LightPoint, dims::next_event(vertex, dims::kNeeLightChoice));
     float u_light = sampler.get_1d();
     Vec2 u = sampler.get_2d();
     const Distribution1D &dist = scene_.light_distribution();
@@ -103,8 +109,11 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     float pmf;
     uint32_t index = uint32_t(dist.sample_discrete(u_light, &pmf));
     const Light &light = scene_.lights()[index];
+    Vec3 u_volume(0.0f);
+    if (light.type == LightType::Volume)
+      u_volume = dims::volume_point(sampler, SampleStream::LightPoint, dims::next_event(vertex, dims::kNeeVolumePoint));
     LightSample ls;
-    if (!scene_.sample_light(index, pt.p, u, ls) || !(ls.pdf > 0)) return L;
+    if (!scene_.sample_light(index, pt.p, u, u_volume, ls) || !(ls.pdf > 0)) return L;
     sampled.type = VertexType::Light;
     sampled.light = int(index);
     sampled.beta = ls.L / (ls.pdf * pmf);
@@ -128,8 +137,8 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
                                              : shadow_ray(pt.p, pt.ng, pt.error, ls.p, ls.n, ls.error);
       if constexpr (kMedia) {
         MediumStack end;
-        L *= medium_transmittance(scene_, shadow, pt.media_toward(scene_, ls.wi), stats.rays, tracking_seed(pt.p, ls.p),
-                                  false, &end);
+        SampleRun run(sampler, SampleStream::LightPoint, dims::next_event(vertex, dims::kNeeMedia), dims::kMediumRun);
+        L *= medium_transmittance(scene_, shadow, pt.media_toward(scene_, ls.wi), stats.rays, run, false, &end);
         if (ls.medium >= 0 && !is_black(L) && end.current(scene_) != ls.medium) L = Color(0.0f);  // outside its medium
       } else {
         ++stats.rays;
@@ -156,7 +165,8 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     if (qs.on_surface()) { g *= absdot(qs.ns, d); cos_qs = absdot(qs.ng, d); }
     if (pt.on_surface()) { g *= absdot(pt.ns, d); cos_pt = absdot(pt.ng, d); }
     if (!(g > 0)) return Color(0.0f);
-    L *= transmittance<kMedia>(qs, pt, stats) * g;
+    L *= transmittance<kMedia>(qs, pt, sampler, SampleStream::Connection, dims::connection(uint32_t(s), uint32_t(t)),
+                               stats) * g;
     if (is_black(L)) return L;
     densities.pt_rev = sq.pdf_fwd * cos_pt * inv_d2;  // qs.convert_density(sq.pdf_fwd, pt)
     densities.pt_minus_rev = pt.to_prev_density(sp.pdf_rev);

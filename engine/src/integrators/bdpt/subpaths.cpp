@@ -4,6 +4,7 @@
 #include "core/ray_offset.h"
 #include "integrators/bdpt/bdpt.h"
 #include "media/emission_gather.h"
+#include "samplers/dimension_layout.h"
 
 namespace rdv::bdpt {
 
@@ -61,14 +62,26 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
   // point, its disks still facing the vertex the ray left, and not into the lamp it passed.
   Vec3 lamp_facing = ray.o;
   int lamp_passed = -1;
+  // Where each decision draws (samplers/dimension_layout.h): bounce k (the segment
+  // leaving vertex k and the vertex k + 1 it reaches) draws from its block of the walk's
+  // stream; its segments after `crossings` boundaries or lamps from crossing blocks.
+  const bool camera = mode == TransportMode::Radiance;
+  const SampleStream stream = camera ? SampleStream::Camera : SampleStream::Light;
+  const uint32_t layout_vertices = uint32_t(settings_.max_bounces) + 2;
+  uint32_t k = 0, crossings = 0;
   auto russian_roulette = [&]() {
     if (n < 3) return true;
     float q = std::max(0.05f, 1.0f - max_component(beta) / beta_start);
+    sampler.start_stream(stream, dims::bounce(k, dims::kRoulette));
     if (sampler.get_1d() < q) return false;
     beta *= 1.0f / (1.0f - q);
     return true;
   };
   while (true) {
+    if (uint32_t(n) != k) {  // a new bounce (not a segment after a boundary)
+      k = uint32_t(n);
+      crossings = 0;
+    }
     PathVertex &prev = path[n];
     PathVertex &v = path[n + 1];
     SurfaceHit hit;
@@ -86,9 +99,14 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       int m = media.current(scene_);
       if (m >= 0) {
         const Medium &medium = scene_.medium(m);
-        Vec2 u = sampler.get_2d();
-        if (emitted && medium.is_emissive()) gather_volume_emission(medium, ray, tmax, u, beta, path, n, pdf_fwd, emitted[n]);
-        MediumSample ms = medium.sample_distance(ray.o, ray.d, tmax, u);
+        if (emitted && medium.is_emissive()) {
+          dims::SegmentDims g = dims::segment(camera, k, crossings, layout_vertices, dims::kGather);
+          SampleRun gather_run(sampler, g.stream, g.position, dims::kGatherRun);
+          gather_volume_emission(medium, ray, tmax, gather_run, beta, path, n, pdf_fwd, *emitted);
+        }
+        dims::SegmentDims f = dims::segment(camera, k, crossings, layout_vertices, dims::kMedium);
+        SampleRun run(sampler, f.stream, f.position, dims::kMediumRun);
+        MediumSample ms = medium.sample_distance(ray.o, ray.d, tmax, run);
         beta *= ms.weight;
         if (is_black(beta)) return n;
         if (ms.scattered) {
@@ -103,6 +121,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
           v.link_to_prev(prev, pdf_fwd);
           ++n;
           if (n >= max_vertices) return n;
+          sampler.start_stream(stream, dims::bounce(k, dims::kScatterDirection));
           Vec3 wi = medium.phase.sample(v.wo, sampler.get_2d());
           pdf_fwd = medium.phase.pdf(v.wo, wi);  // the phase function is symmetric
           prev.pdf_rev = v.to_prev_density(pdf_fwd);
@@ -119,8 +138,9 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     if (lamp >= 0) {
       // The path that ends on the lamp (s = 0), weighted here; the walk goes on past it.
       Vec3 q = ray.o + ray.d * tmax;
-      emitted[n] += lamp_emission(lamp, q, -ray.d, lamp_L, beta, path, n, pdf_fwd);
+      *emitted += lamp_emission(lamp, q, -ray.d, lamp_L, beta, path, n, pdf_fwd);
       if (++boundary_crossings > 256) return n;
+      ++crossings;
       cone = cone.after(tmax);
       ray = Ray{q, ray.d, kInf};
       lamp_passed = lamp;
@@ -146,6 +166,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
         lamp_facing = ray.o;
         lamp_passed = -1;
         if (++boundary_crossings > 256) return n;
+        ++crossings;
         continue;
       }
     }
@@ -171,6 +192,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     if (n >= max_vertices || !v.bsdf.has_lobes()) return n;
 
     BsdfSample bs;
+    sampler.start_stream(stream, dims::bounce(k, dims::kScatterLobe));
     float u_lobe = sampler.get_1d();
     Vec2 u = sampler.get_2d();
     if (!v.bsdf.sample(v.wo, u_lobe, u, mode, bs)) return n;
@@ -234,9 +256,8 @@ Color Bdpt::lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathV
 // a volume): each gathered point is a path ending at a volume light's point, MIS-weighted
 // against the strategies that sample that point from the light. The point stands in
 // for the next vertex while its weight is computed.
-void Bdpt::gather_volume_emission(const Medium &medium, const Ray &ray, float tmax, Vec2 u, Color beta,
+void Bdpt::gather_volume_emission(const Medium &medium, const Ray &ray, float tmax, SampleRun &rng, Color beta,
                                   PathVertex *path, int n, float pdf_dir, Color &emitted) const {
-  Pcg32 rng = Medium::stream_from(Vec2(u.y, u.x));
   const PathVertex &prev = path[n];
   PathVertex &point = path[n + 1];
   gather_emission(medium, ray.o, ray.d, tmax, rng, [&](Vec3 x, Color c, float rate) {
@@ -259,7 +280,7 @@ void Bdpt::gather_volume_emission(const Medium &medium, const Ray &ray, float tm
 
 template <bool kMedia>
 int Bdpt::camera_subpath(const CameraRay &cr, Sampler &sampler, RayStats &stats, PathVertex *path,
-                         Color *emitted, int max_vertices) const {
+                         Color *emitted) const {
   const Camera &camera = scene_.camera();
   PathVertex &v = path[0];
   fresh_vertex(v);
@@ -273,23 +294,25 @@ int Bdpt::camera_subpath(const CameraRay &cr, Sampler &sampler, RayStats &stats,
   // (the pixel filter reaches 1.5 px past the border): no t = 1 strategy there.
   v.delta = pdf_dir == 0;
   if (pdf_dir == 0) pdf_dir = 1;
-  int walk = max_vertices >= 0 ? max_vertices - 1 : settings_.max_bounces + 1;
-  return 1 + random_walk<kMedia>(cr.ray, sampler, stats, Color(1.0f), pdf_dir, walk, TransportMode::Radiance, path,
-                                 emitted, cr.cone);
+  return 1 + random_walk<kMedia>(cr.ray, sampler, stats, Color(1.0f), pdf_dir, settings_.max_bounces + 1,
+                                 TransportMode::Radiance, path, emitted, cr.cone);
 }
 
 template <bool kMedia>
-int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int max_vertices) const {
+int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path) const {
   const Distribution1D &dist = scene_.light_distribution();
-  sampler.start_stream(SampleStream::Light, 0);
+  sampler.start_stream(SampleStream::Light, dims::kLightChoice);
   float u_light = sampler.get_1d();
   Vec2 u_pos = sampler.get_2d(), u_dir = sampler.get_2d();
   if (dist.size() == 0 || dist.total() <= 0) return 0;
   float pmf;
   uint32_t index = uint32_t(dist.sample_discrete(u_light, &pmf));
   const Light &light = scene_.lights()[index];
+  Vec3 u_volume(0.0f);
+  if (light.type == LightType::Volume)
+    u_volume = dims::volume_point(sampler, SampleStream::Light, dims::kLightVolumePoint);
   EmissionSample es;
-  if (!scene_.sample_emission(index, u_pos, u_dir, es)) return 0;
+  if (!scene_.sample_emission(index, u_pos, u_dir, u_volume, es)) return 0;
   if (!(es.pdf_pos > 0) || !(es.pdf_dir > 0) || is_black(es.Le)) return 0;
   // Emissive triangles are in the BVH: leave them as any surface is left.
   Ray ray = es.ray;
@@ -320,8 +343,8 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int
   }
   float cos_emit = is_black(es.n) ? 1.0f : absdot(es.n, es.ray.d);
   Color beta = es.Le * (cos_emit / (pmf * es.pdf_pos * es.pdf_dir));
-  int walk = max_vertices >= 0 ? max_vertices - 1 : settings_.max_bounces;
-  int n = random_walk<kMedia>(ray, sampler, stats, beta, es.pdf_dir, walk, TransportMode::Importance, path, nullptr);
+  int n = random_walk<kMedia>(ray, sampler, stats, beta, es.pdf_dir, settings_.max_bounces, TransportMode::Importance,
+                              path, nullptr);
   if (v.infinite) {
     // Infinite lights: the first hit's density is the planar one of the emission disk,
     // and the light vertex's own density is directional.
@@ -337,9 +360,9 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int
   return n + 1;
 }
 
-template int Bdpt::camera_subpath<false>(const CameraRay &, Sampler &, RayStats &, PathVertex *, Color *, int) const;
-template int Bdpt::camera_subpath<true>(const CameraRay &, Sampler &, RayStats &, PathVertex *, Color *, int) const;
-template int Bdpt::light_subpath<false>(Sampler &, RayStats &, PathVertex *, int) const;
-template int Bdpt::light_subpath<true>(Sampler &, RayStats &, PathVertex *, int) const;
+template int Bdpt::camera_subpath<false>(const CameraRay &, Sampler &, RayStats &, PathVertex *, Color *) const;
+template int Bdpt::camera_subpath<true>(const CameraRay &, Sampler &, RayStats &, PathVertex *, Color *) const;
+template int Bdpt::light_subpath<false>(Sampler &, RayStats &, PathVertex *) const;
+template int Bdpt::light_subpath<true>(Sampler &, RayStats &, PathVertex *) const;
 
 }  // namespace rdv::bdpt

@@ -4,6 +4,7 @@
 #include "core/sampling.h"
 #include "media/emission_gather.h"
 #include "media/medium_stack.h"
+#include "samplers/dimension_layout.h"
 
 namespace rdv {
 
@@ -14,9 +15,12 @@ namespace rdv {
 //   media_toward(wi) gives the media a shadow ray along wi starts in.
 // With media, the shadow ray carries transmittance through media and index-matched
 // boundaries; without, it is a plain occlusion query.
+// vertex: the path vertex p is (its next-event block, samplers/dimension_layout.h).
 template <bool kMedia, class Scatter, class MediaToward>
-static Color sample_direct_light(const Scene &scene, Vec3 p, Vec3 ng, Vec3 p_error, const Scatter &scatter,
-                                 const MediaToward &media_toward, Sampler &sampler, RayStats &stats) {
+static Color sample_direct_light(const Scene &scene, uint32_t vertex, Vec3 p, Vec3 ng, Vec3 p_error,
+                                 const Scatter &scatter, const MediaToward &media_toward, Sampler &sampler,
+                                 RayStats &stats) {
+  sampler.start_stream(SampleStream::LightPoint, dims::next_event(vertex, dims::kNeeLightChoice));
   float u_light = sampler.get_1d();
   Vec2 u = sampler.get_2d();
   const Distribution1D &dist = scene.light_distribution();
@@ -24,8 +28,11 @@ static Color sample_direct_light(const Scene &scene, Vec3 p, Vec3 ng, Vec3 p_err
   float pmf;
   uint32_t index = uint32_t(dist.sample_discrete(u_light, &pmf));
   const Light &light = scene.lights()[index];
+  Vec3 u_volume(0.0f);
+  if (light.type == LightType::Volume)
+    u_volume = dims::volume_point(sampler, SampleStream::LightPoint, dims::next_event(vertex, dims::kNeeVolumePoint));
   LightSample ls;
-  if (!scene.sample_light(index, p, u, ls) || !(ls.pdf > 0)) return Color(0.0f);
+  if (!scene.sample_light(index, p, u, u_volume, ls) || !(ls.pdf > 0)) return Color(0.0f);
   float scatter_pdf;
   Color f = scatter(ls.wi, &scatter_pdf);
   if (is_black(f)) return Color(0.0f);
@@ -33,10 +40,9 @@ static Color sample_direct_light(const Scene &scene, Vec3 p, Vec3 ng, Vec3 p_err
   ShadowRay shadow = std::isinf(ls.dist) ? shadow_ray_to_infinity(p, ng, p_error, ls.wi)
                                          : shadow_ray(p, ng, p_error, ls.p, ls.n, ls.error);
   if constexpr (kMedia) {
-    // Grid media estimate transmittance with a stream seeded by one more sampler value.
-    uint64_t seed = scene.has_heterogeneous_media() ? std::bit_cast<uint32_t>(sampler.get_1d()) : 0;
+    SampleRun run(sampler, SampleStream::LightPoint, dims::next_event(vertex, dims::kNeeMedia), dims::kMediumRun);
     MediumStack end;
-    tr = medium_transmittance(scene, shadow, media_toward(ls.wi), stats.rays, seed, true, &end);
+    tr = medium_transmittance(scene, shadow, media_toward(ls.wi), stats.rays, run, true, &end);
     if (is_black(tr)) return Color(0.0f);
     if (ls.medium >= 0 && end.current(scene) != ls.medium) return Color(0.0f);  // outside the emitting medium
   } else {
@@ -84,6 +90,22 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     lamp_facing = r.o;
     lamp_passed = -1;
   };
+  // Where each decision draws (samplers/dimension_layout.h): bounce `depth`'s block;
+  // its segments after `crossings` boundaries, lamps or transparent layers have crossing
+  // blocks, and once a layer has passed through (layer_passed) its scattering
+  // decisions do too, so no dimension serves two decisions.
+  const uint32_t max_vertices = uint32_t(max_bounces_) + 2;
+  int segment_depth = -1;
+  uint32_t crossings = 0;
+  bool layer_passed = false;
+  auto segment_dims = [&](uint32_t offset) {
+    return dims::segment(true, uint32_t(segment_depth), crossings, max_vertices, offset);
+  };
+  auto start_scatter = [&](uint32_t offset) {
+    dims::SegmentDims d = layer_passed ? segment_dims(offset)
+                                       : dims::SegmentDims{SampleStream::Camera, dims::bounce(uint32_t(segment_depth), offset)};
+    sampler.start_stream(d.stream, d.position);
+  };
 
   // MIS weight for emission found by BSDF sampling, given that light's solid-angle pdf.
   auto emission_weight = [&](uint32_t light, float pdf_light_sa) {
@@ -93,12 +115,18 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
   auto russian_roulette = [&](int depth) {
     if (depth < 3) return true;
     float q = std::max(0.05f, 1.0f - max_component(beta));
+    sampler.start_stream(SampleStream::Camera, dims::bounce(uint32_t(depth), dims::kRoulette));
     if (sampler.get_1d() < q) return false;
     beta *= 1.0f / (1.0f - q);
     return true;
   };
 
   for (int depth = 0;; ++depth) {
+    if (depth != segment_depth) {  // a new bounce (not a segment after a crossing)
+      segment_depth = depth;
+      crossings = 0;
+      layer_passed = false;
+    }
     SurfaceHit hit;
     CoincidentBoundary boundary;  // media: a medium boundary lying in the surface hit
     ++stats.rays;
@@ -113,12 +141,12 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       int m = stack.current(scene_);
       if (m >= 0) {
         const Medium &medium = scene_.medium(m);
-        Vec2 u = sampler.get_2d();
         if (medium.is_emissive()) {
           // Emission along the segment, each point weighted against next-event
           // estimation having sampled it from the volume light (densities per volume,
           // both times the squared distance).
-          Pcg32 rng = Medium::stream_from(Vec2(u.y, u.x));
+          dims::SegmentDims g = segment_dims(dims::kGather);
+          SampleRun rng(sampler, g.stream, g.position, dims::kGatherRun);
           const Light *light = medium.light >= 0 ? &scene_.lights()[medium.light] : nullptr;
           gather_emission(medium, ray.o, ray.d, tmax, rng, [&](Vec3 x, Color c, float rate) {
             float w = 1;
@@ -129,7 +157,9 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
             L += beta * c * w;
           });
         }
-        MediumSample ms = medium.sample_distance(ray.o, ray.d, tmax, u);
+        dims::SegmentDims f = segment_dims(dims::kMedium);
+        SampleRun run(sampler, f.stream, f.position, dims::kMediumRun);
+        MediumSample ms = medium.sample_distance(ray.o, ray.d, tmax, run);
         beta *= ms.weight;
         if (ms.scattered) {
           // A scattering event in the medium: next-event estimation with the phase
@@ -142,7 +172,9 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
             return Color(medium.phase.eval(wo, wi));
           };
           auto same_medium = [&](Vec3) { return stack; };
-          L += beta * sample_direct_light<true>(scene_, p, Vec3(0.0f), Vec3(0.0f), phase, same_medium, sampler, stats);
+          L += beta * sample_direct_light<true>(scene_, uint32_t(depth) + 1, p, Vec3(0.0f), Vec3(0.0f), phase,
+                                                same_medium, sampler, stats);
+          start_scatter(dims::kScatterDirection);
           Vec3 wi = medium.phase.sample(wo, sampler.get_2d());
           specular_bounce = false;
           prev_pdf = medium.phase.pdf(wo, wi);
@@ -161,6 +193,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       L += beta * light_L * emission_weight(hit_light, pdf);
       // Not a bounce: on from the lamp's point to what lies behind it.
       if (++boundary_crossings > 256) break;
+      ++crossings;
       cone = cone.after(tmax);
       ray = Ray{q, ray.d, kInf};
       lamp_passed = hit_light;
@@ -184,6 +217,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
         new_ray(Ray{spawn_origin(hit.p, hit.ng, hit.error, ray.d), ray.d, kInf});
         cone = cone.after(hit.t);
         if (++boundary_crossings > 256) break;
+        ++crossings;
         --depth;  // not a bounce
         continue;
       }
@@ -218,14 +252,17 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           if (dot(wi, hit.ng) * dot(ray.d, hit.ng) > 0) s.cross(scene_, hit, boundary, wi);
           return s;
         };
-        L += beta * sample_direct_light<true>(scene_, hit.p, hit.ng, hit.error, surface, media_toward, sampler, stats);
+        L += beta * sample_direct_light<true>(scene_, uint32_t(depth) + 1, hit.p, hit.ng, hit.error, surface,
+                                              media_toward, sampler, stats);
       } else {
         auto unused = [](Vec3) { return 0; };
-        L += beta * sample_direct_light<false>(scene_, hit.p, hit.ng, hit.error, surface, unused, sampler, stats);
+        L += beta * sample_direct_light<false>(scene_, uint32_t(depth) + 1, hit.p, hit.ng, hit.error, surface, unused,
+                                               sampler, stats);
       }
     }
 
     BsdfSample bs;
+    start_scatter(dims::kScatterLobe);
     float u_lobe = sampler.get_1d();
     Vec2 u = sampler.get_2d();
     if (!bsdf.sample(wo, u_lobe, u, TransportMode::Radiance, bs)) break;
@@ -236,6 +273,8 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       if constexpr (kMedia) stack.cross(scene_, hit, boundary, ray.d);
       new_ray(Ray{spawn_origin(hit.p, hit.ng, hit.error, ray.d), ray.d, kInf});
       if (++boundary_crossings > 256 || is_black(beta)) break;
+      ++crossings;
+      layer_passed = true;
       --depth;
       continue;
     }
