@@ -96,6 +96,7 @@ _PROTOTYPES = {
     "rdv_session_cancel": (_status, [_session_p]),
     "rdv_session_destroy": (_status, [_session_p]),
     "rdv_session_progress": (_status, [_session_p, ctypes.POINTER(Progress)]),
+    "rdv_session_stats": (_status, [_session_p, ctypes.POINTER(ctypes.c_char_p)]),
     "rdv_pass_channels": (ctypes.c_int, [ctypes.c_int]),
     "rdv_session_read_film": (_status, [_session_p, ctypes.c_int, ctypes.c_uint32, ctypes.c_uint32,
                                         ctypes.c_uint32, ctypes.c_uint32, ctypes.c_int32, ctypes.c_void_p]),
@@ -418,6 +419,12 @@ class Session(_Handle):
     def progress(self):
         self.lib.check(self.lib.rdv_session_progress(self.handle, ctypes.byref(self._progress)), "session progress")
         return self._progress
+
+    def stats(self):
+        """The integrator's own figures as a dict (Metropolis: acceptance, chains, b; {} otherwise)."""
+        text = ctypes.c_char_p()
+        self.lib.check(self.lib.rdv_session_stats(self.handle, ctypes.byref(text)), "session stats")
+        return json.loads(text.value.decode("utf-8")) if text.value else {}
 
     def read_film(self, pass_, x, y, width, height, out, top_down=False):
         """Fills `out` (C-contiguous float32 with width*height*channels values)."""

@@ -9,6 +9,7 @@ import numpy as np
 from .. import binding
 from ..binding import EngineError, LibraryError
 from ..export import SceneExporter, ExportError, session_settings, resolution, border_rect
+from ..export.settings import INTEGRATOR_LABELS
 from ..utils import Messages
 from ..utils.images import image_average, clear_cache
 
@@ -41,7 +42,7 @@ def register_passes(engine, scene, layer):
 
 
 def _integrator_label(settings):
-    return {"path": "Path Tracing", "bdpt": "Bidirectional", "mlt": "MLT"}.get(settings.get("integrator"), "?")
+    return INTEGRATOR_LABELS.get(settings.get("integrator"), "?")
 
 
 def stop_and_close(session, rscene):
@@ -56,7 +57,22 @@ def stop_and_close(session, rscene):
         rscene.close()
 
 
-def _stats_text(settings, p):
+def _metropolis_text(session):
+    """Acceptance per mutation type and the brightness estimate of a Metropolis render."""
+    try:
+        st = session.stats()
+    except EngineError:
+        return ""
+    if "warning" in st:
+        return st["warning"]
+    if "b" not in st:
+        return ""
+    return "Accepted: small %.0f%%, large %.0f%% | %d chains | b %.4g +- %.2g" % (
+        100 * st["small_step_acceptance"], 100 * st["large_step_acceptance"], st["chains"], st["b"],
+        st["b_standard_error"])
+
+
+def _stats_text(settings, p, session=None):
     parts = ["Rendezvous", _integrator_label(settings)]
     if p.samples_target:
         parts.append("Sample %d/%d" % (min(p.samples_done, p.samples_target), p.samples_target))
@@ -69,6 +85,10 @@ def _stats_text(settings, p):
     parts.append("%.2f Mrays/s" % (p.rays_per_second / 1e6))
     if p.samples_dropped:
         parts.append("%d NaN samples dropped" % p.samples_dropped)
+    if session is not None and settings.get("integrator") in ("pssmlt", "mmlt"):
+        text = _metropolis_text(session)
+        if text:
+            parts.append(text)
     return " | ".join(parts)
 
 
@@ -168,16 +188,18 @@ def _render(engine, depsgraph):
                 film.push(combined_only=True)
                 engine.update_result(result)
                 engine.update_progress(min(max(p.fraction_done, 0.0), 1.0))
-                engine.update_stats("", _stats_text(settings, p))
+                engine.update_stats("", _stats_text(settings, p, session))
                 last_push = now
             time.sleep(POLL_INTERVAL)
         session.wait()
         p = session.progress()
         last_render.update(stats=stats.as_dict(), progress=p.as_dict(), cancelled=cancelled,
-                           engine_stopped=time.monotonic())
+                           engine_stopped=time.monotonic(), integrator_stats=session.stats())
+        if "warning" in last_render["integrator_stats"]:
+            engine.report({"WARNING"}, last_render["integrator_stats"]["warning"])
         film.push()
         engine.update_progress(1.0 if not cancelled else min(max(p.fraction_done, 0.0), 1.0))
-        engine.update_stats("", _stats_text(settings, p) + (" | Cancelled" if cancelled else ""))
+        engine.update_stats("", _stats_text(settings, p, session) + (" | Cancelled" if cancelled else ""))
         engine.end_result(result)
     finally:
         engine.session = None

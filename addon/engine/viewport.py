@@ -43,7 +43,7 @@ from ..binding import EngineError, LibraryError
 from ..export import SceneExporter, ExportError, GEOMETRY_TYPES, gas_domain
 from ..export import volumes
 from ..export.lights import light_params
-from ..export.settings import INTEGRATORS
+from ..export.settings import INTEGRATORS, INTEGRATOR_LABELS, METROPOLIS, metropolis_settings
 from ..utils import Messages, normalize_frame, is_finite_matrix, determinant3
 from ..utils.images import image_average
 
@@ -359,10 +359,13 @@ def _view_key(region, rv3d):
 
 def viewport_settings(scene):
     props = scene.rendezvous
-    return {"integrator": INTEGRATORS.get(props.viewport_integrator, "path"),
-            "samples": max(1, int(props.viewport_samples)), "max_bounces": int(props.max_bounces),
-            "clamp": float(props.clamp), "threads": int(props.threads), "seed": int(props.seed) & 0x7FFFFFFF,
-            "pause": bool(props.viewport_pause)}
+    s = {"integrator": INTEGRATORS.get(props.viewport_integrator, "path"),
+         "samples": max(1, int(props.viewport_samples)), "max_bounces": int(props.max_bounces),
+         "clamp": float(props.clamp), "threads": int(props.threads), "seed": int(props.seed) & 0x7FFFFFFF,
+         "pause": bool(props.viewport_pause)}
+    if s["integrator"] in METROPOLIS:
+        s.update(metropolis_settings(props))
+    return s
 
 
 class ViewportRenderer:
@@ -507,6 +510,7 @@ class ViewportRenderer:
         settings = {"width": sw, "height": sh, "samples": samples or st["samples"], "integrator": st["integrator"],
                     "max_bounces": st["max_bounces"], "seed": st["seed"], "threads": st["threads"],
                     "clamp": st["clamp"]}
+        settings.update({k: v for k, v in st.items() if k.startswith("mlt_")})
         self.session = binding.Session(self.rscene, settings)
         self.session_size = (sw, sh)
         self.session_samples = settings["samples"]
@@ -545,7 +549,7 @@ class ViewportRenderer:
             return self.frame_dirty
 
     def _stats_text(self, p):
-        label = {"path": "Path Tracing", "bdpt": "Bidirectional"}.get(self.settings["integrator"], "?")
+        label = INTEGRATOR_LABELS.get(self.settings["integrator"], "?")
         if STAGES[self.stage][0] > 1:
             w = self.session_size[0]
             return "Rendezvous | %s | Preview 1/%d resolution" % (label, max(1, round(self.size[0] / max(w, 1))))

@@ -1,6 +1,15 @@
 """Render settings JSON for rdv_session_create, and the output rectangle."""
 
-INTEGRATORS = {"PATH": "path", "BDPT": "bdpt", "MLT": "mlt"}
+INTEGRATORS = {"PATH": "path", "BDPT": "bdpt", "PSSMLT": "pssmlt", "MMLT": "mmlt"}
+METROPOLIS = ("pssmlt", "mmlt")
+INTEGRATOR_LABELS = {"path": "Path Tracing", "bdpt": "Bidirectional", "pssmlt": "Metropolis (Kelemen)",
+                     "mmlt": "Metropolis (Multiplexed)"}
+
+
+def metropolis_settings(props):
+    """The Metropolis integrators' settings of scene.rendezvous (final render and viewport)."""
+    return {"mlt_large_step": float(props.mlt_large_step), "mlt_bootstrap": int(props.mlt_bootstrap),
+            "mlt_chains": int(props.mlt_chains), "mlt_step_size": float(props.mlt_step_size)}
 MIS = {"POWER": "power", "BALANCE": "balance", "LAFORTUNE_WILLEMS": "lafortune_willems"}
 DEFAULT_SAMPLES = 128
 
@@ -51,6 +60,8 @@ def session_settings(scene, props, frame=None, warn=print):
     }
     if s["integrator"] == "bdpt":
         s["mis"] = MIS.get(getattr(props, "bdpt_mis", "POWER"), "power")
+    if s["integrator"] in METROPOLIS:
+        s.update(metropolis_settings(props))
     if samples > 0:
         s["samples"] = samples
     if time_limit > 0.0:

@@ -6,6 +6,12 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, Po
 INTEGRATOR_ITEMS = [
     ("PATH", "Path Tracing", "Unidirectional path tracing with next-event estimation"),
     ("BDPT", "Bidirectional", "Bidirectional path tracing (caustics, hard-to-reach lights)"),
+    ("PSSMLT", "Metropolis (Kelemen)", "Metropolis light transport over bidirectional paths (Kelemen et al.): "
+                                       "explores the neighbourhood of the paths that carry light (light through "
+                                       "a gap, caustics seen indirectly); samples are mutations per pixel"),
+    ("MMLT", "Metropolis (Multiplexed)", "Multiplexed Metropolis light transport (Hachisuka et al.): each "
+                                         "mutation follows one bidirectional strategy, so mutations are cheaper; "
+                                         "samples are mutations per pixel"),
 ]
 
 MIS_ITEMS = [
@@ -21,6 +27,17 @@ class RendezvousRenderSettings(bpy.types.PropertyGroup):
                              description="Light transport algorithm")
     bdpt_mis: EnumProperty(name="Weights", items=MIS_ITEMS, default="POWER",
                            description="How bidirectional path tracing weights the ways it finds a path")
+    mlt_large_step: FloatProperty(name="Large Steps", default=0.3, min=0.0, max=1.0, subtype="FACTOR",
+                                  description="Metropolis: probability that a mutation draws a whole new path "
+                                              "instead of moving the current one a little")
+    mlt_bootstrap: IntProperty(name="Bootstrap Samples", default=1, min=1, max=4096,
+                               description="Metropolis: independent samples per pixel that estimate the image's "
+                                           "brightness and pick the chains' starting paths")
+    mlt_chains: IntProperty(name="Chains", default=256, min=1, max=1048576,
+                            description="Metropolis: number of Markov chains (the image depends on it, not on "
+                                        "the thread count)")
+    mlt_step_size: FloatProperty(name="Step Size", default=0.01, min=0.0001, max=1.0, precision=4,
+                                 description="Metropolis: size of a small mutation in primary sample space")
     samples: IntProperty(name="Samples", default=128, min=1, soft_max=4096,
                          description="Samples per pixel; the render stops when they are done")
     time_limit: FloatProperty(name="Time Limit", default=0.0, min=0.0, subtype="TIME_ABSOLUTE", unit="TIME_ABSOLUTE",

@@ -36,6 +36,12 @@ class RENDEZVOUS_PT_sampling(RendezvousPanel, bpy.types.Panel):
         layout.prop(props, "integrator")
         if props.integrator == "BDPT":
             layout.prop(props, "bdpt_mis")
+        if props.integrator in {"PSSMLT", "MMLT"} or props.viewport_integrator in {"PSSMLT", "MMLT"}:
+            col = layout.column(align=True, heading="Metropolis")
+            col.prop(props, "mlt_large_step")
+            col.prop(props, "mlt_step_size")
+            col.prop(props, "mlt_chains")
+            col.prop(props, "mlt_bootstrap")
         col = layout.column(align=True)
         col.prop(props, "samples")
         col.prop(props, "time_limit")

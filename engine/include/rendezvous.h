@@ -151,7 +151,9 @@ RDV_API rdv_status rdv_scene_summary(rdv_scene *scene, const char **out_json);
 /* settings JSON: {"width":W,"height":H,"integrator":"path","samples":N,
  *   "time_limit":seconds,"max_bounces":B,"seed":S,"threads":T,"clamp":C,
  *   "border":[x0,y0,x1,y1]}. A session always has a halt condition: samples
- *   or time_limit (if neither is given, samples defaults to 128). */
+ *   or time_limit (if neither is given, samples defaults to 128). integrator:
+ *   path, bdpt, pssmlt or mmlt (Metropolis: samples = mutations per pixel; settings
+ *   mlt_large_step, mlt_bootstrap, mlt_chains, mlt_step_size; docs/scene-format.md). */
 RDV_API rdv_status rdv_session_create(rdv_scene *scene, const char *settings_json,
                                       rdv_session **out_session);
 /* Starts rendering in the engine's own threads and returns at once. */
@@ -175,6 +177,16 @@ typedef struct rdv_progress {
   int32_t cancelled;          /* 1 if it halted because of rdv_session_cancel */
 } rdv_progress;
 RDV_API rdv_status rdv_session_progress(rdv_session *session, rdv_progress *out_progress);
+
+/* The integrator's own figures, as a JSON object (valid until the next call on this
+ * session; "{}" for path and bdpt). Metropolis integrators (pssmlt, mmlt): "chains",
+ * "bootstrap_samples", "b" (the image's luminance sum the bootstrap estimated) and
+ * "b_standard_error", "mutations", "small_step_acceptance", "large_step_acceptance",
+ * mmlt also "depth_b" (b per path depth), "strategy_counts" (mutations ending in each
+ * (depth, s) state, depth-major: depth 0 has s = 0 only, depth d >= 1 has s = 0..d+1) and
+ * "strategy_b" (the bootstrap's b of each such state); "warning" when the image cannot be made (e.g. the
+ * bootstrap found no light). Safe to call while rendering. */
+RDV_API rdv_status rdv_session_stats(rdv_session *session, const char **out_json);
 
 typedef enum rdv_pass {
   RDV_PASS_COMBINED = 0, /* RGBA, 4 floats per pixel */

@@ -20,7 +20,11 @@ void usage() {
                "  --threads N            worker threads (0 = all cores)\n"
                "  --seed N               random seed\n"
                "  --resolution WxH       image size\n"
-               "  --integrator NAME      path or bdpt\n"
+               "  --integrator NAME      path, bdpt, pssmlt or mmlt (Metropolis: samples = mutations per pixel)\n"
+               "  --mlt-large-step P     pssmlt / mmlt: probability of a large step\n"
+               "  --mlt-bootstrap N      pssmlt / mmlt: bootstrap samples per pixel\n"
+               "  --mlt-chains N         pssmlt / mmlt: number of Markov chains\n"
+               "  --mlt-step-size S      pssmlt / mmlt: small-step size in primary sample space\n"
                "  --strategy S,T         bdpt: render only strategy (s, t), MIS-weighted\n"
                "  --unweighted           with --strategy: without its MIS weight\n"
                "  --mis NAME             bdpt weights: power (default), balance or lafortune_willems\n"
@@ -57,6 +61,10 @@ int main(int argc, char **argv) {
       else if (a == "--seed") overrides["seed"] = std::stoi(next());
       else if (a == "--integrator") overrides["integrator"] = next();
       else if (a == "--mis") overrides["mis"] = next();
+      else if (a == "--mlt-large-step") overrides["mlt_large_step"] = std::stod(next());
+      else if (a == "--mlt-bootstrap") overrides["mlt_bootstrap"] = std::stoi(next());
+      else if (a == "--mlt-chains") overrides["mlt_chains"] = std::stoi(next());
+      else if (a == "--mlt-step-size") overrides["mlt_step_size"] = std::stod(next());
       else if (a == "--strategy") {
         std::string v = next();
         size_t c = v.find(',');
@@ -125,6 +133,20 @@ int main(int argc, char **argv) {
   if (!quiet) std::fprintf(stderr, "\n");
   std::fprintf(stderr, "rendezvous: %u samples/pixel in %.2f s, %.2f Mrays/s, %llu dropped samples\n",
                p.samples_done, p.elapsed_seconds, p.rays_per_second * 1e-6, (unsigned long long)p.samples_dropped);
+  // The integrator's own figures (Metropolis: b, acceptance, chains) and its warnings.
+  if (rdv_session_stats(session, &text) == RDV_OK && text && std::strcmp(text, "{}") != 0) {
+    nlohmann::json stats = nlohmann::json::parse(text);
+    if (stats.contains("warning")) std::fprintf(stderr, "rendezvous: warning: %s\n", stats["warning"].get<std::string>().c_str());
+    if (stats.contains("b"))
+      std::fprintf(stderr,
+                   "rendezvous: %s: %u chains, b = %.6g +- %.2g (%llu bootstrap samples), acceptance: small steps %.3f, "
+                   "large steps %.3f, %.3g mutations/s\n",
+                   stats["integrator"].get<std::string>().c_str(), stats["chains"].get<unsigned>(), stats["b"].get<double>(),
+                   stats["b_standard_error"].get<double>(), (unsigned long long)stats["bootstrap_samples"].get<uint64_t>(),
+                   stats["small_step_acceptance"].get<double>(), stats["large_step_acceptance"].get<double>(),
+                   p.elapsed_seconds > 0 ? stats["mutations"].get<double>() / p.elapsed_seconds : 0.0);
+    if (summary) std::printf("%s\n", text);
+  }
   int rc = check(rdv_session_write_image(session, output.c_str(), view.c_str()), "write image") ? 0 : 1;
   if (rc == 0) std::fprintf(stderr, "rendezvous: wrote %s\n", output.c_str());
   rdv_session_destroy(session);

@@ -141,8 +141,16 @@ class TestCameraSettings(unittest.TestCase):
         self.assertEqual(s["mis"], "power")
         s = session_settings(scene, self.props(integrator="BDPT", bdpt_mis="LAFORTUNE_WILLEMS"))
         self.assertEqual(s["mis"], "lafortune_willems")
+        s = session_settings(scene, self.props(integrator="MMLT", mlt_large_step=0.5, mlt_bootstrap=2, mlt_chains=64,
+                                               mlt_step_size=0.02))
+        self.assertEqual((s["integrator"], s["mlt_large_step"], s["mlt_bootstrap"], s["mlt_chains"],
+                          s["mlt_step_size"]), ("mmlt", 0.5, 2, 64, 0.02))
+        s = session_settings(scene, self.props(integrator="PSSMLT", mlt_large_step=0.3, mlt_bootstrap=1, mlt_chains=256,
+                                               mlt_step_size=0.01))
+        self.assertEqual(s["integrator"], "pssmlt")
         s = session_settings(scene, self.props(samples=0, time_limit=0.0))
         self.assertNotIn("mis", s)  # path tracing has no strategies to weight
+        self.assertNotIn("mlt_chains", s)
         self.assertGreater(s["samples"], 0)  # a render always halts
         s = session_settings(scene, self.props(samples=0, time_limit=2.5))
         self.assertEqual(s["time_limit"], 2.5)

@@ -19,13 +19,6 @@ constexpr int kRuns = 8;
 constexpr int kBlockTestsInFile = 12 * 36 + 4 * 4;  // consistency scenes + strategy images
 const double kAlphaPerBlock = 1.0 - std::pow(1.0 - 0.01, 1.0 / kBlockTestsInFile);
 
-json load_scene(const std::string &name) {
-  std::ifstream f(source_path("scenes/" + name));
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return json::parse(ss.str());
-}
-
 std::vector<double> luminance_sum(const Image &img) {
   std::vector<double> v(size_t(img.width) * img.height);
   for (size_t i = 0; i < v.size(); ++i) v[i] = double(img.rgba[4 * i]) + img.rgba[4 * i + 1] + img.rgba[4 * i + 2];

@@ -298,9 +298,9 @@ TEST(Replay, BdptStreamsAreSeparate) {
   for (int py = 0; py < kHeight; ++py)
     for (int px = 0; px < kWidth; ++px) {
       RayStats stats;
-      Color emitted(0.0f);
+      std::vector<Color> emitted(n, Color(0.0f));  // per segment (Bdpt::camera_subpath)
       recorder.start_sample(px, py, 0);
-      int nc = bdpt.camera_subpath<true>(camera_ray(scene, recorder, px, py), recorder, stats, cam.data(), &emitted);
+      int nc = bdpt.camera_subpath<true>(camera_ray(scene, recorder, px, py), recorder, stats, cam.data(), emitted.data());
       for (const Draw &d : recorder.log)
         ASSERT_TRUE(d.stream == SampleStream::Camera || d.stream == SampleStream::CameraCrossing)
             << "the camera subpath read stream " << uint32_t(d.stream);
@@ -316,7 +316,7 @@ TEST(Replay, BdptStreamsAreSeparate) {
         if (it == recorder.log.end()) continue;  // the camera path ended before that bounce
         replay.set(*it, Vec2(std::fmod(it->value.x + 0.37f, 1.0f), std::fmod(it->value.y + 0.61f, 1.0f)));
         replay.start_sample(px, py, 0);
-        int nc2 = bdpt.camera_subpath<true>(camera_ray(scene, replay, px, py), replay, stats, cam2.data(), &emitted);
+        int nc2 = bdpt.camera_subpath<true>(camera_ray(scene, replay, px, py), replay, stats, cam2.data(), emitted.data());
         int nl2 = bdpt.light_subpath<true>(replay, stats, light2.data());
         bool cam_same = same_vertices(cam, nc, cam2, nc2), light_same = same_vertices(light, nl, light2, nl2);
         if (perturb_light) {
@@ -402,12 +402,12 @@ TEST(Replay, AMediumDoesNotShiftLaterDimensions) {
         // BDPT's camera subpath: the same vertex decisions at the same dimensions, and
         // the same first hit (within the rounding of ray origins spawned at the medium's
         // boundaries, which later bounces off the curved ball magnify).
-        Color emitted(0.0f);
+        std::vector<Color> emitted(dims::kMaxVertices, Color(0.0f));  // per segment (Bdpt::camera_subpath)
         rec.start_sample(px, py, s);
-        int na = bdpt_a.camera_subpath<false>(camera_ray(a.scene(), rec, px, py), rec, stats, cam_a.data(), &emitted);
+        int na = bdpt_a.camera_subpath<false>(camera_ray(a.scene(), rec, px, py), rec, stats, cam_a.data(), emitted.data());
         plain_log = vertex_decisions(rec.log);
         rec.start_sample(px, py, s);
-        int nb = bdpt_b.camera_subpath<true>(camera_ray(b.scene(), rec, px, py), rec, stats, cam_b.data(), &emitted);
+        int nb = bdpt_b.camera_subpath<true>(camera_ray(b.scene(), rec, px, py), rec, stats, cam_b.data(), emitted.data());
         medium_log = vertex_decisions(rec.log);
         ASSERT_EQ(na, nb) << "bdpt, pixel " << px << "," << py << " sample " << s;
         ASSERT_EQ(plain_log.size(), medium_log.size()) << "bdpt, pixel " << px << "," << py << " sample " << s;

@@ -28,6 +28,7 @@ static Image render_scene(rdv_scene *scene, const rdv_tools::LoadedScene &loaded
   rdv_session_start(session);
   rdv_session_wait(session);
   rdv_session_progress(session, &img.progress);
+  if (rdv_session_stats(session, &text) == RDV_OK && text) img.stats = text;
   img.width = settings.value("width", 640);
   img.height = settings.value("height", 480);
   img.rgba.resize(size_t(img.width) * img.height * 4);
@@ -69,6 +70,13 @@ Image render_file(const std::string &path, const std::string &settings_override)
     rdv_scene_destroy(scene);
     throw;
   }
+}
+
+nlohmann::json load_scene(const std::string &name) {
+  std::ifstream f(source_path("scenes/" + name));
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return nlohmann::json::parse(ss.str());
 }
 
 MeanEstimate pixel_mean(const Image &img, int channel) {

@@ -2,6 +2,7 @@
 // simple statistics on the result.
 #pragma once
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 #include "rendezvous.h"
@@ -14,6 +15,7 @@ struct Image {
   std::vector<float> rgba;  // top-down
   std::string warnings;     // scene messages + loader problems
   rdv_progress progress{};
+  std::string stats;        // rdv_session_stats (the integrator's own figures)
   float luminance(int x, int y) const {
     const float *p = &rgba[(size_t(y) * width + x) * 4];
     return 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];
@@ -38,6 +40,7 @@ struct MeanEstimate { double mean, standard_error; };
 MeanEstimate pixel_mean(const Image &img, int channel);
 
 std::string source_path(const std::string &relative);  // RDV_SOURCE_DIR + relative
+nlohmann::json load_scene(const std::string &name);     // scenes/<name>, parsed
 
 // A path for a file a test writes, in a directory of this process's own: ctest runs
 // test processes in parallel, and two that wrote the same name in a shared directory

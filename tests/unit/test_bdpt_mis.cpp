@@ -157,8 +157,8 @@ void expect_weights_match_brute_force(const nlohmann::json &doc, int min_checks,
         CameraRay cr;
         Vec2 raster(px + sampler.get_1d(), py + sampler.get_1d());
         cr.ray = scene.camera().generate_ray(raster, sampler.get_2d(), &cr.lens_point);
-        Color emitted(0.0f);
-        int nc = bdpt.camera_subpath<false>(cr, sampler, stats, camera_path.data(), &emitted);
+        std::vector<Color> emitted(camera_path.size(), Color(0.0f));  // per segment (Bdpt::camera_subpath)
+        int nc = bdpt.camera_subpath<false>(cr, sampler, stats, camera_path.data(), emitted.data());
         int nl = bdpt.light_subpath<false>(sampler, stats, light_path.data());
         for (int t = lw ? 1 : 2; t <= nc; ++t)
           for (int s = 0; s <= nl; ++s) {

@@ -263,6 +263,15 @@ rdv_status rdv_session_progress(rdv_session *s, rdv_progress *out) {
   });
 }
 
+rdv_status rdv_session_stats(rdv_session *s, const char **out) {
+  return guarded([&] {
+    require(s, "session");
+    require(out, "out_json");
+    s->text = s->session->integrator_stats();
+    *out = s->text.c_str();
+  });
+}
+
 int rdv_pass_channels(rdv_pass pass) {
   switch (pass) {
     case RDV_PASS_COMBINED: return 4;

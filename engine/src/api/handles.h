@@ -12,4 +12,5 @@ struct rdv_scene {
 
 struct rdv_session {
   std::unique_ptr<rdv::Session> session;
+  std::string text;  // backing store for rdv_session_stats
 };

@@ -32,6 +32,8 @@ class Distribution1D {
     if (u_remapped) *u_remapped = width > 0 ? std::min((u - cdf_[i]) / width, 0.99999994f) : 0.0f;
     return i;
   }
+  // Where entry i starts in [0, 1] (sample_discrete maps [cdf(i), cdf(i + 1)) to i).
+  float cdf(size_t i) const { return cdf_[i]; }
   float pmf(size_t i) const { return total_ > 0 ? std::max(0.0f, func_[i]) / total_ : 0.0f; }
 
  private:

@@ -33,6 +33,12 @@ struct RenderSettings {
   // BDPT: how strategies share a path: "power" (Veach's power heuristic), "balance" or
   // "lafortune_willems" (the original paper's specularity-based weights).
   std::string mis = "power";
+  // Metropolis (pssmlt, mmlt): probability of a large step, bootstrap samples per pixel,
+  // number of chains, small-step size (standard deviation in primary sample space).
+  float mlt_large_step = 0.3f;
+  uint32_t mlt_bootstrap = 1;
+  uint32_t mlt_chains = 256;
+  float mlt_step_size = 0.01f;
 
   static RenderSettings from_params(Params &p);
 };

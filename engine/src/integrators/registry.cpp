@@ -1,23 +1,35 @@
 #include "integrators/integrator.h"
 #include "integrators/bdpt/bdpt.h"
+#include "integrators/mlt/metropolis.h"
 #include "integrators/path/path_tracer.h"
 
 namespace rdv {
 
+static bdpt::BdptSettings bdpt_settings(const RenderSettings &settings) {
+  bdpt::BdptSettings b;
+  b.max_bounces = settings.max_bounces;
+  b.strategy_s = settings.strategy_s;
+  b.strategy_t = settings.strategy_t;
+  b.strategy_unweighted = settings.strategy_unweighted;
+  b.mis = settings.mis == "balance"             ? bdpt::MisHeuristic::Balance
+          : settings.mis == "lafortune_willems" ? bdpt::MisHeuristic::LafortuneWillems
+                                                : bdpt::MisHeuristic::Power;
+  return b;
+}
+
 std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, const Scene &scene) {
   if (settings.integrator == "path") return std::make_unique<PathTracer>(scene, settings.max_bounces);
-  if (settings.integrator == "bdpt") {
-    bdpt::BdptSettings b;
-    b.max_bounces = settings.max_bounces;
-    b.strategy_s = settings.strategy_s;
-    b.strategy_t = settings.strategy_t;
-    b.strategy_unweighted = settings.strategy_unweighted;
-    b.mis = settings.mis == "balance"             ? bdpt::MisHeuristic::Balance
-            : settings.mis == "lafortune_willems" ? bdpt::MisHeuristic::LafortuneWillems
-                                                  : bdpt::MisHeuristic::Power;
-    return std::make_unique<bdpt::Bdpt>(scene, b);
+  if (settings.integrator == "bdpt") return std::make_unique<bdpt::Bdpt>(scene, bdpt_settings(settings));
+  if (settings.integrator == "pssmlt" || settings.integrator == "mmlt") {
+    mlt::MltSettings m;
+    m.multiplexed = settings.integrator == "mmlt";
+    m.large_step_probability = settings.mlt_large_step;
+    m.bootstrap_per_pixel = settings.mlt_bootstrap;
+    m.chains = settings.mlt_chains;
+    m.step_size = settings.mlt_step_size;
+    return std::make_unique<mlt::Metropolis>(scene, settings, bdpt_settings(settings), m);
   }
-  fail("render settings: unknown integrator '" + settings.integrator + "' (available: path, bdpt)");
+  fail("render settings: unknown integrator '" + settings.integrator + "' (available: path, bdpt, pssmlt, mmlt)");
 }
 
 RenderSettings RenderSettings::from_params(Params &p) {
@@ -53,6 +65,16 @@ RenderSettings RenderSettings::from_params(Params &p) {
   s.mis = p.get_string("mis", "power");
   if (s.mis != "power" && s.mis != "balance" && s.mis != "lafortune_willems")
     fail(p.what() + ": 'mis' must be power, balance or lafortune_willems, got '" + s.mis + "'");
+  s.mlt_large_step = p.get_float("mlt_large_step", s.mlt_large_step);
+  if (!(s.mlt_large_step >= 0 && s.mlt_large_step <= 1)) fail(p.what() + ": 'mlt_large_step' must be in 0..1");
+  int bootstrap = p.get_int("mlt_bootstrap", int(s.mlt_bootstrap));
+  if (bootstrap < 1 || bootstrap > 4096) fail(p.what() + ": 'mlt_bootstrap' must be in 1..4096 (samples per pixel)");
+  s.mlt_bootstrap = uint32_t(bootstrap);
+  int chains = p.get_int("mlt_chains", int(s.mlt_chains));
+  if (chains < 1 || chains > 1 << 20) fail(p.what() + ": 'mlt_chains' must be in 1..1048576");
+  s.mlt_chains = uint32_t(chains);
+  s.mlt_step_size = p.get_float("mlt_step_size", s.mlt_step_size);
+  if (!(s.mlt_step_size > 0 && s.mlt_step_size <= 1)) fail(p.what() + ": 'mlt_step_size' must be in (0, 1]");
   s.border = {0, 0, s.width, s.height};
   auto b = p.get_floats("border", 4, {0, 0, float(s.width), float(s.height)});
   s.border = {std::max(0, int(b[0])), std::max(0, int(b[1])), std::min(s.width, int(b[2])), std::min(s.height, int(b[3]))};

@@ -23,7 +23,8 @@ enum class SampleStream : uint32_t {
   Lens = 3,            // light tracing (BDPT's t = 1) from each light vertex
   CameraCrossing = 4,  // camera-path segments after a boundary or transparent layer
   LightCrossing = 5,   // light-path segments after a boundary
-  Connection = 6       // BDPT's inner connections (their transmittance)
+  Connection = 6,      // BDPT's inner connections (their transmittance)
+  Strategy = 7         // multiplexed MLT: path depth (position 0), (s, t) strategy (position 1)
 };
 // Positions within a stream: [0, kMaxStreamPosition).
 constexpr uint32_t kStreamShift = 25, kMaxStreamPosition = 1u << kStreamShift;

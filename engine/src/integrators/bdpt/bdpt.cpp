@@ -9,24 +9,33 @@ Color Bdpt::Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
                             : li<false>(camera_ray, sampler, stats, first_hit, splats);
 }
 
+FirstHit Bdpt::first_surface(const PathVertex *camera_path, int n) const {
+  FirstHit first_hit;
+  if (n > 1 && camera_path[1].type == VertexType::Surface) {
+    const Camera &cam = scene_.camera();
+    const PathVertex &v = camera_path[1];
+    first_hit.valid = true;
+    first_hit.depth = dot(v.p - cam.position(), cam.forward());
+    first_hit.normal = dot(v.ns, v.wo) < 0 ? -v.ns : v.ns;
+    first_hit.albedo = v.bsdf.albedo();
+  }
+  return first_hit;
+}
+
 template <bool kMedia>
 Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
                std::vector<Splat> &splats) const {
   // Subpath storage reused across samples: no allocation in the sample loop.
   thread_local std::vector<PathVertex> camera_path, light_path;
+  thread_local std::vector<Color> emitted;
   const size_t capacity = size_t(settings_.max_bounces) + 2;
   if (camera_path.size() < capacity) { camera_path.resize(capacity); light_path.resize(capacity); }
+  emitted.assign(capacity, Color(0.0f));
 
-  Color L(0.0f);  // starts with volume emission met by the camera path
-  int nc = camera_subpath<kMedia>(camera_ray, sampler, stats, camera_path.data(), &L);
-  if (first_hit && nc > 1 && camera_path[1].type == VertexType::Surface) {
-    const Camera &cam = scene_.camera();
-    const PathVertex &v = camera_path[1];
-    first_hit->valid = true;
-    first_hit->depth = dot(v.p - cam.position(), cam.forward());
-    first_hit->normal = dot(v.ns, v.wo) < 0 ? -v.ns : v.ns;
-    first_hit->albedo = v.bsdf.albedo();
-  }
+  int nc = camera_subpath<kMedia>(camera_ray, sampler, stats, camera_path.data(), emitted.data());
+  Color L(0.0f);  // starts with the lamps and volume emission the camera path passed
+  for (const Color &e : emitted) L += e;
+  if (first_hit) *first_hit = first_surface(camera_path.data(), nc);
   int nl = light_subpath<kMedia>(sampler, stats, light_path.data());
 
   const bool one_strategy = settings_.strategy_s >= 0;

@@ -60,12 +60,20 @@ class Bdpt final : public TileIntegrator {
   // Each is compiled with and without participating media (kMedia): a scene without
   // media runs no medium code.
   // Subpath generation (subpaths.cpp). Return the number of vertices; camera subpaths
-  // add volume emission met on the way to *emitted (no other strategy samples it).
+  // add what lamps and emissive media they pass give (s = 0 paths that end between two
+  // vertices: lamps are transparent and not in the BVH, volume emission is gathered) to
+  // emitted[n], n the vertex the segment leaves (the path has t = n + 2 vertices);
+  // emitted has room for max_vertices (or max_bounces + 2) entries, zeroed by the caller.
+  // max_vertices: at most this many (multiplexed MLT's one strategy); -1: as the
+  // settings' max_bounces allow.
   template <bool kMedia>
   int camera_subpath(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, PathVertex *path,
-                     Color *emitted) const;
+                     Color *emitted, int max_vertices = -1) const;
   template <bool kMedia>
-  int light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path) const;
+  int light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int max_vertices = -1) const;
+  const BdptSettings &settings() const { return settings_; }
+  // The first-hit AOVs of a camera subpath of n vertices (Depth, Normal, Albedo).
+  FirstHit first_surface(const PathVertex *camera_path, int n) const;
   // One connection strategy (connect.cpp); raster receives the pixel for t == 1.
   template <bool kMedia>
   Color connect(PathVertex *light_path, PathVertex *camera_path, int s, int t, Sampler &sampler, RayStats &stats,

@@ -102,7 +102,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
         if (emitted && medium.is_emissive()) {
           dims::SegmentDims g = dims::segment(camera, k, crossings, layout_vertices, dims::kGather);
           SampleRun gather_run(sampler, g.stream, g.position, dims::kGatherRun);
-          gather_volume_emission(medium, ray, tmax, gather_run, beta, path, n, pdf_fwd, *emitted);
+          gather_volume_emission(medium, ray, tmax, gather_run, beta, path, n, pdf_fwd, emitted[n]);
         }
         dims::SegmentDims f = dims::segment(camera, k, crossings, layout_vertices, dims::kMedium);
         SampleRun run(sampler, f.stream, f.position, dims::kMediumRun);
@@ -138,7 +138,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     if (lamp >= 0) {
       // The path that ends on the lamp (s = 0), weighted here; the walk goes on past it.
       Vec3 q = ray.o + ray.d * tmax;
-      *emitted += lamp_emission(lamp, q, -ray.d, lamp_L, beta, path, n, pdf_fwd);
+      emitted[n] += lamp_emission(lamp, q, -ray.d, lamp_L, beta, path, n, pdf_fwd);
       if (++boundary_crossings > 256) return n;
       ++crossings;
       cone = cone.after(tmax);
@@ -280,7 +280,7 @@ void Bdpt::gather_volume_emission(const Medium &medium, const Ray &ray, float tm
 
 template <bool kMedia>
 int Bdpt::camera_subpath(const CameraRay &cr, Sampler &sampler, RayStats &stats, PathVertex *path,
-                         Color *emitted) const {
+                         Color *emitted, int max_vertices) const {
   const Camera &camera = scene_.camera();
   PathVertex &v = path[0];
   fresh_vertex(v);
@@ -294,12 +294,13 @@ int Bdpt::camera_subpath(const CameraRay &cr, Sampler &sampler, RayStats &stats,
   // (the pixel filter reaches 1.5 px past the border): no t = 1 strategy there.
   v.delta = pdf_dir == 0;
   if (pdf_dir == 0) pdf_dir = 1;
-  return 1 + random_walk<kMedia>(cr.ray, sampler, stats, Color(1.0f), pdf_dir, settings_.max_bounces + 1,
-                                 TransportMode::Radiance, path, emitted, cr.cone);
+  int walk = max_vertices >= 0 ? max_vertices - 1 : settings_.max_bounces + 1;
+  return 1 + random_walk<kMedia>(cr.ray, sampler, stats, Color(1.0f), pdf_dir, walk, TransportMode::Radiance, path,
+                                 emitted, cr.cone);
 }
 
 template <bool kMedia>
-int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path) const {
+int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int max_vertices) const {
   const Distribution1D &dist = scene_.light_distribution();
   sampler.start_stream(SampleStream::Light, dims::kLightChoice);
   float u_light = sampler.get_1d();
@@ -343,8 +344,8 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path) con
   }
   float cos_emit = is_black(es.n) ? 1.0f : absdot(es.n, es.ray.d);
   Color beta = es.Le * (cos_emit / (pmf * es.pdf_pos * es.pdf_dir));
-  int n = random_walk<kMedia>(ray, sampler, stats, beta, es.pdf_dir, settings_.max_bounces, TransportMode::Importance,
-                              path, nullptr);
+  int walk = max_vertices >= 0 ? max_vertices - 1 : settings_.max_bounces;
+  int n = random_walk<kMedia>(ray, sampler, stats, beta, es.pdf_dir, walk, TransportMode::Importance, path, nullptr);
   if (v.infinite) {
     // Infinite lights: the first hit's density is the planar one of the emission disk,
     // and the light vertex's own density is directional.
@@ -360,9 +361,9 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path) con
   return n + 1;
 }
 
-template int Bdpt::camera_subpath<false>(const CameraRay &, Sampler &, RayStats &, PathVertex *, Color *) const;
-template int Bdpt::camera_subpath<true>(const CameraRay &, Sampler &, RayStats &, PathVertex *, Color *) const;
-template int Bdpt::light_subpath<false>(Sampler &, RayStats &, PathVertex *) const;
-template int Bdpt::light_subpath<true>(Sampler &, RayStats &, PathVertex *) const;
+template int Bdpt::camera_subpath<false>(const CameraRay &, Sampler &, RayStats &, PathVertex *, Color *, int) const;
+template int Bdpt::camera_subpath<true>(const CameraRay &, Sampler &, RayStats &, PathVertex *, Color *, int) const;
+template int Bdpt::light_subpath<false>(Sampler &, RayStats &, PathVertex *, int) const;
+template int Bdpt::light_subpath<true>(Sampler &, RayStats &, PathVertex *, int) const;
 
 }  // namespace rdv::bdpt

@@ -1,0 +1,94 @@
+// What a Metropolis state contributes: the path(s) its primary sample vector makes,
+// as splats on the image, and the scalar the chain targets (their luminance).
+// A state's splats estimate the whole image: a camera sample falls uniformly on the
+// sample region (density 1 / region_area_) and light-tracing splats carry the camera's
+// importance normalised over the whole image, so E[splats to pixel j] = I_j.
+#include "integrators/mlt/metropolis.h"
+
+namespace rdv::mlt {
+
+CameraRay Metropolis::camera_sample(Sampler &sampler, Vec2 *raster) const {
+  sampler.start_sample(0, 0, 0);
+  Vec2 u = sampler.get_2d();
+  *raster = {sample_origin_.x + u.x * sample_size_.x, sample_origin_.y + u.y * sample_size_.y};
+  CameraRay cr;
+  cr.ray = scene_.camera().generate_ray(*raster, sampler.get_2d(), &cr.lens_point, &cr.cone);
+  return cr;
+}
+
+static float target_of(const std::vector<Splat> &splats) {
+  double sum = 0;
+  for (const Splat &sp : splats) sum += luminance(sp.L);
+  return float(sum);
+}
+
+void Metropolis::evaluate_kelemen(PssSampler &sampler, RayStats &stats, State &state) const {
+  Vec2 raster;
+  CameraRay cr = camera_sample(sampler, &raster);
+  size_t first_light_splat = state.splats.size();
+  state.splats.push_back({raster, Color(0.0f)});
+  Color L = bdpt_.Li(cr, sampler, stats, nullptr, state.splats);
+  // Never NaN / Inf or a negative value into the film or the acceptance ratio.
+  state.splats[first_light_splat].L = is_finite(L) && L.x >= 0 && L.y >= 0 && L.z >= 0 ? L * region_area_ : Color(0.0f);
+  for (size_t i = first_light_splat + 1; i < state.splats.size(); ++i) state.splats[i].L *= image_area_;
+}
+
+template <bool kMedia>
+void Metropolis::evaluate_multiplexed(PssSampler &sampler, RayStats &stats, State &state, int depth_override) const {
+  // The strategy: a path depth by its share of b (changed by large steps only) and one
+  // of its strategies, uniformly.
+  sampler.start_stream(SampleStream::Strategy, 0);
+  float u_depth = sampler.get_1d();
+  float u_strategy = sampler.get_1d();
+  float depth_pmf = 1;
+  int depth = depth_override;
+  if (depth < 0) depth = int(depth_distribution_.sample_discrete(u_depth, &depth_pmf));
+  const int strategies = depth == 0 ? 1 : depth + 2;
+  const int s = depth == 0 ? 0 : std::min(int(u_strategy * strategies), strategies - 1);
+  const int t = depth + 2 - s;
+  state.depth = depth;
+  state.s = s;
+
+  thread_local std::vector<bdpt::PathVertex> camera_path, light_path;
+  thread_local std::vector<Color> emitted;
+  const size_t capacity = size_t(bdpt_.settings().max_bounces) + 2;
+  if (camera_path.size() < capacity) { camera_path.resize(capacity); light_path.resize(capacity); }
+  emitted.assign(capacity, Color(0.0f));
+  Vec2 raster;
+  CameraRay cr = camera_sample(sampler, &raster);
+  const int nc = bdpt_.camera_subpath<kMedia>(cr, sampler, stats, camera_path.data(), emitted.data(), t);
+  Vec2 light_raster;
+  Color c(0.0f);
+  if (s == 0) {
+    // The camera path ends at an emitter hit (vertex t - 1), or at a lamp or emissive
+    // medium its last segment passed (BDPT weighs those on the walk).
+    c = emitted[size_t(t - 2)];
+    if (nc == t) c += bdpt_.connect<kMedia>(light_path.data(), camera_path.data(), 0, t, sampler, stats, &light_raster, nullptr);
+  } else {
+    if (nc != t) return;
+    // s = 1 samples a light point of its own (next-event estimation): no light subpath.
+    if (s >= 2 && bdpt_.light_subpath<kMedia>(sampler, stats, light_path.data(), s) != s) return;
+    c = bdpt_.connect<kMedia>(light_path.data(), camera_path.data(), s, t, sampler, stats, &light_raster, nullptr);
+  }
+  if (!is_finite(c) || is_black(c) || c.x < 0 || c.y < 0 || c.z < 0) return;
+  // One strategy of `strategies`, at a depth chosen with probability depth_pmf.
+  c *= float(strategies) / depth_pmf;
+  if (t == 1) state.splats.push_back({light_raster, c * image_area_});
+  else state.splats.push_back({raster, c * region_area_});
+}
+
+void Metropolis::evaluate(PssSampler &sampler, RayStats &stats, State &state, int depth_override) const {
+  state.splats.clear();
+  state.depth = state.s = -1;
+  const bool media = scene_.has_media();
+  if (!mlt_.multiplexed) evaluate_kelemen(sampler, stats, state);  // Li decides on media itself
+  else if (media) evaluate_multiplexed<true>(sampler, stats, state, depth_override);
+  else evaluate_multiplexed<false>(sampler, stats, state, depth_override);
+  state.target = target_of(state.splats);
+  if (!std::isfinite(state.target)) {  // an overflow in a splat: the state carries nothing
+    state.splats.clear();
+    state.target = 0;
+  }
+}
+
+}  // namespace rdv::mlt

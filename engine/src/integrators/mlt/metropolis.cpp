@@ -1,0 +1,330 @@
+#include "integrators/mlt/metropolis.h"
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include "core/log.h"
+
+namespace rdv::mlt {
+
+namespace {
+
+// A bootstrap sample's numbers come from a generator of their own (seed, index), so a
+// chain can replay the sample it starts from.
+uint64_t bootstrap_seed(uint32_t seed) { return uint64_t(hash_combine(seed, 0x6d6c7462u)) << 16; }
+uint64_t chain_seed(uint32_t seed) { return uint64_t(hash_combine(seed, 0x6d6c7463u)) << 16; }
+constexpr uint64_t kChainStreams = 1ull << 48;  // chain streams: apart from bootstrap indices
+
+constexpr int kFirstHitSamples = 4;  // camera rays per pixel for the Depth / Normal / Albedo passes
+
+}  // namespace
+
+// A Markov chain: its sampler (the state's numbers), its state and proposal, and what it
+// did in the current pass (splats, applied after the pass in chain order).
+struct Chain {
+  Chain(uint64_t seed, uint64_t stream, const MltSettings &mlt)
+      : sampler(seed, stream, mlt.step_size, mlt.large_step_probability) {}
+  PssSampler sampler;
+  uint64_t start = 0;  // the bootstrap sample it started from
+  Pcg32 acceptance;
+  State current, proposal;
+  std::vector<Splat> splats;
+  uint64_t small_steps = 0, small_accepted = 0, large_steps = 0, large_accepted = 0, rays = 0;
+  double large_sum = 0, large_sum2 = 0;  // targets of its large-step proposals
+  std::vector<uint64_t> strategy_counts;
+};
+
+Metropolis::Metropolis(const Scene &scene, const RenderSettings &settings, const bdpt::BdptSettings &bdpt_settings,
+                       const MltSettings &mlt)
+    : scene_(scene), settings_(settings), bdpt_(scene, bdpt_settings), mlt_(mlt) {
+  const float r = PixelFilter(settings.filter_width).radius();
+  const Rect &b = settings.border;
+  sample_origin_ = {float(b.x0) - r, float(b.y0) - r};
+  sample_size_ = {float(b.width()) + 2 * r, float(b.height()) + 2 * r};
+  region_area_ = sample_size_.x * sample_size_.y;
+  image_area_ = float(settings.width) * float(settings.height);
+}
+
+void Metropolis::first_hit_pass(RenderContext &ctx) const {
+  const Rect &region = settings_.border;
+  const bool media = scene_.has_media();
+  ctx.arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(region.y0, region.y1, 1), [&](const tbb::blocked_range<int> &rows) {
+      thread_local std::vector<bdpt::PathVertex> path(2);
+      SobolSampler sampler(settings_.seed);
+      RayStats stats;
+      for (int y = rows.begin(); y != rows.end(); ++y) {
+        if (ctx.control.should_stop()) break;
+        for (int x = region.x0; x < region.x1; ++x) {
+          for (uint32_t i = 0; i < kFirstHitSamples; ++i) {
+            sampler.start_sample(uint32_t(x), uint32_t(y), i);
+            Vec2 uf = sampler.get_2d();
+            Vec2 raster{x + 0.5f + ctx.filter.sample(uf.x), y + 0.5f + ctx.filter.sample(uf.y)};
+            CameraRay cr;
+            cr.ray = scene_.camera().generate_ray(raster, sampler.get_2d(), &cr.lens_point, &cr.cone);
+            int n = media ? bdpt_.camera_subpath<true>(cr, sampler, stats, path.data(), nullptr, 2)
+                          : bdpt_.camera_subpath<false>(cr, sampler, stats, path.data(), nullptr, 2);
+            FirstHit hit = bdpt_.first_surface(path.data(), n);
+            // The pixel's sample count averages the AOVs; the image itself is all splats.
+            ctx.film.add_sample(x, y, Color(0.0f));
+            if (hit.valid) ctx.film.add_first_hit(x, y, hit.depth, hit.normal, hit.albedo);
+            else ctx.film.add_first_hit(x, y, 1e10f, Vec3(0.0f), Color(0.0f));
+          }
+        }
+      }
+      ctx.control.add_rays(stats.rays);
+    });
+  });
+}
+
+void Metropolis::render(RenderContext &ctx) {
+  first_hit_pass(ctx);
+  const Rect &region = settings_.border;
+  const uint64_t region_pixels = uint64_t(region.width()) * uint64_t(region.height());
+  const float p_large = mlt_.large_step_probability;
+
+  // Bootstrap: independent samples (per path depth, multiplexed), their targets.
+  const int depths = mlt_.multiplexed ? bdpt_.settings().max_bounces + 1 : 1;
+  const uint64_t per_depth = std::max<uint64_t>(4096, uint64_t(mlt_.bootstrap_per_pixel) * region_pixels);
+  const uint64_t n_bootstrap = per_depth * uint64_t(depths);
+  std::vector<float> weights(n_bootstrap);
+  std::vector<uint8_t> strategy(mlt_.multiplexed ? n_bootstrap : 0);  // s of each (multiplexed)
+  const uint64_t seed0 = bootstrap_seed(settings_.seed);
+  ctx.arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<uint64_t>(0, n_bootstrap, 256), [&](const tbb::blocked_range<uint64_t> &r) {
+      if (ctx.control.should_stop()) return;
+      RayStats stats;
+      State state;
+      for (uint64_t i = r.begin(); i != r.end(); ++i) {
+        PssSampler sampler(seed0, i, mlt_.step_size, p_large);
+        sampler.start_iteration();
+        evaluate(sampler, stats, state, mlt_.multiplexed ? int(i / per_depth) : -1);
+        weights[i] = state.target;
+        if (mlt_.multiplexed) strategy[i] = uint8_t(state.s);
+      }
+      ctx.control.add_rays(stats.rays);
+    });
+  });
+  if (ctx.control.should_stop()) return;
+
+  // b (the image's total luminance, in the targets' units) and its standard error,
+  // per depth; sums in index order, the same on any thread count.
+  std::vector<double> depth_b(size_t(depths), 0.0);
+  double b = 0, variance = 0;
+  for (int d = 0; d < depths; ++d) {
+    double sum = 0, sum2 = 0;
+    for (uint64_t i = uint64_t(d) * per_depth; i < uint64_t(d + 1) * per_depth; ++i) {
+      sum += weights[i];
+      sum2 += double(weights[i]) * weights[i];
+    }
+    double mean = sum / double(per_depth);
+    depth_b[size_t(d)] = mean;
+    b += mean;
+    variance += std::max(0.0, sum2 / double(per_depth) - mean * mean) / double(per_depth);
+  }
+  {
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    stats_.bootstrap_samples = n_bootstrap;
+    stats_.b = b;
+    stats_.b_standard_error = std::sqrt(variance);
+    if (mlt_.multiplexed) {
+      stats_.depth_b = depth_b;
+      stats_.strategy_counts.assign(strategy_index(depths, 0), 0);
+      stats_.strategy_b.assign(strategy_index(depths, 0), 0.0);
+      for (uint64_t i = 0; i < n_bootstrap; ++i)
+        stats_.strategy_b[strategy_index(int(i / per_depth), strategy[i])] += weights[i] / double(per_depth);
+    }
+  }
+  if (!(b > 0) || !std::isfinite(b)) {
+    std::string why = !(b > 0) ? "none of its " + std::to_string(n_bootstrap) +
+                                     " bootstrap paths carried light to the camera (no light, every light blocked "
+                                     "or facing away, or max_bounces too small): the image is black"
+                               : "the bootstrap's light estimate overflowed: the image is black";
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    stats_.warning = (mlt_.multiplexed ? "mmlt: " : "pssmlt: ") + why;
+    log_warning(stats_.warning);
+    ctx.film.set_splat_scale(0.0);
+    return;
+  }
+  if (mlt_.multiplexed) {
+    // Each depth by its share of b, with a floor: a depth the bootstrap missed still
+    // gets chosen (its paths exist), so no depth is left out of the image.
+    std::vector<float> w(depth_b.size());
+    for (size_t d = 0; d < w.size(); ++d) w[d] = float(depth_b[d] + 0.01 * b / double(depths));
+    depth_distribution_ = Distribution1D(w);
+  }
+
+  // Chains: each starts from a bootstrap sample picked by importance (its target),
+  // replayed from that sample's numbers, then mutates with a generator of its own.
+  const uint32_t n_chains = mlt_.chains;
+  const Distribution1D starts(weights);
+  std::vector<Chain> chains;
+  chains.reserve(n_chains);
+  const uint64_t chain_seed0 = chain_seed(settings_.seed);
+  for (uint32_t c = 0; c < n_chains; ++c) {
+    Pcg32 pick(chain_seed0, kChainStreams + 2 * uint64_t(c));
+    uint64_t i = starts.sample_discrete(pick.next_float(), nullptr);
+    chains.emplace_back(seed0, i, mlt_);
+    chains.back().start = i;
+    chains.back().acceptance = Pcg32(chain_seed0, kChainStreams + 2 * uint64_t(c) + 1);
+  }
+  ctx.arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n_chains, 1), [&](const tbb::blocked_range<uint32_t> &r) {
+      RayStats stats;
+      for (uint32_t c = r.begin(); c != r.end(); ++c) {
+        Chain &chain = chains[c];
+        chain.sampler.start_iteration();
+        int depth = mlt_.multiplexed ? int(chain.start / per_depth) : -1;
+        evaluate(chain.sampler, stats, chain.current, depth);
+        if (mlt_.multiplexed) {
+          // The state's depth number where that depth lies; its target is now per
+          // depth choice (divided by the depth's probability).
+          float pmf = depth_distribution_.cdf(size_t(depth) + 1) - depth_distribution_.cdf(size_t(depth));
+          float u = depth_distribution_.cdf(size_t(depth)) + 0.5f * pmf;
+          float sampled_pmf;
+          if (depth_distribution_.sample_discrete(u, &sampled_pmf) != size_t(depth)) pmf = 0;
+          chain.sampler.set(SampleStream::Strategy, 0, u);
+          float inv = pmf > 0 ? 1.0f / sampled_pmf : 0.0f;
+          for (Splat &sp : chain.current.splats) sp.L *= inv;
+          chain.current.target *= inv;
+          chain.strategy_counts.assign(strategy_index(depths, 0), 0);
+        }
+        chain.sampler.accept();
+        chain.sampler.reseed(chain_seed0, kChainStreams + 2 * uint64_t(n_chains) + uint64_t(c));
+      }
+      ctx.control.add_rays(stats.rays);
+    });
+  });
+
+  // Passes: a deterministic schedule (each chain's share of the mutations, growing
+  // passes up to a memory cap), so the splats are summed in the same order on any
+  // number of threads. A pass a halt interrupts still counts (its mutations are as good
+  // as any): the image is normalised by the mutations actually made.
+  const uint64_t total = uint64_t(settings_.samples) * region_pixels;  // 0: until the time limit
+  const uint64_t first_pass = std::max<uint64_t>(1, region_pixels / (16 * uint64_t(n_chains)));
+  const uint64_t max_pass = std::max<uint64_t>(1, std::min<uint64_t>(region_pixels, 1u << 20) / n_chains);
+  std::vector<uint64_t> made(n_chains, 0);
+  uint64_t done = 0;
+  for (int pass = 0; !ctx.control.should_stop() && (total == 0 || done < total); ++pass) {
+    const uint64_t pass_size = std::min(max_pass, first_pass << std::min(pass, 20));
+    ctx.arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n_chains, 1), [&](const tbb::blocked_range<uint32_t> &r) {
+        for (uint32_t c = r.begin(); c != r.end(); ++c) {
+          uint64_t quota = total == 0 ? ~0ull : total / n_chains + (c < total % n_chains ? 1 : 0);
+          uint64_t n = std::min(pass_size, quota - std::min(quota, made[c]));
+          Chain &chain = chains[c];
+          chain.splats.clear();
+          RayStats stats;
+          uint64_t m = 0;
+          for (; m < n; ++m) {
+            if ((m & 15) == 0 && ctx.control.should_stop()) break;
+            chain.sampler.start_iteration();
+            const bool large = chain.sampler.large_step();
+            evaluate(chain.sampler, stats, chain.proposal);
+            const float fx = chain.current.target, fy = chain.proposal.target;
+            const float a = fx > 0 ? std::min(1.0f, fy / fx) : 1.0f;
+            // Veach's expected values: proposal and state splatted with the
+            // probabilities a and 1 - a of being the next state, each over its
+            // target (the image is b / mutations times their sum).
+            if (fy > 0 && a > 0) {
+              const float w = a / fy;
+              for (const Splat &sp : chain.proposal.splats)
+                if (!is_black(sp.L)) chain.splats.push_back({sp.raster, sp.L * w});
+            }
+            if (fx > 0 && a < 1) {
+              const float w = (1 - a) / fx;
+              for (const Splat &sp : chain.current.splats)
+                if (!is_black(sp.L)) chain.splats.push_back({sp.raster, sp.L * w});
+            }
+            // A large step's proposal is an independent uniform sample: one more
+            // sample of b.
+            if (large) {
+              chain.large_sum += fy;
+              chain.large_sum2 += double(fy) * fy;
+            }
+            (large ? chain.large_steps : chain.small_steps) += 1;
+            if (a >= 1 || chain.acceptance.next_float() < a) {
+              std::swap(chain.current, chain.proposal);
+              chain.sampler.accept();
+              (large ? chain.large_accepted : chain.small_accepted) += 1;
+            } else {
+              chain.sampler.reject();
+            }
+            if (mlt_.multiplexed && chain.current.depth >= 0)
+              ++chain.strategy_counts[strategy_index(chain.current.depth, chain.current.s)];
+          }
+          made[c] += m;
+          chain.rays += stats.rays;
+        }
+      });
+    });
+    // b from the bootstrap and every large-step proposal so far (independent samples
+    // both; the bootstrap counts as per_depth samples of the whole image's b).
+    double large_sum = 0, large_sum2 = 0;
+    uint64_t large_steps = 0, rays = 0;
+    done = 0;
+    for (size_t c = 0; c < chains.size(); ++c) {  // in chain order: the same sums on any thread count
+      large_sum += chains[c].large_sum;
+      large_sum2 += chains[c].large_sum2;
+      large_steps += chains[c].large_steps;
+      done += made[c];
+    }
+    const double n_b = double(per_depth) + double(large_steps);
+    const double b_now = (b * double(per_depth) + large_sum) / n_b;
+    double large_variance =
+        large_steps > 1 ? std::max(0.0, large_sum2 / double(large_steps) - std::pow(large_sum / double(large_steps), 2)) : 0.0;
+    const double b_error =
+        std::sqrt(variance * double(per_depth) * double(per_depth) + large_variance * double(large_steps)) / n_b;
+    {
+      std::lock_guard<std::mutex> frame(ctx.film.frame_mutex());
+      for (Chain &chain : chains) {
+        for (const Splat &sp : chain.splats) ctx.film.add_splat(sp.raster, sp.L, ctx.filter);
+        chain.splats.clear();
+      }
+      if (done > 0) ctx.film.set_splat_scale(b_now / double(done));
+    }
+    {
+      std::lock_guard<std::mutex> lock(stats_mutex_);
+      stats_.mutations = done;
+      stats_.b = b_now;
+      stats_.b_standard_error = b_error;
+      stats_.small_steps = stats_.small_accepted = stats_.large_steps = stats_.large_accepted = 0;
+      if (mlt_.multiplexed) std::fill(stats_.strategy_counts.begin(), stats_.strategy_counts.end(), 0);
+      for (Chain &chain : chains) {
+        stats_.small_steps += chain.small_steps;
+        stats_.small_accepted += chain.small_accepted;
+        stats_.large_steps += chain.large_steps;
+        stats_.large_accepted += chain.large_accepted;
+        rays += chain.rays;
+        chain.rays = 0;
+        for (size_t k = 0; k < chain.strategy_counts.size(); ++k) stats_.strategy_counts[k] += chain.strategy_counts[k];
+      }
+    }
+    ctx.control.add_rays(rays);
+    ctx.control.set_samples_done(uint32_t(std::min<uint64_t>(done / region_pixels, UINT32_MAX)));
+  }
+}
+
+std::string Metropolis::stats_json() const {
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  nlohmann::json j;
+  j["integrator"] = mlt_.multiplexed ? "mmlt" : "pssmlt";
+  j["chains"] = mlt_.chains;
+  j["bootstrap_samples"] = stats_.bootstrap_samples;
+  j["b"] = stats_.b;
+  j["b_standard_error"] = stats_.b_standard_error;
+  j["mutations"] = stats_.mutations;
+  j["small_steps"] = stats_.small_steps;
+  j["large_steps"] = stats_.large_steps;
+  j["small_step_acceptance"] = stats_.small_steps ? double(stats_.small_accepted) / double(stats_.small_steps) : 0.0;
+  j["large_step_acceptance"] = stats_.large_steps ? double(stats_.large_accepted) / double(stats_.large_steps) : 0.0;
+  if (mlt_.multiplexed) {
+    j["depth_b"] = stats_.depth_b;
+    j["strategy_counts"] = stats_.strategy_counts;
+    j["strategy_b"] = stats_.strategy_b;
+  }
+  if (!stats_.warning.empty()) j["warning"] = stats_.warning;
+  return j.dump();
+}
+
+}  // namespace rdv::mlt

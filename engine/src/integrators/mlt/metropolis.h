@@ -1,0 +1,93 @@
+// Metropolis light transport over BDPT's primary sample space:
+//  - Kelemen et al. 2002 ("pssmlt"): a state is the vector of uniform numbers one BDPT
+//    sample consumes; its target is the luminance of that sample's whole MIS-weighted
+//    estimate (the camera sample and every light-tracing splat);
+//  - Hachisuka et al. 2014, multiplexed ("mmlt"): a state also picks a path depth and one
+//    (s, t) strategy, and its target is that strategy's MIS-weighted contribution.
+// A bootstrap of independent samples estimates the normalisation b and picks each
+// chain's start by importance; a fixed number of chains, each seeded by (seed, chain),
+// run in parallel and their splats (Veach's expected values of proposal and state;
+// the image is b / mutations times their sum, b refined by every large step) are applied
+// in chain order after each pass, so the image is the same on any
+// number of threads. `samples` counts mutations per pixel.
+#pragma once
+#include <mutex>
+#include <string>
+#include <vector>
+#include "integrators/bdpt/bdpt.h"
+#include "samplers/pss_sampler.h"
+
+namespace rdv::mlt {
+
+struct MltSettings {
+  bool multiplexed = false;
+  float large_step_probability = 0.3f;
+  uint32_t bootstrap_per_pixel = 1;  // bootstrap samples per pixel of the rendered region (at least 4096)
+  uint32_t chains = 256;
+  float step_size = 0.01f;  // standard deviation of a small step, in primary sample space
+};
+
+// A state of a chain: where its sample lands on the image (in units where one sample's
+// splats estimate the whole image) and the scalar the chain targets.
+struct State {
+  std::vector<Splat> splats;
+  float target = 0;
+  int depth = -1, s = -1;  // multiplexed: the strategy of the state
+};
+
+// What the chains did (read by stats_json while rendering).
+struct MltStats {
+  uint64_t bootstrap_samples = 0, mutations = 0;
+  uint64_t small_steps = 0, small_accepted = 0, large_steps = 0, large_accepted = 0;
+  double b = 0, b_standard_error = 0;
+  std::vector<double> depth_b;  // multiplexed: b of each path depth
+  // multiplexed: b of each (depth, s) strategy, from the bootstrap's independent samples
+  // (the target distribution the chains' strategy_counts follow)
+  std::vector<double> strategy_b;
+  // multiplexed: how many mutations ended in each (depth, s) state, depth-major
+  // (depth d has d + 2 strategies, depth 0 one).
+  std::vector<uint64_t> strategy_counts;
+  std::string warning;
+};
+
+class Metropolis final : public Integrator {
+ public:
+  Metropolis(const Scene &scene, const RenderSettings &settings, const bdpt::BdptSettings &bdpt_settings,
+             const MltSettings &mlt);
+  void render(RenderContext &ctx) override;
+  std::string stats_json() const override;
+
+  // One state from the sampler's numbers (contribution.cpp). depth_override >= 0
+  // (multiplexed bootstrap): that depth instead of the one the numbers pick.
+  void evaluate(PssSampler &sampler, RayStats &stats, State &state, int depth_override = -1) const;
+  // Index of the (depth, s) state in MltStats::strategy_counts.
+  // Depth 0 has one strategy (s = 0), depth d >= 1 has d + 2.
+  static size_t strategy_index(int depth, int s) {
+    return depth == 0 ? 0 : 1 + size_t(depth - 1) * (depth + 4) / 2 + size_t(s);
+  }
+
+ private:
+  void evaluate_kelemen(PssSampler &sampler, RayStats &stats, State &state) const;
+  template <bool kMedia>
+  void evaluate_multiplexed(PssSampler &sampler, RayStats &stats, State &state, int depth_override) const;
+  CameraRay camera_sample(Sampler &sampler, Vec2 *raster) const;
+  // Depth, normal and albedo from a few camera rays per pixel (MLT has no per-pixel samples).
+  void first_hit_pass(RenderContext &ctx) const;
+
+  const Scene &scene_;
+  RenderSettings settings_;
+  bdpt::Bdpt bdpt_;
+  MltSettings mlt_;
+  // Camera samples fall uniformly on the rendered region grown by the filter radius (so
+  // edge pixels see their whole filter); its area in pixels makes a camera sample's
+  // estimate of the image.
+  Vec2 sample_origin_, sample_size_;
+  float region_area_;
+  float image_area_;      // light-tracing splats carry the camera importance of the whole image
+  Distribution1D depth_distribution_;  // multiplexed: path depth by b
+
+  mutable std::mutex stats_mutex_;
+  MltStats stats_;
+};
+
+}  // namespace rdv::mlt
