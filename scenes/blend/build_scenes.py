@@ -250,19 +250,19 @@ def veach_mis(kind="POINT", radii=VEACH_RADII, roughness=VEACH_ROUGHNESS, res=(9
     cam_data.clip_start = 0.05
     cam_data.clip_end = 100.0
     cam = link(bpy.data.objects.new("Camera", cam_data))
-    cam.location = (0.0, -6.0, 2.0)
-    look_at(cam, (0.0, -0.3, 0.55))
+    cam.location = (0.0, -4.6, 1.7)
+    look_at(cam, (0.0, -0.5, 0.45))
     scene.camera = cam
-    lamp_centre = Vector((0.0, 2.5, 2.6))
+    lamp_centre = Vector((0.0, 1.4, 1.7))
     n = len(roughness)
     for i, r in enumerate(roughness):
-        c = Vector((0.0, -1.6 + 3.2 * i / max(n - 1, 1) * 0.85, 0.25 * i))
+        c = Vector((0.0, -1.5 + 1.6 * i / max(n - 1, 1), 0.2 * i))
         normal = ((Vector(cam.location) - c).normalized() + (lamp_centre - c).normalized()).normalized()
         ob = plane("Plate%d" % i, 1.0, glossy_material("Glossy%d" % i, r), tuple(c))
-        ob.scale = (4.4, 0.55, 1.0)
+        ob.scale = (3.2, 0.42, 1.0)
         ob.rotation_euler = (math.atan2(-normal.y, normal.z), 0.0, 0.0)
     if wall:
-        w = plane("Wall", 1.0, diffuse_material("WallMat", (0.5, 0.5, 0.5)), (0.0, 4.0, 1.5))
+        w = plane("Wall", 1.0, diffuse_material("WallMat", (0.5, 0.5, 0.5)), (0.0, 3.0, 1.5))
         w.scale = (12.0, 6.0, 1.0)
         w.rotation_euler = (math.radians(90), 0.0, 0.0)
     m = len(radii)

@@ -43,14 +43,14 @@ def read_render(scene, path):
     return px.reshape(shape)[:, :, :3].astype(np.float64)
 
 
-def render_cycles(scene, samples, path):
+def render_cycles(scene, samples, path, seed=1):
     scene.render.engine = "CYCLES"
     c = scene.cycles
     c.device = "CPU"
     c.samples = samples
     c.use_adaptive_sampling = False
     c.use_denoising = False
-    c.seed = 1
+    c.seed = seed
     c.light_sampling_threshold = 0.0
     c.sample_clamp_direct = 0.0
     c.sample_clamp_indirect = 0.0
@@ -64,13 +64,14 @@ def render_cycles(scene, samples, path):
     return read_render(scene, path), dt
 
 
-def render_rendezvous(scene, samples, path):
+def render_rendezvous(scene, samples, path, integrator="PATH", seed=1):
     scene.render.engine = "RENDEZVOUS"
     p = scene.rendezvous
+    p.integrator = integrator
     p.samples = samples
     p.time_limit = 0.0
     p.max_bounces = 12
-    p.seed = 1
+    p.seed = seed
     p.clamp = 0.0
     t = time.time()
     bpy.ops.render.render()
@@ -149,4 +150,5 @@ def main():
     print("BRIGHTNESS TEST PASSED")
 
 
-main()
+if __name__ == "__main__":
+    main()
