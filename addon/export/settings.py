@@ -58,6 +58,10 @@ def session_settings(scene, props, frame=None, warn=print):
         "threads": int(props.threads),
         "clamp": float(props.clamp),
     }
+    # Blender's pixel filter width (Film > Pixel Filter, Cycles' Blackman-Harris).
+    filter_size = getattr(render, "filter_size", None)
+    if filter_size is not None and abs(float(filter_size) - 1.5) > 1e-6:
+        s["filter_width"] = min(max(float(filter_size), 0.01), 10.0)
     if s["integrator"] == "bdpt":
         s["mis"] = MIS.get(getattr(props, "bdpt_mis", "POWER"), "power")
     if s["integrator"] in METROPOLIS:

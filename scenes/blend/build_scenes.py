@@ -240,8 +240,8 @@ VEACH_ROUGHNESS = (0.01, 0.05, 0.1, 0.3)
 def veach_mis(kind="POINT", radii=VEACH_RADII, roughness=VEACH_ROUGHNESS, res=(96, 64), wall=True, **lamp_props):
     """Veach's multiple importance sampling scene: glossy plates (one per roughness, the
     sharpest nearest the camera), each tilted to reflect a row of equal-power lamps (one per
-    radius: point / spot radius, area size, sun angle in degrees) toward the camera, and a
-    diffuse wall behind the lamps. Lamps are hidden from the camera (Cycles 3.4)."""
+    radius: point / spot radius, area half size; suns: angular diameter 100 x it in degrees)
+    toward the camera, and a diffuse wall behind the lamps. Lamps are hidden from the camera (Cycles 3.4)."""
     from mathutils import Vector
     scene = reset(res[0])
     scene.render.resolution_y = res[1]
@@ -273,6 +273,8 @@ def veach_mis(kind="POINT", radii=VEACH_RADII, roughness=VEACH_ROUGHNESS, res=(9
             ob = light(kind, "Lamp%d" % j, 60.0, loc, shadow_soft_size=size, **lamp_props)
         elif kind == "AREA":
             ob = light(kind, "Lamp%d" % j, 60.0, loc, size=2.0 * size, **lamp_props)
+        elif kind == "SUN":  # angular diameter 100 x the radius in degrees: 1 to 40 degrees
+            ob = light(kind, "Lamp%d" % j, 1.0, loc, angle=math.radians(100.0 * size), **lamp_props)
         else:
             raise ValueError(kind)
         if kind != "POINT":
@@ -286,6 +288,10 @@ def veach_point():
 
 def veach_spot():
     veach_mis("SPOT", spot_size=math.radians(60.0), spot_blend=0.2)
+
+
+def veach_sun():
+    veach_mis("SUN")
 
 
 def veach_area_square():
@@ -528,6 +534,7 @@ SCENES = {
     "showcase": showcase,
     "veach_point": veach_point,
     "veach_spot": veach_spot,
+    "veach_sun": veach_sun,
     "veach_area_square": veach_area_square,
     "veach_area_disk": veach_area_disk,
 }

@@ -156,6 +156,13 @@ class TestCameraSettings(unittest.TestCase):
         self.assertEqual(s["time_limit"], 2.5)
         self.assertNotIn("samples", s)
 
+    def test_filter_width(self):
+        from rendezvous.export.settings import session_settings
+        s = session_settings(ns(render=self.render(), frame_current=1), self.props())
+        self.assertNotIn("filter_width", s)  # no filter_size: the engine's default, Blender's 1.5 px
+        s = session_settings(ns(render=self.render(filter_size=2.5), frame_current=1), self.props())
+        self.assertEqual(s["filter_width"], 2.5)  # Blender's Film > Pixel Filter width
+
     def test_border_rows_from_top(self):
         from rendezvous.export.settings import session_settings, border_rect
         r = self.render(use_border=True, border_min_x=0.25, border_max_x=0.75, border_min_y=0.0, border_max_y=0.5)
