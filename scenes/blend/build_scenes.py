@@ -518,7 +518,56 @@ def showcase():
     twin.location = (0, -0.8, 0.6)
 
 
+
+def cornell_box(lamp_gap=0.0, res=128):
+    """scenes/cornell_box.json in Blender (2 m tall, camera at y = -3.9), its emissive
+    quad `lamp_gap` below the white ceiling (Cycles' mesh emission is two-sided: the gap
+    is lit by the quad's back)."""
+    reset(res)
+    white = diffuse_material("White", (0.73, 0.73, 0.73))
+    red = diffuse_material("Red", (0.63, 0.065, 0.05))
+    green = diffuse_material("Green", (0.14, 0.45, 0.09))
+
+    def quad(name, sx, sy, location, rotation, material):
+        ob = link(bpy.data.objects.new(name, quad_mesh(name + "Mesh", sx, sy)))
+        ob.location = location
+        ob.rotation_euler = tuple(math.radians(a) for a in rotation)
+        ob.data.materials.append(material)
+
+    def block(name, size, location, rot_z):
+        ob = link(bpy.data.objects.new(name, box_mesh(name + "Mesh", 1.0)))
+        ob.scale = size
+        ob.location = location
+        ob.rotation_euler = (0.0, 0.0, math.radians(rot_z))
+        ob.data.materials.append(white)
+
+    quad("Floor", 2, 2, (0, 0, 0), (0, 0, 0), white)
+    quad("Ceiling", 2, 2, (0, 0, 2), (180, 0, 0), white)
+    quad("Back", 2, 2, (0, 1, 1), (90, 0, 0), white)
+    quad("Left", 2, 2, (-1, 0, 1), (0, 90, 0), red)
+    quad("Right", 2, 2, (1, 0, 1), (0, -90, 0), green)
+    block("ShortBlock", (0.6, 0.6, 0.6), (0.33, -0.35, 0.3), -17)
+    block("TallBlock", (0.6, 0.6, 1.2), (-0.33, 0.3, 0.6), 17)
+    quad("Lamp", 0.47, 0.38, (0, 0, 2 - lamp_gap), (180, 0, 0), emission_material("Lamp", (1.0, 0.85, 0.6), 15.0))
+    cam = bpy.data.cameras.new("Camera")
+    cam.lens = 50
+    cam.sensor_width = 36
+    cam.sensor_fit = "HORIZONTAL"
+    cam.clip_start = 0.1
+    cam.clip_end = 100.0
+    ob = link(bpy.data.objects.new("Camera", cam))
+    ob.location = (0, -3.9, 1)
+    ob.rotation_euler = (math.radians(90), 0, 0)
+    bpy.context.scene.camera = ob
+    return bpy.context.scene
+
+
+def cornell_lamp_near_ceiling():
+    return cornell_box(lamp_gap=0.01)
+
+
 SCENES = {
+    "cornell_lamp_near_ceiling": cornell_lamp_near_ceiling,
     "plane_point": plane_point,
     "plane_spot": plane_spot,
     "plane_sun": plane_sun,
