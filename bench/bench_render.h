@@ -16,6 +16,7 @@ using nlohmann::json;
 struct Render {
   std::vector<float> rgb;
   rdv_progress progress{};
+  json stats;  // rdv_session_stats: the integrator's own figures
 };
 
 inline Render render(const std::string &scene_text, const std::string &base, json settings) {
@@ -33,6 +34,8 @@ inline Render render(const std::string &scene_text, const std::string &base, jso
   rdv_session_start(session);
   rdv_session_wait(session);
   rdv_session_progress(session, &r.progress);
+  const char *stats = nullptr;
+  if (rdv_session_stats(session, &stats) == RDV_OK && stats) r.stats = json::parse(stats);
   int w = s["width"], h = s["height"];
   std::vector<float> rgba(size_t(w) * h * 4);
   rdv_session_read_film(session, RDV_PASS_COMBINED, 0, 0, w, h, 1, rgba.data());

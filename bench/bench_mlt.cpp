@@ -1,0 +1,127 @@
+// Benchmark (prints numbers, asserts nothing): Metropolis light transport (pssmlt,
+// mmlt) against path tracing and BDPT at equal wall time. relMSE against a reference of
+// two independent long BDPT renders (a quarter of their mutual relMSE is the
+// reference's own noise, printed; it is in every figure). For the Metropolis rows also
+// mutations per second and acceptance (small / large steps). --study adds, at the first
+// budget, pssmlt and mmlt rows with other large-step probabilities and chain counts.
+//   bench_mlt [--budgets 10,30,120] [--reference 300] [--width 128] [--study] [scene.json ...]
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+#include "bench_render.h"
+#include "rendezvous.h"
+
+using nlohmann::json;
+using namespace rdv_bench;
+
+namespace {
+
+std::string read_file(const std::string &p) {
+  std::ifstream f(p);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+std::vector<double> parse_list(const char *text) {
+  std::vector<double> v;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) v.push_back(std::stod(item));
+  return v;
+}
+
+}  // namespace
+
+int main(int argc, char **argv) {
+  std::vector<double> budgets = {10, 30, 120};
+  double reference_seconds = 300;
+  int width = 128;
+  bool study = false;
+  std::vector<std::string> scenes;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--budgets") && i + 1 < argc) budgets = parse_list(argv[++i]);
+    else if (!std::strcmp(argv[i], "--reference") && i + 1 < argc) reference_seconds = std::stod(argv[++i]);
+    else if (!std::strcmp(argv[i], "--width") && i + 1 < argc) width = std::stoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--study")) study = true;
+    else scenes.push_back(argv[i]);
+  }
+  std::string dir = std::string(RDV_SOURCE_DIR) + "/scenes/";
+  if (scenes.empty())
+    for (const char *s : {"door_gap.json", "fog_door.json", "caustic.json", "cornell_box.json"}) scenes.push_back(dir + s);
+
+  std::printf("Equal-time relMSE against a reference of 2 x %.0f s BDPT; %d px wide\n", reference_seconds, width);
+  std::printf("%-14s %6s %-22s | %11s | %8s | %9s | %12s | %s\n", "scene", "budget", "integrator", "relMSE", "vs BDPT",
+              "spp/mpp", "mutations/s", "acceptance small / large");
+  for (const std::string &path : scenes) {
+    std::string text = read_file(path);
+    std::string base = path.substr(0, path.find_last_of('/'));
+    json doc = json::parse(text);
+    double aspect = double(doc["settings"].value("height", 480)) / doc["settings"].value("width", 640);
+    int height = std::max(1, int(std::lround(width * aspect)));
+    json common = {{"width", width}, {"height", height}, {"samples", 0}, {"threads", 0}};
+    json ref_settings = common;
+    ref_settings["integrator"] = "bdpt";
+    ref_settings["time_limit"] = reference_seconds;
+    ref_settings["seed"] = 9001;
+    Render ra = render(text, base, ref_settings);
+    ref_settings["seed"] = 9002;
+    Render rb = render(text, base, ref_settings);
+    std::vector<double> ref(ra.rgb.size());
+    for (size_t i = 0; i < ref.size(); ++i) ref[i] = 0.5 * (double(ra.rgb[i]) + rb.rgb[i]);
+    std::vector<double> ref_a(ra.rgb.begin(), ra.rgb.end());
+    double ref_noise = rel_mse(rb.rgb, ref_a) / 4;
+    std::string name = path.substr(path.find_last_of('/') + 1);
+    name = name.substr(0, name.find('.'));
+    for (size_t bi = 0; bi < budgets.size(); ++bi) {
+      double budget = budgets[bi];
+      double e_bdpt = 0;
+      auto row = [&](const std::string &label, json s) {
+        s.update(common);
+        s["time_limit"] = budget;
+        s["seed"] = 17;
+        Render r = render(text, base, s);
+        double e = rel_mse(r.rgb, ref);
+        if (s["integrator"] == "bdpt") e_bdpt = e;
+        std::string extra;
+        char buf[160];
+        if (r.stats.contains("mutations")) {
+          std::snprintf(buf, sizeof buf, "%12.3g | %.3f / %.3f", r.stats["mutations"].get<double>() / r.progress.elapsed_seconds,
+                        r.stats["small_step_acceptance"].get<double>(), r.stats["large_step_acceptance"].get<double>());
+          extra = buf;
+        } else {
+          extra = std::string(12, ' ') + " |";
+        }
+        std::printf("%-14s %5.0fs %-22s | %11.3e | %8.3f | %9u | %s\n", name.c_str(), budget, label.c_str(), e,
+                    e_bdpt > 0 ? e / e_bdpt : 1.0, r.progress.samples_done, extra.c_str());
+        std::fflush(stdout);
+      };
+      row("bdpt", {{"integrator", "bdpt"}});  // first: the other rows' ratios are to it
+      row("path", {{"integrator", "path"}});
+      row("pssmlt", {{"integrator", "pssmlt"}});
+      row("mmlt", {{"integrator", "mmlt"}});
+      if (study && bi == 0) {
+        for (const char *integrator : {"pssmlt", "mmlt"}) {
+          for (double p : {0.1, 0.5}) {
+            char label[64];
+            std::snprintf(label, sizeof label, "%s large %.1f", integrator, p);
+            row(label, {{"integrator", integrator}, {"mlt_large_step", p}});
+          }
+          for (int chains : {32, 2048}) {
+            char label[64];
+            std::snprintf(label, sizeof label, "%s chains %d", integrator, chains);
+            row(label, {{"integrator", integrator}, {"mlt_chains", chains}});
+          }
+        }
+      }
+    }
+    std::printf("%-14s reference noise (in every figure) %.3e; reference spp %u + %u\n", name.c_str(), ref_noise,
+                ra.progress.samples_done, rb.progress.samples_done);
+  }
+  return 0;
+}
