@@ -29,13 +29,6 @@ using namespace rdv_bench;
 
 namespace {
 
-std::string read_file(const std::string &p) {
-  std::ifstream f(p);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
 // One table cell: an integrator's renders at one budget, one per seed.
 struct Cell {
   std::vector<double> errors;  // relMSE per seed
@@ -99,25 +92,13 @@ int main(int argc, char **argv) {
   std::printf("%-18s %7s | %12s %9s | %12s %9s | %10s | %10s%s\n", "scene", "budget", "PT relMSE", "PT spp", "BDPT relMSE",
               "BDPT spp", "BDPT/PT", "net ratio", seeds > 1 ? " | per-seed BDPT/PT" : "");
   for (const std::string &path : scenes) {
-    std::string text = read_file(path);
-    std::string base = path.substr(0, path.find_last_of('/'));
-    json doc = json::parse(text);
-    double aspect = double(doc["settings"].value("height", 480)) / doc["settings"].value("width", 640);
-    int height = std::max(1, int(std::lround(width * aspect)));
-    json common = {{"width", width}, {"height", height}, {"samples", 0}, {"threads", 0}};
-    json ref_settings = common;
-    ref_settings["integrator"] = "bdpt";
-    ref_settings["time_limit"] = reference_seconds;
-    ref_settings["seed"] = 9001;
-    Render ra = render(text, base, ref_settings);
-    ref_settings["seed"] = 9002;
-    Render rb = render(text, base, ref_settings);
-    std::vector<double> ref(ra.rgb.size());
-    for (size_t i = 0; i < ref.size(); ++i) ref[i] = 0.5 * (double(ra.rgb[i]) + rb.rgb[i]);
-    std::vector<double> ref_a(ra.rgb.begin(), ra.rgb.end());
-    // relMSE(a, b) ~ 2 var_single; the mean's own error is var_single / 2 = relMSE(a, b) / 4.
-    double ref_noise = rel_mse(rb.rgb, ref_a) / 4;
-    std::string name = path.substr(path.find_last_of('/') + 1);
+    BenchScene scene = load_bench_scene(path, width);
+    const std::string &text = scene.text, &base = scene.base, &name = scene.name;
+    const json &common = scene.common;
+    Reference reference = bdpt_reference(scene, reference_seconds);
+    const std::vector<double> &ref = reference.image;
+    const double ref_noise = reference.noise;
+    const Render &ra = reference.a, &rb = reference.b;
     for (double budget : budgets) {
       json s = common;
       s["time_limit"] = budget;
@@ -148,7 +129,7 @@ int main(int argc, char **argv) {
     }
     std::printf("%-18s reference noise (included in every figure) %.3e; BDPT %.2f Mrays/s, %.3f Msamples/s; reference spp %u + %u\n",
                 name.c_str(), ref_noise, ra.progress.rays_per_second * 1e-6,
-                double(width) * height * ra.progress.samples_done / ra.progress.elapsed_seconds * 1e-6,
+                double(width) * common["height"].get<int>() * ra.progress.samples_done / ra.progress.elapsed_seconds * 1e-6,
                 ra.progress.samples_done, rb.progress.samples_done);
   }
   return 0;

@@ -21,13 +21,6 @@ using namespace rdv_bench;
 
 namespace {
 
-std::string read_file(const std::string &p) {
-  std::ifstream f(p);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
 std::vector<double> parse_list(const char *text) {
   std::vector<double> v;
   std::stringstream ss(text);
@@ -59,25 +52,14 @@ int main(int argc, char **argv) {
   std::printf("%-14s %6s %-22s | %11s | %8s | %9s | %12s | %s\n", "scene", "budget", "integrator", "relMSE", "vs BDPT",
               "spp/mpp", "mutations/s", "acceptance small / large");
   for (const std::string &path : scenes) {
-    std::string text = read_file(path);
-    std::string base = path.substr(0, path.find_last_of('/'));
-    json doc = json::parse(text);
-    double aspect = double(doc["settings"].value("height", 480)) / doc["settings"].value("width", 640);
-    int height = std::max(1, int(std::lround(width * aspect)));
-    json common = {{"width", width}, {"height", height}, {"samples", 0}, {"threads", 0}};
-    json ref_settings = common;
-    ref_settings["integrator"] = "bdpt";
-    ref_settings["time_limit"] = reference_seconds;
-    ref_settings["seed"] = 9001;
-    Render ra = render(text, base, ref_settings);
-    ref_settings["seed"] = 9002;
-    Render rb = render(text, base, ref_settings);
-    std::vector<double> ref(ra.rgb.size());
-    for (size_t i = 0; i < ref.size(); ++i) ref[i] = 0.5 * (double(ra.rgb[i]) + rb.rgb[i]);
-    std::vector<double> ref_a(ra.rgb.begin(), ra.rgb.end());
-    double ref_noise = rel_mse(rb.rgb, ref_a) / 4;
-    std::string name = path.substr(path.find_last_of('/') + 1);
-    name = name.substr(0, name.find('.'));
+    BenchScene scene = load_bench_scene(path, width);
+    const std::string &text = scene.text, &base = scene.base;
+    const json &common = scene.common;
+    const std::string name = scene.name.substr(0, scene.name.find('.'));
+    Reference reference = bdpt_reference(scene, reference_seconds);
+    const std::vector<double> &ref = reference.image;
+    const double ref_noise = reference.noise;
+    const Render &ra = reference.a, &rb = reference.b;
     for (size_t bi = 0; bi < budgets.size(); ++bi) {
       double budget = budgets[bi];
       double e_bdpt = 0;

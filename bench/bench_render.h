@@ -2,7 +2,10 @@
 // relative MSE against a reference.
 #pragma once
 #include <cstdio>
+#include <cmath>
 #include <cstdlib>
+#include <fstream>
+#include <sstream>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -52,6 +55,51 @@ inline double rel_mse(const std::vector<float> &x, const std::vector<double> &re
   double s = 0;
   for (size_t i = 0; i < x.size(); ++i) s += (x[i] - ref[i]) * (x[i] - ref[i]) / (ref[i] * ref[i] + 1e-2);
   return s / x.size();
+}
+
+// A scene file read for the equal-time benchmarks, and the settings every render of it
+// shares (the image `width` wide with the scene's aspect, no sample limit).
+struct BenchScene {
+  std::string text, base, name;
+  json common;
+};
+inline BenchScene load_bench_scene(const std::string &path, int width) {
+  BenchScene b;
+  std::ifstream f(path);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  b.text = ss.str();
+  b.base = path.substr(0, path.find_last_of('/'));
+  b.name = path.substr(path.find_last_of('/') + 1);
+  json doc = json::parse(b.text);
+  double aspect = double(doc["settings"].value("height", 480)) / doc["settings"].value("width", 640);
+  int height = std::max(1, int(std::lround(width * aspect)));
+  b.common = {{"width", width}, {"height", height}, {"samples", 0}, {"threads", 0}};
+  return b;
+}
+
+// The reference of the equal-time benchmarks: the mean of two independent BDPT renders of
+// `seconds` each, and its own noise (relMSE(a, b) ~ 2 var_single; the mean's own error is
+// var_single / 2 = relMSE(a, b) / 4), which every figure against it contains.
+struct Reference {
+  std::vector<double> image;
+  double noise = 0;
+  Render a, b;
+};
+inline Reference bdpt_reference(const BenchScene &scene, double seconds) {
+  Reference r;
+  json s = scene.common;
+  s["integrator"] = "bdpt";
+  s["time_limit"] = seconds;
+  s["seed"] = 9001;
+  r.a = render(scene.text, scene.base, s);
+  s["seed"] = 9002;
+  r.b = render(scene.text, scene.base, s);
+  r.image.resize(r.a.rgb.size());
+  for (size_t i = 0; i < r.image.size(); ++i) r.image[i] = 0.5 * (double(r.a.rgb[i]) + r.b.rgb[i]);
+  std::vector<double> a(r.a.rgb.begin(), r.a.rgb.end());
+  r.noise = rel_mse(r.b.rgb, a) / 4;
+  return r;
 }
 
 }  // namespace rdv_bench
