@@ -83,6 +83,23 @@ RDV_API rdv_status rdv_scene_add_material(rdv_scene *scene, const char *name,
 RDV_API rdv_status rdv_scene_add_grid(rdv_scene *scene, const char *name, const float *values,
                                       uint32_t nx, uint32_t ny, uint32_t nz, uint32_t *out_grid);
 
+/* An image from a caller-owned array (copied): width * height texels of `channels` floats
+ * (1 grey, 2 grey + alpha, 3 RGB, 4 straight RGBA), rows bottom first, left to right
+ * (pixels[((y * width) + x) * channels + c], y = 0 the bottom row: Blender's
+ * image.pixels). Values are in `colorspace`, a colour space of Blender's OCIO config
+ * (NULL or "" = Linear, i.e. scene-linear; "Non-Color" = data), converted to scene-linear
+ * as an image file's texels are (after filtering, as for files). An image texture node
+ * names it in place of a file: {"node": "image", "buffer": name, "interpolation",
+ * "extension", ...} and filters it exactly as a file. NaN / infinite values are set to 0
+ * with a warning naming the image; an unknown colour space warns and uses the values as
+ * they are. Add the image before the material that names it; an unknown name warns
+ * (naming the material) and renders magenta, as a missing file does. Adding a name again
+ * replaces its texels (same id) for materials added or set from then on: call
+ * rdv_scene_set_material again for a material to see them. out_image may be NULL. */
+RDV_API rdv_status rdv_scene_add_image(rdv_scene *scene, const char *name, const float *pixels, uint32_t width,
+                                       uint32_t height, uint32_t channels, const char *colorspace,
+                                       uint32_t *out_image);
+
 /* A triangle mesh from caller-owned arrays; the engine copies what it keeps.
  *   positions      3 * num_vertices floats
  *   normals        3 * num_vertices floats, or NULL (flat shading)

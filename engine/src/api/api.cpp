@@ -124,6 +124,15 @@ rdv_status rdv_scene_add_grid(rdv_scene *s, const char *name, const float *value
   });
 }
 
+rdv_status rdv_scene_add_image(rdv_scene *s, const char *name, const float *pixels, uint32_t width, uint32_t height,
+                               uint32_t channels, const char *colorspace, uint32_t *out) {
+  return guarded([&] {
+    require(name, "name");
+    uint32_t id = editable(s).add_image(name, pixels, width, height, channels, colorspace ? colorspace : "");
+    if (out) *out = id;
+  });
+}
+
 rdv_status rdv_scene_add_mesh(rdv_scene *s, const char *name, const float *positions, uint32_t num_vertices,
                               const float *normals, const float *uvs, const uint32_t *indices,
                               uint32_t num_triangles, const uint32_t *material_ids, uint32_t default_material,

@@ -179,9 +179,10 @@ struct Parser {
 
 }  // namespace
 
-Material Material::from_params(Params &p, const std::string &name) {
+Material Material::from_params(Params &p, const std::string &name, const ImageBuffers *images) {
   Material m;
   m.name = name;
+  m.graph.image_buffers = images;
   std::string type = p.get_string("type", "diffuse");
   static const std::pair<const char *, MaterialType> kTypes[] = {
       {"diffuse", MaterialType::Diffuse}, {"emission", MaterialType::Emission}, {"glossy", MaterialType::Glossy},
@@ -192,6 +193,7 @@ Material Material::from_params(Params &p, const std::string &name) {
   for (auto &[n, t] : kTypes)
     if (type == n) m.type = t;
   Parser{m}.shader(p, type, {});
+  m.graph.image_buffers = nullptr;  // only while parsing: the scene's buffers may change later
   p.check_all_used();
   for (const Closure &c : m.closures) {
     if (c.type == MaterialType::Transparent) m.transparent = true;

@@ -87,7 +87,8 @@ struct Material {
   };
   ResolvedLobes resolved;
 
-  static Material from_params(Params &p, const std::string &name);
+  // Image texture nodes naming a "buffer" find it in `images` (rdv_scene_add_image).
+  static Material from_params(Params &p, const std::string &name, const ImageBuffers *images = nullptr);
   // The magenta stand-in Blender shows for a material it cannot use.
   static Material error_material(const std::string &name);
   bool emits() const { return !is_black(emission) || !textured_emission.empty(); }

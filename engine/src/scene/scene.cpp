@@ -31,7 +31,7 @@ Scene::ParsedMaterial Scene::parse_material(const std::string &name, Params &par
     if (!pm.has_medium) fail(params.what() + ": type 'volume' needs a 'volume' object");
     pm.material = Material::error_material(name);  // never shaded: rays pass through
   } else {
-    pm.material = Material::from_params(params, name);
+    pm.material = Material::from_params(params, name, &image_buffers_);
   }
   return pm;
 }
@@ -64,6 +64,30 @@ uint32_t Scene::add_grid(const std::string &name, const float *values, uint32_t 
     }
   grid_buffers_.push_back(std::move(buffer));
   return uint32_t(grid_buffers_.size() - 1);
+}
+
+uint32_t Scene::add_image(const std::string &name, const float *pixels, uint32_t width, uint32_t height,
+                          uint32_t channels, const std::string &colorspace) {
+  const std::string what = "image '" + name + "'";
+  if (!pixels) fail(what + ": no pixels");
+  if (width < 1 || height < 1 || width > 65536 || height > 65536 || double(width) * height > double(1 << 28))
+    fail(what + ": the size must be positive (at most 65536 on a side, 2^28 texels)");
+  if (channels < 1 || channels > 4) fail(what + ": 'channels' must be 1 to 4");
+  std::string problem;
+  size_t non_finite = 0;
+  int id = ImageTextures::instance().add_pixels(pixels, int(width), int(height), int(channels), colorspace, problem,
+                                                &non_finite);
+  ImageBuffer buffer{name, std::make_shared<const MemoryImage>(id, int(width), int(height), int(channels))};
+  if (!problem.empty()) warn(what + ": " + problem);
+  if (non_finite)
+    warn(what + ": " + std::to_string(non_finite) + " pixel values are NaN or infinite; set to 0");
+  for (uint32_t i = 0; i < image_buffers_.size(); ++i)
+    if (image_buffers_[i].name == name) {  // re-added (painted, edited): replace it
+      image_buffers_[i] = std::move(buffer);
+      return i;
+    }
+  image_buffers_.push_back(std::move(buffer));
+  return uint32_t(image_buffers_.size() - 1);
 }
 
 uint32_t Scene::add_error_material(const std::string &name) {

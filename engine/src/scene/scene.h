@@ -45,6 +45,11 @@ class Scene {
   // A dense grid (nx*ny*nz floats, x fastest, copied) that media name by {"buffer": name};
   // adding a name again replaces its voxels for materials parsed from then on.
   uint32_t add_grid(const std::string &name, const float *values, uint32_t nx, uint32_t ny, uint32_t nz);
+  // An image (width*height texels of `channels` floats, bottom row first, copied) that
+  // image texture nodes name by {"buffer": name}; adding a name again replaces its
+  // texels for materials parsed from then on (materials parsed before keep theirs).
+  uint32_t add_image(const std::string &name, const float *pixels, uint32_t width, uint32_t height,
+                     uint32_t channels, const std::string &colorspace);
   uint32_t add_mesh(const std::string &name, const float *positions, uint32_t num_vertices, const float *normals,
                     const float *uvs, const uint32_t *indices, uint32_t num_triangles,
                     const uint32_t *material_ids, uint32_t default_material);
@@ -168,6 +173,7 @@ class Scene {
                  uint32_t default_material);
   std::vector<Material> materials_;
   GridBuffers grid_buffers_;
+  ImageBuffers image_buffers_;
   struct ParsedMaterial {
     Material material;
     Medium medium;

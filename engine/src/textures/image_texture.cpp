@@ -7,6 +7,7 @@
 #include <map>
 #include <mutex>
 #include <vector>
+#include "core/error.h"
 #include "film/image_output.h"
 
 namespace rdv {
@@ -111,6 +112,7 @@ struct ImageTextures::Impl {
     // The colour-space conversion as a per-channel table over [0, 1] when it is one
     // (sRGB, most of Blender's spaces), else null (OCIO per lookup).
     std::vector<float> lut;
+    bool from_memory = false;  // add_pixels: no file, no cache handle (Cubic filtered here)
   };
   static constexpr size_t kResidentTexels = size_t(1) << 22;      // up to 2048 x 2048
   static constexpr size_t kResidentBudget = size_t(128) << 20;    // bytes over all images
@@ -123,6 +125,7 @@ struct ImageTextures::Impl {
   static constexpr size_t kMaxImages = 1 << 16;
   std::vector<Image> images;
   std::map<std::pair<std::string, std::string>, int> by_key;
+  std::vector<int> free_slots;  // released memory images' ids, reused first
   float cache_mb = 256;
 };
 
@@ -347,6 +350,55 @@ int ImageTextures::load(const std::string &path, const std::string &colorspace, 
   return id;
 }
 
+int ImageTextures::add_pixels(const float *pixels, int width, int height, int channels,
+                              const std::string &colorspace, std::string &problem, size_t *non_finite) {
+  Impl::Image img;
+  img.from_memory = true;
+  img.resident = true;
+  img.w = width;
+  img.h = height;
+  img.channels = channels;
+  std::string cs = colorspace.empty() ? "Linear" : colorspace;
+  OCIO::ConstCPUProcessorRcPtr proc;
+  if (!color_spaces().processor(cs, &proc))
+    problem = "unknown colour space '" + cs + "' (not in Blender's config); using its values as they are";
+  img.processor = proc;
+  img.builtin_srgb = cs == "sRGB" && !proc && !color_spaces().config;
+  if (img.processor) make_lut(img);
+  // Rows top first, as files are read (lookups count t down from the top row).
+  const size_t row = size_t(width) * channels;
+  img.floats.resize(row * height);
+  size_t bad = 0;
+  for (int y = 0; y < height; ++y) {
+    const float *src = pixels + size_t(height - 1 - y) * row;
+    float *dst = &img.floats[size_t(y) * row];
+    for (size_t i = 0; i < row; ++i) {
+      float v = src[i];
+      if (!std::isfinite(v)) { v = 0; ++bad; }
+      dst[i] = v;
+    }
+  }
+  if (non_finite) *non_finite = bad;
+  build_mips(img);
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  if (!impl_->free_slots.empty()) {
+    int id = impl_->free_slots.back();
+    impl_->free_slots.pop_back();
+    impl_->images[size_t(id)] = std::move(img);
+    return id;
+  }
+  if (impl_->images.size() >= Impl::kMaxImages) fail("too many images (" + std::to_string(Impl::kMaxImages) + ")");
+  impl_->images.push_back(std::move(img));
+  return int(impl_->images.size() - 1);
+}
+
+void ImageTextures::release(int id) {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  if (id < 0 || size_t(id) >= impl_->images.size() || !impl_->images[size_t(id)].from_memory) return;
+  impl_->images[size_t(id)] = Impl::Image();  // frees the texels; nothing looks this id up any more
+  impl_->free_slots.push_back(id);
+}
+
 namespace {
 
 // Texel index under Blender's extension modes; -1 = outside (Clip).
@@ -439,6 +491,50 @@ Color lookup_level(const Image &img, int l, float u, float v, bool closest, TexE
   return finish(img, r, alpha, false);
 }
 
+// Cubic B-spline filtering of level 0 (the weights of OIIO's and Cycles' bicubic), in the
+// image's colour space, then converted: images from memory, which have no OIIO handle.
+template <int NC>
+Color bicubic_level0(const Image &img, float u, float v, TexExtension ext, float *alpha) {
+  float s = u * img.w - 0.5f, t = (1.0f - v) * img.h - 0.5f;
+  if (!std::isfinite(s) || !std::isfinite(t)) s = t = 0;
+  float fs = std::floor(s), ft = std::floor(t);
+  auto weights = [](float f, float w[4]) {
+    float f2 = f * f, f3 = f2 * f;
+    w[0] = (1 - f) * (1 - f) * (1 - f) * (1.0f / 6.0f);
+    w[1] = (3 * f3 - 6 * f2 + 4) * (1.0f / 6.0f);
+    w[2] = (-3 * f3 + 3 * f2 + 3 * f + 1) * (1.0f / 6.0f);
+    w[3] = f3 * (1.0f / 6.0f);
+  };
+  float ws[4], wt[4];
+  weights(s - fs, ws);
+  weights(t - ft, wt);
+  int xs[4], ys[4];
+  for (int k = 0; k < 4; ++k) {
+    xs[k] = wrap_index(int(fs) - 1 + k, img.w, ext);
+    ys[k] = wrap_index(int(ft) - 1 + k, img.h, ext);
+  }
+  float r[4] = {0, 0, 0, 0};
+  for (int j = 0; j < 4; ++j) {
+    if (ys[j] < 0) continue;  // Clip: transparent black outside
+    for (int i = 0; i < 4; ++i) {
+      if (xs[i] < 0) continue;
+      const float *texel = &img.floats[(size_t(ys[j]) * img.w + xs[i]) * NC];
+      float w = ws[i] * wt[j];
+      for (int c = 0; c < NC; ++c) r[c] += w * texel[c];
+    }
+  }
+  return finish(img, r, alpha, false);
+}
+
+Color bicubic_level0(const Image &img, float u, float v, TexExtension ext, float *alpha) {
+  switch (img.channels) {
+    case 1: return bicubic_level0<1>(img, u, v, ext, alpha);
+    case 2: return bicubic_level0<2>(img, u, v, ext, alpha);
+    case 3: return bicubic_level0<3>(img, u, v, ext, alpha);
+    default: return bicubic_level0<4>(img, u, v, ext, alpha);
+  }
+}
+
 // Trilinear MIP filtering over the footprint's longer axis (wider than a texel), else
 // level 0 with the requested interpolation.
 Color lookup_resident(const Image &img, float u, float v, TexInterp interp, TexExtension ext, float *alpha, Vec2 dx,
@@ -447,7 +543,9 @@ Color lookup_resident(const Image &img, float u, float v, TexInterp interp, TexE
   float w2 = std::max(sqr(dx.x * img.w) + sqr(dx.y * img.h), sqr(dy.x * img.w) + sqr(dy.y * img.h));
   float a = 1;
   Color c;
-  if (closest || !(w2 > 1.0f)) {
+  if (interp == TexInterp::Cubic && !(w2 > 1.0f)) {
+    c = bicubic_level0(img, u, v, ext, &a);
+  } else if (closest || !(w2 > 1.0f)) {
     c = lookup_level(img, 0, u, v, closest, ext, &a);
   } else {
     float level = std::min(0.5f * std::log2(w2), float(img.mips.size()));  // log2 of the width in texels
@@ -471,7 +569,7 @@ Color lookup_resident(const Image &img, float u, float v, TexInterp interp, TexE
 Color ImageTextures::lookup(int id, float u, float v, TexInterp interp, TexExtension ext, float *alpha, Vec2 dx,
                             Vec2 dy) const {
   const Impl::Image &img = impl_->images[size_t(id)];
-  if (img.resident && interp != TexInterp::Cubic) return lookup_resident(img, u, v, interp, ext, alpha, dx, dy);
+  if (img.resident && (interp != TexInterp::Cubic || img.from_memory)) return lookup_resident(img, u, v, interp, ext, alpha, dx, dy);
   TextureOpt opt;
   switch (ext) {
     case TexExtension::Repeat: opt.swrap = opt.twrap = TextureOpt::WrapPeriodic; break;

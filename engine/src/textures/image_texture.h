@@ -11,8 +11,13 @@
 // show the texture's average. Small images are MIP-mapped here, in scene-linear
 // colour; larger ones by OIIO (filtered in the file's colour space, then converted).
 // Closest interpolation is never filtered (as in Blender).
+//
+// Images from memory (a Blender image without a file: generated, painted, made by a
+// script; a movie's frame) are resident floats filtered the same way; Cubic filters them
+// here with the cubic B-spline OIIO and Cycles use.
 #pragma once
 #include <cstddef>
+#include <memory>
 #include <string>
 #include "core/math.h"
 
@@ -28,6 +33,15 @@ class ImageTextures {
   // missing or unreadable. colorspace "" = Blender's default: sRGB for 8/16-bit
   // integer files, Linear for float (half / float EXR, HDR).
   int load(const std::string &path, const std::string &colorspace, std::string &problem);
+  // Registers an image from memory (copied): width x height texels of `channels` floats
+  // (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA), bottom row first (Blender's image.pixels),
+  // values in `colorspace` ("" = Linear), converted to scene-linear as a file's are.
+  // Non-finite values are set to 0 (counted in *non_finite). Returns the id; `problem`
+  // is set (a warning) for an unknown colour space, whose values are used as they are.
+  // Free it with release(id) once nothing looks it up (MemoryImage does).
+  int add_pixels(const float *pixels, int width, int height, int channels, const std::string &colorspace,
+                 std::string &problem, size_t *non_finite = nullptr);
+  void release(int id);
   // (u, v) in Blender's convention (v = 0 at the bottom row). Returns scene-linear RGB
   // and the alpha (1 for files without alpha). dx, dy: the footprint's axes in (u, v)
   // (zero: the finest level, unfiltered beyond the interpolation).
@@ -47,6 +61,17 @@ class ImageTextures {
   ImageTextures();
   Impl *impl_;
 
+};
+
+// An image from memory owned by whatever holds this (the scene's buffer of that name,
+// the materials whose texture nodes use it): released with the last holder.
+struct MemoryImage {
+  int id;
+  int width, height, channels;
+  MemoryImage(int i, int w, int h, int c) : id(i), width(w), height(h), channels(c) {}
+  MemoryImage(const MemoryImage &) = delete;
+  MemoryImage &operator=(const MemoryImage &) = delete;
+  ~MemoryImage() { ImageTextures::instance().release(id); }
 };
 
 // Converts one colour from a named colour space of Blender's config to scene-linear.

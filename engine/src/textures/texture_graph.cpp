@@ -175,7 +175,9 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
   if (type == "image") {
     n.type = TexNodeType::Image;
     std::string file = r.str("file", "");
-    std::string name = r.str("name", file);
+    std::string buffer = r.str("buffer", "");
+    std::string name = r.str("name", file.empty() ? buffer : file);
+    if (!file.empty() && !buffer.empty()) fail(what + ": give a 'file' or a 'buffer', not both");
     std::string cs = r.str("colorspace", "");
     std::string interp = upper(r.str("interpolation", "Linear"));
     if (interp == "LINEAR") n.interp = TexInterp::Linear;
@@ -191,8 +193,19 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.output = outputs({"color", "alpha"});
     n.in[0] = vector_input("vector", kUv);
     std::string problem;
-    n.image = file.empty() ? -1 : ImageTextures::instance().load(file, cs, problem);
-    if (file.empty()) problem = "no 'file' given";
+    if (!buffer.empty()) {
+      if (r.has("colorspace")) fail(what + ": a 'buffer' has its colour space (rdv_scene_add_image), not 'colorspace'");
+      const ImageBuffer *b = image_buffers ? find_image_buffer(*image_buffers, buffer) : nullptr;
+      if (b) {
+        n.memory = b->image;
+        n.image = b->image->id;
+      } else {
+        problem = "no image buffer '" + buffer + "' (add it with rdv_scene_add_image first)";
+      }
+    } else {
+      n.image = file.empty() ? -1 : ImageTextures::instance().load(file, cs, problem);
+      if (file.empty()) problem = "no 'file' or 'buffer' given";
+    }
     if (n.image < 0)
       warnings.push_back("image '" + name + "': " + problem + "; rendering it magenta (as Blender does)");
     else if (!problem.empty())

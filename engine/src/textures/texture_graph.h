@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 #include "core/math.h"
+#include "textures/image_buffers.h"
 #include "textures/image_texture.h"
 #include "textures/shading_point.h"
 
@@ -33,6 +34,7 @@ struct TexNode {
   int in[6] = {-1, -1, -1, -1, -1, -1};  // input nodes (-1: unused)
   // Image
   int image = -1;       // ImageTextures id; -1: missing (magenta)
+  std::shared_ptr<const MemoryImage> memory;  // keeps an image from memory alive
   TexInterp interp = TexInterp::Linear;
   TexExtension ext = TexExtension::Repeat;
   // Attribute
@@ -50,7 +52,9 @@ class TextureGraph {
   // Parses a parameter value: a number, [r,g,b] / [r,g,b,a], or a node object.
   // Returns a node index. Problems that do not stop rendering (missing image) are
   // appended to warnings; malformed input throws (fail()) naming `what`.
+  // Image nodes naming a "buffer" find it in image_buffers (set while parsing; null: none).
   int parse(const nlohmann::json &j, const std::string &what, std::vector<std::string> &warnings);
+  const ImageBuffers *image_buffers = nullptr;
   int constant(Color c);
   Color eval(int node, const ShadingPoint &sp) const {  // constants inline: most inputs are
     const TexNode &n = nodes_[size_t(node)];
