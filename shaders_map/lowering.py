@@ -154,22 +154,26 @@ class _Lowerer:
         return self.value(e.args["value"])
 
     def _image_file(self, e):
+        """What the engine reads for the node's image: a path, a dict ({"file": path[,
+        "frame" | "tiles"]} or {"buffer": name}), or None (its average colour is used)."""
         image = e.props.get("image")
         if image is None or self.image_file is None:
             return None
         try:
-            return self.image_file(image)
+            user = e.props.get("image_user")
+            return self.image_file(image) if user is None else self.image_file(image, user)
         except Exception:  # never let a bad image stop the export
             return None
 
     def _n_tex_image(self, e):
-        path = self._image_file(e)
-        if path is None:
+        source = self._image_file(e)
+        if source is None:
             return self._const_node(e)  # average colour, recorded by the evaluator
-        d = {"node": "image", "file": path}
+        d = {"node": "image"}
+        d.update({"file": source} if isinstance(source, str) else source)
         if e.props.get("image_name"):
             d["name"] = e.props["image_name"]
-        if e.props.get("colorspace"):
+        if e.props.get("colorspace") and "buffer" not in d:  # a buffer carries its own
             d["colorspace"] = e.props["colorspace"]
         d["interpolation"] = e.props.get("interpolation", "Linear")
         d["extension"] = e.props.get("extension", "REPEAT")
@@ -758,8 +762,10 @@ def _environment(low, c):
     if not isinstance(col, Expr) or col.op != "tex_environment" or col.props.get("output") == "Alpha":
         return None
     path = low._image_file(col)
-    if path is None:
-        return None
+    if isinstance(path, dict) and set(path) == {"file"}:
+        path = path["file"]  # a sequence's frame
+    if not isinstance(path, str):
+        return None  # no file (average colour), a movie or UDIM tiles: not as an environment
     env = {"file": path}
     if col.props.get("colorspace"):
         env["colorspace"] = col.props["colorspace"]

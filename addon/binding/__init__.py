@@ -74,6 +74,8 @@ _PROTOTYPES = {
                                      ctypes.c_void_p, ctypes.c_uint32, _c_uint32_p]),
     "rdv_scene_add_grid": (_status, [_scene_p, ctypes.c_char_p, ctypes.c_void_p, ctypes.c_uint32, ctypes.c_uint32,
                                      ctypes.c_uint32, _c_uint32_p]),
+    "rdv_scene_add_image": (_status, [_scene_p, ctypes.c_char_p, ctypes.c_void_p, ctypes.c_uint32, ctypes.c_uint32,
+                                      ctypes.c_uint32, ctypes.c_char_p, _c_uint32_p]),
     "rdv_scene_add_mesh_attribute": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_char_p, ctypes.c_char_p,
                                                ctypes.c_void_p, ctypes.c_uint32, ctypes.c_uint32]),
     "rdv_scene_set_material": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_char_p]),
@@ -305,6 +307,19 @@ class Scene(_Handle):
         out = ctypes.c_uint32()
         self.lib.check(self.lib.rdv_scene_add_grid(self.handle, name.encode("utf-8"), _ptr(values), nx, ny, nz,
                                                    ctypes.byref(out)), "grid '%s'" % name)
+        return out.value
+
+    def add_image(self, name, pixels, width, height, channels, colorspace=""):
+        """An image as a binary buffer: pixels (width*height*channels,) float32, bottom row
+        first, in `colorspace`; an image texture node names it {"buffer": name}.  Adding a
+        name again replaces it."""
+        import numpy as np
+        w, h, c = int(width), int(height), int(channels)
+        pixels = _check_array(pixels, np.float32, "image '%s'" % name, w * h * c)
+        out = ctypes.c_uint32()
+        self.lib.check(self.lib.rdv_scene_add_image(self.handle, name.encode("utf-8"), _ptr(pixels), w, h, c,
+                                                    (colorspace or "").encode("utf-8"), ctypes.byref(out)),
+                       "image '%s'" % name)
         return out.value
 
     def set_light(self, light, params):

@@ -42,6 +42,7 @@ from .. import binding, shaders_map
 from ..binding import EngineError, LibraryError
 from ..export import SceneExporter, ExportError, GEOMETRY_TYPES, gas_domain
 from ..export import volumes
+from ..export import images as export_images
 from ..export.lights import light_params
 from ..export.settings import INTEGRATORS, INTEGRATOR_LABELS, METROPOLIS, metropolis_settings
 from ..utils import Messages, normalize_frame, is_finite_matrix, determinant3
@@ -110,6 +111,9 @@ class _Sink:
         self.rscene.add_grid(name, values, resolution)
         self.exp.grid_digests[name] = volumes.buffer_digest(values)
 
+    def add_image(self, name, pixels, width, height, channels, colorspace):
+        self.rscene.add_image(name, pixels, width, height, channels, colorspace)
+
     def add_mesh(self, name, positions, indices, **kw):
         if self.exp.replace_mesh is not None:
             return self.rscene.set_mesh(self.exp.replace_mesh, positions, indices, **kw)
@@ -145,6 +149,7 @@ class ViewportExporter(SceneExporter):
         self.replace_mesh = None
         self.material_digests = {}  # engine material id -> digest of the params it was given
         self.grid_digests = {}  # grid buffer name -> digest of the voxels it was given
+        self.image_digests = {}  # image buffer name -> digest of the pixels it was given
         self.edits = 0         # in-place edits applied (a selection change applies none)
         super().__init__(depsgraph, _Sink(rscene, self), image_average=image_average, messages=messages,
                          is_viewport=True)
@@ -247,10 +252,33 @@ class ViewportExporter(SceneExporter):
         return True
 
     def material_digest(self, text, params):
-        """Digest of a material's params text and of the grid buffers it names."""
+        """Digest of a material's params text and of the grid and image buffers it names."""
         volume = params.get("volume") if isinstance(params, dict) else None
         names = [g["buffer"] for g in (volume or {}).values() if isinstance(g, dict) and "buffer" in g]
-        return _digest(text + b"".join(self.grid_digests.get(n, b"") for n in names))
+        images = _image_buffer_names(params)
+        return _digest(text + b"".join(self.grid_digests.get(n, b"") for n in names) +
+                       b"".join(self.image_digests.get(n, b"") for n in images))
+
+    def send_image(self, name, pixels, width, height, channels, colorspace):
+        """An image's pixels reach the engine only when they changed (a paint stroke, a
+        script); the material digest covers them, so its material is set again then."""
+        digest = export_images.pixels_digest(pixels)
+        if digest != self.image_digests.get(name):
+            self.sink.add_image(name, pixels, width, height, channels, colorspace)
+            self.image_digests[name] = digest
+        return digest
+
+    def update_images(self, changed):
+        """Materials showing an image of `changed` (names) are translated again: those whose
+        pixels (or anything else) changed are set in place. False: rebuild."""
+        for name in changed:
+            self._image_buffers.pop(name, None)  # read their pixels again
+        for material in self.depsgraph.ids:
+            if type(material).__name__ == "Material" and material.name_full in self.materials._ids and \
+                    _uses_images(getattr(material, "node_tree", None), changed):
+                if not self.update_material(material):
+                    return False
+        return True
 
     def update_grid(self, rec, ob, m16):
         """Re-exports one grid medium (a Volume object or a gas domain instance) in place:
@@ -319,10 +347,46 @@ class ViewportExporter(SceneExporter):
                 material.name_full, type(exc).__name__, exc)
         if warning:
             self.warn(warning)
-        self.sink.rscene.set_material(mid, params)
+        text = binding.params_json(params)
+        digest = self.material_digest(text, params)
+        if digest == self.material_digests.get(mid):
+            return True  # nothing the engine sees changed: no restart
+        self.sink.rscene.set_material(mid, text)
+        self.material_digests[mid] = digest
         self.edits += 1
         stats["material_updates"] += 1
         return True
+
+
+def _image_buffer_names(params, depth=0):
+    """Names of the image buffers ({"node": "image", "buffer": name}) a material uses."""
+    names = []
+    if depth > 100:
+        return names
+    if isinstance(params, dict):
+        if params.get("node") == "image" and "buffer" in params:
+            names.append(params["buffer"])
+        for v in params.values():
+            if isinstance(v, (dict, list)):
+                names += _image_buffer_names(v, depth + 1)
+    elif isinstance(params, list):
+        for v in params:
+            if isinstance(v, (dict, list)):
+                names += _image_buffer_names(v, depth + 1)
+    return names
+
+
+def _uses_images(tree, names, depth=0):
+    """True if a node tree (or a group inside it) has an image node showing one of `names`."""
+    if tree is None or depth > 20:
+        return False
+    for node in tree.nodes:
+        image = getattr(node, "image", None)
+        if image is not None and image.name_full in names:
+            return True
+        if node.type == "GROUP" and _uses_images(getattr(node, "node_tree", None), names, depth + 1):
+            return True
+    return False
 
 
 def view_camera(region, rv3d, width, height):
@@ -416,9 +480,11 @@ class ViewportRenderer:
         if self.rscene is None:
             self.export(depsgraph)
             return True
-        geometry, materials, world, instances = [], [], False, False
+        geometry, materials, world, instances, images = [], [], False, False, set()
         for u in depsgraph.updates:
             idt = type(u.id).__name__
+            if idt == "Image":
+                images.add(u.id.name_full)
             if idt == "Object":
                 instances = True
                 if u.is_updated_geometry and (u.id.type in GEOMETRY_TYPES or u.id.type == "VOLUME"):
@@ -429,7 +495,7 @@ class ViewportRenderer:
                 world = True
             elif idt in ("Collection", "Scene", "Light", "Mesh"):
                 instances = True
-        if not (geometry or materials or world or instances):
+        if not (geometry or materials or world or instances or images):
             return False
         self._stop()  # the engine refuses edits while a session exists
         exp = self.exporter
@@ -448,6 +514,9 @@ class ViewportRenderer:
                 if not exp.update_material(m):
                     self.export(depsgraph)
                     return True
+            if images and not exp.update_images(images):
+                self.export(depsgraph)
+                return True
             if world:
                 exp.export_world()
                 stats["world_updates"] += 1

@@ -77,9 +77,10 @@ class SceneExporter:
         self.scene = depsgraph.scene
         self.sink = sink
         self.messages = messages if messages is not None else Messages()
+        self._image_buffers = {}  # image name_full -> digest of the pixels sent in this export
         if image_file is None:
             images.clear_cache()
-            image_file = images.image_file
+            image_file = self.image_source
         self.image_file = image_file
         self.materials = MaterialCache(sink, self.messages, image_average, image_file)
         self.image_average = image_average
@@ -92,6 +93,31 @@ class SceneExporter:
 
     def warn(self, text):
         self.messages.warn(text)
+
+    def image_source(self, image, image_user=None):
+        """shaders_map's image callback: what the engine reads for `image` (images.image_source
+        at this scene frame); an image without a file goes to the sink as a pixel buffer
+        named after it (once per export; scene files, whose sink takes no buffers, keep
+        its average colour)."""
+        source = images.image_source(image, image_user, self.scene.frame_current)
+        if source != images.BUFFER:
+            return source
+        if not hasattr(self.sink, "add_image"):
+            return None
+        name = image.name_full
+        if name not in self._image_buffers:
+            pixels = images.image_pixels(image)
+            if pixels is None:
+                self._image_buffers[name] = None
+            else:
+                self._image_buffers[name] = self.send_image(name, *pixels)
+        return None if self._image_buffers[name] is None else {"buffer": name}
+
+    def send_image(self, name, pixels, width, height, channels, colorspace):
+        """Sends an image's pixels to the sink; returns their digest (the viewport skips
+        an unchanged one)."""
+        self.sink.add_image(name, pixels, width, height, channels, colorspace)
+        return images.pixels_digest(pixels)
 
     # ---- whole scene ------------------------------------------------------------
     def export(self):

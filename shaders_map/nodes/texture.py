@@ -19,6 +19,7 @@ def _image_props(node, socket, projection="FLAT"):
         "projection": getattr(node, "projection", projection),
         "interpolation": getattr(node, "interpolation", "Linear"),
         "extension": getattr(node, "extension", "REPEAT"),
+        "image_user": getattr(node, "image_user", None),  # a sequence's / movie's frame
     }
     cs = getattr(getattr(image, "colorspace_settings", None), "name", None)
     if cs is not None:

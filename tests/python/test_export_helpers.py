@@ -212,6 +212,22 @@ class TestDumpSink(unittest.TestCase):
         self.assertEqual(doc["materials"][0]["volume"], {"density": 2.0, "grid": {
             "resolution": [2, 1, 1], "values": [0.5, 1.0], "bounds": [[0, 0, 0], [1, 1, 1]]}})
 
+    def test_image_sequence_frames(self):
+        """The frame an Image User shows (Blender's start / duration / cyclic / offset rules)
+        and the sequence file of that frame."""
+        load_addon()
+        from rendezvous.export import images
+        user = lambda **kw: ns(**dict(dict(frame_duration=4, frame_start=3, frame_offset=0, use_cyclic=False), **kw))
+        self.assertEqual([images.user_frame(user(), f) for f in (1, 2, 3, 4, 6, 7, 9)], [0, 0, 1, 2, 4, 4, 4])
+        self.assertEqual([images.user_frame(user(use_cyclic=True), f) for f in (2, 3, 6, 7, 8, 11)],
+                         [4, 1, 4, 1, 2, 1])
+        self.assertEqual(images.user_frame(user(use_cyclic=True, frame_offset=1), 8), 3)
+        self.assertEqual(images.user_frame(user(frame_duration=0), 5), 0)
+        self.assertEqual(images.sequence_path("/a/b7/frame_001.png", 12), "/a/b7/frame_012.png")
+        self.assertEqual(images.sequence_path("/a/render0001x.exr", 3), "/a/render0003x.exr")
+        self.assertEqual(images.sequence_path("/a/noframe.png", 3), "/a/noframe.png")
+        self.assertEqual(images.sequence_path("/a/f_9.png", 123), "/a/f_123.png")
+
     def test_binary(self):
         from rendezvous.export.dump import JsonSink
         with tempfile.TemporaryDirectory() as d:

@@ -7,6 +7,7 @@ import os
 import subprocess
 import sys
 import tempfile
+import types
 import unittest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -335,6 +336,26 @@ class TestTextures(unittest.TestCase):
         self.assertEqual(bc["vector"]["vector"], {"node": "uv", "layer": "Second"})
         self.assertEqual(p["alpha"]["output"], "alpha")
         self.assertIsNone(w)
+
+    def test_image_sources_other_than_a_file(self):
+        """An image the exporter sends as a buffer, UDIM tiles and a movie frame pass through
+        as the image node's source (a buffer carries its own colour space)."""
+        for source in ({"buffer": "Paint"}, {"file": "/t/tiles.<UDIM>.png", "tiles": [1001, 1002]},
+                       {"file": "/t/clip.mp4", "frame": 4}):
+            img = Image("Paint")
+            img.colorspace_settings = types.SimpleNamespace(name="sRGB")
+            img.engine_file = source
+
+            def b(t):
+                d = t.new("ShaderNodeBsdfDiffuse", "D")
+                t.link(t.new("ShaderNodeTexImage", "Tex", image=img, interpolation="Cubic").out("Color"), d.inp("Color"))
+                return d.out()
+            p, w = convert(b)
+            self.assertIsNone(w)
+            expected = dict(source, node="image", name="Paint", interpolation="Cubic", extension="REPEAT")
+            if "buffer" not in source:
+                expected["colorspace"] = "sRGB"
+            self.assertEqual(p["color"], expected)
 
     def test_missing_image_stays_magenta_constant(self):
         img = Image("gone.png", filepath="/nope/gone.png", missing=True)

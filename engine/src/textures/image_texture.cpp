@@ -112,7 +112,8 @@ struct ImageTextures::Impl {
     // The colour-space conversion as a per-channel table over [0, 1] when it is one
     // (sRGB, most of Blender's spaces), else null (OCIO per lookup).
     std::vector<float> lut;
-    bool from_memory = false;  // add_pixels: no file, no cache handle (Cubic filtered here)
+    bool from_memory = false;  // add_pixels (released by MemoryImage); like movie frames, no
+                               // cache handle: Cubic is filtered here
   };
   static constexpr size_t kResidentTexels = size_t(1) << 22;      // up to 2048 x 2048
   static constexpr size_t kResidentBudget = size_t(128) << 20;    // bytes over all images
@@ -350,9 +351,76 @@ int ImageTextures::load(const std::string &path, const std::string &colorspace, 
   return id;
 }
 
+namespace {
+
+// A resident image of w x h texels from `pixels` (rows bottom first if bottom_up, else top
+// first), non-finite values set to 0 (counted); the colour space's processor set.
+Image memory_image(const float *pixels, int width, int height, int channels, bool bottom_up,
+                   const std::string &colorspace, std::string &problem, size_t *non_finite);
+
+}  // namespace
+
 int ImageTextures::add_pixels(const float *pixels, int width, int height, int channels,
                               const std::string &colorspace, std::string &problem, size_t *non_finite) {
-  Impl::Image img;
+  Image img = memory_image(pixels, width, height, channels, true, colorspace, problem, non_finite);
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  if (!impl_->free_slots.empty()) {
+    int id = impl_->free_slots.back();
+    impl_->free_slots.pop_back();
+    impl_->images[size_t(id)] = std::move(img);
+    return id;
+  }
+  if (impl_->images.size() >= Impl::kMaxImages) fail("too many images (" + std::to_string(Impl::kMaxImages) + ")");
+  impl_->images.push_back(std::move(img));
+  return int(impl_->images.size() - 1);
+}
+
+int ImageTextures::load_frame(const std::string &path, int frame, const std::string &colorspace,
+                              std::string &problem) {
+  auto key = std::make_pair(path + "#frame " + std::to_string(frame), colorspace);
+  {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    if (auto it = impl_->by_key.find(key); it != impl_->by_key.end()) return it->second;
+  }
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) {
+    problem = "cannot read '" + path + "': " + OIIO::geterror();
+    return -1;
+  }
+  if (frame < 0 || !in->seek_subimage(frame, 0)) {
+    int frames = in->spec().get_int_attribute("oiio:subimages", 1);
+    (void)in->geterror();
+    problem = "'" + path + "' has no frame " + std::to_string(frame + 1) + " (" + std::to_string(frames) + " frames)";
+    return -1;
+  }
+  const OIIO::ImageSpec &spec = in->spec();
+  int channels = std::clamp(spec.nchannels, 1, 4);
+  std::vector<float> pixels(size_t(spec.width) * spec.height * channels);
+  if (!in->read_image(frame, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data())) {
+    problem = "cannot read frame " + std::to_string(frame + 1) + " of '" + path + "': " + in->geterror();
+    return -1;
+  }
+  std::string cs = colorspace.empty() ? (spec.format.is_floating_point() ? "Linear" : "sRGB") : colorspace;
+  Image img = memory_image(pixels.data(), spec.width, spec.height, channels, false, cs, problem, nullptr);
+  img.path = path;
+  img.from_memory = false;  // kept with the files: never released
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  if (auto it = impl_->by_key.find(key); it != impl_->by_key.end()) return it->second;
+  if (impl_->images.size() >= Impl::kMaxImages) {
+    problem = "too many images (" + std::to_string(Impl::kMaxImages) + ")";
+    return -1;
+  }
+  impl_->images.push_back(std::move(img));
+  int id = int(impl_->images.size() - 1);
+  impl_->by_key[key] = id;
+  return id;
+}
+
+namespace {
+
+Image memory_image(const float *pixels, int width, int height, int channels, bool bottom_up,
+                   const std::string &colorspace, std::string &problem, size_t *non_finite) {
+  Image img;
   img.from_memory = true;
   img.resident = true;
   img.w = width;
@@ -370,7 +438,7 @@ int ImageTextures::add_pixels(const float *pixels, int width, int height, int ch
   img.floats.resize(row * height);
   size_t bad = 0;
   for (int y = 0; y < height; ++y) {
-    const float *src = pixels + size_t(height - 1 - y) * row;
+    const float *src = pixels + size_t(bottom_up ? height - 1 - y : y) * row;
     float *dst = &img.floats[size_t(y) * row];
     for (size_t i = 0; i < row; ++i) {
       float v = src[i];
@@ -380,17 +448,10 @@ int ImageTextures::add_pixels(const float *pixels, int width, int height, int ch
   }
   if (non_finite) *non_finite = bad;
   build_mips(img);
-  std::lock_guard<std::mutex> lock(impl_->mutex);
-  if (!impl_->free_slots.empty()) {
-    int id = impl_->free_slots.back();
-    impl_->free_slots.pop_back();
-    impl_->images[size_t(id)] = std::move(img);
-    return id;
-  }
-  if (impl_->images.size() >= Impl::kMaxImages) fail("too many images (" + std::to_string(Impl::kMaxImages) + ")");
-  impl_->images.push_back(std::move(img));
-  return int(impl_->images.size() - 1);
+  return img;
 }
+
+}  // namespace
 
 void ImageTextures::release(int id) {
   std::lock_guard<std::mutex> lock(impl_->mutex);
@@ -551,7 +612,9 @@ Color lookup_resident(const Image &img, float u, float v, TexInterp interp, TexE
     float level = std::min(0.5f * std::log2(w2), float(img.mips.size()));  // log2 of the width in texels
     int l0 = int(level);
     float t = level - float(l0);
-    c = lookup_level(img, l0, u, v, false, ext, &a);
+    // Cubic (images without an OIIO handle) keeps its B-spline on the finest level.
+    c = interp == TexInterp::Cubic && l0 == 0 ? bicubic_level0(img, u, v, ext, &a)
+                                               : lookup_level(img, l0, u, v, false, ext, &a);
     if (t > 0 && l0 < int(img.mips.size())) {
       float a1;
       Color c1 = lookup_level(img, l0 + 1, u, v, false, ext, &a1);
@@ -569,7 +632,7 @@ Color lookup_resident(const Image &img, float u, float v, TexInterp interp, TexE
 Color ImageTextures::lookup(int id, float u, float v, TexInterp interp, TexExtension ext, float *alpha, Vec2 dx,
                             Vec2 dy) const {
   const Impl::Image &img = impl_->images[size_t(id)];
-  if (img.resident && (interp != TexInterp::Cubic || img.from_memory)) return lookup_resident(img, u, v, interp, ext, alpha, dx, dy);
+  if (img.resident && (interp != TexInterp::Cubic || !img.handle)) return lookup_resident(img, u, v, interp, ext, alpha, dx, dy);
   TextureOpt opt;
   switch (ext) {
     case TexExtension::Repeat: opt.swrap = opt.twrap = TextureOpt::WrapPeriodic; break;

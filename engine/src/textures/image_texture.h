@@ -33,6 +33,10 @@ class ImageTextures {
   // missing or unreadable. colorspace "" = Blender's default: sRGB for 8/16-bit
   // integer files, Linear for float (half / float EXR, HDR).
   int load(const std::string &path, const std::string &colorspace, std::string &problem);
+  // One frame of a movie (or one subimage of a multi-image file), read by OpenImageIO
+  // (FFmpeg for movies) and kept resident like an image from memory; frame 0 is the
+  // first. -1 with `problem` set if it cannot be read.
+  int load_frame(const std::string &path, int frame, const std::string &colorspace, std::string &problem);
   // Registers an image from memory (copied): width x height texels of `channels` floats
   // (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA), bottom row first (Blender's image.pixels),
   // values in `colorspace` ("" = Linear), converted to scene-linear as a file's are.

@@ -133,7 +133,10 @@ int TextureGraph::constant(Color c) {
 int TextureGraph::num_images() const {
   std::set<int> ids;
   for (const TexNode &n : nodes_)
-    if (n.type == TexNodeType::Image) ids.insert(n.image);
+    if (n.type == TexNodeType::Image) {
+      ids.insert(n.image);
+      for (const auto &tile : n.udim) ids.insert(tile.second);
+    }
   return int(ids.size());
 }
 
@@ -202,6 +205,29 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
       } else {
         problem = "no image buffer '" + buffer + "' (add it with rdv_scene_add_image first)";
       }
+    } else if (r.has("tiles")) {
+      // UDIM tiles: "file" holds <UDIM>, replaced by each tile's number (1001 + u + 10 v).
+      const json &tiles = j["tiles"];
+      size_t token = file.find("<UDIM>");
+      if (token == std::string::npos) fail(what + ": 'tiles' needs a 'file' with <UDIM> in its name");
+      if (!tiles.is_array() || tiles.empty()) fail(what + ": 'tiles' must be a list of UDIM tile numbers");
+      for (const json &t : tiles) {
+        if (!t.is_number_integer() || t.get<int>() < 1001 || t.get<int>() > 2000)
+          fail(what + ": 'tiles' must be UDIM tile numbers (1001 to 2000)");
+        std::string path = file;
+        path.replace(token, 6, std::to_string(t.get<int>()));
+        std::string tile_problem;
+        int id = ImageTextures::instance().load(path, cs, tile_problem);
+        if (id >= 0) n.udim.emplace_back(t.get<int>(), id);
+        if (!tile_problem.empty()) problem += (problem.empty() ? "" : "; ") + tile_problem;
+      }
+      if (!n.udim.empty()) n.image = n.udim.front().second;
+      if (!problem.empty() && n.image >= 0) problem += "; those tiles render magenta (as Blender does)";
+    } else if (r.has("frame")) {
+      float frame = r.num("frame", 0);
+      if (!(frame >= 0) || frame != std::floor(frame)) fail(what + ": 'frame' must be a whole number from 0");
+      n.image = file.empty() ? -1 : ImageTextures::instance().load_frame(file, int(frame), cs, problem);
+      if (file.empty()) problem = "no 'file' given";
     } else {
       n.image = file.empty() ? -1 : ImageTextures::instance().load(file, cs, problem);
       if (file.empty()) problem = "no 'file' or 'buffer' given";
@@ -504,8 +530,21 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
           dy = {uy.x, uy.y};
         }
       }
+      int image = n.image;
+      if (!n.udim.empty()) {
+        // The tile under (u, v), then (u, v) within it; outside every tile: magenta,
+        // as Cycles (which truncates, so (-1, 0) counts as the first column).
+        int tx = int(uv.x), ty = int(uv.y);
+        image = -1;
+        if (tx >= 0 && ty >= 0 && tx < 10)
+          for (const auto &[tile, id] : n.udim)
+            if (tile == 1001 + 10 * ty + tx) image = id;
+        if (image < 0) return n.output == 1 ? Color(1.0f) : Color(1, 0, 1);
+        uv.x -= float(tx);
+        uv.y -= float(ty);
+      }
       float a;
-      Color c = ImageTextures::instance().lookup(n.image, uv.x, uv.y, n.interp, n.ext, &a, dx, dy);
+      Color c = ImageTextures::instance().lookup(image, uv.x, uv.y, n.interp, n.ext, &a, dx, dy);
       return n.output == 1 ? Color(a) : c;
     }
     case TexNodeType::Checker: {

@@ -35,6 +35,7 @@ struct TexNode {
   // Image
   int image = -1;       // ImageTextures id; -1: missing (magenta)
   std::shared_ptr<const MemoryImage> memory;  // keeps an image from memory alive
+  std::vector<std::pair<int, int>> udim;  // UDIM (tile number, ImageTextures id); empty: one image
   TexInterp interp = TexInterp::Linear;
   TexExtension ext = TexExtension::Repeat;
   // Attribute
