@@ -162,15 +162,21 @@ def scene_udim():
 
 def scene_movie():
     build_scenes.reset()
-    movie = os.path.join(TMP, "movie.mp4")
+    d = os.path.join(TMP, "movie")
+    os.makedirs(d, exist_ok=True)
+    movie = os.path.join(d, "movie.mp4")
     scene = bpy.context.scene
-    # Three frames of colour strips, written by Blender's own encoder.
+    # Three patterned frames through the sequencer into a movie, by Blender's own encoder.
+    for f in range(1, 4):
+        px = pattern(32, 32, hdr=False)
+        px[..., :3] = np.roll(px[..., :3], 10 * f, axis=0)
+        write_png(os.path.join(d, "src_%d.png" % f), px)
     scene.render.resolution_x = scene.render.resolution_y = 32
     scene.frame_start, scene.frame_end = 1, 3
     se = scene.sequence_editor_create()
-    for f, col in ((1, (0.8, 0.3, 0.1)), (2, (0.2, 0.6, 0.9)), (3, (0.5, 0.5, 0.2))):
-        st = se.sequences.new_effect("c%d" % f, "COLOR", channel=1, frame_start=f, frame_end=f + 1)
-        st.color = col
+    strip = se.sequences.new_image("frames", os.path.join(d, "src_1.png"), channel=1, frame_start=1)
+    for f in (2, 3):
+        strip.elements.append("src_%d.png" % f)
     scene.render.image_settings.file_format = "FFMPEG"
     scene.render.ffmpeg.format = "MPEG4"
     scene.render.ffmpeg.codec = "H264"
