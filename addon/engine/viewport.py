@@ -59,7 +59,7 @@ POLL_INTERVAL = 0.025          # s: timer polling the sessions
 # For tests and benchmarks: counters and timestamps of what the viewports did.
 stats = {"full_exports": 0, "mesh_exports": 0, "material_updates": 0, "light_updates": 0, "world_updates": 0,
          "transform_updates": 0, "volume_updates": 0, "volume_update_seconds": 0.0, "export_seconds": 0.0,
-         "warnings": [], "status": "", "camera_restarts": 0, "restarts": 0, "draws": 0, "uploads": 0,
+         "image_updates": 0, "warnings": [], "status": "", "camera_restarts": 0, "restarts": 0, "draws": 0, "uploads": 0,
          "last_restart": 0.0, "last_restart_reason": "", "first_new_frame_drawn": 0.0,
          "first_frame_after_restart": 0.0, "errors": []}
 
@@ -514,6 +514,7 @@ class ViewportRenderer:
                 if not exp.update_material(m):
                     self.export(depsgraph)
                     return True
+            stats["image_updates"] += len(images)
             if images and not exp.update_images(images):
                 self.export(depsgraph)
                 return True

@@ -13,6 +13,9 @@
     run_viewport.py --script test_viewport.py -- volume_edits --vdb-writer build/tests/blender/write_test_vdb
                                           moving / scaling a Volume object, another file, another frame of
                                           a sequence (in place), hiding it, adding / removing a World volume
+    run_viewport.py --script test_viewport.py -- images      a generated image a script paints: as bright
+                                          as a final render; a pixel change re-sends it in place, the
+                                          same pixels again do not restart
     run_viewport.py --script test_viewport.py -- fluid       a fire simulation domain (Replay cache): as
                                           bright as a final render; its material, another frame, a move
                                           re-export only its medium
@@ -589,6 +592,73 @@ def mode_fluid():
           % viewport.stats["warnings"])
 
 
+# The image scene: an emissive plane filling the camera's view, its colour a generated image
+# a script fills (left half bright, right half dark; a stroke swaps them).
+IMAGE_BOXES = {"left": (0.1, 0.4, 0.1, 0.9), "right": (0.6, 0.9, 0.1, 0.9)}
+
+
+def mode_images():
+    """A generated image a script paints: the viewport shows its pixels as a final render
+    does; changing them re-sends the image and sets its material in place; setting the same
+    pixels again (an update that changes nothing) does not restart the viewport."""
+    sys.path.insert(0, os.path.join(ROOT, "scenes", "blend"))
+    import build_scenes
+    scene = setup_scene(samples=4)
+    for ob in list(scene.objects):
+        if ob.type != "CAMERA":
+            bpy.data.objects.remove(ob)
+    cam = scene.camera
+    cam.location, cam.rotation_euler = (0.0, 0.0, 3.0), (0.0, 0.0, 0.0)
+    cam.data.type, cam.data.ortho_scale, cam.data.sensor_fit = "ORTHO", 1.8, "AUTO"
+    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 64, 64, 100
+    scene.world.use_nodes = True
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+    image = bpy.data.images.new("Painted", 32, 32)
+    halves = np.zeros((32, 32, 4), np.float32)
+    halves[..., 3] = 1.0
+    halves[:, :16, :3] = (0.9, 0.7, 0.3)
+    halves[:, 16:, :3] = (0.1, 0.2, 0.3)
+    image.pixels.foreach_set(halves.reshape(-1))
+    m = build_scenes.emission_material("PaintedMat")
+    nt = m.node_tree
+    tex = nt.nodes.new("ShaderNodeTexImage")
+    tex.image = image
+    nt.links.new(tex.outputs["Color"], nt.nodes["Emission"].inputs["Color"])
+    me = build_scenes.quad_mesh("Canvas", 2.0)
+    uv = me.uv_layers.new(name="UVMap")
+    for loop in me.loops:
+        uv.data[loop.index].uv = [(0, 0), (1, 0), (1, 1), (0, 1)][loop.vertex_index]
+    me.materials.append(m)
+    build_scenes.link(bpy.data.objects.new("Canvas", me))
+    yield 0.3
+    set_shading("RENDERED")
+    yield from wait_converged()
+    check(not viewport.stats["errors"], "viewport errors: %s" % viewport.stats["errors"])
+    base = matches_final(viewport_film(), "painted image", IMAGE_BOXES)
+    check(base["left"] > 2 * base["right"], "the image's halves do not show (left %.3f, right %.3f)"
+          % (base["left"], base["right"]))
+
+    def stroke():
+        image.pixels.foreach_set(halves[:, ::-1].reshape(-1))
+        image.update()
+    r, d = yield from edit("stroke swaps the halves", stroke, IMAGE_BOXES)
+    check(r["right"] > 2 * r["left"], "the new pixels do not show (left %.3f, right %.3f)" % (r["left"], r["right"]))
+    in_place(d, "a pixel change", "material_updates")
+
+    # The same pixels again: Blender sends an update, nothing the engine sees changed.
+    before = dict(viewport.stats)
+    image.pixels.foreach_set(halves[:, ::-1].reshape(-1))
+    image.update()
+    t0 = time.time()
+    while time.time() - t0 < 1.5:
+        yield 0.1
+    delta = {k: viewport.stats[k] - before[k] for k in ("image_updates", "restarts", "material_updates")}
+    print("IMAGES unchanged pixels: %(image_updates)d image updates, %(restarts)d restarts, "
+          "%(material_updates)d material updates" % delta)
+    check(delta["image_updates"] >= 1, "Blender sent no image update (the check below would prove nothing)")
+    check(delta["restarts"] == 0, "unchanged pixels restarted the viewport")
+
+
 def centroid_x(img):
     """The luminance centroid's x as a fraction of the image width."""
     l = img.sum(axis=2)
@@ -602,7 +672,7 @@ BRIGHTNESS_TOLERANCE = 0.04
 
 
 MODES = {"view": mode_view, "reopen": mode_reopen, "preview": mode_preview, "volumes": mode_volumes, "volume_edits": mode_volume_edits,
-         "fluid": mode_fluid}
+         "fluid": mode_fluid, "images": mode_images}
 
 
 def run():

@@ -49,14 +49,15 @@ std::string write_exr() {
   return path;
 }
 
-// An emissive quad filling an orthographic view: the image shows as it is.
+// An emissive quad beyond an orthographic view (each pixel filter sees only the quad):
+// the image shows as it is.
 json emissive_quad_scene(const json &image_node) {
   return {{"settings", {{"width", 8}, {"height", 8}, {"samples", 4}, {"threads", 1}, {"seed", 3}}},
           {"camera", {{"type", "orthographic"}, {"ortho_scale", 1.0}, {"clip_start", 0.01},
                       {"transform", {{"look_at", {{"from", {0, 0, 3}}, {"to", {0, 0, 0}}, {"up", {0, 1, 0}}}}}}}},
           {"world", {{"color", {0, 0, 0}}}},
           {"materials", {{{"name", "screen"}, {"type", "emission"}, {"color", image_node}, {"strength", 1.0}}}},
-          {"meshes", {{{"name", "quad"}, {"shape", {{"type", "quad"}, {"size", 1}}}, {"materials", {"screen"}}}}}};
+          {"meshes", {{{"name", "quad"}, {"shape", {{"type", "quad"}, {"size", 2}}}, {"materials", {"screen"}}}}}};
 }
 
 std::vector<float> solid(float r, float g, float b, int w = 2, int h = 2) {
