@@ -19,7 +19,7 @@ using nlohmann::json;
 namespace {
 
 constexpr int kRuns = 8;
-constexpr int kBlockTestsInFile = 4 * 36;  // 2 scenes x 2 integrators, 36 blocks each
+constexpr int kBlockTestsInFile = 8 * 36;  // 4 scenes x 2 integrators, 36 blocks each
 const double kAlphaPerBlock = 1.0 - std::pow(1.0 - 0.01, 1.0 / kBlockTestsInFile);
 
 struct Runs {
@@ -83,6 +83,11 @@ TEST(MltVsBdpt, CornellBox) { expect_same_image(load_scene("cornell_box.json"), 
 
 // A glass ball under a 3 cm lamp: the caustic BDPT finds by light tracing.
 TEST(MltVsBdpt, GlassCaustic) { expect_same_image(load_scene("caustic.json"), "caustic", 32, 64); }
+
+// A room lit only through a door gap; and a spot lamp in fog (medium vertices, NEE and
+// connections through the medium).
+TEST(MltVsBdpt, DoorGap) { expect_same_image(load_scene("door_gap.json"), "door gap", 32, 64); }
+TEST(MltVsBdpt, FogAndSpot) { expect_same_image(load_scene("fog_spot.json"), "fog spot", 16, 32); }
 
 // A fixed chain count gives the same image on any number of threads (chains seeded by
 // (seed, chain), a deterministic pass schedule, splats applied in chain order).
