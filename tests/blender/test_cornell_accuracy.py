@@ -20,8 +20,12 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_brightness import build_scenes, out_dir, render_cycles, render_rendezvous  # noqa: E402
-from test_lamp_reflections import compare  # noqa: E402
+from test_lamp_reflections import check_against_cycles, out_dir  # noqa: E402
+
+
+def bounce_like_rendezvous(scene):
+    c = scene.cycles
+    c.diffuse_bounces = c.glossy_bounces = c.transmission_bounces = c.transparent_max_bounces = 12
 
 
 def main():
@@ -32,20 +36,9 @@ def main():
     ap.add_argument("--path-samples", type=int, default=1024)
     ap.add_argument("--bdpt-samples", type=int, default=512)
     a = ap.parse_args(argv)
-    odir = out_dir()
-    scene = build_scenes.build(a.scene)
-    c = scene.cycles
-    c.diffuse_bounces = c.glossy_bounces = c.transmission_bounces = c.transparent_max_bounces = 12
-    ref, tc = render_cycles(scene, a.cycles_samples, os.path.join(odir, a.scene + "_cycles.exr"))
-    print("  Cycles %d spp: %.1f s" % (a.cycles_samples, tc))
-    failures = []
-    for integrator, samples in (("PATH", a.path_samples), ("BDPT", a.bdpt_samples)):
-        path = os.path.join(odir, "%s_%s.exr" % (a.scene, integrator.lower()))
-        test, tr = render_rendezvous(scene, samples, path, integrator)
-        print("  Rendezvous %s %d spp: %.1f s" % (integrator, samples, tr))
-        failures += compare("%s %s" % (a.scene, integrator), ref, test)
+    failures = check_against_cycles(a.scene, a.cycles_samples, a.path_samples, a.bdpt_samples, bounce_like_rendezvous)
     if failures:
-        print("CORNELL ACCURACY TEST FAILED (images in %s):\n  %s" % (odir, "\n  ".join(failures)))
+        print("CORNELL ACCURACY TEST FAILED (images in %s):\n  %s" % (out_dir(), "\n  ".join(failures)))
         sys.exit(1)
     print("CORNELL ACCURACY TEST PASSED")
 

@@ -55,6 +55,24 @@ def compare(name, ref, test):
     return failures
 
 
+def check_against_cycles(scene_name, cycles_samples, path_samples, bdpt_samples, prepare=None):
+    """Renders the scene with Cycles, then with Rendezvous' path tracer and BDPT, and returns
+    compare()'s failures. prepare(scene), if given, adjusts the built scene first."""
+    odir = out_dir()
+    scene = build_scenes.build(scene_name)
+    if prepare:
+        prepare(scene)
+    ref, tc = render_cycles(scene, cycles_samples, os.path.join(odir, scene_name + "_cycles.exr"))
+    print("  Cycles %d spp: %.1f s" % (cycles_samples, tc))
+    failures = []
+    for integrator, samples in (("PATH", path_samples), ("BDPT", bdpt_samples)):
+        path = os.path.join(odir, "%s_%s.exr" % (scene_name, integrator.lower()))
+        test, tr = render_rendezvous(scene, samples, path, integrator)
+        print("  Rendezvous %s %d spp: %.1f s" % (integrator, samples, tr))
+        failures += compare("%s %s" % (scene_name, integrator), ref, test)
+    return failures
+
+
 def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     ap = argparse.ArgumentParser()
@@ -63,18 +81,9 @@ def main():
     ap.add_argument("--path-samples", type=int, default=4096)
     ap.add_argument("--bdpt-samples", type=int, default=4096)
     a = ap.parse_args(argv)
-    odir = out_dir()
-    scene = build_scenes.build(a.scene)
-    ref, tc = render_cycles(scene, a.cycles_samples, os.path.join(odir, a.scene + "_cycles.exr"))
-    print("  Cycles %d spp: %.1f s" % (a.cycles_samples, tc))
-    failures = []
-    for integrator, samples in (("PATH", a.path_samples), ("BDPT", a.bdpt_samples)):
-        path = os.path.join(odir, "%s_%s.exr" % (a.scene, integrator.lower()))
-        test, tr = render_rendezvous(scene, samples, path, integrator)
-        print("  Rendezvous %s %d spp: %.1f s" % (integrator, samples, tr))
-        failures += compare("%s %s" % (a.scene, integrator), ref, test)
+    failures = check_against_cycles(a.scene, a.cycles_samples, a.path_samples, a.bdpt_samples)
     if failures:
-        print("LAMP REFLECTIONS TEST FAILED (images in %s):\n  %s" % (odir, "\n  ".join(failures)))
+        print("LAMP REFLECTIONS TEST FAILED (images in %s):\n  %s" % (out_dir(), "\n  ".join(failures)))
         sys.exit(1)
     print("LAMP REFLECTIONS TEST PASSED")
 

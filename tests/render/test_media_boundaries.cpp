@@ -54,18 +54,8 @@ json box_on_floor(bool glow, double bottom, double scale, double ground) {
 }
 
 std::vector<std::vector<double>> renders(const json &scene, const char *integrator, int spp, uint32_t seed0) {
-  std::vector<std::vector<double>> out;
-  for (int k = 0; k < 8; ++k) {
-    json s = {{"width", kSize}, {"height", kSize}, {"integrator", integrator}, {"samples", spp},
-              {"seed", seed0 + k}, {"max_bounces", 8}};
-    Image img = render_json(scene.dump(), s.dump());
-    EXPECT_TRUE(img.all_finite());
-    EXPECT_EQ(img.progress.samples_dropped, 0u);
-    std::vector<double> v(size_t(img.width) * img.height);
-    for (size_t i = 0; i < v.size(); ++i) v[i] = double(img.rgba[4 * i]) + img.rgba[4 * i + 1] + img.rgba[4 * i + 2];
-    out.push_back(v);
-  }
-  return out;
+  json s = {{"width", kSize}, {"height", kSize}, {"integrator", integrator}, {"samples", spp}, {"max_bounces", 8}};
+  return seeded_renders(scene.dump(), s.dump(), 8, seed0);
 }
 
 void compare(const std::vector<std::vector<double>> &a, const std::vector<std::vector<double>> &b,

@@ -58,18 +58,9 @@ json cornell_box(double scale, const std::vector<double> &offset) {
 }
 
 std::vector<std::vector<double>> renders(const json &scene, const std::string &integrator, uint32_t seed0) {
-  std::vector<std::vector<double>> out;
-  for (int k = 0; k < kRuns; ++k) {
-    json s = {{"width", kSize}, {"height", kSize}, {"integrator", integrator},
-              {"samples", integrator == "path" ? 64 : 24}, {"seed", seed0 + k}, {"max_bounces", 8}};
-    Image img = render_json(scene.dump(), s.dump());
-    EXPECT_TRUE(img.all_finite());
-    EXPECT_EQ(img.progress.samples_dropped, 0u);
-    std::vector<double> v(size_t(img.width) * img.height);
-    for (size_t i = 0; i < v.size(); ++i) v[i] = double(img.rgba[4 * i]) + img.rgba[4 * i + 1] + img.rgba[4 * i + 2];
-    out.push_back(v);
-  }
-  return out;
+  json s = {{"width", kSize}, {"height", kSize}, {"integrator", integrator},
+            {"samples", integrator == "path" ? 64 : 24}, {"max_bounces", 8}};
+  return seeded_renders(scene.dump(), s.dump(), kRuns, seed0);
 }
 
 // The unit box at the origin, rendered once per integrator for the whole file.

@@ -1,4 +1,5 @@
 #include "render_helpers.h"
+#include <gtest/gtest.h>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -92,6 +93,22 @@ MeanEstimate pixel_mean(const Image &img, int channel) {
 }
 
 std::string source_path(const std::string &relative) { return std::string(RDV_SOURCE_DIR) + "/" + relative; }
+
+std::vector<std::vector<double>> seeded_renders(const std::string &scene_json, const std::string &settings, int runs,
+                                                uint32_t seed0) {
+  std::vector<std::vector<double>> out;
+  for (int k = 0; k < runs; ++k) {
+    nlohmann::json s = nlohmann::json::parse(settings);
+    s["seed"] = seed0 + k;
+    Image img = render_json(scene_json, s.dump());
+    EXPECT_TRUE(img.all_finite());
+    EXPECT_EQ(img.progress.samples_dropped, 0u);
+    std::vector<double> v(size_t(img.width) * img.height);
+    for (size_t i = 0; i < v.size(); ++i) v[i] = double(img.rgba[4 * i]) + img.rgba[4 * i + 1] + img.rgba[4 * i + 2];
+    out.push_back(v);
+  }
+  return out;
+}
 
 std::string temp_path(const std::string &name) {
   auto dir = std::filesystem::temp_directory_path() / ("rdv_test_" + std::to_string(::getpid()));

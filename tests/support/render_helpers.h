@@ -35,6 +35,12 @@ Image render_file(const std::string &path, const std::string &settings_override 
 Image render_json_prepared(const std::function<void(rdv_scene *)> &prepare, const std::string &scene_json,
                            const std::string &settings_override = "{}");
 
+// K renders of the scene with seeds seed0, seed0 + 1, ... (settings merged into the
+// scene's, "seed" set per run), each as per-pixel R + G + B, row-major: the input of
+// compare_blocks (statistics.h). Expects every image finite with no dropped sample.
+std::vector<std::vector<double>> seeded_renders(const std::string &scene_json, const std::string &settings, int runs,
+                                                uint32_t seed0);
+
 // Mean and standard error of the per-pixel means (pixels are independent estimates).
 struct MeanEstimate { double mean, standard_error; };
 MeanEstimate pixel_mean(const Image &img, int channel);
