@@ -506,7 +506,24 @@ def test_fluid(args):
 FLUID_TOLERANCE = 0.05
 
 
-MODES = {"border": test_border, "scenes": test_scenes, "bad_input": test_bad_input, "cancel": test_cancel, "passes": test_passes,
+def test_metropolis(args):
+    """Both Metropolis integrators render through the add-on: finite, lit, and their figures
+    (chains, b, acceptance) reach last_render; the Metropolis settings reach the engine."""
+    for integrator in ("PSSMLT", "MMLT"):
+        scene = build_scenes.build("cornell_lamp_near_ceiling")
+        result, dt = render(scene, samples=8, integrator=integrator, mlt_chains=16, mlt_large_step=0.4)
+        check(result == {"FINISHED"}, "%s: render returned %s" % (integrator, result))
+        px = render_pixels(scene, "metropolis_" + integrator)
+        check(np.isfinite(px).all(), "%s: non-finite pixels" % integrator)
+        check(float(px[:, :, :3].mean()) > 0.0, "%s: black image" % integrator)
+        st = final.last_render.get("integrator_stats", {})
+        check(st.get("chains") == 16 and st.get("b", 0) > 0, "%s: stats %r" % (integrator, st))
+        check(abs(final.last_render["settings"]["mlt_large_step"] - 0.4) < 1e-6, "settings %r" % final.last_render["settings"])
+        print("METROPOLIS %s mean %.4f b %.4g acceptance %.3f / %.3f  %.2f s" % (
+            integrator, float(px[:, :, :3].mean()), st["b"], st["small_step_acceptance"], st["large_step_acceptance"], dt))
+
+
+MODES = {"border": test_border, "metropolis": test_metropolis, "scenes": test_scenes, "bad_input": test_bad_input, "cancel": test_cancel, "passes": test_passes,
          "dump": test_dump, "nolib": test_nolib, "volume": test_volume, "fire": test_fire,
          "fluid": test_fluid}
 
