@@ -6,7 +6,9 @@
 // are fixed, so each verdict is reproducible.
 #include <gtest/gtest.h>
 #include <cmath>
+#include <chrono>
 #include <cstring>
+#include <thread>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -195,4 +197,32 @@ TEST(MmltDetailedBalance, StrategyHistogramMatchesTheTarget) {
     EXPECT_GT(student_t_two_sided(std::fabs(t_stat), dof), alpha) << line;
   }
   std::printf("%s", table.c_str());
+}
+
+// Cancel stops a Metropolis render that would take very long, in its bootstrap or its
+// chains; the film stays readable and finite. (How fast is a benchmark figure.)
+TEST(MltRobustness, CancelStopsCleanly) {
+  for (const char *integrator : {"pssmlt", "mmlt"}) {
+    for (int wait_ms : {0, 300}) {
+      rdv_scene *scene = nullptr;
+      ASSERT_EQ(RDV_OK, rdv_scene_create(&scene));
+      rdv_tools::load_scene_file(source_path("scenes/cornell_box.json"), scene);
+      json s = {{"width", 64}, {"height", 64}, {"samples", 1000000}, {"integrator", integrator}};
+      rdv_session *session = nullptr;
+      ASSERT_EQ(RDV_OK, rdv_session_create(scene, s.dump().c_str(), &session));
+      ASSERT_EQ(RDV_OK, rdv_session_start(session));
+      std::this_thread::sleep_for(std::chrono::milliseconds(wait_ms));
+      ASSERT_EQ(RDV_OK, rdv_session_cancel(session));
+      ASSERT_EQ(RDV_OK, rdv_session_wait(session));
+      rdv_progress p{};
+      ASSERT_EQ(RDV_OK, rdv_session_progress(session, &p));
+      EXPECT_EQ(p.finished, 1);
+      EXPECT_EQ(p.cancelled, 1);
+      std::vector<float> px(64 * 64 * 4);
+      ASSERT_EQ(RDV_OK, rdv_session_read_film(session, RDV_PASS_COMBINED, 0, 0, 64, 64, 1, px.data()));
+      for (float v : px) ASSERT_TRUE(std::isfinite(v)) << integrator;
+      rdv_session_destroy(session);
+      rdv_scene_destroy(scene);
+    }
+  }
 }

@@ -198,8 +198,8 @@ void Metropolis::render(RenderContext &ctx) {
 
   // Passes: a deterministic schedule (each chain's share of the mutations, growing
   // passes up to a memory cap), so the splats are summed in the same order on any
-  // number of threads. A pass a halt interrupts still counts (its mutations are as good
-  // as any): the image is normalised by the mutations actually made.
+  // number of threads. A pass the time limit interrupts still counts (its mutations are
+  // as good as any): the image is normalised by the mutations actually made.
   const uint64_t total = uint64_t(settings_.samples) * region_pixels;  // 0: until the time limit
   const uint64_t first_pass = std::max<uint64_t>(1, region_pixels / (16 * uint64_t(n_chains)));
   const uint64_t max_pass = std::max<uint64_t>(1, std::min<uint64_t>(region_pixels, 1u << 20) / n_chains);
@@ -258,6 +258,9 @@ void Metropolis::render(RenderContext &ctx) {
         }
       });
     });
+    // A cancelled render keeps the frame it has: applying up to a pass of splats could
+    // take longer than the ~100 ms a cancel may.
+    if (ctx.control.cancel_requested()) break;
     // b from the bootstrap and every large-step proposal so far (independent samples
     // both; the bootstrap counts as per_depth samples of the whole image's b).
     double large_sum = 0, large_sum2 = 0;
