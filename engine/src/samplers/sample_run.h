@@ -13,6 +13,7 @@
 // unbiased, and replaying the same primary samples still replays it exactly.
 #pragma once
 #include <bit>
+#include <optional>
 #include "core/hash.h"
 #include "samplers/sampler.h"
 
@@ -28,20 +29,24 @@ class SampleRun {
     if (drawn_ < count_) {
       sampler_->start_stream(stream_, position_ + drawn_++);
       float u = sampler_->get_1d();
-      seed_ = hash_combine(seed_, std::bit_cast<uint32_t>(u));
+      mix(u);
       return u;
     }
-    if (drawn_++ == count_) rng_ = Pcg32((uint64_t(seed_) << 32) | hash_u32(seed_ ^ position_), uint32_t(stream_));
-    return rng_.next_float();
+    return generator().next_float();
   }
   uint32_t drawn() const { return drawn_; }
 
  private:
+  void mix(float u) { seed_ = hash_combine(seed_, std::bit_cast<uint32_t>(u)); }
+  Pcg32 &generator() {
+    if (drawn_++ == count_) rng_.emplace((uint64_t(seed_) << 32) | hash_u32(seed_ ^ position_), uint32_t(stream_));
+    return *rng_;
+  }
   Sampler *sampler_;
   SampleStream stream_ = SampleStream::Camera;
   uint32_t position_ = 0, count_, drawn_ = 0;
   uint32_t seed_ = 0x6a09e667u;
-  Pcg32 rng_;
+  std::optional<Pcg32> rng_;  // made only when the run outgrows its fixed dimensions
 };
 
 }  // namespace rdv
