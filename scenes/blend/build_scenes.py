@@ -53,31 +53,29 @@ def link(ob):
     return ob
 
 
-def diffuse_material(name, color=(0.8, 0.8, 0.8)):
+def node_material(name, node_type, inputs, output="BSDF", **props):
+    """A material of one stock shader node (its inputs by name, its properties) into the output."""
     m = bpy.data.materials.new(name)
     m.use_nodes = True
     nt = m.node_tree
     for n in list(nt.nodes):
         nt.nodes.remove(n)
     out = nt.nodes.new("ShaderNodeOutputMaterial")
-    d = nt.nodes.new("ShaderNodeBsdfDiffuse")
-    d.inputs["Color"].default_value = (*color, 1.0)
-    nt.links.new(d.outputs["BSDF"], out.inputs["Surface"])
+    node = nt.nodes.new(node_type)
+    for k, v in props.items():
+        setattr(node, k, v)
+    for k, v in inputs.items():
+        node.inputs[k].default_value = v
+    nt.links.new(node.outputs[output], out.inputs["Surface"])
     return m
+
+
+def diffuse_material(name, color=(0.8, 0.8, 0.8)):
+    return node_material(name, "ShaderNodeBsdfDiffuse", {"Color": (*color, 1.0)})
 
 
 def emission_material(name, color=(1.0, 1.0, 1.0), strength=1.0):
-    m = bpy.data.materials.new(name)
-    m.use_nodes = True
-    nt = m.node_tree
-    for n in list(nt.nodes):
-        nt.nodes.remove(n)
-    out = nt.nodes.new("ShaderNodeOutputMaterial")
-    e = nt.nodes.new("ShaderNodeEmission")
-    e.inputs["Color"].default_value = (*color, 1.0)
-    e.inputs["Strength"].default_value = strength
-    nt.links.new(e.outputs["Emission"], out.inputs["Surface"])
-    return m
+    return node_material(name, "ShaderNodeEmission", {"Color": (*color, 1.0), "Strength": strength}, "Emission")
 
 
 def quad_mesh(name, size_x, size_y=None):
@@ -213,18 +211,8 @@ def emissive_textured():
 
 def glossy_material(name, roughness, color=(0.8, 0.8, 0.8)):
     """A stock Glossy BSDF (GGX) of the given roughness."""
-    m = bpy.data.materials.new(name)
-    m.use_nodes = True
-    nt = m.node_tree
-    for n in list(nt.nodes):
-        nt.nodes.remove(n)
-    out = nt.nodes.new("ShaderNodeOutputMaterial")
-    g = nt.nodes.new("ShaderNodeBsdfGlossy")
-    g.distribution = "GGX"
-    g.inputs["Color"].default_value = (*color, 1.0)
-    g.inputs["Roughness"].default_value = roughness
-    nt.links.new(g.outputs["BSDF"], out.inputs["Surface"])
-    return m
+    return node_material(name, "ShaderNodeBsdfGlossy", {"Color": (*color, 1.0), "Roughness": roughness},
+                         distribution="GGX")
 
 
 def look_at(ob, target):
