@@ -283,9 +283,21 @@ def mode_preview():
     yield 0.3
     win, area, region, _ = view3d()
     for mat in mats:
+        # The previous material's preview job may still be handing its result to Blender; an
+        # operator called meanwhile is refused ("can't modify blend data ... (drawing/rendering)").
+        t0 = time.time()
+        while bpy.app.is_job_running("RENDER_PREVIEW") and time.time() - t0 < 20:
+            yield 0.05
         preview.last_preview.clear()
-        with bpy.context.temp_override(window=win, area=area, region=region, id=mat):
-            bpy.ops.ed.lib_id_generate_preview()
+        for attempt in range(40):
+            try:
+                with bpy.context.temp_override(window=win, area=area, region=region, id=mat):
+                    bpy.ops.ed.lib_id_generate_preview()
+                break
+            except RuntimeError as exc:
+                if "can't modify blend data" not in str(exc) or attempt == 39:
+                    raise
+            yield 0.05
         t0 = time.time()
         while "samples" not in preview.last_preview and "error" not in preview.last_preview \
                 and time.time() - t0 < 20:
