@@ -21,7 +21,10 @@ One `ViewportRenderer` per viewport (one per RenderEngine instance Blender creat
   first pass of a restart so the next frame drawn already shows the change.
 * A timer (main thread, every POLL_INTERVAL) copies new film samples, advances the stages and
   tags the 3D views for redraw only when there is something new: no redraws, no CPU once the
-  viewport samples are reached (or while paused).
+  viewport samples are reached (or while paused).  No exception leaves the timer (Blender
+  drops a timer whose callback raises, and the viewport would never refine again): a poll's
+  exception is reported once per message (console, status text) and the next poll retries;
+  an EngineError stops that viewport's session until the next edit or view change.
 
 Threading: Blender calls view_update, view_draw and the timer on the main thread; a
 material preview (preview.py) runs on a job thread with its own engine scene and session.
@@ -65,6 +68,7 @@ stats = {"full_exports": 0, "mesh_exports": 0, "material_updates": 0, "light_upd
 
 _renderers = weakref.WeakSet()
 _timer_running = False
+_redraw_failed = False  # tagging redraws raised once (printed then, not again)
 
 
 def _key(inst, ob):
@@ -454,7 +458,8 @@ class ViewportRenderer:
         self.texture = None
         self.restarted_at = 0.0
         self.converged = False
-        self.error = None
+        self.error = None            # shown in the status text until the next restart
+        self._errors_reported = set()
         self.progress_text = ""
         self.warnings = []           # the current export's warnings (exporter's and engine's)
         self._printed = set()
@@ -548,6 +553,7 @@ class ViewportRenderer:
             stats["last_restart_reason"] = reason
             self.frame_new_since_restart = False
             self.first_drawn = False
+            self.error = None
             if self.rscene is None or self.camera is None or self.settings is None:
                 return
             if self.settings["pause"]:
@@ -618,6 +624,29 @@ class ViewportRenderer:
                     self.converged = True
             return self.frame_dirty
 
+    def poll_safely(self):
+        """poll() for the timer and view_draw: an exception is reported once and rendering
+        goes on (the next poll retries); an EngineError stops the session. True: redraw."""
+        try:
+            return self.poll()
+        except EngineError as exc:  # the session failed: an edit or a view change restarts it
+            self._report(str(exc), None)
+            self._stop()
+        except Exception as exc:
+            self._report("internal error %s: %s (see the console)" % (type(exc).__name__, exc),
+                         traceback.format_exc())
+        return True  # show the message
+
+    def _report(self, message, details):
+        self.error = message
+        if message in self._errors_reported:
+            return
+        self._errors_reported.add(message)
+        print("Rendezvous viewport: ERROR: %s" % message)
+        if details:
+            print(details, end="")
+        stats["errors"].append(message)
+
     def _stats_text(self, p):
         label = INTEGRATOR_LABELS.get(self.settings["integrator"], "?")
         if STAGES[self.stage][0] > 1:
@@ -629,7 +658,7 @@ class ViewportRenderer:
     def wait_first_frame(self, timeout):
         end = time.perf_counter() + timeout
         while True:
-            self.poll()
+            self.poll_safely()
             if self.frame_new_since_restart or self.session is None or time.perf_counter() > end:
                 return
             time.sleep(0.001)
@@ -647,21 +676,21 @@ class ViewportRenderer:
 
 # ---- the timer that polls all viewports ------------------------------------------------------
 def _timer():
-    global _timer_running
+    global _timer_running, _redraw_failed
     live = list(_renderers)
     if not live:
         _timer_running = False
         return None
     want = False
     for r in live:
-        try:
-            want = r.poll() or want
-        except EngineError as exc:
-            r.error = str(exc)
-            stats["errors"].append(str(exc))
-            r._stop()
+        want = r.poll_safely() or want
     if want:
-        _tag_redraw()
+        try:
+            _tag_redraw()
+        except Exception:  # never let Blender drop the timer
+            if not _redraw_failed:
+                traceback.print_exc()
+            _redraw_failed = True
     return POLL_INTERVAL
 
 
@@ -751,7 +780,7 @@ def view_draw(engine, context, depsgraph):
             if restart:
                 r.restart(restart)
                 r.wait_first_frame(FIRST_FRAME_WAIT)
-            r.poll()
+            r.poll_safely()
             if r.frame_dirty and r.frame is not None:
                 arr, w, h = r.frame
                 buf = gpu.types.Buffer("FLOAT", w * h * 4, arr)
@@ -770,6 +799,8 @@ def view_draw(engine, context, depsgraph):
             text = r.progress_text
             if r.settings and r.settings["pause"]:
                 text += " | Paused"
+            if r.error:
+                text += " | Error: %s" % r.error
             if r.warnings:
                 text += " | Warning: %s%s" % (r.warnings[0], " (+%d more in the console)" % (len(r.warnings) - 1)
                                               if len(r.warnings) > 1 else "")

@@ -19,6 +19,9 @@
     run_viewport.py --script test_viewport.py -- fluid       a fire simulation domain (Replay cache): as
                                           bright as a final render; its material, another frame, a move
                                           re-export only its medium
+    run_viewport.py --script test_viewport.py -- timer_error an unexpected exception in the viewport's
+                                          timer (the session's progress poll raises 3 times): reported
+                                          once (console, status text), refinement goes on to convergence
 
 The steps run from a bpy.app.timers generator (the window must be up); the result is printed
 and Blender exits with os._exit (0 = pass).  No timing assertions.
@@ -671,6 +674,90 @@ def mode_images():
     check(delta["restarts"] == 0, "unchanged pixels restarted the viewport")
 
 
+class _Tee:
+    """Copies what is written to a stream (the console) into a list, for counting reports."""
+
+    def __init__(self, stream, lines):
+        self.stream, self.lines = stream, lines
+
+    def write(self, text):
+        self.lines.append(text)
+        return self.stream.write(text)
+
+    def __getattr__(self, name):
+        return getattr(self.stream, name)
+
+
+def mode_timer_error():
+    """An unexpected exception in the viewport's timer (the binding's progress poll raises
+    RuntimeError on three polls in a row, during the full-resolution stage) is reported once
+    (console, status text, viewport.stats["errors"]), and the timer lives on: the viewport
+    goes on refining (samples read grow, new frames uploaded) up to its sample count."""
+    setup_scene(samples=12)
+    yield 0.3
+    set_shading("RENDERED")
+    t0 = time.time()
+    while time.time() - t0 < 10:
+        rs = list(viewport._renderers)
+        if rs and rs[0].stage == len(viewport.STAGES) - 1 and rs[0].read_samples >= 1:
+            break
+        yield 0.01
+    r = next(iter(viewport._renderers))
+    check(r.stage == len(viewport.STAGES) - 1 and not r.converged, "the viewport is not refining at full resolution "
+          "(stage %d, %d samples, converged %s)" % (r.stage, r.read_samples, r.converged))
+    check(not viewport.stats["errors"], "viewport errors: %s" % viewport.stats["errors"])
+
+    message = "injected poll failure"
+    raised = []
+    original = binding.Session.progress
+
+    def failing_progress(session):
+        # Only the timer's polls raise (view_draw catches its own exceptions anyway).
+        if len(raised) < 3 and any(f.f_code.co_name == "_timer" for f in _frames()):
+            raised.append(time.time())
+            raise RuntimeError(message)
+        return original(session)
+
+    console = []
+    sys.stdout, sys.stderr = _Tee(sys.stdout, console), _Tee(sys.stderr, console)
+    binding.Session.progress = failing_progress
+    try:
+        t0 = time.time()
+        while len(raised) < 3 and time.time() - t0 < 3:
+            yield 0.01
+        check(raised, "the timer did not poll the session")
+        samples, uploads, status = r.read_samples, viewport.stats["uploads"], ""
+        t0 = time.time()
+        while not r.converged and time.time() - t0 < 15:
+            status = status if message in status else viewport.stats["status"]
+            yield 0.05
+        status = status if message in status else viewport.stats["status"]
+    finally:
+        binding.Session.progress = original
+        sys.stdout, sys.stderr = sys.stdout.stream, sys.stderr.stream
+    printed = "".join(console).count(message)
+    errors = [e for e in viewport.stats["errors"] if message in e]
+    print("TIMER ERROR: samples %d -> %d of %d, uploads %d -> %d, converged %s; reported %d times on the console, "
+          "%d in stats; status: %s" % (samples, r.read_samples, 12, uploads,
+                                        viewport.stats["uploads"], r.converged, printed, len(errors), status))
+    check(len(raised) == 3, "the timer stopped polling after %d exceptions" % len(raised))
+    check(r.read_samples > samples and r.converged, "the viewport stopped refining after the exception "
+          "(samples %d -> %d, converged %s)" % (samples, r.read_samples, r.converged))
+    check(viewport.stats["uploads"] > uploads, "no new frame was drawn after the exception")
+    check(len(errors) == 1, "the exception was reported %d times in viewport.stats['errors']" % len(errors))
+    check(printed >= 1, "the exception was not printed to the console")
+    check("".join(console).count("Traceback") == 1, "the traceback was printed %d times, not once"
+          % "".join(console).count("Traceback"))
+    check(message in status, "the status text never showed the error")
+
+
+def _frames():
+    f = sys._getframe(1)
+    while f is not None:
+        yield f
+        f = f.f_back
+
+
 def centroid_x(img):
     """The luminance centroid's x as a fraction of the image width."""
     l = img.sum(axis=2)
@@ -684,7 +771,7 @@ BRIGHTNESS_TOLERANCE = 0.04
 
 
 MODES = {"view": mode_view, "reopen": mode_reopen, "preview": mode_preview, "volumes": mode_volumes, "volume_edits": mode_volume_edits,
-         "fluid": mode_fluid, "images": mode_images}
+         "fluid": mode_fluid, "images": mode_images, "timer_error": mode_timer_error}
 
 
 def run():
