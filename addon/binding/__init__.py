@@ -16,7 +16,7 @@ LIB_NAMES = {"linux": "librendezvous.so", "darwin": "librendezvous.dylib", "win3
 
 # rdv_status
 RDV_OK = 0
-STATUS_NAMES = {0: "OK", 1: "INVALID_ARGUMENT", 2: "UNKNOWN_PARAMETER", 3: "IO", 4: "STATE", 5: "INTERNAL"}
+STATUS_NAMES = {0: "OK", 1: "INVALID_ARGUMENT", 2: "UNKNOWN_PARAMETER", 3: "IO", 4: "STATE", 5: "INTERNAL", 6: "LIMIT"}
 
 # rdv_pass
 PASS_COMBINED = 0

@@ -47,7 +47,10 @@ typedef enum rdv_status {
   RDV_ERROR_UNKNOWN_PARAMETER = 2, /* a key the object type does not have */
   RDV_ERROR_IO = 3,               /* a file could not be read or written */
   RDV_ERROR_STATE = 4,            /* the call is not allowed now (e.g. edit while rendering) */
-  RDV_ERROR_INTERNAL = 5          /* a bug or out of memory: the message says more */
+  RDV_ERROR_INTERNAL = 5,         /* a bug or out of memory: the message says more */
+  RDV_ERROR_LIMIT = 6             /* an input beyond a documented limit (nesting depth, generated
+                                     geometry, memory): the message names the object, the figure
+                                     and the limit (docs/scene-format.md, Limits) */
 } rdv_status;
 
 typedef struct rdv_scene rdv_scene;

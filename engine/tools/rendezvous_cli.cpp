@@ -107,7 +107,7 @@ int main(int argc, char **argv) {
   settings.update(overrides);
 
   rdv_session *session = nullptr;
-  if (!check(rdv_session_create(scene, settings.dump().c_str(), &session), "render settings")) {
+  if (!check(rdv_session_create(scene, settings.dump().c_str(), &session), "session")) {
     rdv_scene_destroy(scene);
     return 1;
   }

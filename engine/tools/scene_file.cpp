@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
+#include "core/limits.h"
 #include "core/params.h"
 
 namespace rdv_tools {
@@ -99,8 +100,14 @@ std::vector<T> numbers(const json &j, const std::string &what) {
   return v;
 }
 
+// Reads count values at offset; the file's size is checked first, so a header that
+// claims 1e12 vertices is an error, not a terabyte allocation.
 template <class T>
-std::vector<T> read_binary(std::ifstream &f, uint64_t offset, uint64_t count, const std::string &what) {
+std::vector<T> read_binary(std::ifstream &f, uint64_t file_size, uint64_t offset, uint64_t count,
+                           const std::string &what) {
+  if (offset > file_size || count > (file_size - offset) / sizeof(T))
+    throw std::runtime_error(what + ": side file is too short (" + std::to_string(file_size) + " bytes; " +
+                             std::to_string(count) + " values at byte " + std::to_string(offset) + ")");
   std::vector<T> v(count);
   f.seekg(std::streamoff(offset));
   f.read(reinterpret_cast<char *>(v.data()), std::streamsize(count * sizeof(T)));
@@ -108,16 +115,37 @@ std::vector<T> read_binary(std::ifstream &f, uint64_t offset, uint64_t count, co
   return v;
 }
 
+// A shape's "segments", checked before anything is generated: a sphere of n segments
+// makes about n^2 triangles, a disk n (kMaxGeneratedTriangles bounds both).
+int shape_segments(const json &s, const std::string &what, const std::string &type, int fallback) {
+  if (!s.contains("segments")) return fallback;
+  const json &v = s["segments"];
+  if (!v.is_number()) throw std::runtime_error(what + ": " + type + " 'segments' must be a number");
+  double n = std::max(v.get<double>(), 3.0);  // fewer than 3 make no shape: 3, as always
+  double triangles = type == "sphere" ? n * std::max(std::floor(n / 2), 2.0) * 2 : n;
+  if (triangles > double(rdv::kMaxGeneratedTriangles)) {
+    int most = type == "sphere" ? int(std::sqrt(double(rdv::kMaxGeneratedTriangles))) : int(rdv::kMaxGeneratedTriangles);
+    char text[512];
+    std::snprintf(text, sizeof text,
+                  "%s: a %s of %.6g segments makes %.3g triangles; generated shapes are limited to %llu triangles "
+                  "(%s: at most %d segments)",
+                  what.c_str(), type.c_str(), n, triangles, (unsigned long long)rdv::kMaxGeneratedTriangles,
+                  type.c_str(), most);
+    throw rdv::Error(RDV_ERROR_LIMIT, text);
+  }
+  return int(n);
+}
+
 MeshArrays mesh_arrays(const json &j, const std::string &what, const std::string &base_dir) {
   MeshArrays m;
   if (j.contains("shape")) {
     const json &s = j["shape"];
     std::string type = s.value("type", "");
-    if (type == "sphere") make_sphere(m, s.value("radius", 1.0f), s.value("segments", 48));
+    if (type == "sphere") make_sphere(m, s.value("radius", 1.0f), shape_segments(s, what, type, 48));
     else if (type == "quad") {
       float size = s.value("size", 2.0f);
       make_quad(m, s.value("size_x", size), s.value("size_y", size));
-    } else if (type == "disk") make_disk(m, s.value("radius", 1.0f), s.value("segments", 64));
+    } else if (type == "disk") make_disk(m, s.value("radius", 1.0f), shape_segments(s, what, type, 64));
     else if (type == "box") {
       auto size = s.contains("size") ? numbers<float>(s["size"], what + " shape size") : std::vector<float>{2, 2, 2};
       if (size.size() != 3) throw std::runtime_error(what + ": box size needs 3 numbers");
@@ -129,13 +157,20 @@ MeshArrays mesh_arrays(const json &j, const std::string &what, const std::string
     std::string file = (std::filesystem::path(base_dir) / b.value("file", "")).string();
     std::ifstream f(file, std::ios::binary);
     if (!f) throw std::runtime_error(what + ": cannot open side file '" + file + "'");
+    std::error_code ec;
+    const uint64_t size = std::filesystem::file_size(file, ec);
+    if (ec) throw std::runtime_error(what + ": cannot read side file '" + file + "'");
+    // Counts above the vertex limit of the C ABI (32 bits) cannot be a mesh; below it,
+    // multiplied by 3 they stay far from 64-bit overflow.
     uint64_t nv = b.value("num_vertices", 0ull), nt = b.value("num_triangles", 0ull);
-    m.positions = read_binary<float>(f, b.value("positions", 0ull), nv * 3, what);
-    m.indices = read_binary<uint32_t>(f, b.value("indices", 0ull), nt * 3, what);
-    if (b.contains("normals")) m.normals = read_binary<float>(f, b["normals"].get<uint64_t>(), nv * 3, what);
-    if (b.contains("uvs")) m.uvs = read_binary<float>(f, b["uvs"].get<uint64_t>(), nv * 2, what);
+    if (nv > UINT32_MAX || nt > UINT32_MAX)
+      throw std::runtime_error(what + ": 'num_vertices' and 'num_triangles' must be below 2^32");
+    m.positions = read_binary<float>(f, size, b.value("positions", 0ull), nv * 3, what);
+    m.indices = read_binary<uint32_t>(f, size, b.value("indices", 0ull), nt * 3, what);
+    if (b.contains("normals")) m.normals = read_binary<float>(f, size, b["normals"].get<uint64_t>(), nv * 3, what);
+    if (b.contains("uvs")) m.uvs = read_binary<float>(f, size, b["uvs"].get<uint64_t>(), nv * 2, what);
     if (b.contains("material_indices"))
-      m.slots = read_binary<uint32_t>(f, b["material_indices"].get<uint64_t>(), nt, what);
+      m.slots = read_binary<uint32_t>(f, size, b["material_indices"].get<uint64_t>(), nt, what);
   } else {
     if (!j.contains("positions") || !j.contains("indices"))
       throw std::runtime_error(what + ": needs 'positions' and 'indices', a 'shape' or a 'binary' file");
@@ -181,6 +216,36 @@ std::string without(const json &j, std::initializer_list<const char *> keys) {
   return copy.dump();
 }
 
+// Every object of the file nests at most kMaxJsonDepth levels, checked without recursion
+// before anything copies, dumps or walks it (those recurse once per level).
+void check_nesting(const json &doc) {
+  auto check = [](const json &j, const std::string &what) {
+    if (rdv::json_depth(j) > rdv::kMaxJsonDepth)
+      throw rdv::Error(RDV_ERROR_LIMIT, what + ": nests more than " + std::to_string(rdv::kMaxJsonDepth) +
+                                            " levels of JSON arrays / objects (a Mix shader or texture node adds "
+                                            "one); too deep to be a real scene object");
+  };
+  const std::map<std::string, std::string> kLists = {
+      {"materials", "material"}, {"meshes", "mesh"}, {"lights", "light"}, {"instances", "instance"}};
+  for (auto it = doc.begin(); it != doc.end(); ++it) {
+    auto list = kLists.find(it.key());
+    if (list == kLists.end() || !it.value().is_array()) { check(it.value(), "'" + it.key() + "'"); continue; }
+    const std::string &kind = list->second;
+    size_t i = 0;
+    for (const json &e : it.value()) {
+      std::string what = it.key() + "[" + std::to_string(i++) + "]";
+      if (e.is_object() && e.contains("name") && e["name"].is_string())
+        what = kind + " '" + e["name"].get<std::string>() + "' (" + what + ")";
+      check(e, what);
+    }
+  }
+}
+
+// Limits (status RDV_ERROR_LIMIT) stop the load: a hostile file is an error, not a magenta material.
+void stop_at_limit(rdv_status status) {
+  if (status == RDV_ERROR_LIMIT) throw rdv::Error(status, rdv_last_error());
+}
+
 const std::map<std::string, int> kTopLevelKeys = {{"settings", 0}, {"camera", 0}, {"world", 0}, {"materials", 0},
                                                   {"meshes", 0}, {"instances", 0}, {"lights", 0}, {"version", 0}};
 
@@ -195,6 +260,7 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
     throw std::runtime_error(std::string("malformed JSON: ") + e.what());
   }
   if (!doc.is_object()) throw std::runtime_error("the scene must be a JSON object");
+  check_nesting(doc);
   for (auto it = doc.begin(); it != doc.end(); ++it)
     if (!kTopLevelKeys.count(it.key())) out.problems.push_back("unknown top-level key '" + it.key() + "' ignored");
   auto report = [&](const std::string &what) { out.problems.push_back(what + ": " + rdv_last_error()); };
@@ -203,8 +269,10 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
   for (const json &m : doc.value("materials", json::array())) {
     std::string name = m.value("name", "material " + std::to_string(materials.size()));
     uint32_t id;
-    if (rdv_scene_add_material(scene, name.c_str(), without(with_resolved_files(m, base_dir), {"name"}).c_str(), &id) !=
-        RDV_OK) {
+    rdv_status status =
+        rdv_scene_add_material(scene, name.c_str(), without(with_resolved_files(m, base_dir), {"name"}).c_str(), &id);
+    stop_at_limit(status);
+    if (status != RDV_OK) {
       out.problems.push_back(std::string(rdv_last_error()) + "; rendering it magenta");
       rdv_scene_add_material(scene, name.c_str(), R"({"type":"diffuse","color":[1,0,1]})", &id);
     }
@@ -245,9 +313,12 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
         ids[t] = slot_ids[a.slots[t]];
       }
       uint32_t id;
-      if (rdv_scene_add_mesh(scene, name.c_str(), a.positions.data(), uint32_t(a.positions.size() / 3),
+      rdv_status status =
+          rdv_scene_add_mesh(scene, name.c_str(), a.positions.data(), uint32_t(a.positions.size() / 3),
                              a.normals.empty() ? nullptr : a.normals.data(), a.uvs.empty() ? nullptr : a.uvs.data(),
-                             a.indices.data(), uint32_t(a.indices.size() / 3), ids.data(), 0, &id) != RDV_OK) {
+                             a.indices.data(), uint32_t(a.indices.size() / 3), ids.data(), 0, &id);
+      stop_at_limit(status);
+      if (status != RDV_OK) {
         out.problems.push_back(std::string(rdv_last_error()) + "; mesh left out");
         continue;
       }
@@ -263,6 +334,9 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
           out.problems.push_back(std::string(rdv_last_error()) + "; attribute left out");
       }
       meshes[name] = {id, j.value("transform", json()), false};
+    } catch (const rdv::Error &e) {
+      if (e.status == RDV_ERROR_LIMIT) throw;
+      out.problems.push_back(std::string(e.what()) + "; mesh left out");
     } catch (const std::exception &e) {
       out.problems.push_back(std::string(e.what()) + "; mesh left out");
     }
@@ -305,11 +379,15 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
   int light_index = 0;
   for (const json &j : doc.value("lights", json::array())) {
     std::string name = j.value("name", "light " + std::to_string(light_index++));
-    if (rdv_scene_add_light(scene, name.c_str(), without(j, {"name"}).c_str(), nullptr) != RDV_OK)
-      out.problems.push_back(std::string(rdv_last_error()) + "; light left out");
+    rdv_status status = rdv_scene_add_light(scene, name.c_str(), without(j, {"name"}).c_str(), nullptr);
+    stop_at_limit(status);
+    if (status != RDV_OK) out.problems.push_back(std::string(rdv_last_error()) + "; light left out");
   }
-  if (doc.contains("world") && rdv_scene_set_world(scene, with_resolved_files(doc["world"], base_dir).dump().c_str()) != RDV_OK)
-    out.problems.push_back(std::string(rdv_last_error()) + "; using the default world");
+  if (doc.contains("world")) {
+    rdv_status status = rdv_scene_set_world(scene, with_resolved_files(doc["world"], base_dir).dump().c_str());
+    stop_at_limit(status);
+    if (status != RDV_OK) out.problems.push_back(std::string(rdv_last_error()) + "; using the default world");
+  }
   if (!doc.contains("camera")) throw std::runtime_error("the scene has no 'camera'");
   if (rdv_scene_set_camera(scene, doc["camera"].dump().c_str()) != RDV_OK)
     throw std::runtime_error(rdv_last_error());

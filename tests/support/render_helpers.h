@@ -10,6 +10,15 @@
 
 namespace rdv::test {
 
+// A scene made through the C ABI, destroyed with the test.
+struct SceneHandle {
+  rdv_scene *s = nullptr;
+  SceneHandle() { rdv_scene_create(&s); }
+  ~SceneHandle() { rdv_scene_destroy(s); }
+  SceneHandle(const SceneHandle &) = delete;
+  SceneHandle &operator=(const SceneHandle &) = delete;
+};
+
 struct Image {
   int width = 0, height = 0;
   std::vector<float> rgba;  // top-down

@@ -10,12 +10,6 @@ using namespace rdv::test;
 
 namespace {
 
-struct SceneHandle {
-  rdv_scene *s = nullptr;
-  SceneHandle() { rdv_scene_create(&s); }
-  ~SceneHandle() { rdv_scene_destroy(s); }
-};
-
 std::string error() { return rdv_last_error(); }
 
 const float kIdentity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};

@@ -1,6 +1,7 @@
 #include "bsdfs/material.h"
 #include "bsdfs/layering.h"
 #include "bsdfs/shading_normal.h"
+#include "core/limits.h"
 
 namespace rdv {
 
@@ -58,10 +59,14 @@ struct Parser {
     else m.textured_emission.push_back(e);
   }
 
-  void shader(Params &p, const std::string &type, const std::vector<Factor> &w) {
+  void shader(Params &p, const std::string &type, const std::vector<Factor> &w, int depth = 0) {
     Closure c;
     c.weight = w;
     if (type == "mix" || type == "add") {
+      if (depth >= kMaxShaderNesting)
+        fail("material '" + m.name + "': Mix / Add shaders nest more than " + std::to_string(kMaxShaderNesting) +
+                 " deep (a limit: docs/scene-format.md)",
+             RDV_ERROR_LIMIT);
       int fac = type == "mix" ? value(p, "fac", Color(0.5f)) : -1;
       const char *keys[2] = {"shader1", "shader2"};
       for (int i = 0; i < 2; ++i) {
@@ -71,7 +76,7 @@ struct Parser {
         Params child(j->dump(), p.what() + " " + keys[i]);
         std::vector<Factor> cw = w;
         if (fac >= 0) cw.push_back({fac, i == 0});
-        shader(child, child.get_string("type", "diffuse"), cw);
+        shader(child, child.get_string("type", "diffuse"), cw, depth + 1);
         child.check_all_used();
       }
       return;

@@ -1,10 +1,13 @@
 #include "core/params.h"
 #include <functional>
+#include <limits>
+#include "core/limits.h"
 
 namespace rdv {
 
 Params::Params(std::string_view json_text, std::string what) : what_(std::move(what)) {
   if (json_text.empty()) { json_ = nlohmann::json::object(); return; }
+  check_json_depth(json_text, what_);  // before any recursive JSON code sees it
   try {
     json_ = nlohmann::json::parse(json_text);
   } catch (const nlohmann::json::exception &e) {
@@ -38,6 +41,12 @@ int Params::get_int(const char *key, int fallback) {
   if (!has(key)) { used_.insert(key); return fallback; }
   const auto &v = lookup(key);
   if (!v.is_number_integer()) bad(key, "must be an integer");
+  // get<int>() would wrap 4294967297 to 1: out of range is an error, not a different value.
+  if (v.is_number_unsigned() ? v.get<uint64_t>() > uint64_t(std::numeric_limits<int>::max())
+                             : (v.get<int64_t>() < std::numeric_limits<int>::min() ||
+                                v.get<int64_t>() > std::numeric_limits<int>::max()))
+    bad(key, "is " + v.dump() + ", outside the integer range (at most " +
+                 std::to_string(std::numeric_limits<int>::max()) + ")");
   return v.get<int>();
 }
 

@@ -7,6 +7,8 @@ Film::Film(int width, int height, Rect region)
     : width_(width), height_(height), region_(region), pixels_(size_t(width) * height),
       aovs_(size_t(width) * height), splats_(size_t(width) * height) {}
 
+size_t Film::bytes_per_pixel() { return sizeof(Pixel) + sizeof(Aov) + sizeof(SplatSum); }
+
 void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter) {
   if (!is_finite(L)) return;
   float radius = filter.radius();

@@ -20,6 +20,8 @@ struct Rect {
 class Film {
  public:
   Film(int width, int height, Rect region);
+  // What one pixel costs (samples, splats, AOVs): for the memory check before a film is made.
+  static size_t bytes_per_pixel();
   int width() const { return width_; }
   int height() const { return height_; }
   const Rect &region() const { return region_; }

@@ -1,4 +1,5 @@
 #include "integrators/integrator.h"
+#include "core/limits.h"
 #include "integrators/bdpt/bdpt.h"
 #include "integrators/mlt/metropolis.h"
 #include "integrators/path/path_tracer.h"
@@ -46,6 +47,10 @@ RenderSettings RenderSettings::from_params(Params &p) {
   if (s.time_limit < 0) fail(p.what() + ": 'time_limit' must not be negative");
   int samples = p.get_int("samples", s.time_limit > 0 ? 0 : 128);
   if (samples < 0) fail(p.what() + ": 'samples' must not be negative");
+  if (uint32_t(samples) > kMaxSamplesPerPixel)
+    fail(p.what() + ": 'samples' is " + std::to_string(samples) + "; at most " + std::to_string(kMaxSamplesPerPixel) +
+             " per pixel (the film counts samples in float)",
+         RDV_ERROR_LIMIT);
   s.samples = static_cast<uint32_t>(samples);
   if (s.samples == 0 && s.time_limit <= 0) s.samples = 128;  // always a halt condition
   s.max_bounces = p.get_int("max_bounces", 12);
@@ -80,6 +85,15 @@ RenderSettings RenderSettings::from_params(Params &p) {
   s.border = {std::max(0, int(b[0])), std::max(0, int(b[1])), std::min(s.width, int(b[2])), std::min(s.height, int(b[3]))};
   if (s.border.width() <= 0 || s.border.height() <= 0) fail(p.what() + ": 'border' is empty");
   p.check_all_used();
+  // Before the session allocates anything: the film, and Metropolis' bootstrap and chains.
+  std::string film = std::to_string(s.width) + "x" + std::to_string(s.height) + " film";
+  double bytes = double(s.width) * double(s.height) * double(Film::bytes_per_pixel());
+  if (s.integrator == "pssmlt" || s.integrator == "mmlt") {
+    bytes += mlt::Metropolis::memory_estimate(s, s.integrator == "mmlt");
+    film += " with " + s.integrator + "'s bootstrap (" + std::to_string(s.mlt_bootstrap) + " per pixel) and " +
+            std::to_string(s.mlt_chains) + " chains";
+  }
+  check_memory(p.what(), film, bytes);
   return s;
 }
 

@@ -2,6 +2,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <chrono>
+#include "core/limits.h"
 
 namespace rdv {
 
@@ -57,9 +58,10 @@ void TileIntegrator::render(RenderContext &ctx) {
 
   uint32_t batch = 1;
   uint32_t done = 0;
-  const uint32_t target = ctx.settings.samples;  // 0: until the time limit
-  while (!ctx.control.should_stop() && (target == 0 || done < target)) {
-    uint32_t last = target ? std::min(target, done + batch) : done + batch;
+  // 0: until the time limit, or the film's exact sample count (kMaxSamplesPerPixel).
+  const uint32_t target = ctx.settings.samples ? ctx.settings.samples : kMaxSamplesPerPixel;
+  while (!ctx.control.should_stop() && done < target) {
+    uint32_t last = std::min(target, done + batch);
     auto pass_start = std::chrono::steady_clock::now();
     ctx.arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t> &b) {

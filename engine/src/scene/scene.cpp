@@ -1,6 +1,7 @@
 #include "scene/scene.h"
 #include <map>
 #include <nlohmann/json.hpp>
+#include "core/limits.h"
 #include "core/log.h"
 #include "core/ray_offset.h"
 #include "textures/image_texture.h"
@@ -54,6 +55,8 @@ uint32_t Scene::add_grid(const std::string &name, const float *values, uint32_t 
   if (nx < 1 || ny < 1 || nz < 1 || double(nx) * ny * nz > 1e9)
     fail(what + ": the resolution must be positive (at most 1e9 voxels)");
   size_t count = size_t(nx) * ny * nz;
+  check_memory(what, std::to_string(nx) + "x" + std::to_string(ny) + "x" + std::to_string(nz) + " voxels",
+               double(count) * sizeof(float) * 2);  // the copy, and the medium's grid built from it
   for (size_t i = 0; i < count; ++i)
     if (!(values[i] >= 0) || !std::isfinite(values[i])) fail(what + ": densities must be finite and not negative");
   GridBuffer buffer{name, int(nx), int(ny), int(nz), std::vector<float>(values, values + count)};
@@ -73,6 +76,8 @@ uint32_t Scene::add_image(const std::string &name, const float *pixels, uint32_t
   if (width < 1 || height < 1 || width > 65536 || height > 65536 || double(width) * height > double(1 << 28))
     fail(what + ": the size must be positive (at most 65536 on a side, 2^28 texels)");
   if (channels < 1 || channels > 4) fail(what + ": 'channels' must be 1 to 4");
+  check_memory(what, std::to_string(width) + "x" + std::to_string(height) + " texels",
+               double(width) * height * channels * sizeof(float) * 4 / 3);  // float texels and their MIP levels
   std::string problem;
   size_t non_finite = 0;
   int id = ImageTextures::instance().add_pixels(pixels, int(width), int(height), int(channels), colorspace, problem,
@@ -158,8 +163,12 @@ Mesh Scene::make_mesh(const std::string &name, const float *positions, uint32_t 
   if (!material_ids && default_material >= materials_.size())
     fail(what + ": default material " + std::to_string(default_material) + " does not exist (" +
          std::to_string(materials_.size()) + " materials)");
+  // What the engine keeps per vertex (position, normal, UV) and per triangle (indices,
+  // material, about 64 bytes of BVH), checked before anything is allocated.
+  check_memory(what, std::to_string(num_vertices) + " vertices and " + std::to_string(num_triangles) + " triangles",
+               double(num_vertices) * (sizeof(Vec3) * 2 + sizeof(Vec2)) + double(num_triangles) * (16 + 64));
   // Validate everything before keeping anything: a rejected mesh leaves no trace.
-  for (uint32_t i = 0; i < 3ull * num_triangles; ++i)
+  for (uint64_t i = 0; i < 3ull * num_triangles; ++i)
     if (indices[i] >= num_vertices)
       fail(what + ": triangle " + std::to_string(i / 3) + " uses vertex " + std::to_string(indices[i]) +
            " but the mesh has " + std::to_string(num_vertices) + " vertices");
@@ -175,7 +184,7 @@ Mesh Scene::make_mesh(const std::string &name, const float *positions, uint32_t 
   uint32_t bad_vertices = 0;
   std::vector<bool> vertex_ok(num_vertices, true);
   for (uint32_t i = 0; i < num_vertices; ++i) {
-    Vec3 p{positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]};
+    Vec3 p{positions[3 * size_t(i)], positions[3 * size_t(i) + 1], positions[3 * size_t(i) + 2]};
     if (!is_finite(p)) { vertex_ok[i] = false; ++bad_vertices; p = Vec3(0.0f); }
     m.positions[i] = p;
   }
@@ -183,7 +192,7 @@ Mesh Scene::make_mesh(const std::string &name, const float *positions, uint32_t 
     m.normals.resize(num_vertices);
     uint32_t bad_normals = 0;
     for (uint32_t i = 0; i < num_vertices; ++i) {
-      Vec3 n{normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]};
+      Vec3 n{normals[3 * size_t(i)], normals[3 * size_t(i) + 1], normals[3 * size_t(i) + 2]};
       float len = length(n);
       if (!std::isfinite(len) || len == 0) { ++bad_normals; n = Vec3(0.0f); }
       else n = n / len;
@@ -195,7 +204,7 @@ Mesh Scene::make_mesh(const std::string &name, const float *positions, uint32_t 
     m.uvs.resize(num_vertices);
     uint32_t bad_uvs = 0;
     for (uint32_t i = 0; i < num_vertices; ++i) {
-      Vec2 uv{uvs[2 * i], uvs[2 * i + 1]};
+      Vec2 uv{uvs[2 * size_t(i)], uvs[2 * size_t(i) + 1]};
       if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) { ++bad_uvs; uv = {0, 0}; }
       m.uvs[i] = uv;
     }
@@ -205,7 +214,7 @@ Mesh Scene::make_mesh(const std::string &name, const float *positions, uint32_t 
   m.indices.reserve(3ull * num_triangles);
   m.materials.reserve(num_triangles);
   for (uint32_t t = 0; t < num_triangles; ++t) {
-    uint32_t a = indices[3 * t], b = indices[3 * t + 1], c = indices[3 * t + 2];
+    uint32_t a = indices[3 * size_t(t)], b = indices[3 * size_t(t) + 1], c = indices[3 * size_t(t) + 2];
     if (!vertex_ok[a] || !vertex_ok[b] || !vertex_ok[c]) { ++dropped_nonfinite; continue; }
     Vec3 n = cross(m.positions[b] - m.positions[a], m.positions[c] - m.positions[a]);
     if (!(length_squared(n) > 0) || !is_finite(n)) { ++dropped_degenerate; continue; }

@@ -3,6 +3,7 @@
 #include <map>
 #include <set>
 #include "core/error.h"
+#include "core/limits.h"
 
 namespace rdv {
 
@@ -153,6 +154,17 @@ int TextureGraph::parse(const json &j, const std::string &what, std::vector<std:
 }
 
 int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vector<std::string> &warnings) {
+  // Parsing and evaluation recurse once per node: the depth is bounded here, once.
+  if (parse_depth_ == 0) parse_root_ = what_in;
+  if (parse_depth_ >= kMaxTextureDepth)
+    fail(parse_root_ + ": texture nodes nest more than " + std::to_string(kMaxTextureDepth) +
+             " deep (a limit: docs/scene-format.md)",
+         RDV_ERROR_LIMIT);
+  struct Nesting {
+    int &depth;
+    explicit Nesting(int &d) : depth(d) { ++depth; }
+    ~Nesting() { --depth; }
+  } nesting(parse_depth_);
   if (!j.contains("node") || !j["node"].is_string()) fail(what_in + ": a texture node needs \"node\": \"<type>\"");
   std::string type = j["node"].get<std::string>();
   std::string what = what_in + " (" + type + " node)";

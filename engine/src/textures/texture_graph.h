@@ -74,6 +74,8 @@ class TextureGraph {
   Color eval_node(const TexNode &n, int idx, const ShadingPoint &sp) const;
   int parse_node(const nlohmann::json &j, const std::string &what, std::vector<std::string> &warnings);
   std::vector<TexNode> nodes_;
+  int parse_depth_ = 0;     // texture nodes above the one being parsed (kMaxTextureDepth)
+  std::string parse_root_;  // the material input being parsed, for the limit's message
 };
 
 // Perlin noise (improved, Perlin 2002) in [-1, 1], and Blender-style fBm in [0, 1].

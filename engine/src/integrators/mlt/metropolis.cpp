@@ -34,6 +34,18 @@ struct Chain {
   std::vector<uint64_t> strategy_counts;
 };
 
+double Metropolis::memory_estimate(const RenderSettings &settings, bool multiplexed) {
+  const double region_pixels = double(settings.border.width()) * double(settings.border.height());
+  const double depths = multiplexed ? settings.max_bounces + 1 : 1;
+  const double bootstrap = std::max(4096.0, double(settings.mlt_bootstrap) * region_pixels) * depths;
+  // Per bootstrap sample: its target, the start distribution's function and CDF, its
+  // strategy (multiplexed). Per chain: the chain, and its sampler's and states' buffers
+  // (a few kB, grown with the path length).
+  const double per_sample = 3 * sizeof(float) + (multiplexed ? 1 : 0);
+  const double per_chain = sizeof(Chain) + 4096 + 64.0 * (settings.max_bounces + 2);
+  return bootstrap * per_sample + double(settings.mlt_chains) * per_chain;
+}
+
 Metropolis::Metropolis(const Scene &scene, const RenderSettings &settings, const bdpt::BdptSettings &bdpt_settings,
                        const MltSettings &mlt)
     : scene_(scene), settings_(settings), bdpt_(scene, bdpt_settings), mlt_(mlt) {

@@ -56,6 +56,9 @@ class Metropolis final : public Integrator {
              const MltSettings &mlt);
   void render(RenderContext &ctx) override;
   std::string stats_json() const override;
+  // Bytes the bootstrap (its targets and their distribution) and the chains will take:
+  // checked against the memory budget before a session is made.
+  static double memory_estimate(const RenderSettings &settings, bool multiplexed);
 
   // One state from the sampler's numbers (contribution.cpp). depth_override >= 0
   // (multiplexed bootstrap): that depth instead of the one the numbers pick.
