@@ -16,6 +16,7 @@ from . import nodes  # noqa: F401  (fills the registries)
 from .graph import Context, find_output_node, find_socket, node_label
 from .ir import Const, Expr, Closure, to_dict
 from .issues import Issues
+from .limits import LimitError, written_size, MAX_WRITTEN_NODES
 from .lowering import lower_surface, lower_world, DEFAULT_SURFACE, ENGINE_TYPES, DEFAULT_COLOR_ATTRIBUTE
 from .registry import maps, evaluates, supported_nodes, HANDLERS
 
@@ -23,7 +24,12 @@ __all__ = [
     "translate_material", "translate_world", "convert_material", "convert_world",
     "MaterialDescription", "WorldDescription", "maps", "evaluates", "supported_nodes",
     "Const", "Expr", "Closure", "Issues", "DEFAULT_SURFACE", "ENGINE_TYPES", "DEFAULT_COLOR_ATTRIBUTE",
+    "LimitError", "ERROR_SURFACE",
 ]
+
+# What a material beyond a limit renders as: Blender's magenta for a material it cannot use.
+ERROR_SURFACE = {"type": "diffuse", "color": [1.0, 0.0, 1.0]}
+DEFAULT_WORLD = {"color": [0.0, 0.0, 0.0], "strength": 1.0}
 
 
 class MaterialDescription:
@@ -64,6 +70,8 @@ def _translate(tree, desc, output_ids):
         desc.volume = ctx.closure(out, "Volume")
         if ctx.socket(out, "Displacement") is not None and ctx.is_linked(out, "Displacement"):
             desc.displacement_linked = True
+    except LimitError:
+        raise  # the caller names the material
     except Exception as exc:  # never let a strange tree stop the render
         desc.issues.add(desc.output_label, "translation failed (%s: %s)" % (type(exc).__name__, exc))
     return desc
@@ -96,9 +104,21 @@ def convert_material(material, image_average=None, image_file=None, volume_grids
         # Cycles: a material without nodes is a diffuse BSDF of its viewport colour.
         return {"type": "diffuse", "color": _rgb(getattr(material, "diffuse_color", None),
                                                  (0.8, 0.8, 0.8))}, None
-    desc = translate_material(tree, name)
-    params, issues = lower_surface(desc, image_average, image_file, volume_grids)
+    try:
+        desc = translate_material(tree, name)
+        params, issues = lower_surface(desc, image_average, image_file, volume_grids)
+        _check_written_size(params)
+    except LimitError as exc:
+        return dict(ERROR_SURFACE), "Material '%s': %s; rendered magenta" % (name, exc)
     return params, issues.format("Material", name)
+
+
+def _check_written_size(params):
+    n = written_size(params)
+    if n > MAX_WRITTEN_NODES:
+        raise LimitError("node graph too large: more than %d nodes once shared nodes are written out per use "
+                         "(nodes that feed one another more than once double it at every level)"
+                         % MAX_WRITTEN_NODES)
 
 
 def convert_world(world, image_average=None, image_file=None):
@@ -109,6 +129,10 @@ def convert_world(world, image_average=None, image_file=None):
     tree = getattr(world, "node_tree", None)
     if not getattr(world, "use_nodes", False) or tree is None:
         return {"color": _rgb(getattr(world, "color", None), (0.05, 0.05, 0.05)), "strength": 1.0}, None
-    desc = translate_world(tree, name)
-    params, issues = lower_world(desc, image_average, image_file)
+    try:
+        desc = translate_world(tree, name)
+        params, issues = lower_world(desc, image_average, image_file)
+        _check_written_size(params)
+    except LimitError as exc:
+        return dict(DEFAULT_WORLD), "World '%s': %s; rendered black" % (name, exc)
     return params, issues.format("World", name)

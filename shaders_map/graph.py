@@ -5,15 +5,14 @@ tree.nodes, tree.links (from_node, from_socket, to_node, to_socket, is_muted, is
 node.bl_idname, node.name, node.inputs/outputs (identifier, name, type, default_value),
 node.mute, node.internal_links, node.node_tree (groups), node.is_active_output, node.target.
 
-Nothing here imports bpy.  The walk never hangs: cycles and over-deep graphs are cut
-with a warning naming the node.
+Nothing here imports bpy.  The walk never hangs: cycles are cut with a warning naming the
+node, over-deep graphs raise LimitError naming it (limits.py).
 """
 
 from .ir import Const, Expr, Closure
 from .issues import Issues
+from .limits import MAX_DEPTH, LimitError
 from .registry import HANDLERS
-
-MAX_DEPTH = 120  # nodes on one evaluation path (also bounds group recursion)
 
 LUMINANCE = (0.2126, 0.7152, 0.0722)  # Blender's default scene-linear Rec.709 luminance
 
@@ -206,14 +205,14 @@ class Context:
             self.warn(node, "cycle in the node graph, link cut")
             return _default_for(socket)
         if len(self._active) >= MAX_DEPTH:
-            self.warn(node, "node graph too deep, cut")
-            return _default_for(socket)
+            raise LimitError("node graph too deep: more than %d nodes on one path, at %s"
+                             % (MAX_DEPTH, self.label(node)))
         self._active.add(key)
         try:
             result = self._eval_output(node, socket)
-        except RecursionError:
-            self.warn(node, "node graph too deep, cut")
-            result = _default_for(socket)
+        except RecursionError:  # Blender called from deep already: the same limit, met earlier
+            raise LimitError("node graph too deep: Python's recursion limit reached at %s (%d nodes on the path)"
+                             % (self.label(node), len(self._active))) from None
         finally:
             self._active.discard(key)
         self._memo[key] = result

@@ -25,6 +25,19 @@ def material_with(build, name="M", image_average_fn=image_average):
     return sm.convert_material(Material(name, t), image_average=image_average_fn)
 
 
+def _diamond(t, source, n, operation):
+    """A Diffuse BSDF coloured by n Math nodes, each fed twice by the one before (from source)."""
+    prev = source
+    for i in range(n):
+        m = t.new("ShaderNodeMath", "M%d" % i, operation=operation, use_clamp=False)
+        t.link(prev.out(), m.inputs[0])
+        t.link(prev.out(), m.inputs[1])
+        prev = m
+    d = t.new("ShaderNodeBsdfDiffuse", "D")
+    t.link(prev.out(), d.inp("Color"))
+    return d.out()
+
+
 def close(a, b, tol=1e-5):
     if isinstance(a, (int, float)):
         return abs(a - b) <= tol
@@ -624,19 +637,37 @@ class TestGraph(unittest.TestCase):
             return d.out()
         p, w = material_with(b)
         self.assertIn("too deep", w)
+        self.assertEqual(p, sm.ERROR_SURFACE)  # magenta, as Blender shows a material it cannot use
+
+    def test_hundred_thousand_nested_mix_shaders_is_an_error(self):
+        # The walk stops at limits.MAX_DEPTH nodes with an error naming the material and the
+        # node, without reaching Python's recursion limit (which would crash a C-level walk).
+        t = Tree("Deep")
+        prev = t.new("ShaderNodeBsdfDiffuse", "D")
+        for i in range(100000):
+            m = t.new("ShaderNodeMixShader", "Mix%d" % i)
+            t.link(prev.out(), m.inp("Shader"))
+            prev = m
+        t.link(prev.out(), t.output().inp("Surface"))
+        p, w = sm.convert_material(Material("Deep", t))
+        self.assertEqual(p, sm.ERROR_SURFACE)
+        self.assertIn("Material 'Deep'", w)
+        self.assertIn("too deep: more than 120 nodes on one path, at MixShader 'Mix99879'", w)
+
+    def test_shared_nodes_written_out_exponentially_is_an_error(self):
+        # 30 Math nodes each feeding the next twice: 2^30 nodes once written out as the
+        # engine's tree description; refused by counting, not by writing.
+        p, w = material_with(lambda t: _diamond(t, t.new("ShaderNodeTexNoise", "N"), 30, "ADD"), name="Fractal")
+        self.assertEqual(p, sm.ERROR_SURFACE)
+        self.assertIn("Material 'Fractal': node graph too large: more than 100000 nodes", w)
+        shared = {"node": "noise"}
+        self.assertEqual(sm.limits.written_size({"a": shared, "b": [shared, shared]}), 5)
 
     def test_diamond_graph_is_linear_time(self):
         def b(t):
-            prev = t.new("ShaderNodeValue", "V")
-            prev.out().default_value = 0.0
-            for i in range(60):  # 2^60 paths without memoisation
-                m = t.new("ShaderNodeMath", "M%d" % i, operation="MAXIMUM", use_clamp=False)
-                t.link(prev.out(), m.inputs[0])
-                t.link(prev.out(), m.inputs[1])
-                prev = m
-            d = t.new("ShaderNodeBsdfDiffuse", "D")
-            t.link(prev.out(), d.inp("Color"))
-            return d.out()
+            value = t.new("ShaderNodeValue", "V")
+            value.out().default_value = 0.0
+            return _diamond(t, value, 60, "MAXIMUM")  # 2^60 paths without memoisation
         start = time.time()
         material_with(b)
         self.assertLess(time.time() - start, 2.0)
