@@ -5,7 +5,7 @@
 // turns a surface into a boundary and back.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include "api/handles.h"
+#include "committed_scene.h"
 #include "core/ray_offset.h"
 #include "media/medium_stack.h"
 #include "render_helpers.h"
@@ -36,22 +36,10 @@ json mixed_mesh_scene() {
                        {"materials", {"floor", "fog"}}, {"material_indices", slots}}}}};
 }
 
-struct Loaded {
-  rdv_scene *handle = nullptr;
-  explicit Loaded(const json &doc) {
-    rdv_scene_create(&handle);
-    auto loaded = rdv_tools::load_scene_json(doc.dump(), ".", handle);
-    EXPECT_TRUE(loaded.problems.empty());
-    EXPECT_EQ(rdv_scene_commit(handle), RDV_OK) << rdv_last_error();
-  }
-  ~Loaded() { rdv_scene_destroy(handle); }
-  const Scene &scene() const { return *handle->scene; }
-};
-
 }  // namespace
 
 TEST(BoundaryHits, MixedMeshKeepsTriangleIds) {
-  Loaded l(mixed_mesh_scene());
+  test::CommittedScene l(mixed_mesh_scene());
   const Scene &scene = l.scene();
   SurfaceHit hit;
   CoincidentBoundary hit_boundary;
@@ -71,7 +59,7 @@ TEST(BoundaryHits, MixedMeshKeepsTriangleIds) {
 // its coincident boundary; a path reflected there stays in the fog, one that went on
 // through the floor would leave it. From below the floor likewise.
 TEST(BoundaryHits, CoplanarBoundaryRidesOnTheFloor) {
-  Loaded l(mixed_mesh_scene());
+  test::CommittedScene l(mixed_mesh_scene());
   const Scene &scene = l.scene();
   const int fog = scene.interior_medium(1);
   int checked = 0;
@@ -110,7 +98,7 @@ TEST(BoundaryHits, CoplanarBoundaryRidesOnTheFloor) {
 // triangles between the BVHs: two coplanar boundaries are then two boundary hits, not a
 // surface with a boundary on it.
 TEST(BoundaryHits, MaterialEditMovesTrianglesBetweenBvhs) {
-  Loaded l(mixed_mesh_scene());
+  test::CommittedScene l(mixed_mesh_scene());
   Ray down{Vec3(0.1f, 0.2f, 0.5f), Vec3(0, 0, -1), kInf};
   SurfaceHit hit;
   CoincidentBoundary hit_boundary;

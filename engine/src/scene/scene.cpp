@@ -390,6 +390,7 @@ void Scene::commit() {
   has_heterogeneous_media_ = false;
   for (const Medium &m : media_) has_heterogeneous_media_ = has_heterogeneous_media_ || m.is_heterogeneous();
   find_camera_media();
+  find_light_media();
   dirty_ = false;
 }
 

@@ -117,6 +117,13 @@ class Scene {
   // The media a point is in, found by walking a ray from o along d out of the scene
   // (the boundaries it leaves without having entered); outermost first.
   std::vector<int> media_along(Vec3 o, Vec3 d) const;
+  // The media a light's points are in (outermost first), found once per commit
+  // (light_media.cpp); null where they depend on the point (a medium boundary passes
+  // through the light, volume lights): then media_along from the point.
+  const std::vector<int> *light_media(uint32_t light) const {
+    const LightMedia &m = light_media_[light];
+    return m.fixed ? &m.media : nullptr;
+  }
   // Some material lets shadow rays through (Transparent BSDF, Principled alpha).
   bool has_transparency() const { return has_transparency_; }
   const std::vector<Light> &lights() const { return lights_; }
@@ -186,6 +193,12 @@ class Scene {
   int world_medium_ = -1;
   std::vector<int> camera_media_;
   void find_camera_media();
+  struct LightMedia {
+    bool fixed = false;
+    std::vector<int> media;
+  };
+  std::vector<LightMedia> light_media_;  // per light, derived by commit()
+  void find_light_media();
   std::vector<Mesh> meshes_;
   std::vector<Instance> instances_;
   std::vector<Light> user_lights_;

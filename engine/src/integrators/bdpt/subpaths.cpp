@@ -334,7 +334,11 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int
   }
   if constexpr (kMedia) {
     // The media the lamp sits in (infinite lights shine from outside everything).
-    if (!v.infinite) v.media = MediumStack::from(scene_.media_along(ray.o, ray.d));
+    // Found once per commit unless a medium boundary passes through the lamp.
+    if (!v.infinite) {
+      if (const std::vector<int> *media = scene_.light_media(index)) v.media = MediumStack::from(*media);
+      else v.media = MediumStack::from(scene_.media_along(ray.o, ray.d));
+    }
     // A volume light's point emits only inside its medium.
     if (light.type == LightType::Volume) {
       const int m = light.volume->medium_index();
