@@ -19,6 +19,9 @@
     run_viewport.py --script test_viewport.py -- fluid       a fire simulation domain (Replay cache): as
                                           bright as a final render; its material, another frame, a move
                                           re-export only its medium
+    run_viewport.py --script test_viewport.py -- media_toggles  a World volume and a material volume
+                                          toggled 100 times each: no medium stays in the engine scene
+                                          (media-free again); prints render speed before / after
     run_viewport.py --script test_viewport.py -- timer_error an unexpected exception in the viewport's
                                           timer (the session's progress poll raises 3 times): reported
                                           once (console, status text), refinement goes on to convergence
@@ -674,6 +677,78 @@ def mode_images():
     check(delta["restarts"] == 0, "unchanged pixels restarted the viewport")
 
 
+def media_count(r):
+    """How many media the viewport's engine scene holds (0: has_media() is false)."""
+    media = r.rscene.summary().get("media", "none")
+    return 0 if media == "none" else media["homogeneous"] + media["grid"]
+
+
+def engine_seconds(r, samples=4):
+    """Fastest of three renders of the viewport's engine scene at its region size (the
+    viewport idle: converged, no session), in seconds."""
+    best = 1e30
+    with r.lock:
+        w, h = r.size
+        for _ in range(3):
+            t0 = time.perf_counter()
+            s = binding.Session(r.rscene, {"width": w // 2, "height": h // 2, "samples": samples, "max_bounces": 4,
+                                           "seed": 1, "threads": 0})
+            s.start()
+            s.wait()
+            s.close()
+            best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def mode_media_toggles():
+    """A World volume and a material volume each linked and unlinked 100 times (every edit
+    reaches the viewport in place): afterwards the engine scene holds no medium, as before
+    the first toggle; the engine's render time media-free and after the toggles is printed."""
+    scene = setup_scene(samples=4)
+    world_nt = scene.world.node_tree
+    world_out = next(n for n in world_nt.nodes if n.bl_idname == "ShaderNodeOutputWorld")
+    world_fog = world_nt.nodes.new("ShaderNodeVolumePrincipled")
+    world_fog.inputs["Density"].default_value = 0.02
+    mat_nt = bpy.data.materials["Metal"].node_tree
+    mat_out = mat_nt.nodes["Material Output"]
+    mat_fog = mat_nt.nodes.new("ShaderNodeVolumePrincipled")
+    yield 0.3
+    set_shading("RENDERED")
+    yield from wait_converged()
+    check(not viewport.stats["errors"], "viewport errors: %s" % viewport.stats["errors"])
+    r = next(iter(viewport._renderers))
+    check(media_count(r) == 0, "the scene has media before any volume was added")
+    media_free = engine_seconds(r)
+
+    toggles = (("world", world_nt, world_fog, world_out, "world_updates"),
+               ("material", mat_nt, mat_fog, mat_out, "material_updates"))
+    t0 = time.time()
+    for label, nt, fog, out, counter in toggles:
+        before, base, t1 = viewport.stats[counter], media_count(r), time.time()
+        for i in range(100):
+            nt.links.new(fog.outputs["Volume"], out.inputs["Volume"])
+            bpy.context.view_layer.update()  # evaluates the edit: Blender calls view_update
+            if i == 0:
+                check(media_count(r) == base + 1, "the %s volume did not reach the engine" % label)
+            nt.links.remove(out.inputs["Volume"].links[0])
+            bpy.context.view_layer.update()
+            if i % 10 == 9:
+                yield 0.0  # let the window draw now and then
+        updates = viewport.stats[counter] - before
+        print("TOGGLES %s volume: 100 on/off in %.1f s, %d in-place %s, %d media after" % (
+            label, time.time() - t1, updates, counter, media_count(r)))
+        check(updates >= 200, "only %d of the 200 %s volume edits reached the viewport" % (updates, label))
+    toggle_seconds = time.time() - t0
+    yield from wait_converged()
+    check(not viewport.stats["errors"], "viewport errors: %s" % viewport.stats["errors"])
+    left = media_count(r)
+    after = engine_seconds(r)
+    print("MEDIA after 200 volume toggles (%.1f s): %d media in the engine scene; render %dx%d 4 spp: media-free "
+          "%.1f ms, after the toggles %.1f ms (x%.3f)" % (toggle_seconds, left, r.size[0] // 2, r.size[1] // 2,
+                                                          1e3 * media_free, 1e3 * after, after / media_free))
+    check(left == 0, "%d media taken away by edits stay in the engine scene (has_media() stays true)" % left)
+
+
 class _Tee:
     """Copies what is written to a stream (the console) into a list, for counting reports."""
 
@@ -771,7 +846,8 @@ BRIGHTNESS_TOLERANCE = 0.04
 
 
 MODES = {"view": mode_view, "reopen": mode_reopen, "preview": mode_preview, "volumes": mode_volumes, "volume_edits": mode_volume_edits,
-         "fluid": mode_fluid, "images": mode_images, "timer_error": mode_timer_error}
+         "fluid": mode_fluid, "images": mode_images, "timer_error": mode_timer_error,
+         "media_toggles": mode_media_toggles}
 
 
 def run():

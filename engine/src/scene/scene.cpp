@@ -117,7 +117,8 @@ void Scene::set_material(uint32_t id, Params &params) {
         accel_.mark_mesh_dirty(m);
   }
   if (!pm.has_medium) {
-    material_interior_[id] = -1;  // its old medium stays in the list, unused
+    drop_medium(material_interior_[id]);
+    material_interior_[id] = -1;
   } else if (material_interior_[id] >= 0) {
     media_[material_interior_[id]] = pm.medium;
   } else {
@@ -125,6 +126,20 @@ void Scene::set_material(uint32_t id, Params &params) {
     media_.push_back(pm.medium);
   }
   dirty_ = true;  // emission may have changed: rebuild the light tables
+}
+
+// Every medium has one owner (a material's interior or the world), so the one an edit
+// takes away is referred to by nothing else: erase it, and the ids after it move down one
+// in the owners (what commit() derives from media is rebuilt: the edit set dirty_). A scene
+// whose media are all taken away is media-free again (has_media(), no medium code).
+void Scene::drop_medium(int id) {
+  if (id < 0) return;
+  media_.erase(media_.begin() + id);
+  for (int &m : material_interior_)
+    if (m > id) --m;
+  if (world_medium_ > id) --world_medium_;
+  camera_media_.clear();  // found again by commit()
+  dirty_ = true;
 }
 
 void Scene::set_light(uint32_t id, Params &params) {
@@ -324,8 +339,9 @@ void Scene::set_world(Params &params) {
       fail(params.what() + ": an emitting world volume needs density in every channel (it would glow infinitely)");
     if (world_medium_ >= 0) media_[world_medium_] = m;
     else { world_medium_ = int(media_.size()); media_.push_back(m); }
-  } else {
-    world_medium_ = -1;  // no fog (any more): its old medium stays in the list, unused
+  } else {  // no fog (any more)
+    drop_medium(world_medium_);
+    world_medium_ = -1;
   }
   // With an "environment" HDRI, "color" tints it (default white); radiance = image x color x strength.
   const nlohmann::json *env = params.get_json("environment");

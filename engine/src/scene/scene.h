@@ -199,6 +199,8 @@ class Scene {
   };
   std::vector<LightMedia> light_media_;  // per light, derived by commit()
   void find_light_media();
+  // Erases medium `id` (none if negative), which its owner no longer refers to.
+  void drop_medium(int id);
   std::vector<Mesh> meshes_;
   std::vector<Instance> instances_;
   std::vector<Light> user_lights_;
