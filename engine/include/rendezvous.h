@@ -185,7 +185,7 @@ RDV_API rdv_status rdv_session_cancel(rdv_session *session);
 RDV_API rdv_status rdv_session_destroy(rdv_session *session);
 
 typedef struct rdv_progress {
-  uint32_t samples_done;      /* complete passes over the whole image */
+  uint32_t samples_done;      /* samples per pixel (MLT: mutations) of the frame a read shows now */
   uint32_t samples_target;    /* 0 when only a time limit halts */
   double elapsed_seconds;
   double time_limit_seconds;  /* 0 when off */
@@ -219,7 +219,8 @@ RDV_API int rdv_pass_channels(rdv_pass pass);
 /* Copies a rectangle of the film into out (row-major, rows from the TOP of the
  * image down when top_down != 0, else bottom-up as Blender's RenderResult wants),
  * width * height * rdv_pass_channels(pass) floats. Coordinates are in pixels of the
- * full image. Safe to call while rendering. */
+ * full image. Safe to call while rendering: a read shows one frame, whole tiles of
+ * camera samples and the splats of complete passes scaled for exactly those passes. */
 RDV_API rdv_status rdv_session_read_film(rdv_session *session, rdv_pass pass, uint32_t x,
                                          uint32_t y, uint32_t width, uint32_t height,
                                          int32_t top_down, float *out);

@@ -108,16 +108,23 @@ TEST(Sampler, DependsOnPixelSeedAndIndexOnly) {
 TEST(Film, SplatsSumInDoublePrecision) {
   rdv::Film film(4, 4, rdv::Rect{0, 0, 4, 4});
   rdv::PixelFilter filter(1.5f);
-  film.set_splat_scale(1.0);
   const rdv::Vec2 centre{2.0f, 2.0f};
   auto pixel = [&] {
     float rgba[4];
     film.read(RDV_PASS_COMBINED, 1, 1, 1, 1, true, rgba);
     return double(rgba[0]);
   };
-  film.add_splat(centre, rdv::Color(1.0f), filter);
+  {
+    rdv::Film::PassPublisher pass(film);
+    pass.add_splat(centre, rdv::Color(1.0f), filter);
+    pass.publish(1, 1.0);
+  }
   double one = pixel();
   ASSERT_GT(one, 0.0);
-  for (int i = 0; i < 1000000; ++i) film.add_splat(centre, rdv::Color(1e-8f), filter);
+  {
+    rdv::Film::PassPublisher pass(film);
+    for (int i = 0; i < 1000000; ++i) pass.add_splat(centre, rdv::Color(1e-8f), filter);
+    pass.publish(2, 1.0);
+  }
   EXPECT_NEAR(pixel() / one, 1.01, 1e-5);
 }

@@ -1,4 +1,5 @@
 #include "film/film.h"
+#include <algorithm>
 #include <array>
 
 namespace rdv {
@@ -7,7 +8,28 @@ Film::Film(int width, int height, Rect region)
     : width_(width), height_(height), region_(region), pixels_(size_t(width) * height),
       aovs_(size_t(width) * height), splats_(size_t(width) * height) {}
 
-size_t Film::bytes_per_pixel() { return sizeof(Pixel) + sizeof(Aov) + sizeof(SplatSum); }
+size_t Film::bytes_per_pixel() { return sizeof(PixelSum) + sizeof(PixelAov) + sizeof(SplatSum); }
+
+void Film::take_tile(const Rect &rect, FilmTile &tile) const {
+  tile.rect_ = rect;
+  size_t n = size_t(rect.width()) * size_t(rect.height());
+  tile.pixels_.resize(n);
+  tile.aovs_.resize(n);
+  std::lock_guard<std::mutex> frame(frame_mutex_);
+  for (int y = rect.y0; y < rect.y1; ++y) {
+    std::copy_n(&pixels_[index(rect.x0, y)], rect.width(), &tile.pixels_[tile.index(rect.x0, y)]);
+    std::copy_n(&aovs_[index(rect.x0, y)], rect.width(), &tile.aovs_[tile.index(rect.x0, y)]);
+  }
+}
+
+void Film::put_tile(const FilmTile &tile) {
+  const Rect &rect = tile.rect_;
+  std::lock_guard<std::mutex> frame(frame_mutex_);
+  for (int y = rect.y0; y < rect.y1; ++y) {
+    std::copy_n(&tile.pixels_[tile.index(rect.x0, y)], rect.width(), &pixels_[index(rect.x0, y)]);
+    std::copy_n(&tile.aovs_[tile.index(rect.x0, y)], rect.width(), &aovs_[index(rect.x0, y)]);
+  }
+}
 
 void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter) {
   if (!is_finite(L)) return;
@@ -37,10 +59,11 @@ void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter) {
   }
 }
 
-void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float *out) const {
+void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float *out, FrameState *state) const {
   int channels = rdv_pass_channels(pass);
   std::lock_guard<std::mutex> frame(frame_mutex_);
-  double splat_scale = splat_scale_.load(std::memory_order_relaxed);
+  if (state) *state = state_;
+  const double splat_scale = state_.splat_scale;
   for (int row = 0; row < h; ++row) {
     int py = y + row;
     // Blender's RenderResult stores rows bottom-up: image row py is output row h-1-row.
@@ -48,8 +71,8 @@ void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float 
     for (int col = 0; col < w; ++col, dst += channels) {
       int px = x + col;
       size_t i = index(px, py);
-      const Pixel &p = pixels_[i];
-      const Aov &a = aovs_[i];
+      const PixelSum &p = pixels_[i];
+      const PixelAov &a = aovs_[i];
       float n = p.count;
       switch (pass) {
         case RDV_PASS_COMBINED: {

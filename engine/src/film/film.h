@@ -1,20 +1,24 @@
-// The film: per-pixel sample accumulation (owned by one thread per pixel at a time,
-// so no locks and a deterministic sum), a separate splat buffer that any thread adds
-// to anywhere (light tracing, BDPT's t = 1 strategies, MLT), and first-hit AOVs.
+// The film: per-pixel sample accumulation (render threads fill tiles of it, FilmTile),
+// a splat buffer that light paths reach anywhere on (light tracing, BDPT's t = 1
+// strategies, MLT), first-hit AOVs, and the frame state a read shows. Reads are safe
+// while rendering: every access to the film's sums is under the frame lock, and each
+// holds a whole tile or a whole pass, never a part of one.
 #pragma once
-#include <atomic>
 #include <mutex>
 #include <vector>
 #include "core/math.h"
+#include "film/film_tile.h"
 #include "film/pixel_filter.h"
 #include "rendezvous.h"
 
 namespace rdv {
 
-struct Rect {
-  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // [x0, x1) x [y0, y1), pixels, (0,0) top-left
-  int width() const { return x1 - x0; }
-  int height() const { return y1 - y0; }
+// What the splats of a frame are: published with them after each complete pass, so a
+// read scales them for exactly the passes they hold.
+struct FrameState {
+  uint64_t pass = 0;       // complete passes published (0: none yet, no splats)
+  uint32_t samples = 0;    // samples per pixel of those passes (MLT: mutations per pixel)
+  double splat_scale = 0;  // their normalisation (the integrator's business)
 };
 
 class Film {
@@ -26,46 +30,52 @@ class Film {
   int height() const { return height_; }
   const Rect &region() const { return region_; }
 
-  void add_sample(int x, int y, Color L) {
-    Pixel &p = pixels_[index(x, y)];
-    p.sum += L;
-    p.count += 1;
-  }
-  // Spreads L over the pixels whose filter covers `raster`, with the same normalised
-  // Blackman-Harris weights filter importance sampling gives camera samples, so that
-  // splatted and sampled estimates converge to the same image. Not thread-safe: the
-  // session applies splats in a fixed order after each pass (deterministic sums).
-  void add_splat(Vec2 raster, Color L, const PixelFilter &filter);
-  void add_first_hit(int x, int y, float depth, Vec3 normal, Color albedo) {
-    Aov &a = aovs_[index(x, y)];
-    a.depth = std::min(a.depth, depth);
-    a.normal += normal;
-    a.albedo += albedo;
-  }
-  // The integrator that makes splats knows their normalisation (samples per pixel over
-  // the whole image, or MLT's b / mutations per pixel) and sets it with them.
-  void set_splat_scale(double s) { splat_scale_.store(s, std::memory_order_relaxed); }
-  // Held while splats of a pass and their scale are applied, and while the frame is
-  // read: a progressive read never sees new splats with the old scale.
-  std::mutex &frame_mutex() const { return frame_mutex_; }
+  // A render thread's tile: filled with the film's sums of rect, then written back
+  // whole. Tiles of one pass must not overlap.
+  void take_tile(const Rect &rect, FilmTile &tile) const;
+  void put_tile(const FilmTile &tile);
 
-  // Rectangle of a pass, row order top-down or bottom-up.
-  void read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float *out) const;
+  // A pass's splats and the frame state they make, applied under the frame lock: a
+  // read sees both or neither. Splats are applied by one thread in a fixed order
+  // (deterministic sums).
+  class PassPublisher {
+   public:
+    explicit PassPublisher(Film &film) : film_(film), lock_(film.frame_mutex_) {}
+    // Spreads L over the pixels whose filter covers `raster`, with the same normalised
+    // Blackman-Harris weights filter importance sampling gives camera samples, so that
+    // splatted and sampled estimates converge to the same image.
+    void add_splat(Vec2 raster, Color L, const PixelFilter &filter) { film_.add_splat(raster, L, filter); }
+    // The frame now complete: samples (or mutations) per pixel and the splats' scale.
+    void publish(uint32_t samples, double splat_scale) {
+      film_.state_ = {film_.state_.pass + 1, samples, splat_scale};
+    }
+
+   private:
+    Film &film_;
+    std::lock_guard<std::mutex> lock_;
+  };
+
+  FrameState frame_state() const {
+    std::lock_guard<std::mutex> frame(frame_mutex_);
+    return state_;
+  }
+  // Rectangle of a pass, row order top-down or bottom-up; state (if given) receives
+  // the frame state of what was read.
+  void read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float *out, FrameState *state = nullptr) const;
 
  private:
-  struct Pixel { Color sum{0.0f}; float count = 0; };
-  struct Aov { float depth = 1e10f; Vec3 normal{0.0f}; Color albedo{0.0f}; };
+  void add_splat(Vec2 raster, Color L, const PixelFilter &filter);
   // Splat sums in double: MLT adds millions of splats to a pixel, and a float sum
   // stops growing once each splat is below its rounding step.
   struct SplatSum { double r = 0, g = 0, b = 0; };
   size_t index(int x, int y) const { return size_t(y) * width_ + x; }
   int width_, height_;
   Rect region_;
-  std::vector<Pixel> pixels_;
-  std::vector<Aov> aovs_;
+  std::vector<PixelSum> pixels_;
+  std::vector<PixelAov> aovs_;
   std::vector<SplatSum> splats_;
-  std::atomic<double> splat_scale_{0.0};
-  mutable std::mutex frame_mutex_;
+  FrameState state_;
+  mutable std::mutex frame_mutex_;  // guards all of the above but the sizes
 };
 
 }  // namespace rdv

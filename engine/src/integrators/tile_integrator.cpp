@@ -18,6 +18,8 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
   RayStats stats;
   uint64_t dropped = 0;
   const Camera &camera = ctx.scene.camera();
+  thread_local FilmTile film_tile;  // this thread's pixels of the tile, published whole
+  ctx.film.take_tile(tile, film_tile);
   for (int y = tile.y0; y < tile.y1; ++y) {
     for (int x = tile.x0; x < tile.x1; ++x) {
       if (ctx.control.should_stop()) goto done;
@@ -37,13 +39,14 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
           float m = max_component(L);
           if (m > settings.clamp) L *= settings.clamp / m;
         }
-        ctx.film.add_sample(x, y, L);
-        if (first_hit.valid) ctx.film.add_first_hit(x, y, first_hit.depth, first_hit.normal, first_hit.albedo);
-        else ctx.film.add_first_hit(x, y, 1e10f, Vec3(0.0f), Color(0.0f));
+        film_tile.add_sample(x, y, L);
+        if (first_hit.valid) film_tile.add_first_hit(x, y, first_hit.depth, first_hit.normal, first_hit.albedo);
+        else film_tile.add_first_hit(x, y, 1e10f, Vec3(0.0f), Color(0.0f));
       }
     }
   }
 done:
+  ctx.film.put_tile(film_tile);  // an interrupted tile's samples are whole samples too
   ctx.control.add_rays(stats.rays);
   ctx.control.add_dropped(dropped);
 }
@@ -71,15 +74,13 @@ void TileIntegrator::render(RenderContext &ctx) {
     if (ctx.control.should_stop()) break;  // an interrupted pass does not count, nor do its splats
     done = last;
     {
-      std::lock_guard<std::mutex> frame(ctx.film.frame_mutex());
+      Film::PassPublisher frame(ctx.film);
       for (auto &splats : tile_splats)  // in tile order: the same sums on any thread count
-        for (const Splat &sp : splats) ctx.film.add_splat(sp.raster, sp.L, ctx.filter);
+        for (const Splat &sp : splats) frame.add_splat(sp.raster, sp.L, ctx.filter);
       // One light path per camera sample, over the rendered region only; the camera's
       // importance is normalised over the whole image.
-      ctx.film.set_splat_scale(float(ctx.settings.width) * ctx.settings.height /
-                               (float(r.width()) * r.height() * done));
+      frame.publish(done, float(ctx.settings.width) * ctx.settings.height / (float(r.width()) * r.height() * done));
     }
-    ctx.control.set_samples_done(done);
     // Grow the batch while passes are short, so progress updates stay ~4 per second.
     double pass_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - pass_start).count();
     if (pass_seconds < 0.125 && batch < 64) batch *= 2;

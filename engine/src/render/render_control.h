@@ -32,12 +32,10 @@ class RenderControl {
   }
   double time_limit() const { return time_limit_; }
 
-  // Progress: complete passes (samples, or mutations, per pixel), rays traced and
-  // samples dropped (NaN / Inf never enter the film).
-  void set_samples_done(uint32_t n) { samples_done_.store(n); }
+  // Progress: rays traced and samples dropped (NaN / Inf never enter the film). The
+  // samples done are the film's: published with the frame (Film::PassPublisher).
   void add_rays(uint64_t n) { rays_.fetch_add(n, std::memory_order_relaxed); }
   void add_dropped(uint64_t n) { dropped_.fetch_add(n, std::memory_order_relaxed); }
-  uint32_t samples_done() const { return samples_done_.load(); }
   uint64_t rays() const { return rays_.load(); }
   uint64_t dropped() const { return dropped_.load(); }
 
@@ -46,7 +44,6 @@ class RenderControl {
   std::chrono::steady_clock::time_point start_time_;
   std::atomic<bool> cancel_requested_{false}, running_{false};
   std::atomic<double> final_elapsed_{-1.0};
-  std::atomic<uint32_t> samples_done_{0};
   std::atomic<uint64_t> rays_{0}, dropped_{0};
 };
 

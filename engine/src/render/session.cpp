@@ -38,7 +38,7 @@ void Session::render_loop() {
 
 Progress Session::progress() const {
   Progress p;
-  p.samples_done = control_.samples_done();
+  p.samples_done = film_.frame_state().samples;  // the frame a read shows now
   p.samples_target = settings_.samples;
   p.elapsed = control_.elapsed();
   p.time_limit = settings_.time_limit;

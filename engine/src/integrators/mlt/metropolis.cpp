@@ -65,6 +65,8 @@ void Metropolis::first_hit_pass(RenderContext &ctx) const {
       thread_local std::vector<bdpt::PathVertex> path(2);
       SobolSampler sampler(settings_.seed);
       RayStats stats;
+      thread_local FilmTile rows_tile;  // these rows' pixels, published whole
+      ctx.film.take_tile(Rect{region.x0, rows.begin(), region.x1, rows.end()}, rows_tile);
       for (int y = rows.begin(); y != rows.end(); ++y) {
         if (ctx.control.should_stop()) break;
         for (int x = region.x0; x < region.x1; ++x) {
@@ -78,12 +80,13 @@ void Metropolis::first_hit_pass(RenderContext &ctx) const {
                           : bdpt_.camera_subpath<false>(cr, sampler, stats, path.data(), nullptr, 2);
             FirstHit hit = bdpt_.first_surface(path.data(), n);
             // The pixel's sample count averages the AOVs; the image itself is all splats.
-            ctx.film.add_sample(x, y, Color(0.0f));
-            if (hit.valid) ctx.film.add_first_hit(x, y, hit.depth, hit.normal, hit.albedo);
-            else ctx.film.add_first_hit(x, y, 1e10f, Vec3(0.0f), Color(0.0f));
+            rows_tile.add_sample(x, y, Color(0.0f));
+            if (hit.valid) rows_tile.add_first_hit(x, y, hit.depth, hit.normal, hit.albedo);
+            else rows_tile.add_first_hit(x, y, 1e10f, Vec3(0.0f), Color(0.0f));
           }
         }
       }
+      ctx.film.put_tile(rows_tile);
       ctx.control.add_rays(stats.rays);
     });
   });
@@ -155,8 +158,7 @@ void Metropolis::render(RenderContext &ctx) {
     std::lock_guard<std::mutex> lock(stats_mutex_);
     stats_.warning = (mlt_.multiplexed ? "mmlt: " : "pssmlt: ") + why;
     log_warning(stats_.warning);
-    ctx.film.set_splat_scale(0.0);
-    return;
+    return;  // no pass is published: the frame stays black
   }
   if (mlt_.multiplexed) {
     // Each depth by its share of b, with a floor: a depth the bootstrap missed still
@@ -291,12 +293,15 @@ void Metropolis::render(RenderContext &ctx) {
     const double b_error =
         std::sqrt(variance * double(per_depth) * double(per_depth) + large_variance * double(large_steps)) / n_b;
     {
-      std::lock_guard<std::mutex> frame(ctx.film.frame_mutex());
+      // The splats and the frame state they make (mutations per pixel, b / mutations):
+      // a read sees both or neither.
+      Film::PassPublisher frame(ctx.film);
       for (Chain &chain : chains) {
-        for (const Splat &sp : chain.splats) ctx.film.add_splat(sp.raster, sp.L, ctx.filter);
+        for (const Splat &sp : chain.splats) frame.add_splat(sp.raster, sp.L, ctx.filter);
         chain.splats.clear();
       }
-      if (done > 0) ctx.film.set_splat_scale(b_now / double(done));
+      if (done > 0)
+        frame.publish(uint32_t(std::min<uint64_t>(done / region_pixels, UINT32_MAX)), b_now / double(done));
     }
     {
       std::lock_guard<std::mutex> lock(stats_mutex_);
@@ -316,7 +321,6 @@ void Metropolis::render(RenderContext &ctx) {
       }
     }
     ctx.control.add_rays(rays);
-    ctx.control.set_samples_done(uint32_t(std::min<uint64_t>(done / region_pixels, UINT32_MAX)));
   }
 }
 

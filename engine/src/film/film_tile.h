@@ -1,0 +1,55 @@
+// A rectangle of the film that one render thread adds camera samples and first-hit
+// AOVs to (pbrt-v3's FilmTile): no locks and no sharing in the sample loop. Film::
+// take_tile fills it with the film's sums, so samples add up in the same order as if
+// they went to the film directly (the same image on any thread count), and
+// Film::put_tile publishes it whole: a progressive read never sees half a sample.
+#pragma once
+#include <algorithm>
+#include <vector>
+#include "core/math.h"
+
+namespace rdv {
+
+struct Rect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // [x0, x1) x [y0, y1), pixels, (0,0) top-left
+  int width() const { return x1 - x0; }
+  int height() const { return y1 - y0; }
+};
+
+// A pixel's camera samples: their sum and count.
+struct PixelSum {
+  Color sum{0.0f};
+  float count = 0;
+};
+
+// First-hit AOVs: nearest depth, summed normals and albedos (averaged by the count).
+struct PixelAov {
+  float depth = 1e10f;
+  Vec3 normal{0.0f};
+  Color albedo{0.0f};
+};
+
+class FilmTile {
+ public:
+  const Rect &rect() const { return rect_; }
+  void add_sample(int x, int y, Color L) {
+    PixelSum &p = pixels_[index(x, y)];
+    p.sum += L;
+    p.count += 1;
+  }
+  void add_first_hit(int x, int y, float depth, Vec3 normal, Color albedo) {
+    PixelAov &a = aovs_[index(x, y)];
+    a.depth = std::min(a.depth, depth);
+    a.normal += normal;
+    a.albedo += albedo;
+  }
+
+ private:
+  friend class Film;
+  size_t index(int x, int y) const { return size_t(y - rect_.y0) * size_t(rect_.width()) + size_t(x - rect_.x0); }
+  Rect rect_;
+  std::vector<PixelSum> pixels_;
+  std::vector<PixelAov> aovs_;
+};
+
+}  // namespace rdv
