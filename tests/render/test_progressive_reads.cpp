@@ -1,7 +1,8 @@
 // Progressive reads while rendering (rdv_session_read_film promises they are safe): a
 // reader thread polls the film through the C ABI, as the add-on's viewport and final
-// render do, while BDPT (light-tracing splats) or PSSMLT (all splats) render the caustic
-// scene, whose caustic only light paths carry. Every read must show a frame whose
+// render do, while BDPT renders the caustic scene by light tracing alone (strategy
+// s = 2, t = 1, unweighted: direct light, every pixel a splat) and in full (its caustic
+// only light paths carry), and PSSMLT (all splats). Every read must show a frame whose
 // splats are scaled for that frame: its mean within noise of the final image's mean.
 // Built with -DRDV_SANITIZE=thread (README.md, Sanitizer builds), the same test checks
 // that the reads are race-free.
@@ -34,10 +35,11 @@ std::string caustic_scene() {
 
 // Standard deviation of the image mean at `samples` (per pixel), from renders with
 // `runs` seeds.
-double mean_deviation(const std::string &scene, const std::string &integrator, int samples, int runs) {
+double mean_deviation(const std::string &scene, const nlohmann::json &settings, int samples, int runs) {
   std::vector<double> means;
   for (int k = 0; k < runs; ++k) {
-    nlohmann::json s = {{"integrator", integrator}, {"samples", samples}, {"seed", 1000 + k}, {"threads", 2}};
+    nlohmann::json s = settings;
+    s.update({{"samples", samples}, {"seed", 1000 + k}, {"threads", 2}});
     test::Image img = test::render_json(scene, s.dump());
     means.push_back(image_mean(img.rgba));
   }
@@ -55,14 +57,16 @@ struct Read {
 
 // One render with a reader polling the film until it halts; returns the reads and
 // the final image's mean.
-std::vector<Read> poll_while_rendering(const std::string &scene_json, const std::string &integrator, int samples,
+std::vector<Read> poll_while_rendering(const std::string &scene_json, const nlohmann::json &render, int samples,
                                        double &final_mean) {
   rdv_scene *scene = nullptr;
   rdv_scene_create(&scene);
   auto loaded = rdv_tools::load_scene_json(scene_json, ".", scene);
   EXPECT_TRUE(loaded.problems.empty());
   nlohmann::json settings = nlohmann::json::parse(loaded.settings_json);
-  settings.update({{"integrator", integrator}, {"samples", samples}, {"seed", 7}, {"threads", 2}});
+  settings.update(render);
+  settings.update({{"samples", samples}, {"seed", 7}, {"threads", 2}});
+  const std::string integrator = render["integrator"];
   rdv_session *session = nullptr;
   EXPECT_EQ(rdv_session_create(scene, settings.dump().c_str(), &session), RDV_OK) << rdv_last_error();
   const bool mlt = integrator == "pssmlt" || integrator == "mmlt";
@@ -101,11 +105,12 @@ std::vector<Read> poll_while_rendering(const std::string &scene_json, const std:
 // deviation of a normal mean has probability 2e-9 per read; with sigma itself estimated
 // from 16 runs (and the frames' means nested in the final one), below 1e-4 per read,
 // and the verdict for a given schedule of reads is fixed by the seeds.
-void check_reads(const std::string &integrator, int samples, int ref_samples, double min_amount) {
+void check_reads(const nlohmann::json &render, int samples, int ref_samples, double min_amount) {
   const std::string scene = caustic_scene();
-  const double sigma_ref = mean_deviation(scene, integrator, ref_samples, 16);
+  const std::string integrator = render["integrator"];
+  const double sigma_ref = mean_deviation(scene, render, ref_samples, 16);
   double final_mean = 0;
-  std::vector<Read> reads = poll_while_rendering(scene, integrator, samples, final_mean);
+  std::vector<Read> reads = poll_while_rendering(scene, render, samples, final_mean);
   ASSERT_GT(final_mean, 0);
   int checked = 0, worst_read = -1;
   double worst_z = 0;
@@ -129,6 +134,10 @@ void check_reads(const std::string &integrator, int samples, int ref_samples, do
 
 }  // namespace
 
-TEST(ProgressiveReads, BdptFramesAreScaledForTheirSamples) { check_reads("bdpt", 512, 4, 1); }
+TEST(ProgressiveReads, BdptLightTracingFramesAreScaledForTheirSamples) {
+  check_reads({{"integrator", "bdpt"}, {"strategy", {2, 1}}, {"strategy_unweighted", true}}, 512, 4, 1);
+}
 
-TEST(ProgressiveReads, PssmltFramesAreScaledForTheirMutations) { check_reads("pssmlt", 256, 4, 1); }
+TEST(ProgressiveReads, BdptFramesAreScaledForTheirSamples) { check_reads({{"integrator", "bdpt"}}, 512, 4, 1); }
+
+TEST(ProgressiveReads, PssmltFramesAreScaledForTheirMutations) { check_reads({{"integrator", "pssmlt"}}, 256, 4, 1); }
