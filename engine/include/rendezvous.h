@@ -170,7 +170,8 @@ RDV_API rdv_status rdv_scene_summary(rdv_scene *scene, const char **out_json);
 /* ---- render session ------------------------------------------------------------ */
 /* settings JSON: {"width":W,"height":H,"integrator":"path","samples":N,
  *   "time_limit":seconds,"max_bounces":B,"seed":S,"threads":T,"clamp":C,
- *   "border":[x0,y0,x1,y1]}. A session always has a halt condition: samples
+ *   "border":[x0,y0,x1,y1],"sample_offset":O,"scene_hash":"..."} (sample_offset and
+ *   scene_hash: render parts, see rdv_merge_parts). A session always has a halt condition: samples
  *   or time_limit (if neither is given, samples defaults to 128). integrator:
  *   path, bdpt, pssmlt or mmlt (Metropolis: samples = mutations per pixel; settings
  *   mlt_large_step, mlt_bootstrap, mlt_chains, mlt_step_size; docs/scene-format.md). */
@@ -230,6 +231,20 @@ RDV_API rdv_status rdv_session_read_film(rdv_session *session, rdv_pass pass, ui
  * "Standard"; Blender's config.ocio). */
 RDV_API rdv_status rdv_session_write_image(rdv_session *session, const char *path,
                                            const char *view);
+
+/* ---- render farms (docs/farm.md) ------------------------------------------------
+ * Every EXR written by rdv_session_write_image is a render part: it carries the film's
+ * raw sums and a "rendezvous:part" header (scene_hash, settings, sample range). A part
+ * renders samples [sample_offset, sample_offset + samples) of the whole render (session
+ * settings "sample_offset", "scene_hash"). rdv_merge_parts adds parts into the image one
+ * render of all their samples gives and writes it to output_path (.exr: itself a part,
+ * so merges nest; .png through the view). options_json: {"allow_missing": false,
+ * "samples": N (the ranges must cover [0, N)), "view": "Standard"}. Fails with a message
+ * naming the part: another scene or other settings, overlapping ranges, an unreadable or
+ * foreign file, missing ranges (unless allow_missing). out_report (may be NULL; valid
+ * until the next call on this thread): JSON {"ranges", "samples", "missing", "warnings"}. */
+RDV_API rdv_status rdv_merge_parts(const char *const *paths, uint32_t count, const char *output_path,
+                                   const char *options_json, const char **out_report);
 
 #ifdef __cplusplus
 }

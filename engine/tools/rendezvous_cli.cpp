@@ -1,8 +1,11 @@
 // rendezvous: the command-line renderer. Renders a JSON scene (docs/scene-format.md)
-// to PNG (through Blender's OpenColorIO view transform) or EXR (scene-linear float).
+// to PNG (through Blender's OpenColorIO view transform) or EXR (scene-linear float, a
+// render part that `rendezvous merge` combines with others; docs/farm.md).
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
@@ -14,11 +17,13 @@ namespace {
 void usage() {
   std::fprintf(stderr,
                "usage: rendezvous SCENE.json [options]\n"
+               "       rendezvous merge PART.exr... -o OUT.exr|OUT.png [--allow-missing] [--samples N] [--view NAME]\n"
                "  -o, --output FILE      image to write (.png or .exr; default render.png)\n"
                "  --samples N            samples per pixel\n"
                "  --time SECONDS         time limit (0 = off)\n"
                "  --threads N            worker threads (0 = all cores)\n"
                "  --seed N               random seed\n"
+               "  --sample-offset N      render samples [N, N + samples) of the sequence (a farm part)\n"
                "  --resolution WxH       image size\n"
                "  --integrator NAME      path, bdpt, pssmlt or mmlt (Metropolis: samples = mutations per pixel)\n"
                "  --mlt-large-step P     pssmlt / mmlt: probability of a large step\n"
@@ -40,9 +45,61 @@ bool check(rdv_status s, const char *what) {
   return false;
 }
 
+// Identifies the scene in render parts: FNV-1a (64 bits) of the scene file's bytes.
+// Files it refers to (textures, .vdb) are not part of it.
+std::string scene_file_hash(const std::string &path) {
+  std::ifstream in(path, std::ios::binary);
+  uint64_t h = 0xcbf29ce484222325ull;
+  for (std::istreambuf_iterator<char> it(in), end; it != end; ++it) {
+    h ^= uint8_t(*it);
+    h *= 0x100000001b3ull;
+  }
+  char text[17];
+  std::snprintf(text, sizeof(text), "%016llx", (unsigned long long)h);
+  return text;
+}
+
+// rendezvous merge PART... -o OUT: adds render parts (rdv_merge_parts).
+int merge_main(int argc, char **argv) {
+  std::vector<std::string> parts;
+  std::string output;
+  nlohmann::json options = nlohmann::json::object();
+  for (int i = 2; i < argc; ++i) {
+    std::string a = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) { std::fprintf(stderr, "rendezvous merge: %s needs a value\n", a.c_str()); std::exit(2); }
+      return argv[++i];
+    };
+    try {
+      if (a == "-o" || a == "--output") output = next();
+      else if (a == "--allow-missing") options["allow_missing"] = true;
+      else if (a == "--samples") options["samples"] = std::stoi(next());
+      else if (a == "--view") options["view"] = next();
+      else if (!a.empty() && a[0] == '-') { std::fprintf(stderr, "rendezvous merge: unknown option %s\n", a.c_str()); return 2; }
+      else parts.push_back(a);
+    } catch (const std::exception &) {
+      std::fprintf(stderr, "rendezvous merge: bad value for %s\n", a.c_str());
+      return 2;
+    }
+  }
+  if (parts.empty() || output.empty()) { usage(); return 2; }
+  std::vector<const char *> paths;
+  for (const std::string &p : parts) paths.push_back(p.c_str());
+  const char *report = nullptr;
+  if (!check(rdv_merge_parts(paths.data(), uint32_t(paths.size()), output.c_str(), options.dump().c_str(), &report),
+             "merge"))
+    return 1;
+  nlohmann::json r = nlohmann::json::parse(report);
+  for (const auto &w : r["warnings"]) std::fprintf(stderr, "rendezvous merge: warning: %s\n", w.get<std::string>().c_str());
+  std::fprintf(stderr, "rendezvous merge: %zu parts, samples %s (%llu), wrote %s\n", parts.size(), r["ranges"].dump().c_str(),
+               (unsigned long long)r["samples"].get<uint64_t>(), output.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char **argv) {
+  if (argc > 1 && std::strcmp(argv[1], "merge") == 0) return merge_main(argc, argv);
   std::string scene_path, output = "render.png", view = "Standard";
   nlohmann::json overrides = nlohmann::json::object();
   bool quiet = false, summary = false;
@@ -59,6 +116,7 @@ int main(int argc, char **argv) {
       else if (a == "--time") overrides["time_limit"] = std::stod(next());
       else if (a == "--threads") overrides["threads"] = std::stoi(next());
       else if (a == "--seed") overrides["seed"] = std::stoi(next());
+      else if (a == "--sample-offset") overrides["sample_offset"] = std::stoi(next());
       else if (a == "--integrator") overrides["integrator"] = next();
       else if (a == "--mis") overrides["mis"] = next();
       else if (a == "--mlt-large-step") overrides["mlt_large_step"] = std::stod(next());
@@ -105,6 +163,7 @@ int main(int argc, char **argv) {
   if (overrides.contains("time_limit") && !overrides.contains("samples") && !settings.contains("samples"))
     overrides["samples"] = 0;  // a time limit alone renders until the time is up
   settings.update(overrides);
+  if (!settings.contains("scene_hash")) settings["scene_hash"] = scene_file_hash(scene_path);
 
   rdv_session *session = nullptr;
   if (!check(rdv_session_create(scene, settings.dump().c_str(), &session), "session")) {

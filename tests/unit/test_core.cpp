@@ -117,14 +117,14 @@ TEST(Film, SplatsSumInDoublePrecision) {
   {
     rdv::Film::PassPublisher pass(film);
     pass.add_splat(centre, rdv::Color(1.0f), filter);
-    pass.publish(1, 1.0);
+    pass.publish(1, {1.0, 1.0});
   }
   double one = pixel();
   ASSERT_GT(one, 0.0);
   {
     rdv::Film::PassPublisher pass(film);
     for (int i = 0; i < 1000000; ++i) pass.add_splat(centre, rdv::Color(1e-8f), filter);
-    pass.publish(2, 1.0);
+    pass.publish(2, {1.0, 1.0});
   }
   EXPECT_NEAR(pixel() / one, 1.01, 1e-5);
 }

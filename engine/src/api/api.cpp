@@ -5,9 +5,11 @@
 #include <memory>
 #include <new>
 #include <string>
+#include <vector>
 #include "core/error.h"
 #include "core/log.h"
 #include "film/image_output.h"
+#include "film/render_part.h"
 #include "render/session.h"
 #include "api/handles.h"
 #include "rendezvous.h"
@@ -310,8 +312,37 @@ rdv_status rdv_session_write_image(rdv_session *s, const char *path, const char 
   return guarded([&] {
     require(s, "session");
     require(path, "path");
-    std::string warning = rdv::write_image(s->session->film(), path, view ? view : "Standard");
+    const rdv::PartRecord part = s->session->part_record();
+    std::string warning = rdv::write_image(s->session->film(), path, view ? view : "Standard", &part);
     if (!warning.empty()) rdv::log_warning(warning);
+  });
+}
+
+rdv_status rdv_merge_parts(const char *const *paths, uint32_t count, const char *output_path, const char *options_json,
+                           const char **out_report) {
+  return guarded([&] {
+    require(paths, "paths");
+    require(output_path, "output_path");
+    thread_local std::string report;
+    if (out_report) *out_report = "";
+    std::vector<std::string> files;
+    for (uint32_t i = 0; i < count; ++i) {
+      require(paths[i], "paths[i]");
+      files.push_back(paths[i]);
+    }
+    rdv::Params p(options_json ? options_json : "", "merge options");
+    rdv::MergeOptions options;
+    options.allow_missing = p.get_bool("allow_missing", false);
+    int expected = p.get_int("samples", 0);
+    if (expected < 0) rdv::fail("merge options: 'samples' must not be negative");
+    options.expected_samples = uint64_t(expected);
+    std::string view = p.get_string("view", "Standard");
+    p.check_all_used();
+    rdv::MergeResult merged = rdv::merge_parts(files, options);
+    std::string warning = rdv::write_image(*merged.film, output_path, view, &merged.record);
+    if (!warning.empty()) merged.warnings.push_back(warning);
+    report = merged.report_json();
+    if (out_report) *out_report = report.c_str();
   });
 }
 

@@ -1,6 +1,7 @@
 #include "film/film.h"
 #include <algorithm>
 #include <array>
+#include <cmath>
 
 namespace rdv {
 
@@ -8,7 +9,7 @@ Film::Film(int width, int height, Rect region)
     : width_(width), height_(height), region_(region), pixels_(size_t(width) * height),
       aovs_(size_t(width) * height), splats_(size_t(width) * height) {}
 
-size_t Film::bytes_per_pixel() { return sizeof(PixelSum) + sizeof(PixelAov) + sizeof(SplatSum); }
+size_t Film::bytes_per_pixel() { return sizeof(PixelSum) + sizeof(PixelAov) + sizeof(SplatSums); }
 
 void Film::take_tile(const Rect &rect, FilmTile &tile) const {
   tile.rect_ = rect;
@@ -50,10 +51,10 @@ void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter) {
       float w = wy * wx[x - x0];
       if (w > 0) {
         Color c = L * (w * norm);
-        SplatSum &sum = splats_[index(x, y)];
-        sum.r += c.x;
-        sum.g += c.y;
-        sum.b += c.z;
+        SplatSums &sum = splats_[index(x, y)];
+        sum[0] += c.x;
+        sum[1] += c.y;
+        sum[2] += c.z;
       }
     }
   }
@@ -73,25 +74,22 @@ void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float 
       size_t i = index(px, py);
       const PixelSum &p = pixels_[i];
       const PixelAov &a = aovs_[i];
-      float n = p.count;
+      const double n = p.count;
       switch (pass) {
         case RDV_PASS_COMBINED: {
-          Color c = n > 0 ? p.sum / n : Color(0.0f);
-          const SplatSum &sp = splats_[i];
-          c += Color(float(sp.r * splat_scale), float(sp.g * splat_scale), float(sp.b * splat_scale));
-          dst[0] = c.x; dst[1] = c.y; dst[2] = c.z; dst[3] = 1.0f;
+          const SplatSums &sp = splats_[i];
+          for (int c = 0; c < 3; ++c) dst[c] = float((n > 0 ? p.sample[c] / n : 0.0) + sp[c] * splat_scale);
+          dst[3] = 1.0f;
           break;
         }
         case RDV_PASS_DEPTH: dst[0] = a.depth; break;
         case RDV_PASS_NORMAL: {
-          float len = length(a.normal);
-          Vec3 v = len > 0 ? a.normal / len : Vec3(0.0f);
-          dst[0] = v.x; dst[1] = v.y; dst[2] = v.z;
+          double len = std::sqrt(a.normal[0] * a.normal[0] + a.normal[1] * a.normal[1] + a.normal[2] * a.normal[2]);
+          for (int c = 0; c < 3; ++c) dst[c] = len > 0 ? float(a.normal[c] / len) : 0.0f;
           break;
         }
         case RDV_PASS_ALBEDO: {
-          Color c = n > 0 ? a.albedo / n : Color(0.0f);
-          dst[0] = c.x; dst[1] = c.y; dst[2] = c.z;
+          for (int c = 0; c < 3; ++c) dst[c] = n > 0 ? float(a.albedo[c] / n) : 0.0f;
           break;
         }
       }

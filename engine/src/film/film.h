@@ -4,6 +4,7 @@
 // while rendering: every access to the film's sums is under the frame lock, and each
 // holds a whole tile or a whole pass, never a part of one.
 #pragma once
+#include <array>
 #include <mutex>
 #include <vector>
 #include "core/math.h"
@@ -15,11 +16,23 @@ namespace rdv {
 
 // What the splats of a frame are: published with them after each complete pass, so a
 // read scales them for exactly the passes they hold.
+// How the splat sums become radiance: numerator / paths (tile integrators: the image's
+// pixel count over the light paths traced; MLT: b over the mutations made).
+struct SplatNormalisation {
+  double numerator = 0, paths = 0;
+  double scale() const { return paths > 0 ? numerator / paths : 0.0; }
+};
+
 struct FrameState {
   uint64_t pass = 0;       // complete passes published (0: none yet, no splats)
   uint32_t samples = 0;    // samples per pixel of those passes (MLT: mutations per pixel)
   double splat_scale = 0;  // their normalisation (the integrator's business)
+  SplatNormalisation splats;  // splat_scale as numerator / paths (render parts merge these)
 };
+
+// Splat sums in double: MLT adds millions of splats to a pixel, and a float sum stops
+// growing once each splat is below its rounding step.
+using SplatSums = std::array<double, 3>;
 
 class Film {
  public:
@@ -46,8 +59,8 @@ class Film {
     // splatted and sampled estimates converge to the same image.
     void add_splat(Vec2 raster, Color L, const PixelFilter &filter) { film_.add_splat(raster, L, filter); }
     // The frame now complete: samples (or mutations) per pixel and the splats' scale.
-    void publish(uint32_t samples, double splat_scale) {
-      film_.state_ = {film_.state_.pass + 1, samples, splat_scale};
+    void publish(uint32_t samples, SplatNormalisation splats) {
+      film_.state_ = {film_.state_.pass + 1, samples, splats.scale(), splats};
     }
 
    private:
@@ -63,17 +76,23 @@ class Film {
   // the frame state of what was read.
   void read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float *out, FrameState *state = nullptr) const;
 
+  // The raw sums, row-major from the top (writing and merging render parts,
+  // film/render_part.h): read them when no render is running.
+  std::vector<PixelSum> &pixel_sums() { return pixels_; }
+  const std::vector<PixelSum> &pixel_sums() const { return pixels_; }
+  std::vector<SplatSums> &splat_sums() { return splats_; }
+  const std::vector<SplatSums> &splat_sums() const { return splats_; }
+  std::vector<PixelAov> &aov_sums() { return aovs_; }
+  const std::vector<PixelAov> &aov_sums() const { return aovs_; }
+
  private:
   void add_splat(Vec2 raster, Color L, const PixelFilter &filter);
-  // Splat sums in double: MLT adds millions of splats to a pixel, and a float sum
-  // stops growing once each splat is below its rounding step.
-  struct SplatSum { double r = 0, g = 0, b = 0; };
   size_t index(int x, int y) const { return size_t(y) * width_ + x; }
   int width_, height_;
   Rect region_;
   std::vector<PixelSum> pixels_;
   std::vector<PixelAov> aovs_;
-  std::vector<SplatSum> splats_;
+  std::vector<SplatSums> splats_;
   FrameState state_;
   mutable std::mutex frame_mutex_;  // guards all of the above but the sizes
 };

@@ -5,6 +5,8 @@
 // Film::put_tile publishes it whole: a progressive read never sees half a sample.
 #pragma once
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <vector>
 #include "core/math.h"
 
@@ -16,17 +18,17 @@ struct Rect {
   int height() const { return y1 - y0; }
 };
 
-// A pixel's camera samples: their sum and count.
+// A pixel's camera samples: their sum (double: render parts add up to the whole
+// render's sums, film/render_part.h) and count.
 struct PixelSum {
-  Color sum{0.0f};
-  float count = 0;
+  std::array<double, 3> sample{};
+  uint32_t count = 0;
 };
 
 // First-hit AOVs: nearest depth, summed normals and albedos (averaged by the count).
 struct PixelAov {
   float depth = 1e10f;
-  Vec3 normal{0.0f};
-  Color albedo{0.0f};
+  std::array<double, 3> normal{}, albedo{};
 };
 
 class FilmTile {
@@ -34,14 +36,18 @@ class FilmTile {
   const Rect &rect() const { return rect_; }
   void add_sample(int x, int y, Color L) {
     PixelSum &p = pixels_[index(x, y)];
-    p.sum += L;
+    p.sample[0] += L.x;
+    p.sample[1] += L.y;
+    p.sample[2] += L.z;
     p.count += 1;
   }
   void add_first_hit(int x, int y, float depth, Vec3 normal, Color albedo) {
     PixelAov &a = aovs_[index(x, y)];
     a.depth = std::min(a.depth, depth);
-    a.normal += normal;
-    a.albedo += albedo;
+    for (int c = 0; c < 3; ++c) {
+      a.normal[c] += normal[c];
+      a.albedo[c] += albedo[c];
+    }
   }
 
  private:

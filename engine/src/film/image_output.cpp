@@ -2,6 +2,7 @@
 #include <OpenColorIO/OpenColorIO.h>
 #include <OpenImageIO/imageio.h>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include "core/error.h"
 
@@ -50,7 +51,7 @@ static std::string apply_view_transform(std::vector<float> &rgba, int w, int h, 
   return "no OpenColorIO config found (install blender or set $OCIO); wrote plain sRGB";
 }
 
-std::string write_image(const Film &film, const std::string &path, const std::string &view) {
+std::string write_image(const Film &film, const std::string &path, const std::string &view, const PartRecord *part) {
   int w = film.width(), h = film.height();
   std::string ext = std::filesystem::path(path).extension().string();
   for (char &c : ext) c = static_cast<char>(std::tolower(c));
@@ -65,21 +66,36 @@ std::string write_image(const Film &film, const std::string &path, const std::st
     film.read(RDV_PASS_DEPTH, 0, 0, w, h, true, depth.data());
     film.read(RDV_PASS_NORMAL, 0, 0, w, h, true, normal.data());
     film.read(RDV_PASS_ALBEDO, 0, 0, w, h, true, albedo.data());
-    const int nc = 11;
-    std::vector<float> all(size_t(w) * h * nc);
+    const int image_channels = 11;
+    PartChannels extra;
+    if (part) extra = part_channels(film);
+    const size_t extra_channels = extra.names.size();
+    // One 32-bit word per channel: float bits for the image, unsigned for the part's sums.
+    const size_t nc = image_channels + extra_channels;
+    std::vector<uint32_t> all(size_t(w) * h * nc);
     for (size_t i = 0; i < size_t(w) * h; ++i) {
-      float *d = &all[i * nc];
+      float d[image_channels];
       for (int c = 0; c < 4; ++c) d[c] = rgba[i * 4 + c];
       d[4] = depth[i];
       for (int c = 0; c < 3; ++c) { d[5 + c] = normal[i * 3 + c]; d[8 + c] = albedo[i * 3 + c]; }
+      std::memcpy(&all[i * nc], d, sizeof(d));
+      if (extra_channels)
+        std::memcpy(&all[i * nc + image_channels], &extra.words[i * extra_channels], extra_channels * 4);
     }
-    OIIO::ImageSpec spec(w, h, nc, OIIO::TypeDesc::FLOAT);
+    OIIO::ImageSpec spec(w, h, int(nc), OIIO::TypeDesc::FLOAT);
     spec.channelnames = {"R", "G", "B", "A", "Depth.Z", "Normal.X", "Normal.Y", "Normal.Z",
                          "Albedo.R", "Albedo.G", "Albedo.B"};
+    spec.channelformats.assign(image_channels, OIIO::TypeDesc::FLOAT);
+    for (const std::string &name : extra.names) {
+      spec.channelnames.push_back(name);
+      spec.channelformats.push_back(OIIO::TypeDesc::UINT);
+    }
     spec.alpha_channel = 3;
     spec.z_channel = 4;
     spec.attribute("compression", "zip");
-    if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, all.data()) || !out->close())
+    if (part) spec.attribute(part_attribute_name(), part->to_json());
+    // TypeDesc::UNKNOWN: the buffer holds each channel in its own format.
+    if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::UNKNOWN, all.data()) || !out->close())
       fail("cannot write '" + path + "': " + out->geterror(), RDV_ERROR_IO);
     return warning;
   }

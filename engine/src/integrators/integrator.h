@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 #include <vector>
+#include "core/hash.h"
 #include "core/params.h"
 #include "film/film.h"
 #include "film/pixel_filter.h"
@@ -20,6 +21,13 @@ struct RenderSettings {
   std::string integrator = "path";
   std::string sampler = "sobol";  // or "independent"
   uint32_t samples = 128;  // 0 = no sample limit (then time_limit > 0)
+  // A part of a render (farm task): samples [sample_offset, sample_offset + samples) of
+  // the sequence (path, bdpt); Metropolis: the chain set of task sample_offset
+  // (seed_for_chains). docs/farm.md.
+  uint32_t sample_offset = 0;
+  // Whatever the caller identifies the scene by (the CLI: a hash of the scene file);
+  // written into render parts so that parts of different scenes are never merged.
+  std::string scene_hash;
   double time_limit = 0;   // seconds, 0 = off
   int max_bounces = 12;
   uint32_t seed = 0;
@@ -41,6 +49,12 @@ struct RenderSettings {
   float mlt_step_size = 0.01f;
 
   static RenderSettings from_params(Params &p);
+  // Seed of the Metropolis bootstrap and chains: the seed itself for the first part
+  // (sample_offset 0, so a whole render is unchanged), an independent one per part.
+  uint32_t seed_for_chains() const { return sample_offset == 0 ? seed : hash_combine(seed, sample_offset); }
+  // Every setting that changes the image except the sample range, the halt and the
+  // thread count (parts of one render must agree on it), as a JSON object text.
+  std::string image_settings_json() const;
 };
 
 struct RayStats {

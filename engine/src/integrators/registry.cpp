@@ -1,5 +1,6 @@
 #include "integrators/integrator.h"
 #include "core/limits.h"
+#include <nlohmann/json.hpp>
 #include "integrators/bdpt/bdpt.h"
 #include "integrators/mlt/metropolis.h"
 #include "integrators/path/path_tracer.h"
@@ -53,6 +54,10 @@ RenderSettings RenderSettings::from_params(Params &p) {
          RDV_ERROR_LIMIT);
   s.samples = static_cast<uint32_t>(samples);
   if (s.samples == 0 && s.time_limit <= 0) s.samples = 128;  // always a halt condition
+  int offset = p.get_int("sample_offset", 0);
+  if (offset < 0) fail(p.what() + ": 'sample_offset' must not be negative");
+  s.sample_offset = static_cast<uint32_t>(offset);
+  s.scene_hash = p.get_string("scene_hash", "");
   s.max_bounces = p.get_int("max_bounces", 12);
   if (s.max_bounces < 0 || s.max_bounces > 1024) fail(p.what() + ": 'max_bounces' must be in 0..1024");
   s.seed = static_cast<uint32_t>(p.get_int("seed", 0));
@@ -95,6 +100,29 @@ RenderSettings RenderSettings::from_params(Params &p) {
   }
   check_memory(p.what(), film, bytes);
   return s;
+}
+
+std::string RenderSettings::image_settings_json() const {
+  nlohmann::json j;
+  j["width"] = width;
+  j["height"] = height;
+  j["integrator"] = integrator;
+  j["sampler"] = sampler;
+  j["max_bounces"] = max_bounces;
+  j["seed"] = seed;
+  j["clamp"] = clamp;
+  j["filter_width"] = filter_width;
+  j["border"] = {border.x0, border.y0, border.x1, border.y1};
+  j["strategy"] = {strategy_s, strategy_t};
+  j["strategy_unweighted"] = strategy_unweighted;
+  j["mis"] = mis;
+  if (integrator == "pssmlt" || integrator == "mmlt") {
+    j["mlt_large_step"] = mlt_large_step;
+    j["mlt_bootstrap"] = mlt_bootstrap;
+    j["mlt_chains"] = mlt_chains;
+    j["mlt_step_size"] = mlt_step_size;
+  }
+  return j.dump();
 }
 
 }  // namespace rdv

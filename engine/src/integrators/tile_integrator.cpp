@@ -63,12 +63,18 @@ void TileIntegrator::render(RenderContext &ctx) {
   uint32_t done = 0;
   // 0: until the time limit, or the film's exact sample count (kMaxSamplesPerPixel).
   const uint32_t target = ctx.settings.samples ? ctx.settings.samples : kMaxSamplesPerPixel;
+  // A part of a render (a farm task) renders samples [offset, offset + samples) of the
+  // whole render's sequence: the same camera samples and, since each camera sample
+  // traces its own light path (BDPT), the same light paths.
+  const uint32_t offset = ctx.settings.sample_offset;
   while (!ctx.control.should_stop() && done < target) {
     uint32_t last = std::min(target, done + batch);
+    last = std::min<uint64_t>(last, uint64_t(UINT32_MAX) - offset);  // sample indices stay 32-bit
+    if (last <= done) break;
     auto pass_start = std::chrono::steady_clock::now();
     ctx.arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t> &b) {
-        for (size_t i = b.begin(); i != b.end(); ++i) render_tile(ctx, tiles[i], done, last, tile_splats[i]);
+        for (size_t i = b.begin(); i != b.end(); ++i) render_tile(ctx, tiles[i], offset + done, offset + last, tile_splats[i]);
       });
     });
     if (ctx.control.should_stop()) break;  // an interrupted pass does not count, nor do its splats
@@ -79,7 +85,8 @@ void TileIntegrator::render(RenderContext &ctx) {
         for (const Splat &sp : splats) frame.add_splat(sp.raster, sp.L, ctx.filter);
       // One light path per camera sample, over the rendered region only; the camera's
       // importance is normalised over the whole image.
-      frame.publish(done, float(ctx.settings.width) * ctx.settings.height / (float(r.width()) * r.height() * done));
+      frame.publish(done, {double(ctx.settings.width) * double(ctx.settings.height),
+                           double(r.width()) * double(r.height()) * double(done)});
     }
     // Grow the batch while passes are short, so progress updates stay ~4 per second.
     double pass_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - pass_start).count();

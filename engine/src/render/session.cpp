@@ -54,4 +54,15 @@ Progress Session::progress() const {
   return p;
 }
 
+PartRecord Session::part_record() const {
+  PartRecord r;
+  r.scene_hash = settings_.scene_hash;
+  r.settings_json = settings_.image_settings_json();
+  const uint64_t begin = settings_.sample_offset;
+  const FrameState frame = film_.frame_state();
+  r.ranges.push_back({begin, begin + frame.samples});
+  r.splats = frame.splats;
+  return r;
+}
+
 }  // namespace rdv

@@ -8,6 +8,7 @@
 #include <thread>
 #include "film/film.h"
 #include "film/pixel_filter.h"
+#include "film/render_part.h"
 #include "integrators/integrator.h"
 #include "render/render_control.h"
 
@@ -31,6 +32,8 @@ class Session {
   // The integrator's own figures (JSON object; MLT: acceptance, chains, b).
   std::string integrator_stats() const { return integrator_->stats_json(); }
   const Film &film() const { return film_; }
+  // What a render part written now holds: samples [offset, offset + samples done).
+  PartRecord part_record() const;
   const RenderSettings &settings() const { return settings_; }
 
  private:

@@ -63,7 +63,7 @@ void Metropolis::first_hit_pass(RenderContext &ctx) const {
   ctx.arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<int>(region.y0, region.y1, 1), [&](const tbb::blocked_range<int> &rows) {
       thread_local std::vector<bdpt::PathVertex> path(2);
-      SobolSampler sampler(settings_.seed);
+      SobolSampler sampler(settings_.seed_for_chains());
       RayStats stats;
       thread_local FilmTile rows_tile;  // these rows' pixels, published whole
       ctx.film.take_tile(Rect{region.x0, rows.begin(), region.x1, rows.end()}, rows_tile);
@@ -104,7 +104,7 @@ void Metropolis::render(RenderContext &ctx) {
   const uint64_t n_bootstrap = per_depth * uint64_t(depths);
   std::vector<float> weights(n_bootstrap);
   std::vector<uint8_t> strategy(mlt_.multiplexed ? n_bootstrap : 0);  // s of each (multiplexed)
-  const uint64_t seed0 = bootstrap_seed(settings_.seed);
+  const uint64_t seed0 = bootstrap_seed(settings_.seed_for_chains());
   ctx.arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<uint64_t>(0, n_bootstrap, 256), [&](const tbb::blocked_range<uint64_t> &r) {
       if (ctx.control.should_stop()) return;
@@ -174,7 +174,7 @@ void Metropolis::render(RenderContext &ctx) {
   const Distribution1D starts(weights);
   std::vector<Chain> chains;
   chains.reserve(n_chains);
-  const uint64_t chain_seed0 = chain_seed(settings_.seed);
+  const uint64_t chain_seed0 = chain_seed(settings_.seed_for_chains());
   for (uint32_t c = 0; c < n_chains; ++c) {
     Pcg32 pick(chain_seed0, kChainStreams + 2 * uint64_t(c));
     uint64_t i = starts.sample_discrete(pick.next_float(), nullptr);
@@ -301,7 +301,7 @@ void Metropolis::render(RenderContext &ctx) {
         chain.splats.clear();
       }
       if (done > 0)
-        frame.publish(uint32_t(std::min<uint64_t>(done / region_pixels, UINT32_MAX)), b_now / double(done));
+        frame.publish(uint32_t(std::min<uint64_t>(done / region_pixels, UINT32_MAX)), {b_now, double(done)});
     }
     {
       std::lock_guard<std::mutex> lock(stats_mutex_);

@@ -5,7 +5,8 @@
 //  - Hachisuka et al. 2014, multiplexed ("mmlt"): a state also picks a path depth and one
 //    (s, t) strategy, and its target is that strategy's MIS-weighted contribution.
 // A bootstrap of independent samples estimates the normalisation b and picks each
-// chain's start by importance; a fixed number of chains, each seeded by (seed, chain),
+// chain's start by importance; a fixed number of chains, each seeded by (seed, chain)
+// (a farm part by (seed, sample_offset, chain): an independent chain set, docs/farm.md),
 // run in parallel and their splats (Veach's expected values of proposal and state;
 // the image is b / mutations times their sum, b refined by every large step) are applied
 // in chain order after each pass, so the image is the same on any

@@ -1,0 +1,303 @@
+#include "film/render_part.h"
+#include <OpenImageIO/imageio.h>
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <nlohmann/json.hpp>
+#include "core/error.h"
+
+namespace rdv {
+
+namespace {
+
+using json = nlohmann::json;
+
+// Channel layout of the layer "RdvMerge": each double as two words (high, low), so a
+// part holds its sums bit for bit (EXR has no 64-bit channels).
+constexpr const char *kLayer = "RdvMerge.";
+constexpr int kWordsPerPixel = 6 + 1 + 6 + 6 + 6 + 1;
+
+void put_double(uint32_t *&w, double v) {
+  uint64_t bits;
+  std::memcpy(&bits, &v, 8);
+  *w++ = uint32_t(bits >> 32);
+  *w++ = uint32_t(bits);
+}
+double get_double(const uint32_t *&w) {
+  uint64_t bits = (uint64_t(w[0]) << 32) | w[1];
+  w += 2;
+  double v;
+  std::memcpy(&v, &bits, 8);
+  return v;
+}
+
+std::vector<std::string> channel_names() {
+  std::vector<std::string> names;
+  auto doubles = [&](const char *group, const char *axes) {
+    for (const char *a = axes; *a; ++a)
+      for (const char *half : {"_hi", "_lo"}) names.push_back(std::string(kLayer) + group + "_" + *a + half);
+  };
+  doubles("sample", "rgb");
+  names.push_back(std::string(kLayer) + "sample_count");
+  doubles("splat", "rgb");
+  doubles("normal", "xyz");
+  doubles("albedo", "rgb");
+  names.push_back(std::string(kLayer) + "depth");  // float bits
+  return names;
+}
+
+// One part file: its record and its raw sums as words.
+struct LoadedPart {
+  std::string path;
+  PartRecord record;
+  int width = 0, height = 0;
+  std::vector<uint32_t> words;  // kWordsPerPixel per pixel
+};
+
+LoadedPart load_part(const std::string &path) {
+  LoadedPart part;
+  part.path = path;
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) fail("part '" + path + "': cannot read: " + OIIO::geterror(), RDV_ERROR_IO);
+  const OIIO::ImageSpec &spec = in->spec();
+  std::string text = spec.get_string_attribute(part_attribute_name());
+  if (text.empty())
+    fail("part '" + path + "': not a Rendezvous render part (no '" + std::string(part_attribute_name()) +
+         "' attribute: an EXR written by the engine's command-line renderer or rdv_session_write_image is)");
+  part.record = PartRecord::from_json(text, path);
+  part.width = spec.width;
+  part.height = spec.height;
+  // EXR keeps channels sorted by name: find each of ours, read the span they lie in.
+  const std::vector<std::string> names = channel_names();
+  std::vector<int> index(names.size(), -1);
+  for (size_t k = 0; k < names.size(); ++k) {
+    for (int c = 0; c < spec.nchannels; ++c)
+      if (spec.channelnames[size_t(c)] == names[k]) index[k] = c;
+    if (index[k] < 0) fail("part '" + path + "': channel " + names[k] + " is missing");
+  }
+  const int lo = *std::min_element(index.begin(), index.end()), hi = *std::max_element(index.begin(), index.end()) + 1;
+  const size_t pixels = size_t(part.width) * part.height, span = size_t(hi - lo);
+  std::vector<uint32_t> words(pixels * span);
+  if (!in->read_image(0, 0, lo, hi, OIIO::TypeDesc::UINT, words.data()))
+    fail("part '" + path + "': cannot read its channels: " + in->geterror(), RDV_ERROR_IO);
+  part.words.resize(pixels * names.size());
+  for (size_t i = 0; i < pixels; ++i)
+    for (size_t k = 0; k < names.size(); ++k) part.words[i * names.size() + k] = words[i * span + size_t(index[k] - lo)];
+  return part;
+}
+
+std::string range_text(const SampleRange &r) {
+  return "[" + std::to_string(r.begin) + ", " + std::to_string(r.end) + ")";
+}
+
+// "key: a vs b" for every setting that differs.
+std::string settings_difference(const std::string &a_text, const std::string &b_text) {
+  json a = json::parse(a_text), b = json::parse(b_text);
+  std::string out;
+  for (auto &[key, value] : a.items()) {
+    json other = b.contains(key) ? b[key] : json();
+    if (value != other) out += (out.empty() ? "" : ", ") + key + " " + other.dump() + " vs " + value.dump();
+  }
+  for (auto &[key, value] : b.items())
+    if (!a.contains(key)) out += (out.empty() ? "" : ", ") + key + " " + value.dump() + " vs (absent)";
+  return out;
+}
+
+}  // namespace
+
+const char *part_attribute_name() { return "rendezvous:part"; }
+
+std::string PartRecord::to_json() const {
+  json j;
+  j["format"] = 1;
+  j["scene_hash"] = scene_hash;
+  j["settings"] = json::parse(settings_json);
+  j["ranges"] = json::array();
+  for (const SampleRange &r : ranges) j["ranges"].push_back({r.begin, r.end});
+  j["splat_numerator"] = splats.numerator;  // printed to round-trip exactly
+  j["splat_paths"] = splats.paths;
+  return j.dump();
+}
+
+PartRecord PartRecord::from_json(const std::string &text, const std::string &part) {
+  PartRecord r;
+  try {
+    json j = json::parse(text);
+    if (j.value("format", 0) != 1)
+      fail("part '" + part + "': part format " + j.value("format", json(0)).dump() + " (this engine reads format 1)");
+    r.scene_hash = j.at("scene_hash").get<std::string>();
+    r.settings_json = j.at("settings").dump();
+    for (const json &range : j.at("ranges")) {
+      SampleRange s{range.at(0).get<uint64_t>(), range.at(1).get<uint64_t>()};
+      if (s.end < s.begin) fail("part '" + part + "': range " + range_text(s) + " ends before it begins");
+      r.ranges.push_back(s);
+    }
+    r.splats.numerator = j.at("splat_numerator").get<double>();
+    r.splats.paths = j.at("splat_paths").get<double>();
+    json settings = j.at("settings");
+    settings.at("width").get<int>();
+    settings.at("height").get<int>();
+    settings.at("border").at(3).get<int>();
+  } catch (const json::exception &e) {
+    fail("part '" + part + "': malformed '" + std::string(part_attribute_name()) + "' attribute: " + e.what());
+  }
+  if (!std::isfinite(r.splats.numerator) || !std::isfinite(r.splats.paths) || r.splats.paths < 0)
+    fail("part '" + part + "': splat normalisation is not finite");
+  return r;
+}
+
+PartChannels part_channels(const Film &film) {
+  PartChannels out;
+  out.names = channel_names();
+  const size_t n = size_t(film.width()) * film.height();
+  out.words.resize(n * kWordsPerPixel);
+  uint32_t *w = out.words.data();
+  for (size_t i = 0; i < n; ++i) {
+    const PixelSum &p = film.pixel_sums()[i];
+    const SplatSums &s = film.splat_sums()[i];
+    const PixelAov &a = film.aov_sums()[i];
+    for (double v : p.sample) put_double(w, v);
+    *w++ = p.count;
+    for (double v : s) put_double(w, v);
+    for (double v : a.normal) put_double(w, v);
+    for (double v : a.albedo) put_double(w, v);
+    std::memcpy(w++, &a.depth, 4);
+  }
+  return out;
+}
+
+std::string MergeResult::report_json() const {
+  json j;
+  j["ranges"] = json::array();
+  uint64_t samples = 0;
+  for (const SampleRange &r : record.ranges) {
+    j["ranges"].push_back({r.begin, r.end});
+    samples += r.end - r.begin;
+  }
+  j["samples"] = samples;
+  j["missing"] = json::array();
+  for (const SampleRange &r : missing) j["missing"].push_back({r.begin, r.end});
+  j["warnings"] = warnings;
+  return j.dump();
+}
+
+MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOptions &options) {
+  if (paths.empty()) fail("merge: no parts given");
+  std::vector<LoadedPart> parts;
+  parts.reserve(paths.size());
+  for (const std::string &path : paths) parts.push_back(load_part(path));
+
+  // The same scene and settings, and an image of the size they say.
+  const LoadedPart &first = parts[0];
+  for (const LoadedPart &p : parts) {
+    if (p.record.scene_hash != first.record.scene_hash)
+      fail("part '" + p.path + "' is of another scene (scene hash " + p.record.scene_hash + ") than '" + first.path +
+           "' (" + first.record.scene_hash + ")");
+    if (p.record.settings_json != first.record.settings_json)
+      fail("part '" + p.path + "' was rendered with other settings than '" + first.path +
+           "': " + settings_difference(first.record.settings_json, p.record.settings_json));
+  }
+  const json settings = json::parse(first.record.settings_json);
+  const int width = settings["width"].get<int>(), height = settings["height"].get<int>();
+  for (const LoadedPart &p : parts)
+    if (p.width != width || p.height != height)
+      fail("part '" + p.path + "': image is " + std::to_string(p.width) + "x" + std::to_string(p.height) +
+           ", its settings say " + std::to_string(width) + "x" + std::to_string(height));
+
+  // Ranges: no sample twice; gaps reported.
+  MergeResult result;
+  struct Owned { SampleRange range; size_t part; };
+  std::vector<Owned> owned;
+  for (size_t k = 0; k < parts.size(); ++k) {
+    bool any = false;
+    for (const SampleRange &r : parts[k].record.ranges)
+      if (r.end > r.begin) {
+        owned.push_back({r, k});
+        any = true;
+      }
+    if (!any) result.warnings.push_back("part '" + parts[k].path + "' holds no samples");
+  }
+  std::sort(owned.begin(), owned.end(), [](const Owned &a, const Owned &b) { return a.range.begin < b.range.begin; });
+  uint64_t covered = 0;
+  for (size_t i = 0; i < owned.size(); ++i) {
+    const SampleRange &r = owned[i].range;
+    if (i > 0 && r.begin < owned[i - 1].range.end)
+      fail("parts '" + parts[owned[i - 1].part].path + "' " + range_text(owned[i - 1].range) + " and '" +
+           parts[owned[i].part].path + "' " + range_text(r) + " overlap: samples " + std::to_string(r.begin) + ".." +
+           std::to_string(std::min(r.end, owned[i - 1].range.end) - 1) + " would count twice");
+    if (r.begin > covered) result.missing.push_back({covered, r.begin});
+    if (!result.record.ranges.empty() && result.record.ranges.back().end == r.begin) result.record.ranges.back().end = r.end;
+    else result.record.ranges.push_back(r);
+    covered = r.end;
+  }
+  if (options.expected_samples > covered) result.missing.push_back({covered, options.expected_samples});
+  if (!result.missing.empty()) {
+    std::string list;
+    for (const SampleRange &r : result.missing) list += (list.empty() ? "" : ", ") + range_text(r);
+    if (!options.allow_missing) fail("merge: missing sample ranges " + list + " (no part holds them)");
+    result.warnings.push_back("missing sample ranges " + list + ": the image holds the other samples only");
+  }
+
+  // Add in the order of the parts' first samples (the same sums whatever order the
+  // parts are named in). Splat sums of parts with another numerator (MLT: each part's
+  // own b) are rescaled to the first one's, so that numerator / paths stays right.
+  std::vector<size_t> order(parts.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  auto first_sample = [&](size_t k) { return parts[k].record.ranges.empty() ? 0 : parts[k].record.ranges[0].begin; };
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return first_sample(a) < first_sample(b); });
+  double numerator = 0, paths_total = 0;
+  for (size_t k : order)
+    if (parts[k].record.splats.paths > 0 && numerator == 0) numerator = parts[k].record.splats.numerator;
+
+  const auto &border = settings["border"];
+  result.film = std::make_unique<Film>(width, height, Rect{border[0].get<int>(), border[1].get<int>(), border[2].get<int>(), border[3].get<int>()});
+  Film &film = *result.film;
+  const size_t n = size_t(width) * height;
+  for (size_t k : order) {
+    const LoadedPart &part = parts[k];
+    const SplatNormalisation &sn = part.record.splats;
+    const bool splats = sn.paths > 0;
+    const bool same_numerator = sn.numerator == numerator;
+    const double rescale = splats && numerator != 0 ? sn.numerator / numerator : 0.0;
+    if (splats) paths_total += sn.paths;
+    const uint32_t *w = part.words.data();
+    for (size_t i = 0; i < n; ++i) {
+      PixelSum &p = film.pixel_sums()[i];
+      SplatSums &s = film.splat_sums()[i];
+      PixelAov &a = film.aov_sums()[i];
+      double v[18];
+      for (int c = 0; c < 3; ++c) v[c] = get_double(w);
+      uint32_t count = *w++;
+      for (int c = 3; c < 12; ++c) v[c] = get_double(w);
+      float depth;
+      std::memcpy(&depth, w++, 4);
+      for (int c = 0; c < 12; ++c)
+        if (!std::isfinite(v[c]))
+          fail("part '" + part.path + "': pixel (" + std::to_string(i % width) + ", " + std::to_string(i / width) +
+               ") holds a non-finite sum (a damaged file?)");
+      if (uint64_t(p.count) + count > UINT32_MAX)
+        fail("part '" + part.path + "': pixel sample counts overflow 2^32 when merged");
+      for (int c = 0; c < 3; ++c) p.sample[c] += v[c];
+      p.count += count;
+      if (splats)
+        for (int c = 0; c < 3; ++c) s[c] += same_numerator ? v[3 + c] : v[3 + c] * rescale;
+      for (int c = 0; c < 3; ++c) {
+        a.normal[c] += v[6 + c];
+        a.albedo[c] += v[9 + c];
+      }
+      if (!std::isnan(depth)) a.depth = std::min(a.depth, depth);
+    }
+  }
+  {
+    uint64_t samples = 0;
+    for (const SampleRange &r : result.record.ranges) samples += r.end - r.begin;
+    Film::PassPublisher frame(film);
+    frame.publish(uint32_t(std::min<uint64_t>(samples, UINT32_MAX)), {numerator, paths_total});
+  }
+  result.record.scene_hash = first.record.scene_hash;
+  result.record.settings_json = first.record.settings_json;
+  result.record.splats = {numerator, paths_total};
+  return result;
+}
+
+}  // namespace rdv

@@ -1,0 +1,63 @@
+// Render parts: what a farm task writes so that `rendezvous merge` can add parts into
+// the image one render of all their samples gives (docs/farm.md).
+//
+// Every EXR the engine writes is a part: besides the image it carries the film's raw
+// sums (per-pixel sample sums and counts, splat sums, AOV sums; doubles stored bit for
+// bit as pairs of 32-bit unsigned channels in the layer "RdvMerge") and a header
+// attribute "rendezvous:part" (JSON: scene hash, the settings that shape the image,
+// the sample ranges held, the splat normalisation). Merging adds the sums and writes
+// them through the same Film::read as a render, so the merged image is the whole
+// render's up to the rounding of double sums added in another order.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+#include "film/film.h"
+
+namespace rdv {
+
+struct SampleRange {
+  uint64_t begin = 0, end = 0;  // samples [begin, end) of the render's sequence
+};
+
+struct PartRecord {
+  std::string scene_hash;
+  std::string settings_json;         // RenderSettings::image_settings_json
+  std::vector<SampleRange> ranges;   // sorted, disjoint
+  SplatNormalisation splats;
+
+  std::string to_json() const;
+  // Throws an Error naming `part` (a file name) when the text is not a part record.
+  static PartRecord from_json(const std::string &text, const std::string &part);
+};
+
+// The extra channels of a part, appended to an image's channels: names and, per
+// pixel (row-major from the top), that many 32-bit words.
+struct PartChannels {
+  std::vector<std::string> names;
+  std::vector<uint32_t> words;  // width * height * names.size()
+};
+PartChannels part_channels(const Film &film);
+const char *part_attribute_name();  // the EXR header attribute holding PartRecord::to_json
+
+struct MergeOptions {
+  bool allow_missing = false;  // write the merge of the ranges present when some are missing
+  uint64_t expected_samples = 0;  // > 0: the ranges must cover [0, expected_samples)
+};
+
+struct MergeResult {
+  std::unique_ptr<Film> film;
+  PartRecord record;
+  std::vector<SampleRange> missing;
+  std::vector<std::string> warnings;
+  std::string report_json() const;
+};
+
+// Reads the parts and adds them. Refuses (an Error naming the part and the problem)
+// parts of different scenes or settings, overlapping ranges, unreadable or foreign
+// files, and missing ranges unless options.allow_missing.
+MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOptions &options);
+
+}  // namespace rdv
