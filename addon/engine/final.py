@@ -1,15 +1,17 @@
 """Final renders (F12, `blender -b ... -f N` / `-a`): export, start the engine session in
 its own threads, stream the film into the RenderResult every ~0.5 s, poll test_break()."""
 
+import os
 import time
 import traceback
 
+import bpy
 import numpy as np
 
 from .. import binding
 from ..binding import EngineError, LibraryError
 from ..export import SceneExporter, ExportError, session_settings, resolution, border_rect
-from ..export.settings import INTEGRATOR_LABELS
+from ..export.settings import INTEGRATOR_LABELS, part_output_path, scene_hash
 from ..utils import Messages
 from ..utils.images import image_average, clear_cache
 
@@ -139,12 +141,24 @@ def render(engine, depsgraph):
         engine.report({"ERROR"}, "Rendezvous: internal error %s: %s (see the console)" % (type(exc).__name__, exc))
 
 
+def _write_part(session, scene, props):
+    """The render as a part for `rendezvous merge` (docs/farm.md)."""
+    path = part_output_path(bpy.path.abspath(props.part_output), scene.frame_current)
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    session.write_image(path)
+    last_render["part_file"] = path
+    print("Rendezvous: wrote render part %s (samples %d..%d)" % (path, props.sample_offset,
+                                                                props.sample_offset + props.samples - 1))
+
+
 def _render(engine, depsgraph):
     lib = binding.load()
     scene = depsgraph.scene
     props = scene.rendezvous
     messages = Messages()
     settings = session_settings(scene, props, frame=scene.frame_current, warn=messages.warn)
+    if props.part_output:
+        settings["scene_hash"] = scene_hash(bpy.data.filepath, scene.name, scene.frame_current)
     last_render.clear()
     last_render.update(messages=messages.lines, settings=settings, cancelled=False)
 
@@ -198,6 +212,8 @@ def _render(engine, depsgraph):
         if "warning" in last_render["integrator_stats"]:
             engine.report({"WARNING"}, last_render["integrator_stats"]["warning"])
         film.push()
+        if props.part_output and not cancelled:
+            _write_part(session, scene, props)
         engine.update_progress(1.0 if not cancelled else min(max(p.fraction_done, 0.0), 1.0))
         engine.update_stats("", _stats_text(settings, p, session) + (" | Cancelled" if cancelled else ""))
         engine.end_result(result)

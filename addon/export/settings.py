@@ -1,5 +1,8 @@
 """Render settings JSON for rdv_session_create, and the output rectangle."""
 
+import hashlib
+import os
+
 INTEGRATORS = {"PATH": "path", "BDPT": "bdpt", "PSSMLT": "pssmlt", "MMLT": "mmlt"}
 METROPOLIS = ("pssmlt", "mmlt")
 INTEGRATOR_LABELS = {"path": "Path Tracing", "bdpt": "Bidirectional", "pssmlt": "Metropolis (Kelemen)",
@@ -68,6 +71,8 @@ def session_settings(scene, props, frame=None, warn=print):
         s.update(metropolis_settings(props))
     if samples > 0:
         s["samples"] = samples
+    if int(getattr(props, "sample_offset", 0)) > 0:
+        s["sample_offset"] = int(props.sample_offset)
     if time_limit > 0.0:
         s["time_limit"] = time_limit
     rect = border_rect(render, width, height)
@@ -77,3 +82,35 @@ def session_settings(scene, props, frame=None, warn=print):
     if abs(render.pixel_aspect_x - render.pixel_aspect_y) > 1e-6:
         warn("Render: non-square pixel aspect not supported yet, using square pixels")
     return s
+
+
+def scene_hash(blend_path, scene_name, frame):
+    """What render parts of this scene and frame share (docs/farm.md): the saved .blend
+    file's SHA-256 (so every farm task loading the same file agrees), the scene and the
+    frame. An unsaved file is identified by its scene name alone."""
+    h = hashlib.sha256()
+    if blend_path and os.path.isfile(blend_path):
+        with open(blend_path, "rb") as f:
+            for block in iter(lambda: f.read(1 << 20), b""):
+                h.update(block)
+        file_id = h.hexdigest()[:16]
+    else:
+        file_id = "unsaved"
+    return "blend:%s:%s:frame%d" % (file_id, scene_name, frame)
+
+
+def part_output_path(path, frame):
+    """The part file of a frame: each run of '#' becomes the zero-padded frame number,
+    as in Blender's output paths."""
+    out, i = [], 0
+    while i < len(path):
+        if path[i] == "#":
+            j = i
+            while j < len(path) and path[j] == "#":
+                j += 1
+            out.append("%0*d" % (j - i, frame))
+            i = j
+        else:
+            out.append(path[i])
+            i += 1
+    return "".join(out)

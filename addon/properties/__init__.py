@@ -1,7 +1,7 @@
 """scene.rendezvous: the render settings (shown in Render properties)."""
 
 import bpy
-from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
 INTEGRATOR_ITEMS = [
     ("PATH", "Path Tracing", "Unidirectional path tracing with next-event estimation"),
@@ -40,6 +40,13 @@ class RendezvousRenderSettings(bpy.types.PropertyGroup):
                                  description="Metropolis: size of a small mutation in primary sample space")
     samples: IntProperty(name="Samples", default=128, min=1, soft_max=4096,
                          description="Samples per pixel; the render stops when they are done")
+    sample_offset: IntProperty(name="Sample Offset", default=0, min=0, max=2**31 - 1,
+                               description="Render samples [offset, offset + samples) of the sequence, as "
+                                           "Cycles' sample offset: parts of one render on a farm, merged with "
+                                           "`rendezvous merge` (Metropolis: the part's own chains)")
+    part_output: StringProperty(name="Part File", default="", subtype="FILE_PATH",
+                                description="After a final render, also write it as a render part (EXR with the "
+                                            "sums `rendezvous merge` adds; # = frame number). Empty: off")
     time_limit: FloatProperty(name="Time Limit", default=0.0, min=0.0, subtype="TIME_ABSOLUTE", unit="TIME_ABSOLUTE",
                               description="Stop after this many seconds (0 = off); whichever halt comes first")
     max_bounces: IntProperty(name="Max Bounces", default=12, min=0, max=1024,

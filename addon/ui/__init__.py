@@ -52,6 +52,9 @@ class RENDEZVOUS_PT_sampling(RendezvousPanel, bpy.types.Panel):
         col = layout.column(align=True)
         col.prop(props, "seed")
         col.prop(props, "use_animated_seed")
+        col = layout.column(align=True, heading="Farm")
+        col.prop(props, "sample_offset")
+        col.prop(props, "part_output")
 
 
 class RENDEZVOUS_PT_light_paths(RendezvousPanel, bpy.types.Panel):

@@ -7,6 +7,9 @@
     run_blender.py --script test_render.py -- dump --cli build/engine/rendezvous
                                                             the JSON dump replays in the CLI
     run_blender.py --script test_render.py -- nolib         a missing library is a clear error
+    run_blender.py --script test_render.py -- farm --cli build/engine/rendezvous
+                                                            sample ranges rendered as parts and merged
+                                                            equal one render of all the samples
     run_blender.py --script test_render.py -- volume --vdb-writer build/tests/blender/write_test_vdb
                                                             a Volume object from a .vdb (written by the
                                                             test) is visible, the image finite; a missing
@@ -523,7 +526,54 @@ def test_metropolis(args):
             integrator, float(px[:, :, :3].mean()), st["b"], st["small_step_acceptance"], st["large_step_acceptance"], dt))
 
 
-MODES = {"border": test_border, "metropolis": test_metropolis, "scenes": test_scenes, "bad_input": test_bad_input, "cancel": test_cancel, "passes": test_passes,
+def image_channels_equal(a, b, name):
+    """True when the image channels (not the part sums) of two EXRs are equal bit for bit."""
+    oiio, idiff = shutil.which("oiiotool"), shutil.which("idiff")
+    check(oiio and idiff, "oiiotool and idiff (openimageio-tools) are needed")
+    chans = "R,G,B,A,Depth.Z,Normal.X,Normal.Y,Normal.Z,Albedo.R,Albedo.G,Albedo.B"
+    ia, ib = os.path.join(TMP, name + "_a.exr"), os.path.join(TMP, name + "_b.exr")
+    for src, dst in ((a, ia), (b, ib)):
+        subprocess.run([oiio, src, "--ch", chans, "-o", dst], check=True)
+    proc = subprocess.run([idiff, "-fail", "0", "-warn", "0", ia, ib], capture_output=True, text=True)
+    print(proc.stdout.strip().splitlines()[-1] if proc.stdout.strip() else proc.stderr)
+    return proc.returncode == 0
+
+
+def test_farm(args):
+    """Render farms through the add-on: four sample ranges (sample_offset) written as render
+    parts (part_output) and merged by `rendezvous merge` equal the add-on's render of all the
+    samples bit for bit (path tracing, BDPT); overlapping parts are refused, naming the part."""
+    check(args.cli and os.path.exists(args.cli), "--cli must name the command-line renderer")
+    scene = build_scenes.build("cornell_lamp_near_ceiling")
+    scene.render.resolution_x, scene.render.resolution_y = 40, 32
+    for integrator in ("PATH", "BDPT"):
+        whole = os.path.join(TMP, "farm_%s_whole.exr" % integrator)
+        result, dt = render(scene, samples=16, integrator=integrator, seed=5, sample_offset=0, part_output=whole)
+        check(result == {"FINISHED"} and os.path.exists(whole), "%s: no part file %s" % (integrator, whole))
+        parts = []
+        for k in (3, 1, 0, 2):
+            render(scene, samples=4, integrator=integrator, seed=5, sample_offset=4 * k,
+                   part_output=os.path.join(TMP, "farm_%s_part%d_####.exr" % (integrator, k)))
+            parts.append(final.last_render["part_file"])
+            check(parts[-1].endswith("_%04d.exr" % scene.frame_current), "frame not in %s" % parts[-1])
+        merged = os.path.join(TMP, "farm_%s_merged.exr" % integrator)
+        proc = subprocess.run([args.cli, "merge"] + parts + ["-o", merged, "--samples", "16"],
+                              capture_output=True, text=True)
+        print(proc.stderr.strip())
+        check(proc.returncode == 0, "%s: merge failed" % integrator)
+        check(image_channels_equal(whole, merged, "farm_" + integrator),
+              "%s: merged parts differ from the whole render" % integrator)
+        proc = subprocess.run([args.cli, "merge", whole, parts[0], "-o", os.path.join(TMP, "refused.exr")],
+                              capture_output=True, text=True)
+        check(proc.returncode != 0 and "overlap" in proc.stderr and os.path.basename(parts[0]) in proc.stderr,
+              "%s: overlapping parts not refused: %s" % (integrator, proc.stderr))
+        print("FARM %s: 4 parts merged = whole render (%.2f s for the whole)" % (integrator, dt))
+    scene.rendezvous.part_output = ""
+    scene.rendezvous.sample_offset = 0
+    print("FARM TEST PASSED")
+
+
+MODES = {"farm": test_farm, "border": test_border, "metropolis": test_metropolis, "scenes": test_scenes, "bad_input": test_bad_input, "cancel": test_cancel, "passes": test_passes,
          "dump": test_dump, "nolib": test_nolib, "volume": test_volume, "fire": test_fire,
          "fluid": test_fluid}
 

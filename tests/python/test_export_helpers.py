@@ -156,6 +156,28 @@ class TestCameraSettings(unittest.TestCase):
         self.assertEqual(s["time_limit"], 2.5)
         self.assertNotIn("samples", s)
 
+    def test_farm_part_settings(self):
+        from rendezvous.export.settings import session_settings, part_output_path, scene_hash
+        scene = ns(render=self.render(), frame_current=3)
+        self.assertNotIn("sample_offset", session_settings(scene, self.props()))  # props without the field
+        s = session_settings(scene, self.props(sample_offset=256))
+        self.assertEqual((s["sample_offset"], s["samples"]), (256, 64))
+        self.assertNotIn("sample_offset", session_settings(scene, self.props(sample_offset=0)))
+        self.assertEqual(part_output_path("/farm/part_####.exr", 7), "/farm/part_0007.exr")
+        self.assertEqual(part_output_path("/farm/f#_p#.exr", 12), "/farm/f12_p12.exr")
+        self.assertEqual(part_output_path("/farm/part.exr", 7), "/farm/part.exr")
+        with tempfile.TemporaryDirectory() as d:
+            blend = os.path.join(d, "a.blend")
+            with open(blend, "wb") as f:
+                f.write(b"BLENDER-v304 one")
+            h1 = scene_hash(blend, "Scene", 1)
+            self.assertEqual(h1, scene_hash(blend, "Scene", 1))
+            self.assertNotEqual(h1, scene_hash(blend, "Scene", 2))  # another frame is another image
+            with open(blend, "wb") as f:
+                f.write(b"BLENDER-v304 two")
+            self.assertNotEqual(h1, scene_hash(blend, "Scene", 1))
+        self.assertEqual(scene_hash("", "Scene", 1), "blend:unsaved:Scene:frame1")
+
     def test_filter_width(self):
         from rendezvous.export.settings import session_settings
         s = session_settings(ns(render=self.render(), frame_current=1), self.props())

@@ -321,6 +321,7 @@ rdv_status rdv_session_write_image(rdv_session *s, const char *path, const char 
 rdv_status rdv_merge_parts(const char *const *paths, uint32_t count, const char *output_path, const char *options_json,
                            const char **out_report) {
   return guarded([&] {
+    if (count == 0) rdv::fail("merge: no parts given");
     require(paths, "paths");
     require(output_path, "output_path");
     thread_local std::string report;

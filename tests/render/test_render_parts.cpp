@@ -1,0 +1,240 @@
+// Render parts (farm tasks, docs/farm.md): sample ranges rendered apart and merged
+// equal one render of all the samples; merging refuses parts that do not belong
+// together, naming the part; Metropolis parts (independent chain sets) merge to the
+// brightness BDPT gives.
+#include <gtest/gtest.h>
+#include <OpenImageIO/imageio.h>
+#include <cmath>
+#include <cstring>
+#include <nlohmann/json.hpp>
+#include "render_helpers.h"
+
+using namespace rdv::test;
+using nlohmann::json;
+
+namespace {
+
+// Renders the scene with the settings through the C ABI and writes the EXR part.
+void render_part(const json &scene, const json &settings, const std::string &path) {
+  rdv_scene *s = nullptr;
+  ASSERT_EQ(rdv_scene_create(&s), RDV_OK);
+  auto loaded = rdv_tools::load_scene_json(scene.dump(), ".", s);
+  json all = json::parse(loaded.settings_json);
+  all.update(settings);
+  rdv_session *session = nullptr;
+  ASSERT_EQ(rdv_session_create(s, all.dump().c_str(), &session), RDV_OK) << rdv_last_error();
+  rdv_session_start(session);
+  rdv_session_wait(session);
+  ASSERT_EQ(rdv_session_write_image(session, path.c_str(), nullptr), RDV_OK) << rdv_last_error();
+  rdv_session_destroy(session);
+  rdv_scene_destroy(s);
+}
+
+// Every channel of an EXR as 32-bit words, by channel name.
+struct Channels {
+  int width = 0, height = 0;
+  std::vector<std::string> names;
+  std::vector<uint32_t> words;
+  bool is_float(size_t c) const { return names[c].rfind("RdvMerge.", 0) != 0; }
+  float value(size_t i, size_t c) const {
+    float f;
+    std::memcpy(&f, &words[i * names.size() + c], 4);
+    return f;
+  }
+};
+Channels read_channels(const std::string &path) {
+  Channels out;
+  auto in = OIIO::ImageInput::open(path);
+  EXPECT_TRUE(in) << path;
+  if (!in) return out;
+  const OIIO::ImageSpec &spec = in->spec();
+  out.width = spec.width;
+  out.height = spec.height;
+  out.names = spec.channelnames;
+  out.words.resize(size_t(spec.width) * spec.height * spec.nchannels);
+  // Float channels as float, part channels as unsigned: both 32-bit, as stored.
+  EXPECT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UNKNOWN, out.words.data())) << in->geterror();
+  return out;
+}
+
+double word_double(const Channels &c, size_t i, size_t hi, size_t lo) {
+  uint64_t bits = (uint64_t(c.words[i * c.names.size() + hi]) << 32) | c.words[i * c.names.size() + lo];
+  double v;
+  std::memcpy(&v, &bits, 8);
+  return v;
+}
+
+std::string merge(const std::vector<std::string> &parts, const std::string &out, const std::string &options,
+                  rdv_status *status, std::string *report = nullptr) {
+  std::vector<const char *> paths;
+  for (const auto &p : parts) paths.push_back(p.c_str());
+  const char *text = nullptr;
+  *status = rdv_merge_parts(paths.data(), uint32_t(paths.size()), out.c_str(), options.c_str(), &text);
+  if (report && text) *report = text;
+  return *status == RDV_OK ? "" : rdv_last_error();
+}
+
+// 4 ranges of 4 samples merged (named out of order) vs one render of 16: the image
+// channels bit for bit, the raw double sums within the rounding of re-associated sums.
+void expect_merge_equals_whole(const std::string &integrator) {
+  json scene = load_scene("cornell_box.json");
+  json s = {{"width", 40}, {"height", 32}, {"integrator", integrator}, {"max_bounces", 6}, {"seed", 7}, {"threads", 2}};
+  s["samples"] = 16;
+  const std::string whole = temp_path(integrator + "_whole.exr");
+  render_part(scene, s, whole);
+  std::vector<std::string> parts;
+  for (int k : {2, 0, 3, 1}) {
+    s["samples"] = 4;
+    s["sample_offset"] = 4 * k;
+    s["threads"] = 1 + k % 2;  // the thread count is not part of the image
+    parts.push_back(temp_path(integrator + "_part" + std::to_string(k) + ".exr"));
+    render_part(scene, s, parts.back());
+  }
+  const std::string merged = temp_path(integrator + "_merged.exr");
+  rdv_status status;
+  std::string report;
+  std::string error = merge(parts, merged, "{\"samples\": 16}", &status, &report);
+  ASSERT_EQ(status, RDV_OK) << error;
+  EXPECT_EQ(json::parse(report)["ranges"], json::parse("[[0, 16]]"));
+
+  Channels a = read_channels(whole), b = read_channels(merged);
+  ASSERT_EQ(a.names, b.names);
+  ASSERT_EQ(a.words.size(), b.words.size());
+  size_t image_differences = 0, raw_differences = 0;
+  double worst_raw = 0;
+  const size_t nc = a.names.size(), pixels = size_t(a.width) * a.height;
+  for (size_t i = 0; i < pixels; ++i)
+    for (size_t c = 0; c < nc; ++c) {
+      if (a.words[i * nc + c] == b.words[i * nc + c]) continue;
+      if (a.is_float(c)) {
+        ++image_differences;
+        ADD_FAILURE() << integrator << ": pixel " << i << " channel " << a.names[c] << ": " << a.value(i, c) << " vs "
+                      << b.value(i, c);
+      } else if (a.names[c].size() > 3 && a.names[c].compare(a.names[c].size() - 3, 3, "_lo") == 0) {
+        ++raw_differences;
+        size_t hi = c - 1;  // "<name>_hi" sorts just before "<name>_lo"
+        double x = word_double(a, i, hi, c), y = word_double(b, i, hi, c);
+        worst_raw = std::max(worst_raw, std::fabs(x - y) / std::max(std::fabs(x), 1e-300));
+      } else {
+        ADD_FAILURE() << integrator << ": pixel " << i << " channel " << a.names[c] << " differs";
+      }
+    }
+  // Double sums of the same floats added in another order: a few units in the last
+  // place of the sum (2^-52 relative each), far below float's 2^-24.
+  EXPECT_LT(worst_raw, 1e-14);
+  std::printf("[ merge %-4s ] image channels: %zu of %zu words differ; raw sums: %zu doubles differ, worst %.3g relative\n",
+              integrator.c_str(), image_differences, pixels * 11, raw_differences, worst_raw);
+}
+
+}  // namespace
+
+TEST(RenderParts, FourRangesEqualOneRenderPath) { expect_merge_equals_whole("path"); }
+TEST(RenderParts, FourRangesEqualOneRenderBdpt) { expect_merge_equals_whole("bdpt"); }
+
+// Every refusal names the part and the problem; missing ranges are listed.
+TEST(RenderParts, MergeRefusesPartsThatDoNotBelongTogether) {
+  json scene = load_scene("cornell_box.json");
+  json s = {{"width", 16}, {"height", 12}, {"integrator", "bdpt"}, {"samples", 2}, {"scene_hash", "scene-a"}};
+  auto part = [&](const std::string &name, json changes) {
+    json t = s;
+    t.update(changes);
+    std::string path = temp_path(name);
+    render_part(scene, t, path);
+    return path;
+  };
+  const std::string p0 = part("r0.exr", {{"sample_offset", 0}});
+  const std::string p1 = part("r1.exr", {{"sample_offset", 2}});
+  const std::string p3 = part("r3.exr", {{"sample_offset", 6}});
+  const std::string overlapping = part("overlap.exr", {{"sample_offset", 1}});
+  const std::string other_scene = part("other_scene.exr", {{"sample_offset", 2}, {"scene_hash", "scene-b"}});
+  const std::string other_settings = part("other_settings.exr", {{"sample_offset", 2}, {"max_bounces", 3}});
+  const std::string out = temp_path("refused.exr");
+  rdv_status status;
+  auto expect_refused = [&](const std::vector<std::string> &parts, const std::vector<std::string> &words) {
+    std::string error = merge(parts, out, "{}", &status);
+    EXPECT_NE(status, RDV_OK);
+    for (const std::string &w : words) EXPECT_NE(error.find(w), std::string::npos) << "'" << w << "' not in: " << error;
+  };
+  expect_refused({p0, other_scene}, {other_scene, "another scene", "scene-b"});
+  expect_refused({p0, other_settings}, {other_settings, "other settings", "max_bounces 3 vs 12"});
+  expect_refused({p0, p1, overlapping}, {overlapping, "overlap", "[1, 3)"});
+  expect_refused({p0, p0}, {p0, "overlap"});
+  expect_refused({p0, p1, p3}, {"missing sample ranges [4, 6)"});
+  EXPECT_EQ(merge({p0, p1}, out, "{}", &status), "");  // [0, 4) complete without an expected count
+  std::string error = merge({p0, p1}, out, "{\"samples\": 8}", &status);
+  EXPECT_NE(error.find("missing sample ranges [4, 8)"), std::string::npos) << error;
+  // Allowed: the merge of what is there, the gap reported.
+  std::string report;
+  EXPECT_EQ(merge({p0, p1, p3}, out, "{\"allow_missing\": true}", &status, &report), "");
+  EXPECT_EQ(json::parse(report)["missing"], json::parse("[[4, 6]]")) << report;
+
+  // Files that are not parts: a PNG, a file that does not exist.
+  const std::string png = temp_path("image.png");
+  {
+    rdv_scene *sc = nullptr;
+    rdv_scene_create(&sc);
+    rdv_tools::load_scene_json(scene.dump(), ".", sc);
+    rdv_session *session = nullptr;
+    ASSERT_EQ(rdv_session_create(sc, s.dump().c_str(), &session), RDV_OK);
+    rdv_session_start(session);
+    rdv_session_wait(session);
+    rdv_session_write_image(session, png.c_str(), nullptr);
+    rdv_session_destroy(session);
+    rdv_scene_destroy(sc);
+  }
+  expect_refused({p0, png}, {png, "not a Rendezvous render part"});
+  expect_refused({p0, temp_path("absent.exr")}, {"absent.exr", "cannot read"});
+  EXPECT_EQ(merge({}, out, "{}", &status), "merge: no parts given");
+}
+
+// Metropolis parts are independent chain sets (seeded by (seed, sample_offset)); merged
+// by their mutation counts and each part's b, 8 parts give BDPT's brightness. The
+// parts' spread gives the merged image's standard error; BDPT's reference is 8 merged
+// ranges, its error from their spread. |t| < 4.8 (7 degrees of freedom): false alarm 0.2%
+// per integrator.
+TEST(RenderParts, MetropolisPartsMergeToBdptBrightness) {
+  json scene = load_scene("cornell_box.json");
+  constexpr int kParts = 8;
+  auto luminance_mean = [](const std::string &path) {
+    Channels c = read_channels(path);
+    double sum = 0;
+    for (size_t i = 0; i < size_t(c.width) * c.height; ++i)
+      sum += 0.2126 * c.value(i, 0) + 0.7152 * c.value(i, 1) + 0.0722 * c.value(i, 2);
+    return sum / double(c.width * c.height);
+  };
+  struct Estimate { double merged, part_mean, error; };
+  auto run = [&](const std::string &integrator, int samples) {
+    json s = {{"width", 32}, {"height", 32}, {"integrator", integrator}, {"max_bounces", 6}, {"samples", samples},
+              {"seed", 3}, {"mlt_chains", 32}, {"mlt_bootstrap", 16}};
+    std::vector<std::string> parts;
+    std::vector<double> means;
+    for (int k = 0; k < kParts; ++k) {
+      s["sample_offset"] = k * samples;
+      parts.push_back(temp_path(integrator + "_mpart" + std::to_string(k) + ".exr"));
+      render_part(scene, s, parts.back());
+      means.push_back(luminance_mean(parts.back()));
+    }
+    const std::string merged = temp_path(integrator + "_mmerged.exr");
+    rdv_status status;
+    std::string error = merge(parts, merged, "{}", &status);
+    EXPECT_EQ(status, RDV_OK) << error;
+    double m = 0, m2 = 0;
+    for (double v : means) { m += v; m2 += v * v; }
+    m /= kParts;
+    double sd = std::sqrt(std::max(0.0, m2 / kParts - m * m) * kParts / (kParts - 1));
+    return Estimate{luminance_mean(merged), m, sd / std::sqrt(double(kParts))};
+  };
+  Estimate bdpt = run("bdpt", 32);
+  for (const char *integrator : {"pssmlt", "mmlt"}) {
+    // 128 mutations per pixel: at 32, mmlt's parts read ~5% dark on this scene (all of
+    // them alike, a part of offset 0 too: a property of short mmlt runs, not of merging).
+    Estimate mlt = run(integrator, 128);
+    // Equal mutations per part: the merge is the parts' average (b rescaled per part).
+    EXPECT_NEAR(mlt.merged, mlt.part_mean, 1e-5 * mlt.part_mean) << integrator;
+    double t = (mlt.merged - bdpt.merged) / std::sqrt(mlt.error * mlt.error + bdpt.error * bdpt.error);
+    EXPECT_LT(std::fabs(t), 4.8) << integrator << ": merged " << mlt.merged << " +- " << mlt.error << " vs bdpt "
+                                 << bdpt.merged << " +- " << bdpt.error;
+    std::printf("[ merge %-6s ] 8 parts: mean %.5f +- %.5f, bdpt %.5f +- %.5f, ratio %.4f\n", integrator, mlt.merged,
+                mlt.error, bdpt.merged, bdpt.error, mlt.merged / bdpt.merged);
+  }
+}
