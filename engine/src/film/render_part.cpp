@@ -5,6 +5,7 @@
 #include <cstring>
 #include <nlohmann/json.hpp>
 #include "core/error.h"
+#include "core/limits.h"
 
 namespace rdv {
 
@@ -67,6 +68,9 @@ LoadedPart load_part(const std::string &path) {
   part.record = PartRecord::from_json(text, path);
   part.width = spec.width;
   part.height = spec.height;
+  check_memory("part '" + path + "'", "its " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " sums",
+               double(spec.width) * double(spec.height) * double(spec.nchannels + kWordsPerPixel) * 4.0 +
+                   double(spec.width) * double(spec.height) * double(Film::bytes_per_pixel()));
   // EXR keeps channels sorted by name: find each of ours, read the span they lie in.
   const std::vector<std::string> names = channel_names();
   std::vector<int> index(names.size(), -1);
