@@ -130,7 +130,7 @@ def submit(args):
     return array, merge
 
 
-def main(argv=None):
+def parse_args(argv=None):
     here = os.path.dirname(os.path.abspath(__file__))
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("scene", help=".blend (rendered by blender -b with the add-on) or a JSON scene")
@@ -146,7 +146,11 @@ def main(argv=None):
                     help="the command-line renderer (merges; renders JSON scenes)")
     ap.add_argument("--sbatch-args", default="", help="extra sbatch options, e.g. '--partition render'")
     ap.add_argument("--dry-run", action="store_true")
-    args = ap.parse_args(argv)
+    return ap.parse_args(argv)
+
+
+def main(argv=None):
+    args = parse_args(argv)
     try:
         submit(args)
     except (ValueError, RuntimeError, OSError) as exc:

@@ -3,7 +3,7 @@
 import bpy
 
 from .. import binding
-from . import compat, operators
+from . import compat, farm_submit, operators
 
 ENGINE_ID = "RENDEZVOUS"
 
@@ -55,6 +55,7 @@ class RENDEZVOUS_PT_sampling(RendezvousPanel, bpy.types.Panel):
         col = layout.column(align=True, heading="Farm")
         col.prop(props, "sample_offset")
         col.prop(props, "part_output")
+        col.operator(farm_submit.RENDEZVOUS_OT_farm_submit.bl_idname, icon="NETWORK_DRIVE")
 
 
 class RENDEZVOUS_PT_light_paths(RendezvousPanel, bpy.types.Panel):
@@ -107,6 +108,7 @@ classes = (RENDEZVOUS_PT_sampling, RENDEZVOUS_PT_light_paths, RENDEZVOUS_PT_perf
 
 def register():
     operators.register()
+    farm_submit.register()
     for cls in classes:
         bpy.utils.register_class(cls)
     compat.register()
@@ -118,4 +120,5 @@ def unregister():
     compat.unregister()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)
+    farm_submit.unregister()
     operators.unregister()

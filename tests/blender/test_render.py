@@ -570,6 +570,17 @@ def test_farm(args):
         print("FARM %s: 4 parts merged = whole render (%.2f s for the whole)" % (integrator, dt))
     scene.rendezvous.part_output = ""
     scene.rendezvous.sample_offset = 0
+    # The Slurm operator (dry run: scripts written, nothing submitted): 2 frames x 2 ranges.
+    blend = os.path.join(TMP, "farm_scene.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=blend)
+    out = os.path.join(TMP, "farm_dry")
+    result = bpy.ops.rendezvous.farm_submit(split=2, samples=4, frames="1-2", out_dir=out, dry_run=True)
+    check(result == {"FINISHED"}, "farm_submit returned %s" % result)
+    task = open(os.path.join(out, "slurm", "task.sh")).read()
+    check(task.count(") cmd=(") == 4 and "r.sample_offset = 4" in task and "--addons rendezvous" in task
+          and " -f 2" in task, "task script:\n" + task)
+    merge = open(os.path.join(out, "slurm", "merge.sh")).read()
+    check("part_0002_*.exr --samples 8" in merge, "merge script:\n" + merge)
     print("FARM TEST PASSED")
 
 

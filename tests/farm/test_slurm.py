@@ -4,7 +4,9 @@ munged, slurmctld and slurmd from Debian's packages (slurmctld slurmd slurm-clie
 this user from a generated slurm.conf for this host only, in a temporary folder, on their own
 ports. The test submits a 4-task split of a BDPT render with addon/farm/submit.py; the render of
 task 2 is killed (SIGKILL) mid-render on its first attempt and must be retried; the merge job
-must produce the image one render of all 128 samples gives, bit for bit (image channels). Exit 77
+must produce the image one render of all 128 samples gives, bit for bit (image channels). With
+--blender and --lib, a .blend built by the test is split the same way into 4 headless Blender
+tasks (the add-on installed for them) and merged, equal to one Blender render of all samples. Exit 77
 (ctest: skipped) when the Slurm or munge programs are not installed.
 
     python3 tests/farm/test_slurm.py --renderer build/engine/rendezvous
@@ -140,9 +142,65 @@ exec "$real" "$@"
 """
 
 
+BUILD_BLEND = """
+import sys, bpy
+sys.path.insert(0, %(scenes)r)
+import build_scenes
+scene = build_scenes.build("cornell_lamp_near_ceiling")
+scene.render.resolution_x, scene.render.resolution_y = 48, 36
+scene.render.engine = "RENDEZVOUS"
+scene.rendezvous.integrator = "BDPT"
+scene.rendezvous.seed = 5
+scene.frame_current = 1
+bpy.ops.wm.save_as_mainfile(filepath=%(path)r)
+"""
+
+
+def blender_split(args, cluster, renderer, tmp):
+    """A .blend split into 4 Slurm tasks of headless Blender (the add-on installed for them), merged,
+    equal to one headless Blender render of all the samples."""
+    sys.path.insert(0, os.path.join(ROOT, "tests", "blender"))
+    import run_blender  # noqa: E402  (installs the add-on, Blender's environment)
+    env = run_blender.addon_test_env(os.path.join(tmp, "blender"), args.lib)
+    env["SLURM_CONF"] = cluster.conf
+    blend = os.path.join(tmp, "cornell.blend")
+    subprocess.run([args.blender, "-b", "--factory-startup", "--addons", "rendezvous", "--python-expr",
+                    BUILD_BLEND % {"scenes": os.path.join(ROOT, "scenes", "blend"), "path": blend}],
+                   check=True, env=env, capture_output=True)
+    out = os.path.join(tmp, "farm_blend")
+    t0 = time.time()
+    proc = subprocess.run([sys.executable, SUBMIT, "--scheduler", "slurm", blend, "--split", "4", "--samples", "8",
+                           "--frames", "1", "--out", out, "--renderer", renderer, "--blender", args.blender,
+                           "--threads", "1"], capture_output=True, text=True, env=env)
+    print(proc.stdout + proc.stderr)
+    if proc.returncode != 0:
+        raise RuntimeError("submit (blend) failed")
+    if not cluster.wait_empty(240):
+        raise RuntimeError("the Blender jobs did not finish in 240 s\n" + cluster.logs())
+    farm_seconds = time.time() - t0
+    final = os.path.join(out, "final_0001.exr")
+    if not os.path.exists(final):
+        for name in sorted(os.listdir(os.path.join(out, "logs"))):
+            print("--- %s\n%s" % (name, open(os.path.join(out, "logs", name)).read()[-2000:]))
+        raise RuntimeError("the merge job wrote no %s" % final)
+    whole = os.path.join(tmp, "blend_whole.exr")
+    t1 = time.time()
+    subprocess.run([args.blender, "-b", blend, "--addons", "rendezvous", "--python-expr",
+                    "import bpy; r = bpy.context.scene.rendezvous; r.samples = 32; r.threads = 1; "
+                    "r.part_output = %r" % whole, "-o", os.path.join(tmp, "blend_whole_####"), "-f", "1"],
+                   check=True, env=env, capture_output=True)
+    whole_seconds = time.time() - t1
+    if not image_channels_equal(whole, final, tmp):
+        raise RuntimeError("the Blender farm's merged image differs from one Blender render of all 32 samples")
+    print("FARM SLURM BLENDER: 4 blender -b tasks of 8 spp + merge in %.1f s wall; one blender -b render of 32 spp "
+          "%.1f s" % (farm_seconds, whole_seconds))
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--renderer", required=True)
+    ap.add_argument("--blender", default=None, help="also split a .blend over Slurm (with --lib)")
+    ap.add_argument("--lib", default=None, help="librendezvous.so for the add-on the Blender tasks use")
     args = ap.parse_args()
     missing = [p for p in PROGRAMS if not shutil.which(p)]
     if missing or not shutil.which("oiiotool") or not shutil.which("idiff"):
@@ -194,6 +252,10 @@ def main():
             raise RuntimeError("the farm's merged image differs from one render of all 128 samples")
         print("FARM SLURM: 4 tasks of 32 spp (one killed and retried) + merge in %.1f s wall; one render of 128 spp %.1f s"
               % (farm_seconds, whole_seconds))
+        if args.blender and os.path.exists(args.blender) and args.lib:
+            blender_split(args, cluster, renderer, tmp)
+        else:
+            print("no Blender given (--blender, --lib): the .blend split is not tested")
         ok = True
     except Exception as exc:
         print("FAILED: %s" % exc)

@@ -178,6 +178,27 @@ class TestCameraSettings(unittest.TestCase):
             self.assertNotEqual(h1, scene_hash(blend, "Scene", 1))
         self.assertEqual(scene_hash("", "Scene", 1), "blend:unsaved:Scene:frame1")
 
+    def test_farm_submit_scripts(self):
+        from rendezvous.farm import submit
+        self.assertEqual(submit.parse_frames("1-3,7"), [1, 2, 3, 7])
+        with self.assertRaises(ValueError):
+            submit.parse_frames("5-2")
+        with tempfile.TemporaryDirectory() as d:
+            scene = os.path.join(d, "scene.json")
+            with open(scene, "w") as f:
+                f.write("{}")
+            args = submit.parse_args([scene, "--split", "3", "--samples", "16", "--out", os.path.join(d, "farm"),
+                                      "--renderer", "/opt/rdv/rendezvous", "--dry-run"])
+            self.assertEqual(submit.submit(args), ("DRYRUN", "DRYRUN"))
+            task = open(os.path.join(d, "farm", "slurm", "task.sh")).read()
+            self.assertIn("2) cmd=(/opt/rdv/rendezvous %s --samples 16 --sample-offset 32" % scene, task)
+            self.assertIn("for attempt in 1 2", task)
+            merge = open(os.path.join(d, "farm", "slurm", "merge.sh")).read()
+            self.assertIn("/opt/rdv/rendezvous merge %s/farm/parts/part_0001_*.exr --samples 48" % d, merge)
+            with self.assertRaises(ValueError):
+                submit.submit(submit.parse_args([os.path.join(d, "absent.json"), "--samples", "4", "--out", d,
+                                                 "--dry-run"]))
+
     def test_filter_width(self):
         from rendezvous.export.settings import session_settings
         s = session_settings(ns(render=self.render(), frame_current=1), self.props())
