@@ -112,6 +112,19 @@ class Cluster:
         return False
 
 
+def run_farm(cluster, submit_args, env, timeout):
+    """Submits with submit.py and waits for the array and the merge; returns the wall time."""
+    t0 = time.time()
+    proc = subprocess.run([sys.executable, SUBMIT, "--scheduler", "slurm"] + submit_args, capture_output=True,
+                          text=True, env=env)
+    print(proc.stdout + proc.stderr)
+    if proc.returncode != 0:
+        raise RuntimeError("submit failed")
+    if not cluster.wait_empty(timeout):
+        raise RuntimeError("the jobs did not finish in %d s\n%s" % (timeout, cluster.logs()))
+    return time.time() - t0
+
+
 def image_channels_equal(a, b, tmp):
     chans = "R,G,B,A,Depth.Z,Normal.X,Normal.Y,Normal.Z,Albedo.R,Albedo.G,Albedo.B"
     ia, ib = os.path.join(tmp, "a.exr"), os.path.join(tmp, "b.exr")
@@ -168,16 +181,8 @@ def blender_split(args, cluster, renderer, tmp):
                     BUILD_BLEND % {"scenes": os.path.join(ROOT, "scenes", "blend"), "path": blend}],
                    check=True, env=env, capture_output=True)
     out = os.path.join(tmp, "farm_blend")
-    t0 = time.time()
-    proc = subprocess.run([sys.executable, SUBMIT, "--scheduler", "slurm", blend, "--split", "4", "--samples", "8",
-                           "--frames", "1", "--out", out, "--renderer", renderer, "--blender", args.blender,
-                           "--threads", "1"], capture_output=True, text=True, env=env)
-    print(proc.stdout + proc.stderr)
-    if proc.returncode != 0:
-        raise RuntimeError("submit (blend) failed")
-    if not cluster.wait_empty(240):
-        raise RuntimeError("the Blender jobs did not finish in 240 s\n" + cluster.logs())
-    farm_seconds = time.time() - t0
+    farm_seconds = run_farm(cluster, [blend, "--split", "4", "--samples", "8", "--frames", "1", "--out", out,
+                                      "--renderer", renderer, "--blender", args.blender, "--threads", "1"], env, 240)
     final = os.path.join(out, "final_0001.exr")
     if not os.path.exists(final):
         for name in sorted(os.listdir(os.path.join(out, "logs"))):
@@ -223,16 +228,8 @@ def main():
             f.write(KILLER % {"real": renderer})
         os.chmod(killer, 0o755)
         out = os.path.join(tmp, "farm")
-        t0 = time.time()
-        proc = subprocess.run([sys.executable, SUBMIT, "--scheduler", "slurm", scene_path, "--split", "4",
-                               "--samples", "32", "--out", out, "--renderer", killer, "--threads", "1"],
-                              capture_output=True, text=True, env=cluster.env)
-        print(proc.stdout + proc.stderr)
-        if proc.returncode != 0:
-            raise RuntimeError("submit failed")
-        if not cluster.wait_empty(180):
-            raise RuntimeError("the jobs did not finish in 180 s\n" + cluster.logs())
-        farm_seconds = time.time() - t0
+        farm_seconds = run_farm(cluster, [scene_path, "--split", "4", "--samples", "32", "--out", out,
+                                          "--renderer", killer, "--threads", "1"], cluster.env, 180)
         logs = {name: open(os.path.join(out, "logs", name)).read() for name in os.listdir(os.path.join(out, "logs"))}
         for name, text in sorted(logs.items()):
             print("--- %s\n%s" % (name, text.strip()))
