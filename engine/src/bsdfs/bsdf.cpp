@@ -2,6 +2,7 @@
 #include "bsdfs/conductor.h"
 #include "bsdfs/dielectric.h"
 #include "bsdfs/layering.h"
+#include "bsdfs/lobe_merge.h"
 #include "bsdfs/diffuse.h"
 #include "bsdfs/oren_nayar.h"
 #include "bsdfs/principled_diffuse.h"
@@ -136,10 +137,10 @@ Bsdf::Bsdf(Vec3 ng, Vec3 ns, Vec3 wo, Vec3 tangent) : Bsdf(ng, ns, wo) {
   frame_ = Frame(t, cross(n, t), n);
 }
 
-uint8_t Bsdf::add_layer(const LayerAbove &layer) {
-  if (num_layers_ == kMaxLayers) return 0;
+uint16_t Bsdf::add_layer(const LayerAbove &layer) {
+  if (num_layers_ == kMaxLayers) return uint16_t(1u << closest_layer(&layers_[0], num_layers_, layer));
   new (&layers_[num_layers_]) LayerAbove(layer);
-  return uint8_t(1u << num_layers_++);
+  return uint16_t(1u << num_layers_++);
 }
 
 void Bsdf::layer_scales(Vec3 wo, Vec3 wi, LayerScales &out) const {
@@ -147,11 +148,20 @@ void Bsdf::layer_scales(Vec3 wo, Vec3 wi, LayerScales &out) const {
 }
 
 void Bsdf::add_lobe(const Lobe &lobe, float sample_weight) {
-  if (n_ == kMaxLobes || !(sample_weight > 0)) return;
-  new (&lobes_[n_]) Lobe(lobe);
-  if (lobe.is_dielectric() && backfacing_) lobes_[n_].ior = 1.0f / lobe.ior;
-  raw_weight_[n_] = sample_weight;
-  ++n_;
+  if (!(sample_weight > 0)) return;
+  int slot = n_;
+  if (n_ == kMaxLobes) {
+    Lobe seen = lobe;
+    if (seen.is_dielectric() && backfacing_) seen.ior = 1.0f / seen.ior;
+    slot = make_room_for_lobe(&lobes_[0], raw_weight_.data(), n_, seen, sample_weight);
+  } else {
+    ++n_;
+  }
+  if (slot >= 0) {
+    new (&lobes_[slot]) Lobe(lobe);
+    if (lobe.is_dielectric() && backfacing_) lobes_[slot].ior = 1.0f / lobe.ior;
+    raw_weight_[slot] = sample_weight;
+  }
   lambert_ = n_ == 1 && lobe.type == LobeType::Lambert && lobe.layers_above == 0;
   float total = 0;
   for (int i = 0; i < n_; ++i) total += raw_weight_[i];

@@ -75,7 +75,7 @@ struct Lobe {
   // apart from `color`, which multiscatter compensation compounds like a Fresnel tint.
   float scale = 1.0f;
   // The Bsdf's layers above this lobe (energy-conserving Principled), one bit each.
-  uint8_t layers_above = 0;
+  uint16_t layers_above = 0;
 
   Color fresnel(float cos_i) const {
     switch (fresnel_mode) {
@@ -116,8 +116,12 @@ struct BsdfSample {
 
 class Bsdf {
  public:
-  static constexpr int kMaxLobes = 8;
-  static constexpr int kMaxLayers = 8;  // bits of Lobe::layers_above
+  // Room for what shading builds at one point: a Principled BSDF makes up to 6 lobes
+  // and 3 layers, so a Mix of two full ones (12, 6) fits with room for 4 more closures
+  // (or three Principled BSDFs without transmission and alpha: 12 lobes, 9 layers).
+  // Beyond that lobes of one kind are merged (lobe_merge.h) and the material warns.
+  static constexpr int kMaxLobes = 16;
+  static constexpr int kMaxLayers = 12;  // bits of Lobe::layers_above
 
   // User-provided, so `Bsdf{}` / `PathVertex{}` do not zero the 2 KB of lobe storage.
   Bsdf() {}
@@ -137,10 +141,11 @@ class Bsdf {
   // With a tangent (anisotropy direction; zero = any): the frame's x axis follows it.
   Bsdf(Vec3 ng, Vec3 ns, Vec3 wo, Vec3 tangent);
 
+  // Past kMaxLobes the lobe is merged with one of its kind (lobe_merge.h).
   void add_lobe(const Lobe &lobe, float sample_weight);
-  // Adds a layer; returns its bit for Lobe::layers_above (0 when all kMaxLayers are
-  // taken: the lobes below then go unscaled).
-  uint8_t add_layer(const LayerAbove &layer);
+  // Adds a layer; returns its bit for Lobe::layers_above (past kMaxLayers: the bit of
+  // the existing layer most like it).
+  uint16_t add_layer(const LayerAbove &layer);
   int num_lobes() const { return n_; }
   bool is_delta() const;  // every lobe is delta: no point connecting to lights
   bool has_lobes() const { return n_ > 0; }
@@ -188,7 +193,7 @@ class Bsdf {
   // What the layers above a lobe scale it by, for one (wo, wi) pair (local frame).
   struct LayerScales {
     Color of_layer[kMaxLayers];
-    Color of(uint8_t layers_above) const {
+    Color of(uint16_t layers_above) const {
       Color k(1.0f);
       for (int j = 0; layers_above; ++j, layers_above >>= 1)
         if (layers_above & 1) k *= of_layer[j];

@@ -1,5 +1,6 @@
 #include "bsdfs/material.h"
 #include "bsdfs/layering.h"
+#include "bsdfs/lobe_merge.h"
 #include "bsdfs/shading_normal.h"
 #include "core/limits.h"
 
@@ -206,6 +207,7 @@ Material Material::from_params(Params &p, const std::string &name, const ImageBu
         (!m.graph.is_constant(c.in[kAlpha]) || m.graph.node(c.in[kAlpha]).value.x < 1.0f))
       m.transparent = true;
   }
+  m.warn_if_lobes_merge();
   for (std::string &w : m.warnings)
     if (w.rfind("material", 0) != 0 && w.rfind("image", 0) != 0) w = "material '" + name + "': " + w;
   for (std::string &w : m.warnings)
@@ -213,6 +215,46 @@ Material Material::from_params(Params &p, const std::string &name, const ImageBu
   m.resolve_constants();
   m.average_textured_emission();
   return m;
+}
+
+// The most lobes and layers a closure can add at one point (Principled: pass-through,
+// diffuse, sheen, specular, transmission, clearcoat; layers: sheen, specular, coat),
+// leaving out those a constant input turns off.
+static void closure_capacity(const Closure &c, const TextureGraph &graph, int &lobes, int &layers) {
+  if (c.type != MaterialType::Principled) {
+    lobes += 1;
+    return;
+  }
+  auto may_be = [&](ClosureInput i, bool (*on)(float)) {
+    return !graph.is_constant(c.in[i]) || on(graph.node(c.in[i]).value.x);
+  };
+  auto positive = [](float v) { return v > 0; };
+  bool sheen = may_be(kSheen, positive), coat = may_be(kClearcoat, positive);
+  lobes += 2 + may_be(kAlpha, [](float v) { return v < 1; }) + sheen + may_be(kTransmission, positive) + coat;
+  if (!c.additive_layers) layers += 1 + sheen + coat;
+}
+
+void Material::warn_if_lobes_merge() {
+  int lobes = 0, layers = 0;
+  for (const Closure &c : closures) closure_capacity(c, graph, lobes, layers);
+  if (lobes <= Bsdf::kMaxLobes && layers <= Bsdf::kMaxLayers) return;
+  warnings.push_back("up to " + std::to_string(lobes) + " BSDF lobes and " + std::to_string(layers) +
+                     " layers at a point, more than the " + std::to_string(Bsdf::kMaxLobes) + " and " +
+                     std::to_string(Bsdf::kMaxLayers) +
+                     " a point holds: lobes of one kind are merged (energy kept; their roughness and IOR averaged "
+                     "where they differ)");
+}
+
+void Material::ResolvedLobes::add_lobe(const Lobe &l, float w) {
+  if (!(w > 0)) return;
+  int slot = n < Bsdf::kMaxLobes ? n++ : make_room_for_lobe(lobe, weight, n, l, w);
+  if (slot >= 0) { lobe[slot] = l; weight[slot] = w; }
+}
+
+uint16_t Material::ResolvedLobes::add_layer(const LayerAbove &l) {
+  if (num_layers == Bsdf::kMaxLayers) return uint16_t(1u << closest_layer(layer, num_layers, l));
+  layer[num_layers] = l;
+  return uint16_t(1u << num_layers++);
 }
 
 Material Material::error_material(const std::string &name) {
@@ -450,7 +492,7 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
         Color sheen_color = (c.sheen_tint_is_color ? vmax(col(kSheenTint), Color(0.0f))
                                                    : Color(1.0f) * (1 - num(kSheenTint)) + tint * num(kSheenTint)) * sheen;
         // The layers go into the Bsdf once; each lobe names those above it.
-        uint8_t sheen_bit = 0, spec_bit = 0, coat_bit = 0;
+        uint16_t sheen_bit = 0, spec_bit = 0, coat_bit = 0;
         if (layered && diffuse_w > 0) {
           if (sheen > 0 && max_component(sheen_color) > 0) sheen_bit = bsdf.add_layer(sheen_layer(sheen_color));
           spec_bit = bsdf.add_layer(c.fixed_specular_layer ? c.specular_layer

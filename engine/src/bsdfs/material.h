@@ -76,14 +76,9 @@ struct Material {
     float weight[Bsdf::kMaxLobes];
     int num_layers = 0;
     LayerAbove layer[Bsdf::kMaxLayers];
-    void add_lobe(const Lobe &l, float w) {  // the same rules as Bsdf::add_lobe / add_layer
-      if (n < Bsdf::kMaxLobes && w > 0) { lobe[n] = l; weight[n] = w; ++n; }
-    }
-    uint8_t add_layer(const LayerAbove &l) {
-      if (num_layers == Bsdf::kMaxLayers) return 0;
-      layer[num_layers] = l;
-      return uint8_t(1u << num_layers++);
-    }
+    // The same rules as Bsdf::add_lobe / add_layer (lobe_merge.h past the capacity).
+    void add_lobe(const Lobe &l, float w);
+    uint16_t add_layer(const LayerAbove &l);
   };
   ResolvedLobes resolved;
 
@@ -110,6 +105,8 @@ struct Material {
   // Constant closure inputs to values; all constant: the lobes too (ResolvedLobes).
   void resolve_constants();
   void average_textured_emission();
+  // A warning when the closures may make more lobes or layers than a Bsdf holds.
+  void warn_if_lobes_merge();
   Bsdf resolved_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const;
   Bsdf shaded_bsdf(const ShadingPoint &sp, Vec3 wo) const;
 };
