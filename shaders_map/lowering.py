@@ -49,6 +49,14 @@ def _num(v):
     return [float(x) for x in v]
 
 
+def _constant(v, color):
+    """A constant as the engine reads it; into a colour input without negative parts."""
+    v = _num(v)
+    if not color:
+        return v
+    return max(v, 0.0) if isinstance(v, float) else [max(x, 0.0) for x in v]
+
+
 class _Lowerer:
     def __init__(self, issues, image_average, image_file, context, volume_grids=False):
         self.issues = issues
@@ -83,27 +91,23 @@ class _Lowerer:
         return v
 
     def value(self, ir, color=False):
-        """IR value -> number, [r,g,b] or a texture node object."""
+        """IR value -> number, [r,g,b] or a texture node object. color: the value feeds a
+        colour input, where the engine refuses negative constants (Cycles clamps them)."""
         if ir is None:
             return 0.0
         v = self.fold(ir)
         if v is not None:
-            v = _num(v)
-            if color and not isinstance(v, float) and min(v) < 0.0:
-                v = [max(x, 0.0) for x in v]
-            if color and isinstance(v, float) and v < 0.0:
-                v = 0.0
-            return v
-        key = id(ir)
+            return _constant(v, color)
+        # The same IR may be lowered as a vector and as a colour: both forms are kept. The
+        # memo holds ir itself, so its id is not reused while the key lives.
+        key = (id(ir), color)
         if key in self._memo:
             return self._memo[key][1]
         if not self._varies(ir):
             # Only approximated leaves (images without a file, ...): one constant, recorded.
-            v = self.ev.value(ir)
-            out = _num(v) if not color or isinstance(v, float) else [max(float(x), 0.0) for x in v]
-            self._memo[key] = (ir, out)
-            return out
-        out = self._node(ir)
+            out = _constant(self.ev.value(ir), color)
+        else:
+            out = self._node(ir)
         self._memo[key] = (ir, out)
         return out
 

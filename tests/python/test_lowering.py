@@ -437,6 +437,43 @@ class TestTextures(unittest.TestCase):
         self.assertIsNone(w)
 
 
+class TestValueRules(unittest.TestCase):
+    """The lowering cache and the colour clamp: a value lowered once as a vector and once as a
+    colour keeps both forms; no path lets a negative constant reach a colour input (the engine
+    rejects those)."""
+
+    def _lowerer(self):
+        from shaders_map.issues import Issues
+        from shaders_map.lowering import _Lowerer
+        return _Lowerer(Issues(), image_average, image_file, "surface")
+
+    def _approximated(self, output):
+        """An image without a file minus 2 (SUBTRACT): constant and negative, but approximated
+        (not folded), so lowered through the cache."""
+        from shaders_map.ir import Expr, Const
+        img = Image("gone.png", filepath="/nope/gone.png", missing=True)
+        tex = Expr("tex_image", "Tex", {}, {"image": img, "output": output})
+        if output == "Alpha":
+            return Expr("math", "Sub", {"a": tex, "b": Const(2.0)}, {"operation": "SUBTRACT"})
+        return Expr("mix_color", "Sub", {"fac": Const(1.0), "a": tex, "b": Const((2.0, 2.0, 2.0))},
+                    {"blend_type": "SUBTRACT", "clamp_result": False, "clamp_factor": True})
+
+    def test_cache_keeps_the_colour_flag(self):
+        sub = self._approximated("Color")
+        low = self._lowerer()
+        as_vector = low.value(sub)
+        self.assertLess(min(as_vector), 0.0)  # a vector keeps its sign
+        self.assertEqual(low.value(sub, True), [0.0, 0.0, 0.0])  # the same IR as a colour: clamped
+        self.assertEqual(low.value(sub), as_vector)
+
+    def test_float_constant_into_a_colour_is_clamped(self):
+        sub = self._approximated("Alpha")
+        self.assertEqual(self._lowerer().value(sub, True), 0.0)  # a float into a colour input
+        low = self._lowerer()
+        self.assertLess(low.value(sub), 0.0)
+        self.assertEqual(low.value(sub, True), 0.0)
+
+
 class TestWorld(unittest.TestCase):
     def _world(self, build, volume=None):
         t = Tree("W")
