@@ -9,6 +9,8 @@ Nothing here imports bpy.  The walk never hangs: cycles are cut with a warning n
 node, over-deep graphs raise LimitError naming it (limits.py).
 """
 
+import math
+
 from .ir import Const, Expr, Closure
 from .issues import Issues
 from .limits import MAX_DEPTH, LimitError
@@ -51,6 +53,14 @@ def socket_value(socket):
     if stype in ("VALUE", "INT", "BOOLEAN"):
         return t[0] if t else 0.0
     return (t + (0.0, 0.0, 0.0))[:3]
+
+
+def _finite(v):
+    """v with every non-finite number (inf, nan) replaced by 0, and whether it was finite."""
+    if isinstance(v, float):
+        return (v, True) if math.isfinite(v) else (0.0, False)
+    out = tuple(x if math.isfinite(x) else 0.0 for x in v)
+    return out, all(math.isfinite(x) for x in v)
 
 
 def find_socket(sockets, *names):
@@ -149,6 +159,18 @@ class Context:
     def warn(self, node, reason):
         self.issues.add(self.label(node), reason)
 
+    def constant(self, node, socket):
+        """The constant a socket holds (None for shaders). A value that is not finite (a script
+        can set inf or nan; the engine refuses them) becomes 0, with a warning naming the node
+        and the socket."""
+        if getattr(socket, "type", "") == "SHADER":
+            return None
+        v, ok = _finite(socket_value(socket))
+        if not ok:
+            self.warn(node, "'%s' is not finite (%s), using 0" % (getattr(socket, "name", "?"),
+                                                                    getattr(socket, "default_value", "?")))
+        return Const(v)
+
     def socket(self, node, *names):
         return find_socket(getattr(node, "inputs", ()), *names)
 
@@ -188,9 +210,7 @@ class Context:
         want = getattr(socket, "type", "VALUE")
         link = self._links.link_to(self._frame.tree, socket)
         if link is None:
-            if want == "SHADER":
-                return None
-            return Const(socket_value(socket))
+            return self.constant(node, socket)
         src = self.eval_output(link.from_node, link.from_socket)
         if passthrough:  # reroutes take the type of what is plugged into them
             return src
@@ -203,7 +223,7 @@ class Context:
             return self._memo[key]
         if key in self._active:
             self.warn(node, "cycle in the node graph, link cut")
-            return _default_for(socket)
+            return self.constant(node, socket)
         if len(self._active) >= MAX_DEPTH:
             raise LimitError("node graph too deep: more than %d nodes on one path, at %s"
                              % (MAX_DEPTH, self.label(node)))
@@ -223,7 +243,7 @@ class Context:
         if idname == REROUTE:
             inp = list(getattr(node, "inputs", ()))
             if not inp:
-                return _default_for(socket)
+                return self.constant(node, socket)
             return self.eval_input(node, inp[0], passthrough=True)
         if getattr(node, "mute", False):
             return self._eval_muted(node, socket)
@@ -245,23 +265,23 @@ class Context:
             if ptr(to) == ptr(socket) or (ident is not None and getattr(to, "identifier", None) == ident):
                 return self.eval_input(node, il.from_socket)
         # Blender passes nothing through: the output's default (no shader for closures).
-        return _default_for(socket)
+        return self.constant(node, socket)
 
     def _eval_group(self, node, socket):
         tree = getattr(node, "node_tree", None)
         if tree is None:
             self.warn(node, "node group has no tree")
-            return _default_for(socket)
+            return self.constant(node, socket)
         if self._frame.depth >= 16:
             self.warn(node, "node groups nested too deep (recursive group?)")
-            return _default_for(socket)
+            return self.constant(node, socket)
         out_node = _group_output(tree)
         if out_node is None:
-            return _default_for(socket)
+            return self.constant(node, socket)
         inner = find_socket(getattr(out_node, "inputs", ()),
                             getattr(socket, "identifier", ""), getattr(socket, "name", ""))
         if inner is None:
-            return _default_for(socket)
+            return self.constant(node, socket)
         saved = self._frame
         self._frame = _Frame(node, saved, tree)
         try:
@@ -272,11 +292,11 @@ class Context:
     def _eval_group_input(self, node, socket):
         frame = self._frame
         if frame.group_node is None:
-            return _default_for(socket)
+            return self.constant(node, socket)
         outer = find_socket(getattr(frame.group_node, "inputs", ()),
                             getattr(socket, "identifier", ""), getattr(socket, "name", ""))
         if outer is None:
-            return _default_for(socket)
+            return self.constant(node, socket)
         self._frame = frame.parent
         try:
             return self.eval_input(frame.group_node, outer)
@@ -297,12 +317,6 @@ class Context:
         if getattr(socket, "type", "") == "RGBA":
             return Const((0.5, 0.5, 0.5))
         return Const(0.5)
-
-
-def _default_for(socket):
-    if getattr(socket, "type", "") == "SHADER":
-        return None
-    return Const(socket_value(socket))
 
 
 def _group_output(tree):

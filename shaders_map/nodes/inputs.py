@@ -2,19 +2,18 @@
 
 from ..ir import Const, Expr
 from ..registry import maps, evaluates
-from ..graph import socket_value
 
 
 @maps("ShaderNodeRGB")
 def rgb(ctx, node, socket):
     outs = list(getattr(node, "outputs", ()))
-    return Const(socket_value(outs[0]) if outs else (0.5, 0.5, 0.5))
+    return ctx.constant(node, outs[0]) if outs else Const((0.5, 0.5, 0.5))
 
 
 @maps("ShaderNodeValue")
 def value(ctx, node, socket):
     outs = list(getattr(node, "outputs", ()))
-    return Const(socket_value(outs[0]) if outs else 0.0)
+    return ctx.constant(node, outs[0]) if outs else Const(0.0)
 
 
 @maps("ShaderNodeVertexColor")

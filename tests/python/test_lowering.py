@@ -440,7 +440,7 @@ class TestTextures(unittest.TestCase):
 class TestValueRules(unittest.TestCase):
     """The lowering cache and the colour clamp: a value lowered once as a vector and once as a
     colour keeps both forms; no path lets a negative constant reach a colour input (the engine
-    rejects those)."""
+    rejects those); a non-finite socket value becomes 0 with a warning naming the node."""
 
     def _lowerer(self):
         from shaders_map.issues import Issues
@@ -472,6 +472,24 @@ class TestValueRules(unittest.TestCase):
         low = self._lowerer()
         self.assertLess(low.value(sub), 0.0)
         self.assertEqual(low.value(sub, True), 0.0)
+
+    def test_non_finite_socket_values_become_zero_with_a_warning(self):
+        def b(t):
+            d = t.new("ShaderNodeBsdfDiffuse", "D")
+            checker = t.new("ShaderNodeTexChecker", "Check")
+            checker.inp("Scale").default_value = float("inf")
+            checker.inp("Color1").default_value = [float("nan"), 0.5, 0.5, 1.0]
+            t.link(checker.out("Color"), d.inp("Color"))
+            d.inp("Roughness").default_value = float("-inf")
+            return d.out()
+        p, w = keep("non_finite", convert(b))
+        self.assertEqual(p["color"]["scale"], 0.0)
+        self.assertEqual(p["color"]["color1"], [0.0, 0.5, 0.5])
+        self.assertEqual(p.get("roughness", 0.0), 0.0)
+        self.assertIn("Check", w)
+        self.assertIn("Scale", w)
+        self.assertIn("not finite", w)
+        json.dumps(p, allow_nan=False)  # what the binding sends
 
 
 class TestWorld(unittest.TestCase):

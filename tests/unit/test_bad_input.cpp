@@ -52,6 +52,49 @@ TEST(BadInput, WrongTypesAndRanges) {
   EXPECT_NE(error().find("16"), std::string::npos) << error();
 }
 
+// Bad values inside texture nodes: an invalid-argument error naming the material, the
+// node and the field (not a JSON library "internal error"); numbers that are not finite
+// as the engine's float32 (1e39) are rejected the same way.
+TEST(BadInput, BadTextureNodeValuesNameTheNodeAndField) {
+  SceneHandle sc;
+  uint32_t id;
+  struct Case { const char *json, *node, *field; };
+  const Case cases[] = {
+      {R"({"type":"diffuse","color":{"node":"checker","vector":{"node":"mapping","location":["a",0,0]}}})", "mapping node", "'location'"},
+      {R"({"type":"diffuse","color":{"node":"checker","vector":{"node":"mapping","scale":[1,2]}}})", "mapping node", "'scale'"},
+      {R"({"type":"diffuse","color":{"node":"color_ramp","elements":[{"position":"x","color":[1,1,1]}]}})", "color_ramp node", "'position'"},
+      {R"({"type":"diffuse","color":{"node":"color_ramp","elements":[{"position":0.5,"color":[1,"g",1]}]}})", "color_ramp node", "'color'"},
+      {R"({"type":"diffuse","color":{"node":"color_ramp","elements":{"position":0.5}}})", "color_ramp node", "'elements'"},
+      {R"({"type":"diffuse","normal":{"node":"normal_map","uv_map":5}})", "normal_map node", "'uv_map'"},
+      {R"({"type":"diffuse","color":{"node":"noise","detail":"lots"}})", "noise node", "'detail'"},
+      // Not finite as float32.
+      {R"({"type":"diffuse","color":{"node":"checker","scale":1e39}})", "checker node", "'scale'"},
+      {R"({"type":"diffuse","color":{"node":"math","value1":-1e39}})", "math node", "'value1'"},
+      {R"({"type":"diffuse","color":{"node":"checker","color1":[1e39,0,0]}})", "checker node", "'color1'"},
+      {R"({"type":"diffuse","color":{"node":"checker","vector":{"node":"mapping","rotation":[0,1e39,0]}}})", "mapping node", "'rotation'"},
+      {R"({"type":"diffuse","color":{"node":"color_ramp","elements":[{"position":1e39,"color":[1,1,1]}]}})", "color_ramp node", "'position'"},
+      {R"({"type":"diffuse","color":{"node":"color_ramp","elements":[{"position":0.5,"color":[1,1,1,1e39]}]}})", "color_ramp node", "'color'"},
+      {R"({"type":"diffuse","color":{"node":"noise","roughness":-1e39}})", "noise node", "'roughness'"},
+      {R"({"type":"diffuse","color":[1e39,0,0]})", "material 'M'", "'color'"},
+      {R"({"type":"diffuse","roughness":1e39})", "material 'M'", "'roughness'"},
+      {R"({"type":"glossy","eta":[1e39,1,1]})", "material 'M'", "'eta'"},
+  };
+  for (const Case &c : cases) {
+    EXPECT_EQ(RDV_ERROR_INVALID_ARGUMENT, rdv_scene_add_material(sc.s, "M", c.json, &id)) << c.json << "\n" << error();
+    EXPECT_EQ(error().find("internal error"), std::string::npos) << c.json << "\n" << error();
+    EXPECT_NE(error().find("material 'M'"), std::string::npos) << c.json << "\n" << error();
+    EXPECT_NE(error().find(c.node), std::string::npos) << c.json << "\n" << error();
+    EXPECT_NE(error().find(c.field), std::string::npos) << c.json << "\n" << error();
+  }
+  // Past double's range the JSON itself does not parse: malformed, naming the material.
+  EXPECT_EQ(RDV_ERROR_INVALID_ARGUMENT,
+            rdv_scene_add_material(sc.s, "M", R"({"type":"diffuse","color":{"node":"math","value1":1e999}})", &id));
+  EXPECT_NE(error().find("material 'M'"), std::string::npos) << error();
+  EXPECT_NE(error().find("malformed"), std::string::npos) << error();
+  // Large but finite values stay accepted.
+  EXPECT_EQ(RDV_OK, rdv_scene_add_material(sc.s, "Big", R"({"type":"diffuse","color":{"node":"checker","scale":1e30}})", &id)) << error();
+}
+
 TEST(BadInput, NullPointersAreErrorsNotCrashes) {
   EXPECT_EQ(RDV_ERROR_INVALID_ARGUMENT, rdv_scene_create(nullptr));
   EXPECT_NE(RDV_OK, rdv_scene_add_material(nullptr, "x", "{}", nullptr));

@@ -25,11 +25,12 @@ const nlohmann::json &Params::lookup(const char *key) {
   return json_.at(key);
 }
 
+// Finite as the engine's float: 1e39 is a finite double but infinite as a float.
 static float finite_number(const nlohmann::json &v, const std::function<void(const std::string &)> &bad) {
   if (!v.is_number()) bad("must be a number");
-  double d = v.get<double>();
-  if (!std::isfinite(d)) bad("must be finite");
-  return static_cast<float>(d);
+  float f = static_cast<float>(v.get<double>());
+  if (!std::isfinite(f)) bad("is " + v.dump() + ", not a finite number");
+  return f;
 }
 
 float Params::get_float(const char *key, float fallback) {
@@ -101,7 +102,11 @@ void Params::check_all_used() const {
 }
 
 static Vec3 json_vec3(const nlohmann::json &j, const std::string &what, const char *field) {
-  if (j.is_number()) { float s = j.get<float>(); return Vec3(s); }
+  if (j.is_number()) {
+    float s = j.get<float>();
+    if (!std::isfinite(s)) fail(what + ": '" + field + "' must be finite");
+    return Vec3(s);
+  }
   if (!j.is_array() || j.size() != 3) fail(what + ": '" + field + "' must be 3 numbers");
   Vec3 v;
   for (int i = 0; i < 3; ++i) {

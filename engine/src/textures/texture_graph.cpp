@@ -80,6 +80,15 @@ const std::vector<std::string> kGradients = {"LINEAR", "QUADRATIC", "EASING", "D
                                              "QUADRATIC_SPHERE", "RADIAL"};
 enum Coord : uint8_t { kUv, kGenerated, kObject, kPosition, kNormal };
 
+// A JSON number as the engine's float: anything else, or a value float cannot hold
+// (1e39), is an error naming `what` (the node and its field).
+float finite_float(const json &v, const std::string &what) {
+  if (!v.is_number()) fail(what + " must be a number, got " + v.dump());
+  float f = static_cast<float>(v.get<double>());
+  if (!std::isfinite(f)) fail(what + " is " + v.dump() + ", not a finite number");
+  return f;
+}
+
 // Tracks the keys a node object uses, so unknown keys are reported.
 struct NodeReader {
   const json &j;
@@ -93,8 +102,7 @@ struct NodeReader {
   }
   float num(const char *k, float fallback) {
     if (!has(k)) return fallback;
-    if (!j[k].is_number()) fail(what + ": '" + k + "' must be a number");
-    return j[k].get<float>();
+    return finite_float(j[k], what + ": '" + k + "'");
   }
   bool flag(const char *k, bool fallback) {
     if (!has(k)) return fallback;
@@ -104,9 +112,10 @@ struct NodeReader {
   Vec3 vec(const char *k, Vec3 fallback) {
     if (!has(k)) return fallback;
     const json &v = j[k];
-    if (v.is_number()) return Vec3(v.get<float>());
-    if (!v.is_array() || v.size() < 3) fail(what + ": '" + k + "' must be 3 numbers");
-    return {v[0].get<float>(), v[1].get<float>(), v[2].get<float>()};
+    std::string field = what + ": '" + k + "'";
+    if (v.is_number()) return Vec3(finite_float(v, field));
+    if (!v.is_array() || v.size() != 3) fail(field + " must be 3 numbers");
+    return {finite_float(v[0], field), finite_float(v[1], field), finite_float(v[2], field)};
   }
   uint8_t choice(const char *k, const std::vector<std::string> &options, const std::string &fallback) {
     std::string v = upper(str(k, fallback));
@@ -142,12 +151,12 @@ int TextureGraph::num_images() const {
 }
 
 int TextureGraph::parse(const json &j, const std::string &what, std::vector<std::string> &warnings) {
-  if (j.is_number()) return constant(Color(j.get<float>()));
+  if (j.is_number()) return constant(Color(finite_float(j, what)));
   if (j.is_array()) {
     if (j.size() != 3 && j.size() != 4) fail(what + ": a colour needs 3 (or 4) numbers");
     for (const json &v : j)
       if (!v.is_number()) fail(what + ": a colour needs 3 (or 4) numbers");
-    return constant(Color(j[0].get<float>(), j[1].get<float>(), j[2].get<float>()));
+    return constant(Color(finite_float(j[0], what), finite_float(j[1], what), finite_float(j[2], what)));
   }
   if (j.is_object()) return parse_node(j, what, warnings);
   fail(what + ": must be a number, a colour [r,g,b] or a texture node {\"node\": ...}");
@@ -290,13 +299,16 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
       n.mode = 0;
     }
     if (r.has("elements")) {
+      if (!j["elements"].is_array()) fail(what + ": 'elements' must be a list of {position, color}");
       for (const json &e : j["elements"]) {
         if (!e.is_object() || !e.contains("position") || !e.contains("color"))
           fail(what + ": each of 'elements' needs 'position' and 'color'");
         const json &c = e["color"];
-        if (!c.is_array() || c.size() < 3) fail(what + ": an element's 'color' needs 3 or 4 numbers");
-        n.ramp.push_back({e["position"].get<float>(), Color(c[0].get<float>(), c[1].get<float>(), c[2].get<float>()),
-                          c.size() > 3 ? c[3].get<float>() : 1.0f});
+        std::string color = what + ": an element's 'color'";
+        if (!c.is_array() || c.size() < 3 || c.size() > 4) fail(color + " needs 3 or 4 numbers");
+        n.ramp.push_back({finite_float(e["position"], what + ": an element's 'position'"),
+                          Color(finite_float(c[0], color), finite_float(c[1], color), finite_float(c[2], color)),
+                          c.size() > 3 ? finite_float(c[3], color) : 1.0f});
       }
     }
     if (n.ramp.empty()) n.ramp = {{0, Color(0.0f), 1}, {1, Color(1.0f), 1}};
@@ -341,8 +353,8 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.mode = r.choice("space", {"TANGENT", "OBJECT", "WORLD"}, "TANGENT");
     n.in[0] = input("color", json::array({0.5, 0.5, 1.0}));
     n.in[1] = input("strength", 1.0);
-    if (r.has("uv_map") && !j["uv_map"].get<std::string>().empty())
-      warnings.push_back(what + ": tangents come from the default UV map, not '" + j["uv_map"].get<std::string>() + "'");
+    std::string uv_map = r.str("uv_map", "");
+    if (!uv_map.empty()) warnings.push_back(what + ": tangents come from the default UV map, not '" + uv_map + "'");
   } else if (type == "bump") {
     n.type = TexNodeType::Bump;
     n.in[0] = input("height", 0.0);
