@@ -4,8 +4,37 @@
 
 namespace rdv {
 
+void PssSampler::grow() {
+  std::vector<uint32_t> keys = std::move(keys_), indices = std::move(indices_);
+  ++table_bits_;
+  keys_.assign(size_t(1) << table_bits_, 0);
+  indices_.assign(keys_.size(), 0);
+  const uint32_t mask = uint32_t(keys_.size()) - 1;
+  for (size_t i = 0; i < keys.size(); ++i) {
+    if (keys[i] == 0) continue;
+    uint32_t h = slot(keys[i]);
+    while (keys_[h] != 0) h = (h + 1) & mask;
+    keys_[h] = keys[i];
+    indices_[h] = indices[i];
+  }
+}
+
+double PssSampler::normal() {
+  // Box-Muller makes two independent normals: the second serves the next call.
+  if (has_spare_normal_) {
+    has_spare_normal_ = false;
+    return spare_normal_;
+  }
+  double u1 = 1.0 - double(rng_.next_u32()) * 0x1p-32, u2 = double(rng_.next_u32()) * 0x1p-32;
+  double r = std::sqrt(-2.0 * std::log(u1)), phi = 2.0 * M_PI * u2;
+  spare_normal_ = r * std::sin(phi);
+  has_spare_normal_ = true;
+  return r * std::cos(phi);
+}
+
 float PssSampler::value(uint32_t dimension) {
-  Value &v = values_[dimension];
+  const uint32_t index = find(dimension);
+  Value &v = values_[index];
   if (v.modified == iteration_) return v.value;  // read twice in one proposal
   // Not read since the last accepted large step: the value that step drew, lazily
   // (a large step draws afresh anyway).
@@ -15,16 +44,14 @@ float PssSampler::value(uint32_t dimension) {
   }
   v.backup = v.value;
   v.modified_backup = v.modified;
-  changed_.push_back(&v);
+  changed_.push_back(index);
   const bool depth_choice = dimension == kDepthChoice;
   if (large_step_) {
     v.value = uniform();
   } else if (!depth_choice) {
     // The small steps this value missed, at once: a wrapped normal of sqrt(k) widths.
     double k = double(iteration_ - v.modified);
-    double u1 = 1.0 - double(rng_.next_u32()) * 0x1p-32, u2 = double(rng_.next_u32()) * 0x1p-32;
-    double normal = std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
-    double x = double(v.value) + normal * step_size_ * std::sqrt(k);
+    double x = double(v.value) + normal() * step_size_ * (k == 1 ? 1.0 : std::sqrt(k));
     x -= std::floor(x);
     v.value = x < 1.0 ? float(x) : 0.0f;
     if (v.value >= 1.0f) v.value = 0x1.fffffep-1f;  // rounded up to 1 in float

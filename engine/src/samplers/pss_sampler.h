@@ -12,11 +12,12 @@
 // Streams: stream s at position p, component k (0, or 1 for the second value of a 2D
 // draw) is a dimension of its own, so mutating the light subpath never moves a
 // camera-subpath number. Positions are sparse (samplers/dimension_layout.h gives each
-// path vertex a fixed block), so the numbers live in a hash map by dimension.
+// path vertex a fixed block), so the numbers live in a hash table by dimension: open
+// addressing in flat arrays (a BDPT sample reads a hundred or more numbers; a node-based
+// map's lookups cost MLT about a third of its mutations per second).
 // (Strategy, 0), multiplexed MLT's path depth, changes on large steps only.
 #pragma once
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 #include "core/hash.h"
 #include "samplers/sampler.h"
@@ -32,7 +33,10 @@ class PssSampler final : public Sampler {
 
   // Mutations from here on draw from another generator (a chain's own, seeded by
   // (seed, chain)): two chains started from one bootstrap sample still differ.
-  void reseed(uint64_t seed, uint64_t stream) { rng_ = Pcg32(seed, stream); }
+  void reseed(uint64_t seed, uint64_t stream) {
+    rng_ = Pcg32(seed, stream);
+    has_spare_normal_ = false;
+  }
 
   // Starts the next proposal: a large step with the set probability (the first
   // iteration of a new sampler is always one: its numbers are fresh).
@@ -49,9 +53,10 @@ class PssSampler final : public Sampler {
   }
   // The state stays: every number the proposal changed gets its old value back.
   void reject() {
-    for (Value *v : changed_) {
-      v->value = v->backup;
-      v->modified = v->modified_backup;
+    for (uint32_t i : changed_) {
+      Value &v = values_[i];
+      v.value = v.backup;
+      v.modified = v.modified_backup;
     }
     changed_.clear();
     --iteration_;
@@ -74,14 +79,17 @@ class PssSampler final : public Sampler {
   void set(SampleStream stream, uint32_t position, float value) {
     start_stream(stream, position);
     get_1d();
-    values_[dimension(uint32_t(stream), position, 0)].value = value;
+    values_[find(dimension(uint32_t(stream), position, 0))].value = value;
   }
 
   // For tests: how many numbers exist, and one as it stands (-1: never drawn).
   size_t dimensions() const { return values_.size(); }
   float peek(SampleStream stream, uint32_t position, uint32_t component) const {
-    auto it = values_.find(dimension(uint32_t(stream), position, component));
-    return it == values_.end() || it->second.modified < 0 ? -1.0f : it->second.value;
+    const uint32_t key = dimension(uint32_t(stream), position, component) + 1;
+    for (uint32_t h = slot(key);; h = (h + 1) & (uint32_t(keys_.size()) - 1)) {
+      if (keys_[h] == 0) return -1.0f;
+      if (keys_[h] == key) return values_[indices_[h]].modified < 0 ? -1.0f : values_[indices_[h]].value;
+    }
   }
   uint64_t iteration() const { return iteration_; }
 
@@ -97,11 +105,33 @@ class PssSampler final : public Sampler {
   static constexpr uint32_t kDepthChoice = uint32_t(SampleStream::Strategy) << (kStreamShift + 1);
   float value(uint32_t dimension);
   float uniform() { return rng_.next_float(); }
+  double normal();
+  // The table: keys_ holds dimension + 1 (0: empty slot), indices_ the value's index.
+  uint32_t slot(uint32_t key) const { return (key * 0x9e3779b1u) >> (32 - table_bits_); }
+  // Index of the dimension's value in values_, created (never drawn) if new.
+  uint32_t find(uint32_t dimension) {
+    const uint32_t key = dimension + 1, mask = uint32_t(keys_.size()) - 1;
+    for (uint32_t h = slot(key);; h = (h + 1) & mask) {
+      if (keys_[h] == key) return indices_[h];
+      if (keys_[h] == 0) {
+        keys_[h] = key;
+        indices_[h] = uint32_t(values_.size());
+        values_.emplace_back();
+        if (2 * values_.size() > keys_.size()) grow();
+        return uint32_t(values_.size() - 1);
+      }
+    }
+  }
+  void grow();
 
   Pcg32 rng_;
   float step_size_, large_step_probability_;
-  std::unordered_map<uint32_t, Value> values_;
-  std::vector<Value *> changed_;  // by the current proposal (node pointers stay valid)
+  std::vector<Value> values_;
+  uint32_t table_bits_ = 8;
+  std::vector<uint32_t> keys_ = std::vector<uint32_t>(256, 0), indices_ = std::vector<uint32_t>(256, 0);
+  std::vector<uint32_t> changed_;  // values the current proposal changed
+  double spare_normal_ = 0;
+  bool has_spare_normal_ = false;
   int64_t iteration_ = 0, last_large_step_ = 0;
   bool large_step_ = true;
   uint32_t stream_ = 0, position_ = 0;
