@@ -80,25 +80,53 @@ inline BenchScene load_bench_scene(const std::string &path, int width) {
 
 // The reference of the equal-time benchmarks: the mean of two independent BDPT renders of
 // `seconds` each, and its own noise (relMSE(a, b) ~ 2 var_single; the mean's own error is
-// var_single / 2 = relMSE(a, b) / 4), which every figure against it contains.
+// var_single / 2 = relMSE(a, b) / 4), which every figure against it contains. With a
+// cache directory the reference is kept in a file named by scene, width and seconds, so
+// repeated benchmark runs share one long reference.
 struct Reference {
   std::vector<double> image;
   double noise = 0;
-  Render a, b;
+  uint32_t spp_a = 0, spp_b = 0;
+  Render a, b;  // the two renders (empty when read from the cache)
 };
-inline Reference bdpt_reference(const BenchScene &scene, double seconds) {
+inline Reference bdpt_reference(const BenchScene &scene, double seconds, const std::string &cache_dir = "") {
   Reference r;
+  const std::string cache = cache_dir.empty() ? "" : cache_dir + "/" + scene.name + "-w" +
+                                                         std::to_string(scene.common["width"].get<int>()) + "-" +
+                                                         std::to_string(int(seconds)) + "s.ref";
+  if (!cache.empty()) {
+    std::ifstream in(cache, std::ios::binary);
+    uint64_t n = 0;
+    if (in.read(reinterpret_cast<char *>(&n), sizeof n)) {
+      r.image.resize(n);
+      in.read(reinterpret_cast<char *>(&r.noise), sizeof r.noise);
+      in.read(reinterpret_cast<char *>(&r.spp_a), sizeof r.spp_a);
+      in.read(reinterpret_cast<char *>(&r.spp_b), sizeof r.spp_b);
+      if (in.read(reinterpret_cast<char *>(r.image.data()), std::streamsize(n * sizeof(double)))) return r;
+    }
+  }
   json s = scene.common;
   s["integrator"] = "bdpt";
   s["time_limit"] = seconds;
   s["seed"] = 9001;
-  r.a = render(scene.text, scene.base, s);
+  const Render &a = r.a = render(scene.text, scene.base, s);
   s["seed"] = 9002;
-  r.b = render(scene.text, scene.base, s);
-  r.image.resize(r.a.rgb.size());
-  for (size_t i = 0; i < r.image.size(); ++i) r.image[i] = 0.5 * (double(r.a.rgb[i]) + r.b.rgb[i]);
-  std::vector<double> a(r.a.rgb.begin(), r.a.rgb.end());
-  r.noise = rel_mse(r.b.rgb, a) / 4;
+  const Render &b = r.b = render(scene.text, scene.base, s);
+  r.image.resize(a.rgb.size());
+  for (size_t i = 0; i < r.image.size(); ++i) r.image[i] = 0.5 * (double(a.rgb[i]) + b.rgb[i]);
+  std::vector<double> ad(a.rgb.begin(), a.rgb.end());
+  r.noise = rel_mse(b.rgb, ad) / 4;
+  r.spp_a = a.progress.samples_done;
+  r.spp_b = b.progress.samples_done;
+  if (!cache.empty()) {
+    std::ofstream out(cache, std::ios::binary);
+    uint64_t n = r.image.size();
+    out.write(reinterpret_cast<const char *>(&n), sizeof n);
+    out.write(reinterpret_cast<const char *>(&r.noise), sizeof r.noise);
+    out.write(reinterpret_cast<const char *>(&r.spp_a), sizeof r.spp_a);
+    out.write(reinterpret_cast<const char *>(&r.spp_b), sizeof r.spp_b);
+    out.write(reinterpret_cast<const char *>(r.image.data()), std::streamsize(n * sizeof(double)));
+  }
   return r;
 }
 

@@ -199,11 +199,11 @@ int main(int argc, char **argv) {
     if (stats.contains("b"))
       std::fprintf(stderr,
                    "rendezvous: %s: %u chains, b = %.6g +- %.2g (%llu bootstrap samples), acceptance: small steps %.3f, "
-                   "large steps %.3f, %.3g mutations/s\n",
+                   "large steps %.3f (%.3f found light), %.3g mutations/s\n",
                    stats["integrator"].get<std::string>().c_str(), stats["chains"].get<unsigned>(), stats["b"].get<double>(),
                    stats["b_standard_error"].get<double>(), (unsigned long long)stats["bootstrap_samples"].get<uint64_t>(),
                    stats["small_step_acceptance"].get<double>(), stats["large_step_acceptance"].get<double>(),
-                   p.elapsed_seconds > 0 ? stats["mutations"].get<double>() / p.elapsed_seconds : 0.0);
+                   stats.value("large_step_found", 0.0), p.elapsed_seconds > 0 ? stats["mutations"].get<double>() / p.elapsed_seconds : 0.0);
     if (summary) std::printf("%s\n", text);
   }
   int rc = check(rdv_session_write_image(session, output.c_str(), view.c_str()), "write image") ? 0 : 1;

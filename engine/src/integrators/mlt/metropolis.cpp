@@ -29,7 +29,7 @@ struct Chain {
   Pcg32 acceptance;
   State current, proposal;
   std::vector<Splat> splats;
-  uint64_t small_steps = 0, small_accepted = 0, large_steps = 0, large_accepted = 0, rays = 0;
+  uint64_t small_steps = 0, small_accepted = 0, large_steps = 0, large_accepted = 0, large_found = 0, rays = 0;
   double large_sum = 0, large_sum2 = 0;  // targets of its large-step proposals
   std::vector<uint64_t> strategy_counts;
 };
@@ -253,6 +253,7 @@ void Metropolis::render(RenderContext &ctx) {
             // A large step's proposal is an independent uniform sample: one more
             // sample of b.
             if (large) {
+              chain.large_found += fy > 0;
               chain.large_sum += fy;
               chain.large_sum2 += double(fy) * fy;
             }
@@ -308,13 +309,14 @@ void Metropolis::render(RenderContext &ctx) {
       stats_.mutations = done;
       stats_.b = b_now;
       stats_.b_standard_error = b_error;
-      stats_.small_steps = stats_.small_accepted = stats_.large_steps = stats_.large_accepted = 0;
+      stats_.small_steps = stats_.small_accepted = stats_.large_steps = stats_.large_accepted = stats_.large_found = 0;
       if (mlt_.multiplexed) std::fill(stats_.strategy_counts.begin(), stats_.strategy_counts.end(), 0);
       for (Chain &chain : chains) {
         stats_.small_steps += chain.small_steps;
         stats_.small_accepted += chain.small_accepted;
         stats_.large_steps += chain.large_steps;
         stats_.large_accepted += chain.large_accepted;
+        stats_.large_found += chain.large_found;
         rays += chain.rays;
         chain.rays = 0;
         for (size_t k = 0; k < chain.strategy_counts.size(); ++k) stats_.strategy_counts[k] += chain.strategy_counts[k];
@@ -337,6 +339,9 @@ std::string Metropolis::stats_json() const {
   j["large_steps"] = stats_.large_steps;
   j["small_step_acceptance"] = stats_.small_steps ? double(stats_.small_accepted) / double(stats_.small_steps) : 0.0;
   j["large_step_acceptance"] = stats_.large_steps ? double(stats_.large_accepted) / double(stats_.large_steps) : 0.0;
+  // The share of large steps (independent uniform proposals) that found a light-carrying
+  // path at all: the ceiling of their acceptance.
+  j["large_step_found"] = stats_.large_steps ? double(stats_.large_found) / double(stats_.large_steps) : 0.0;
   if (mlt_.multiplexed) {
     j["depth_b"] = stats_.depth_b;
     j["strategy_counts"] = stats_.strategy_counts;

@@ -40,6 +40,7 @@ struct State {
 struct MltStats {
   uint64_t bootstrap_samples = 0, mutations = 0;
   uint64_t small_steps = 0, small_accepted = 0, large_steps = 0, large_accepted = 0;
+  uint64_t large_found = 0;  // large-step proposals that carry light (target > 0)
   double b = 0, b_standard_error = 0;
   std::vector<double> depth_b;  // multiplexed: b of each path depth
   // multiplexed: b of each (depth, s) strategy, from the bootstrap's independent samples
