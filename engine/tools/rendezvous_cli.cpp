@@ -187,9 +187,13 @@ int main(int argc, char **argv) {
     if (p.finished) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
-  rdv_session_wait(session);
-  rdv_session_progress(session, &p);
   if (!quiet) std::fprintf(stderr, "\n");
+  if (!check(rdv_session_wait(session), "render")) {
+    rdv_session_destroy(session);
+    rdv_scene_destroy(scene);
+    return 1;
+  }
+  rdv_session_progress(session, &p);
   std::fprintf(stderr, "rendezvous: %u samples/pixel in %.2f s, %.2f Mrays/s, %llu dropped samples\n",
                p.samples_done, p.elapsed_seconds, p.rays_per_second * 1e-6, (unsigned long long)p.samples_dropped);
   // The integrator's own figures (Metropolis: b, acceptance, chains) and its warnings.

@@ -204,3 +204,22 @@ TEST(Limits, AbiBuffersAreCheckedBeforeTheyAreRead) {
   EXPECT_EQ(RDV_ERROR_LIMIT, rdv_scene_add_grid(sc.s, "Smoke", small.data(), 1000, 1000, 1000, &id));
   EXPECT_TRUE(has(error(), "grid 'Smoke': 1000x1000x1000 voxels")) << error();
 }
+
+TEST(Limits, ImageFileHeadersAreCheckedBeforeReading) {
+  // A 300-byte file whose header claims 100000 x 100000 texels: a problem naming the
+  // image (rendered magenta, as a missing file), not a 149 GB read (it crashed the CLI).
+  const std::string file = rdv::test::temp_path("huge.ppm");
+  { std::ofstream(file, std::ios::binary) << "P6\n100000 100000\n255\n" << std::string(300, '\x7f'); }
+  for (const std::string node : {R"({"node":"image","file":")" + file + R"("})",
+                                 R"({"node":"image","frame":0,"file":")" + file + R"("})"}) {
+    SceneHandle sc;
+    uint32_t id;
+    std::string params = R"({"type":"diffuse","color":)" + node + "}";
+    ASSERT_EQ(RDV_OK, rdv_scene_add_material(sc.s, "Poster", params.c_str(), &id)) << error();
+    const char *text = nullptr;
+    ASSERT_EQ(RDV_OK, rdv_scene_messages(sc.s, &text));
+    EXPECT_TRUE(has(text, "material 'Poster'")) << text;
+    EXPECT_TRUE(has(text, "is 100000x100000 texels: reading it needs about 149.0 GB")) << text;
+    EXPECT_TRUE(has(text, "magenta")) << text;
+  }
+}

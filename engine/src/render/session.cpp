@@ -1,5 +1,8 @@
 #include "render/session.h"
 #include <tbb/task_arena.h>
+#include <new>
+#include "core/error.h"
+#include "core/log.h"
 
 namespace rdv {
 
@@ -25,12 +28,22 @@ void Session::start() {
 
 void Session::wait() {
   if (thread_.joinable()) thread_.join();
+  if (finished_.load() && !failure_.empty()) fail(failure_, RDV_ERROR_INTERNAL);
 }
 
 void Session::render_loop() {
-  tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
-  RenderContext ctx{*scene_, settings_, film_, filter_, control_, arena};
-  integrator_->render(ctx);
+  // Nothing may leave this thread: an exception here would std::terminate the host
+  // (Blender). A failed render halts; wait() reports why, and the film keeps its last frame.
+  try {
+    tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
+    RenderContext ctx{*scene_, settings_, film_, filter_, control_, arena};
+    integrator_->render(ctx);
+  } catch (const std::bad_alloc &) {
+    failure_ = "render: out of memory (the image stops at its last complete pass)";
+  } catch (const std::exception &e) {
+    failure_ = std::string("render: internal error: ") + e.what();
+  }
+  if (!failure_.empty()) log_warning(failure_);
   control_.finish();
   cancelled_.store(control_.cancel_requested());
   finished_.store(true);

@@ -5,6 +5,7 @@
 #pragma once
 #include <atomic>
 #include <memory>
+#include <string>
 #include <thread>
 #include "film/film.h"
 #include "film/pixel_filter.h"
@@ -26,6 +27,7 @@ class Session {
   Session(std::shared_ptr<Scene> scene, const RenderSettings &settings);
   ~Session();
   void start();
+  // Blocks until the render halts; throws if the render thread failed (out of memory).
   void wait();
   void cancel() { control_.cancel(); }
   Progress progress() const;
@@ -48,6 +50,7 @@ class Session {
 
   std::thread thread_;
   std::atomic<bool> running_{false}, finished_{false}, cancelled_{false};
+  std::string failure_;  // why the render thread stopped early (written before finished_)
 };
 
 }  // namespace rdv

@@ -8,6 +8,7 @@
 #include <mutex>
 #include <vector>
 #include "core/error.h"
+#include "core/limits.h"
 #include "film/image_output.h"
 
 namespace rdv {
@@ -282,6 +283,20 @@ static void build_mips(Image &img) {
   }
 }
 
+// An image read whole (untiled files: OpenImageIO's automip builds the MIP levels in memory;
+// movie and sequence frames: decoded here), in float with its MIP levels, must fit the
+// memory budget: a header claiming 100000 x 100000 texels is a problem naming the file,
+// not a 149 GB allocation. Tiled files stream through the bounded tile cache.
+static bool fits_in_memory(const OIIO::ImageSpec &spec, const std::string &path, std::string &problem) {
+  double bytes = double(spec.width) * spec.height * std::max(spec.depth, 1) * std::clamp(spec.nchannels, 1, 4) *
+                 sizeof(float) * 4 / 3;
+  if (bytes <= memory_budget_bytes()) return true;
+  problem = "'" + path + "' is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+            " texels: reading it needs about " + format_bytes(bytes) + ", more than the " +
+            format_bytes(memory_budget_bytes()) + " of memory available to the engine";
+  return false;
+}
+
 static void make_resident(ImageTextures::Impl &impl, Image &img, const OIIO::ImageSpec &spec) {
   using Impl = ImageTextures::Impl;
   size_t texels = size_t(spec.width) * spec.height;
@@ -334,6 +349,10 @@ int ImageTextures::load(const std::string &path, const std::string &colorspace, 
     problem = "too many images (" + std::to_string(Impl::kMaxImages) + ")";
     return -1;
   }
+  OIIO::ImageSpec native;  // the file's own tiling (the cache's spec shows autotile's)
+  if (ts->imagecache()->get_imagespec(ustring(path), native, 0, 0, true) && native.tile_width == 0 &&
+      !fits_in_memory(native, path, problem))
+    return -1;
   img.channels = std::clamp(spec.nchannels, 1, 4);
   std::string cs = colorspace;
   if (cs.empty()) cs = spec.format.is_floating_point() ? "Linear" : "sRGB";
@@ -394,6 +413,7 @@ int ImageTextures::load_frame(const std::string &path, int frame, const std::str
     return -1;
   }
   const OIIO::ImageSpec &spec = in->spec();
+  if (!fits_in_memory(spec, path, problem)) return -1;
   int channels = std::clamp(spec.nchannels, 1, 4);
   std::vector<float> pixels(size_t(spec.width) * spec.height * channels);
   if (!in->read_image(frame, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data())) {
