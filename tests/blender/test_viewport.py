@@ -291,19 +291,25 @@ def mode_preview():
     for mat in mats:
         # The previous material's preview job may still be handing its result to Blender; an
         # operator called meanwhile is refused ("can't modify blend data ... (drawing/rendering)").
+        # Blender's allow-writes switch is one global that the job thread's property reads flip
+        # and restore; a restore that lands after a main-thread draw leaves writes refused until
+        # the next draw resets it, so a refusal asks for a redraw before trying again.
         t0 = time.time()
         while bpy.app.is_job_running("RENDER_PREVIEW") and time.time() - t0 < 20:
             yield 0.05
         preview.last_preview.clear()
-        for attempt in range(40):
+        for attempt in range(100):
             try:
                 with bpy.context.temp_override(window=win, area=area, region=region, id=mat):
                     bpy.ops.ed.lib_id_generate_preview()
                 break
             except RuntimeError as exc:
-                if "can't modify blend data" not in str(exc) or attempt == 39:
+                if "can't modify blend data" not in str(exc) or attempt == 99:
                     raise
-            yield 0.05
+                print("PREVIEW operator refused (attempt %d): redrawing" % (attempt + 1))
+                for a in win.screen.areas:
+                    a.tag_redraw()
+            yield 0.1
         t0 = time.time()
         while "samples" not in preview.last_preview and "error" not in preview.last_preview \
                 and time.time() - t0 < 20:
