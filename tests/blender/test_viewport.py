@@ -565,17 +565,24 @@ def mode_volume_edits():
 FIRE_BOXES = {"frame": (0.0, 1.0, 0.0, 1.0), "lower": (0.3, 0.8, 0.1, 0.5), "upper": (0.3, 0.8, 0.5, 0.9)}
 
 
+def camera_only_scene(samples=4):
+    """setup_scene with every object but the camera removed, and the build_scenes module the
+    modes that build their own objects use: (scene, build_scenes)."""
+    sys.path.insert(0, os.path.join(ROOT, "scenes", "blend"))
+    import build_scenes
+    scene = setup_scene(samples=samples)
+    for ob in list(scene.objects):
+        if ob.type != "CAMERA":
+            bpy.data.objects.remove(ob)
+    return scene, build_scenes
+
+
 def mode_fluid():
     """A smoke / fire simulation domain (Replay cache) in the viewport, as bright as in a
     final render; its material, another frame of the simulation and a move re-export only
     its medium."""
     import math
-    sys.path.insert(0, os.path.join(ROOT, "scenes", "blend"))
-    import build_scenes
-    scene = setup_scene(samples=4)
-    for ob in list(scene.objects):
-        if ob.type != "CAMERA":
-            bpy.data.objects.remove(ob)
+    scene, build_scenes = camera_only_scene()
     cam = scene.camera
     cam.location, cam.rotation_euler = (0.0, -6.0, 1.0), (math.radians(90), 0.0, 0.0)
     cam.data.lens, cam.data.sensor_fit = 50.0, "AUTO"
@@ -625,12 +632,7 @@ def mode_images():
     """A generated image a script paints: the viewport shows its pixels as a final render
     does; changing them re-sends the image and sets its material in place; setting the same
     pixels again (an update that changes nothing) does not restart the viewport."""
-    sys.path.insert(0, os.path.join(ROOT, "scenes", "blend"))
-    import build_scenes
-    scene = setup_scene(samples=4)
-    for ob in list(scene.objects):
-        if ob.type != "CAMERA":
-            bpy.data.objects.remove(ob)
+    scene, build_scenes = camera_only_scene()
     cam = scene.camera
     cam.location, cam.rotation_euler = (0.0, 0.0, 3.0), (0.0, 0.0, 0.0)
     cam.data.type, cam.data.ortho_scale, cam.data.sensor_fit = "ORTHO", 1.8, "AUTO"
