@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
+#include "film/image_error.h"
 #include "rendezvous.h"
 #include "scene_file.h"
 
@@ -50,12 +51,8 @@ inline Render render(const std::string &scene_text, const std::string &base, jso
   return r;
 }
 
-// Relative MSE (pbrt / Mitsuba convention): mean of (x - ref)^2 / (ref^2 + 1e-2).
-inline double rel_mse(const std::vector<float> &x, const std::vector<double> &ref) {
-  double s = 0;
-  for (size_t i = 0; i < x.size(); ++i) s += (x[i] - ref[i]) * (x[i] - ref[i]) / (ref[i] * ref[i] + 1e-2);
-  return s / x.size();
-}
+// Relative MSE (film/image_error.h): mean of (x - ref)^2 / (ref^2 + 1e-2).
+inline double rel_mse(const std::vector<float> &x, const std::vector<double> &ref) { return rdv::relative_mse(x, ref); }
 
 // A scene file read for the equal-time benchmarks, and the settings every render of it
 // shares (the image `width` wide with the scene's aspect, no sample limit).
