@@ -4,14 +4,17 @@ import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
 INTEGRATOR_ITEMS = [
-    ("PATH", "Path Tracing", "Unidirectional path tracing with next-event estimation"),
-    ("BDPT", "Bidirectional", "Bidirectional path tracing (caustics, hard-to-reach lights)"),
+    ("PATH", "Path Tracing", "Unidirectional path tracing with next-event estimation: the fastest samples; "
+                              "noisy where light arrives only through glass, mirrors or small gaps"),
+    ("BDPT", "Bidirectional", "Bidirectional path tracing: each sample costs about 2-3x a path-tracing "
+                             "sample, but caustics and light through gaps converge far faster"),
     ("PSSMLT", "Metropolis (Kelemen)", "Metropolis light transport over bidirectional paths (Kelemen et al.): "
                                        "explores the neighbourhood of the paths that carry light (light through "
-                                       "a gap, caustics seen indirectly); samples are mutations per pixel"),
+                                       "a gap, caustics seen indirectly); samples are mutations per pixel; uneven "
+                                       "noise and a slower start in easy scenes"),
     ("MMLT", "Metropolis (Multiplexed)", "Multiplexed Metropolis light transport (Hachisuka et al.): each "
                                          "mutation follows one bidirectional strategy, so mutations are cheaper; "
-                                         "samples are mutations per pixel"),
+                                         "samples are mutations per pixel; uneven noise in easy scenes"),
 ]
 
 MIS_ITEMS = [
@@ -24,22 +27,30 @@ MIS_ITEMS = [
 
 class RendezvousRenderSettings(bpy.types.PropertyGroup):
     integrator: EnumProperty(name="Integrator", items=INTEGRATOR_ITEMS, default="PATH",
-                             description="Light transport algorithm")
+                             description="Light transport algorithm of the final render: path tracing "
+                                         "is the fastest per sample; bidirectional and Metropolis cost more "
+                                         "per sample but find hard light (caustics, gaps) with less noise")
     bdpt_mis: EnumProperty(name="Weights", items=MIS_ITEMS, default="POWER",
-                           description="How bidirectional path tracing weights the ways it finds a path")
+                           description="How bidirectional path tracing weights the ways it finds a path (all unbiased; "
+                                       "they differ in noise)")
     mlt_large_step: FloatProperty(name="Large Steps", default=0.3, min=0.0, max=1.0, subtype="FACTOR",
                                   description="Metropolis: probability that a mutation draws a whole new path "
-                                              "instead of moving the current one a little")
+                                              "instead of moving the current one a little: higher explores the "
+                                              "image more evenly, lower follows hard paths longer")
     mlt_bootstrap: IntProperty(name="Bootstrap Samples", default=1, min=1, max=4096,
                                description="Metropolis: independent samples per pixel that estimate the image's "
-                                           "brightness and pick the chains' starting paths")
+                                           "brightness and pick the chains' starting paths: more costs start-up "
+                                           "time, fewer risks a wrong overall brightness in a noisy scene")
     mlt_chains: IntProperty(name="Chains", default=256, min=1, max=1048576,
                             description="Metropolis: number of Markov chains (the image depends on it, not on "
-                                        "the thread count)")
+                                        "the thread count): more chains spread the noise more evenly, each "
+                                        "starts with a burn-in")
     mlt_step_size: FloatProperty(name="Step Size", default=0.01, min=0.0001, max=1.0, precision=4,
-                                 description="Metropolis: size of a small mutation in primary sample space")
+                                 description="Metropolis: size of a small mutation in primary sample space: larger "
+                                             "moves explore faster but are rejected more often")
     samples: IntProperty(name="Samples", default=128, min=1, soft_max=4096,
-                         description="Samples per pixel; the render stops when they are done")
+                         description="Samples per pixel; the render stops when they are done. Noise falls "
+                                     "as 1 / sqrt(samples): 4x the samples (and time) halves it")
     sample_offset: IntProperty(name="Sample Offset", default=0, min=0, max=2**31 - 1,
                                description="Render samples [offset, offset + samples) of the sequence, as "
                                            "Cycles' sample offset: parts of one render on a farm, merged with "
@@ -48,23 +59,31 @@ class RendezvousRenderSettings(bpy.types.PropertyGroup):
                                 description="After a final render, also write it as a render part (EXR with the "
                                             "sums `rendezvous merge` adds; # = frame number). Empty: off")
     time_limit: FloatProperty(name="Time Limit", default=0.0, min=0.0, subtype="TIME_ABSOLUTE", unit="TIME_ABSOLUTE",
-                              description="Stop after this many seconds (0 = off); whichever halt comes first")
+                              description="Stop after this many seconds (0 = off), whichever halt comes first: a "
+                                          "fixed render time, at the cost of a noise level that depends on the scene")
     max_bounces: IntProperty(name="Max Bounces", default=12, min=0, max=1024,
-                             description="Maximum number of bounces of a path")
-    seed: IntProperty(name="Seed", default=0, min=0, description="Seed of the random sequences")
+                             description="Maximum number of scattering events of a path: fewer render faster "
+                                         "but lose indirect light (darker interiors, glass and mirrors go black)")
+    seed: IntProperty(name="Seed", default=0, min=0, description="Seed of the random sequences: another seed gives another "
+                                                              "noise pattern of the same image")
     use_animated_seed: BoolProperty(name="Animated Seed", default=False,
-                                    description="Add the frame number to the seed (noise changes per frame)")
+                                    description="Add the frame number to the seed: the noise changes per frame (a "
+                                                "moving grain instead of a fixed pattern in animations)")
     clamp: FloatProperty(name="Clamp", default=0.0, min=0.0,
-                         description="Cap on the luminance of a sample, reduces fireflies (0 = off)")
+                         description="Cap on the luminance of a sample (0 = off): removes fireflies at the cost "
+                                     "of energy (highlights and caustics get darker, the image is biased)")
     viewport_integrator: EnumProperty(name="Viewport Integrator", items=INTEGRATOR_ITEMS, default="PATH",
-                                      description="Light transport algorithm of the 3D view's Rendered mode")
+                                      description="Light transport algorithm of the 3D view's Rendered mode (path "
+                                                  "tracing gives the quickest first image)")
     viewport_samples: IntProperty(name="Viewport Samples", default=64, min=1, soft_max=4096,
                                   description="Samples per pixel in the viewport; rendering (and CPU use) "
-                                              "stops when they are reached")
+                                              "stops when they are reached: more samples, less noise, longer CPU use")
     viewport_pause: BoolProperty(name="Pause Viewport", default=False,
-                                 description="Pause the viewport render (the last image stays)")
+                                 description="Pause the viewport render (the last image stays): frees the CPU "
+                                             "while you edit")
     threads: IntProperty(name="Threads", default=0, min=0, max=1024,
-                         description="Render threads (0 = all cores)")
+                         description="Render threads (0 = all cores); fewer leave cores "
+                                     "free for other work at the cost of render speed")
 
 
 classes = (RendezvousRenderSettings,)

@@ -6,6 +6,7 @@ from .. import binding
 from . import compat, farm_submit, operators
 
 ENGINE_ID = "RENDEZVOUS"
+METROPOLIS = {"PSSMLT", "MMLT"}
 
 
 class RendezvousPanel:
@@ -20,39 +21,103 @@ class RendezvousPanel:
 
 
 class RENDEZVOUS_PT_sampling(RendezvousPanel, bpy.types.Panel):
+    """Parent of the Render and Viewport subpanels (as Cycles' Sampling); shows why the
+    engine cannot render, if it cannot."""
     bl_label = "Sampling"
 
     def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
-        props = context.scene.rendezvous
         problem = binding.status_message()
         if problem:
-            box = layout.box()
+            box = self.layout.box()
             box.alert = True
-            for line in _wrap(problem, 60):
-                box.label(text=line, icon="ERROR" if line is _wrap(problem, 60)[0] else "BLANK1")
+            lines = _wrap(problem, 60)
+            for i, line in enumerate(lines):
+                box.label(text=line, icon="ERROR" if i == 0 else "BLANK1")
+
+
+class RendezvousSubpanel(RendezvousPanel):
+    pass
+
+
+def _split(layout):
+    """Labels left, values right, as Cycles' panels."""
+    layout.use_property_split = True
+    layout.use_property_decorate = False
+    return layout
+
+
+class RENDEZVOUS_PT_sampling_viewport(RendezvousSubpanel, bpy.types.Panel):
+    bl_label = "Viewport"
+    bl_parent_id = "RENDEZVOUS_PT_sampling"
+
+    def draw(self, context):
+        layout = _split(self.layout)
+        props = context.scene.rendezvous
+        layout.prop(props, "viewport_integrator", text="Integrator")
+        col = layout.column(align=True)
+        col.prop(props, "viewport_samples", text="Max Samples")
+        col.prop(props, "viewport_pause", text="Pause")
+
+
+class RENDEZVOUS_PT_sampling_render(RendezvousSubpanel, bpy.types.Panel):
+    bl_label = "Render"
+    bl_parent_id = "RENDEZVOUS_PT_sampling"
+
+    def draw(self, context):
+        layout = _split(self.layout)
+        props = context.scene.rendezvous
         layout.prop(props, "integrator")
         if props.integrator == "BDPT":
             layout.prop(props, "bdpt_mis")
-        if props.integrator in {"PSSMLT", "MMLT"} or props.viewport_integrator in {"PSSMLT", "MMLT"}:
-            col = layout.column(align=True, heading="Metropolis")
-            col.prop(props, "mlt_large_step")
-            col.prop(props, "mlt_step_size")
-            col.prop(props, "mlt_chains")
-            col.prop(props, "mlt_bootstrap")
         col = layout.column(align=True)
-        col.prop(props, "samples")
+        col.prop(props, "samples", text="Max Samples")
         col.prop(props, "time_limit")
-        col = layout.column(align=True, heading="Viewport")
-        col.prop(props, "viewport_integrator", text="Integrator")
-        col.prop(props, "viewport_samples", text="Samples")
-        col.prop(props, "viewport_pause", text="Pause")
+
+
+class RENDEZVOUS_PT_sampling_metropolis(RendezvousSubpanel, bpy.types.Panel):
+    """Shown when the render or the viewport uses a Metropolis integrator."""
+    bl_label = "Metropolis"
+    bl_parent_id = "RENDEZVOUS_PT_sampling"
+
+    @classmethod
+    def poll(cls, context):
+        if not super().poll(context):
+            return False
+        props = context.scene.rendezvous
+        return props.integrator in METROPOLIS or props.viewport_integrator in METROPOLIS
+
+    def draw(self, context):
+        layout = _split(self.layout)
+        props = context.scene.rendezvous
+        col = layout.column(align=True)
+        col.prop(props, "mlt_large_step")
+        col.prop(props, "mlt_step_size")
+        col.prop(props, "mlt_chains")
+        col.prop(props, "mlt_bootstrap")
+
+
+class RENDEZVOUS_PT_sampling_advanced(RendezvousSubpanel, bpy.types.Panel):
+    bl_label = "Advanced"
+    bl_parent_id = "RENDEZVOUS_PT_sampling"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        layout = _split(self.layout)
+        props = context.scene.rendezvous
         col = layout.column(align=True)
         col.prop(props, "seed")
         col.prop(props, "use_animated_seed")
-        col = layout.column(align=True, heading="Farm")
+
+
+class RENDEZVOUS_PT_sampling_farm(RendezvousSubpanel, bpy.types.Panel):
+    bl_label = "Farm"
+    bl_parent_id = "RENDEZVOUS_PT_sampling"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        layout = _split(self.layout)
+        props = context.scene.rendezvous
+        col = layout.column(align=True)
         col.prop(props, "sample_offset")
         col.prop(props, "part_output")
         col.operator(farm_submit.RENDEZVOUS_OT_farm_submit.bl_idname, icon="NETWORK_DRIVE")
@@ -62,12 +127,25 @@ class RENDEZVOUS_PT_light_paths(RendezvousPanel, bpy.types.Panel):
     bl_label = "Light Paths"
 
     def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
-        props = context.scene.rendezvous
-        layout.prop(props, "max_bounces")
-        layout.prop(props, "clamp")
+        pass
+
+
+class RENDEZVOUS_PT_light_paths_max_bounces(RendezvousSubpanel, bpy.types.Panel):
+    bl_label = "Max Bounces"
+    bl_parent_id = "RENDEZVOUS_PT_light_paths"
+
+    def draw(self, context):
+        layout = _split(self.layout)
+        layout.prop(context.scene.rendezvous, "max_bounces", text="Total")
+
+
+class RENDEZVOUS_PT_light_paths_clamping(RendezvousSubpanel, bpy.types.Panel):
+    bl_label = "Clamping"
+    bl_parent_id = "RENDEZVOUS_PT_light_paths"
+
+    def draw(self, context):
+        layout = _split(self.layout)
+        layout.prop(context.scene.rendezvous, "clamp", text="Sample")
 
 
 class RENDEZVOUS_PT_performance(RendezvousPanel, bpy.types.Panel):
@@ -103,7 +181,11 @@ def draw_view3d_header(self, context):
         self.layout.prop(props, "viewport_pause", text="", icon="PLAY" if props.viewport_pause else "PAUSE")
 
 
-classes = (RENDEZVOUS_PT_sampling, RENDEZVOUS_PT_light_paths, RENDEZVOUS_PT_performance)
+# Parents before their subpanels (Blender needs the parent registered first).
+classes = (RENDEZVOUS_PT_sampling, RENDEZVOUS_PT_sampling_viewport, RENDEZVOUS_PT_sampling_render,
+           RENDEZVOUS_PT_sampling_metropolis, RENDEZVOUS_PT_sampling_advanced, RENDEZVOUS_PT_sampling_farm,
+           RENDEZVOUS_PT_light_paths, RENDEZVOUS_PT_light_paths_max_bounces, RENDEZVOUS_PT_light_paths_clamping,
+           RENDEZVOUS_PT_performance)
 
 
 def register():

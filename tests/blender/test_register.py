@@ -41,6 +41,70 @@ def all_off(s):
     return not (s["engine"] or s["props"] or s["compat_panels"] or s["operator"] or s["panel"])
 
 
+class RecordingLayout:
+    """Enough of bpy.types.UILayout for our panels' draw(): checks that every property
+    drawn exists and records (owner, name)."""
+
+    def __init__(self, shown):
+        self.shown = shown
+        self.use_property_split = self.use_property_decorate = self.alert = False
+
+    def prop(self, data, name, **kwargs):
+        check(hasattr(data, name), "a panel draws %r, which %r does not have" % (name, data))
+        owner = "rendezvous" if isinstance(data, type(bpy.context.scene.rendezvous)) else type(data).__name__
+        self.shown.add((owner, name))
+
+    def column(self, **kwargs):
+        return self
+
+    row = box = column
+
+    def label(self, **kwargs):
+        pass
+
+    def operator(self, idname, **kwargs):
+        pass
+
+    def separator(self, **kwargs):
+        pass
+
+
+# Render properties laid out as Cycles': (panel, label, parent).
+LAYOUT = [
+    ("RENDEZVOUS_PT_sampling", "Sampling", None),
+    ("RENDEZVOUS_PT_sampling_viewport", "Viewport", "RENDEZVOUS_PT_sampling"),
+    ("RENDEZVOUS_PT_sampling_render", "Render", "RENDEZVOUS_PT_sampling"),
+    ("RENDEZVOUS_PT_sampling_advanced", "Advanced", "RENDEZVOUS_PT_sampling"),
+    ("RENDEZVOUS_PT_light_paths", "Light Paths", None),
+    ("RENDEZVOUS_PT_light_paths_max_bounces", "Max Bounces", "RENDEZVOUS_PT_light_paths"),
+    ("RENDEZVOUS_PT_light_paths_clamping", "Clamping", "RENDEZVOUS_PT_light_paths"),
+]
+
+
+def check_render_properties_layout():
+    for name, label, parent in LAYOUT:
+        panel = getattr(bpy.types, name, None)
+        check(panel is not None, "panel %s is not registered" % name)
+        check(panel.bl_label == label, "%s is labelled %r, not %r" % (name, panel.bl_label, label))
+        check(getattr(panel, "bl_parent_id", None) == parent or (parent is None and not getattr(panel, "bl_parent_id", "")),
+              "%s's parent is %r, not %r" % (name, getattr(panel, "bl_parent_id", None), parent))
+    # Each panel draws (a layout stand-in records and checks every property it shows).
+    shown = set()
+    for name, _, _ in LAYOUT:
+        panel = getattr(bpy.types, name)
+        fake = type("FakePanel", (), {"layout": RecordingLayout(shown)})()
+        panel.draw(fake, bpy.context)
+    for want in ("integrator", "samples", "viewport_integrator", "viewport_samples", "max_bounces", "seed"):
+        check(("rendezvous", want) in shown, "no panel shows scene.rendezvous.%s" % want)
+    # Every setting says what it trades: a tooltip of a sentence at least.
+    props = bpy.context.scene.rendezvous
+    for prop in props.bl_rna.properties:
+        if prop.identifier in ("rna_type", "name"):
+            continue
+        check(len(prop.description) >= 40, "scene.rendezvous.%s's tooltip is too short: %r"
+              % (prop.identifier, prop.description))
+
+
 def main():
     try:
         addon_utils.enable("cycles", default_set=True)
@@ -67,6 +131,7 @@ def main():
                          "CYCLES_WORLD_PT_surface"):
                 check(want in panels, "%s does not list RENDEZVOUS" % want)
             check("CYCLES_RENDER_PT_sampling" not in panels, "Cycles' sampling panel must stay Cycles'")
+            check_render_properties_layout()
             print("round %d ok: %d compatible panels" % (i, len(panels)))
         addon_utils.disable("rendezvous", default_set=True, handle_error=None)
         s = registered_state()
