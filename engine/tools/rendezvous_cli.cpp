@@ -10,7 +10,9 @@
 #include <string>
 #include <thread>
 #include "rendezvous.h"
+#include "equal_time.h"
 #include "scene_file.h"
+#include "study.h"
 
 namespace {
 
@@ -18,6 +20,8 @@ void usage() {
   std::fprintf(stderr,
                "usage: rendezvous SCENE.json [options]\n"
                "       rendezvous merge PART.exr... -o OUT.exr|OUT.png [--allow-missing] [--samples N] [--view NAME]\n"
+               "       rendezvous study SCENE.json... [--integrators LIST] [--budgets LIST] [--reference SECONDS]\n"
+               "                        [--out DIR] ... (rendezvous study --help)\n"
                "  -o, --output FILE      image to write (.png or .exr; default render.png)\n"
                "  --samples N            samples per pixel\n"
                "  --time SECONDS         time limit (0 = off)\n"
@@ -49,14 +53,8 @@ bool check(rdv_status s, const char *what) {
 // Files it refers to (textures, .vdb) are not part of it.
 std::string scene_file_hash(const std::string &path) {
   std::ifstream in(path, std::ios::binary);
-  uint64_t h = 0xcbf29ce484222325ull;
-  for (std::istreambuf_iterator<char> it(in), end; it != end; ++it) {
-    h ^= uint8_t(*it);
-    h *= 0x100000001b3ull;
-  }
-  char text[17];
-  std::snprintf(text, sizeof(text), "%016llx", (unsigned long long)h);
-  return text;
+  std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  return rdv_tools::content_hash(bytes);
 }
 
 // rendezvous merge PART... -o OUT: adds render parts (rdv_merge_parts).
@@ -100,6 +98,7 @@ int merge_main(int argc, char **argv) {
 
 int main(int argc, char **argv) {
   if (argc > 1 && std::strcmp(argv[1], "merge") == 0) return merge_main(argc, argv);
+  if (argc > 1 && std::strcmp(argv[1], "study") == 0) return rdv_tools::study_main(argc, argv);
   std::string scene_path, output = "render.png", view = "Standard";
   nlohmann::json overrides = nlohmann::json::object();
   bool quiet = false, summary = false;

@@ -1,0 +1,589 @@
+#include "study.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include "equal_time.h"
+#include "film/image_error.h"
+
+#ifndef RDV_TOOLS_DIR
+#define RDV_TOOLS_DIR "."
+#endif
+
+namespace rdv_tools {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+void print_study_usage() {
+  std::fprintf(stderr,
+               "usage: rendezvous study SCENE.json... [options]\n"
+               "  Renders each scene with each integrator at each time budget and measures the relative\n"
+               "  MSE against a long reference: study.csv, a Markdown table and one error-vs-time plot\n"
+               "  per scene (docs/trade.md).\n"
+               "  --integrators LIST     comma-separated (default path,bdpt,pssmlt,mmlt)\n"
+               "  --budgets LIST         seconds per render, comma-separated (default 5,15,45,135)\n"
+               "  --reference SECONDS    time of the reference, two halves (default 4 x the largest budget)\n"
+               "  --reference-integrator NAME   integrator of the reference (default bdpt)\n"
+               "  --out DIR              study.csv and the plots <scene>.png (default study)\n"
+               "  --markdown FILE        the table and plots; a file with <!-- study:begin --> and\n"
+               "                         <!-- study:end --> has only that part replaced (default DIR/study.md)\n"
+               "  --cache DIR            reference cache (default .study-cache next to each scene)\n"
+               "  --width N              image width, the scene's aspect kept (default 128)\n"
+               "  --threads N            worker threads (0 = all cores)\n"
+               "  --seed N               seed of the timed renders (default 17)\n"
+               "  --fresh                render every row again (default: rows already in DIR/study.csv\n"
+               "                         for the same scene file, settings and reference are kept)\n"
+               "  --no-plots             CSV and table only\n"
+               "  --quiet                no progress bar\n");
+}
+
+namespace {
+
+std::vector<std::string> split(const std::string &text, char sep) {
+  std::vector<std::string> v;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, sep)) v.push_back(item);
+  if (!text.empty() && text.back() == sep) v.push_back("");
+  return v;
+}
+
+// A positive finite number, the whole text.
+bool parse_seconds(const std::string &text, double &out) {
+  try {
+    size_t used = 0;
+    out = std::stod(text, &used);
+    return used == text.size() && std::isfinite(out) && out > 0;
+  } catch (const std::exception &) {
+    return false;
+  }
+}
+
+bool parse_int(const std::string &text, int lo, int hi, int &out) {
+  try {
+    size_t used = 0;
+    long v = std::stol(text, &used);
+    if (used != text.size() || v < lo || v > hi) return false;
+    out = int(v);
+    return true;
+  } catch (const std::exception &) {
+    return false;
+  }
+}
+
+std::string format_seconds(double s) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", s);
+  return b;
+}
+
+std::string format_clock(double s) {
+  char b[32];
+  int t = int(std::lround(std::max(0.0, s)));
+  std::snprintf(b, sizeof b, "%d:%02d", t / 60, t % 60);
+  return b;
+}
+
+// One render of the study: the CSV's row.
+struct StudyRow {
+  std::string scene, scene_hash, integrator, reference_integrator;
+  int width = 0, height = 0, seed = 0;
+  double budget = 0, seconds = 0, rel_mse = 0, reference_seconds = 0, reference_noise = 0;
+  uint32_t spp = 0;
+  bool same_run(const StudyRow &o) const {  // same render asked for: the measurement may be reused
+    return scene == o.scene && scene_hash == o.scene_hash && integrator == o.integrator && width == o.width &&
+           height == o.height && seed == o.seed && format_seconds(budget) == format_seconds(o.budget) &&
+           reference_integrator == o.reference_integrator &&
+           format_seconds(reference_seconds) == format_seconds(o.reference_seconds);
+  }
+};
+
+const char *kCsvHeader =
+    "scene,scene_hash,width,height,seed,integrator,budget_s,time_s,spp,rel_mse,reference_integrator,reference_s,"
+    "reference_noise";
+
+std::string csv_line(const StudyRow &r) {
+  char b[512];
+  std::snprintf(b, sizeof b, "%s,%s,%d,%d,%d,%s,%s,%.3f,%u,%.6e,%s,%s,%.6e", r.scene.c_str(), r.scene_hash.c_str(),
+                r.width, r.height, r.seed, r.integrator.c_str(), format_seconds(r.budget).c_str(), r.seconds, r.spp,
+                r.rel_mse, r.reference_integrator.c_str(), format_seconds(r.reference_seconds).c_str(),
+                r.reference_noise);
+  return b;
+}
+
+// The rows of an earlier run (a file that is missing or not a study CSV gives none).
+std::vector<StudyRow> read_csv(const std::string &file) {
+  std::vector<StudyRow> rows;
+  std::ifstream in(file);
+  std::string line;
+  if (!std::getline(in, line) || line != kCsvHeader) return rows;
+  while (std::getline(in, line)) {
+    std::vector<std::string> f = split(line, ',');
+    if (f.size() != 13) continue;
+    try {
+      StudyRow r;
+      r.scene = f[0];
+      r.scene_hash = f[1];
+      r.width = std::stoi(f[2]);
+      r.height = std::stoi(f[3]);
+      r.seed = std::stoi(f[4]);
+      r.integrator = f[5];
+      r.budget = std::stod(f[6]);
+      r.seconds = std::stod(f[7]);
+      r.spp = uint32_t(std::stoul(f[8]));
+      r.rel_mse = std::stod(f[9]);
+      r.reference_integrator = f[10];
+      r.reference_seconds = std::stod(f[11]);
+      r.reference_noise = std::stod(f[12]);
+      if (std::isfinite(r.rel_mse)) rows.push_back(r);
+    } catch (const std::exception &) {
+    }
+  }
+  return rows;
+}
+
+void write_csv(const std::string &file, const std::vector<StudyRow> &rows) {
+  const std::string partial = file + ".partial";
+  {
+    std::ofstream out(partial);
+    out << kCsvHeader << "\n";
+    for (const StudyRow &r : rows) out << csv_line(r) << "\n";
+    if (!out) throw std::runtime_error(file + ": cannot write");
+  }
+  fs::rename(partial, file);
+}
+
+std::string format_error(double e) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3g", e);
+  return b;
+}
+
+// The table (one row per scene and integrator, one column per budget, the lowest error
+// of each scene and budget in bold), the references, and the plots.
+std::string markdown_table(const std::vector<StudyRow> &rows, const std::string &markdown_file,
+                           const std::string &out_dir, bool plots) {
+  std::vector<std::string> scenes;
+  std::set<double> budgets;
+  for (const StudyRow &r : rows) {
+    if (std::find(scenes.begin(), scenes.end(), r.scene) == scenes.end()) scenes.push_back(r.scene);
+    budgets.insert(r.budget);
+  }
+  std::ostringstream md;
+  md << "Relative MSE (mean over pixels and channels of (x - ref)^2 / (ref^2 + 0.01)) at equal time; lowest per "
+        "scene and budget in **bold**. The reference's own noise (a quarter of the relative MSE between its two "
+        "halves) is in every figure: errors near it are a floor, not the integrator's.\n\n";
+  md << "| scene | integrator |";
+  for (double b : budgets) md << " " << format_seconds(b) << " s |";
+  md << " spp at " << format_seconds(*budgets.rbegin()) << " s |\n| --- | --- |";
+  for (size_t i = 0; i <= budgets.size(); ++i) md << " ---: |";
+  md << "\n";
+  for (const std::string &scene : scenes) {
+    std::vector<std::string> integrators;
+    std::map<double, double> best;
+    for (const StudyRow &r : rows)
+      if (r.scene == scene) {
+        if (std::find(integrators.begin(), integrators.end(), r.integrator) == integrators.end())
+          integrators.push_back(r.integrator);
+        best[r.budget] = best.count(r.budget) ? std::min(best[r.budget], r.rel_mse) : r.rel_mse;
+      }
+    for (const std::string &integrator : integrators) {
+      md << "| " << scene << " | " << integrator << " |";
+      std::string spp = "";
+      for (double b : budgets) {
+        auto it = std::find_if(rows.begin(), rows.end(), [&](const StudyRow &r) {
+          return r.scene == scene && r.integrator == integrator && r.budget == b;
+        });
+        if (it == rows.end()) {
+          md << " |";
+          continue;
+        }
+        const bool lowest = it->rel_mse == best[b];
+        md << " " << (lowest ? "**" : "") << format_error(it->rel_mse) << (lowest ? "**" : "") << " |";
+        spp = std::to_string(it->spp);
+      }
+      md << " " << spp << " |\n";
+    }
+  }
+  md << "\nReferences:";
+  for (const std::string &scene : scenes) {
+    const StudyRow &r = *std::find_if(rows.begin(), rows.end(), [&](const StudyRow &x) { return x.scene == scene; });
+    md << (scene == scenes.front() ? " " : "; ") << scene << " " << r.reference_integrator << " "
+       << format_seconds(r.reference_seconds) << " s (own noise " << format_error(r.reference_noise) << ", "
+       << r.width << "x" << r.height << ")";
+  }
+  md << ".\n";
+  if (plots) {
+    const fs::path md_dir = fs::absolute(markdown_file).parent_path();
+    md << "\n";
+    for (const std::string &scene : scenes) {
+      const fs::path png = fs::absolute(fs::path(out_dir) / (scene + ".png"));
+      md << "![" << scene << ": relative MSE against time](" << fs::relative(png, md_dir).generic_string() << ")\n";
+    }
+  }
+  return md.str();
+}
+
+// Writes `table` into `file`: between the markers when the file has them, else the whole file.
+void write_markdown(const std::string &file, const std::string &table) {
+  const std::string begin = "<!-- study:begin -->", end = "<!-- study:end -->";
+  std::string text;
+  {
+    std::ifstream in(file);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    text = ss.str();
+  }
+  size_t b = text.find(begin), e = text.find(end);
+  if (b != std::string::npos && e != std::string::npos && e > b) {
+    text = text.substr(0, b + begin.size()) + "\n" + table + text.substr(e);
+  } else {
+    text = "# Convergence study (`rendezvous study`)\n\n" + table;
+  }
+  std::ofstream out(file);
+  out << text;
+  if (!out) throw std::runtime_error(file + ": cannot write");
+}
+
+// plot_study.py next to this file's source (or RDV_STUDY_PLOT), run by Debian's Python
+// (or RDV_PYTHON): matplotlib comes from python3-matplotlib, which a pyenv python lacks.
+bool write_plots(const std::string &csv, const std::string &out_dir) {
+  const char *script = std::getenv("RDV_STUDY_PLOT");
+  const char *python = std::getenv("RDV_PYTHON");
+  std::string s = script ? script : std::string(RDV_TOOLS_DIR) + "/plot_study.py";
+  std::string py = python ? python : "/usr/bin/python3";
+  auto quote = [](const std::string &t) {
+    std::string q = "'";
+    for (char c : t) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+  };
+  const std::string command = quote(py) + " " + quote(s) + " " + quote(csv) + " " + quote(out_dir);
+  int rc = std::system(command.c_str());
+  if (rc != 0) {
+    std::fprintf(stderr,
+                 "rendezvous study: the plots were not drawn (%s exited with %d); they need matplotlib "
+                 "(Debian: apt-get install python3-matplotlib), or --no-plots\n",
+                 command.c_str(), rc);
+    return false;
+  }
+  return true;
+}
+
+// The progress bar: planned seconds done of all planned, the render under way, the time
+// left at the rate so far. A line per render when stderr is not a terminal.
+class StudyProgress {
+ public:
+  StudyProgress(double planned, int renders, bool quiet)
+      : planned_(std::max(planned, 1e-9)), renders_(renders), quiet_(quiet), tty_(isatty(2)) {}
+  void update(double done_in_render, const std::string &what) {
+    if (quiet_ || !tty_) return;
+    show(done_ + done_in_render, what, false);
+  }
+  void finish_render(double planned_seconds, const std::string &what) {
+    done_ += planned_seconds;
+    ++finished_;
+    if (quiet_) return;
+    show(done_, what, true);
+  }
+
+ private:
+  void show(double done, const std::string &what, bool render_done) {
+    const double f = std::min(1.0, done / planned_);
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const int bar = int(f * 30);
+    std::string left = f > 0.01 ? "about " + format_clock(wall / f - wall) + " left" : "";
+    if (tty_)
+      std::fprintf(stderr, "\r\033[K[%-30s] %3d%%  %d/%d  %s  %s  %s", std::string(bar, '#').c_str(), int(f * 100),
+                   finished_ + (render_done ? 0 : 1), renders_, what.c_str(), format_clock(wall).c_str(), left.c_str());
+    else if (render_done)
+      std::fprintf(stderr, "rendezvous study: %3d%%  %d/%d  %s  %s  %s\n", int(f * 100), finished_, renders_,
+                   what.c_str(), format_clock(wall).c_str(), left.c_str());
+    if (render_done && tty_ && finished_ == renders_) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  }
+  double planned_, done_ = 0;
+  int renders_, finished_ = 0;
+  bool quiet_, tty_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+// Every integrator asked for exists: a session on an empty scene (the engine's own
+// message names the unknown one and those available), before any long render.
+bool check_integrators(const StudyOptions &o, std::string &error) {
+  std::vector<std::string> names = o.integrators;
+  names.push_back(o.reference_integrator);
+  rdv_scene *scene = nullptr;
+  if (rdv_scene_create(&scene) != RDV_OK) {
+    error = rdv_last_error();
+    return false;
+  }
+  bool ok = rdv_scene_set_camera(scene, "{}") == RDV_OK;  // a session needs one; the default camera
+  if (!ok) error = rdv_last_error();
+  for (const std::string &name : names) {
+    if (!ok) break;
+    json settings = {{"width", 1}, {"height", 1}, {"samples", 1}, {"integrator", name}};
+    rdv_session *session = nullptr;
+    if (rdv_session_create(scene, settings.dump().c_str(), &session) != RDV_OK) {
+      error = "integrator '" + name + "': " + rdv_last_error();
+      ok = false;
+      break;
+    }
+    rdv_session_destroy(session);
+  }
+  rdv_scene_destroy(scene);
+  return ok;
+}
+
+}  // namespace
+
+bool parse_study_options(int argc, char **argv, StudyOptions &o, std::string &error) {
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&](std::string &v) {
+      if (i + 1 >= argc) {
+        error = a + " needs a value";
+        return false;
+      }
+      v = argv[++i];
+      return true;
+    };
+    std::string v;
+    if (a == "--integrators") {
+      if (!value(v)) return false;
+      o.integrators = split(v, ',');
+      for (const std::string &name : o.integrators)
+        if (name.empty()) {
+          error = "--integrators " + v + ": an empty name";
+          return false;
+        }
+      std::set<std::string> unique(o.integrators.begin(), o.integrators.end());
+      if (unique.size() != o.integrators.size()) {
+        error = "--integrators " + v + ": a name twice";
+        return false;
+      }
+    } else if (a == "--budgets") {
+      if (!value(v)) return false;
+      o.budgets.clear();
+      for (const std::string &item : split(v, ',')) {
+        double s = 0;
+        if (!parse_seconds(item, s)) {
+          error = "--budgets " + v + ": '" + item + "' is not a positive number of seconds";
+          return false;
+        }
+        o.budgets.push_back(s);
+      }
+      std::sort(o.budgets.begin(), o.budgets.end());
+      if (std::adjacent_find(o.budgets.begin(), o.budgets.end()) != o.budgets.end()) {
+        error = "--budgets " + v + ": a budget twice";
+        return false;
+      }
+    } else if (a == "--reference") {
+      if (!value(v)) return false;
+      if (!parse_seconds(v, o.reference_seconds)) {
+        error = "--reference " + v + ": not a positive number of seconds";
+        return false;
+      }
+    } else if (a == "--reference-integrator") {
+      if (!value(v)) return false;
+      o.reference_integrator = v;
+    } else if (a == "--out") {
+      if (!value(o.out_dir)) return false;
+    } else if (a == "--markdown") {
+      if (!value(o.markdown)) return false;
+    } else if (a == "--cache") {
+      if (!value(o.cache_dir)) return false;
+    } else if (a == "--width" || a == "--threads" || a == "--seed") {
+      if (!value(v)) return false;
+      const int lo = a == "--width" ? 1 : 0, hi = a == "--width" ? 16384 : a == "--threads" ? 4096 : 2147483647;
+      int &out = a == "--width" ? o.width : a == "--threads" ? o.threads : o.seed;
+      if (!parse_int(v, lo, hi, out)) {
+        error = a + " " + v + ": not a whole number from " + std::to_string(lo) + " to " + std::to_string(hi);
+        return false;
+      }
+    } else if (a == "--fresh") {
+      o.fresh = true;
+    } else if (a == "--no-plots") {
+      o.plots = false;
+    } else if (a == "--quiet") {
+      o.quiet = true;
+    } else if (!a.empty() && a[0] == '-') {
+      error = "unknown option " + a;
+      return false;
+    } else {
+      o.scenes.push_back(a);
+    }
+  }
+  if (o.scenes.empty()) {
+    error = "no scene given";
+    return false;
+  }
+  return true;
+}
+
+int run_study(const StudyOptions &options) {
+  const double reference_seconds =
+      options.reference_seconds > 0 ? options.reference_seconds : 4 * *std::max_element(options.budgets.begin(), options.budgets.end());
+  // Read every scene file first: a wrong path stops the study before hours of rendering.
+  std::vector<EqualTimeScene> scenes;
+  try {
+    for (const std::string &path : options.scenes) {
+      scenes.push_back(load_equal_time_scene(path, options.width));
+      scenes.back().common["threads"] = options.threads;
+      if (scenes.back().name.find(',') != std::string::npos)
+        throw std::runtime_error(path + ": a comma in the scene's name (it names rows of the CSV file)");
+      for (size_t i = 0; i + 1 < scenes.size(); ++i)
+        if (scenes[i].name == scenes.back().name)
+          throw std::runtime_error(path + ": two scenes named " + scenes.back().name + " (" + scenes[i].path + ")");
+    }
+    fs::create_directories(options.out_dir);
+  } catch (const std::exception &e) {
+    std::fprintf(stderr, "rendezvous study: %s\n", e.what());
+    return 1;
+  }
+  const std::string csv = (fs::path(options.out_dir) / "study.csv").string();
+  const std::string markdown = options.markdown.empty() ? (fs::path(options.out_dir) / "study.md").string() : options.markdown;
+
+  // The rows asked for; those an earlier run measured with the same everything are kept.
+  std::vector<StudyRow> previous = options.fresh ? std::vector<StudyRow>{} : read_csv(csv);
+  std::vector<StudyRow> rows;
+  std::set<std::string> studied;
+  for (const EqualTimeScene &s : scenes) studied.insert(s.name);
+  for (const StudyRow &r : previous)  // other scenes' rows stay: a study of all scenes may run in parts
+    if (!studied.count(r.scene)) rows.push_back(r);
+  struct Todo {
+    size_t scene;
+    StudyRow row;
+  };
+  std::vector<Todo> todo;
+  std::vector<std::vector<StudyRow>> kept(scenes.size());
+  std::vector<ReferenceRequest> references;
+  double planned = 0;
+  int reference_renders = 0;
+  for (size_t si = 0; si < scenes.size(); ++si) {
+    const EqualTimeScene &s = scenes[si];
+    const std::string hash = content_hash(s.text);
+    for (const std::string &integrator : options.integrators)
+      for (double budget : options.budgets) {
+        StudyRow r;
+        r.scene = s.name;
+        r.scene_hash = hash;
+        r.integrator = integrator;
+        r.width = s.common["width"];
+        r.height = s.common["height"];
+        r.seed = options.seed;
+        r.budget = budget;
+        r.reference_integrator = options.reference_integrator;
+        r.reference_seconds = reference_seconds;
+        auto earlier = std::find_if(previous.begin(), previous.end(), [&](const StudyRow &p) { return p.same_run(r); });
+        if (earlier != previous.end()) {
+          kept[si].push_back(*earlier);
+        } else {
+          todo.push_back({si, r});
+          planned += budget;
+        }
+      }
+    references.push_back({options.reference_integrator, reference_seconds,
+                          options.cache_dir.empty() ? (fs::path(s.base) / ".study-cache").string() : options.cache_dir});
+    const bool renders = !todo.empty() && todo.back().scene == si;
+    if (renders && !fs::exists(reference_cache_file(s, references.back()))) {
+      planned += reference_seconds;
+      ++reference_renders;
+    }
+  }
+  std::string error;
+  if (!todo.empty() && !check_integrators(options, error)) {
+    std::fprintf(stderr, "rendezvous study: %s\n", error.c_str());
+    return 1;
+  }
+
+  StudyProgress progress(planned, int(todo.size()) + reference_renders, options.quiet);
+  size_t next = 0;
+  for (size_t si = 0; si < scenes.size(); ++si) {
+    const EqualTimeScene &s = scenes[si];
+    std::vector<StudyRow> scene_rows = kept[si];
+    std::string what = s.name;
+    try {
+      if (next < todo.size() && todo[next].scene == si) {
+        EngineScene loaded(s);
+        for (const std::string &problem : loaded.problems())
+          std::fprintf(stderr, "%srendezvous study: %s: warning: %s\n", options.quiet ? "" : "\r\033[K",
+                       s.name.c_str(), problem.c_str());
+        what = s.name + " reference (" + options.reference_integrator + ")";
+        Reference reference = make_reference(s, loaded.get(), references[si], [&](int half, const rdv_progress &p) {
+          progress.update(half * reference_seconds / 2 + std::min(p.elapsed_seconds, reference_seconds / 2), what);
+        });
+        if (!reference.from_cache) progress.finish_render(reference_seconds, what);
+        for (; next < todo.size() && todo[next].scene == si; ++next) {
+          StudyRow r = todo[next].row;
+          what = s.name + " " + r.integrator + " " + format_seconds(r.budget) + " s";
+          json settings = render_settings(s, {{"integrator", r.integrator}, {"time_limit", r.budget}, {"seed", r.seed}});
+          TimedRender render = render_loaded(loaded.get(), settings, [&](const rdv_progress &p) {
+            progress.update(std::min(p.elapsed_seconds, r.budget), what);
+          });
+          r.seconds = render.progress.elapsed_seconds;
+          r.spp = render.progress.samples_done;
+          r.rel_mse = rdv::relative_mse(render.rgb, reference.image);
+          r.reference_noise = reference.noise;
+          scene_rows.push_back(r);
+          progress.finish_render(r.budget, what);
+        }
+      }
+    } catch (const std::exception &e) {
+      std::fprintf(stderr, "\nrendezvous study: %s: %s\n", what.c_str(), e.what());
+      return 1;
+    }
+    // In the order asked for: integrators, then budgets.
+    std::stable_sort(scene_rows.begin(), scene_rows.end(), [&](const StudyRow &a, const StudyRow &b) {
+      auto ia = std::find(options.integrators.begin(), options.integrators.end(), a.integrator);
+      auto ib = std::find(options.integrators.begin(), options.integrators.end(), b.integrator);
+      return ia != ib ? ia < ib : a.budget < b.budget;
+    });
+    rows.insert(rows.end(), scene_rows.begin(), scene_rows.end());
+    try {
+      write_csv(csv, rows);  // after every scene: an interrupted study keeps what it measured
+    } catch (const std::exception &e) {
+      std::fprintf(stderr, "rendezvous study: %s\n", e.what());
+      return 1;
+    }
+  }
+  bool plotted = true;
+  try {
+    if (options.plots) plotted = write_plots(csv, options.out_dir);
+    const std::string table = markdown_table(rows, markdown, options.out_dir, options.plots && plotted);
+    write_markdown(markdown, table);
+    if (!options.quiet) std::printf("%s", table.c_str());
+  } catch (const std::exception &e) {
+    std::fprintf(stderr, "rendezvous study: %s\n", e.what());
+    return 1;
+  }
+  std::fprintf(stderr, "rendezvous study: wrote %s, %s%s\n", csv.c_str(), markdown.c_str(),
+               options.plots && plotted ? (" and the plots in " + options.out_dir).c_str() : "");
+  return plotted ? 0 : 1;
+}
+
+int study_main(int argc, char **argv) {
+  if (argc > 2 && (std::string(argv[2]) == "-h" || std::string(argv[2]) == "--help")) {
+    print_study_usage();
+    return 0;
+  }
+  StudyOptions options;
+  std::string error;
+  if (!parse_study_options(argc, argv, options, error)) {
+    std::fprintf(stderr, "rendezvous study: %s (rendezvous study --help)\n", error.c_str());
+    return 2;
+  }
+  return run_study(options);
+}
+
+}  // namespace rdv_tools

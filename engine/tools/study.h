@@ -1,0 +1,42 @@
+// `rendezvous study`: the speed-for-accuracy trade, measured. Each scene is rendered
+// with each integrator at several time budgets; each image's relative MSE against a long
+// reference (made with one integrator, cached next to the scene) goes into a CSV file, a
+// Markdown table and one log-log error-vs-time plot per scene (PNG, drawn by
+// plot_study.py with matplotlib). docs/trade.md is its output on scenes/.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace rdv_tools {
+
+struct StudyOptions {
+  std::vector<std::string> scenes;
+  std::vector<std::string> integrators = {"path", "bdpt", "pssmlt", "mmlt"};
+  std::vector<double> budgets = {5, 15, 45, 135};  // seconds, rendered in increasing order
+  double reference_seconds = 0;                    // 0: 4 x the largest budget
+  std::string reference_integrator = "bdpt";
+  std::string out_dir = "study";  // study.csv and one <scene>.png per scene
+  std::string markdown;           // "": <out_dir>/study.md
+  std::string cache_dir;          // "": .study-cache next to each scene
+  int width = 128;
+  int threads = 0;
+  int seed = 17;
+  bool plots = true;
+  bool fresh = false;  // render every row again (otherwise rows already in study.csv are kept)
+  bool quiet = false;  // no progress bar
+};
+
+// Parses `rendezvous study ...` (argv[0] = "rendezvous", argv[1] = "study"). Returns
+// false with a message naming the argument and the problem in `error`.
+bool parse_study_options(int argc, char **argv, StudyOptions &options, std::string &error);
+
+// Runs the study; returns the process exit code (0: every file written, 1: an error,
+// printed to stderr naming the scene, integrator or file).
+int run_study(const StudyOptions &options);
+
+// The whole subcommand: parse, then run (2 on bad arguments).
+int study_main(int argc, char **argv);
+
+void print_study_usage();
+
+}  // namespace rdv_tools
