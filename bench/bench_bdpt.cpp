@@ -1,8 +1,8 @@
 // Benchmark (prints numbers, asserts nothing): the speed-for-accuracy trade of BDPT
 // against path tracing. For each scene, both integrators render for the same wall
 // time at several budgets; their relative MSE is measured against a long reference.
-// The reference is the mean of two independent BDPT renders; a quarter of their
-// mutual relMSE estimates the reference's own noise, which every figure contains. The
+// The reference is the mean of two independent BDPT renders; the relMSE of one against
+// their mean estimates the reference's own noise, which every figure contains. The
 // table shows raw relMSE against the reference (so the ratio is conservative: the
 // shared reference noise pulls it toward 1) and that noise estimate.
 // --mis a,b adds rows for BDPT with other weightings (balance, lafortune_willems) at the

@@ -1,6 +1,6 @@
 // Benchmark (prints numbers, asserts nothing): Metropolis light transport (pssmlt,
 // mmlt) against path tracing and BDPT at equal wall time. relMSE against a reference of
-// two independent long BDPT renders (a quarter of their mutual relMSE is the
+// two independent long BDPT renders (the relMSE of one against their mean is the
 // reference's own noise, printed; it is in every figure). For the Metropolis rows also
 // mutations per second and acceptance (small / large steps). "net" ratios take the
 // reference's own noise out of both figures (it is independent of the renders, so it adds

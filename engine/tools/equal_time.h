@@ -45,9 +45,9 @@ TimedRender render_loaded(rdv_scene *scene, const nlohmann::json &settings, cons
 TimedRender render_text(const std::string &text, const std::string &base, const nlohmann::json &settings,
                         const RenderProgress &progress = {});
 
-// The reference: the mean of two independent renders (seeds 9001, 9002) of half the
-// seconds each, and its own noise: relMSE(a, b) ~ 2 var_single, and the mean's error is
-// var_single / 2 = relMSE(a, b) / 4, which every figure measured against it contains.
+// The reference: the mean m of two independent renders a, b (seeds 9001, 9002) of half
+// the seconds each, and its own noise, which every figure measured against it contains:
+// the mean's error var_single / 2, estimated as relMSE(a, m) (E(a - m)^2 = var_single / 2).
 struct Reference {
   std::vector<double> image;
   double noise = 0;

@@ -1,6 +1,7 @@
 // rendezvous: the command-line renderer. Renders a JSON scene (docs/scene-format.md)
 // to PNG (through Blender's OpenColorIO view transform) or EXR (scene-linear float, a
 // render part that `rendezvous merge` combines with others; docs/farm.md).
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -10,6 +11,7 @@
 #include <string>
 #include <thread>
 #include "rendezvous.h"
+#include "auto_integrator.h"
 #include "equal_time.h"
 #include "scene_file.h"
 #include "study.h"
@@ -29,7 +31,9 @@ void usage() {
                "  --seed N               random seed\n"
                "  --sample-offset N      render samples [N, N + samples) of the sequence (a farm part)\n"
                "  --resolution WxH       image size\n"
-               "  --integrator NAME      path, bdpt, pssmlt or mmlt (Metropolis: samples = mutations per pixel)\n"
+               "  --integrator NAME      path, bdpt, pssmlt or mmlt (Metropolis: samples = mutations per pixel), or auto\n"
+               "                         (with --time: pilots of each take 10%% of the time, the most efficient\n"
+               "                         one, 1 / (estimated relMSE x time), renders the rest)\n"
                "  --mlt-large-step P     pssmlt / mmlt: probability of a large step\n"
                "  --mlt-bootstrap N      pssmlt / mmlt: bootstrap samples per pixel\n"
                "  --mlt-chains N         pssmlt / mmlt: number of Markov chains\n"
@@ -163,6 +167,27 @@ int main(int argc, char **argv) {
     overrides["samples"] = 0;  // a time limit alone renders until the time is up
   settings.update(overrides);
   if (!settings.contains("scene_hash")) settings["scene_hash"] = scene_file_hash(scene_path);
+
+  if (settings.value("integrator", "") == "auto") {
+    // Pilots of every integrator, then the most efficient one renders the rest of the time.
+    try {
+      rdv_tools::AutoChoice choice = rdv_tools::choose_integrator(scene, settings);
+      for (const rdv_tools::Pilot &p : choice.pilots)
+        std::fprintf(stderr, "rendezvous: auto: %-6s pilot %.2f s x 2, %u spp, estimated relMSE %.3g, efficiency %.3g /s%s\n",
+                     p.integrator.c_str(), p.seconds, p.spp, p.rel_mse, p.efficiency,
+                     p.integrator == choice.integrator ? "  <- chosen" : "");
+      const double budget = settings["time_limit"].get<double>();
+      std::fprintf(stderr, "rendezvous: auto: chose %s; pilots took %.2f s of %.2f s\n", choice.integrator.c_str(),
+                   choice.pilot_seconds, budget);
+      if (summary) std::printf("%s\n", nlohmann::json({{"auto_integrator", choice.to_json()}}).dump().c_str());
+      settings["integrator"] = choice.integrator;
+      settings["time_limit"] = std::max(budget - choice.pilot_seconds, 0.05 * budget);
+    } catch (const std::exception &e) {
+      std::fprintf(stderr, "rendezvous: %s\n", e.what());
+      rdv_scene_destroy(scene);
+      return 1;
+    }
+  }
 
   rdv_session *session = nullptr;
   if (!check(rdv_session_create(scene, settings.dump().c_str(), &session), "session")) {

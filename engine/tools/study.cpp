@@ -42,8 +42,9 @@ void print_study_usage() {
                "  --width N              image width, the scene's aspect kept (default 128)\n"
                "  --threads N            worker threads (0 = all cores)\n"
                "  --seed N               seed of the timed renders (default 17)\n"
-               "  --fresh                render every row again (default: rows already in DIR/study.csv\n"
-               "                         for the same scene file, settings and reference are kept)\n"
+               "  --fresh                render these scenes' rows again (default: rows already in\n"
+               "                         DIR/study.csv for the same scene file, settings and reference\n"
+               "                         are kept; other scenes' rows are kept either way)\n"
                "  --no-plots             CSV and table only\n"
                "  --quiet                no progress bar\n");
 }
@@ -182,8 +183,8 @@ std::string markdown_table(const std::vector<StudyRow> &rows, const std::string 
   }
   std::ostringstream md;
   md << "Relative MSE (mean over pixels and channels of (x - ref)^2 / (ref^2 + 0.01)) at equal time; lowest per "
-        "scene and budget in **bold**. The reference's own noise (a quarter of the relative MSE between its two "
-        "halves) is in every figure: errors near it are a floor, not the integrator's.\n\n";
+        "scene and budget in **bold**. The reference's own noise (the relative MSE of one of its two halves against "
+        "their mean) is in every figure: errors near it are a floor, not the integrator's.\n\n";
   md << "| scene | integrator |";
   for (double b : budgets) md << " " << format_seconds(b) << " s |";
   md << " spp at " << format_seconds(*budgets.rbegin()) << " s |\n| --- | --- |";
@@ -455,7 +456,7 @@ int run_study(const StudyOptions &options) {
   const std::string markdown = options.markdown.empty() ? (fs::path(options.out_dir) / "study.md").string() : options.markdown;
 
   // The rows asked for; those an earlier run measured with the same everything are kept.
-  std::vector<StudyRow> previous = options.fresh ? std::vector<StudyRow>{} : read_csv(csv);
+  const std::vector<StudyRow> previous = read_csv(csv);
   std::vector<StudyRow> rows;
   std::set<std::string> studied;
   for (const EqualTimeScene &s : scenes) studied.insert(s.name);
@@ -486,7 +487,7 @@ int run_study(const StudyOptions &options) {
         r.reference_integrator = options.reference_integrator;
         r.reference_seconds = reference_seconds;
         auto earlier = std::find_if(previous.begin(), previous.end(), [&](const StudyRow &p) { return p.same_run(r); });
-        if (earlier != previous.end()) {
+        if (earlier != previous.end() && !options.fresh) {
           kept[si].push_back(*earlier);
         } else {
           todo.push_back({si, r});

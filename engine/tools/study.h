@@ -22,7 +22,8 @@ struct StudyOptions {
   int threads = 0;
   int seed = 17;
   bool plots = true;
-  bool fresh = false;  // render every row again (otherwise rows already in study.csv are kept)
+  bool fresh = false;  // render these scenes' rows again (otherwise rows already in study.csv are kept;
+                       // other scenes' rows are kept either way)
   bool quiet = false;  // no progress bar
 };
 
