@@ -1,9 +1,10 @@
 // `--integrator auto`: short pilot renders of each candidate integrator, efficiency =
 // 1 / (estimated error x time), and the best one renders the rest of the time budget.
 // The error of a pilot is estimated without a reference, from two independent renders
-// (seeds s and s + 1) of the same time: with m their mean, relMSE(a, m) estimates half
-// the error of one of them. Independent runs make the estimate honest for Metropolis
-// too, whose samples within one run are correlated.
+// a, b (seeds s and s + 1) of the same time: mean (a - b)^2 / (R^2 + 0.01) / 2, with R
+// the mean of every candidate's pilots (all unbiased images of the scene). Independent
+// runs make the estimate honest for Metropolis too, whose samples within one run are
+// correlated.
 #pragma once
 #include <nlohmann/json.hpp>
 #include <string>
