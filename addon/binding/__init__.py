@@ -10,7 +10,7 @@ import json
 import os
 import sys
 
-API_VERSION = 1  # RDV_API_VERSION this binding mirrors
+API_VERSION = 2  # RDV_API_VERSION this binding mirrors
 
 LIB_NAMES = {"linux": "librendezvous.so", "darwin": "librendezvous.dylib", "win32": "rendezvous.dll"}
 
@@ -23,7 +23,8 @@ PASS_COMBINED = 0
 PASS_DEPTH = 1
 PASS_NORMAL = 2
 PASS_ALBEDO = 3
-PASS_CHANNELS = {PASS_COMBINED: 4, PASS_DEPTH: 1, PASS_NORMAL: 3, PASS_ALBEDO: 3}
+PASS_NOISE = 4
+PASS_CHANNELS = {PASS_COMBINED: 4, PASS_DEPTH: 1, PASS_NORMAL: 3, PASS_ALBEDO: 3, PASS_NOISE: 1}
 
 
 class EngineError(RuntimeError):
@@ -51,6 +52,9 @@ class Progress(ctypes.Structure):
         ("samples_dropped", ctypes.c_uint64),
         ("finished", ctypes.c_int32),
         ("cancelled", ctypes.c_int32),
+        ("noise_estimate", ctypes.c_double),
+        ("noise_target", ctypes.c_double),
+        ("noise_reached", ctypes.c_int32),
     ]
 
     def as_dict(self):

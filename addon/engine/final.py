@@ -10,7 +10,7 @@ import numpy as np
 
 from .. import binding
 from ..binding import EngineError, LibraryError
-from ..export import SceneExporter, ExportError, session_settings, resolution, border_rect
+from ..export import SceneExporter, ExportError, SettingsError, session_settings, resolution, border_rect
 from ..export.settings import INTEGRATOR_LABELS, part_output_path, scene_hash
 from ..utils import Messages
 from ..utils.images import image_average, clear_cache
@@ -28,6 +28,7 @@ PASSES = {
     "Depth": (binding.PASS_DEPTH, 1),
     "Normal": (binding.PASS_NORMAL, 3),
     "DiffCol": (binding.PASS_ALBEDO, 3),
+    "Noise": (binding.PASS_NOISE, 1),
 }
 
 
@@ -41,6 +42,9 @@ def register_passes(engine, scene, layer):
         engine.register_pass(scene, layer, "Normal", 3, "XYZ", "VECTOR")
     if getattr(layer, "use_pass_diffuse_color", False):
         engine.register_pass(scene, layer, "DiffCol", 3, "RGB", "COLOR")
+    props = getattr(scene, "rendezvous", None)
+    if props is not None and getattr(props, "use_pass_noise", False):
+        engine.register_pass(scene, layer, "Noise", 1, "X", "VALUE")
 
 
 def _integrator_label(settings):
@@ -85,6 +89,11 @@ def _stats_text(settings, p, session=None):
     if p.time_limit_seconds > 0:
         parts[-1] += "/%ds" % int(p.time_limit_seconds)
     parts.append("%.2f Mrays/s" % (p.rays_per_second / 1e6))
+    if p.noise_estimate >= 0:
+        noise = "Noise -" if p.noise_estimate == float("inf") else "Noise %.2e" % p.noise_estimate
+        if p.noise_target > 0:
+            noise += "/%.2e" % p.noise_target
+        parts.append(noise)
     if p.samples_dropped:
         parts.append("%d NaN samples dropped" % p.samples_dropped)
     if session is not None and settings.get("integrator") in ("pssmlt", "mmlt"):
@@ -133,7 +142,7 @@ def render(engine, depsgraph):
     except LibraryError as exc:
         print(str(exc))
         engine.report({"ERROR"}, str(exc))
-    except (EngineError, ExportError) as exc:
+    except (EngineError, ExportError, SettingsError) as exc:
         print("Rendezvous: %s" % exc)
         engine.report({"ERROR"}, "Rendezvous: %s" % exc)
     except Exception as exc:  # a bug: say so loudly instead of saving a blank frame

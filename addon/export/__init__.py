@@ -15,7 +15,7 @@ from .materials import MaterialCache
 from . import images
 from .mesh import mesh_arrays
 from . import volumes
-from .settings import session_settings, resolution, border_rect  # noqa: F401
+from .settings import session_settings, resolution, border_rect, SettingsError  # noqa: F401
 
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
 UV_NODES = {"ShaderNodeTexImage", "ShaderNodeNormalMap", "ShaderNodeTexCoord", "ShaderNodeBsdfAnisotropic"}

@@ -1,6 +1,7 @@
 """Render settings JSON for rdv_session_create, and the output rectangle."""
 
 import hashlib
+import math
 import os
 
 INTEGRATORS = {"PATH": "path", "BDPT": "bdpt", "PSSMLT": "pssmlt", "MMLT": "mmlt"}
@@ -41,13 +42,21 @@ def border_rect(render, width, height):
     return (x0, height - y1, x1 - x0, y1 - y0)
 
 
+class SettingsError(ValueError):
+    """A render setting the engine cannot take, named in the message."""
+
+
 def session_settings(scene, props, frame=None, warn=print):
     """props: scene.rendezvous (or a stand-in with the same fields)."""
     render = scene.render
     width, height = resolution(render)
     samples = int(props.samples)
     time_limit = float(props.time_limit)
-    if samples <= 0 and time_limit <= 0.0:
+    noise_target = float(getattr(props, "noise_target", 0.0))
+    if not math.isfinite(noise_target) or noise_target < 0.0:
+        raise SettingsError("Noise Target (scene.rendezvous.noise_target) must be a finite number >= 0, got %r"
+                            % noise_target)
+    if samples <= 0 and time_limit <= 0.0 and noise_target <= 0.0:
         samples = DEFAULT_SAMPLES  # a render always halts
     seed = int(props.seed)
     if props.use_animated_seed:
@@ -75,6 +84,10 @@ def session_settings(scene, props, frame=None, warn=print):
         s["sample_offset"] = int(props.sample_offset)
     if time_limit > 0.0:
         s["time_limit"] = time_limit
+    if noise_target > 0.0:
+        s["noise_target"] = noise_target
+    if getattr(props, "use_pass_noise", False):
+        s["noise_pass"] = True
     rect = border_rect(render, width, height)
     if rect is not None:
         x, y, w, h = rect

@@ -61,6 +61,17 @@ class RendezvousRenderSettings(bpy.types.PropertyGroup):
     time_limit: FloatProperty(name="Time Limit", default=0.0, min=0.0, subtype="TIME_ABSOLUTE", unit="TIME_ABSOLUTE",
                               description="Stop after this many seconds (0 = off), whichever halt comes first: a "
                                           "fixed render time, at the cost of a noise level that depends on the scene")
+    noise_target: FloatProperty(name="Noise Target", default=0.0, min=0.0, soft_max=0.1, precision=4, step=0.01,
+                                description="Stop once the estimated relative MSE of the image (the error measure "
+                                            "of docs/trade.md: mean of (error / value)^2, 1e-3 is about 3% noise) "
+                                            "falls below this (0 = off), whichever halt comes first. A render "
+                                            "that estimates its noise draws its samples from two independent "
+                                            "sequences (path, bidirectional): up to ~1.4x the noise of one in "
+                                            "smooth regions at equal samples")
+    use_pass_noise: BoolProperty(name="Noise", default=False,
+                                 description="Render pass: the estimated relative error of each pixel (the root of "
+                                             "its relative MSE), from two independent half images; draws the "
+                                             "samples as the Noise Target does")
     max_bounces: IntProperty(name="Max Bounces", default=12, min=0, max=1024,
                              description="Maximum number of scattering events of a path: fewer render faster "
                                          "but lose indirect light (darker interiors, glass and mirrors go black)")

@@ -72,6 +72,7 @@ class RENDEZVOUS_PT_sampling_render(RendezvousSubpanel, bpy.types.Panel):
         col = layout.column(align=True)
         col.prop(props, "samples", text="Max Samples")
         col.prop(props, "time_limit")
+        layout.prop(props, "noise_target")
 
 
 class RENDEZVOUS_PT_sampling_metropolis(RendezvousSubpanel, bpy.types.Panel):
@@ -181,11 +182,21 @@ def draw_view3d_header(self, context):
         self.layout.prop(props, "viewport_pause", text="", icon="PLAY" if props.viewport_pause else "PAUSE")
 
 
+class RENDEZVOUS_PT_passes(RendezvousPanel, bpy.types.Panel):
+    """View Layer > Passes of our own (Blender's Data panel shows Depth, Normal, Diffuse Color)."""
+    bl_label = "Rendezvous Passes"
+    bl_context = "view_layer"
+
+    def draw(self, context):
+        layout = _split(self.layout)
+        layout.prop(context.scene.rendezvous, "use_pass_noise")
+
+
 # Parents before their subpanels (Blender needs the parent registered first).
 classes = (RENDEZVOUS_PT_sampling, RENDEZVOUS_PT_sampling_viewport, RENDEZVOUS_PT_sampling_render,
            RENDEZVOUS_PT_sampling_metropolis, RENDEZVOUS_PT_sampling_advanced, RENDEZVOUS_PT_sampling_farm,
            RENDEZVOUS_PT_light_paths, RENDEZVOUS_PT_light_paths_max_bounces, RENDEZVOUS_PT_light_paths_clamping,
-           RENDEZVOUS_PT_performance)
+           RENDEZVOUS_PT_performance, RENDEZVOUS_PT_passes)
 
 
 def register():

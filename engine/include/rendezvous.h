@@ -39,7 +39,7 @@ extern "C" {
 #endif
 
 /* Bumped on every incompatible change of this header. */
-#define RDV_API_VERSION 1
+#define RDV_API_VERSION 2
 
 typedef enum rdv_status {
   RDV_OK = 0,
@@ -170,7 +170,10 @@ RDV_API rdv_status rdv_scene_summary(rdv_scene *scene, const char **out_json);
 /* ---- render session ------------------------------------------------------------ */
 /* settings JSON: {"width":W,"height":H,"integrator":"path","samples":N,
  *   "time_limit":seconds,"max_bounces":B,"seed":S,"threads":T,"clamp":C,
- *   "border":[x0,y0,x1,y1],"sample_offset":O,"scene_hash":"..."} (sample_offset and
+ *   "border":[x0,y0,x1,y1],"sample_offset":O,"scene_hash":"...","noise_target":E,
+ *   "noise_pass":false} (noise_target: halt once the estimated relative MSE is below E,
+ *   0 = off; noise_pass: estimate the noise for RDV_PASS_NOISE without a target;
+ *   docs/noise.md) (sample_offset and
  *   scene_hash: render parts, see rdv_merge_parts). A session always has a halt condition: samples
  *   or time_limit (if neither is given, samples defaults to 128). integrator:
  *   path, bdpt, pssmlt or mmlt (Metropolis: samples = mutations per pixel; settings
@@ -196,6 +199,12 @@ typedef struct rdv_progress {
   uint64_t samples_dropped;   /* NaN / Inf samples discarded (never enter the film) */
   int32_t finished;           /* 1 once the render halted */
   int32_t cancelled;          /* 1 if it halted because of rdv_session_cancel */
+  /* The estimated relative MSE of the frame a read shows (docs/noise.md): -1 when not
+   * estimated (no noise_target and no adaptive sampling), +inf until every pixel has
+   * samples in both half images. */
+  double noise_estimate;
+  double noise_target;        /* the setting: the render halts below it; 0 when off */
+  int32_t noise_reached;      /* 1 if it halted because the estimate fell below the target */
 } rdv_progress;
 RDV_API rdv_status rdv_session_progress(rdv_session *session, rdv_progress *out_progress);
 
@@ -213,7 +222,10 @@ typedef enum rdv_pass {
   RDV_PASS_COMBINED = 0, /* RGBA, 4 floats per pixel */
   RDV_PASS_DEPTH = 1,    /* camera-space distance along -Z, 1 float (1e10 = nothing hit) */
   RDV_PASS_NORMAL = 2,   /* world-space shading normal of the first hit, 3 floats */
-  RDV_PASS_ALBEDO = 3    /* first-hit albedo (Blender's Diffuse Color), 3 floats */
+  RDV_PASS_ALBEDO = 3,   /* first-hit albedo (Blender's Diffuse Color), 3 floats */
+  RDV_PASS_NOISE = 4     /* estimated relative error of each pixel, 1 float: the root of its
+                            estimated relative MSE, averaged over R, G, B (docs/noise.md);
+                            0 where there is no estimate yet (fewer than 2 samples) */
 } rdv_pass;
 RDV_API int rdv_pass_channels(rdv_pass pass);
 

@@ -3,6 +3,7 @@
 // render part that `rendezvous merge` combines with others; docs/farm.md).
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -27,6 +28,7 @@ void usage() {
                "  -o, --output FILE      image to write (.png or .exr; default render.png)\n"
                "  --samples N            samples per pixel\n"
                "  --time SECONDS         time limit (0 = off)\n"
+               "  --noise-target E       stop once the estimated relative MSE is below E (0 = off)\n"
                "  --threads N            worker threads (0 = all cores)\n"
                "  --seed N               random seed\n"
                "  --sample-offset N      render samples [N, N + samples) of the sequence (a farm part)\n"
@@ -45,6 +47,20 @@ void usage() {
                "  --view NAME            PNG view transform: Standard (default) or Filmic\n"
                "  --summary              print what the engine modelled (JSON)\n"
                "  --quiet                no progress bar\n");
+}
+
+// The progress line's noise estimate (relative MSE), when the render makes one.
+std::string noise_text(const rdv_progress &p) {
+  if (p.noise_estimate < 0) return "";
+  char text[96];
+  if (!std::isfinite(p.noise_estimate)) std::snprintf(text, sizeof text, "  noise -");
+  else std::snprintf(text, sizeof text, "  noise %.2e", p.noise_estimate);
+  std::string out = text;
+  if (p.noise_target > 0) {
+    std::snprintf(text, sizeof text, " / %.2e", p.noise_target);
+    out += text;
+  }
+  return out + "   ";
 }
 
 bool check(rdv_status s, const char *what) {
@@ -117,6 +133,16 @@ int main(int argc, char **argv) {
       else if (a == "-o" || a == "--output") output = next();
       else if (a == "--samples") overrides["samples"] = std::stoi(next());
       else if (a == "--time") overrides["time_limit"] = std::stod(next());
+      else if (a == "--noise-target") {
+        std::string v = next();
+        double e = std::stod(v);
+        if (!std::isfinite(e) || e < 0) {
+          std::fprintf(stderr, "rendezvous: --noise-target must be a finite number >= 0 (relative MSE; 0 = off), got %s\n",
+                       v.c_str());
+          return 2;
+        }
+        overrides["noise_target"] = e;
+      }
       else if (a == "--threads") overrides["threads"] = std::stoi(next());
       else if (a == "--seed") overrides["seed"] = std::stoi(next());
       else if (a == "--sample-offset") overrides["sample_offset"] = std::stoi(next());
@@ -163,8 +189,9 @@ int main(int argc, char **argv) {
   }
   for (const auto &p : loaded.problems) std::fprintf(stderr, "rendezvous: warning: %s\n", p.c_str());
   nlohmann::json settings = nlohmann::json::parse(loaded.settings_json);
-  if (overrides.contains("time_limit") && !overrides.contains("samples") && !settings.contains("samples"))
-    overrides["samples"] = 0;  // a time limit alone renders until the time is up
+  if ((overrides.contains("time_limit") || overrides.contains("noise_target")) && !overrides.contains("samples") &&
+      !settings.contains("samples"))
+    overrides["samples"] = 0;  // a time limit or noise target alone renders until it halts
   settings.update(overrides);
   if (!settings.contains("scene_hash")) settings["scene_hash"] = scene_file_hash(scene_path);
 
@@ -205,8 +232,9 @@ int main(int argc, char **argv) {
     rdv_session_progress(session, &p);
     if (!quiet) {
       int bar = int(p.fraction_done * 40);
-      std::fprintf(stderr, "\r[%-40s] %3d%%  %u spp  %.1f s  %.2f Mrays/s", std::string(bar, '#').c_str(),
-                   int(p.fraction_done * 100), p.samples_done, p.elapsed_seconds, p.rays_per_second * 1e-6);
+      std::fprintf(stderr, "\r[%-40s] %3d%%  %u spp  %.1f s  %.2f Mrays/s%s", std::string(bar, '#').c_str(),
+                   int(p.fraction_done * 100), p.samples_done, p.elapsed_seconds, p.rays_per_second * 1e-6,
+                   noise_text(p).c_str());
     }
     if (p.finished) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
@@ -220,6 +248,9 @@ int main(int argc, char **argv) {
   rdv_session_progress(session, &p);
   std::fprintf(stderr, "rendezvous: %u samples/pixel in %.2f s, %.2f Mrays/s, %llu dropped samples\n",
                p.samples_done, p.elapsed_seconds, p.rays_per_second * 1e-6, (unsigned long long)p.samples_dropped);
+  if (p.noise_target > 0)
+    std::fprintf(stderr, "rendezvous: %s: estimated relative MSE %.3g, target %.3g\n",
+                 p.noise_reached ? "noise target reached" : "noise target NOT reached", p.noise_estimate, p.noise_target);
   // The integrator's own figures (Metropolis: b, acceptance, chains) and its warnings.
   if (rdv_session_stats(session, &text) == RDV_OK && text && std::strcmp(text, "{}") != 0) {
     nlohmann::json stats = nlohmann::json::parse(text);

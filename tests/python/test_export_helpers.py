@@ -156,6 +156,18 @@ class TestCameraSettings(unittest.TestCase):
         self.assertEqual(s["time_limit"], 2.5)
         self.assertNotIn("samples", s)
 
+    def test_noise_target_settings(self):
+        from rendezvous.export.settings import session_settings, SettingsError
+        scene = ns(render=self.render(), frame_current=1)
+        self.assertNotIn("noise_target", session_settings(scene, self.props()))  # props without the field
+        s = session_settings(scene, self.props(samples=0, noise_target=0.002, use_pass_noise=True))
+        self.assertEqual((s["noise_target"], s["noise_pass"]), (0.002, True))
+        self.assertNotIn("samples", s)  # the target alone halts
+        for bad in (-0.001, float("nan"), float("inf")):
+            with self.assertRaises(SettingsError) as caught:
+                session_settings(scene, self.props(noise_target=bad))
+            self.assertIn("noise_target", str(caught.exception))
+
     def test_farm_part_settings(self):
         from rendezvous.export.settings import session_settings, part_output_path, scene_hash
         scene = ns(render=self.render(), frame_current=3)
@@ -322,8 +334,9 @@ class TestBinding(unittest.TestCase):
         load_addon()
         from rendezvous import binding
         import ctypes
-        # uint32 x2, double x3, uint64, double, uint64, int32 x2 (C layout, 8-byte aligned)
-        self.assertEqual(ctypes.sizeof(binding.Progress), 4 + 4 + 8 * 3 + 8 + 8 + 8 + 4 + 4)
+        # uint32 x2, double x3, uint64, double, uint64, int32 x2, double x2, int32 (+ 4 padding:
+        # C layout, 8-byte aligned)
+        self.assertEqual(ctypes.sizeof(binding.Progress), 4 + 4 + 8 * 3 + 8 + 8 + 8 + 4 + 4 + 8 * 2 + 4 + 4)
 
 
 if __name__ == "__main__":

@@ -35,6 +35,9 @@ static Image render_scene(rdv_scene *scene, const rdv_tools::LoadedScene &loaded
   img.rgba.resize(size_t(img.width) * img.height * 4);
   if (rdv_session_read_film(session, RDV_PASS_COMBINED, 0, 0, img.width, img.height, 1, img.rgba.data()) != RDV_OK)
     throw std::runtime_error(std::string("read_film: ") + rdv_last_error());
+  img.noise.resize(size_t(img.width) * img.height);
+  if (rdv_session_read_film(session, RDV_PASS_NOISE, 0, 0, img.width, img.height, 1, img.noise.data()) != RDV_OK)
+    throw std::runtime_error(std::string("read_film: ") + rdv_last_error());
   rdv_session_destroy(session);
   return img;
 }

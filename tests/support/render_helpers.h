@@ -22,6 +22,7 @@ struct SceneHandle {
 struct Image {
   int width = 0, height = 0;
   std::vector<float> rgba;  // top-down
+  std::vector<float> noise; // the Noise pass (estimated relative error per pixel), top-down
   std::string warnings;     // scene messages + loader problems
   rdv_progress progress{};
   std::string stats;        // rdv_session_stats (the integrator's own figures)

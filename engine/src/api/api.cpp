@@ -271,6 +271,9 @@ rdv_status rdv_session_progress(rdv_session *s, rdv_progress *out) {
     out->samples_dropped = p.dropped;
     out->finished = p.finished;
     out->cancelled = p.cancelled;
+    out->noise_estimate = p.noise_estimate;
+    out->noise_target = p.noise_target;
+    out->noise_reached = p.noise_reached;
   });
 }
 
@@ -289,6 +292,7 @@ int rdv_pass_channels(rdv_pass pass) {
     case RDV_PASS_DEPTH: return 1;
     case RDV_PASS_NORMAL: return 3;
     case RDV_PASS_ALBEDO: return 3;
+    case RDV_PASS_NOISE: return 1;
   }
   return 0;
 }

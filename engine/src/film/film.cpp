@@ -1,4 +1,5 @@
 #include "film/film.h"
+#include "film/noise_estimate.h"
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -7,9 +8,9 @@ namespace rdv {
 
 Film::Film(int width, int height, Rect region)
     : width_(width), height_(height), region_(region), pixels_(size_t(width) * height),
-      aovs_(size_t(width) * height), splats_(size_t(width) * height) {}
+      aovs_(size_t(width) * height), splats_(size_t(width) * height), half_splats_(size_t(width) * height) {}
 
-size_t Film::bytes_per_pixel() { return sizeof(PixelSum) + sizeof(PixelAov) + sizeof(SplatSums); }
+size_t Film::bytes_per_pixel() { return sizeof(PixelSum) + sizeof(PixelAov) + 2 * sizeof(SplatSums); }
 
 void Film::take_tile(const Rect &rect, FilmTile &tile) const {
   tile.rect_ = rect;
@@ -32,7 +33,7 @@ void Film::put_tile(const FilmTile &tile) {
   }
 }
 
-void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter) {
+void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b) {
   if (!is_finite(L)) return;
   float radius = filter.radius();
   float norm = 1.0f / (filter.integral() * filter.integral());
@@ -55,6 +56,12 @@ void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter) {
         sum[0] += c.x;
         sum[1] += c.y;
         sum[2] += c.z;
+        if (half_b) {
+          SplatSums &half = half_splats_[index(x, y)];
+          half[0] += c.x;
+          half[1] += c.y;
+          half[2] += c.z;
+        }
       }
     }
   }
@@ -90,6 +97,11 @@ void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float 
         }
         case RDV_PASS_ALBEDO: {
           for (int c = 0; c < 3; ++c) dst[c] = n > 0 ? float(a.albedo[c] / n) : 0.0f;
+          break;
+        }
+        case RDV_PASS_NOISE: {
+          double v;
+          dst[0] = pixel_relative_variance(p, splats_[i], half_splats_[i], state_, &v) ? float(std::sqrt(v)) : 0.0f;
           break;
         }
       }

@@ -23,11 +23,22 @@ struct SplatNormalisation {
   double scale() const { return paths > 0 ? numerator / paths : 0.0; }
 };
 
+// How a frame splits into the two independent half images that estimate its noise
+// (film/noise_estimate.h): by camera sample (path, bdpt: the odd samples, each with its
+// light path), by chain (MLT: the odd chains' splats), or not at all (the settings ask
+// for no estimate; merged render parts carry no halves).
+enum class HalfSplit : uint8_t { None, CameraSamples, Splats };
+
 struct FrameState {
   uint64_t pass = 0;       // complete passes published (0: none yet, no splats)
   uint32_t samples = 0;    // samples per pixel of those passes (MLT: mutations per pixel)
   double splat_scale = 0;  // their normalisation (the integrator's business)
   SplatNormalisation splats;  // splat_scale as numerator / paths (render parts merge these)
+  HalfSplit split = HalfSplit::None;
+  SplatNormalisation half_splats;  // the splats of half B: numerator / its paths
+  // Relative variance of the image's numerator b (MLT: the whole image scales with it,
+  // so its error is shared by both halves and their difference misses it).
+  double scale_relative_variance = 0;
 };
 
 // Splat sums in double: MLT adds millions of splats to a pixel, and a float sum stops
@@ -57,10 +68,17 @@ class Film {
     // Spreads L over the pixels whose filter covers `raster`, with the same normalised
     // Blackman-Harris weights filter importance sampling gives camera samples, so that
     // splatted and sampled estimates converge to the same image.
-    void add_splat(Vec2 raster, Color L, const PixelFilter &filter) { film_.add_splat(raster, L, filter); }
+    // half_b: the splat belongs to half image B too (film/noise_estimate.h).
+    void add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b = false) {
+      film_.add_splat(raster, L, filter, half_b);
+    }
     // The frame now complete: samples (or mutations) per pixel and the splats' scale.
-    void publish(uint32_t samples, SplatNormalisation splats) {
-      film_.state_ = {film_.state_.pass + 1, samples, splats.scale(), splats};
+    void publish(uint32_t samples, SplatNormalisation splats) { publish(samples, splats, HalfSplit::None, {}); }
+    // The same, with the split into half images that estimates its noise.
+    void publish(uint32_t samples, SplatNormalisation splats, HalfSplit split, SplatNormalisation half_splats,
+                 double scale_relative_variance = 0) {
+      film_.state_ = {film_.state_.pass + 1, samples, splats.scale(), splats, split, half_splats,
+                      scale_relative_variance};
     }
 
    private:
@@ -76,6 +94,12 @@ class Film {
   // the frame state of what was read.
   void read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float *out, FrameState *state = nullptr) const;
 
+  // The estimated relative MSE of the frame (mean over the rendered region's pixels and
+  // channels of the error's variance over (value^2 + 0.01)), from its two half images;
+  // infinity while a pixel lacks a sample in either half; negative when the frame has no
+  // halves. O(pixels), under the frame lock: once per pass.
+  double relative_mse_estimate() const;
+
   // The raw sums, row-major from the top (writing and merging render parts,
   // film/render_part.h): read them when no render is running.
   std::vector<PixelSum> &pixel_sums() { return pixels_; }
@@ -86,13 +110,14 @@ class Film {
   const std::vector<PixelAov> &aov_sums() const { return aovs_; }
 
  private:
-  void add_splat(Vec2 raster, Color L, const PixelFilter &filter);
+  void add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b);
   size_t index(int x, int y) const { return size_t(y) * width_ + x; }
   int width_, height_;
   Rect region_;
   std::vector<PixelSum> pixels_;
   std::vector<PixelAov> aovs_;
   std::vector<SplatSums> splats_;
+  std::vector<SplatSums> half_splats_;  // half B's share of splats_
   FrameState state_;
   mutable std::mutex frame_mutex_;  // guards all of the above but the sizes
 };

@@ -19,10 +19,13 @@ struct Rect {
 };
 
 // A pixel's camera samples: their sum (double: render parts add up to the whole
-// render's sums, film/render_part.h) and count.
+// render's sums, film/render_part.h) and count, and the same of its half B: two
+// independent half images whose difference estimates the noise (film/noise_estimate.h).
+// The half count fills the count's padding.
 struct PixelSum {
   std::array<double, 3> sample{};
-  uint32_t count = 0;
+  uint32_t count = 0, half_count = 0;
+  std::array<double, 3> half{};
 };
 
 // First-hit AOVs: nearest depth, summed normals and albedos (averaged by the count).
@@ -34,12 +37,18 @@ struct PixelAov {
 class FilmTile {
  public:
   const Rect &rect() const { return rect_; }
-  void add_sample(int x, int y, Color L) {
+  void add_sample(int x, int y, Color L, bool half_b) {
     PixelSum &p = pixels_[index(x, y)];
     p.sample[0] += L.x;
     p.sample[1] += L.y;
     p.sample[2] += L.z;
     p.count += 1;
+    if (half_b) {
+      p.half[0] += L.x;
+      p.half[1] += L.y;
+      p.half[2] += L.z;
+      p.half_count += 1;
+    }
   }
   void add_first_hit(int x, int y, float depth, Vec3 normal, Color albedo) {
     PixelAov &a = aovs_[index(x, y)];

@@ -66,7 +66,14 @@ std::string write_image(const Film &film, const std::string &path, const std::st
     film.read(RDV_PASS_DEPTH, 0, 0, w, h, true, depth.data());
     film.read(RDV_PASS_NORMAL, 0, 0, w, h, true, normal.data());
     film.read(RDV_PASS_ALBEDO, 0, 0, w, h, true, albedo.data());
-    const int image_channels = 11;
+    // The estimated relative error of each pixel, when the frame has half images (not
+    // a merge of render parts).
+    std::vector<float> noise;
+    if (film.frame_state().split != HalfSplit::None) {
+      noise.resize(size_t(w) * h);
+      film.read(RDV_PASS_NOISE, 0, 0, w, h, true, noise.data());
+    }
+    const int image_channels = noise.empty() ? 11 : 12;
     PartChannels extra;
     if (part) extra = part_channels(film);
     const size_t extra_channels = extra.names.size();
@@ -74,17 +81,19 @@ std::string write_image(const Film &film, const std::string &path, const std::st
     const size_t nc = image_channels + extra_channels;
     std::vector<uint32_t> all(size_t(w) * h * nc);
     for (size_t i = 0; i < size_t(w) * h; ++i) {
-      float d[image_channels];
+      float d[12];
       for (int c = 0; c < 4; ++c) d[c] = rgba[i * 4 + c];
       d[4] = depth[i];
       for (int c = 0; c < 3; ++c) { d[5 + c] = normal[i * 3 + c]; d[8 + c] = albedo[i * 3 + c]; }
-      std::memcpy(&all[i * nc], d, sizeof(d));
+      if (!noise.empty()) d[11] = noise[i];
+      std::memcpy(&all[i * nc], d, size_t(image_channels) * sizeof(float));
       if (extra_channels)
         std::memcpy(&all[i * nc + image_channels], &extra.words[i * extra_channels], extra_channels * 4);
     }
     OIIO::ImageSpec spec(w, h, int(nc), OIIO::TypeDesc::FLOAT);
     spec.channelnames = {"R", "G", "B", "A", "Depth.Z", "Normal.X", "Normal.Y", "Normal.Z",
                          "Albedo.R", "Albedo.G", "Albedo.B"};
+    if (!noise.empty()) spec.channelnames.push_back("Noise.V");
     spec.channelformats.assign(image_channels, OIIO::TypeDesc::FLOAT);
     for (const std::string &name : extra.names) {
       spec.channelnames.push_back(name);

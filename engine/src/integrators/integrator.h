@@ -29,6 +29,11 @@ struct RenderSettings {
   // written into render parts so that parts of different scenes are never merged.
   std::string scene_hash;
   double time_limit = 0;   // seconds, 0 = off
+  // Halt once the estimated relative MSE of the image falls below this (0 = off;
+  // film/noise_estimate.h, docs/noise.md).
+  double noise_target = 0;
+  // Estimate the noise (and fill the Noise pass) even without a noise target.
+  bool noise_pass = false;
   int max_bounces = 12;
   uint32_t seed = 0;
   int threads = 0;         // 0 = all cores
@@ -49,6 +54,10 @@ struct RenderSettings {
   float mlt_step_size = 0.01f;
 
   static RenderSettings from_params(Params &p);
+  // Whether the render estimates its noise: half images from independent replicates
+  // (path, bdpt; a different image than without), and the frame's estimate after each
+  // pass (O(pixels)).
+  bool estimates_noise() const { return noise_target > 0 || noise_pass; }
   // Seed of the Metropolis bootstrap and chains: the seed itself for the first part
   // (sample_offset 0, so a whole render is unchanged), an independent one per part.
   uint32_t seed_for_chains() const { return sample_offset == 0 ? seed : hash_combine(seed, sample_offset); }
@@ -96,7 +105,9 @@ class Integrator {
   virtual ~Integrator() = default;
   // Renders into ctx.film until the settings' sample count is reached or
   // ctx.control.should_stop(), publishing progress (and, for splats, their scale)
-  // after each complete pass; stops within ~100 ms of a cancel.
+  // after each complete pass, with its half images, and reporting the frame's noise
+  // estimate when the settings ask for one (estimates_noise()); stops within ~100 ms of
+  // a cancel.
   virtual void render(RenderContext &ctx) = 0;
   // Figures of the integrator's own (MLT: acceptance, chains, normalisation), as a JSON
   // object; readable from any thread while rendering.

@@ -46,14 +46,20 @@ RenderSettings RenderSettings::from_params(Params &p) {
     fail(p.what() + ": 'sampler' must be sobol or independent, got '" + s.sampler + "'");
   s.time_limit = p.get_float("time_limit", 0);
   if (s.time_limit < 0) fail(p.what() + ": 'time_limit' must not be negative");
-  int samples = p.get_int("samples", s.time_limit > 0 ? 0 : 128);
+  s.noise_target = p.get_float("noise_target", 0);  // NaN and Inf: "not a finite number"
+  if (s.noise_target < 0)
+    fail(p.what() + ": 'noise_target' must not be negative (the relative MSE to stop at; 0 = off), got " +
+         std::to_string(s.noise_target));
+  s.noise_pass = p.get_bool("noise_pass", false);
+  // A time limit or a noise target alone renders until it halts.
+  int samples = p.get_int("samples", s.time_limit > 0 || s.noise_target > 0 ? 0 : 128);
   if (samples < 0) fail(p.what() + ": 'samples' must not be negative");
   if (uint32_t(samples) > kMaxSamplesPerPixel)
     fail(p.what() + ": 'samples' is " + std::to_string(samples) + "; at most " + std::to_string(kMaxSamplesPerPixel) +
              " per pixel (the film counts samples in float)",
          RDV_ERROR_LIMIT);
   s.samples = static_cast<uint32_t>(samples);
-  if (s.samples == 0 && s.time_limit <= 0) s.samples = 128;  // always a halt condition
+  if (s.samples == 0 && s.time_limit <= 0 && s.noise_target <= 0) s.samples = 128;  // always a halt condition
   int offset = p.get_int("sample_offset", 0);
   if (offset < 0) fail(p.what() + ": 'sample_offset' must not be negative");
   s.sample_offset = static_cast<uint32_t>(offset);
@@ -116,6 +122,8 @@ std::string RenderSettings::image_settings_json() const {
   j["strategy"] = {strategy_s, strategy_t};
   j["strategy_unweighted"] = strategy_unweighted;
   j["mis"] = mis;
+  // Path and BDPT draw their samples from two replicates when they estimate the noise.
+  if (estimates_noise()) j["noise_estimate"] = true;
   if (integrator == "pssmlt" || integrator == "mmlt") {
     j["mlt_large_step"] = mlt_large_step;
     j["mlt_bootstrap"] = mlt_bootstrap;

@@ -1,16 +1,17 @@
 // What a session shares with the integrator that renders for it: when to stop (cancel,
-// the time limit) and the progress figures the integrator publishes as it goes. Read
+// the time limit, the noise target) and the progress figures the integrator publishes as it goes. Read
 // from any thread while rendering; the integrator's hot loops only call should_stop().
 #pragma once
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <limits>
 
 namespace rdv {
 
 class RenderControl {
  public:
-  explicit RenderControl(double time_limit) : time_limit_(time_limit) {}
+  RenderControl(double time_limit, double noise_target) : time_limit_(time_limit), noise_target_(noise_target) {}
 
   void start() {
     start_time_ = std::chrono::steady_clock::now();
@@ -22,8 +23,18 @@ class RenderControl {
   bool cancel_requested() const { return cancel_requested_.load(); }
 
   bool should_stop() const {
-    return cancel_requested_.load(std::memory_order_relaxed) || (time_limit_ > 0 && elapsed() >= time_limit_);
+    return cancel_requested_.load(std::memory_order_relaxed) || noise_reached_.load(std::memory_order_relaxed) ||
+           (time_limit_ > 0 && elapsed() >= time_limit_);
   }
+  // The published frame's estimated relative MSE (film/noise_estimate.h): below the
+  // noise target, the render halts. Integrators report it after each pass they publish.
+  void report_noise_estimate(double estimate) {
+    noise_estimate_.store(estimate);
+    if (noise_target_ > 0 && estimate >= 0 && estimate < noise_target_) noise_reached_.store(true);
+  }
+  double noise_estimate() const { return noise_estimate_.load(); }
+  double noise_target() const { return noise_target_; }
+  bool noise_reached() const { return noise_reached_.load(); }
   double elapsed() const {
     double fixed = final_elapsed_.load();
     if (fixed >= 0) return fixed;
@@ -40,7 +51,9 @@ class RenderControl {
   uint64_t dropped() const { return dropped_.load(); }
 
  private:
-  double time_limit_;
+  double time_limit_, noise_target_;
+  std::atomic<double> noise_estimate_{-1.0};
+  std::atomic<bool> noise_reached_{false};
   std::chrono::steady_clock::time_point start_time_;
   std::atomic<bool> cancel_requested_{false}, running_{false};
   std::atomic<double> final_elapsed_{-1.0};

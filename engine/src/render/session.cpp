@@ -9,7 +9,7 @@ namespace rdv {
 Session::Session(std::shared_ptr<Scene> scene, const RenderSettings &settings)
     : scene_(std::move(scene)), settings_(settings),
       film_(settings.width, settings.height, settings.border), filter_(settings.filter_width),
-      control_(settings.time_limit) {
+      control_(settings.time_limit, settings.noise_target) {
   scene_->commit();
   scene_->camera().set_resolution(settings.width, settings.height);
   integrator_ = make_integrator(settings_, *scene_);
@@ -55,9 +55,14 @@ Progress Session::progress() const {
   p.samples_target = settings_.samples;
   p.elapsed = control_.elapsed();
   p.time_limit = settings_.time_limit;
+  p.noise_estimate = control_.noise_estimate();
+  p.noise_target = settings_.noise_target;
+  p.noise_reached = control_.noise_reached();
   double f = 0;
   if (p.samples_target) f = double(p.samples_done) / p.samples_target;
   if (p.time_limit > 0) f = std::max(f, p.elapsed / p.time_limit);
+  // The estimate falls as 1 / samples: target / estimate is the share of the samples done.
+  if (p.noise_target > 0 && p.noise_estimate > 0) f = std::max(f, p.noise_target / p.noise_estimate);
   p.finished = finished_.load();
   p.fraction = p.finished ? 1.0 : std::min(f, 1.0);
   p.rays = control_.rays();

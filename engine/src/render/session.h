@@ -1,7 +1,7 @@
 // A render session: runs the integrator's render loop in the engine's own thread on a
 // oneTBB arena of the requested size. The integrator renders (tile passes, MLT chains);
 // the session schedules, halts (sample count, time limit, cancel: always one of them;
-// stops within ~100 ms of cancel()) and publishes progress and the frame at any time.
+// stops within ~100 ms of cancel(); the noise target) and publishes progress and the frame at any time.
 #pragma once
 #include <atomic>
 #include <memory>
@@ -19,7 +19,8 @@ struct Progress {
   uint32_t samples_done = 0, samples_target = 0;
   double elapsed = 0, time_limit = 0, fraction = 0, rays_per_second = 0;
   uint64_t rays = 0, dropped = 0;
-  bool finished = false, cancelled = false;
+  double noise_estimate = -1, noise_target = 0;  // estimated relative MSE (-1: not estimated)
+  bool finished = false, cancelled = false, noise_reached = false;
 };
 
 class Session {

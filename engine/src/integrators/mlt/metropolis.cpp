@@ -1,6 +1,7 @@
 #include "integrators/mlt/metropolis.h"
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include "core/log.h"
@@ -80,7 +81,7 @@ void Metropolis::first_hit_pass(RenderContext &ctx) const {
                           : bdpt_.camera_subpath<false>(cr, sampler, stats, path.data(), nullptr, 2);
             FirstHit hit = bdpt_.first_surface(path.data(), n);
             // The pixel's sample count averages the AOVs; the image itself is all splats.
-            rows_tile.add_sample(x, y, Color(0.0f));
+            rows_tile.add_sample(x, y, Color(0.0f), false);
             if (hit.valid) rows_tile.add_first_hit(x, y, hit.depth, hit.normal, hit.albedo);
             else rows_tile.add_first_hit(x, y, 1e10f, Vec3(0.0f), Color(0.0f));
           }
@@ -219,8 +220,9 @@ void Metropolis::render(RenderContext &ctx) {
   const uint64_t max_pass = std::max<uint64_t>(1, std::min<uint64_t>(region_pixels, 1u << 20) / n_chains);
   std::vector<uint64_t> made(n_chains, 0);
   uint64_t done = 0;
+  uint64_t pass_limit = max_pass;  // lowered near the noise target
   for (int pass = 0; !ctx.control.should_stop() && (total == 0 || done < total); ++pass) {
-    const uint64_t pass_size = std::min(max_pass, first_pass << std::min(pass, 20));
+    const uint64_t pass_size = std::min({max_pass, pass_limit, first_pass << std::min(pass, 20)});
     ctx.arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n_chains, 1), [&](const tbb::blocked_range<uint32_t> &r) {
         for (uint32_t c = r.begin(); c != r.end(); ++c) {
@@ -279,13 +281,14 @@ void Metropolis::render(RenderContext &ctx) {
     // b from the bootstrap and every large-step proposal so far (independent samples
     // both; the bootstrap counts as per_depth samples of the whole image's b).
     double large_sum = 0, large_sum2 = 0;
-    uint64_t large_steps = 0, rays = 0;
+    uint64_t large_steps = 0, rays = 0, done_b = 0;
     done = 0;
     for (size_t c = 0; c < chains.size(); ++c) {  // in chain order: the same sums on any thread count
       large_sum += chains[c].large_sum;
       large_sum2 += chains[c].large_sum2;
       large_steps += chains[c].large_steps;
       done += made[c];
+      if (c & 1) done_b += made[c];
     }
     const double n_b = double(per_depth) + double(large_steps);
     const double b_now = (b * double(per_depth) + large_sum) / n_b;
@@ -296,13 +299,27 @@ void Metropolis::render(RenderContext &ctx) {
     {
       // The splats and the frame state they make (mutations per pixel, b / mutations):
       // a read sees both or neither.
+      // The odd chains make half image B (film/noise_estimate.h): chains are
+      // independent, their samples are not.
       Film::PassPublisher frame(ctx.film);
-      for (Chain &chain : chains) {
-        for (const Splat &sp : chain.splats) frame.add_splat(sp.raster, sp.L, ctx.filter);
-        chain.splats.clear();
+      for (size_t c = 0; c < chains.size(); ++c) {
+        for (const Splat &sp : chains[c].splats) frame.add_splat(sp.raster, sp.L, ctx.filter, c & 1);
+        chains[c].splats.clear();
       }
       if (done > 0)
-        frame.publish(uint32_t(std::min<uint64_t>(done / region_pixels, UINT32_MAX)), {b_now, double(done)});
+        frame.publish(uint32_t(std::min<uint64_t>(done / region_pixels, UINT32_MAX)), {b_now, double(done)},
+                      n_chains > 1 ? HalfSplit::Splats : HalfSplit::None, {b_now, double(done_b)},
+                      b_now > 0 ? (b_error / b_now) * (b_error / b_now) : 0.0);
+    }
+    if (settings_.estimates_noise() && done > 0) {
+      const double estimate = ctx.film.relative_mse_estimate();
+      ctx.control.report_noise_estimate(estimate);
+      // The estimate falls as 1 / mutations: the next pass makes at most the mutations
+      // it takes to reach the target.
+      if (settings_.noise_target > 0 && std::isfinite(estimate) && estimate > settings_.noise_target) {
+        double needed = std::ceil(double(done) * (estimate / settings_.noise_target - 1.0) / double(n_chains));
+        pass_limit = uint64_t(std::clamp(needed, 1.0, double(max_pass)));
+      }
     }
     {
       std::lock_guard<std::mutex> lock(stats_mutex_);

@@ -1,0 +1,71 @@
+#include "film/noise_estimate.h"
+#include "film/image_error.h"
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace rdv {
+
+bool pixel_relative_variance(const PixelSum &pixel, const SplatSums &splats, const SplatSums &half_splats,
+                             const FrameState &frame, double *relative_variance) {
+  *relative_variance = 0;
+  const double paths_b = frame.half_splats.paths, paths_a = frame.splats.paths - paths_b;
+  const bool has_splats = frame.splats.paths > 0;
+  if (has_splats && !(paths_a > 0 && paths_b > 0)) return false;
+  const double scale = frame.splat_scale;
+  const double scale_a = has_splats ? frame.splats.numerator / paths_a : 0.0;
+  const double scale_b = has_splats ? frame.half_splats.numerator / paths_b : 0.0;
+  const double n = pixel.count;
+  double f;  // half B's share of the samples
+  double a[3], b[3], full[3];
+  if (frame.split == HalfSplit::CameraSamples) {
+    const double nb = pixel.half_count, na = n - nb;
+    if (!(na > 0 && nb > 0)) return false;
+    f = nb / n;
+    for (int c = 0; c < 3; ++c) {
+      a[c] = (pixel.sample[c] - pixel.half[c]) / na + (splats[c] - half_splats[c]) * scale_a;
+      b[c] = pixel.half[c] / nb + half_splats[c] * scale_b;
+      full[c] = pixel.sample[c] / n + splats[c] * scale;
+    }
+  } else if (frame.split == HalfSplit::Splats) {
+    if (!has_splats) return false;
+    f = paths_b / frame.splats.paths;
+    for (int c = 0; c < 3; ++c) {
+      const double camera = n > 0 ? pixel.sample[c] / n : 0.0;  // shared by both halves
+      a[c] = camera + (splats[c] - half_splats[c]) * scale_a;
+      b[c] = camera + half_splats[c] * scale_b;
+      full[c] = camera + splats[c] * scale;
+    }
+  } else {
+    return false;
+  }
+  double sum = 0;
+  for (int c = 0; c < 3; ++c) {
+    const double d = a[c] - b[c], square = full[c] * full[c];
+    const double variance = d * d * f * (1 - f) + frame.scale_relative_variance * square;
+    // E[I^2] = ref^2 + Var(I): I^2 - variance estimates the reference's square. I^2
+    // alone would hide a firefly in a dark pixel (its own brightness in the denominator),
+    // the very error the metric weighs most.
+    sum += variance / (std::max(0.0, square - variance) + kRelativeMseEpsilon);
+  }
+  *relative_variance = sum / 3;
+  return std::isfinite(*relative_variance);
+}
+
+double Film::relative_mse_estimate() const {
+  std::lock_guard<std::mutex> frame(frame_mutex_);
+  if (state_.split == HalfSplit::None) return -1;
+  double sum = 0;
+  for (int y = region_.y0; y < region_.y1; ++y) {
+    for (int x = region_.x0; x < region_.x1; ++x) {
+      const size_t i = index(x, y);
+      double v;
+      if (!pixel_relative_variance(pixels_[i], splats_[i], half_splats_[i], state_, &v))
+        return std::numeric_limits<double>::infinity();
+      sum += v;
+    }
+  }
+  return sum / (double(region_.width()) * double(region_.height()));
+}
+
+}  // namespace rdv
