@@ -13,7 +13,8 @@ INTEGRATOR_LABELS = {"path": "Path Tracing", "bdpt": "Bidirectional", "pssmlt": 
 def metropolis_settings(props):
     """The Metropolis integrators' settings of scene.rendezvous (final render and viewport)."""
     return {"mlt_large_step": float(props.mlt_large_step), "mlt_bootstrap": int(props.mlt_bootstrap),
-            "mlt_chains": int(props.mlt_chains), "mlt_step_size": float(props.mlt_step_size)}
+            "mlt_chains": int(props.mlt_chains), "mlt_step_size": float(props.mlt_step_size),
+            "mlt_target": props.mlt_target.lower()}
 MIS = {"POWER": "power", "BALANCE": "balance", "LAFORTUNE_WILLEMS": "lafortune_willems"}
 DEFAULT_SAMPLES = 128
 

@@ -48,6 +48,13 @@ class RendezvousRenderSettings(bpy.types.PropertyGroup):
     mlt_step_size: FloatProperty(name="Step Size", default=0.01, min=0.0001, max=1.0, precision=4,
                                  description="Metropolis: size of a small mutation in primary sample space: larger "
                                              "moves explore faster but are rejected more often")
+    mlt_target: EnumProperty(
+        name="Target", default="RELATIVE",
+        items=[("RELATIVE", "Even Error", "Mutations spread by relative error: regions brighter than the image's "
+                "mean get no more than their share (a short pilot of independent samples maps them)"),
+               ("LUMINANCE", "Brightness", "Mutations in proportion to brightness (Kelemen's and Hachisuka's "
+                "target): a small bright region takes most of them")],
+        description="Metropolis: where the chains spend their mutations: Even Error suits images with small bright regions, Brightness spends nothing on the pilot")
     samples: IntProperty(name="Samples", default=128, min=1, soft_max=4096,
                          description="Samples per pixel; the render stops when they are done. Noise falls "
                                      "as 1 / sqrt(samples): 4x the samples (and time) halves it")

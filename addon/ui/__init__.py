@@ -90,6 +90,7 @@ class RENDEZVOUS_PT_sampling_metropolis(RendezvousSubpanel, bpy.types.Panel):
     def draw(self, context):
         layout = _split(self.layout)
         props = context.scene.rendezvous
+        layout.prop(props, "mlt_target")
         col = layout.column(align=True)
         col.prop(props, "mlt_large_step")
         col.prop(props, "mlt_step_size")

@@ -177,7 +177,7 @@ RDV_API rdv_status rdv_scene_summary(rdv_scene *scene, const char **out_json);
  *   scene_hash: render parts, see rdv_merge_parts). A session always has a halt condition: samples
  *   or time_limit (if neither is given, samples defaults to 128). integrator:
  *   path, bdpt, pssmlt or mmlt (Metropolis: samples = mutations per pixel; settings
- *   mlt_large_step, mlt_bootstrap, mlt_chains, mlt_step_size; docs/scene-format.md). */
+ *   mlt_large_step, mlt_bootstrap, mlt_chains, mlt_step_size, mlt_target; docs/scene-format.md). */
 RDV_API rdv_status rdv_session_create(rdv_scene *scene, const char *settings_json,
                                       rdv_session **out_session);
 /* Starts rendering in the engine's own threads and returns at once. */

@@ -40,6 +40,7 @@ void usage() {
                "  --mlt-bootstrap N      pssmlt / mmlt: bootstrap samples per pixel\n"
                "  --mlt-chains N         pssmlt / mmlt: number of Markov chains\n"
                "  --mlt-step-size S      pssmlt / mmlt: small-step size in primary sample space\n"
+               "  --mlt-target T         pssmlt / mmlt: luminance or relative (even relative error)\n"
                "  --strategy S,T         bdpt: render only strategy (s, t), MIS-weighted\n"
                "  --unweighted           with --strategy: without its MIS weight\n"
                "  --mis NAME             bdpt weights: power (default), balance or lafortune_willems\n"
@@ -152,6 +153,7 @@ int main(int argc, char **argv) {
       else if (a == "--mlt-bootstrap") overrides["mlt_bootstrap"] = std::stoi(next());
       else if (a == "--mlt-chains") overrides["mlt_chains"] = std::stoi(next());
       else if (a == "--mlt-step-size") overrides["mlt_step_size"] = std::stod(next());
+      else if (a == "--mlt-target") overrides["mlt_target"] = next();
       else if (a == "--strategy") {
         std::string v = next();
         size_t c = v.find(',');
@@ -257,9 +259,10 @@ int main(int argc, char **argv) {
     if (stats.contains("warning")) std::fprintf(stderr, "rendezvous: warning: %s\n", stats["warning"].get<std::string>().c_str());
     if (stats.contains("b"))
       std::fprintf(stderr,
-                   "rendezvous: %s: %u chains, b = %.6g +- %.2g (%llu bootstrap samples), acceptance: small steps %.3f, "
-                   "large steps %.3f (%.3f found light), %.3g mutations/s\n",
-                   stats["integrator"].get<std::string>().c_str(), stats["chains"].get<unsigned>(), stats["b"].get<double>(),
+                   "rendezvous: %s: %s target, %u chains, b = %.6g +- %.2g (%llu bootstrap samples), acceptance: small "
+                   "steps %.3f, large steps %.3f (%.3f found light), %.3g mutations/s\n",
+                   stats["integrator"].get<std::string>().c_str(), stats.value("target", "luminance").c_str(),
+                   stats["chains"].get<unsigned>(), stats["b"].get<double>(),
                    stats["b_standard_error"].get<double>(), (unsigned long long)stats["bootstrap_samples"].get<uint64_t>(),
                    stats["small_step_acceptance"].get<double>(), stats["large_step_acceptance"].get<double>(),
                    stats.value("large_step_found", 0.0), p.elapsed_seconds > 0 ? stats["mutations"].get<double>() / p.elapsed_seconds : 0.0);

@@ -142,12 +142,12 @@ class TestCameraSettings(unittest.TestCase):
         s = session_settings(scene, self.props(integrator="BDPT", bdpt_mis="LAFORTUNE_WILLEMS"))
         self.assertEqual(s["mis"], "lafortune_willems")
         s = session_settings(scene, self.props(integrator="MMLT", mlt_large_step=0.5, mlt_bootstrap=2, mlt_chains=64,
-                                               mlt_step_size=0.02))
+                                               mlt_step_size=0.02, mlt_target="LUMINANCE"))
         self.assertEqual((s["integrator"], s["mlt_large_step"], s["mlt_bootstrap"], s["mlt_chains"],
-                          s["mlt_step_size"]), ("mmlt", 0.5, 2, 64, 0.02))
+                          s["mlt_step_size"], s["mlt_target"]), ("mmlt", 0.5, 2, 64, 0.02, "luminance"))
         s = session_settings(scene, self.props(integrator="PSSMLT", mlt_large_step=0.3, mlt_bootstrap=1, mlt_chains=256,
-                                               mlt_step_size=0.01))
-        self.assertEqual(s["integrator"], "pssmlt")
+                                               mlt_step_size=0.01, mlt_target="RELATIVE"))
+        self.assertEqual((s["integrator"], s["mlt_target"]), ("pssmlt", "relative"))
         s = session_settings(scene, self.props(samples=0, time_limit=0.0))
         self.assertNotIn("mis", s)  # path tracing has no strategies to weight
         self.assertNotIn("mlt_chains", s)

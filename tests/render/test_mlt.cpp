@@ -21,7 +21,9 @@ using nlohmann::json;
 namespace {
 
 constexpr int kRuns = 8;
-constexpr int kBlockTestsInFile = 8 * 36;  // 4 scenes x 2 integrators, 36 blocks each
+// 4 scenes x 2 integrators with the default (relative) target, and the door gap with the
+// luminance target; 36 blocks each.
+constexpr int kBlockTestsInFile = 10 * 36;
 const double kAlphaPerBlock = 1.0 - std::pow(1.0 - 0.01, 1.0 / kBlockTestsInFile);
 
 struct Runs {
@@ -56,7 +58,8 @@ void mean_and_error(const std::vector<double> &x, double &mean, double &error) {
 }
 
 // Both Metropolis integrators against BDPT on one scene.
-void expect_same_image(const json &scene, const std::string &what, int bdpt_samples, int mutations) {
+void expect_same_image(const json &scene, const std::string &what, int bdpt_samples, int mutations,
+                       const char *target = "relative") {
   json s = {{"width", 48}, {"height", 48}, {"max_bounces", 8}, {"integrator", "bdpt"}, {"samples", bdpt_samples}};
   Runs bdpt = render_runs(scene, s, 1);
   double bdpt_mean, bdpt_error;
@@ -66,6 +69,7 @@ void expect_same_image(const json &scene, const std::string &what, int bdpt_samp
     s["samples"] = mutations;
     s["mlt_bootstrap"] = 4;
     s["mlt_chains"] = 64;
+    s["mlt_target"] = target;
     Runs mlt = render_runs(scene, s, 2001);
     BlockComparison c = compare_blocks(mlt.images, bdpt.images, 48, 48, 8, kAlphaPerBlock);
     EXPECT_EQ(c.failed, 0) << what << " " << integrator << ": " << c.detail;
@@ -89,6 +93,11 @@ TEST(MltVsBdpt, GlassCaustic) { expect_same_image(load_scene("caustic.json"), "c
 // A room lit only through a door gap; and a spot lamp in fog (medium vertices, NEE and
 // connections through the medium).
 TEST(MltVsBdpt, DoorGap) { expect_same_image(load_scene("door_gap.json"), "door gap", 32, 64); }
+// Kelemen's and Hachisuka's own target (luminance), where it differs most from the
+// relative one (the lit room seen through the gap).
+TEST(MltVsBdpt, DoorGapLuminanceTarget) {
+  expect_same_image(load_scene("door_gap.json"), "door gap (luminance)", 32, 64, "luminance");
+}
 TEST(MltVsBdpt, FogAndSpot) { expect_same_image(load_scene("fog_spot.json"), "fog spot", 16, 32); }
 
 // A fixed chain count gives the same image on any number of threads (chains seeded by

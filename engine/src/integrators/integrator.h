@@ -52,6 +52,8 @@ struct RenderSettings {
   uint32_t mlt_bootstrap = 1;
   uint32_t mlt_chains = 256;
   float mlt_step_size = 0.01f;
+  // What the chains follow: "luminance" or "relative" (luminance over a pilot's coarse image).
+  std::string mlt_target = "relative";
 
   static RenderSettings from_params(Params &p);
   // Whether the render estimates its noise: half images from independent replicates

@@ -29,6 +29,7 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
     m.bootstrap_per_pixel = settings.mlt_bootstrap;
     m.chains = settings.mlt_chains;
     m.step_size = settings.mlt_step_size;
+    m.relative_target = settings.mlt_target == "relative";
     return std::make_unique<mlt::Metropolis>(scene, settings, bdpt_settings(settings), m);
   }
   fail("render settings: unknown integrator '" + settings.integrator + "' (available: path, bdpt, pssmlt, mmlt)");
@@ -91,6 +92,9 @@ RenderSettings RenderSettings::from_params(Params &p) {
   s.mlt_chains = uint32_t(chains);
   s.mlt_step_size = p.get_float("mlt_step_size", s.mlt_step_size);
   if (!(s.mlt_step_size > 0 && s.mlt_step_size <= 1)) fail(p.what() + ": 'mlt_step_size' must be in (0, 1]");
+  s.mlt_target = p.get_string("mlt_target", s.mlt_target);
+  if (s.mlt_target != "luminance" && s.mlt_target != "relative")
+    fail(p.what() + ": 'mlt_target' must be luminance or relative, got '" + s.mlt_target + "'");
   s.border = {0, 0, s.width, s.height};
   auto b = p.get_floats("border", 4, {0, 0, float(s.width), float(s.height)});
   s.border = {std::max(0, int(b[0])), std::max(0, int(b[1])), std::min(s.width, int(b[2])), std::min(s.height, int(b[3]))};
@@ -129,6 +133,7 @@ std::string RenderSettings::image_settings_json() const {
     j["mlt_bootstrap"] = mlt_bootstrap;
     j["mlt_chains"] = mlt_chains;
     j["mlt_step_size"] = mlt_step_size;
+    j["mlt_target"] = mlt_target;
   }
   return j.dump();
 }

@@ -16,9 +16,13 @@ CameraRay Metropolis::camera_sample(Sampler &sampler, Vec2 *raster) const {
   return cr;
 }
 
-static float target_of(const std::vector<Splat> &splats) {
+float Metropolis::target_of(const std::vector<Splat> &splats) const {
   double sum = 0;
-  for (const Splat &sp : splats) sum += luminance(sp.L);
+  if (importance_.empty()) {
+    for (const Splat &sp : splats) sum += luminance(sp.L);
+  } else {
+    for (const Splat &sp : splats) sum += double(luminance(sp.L)) * importance_.weight(sp.raster);
+  }
   return float(sum);
 }
 

@@ -1,6 +1,7 @@
 #include "integrators/mlt/metropolis.h"
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -14,6 +15,11 @@ namespace {
 // chain can replay the sample it starts from.
 uint64_t bootstrap_seed(uint32_t seed) { return uint64_t(hash_combine(seed, 0x6d6c7462u)) << 16; }
 uint64_t chain_seed(uint32_t seed) { return uint64_t(hash_combine(seed, 0x6d6c7463u)) << 16; }
+uint64_t pilot_seed(uint32_t seed) { return uint64_t(hash_combine(seed, 0x6d6c7470u)) << 16; }
+// Relative target: pilot samples per pixel of the rendered region (per path depth,
+// multiplexed), so the map's 8 x 8 blocks each average a few hundred samples.
+constexpr uint64_t kPilotPerPixel = 4;
+constexpr uint64_t kPilotLeaves = 16;  // the pilot's partial maps (memory: leaves x blocks floats)
 constexpr uint64_t kChainStreams = 1ull << 48;  // chain streams: apart from bootstrap indices
 
 constexpr int kFirstHitSamples = 4;  // camera rays per pixel for the Depth / Normal / Albedo passes
@@ -44,7 +50,12 @@ double Metropolis::memory_estimate(const RenderSettings &settings, bool multiple
   // (a few kB, grown with the path length).
   const double per_sample = 3 * sizeof(float) + (multiplexed ? 1 : 0);
   const double per_chain = sizeof(Chain) + 4096 + 64.0 * (settings.max_bounces + 2);
-  return bootstrap * per_sample + double(settings.mlt_chains) * per_chain;
+  // Relative target: the pilot's partial maps (a float per block of the sample region).
+  const double r = PixelFilter(settings.filter_width).radius();
+  const double blocks = std::ceil((settings.border.width() + 2 * r) / ImportanceMap::kBlock + 1) *
+                        std::ceil((settings.border.height() + 2 * r) / ImportanceMap::kBlock + 1);
+  const double pilot = settings.mlt_target == "relative" ? double(2 * kPilotLeaves + 6) * blocks * sizeof(float) : 0.0;
+  return bootstrap * per_sample + double(settings.mlt_chains) * per_chain + pilot;
 }
 
 Metropolis::Metropolis(const Scene &scene, const RenderSettings &settings, const bdpt::BdptSettings &bdpt_settings,
@@ -93,14 +104,74 @@ void Metropolis::first_hit_pass(RenderContext &ctx) const {
   });
 }
 
+ImportanceMap Metropolis::pilot(RenderContext &ctx, int depths) {
+  constexpr int B = ImportanceMap::kBlock;
+  const int blocks_x = (int(std::ceil(sample_size_.x)) + B - 1) / B;
+  const int blocks_y = (int(std::ceil(sample_size_.y)) + B - 1) / B;
+  const size_t blocks = size_t(blocks_x) * size_t(blocks_y);
+  const uint64_t region_pixels = uint64_t(settings_.border.width()) * uint64_t(settings_.border.height());
+  const uint64_t per_depth = std::max<uint64_t>(4096, kPilotPerPixel * region_pixels);
+  const uint64_t n = per_depth * uint64_t(depths);
+  const uint64_t seed0 = pilot_seed(settings_.seed_for_chains());
+  // Per block: the luminance, then the light-carrying splats.
+  using Grid = std::vector<float>;
+  // A deterministic reduction (fixed leaves, fixed join order): the map, and so the
+  // image, is the same on any number of threads. kPilotLeaves grids at most.
+  Grid sum;
+  ctx.arena.execute([&] {
+    sum = tbb::parallel_deterministic_reduce(
+        tbb::blocked_range<uint64_t>(0, n, std::max<uint64_t>(256, n / kPilotLeaves)), Grid(),
+        [&](const tbb::blocked_range<uint64_t> &r, Grid grid) {
+          if (grid.empty()) grid.assign(2 * blocks, 0.0f);
+          if (ctx.control.should_stop()) return grid;
+          RayStats stats;
+          State state;
+          for (uint64_t i = r.begin(); i != r.end(); ++i) {
+            PssSampler sampler(seed0, i, mlt_.step_size, mlt_.large_step_probability);
+            sampler.start_iteration();
+            evaluate(sampler, stats, state, mlt_.multiplexed ? int(i / per_depth) : -1);
+            for (const Splat &sp : state.splats) {
+              const float y = luminance(sp.L);
+              if (!(y > 0)) continue;
+              const size_t at = ImportanceMap::block_of(sp.raster, sample_origin_, blocks_x, blocks_y);
+              grid[at] += y;
+              grid[blocks + at] += 1;
+            }
+          }
+          ctx.control.add_rays(stats.rays);
+          return grid;
+        },
+        [&](Grid a, const Grid &b) {
+          if (a.empty()) return b;
+          for (size_t i = 0; i < b.size(); ++i) a[i] += b[i];
+          return a;
+        });
+  });
+  {
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    stats_.pilot_samples = n;
+  }
+  if (sum.empty()) sum.assign(2 * blocks, 0.0f);
+  // Each depth's samples estimate that depth's image: the map sums the depths' means.
+  const std::vector<float> luminance_sum(sum.begin(), sum.begin() + std::ptrdiff_t(blocks));
+  const std::vector<float> hits(sum.begin() + std::ptrdiff_t(blocks), sum.end());
+  return ImportanceMap(luminance_sum, hits, blocks_x, blocks_y, sample_origin_, double(per_depth));
+}
+
 void Metropolis::render(RenderContext &ctx) {
   first_hit_pass(ctx);
   const Rect &region = settings_.border;
   const uint64_t region_pixels = uint64_t(region.width()) * uint64_t(region.height());
   const float p_large = mlt_.large_step_probability;
+  const int depths = mlt_.multiplexed ? bdpt_.settings().max_bounces + 1 : 1;
+  if (mlt_.relative_target) {
+    importance_ = pilot(ctx, depths);
+    if (ctx.control.should_stop()) return;
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    stats_.relative_share = importance_.relative_share();
+  }
 
   // Bootstrap: independent samples (per path depth, multiplexed), their targets.
-  const int depths = mlt_.multiplexed ? bdpt_.settings().max_bounces + 1 : 1;
   const uint64_t per_depth = std::max<uint64_t>(4096, uint64_t(mlt_.bootstrap_per_pixel) * region_pixels);
   const uint64_t n_bootstrap = per_depth * uint64_t(depths);
   std::vector<float> weights(n_bootstrap);
@@ -351,6 +422,11 @@ std::string Metropolis::stats_json() const {
   j["bootstrap_samples"] = stats_.bootstrap_samples;
   j["b"] = stats_.b;
   j["b_standard_error"] = stats_.b_standard_error;
+  j["target"] = mlt_.relative_target ? "relative" : "luminance";
+  if (mlt_.relative_target) {
+    j["pilot_samples"] = stats_.pilot_samples;
+    j["relative_share"] = stats_.relative_share;
+  }
   j["mutations"] = stats_.mutations;
   j["small_steps"] = stats_.small_steps;
   j["large_steps"] = stats_.large_steps;

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 #include "integrators/bdpt/bdpt.h"
+#include "integrators/mlt/importance_map.h"
 #include "samplers/pss_sampler.h"
 
 namespace rdv::mlt {
@@ -26,6 +27,9 @@ struct MltSettings {
   uint32_t bootstrap_per_pixel = 1;  // bootstrap samples per pixel of the rendered region (at least 4096)
   uint32_t chains = 256;
   float step_size = 0.01f;  // standard deviation of a small step, in primary sample space
+  // The chains' target: false, the luminance of a state's splats (Kelemen, Hachisuka);
+  // true, their luminance relative to a pilot's coarse image there (importance_map.h).
+  bool relative_target = true;
 };
 
 // A state of a chain: where its sample lands on the image (in units where one sample's
@@ -42,6 +46,8 @@ struct MltStats {
   uint64_t small_steps = 0, small_accepted = 0, large_steps = 0, large_accepted = 0;
   uint64_t large_found = 0;  // large-step proposals that carry light (target > 0)
   double b = 0, b_standard_error = 0;
+  uint64_t pilot_samples = 0;  // relative target: the pilot's independent samples
+  float relative_share = 0;  // relative target: share of the map's blocks brighter than the mean
   std::vector<double> depth_b;  // multiplexed: b of each path depth
   // multiplexed: b of each (depth, s) strategy, from the bootstrap's independent samples
   // (the target distribution the chains' strategy_counts follow)
@@ -76,6 +82,10 @@ class Metropolis final : public Integrator {
   template <bool kMedia>
   void evaluate_multiplexed(PssSampler &sampler, RayStats &stats, State &state, int depth_override) const;
   CameraRay camera_sample(Sampler &sampler, Vec2 *raster) const;
+  // The scalar a chain follows for a state's splats (luminance, or relative luminance).
+  float target_of(const std::vector<Splat> &splats) const;
+  // Relative target: the coarse image from independent samples that the target divides by.
+  ImportanceMap pilot(RenderContext &ctx, int depths);
   // Depth, normal and albedo from a few camera rays per pixel (MLT has no per-pixel samples).
   void first_hit_pass(RenderContext &ctx) const;
 
@@ -90,6 +100,7 @@ class Metropolis final : public Integrator {
   float region_area_;
   float image_area_;      // light-tracing splats carry the camera importance of the whole image
   Distribution1D depth_distribution_;  // multiplexed: path depth by b
+  ImportanceMap importance_;  // empty: the luminance target
 
   mutable std::mutex stats_mutex_;
   MltStats stats_;
