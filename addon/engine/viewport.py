@@ -47,7 +47,7 @@ from ..export import SceneExporter, ExportError, GEOMETRY_TYPES, gas_domain
 from ..export import volumes
 from ..export import images as export_images
 from ..export.lights import light_params
-from ..export.settings import INTEGRATORS, INTEGRATOR_LABELS, METROPOLIS, metropolis_settings
+from ..export.settings import INTEGRATORS, INTEGRATOR_LABELS, METROPOLIS, light_path_settings, metropolis_settings
 from ..utils import Messages, normalize_frame, is_finite_matrix, determinant3
 from ..utils.images import image_average
 
@@ -428,7 +428,7 @@ def _view_key(region, rv3d):
 def viewport_settings(scene):
     props = scene.rendezvous
     s = {"integrator": INTEGRATORS.get(props.viewport_integrator, "path"),
-         "samples": max(1, int(props.viewport_samples)), "max_bounces": int(props.max_bounces),
+         "samples": max(1, int(props.viewport_samples)), "light_paths": light_path_settings(scene),
          "clamp": float(props.clamp), "threads": int(props.threads), "seed": int(props.seed) & 0x7FFFFFFF,
          "pause": bool(props.viewport_pause)}
     if s["integrator"] in METROPOLIS:
@@ -584,8 +584,8 @@ class ViewportRenderer:
         sw, sh = max(1, (w + div - 1) // div), max(1, (h + div - 1) // div)
         st = self.settings
         settings = {"width": sw, "height": sh, "samples": samples or st["samples"], "integrator": st["integrator"],
-                    "max_bounces": st["max_bounces"], "seed": st["seed"], "threads": st["threads"],
-                    "clamp": st["clamp"]}
+                    "seed": st["seed"], "threads": st["threads"], "clamp": st["clamp"]}
+        settings.update(st["light_paths"])
         settings.update({k: v for k, v in st.items() if k.startswith("mlt_")})
         self.session = binding.Session(self.rscene, settings)
         self.session_size = (sw, sh)

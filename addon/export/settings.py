@@ -47,6 +47,44 @@ class SettingsError(ValueError):
     """A render setting the engine cannot take, named in the message."""
 
 
+# Cycles' Light Paths (Render Properties > Light Paths), shared with Cycles the way Cycles
+# keeps them: scene.cycles while the Cycles add-on is enabled, else our mirror properties
+# on scene.rendezvous (same names, same defaults). Bounces count as Cycles counts them
+# (0 = direct light only): the engine's max_bounces is scattering vertices, one more.
+BOUNCE_KINDS = ("diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces")
+ENGINE_MAX_BOUNCES = 1024
+
+
+def light_path_source(scene):
+    """The settings' owner: scene.cycles (Cycles enabled) or scene.rendezvous."""
+    cycles = getattr(scene, "cycles", None)
+    if cycles is not None and hasattr(cycles, "diffuse_bounces"):
+        return cycles
+    return scene.rendezvous
+
+
+def light_path_settings(scene):
+    """The engine's light-path keys: max_bounces always; a per-kind limit only where it can
+    bind (below the total), clamps and caustics only where they differ from off / on, so a
+    scene that uses none of them renders exactly as before."""
+    src = light_path_source(scene)
+    total = int(src.max_bounces)
+    s = {"max_bounces": min(total + 1, ENGINE_MAX_BOUNCES)}
+    for key in BOUNCE_KINDS:
+        n = int(getattr(src, key))
+        if n < total:
+            s[key] = max(n, 0)
+    if not src.caustics_reflective:
+        s["caustics_reflective"] = False
+    if not src.caustics_refractive:
+        s["caustics_refractive"] = False
+    for key in ("sample_clamp_direct", "sample_clamp_indirect"):
+        v = float(getattr(src, key))
+        if v > 0:
+            s[key.replace("sample_", "")] = v
+    return s
+
+
 def session_settings(scene, props, frame=None, warn=print):
     """props: scene.rendezvous (or a stand-in with the same fields)."""
     render = scene.render
@@ -66,11 +104,11 @@ def session_settings(scene, props, frame=None, warn=print):
         "width": width,
         "height": height,
         "integrator": INTEGRATORS.get(props.integrator, "path"),
-        "max_bounces": int(props.max_bounces),
         "seed": seed & 0x7FFFFFFF,
         "threads": int(props.threads),
         "clamp": float(props.clamp),
     }
+    s.update(light_path_settings(scene))
     # Blender's pixel filter width (Film > Pixel Filter, Cycles' Blackman-Harris).
     filter_size = getattr(render, "filter_size", None)
     if filter_size is not None and abs(float(filter_size) - 1.5) > 1e-6:

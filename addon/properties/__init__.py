@@ -79,9 +79,36 @@ class RendezvousRenderSettings(bpy.types.PropertyGroup):
                                  description="Render pass: the estimated relative error of each pixel (the root of "
                                              "its relative MSE), from two independent half images; draws the "
                                              "samples as the Noise Target does")
+    # Light Paths, mirroring Cycles' (names, defaults, meaning): used when the Cycles add-on
+    # is disabled; with it enabled the settings are scene.cycles', shared with Cycles.
     max_bounces: IntProperty(name="Max Bounces", default=12, min=0, max=1024,
-                             description="Maximum number of scattering events of a path: fewer render faster "
-                                         "but lose indirect light (darker interiors, glass and mirrors go black)")
+                             description="Total bounces of a path, as Cycles counts them (0 = direct light "
+                                         "only): fewer render faster but lose indirect light (darker "
+                                         "interiors, glass and mirrors go black)")
+    diffuse_bounces: IntProperty(name="Diffuse Bounces", default=4, min=0, max=1024,
+                                 description="Diffuse reflections a path may make before it meets a light: "
+                                             "fewer are faster, indirect light between matte walls is lost")
+    glossy_bounces: IntProperty(name="Glossy Bounces", default=4, min=0, max=1024,
+                                description="Glossy and mirror reflections a path may make: fewer are faster, "
+                                            "mirrors facing each other go black sooner")
+    transmission_bounces: IntProperty(name="Transmission Bounces", default=12, min=0, max=1024,
+                                      description="Passages through glass a path may make: fewer are faster, "
+                                                  "thick or stacked glass turns black")
+    volume_bounces: IntProperty(name="Volume Bounces", default=0, min=0, max=1024,
+                                description="Scatterings in a volume a path may make (0 = single scattering): "
+                                            "more give denser, brighter fog and smoke at a higher cost")
+    caustics_reflective: BoolProperty(name="Reflective Caustics", default=True,
+                                      description="Light reflected by glossy surfaces onto diffuse ones: off "
+                                                  "removes that noise, and the light (biased)")
+    caustics_refractive: BoolProperty(name="Refractive Caustics", default=True,
+                                      description="Light refracted by glass onto diffuse surfaces: off removes "
+                                                  "that noise, and the light (shadows of glass stay dark)")
+    sample_clamp_direct: FloatProperty(name="Clamp Direct", default=0.0, min=0.0,
+                                       description="Cap on the brightness of light arriving after at most one "
+                                                   "bounce (0 = off): fewer fireflies, darker highlights")
+    sample_clamp_indirect: FloatProperty(name="Clamp Indirect", default=10.0, min=0.0,
+                                         description="Cap on the brightness of light arriving after more "
+                                                     "bounces (0 = off): fewer fireflies, less indirect light")
     seed: IntProperty(name="Seed", default=0, min=0, description="Seed of the random sequences: another seed gives another "
                                                               "noise pattern of the same image")
     use_animated_seed: BoolProperty(name="Animated Seed", default=False,

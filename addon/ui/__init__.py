@@ -3,6 +3,7 @@
 import bpy
 
 from .. import binding
+from ..export.settings import light_path_source
 from . import compat, farm_submit, operators
 
 ENGINE_ID = "RENDEZVOUS"
@@ -133,12 +134,19 @@ class RENDEZVOUS_PT_light_paths(RendezvousPanel, bpy.types.Panel):
 
 
 class RENDEZVOUS_PT_light_paths_max_bounces(RendezvousSubpanel, bpy.types.Panel):
+    """Cycles' settings (scene.cycles, shared with Cycles) when its add-on is enabled, else ours."""
     bl_label = "Max Bounces"
     bl_parent_id = "RENDEZVOUS_PT_light_paths"
 
     def draw(self, context):
         layout = _split(self.layout)
-        layout.prop(context.scene.rendezvous, "max_bounces", text="Total")
+        src = light_path_source(context.scene)
+        layout.prop(src, "max_bounces", text="Total")
+        col = layout.column(align=True)
+        col.prop(src, "diffuse_bounces", text="Diffuse")
+        col.prop(src, "glossy_bounces", text="Glossy")
+        col.prop(src, "transmission_bounces", text="Transmission")
+        col.prop(src, "volume_bounces", text="Volume")
 
 
 class RENDEZVOUS_PT_light_paths_clamping(RendezvousSubpanel, bpy.types.Panel):
@@ -147,7 +155,23 @@ class RENDEZVOUS_PT_light_paths_clamping(RendezvousSubpanel, bpy.types.Panel):
 
     def draw(self, context):
         layout = _split(self.layout)
+        src = light_path_source(context.scene)
+        col = layout.column(align=True)
+        col.prop(src, "sample_clamp_direct", text="Direct Light")
+        col.prop(src, "sample_clamp_indirect", text="Indirect Light")
         layout.prop(context.scene.rendezvous, "clamp", text="Sample")
+
+
+class RENDEZVOUS_PT_light_paths_caustics(RendezvousSubpanel, bpy.types.Panel):
+    bl_label = "Caustics"
+    bl_parent_id = "RENDEZVOUS_PT_light_paths"
+
+    def draw(self, context):
+        layout = _split(self.layout)
+        src = light_path_source(context.scene)
+        col = layout.column(heading="Caustics", align=True)
+        col.prop(src, "caustics_reflective", text="Reflective")
+        col.prop(src, "caustics_refractive", text="Refractive")
 
 
 class RENDEZVOUS_PT_performance(RendezvousPanel, bpy.types.Panel):
@@ -197,6 +221,7 @@ class RENDEZVOUS_PT_passes(RendezvousPanel, bpy.types.Panel):
 classes = (RENDEZVOUS_PT_sampling, RENDEZVOUS_PT_sampling_viewport, RENDEZVOUS_PT_sampling_render,
            RENDEZVOUS_PT_sampling_metropolis, RENDEZVOUS_PT_sampling_advanced, RENDEZVOUS_PT_sampling_farm,
            RENDEZVOUS_PT_light_paths, RENDEZVOUS_PT_light_paths_max_bounces, RENDEZVOUS_PT_light_paths_clamping,
+           RENDEZVOUS_PT_light_paths_caustics,
            RENDEZVOUS_PT_performance, RENDEZVOUS_PT_passes)
 
 

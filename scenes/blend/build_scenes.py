@@ -554,6 +554,62 @@ def cornell_lamp_near_ceiling():
     return cornell_box(lamp_gap=0.01)
 
 
+# ---- Light Paths (tests/blender/test_light_paths.py): Cycles' bounce limits, caustics
+# switches and clamps where they change the image; each sets scene.cycles as a user would.
+def light_paths_diffuse():
+    """The Cornell box with Cycles' diffuse bounces at 1 (its default 4 is 1.5% brighter)."""
+    scene = cornell_box(lamp_gap=0.01, res=48)
+    scene.cycles.diffuse_bounces = 1
+    return scene
+
+
+def light_paths_mirror():
+    """The Cornell box with a mirror for its back wall and glossy bounces 0: the mirror shows
+    the lamp (the path's last bounce) but not the lit room (a glossy bounce before a diffuse one)."""
+    scene = cornell_box(lamp_gap=0.01, res=48)
+    back = bpy.data.objects["Back"]
+    back.data.materials[0] = glossy_material("Mirror", 0.0, (0.9, 0.9, 0.9))
+    scene.cycles.glossy_bounces = 0
+    scene.cycles.diffuse_bounces = 2
+    return scene
+
+
+def light_paths_caustics():
+    """A smooth glass ball on a floor under an area lamp with both caustics switches off:
+    the floor under it stays in shadow, the ball still shows the floor and the lamp."""
+    reset(48)
+    plane("Floor", 10.0, diffuse_material("FloorMat", (0.7, 0.7, 0.7)))
+    back = plane("Wall", 10.0, diffuse_material("WallMat", (0.5, 0.55, 0.6)), location=(0, 3, 5))
+    back.rotation_euler = (math.radians(90), 0, 0)
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=48, ring_count=24, radius=0.6, location=(0, 0, 0.6))
+    ball = bpy.context.active_object
+    bpy.ops.object.shade_smooth()
+    ball.data.materials.append(node_material("Glass", "ShaderNodeBsdfGlass",
+                                             {"Color": (1, 1, 1, 1), "Roughness": 0.0, "IOR": 1.5},
+                                             distribution="SHARP"))
+    light("AREA", "Lamp", 300.0, (-1.2, -0.6, 3.2), size=0.3)
+    cam = bpy.data.cameras.new("Camera")
+    cam.lens = 35
+    ob = link(bpy.data.objects.new("Camera", cam))
+    ob.location = (0, -4.5, 2.6)
+    look_at(ob, (0, 0, 0.4))
+    scene = bpy.context.scene
+    scene.camera = ob
+    scene.cycles.caustics_reflective = False
+    scene.cycles.caustics_refractive = False
+    return scene
+
+
+def light_paths_clamp():
+    """The Cornell box with indirect light clamped at 0.5 (sum of RGB per contribution)."""
+    scene = cornell_box(lamp_gap=0.01, res=48)
+    scene.cycles.sample_clamp_indirect = 0.5
+    return scene
+
+
+LIGHT_PATH_SCENES = ["light_paths_diffuse", "light_paths_mirror", "light_paths_caustics", "light_paths_clamp"]
+
+
 SCENES = {
     "cornell_lamp_near_ceiling": cornell_lamp_near_ceiling,
     "plane_point": plane_point,
@@ -574,6 +630,10 @@ SCENES = {
     "veach_sun": veach_sun,
     "veach_area_square": veach_area_square,
     "veach_area_disk": veach_area_disk,
+    "light_paths_diffuse": light_paths_diffuse,
+    "light_paths_mirror": light_paths_mirror,
+    "light_paths_caustics": light_paths_caustics,
+    "light_paths_clamp": light_paths_clamp,
 }
 
 # Scenes whose brightness must agree with Cycles.

@@ -133,7 +133,7 @@ def bench_settings(scene):
     """Rendezvous in the viewport, 16 samples (Cycles: CPU, 16 samples)."""
     scene.render.engine = "RENDEZVOUS"
     scene.rendezvous.viewport_samples = 16
-    scene.rendezvous.max_bounces = 4
+    scene.cycles.max_bounces = 3  # Light Paths are shared with Cycles: 3 bounces = 4 scattering vertices
     scene.cycles.device = "CPU"
     scene.cycles.preview_samples = 16
 

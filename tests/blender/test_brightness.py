@@ -43,7 +43,9 @@ def read_render(scene, path):
     return px.reshape(shape)[:, :, :3].astype(np.float64)
 
 
-def render_cycles(scene, samples, path, seed=1):
+def cycles_sampling(scene, samples, seed):
+    """Cycles on the CPU, a fixed sample count and seed, no adaptive sampling, denoising or
+    light threshold; its Light Paths left as they are."""
     scene.render.engine = "CYCLES"
     c = scene.cycles
     c.device = "CPU"
@@ -52,11 +54,16 @@ def render_cycles(scene, samples, path, seed=1):
     c.use_denoising = False
     c.seed = seed
     c.light_sampling_threshold = 0.0
+    c.use_auto_tile = False
+    return c
+
+
+def render_cycles(scene, samples, path, seed=1):
+    c = cycles_sampling(scene, samples, seed)
     c.sample_clamp_direct = 0.0
     c.sample_clamp_indirect = 0.0
     c.max_bounces = 12
     c.volume_bounces = 12  # as Rendezvous (Cycles' default is 0: no scattered volume emission)
-    c.use_auto_tile = False
     scene.render.threads_mode = "AUTO"
     t = time.time()
     bpy.ops.render.render()
@@ -120,6 +127,14 @@ def compare(name, ref, test):
     return ok_mean, ok_blocks, ratio
 
 
+def finish(title, failures, odir):
+    """Prints the verdict; exits 1 on failures (listing them and where the images are)."""
+    if failures:
+        print("%s TEST FAILED (images in %s):\n  %s" % (title, odir, "\n  ".join(failures)))
+        sys.exit(1)
+    print("%s TEST PASSED" % title)
+
+
 def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     ap = argparse.ArgumentParser()
@@ -144,10 +159,7 @@ def main():
         except Exception as exc:
             traceback.print_exc()
             failures.append("%s: %s" % (name, exc))
-    if failures:
-        print("BRIGHTNESS TEST FAILED (images in %s):\n  %s" % (odir, "\n  ".join(failures)))
-        sys.exit(1)
-    print("BRIGHTNESS TEST PASSED")
+    finish("BRIGHTNESS", failures, odir)
 
 
 if __name__ == "__main__":

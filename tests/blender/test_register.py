@@ -78,6 +78,7 @@ LAYOUT = [
     ("RENDEZVOUS_PT_light_paths", "Light Paths", None),
     ("RENDEZVOUS_PT_light_paths_max_bounces", "Max Bounces", "RENDEZVOUS_PT_light_paths"),
     ("RENDEZVOUS_PT_light_paths_clamping", "Clamping", "RENDEZVOUS_PT_light_paths"),
+    ("RENDEZVOUS_PT_light_paths_caustics", "Caustics", "RENDEZVOUS_PT_light_paths"),
 ]
 
 
@@ -94,8 +95,12 @@ def check_render_properties_layout():
         panel = getattr(bpy.types, name)
         fake = type("FakePanel", (), {"layout": RecordingLayout(shown)})()
         panel.draw(fake, bpy.context)
-    for want in ("integrator", "samples", "viewport_integrator", "viewport_samples", "max_bounces", "seed"):
+    for want in ("integrator", "samples", "viewport_integrator", "viewport_samples", "seed"):
         check(("rendezvous", want) in shown, "no panel shows scene.rendezvous.%s" % want)
+    # Light Paths: Cycles' own settings while Cycles is enabled (shared, as Cycles shares them).
+    for want in ("max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces",
+                 "caustics_reflective", "caustics_refractive", "sample_clamp_direct", "sample_clamp_indirect"):
+        check(("CyclesRenderSettings", want) in shown, "the Light Paths panels do not show scene.cycles.%s" % want)
     # Every setting says what it trades: a tooltip of a sentence at least.
     props = bpy.context.scene.rendezvous
     for prop in props.bl_rna.properties:

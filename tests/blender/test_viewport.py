@@ -165,7 +165,7 @@ def setup_scene(samples=8):
     scene = bpy.context.scene  # showcase.blend from scenes/blend, opened by run_viewport.py
     scene.render.engine = "RENDEZVOUS"
     scene.rendezvous.viewport_samples = samples
-    scene.rendezvous.max_bounces = 4
+    scene.cycles.max_bounces = 3  # Light Paths are shared with Cycles: 3 bounces = 4 scattering vertices
     _, area, region, space = view3d()
     space.overlay.show_overlays = False
     space.show_gizmo = False

@@ -395,6 +395,32 @@ float Bsdf::specularity() const {
   return std::min(w, 1.0f);
 }
 
+ScatterKind Bsdf::scatter_kind(Vec3 wo, Vec3 wi) const {
+  const bool reflection = dot(wo, ng_) * dot(wi, ng_) > 0;
+  float diffuse = 0, glossy = 0, translucent = 0, refracting = 0, transparent = 0;
+  for (int i = 0; i < n_; ++i) {
+    const float w = pick_[i];
+    switch (lobes_[i].type) {
+      case LobeType::Lambert:
+      case LobeType::OrenNayar:
+      case LobeType::PrincipledDiffuse:
+      case LobeType::Sheen: diffuse += w; break;
+      case LobeType::GgxConductor:
+      case LobeType::SpecularConductor: glossy += w; break;
+      case LobeType::SmoothDielectric:
+      case LobeType::GgxDielectric:
+        glossy += w;  // its reflection
+        refracting += w;
+        break;
+      case LobeType::Translucent: translucent += w; break;
+      case LobeType::Transparent: transparent += w; break;
+    }
+  }
+  if (reflection) return glossy > diffuse ? ScatterKind::Glossy : ScatterKind::Diffuse;
+  if (transparent > refracting && transparent > translucent) return ScatterKind::Transparent;
+  return translucent > refracting ? ScatterKind::Translucent : ScatterKind::Transmission;
+}
+
 Color Bsdf::albedo() const {
   Color a(0.0f);
   for (int i = 0; i < n_; ++i) a += lobes_[i].color * lobes_[i].scale;

@@ -11,6 +11,7 @@
 #include "bsdfs/fresnel.h"
 #include "bsdfs/ggx_albedo.h"
 #include "bsdfs/microfacet.h"
+#include "bsdfs/scatter_kind.h"
 #include "core/math.h"
 
 namespace rdv {
@@ -171,6 +172,12 @@ class Bsdf {
   // weights): 1 if any lobe is delta, else the lobes' selection weights times 1 - roughness
   // for GGX lobes and 0 for diffuse ones.
   float specularity() const;
+  // Cycles' label of the scattering from wo to wi (per-kind bounce limits, caustics):
+  // reflection or transmission by the sides of the geometric normal; then the lobes of
+  // that side with the larger total selection weight decide (diffuse or glossy
+  // reflection; translucent, refracting or transparent transmission). Exact for BSDFs of
+  // one kind; a mixture counts as its dominant kind.
+  ScatterKind scatter_kind(Vec3 wo, Vec3 wi) const;
   const Frame &frame() const { return frame_; }
   Vec3 geometric_normal() const { return ng_; }
 

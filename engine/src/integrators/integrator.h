@@ -10,6 +10,7 @@
 #include "core/params.h"
 #include "film/film.h"
 #include "film/pixel_filter.h"
+#include "integrators/light_path_limits.h"
 #include "render/render_control.h"
 #include "samplers/sampler.h"
 #include "scene/scene.h"
@@ -38,6 +39,9 @@ struct RenderSettings {
   uint32_t seed = 0;
   int threads = 0;         // 0 = all cores
   float clamp = 0;         // 0 = off
+  // Cycles' Light Paths: per-kind bounce limits, caustics switches, direct / indirect
+  // clamps (integrators/light_path_limits.h); all off by default.
+  LightPathLimits limits;
   float filter_width = 1.5f;
   Rect border;             // the rendered region
   // BDPT debug view: only the (s, t) strategy contributes, MIS-weighted unless unweighted.

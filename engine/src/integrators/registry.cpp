@@ -10,6 +10,7 @@ namespace rdv {
 static bdpt::BdptSettings bdpt_settings(const RenderSettings &settings) {
   bdpt::BdptSettings b;
   b.max_bounces = settings.max_bounces;
+  b.limits = settings.limits;
   b.strategy_s = settings.strategy_s;
   b.strategy_t = settings.strategy_t;
   b.strategy_unweighted = settings.strategy_unweighted;
@@ -20,7 +21,7 @@ static bdpt::BdptSettings bdpt_settings(const RenderSettings &settings) {
 }
 
 std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, const Scene &scene) {
-  if (settings.integrator == "path") return std::make_unique<PathTracer>(scene, settings.max_bounces);
+  if (settings.integrator == "path") return std::make_unique<PathTracer>(scene, settings.max_bounces, settings.limits);
   if (settings.integrator == "bdpt") return std::make_unique<bdpt::Bdpt>(scene, bdpt_settings(settings));
   if (settings.integrator == "pssmlt" || settings.integrator == "mmlt") {
     mlt::MltSettings m;
@@ -33,6 +34,28 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
     return std::make_unique<mlt::Metropolis>(scene, settings, bdpt_settings(settings), m);
   }
   fail("render settings: unknown integrator '" + settings.integrator + "' (available: path, bdpt, pssmlt, mmlt)");
+}
+
+// Cycles' Light Paths settings; absent ones are off (no limit, caustics on, no clamp).
+static LightPathLimits light_path_limits(Params &p) {
+  LightPathLimits l;
+  auto bounces = [&](const char *key, int &out) {
+    if (!p.has(key)) return;
+    out = p.get_int(key, LightPathLimits::kNoLimit);
+    if (out < 0 || out > 1024) fail(p.what() + ": '" + key + "' must be in 0..1024");
+  };
+  bounces("diffuse_bounces", l.diffuse);
+  bounces("glossy_bounces", l.glossy);
+  bounces("transmission_bounces", l.transmission);
+  bounces("volume_bounces", l.volume);
+  l.caustics_reflective = p.get_bool("caustics_reflective", true);
+  l.caustics_refractive = p.get_bool("caustics_refractive", true);
+  l.clamp_direct = p.get_float("clamp_direct", 0);
+  l.clamp_indirect = p.get_float("clamp_indirect", 0);
+  if (!(l.clamp_direct >= 0) || !(l.clamp_indirect >= 0))
+    fail(p.what() + ": 'clamp_direct' and 'clamp_indirect' must not be negative (0 = off)");
+  l.finish();
+  return l;
 }
 
 RenderSettings RenderSettings::from_params(Params &p) {
@@ -67,6 +90,7 @@ RenderSettings RenderSettings::from_params(Params &p) {
   s.scene_hash = p.get_string("scene_hash", "");
   s.max_bounces = p.get_int("max_bounces", 12);
   if (s.max_bounces < 0 || s.max_bounces > 1024) fail(p.what() + ": 'max_bounces' must be in 0..1024");
+  s.limits = light_path_limits(p);
   s.seed = static_cast<uint32_t>(p.get_int("seed", 0));
   s.threads = p.get_int("threads", 0);
   if (s.threads < 0) fail(p.what() + ": 'threads' must not be negative");
@@ -121,6 +145,17 @@ std::string RenderSettings::image_settings_json() const {
   j["max_bounces"] = max_bounces;
   j["seed"] = seed;
   j["clamp"] = clamp;
+  if (limits.classify || limits.clamps) {  // written only when used: older parts stay comparable
+    auto bounces = [](int n) { return n >= LightPathLimits::kNoLimit ? -1 : n; };
+    j["diffuse_bounces"] = bounces(limits.diffuse);
+    j["glossy_bounces"] = bounces(limits.glossy);
+    j["transmission_bounces"] = bounces(limits.transmission);
+    j["volume_bounces"] = bounces(limits.volume);
+    j["caustics_reflective"] = limits.caustics_reflective;
+    j["caustics_refractive"] = limits.caustics_refractive;
+    j["clamp_direct"] = limits.clamp_direct;
+    j["clamp_indirect"] = limits.clamp_indirect;
+  }
   j["filter_width"] = filter_width;
   j["border"] = {border.x0, border.y0, border.x1, border.y1};
   j["strategy"] = {strategy_s, strategy_t};

@@ -20,6 +20,7 @@ enum class MisHeuristic : uint8_t {
 
 struct BdptSettings {
   int max_bounces = 12;
+  LightPathLimits limits;  // Cycles' per-kind bounces, caustics, clamps (light_path_limits.h)
   MisHeuristic mis = MisHeuristic::Power;
   // Debug view: render only the (s, t) strategy with s + t - 2 == debug_depth... see
   // strategy_s / strategy_t: when >= 0, only that strategy contributes.
@@ -100,6 +101,15 @@ class Bdpt final : public TileIntegrator {
   bool balance() const { return settings_.mis == MisHeuristic::Balance; }
   float mis_weight(const PathVertex *light_path, const PathVertex *camera_path, const PathVertex &sampled, int s,
                    int t, const ConnectionDensities &densities) const;
+  // Cycles' Light Paths (light_path_limits.cpp): the kind of v's scattering toward wi;
+  // recording a walk's vertex v = path[n] once its next direction wi is chosen (returns
+  // false when no longer subpath can make a path the limits keep); whether the limits keep
+  // the path of strategy (s, t), given the connection vertices' kinds toward each other
+  // (kc: camera_path[t - 1]'s, kl: light_path[s - 1]'s; unused where there is none).
+  ScatterKind kind_toward(const PathVertex &v, Vec3 wi) const;
+  bool record_kind(PathVertex *path, int n, Vec3 wi, bool camera) const;
+  bool limits_keep(const PathVertex *light_path, const PathVertex *camera_path, int s, int t, ScatterKind kc,
+                   ScatterKind kl) const;
   // Vertex helpers (connect.cpp).
   Scattering scatter(const PathVertex &v, Vec3 wi, TransportMode mode) const;
   Color Le(const PathVertex &v, const PathVertex &toward) const;

@@ -68,7 +68,10 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
   if (s == 0 ? !pt.is_light() : t > 1 && pt.type == VertexType::Light) return L;
   PathVertex sampled;
   ConnectionDensities densities;
+  const LightPathLimits &limits = settings_.limits;
+  constexpr ScatterKind kNone = ScatterKind::Transparent;
   if (s == 0) {
+    if (limits.classify && !limits_keep(light_path, camera_path, 0, t, kNone, kNone)) return L;
     L = Le(pt, camera_path[t - 2]) * pt.beta;
     if (!is_black(L) && t > 2) {
       light_densities(pt, camera_path[t - 2], densities.pt_rev, densities.pt_minus_rev);
@@ -82,6 +85,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     sampler.start_stream(SampleStream::Lens, dims::lens(uint32_t(s) - 1, dims::kLensPoint));
     Vec2 u = sampler.get_2d();
     if (!camera.can_be_connected() || !camera.sample_importance(qs.p, u, is) || !(is.pdf > 0)) return L;
+    if (limits.classify && !limits_keep(light_path, camera_path, s, 1, kNone, kind_toward(qs, is.wi))) return L;
     sampled.type = VertexType::Camera;
     sampled.p = is.lens_point;
     sampled.ng = sampled.ns = camera.forward();
@@ -126,6 +130,8 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
       if (light.type == LightType::Area || light.type == LightType::Triangle) sampled.ng = sampled.ns = light.axis;
       if (light.type == LightType::Volume) sampled.gather_rate = 1.0f / light.volume->medium().emission_step;
     }
+    if (limits.classify && !limits_keep(light_path, camera_path, 1, t, kind_toward(pt, direction_to(pt, sampled)), kNone))
+      return L;
     light_densities(sampled, pt, sampled.pdf_fwd, densities.pt_rev);
     Scattering sp = scatter(pt, direction_to(pt, sampled), TransportMode::Radiance);
     L = pt.beta * sp.f * sampled.beta;
@@ -150,6 +156,8 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     PathVertex &qs = light_path[s - 1];
     if (!qs.connectible(scene_) || !pt.connectible(scene_)) return L;
     Vec3 dir = normalize(pt.p - qs.p);
+    if (limits.classify && !limits_keep(light_path, camera_path, s, t, kind_toward(pt, -dir), kind_toward(qs, dir)))
+      return L;
     Scattering sq = scatter(qs, dir, TransportMode::Importance);
     if (is_black(sq.f)) return L;  // nothing to trace a shadow ray for
     Scattering sp = scatter(pt, -dir, TransportMode::Radiance);
@@ -175,7 +183,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
   }
   float w = is_black(L) ? 0.0f : mis_weight(light_path, camera_path, sampled, s, t, densities);
   if (mis_weight_out) *mis_weight_out = w;
-  return L * w;
+  return limits.clamps ? limits.clamp(L * w, s + t - 2) : L * w;
 }
 
 template Color Bdpt::connect<false>(PathVertex *, PathVertex *, int, int, Sampler &, RayStats &, Vec2 *, float *) const;

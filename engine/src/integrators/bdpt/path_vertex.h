@@ -6,6 +6,7 @@
 #include <new>
 #include <type_traits>
 #include "bsdfs/bsdf.h"
+#include "integrators/light_path_limits.h"
 #include "media/medium_stack.h"
 #include "scene/scene.h"
 
@@ -43,6 +44,14 @@ struct PathVertex {
   bool surface_connectible = false;  // a surface with a non-delta lobe
   double mis_sum = 0;  // MIS sum of the strategies at or below this vertex (set_mis_sum)
   float specularity = 0;  // Lafortune & Willems' weights only: their W at camera-path vertices
+  // Cycles' Light Paths (set only when the settings classify paths, light_path_limits.h):
+  // the kind of this vertex's scattering along its subpath (toward the next vertex), the
+  // bounces of each kind on its subpath up to and including it (light subpaths leave out
+  // their first vertex after the light: it is always a path's last scattering vertex),
+  // and whether the caustics switches allow the subpath's pairs so far.
+  ScatterKind kind = ScatterKind::Transparent;
+  bool caustics_ok = true;
+  BounceCounts counts;
 
   // The media a connection leaving this vertex along w starts in: surfaces that w
   // goes through (transmission) hand over to the medium on the other side.

@@ -69,6 +69,15 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
   const SampleStream stream = camera ? SampleStream::Camera : SampleStream::Light;
   const uint32_t layout_vertices = uint32_t(settings_.max_bounces) + 2;
   uint32_t k = 0, crossings = 0;
+  // Cycles' Light Paths: once a vertex's subpath is over a bounce limit (or breaks a
+  // caustics switch), no longer subpath makes a path the limits keep, except, on camera
+  // paths, the one more vertex where an emitter may be found (light_path_limits.cpp).
+  const bool classify = settings_.limits.classify;
+  auto limits_end_walk = [&](Vec3 wi) {
+    if (record_kind(path, n, wi, camera)) return false;
+    if (camera) max_vertices = std::min(max_vertices, n + 1);
+    return !camera;
+  };
   auto russian_roulette = [&]() {
     if (n < 3) return true;
     float q = std::max(0.05f, 1.0f - max_component(beta) / beta_start);
@@ -124,6 +133,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
           sampler.start_stream(stream, dims::bounce(k, dims::kScatterDirection));
           Vec3 wi = medium.phase.sample(v.wo, sampler.get_2d());
           pdf_fwd = medium.phase.pdf(v.wo, wi);  // the phase function is symmetric
+          if (classify && limits_end_walk(wi)) return n;
           prev.pdf_rev = v.to_prev_density(pdf_fwd);
           if (mode == TransportMode::Radiance && n >= 2) set_mis_sum(path, n - 1, path[n - 2].delta, balance());
           ray = Ray{v.p, wi, kInf};
@@ -196,6 +206,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     float u_lobe = sampler.get_1d();
     Vec2 u = sampler.get_2d();
     if (!v.bsdf.sample(v.wo, u_lobe, u, mode, bs)) return n;
+    if (classify && limits_end_walk(bs.wi)) return n;
     beta *= bs.weight;
     float pdf_rev;
     if (bs.is_delta) {
@@ -244,12 +255,16 @@ Color Bdpt::lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathV
   point.pdf_fwd = prev.convert_density(pdf_dir, point);
   Color c = beta * Le;
   if (n == 0) return c;  // seen straight from the camera: s = 0, t = 2 is the only strategy
+  const LightPathLimits &limits = settings_.limits;
+  if (limits.classify && !limits_keep(path, path, 0, n + 2, ScatterKind::Transparent, ScatterKind::Transparent))
+    return Color(0.0f);
   bool one_strategy = settings_.strategy_s >= 0;
   if (one_strategy && (settings_.strategy_s != 0 || settings_.strategy_t != n + 2)) return Color(0.0f);
   ConnectionDensities d;
   light_densities(point, prev, d.pt_rev, d.pt_minus_rev);
   float w = mis_weight(path, path, point, 0, n + 2, d);  // s = 0 reads no light vertex
-  return one_strategy && settings_.strategy_unweighted ? c : c * w;
+  if (one_strategy && settings_.strategy_unweighted) return c;
+  return limits.clamps ? limits.clamp(c * w, n) : c * w;
 }
 
 // Emission of the medium along a camera path's segment (s = 0 strategies ending inside
@@ -260,6 +275,9 @@ void Bdpt::gather_volume_emission(const Medium &medium, const Ray &ray, float tm
                                   PathVertex *path, int n, float pdf_dir, Color &emitted) const {
   const PathVertex &prev = path[n];
   PathVertex &point = path[n + 1];
+  const LightPathLimits &limits = settings_.limits;
+  if (limits.classify && n > 0 && !limits_keep(path, path, 0, n + 2, ScatterKind::Transparent, ScatterKind::Transparent))
+    return;
   gather_emission(medium, ray.o, ray.d, tmax, rng, [&](Vec3 x, Color c, float rate) {
     float w = 1;
     if (rate > 0 && n > 0) {  // seen straight from the camera: s = 0, t = 2 is the only strategy
@@ -274,7 +292,7 @@ void Bdpt::gather_volume_emission(const Medium &medium, const Ray &ray, float tm
       light_densities(point, prev, d.pt_rev, d.pt_minus_rev);
       w = mis_weight(path, path, point, 0, n + 2, d);  // s = 0 reads no light vertex
     }
-    emitted += beta * c * w;
+    emitted += limits.clamps ? limits.clamp(beta * c * w, n) : beta * c * w;
   });
 }
 

@@ -112,6 +112,19 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     if (specular_bounce) return 1.0f;
     return power_heuristic(prev_pdf, dist.pmf(light) * pdf_light_sa);
   };
+  // Cycles' Light Paths (light_path_limits.h): the bounces of each kind so far; once one
+  // is over its limit the path still collects emission at its next vertex, then ends
+  // (stop_after). last_kind: the last scattering's kind, for the caustics switches.
+  BounceCounts counts;
+  bool stop_after = false;
+  ScatterKind last_kind = ScatterKind::Transparent;
+  auto count_bounce = [&](ScatterKind kind) {
+    counts.add(kind);
+    if (!limits_.within(counts)) stop_after = true;
+    last_kind = kind;
+  };
+  // A contribution of a path with `vertices` scattering vertices (clamped if asked).
+  auto add = [&](const Color &c, int vertices) { L += limits_.clamps ? limits_.clamp(c, vertices) : c; };
   auto russian_roulette = [&](int depth) {
     if (depth < 3) return true;
     float q = std::max(0.05f, 1.0f - max_component(beta));
@@ -154,7 +167,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
               float pdf_light = dist.pmf(medium.light) * light->volume->pdf(x) * length_squared(x - prev_p);
               w = power_heuristic(prev_pdf * rate, pdf_light);
             }
-            L += beta * c * w;
+            add(beta * c * w, depth);
           });
         }
         dims::SegmentDims f = segment_dims(dims::kMedium);
@@ -166,19 +179,21 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           // function, then a new direction from it.
           Vec3 p = ray.o + ray.d * ms.t;
           Vec3 wo = -ray.d;
-          if (depth >= max_bounces_) break;
+          if (depth >= max_bounces_ || stop_after) break;
           auto phase = [&](Vec3 wi, float *pdf) {
             *pdf = medium.phase.pdf(wo, wi);
             return Color(medium.phase.eval(wo, wi));
           };
           auto same_medium = [&](Vec3) { return stack; };
-          L += beta * sample_direct_light<true>(scene_, uint32_t(depth) + 1, p, Vec3(0.0f), Vec3(0.0f), phase,
-                                                same_medium, sampler, stats);
+          add(beta * sample_direct_light<true>(scene_, uint32_t(depth) + 1, p, Vec3(0.0f), Vec3(0.0f), phase,
+                                               same_medium, sampler, stats),
+              depth + 1);
           start_scatter(dims::kScatterDirection);
           Vec3 wi = medium.phase.sample(wo, sampler.get_2d());
           specular_bounce = false;
           prev_pdf = medium.phase.pdf(wo, wi);
           prev_p = p;
+          if (limits_.classify) count_bounce(ScatterKind::Volume);
           new_ray(Ray{p, wi, kInf});
           cone = cone.after(ms.t).scattered(kRoughConeSpread);
           if (!russian_roulette(depth) || is_black(beta)) break;
@@ -190,7 +205,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     if (hit_light >= 0) {
       Vec3 q = ray.o + ray.d * tmax;
       float pdf = light_pdf(scene_.lights()[hit_light], prev_p, ray.d, length(q - prev_p));
-      L += beta * light_L * emission_weight(hit_light, pdf);
+      add(beta * light_L * emission_weight(hit_light, pdf), depth);
       // Not a bounce: on from the lamp's point to what lies behind it.
       if (++boundary_crossings > 256) break;
       ++crossings;
@@ -205,7 +220,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
         const Light &light = scene_.lights()[li];
         if (depth == 0 && !light.visible_camera) continue;
         Color Le = infinite_light_radiance(light, ray.d);
-        if (!is_black(Le)) L += beta * Le * emission_weight(li, light_pdf(light, prev_p, ray.d, kInf));
+        if (!is_black(Le)) add(beta * Le * emission_weight(li, light_pdf(light, prev_p, ray.d, kInf)), depth);
       }
       break;
     }
@@ -231,7 +246,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     if (material.emits()) {
       uint32_t li = scene_.triangle_light(hit.instance, hit.prim);
       float pdf = light_pdf(scene_.lights()[li], prev_p, ray.d, length(hit.p - prev_p));
-      L += beta * Le * emission_weight(li, pdf);
+      add(beta * Le * emission_weight(li, pdf), depth);
     }
     if (depth == 0 && first_hit) {
       const Camera &cam = scene_.camera();
@@ -240,10 +255,20 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       first_hit->normal = dot(hit.ns, wo) < 0 ? -hit.ns : hit.ns;
       first_hit->albedo = bsdf.albedo();
     }
-    if (depth >= max_bounces_ || !bsdf.has_lobes()) break;
+    if (depth >= max_bounces_ || !bsdf.has_lobes() || stop_after) break;
 
     if (!bsdf.is_delta()) {
-      auto surface = [&](Vec3 wi, float *pdf) { return bsdf.eval_and_pdf(wo, wi, TransportMode::Radiance, *pdf); };
+      // With a caustics switch off, a glossy reflection or refraction right after a
+      // diffuse bounce scatters nothing.
+      const bool caustic_filter = limits_.classify && (!limits_.caustic_allowed(last_kind, ScatterKind::Glossy) ||
+                                                       !limits_.caustic_allowed(last_kind, ScatterKind::Transmission));
+      auto surface = [&](Vec3 wi, float *pdf) {
+        if (caustic_filter && !limits_.caustic_allowed(last_kind, bsdf.scatter_kind(wo, wi))) {
+          *pdf = 0;
+          return Color(0.0f);
+        }
+        return bsdf.eval_and_pdf(wo, wi, TransportMode::Radiance, *pdf);
+      };
       if constexpr (kMedia) {
         // The shadow ray starts in the medium on wi's side: reflection stays in the
         // current one, transmission crosses into the other.
@@ -252,12 +277,14 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           if (dot(wi, hit.ng) * dot(ray.d, hit.ng) > 0) s.cross(scene_, hit, boundary, wi);
           return s;
         };
-        L += beta * sample_direct_light<true>(scene_, uint32_t(depth) + 1, hit.p, hit.ng, hit.error, surface,
-                                              media_toward, sampler, stats);
+        add(beta * sample_direct_light<true>(scene_, uint32_t(depth) + 1, hit.p, hit.ng, hit.error, surface,
+                                             media_toward, sampler, stats),
+            depth + 1);
       } else {
         auto unused = [](Vec3) { return 0; };
-        L += beta * sample_direct_light<false>(scene_, uint32_t(depth) + 1, hit.p, hit.ng, hit.error, surface, unused,
-                                               sampler, stats);
+        add(beta * sample_direct_light<false>(scene_, uint32_t(depth) + 1, hit.p, hit.ng, hit.error, surface, unused,
+                                              sampler, stats),
+            depth + 1);
       }
     }
 
@@ -277,6 +304,11 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       layer_passed = true;
       --depth;
       continue;
+    }
+    if (limits_.classify) {
+      ScatterKind kind = bsdf.scatter_kind(wo, bs.wi);
+      if (!limits_.caustic_allowed(last_kind, kind)) break;
+      count_bounce(kind);
     }
     specular_bounce = bs.is_delta;
     cone = cone.scattered(bs.cone_spread);  // wider after a rough bounce

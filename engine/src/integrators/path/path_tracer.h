@@ -10,7 +10,8 @@ namespace rdv {
 
 class PathTracer final : public TileIntegrator {
  public:
-  PathTracer(const Scene &scene, int max_bounces) : scene_(scene), max_bounces_(max_bounces) {}
+  PathTracer(const Scene &scene, int max_bounces, const LightPathLimits &limits = {})
+      : scene_(scene), max_bounces_(max_bounces), limits_(limits) {}
   Color Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
            std::vector<Splat> &splats) const override;
 
@@ -21,6 +22,7 @@ class PathTracer final : public TileIntegrator {
   Color trace(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit) const;
   const Scene &scene_;
   int max_bounces_;
+  LightPathLimits limits_;
 };
 
 }  // namespace rdv

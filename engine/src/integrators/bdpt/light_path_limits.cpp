@@ -1,0 +1,61 @@
+// Cycles' Light Paths in BDPT (integrators/light_path_limits.h): each strategy (s, t)
+// classifies the whole path it makes, camera vertices c1 .. c(t-1) then light vertices
+// l(s-1) .. l1 toward the light l0, so every strategy keeps or drops the same paths as
+// the path tracer. The walks record each vertex's kind, the running bounce counts and
+// the caustics check of their own pairs; a connection adds its two vertices.
+#include "integrators/bdpt/bdpt.h"
+
+namespace rdv::bdpt {
+
+ScatterKind Bdpt::kind_toward(const PathVertex &v, Vec3 wi) const {
+  return v.type == VertexType::Medium ? ScatterKind::Volume : v.bsdf.scatter_kind(v.wo, wi);
+}
+
+bool Bdpt::record_kind(PathVertex *path, int n, Vec3 wi, bool camera) const {
+  const LightPathLimits &limits = settings_.limits;
+  PathVertex &v = path[n];
+  v.kind = kind_toward(v, wi);
+  v.counts = BounceCounts{};
+  v.caustics_ok = true;
+  if (n >= 2) {
+    const PathVertex &prev = path[n - 1];
+    v.counts = prev.counts;
+    // On a light subpath the camera side of a pair is the later vertex.
+    v.caustics_ok = prev.caustics_ok && (camera ? limits.caustic_allowed(prev.kind, v.kind)
+                                                : limits.caustic_allowed(v.kind, prev.kind));
+  }
+  if (camera || n >= 2) v.counts.add(v.kind);
+  return v.caustics_ok && limits.within(v.counts);
+}
+
+bool Bdpt::limits_keep(const PathVertex *light_path, const PathVertex *camera_path, int s, int t, ScatterKind kc,
+                       ScatterKind kl) const {
+  const LightPathLimits &limits = settings_.limits;
+  BounceCounts counts;  // over every scattering vertex but the last
+  bool ok = true;
+  if (s == 0) {  // c1 .. c(t-2), then the emitter c(t-1): c(t-2) is the last
+    const int last = t - 2;
+    if (last >= 2) counts = camera_path[last - 1].counts;
+    if (last >= 1) ok = camera_path[last].caustics_ok;
+    return ok && limits.within(counts);
+  }
+  if (t >= 2) {
+    const int m = t - 1;  // the camera vertex of the connection
+    if (m >= 2) {
+      counts = camera_path[m - 1].counts;
+      ok = camera_path[m - 1].caustics_ok && limits.caustic_allowed(camera_path[m - 1].kind, kc);
+    }
+    if (s == 1) return ok && limits.within(counts);  // c(t-1) meets the light: the last
+    counts.add(kc);
+    ok = ok && limits.caustic_allowed(kc, kl);
+  }
+  if (s - 1 >= 2) counts.add(kl);  // l1 is the last scattering vertex: never counted
+  if (s - 2 >= 1) {
+    const PathVertex &l = light_path[s - 2];
+    ok = ok && l.caustics_ok && limits.caustic_allowed(kl, l.kind);
+    counts = counts + l.counts;
+  }
+  return ok && limits.within(counts);
+}
+
+}  // namespace rdv::bdpt

@@ -1,0 +1,155 @@
+// Cycles' Light Paths (integrators/light_path_limits.h): per-kind bounce limits, the
+// caustics switches and the direct / indirect clamps, in the path tracer and in every
+// BDPT strategy. The path tracer is checked against closed relations (diffuse bounces 0
+// is direct light; a limit that never binds changes nothing, bit for bit); BDPT against
+// the path tracer, K runs each, Welch's t-test on every 8x8 block (1% false alarms over
+// the file, Sidak-corrected per block; fixed seeds, so each verdict is reproducible).
+#include <gtest/gtest.h>
+#include <cstring>
+#include <stdexcept>
+#include <nlohmann/json.hpp>
+#include "render_helpers.h"
+#include "statistics.h"
+
+using namespace rdv::test;
+using nlohmann::json;
+
+namespace {
+
+constexpr int kRuns = 8;
+constexpr int kSize = 48;
+constexpr int kBlockTestsInFile = 5 * 36;  // five BDPT-vs-path comparisons of 6x6 blocks
+const double kAlphaPerBlock = 1.0 - std::pow(1.0 - 0.01, 1.0 / kBlockTestsInFile);
+
+json small(json settings) {
+  settings["width"] = kSize;
+  settings["height"] = kSize;
+  return settings;
+}
+
+void expect_bdpt_matches_path(const json &scene, const json &limits, const std::string &what, int samples_pt,
+                              int samples_bdpt) {
+  json s = small(limits);
+  s["integrator"] = "path";
+  s["samples"] = samples_pt;
+  auto pt = seeded_renders(scene.dump(), s.dump(), kRuns, 1);
+  s["integrator"] = "bdpt";
+  s["samples"] = samples_bdpt;
+  auto bd = seeded_renders(scene.dump(), s.dump(), kRuns, 1001);
+  BlockComparison c = compare_blocks(bd, pt, kSize, kSize, 8, kAlphaPerBlock);
+  EXPECT_EQ(c.failed, 0) << what << ": " << c.detail;
+  std::printf("[ light paths ] %-28s %s\n", what.c_str(), c.detail.substr(0, 120).c_str());
+}
+
+double mean_of(const Image &img) { return (img.channel_mean(0) + img.channel_mean(1) + img.channel_mean(2)) / 3; }
+
+}  // namespace
+
+// Cycles' diffuse bounces 0 is direct light only: in the all-diffuse Cornell box that is
+// max_bounces 1 (one scattering vertex), sample for sample.
+TEST(LightPathLimits, DiffuseZeroIsDirectLightInThePathTracer) {
+  json scene = load_scene("cornell_box.json");
+  json s = small({{"integrator", "path"}, {"samples", 16}, {"seed", 3}, {"max_bounces", 1}});
+  Image direct = render_json(scene.dump(), s.dump());
+  s["max_bounces"] = 12;
+  s["diffuse_bounces"] = 0;
+  Image limited = render_json(scene.dump(), s.dump());
+  ASSERT_TRUE(limited.all_finite());
+  EXPECT_EQ(std::memcmp(direct.rgba.data(), limited.rgba.data(), direct.rgba.size() * sizeof(float)), 0);
+}
+
+// Limits that never bind classify every path and keep all of them: the image is the
+// same, bit for bit (path tracing and BDPT).
+TEST(LightPathLimits, LimitsThatNeverBindChangeNothing) {
+  json scene = load_scene("glass_sphere.json");
+  for (const char *integrator : {"path", "bdpt"}) {
+    json s = small({{"integrator", integrator}, {"samples", 8}, {"seed", 5}, {"max_bounces", 6}});
+    Image plain = render_json(scene.dump(), s.dump());
+    s["diffuse_bounces"] = s["glossy_bounces"] = s["transmission_bounces"] = s["volume_bounces"] = 6;
+    Image classified = render_json(scene.dump(), s.dump());
+    EXPECT_EQ(std::memcmp(plain.rgba.data(), classified.rgba.data(), plain.rgba.size() * sizeof(float)), 0)
+        << integrator;
+  }
+}
+
+// Every BDPT strategy keeps the paths the path tracer keeps: diffuse bounces 1 in the
+// Cornell box; glossy and transmission limits on glass and glossy spheres.
+TEST(LightPathLimits, BdptMatchesPathWithBounceLimits) {
+  expect_bdpt_matches_path(load_scene("cornell_box.json"), {{"max_bounces", 8}, {"diffuse_bounces", 1}},
+                           "cornell diffuse 1", 64, 32);
+  expect_bdpt_matches_path(load_scene("glass_sphere.json"),
+                           {{"max_bounces", 8}, {"transmission_bounces", 1}, {"glossy_bounces", 0}},
+                           "glass transmission 1 glossy 0", 128, 32);
+  expect_bdpt_matches_path(load_scene("fog_spot.json"), {{"max_bounces", 8}, {"volume_bounces", 1}},
+                           "fog volume 1", 128, 32);
+}
+
+// With the caustics switches off, the floor under the glass ball loses the light that
+// reaches it through the ball after a diffuse bounce; BDPT (whose light paths make the
+// caustic) agrees with the path tracer. With the same seed the switches only remove
+// contributions: no pixel gets brighter, and the caustic's light is gone.
+TEST(LightPathLimits, CausticsOffInEveryStrategy) {
+  json scene = load_scene("caustic.json");
+  scene["lights"][0]["radius"] = 0.4;  // large enough for path tracing to converge
+  json off = {{"max_bounces", 8}, {"caustics_refractive", false}, {"caustics_reflective", false}};
+  expect_bdpt_matches_path(scene, {{"max_bounces", 8}, {"caustics_refractive", false}}, "refractive caustics off",
+                           256, 32);
+  expect_bdpt_matches_path(scene, off, "caustics off", 256, 32);
+  for (const char *integrator : {"path", "bdpt"}) {
+    json s = small({{"integrator", integrator}, {"samples", 16}, {"seed", 1}, {"max_bounces", 8}});
+    Image on = render_json(scene.dump(), s.dump());
+    s.update(off);
+    Image without = render_json(scene.dump(), s.dump());
+    double removed = 0, total = 0;
+    int brighter = 0;
+    for (size_t i = 0; i < on.rgba.size(); ++i) {
+      if (i % 4 == 3) continue;
+      total += on.rgba[i];
+      removed += on.rgba[i] - without.rgba[i];
+      if (without.rgba[i] > on.rgba[i] * (1 + 1e-5f) + 1e-6f) ++brighter;
+    }
+    EXPECT_EQ(brighter, 0) << integrator;
+    EXPECT_GT(removed, 0.003 * total) << integrator << ": the caustic should be gone";
+    std::printf("[ light paths ] %s: caustics off removes %.2f%% of the image\n", integrator, 100 * removed / total);
+  }
+}
+
+// Clamping indirect light to nearly nothing leaves direct light (at most one scattering
+// vertex) alone: the path tracer's image is then that of max_bounces 1 plus contributions
+// of at most 1e-6 each; clamped direct light never exceeds its cap per sample.
+TEST(LightPathLimits, ClampIndirectKeepsDirectLight) {
+  json scene = load_scene("cornell_box.json");
+  json s = small({{"integrator", "path"}, {"samples", 16}, {"seed", 9}, {"max_bounces", 2}});
+  s["max_bounces"] = 2;
+  Image two = render_json(scene.dump(), s.dump());
+  s["clamp_indirect"] = 1e-6;
+  Image clamped = render_json(scene.dump(), s.dump());
+  s["max_bounces"] = 1;
+  s.erase("clamp_indirect");
+  Image direct = render_json(scene.dump(), s.dump());
+  ASSERT_TRUE(clamped.all_finite());
+  EXPECT_NEAR(mean_of(clamped), mean_of(direct), 1e-4);
+  EXPECT_GT(mean_of(two), 1.05 * mean_of(direct));  // the bounce the clamp removed mattered
+  s["max_bounces"] = 8;
+  s["clamp_direct"] = 0.01;  // RGB sum per contribution
+  s["clamp_indirect"] = 0.01;
+  for (const char *integrator : {"path", "bdpt"}) {
+    s["integrator"] = integrator;
+    Image capped = render_json(scene.dump(), s.dump());
+    ASSERT_TRUE(capped.all_finite());
+    EXPECT_GT(mean_of(capped), 0.0) << integrator;
+    EXPECT_LT(mean_of(capped), 0.5 * mean_of(two)) << integrator;
+  }
+}
+
+TEST(LightPathLimits, BadValuesAreRefusedWithTheirName) {
+  json scene = load_scene("cornell_box.json");
+  for (json bad : {json{{"diffuse_bounces", -1}}, json{{"glossy_bounces", 5000}}, json{{"clamp_direct", -1}}}) {
+    try {
+      render_json(scene.dump(), small(bad).dump());
+      ADD_FAILURE() << bad.dump() << " was accepted";
+    } catch (const std::runtime_error &e) {
+      EXPECT_NE(std::string(e.what()).find(bad.begin().key()), std::string::npos) << bad.dump() << ": " << e.what();
+    }
+  }
+}
