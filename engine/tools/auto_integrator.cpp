@@ -59,7 +59,7 @@ AutoChoice choose_integrator(rdv_scene *scene, const json &settings, const std::
     Pilot p;
     p.integrator = name;
     p.seconds = 0.5 * (r[0].progress.elapsed_seconds + r[1].progress.elapsed_seconds);
-    p.spp = r[0].progress.samples_done;
+    p.spp = std::min(r[0].progress.samples_done, r[1].progress.samples_done);
     choice.pilot_seconds += r[0].progress.elapsed_seconds + r[1].progress.elapsed_seconds;
     choice.pilots.push_back(p);
   }
@@ -74,8 +74,9 @@ AutoChoice choose_integrator(rdv_scene *scene, const json &settings, const std::
     for (size_t i = 0; i < pooled.size(); ++i)
       sum += double(differences[c][i]) * differences[c][i] / (pooled[i] * pooled[i] + rdv::kRelativeMseEpsilon);
     p.rel_mse = pooled.empty() ? 0.0 : sum / pooled.size() / 2;  // E(a - b)^2 = 2 var
-    // A pilot with no measurable error (an exact image) is as efficient as can be, not 1/0.
-    p.efficiency = 1.0 / (std::max(p.rel_mse, 1e-30) * std::max(p.seconds, 1e-9));
+    // A pilot with no measurable error (an exact image) is as efficient as can be, not 1/0;
+    // but one without a sample (Metropolis still in its bootstrap) measured nothing.
+    p.efficiency = p.spp == 0 ? 0.0 : 1.0 / (std::max(p.rel_mse, 1e-30) * std::max(p.seconds, 1e-9));
     if (c == 0 || p.efficiency > best) {
       best = p.efficiency;
       choice.integrator = p.integrator;

@@ -17,8 +17,8 @@ struct Pilot {
   std::string integrator;
   double seconds = 0;     // one of its two renders
   double rel_mse = 0;     // estimated error of one render
-  double efficiency = 0;  // 1 / (rel_mse x seconds)
-  uint32_t spp = 0;
+  double efficiency = 0;  // 1 / (rel_mse x seconds); 0 when a pilot made no sample
+  uint32_t spp = 0;       // the fewer of its two renders
 };
 
 struct AutoChoice {
