@@ -127,6 +127,10 @@ def session_settings(scene, props, frame=None, warn=print):
         s["noise_target"] = noise_target
     if getattr(props, "use_pass_noise", False):
         s["noise_pass"] = True
+    if getattr(props, "use_adaptive_sampling", False) and s["integrator"] in ("path", "bdpt"):
+        s["adaptive_sampling"] = True
+        s["adaptive_threshold"] = float(props.adaptive_threshold)
+        s["adaptive_min_samples"] = int(props.adaptive_min_samples)
     rect = border_rect(render, width, height)
     if rect is not None:
         x, y, w, h = rect

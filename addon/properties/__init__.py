@@ -75,6 +75,19 @@ class RendezvousRenderSettings(bpy.types.PropertyGroup):
                                             "that estimates its noise draws its samples from two independent "
                                             "sequences (path, bidirectional): up to ~1.4x the noise of one in "
                                             "smooth regions at equal samples")
+    use_adaptive_sampling: BoolProperty(name="Adaptive Sampling", default=False,
+                                        description="Path tracing and bidirectional: a pixel whose estimated relative "
+                                                    "error (over its 3 x 3 neighbourhood) is below the Noise "
+                                                    "Threshold stops receiving samples, so the time goes where the "
+                                                    "noise is (Cycles' Noise Threshold)")
+    adaptive_threshold: FloatProperty(name="Noise Threshold", default=0.01, min=0.0001, max=1.0, precision=4,
+                                      step=0.1, description="Relative error (standard deviation over value) at which "
+                                                            "a pixel stops: 0.01 = 1% noise; lower renders cleaner "
+                                                            "and longer")
+    adaptive_min_samples: IntProperty(name="Min Samples", default=0, min=0, max=4096,
+                                      description="Samples every pixel gets before it may stop (0 = automatic, 16): "
+                                                  "more keeps rare light (caustics, small lamps) from being missed "
+                                                  "by pixels that look converged")
     use_pass_noise: BoolProperty(name="Noise", default=False,
                                  description="Render pass: the estimated relative error of each pixel (the root of "
                                              "its relative MSE), from two independent half images; draws the "

@@ -74,6 +74,12 @@ class RENDEZVOUS_PT_sampling_render(RendezvousSubpanel, bpy.types.Panel):
         col.prop(props, "samples", text="Max Samples")
         col.prop(props, "time_limit")
         layout.prop(props, "noise_target")
+        if props.integrator in ("PATH", "BDPT"):
+            layout.prop(props, "use_adaptive_sampling")
+            col = layout.column(align=True)
+            col.active = props.use_adaptive_sampling
+            col.prop(props, "adaptive_threshold")
+            col.prop(props, "adaptive_min_samples")
 
 
 class RENDEZVOUS_PT_sampling_metropolis(RendezvousSubpanel, bpy.types.Panel):

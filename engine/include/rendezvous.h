@@ -171,7 +171,8 @@ RDV_API rdv_status rdv_scene_summary(rdv_scene *scene, const char **out_json);
 /* settings JSON: {"width":W,"height":H,"integrator":"path","samples":N,
  *   "time_limit":seconds,"max_bounces":B,"seed":S,"threads":T,"clamp":C,
  *   "border":[x0,y0,x1,y1],"sample_offset":O,"scene_hash":"...","noise_target":E,
- *   "noise_pass":false} (noise_target: halt once the estimated relative MSE is below E,
+ *   "noise_pass":false,"adaptive_sampling":false,"adaptive_threshold":0.01,
+ *   "adaptive_min_samples":0} (noise_target: halt once the estimated relative MSE is below E,
  *   0 = off; noise_pass: estimate the noise for RDV_PASS_NOISE without a target;
  *   docs/noise.md) (sample_offset and
  *   scene_hash: render parts, see rdv_merge_parts). A session always has a halt condition: samples

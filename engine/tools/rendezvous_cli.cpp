@@ -29,6 +29,8 @@ void usage() {
                "  --samples N            samples per pixel\n"
                "  --time SECONDS         time limit (0 = off)\n"
                "  --noise-target E       stop once the estimated relative MSE is below E (0 = off)\n"
+               "  --adaptive T           adaptive sampling (path, bdpt): pixels stop below relative error T\n"
+               "  --adaptive-min-samples N  samples before a pixel may stop (0 = automatic, 16)\n"
                "  --threads N            worker threads (0 = all cores)\n"
                "  --seed N               random seed\n"
                "  --sample-offset N      render samples [N, N + samples) of the sequence (a farm part)\n"
@@ -134,6 +136,10 @@ int main(int argc, char **argv) {
       else if (a == "-o" || a == "--output") output = next();
       else if (a == "--samples") overrides["samples"] = std::stoi(next());
       else if (a == "--time") overrides["time_limit"] = std::stod(next());
+      else if (a == "--adaptive") {
+        overrides["adaptive_sampling"] = true;
+        overrides["adaptive_threshold"] = std::stod(next());
+      } else if (a == "--adaptive-min-samples") overrides["adaptive_min_samples"] = std::stoi(next());
       else if (a == "--noise-target") {
         std::string v = next();
         double e = std::stod(v);

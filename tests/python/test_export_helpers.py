@@ -168,6 +168,19 @@ class TestCameraSettings(unittest.TestCase):
                 session_settings(scene, self.props(noise_target=bad))
             self.assertIn("noise_target", str(caught.exception))
 
+    def test_adaptive_sampling_settings(self):
+        from rendezvous.export.settings import session_settings
+        scene = ns(render=self.render(), frame_current=1)
+        self.assertNotIn("adaptive_sampling", session_settings(scene, self.props()))  # props without the field
+        s = session_settings(scene, self.props(use_adaptive_sampling=True, adaptive_threshold=0.02,
+                                               adaptive_min_samples=32))
+        self.assertEqual((s["adaptive_sampling"], s["adaptive_threshold"], s["adaptive_min_samples"]), (True, 0.02, 32))
+        # Metropolis spreads its mutations by brightness itself: the setting does not apply.
+        s = session_settings(scene, self.props(integrator="PSSMLT", use_adaptive_sampling=True, adaptive_threshold=0.02,
+                                               adaptive_min_samples=32, mlt_large_step=0.3, mlt_bootstrap=1, mlt_target="RELATIVE",
+                                               mlt_chains=256, mlt_step_size=0.01))
+        self.assertNotIn("adaptive_sampling", s)
+
     def test_farm_part_settings(self):
         from rendezvous.export.settings import session_settings, part_output_path, scene_hash
         scene = ns(render=self.render(), frame_current=3)

@@ -99,6 +99,11 @@ class Film {
   // infinity while a pixel lacks a sample in either half; negative when the frame has no
   // halves. O(pixels), under the frame lock: once per pass.
   double relative_mse_estimate() const;
+  // Adaptive sampling: marks (1) every pixel of the rendered region whose estimated
+  // relative error, the root of its relative variance averaged with its 8 neighbours'
+  // (27 channel estimates; one pixel's own, from one pair of halves, is too noisy to
+  // stop on), is at most `threshold`. Marks stay set. Returns the pixels marked.
+  size_t mark_converged(double threshold, std::vector<uint8_t> &converged) const;
 
   // The raw sums, row-major from the top (writing and merging render parts,
   // film/render_part.h): read them when no render is running.

@@ -68,4 +68,43 @@ double Film::relative_mse_estimate() const {
   return sum / (double(region_.width()) * double(region_.height()));
 }
 
+size_t Film::mark_converged(double threshold, std::vector<uint8_t> &converged) const {
+  const int w = region_.width(), h = region_.height();
+  converged.resize(size_t(width_) * height_, 0);
+  std::vector<double> variance(size_t(w) * h);
+  std::vector<uint8_t> valid(size_t(w) * h);
+  {
+    std::lock_guard<std::mutex> frame(frame_mutex_);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t i = index(region_.x0 + x, region_.y0 + y), j = size_t(y) * w + x;
+        valid[j] = pixel_relative_variance(pixels_[i], splats_[i], half_splats_[i], state_, &variance[j]);
+      }
+  }
+  const double limit = threshold * threshold;
+  size_t marked = 0;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const size_t i = index(region_.x0 + x, region_.y0 + y);
+      if (!converged[i]) {
+        double sum = 0;
+        int n = 0;
+        bool all_valid = true;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int nx = x + dx, ny = y + dy;
+            if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+            const size_t j = size_t(ny) * w + nx;
+            all_valid = all_valid && valid[j];
+            sum += variance[j];
+            ++n;
+          }
+        if (all_valid && sum <= limit * n) converged[i] = 1;
+      }
+      marked += converged[i];
+    }
+  }
+  return marked;
+}
+
 }  // namespace rdv

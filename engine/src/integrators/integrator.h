@@ -35,6 +35,16 @@ struct RenderSettings {
   double noise_target = 0;
   // Estimate the noise (and fill the Noise pass) even without a noise target.
   bool noise_pass = false;
+  // Adaptive sampling (path, bdpt; Cycles' Noise Threshold): a pixel whose estimated
+  // relative error, over its 3 x 3 neighbourhood, is at most adaptive_threshold after
+  // at least adaptive_min_samples (0: kAutoAdaptiveMinSamples) gets no more samples.
+  bool adaptive_sampling = false;
+  float adaptive_threshold = 0.01f;
+  uint32_t adaptive_min_samples = 0;
+  static constexpr uint32_t kAutoAdaptiveMinSamples = 16;
+  uint32_t adaptive_first_check() const {
+    return adaptive_min_samples ? adaptive_min_samples : kAutoAdaptiveMinSamples;
+  }
   int max_bounces = 12;
   uint32_t seed = 0;
   int threads = 0;         // 0 = all cores
@@ -63,7 +73,7 @@ struct RenderSettings {
   // Whether the render estimates its noise: half images from independent replicates
   // (path, bdpt; a different image than without), and the frame's estimate after each
   // pass (O(pixels)).
-  bool estimates_noise() const { return noise_target > 0 || noise_pass; }
+  bool estimates_noise() const { return noise_target > 0 || noise_pass || adaptive_sampling; }
   // Seed of the Metropolis bootstrap and chains: the seed itself for the first part
   // (sample_offset 0, so a whole render is unchanged), an independent one per part.
   uint32_t seed_for_chains() const { return sample_offset == 0 ? seed : hash_combine(seed, sample_offset); }

@@ -75,6 +75,14 @@ RenderSettings RenderSettings::from_params(Params &p) {
     fail(p.what() + ": 'noise_target' must not be negative (the relative MSE to stop at; 0 = off), got " +
          std::to_string(s.noise_target));
   s.noise_pass = p.get_bool("noise_pass", false);
+  s.adaptive_sampling = p.get_bool("adaptive_sampling", false);
+  s.adaptive_threshold = p.get_float("adaptive_threshold", s.adaptive_threshold);
+  if (!(s.adaptive_threshold > 0))
+    fail(p.what() + ": 'adaptive_threshold' must be positive (the relative error at which a pixel stops), got " +
+         std::to_string(s.adaptive_threshold));
+  int min_samples = p.get_int("adaptive_min_samples", 0);
+  if (min_samples < 0) fail(p.what() + ": 'adaptive_min_samples' must not be negative (0 = automatic)");
+  s.adaptive_min_samples = uint32_t(min_samples);
   // A time limit or a noise target alone renders until it halts.
   int samples = p.get_int("samples", s.time_limit > 0 || s.noise_target > 0 ? 0 : 128);
   if (samples < 0) fail(p.what() + ": 'samples' must not be negative");
@@ -124,6 +132,12 @@ RenderSettings RenderSettings::from_params(Params &p) {
   s.border = {std::max(0, int(b[0])), std::max(0, int(b[1])), std::min(s.width, int(b[2])), std::min(s.height, int(b[3]))};
   if (s.border.width() <= 0 || s.border.height() <= 0) fail(p.what() + ": 'border' is empty");
   p.check_all_used();
+  if (s.adaptive_sampling && s.integrator != "path" && s.integrator != "bdpt")
+    fail(p.what() + ": 'adaptive_sampling' is for path and bdpt; " + s.integrator +
+         " spreads its mutations by brightness itself");
+  if (s.adaptive_sampling && s.sample_offset > 0)
+    fail(p.what() + ": 'adaptive_sampling' cannot render a part ('sample_offset' " + std::to_string(s.sample_offset) +
+         "): each pixel's sample count depends on the samples before it, so parts would not add up");
   // Before the session allocates anything: the film, and Metropolis' bootstrap and chains.
   std::string film = std::to_string(s.width) + "x" + std::to_string(s.height) + " film";
   double bytes = double(s.width) * double(s.height) * double(Film::bytes_per_pixel());
@@ -163,6 +177,10 @@ std::string RenderSettings::image_settings_json() const {
   j["mis"] = mis;
   // Path and BDPT draw their samples from two replicates when they estimate the noise.
   if (estimates_noise()) j["noise_estimate"] = true;
+  if (adaptive_sampling) {
+    j["adaptive_threshold"] = adaptive_threshold;
+    j["adaptive_min_samples"] = adaptive_first_check();
+  }
   if (integrator == "pssmlt" || integrator == "mmlt") {
     j["mlt_large_step"] = mlt_large_step;
     j["mlt_bootstrap"] = mlt_bootstrap;

@@ -11,11 +11,11 @@ namespace rdv {
 static constexpr int kTileSize = 16;
 
 void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t first, uint32_t last,
-                                 TileSplats &splats) const {
+                                 const std::vector<uint8_t> &converged, TileSplats &splats) const {
   const RenderSettings &settings = ctx.settings;
   splats.a.clear();
   splats.b.clear();
-  splats.half_b_paths = 0;
+  splats.paths = splats.half_b_paths = 0;
   // Estimating the noise, samples alternate between two independently scrambled
   // replicates of the sequence, half images A and B (film/noise_estimate.h): the even
   // and odd samples of one Owen-scrambled sequence are not independent (each half is
@@ -36,6 +36,8 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
   for (int y = tile.y0; y < tile.y1; ++y) {
     for (int x = tile.x0; x < tile.x1; ++x) {
       if (ctx.control.should_stop()) goto done;
+      if (!converged.empty() && converged[size_t(y) * size_t(ctx.film.width()) + size_t(x)]) continue;
+      splats.paths += last - first;
       for (uint32_t s = first; s < last; ++s) {
         const bool half_b = replicates && (s & 1);
         splats.half_b_paths += half_b;
@@ -74,7 +76,13 @@ void TileIntegrator::render(RenderContext &ctx) {
     for (int x = r.x0; x < r.x1; x += kTileSize)
       tiles.push_back({x, y, std::min(x + kTileSize, r.x1), std::min(y + kTileSize, r.y1)});
   std::vector<TileSplats> tile_splats(tiles.size());  // applied in tile order after a pass
-  uint64_t half_b_paths = 0;  // light paths traced by half B's samples, all passes
+  uint64_t paths = 0, half_b_paths = 0;  // light paths traced (by half B's samples), all passes
+  // Adaptive sampling: pixels that stopped, checked at fixed sample counts (the same
+  // image on any thread count and machine).
+  std::vector<uint8_t> converged;
+  const bool adaptive = ctx.settings.adaptive_sampling;
+  uint32_t next_check = adaptive ? ctx.settings.adaptive_first_check() : UINT32_MAX;
+  const size_t region_pixels = size_t(r.width()) * size_t(r.height());
 
   uint32_t batch = 1;
   uint32_t done = 0;
@@ -87,11 +95,12 @@ void TileIntegrator::render(RenderContext &ctx) {
   while (!ctx.control.should_stop() && done < target) {
     uint32_t last = std::min(target, done + batch);
     last = std::min<uint64_t>(last, uint64_t(UINT32_MAX) - offset);  // sample indices stay 32-bit
+    if (adaptive && done < next_check) last = std::min(last, next_check);
     if (last <= done) break;
     auto pass_start = std::chrono::steady_clock::now();
     ctx.arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t> &b) {
-        for (size_t i = b.begin(); i != b.end(); ++i) render_tile(ctx, tiles[i], offset + done, offset + last, tile_splats[i]);
+        for (size_t i = b.begin(); i != b.end(); ++i) render_tile(ctx, tiles[i], offset + done, offset + last, converged, tile_splats[i]);
       });
     });
     if (ctx.control.should_stop()) break;  // an interrupted pass does not count, nor do its splats
@@ -101,12 +110,14 @@ void TileIntegrator::render(RenderContext &ctx) {
       for (TileSplats &splats : tile_splats) {  // in tile order: the same sums on any thread count
         for (const Splat &sp : splats.a) frame.add_splat(sp.raster, sp.L, ctx.filter);
         for (const Splat &sp : splats.b) frame.add_splat(sp.raster, sp.L, ctx.filter, true);
+        paths += splats.paths;
         half_b_paths += splats.half_b_paths;
       }
-      // One light path per camera sample, over the rendered region only; the camera's
-      // importance is normalised over the whole image.
+      // One light path per camera sample, over the rendered region only (fewer where
+      // adaptive sampling stopped pixels); the camera's importance is normalised over
+      // the whole image.
       const double numerator = double(ctx.settings.width) * double(ctx.settings.height);
-      frame.publish(done, {numerator, double(r.width()) * double(r.height()) * double(done)},
+      frame.publish(done, {numerator, double(paths)},
                     ctx.settings.estimates_noise() ? HalfSplit::CameraSamples : HalfSplit::None,
                     {numerator, double(half_b_paths)});
     }
@@ -115,6 +126,11 @@ void TileIntegrator::render(RenderContext &ctx) {
     // target) must not depend on the machine's speed.
     double pass_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - pass_start).count();
     if (ctx.settings.estimates_noise() ? batch < 16 : pass_seconds < 0.125 && batch < 64) batch *= 2;
+    if (adaptive && done >= next_check) {
+      const size_t marked = ctx.film.mark_converged(ctx.settings.adaptive_threshold, converged);
+      next_check = done + std::max(4u, done / 8);
+      if (marked == region_pixels) break;  // every pixel converged
+    }
     if (ctx.settings.estimates_noise()) {
       const double estimate = ctx.film.relative_mse_estimate();
       ctx.control.report_noise_estimate(estimate);

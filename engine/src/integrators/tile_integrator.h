@@ -14,7 +14,7 @@ namespace rdv {
 // light paths of half A's and of half B's samples, and how many light paths half B traced.
 struct TileSplats {
   std::vector<Splat> a, b;
-  uint64_t half_b_paths = 0;
+  uint64_t paths = 0, half_b_paths = 0;
 };
 
 class TileIntegrator : public Integrator {
@@ -25,10 +25,12 @@ class TileIntegrator : public Integrator {
   virtual Color Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
                    std::vector<Splat> &splats) const = 0;
 
-  // Samples [first, last) of every pixel of `tile`: the camera ray through the pixel
-  // filter and the lens, Li, then the film (never NaN / Inf). Stops early on
-  // ctx.control.should_stop() (cancel latency: one pixel's batch of samples).
-  void render_tile(RenderContext &ctx, const Rect &tile, uint32_t first, uint32_t last, TileSplats &splats) const;
+  // Samples [first, last) of every pixel of `tile` but those marked in `converged`
+  // (adaptive sampling; may be empty): the camera ray through the pixel filter and the
+  // lens, Li, then the film (never NaN / Inf). Stops early on ctx.control.should_stop()
+  // (cancel latency: one pixel's batch of samples).
+  void render_tile(RenderContext &ctx, const Rect &tile, uint32_t first, uint32_t last,
+                   const std::vector<uint8_t> &converged, TileSplats &splats) const;
 };
 
 }  // namespace rdv
