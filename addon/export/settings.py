@@ -55,31 +55,41 @@ BOUNCE_KINDS = ("diffuse_bounces", "glossy_bounces", "transmission_bounces", "vo
 ENGINE_MAX_BOUNCES = 1024
 
 
-def light_path_source(scene):
-    """The settings' owner: scene.cycles (Cycles enabled) or scene.rendezvous."""
+# Cycles' defaults, which scene.rendezvous mirrors (for a settings owner without a field).
+LIGHT_PATH_DEFAULTS = {"max_bounces": 12, "diffuse_bounces": 4, "glossy_bounces": 4, "transmission_bounces": 12,
+                       "volume_bounces": 0, "caustics_reflective": True, "caustics_refractive": True,
+                       "sample_clamp_direct": 0.0, "sample_clamp_indirect": 10.0}
+
+
+def light_path_source(scene, props=None):
+    """The settings' owner: scene.cycles (Cycles enabled), else props (scene.rendezvous)."""
     cycles = getattr(scene, "cycles", None)
     if cycles is not None and hasattr(cycles, "diffuse_bounces"):
         return cycles
-    return scene.rendezvous
+    return props if props is not None else scene.rendezvous
 
 
-def light_path_settings(scene):
+def light_path_settings(scene, props=None):
     """The engine's light-path keys: max_bounces always; a per-kind limit only where it can
     bind (below the total), clamps and caustics only where they differ from off / on, so a
     scene that uses none of them renders exactly as before."""
-    src = light_path_source(scene)
-    total = int(src.max_bounces)
+    src = light_path_source(scene, props)
+
+    def get(key):
+        return getattr(src, key, LIGHT_PATH_DEFAULTS[key])
+
+    total = int(get("max_bounces"))
     s = {"max_bounces": min(total + 1, ENGINE_MAX_BOUNCES)}
     for key in BOUNCE_KINDS:
-        n = int(getattr(src, key))
+        n = int(get(key))
         if n < total:
             s[key] = max(n, 0)
-    if not src.caustics_reflective:
+    if not get("caustics_reflective"):
         s["caustics_reflective"] = False
-    if not src.caustics_refractive:
+    if not get("caustics_refractive"):
         s["caustics_refractive"] = False
     for key in ("sample_clamp_direct", "sample_clamp_indirect"):
-        v = float(getattr(src, key))
+        v = float(get(key))
         if v > 0:
             s[key.replace("sample_", "")] = v
     return s
@@ -108,7 +118,7 @@ def session_settings(scene, props, frame=None, warn=print):
         "threads": int(props.threads),
         "clamp": float(props.clamp),
     }
-    s.update(light_path_settings(scene))
+    s.update(light_path_settings(scene, props))
     # Blender's pixel filter width (Film > Pixel Filter, Cycles' Blackman-Harris).
     filter_size = getattr(render, "filter_size", None)
     if filter_size is not None and abs(float(filter_size) - 1.5) > 1e-6:

@@ -417,6 +417,9 @@ def test_fire(args):
     vdb = os.path.join(TMP, "rdv_fire.vdb")
     subprocess.run([args.vdb_writer, vdb, "fire"], check=True)
     scene, ob, pv = build_fire_scene(vdb)
+    # Light scattered inside the volume counts: 12 volume bounces for both renderers (Cycles'
+    # default of 0, which Rendezvous now reads too, keeps single scattering only).
+    scene.cycles.volume_bounces = scene.cycles.max_bounces = 12
 
     def render_fire(name, samples=32):
         px, msgs, dt = render_checked(scene, name, samples)
@@ -483,6 +486,7 @@ def centroid(px):
 
 def test_fluid(args):
     scene, domain = build_fluid_scene(8)
+    scene.cycles.volume_bounces = scene.cycles.max_bounces = 12  # both renderers, as in test_fire
     px, msgs, dt = render_checked(scene, "fluid", 64)
     check(not any("Domain" in m for m in msgs), "unexpected warnings about the domain: %s" % msgs)
     mean = float(px.mean())
