@@ -97,6 +97,23 @@ TEST(Limits, DeepTextureGraphsAreAnError) {
   EXPECT_EQ(RDV_OK, rdv_scene_add_material(sc.s, "Procedural", params.c_str(), &id)) << error();
 }
 
+TEST(Limits, TextureEvaluationsPerHitAreBounded) {
+  // Bump nodes whose height is the next bump: 3^n height evaluations per shading point.
+  auto bumps = [](int n) {
+    std::string text;
+    for (int i = 0; i < n; ++i) text += R"({"node":"bump","height":)";
+    text += "0.5";
+    text.append(size_t(n), '}');
+    return R"({"type":"diffuse","normal":)" + text + "}";
+  };
+  SceneHandle sc;
+  uint32_t id;
+  EXPECT_EQ(RDV_ERROR_LIMIT, rdv_scene_add_material(sc.s, "Bumpy", bumps(30).c_str(), &id));  // 3^30 = 2e14
+  EXPECT_TRUE(has(error(), "material 'Bumpy' 'normal': its texture nodes would be evaluated")) << error();
+  EXPECT_TRUE(has(error(), "at most 1000000")) << error();
+  EXPECT_EQ(RDV_OK, rdv_scene_add_material(sc.s, "Bumpy", bumps(11).c_str(), &id)) << error();  // 442,866 evaluations
+}
+
 TEST(Limits, SceneFileStopsAtALimitNamingTheObject) {
   SceneHandle sc;
   std::string doc = std::string(kSceneStart) + R"("materials": [)" + nested_mix(100000).substr(0, std::string::npos);

@@ -23,6 +23,10 @@ constexpr int kMaxTextureDepth = 256;
 // Samples per pixel: the film counts them in float, exact up to 2^24 (a time-limited
 // render halts there too).
 constexpr uint32_t kMaxSamplesPerPixel = uint32_t(1) << 24;
+// Texture-node evaluations per shading point for one material input: an image node
+// evaluates its vector three times (at the point and at its footprint's two offsets), a
+// bump node its height three times, so chains of them multiply (30 nested bumps: 3^30).
+constexpr double kMaxTextureEvaluations = 1e6;
 // Triangles of one generated shape (sphere, disk) in a scene file.
 constexpr uint64_t kMaxGeneratedTriangles = uint64_t(1) << 24;
 

@@ -1,5 +1,6 @@
 #include "textures/texture_graph.h"
 #include <algorithm>
+#include <cstdio>
 #include <map>
 #include <set>
 #include "core/error.h"
@@ -132,6 +133,28 @@ struct NodeReader {
 };
 
 }  // namespace
+
+int TextureGraph::add(const TexNode &n) {
+  double evaluations = 1;
+  for (int k = 0; k < 6; ++k) {
+    if (n.in[k] < 0) continue;
+    bool thrice = k == 0 && ((n.type == TexNodeType::Image && n.interp != TexInterp::Closest) ||
+                             n.type == TexNodeType::Bump);  // footprint / finite differences
+    evaluations += (thrice ? 3 : 1) * evaluations_[size_t(n.in[k])];
+  }
+  if (evaluations > kMaxTextureEvaluations) {
+    char count[32];
+    std::snprintf(count, sizeof count, "%.3g", evaluations);
+    fail(parse_root_ + ": its texture nodes would be evaluated " + count +
+             " times per shading point (an image node evaluates its vector, a bump node its height, three "
+             "times, so chains of them multiply); at most " + std::to_string(int(kMaxTextureEvaluations)) +
+             " (a limit: docs/scene-format.md)",
+         RDV_ERROR_LIMIT);
+  }
+  nodes_.push_back(n);
+  evaluations_.push_back(evaluations);
+  return int(nodes_.size() - 1);
+}
 
 int TextureGraph::constant(Color c) {
   TexNode n;

@@ -70,10 +70,11 @@ class TextureGraph {
   Vec3 eval_normal(int node, const ShadingPoint &sp) const;
 
  private:
-  int add(const TexNode &n) { nodes_.push_back(n); return int(nodes_.size() - 1); }
+  int add(const TexNode &n);  // bounds the evaluations per shading point (kMaxTextureEvaluations)
   Color eval_node(const TexNode &n, int idx, const ShadingPoint &sp) const;
   int parse_node(const nlohmann::json &j, const std::string &what, std::vector<std::string> &warnings);
   std::vector<TexNode> nodes_;
+  std::vector<double> evaluations_;  // per node: its subgraph's node evaluations per shading point
   int parse_depth_ = 0;     // texture nodes above the one being parsed (kMaxTextureDepth)
   std::string parse_root_;  // the material input being parsed, for the limit's message
 };
