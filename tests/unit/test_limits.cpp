@@ -114,6 +114,20 @@ TEST(Limits, TextureEvaluationsPerHitAreBounded) {
   EXPECT_EQ(RDV_OK, rdv_scene_add_material(sc.s, "Bumpy", bumps(11).c_str(), &id)) << error();  // 442,866 evaluations
 }
 
+TEST(Limits, NestedBumpsOverAnImageAreBounded) {
+  // The hostile file's form: 30 bump nodes over a 4x4 image, whose vector (UV) is looked up
+  // three times too: refused at parse time, naming the material, instead of a render without end.
+  SceneHandle sc;
+  std::vector<float> pixels(4 * 4 * 3, 0.5f);
+  uint32_t image, id;
+  ASSERT_EQ(RDV_OK, rdv_scene_add_image(sc.s, "Tiny", pixels.data(), 4, 4, 3, "Non-Color", &image)) << error();
+  std::string height = R"({"node":"image","buffer":"Tiny"})";
+  for (int i = 0; i < 30; ++i) height = R"({"node":"bump","height":)" + height + "}";
+  std::string params = R"({"type":"diffuse","normal":)" + height + "}";
+  EXPECT_EQ(RDV_ERROR_LIMIT, rdv_scene_add_material(sc.s, "BumpyImage", params.c_str(), &id));
+  EXPECT_TRUE(has(error(), "material 'BumpyImage' 'normal': its texture nodes would be evaluated")) << error();
+}
+
 TEST(Limits, SceneFileStopsAtALimitNamingTheObject) {
   SceneHandle sc;
   std::string doc = std::string(kSceneStart) + R"("materials": [)" + nested_mix(100000).substr(0, std::string::npos);
