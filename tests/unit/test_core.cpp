@@ -128,3 +128,33 @@ TEST(Film, SplatsSumInDoublePrecision) {
   }
   EXPECT_NEAR(pixel() / one, 1.01, 1e-5);
 }
+
+// A render that estimates no noise keeps no half images: its film costs 112 bytes a
+// pixel, not 160 (a 4K frame: 0.4 GB less), and copies none in its tiles. The halves'
+// estimate itself is tested in tests/render/test_noise_target.cpp.
+TEST(Film, HalvesOnlyWhenTheNoiseIsEstimated) {
+  EXPECT_EQ(rdv::Film::bytes_per_pixel(true) - rdv::Film::bytes_per_pixel(false),
+            sizeof(rdv::HalfSum) + sizeof(rdv::SplatSums));
+  EXPECT_EQ(rdv::Film::bytes_per_pixel(false), 112u);
+  rdv::Film plain(4, 4, rdv::Rect{0, 0, 4, 4}), halves(4, 4, rdv::Rect{0, 0, 4, 4}, true);
+  EXPECT_FALSE(plain.has_halves());
+  EXPECT_TRUE(halves.has_halves());
+  rdv::PixelFilter filter(1.5f);
+  for (rdv::Film *film : {&plain, &halves}) {
+    rdv::FilmTile tile;
+    film->take_tile(rdv::Rect{0, 0, 4, 4}, tile);
+    tile.add_sample(1, 1, rdv::Color(1.0f), film->has_halves());
+    tile.add_sample(1, 1, rdv::Color(3.0f), false);
+    film->put_tile(tile);
+    rdv::Film::PassPublisher pass(*film);
+    pass.add_splat({2.0f, 2.0f}, rdv::Color(1.0f), filter, true);  // ignored without halves
+    pass.publish(2, {1.0, 2.0}, film->has_halves() ? rdv::HalfSplit::CameraSamples : rdv::HalfSplit::None,
+                 {1.0, 1.0});
+  }
+  float a[4], b[4];
+  plain.read(RDV_PASS_COMBINED, 1, 1, 1, 1, true, a);
+  halves.read(RDV_PASS_COMBINED, 1, 1, 1, 1, true, b);
+  EXPECT_EQ(a[0], b[0]);  // the same image either way
+  EXPECT_LT(plain.relative_mse_estimate(), 0);  // no estimate without halves
+  EXPECT_GE(halves.relative_mse_estimate(), 0);
+}

@@ -6,20 +6,27 @@
 
 namespace rdv {
 
-Film::Film(int width, int height, Rect region)
+Film::Film(int width, int height, Rect region, bool halves)
     : width_(width), height_(height), region_(region), pixels_(size_t(width) * height),
-      aovs_(size_t(width) * height), splats_(size_t(width) * height), half_splats_(size_t(width) * height) {}
+      aovs_(size_t(width) * height), splats_(size_t(width) * height),
+      half_pixels_(halves ? size_t(width) * height : 0), half_splats_(halves ? size_t(width) * height : 0) {}
 
-size_t Film::bytes_per_pixel() { return sizeof(PixelSum) + sizeof(PixelAov) + 2 * sizeof(SplatSums); }
+size_t Film::bytes_per_pixel(bool halves) {
+  return sizeof(PixelSum) + sizeof(PixelAov) + sizeof(SplatSums) +
+         (halves ? sizeof(HalfSum) + sizeof(SplatSums) : 0);
+}
 
 void Film::take_tile(const Rect &rect, FilmTile &tile) const {
   tile.rect_ = rect;
   size_t n = size_t(rect.width()) * size_t(rect.height());
   tile.pixels_.resize(n);
+  tile.halves_.resize(has_halves() ? n : 0);
   tile.aovs_.resize(n);
   std::lock_guard<std::mutex> frame(frame_mutex_);
   for (int y = rect.y0; y < rect.y1; ++y) {
     std::copy_n(&pixels_[index(rect.x0, y)], rect.width(), &tile.pixels_[tile.index(rect.x0, y)]);
+    if (has_halves())
+      std::copy_n(&half_pixels_[index(rect.x0, y)], rect.width(), &tile.halves_[tile.index(rect.x0, y)]);
     std::copy_n(&aovs_[index(rect.x0, y)], rect.width(), &tile.aovs_[tile.index(rect.x0, y)]);
   }
 }
@@ -29,6 +36,8 @@ void Film::put_tile(const FilmTile &tile) {
   std::lock_guard<std::mutex> frame(frame_mutex_);
   for (int y = rect.y0; y < rect.y1; ++y) {
     std::copy_n(&tile.pixels_[tile.index(rect.x0, y)], rect.width(), &pixels_[index(rect.x0, y)]);
+    if (has_halves())
+      std::copy_n(&tile.halves_[tile.index(rect.x0, y)], rect.width(), &half_pixels_[index(rect.x0, y)]);
     std::copy_n(&tile.aovs_[tile.index(rect.x0, y)], rect.width(), &aovs_[index(rect.x0, y)]);
   }
 }
@@ -56,7 +65,7 @@ void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_
         sum[0] += c.x;
         sum[1] += c.y;
         sum[2] += c.z;
-        if (half_b) {
+        if (half_b && has_halves()) {
           SplatSums &half = half_splats_[index(x, y)];
           half[0] += c.x;
           half[1] += c.y;
@@ -101,7 +110,9 @@ void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float 
         }
         case RDV_PASS_NOISE: {
           double v;
-          dst[0] = pixel_relative_variance(p, splats_[i], half_splats_[i], state_, &v) ? float(std::sqrt(v)) : 0.0f;
+          dst[0] = has_halves() && pixel_relative_variance(p, half_pixels_[i], splats_[i], half_splats_[i], state_, &v)
+                       ? float(std::sqrt(v))
+                       : 0.0f;
           break;
         }
       }

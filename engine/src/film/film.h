@@ -47,9 +47,13 @@ using SplatSums = std::array<double, 3>;
 
 class Film {
  public:
-  Film(int width, int height, Rect region);
-  // What one pixel costs (samples, splats, AOVs): for the memory check before a film is made.
-  static size_t bytes_per_pixel();
+  // halves: keep the two half images a noise estimate needs (RenderSettings::
+  // estimates_noise()); without them a frame can only be published with HalfSplit::None.
+  Film(int width, int height, Rect region, bool halves = false);
+  // What one pixel costs (samples, splats, AOVs, halves): for the memory check before a
+  // film is made.
+  static size_t bytes_per_pixel(bool halves);
+  bool has_halves() const { return !half_splats_.empty(); }
   int width() const { return width_; }
   int height() const { return height_; }
   const Rect &region() const { return region_; }
@@ -68,7 +72,7 @@ class Film {
     // Spreads L over the pixels whose filter covers `raster`, with the same normalised
     // Blackman-Harris weights filter importance sampling gives camera samples, so that
     // splatted and sampled estimates converge to the same image.
-    // half_b: the splat belongs to half image B too (film/noise_estimate.h).
+    // half_b: the splat belongs to half image B too (film/noise_estimate.h); needs halves.
     void add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b = false) {
       film_.add_splat(raster, L, filter, half_b);
     }
@@ -122,7 +126,9 @@ class Film {
   std::vector<PixelSum> pixels_;
   std::vector<PixelAov> aovs_;
   std::vector<SplatSums> splats_;
-  std::vector<SplatSums> half_splats_;  // half B's share of splats_
+  // Half B's share of pixels_ and splats_; both empty when the film keeps no halves.
+  std::vector<HalfSum> half_pixels_;
+  std::vector<SplatSums> half_splats_;
   FrameState state_;
   mutable std::mutex frame_mutex_;  // guards all of the above but the sizes
 };

@@ -19,13 +19,18 @@ struct Rect {
 };
 
 // A pixel's camera samples: their sum (double: render parts add up to the whole
-// render's sums, film/render_part.h) and count, and the same of its half B: two
-// independent half images whose difference estimates the noise (film/noise_estimate.h).
-// The half count fills the count's padding.
+// render's sums, film/render_part.h) and count.
 struct PixelSum {
   std::array<double, 3> sample{};
-  uint32_t count = 0, half_count = 0;
-  std::array<double, 3> half{};
+  uint32_t count = 0;
+};
+
+// The same for the samples of a pixel's half B: with the rest, two independent half
+// images whose difference estimates the noise (film/noise_estimate.h). Kept apart so
+// that a render that estimates no noise neither stores nor copies them.
+struct HalfSum {
+  std::array<double, 3> sample{};
+  uint32_t count = 0;
 };
 
 // First-hit AOVs: nearest depth, summed normals and albedos (averaged by the count).
@@ -43,11 +48,12 @@ class FilmTile {
     p.sample[1] += L.y;
     p.sample[2] += L.z;
     p.count += 1;
-    if (half_b) {
-      p.half[0] += L.x;
-      p.half[1] += L.y;
-      p.half[2] += L.z;
-      p.half_count += 1;
+    if (half_b) {  // only when the film keeps halves (Film::has_halves)
+      HalfSum &h = halves_[index(x, y)];
+      h.sample[0] += L.x;
+      h.sample[1] += L.y;
+      h.sample[2] += L.z;
+      h.count += 1;
     }
   }
   void add_first_hit(int x, int y, float depth, Vec3 normal, Color albedo) {
@@ -64,6 +70,7 @@ class FilmTile {
   size_t index(int x, int y) const { return size_t(y - rect_.y0) * size_t(rect_.width()) + size_t(x - rect_.x0); }
   Rect rect_;
   std::vector<PixelSum> pixels_;
+  std::vector<HalfSum> halves_;  // empty unless the film keeps halves
   std::vector<PixelAov> aovs_;
 };
 

@@ -6,7 +6,7 @@
 
 namespace rdv {
 
-bool pixel_relative_variance(const PixelSum &pixel, const SplatSums &splats, const SplatSums &half_splats,
+bool pixel_relative_variance(const PixelSum &pixel, const HalfSum &half, const SplatSums &splats, const SplatSums &half_splats,
                              const FrameState &frame, double *relative_variance) {
   *relative_variance = 0;
   const double paths_b = frame.half_splats.paths, paths_a = frame.splats.paths - paths_b;
@@ -19,12 +19,12 @@ bool pixel_relative_variance(const PixelSum &pixel, const SplatSums &splats, con
   double f;  // half B's share of the samples
   double a[3], b[3], full[3];
   if (frame.split == HalfSplit::CameraSamples) {
-    const double nb = pixel.half_count, na = n - nb;
+    const double nb = half.count, na = n - nb;
     if (!(na > 0 && nb > 0)) return false;
     f = nb / n;
     for (int c = 0; c < 3; ++c) {
-      a[c] = (pixel.sample[c] - pixel.half[c]) / na + (splats[c] - half_splats[c]) * scale_a;
-      b[c] = pixel.half[c] / nb + half_splats[c] * scale_b;
+      a[c] = (pixel.sample[c] - half.sample[c]) / na + (splats[c] - half_splats[c]) * scale_a;
+      b[c] = half.sample[c] / nb + half_splats[c] * scale_b;
       full[c] = pixel.sample[c] / n + splats[c] * scale;
     }
   } else if (frame.split == HalfSplit::Splats) {
@@ -54,13 +54,13 @@ bool pixel_relative_variance(const PixelSum &pixel, const SplatSums &splats, con
 
 double Film::relative_mse_estimate() const {
   std::lock_guard<std::mutex> frame(frame_mutex_);
-  if (state_.split == HalfSplit::None) return -1;
+  if (state_.split == HalfSplit::None || !has_halves()) return -1;
   double sum = 0;
   for (int y = region_.y0; y < region_.y1; ++y) {
     for (int x = region_.x0; x < region_.x1; ++x) {
       const size_t i = index(x, y);
       double v;
-      if (!pixel_relative_variance(pixels_[i], splats_[i], half_splats_[i], state_, &v))
+      if (!pixel_relative_variance(pixels_[i], half_pixels_[i], splats_[i], half_splats_[i], state_, &v))
         return std::numeric_limits<double>::infinity();
       sum += v;
     }
@@ -71,6 +71,7 @@ double Film::relative_mse_estimate() const {
 size_t Film::mark_converged(double threshold, std::vector<uint8_t> &converged) const {
   const int w = region_.width(), h = region_.height();
   converged.resize(size_t(width_) * height_, 0);
+  if (!has_halves()) return 0;
   std::vector<double> variance(size_t(w) * h);
   std::vector<uint8_t> valid(size_t(w) * h);
   {
@@ -78,7 +79,7 @@ size_t Film::mark_converged(double threshold, std::vector<uint8_t> &converged) c
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         const size_t i = index(region_.x0 + x, region_.y0 + y), j = size_t(y) * w + x;
-        valid[j] = pixel_relative_variance(pixels_[i], splats_[i], half_splats_[i], state_, &variance[j]);
+        valid[j] = pixel_relative_variance(pixels_[i], half_pixels_[i], splats_[i], half_splats_[i], state_, &variance[j]);
       }
   }
   const double limit = threshold * threshold;

@@ -18,7 +18,7 @@ namespace rdv {
 // v = (A - B)^2 f (1 - f), plus the frame's scale error (MLT's b) times I^2, over
 // (max(0, I^2 - v) + 0.01), the reference's square estimated without the noise in I^2.
 // False when the pixel has no estimate yet (a half without samples).
-bool pixel_relative_variance(const PixelSum &pixel, const SplatSums &splats, const SplatSums &half_splats,
+bool pixel_relative_variance(const PixelSum &pixel, const HalfSum &half, const SplatSums &splats, const SplatSums &half_splats,
                              const FrameState &frame, double *relative_variance);
 
 }  // namespace rdv

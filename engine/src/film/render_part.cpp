@@ -70,7 +70,7 @@ LoadedPart load_part(const std::string &path) {
   part.height = spec.height;
   check_memory("part '" + path + "'", "its " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " sums",
                double(spec.width) * double(spec.height) * double(spec.nchannels + kWordsPerPixel) * 4.0 +
-                   double(spec.width) * double(spec.height) * double(Film::bytes_per_pixel()));
+                   double(spec.width) * double(spec.height) * double(Film::bytes_per_pixel(false)));
   // EXR keeps channels sorted by name: find each of ours, read the span they lie in.
   const std::vector<std::string> names = channel_names();
   std::vector<int> index(names.size(), -1);

@@ -140,7 +140,7 @@ RenderSettings RenderSettings::from_params(Params &p) {
          "): each pixel's sample count depends on the samples before it, so parts would not add up");
   // Before the session allocates anything: the film, and Metropolis' bootstrap and chains.
   std::string film = std::to_string(s.width) + "x" + std::to_string(s.height) + " film";
-  double bytes = double(s.width) * double(s.height) * double(Film::bytes_per_pixel());
+  double bytes = double(s.width) * double(s.height) * double(Film::bytes_per_pixel(s.estimates_noise()));
   if (s.integrator == "pssmlt" || s.integrator == "mmlt") {
     bytes += mlt::Metropolis::memory_estimate(s, s.integrator == "mmlt");
     film += " with " + s.integrator + "'s bootstrap (" + std::to_string(s.mlt_bootstrap) + " per pixel) and " +

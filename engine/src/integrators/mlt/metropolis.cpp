@@ -370,16 +370,17 @@ void Metropolis::render(RenderContext &ctx) {
     {
       // The splats and the frame state they make (mutations per pixel, b / mutations):
       // a read sees both or neither.
-      // The odd chains make half image B (film/noise_estimate.h): chains are
-      // independent, their samples are not.
+      // The odd chains make half image B (film/noise_estimate.h) when the settings
+      // ask for an estimate: chains are independent, their samples are not.
       Film::PassPublisher frame(ctx.film);
+      const bool halves = n_chains > 1 && settings_.estimates_noise();
       for (size_t c = 0; c < chains.size(); ++c) {
-        for (const Splat &sp : chains[c].splats) frame.add_splat(sp.raster, sp.L, ctx.filter, c & 1);
+        for (const Splat &sp : chains[c].splats) frame.add_splat(sp.raster, sp.L, ctx.filter, halves && (c & 1));
         chains[c].splats.clear();
       }
       if (done > 0)
         frame.publish(uint32_t(std::min<uint64_t>(done / region_pixels, UINT32_MAX)), {b_now, double(done)},
-                      n_chains > 1 ? HalfSplit::Splats : HalfSplit::None, {b_now, double(done_b)},
+                      halves ? HalfSplit::Splats : HalfSplit::None, {b_now, double(done_b)},
                       b_now > 0 ? (b_error / b_now) * (b_error / b_now) : 0.0);
     }
     if (settings_.estimates_noise() && done > 0) {
