@@ -11,7 +11,7 @@ import numpy as np
 from .. import binding
 from ..binding import EngineError, LibraryError
 from ..export import SceneExporter, ExportError, SettingsError, session_settings, resolution, border_rect
-from ..export.settings import INTEGRATOR_LABELS, part_output_path, scene_hash
+from ..export.settings import INTEGRATOR_LABELS, auto_choice_text, part_output_path, scene_hash
 from ..utils import Messages
 from ..utils.images import image_average, clear_cache
 
@@ -96,7 +96,14 @@ def _stats_text(settings, p, session=None):
         parts.append(noise)
     if p.samples_dropped:
         parts.append("%d NaN samples dropped" % p.samples_dropped)
-    if session is not None and settings.get("integrator") in ("pssmlt", "mmlt"):
+    if session is not None and settings.get("integrator") == "auto":
+        try:
+            choice = session.stats().get("auto") or {}
+        except EngineError:
+            choice = {}
+        pick = choice.get("integrator")
+        parts[1] = "Automatic: " + (INTEGRATOR_LABELS.get(pick, pick) if pick else "pilots")
+    if session is not None and settings.get("integrator") in ("pssmlt", "mmlt", "auto"):
         text = _metropolis_text(session)
         if text:
             parts.append(text)
@@ -220,6 +227,9 @@ def _render(engine, depsgraph):
                            engine_stopped=time.monotonic(), integrator_stats=session.stats())
         if "warning" in last_render["integrator_stats"]:
             engine.report({"WARNING"}, last_render["integrator_stats"]["warning"])
+        choice = auto_choice_text(last_render["integrator_stats"])
+        if choice:
+            engine.report({"INFO"}, choice)
         film.push()
         if props.part_output and not cancelled:
             _write_part(session, scene, props)

@@ -4,10 +4,28 @@ import hashlib
 import math
 import os
 
-INTEGRATORS = {"PATH": "path", "BDPT": "bdpt", "PSSMLT": "pssmlt", "MMLT": "mmlt"}
+INTEGRATORS = {"PATH": "path", "BDPT": "bdpt", "PSSMLT": "pssmlt", "MMLT": "mmlt", "AUTO": "auto"}
 METROPOLIS = ("pssmlt", "mmlt")
 INTEGRATOR_LABELS = {"path": "Path Tracing", "bdpt": "Bidirectional", "pssmlt": "Metropolis (Kelemen)",
-                     "mmlt": "Metropolis (Multiplexed)"}
+                     "mmlt": "Metropolis (Multiplexed)", "auto": "Automatic"}
+
+
+def auto_choice_text(stats):
+    """Integrator Automatic's pick and its evidence (each pilot's estimated error and speed),
+    from the session stats; "" when the stats hold no choice."""
+    choice = stats.get("auto")
+    if not choice:
+        return ""
+    if choice.get("integrator") is None:
+        return "Automatic: pilots running"
+    pilots = ", ".join("%s %.2g/s (relMSE %.2g, %d spp)" % (INTEGRATOR_LABELS.get(p["integrator"], p["integrator"]),
+                                                            p["efficiency"], p["rel_mse"], p["spp"])
+                       for p in choice["pilots"])
+    text = "Automatic chose %s after %.1f s of pilots; efficiency 1/(error x time): %s" % (
+        INTEGRATOR_LABELS.get(choice["integrator"], choice["integrator"]), choice["pilot_seconds"], pilots)
+    if choice.get("time_limit_extended"):
+        text += " (the pilots overran: the time limit grew to give the pick 5% of it)"
+    return text
 
 
 def metropolis_settings(props):
@@ -123,9 +141,12 @@ def session_settings(scene, props, frame=None, warn=print):
     filter_size = getattr(render, "filter_size", None)
     if filter_size is not None and abs(float(filter_size) - 1.5) > 1e-6:
         s["filter_width"] = min(max(float(filter_size), 0.01), 10.0)
-    if s["integrator"] == "bdpt":
+    if s["integrator"] == "auto" and time_limit <= 0.0:
+        raise SettingsError("Integrator Automatic splits a time budget between pilots and the render: set "
+                            "Sampling > Render > Time Limit")
+    if s["integrator"] in ("bdpt", "auto"):  # auto: the settings of whichever it picks
         s["mis"] = MIS.get(getattr(props, "bdpt_mis", "POWER"), "power")
-    if s["integrator"] in METROPOLIS:
+    if s["integrator"] in METROPOLIS + ("auto",):
         s.update(metropolis_settings(props))
     if samples > 0:
         s["samples"] = samples

@@ -17,6 +17,13 @@ INTEGRATOR_ITEMS = [
                                          "samples are mutations per pixel; uneven noise in easy scenes"),
 ]
 
+# The final render may also let short pilots choose (it has a time budget to split).
+FINAL_INTEGRATOR_ITEMS = INTEGRATOR_ITEMS + [
+    ("AUTO", "Automatic", "Short pilot renders of each integrator (10% of the Time Limit) measure its noise "
+                          "per second; the most efficient one renders the rest. Needs a Time Limit; the choice "
+                          "and its evidence appear in the status bar and the Info log"),
+]
+
 MIS_ITEMS = [
     ("POWER", "Power Heuristic", "Veach's power heuristic over every strategy (the default)"),
     ("BALANCE", "Balance Heuristic", "Veach's balance heuristic"),
@@ -26,7 +33,7 @@ MIS_ITEMS = [
 
 
 class RendezvousRenderSettings(bpy.types.PropertyGroup):
-    integrator: EnumProperty(name="Integrator", items=INTEGRATOR_ITEMS, default="PATH",
+    integrator: EnumProperty(name="Integrator", items=FINAL_INTEGRATOR_ITEMS, default="PATH",
                              description="Light transport algorithm of the final render: path tracing "
                                          "is the fastest per sample; bidirectional and Metropolis cost more "
                                          "per sample but find hard light (caustics, gaps) with less noise")

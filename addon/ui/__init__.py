@@ -73,6 +73,8 @@ class RENDEZVOUS_PT_sampling_render(RendezvousSubpanel, bpy.types.Panel):
         col = layout.column(align=True)
         col.prop(props, "samples", text="Max Samples")
         col.prop(props, "time_limit")
+        if props.integrator == "AUTO" and props.time_limit <= 0.0:
+            layout.label(text="Automatic needs a Time Limit", icon="ERROR")
         layout.prop(props, "noise_target")
         if props.integrator in ("PATH", "BDPT"):
             layout.prop(props, "use_adaptive_sampling")

@@ -178,7 +178,10 @@ RDV_API rdv_status rdv_scene_summary(rdv_scene *scene, const char **out_json);
  *   scene_hash: render parts, see rdv_merge_parts). A session always has a halt condition: samples
  *   or time_limit (if neither is given, samples defaults to 128). integrator:
  *   path, bdpt, pssmlt or mmlt (Metropolis: samples = mutations per pixel; settings
- *   mlt_large_step, mlt_bootstrap, mlt_chains, mlt_step_size, mlt_target; docs/scene-format.md). */
+ *   mlt_large_step, mlt_bootstrap, mlt_chains, mlt_step_size, mlt_target; docs/scene-format.md),
+ *   or auto (needs time_limit: pilots of each of "auto_candidates", default
+ *   ["path","bdpt","pssmlt","mmlt"], take 10% of it and the most efficient one renders the
+ *   rest; docs/trade.md). */
 RDV_API rdv_status rdv_session_create(rdv_scene *scene, const char *settings_json,
                                       rdv_session **out_session);
 /* Starts rendering in the engine's own threads and returns at once. */
@@ -216,7 +219,10 @@ RDV_API rdv_status rdv_session_progress(rdv_session *session, rdv_progress *out_
  * mmlt also "depth_b" (b per path depth), "strategy_counts" (mutations ending in each
  * (depth, s) state, depth-major: depth 0 has s = 0 only, depth d >= 1 has s = 0..d+1) and
  * "strategy_b" (the bootstrap's b of each such state); "warning" when the image cannot be made (e.g. the
- * bootstrap found no light). Safe to call while rendering. */
+ * bootstrap found no light). Integrator auto: "auto" {"integrator" (the pick; null during
+ * the pilots), "pilot_seconds", "pilots": [{"integrator", "seconds", "rel_mse",
+ * "efficiency", "spp"}], "time_limit_extended" when slow pilots left the pick under 5% of
+ * the limit}, next to the pick's own figures. Safe to call while rendering. */
 RDV_API rdv_status rdv_session_stats(rdv_session *session, const char **out_json);
 
 typedef enum rdv_pass {

@@ -12,7 +12,6 @@
 #include <string>
 #include <thread>
 #include "rendezvous.h"
-#include "auto_integrator.h"
 #include "equal_time.h"
 #include "scene_file.h"
 #include "study.h"
@@ -119,6 +118,22 @@ int merge_main(int argc, char **argv) {
 
 }  // namespace
 
+// Integrator auto's evidence: each candidate's pilots and the pick.
+static void print_auto_choice(const nlohmann::json &choice, double time_limit) {
+  const std::string pick = choice["integrator"].is_string() ? choice["integrator"].get<std::string>() : "";
+  for (const nlohmann::json &p : choice["pilots"])
+    std::fprintf(stderr, "rendezvous: auto: %-6s pilot %.2f s x 2, %u spp, estimated relMSE %.3g, efficiency %.3g /s%s\n",
+                 p["integrator"].get<std::string>().c_str(), p["seconds"].get<double>(), p["spp"].get<unsigned>(),
+                 p["rel_mse"].get<double>(), p["efficiency"].get<double>(),
+                 p["integrator"] == pick ? "  <- chosen" : "");
+  if (pick.empty())
+    std::fprintf(stderr, "rendezvous: auto: cancelled during the pilots\n");
+  else
+    std::fprintf(stderr, "rendezvous: auto: chose %s; pilots took %.2f s of %.2f s%s\n", pick.c_str(),
+                 choice["pilot_seconds"].get<double>(), time_limit,
+                 choice.value("time_limit_extended", false) ? " (the time limit grew to give the pick 5% of it)" : "");
+}
+
 int main(int argc, char **argv) {
   if (argc > 1 && std::strcmp(argv[1], "merge") == 0) return merge_main(argc, argv);
   if (argc > 1 && std::strcmp(argv[1], "study") == 0) return rdv_tools::study_main(argc, argv);
@@ -203,27 +218,6 @@ int main(int argc, char **argv) {
   settings.update(overrides);
   if (!settings.contains("scene_hash")) settings["scene_hash"] = scene_file_hash(scene_path);
 
-  if (settings.value("integrator", "") == "auto") {
-    // Pilots of every integrator, then the most efficient one renders the rest of the time.
-    try {
-      rdv_tools::AutoChoice choice = rdv_tools::choose_integrator(scene, settings);
-      for (const rdv_tools::Pilot &p : choice.pilots)
-        std::fprintf(stderr, "rendezvous: auto: %-6s pilot %.2f s x 2, %u spp, estimated relMSE %.3g, efficiency %.3g /s%s\n",
-                     p.integrator.c_str(), p.seconds, p.spp, p.rel_mse, p.efficiency,
-                     p.integrator == choice.integrator ? "  <- chosen" : "");
-      const double budget = settings["time_limit"].get<double>();
-      std::fprintf(stderr, "rendezvous: auto: chose %s; pilots took %.2f s of %.2f s\n", choice.integrator.c_str(),
-                   choice.pilot_seconds, budget);
-      if (summary) std::printf("%s\n", nlohmann::json({{"auto_integrator", choice.to_json()}}).dump().c_str());
-      settings["integrator"] = choice.integrator;
-      settings["time_limit"] = std::max(budget - choice.pilot_seconds, 0.05 * budget);
-    } catch (const std::exception &e) {
-      std::fprintf(stderr, "rendezvous: %s\n", e.what());
-      rdv_scene_destroy(scene);
-      return 1;
-    }
-  }
-
   rdv_session *session = nullptr;
   if (!check(rdv_session_create(scene, settings.dump().c_str(), &session), "session")) {
     rdv_scene_destroy(scene);
@@ -263,6 +257,7 @@ int main(int argc, char **argv) {
   if (rdv_session_stats(session, &text) == RDV_OK && text && std::strcmp(text, "{}") != 0) {
     nlohmann::json stats = nlohmann::json::parse(text);
     if (stats.contains("warning")) std::fprintf(stderr, "rendezvous: warning: %s\n", stats["warning"].get<std::string>().c_str());
+    if (stats.contains("auto")) print_auto_choice(stats["auto"], p.time_limit_seconds);
     if (stats.contains("b"))
       std::fprintf(stderr,
                    "rendezvous: %s: %s target, %u chains, b = %.6g +- %.2g (%llu bootstrap samples), acceptance: small "

@@ -41,6 +41,7 @@ sys.path.insert(0, os.path.join(ROOT, "scenes", "blend"))
 import build_scenes  # noqa: E402
 
 from rendezvous.engine import final  # noqa: E402
+from rendezvous.export import settings as settings_mod  # noqa: E402
 from rendezvous.export.dump import write_scene_json  # noqa: E402
 
 TMP = os.environ.get("RDV_TEST_TMP") or bpy.app.tempdir
@@ -530,6 +531,25 @@ def test_metropolis(args):
             integrator, float(px[:, :, :3].mean()), st["b"], st["small_step_acceptance"], st["large_step_acceptance"], dt))
 
 
+def test_auto(args):
+    """Integrator Automatic through the add-on: pilots of every integrator (10% of the Time
+    Limit), then the pick renders (here until its 4 samples; the engine's AutoIntegrator
+    tests render to the limit); the choice and its evidence reach last_render."""
+    scene = build_scenes.build("cornell_lamp_near_ceiling")
+    scene.render.resolution_x, scene.render.resolution_y = 32, 24
+    result, dt = render(scene, samples=4, integrator="AUTO", time_limit=2.0, mlt_chains=16)
+    check(result == {"FINISHED"}, "render returned %s" % result)
+    px = render_pixels(scene, "auto")
+    check(np.isfinite(px).all() and float(px[:, :, :3].mean()) > 0.0, "non-finite or black image")
+    choice = final.last_render.get("integrator_stats", {}).get("auto", {})
+    pilots = [p["integrator"] for p in choice.get("pilots", [])]
+    check(pilots == ["path", "bdpt", "pssmlt", "mmlt"], "pilots %r" % choice)
+    check(choice.get("integrator") in pilots, "no pick: %r" % choice)
+    check(final.last_render["progress"]["samples_done"] > 0, "the pick rendered nothing")
+    print("AUTO picked %s after %.2f s of pilots; render %.2f s; %s" % (
+        choice["integrator"], choice["pilot_seconds"], dt, settings_mod.auto_choice_text({"auto": choice})))
+
+
 def image_channels_equal(a, b, name):
     """True when the image channels (not the part sums) of two EXRs are equal bit for bit."""
     oiio, idiff = shutil.which("oiiotool"), shutil.which("idiff")
@@ -590,7 +610,7 @@ def test_farm(args):
 
 MODES = {"farm": test_farm, "border": test_border, "metropolis": test_metropolis, "scenes": test_scenes, "bad_input": test_bad_input, "cancel": test_cancel, "passes": test_passes,
          "dump": test_dump, "nolib": test_nolib, "volume": test_volume, "fire": test_fire,
-         "fluid": test_fluid}
+         "fluid": test_fluid, "auto": test_auto}
 
 
 def main():

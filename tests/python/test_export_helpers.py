@@ -156,6 +156,27 @@ class TestCameraSettings(unittest.TestCase):
         self.assertEqual(s["time_limit"], 2.5)
         self.assertNotIn("samples", s)
 
+    def test_auto_integrator_settings(self):
+        from rendezvous.export.settings import session_settings, SettingsError
+        scene = ns(render=self.render(), frame_current=1)
+        mlt = dict(mlt_large_step=0.3, mlt_bootstrap=1, mlt_chains=256, mlt_step_size=0.01, mlt_target="RELATIVE")
+        s = session_settings(scene, self.props(integrator="AUTO", samples=0, time_limit=30.0, **mlt))
+        # Whichever it picks gets the user's settings for it.
+        self.assertEqual((s["integrator"], s["time_limit"], s["mis"], s["mlt_chains"]), ("auto", 30.0, "power", 256))
+        with self.assertRaises(SettingsError) as caught:
+            session_settings(scene, self.props(integrator="AUTO", time_limit=0.0, **mlt))
+        self.assertIn("Time Limit", str(caught.exception))
+
+    def test_auto_choice_text(self):
+        from rendezvous.export.settings import auto_choice_text
+        self.assertEqual(auto_choice_text({}), "")
+        self.assertEqual(auto_choice_text({"auto": {"integrator": None, "pilots": []}}), "Automatic: pilots running")
+        text = auto_choice_text({"auto": {"integrator": "bdpt", "pilot_seconds": 0.61, "pilots": [
+            {"integrator": "path", "efficiency": 24.0, "rel_mse": 0.555, "spp": 15},
+            {"integrator": "bdpt", "efficiency": 66.6, "rel_mse": 0.2, "spp": 7}]}})
+        self.assertIn("Automatic chose Bidirectional after 0.6 s of pilots", text)
+        self.assertIn("Path Tracing 24/s (relMSE 0.56, 15 spp)", text)
+
     def test_noise_target_settings(self):
         from rendezvous.export.settings import session_settings, SettingsError
         scene = ns(render=self.render(), frame_current=1)

@@ -1,9 +1,12 @@
-// `--integrator auto` (engine/tools/auto_integrator.cpp): the pick follows the pilots'
-// efficiency, is the same for the same seed, and a missing time limit or an unknown
-// candidate is refused naming it.
+// Integrator auto (engine/src/integrators/auto/): the pick follows the pilots'
+// efficiency, is the same for the same seed, is reported in the stats, renders the rest
+// of the budget into the session's film, stops on a cancel during its pilots, and a
+// missing time limit or an unknown candidate is refused naming it.
 #include <gtest/gtest.h>
+#include <chrono>
+#include <cmath>
 #include <string>
-#include "auto_integrator.h"
+#include <thread>
 #include "equal_time.h"
 
 using nlohmann::json;
@@ -11,6 +14,37 @@ using nlohmann::json;
 namespace {
 
 const std::string kScenes = std::string(RDV_SOURCE_DIR) + "/scenes/";
+
+struct AutoRun {
+  json choice;           // stats["auto"]
+  rdv_progress progress{};
+};
+
+// Starts an auto render; once the pick is known, cancels it if cancel_after_pick (only
+// the pilots run), else lets it finish. cancel_at_once: cancels before the pilots end.
+AutoRun run_auto(rdv_scene *scene, const json &settings, bool cancel_after_pick, bool cancel_at_once = false) {
+  rdv_session *session = nullptr;
+  EXPECT_EQ(rdv_session_create(scene, settings.dump().c_str(), &session), RDV_OK) << rdv_last_error();
+  AutoRun run;
+  if (!session) return run;
+  EXPECT_EQ(rdv_session_start(session), RDV_OK);
+  if (cancel_at_once) rdv_session_cancel(session);
+  const char *text = nullptr;
+  while (true) {
+    rdv_session_progress(session, &run.progress);
+    if (run.progress.finished) break;
+    if (cancel_after_pick && rdv_session_stats(session, &text) == RDV_OK &&
+        json::parse(text)["auto"]["integrator"].is_string())
+      rdv_session_cancel(session);
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_EQ(rdv_session_wait(session), RDV_OK) << rdv_last_error();
+  rdv_session_progress(session, &run.progress);
+  EXPECT_EQ(rdv_session_stats(session, &text), RDV_OK);
+  run.choice = json::parse(text)["auto"];
+  rdv_session_destroy(session);
+  return run;
+}
 
 }  // namespace
 
@@ -20,39 +54,62 @@ const std::string kScenes = std::string(RDV_SOURCE_DIR) + "/scenes/";
 TEST(AutoIntegrator, PicksTheEfficientIntegratorTheSameWayForTheSameSeed) {
   rdv_tools::EqualTimeScene scene = rdv_tools::load_equal_time_scene(kScenes + "door_gap.json", 32);
   rdv_tools::EngineScene loaded(scene);
-  const json settings = rdv_tools::render_settings(scene, {{"time_limit", 8.0}, {"seed", 5}});
+  const json settings = rdv_tools::render_settings(
+      scene, {{"integrator", "auto"}, {"auto_candidates", {"path", "bdpt"}}, {"time_limit", 8.0}, {"seed", 5}});
   std::string first;
   for (int run = 0; run < 2; ++run) {
-    rdv_tools::AutoChoice c = rdv_tools::choose_integrator(loaded.get(), settings, {"path", "bdpt"});
-    ASSERT_EQ(c.pilots.size(), 2u);
-    EXPECT_EQ(c.pilots[0].integrator, "path");
-    EXPECT_EQ(c.pilots[1].integrator, "bdpt");
-    for (const rdv_tools::Pilot &p : c.pilots) {
-      EXPECT_TRUE(std::isfinite(p.rel_mse) && p.rel_mse > 0) << p.integrator;
-      EXPECT_GT(p.spp, 0u) << p.integrator;
+    const json c = run_auto(loaded.get(), settings, true).choice;
+    ASSERT_EQ(c["pilots"].size(), 2u) << c.dump();
+    EXPECT_EQ(c["pilots"][0]["integrator"], "path");
+    EXPECT_EQ(c["pilots"][1]["integrator"], "bdpt");
+    for (const json &p : c["pilots"]) {
+      EXPECT_TRUE(std::isfinite(p["rel_mse"].get<double>()) && p["rel_mse"].get<double>() > 0) << p.dump();
+      EXPECT_GT(p["spp"].get<unsigned>(), 0u) << p.dump();
     }
-    EXPECT_EQ(c.integrator, "bdpt") << c.to_json().dump();
-    if (run == 0) first = c.integrator;
-    EXPECT_EQ(c.integrator, first);
-    EXPECT_EQ(c.to_json()["integrator"], c.integrator);
+    // Two pilots of 0.2 s per candidate: 0.8 s of the 8 s.
+    EXPECT_LT(c["pilot_seconds"].get<double>(), 1.6) << c.dump();
+    EXPECT_EQ(c["integrator"], "bdpt") << c.dump();
+    if (run == 0) first = c["integrator"];
+    EXPECT_EQ(c["integrator"], first);
   }
+}
+
+// After its pilots the pick renders into the session's film: samples come in, the
+// image is finite, and the render ends at the time limit. A cancel during the pilots
+// ends the render with no pick.
+TEST(AutoIntegrator, ThePickRendersTheRestAndACancelStopsThePilots) {
+  rdv_tools::EqualTimeScene scene = rdv_tools::load_equal_time_scene(kScenes + "cornell_box.json", 16);
+  rdv_tools::EngineScene loaded(scene);
+  const json settings = rdv_tools::render_settings(
+      scene, {{"integrator", "auto"}, {"auto_candidates", {"path", "bdpt"}}, {"time_limit", 1.0}, {"samples", 0}});
+  AutoRun whole = run_auto(loaded.get(), settings, false);
+  EXPECT_TRUE(whole.choice["integrator"].is_string()) << whole.choice.dump();
+  EXPECT_GT(whole.progress.samples_done, 0u);
+  EXPECT_GE(whole.progress.elapsed_seconds, 1.0);
+  EXPECT_EQ(whole.progress.cancelled, 0);
+
+  AutoRun cancelled = run_auto(loaded.get(), settings, false, true);
+  EXPECT_TRUE(cancelled.choice["integrator"].is_null()) << cancelled.choice.dump();
+  EXPECT_EQ(cancelled.progress.cancelled, 1);
+  EXPECT_LT(cancelled.progress.elapsed_seconds, 0.5);
 }
 
 TEST(AutoIntegrator, RefusesWithoutATimeLimitOrWithAnUnknownCandidate) {
   rdv_tools::EqualTimeScene scene = rdv_tools::load_equal_time_scene(kScenes + "cornell_box.json", 8);
   rdv_tools::EngineScene loaded(scene);
-  try {
-    rdv_tools::choose_integrator(loaded.get(), rdv_tools::render_settings(scene, {{"samples", 4}}));
-    ADD_FAILURE() << "no time limit accepted";
-  } catch (const std::runtime_error &e) {
-    EXPECT_NE(std::string(e.what()).find("needs a time limit"), std::string::npos) << e.what();
-  }
-  try {
-    rdv_tools::choose_integrator(loaded.get(), rdv_tools::render_settings(scene, {{"time_limit", 0.2}}),
-                                 {"path", "warp"});
-    ADD_FAILURE() << "unknown candidate accepted";
-  } catch (const std::runtime_error &e) {
-    EXPECT_NE(std::string(e.what()).find("pilot of warp"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("unknown integrator 'warp'"), std::string::npos) << e.what();
+  const std::pair<json, const char *> cases[] = {
+      {{{"integrator", "auto"}, {"samples", 4}}, "needs a time limit"},
+      {{{"integrator", "auto"}, {"time_limit", 0.2}, {"auto_candidates", {"path", "warp"}}},
+       "'auto_candidates': unknown integrator 'warp'"},
+      {{{"integrator", "auto"}, {"time_limit", 0.2}, {"auto_candidates", json::array()}}, "non-empty list"},
+      {{{"integrator", "auto"}, {"time_limit", 0.2}, {"sample_offset", 4}}, "cannot render a part"},
+  };
+  for (const auto &[overrides, message] : cases) {
+    json settings = rdv_tools::render_settings(scene, overrides);
+    if (!overrides.contains("time_limit")) settings.erase("time_limit");
+    rdv_session *session = nullptr;
+    EXPECT_NE(rdv_session_create(loaded.get(), settings.dump().c_str(), &session), RDV_OK) << overrides.dump();
+    EXPECT_EQ(session, nullptr);
+    EXPECT_NE(std::string(rdv_last_error()).find(message), std::string::npos) << rdv_last_error();
   }
 }

@@ -130,7 +130,7 @@ TEST(Film, SplatsSumInDoublePrecision) {
 }
 
 // A render that estimates no noise keeps no half images: its film costs 112 bytes a
-// pixel, not 160 (a 4K frame: 0.4 GB less), and copies none in its tiles. The halves'
+// pixel, not 168 (a 4K frame: 0.46 GB less), and copies none in its tiles. The halves'
 // estimate itself is tested in tests/render/test_noise_target.cpp.
 TEST(Film, HalvesOnlyWhenTheNoiseIsEstimated) {
   EXPECT_EQ(rdv::Film::bytes_per_pixel(true) - rdv::Film::bytes_per_pixel(false),

@@ -20,6 +20,8 @@ namespace rdv {
 struct RenderSettings {
   int width = 640, height = 480;
   std::string integrator = "path";
+  // Integrator "auto": the integrators its pilots compare (integrators/auto/).
+  std::vector<std::string> auto_candidates = {"path", "bdpt", "pssmlt", "mmlt"};
   std::string sampler = "sobol";  // or "independent"
   uint32_t samples = 128;  // 0 = no sample limit (then time_limit > 0)
   // A part of a render (farm task): samples [sample_offset, sample_offset + samples) of

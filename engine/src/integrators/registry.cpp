@@ -1,6 +1,7 @@
 #include "integrators/integrator.h"
 #include "core/limits.h"
 #include <nlohmann/json.hpp>
+#include "integrators/auto/auto_integrator.h"
 #include "integrators/bdpt/bdpt.h"
 #include "integrators/mlt/metropolis.h"
 #include "integrators/path/path_tracer.h"
@@ -33,7 +34,8 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
     m.relative_target = settings.mlt_target == "relative";
     return std::make_unique<mlt::Metropolis>(scene, settings, bdpt_settings(settings), m);
   }
-  fail("render settings: unknown integrator '" + settings.integrator + "' (available: path, bdpt, pssmlt, mmlt)");
+  if (settings.integrator == "auto") return std::make_unique<AutoIntegrator>(scene, settings);
+  fail("render settings: unknown integrator '" + settings.integrator + "' (available: path, bdpt, pssmlt, mmlt, auto)");
 }
 
 // Cycles' Light Paths settings; absent ones are off (no limit, caustics on, no clamp).
@@ -127,12 +129,36 @@ RenderSettings RenderSettings::from_params(Params &p) {
   s.mlt_target = p.get_string("mlt_target", s.mlt_target);
   if (s.mlt_target != "luminance" && s.mlt_target != "relative")
     fail(p.what() + ": 'mlt_target' must be luminance or relative, got '" + s.mlt_target + "'");
+  if (const nlohmann::json *candidates = p.get_json("auto_candidates")) {
+    s.auto_candidates.clear();
+    if (!candidates->is_array() || candidates->empty())
+      fail(p.what() + ": 'auto_candidates' must be a non-empty list of integrators");
+    for (const nlohmann::json &c : *candidates) {
+      const std::string name = c.is_string() ? c.get<std::string>() : c.dump();
+      if (name != "path" && name != "bdpt" && name != "pssmlt" && name != "mmlt")
+        fail(p.what() + ": 'auto_candidates': unknown integrator '" + name + "' (available: path, bdpt, pssmlt, mmlt)");
+      s.auto_candidates.push_back(name);
+    }
+  }
+  if (s.integrator == "auto") {
+    if (!(s.time_limit > 0))
+      fail(p.what() + ": integrator 'auto' picks by error x time: it needs a time limit ('time_limit')");
+    if (s.sample_offset > 0)
+      fail(p.what() + ": integrator 'auto' cannot render a part ('sample_offset'): every part must use one integrator");
+    // Adaptive sampling is for path and bdpt: the pick is one of them.
+    if (s.adaptive_sampling)
+      s.auto_candidates.erase(std::remove_if(s.auto_candidates.begin(), s.auto_candidates.end(),
+                                             [](const std::string &c) { return c != "path" && c != "bdpt"; }),
+                              s.auto_candidates.end());
+    if (s.auto_candidates.empty())
+      fail(p.what() + ": integrator 'auto' with 'adaptive_sampling' needs path or bdpt among 'auto_candidates'");
+  }
   s.border = {0, 0, s.width, s.height};
   auto b = p.get_floats("border", 4, {0, 0, float(s.width), float(s.height)});
   s.border = {std::max(0, int(b[0])), std::max(0, int(b[1])), std::min(s.width, int(b[2])), std::min(s.height, int(b[3]))};
   if (s.border.width() <= 0 || s.border.height() <= 0) fail(p.what() + ": 'border' is empty");
   p.check_all_used();
-  if (s.adaptive_sampling && s.integrator != "path" && s.integrator != "bdpt")
+  if (s.adaptive_sampling && s.integrator != "path" && s.integrator != "bdpt" && s.integrator != "auto")
     fail(p.what() + ": 'adaptive_sampling' is for path and bdpt; " + s.integrator +
          " spreads its mutations by brightness itself");
   if (s.adaptive_sampling && s.sample_offset > 0)
@@ -145,6 +171,14 @@ RenderSettings RenderSettings::from_params(Params &p) {
     bytes += mlt::Metropolis::memory_estimate(s, s.integrator == "mmlt");
     film += " with " + s.integrator + "'s bootstrap (" + std::to_string(s.mlt_bootstrap) + " per pixel) and " +
             std::to_string(s.mlt_chains) + " chains";
+  }
+  if (s.integrator == "auto") {  // a pilot's film next to the render's, and the largest candidate
+    bytes *= 2;
+    double largest = 0;
+    for (const std::string &c : s.auto_candidates)
+      if (c == "pssmlt" || c == "mmlt") largest = std::max(largest, mlt::Metropolis::memory_estimate(s, c == "mmlt"));
+    bytes += largest;
+    film += " with integrator auto's pilot film and candidates";
   }
   check_memory(p.what(), film, bytes);
   return s;

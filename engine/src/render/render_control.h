@@ -2,6 +2,7 @@
 // the time limit, the noise target) and the progress figures the integrator publishes as it goes. Read
 // from any thread while rendering; the integrator's hot loops only call should_stop().
 #pragma once
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -20,11 +21,18 @@ class RenderControl {
   // Freezes the elapsed time once the render halted.
   void finish() { final_elapsed_.store(elapsed()); }
   void cancel() { cancel_requested_.store(true); }
-  bool cancel_requested() const { return cancel_requested_.load(); }
+  bool cancel_requested() const {
+    return cancel_requested_.load() || (parent_ && parent_->cancel_requested());
+  }
+  // A render inside a render (integrator auto's pilots): a cancel of the parent stops it too.
+  void follow(const RenderControl &parent) { parent_ = &parent; }
+  // Integrator auto, when its pilots overran the share of the limit they were given.
+  void extend_time_limit(double seconds) { time_limit_.store(std::max(time_limit_.load(), seconds)); }
 
   bool should_stop() const {
-    return cancel_requested_.load(std::memory_order_relaxed) || noise_reached_.load(std::memory_order_relaxed) ||
-           (time_limit_ > 0 && elapsed() >= time_limit_);
+    return cancel_requested_.load(std::memory_order_relaxed) ||
+           (parent_ && parent_->cancel_requested_.load(std::memory_order_relaxed)) ||
+           noise_reached_.load(std::memory_order_relaxed) || time_is_up();
   }
   // The published frame's estimated relative MSE (film/noise_estimate.h): below the
   // noise target, the render halts. Integrators report it after each pass they publish.
@@ -41,7 +49,7 @@ class RenderControl {
     if (!running_.load()) return 0;
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time_).count();
   }
-  double time_limit() const { return time_limit_; }
+  double time_limit() const { return time_limit_.load(); }
 
   // Progress: rays traced and samples dropped (NaN / Inf never enter the film). The
   // samples done are the film's: published with the frame (Film::PassPublisher).
@@ -51,7 +59,13 @@ class RenderControl {
   uint64_t dropped() const { return dropped_.load(); }
 
  private:
-  double time_limit_, noise_target_;
+  bool time_is_up() const {
+    const double limit = time_limit_.load(std::memory_order_relaxed);
+    return limit > 0 && elapsed() >= limit;
+  }
+  std::atomic<double> time_limit_;
+  double noise_target_;
+  const RenderControl *parent_ = nullptr;
   std::atomic<double> noise_estimate_{-1.0};
   std::atomic<bool> noise_reached_{false};
   std::chrono::steady_clock::time_point start_time_;

@@ -54,7 +54,7 @@ Progress Session::progress() const {
   p.samples_done = film_.frame_state().samples;  // the frame a read shows now
   p.samples_target = settings_.samples;
   p.elapsed = control_.elapsed();
-  p.time_limit = settings_.time_limit;
+  p.time_limit = control_.time_limit();  // integrator auto may extend it
   p.noise_estimate = control_.noise_estimate();
   p.noise_target = settings_.noise_target;
   p.noise_reached = control_.noise_reached();
