@@ -199,6 +199,56 @@ def test_passes(args):
     print("PASSES TEST PASSED")
 
 
+def test_noise(args):
+    """The noise controls through the add-on: a Noise Target halts the render with the
+    estimate below it (reported in last_render's progress), the Noise pass reaches the
+    RenderResult with finite values >= 0 whose mean square is that estimate, and adaptive
+    sampling stops converged pixels (fewer rays than the same sample count uniformly)."""
+    scene = build_scenes.build("plane_area")
+    scene.render.resolution_x, scene.render.resolution_y = 24, 16
+    vl = bpy.context.view_layer
+    target = 0.002
+    result, dt = render(scene, samples=4096, integrator="BDPT", noise_target=target, use_pass_noise=True)
+    check(result == {"FINISHED"}, "render returned %s" % result)
+    p = final.last_render["progress"]
+    print("NOISE: halted at %d spp, estimate %.4g (target %.3g), %.2f s" % (p["samples_done"], p["noise_estimate"],
+                                                                            target, dt))
+    check(p["noise_reached"] == 1 and 0 <= p["noise_estimate"] < target, "did not halt at the target: %r" % p)
+    check(p["samples_done"] < 4096, "ran to the sample count")
+    rr = bpy.data.images["Render Result"]
+    path = os.path.join(TMP, "noise_pass.exr")
+    scene.render.image_settings.file_format = "OPEN_EXR_MULTILAYER"
+    scene.render.image_settings.color_depth = "32"
+    rr.save_render(path)
+    chans = exr_channels(path)
+    noise = [c for c in (chans or []) if c.endswith("Noise.X") or c.endswith("Noise.V")]
+    check(noise, "no Noise pass in %r" % chans)
+    oiio = shutil.which("oiiotool")
+    check(oiio is not None, "oiiotool (openimageio-tools) is needed")
+    tmp = os.path.join(TMP, "noise_only.exr")
+    subprocess.run([oiio, path, "--ch", "R={0},G={0},B={0}".format(noise[0]), "-o", tmp], check=True)
+    im = bpy.data.images.load(tmp, check_existing=False)
+    px = np.empty(im.size[0] * im.size[1] * 4, np.float32)
+    im.pixels.foreach_get(px)
+    bpy.data.images.remove(im)
+    values = px.reshape(-1, 4)[:, 0].astype(np.float64)
+    check(values.size == 24 * 16, "Noise pass has %d pixels" % values.size)
+    check(np.isfinite(values).all() and (values >= 0).all(), "Noise pass values not finite and >= 0")
+    mean_square = float((values ** 2).mean())
+    print("NOISE pass: mean square %.4g vs estimate %.4g" % (mean_square, p["noise_estimate"]))
+    check(abs(mean_square - p["noise_estimate"]) <= 1e-3 * p["noise_estimate"] + 1e-7,
+          "the Noise pass's mean square is not the estimate")
+    # Adaptive sampling: at a loose threshold most pixels stop early; the rays say so.
+    rays = {}
+    for adaptive in (False, True):
+        render(scene, samples=64, integrator="PATH", noise_target=0.0, use_pass_noise=False,
+               use_adaptive_sampling=adaptive, adaptive_threshold=0.05, adaptive_min_samples=8)
+        rays[adaptive] = final.last_render["progress"]["rays_traced"]
+    print("ADAPTIVE: rays %d uniform, %d adaptive (%.2f)" % (rays[False], rays[True], rays[True] / rays[False]))
+    check(rays[True] < 0.8 * rays[False], "adaptive sampling stopped no pixel")
+    print("NOISE TEST PASSED")
+
+
 def test_dump(args):
     check(args.cli and os.path.exists(args.cli), "--cli must name the command-line renderer")
     scene = build_scenes.build("showcase")
@@ -610,7 +660,7 @@ def test_farm(args):
 
 MODES = {"farm": test_farm, "border": test_border, "metropolis": test_metropolis, "scenes": test_scenes, "bad_input": test_bad_input, "cancel": test_cancel, "passes": test_passes,
          "dump": test_dump, "nolib": test_nolib, "volume": test_volume, "fire": test_fire,
-         "fluid": test_fluid, "auto": test_auto}
+         "fluid": test_fluid, "auto": test_auto, "noise": test_noise}
 
 
 def main():

@@ -1,4 +1,5 @@
 #include "integrators/mlt/metropolis.h"
+#include "core/limits.h"
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -286,18 +287,21 @@ void Metropolis::render(RenderContext &ctx) {
   // passes up to a memory cap), so the splats are summed in the same order on any
   // number of threads. A pass the time limit interrupts still counts (its mutations are
   // as good as any): the image is normalised by the mutations actually made.
-  const uint64_t total = uint64_t(settings_.samples) * region_pixels;  // 0: until the time limit
+  // samples 0: until the time limit or the noise target, but never past the mutations per
+  // pixel the tile integrators' film can count (a target the estimate cannot reach, e.g.
+  // under b's own error, would otherwise run for ever).
+  const uint64_t total = uint64_t(settings_.samples ? settings_.samples : kMaxSamplesPerPixel) * region_pixels;
   const uint64_t first_pass = std::max<uint64_t>(1, region_pixels / (16 * uint64_t(n_chains)));
   const uint64_t max_pass = std::max<uint64_t>(1, std::min<uint64_t>(region_pixels, 1u << 20) / n_chains);
   std::vector<uint64_t> made(n_chains, 0);
   uint64_t done = 0;
   uint64_t pass_limit = max_pass;  // lowered near the noise target
-  for (int pass = 0; !ctx.control.should_stop() && (total == 0 || done < total); ++pass) {
+  for (int pass = 0; !ctx.control.should_stop() && done < total; ++pass) {
     const uint64_t pass_size = std::min({max_pass, pass_limit, first_pass << std::min(pass, 20)});
     ctx.arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n_chains, 1), [&](const tbb::blocked_range<uint32_t> &r) {
         for (uint32_t c = r.begin(); c != r.end(); ++c) {
-          uint64_t quota = total == 0 ? ~0ull : total / n_chains + (c < total % n_chains ? 1 : 0);
+          uint64_t quota = total / n_chains + (c < total % n_chains ? 1 : 0);
           uint64_t n = std::min(pass_size, quota - std::min(quota, made[c]));
           Chain &chain = chains[c];
           chain.splats.clear();
