@@ -89,7 +89,7 @@ int main(int argc, char **argv) {
       double budget = budgets[bi];
       double e_bdpt = 0;
       auto row = [&](const std::string &label, json s) {
-        if (s["integrator"] == "pssmlt" || s["integrator"] == "mmlt") {
+        if (s["integrator"] == "pssmlt" || s["integrator"] == "mmlt" || s["integrator"] == "mlt") {
           json m = mlt_settings;
           m.update(s);  // the row's own settings win
           s = m;

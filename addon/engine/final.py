@@ -73,6 +73,10 @@ def _metropolis_text(session):
         return st["warning"]
     if "b" not in st:
         return ""
+    if st.get("integrator") == "mlt":
+        return "Accepted: bidirectional %.0f%%, large %.0f%% | %d chains | b %.4g +- %.2g" % (
+            100 * st["bidirectional_acceptance"], 100 * st["large_step_acceptance"], st["chains"], st["b"],
+            st["b_standard_error"])
     return "Accepted: small %.0f%%, large %.0f%% | %d chains | b %.4g +- %.2g" % (
         100 * st["small_step_acceptance"], 100 * st["large_step_acceptance"], st["chains"], st["b"],
         st["b_standard_error"])
@@ -103,7 +107,7 @@ def _stats_text(settings, p, session=None):
             choice = {}
         pick = choice.get("integrator")
         parts[1] = "Automatic: " + (INTEGRATOR_LABELS.get(pick, pick) if pick else "pilots")
-    if session is not None and settings.get("integrator") in ("pssmlt", "mmlt", "auto"):
+    if session is not None and settings.get("integrator") in ("pssmlt", "mmlt", "mlt", "auto"):
         text = _metropolis_text(session)
         if text:
             parts.append(text)

@@ -4,10 +4,11 @@ import hashlib
 import math
 import os
 
-INTEGRATORS = {"PATH": "path", "BDPT": "bdpt", "PSSMLT": "pssmlt", "MMLT": "mmlt", "AUTO": "auto"}
-METROPOLIS = ("pssmlt", "mmlt")
+INTEGRATORS = {"PATH": "path", "BDPT": "bdpt", "PSSMLT": "pssmlt", "MMLT": "mmlt", "MLT": "mlt", "AUTO": "auto"}
+METROPOLIS = ("pssmlt", "mmlt", "mlt")
 INTEGRATOR_LABELS = {"path": "Path Tracing", "bdpt": "Bidirectional", "pssmlt": "Metropolis (Kelemen)",
-                     "mmlt": "Metropolis (Multiplexed)", "auto": "Automatic"}
+                     "mmlt": "Metropolis (Multiplexed)", "mlt": "Metropolis (Path Space)",
+                     "auto": "Automatic"}
 
 
 def auto_choice_text(stats):

@@ -15,6 +15,11 @@ INTEGRATOR_ITEMS = [
     ("MMLT", "Metropolis (Multiplexed)", "Multiplexed Metropolis light transport (Hachisuka et al.): each "
                                          "mutation follows one bidirectional strategy, so mutations are cheaper; "
                                          "samples are mutations per pixel; uneven noise in easy scenes"),
+    ("MLT", "Metropolis (Path Space)", "Veach's Metropolis light transport on explicit paths: the bidirectional "
+                                       "mutation rebuilds part of a light-carrying path and keeps the rest; samples "
+                                       "are mutations per pixel. Pinhole cameras, lamps of radius 0, area and mesh "
+                                       "lights, homogeneous media; no sun, world light, grid or emissive volumes, "
+                                       "and no light through perfectly specular surfaces yet"),
 ]
 
 # The final render may also let short pilots choose (it has a time budget to split).

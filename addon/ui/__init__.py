@@ -7,7 +7,7 @@ from ..export.settings import light_path_source
 from . import compat, farm_submit, operators
 
 ENGINE_ID = "RENDEZVOUS"
-METROPOLIS = {"PSSMLT", "MMLT"}
+METROPOLIS = {"PSSMLT", "MMLT", "MLT"}
 
 
 class RendezvousPanel:

@@ -177,7 +177,7 @@ RDV_API rdv_status rdv_scene_summary(rdv_scene *scene, const char **out_json);
  *   docs/noise.md) (sample_offset and
  *   scene_hash: render parts, see rdv_merge_parts). A session always has a halt condition: samples
  *   or time_limit (if neither is given, samples defaults to 128). integrator:
- *   path, bdpt, pssmlt or mmlt (Metropolis: samples = mutations per pixel; settings
+ *   path, bdpt, pssmlt, mmlt or mlt (Metropolis: samples = mutations per pixel; settings
  *   mlt_large_step, mlt_bootstrap, mlt_chains, mlt_step_size, mlt_target; docs/scene-format.md),
  *   or auto (needs time_limit: pilots of each of "auto_candidates", default
  *   ["path","bdpt","pssmlt","mmlt"], take 10% of it and the most efficient one renders the
@@ -213,12 +213,14 @@ typedef struct rdv_progress {
 RDV_API rdv_status rdv_session_progress(rdv_session *session, rdv_progress *out_progress);
 
 /* The integrator's own figures, as a JSON object (valid until the next call on this
- * session; "{}" for path and bdpt). Metropolis integrators (pssmlt, mmlt): "chains",
+ * session; "{}" for path and bdpt). Metropolis integrators (pssmlt, mmlt, mlt): "chains",
  * "bootstrap_samples", "b" (the image's luminance sum the bootstrap estimated) and
  * "b_standard_error", "mutations", "small_step_acceptance", "large_step_acceptance",
  * mmlt also "depth_b" (b per path depth), "strategy_counts" (mutations ending in each
  * (depth, s) state, depth-major: depth 0 has s = 0 only, depth d >= 1 has s = 0..d+1) and
- * "strategy_b" (the bootstrap's b of each such state); "warning" when the image cannot be made (e.g. the
+ * "strategy_b" (the bootstrap's b of each such state); mlt also "bidirectional_acceptance"
+ * (= small_step_acceptance: its partial bidirectional mutations; large steps regenerate the
+ * whole path) and "specular_proposals"; "warning" when the image cannot be made (e.g. the
  * bootstrap found no light). Integrator auto: "auto" {"integrator" (the pick; null during
  * the pilots), "pilot_seconds", "pilots": [{"integrator", "seconds", "rel_mse",
  * "efficiency", "spp"}], "time_limit_extended" when slow pilots left the pick under 5% of

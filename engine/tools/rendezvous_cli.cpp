@@ -34,12 +34,12 @@ void usage() {
                "  --seed N               random seed\n"
                "  --sample-offset N      render samples [N, N + samples) of the sequence (a farm part)\n"
                "  --resolution WxH       image size\n"
-               "  --integrator NAME      path, bdpt, pssmlt or mmlt (Metropolis: samples = mutations per pixel), or auto\n"
+               "  --integrator NAME      path, bdpt, pssmlt, mmlt or mlt (Metropolis: samples = mutations per pixel), or auto\n"
                "                         (with --time: pilots of each take 10%% of the time, the most efficient\n"
                "                         one, 1 / (estimated relMSE x time), renders the rest)\n"
-               "  --mlt-large-step P     pssmlt / mmlt: probability of a large step\n"
-               "  --mlt-bootstrap N      pssmlt / mmlt: bootstrap samples per pixel\n"
-               "  --mlt-chains N         pssmlt / mmlt: number of Markov chains\n"
+               "  --mlt-large-step P     pssmlt / mmlt / mlt: probability of a large step\n"
+               "  --mlt-bootstrap N      pssmlt / mmlt / mlt: bootstrap samples per pixel\n"
+               "  --mlt-chains N         pssmlt / mmlt / mlt: number of Markov chains\n"
                "  --mlt-step-size S      pssmlt / mmlt: small-step size in primary sample space\n"
                "  --mlt-target T         pssmlt / mmlt: luminance or relative (even relative error)\n"
                "  --strategy S,T         bdpt: render only strategy (s, t), MIS-weighted\n"
@@ -260,12 +260,12 @@ int main(int argc, char **argv) {
     if (stats.contains("auto")) print_auto_choice(stats["auto"], p.time_limit_seconds);
     if (stats.contains("b"))
       std::fprintf(stderr,
-                   "rendezvous: %s: %s target, %u chains, b = %.6g +- %.2g (%llu bootstrap samples), acceptance: small "
-                   "steps %.3f, large steps %.3f (%.3f found light), %.3g mutations/s\n",
+                   "rendezvous: %s: %s target, %u chains, b = %.6g +- %.2g (%llu bootstrap samples), acceptance: %s "
+                   "%.3f, large steps %.3f (%.3f found light), %.3g mutations/s\n",
                    stats["integrator"].get<std::string>().c_str(), stats.value("target", "luminance").c_str(),
                    stats["chains"].get<unsigned>(), stats["b"].get<double>(),
                    stats["b_standard_error"].get<double>(), (unsigned long long)stats["bootstrap_samples"].get<uint64_t>(),
-                   stats["small_step_acceptance"].get<double>(), stats["large_step_acceptance"].get<double>(),
+                   stats["integrator"] == "mlt" ? "bidirectional" : "small steps", stats["small_step_acceptance"].get<double>(), stats["large_step_acceptance"].get<double>(),
                    stats.value("large_step_found", 0.0), p.elapsed_seconds > 0 ? stats["mutations"].get<double>() / p.elapsed_seconds : 0.0);
     if (summary) std::printf("%s\n", text);
   }

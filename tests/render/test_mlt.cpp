@@ -1,5 +1,5 @@
-// Metropolis light transport (pssmlt, mmlt) against BDPT, the integrator whose primary
-// sample space it explores. Images are rendered K times with independent seeds (each
+// Metropolis light transport (pssmlt, mmlt; path-space mlt) against BDPT, the integrator
+// whose primary sample space the first two explore. Images are rendered K times with independent seeds (each
 // run's own bootstrap, so the error of b is part of the run-to-run spread); every 8x8
 // block is compared with Welch's t-test. False-alarm rate: 1% for the whole file's
 // block comparisons (Sidak-corrected per block), 1e-3 for each brightness check; seeds
@@ -21,9 +21,9 @@ using nlohmann::json;
 namespace {
 
 constexpr int kRuns = 8;
-// 4 scenes x 2 integrators with the default (relative) target, and the door gap with the
-// luminance target; 36 blocks each.
-constexpr int kBlockTestsInFile = 10 * 36;
+// 4 scenes x 2 integrators with the default (relative) target, the door gap with the
+// luminance target, and mlt on 2 scenes; 36 blocks each.
+constexpr int kBlockTestsInFile = 12 * 36;
 const double kAlphaPerBlock = 1.0 - std::pow(1.0 - 0.01, 1.0 / kBlockTestsInFile);
 
 struct Runs {
@@ -59,12 +59,13 @@ void mean_and_error(const std::vector<double> &x, double &mean, double &error) {
 
 // Both Metropolis integrators against BDPT on one scene.
 void expect_same_image(const json &scene, const std::string &what, int bdpt_samples, int mutations,
-                       const char *target = "relative") {
+                       const char *target = "relative",
+                       std::initializer_list<const char *> integrators = {"pssmlt", "mmlt"}) {
   json s = {{"width", 48}, {"height", 48}, {"max_bounces", 8}, {"integrator", "bdpt"}, {"samples", bdpt_samples}};
   Runs bdpt = render_runs(scene, s, 1);
   double bdpt_mean, bdpt_error;
   mean_and_error(bdpt.means, bdpt_mean, bdpt_error);
-  for (const char *integrator : {"pssmlt", "mmlt"}) {
+  for (const char *integrator : integrators) {
     s["integrator"] = integrator;
     s["samples"] = mutations;
     s["mlt_bootstrap"] = 4;
@@ -100,11 +101,21 @@ TEST(MltVsBdpt, DoorGapLuminanceTarget) {
 }
 TEST(MltVsBdpt, FogAndSpot) { expect_same_image(load_scene("fog_spot.json"), "fog spot", 16, 32); }
 
+// Path-space MLT (integrators/mlt/path_space.h): surfaces and a mesh lamp; fog (a
+// homogeneous world volume) lit through a door gap by an area lamp, medium vertices and
+// free-flight densities on both sides of every edge.
+TEST(MltVsBdpt, PathSpaceCornellBox) {
+  expect_same_image(load_scene("cornell_box.json"), "cornell", 32, 64, "luminance", {"mlt"});
+}
+TEST(MltVsBdpt, PathSpaceFogDoor) {
+  expect_same_image(load_scene("fog_door.json"), "fog door", 32, 64, "luminance", {"mlt"});
+}
+
 // A fixed chain count gives the same image on any number of threads (chains seeded by
 // (seed, chain), a deterministic pass schedule, splats applied in chain order).
 TEST(MltDeterminism, SameImageOnOneAndTwoThreads) {
   json scene = load_scene("cornell_box.json");
-  for (const char *integrator : {"pssmlt", "mmlt"}) {
+  for (const char *integrator : {"pssmlt", "mmlt", "mlt"}) {
     json s = {{"width", 32}, {"height", 24}, {"integrator", integrator}, {"samples", 16}, {"seed", 5},
               {"mlt_chains", 16}};
     s["threads"] = 1;
@@ -124,7 +135,7 @@ TEST(MltRobustness, NoLightRendersBlackWithAWarning) {
   json scene = load_scene("cornell_box.json");
   for (json &m : scene["materials"])
     if (m["name"] == "lamp") m = {{"name", "lamp"}, {"type", "diffuse"}, {"color", {0.5, 0.5, 0.5}}};
-  for (const char *integrator : {"pssmlt", "mmlt"}) {
+  for (const char *integrator : {"pssmlt", "mmlt", "mlt"}) {
     json s = {{"width", 16}, {"height", 16}, {"integrator", integrator}, {"samples", 4}};
     Image img = render_json(scene.dump(), s.dump());
     EXPECT_TRUE(img.all_finite());

@@ -34,8 +34,19 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
     m.relative_target = settings.mlt_target == "relative";
     return std::make_unique<mlt::Metropolis>(scene, settings, bdpt_settings(settings), m);
   }
+  if (settings.integrator == "mlt") {
+    std::string why = mlt::PathSpace::unsupported(scene, settings);
+    if (!why.empty()) fail("render settings: integrator mlt: " + why);
+    mlt::MltSettings m;
+    m.path_space = true;
+    m.large_step_probability = settings.mlt_large_step;
+    m.bootstrap_per_pixel = settings.mlt_bootstrap;
+    m.chains = settings.mlt_chains;
+    m.relative_target = false;  // Veach's target: the path's luminance
+    return std::make_unique<mlt::Metropolis>(scene, settings, bdpt_settings(settings), m);
+  }
   if (settings.integrator == "auto") return std::make_unique<AutoIntegrator>(scene, settings);
-  fail("render settings: unknown integrator '" + settings.integrator + "' (available: path, bdpt, pssmlt, mmlt, auto)");
+  fail("render settings: unknown integrator '" + settings.integrator + "' (available: path, bdpt, pssmlt, mmlt, mlt, auto)");
 }
 
 // Cycles' Light Paths settings; absent ones are off (no limit, caustics on, no clamp).
@@ -167,8 +178,8 @@ RenderSettings RenderSettings::from_params(Params &p) {
   // Before the session allocates anything: the film, and Metropolis' bootstrap and chains.
   std::string film = std::to_string(s.width) + "x" + std::to_string(s.height) + " film";
   double bytes = double(s.width) * double(s.height) * double(Film::bytes_per_pixel(s.estimates_noise()));
-  if (s.integrator == "pssmlt" || s.integrator == "mmlt") {
-    bytes += mlt::Metropolis::memory_estimate(s, s.integrator == "mmlt");
+  if (s.integrator == "pssmlt" || s.integrator == "mmlt" || s.integrator == "mlt") {
+    bytes += mlt::Metropolis::memory_estimate(s, s.integrator == "mmlt", s.integrator == "mlt");
     film += " with " + s.integrator + "'s bootstrap (" + std::to_string(s.mlt_bootstrap) + " per pixel) and " +
             std::to_string(s.mlt_chains) + " chains";
   }
@@ -215,7 +226,7 @@ std::string RenderSettings::image_settings_json() const {
     j["adaptive_threshold"] = adaptive_threshold;
     j["adaptive_min_samples"] = adaptive_first_check();
   }
-  if (integrator == "pssmlt" || integrator == "mmlt") {
+  if (integrator == "pssmlt" || integrator == "mmlt" || integrator == "mlt") {
     j["mlt_large_step"] = mlt_large_step;
     j["mlt_bootstrap"] = mlt_bootstrap;
     j["mlt_chains"] = mlt_chains;

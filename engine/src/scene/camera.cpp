@@ -132,6 +132,16 @@ float Camera::importance(const Ray &ray, Vec2 *raster) const {
   return 1.0f / (area * lens_area() * c2 * c2);
 }
 
+bool Camera::raster_of_direction(Vec3 d, Vec2 &raster, float &cos_theta) const {
+  cos_theta = dot(d, forward_);
+  if (type != Type::Perspective || cos_theta <= 0) return false;
+  Vec3 pc = to_camera_.vector(d) * (1.0f / cos_theta);
+  if (pc.z >= 0) return false;
+  float px = pc.x / -pc.z, py = pc.y / -pc.z;
+  raster = {(px - left) / (right - left) * width_, (top - py) / (top - bottom) * height_};
+  return true;
+}
+
 void Camera::importance_pdf(const Ray &ray, float &pdf_pos, float &pdf_dir) const {
   pdf_pos = pdf_dir = 0;
   if (type != Type::Perspective) return;

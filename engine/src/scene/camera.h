@@ -48,6 +48,11 @@ struct Camera {
   };
   // A point on the lens seen from ref, with its solid-angle pdf at ref.
   bool sample_importance(Vec3 ref, Vec2 u_lens, ImportanceSample &out) const;
+  // Perspective cameras: where a ray from the pinhole along unit d lands on the image
+  // (raster, not limited to the image) and its cosine to the view axis; false behind.
+  bool raster_of_direction(Vec3 d, Vec2 &raster, float &cos_theta) const;
+  // The image's area on the viewplane at unit distance (perspective).
+  float viewplane_area() const { return (right - left) * (top - bottom); }
   Vec3 position() const { return to_world.column(3); }
   Vec3 forward() const { return forward_; }
 

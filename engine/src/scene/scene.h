@@ -108,6 +108,7 @@ class Scene {
   // Some medium is a grid: its estimators need random numbers of their own.
   bool has_heterogeneous_media() const { return has_heterogeneous_media_; }
   const Medium &medium(int id) const { return media_[id]; }
+  int num_media() const { return int(media_.size()); }
   int world_medium() const { return world_medium_; }
   int interior_medium(uint32_t material) const { return material_interior_[material]; }
   // A material with no surface ("type": "volume"): an index-matched medium boundary

@@ -80,4 +80,20 @@ static_assert(std::is_trivially_destructible_v<PathVertex>);
 // raw lobe storage alone; assigning PathVertex{} zero-filled all 3.4 KB of it.
 inline PathVertex &fresh_vertex(PathVertex &v) { return *new (&v) PathVertex; }
 
+// A fresh surface vertex where a ray along d hit, in `media` (the BSDF is the caller's).
+inline PathVertex &fresh_surface_vertex(PathVertex &storage, const SurfaceHit &hit, Vec3 d,
+                                        const CoincidentBoundary &boundary, const MediumStack &media) {
+  PathVertex &v = fresh_vertex(storage);
+  v.type = VertexType::Surface;
+  v.p = hit.p;
+  v.error = hit.error;
+  v.ng = hit.ng;
+  v.ns = hit.ns;
+  v.wo = -d;
+  v.material = hit.material;
+  v.boundary = boundary;
+  v.media = media;
+  return v;
+}
+
 }  // namespace rdv::bdpt

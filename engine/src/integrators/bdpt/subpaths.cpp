@@ -181,17 +181,8 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       }
     }
     const Material &material = scene_.material(hit.material);
-    fresh_vertex(v);
-    v.type = VertexType::Surface;
-    v.p = hit.p;
-    v.error = hit.error;
-    v.ng = hit.ng;
-    v.ns = hit.ns;
-    v.wo = -ray.d;
+    fresh_surface_vertex(v, hit, ray.d, boundary, media);  // boundary: none without media
     v.beta = beta;
-    v.material = hit.material;
-    if constexpr (kMedia) v.boundary = boundary;
-    v.media = media;
     v.bsdf = scene_.bsdf(hit, v.wo, cone.width_at(hit.t), &v.emitted);
     cone = cone.after(hit.t);
     if (material.emits()) v.light = int(scene_.triangle_light(hit.instance, hit.prim));

@@ -93,6 +93,16 @@ void Metropolis::evaluate(PssSampler &sampler, RayStats &stats, State &state, in
     state.splats.clear();
     state.target = 0;
   }
+  state.independent = state.target;
+}
+
+void Metropolis::path_state(const ExplicitPath &path, State &state) {
+  state.splats.clear();
+  state.depth = state.s = -1;
+  state.independent = 0;
+  state.target = luminance(path.f);
+  if (state.target > 0 && std::isfinite(state.target)) state.splats.push_back({path.raster, path.f});
+  else state.target = 0;
 }
 
 }  // namespace rdv::mlt

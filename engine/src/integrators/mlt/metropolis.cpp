@@ -40,9 +40,13 @@ struct Chain {
   uint64_t small_steps = 0, small_accepted = 0, large_steps = 0, large_accepted = 0, large_found = 0, rays = 0;
   double large_sum = 0, large_sum2 = 0;  // targets of its large-step proposals
   std::vector<uint64_t> strategy_counts;
+  // Path space: the state's path and the proposal's, and the mutations' generator.
+  ExplicitPath path, path_proposal;
+  Pcg32 mutation;
+  uint64_t specular = 0;
 };
 
-double Metropolis::memory_estimate(const RenderSettings &settings, bool multiplexed) {
+double Metropolis::memory_estimate(const RenderSettings &settings, bool multiplexed, bool path_space) {
   const double region_pixels = double(settings.border.width()) * double(settings.border.height());
   const double depths = multiplexed ? settings.max_bounces + 1 : 1;
   const double bootstrap = std::max(4096.0, double(settings.mlt_bootstrap) * region_pixels) * depths;
@@ -50,7 +54,8 @@ double Metropolis::memory_estimate(const RenderSettings &settings, bool multiple
   // strategy (multiplexed). Per chain: the chain, and its sampler's and states' buffers
   // (a few kB, grown with the path length).
   const double per_sample = 3 * sizeof(float) + (multiplexed ? 1 : 0);
-  const double per_chain = sizeof(Chain) + 4096 + 64.0 * (settings.max_bounces + 2);
+  double per_chain = sizeof(Chain) + 4096 + 64.0 * (settings.max_bounces + 2);
+  if (path_space) per_chain += 2.0 * sizeof(ExplicitVertex) * (settings.max_bounces + 2);  // two explicit paths
   // Relative target: the pilot's partial maps (a float per block of the sample region).
   const double r = PixelFilter(settings.filter_width).radius();
   const double blocks = std::ceil((settings.border.width() + 2 * r) / ImportanceMap::kBlock + 1) *
@@ -68,6 +73,9 @@ Metropolis::Metropolis(const Scene &scene, const RenderSettings &settings, const
   sample_size_ = {float(b.width()) + 2 * r, float(b.height()) + 2 * r};
   region_area_ = sample_size_.x * sample_size_.y;
   image_area_ = float(settings.width) * float(settings.height);
+  if (mlt.path_space)
+    path_space_ = std::make_unique<PathSpace>(scene, bdpt_settings.max_bounces, sample_origin_, sample_size_, image_area_,
+                                              mlt.large_step_probability);
 }
 
 void Metropolis::first_hit_pass(RenderContext &ctx) const {
@@ -183,17 +191,37 @@ void Metropolis::render(RenderContext &ctx) {
       if (ctx.control.should_stop()) return;
       RayStats stats;
       State state;
+      ExplicitPath path;
+      uint64_t specular = 0;
       for (uint64_t i = r.begin(); i != r.end(); ++i) {
+        if (path_space_) {
+          // An independent path from the sample's own generator (a chain replays it).
+          Pcg32 rng(seed0, i);
+          double q = path_space_->sample_independent(rng, stats, path);
+          double w = q > 0 ? double(luminance(path.f)) / q : 0.0;
+          weights[i] = std::isfinite(w) ? float(w) : 0.0f;
+          specular += path.specular;
+          continue;
+        }
         PssSampler sampler(seed0, i, mlt_.step_size, p_large);
         sampler.start_iteration();
         evaluate(sampler, stats, state, mlt_.multiplexed ? int(i / per_depth) : -1);
         weights[i] = state.target;
         if (mlt_.multiplexed) strategy[i] = uint8_t(state.s);
       }
+      if (specular > 0) {
+        std::lock_guard<std::mutex> lock(stats_mutex_);
+        stats_.specular += specular;
+      }
       ctx.control.add_rays(stats.rays);
     });
   });
   if (ctx.control.should_stop()) return;
+  uint64_t specular_bootstrap = 0;
+  {
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    specular_bootstrap = stats_.specular;
+  }
 
   // b (the image's total luminance, in the targets' units) and its standard error,
   // per depth; sums in index order, the same on any thread count.
@@ -229,7 +257,7 @@ void Metropolis::render(RenderContext &ctx) {
                                      "or facing away, or max_bounces too small): the image is black"
                                : "the bootstrap's light estimate overflowed: the image is black";
     std::lock_guard<std::mutex> lock(stats_mutex_);
-    stats_.warning = (mlt_.multiplexed ? "mmlt: " : "pssmlt: ") + why;
+    stats_.warning = std::string(name()) + ": " + why;
     log_warning(stats_.warning);
     return;  // no pass is published: the frame stays black
   }
@@ -260,6 +288,14 @@ void Metropolis::render(RenderContext &ctx) {
       RayStats stats;
       for (uint32_t c = r.begin(); c != r.end(); ++c) {
         Chain &chain = chains[c];
+        if (path_space_) {
+          Pcg32 rng(seed0, chain.start);
+          path_space_->sample_independent(rng, stats, chain.path);
+          path_state(chain.path, chain.current);
+          chain.path_proposal.reserve(path_space_->max_vertices());
+          chain.mutation = Pcg32(chain_seed0, kChainStreams + 2 * uint64_t(n_chains) + uint64_t(c));
+          continue;
+        }
         chain.sampler.start_iteration();
         int depth = mlt_.multiplexed ? int(chain.start / per_depth) : -1;
         evaluate(chain.sampler, stats, chain.current, depth);
@@ -309,11 +345,26 @@ void Metropolis::render(RenderContext &ctx) {
           uint64_t m = 0;
           for (; m < n; ++m) {
             if ((m & 15) == 0 && ctx.control.should_stop()) break;
-            chain.sampler.start_iteration();
-            const bool large = chain.sampler.large_step();
-            evaluate(chain.sampler, stats, chain.proposal);
+            bool large;
+            double ratio = 1;  // T(y -> x) / T(x -> y): 1 for primary sample space's symmetric steps
+            if (path_space_) {
+              Proposal p = path_space_->mutate(chain.path, chain.mutation, stats, chain.path_proposal);
+              large = p.type == MutationType::Large;
+              ratio = p.ratio;
+              path_state(chain.path_proposal, chain.proposal);
+              if (!(ratio > 0)) {
+                chain.proposal.splats.clear();
+                chain.proposal.target = 0;
+              }
+              chain.proposal.independent = p.independent;
+              chain.specular += chain.path_proposal.specular;
+            } else {
+              chain.sampler.start_iteration();
+              large = chain.sampler.large_step();
+              evaluate(chain.sampler, stats, chain.proposal);
+            }
             const float fx = chain.current.target, fy = chain.proposal.target;
-            const float a = fx > 0 ? std::min(1.0f, fy / fx) : 1.0f;
+            const float a = fx > 0 ? float(std::min(1.0, double(fy) * ratio / fx)) : 1.0f;
             // Veach's expected values: proposal and state splatted with the
             // probabilities a and 1 - a of being the next state, each over its
             // target (the image is b / mutations times their sum).
@@ -330,17 +381,19 @@ void Metropolis::render(RenderContext &ctx) {
             // A large step's proposal is an independent uniform sample: one more
             // sample of b.
             if (large) {
-              chain.large_found += fy > 0;
-              chain.large_sum += fy;
-              chain.large_sum2 += double(fy) * fy;
+              const double independent = chain.proposal.independent;
+              chain.large_found += independent > 0;
+              chain.large_sum += independent;
+              chain.large_sum2 += independent * independent;
             }
             (large ? chain.large_steps : chain.small_steps) += 1;
             if (a >= 1 || chain.acceptance.next_float() < a) {
               std::swap(chain.current, chain.proposal);
-              chain.sampler.accept();
+              if (path_space_) std::swap(chain.path, chain.path_proposal);
+              else chain.sampler.accept();
               (large ? chain.large_accepted : chain.small_accepted) += 1;
-            } else {
-              chain.sampler.reject();
+            } else if (!path_space_) {
+              chain.sampler.reject();  // path space: the state was never touched
             }
             if (mlt_.multiplexed && chain.current.depth >= 0)
               ++chain.strategy_counts[strategy_index(chain.current.depth, chain.current.s)];
@@ -403,6 +456,7 @@ void Metropolis::render(RenderContext &ctx) {
       stats_.b = b_now;
       stats_.b_standard_error = b_error;
       stats_.small_steps = stats_.small_accepted = stats_.large_steps = stats_.large_accepted = stats_.large_found = 0;
+      uint64_t specular = 0;
       if (mlt_.multiplexed) std::fill(stats_.strategy_counts.begin(), stats_.strategy_counts.end(), 0);
       for (Chain &chain : chains) {
         stats_.small_steps += chain.small_steps;
@@ -410,9 +464,17 @@ void Metropolis::render(RenderContext &ctx) {
         stats_.large_steps += chain.large_steps;
         stats_.large_accepted += chain.large_accepted;
         stats_.large_found += chain.large_found;
+        specular += chain.specular;
         rays += chain.rays;
         chain.rays = 0;
         for (size_t k = 0; k < chain.strategy_counts.size(); ++k) stats_.strategy_counts[k] += chain.strategy_counts[k];
+      }
+      stats_.specular = specular_bootstrap + specular;
+      if (path_space_ && stats_.specular > 0 && stats_.warning.empty()) {
+        stats_.warning = "mlt: " + std::to_string(stats_.specular) + " proposals and bootstrap paths" +
+                         " stopped at a perfectly specular surface (mirror, smooth glass, alpha), which mlt "
+                         "does not sample yet: light through such surfaces is missing (use bdpt or pssmlt)";
+        log_warning(stats_.warning);
       }
     }
     ctx.control.add_rays(rays);
@@ -422,7 +484,7 @@ void Metropolis::render(RenderContext &ctx) {
 std::string Metropolis::stats_json() const {
   std::lock_guard<std::mutex> lock(stats_mutex_);
   nlohmann::json j;
-  j["integrator"] = mlt_.multiplexed ? "mmlt" : "pssmlt";
+  j["integrator"] = name();
   j["chains"] = mlt_.chains;
   j["bootstrap_samples"] = stats_.bootstrap_samples;
   j["b"] = stats_.b;
@@ -440,6 +502,14 @@ std::string Metropolis::stats_json() const {
   // The share of large steps (independent uniform proposals) that found a light-carrying
   // path at all: the ceiling of their acceptance.
   j["large_step_found"] = stats_.large_steps ? double(stats_.large_found) / double(stats_.large_steps) : 0.0;
+  if (mlt_.path_space) {
+    // Acceptance per mutation type: the bidirectional mutation (partial) and the large
+    // step (the whole path regenerated, Veach's bidirectional mutation at its largest).
+    j["mutation_types"] = {mutation_name(MutationType::Bidirectional), mutation_name(MutationType::Large)};
+    j["bidirectional_proposals"] = stats_.small_steps;
+    j["bidirectional_acceptance"] = j["small_step_acceptance"];
+    j["specular_proposals"] = stats_.specular;
+  }
   if (mlt_.multiplexed) {
     j["depth_b"] = stats_.depth_b;
     j["strategy_counts"] = stats_.strategy_counts;

@@ -12,17 +12,22 @@
 // in chain order after each pass, so the image is the same on any
 // number of threads. `samples` counts mutations per pixel.
 #pragma once
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
 #include "integrators/bdpt/bdpt.h"
 #include "integrators/mlt/importance_map.h"
+#include "integrators/mlt/path_space.h"
 #include "samplers/pss_sampler.h"
 
 namespace rdv::mlt {
 
 struct MltSettings {
   bool multiplexed = false;
+  // Veach's path-space MLT ("mlt", path_space.h): states are explicit paths, mutated by
+  // the bidirectional mutation; large steps regenerate the whole path. Luminance target.
+  bool path_space = false;
   float large_step_probability = 0.3f;
   uint32_t bootstrap_per_pixel = 1;  // bootstrap samples per pixel of the rendered region (at least 4096)
   uint32_t chains = 256;
@@ -37,6 +42,9 @@ struct MltSettings {
 struct State {
   std::vector<Splat> splats;
   float target = 0;
+  // An independent sample of b when the state was sampled independently (a large step
+  // or the bootstrap): the target itself in primary sample space, target / q in path space.
+  double independent = 0;
   int depth = -1, s = -1;  // multiplexed: the strategy of the state
 };
 
@@ -55,6 +63,7 @@ struct MltStats {
   // multiplexed: how many mutations ended in each (depth, s) state, depth-major
   // (depth d has d + 2 strategies, depth 0 one).
   std::vector<uint64_t> strategy_counts;
+  uint64_t specular = 0;  // path space: proposals that stopped at a delta lobe (not sampled yet)
   std::string warning;
 };
 
@@ -66,7 +75,7 @@ class Metropolis final : public Integrator {
   std::string stats_json() const override;
   // Bytes the bootstrap (its targets and their distribution) and the chains will take:
   // checked against the memory budget before a session is made.
-  static double memory_estimate(const RenderSettings &settings, bool multiplexed);
+  static double memory_estimate(const RenderSettings &settings, bool multiplexed, bool path_space = false);
 
   // One state from the sampler's numbers (contribution.cpp). depth_override >= 0
   // (multiplexed bootstrap): that depth instead of the one the numbers pick.
@@ -78,6 +87,9 @@ class Metropolis final : public Integrator {
   }
 
  private:
+  // Path space: the state of an evaluated explicit path (its one splat).
+  static void path_state(const ExplicitPath &path, State &state);
+  const char *name() const { return mlt_.path_space ? "mlt" : mlt_.multiplexed ? "mmlt" : "pssmlt"; }
   void evaluate_kelemen(PssSampler &sampler, RayStats &stats, State &state) const;
   template <bool kMedia>
   void evaluate_multiplexed(PssSampler &sampler, RayStats &stats, State &state, int depth_override) const;
@@ -101,6 +113,7 @@ class Metropolis final : public Integrator {
   float image_area_;      // light-tracing splats carry the camera importance of the whole image
   Distribution1D depth_distribution_;  // multiplexed: path depth by b
   ImportanceMap importance_;  // empty: the luminance target
+  std::unique_ptr<PathSpace> path_space_;  // mlt only
 
   mutable std::mutex stats_mutex_;
   MltStats stats_;

@@ -1,0 +1,576 @@
+// Explicit paths: sampling them from either end, their contribution f and the
+// densities of every vertex (path_space.h), and Veach's bidirectional mutation.
+#include "integrators/mlt/path_space.h"
+#include <algorithm>
+#include <cmath>
+#include "core/ray_offset.h"
+#include "lights/light.h"
+#include "media/medium_stack.h"
+
+namespace rdv::mlt {
+
+using bdpt::PathVertex;
+using bdpt::VertexType;
+
+void ExplicitPath::reserve(int max_vertices) {
+  const size_t n = size_t(max_vertices);
+  if (x.size() >= n) return;
+  x.resize(n);
+  fwd.assign(n, 0.0);
+  rev.assign(n, 0.0);
+}
+
+namespace {
+
+// Free flights as Medium::sample_homogeneous draws them: one colour channel chosen
+// uniformly, an exponential distance in it; a medium that does not scatter is passed.
+bool scatters(const Medium &m) { return max_component(m.sigma_s) > 0; }
+double pass_probability(const Medium &m, float length) { return scatters(m) ? average(m.transmittance(length)) : 1.0; }
+double scatter_density(const Medium &m, float t) { return scatters(m) ? average(m.sigma_t * m.transmittance(t)) : 0.0; }
+float free_flight(const Medium &m, float segment, Pcg32 &rng) {
+  if (!scatters(m)) return -1;
+  int c = std::min(int(rng.next_float() * 3.0f), 2);
+  float st = m.sigma_t[c];
+  float u = rng.next_float();
+  float t = st > 0 ? -std::log(1.0f - u) / st : kInf;
+  return t < segment ? t : -1.0f;
+}
+
+float cosine_at(const PathVertex &v, Vec3 w) { return v.on_surface() ? absdot(v.ng, w) : 1.0f; }
+
+// Veach's preference for short deletions: a deletion of kd edges weighs 2^-(kd-1).
+double deletion_weight(int kd) { return std::ldexp(1.0, -(kd - 1)); }
+// Valid positions of a deletion of kd edges on a path of nv vertices: l in -1 .. nv - kd,
+// but never the edge before the camera or after the light alone (kd = 1 at the ends).
+int deletion_positions(int nv, int kd) { return nv - kd + 2 - (kd == 1 ? 2 : 0); }
+
+}  // namespace
+
+double split_sum(const double *fwd, const double *rev, int lo, int count) {
+  // A_(j+1) = A_j rev_j + prod_(i <= j) fwd_i: the sum over the splits of the first j vertices.
+  double a = 1, prefix = 1;
+  for (int i = 0; i < count; ++i) {
+    prefix *= fwd[lo + i];
+    a = a * rev[lo + i] + prefix;
+  }
+  return a;
+}
+
+PathSpace::PathSpace(const Scene &scene, int max_bounces, Vec2 sample_origin, Vec2 sample_size, float image_area,
+                     float large_step_probability)
+    : scene_(scene),
+      max_vertices_(max_bounces + 2),
+      sample_origin_(sample_origin),
+      sample_size_(sample_size),
+      image_area_(image_area),
+      region_area_(sample_size.x * sample_size.y),
+      large_step_probability_(large_step_probability),
+      media_(scene.has_media()) {}
+
+std::string PathSpace::unsupported(const Scene &scene, const RenderSettings &settings) {
+  const Camera &camera = scene.camera();
+  if (camera.type != Camera::Type::Perspective)
+    return "the camera is orthographic; mlt samples perspective pinhole cameras only (use bdpt or pssmlt)";
+  if (camera.aperture_radius > 0)
+    return "the camera has depth of field (aperture radius " + std::to_string(camera.aperture_radius) +
+           "); mlt samples pinhole cameras only (use bdpt or pssmlt)";
+  if (settings.limits.classify || settings.limits.clamps)
+    return "Light Paths limits (per-kind bounces, caustics switches, clamps) are not implemented for mlt, only "
+           "max_bounces";
+  for (size_t i = 0; i < scene.lights().size(); ++i) {
+    const Light &l = scene.lights()[i];
+    const std::string which = "light " + std::to_string(i);
+    switch (l.type) {
+      case LightType::Sun:
+      case LightType::Background: return which + " is a sun or world light; mlt does not sample lights at infinity yet";
+      case LightType::Volume: return which + " is an emissive volume; mlt does not sample volume lights yet";
+      case LightType::Point:
+      case LightType::Spot:
+        if (l.radius > 0)
+          return which + " is a point or spot lamp of radius " + std::to_string(l.radius) +
+                 "; mlt samples point and spot lamps of radius 0 only";
+        break;
+      case LightType::Triangle:
+        if (l.textured) return which + " is a mesh with textured emission; mlt samples uniform emitters only";
+        break;
+      default: break;
+    }
+  }
+  for (int m = 0; m < scene.num_media(); ++m) {
+    const Medium &medium = scene.medium(m);
+    if (medium.is_heterogeneous())
+      return "medium '" + medium.name +
+             "' is a grid medium; mlt's free-flight densities are closed form, for homogeneous media only";
+    if (medium.is_emissive()) return "medium '" + medium.name + "' emits light; mlt does not sample emissive media yet";
+  }
+  return "";
+}
+
+// ---- Sampling ----
+
+bool PathSpace::trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &stats, ExplicitVertex &z) const {
+  for (int guard = 0; guard < 256; ++guard) {
+    SurfaceHit hit;
+    CoincidentBoundary boundary;
+    ++stats.rays;
+    bool found = media_ ? scene_.intersect_media(ray, hit, boundary) : scene_.intersect(ray, hit);
+    float segment = found ? hit.t : ray.tmax;
+    if (media_) {
+      int m = media.current(scene_);
+      if (m >= 0) {
+        float t = free_flight(scene_.medium(m), segment, rng);
+        if (t >= 0) {
+          PathVertex &v = bdpt::fresh_vertex(z.v);
+          v.type = VertexType::Medium;
+          v.p = ray.o + ray.d * t;
+          v.wo = -ray.d;
+          v.medium = m;
+          v.media = media;
+          return true;
+        }
+      }
+      if (found && scene_.is_boundary_only(hit.material)) {  // an index-matched boundary: no vertex
+        media.cross(scene_, hit, boundary, ray.d);
+        float tmax = std::isinf(ray.tmax) ? kInf : ray.tmax - hit.t;
+        ray = Ray{spawn_origin(hit.p, hit.ng, hit.error, ray.d), ray.d, tmax};
+        continue;
+      }
+    }
+    if (!found) return false;
+    PathVertex &v = bdpt::fresh_surface_vertex(z.v, hit, ray.d, boundary, media);
+    if (scene_.material(hit.material).emits()) v.light = int(scene_.triangle_light(hit.instance, hit.prim));
+    z.hit = hit;
+    return true;
+  }
+  return false;
+}
+
+bool PathSpace::camera_vertex(ExplicitVertex &z) const {
+  PathVertex &v = bdpt::fresh_vertex(z.v);
+  v.type = VertexType::Camera;
+  v.p = scene_.camera().position();
+  if (media_) v.media = MediumStack::for_camera(scene_);
+  return true;
+}
+
+bool PathSpace::light_vertex(Pcg32 &rng, ExplicitVertex &z, Vec3 &dir) const {
+  const Distribution1D &dist = scene_.light_distribution();
+  float u_light = rng.next_float();
+  Vec2 u_pos{rng.next_float(), rng.next_float()}, u_dir{rng.next_float(), rng.next_float()};
+  if (dist.size() == 0 || dist.total() <= 0) return false;
+  uint32_t index = uint32_t(dist.sample_discrete(u_light, nullptr));
+  EmissionSample es;
+  if (!scene_.sample_emission(index, u_pos, u_dir, Vec3(0.5f), es)) return false;
+  const Light &light = scene_.lights()[index];
+  PathVertex &v = bdpt::fresh_vertex(z.v);
+  v.type = VertexType::Light;
+  v.light = int(index);
+  v.p = es.ray.o;
+  if (light.type == LightType::Area || light.type == LightType::Triangle) v.ng = v.ns = light.axis;
+  if (light.type == LightType::Triangle) v.error = light.error;
+  if (media_) {
+    if (const std::vector<int> *media = scene_.light_media(index)) v.media = MediumStack::from(*media);
+    else v.media = MediumStack::from(scene_.media_along(es.ray.o, es.ray.d));
+  }
+  dir = es.ray.d;
+  return true;
+}
+
+MediumStack PathSpace::stack_toward(const ExplicitVertex &z, Vec3 w) const {
+  return media_ ? z.v.media_toward(scene_, w) : MediumStack();
+}
+
+// z's camera-side neighbour is now `camera_side`: its wo, its media on that side and
+// (surfaces) its BSDF follow (path_space.h: f's rule).
+void PathSpace::settle(ExplicitVertex &z, const ExplicitVertex &camera_side) const {
+  Vec3 w = normalize(camera_side.v.p - z.v.p);
+  if (z.v.type == VertexType::Surface) {
+    if (media_) z.v.media = z.v.media_toward(scene_, w);
+    z.v.bsdf = scene_.bsdf(z.hit, w, 0);
+  }
+  z.v.wo = w;
+}
+
+bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats) const {
+  const ExplicitVertex &prev = y.x[size_t(at - 1)];
+  Ray ray;
+  MediumStack media;
+  if (prev.v.type == VertexType::Camera) {
+    // A raster point uniform over the sample region, through the pinhole.
+    Vec2 raster{sample_origin_.x + rng.next_float() * sample_size_.x, sample_origin_.y + rng.next_float() * sample_size_.y};
+    ray = scene_.camera().generate_ray(raster, Vec2(0.5f, 0.5f));
+    media = prev.v.media;
+  } else {
+    Vec3 wi;
+    if (prev.v.type == VertexType::Medium) {
+      Vec2 u{rng.next_float(), rng.next_float()};
+      wi = scene_.medium(prev.v.medium).phase.sample(prev.v.wo, u);
+    } else if (prev.v.type == VertexType::Surface) {
+      float u_lobe = rng.next_float();
+      Vec2 u{rng.next_float(), rng.next_float()};
+      BsdfSample bs;
+      if (!prev.v.bsdf.has_lobes() || !prev.v.bsdf.sample(prev.v.wo, u_lobe, u, TransportMode::Radiance, bs)) return false;
+      if (bs.is_delta || bs.pass_through) {
+        y.specular = true;
+        return false;
+      }
+      wi = bs.wi;
+    } else {
+      return false;  // lights do not scatter
+    }
+    media = stack_toward(prev, wi);
+    ray = Ray{prev.v.on_surface() ? spawn_origin(prev.v.p, prev.v.ng, prev.v.error, wi) : prev.v.p, wi, kInf};
+  }
+  ExplicitVertex &z = y.x[size_t(at)];
+  if (!trace_step(ray, media, rng, stats, z)) return false;
+  settle(z, prev);
+  return true;
+}
+
+bool PathSpace::extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats) const {
+  const ExplicitVertex &next = y.x[size_t(at + 1)];
+  Vec3 wi;
+  if (at + 1 == y.n - 1) {
+    // Leaving the light: its emission direction (sample_emission's, whatever point it picks).
+    EmissionSample es;
+    Vec2 u_pos{rng.next_float(), rng.next_float()}, u_dir{rng.next_float(), rng.next_float()};
+    if (next.v.light < 0 || !scene_.sample_emission(uint32_t(next.v.light), u_pos, u_dir, Vec3(0.5f), es)) return false;
+    wi = es.ray.d;
+  } else {
+    Vec3 w_light = normalize(y.x[size_t(at + 2)].v.p - next.v.p);
+    if (next.v.type == VertexType::Medium) {
+      Vec2 u{rng.next_float(), rng.next_float()};
+      wi = scene_.medium(next.v.medium).phase.sample(w_light, u);
+    } else if (next.v.type == VertexType::Surface) {
+      float u_lobe = rng.next_float();
+      Vec2 u{rng.next_float(), rng.next_float()};
+      Bsdf bsdf = scene_.bsdf(next.hit, w_light, 0);
+      BsdfSample bs;
+      if (!bsdf.has_lobes() || !bsdf.sample(w_light, u_lobe, u, TransportMode::Importance, bs)) return false;
+      if (bs.is_delta || bs.pass_through) {
+        y.specular = true;
+        return false;
+      }
+      wi = bs.wi;
+    } else {
+      return false;
+    }
+  }
+  MediumStack media = stack_toward(next, wi);
+  Ray ray{next.v.on_surface() ? spawn_origin(next.v.p, next.v.ng, next.v.error, wi) : next.v.p, wi, kInf};
+  return trace_step(ray, media, rng, stats, y.x[size_t(at)]);
+}
+
+// y's vertices 0 .. l and l + na + 1 .. n - 1 are in place; the na between are sampled:
+// j from the camera side, the rest from the light side, then joined.
+bool PathSpace::regenerate(ExplicitPath &y, int l, int na, int j, Pcg32 &rng, RayStats &stats) const {
+  for (int i = 0; i < j; ++i) {
+    int at = l + 1 + i;
+    if (at == 0) camera_vertex(y.x[0]);
+    else if (!extend_from_camera_side(y, at, rng, stats)) return false;
+  }
+  if (l + j + 1 == 0) return false;  // the camera cannot be reached from the light side
+  const int last = y.n - 1;
+  for (int i = 0; i < na - j; ++i) {
+    int at = l + na - i;
+    Vec3 dir;
+    if (at == last) {
+      if (!light_vertex(rng, y.x[size_t(at)], dir)) return false;
+    } else if (!extend_from_light_side(y, at, rng, stats)) {
+      return false;
+    }
+  }
+  // The light-side vertices and the kept vertex after them face their new camera side.
+  for (int i = l + j + 1; i <= std::min(l + na + 1, last); ++i) settle(y.x[size_t(i)], y.x[size_t(i - 1)]);
+  return true;
+}
+
+// ---- f and the densities ----
+
+Color PathSpace::emitted(const ExplicitVertex &light_vertex, Vec3 w) const {
+  const Light &l = scene_.lights()[size_t(light_vertex.v.light)];
+  switch (l.type) {
+    case LightType::Area: return dot(l.axis, w) > 0 ? l.radiance : Color(0.0f);
+    case LightType::Triangle:
+    case LightType::Point: return l.radiance;
+    case LightType::Spot: return l.radiance * spot_attenuation(l, w);
+    default: return Color(0.0f);
+  }
+}
+
+double PathSpace::light_position_density(const ExplicitVertex &light_vertex) const {
+  const Light &l = scene_.lights()[size_t(light_vertex.v.light)];
+  return double(scene_.light_distribution().pmf(size_t(light_vertex.v.light))) * l.inv_area;
+}
+
+bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec3 w, EdgeTrace &e,
+                           RayStats &stats) const {
+  e = EdgeTrace();
+  Vec3 from = a.v.p;
+  if (a.v.type == VertexType::Camera) {  // camera rays start at the near clip plane
+    const Camera &camera = scene_.camera();
+    from = from + w * (camera.clip_start / dot(w, camera.forward()));
+  }
+  ShadowRay s = shadow_ray(from, a.v.ng, a.v.error, b.v.p, b.v.ng, b.v.error);
+  if (!media_) {
+    ++stats.rays;
+    e.visible = !scene_.occluded(s.o, s.d, s.tmax);
+    return e.visible;
+  }
+  MediumStack stack = a.v.type == VertexType::Camera ? a.v.media : a.v.media_toward(scene_, w);
+  Vec3 o = s.o;
+  float remaining = s.tmax;
+  // Free-flight densities along the edge's segments: all passed, but the one at a
+  // medium end, where the flight stops instead.
+  int first_medium = -2, last_medium = -1;
+  float first_length = 0, last_length = 0;
+  double pass_all = 1, pass_but_first = 1, pass_but_last = 1;
+  for (int guard = 0;; ++guard) {
+    if (guard == 64) return false;
+    SurfaceHit hit;
+    CoincidentBoundary boundary;
+    ++stats.rays;
+    bool found = scene_.intersect_media(Ray{o, s.d, remaining}, hit, boundary);
+    float segment = found ? hit.t : remaining;
+    int m = stack.current(scene_);
+    double pass = 1;
+    if (m >= 0) {
+      const Medium &medium = scene_.medium(m);
+      e.tr *= medium.transmittance(segment);
+      pass = pass_probability(medium, segment);
+    }
+    pass_but_last = pass_all;
+    if (first_medium == -2) {
+      first_medium = m;
+      first_length = segment;
+    } else {
+      pass_but_first *= pass;
+    }
+    pass_all *= pass;
+    last_medium = m;
+    last_length = segment;
+    if (!found) break;
+    if (!scene_.is_boundary_only(hit.material)) return false;  // blocked
+    stack.cross(scene_, hit, boundary, s.d);
+    o = spawn_origin(hit.p, hit.ng, hit.error, s.d);
+    remaining -= hit.t;
+    if (remaining <= 0) break;
+  }
+  e.fwd = e.rev = pass_all;
+  if (b.v.type == VertexType::Medium) {
+    if (last_medium != b.v.medium) return false;  // not inside its own medium
+    e.fwd = pass_but_last * scatter_density(scene_.medium(last_medium), last_length);
+  }
+  if (a.v.type == VertexType::Medium) {
+    if (first_medium != a.v.medium) return false;
+    e.rev = pass_but_first * scatter_density(scene_.medium(first_medium), first_length);
+  }
+  e.visible = true;
+  return true;
+}
+
+void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
+  const int n = y.n;
+  y.f = Color(0.0f);
+  std::fill(y.fwd.begin(), y.fwd.begin() + n, 0.0);
+  std::fill(y.rev.begin(), y.rev.begin() + n, 0.0);
+  if (n < 2 || n > max_vertices_) return;
+  const ExplicitVertex &last = y.x[size_t(n - 1)];
+  if (y.x[0].v.type != VertexType::Camera || last.v.light < 0) return;
+  for (int i = 1; i < n - 1; ++i)
+    if (y.x[size_t(i)].v.type == VertexType::Camera || y.x[size_t(i)].v.type == VertexType::Light) return;
+  const Light &light = scene_.lights()[size_t(last.v.light)];
+  const bool lamp = light.type != LightType::Triangle;  // not in the BVH: no walk reaches it
+  if (n == 2 && lamp && !light.visible_camera) return;  // Cycles never shows lamps to the camera
+
+  // The camera: We = 1 / (A cos^4) (pbrt's pinhole) for a raster point in the sample region.
+  const Camera &camera = scene_.camera();
+  Vec3 w0 = normalize(y.x[1].v.p - y.x[0].v.p);
+  Vec2 raster;
+  float cos0;
+  if (!camera.raster_of_direction(w0, raster, cos0)) return;
+  if (!(raster.x >= sample_origin_.x && raster.x < sample_origin_.x + sample_size_.x &&
+        raster.y >= sample_origin_.y && raster.y < sample_origin_.y + sample_size_.y))
+    return;
+  float depth = dot(y.x[1].v.p - camera.position(), camera.forward());
+  if (depth < camera.clip_start || depth > camera.clip_end) return;
+  const double area = camera.viewplane_area();
+  const double c2 = double(cos0) * cos0;
+  Color f(float(1.0 / (area * c2 * c2) * cos0));
+
+  // Edge by edge: transmittance, geometry, the scattering at its camera-side end, and
+  // the densities of its two ends as the other end's walk would reach them.
+  for (int i = 0; i + 1 < n; ++i) {
+    const ExplicitVertex &a = y.x[size_t(i)], &b = y.x[size_t(i + 1)];
+    Vec3 d = b.v.p - a.v.p;
+    float d2 = length_squared(d);
+    if (!(d2 > 0)) return;
+    Vec3 w = d / std::sqrt(d2);
+    EdgeTrace e;
+    if (!trace_edge(a, b, w, e, stats)) return;
+    const float cos_b = cosine_at(b.v, w), cos_a = cosine_at(a.v, w);
+    f *= e.tr * (cos_b / d2);
+    // Scattering at a (interior vertices), toward b.
+    if (i >= 1) {
+      if (a.v.type == VertexType::Surface) {
+        f *= a.v.bsdf.eval(a.v.wo, w, TransportMode::Radiance);
+      } else {
+        const Medium &medium = scene_.medium(a.v.medium);
+        f *= medium.sigma_s * medium.phase.eval(a.v.wo, w);
+      }
+    }
+    if (is_black(f)) return;
+    // Density of b from the camera side (a scattered toward it) and of a from the light
+    // side (b scattered toward it): area measure, times the free flight.
+    double pdf_b = 0;
+    if (i == 0) {
+      pdf_b = (double(image_area_) / region_area_) / (area * c2 * cos0);
+    } else if (a.v.type == VertexType::Surface) {
+      pdf_b = a.v.bsdf.pdf(a.v.wo, w);
+    } else {
+      pdf_b = scene_.medium(a.v.medium).phase.pdf(a.v.wo, w);
+    }
+    y.fwd[size_t(i + 1)] = pdf_b * cos_b / d2 * e.fwd;
+    double pdf_a = 0;
+    if (i == 0) {
+      pdf_a = 0;  // nothing reaches the pinhole
+    } else if (i + 1 == n - 1) {
+      float pdf_pos, pdf_dir;
+      emission_pdf(light, b.v.p, b.v.ng, -w, scene_.bounding_radius(), pdf_pos, pdf_dir);
+      pdf_a = pdf_dir;
+    } else if (b.v.type == VertexType::Surface) {
+      Vec3 w_light = normalize(y.x[size_t(i + 2)].v.p - b.v.p);
+      Bsdf light_side = scene_.bsdf(b.hit, w_light, 0);
+      pdf_a = light_side.pdf(w_light, -w);
+    } else {
+      pdf_a = scene_.medium(b.v.medium).phase.pdf(normalize(y.x[size_t(i + 2)].v.p - b.v.p), -w);
+    }
+    y.rev[size_t(i)] = pdf_a * cos_a / d2 * e.rev;
+  }
+  f *= emitted(last, normalize(y.x[size_t(n - 2)].v.p - last.v.p));
+  y.fwd[0] = 1;  // the pinhole
+  if (lamp) y.fwd[size_t(n - 1)] = 0;
+  y.rev[size_t(n - 1)] = light_position_density(last);
+  f *= image_area_;
+  if (!is_finite(f) || f.x < 0 || f.y < 0 || f.z < 0) f = Color(0.0f);
+  y.f = f;
+  y.raster = raster;
+}
+
+// ---- The transition densities ----
+
+double PathSpace::deletion_probability(int nv, int l, int m) const {
+  if (l == -1 && m == nv) return large_step_probability_;
+  if (l < -1 || m > nv || m <= l || (l == -1 && m == 0) || (l == nv - 1 && m == nv)) return 0;
+  double z = 0;
+  for (int kd = 1; kd <= nv; ++kd) z += deletion_weight(kd) * deletion_positions(nv, kd);
+  return (1.0 - large_step_probability_) * deletion_weight(m - l) / z;
+}
+
+namespace {
+// The range of added vertex counts after deleting l+1 .. m-1 of nv (path_space.h).
+void addition_range(int nv, int l, int m, int max_vertices, int &lo, int &hi) {
+  const int kept = nv - (m - l - 1);
+  lo = std::max(int(l == -1) + int(m == nv), 2 - kept);
+  hi = max_vertices - kept;
+}
+double addition_weight(int na, int nd) { return std::ldexp(1.0, -std::abs(na - nd)); }
+}  // namespace
+
+double PathSpace::addition_probability(int nv, int l, int m, int na) const {
+  if (l == -1 && m == nv) return na >= 2 && na <= max_vertices_ ? 1.0 / (max_vertices_ - 1) : 0.0;
+  int lo, hi;
+  addition_range(nv, l, m, max_vertices_, lo, hi);
+  if (na < lo || na > hi) return 0;
+  const int nd = m - l - 1;
+  double z = 0;
+  for (int k = lo; k <= hi; ++k) z += addition_weight(k, nd);
+  return addition_weight(na, nd) / z;
+}
+
+double PathSpace::transition_density(int nv_x, int l, int m, const ExplicitPath &y, int na) const {
+  double p = deletion_probability(nv_x, l, m) * addition_probability(nv_x, l, m, na);
+  if (!(p > 0)) return 0;
+  return p * split_sum(y.fwd.data(), y.rev.data(), l + 1, na) / double(na + 1);
+}
+
+double PathSpace::independent_density(const ExplicitPath &y) const {
+  return split_sum(y.fwd.data(), y.rev.data(), 0, y.n) / double(y.n + 1) / double(max_vertices_ - 1);
+}
+
+double PathSpace::sample_independent(Pcg32 &rng, RayStats &stats, ExplicitPath &y) const {
+  y.reserve(max_vertices_);
+  y.specular = false;
+  y.f = Color(0.0f);
+  const int nv = 2 + std::min(int(rng.next_float() * float(max_vertices_ - 1)), max_vertices_ - 2);
+  const int j = std::min(int(rng.next_float() * float(nv + 1)), nv);
+  y.n = nv;
+  if (!regenerate(y, -1, nv, j, rng, stats)) return 0;
+  evaluate(y, stats);
+  if (!(luminance(y.f) > 0)) return 0;
+  return independent_density(y);
+}
+
+Proposal PathSpace::mutate(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const {
+  Proposal proposal;
+  y.reserve(max_vertices_);
+  y.specular = false;
+  y.f = Color(0.0f);
+  const int nv = x.n;
+  // The deletion: everything (a large step), or kd edges by Veach's weights, placed uniformly.
+  int l, m;
+  if (rng.next_float() < large_step_probability_) {
+    proposal.type = MutationType::Large;
+    l = -1;
+    m = nv;
+  } else {
+    double z = 0;
+    for (int kd = 1; kd <= nv; ++kd) z += deletion_weight(kd) * deletion_positions(nv, kd);
+    double u = rng.next_float() * z;
+    int kd = 1;
+    for (; kd < nv; ++kd) {
+      u -= deletion_weight(kd) * deletion_positions(nv, kd);
+      if (u < 0) break;
+    }
+    const int positions = deletion_positions(nv, kd);
+    const int first = kd == 1 ? 0 : -1;
+    l = first + std::min(int(rng.next_float() * float(positions)), positions - 1);
+    m = l + kd;
+  }
+  const int nd = m - l - 1, kept = nv - nd;
+  // How many vertices to add, then how many of them from the camera side.
+  int na;
+  if (proposal.type == MutationType::Large) {
+    na = 2 + std::min(int(rng.next_float() * float(max_vertices_ - 1)), max_vertices_ - 2);
+  } else {
+    int lo, hi;
+    addition_range(nv, l, m, max_vertices_, lo, hi);
+    double z = 0;
+    for (int k = lo; k <= hi; ++k) z += addition_weight(k, nd);
+    double u = rng.next_float() * z;
+    na = lo;
+    for (; na < hi; ++na) {
+      u -= addition_weight(na, nd);
+      if (u < 0) break;
+    }
+  }
+  const int j = std::min(int(rng.next_float() * float(na + 1)), na);
+  proposal.l = l;
+  proposal.m = m;
+  proposal.na = na;
+  y.n = kept + na;
+  for (int i = 0; i <= l; ++i) y.x[size_t(i)] = x.x[size_t(i)];
+  for (int i = m; i < nv; ++i) y.x[size_t(i - m + l + na + 1)] = x.x[size_t(i)];
+  if (!regenerate(y, l, na, j, rng, stats)) return proposal;
+  evaluate(y, stats);
+  const float fy = luminance(y.f);
+  if (!(fy > 0)) return proposal;
+  const double t_xy = transition_density(nv, l, m, y, na);
+  const double t_yx = transition_density(y.n, l, l + na + 1, x, nd);
+  if (!(t_xy > 0) || !std::isfinite(t_yx)) return proposal;
+  proposal.ratio = t_yx / t_xy;
+  if (proposal.type == MutationType::Large) proposal.independent = double(fy) / independent_density(y);
+  return proposal;
+}
+
+}  // namespace rdv::mlt

@@ -1,0 +1,110 @@
+// Path space for Metropolis light transport (Veach & Guibas 1997; Veach 1997, ch. 11):
+// a state is an explicit path x_0 (the camera) ... x_(n-1) (a point on a light), its
+// vertices BDPT's PathVertex (surfaces and medium scattering points), and what it
+// carries is one function f(x) of the vertices alone, however the path was sampled:
+//  - a surface's BSDF is built from the direction toward its camera-side neighbour,
+//    with unfiltered texture lookups (no ray cone: a mutation can reproduce it from
+//    either side); transport is evaluated in the radiance direction;
+//  - transmittance is closed form (homogeneous media), visibility exact.
+// Each vertex also has the two area (volume) densities of sampling it, from the camera
+// side (fwd) and from the light side (rev), with the same rules the walks here use:
+// BSDF / phase sampling (from the light side with a BSDF built toward the light-side
+// neighbour), free-flight distances by one channel chosen uniformly, a camera ray by a
+// raster point uniform over the sample region, a light by power and a point uniform on
+// it. The bidirectional mutation's transition density T(x -> y) is a sum of products
+// of these (Veach 1997, sec. 11.4.2), so the acceptance ratio is exact.
+#pragma once
+#include <string>
+#include <vector>
+#include "core/hash.h"
+#include "integrators/bdpt/path_vertex.h"
+#include "integrators/integrator.h"
+
+namespace rdv::mlt {
+
+struct ExplicitVertex {
+  // wo: toward the camera-side neighbour; bsdf built from it; media: the stack on that
+  // side. Light vertices: light >= 0, media the light's.
+  bdpt::PathVertex v;
+  SurfaceHit hit;  // surfaces: rebuilds the BSDF when the camera-side neighbour changes
+};
+
+struct ExplicitPath {
+  std::vector<ExplicitVertex> x;  // x[0] the camera ... x[n - 1] on a light
+  int n = 0;
+  std::vector<double> fwd, rev;  // per vertex: density of sampling it from the camera / light side
+  Color f{0.0f};                 // image_area x the measurement contribution (splat value)
+  Vec2 raster{0, 0};
+  bool specular = false;  // the proposal stopped at a delta lobe (not sampled yet)
+  void reserve(int max_vertices);
+};
+
+enum class MutationType : uint8_t { Large, Bidirectional, Count };
+inline const char *mutation_name(MutationType t) { return t == MutationType::Large ? "large" : "bidirectional"; }
+
+// One proposal: the path it made, and T(y -> x) / T(x -> y) (0: no path).
+struct Proposal {
+  MutationType type = MutationType::Bidirectional;
+  double ratio = 0;
+  double independent = 0;  // large steps: lum(f(y)) / q(y), an independent sample of b
+  int l = 0, m = 0, na = 0;  // x's vertices l+1 .. m-1 were replaced by y's l+1 .. l+na
+};
+
+class PathSpace {
+ public:
+  PathSpace(const Scene &scene, int max_bounces, Vec2 sample_origin, Vec2 sample_size, float image_area,
+            float large_step_probability);
+  // Why mlt cannot render this scene with these settings (a message naming the light,
+  // medium, camera or setting), or "" when it can.
+  static std::string unsupported(const Scene &scene, const RenderSettings &settings);
+  int max_vertices() const { return max_vertices_; }
+
+  // f, the image position and both densities of every vertex of y (y.n and the vertices set).
+  void evaluate(ExplicitPath &y, RayStats &stats) const;
+  // A path with every vertex sampled afresh (a large step); returns its density q(y)
+  // (0: no path). The path length is uniform over 2 .. max_vertices vertices.
+  double sample_independent(Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
+  // q(y) of a path whose densities are evaluated.
+  double independent_density(const ExplicitPath &y) const;
+  // Veach's bidirectional mutation of x (evaluated) into y; y is written, x never.
+  Proposal mutate(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
+
+  // The pieces of T (tests check them against an independent evaluation).
+  double deletion_probability(int nv, int l, int m) const;
+  double addition_probability(int nv, int l, int m, int na) const;
+  // T(x -> y) of a partial bidirectional mutation: x's vertices l+1 .. m-1 replaced by y's
+  // l+1 .. l+na, read from y's densities.
+  double transition_density(int nv_x, int l, int m, const ExplicitPath &y, int na) const;
+
+ private:
+  struct EdgeTrace {
+    bool visible = false;
+    Color tr{1.0f};
+    double fwd = 1, rev = 1;  // free-flight densities of reaching b from a / a from b
+  };
+  bool trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec3 w, EdgeTrace &e, RayStats &stats) const;
+  bool trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &stats, ExplicitVertex &z) const;
+  bool camera_vertex(ExplicitVertex &z) const;
+  bool light_vertex(Pcg32 &rng, ExplicitVertex &z, Vec3 &dir) const;
+  bool extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats) const;
+  bool extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats) const;
+  void settle(ExplicitVertex &z, const ExplicitVertex &camera_side) const;
+  MediumStack stack_toward(const ExplicitVertex &z, Vec3 w) const;
+  bool regenerate(ExplicitPath &y, int l, int na, int j, Pcg32 &rng, RayStats &stats) const;
+  Color emitted(const ExplicitVertex &light, Vec3 w) const;
+  double light_position_density(const ExplicitVertex &light) const;
+
+  const Scene &scene_;
+  int max_vertices_;
+  Vec2 sample_origin_, sample_size_;
+  float image_area_, region_area_;
+  float large_step_probability_;
+  bool media_;
+};
+
+// Sum over the splits j = 0 .. count of the new vertices lo .. lo + count - 1 (the
+// first j from the camera side, the rest from the light side) of the product of
+// their densities, each split chosen with probability 1 / (count + 1).
+double split_sum(const double *fwd, const double *rev, int lo, int count);
+
+}  // namespace rdv::mlt

@@ -1,0 +1,42 @@
+// Path-space Metropolis ("mlt", integrators/mlt/path_space.h) through the C ABI: what it
+// cannot sample yet is refused naming the problem, and its stats. (Its images against
+// BDPT, determinism and the no-light warning are in test_mlt.cpp, with pssmlt's and mmlt's;
+// its densities in test_path_mlt_densities.cpp.)
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include "render_helpers.h"
+
+using namespace rdv::test;
+using nlohmann::json;
+
+// What mlt does not sample yet is refused with a message naming it, never rendered wrong:
+// fog_spot's spot lamp has a radius.
+TEST(PathMltRobustness, UnsupportedSceneIsRefusedNamingTheProblem) {
+  SceneHandle scene;
+  rdv_tools::load_scene_json(load_scene("fog_spot.json").dump(), source_path("scenes"), scene.s);
+  ASSERT_EQ(rdv_scene_commit(scene.s), RDV_OK);
+  rdv_session *session = nullptr;
+  rdv_status r = rdv_session_create(scene.s, R"({"integrator": "mlt", "width": 8, "height": 8})", &session);
+  if (r == RDV_OK) {
+    r = rdv_session_start(session);
+    rdv_session_destroy(session);
+  }
+  EXPECT_NE(r, RDV_OK);
+  EXPECT_NE(std::string(rdv_last_error()).find("radius"), std::string::npos) << rdv_last_error();
+}
+
+// Stats: acceptance per mutation type, b and its error; samples = mutations per pixel.
+TEST(PathMltStats, ReportedThroughTheCAbi) {
+  json s = {{"width", 24}, {"height", 16}, {"integrator", "mlt"}, {"samples", 8}, {"mlt_chains", 32}};
+  Image img = render_json(load_scene("cornell_box.json").dump(), s.dump());
+  json stats = json::parse(img.stats);
+  EXPECT_EQ(stats["integrator"], "mlt");
+  EXPECT_EQ(stats["chains"], 32);
+  EXPECT_EQ(stats["mutations"].get<uint64_t>(), 8u * 24 * 16);
+  EXPECT_EQ(img.progress.samples_done, 8u);
+  EXPECT_GT(stats["b"].get<double>(), 0.0);
+  EXPECT_LT(stats["b_standard_error"].get<double>(), stats["b"].get<double>());
+  EXPECT_GT(stats["bidirectional_acceptance"].get<double>(), 0.0);
+  EXPECT_GT(stats["large_step_acceptance"].get<double>(), 0.0);
+  EXPECT_EQ(stats["specular_proposals"], 0);
+}
