@@ -2,10 +2,12 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 #include "core/limits.h"
 #include "core/params.h"
 
@@ -22,6 +24,44 @@ struct MeshArrays {
 };
 
 constexpr float kPi = 3.14159265358979f;
+
+// The file's values are read through these: a value of the wrong type is an error naming
+// the object and the key (std::runtime_error), not a JSON library exception.
+std::string text_of(const json &j, const char *key, const std::string &fallback, const std::string &what) {
+  if (!j.is_object() || !j.contains(key)) return fallback;
+  if (!j[key].is_string()) throw std::runtime_error(what + ": '" + key + "' must be a string");
+  return j[key].get<std::string>();
+}
+float float_of(const json &j, const char *key, float fallback, const std::string &what) {
+  if (!j.contains(key)) return fallback;
+  if (!j[key].is_number()) throw std::runtime_error(what + ": '" + key + "' must be a number");
+  return float(j[key].get<double>());
+}
+bool flag_of(const json &j, const char *key, bool fallback, const std::string &what) {
+  if (!j.contains(key)) return fallback;
+  if (!j[key].is_boolean()) throw std::runtime_error(what + ": '" + key + "' must be true or false");
+  return j[key].get<bool>();
+}
+// A count or byte offset: a whole number from 0 up to `most`.
+uint64_t count_of(const json &j, const char *key, uint64_t fallback, uint64_t most, const std::string &what) {
+  if (!j.contains(key)) return fallback;
+  const json &v = j[key];  // JSON's non-negative integers parse as unsigned
+  if (v.is_number_unsigned() && v.get<uint64_t>() <= most) return v.get<uint64_t>();
+  throw std::runtime_error(what + ": '" + key + "' must be a whole number from 0 to " + std::to_string(most) +
+                           ", got " + v.dump());
+}
+// A top-level list ("materials", ...): absent is empty; each entry must be an object.
+const json &list_of(const json &doc, const char *key) {
+  static const json kEmpty = json::array();
+  if (!doc.contains(key)) return kEmpty;
+  const json &list = doc[key];
+  if (!list.is_array()) throw std::runtime_error(std::string("'") + key + "' must be a list of objects");
+  for (size_t i = 0; i < list.size(); ++i)
+    if (!list[i].is_object())
+      throw std::runtime_error(std::string(key) + "[" + std::to_string(i) + "] must be a JSON object, got " +
+                               list[i].type_name());
+  return list;
+}
 
 void make_sphere(MeshArrays &m, float radius, int segments) {
   int rings = std::max(segments / 2, 2);
@@ -93,7 +133,13 @@ std::vector<T> numbers(const json &j, const std::string &what) {
   std::vector<T> v;
   v.reserve(j.size());
   for (const auto &e : j) {
-    if (e.is_number()) v.push_back(e.get<T>());
+    if constexpr (std::is_integral_v<T>) {  // indices: whole numbers in T's range (1e30 would not convert)
+      bool whole = e.is_number_unsigned() ? e.get<uint64_t>() <= std::numeric_limits<T>::max()
+                                          : e.is_number_integer() && e.get<int64_t>() >= 0;
+      if (!whole) throw std::runtime_error(what + " must be whole numbers from 0 to " +
+                                           std::to_string(std::numeric_limits<T>::max()) + ", got " + e.dump());
+      v.push_back(T(e.get<uint64_t>()));
+    } else if (e.is_number()) v.push_back(e.get<T>());
     else if (e.is_null() && std::is_floating_point_v<T>) v.push_back(T(NAN));  // JSON has no NaN literal
     else throw std::runtime_error(what + " must be an array of numbers");
   }
@@ -121,7 +167,8 @@ int shape_segments(const json &s, const std::string &what, const std::string &ty
   if (!s.contains("segments")) return fallback;
   const json &v = s["segments"];
   if (!v.is_number()) throw std::runtime_error(what + ": " + type + " 'segments' must be a number");
-  double n = std::max(v.get<double>(), 3.0);  // fewer than 3 make no shape: 3, as always
+  double n = v.get<double>();
+  if (!(n >= 3)) n = 3;  // fewer than 3 make no shape: 3, as always
   double triangles = type == "sphere" ? n * std::max(std::floor(n / 2), 2.0) * 2 : n;
   if (triangles > double(rdv::kMaxGeneratedTriangles)) {
     int most = type == "sphere" ? int(std::sqrt(double(rdv::kMaxGeneratedTriangles))) : int(rdv::kMaxGeneratedTriangles);
@@ -140,21 +187,25 @@ MeshArrays mesh_arrays(const json &j, const std::string &what, const std::string
   MeshArrays m;
   if (j.contains("shape")) {
     const json &s = j["shape"];
-    std::string type = s.value("type", "");
-    if (type == "sphere") make_sphere(m, s.value("radius", 1.0f), shape_segments(s, what, type, 48));
+    const std::string shape = what + " shape";
+    if (!s.is_object()) throw std::runtime_error(shape + " must be a JSON object");
+    std::string type = text_of(s, "type", "", shape);
+    if (type == "sphere") make_sphere(m, float_of(s, "radius", 1.0f, shape), shape_segments(s, what, type, 48));
     else if (type == "quad") {
-      float size = s.value("size", 2.0f);
-      make_quad(m, s.value("size_x", size), s.value("size_y", size));
-    } else if (type == "disk") make_disk(m, s.value("radius", 1.0f), shape_segments(s, what, type, 64));
+      float size = float_of(s, "size", 2.0f, shape);
+      make_quad(m, float_of(s, "size_x", size, shape), float_of(s, "size_y", size, shape));
+    } else if (type == "disk") make_disk(m, float_of(s, "radius", 1.0f, shape), shape_segments(s, what, type, 64));
     else if (type == "box") {
       auto size = s.contains("size") ? numbers<float>(s["size"], what + " shape size") : std::vector<float>{2, 2, 2};
       if (size.size() != 3) throw std::runtime_error(what + ": box size needs 3 numbers");
       make_box(m, size[0], size[1], size[2]);
     } else throw std::runtime_error(what + ": unknown shape type '" + type + "' (sphere, quad, disk, box)");
-    if (!s.value("smooth", true)) m.normals.clear();  // flat shading: face normals only
+    if (!flag_of(s, "smooth", true, shape)) m.normals.clear();  // flat shading: face normals only
   } else if (j.contains("binary")) {
     const json &b = j["binary"];
-    std::string file = (std::filesystem::path(base_dir) / b.value("file", "")).string();
+    const std::string side = what + " 'binary'";
+    if (!b.is_object()) throw std::runtime_error(side + " must be a JSON object");
+    std::string file = (std::filesystem::path(base_dir) / text_of(b, "file", "", side)).string();
     std::ifstream f(file, std::ios::binary);
     if (!f) throw std::runtime_error(what + ": cannot open side file '" + file + "'");
     std::error_code ec;
@@ -162,15 +213,13 @@ MeshArrays mesh_arrays(const json &j, const std::string &what, const std::string
     if (ec) throw std::runtime_error(what + ": cannot read side file '" + file + "'");
     // Counts above the vertex limit of the C ABI (32 bits) cannot be a mesh; below it,
     // multiplied by 3 they stay far from 64-bit overflow.
-    uint64_t nv = b.value("num_vertices", 0ull), nt = b.value("num_triangles", 0ull);
-    if (nv > UINT32_MAX || nt > UINT32_MAX)
-      throw std::runtime_error(what + ": 'num_vertices' and 'num_triangles' must be below 2^32");
-    m.positions = read_binary<float>(f, size, b.value("positions", 0ull), nv * 3, what);
-    m.indices = read_binary<uint32_t>(f, size, b.value("indices", 0ull), nt * 3, what);
-    if (b.contains("normals")) m.normals = read_binary<float>(f, size, b["normals"].get<uint64_t>(), nv * 3, what);
-    if (b.contains("uvs")) m.uvs = read_binary<float>(f, size, b["uvs"].get<uint64_t>(), nv * 2, what);
-    if (b.contains("material_indices"))
-      m.slots = read_binary<uint32_t>(f, size, b["material_indices"].get<uint64_t>(), nt, what);
+    uint64_t nv = count_of(b, "num_vertices", 0, UINT32_MAX, side), nt = count_of(b, "num_triangles", 0, UINT32_MAX, side);
+    auto offset = [&](const char *key) { return count_of(b, key, 0, UINT64_MAX, side); };
+    m.positions = read_binary<float>(f, size, offset("positions"), nv * 3, what);
+    m.indices = read_binary<uint32_t>(f, size, offset("indices"), nt * 3, what);
+    if (b.contains("normals")) m.normals = read_binary<float>(f, size, offset("normals"), nv * 3, what);
+    if (b.contains("uvs")) m.uvs = read_binary<float>(f, size, offset("uvs"), nv * 2, what);
+    if (b.contains("material_indices")) m.slots = read_binary<uint32_t>(f, size, offset("material_indices"), nt, what);
   } else {
     if (!j.contains("positions") || !j.contains("indices"))
       throw std::runtime_error(what + ": needs 'positions' and 'indices', a 'shape' or a 'binary' file");
@@ -266,8 +315,10 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
   auto report = [&](const std::string &what) { out.problems.push_back(what + ": " + rdv_last_error()); };
 
   std::map<std::string, uint32_t> materials;
-  for (const json &m : doc.value("materials", json::array())) {
-    std::string name = m.value("name", "material " + std::to_string(materials.size()));
+  size_t material_index = 0;
+  for (const json &m : list_of(doc, "materials")) {
+    const std::string index = "materials[" + std::to_string(material_index++) + "]";
+    std::string name = text_of(m, "name", "material " + std::to_string(materials.size()), index);
     uint32_t id;
     rdv_status status =
         rdv_scene_add_material(scene, name.c_str(), without(with_resolved_files(m, base_dir), {"name"}).c_str(), &id);
@@ -290,13 +341,15 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
 
   struct MeshEntry { uint32_t id; json transform; bool instanced = false; };
   std::map<std::string, MeshEntry> meshes;
-  for (const json &j : doc.value("meshes", json::array())) {
-    std::string name = j.value("name", "mesh " + std::to_string(meshes.size()));
+  for (const json &j : list_of(doc, "meshes")) {
+    std::string name = text_of(j, "name", "mesh " + std::to_string(meshes.size()), "mesh " + std::to_string(meshes.size()));
     std::string what = "mesh '" + name + "'";
     try {
       MeshArrays a = mesh_arrays(j, what, base_dir);
       std::vector<uint32_t> slot_ids;
-      for (const json &s : j.value("materials", json::array())) {
+      const json &slots = j.contains("materials") ? j["materials"] : json::array();
+      if (!slots.is_array()) throw std::runtime_error(what + ": 'materials' must be a list of material names");
+      for (const json &s : slots) {
         std::string mname = s.is_string() ? s.get<std::string>() : "";
         auto it = materials.find(mname);
         if (it == materials.end()) {
@@ -323,17 +376,18 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
         continue;
       }
       // Named per-vertex attributes: [{"name", "kind": "uv"|"color", "components", "data"}].
-      for (const json &at : j.value("attributes", json::array())) {
-        std::string an = at.value("name", ""), kind = at.value("kind", "color");
-        uint32_t comps = at.value("components", kind == "uv" ? 2u : 3u);
-        std::vector<float> data = numbers<float>(at.value("data", json::array()), what + " attribute '" + an + "'");
+      for (const json &at : list_of(j, "attributes")) {
+        std::string an = text_of(at, "name", "", what + " attribute"), kind = text_of(at, "kind", "color", what + " attribute '" + an + "'");
+        const std::string attribute = what + " attribute '" + an + "'";
+        uint32_t comps = uint32_t(count_of(at, "components", kind == "uv" ? 2u : 3u, 4, attribute));
+        std::vector<float> data = numbers<float>(at.contains("data") ? at["data"] : json::array(), attribute);
         if (comps == 0 || data.size() % comps)
           throw std::runtime_error(what + " attribute '" + an + "': data length is not a multiple of its components");
         if (rdv_scene_add_mesh_attribute(scene, id, an.c_str(), kind.c_str(), data.data(), comps,
                                          uint32_t(data.size() / comps)) != RDV_OK)
           out.problems.push_back(std::string(rdv_last_error()) + "; attribute left out");
       }
-      meshes[name] = {id, j.value("transform", json()), false};
+      meshes[name] = {id, j.contains("transform") ? j["transform"] : json(), false};
     } catch (const rdv::Error &e) {
       if (e.status == RDV_ERROR_LIMIT) throw;
       out.problems.push_back(std::string(e.what()) + "; mesh left out");
@@ -353,8 +407,8 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
     if (rdv_scene_add_instance(scene, mesh, &t.m[0][0], nullptr) != RDV_OK) report(what);
   };
 
-  for (const json &j : doc.value("instances", json::array())) {
-    std::string mesh = j.value("mesh", "");
+  for (const json &j : list_of(doc, "instances")) {
+    std::string mesh = text_of(j, "mesh", "", "instance");
     auto it = meshes.find(mesh);
     if (it == meshes.end()) {
       out.problems.push_back("instance of mesh '" + mesh + "': no such mesh; instance left out");
@@ -362,7 +416,7 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
     }
     it->second.instanced = true;
     try {
-      add_instance(it->second.id, j.value("transform", json()), "instance of mesh '" + mesh + "'");
+      add_instance(it->second.id, j.contains("transform") ? j["transform"] : json(), "instance of mesh '" + mesh + "'");
     } catch (const std::exception &e) {
       out.problems.push_back(e.what());
     }
@@ -377,8 +431,9 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
   }
 
   int light_index = 0;
-  for (const json &j : doc.value("lights", json::array())) {
-    std::string name = j.value("name", "light " + std::to_string(light_index++));
+  for (const json &j : list_of(doc, "lights")) {
+    std::string name = text_of(j, "name", "light " + std::to_string(light_index), "light " + std::to_string(light_index));
+    ++light_index;
     rdv_status status = rdv_scene_add_light(scene, name.c_str(), without(j, {"name"}).c_str(), nullptr);
     stop_at_limit(status);
     if (status != RDV_OK) out.problems.push_back(std::string(rdv_last_error()) + "; light left out");
@@ -391,7 +446,7 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
   if (!doc.contains("camera")) throw std::runtime_error("the scene has no 'camera'");
   if (rdv_scene_set_camera(scene, doc["camera"].dump().c_str()) != RDV_OK)
     throw std::runtime_error(rdv_last_error());
-  out.settings_json = doc.value("settings", json::object()).dump();
+  out.settings_json = doc.contains("settings") ? doc["settings"].dump() : "{}";
   return out;
 }
 

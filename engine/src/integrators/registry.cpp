@@ -50,6 +50,10 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
 }
 
 // Cycles' Light Paths settings; absent ones are off (no limit, caustics on, no clamp).
+// A float setting as a whole number in [lo, hi], clamped before the conversion (a
+// float beyond int's range, e.g. a border of 1e30, has no int value).
+static int clamped_int(float v, int lo, int hi) { return !(v > float(lo)) ? lo : v >= float(hi) ? hi : int(v); }
+
 static LightPathLimits light_path_limits(Params &p) {
   LightPathLimits l;
   auto bounces = [&](const char *key, int &out) {
@@ -119,8 +123,8 @@ RenderSettings RenderSettings::from_params(Params &p) {
   if (s.clamp < 0) fail(p.what() + ": 'clamp' must not be negative");
   s.filter_width = clampf(p.get_float("filter_width", 1.5f), 0.01f, 10.0f);
   auto strategy = p.get_floats("strategy", 2, {-1, -1});
-  s.strategy_s = int(strategy[0]);
-  s.strategy_t = int(strategy[1]);
+  s.strategy_s = clamped_int(strategy[0], -1, 1 << 20);
+  s.strategy_t = clamped_int(strategy[1], -1, 1 << 20);
   if ((s.strategy_s >= 0) != (s.strategy_t >= 1) && !(s.strategy_s < 0 && s.strategy_t < 0))
     fail(p.what() + ": 'strategy' must be [s, t] with s >= 0 and t >= 1");
   s.strategy_unweighted = p.get_bool("strategy_unweighted", false);
@@ -166,7 +170,8 @@ RenderSettings RenderSettings::from_params(Params &p) {
   }
   s.border = {0, 0, s.width, s.height};
   auto b = p.get_floats("border", 4, {0, 0, float(s.width), float(s.height)});
-  s.border = {std::max(0, int(b[0])), std::max(0, int(b[1])), std::min(s.width, int(b[2])), std::min(s.height, int(b[3]))};
+  s.border = {clamped_int(b[0], 0, s.width), clamped_int(b[1], 0, s.height), clamped_int(b[2], 0, s.width),
+              clamped_int(b[3], 0, s.height)};
   if (s.border.width() <= 0 || s.border.height() <= 0) fail(p.what() + ": 'border' is empty");
   p.check_all_used();
   if (s.adaptive_sampling && s.integrator != "path" && s.integrator != "bdpt" && s.integrator != "auto")

@@ -1,4 +1,5 @@
 #include "scene/embree_accel.h"
+#include <cmath>
 #include <string>
 #include "core/error.h"
 #include "core/log.h"
@@ -112,7 +113,22 @@ void EmbreeAccel::build(const std::vector<Mesh> &meshes, const std::vector<Insta
   top_dirty_ = false;
 }
 
+namespace {
+
+// Embree checks every ray (RayK::valid) and asserts, which in Debian's build aborts the
+// whole process (Blender's too), when an origin or direction component is NaN or larger
+// than its FLT_LARGE (1.844e18) or tfar is NaN. Such a ray (an orthographic camera scaled
+// to 3e38, a transform of 1e30) meets nothing: the scene lies nowhere near it.
+bool embree_can_trace(Vec3 o, Vec3 d, float tfar) {
+  constexpr float kLarge = 1.844e18f;
+  return std::fabs(o.x) <= kLarge && std::fabs(o.y) <= kLarge && std::fabs(o.z) <= kLarge &&
+         std::fabs(d.x) <= kLarge && std::fabs(d.y) <= kLarge && std::fabs(d.z) <= kLarge && !std::isnan(tfar);
+}
+
+}  // namespace
+
 bool EmbreeAccel::intersect(RTCScene scene, const Ray &ray, RawHit &hit) {
+  if (!embree_can_trace(ray.o, ray.d, ray.tmax)) return false;  // a miss
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh;
@@ -136,6 +152,7 @@ bool EmbreeAccel::intersect(RTCScene scene, const Ray &ray, RawHit &hit) {
 }
 
 bool EmbreeAccel::occluded(Vec3 o, Vec3 d, float tmax) const {
+  if (!embree_can_trace(o, d, tmax)) return true;  // no light arrives along it
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRay r;
