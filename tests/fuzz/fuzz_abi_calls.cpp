@@ -216,6 +216,8 @@ struct State {
   void transform_call(Reader &in, bool replace) {
     float t[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     for (uint32_t k = in.small(4); k > 0; --k) t[in.small(16)] = in.number();
+    if (rdv_fuzz::tracing())
+      for (int r = 0; r < 4; ++r) std::fprintf(stderr, "   transform %g %g %g %g\n", t[4 * r], t[4 * r + 1], t[4 * r + 2], t[4 * r + 3]);
     if (replace) {
       checked(rdv_scene_set_instance_transform(scene, some(in, instances), t), "rdv_scene_set_instance_transform");
     } else {

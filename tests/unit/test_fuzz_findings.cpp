@@ -93,7 +93,9 @@ TEST(FuzzFindings, HugeBorderAndStrategyValuesAreClampedNotConverted) {
 // fuzz_abi_calls: an orthographic camera with ortho_scale 3e38 sent rays from infinite
 // origins to Embree, which asserts on them (RayK::valid) and so aborted the process:
 // in Blender, the artist's session. Rays Embree cannot take now meet nothing; the image
-// is the world's colour, finite, with every integrator.
+// is the world's colour, finite, with every integrator. And an instance sheared by 4.7e30
+// made rays in its object space too large for Embree (the same abort, from a valid world
+// ray): such instances are not rendered, with a warning naming the mesh.
 TEST(FuzzFindings, RaysBeyondEmbreesRangeMissInsteadOfAborting) {
   const std::string scene = R"({
     "settings": {"width": 4, "height": 4, "samples": 2, "max_bounces": 4, "mlt_bootstrap": 4, "mlt_chains": 2},
@@ -103,11 +105,15 @@ TEST(FuzzFindings, RaysBeyondEmbreesRangeMissInsteadOfAborting) {
     "materials": [{"name": "white", "type": "diffuse"}],
     "meshes": [{"name": "floor", "shape": {"type": "quad", "size": 2}, "materials": ["white"]},
                {"name": "far", "shape": {"type": "quad", "size": 2}, "materials": ["white"],
-                "transform": {"translate": [1e30, 0, 0]}}],
+                "transform": {"translate": [1e30, 0, 0]}},
+               {"name": "sheared", "shape": {"type": "quad", "size": 2}, "materials": ["white"],
+                "transform": [1000, 0, 4.74e30, 0,  0, 1, 0, 0,  0, 0, 1, 0,  0, 0, 0, 1]}],
     "lights": [{"name": "lamp", "type": "point", "position": [0, 0, 1], "power": 100}]
   })";
   for (const char *integrator : {"path", "bdpt", "pssmlt"}) {
     Image img = render_json(scene, std::string(R"({"integrator":")") + integrator + "\"}");
     EXPECT_TRUE(img.all_finite()) << integrator;
+    EXPECT_TRUE(has(img.warnings, "instance of mesh 'sheared': transform places it beyond the range rays reach"))
+        << img.warnings;
   }
 }

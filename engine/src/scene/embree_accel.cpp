@@ -1,4 +1,5 @@
 #include "scene/embree_accel.h"
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include "core/error.h"
@@ -88,6 +89,7 @@ void EmbreeAccel::build(const std::vector<Mesh> &meshes, const std::vector<Insta
   if (top_) rtcReleaseScene(top_);
   if (boundary_top_) rtcReleaseScene(boundary_top_);
   top_ = rtcNewScene(device_);
+  update_ray_range(instances);
   boundary_top_ = nullptr;  // made only when some instance has boundaries
   auto add_instance = [&](RTCScene top, RTCScene mesh, const Instance &inst, uint32_t id) {
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
@@ -115,20 +117,40 @@ void EmbreeAccel::build(const std::vector<Mesh> &meshes, const std::vector<Insta
 
 namespace {
 
-// Embree checks every ray (RayK::valid) and asserts, which in Debian's build aborts the
-// whole process (Blender's too), when an origin or direction component is NaN or larger
-// than its FLT_LARGE (1.844e18) or tfar is NaN. Such a ray (an orthographic camera scaled
-// to 3e38, a transform of 1e30) meets nothing: the scene lies nowhere near it.
-bool embree_can_trace(Vec3 o, Vec3 d, float tfar) {
-  constexpr float kLarge = 1.844e18f;
-  return std::fabs(o.x) <= kLarge && std::fabs(o.y) <= kLarge && std::fabs(o.z) <= kLarge &&
-         std::fabs(d.x) <= kLarge && std::fabs(d.y) <= kLarge && std::fabs(d.z) <= kLarge && !std::isnan(tfar);
-}
+// Embree checks every ray (RayK::valid), in world space and again in each instance's
+// object space, and asserts, which in Debian's build aborts the whole process (Blender's
+// too), when an origin or direction component is NaN or larger than its FLT_LARGE
+// (1.844e18) or tfar is NaN.
+constexpr float kEmbreeLarge = 1.844e18f;
+
+float max_abs(Vec3 v) { return std::max(std::fabs(v.x), std::max(std::fabs(v.y), std::fabs(v.z))); }
 
 }  // namespace
 
-bool EmbreeAccel::intersect(RTCScene scene, const Ray &ray, RawHit &hit) {
-  if (!embree_can_trace(ray.o, ray.d, ray.tmax)) return false;  // a miss
+bool EmbreeAccel::can_trace(Vec3 o, Vec3 d, float tfar) const {
+  return max_abs(o) <= range_.origin && max_abs(d) <= range_.direction && !std::isnan(tfar);
+}
+
+void EmbreeAccel::update_ray_range(const std::vector<Instance> &instances) {
+  // In an instance's object space a ray is o' = L o + t, d' = L d (L, t: to_object), so
+  // |o'| <= |L| |o| + |t| (max norms; |L| the largest row sum). Half of FLT_LARGE leaves
+  // room for rounding. Scene::set_instance_transform keeps |L| and |t| far below it.
+  range_ = RayRange{kEmbreeLarge / 2, kEmbreeLarge / 2};
+  for (const Instance &inst : instances) {
+    if (!inst.enabled) continue;
+    float rows = 0;
+    for (int r = 0; r < 3; ++r)
+      rows = std::max(rows, std::fabs(inst.to_object.m[r][0]) + std::fabs(inst.to_object.m[r][1]) +
+                                std::fabs(inst.to_object.m[r][2]));
+    float shift = max_abs(inst.to_object.column(3));
+    if (rows <= 1 && shift <= kEmbreeLarge / 4) continue;
+    range_.origin = std::min(range_.origin, (kEmbreeLarge / 2 - shift) / std::max(rows, 1.0f));
+    range_.direction = std::min(range_.direction, kEmbreeLarge / 2 / std::max(rows, 1.0f));
+  }
+}
+
+bool EmbreeAccel::intersect(RTCScene scene, const Ray &ray, RawHit &hit) const {
+  if (!can_trace(ray.o, ray.d, ray.tmax)) return false;  // the scene lies nowhere near it: a miss
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh;
@@ -152,7 +174,7 @@ bool EmbreeAccel::intersect(RTCScene scene, const Ray &ray, RawHit &hit) {
 }
 
 bool EmbreeAccel::occluded(Vec3 o, Vec3 d, float tmax) const {
-  if (!embree_can_trace(o, d, tmax)) return true;  // no light arrives along it
+  if (!can_trace(o, d, tmax)) return true;  // no light arrives along it
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRay r;

@@ -45,7 +45,13 @@ class EmbreeAccel {
 
  private:
   static bool memory_monitor(void *user, ssize_t bytes, bool post);
-  static bool intersect(RTCScene scene, const Ray &ray, RawHit &hit);
+  bool intersect(RTCScene scene, const Ray &ray, RawHit &hit) const;
+  // Rays Embree can take in world space and in every instance's object space (it aborts
+  // on others); a ray beyond them meets nothing (see embree_accel.cpp).
+  struct RayRange { float origin, direction; };
+  RayRange range_{0, 0};  // set by build(); nothing is traced before it
+  void update_ray_range(const std::vector<Instance> &instances);
+  bool can_trace(Vec3 o, Vec3 d, float tfar) const;
   // A mesh's two BVHs: its real surfaces and its medium boundaries (either may be null).
   struct MeshScenes {
     RTCScene surfaces = nullptr, boundaries = nullptr;

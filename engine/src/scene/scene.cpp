@@ -288,6 +288,8 @@ void Scene::add_mesh_attribute(uint32_t mesh, const std::string &name, const std
 }
 
 static bool invertible(const Transform &t) { return std::fabs(t.det3()) > 1e-30f && t.is_finite(); }
+// The largest entry of an instance's inverse transform that is rendered (see set_instance_transform).
+constexpr float kMaxInverseEntry = 1e12f;
 
 uint32_t Scene::add_instance(uint32_t mesh, const Transform &to_world) {
   if (mesh >= meshes_.size())
@@ -306,8 +308,17 @@ void Scene::set_instance_transform(uint32_t id, const Transform &to_world) {
   Instance &inst = instances_[id];
   inst.to_world = to_world;
   inst.enabled = invertible(to_world);
+  bool in_range = true;
   if (inst.enabled) {
     inst.to_object = to_world.inverse();
+    // A ray in the instance's object space must stay within Embree's range (1.8e18,
+    // embree_accel.cpp): an inverse of 1e30 (a shear of 4.7e30, a translation of 1e30)
+    // cannot be traced, and would narrow every other ray's range.
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) in_range = in_range && std::fabs(inst.to_object.m[r][c]) <= kMaxInverseEntry;
+    inst.enabled = in_range;
+  }
+  if (inst.enabled) {
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) inst.abs_linear.m[r][c] = std::fabs(to_world.m[r][c]);
     for (int r = 0; r < 3; ++r)
@@ -316,6 +327,10 @@ void Scene::set_instance_transform(uint32_t id, const Transform &to_world) {
         for (int k = 0; k < 3; ++k) sum += inst.abs_linear.m[r][k] * std::fabs(inst.to_object.m[k][c]);
         inst.error_mixing.m[r][c] = sum;
       }
+  } else if (!in_range) {
+    warn("instance of mesh '" + meshes_[inst.mesh].name +
+         "': transform places it beyond the range rays reach (its inverse has an entry over 1e12: a scale "
+         "below 1e-12 or a translation over 1e12); not rendered");
   } else warn("instance of mesh '" + meshes_[inst.mesh].name + "': transform has zero scale; not rendered");
   accel_.mark_instances_dirty();
   dirty_ = true;
