@@ -136,9 +136,9 @@ std::string camera_params(Reader &in) {
 std::string session_settings(Reader &in, bool &from_text) {
   from_text = in.small(16) == 0;
   if (from_text) return in.text(64);
-  static const char *kIntegrators[] = {"path", "bdpt", "pssmlt", "mmlt", "auto"};
+  static const char *kIntegrators[] = {"path", "bdpt", "pssmlt", "mmlt", "mlt", "auto"};
   std::string s = "{\"width\":" + std::to_string(1 + in.small(12)) + ",\"height\":" + std::to_string(1 + in.small(12)) +
-                  ",\"integrator\":\"" + kIntegrators[in.small(5)] + "\",\"samples\":" + std::to_string(1 + in.small(3)) +
+                  ",\"integrator\":\"" + kIntegrators[in.small(6)] + "\",\"samples\":" + std::to_string(1 + in.small(3)) +
                   ",\"max_bounces\":" + std::to_string(in.small(9)) + ",\"seed\":" + std::to_string(in.byte()) +
                   ",\"threads\":" + std::to_string(1 + in.small(2)) + ",\"mlt_bootstrap\":" +
                   std::to_string(1 + in.small(64)) + ",\"mlt_chains\":" + std::to_string(1 + in.small(4));
@@ -176,6 +176,7 @@ struct State {
   uint32_t materials = 0, meshes = 0, lights = 0, instances = 0;
   uint32_t film_width = 0, film_height = 0;
   bool open_ended = false;  // settings from raw input text: may render for long, so cancelled before a wait
+  bool session_on_scene = false;  // the session renders `scene` (not one destroyed since)
 
   uint32_t some(Reader &in, uint32_t count) { return in.small(count + 2); }  // sometimes past the end
 
@@ -293,13 +294,15 @@ struct State {
         checked(rdv_scene_summary(scene, &text), "rdv_scene_summary");
         break;
       }
-      case 15: case 16: {  // a second session on a scene that has one is refused (RDV_ERROR_STATE)
+      case 15: case 16: {  // a second session on the scene that has one is refused (RDV_ERROR_STATE)
         rdv_session *created = nullptr;
         bool from_text = false;
         std::string settings = session_settings(in, from_text);
         if (checked(rdv_session_create(scene, traced(settings), &created), "rdv_session_create") != RDV_OK) break;
-        if (session) rdv_fuzz::finding("a second session was created on a scene that has one");
+        if (session && session_on_scene) rdv_fuzz::finding("a second session was created on a scene that has one");
+        end_session();  // the one on a scene destroyed since
         session = created;
+        session_on_scene = true;
         open_ended = from_text;
         rdv_session_read_film(session, RDV_PASS_COMBINED, 0, 0, 0, 0, 1, nullptr);  // NULL out: refused
         film_width = 0;
@@ -344,6 +347,7 @@ struct State {
         checked(rdv_scene_destroy(scene), "rdv_scene_destroy");
         checked(rdv_scene_create(&scene), "rdv_scene_create");
         materials = meshes = lights = instances = 0;
+        session_on_scene = false;
         break;
       }
     }
