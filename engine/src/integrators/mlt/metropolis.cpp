@@ -136,6 +136,9 @@ ImportanceMap Metropolis::pilot(RenderContext &ctx, int depths) {
           RayStats stats;
           State state;
           for (uint64_t i = r.begin(); i != r.end(); ++i) {
+            // A leaf holds 1/16 of the pilot (0.2 s at 320x240 in fog): look for a cancel
+            // inside it too. A stopped pilot's map is never used.
+            if ((i & 63) == 0 && ctx.control.should_stop()) break;
             PssSampler sampler(seed0, i, mlt_.step_size, mlt_.large_step_probability);
             sampler.start_iteration();
             evaluate(sampler, stats, state, mlt_.multiplexed ? int(i / per_depth) : -1);
