@@ -33,7 +33,10 @@ def metropolis_settings(props):
     """The Metropolis integrators' settings of scene.rendezvous (final render and viewport)."""
     return {"mlt_large_step": float(props.mlt_large_step), "mlt_bootstrap": int(props.mlt_bootstrap),
             "mlt_chains": int(props.mlt_chains), "mlt_step_size": float(props.mlt_step_size),
-            "mlt_target": props.mlt_target.lower()}
+            "mlt_target": props.mlt_target.lower(),
+            # Path space (mlt) only: its mutations' weights (the other integrators ignore them).
+            "mlt_mutations": {name: float(getattr(props, "mlt_mutation_" + name, 1.0))
+                              for name in ("bidirectional", "lens", "propagation", "scattering")}}
 MIS = {"POWER": "power", "BALANCE": "balance", "LAFORTUNE_WILLEMS": "lafortune_willems"}
 DEFAULT_SAMPLES = 128
 

@@ -37,6 +37,11 @@ MIS_ITEMS = [
 ]
 
 
+def _mutation_weight(name, what):
+    return FloatProperty(name=name, default=1.0, min=0.0, soft_max=10.0,
+                         description="Metropolis (Path Space): weight of " + what)
+
+
 class RendezvousRenderSettings(bpy.types.PropertyGroup):
     integrator: EnumProperty(name="Integrator", items=FINAL_INTEGRATOR_ITEMS, default="PATH",
                              description="Light transport algorithm of the final render: path tracing "
@@ -60,6 +65,18 @@ class RendezvousRenderSettings(bpy.types.PropertyGroup):
     mlt_step_size: FloatProperty(name="Step Size", default=0.01, min=0.0001, max=1.0, precision=4,
                                  description="Metropolis: size of a small mutation in primary sample space: larger "
                                              "moves explore faster but are rejected more often")
+    mlt_mutation_bidirectional: _mutation_weight(
+        "Bidirectional", "Veach's bidirectional mutation, which rebuilds a part of the path from both ends "
+                         "(large steps aside)")
+    mlt_mutation_lens: _mutation_weight(
+        "Lens", "the lens perturbation (Veach), which moves the path's image position a little and traces its "
+                "first vertex afresh: spreads the chains over the image")
+    mlt_mutation_propagation: _mutation_weight(
+        "Propagation", "the propagation perturbation (Pauly et al.), which moves a scattering point in a volume "
+                       "along the light's direction: light through fog, shafts")
+    mlt_mutation_scattering: _mutation_weight(
+        "Scattering", "the scattering perturbation, which turns a scattering point in a volume a little about "
+                      "the vertex the light came from")
     mlt_target: EnumProperty(
         name="Target", default="RELATIVE",
         items=[("RELATIVE", "Even Error", "Mutations spread by relative error: regions brighter than the image's "

@@ -105,6 +105,12 @@ class RENDEZVOUS_PT_sampling_metropolis(RendezvousSubpanel, bpy.types.Panel):
         col.prop(props, "mlt_step_size")
         col.prop(props, "mlt_chains")
         col.prop(props, "mlt_bootstrap")
+        if "MLT" in (props.integrator, props.viewport_integrator):
+            col = layout.column(align=True, heading="Mutations")
+            col.prop(props, "mlt_mutation_bidirectional")
+            col.prop(props, "mlt_mutation_lens")
+            col.prop(props, "mlt_mutation_propagation")
+            col.prop(props, "mlt_mutation_scattering")
 
 
 class RENDEZVOUS_PT_sampling_advanced(RendezvousSubpanel, bpy.types.Panel):

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 #include <thread>
 #include "rendezvous.h"
@@ -40,6 +41,8 @@ void usage() {
                "  --mlt-large-step P     pssmlt / mmlt / mlt: probability of a large step\n"
                "  --mlt-bootstrap N      pssmlt / mmlt / mlt: bootstrap samples per pixel\n"
                "  --mlt-chains N         pssmlt / mmlt / mlt: number of Markov chains\n"
+               "  --mlt-mutations B,L,P,S  mlt: weights of the bidirectional mutation, the lens perturbation and\n"
+               "                         the propagation and scattering perturbations of medium vertices (default 1,1,1,1)\n"
                "  --mlt-step-size S      pssmlt / mmlt: small-step size in primary sample space\n"
                "  --mlt-target T         pssmlt / mmlt: luminance or relative (even relative error)\n"
                "  --strategy S,T         bdpt: render only strategy (s, t), MIS-weighted\n"
@@ -173,6 +176,15 @@ int main(int argc, char **argv) {
       else if (a == "--mlt-large-step") overrides["mlt_large_step"] = std::stod(next());
       else if (a == "--mlt-bootstrap") overrides["mlt_bootstrap"] = std::stoi(next());
       else if (a == "--mlt-chains") overrides["mlt_chains"] = std::stoi(next());
+      else if (a == "--mlt-mutations") {
+        // B,L,P,S: the weights of mlt's bidirectional mutation and lens / propagation / scattering perturbations.
+        std::stringstream list(next());
+        std::string item;
+        nlohmann::json w = nlohmann::json::object();
+        for (const char *name : {"bidirectional", "lens", "propagation", "scattering"})
+          if (std::getline(list, item, ',')) w[name] = std::stof(item);
+        overrides["mlt_mutations"] = w;
+      }
       else if (a == "--mlt-step-size") overrides["mlt_step_size"] = std::stod(next());
       else if (a == "--mlt-target") overrides["mlt_target"] = next();
       else if (a == "--strategy") {
@@ -265,8 +277,18 @@ int main(int argc, char **argv) {
                    stats["integrator"].get<std::string>().c_str(), stats.value("target", "luminance").c_str(),
                    stats["chains"].get<unsigned>(), stats["b"].get<double>(),
                    stats["b_standard_error"].get<double>(), (unsigned long long)stats["bootstrap_samples"].get<uint64_t>(),
-                   stats["integrator"] == "mlt" ? "bidirectional" : "small steps", stats["small_step_acceptance"].get<double>(), stats["large_step_acceptance"].get<double>(),
+                   "small steps", stats["small_step_acceptance"].get<double>(), stats["large_step_acceptance"].get<double>(),
                    stats.value("large_step_found", 0.0), p.elapsed_seconds > 0 ? stats["mutations"].get<double>() / p.elapsed_seconds : 0.0);
+    if (stats.contains("mutation_types")) {  // mlt: acceptance per mutation type
+      std::string line = "rendezvous: mutations (acceptance, proposals):";
+      for (auto it = stats["mutation_types"].begin(); it != stats["mutation_types"].end(); ++it) {
+        char part[96];
+        std::snprintf(part, sizeof part, " %s %.3f (%llu)", it.key().c_str(), it.value()["acceptance"].get<double>(),
+                      (unsigned long long)it.value()["proposals"].get<uint64_t>());
+        line += part;
+      }
+      std::fprintf(stderr, "%s\n", line.c_str());
+    }
     if (summary) std::printf("%s\n", text);
   }
   int rc = check(rdv_session_write_image(session, output.c_str(), view.c_str()), "write image") ? 0 : 1;

@@ -1,4 +1,5 @@
-// Path-space MLT's acceptance ratio T(y -> x) / T(x -> y) against a brute-force
+// Path-space MLT's acceptance ratio T(y -> x) / T(x -> y) of the bidirectional mutation and
+// the lens perturbation against a brute-force
 // evaluation. For random paths mlt really makes (Cornell box: surfaces and a mesh lamp;
 // fog through a door gap: medium vertices and an area lamp), each proposal's ratio is
 // recomputed here from scratch in double precision: every vertex density from the
@@ -16,6 +17,7 @@
 #include "api/handles.h"
 #include "integrators/mlt/path_space.h"
 #include "lights/light.h"
+#include "chi_square.h"
 #include "render_helpers.h"
 
 using namespace rdv;
@@ -121,7 +123,8 @@ struct BruteForce {
     for (int a = -1; a < nv; ++a)
       for (int b = a + 1; b <= nv; ++b) {
         if ((a == -1 && b == 0) || (a == nv - 1 && b == nv) || (a == -1 && b == nv)) continue;
-        double weight = std::pow(0.5, b - a - 1);
+        const int kd = b - a;
+        double weight = kd == 1 ? 0.5 : std::pow(0.5, kd - 2);
         z += weight;
         if (a == l && b == m) w = weight;
       }
@@ -132,12 +135,12 @@ struct BruteForce {
     const int nd = m - l - 1, kept = nv - nd;
     double z = 0, w = 0;
     for (int k = 0; kept + k <= max_vertices; ++k) {
-      if (kept + k < 2 || (l == -1 && k < 1) || (m == nv && k < 1) || (l == -1 && m == nv && k < 2)) continue;
+      if (kept + k < 2 || (l == -1 && k < 1) || (m == nv && k < 1) || (k == 0 && nd == 0)) continue;
       double weight = std::pow(0.5, std::abs(k - nd));
       z += weight;
       if (k == na) w = weight;
     }
-    return w / z;
+    return z > 0 ? w / z : 0.0;
   }
   // T(from -> to): from's vertices l+1 .. m-1 replaced by to's l+1 .. l+na.
   double transition(int nv_from, int l, int m, const ExplicitPath &to, int na) const {
@@ -184,7 +187,7 @@ void check_scene(const std::string &name, int starts, int mutations_per_start) {
   Pcg32 rng(7, 11);
   RayStats stats;
   ExplicitPath x, y, z;
-  int checked = 0, worse = 0, medium_paths = 0, large = 0;
+  int checked = 0, worse = 0, medium_paths = 0, large = 0, lens = 0;
   double worst = 0, worst_f = 0;
   for (int s = 0; s < starts; ++s) {
     if (!(space.sample_independent(rng, stats, x) > 0)) continue;
@@ -200,7 +203,8 @@ void check_scene(const std::string &name, int starts, int mutations_per_start) {
     worst_f = std::max(worst_f, double(std::fabs(luminance(z.f) / luminance(x.f) - 1)));
     const std::vector<unsigned char> before = digest(x);
     for (int k = 0; k < mutations_per_start; ++k) {
-      Proposal p = space.mutate(x, rng, stats, y);
+      const bool whole = rng.next_float() < kLargeStep;
+      Proposal p = space.bidirectional(x, whole, rng, stats, y);
       if (!(p.ratio > 0)) continue;
       const int nd = p.m - p.l - 1;
       double t_xy = brute.transition(x.n, p.l, p.m, y, p.na);
@@ -217,12 +221,29 @@ void check_scene(const std::string &name, int starts, int mutations_per_start) {
       large += p.type == MutationType::Large;
       for (int i = 0; i < y.n; ++i) medium_paths += y.x[size_t(i)].v.type == VertexType::Medium;
     }
+    // The lens perturbation: only x_1 moves; its ratio is that of x_1's camera-side densities.
+    for (int k = 0; k < mutations_per_start; ++k) {
+      Proposal p = space.perturb_lens(x, rng, stats, y);
+      if (!(p.ratio > 0)) continue;
+      double brute_ratio = brute.camera_side(x, 1) / brute.camera_side(y, 1);
+      double error = std::fabs(std::log(p.ratio / brute_ratio));
+      bool same_rest = y.n == x.n;
+      for (int i = 2; same_rest && i < x.n; ++i) same_rest = y.x[size_t(i)].v.p == x.x[size_t(i)].v.p;
+      EXPECT_TRUE(same_rest) << name << ": the lens perturbation moved more than x_1";
+      if (!(error < 1e-3)) {
+        ++worse;
+        if (worse <= 3) ADD_FAILURE() << name << ": lens ratio " << p.ratio << " vs brute force " << brute_ratio;
+      }
+      if (std::isfinite(error)) worst = std::max(worst, error);
+      ++lens;
+    }
     EXPECT_TRUE(digest(x) == before) << name << ": a proposal changed the state it mutated";
   }
-  std::printf("[ mlt densities ] %-12s %d proposals checked (%d large), %d medium vertices; worst |log ratio error| %.2e; "
-              "worst f rebuild error %.2e\n",
-              name.c_str(), checked, large, medium_paths, worst, worst_f);
+  std::printf("[ mlt densities ] %-12s %d bidirectional proposals checked (%d large), %d lens; %d medium vertices; "
+              "worst |log ratio error| %.2e; worst f rebuild error %.2e\n",
+              name.c_str(), checked, large, lens, medium_paths, worst, worst_f);
   EXPECT_GT(checked, 200) << name;
+  EXPECT_GT(lens, 200) << name;
   if (scene.world_medium() >= 0) EXPECT_GT(medium_paths, 0) << name;
   EXPECT_EQ(worse, 0) << name;
   EXPECT_LT(worst_f, 1e-5) << name;
@@ -233,3 +254,151 @@ void check_scene(const std::string &name, int starts, int mutations_per_start) {
 TEST(PathMltDensities, CornellBoxRatiosMatchBruteForce) { check_scene("cornell_box.json", 300, 20); }
 
 TEST(PathMltDensities, FogDoorRatiosMatchBruteForce) { check_scene("fog_door.json", 4000, 20); }
+
+// The perturbations of a medium vertex (Pauly, Kollig & Keller 2000, sec. 4) against the
+// density they must leave invariant, evaluated numerically. On a fog-door path with one
+// medium vertex x_j, the chains below move only x_j, with only one perturbation, inside a
+// window (a proposal outside it is rejected, so the window's restriction of the target is
+// the stationary density): along the line from its light-side neighbour c (propagation),
+// the target over the distance r from c is f(r) r^2 (spherical coordinates: the volume
+// measure's Jacobian); across it at fixed r (scattering), over the angle theta from the
+// start direction it is the integral over phi of f sin(theta). 2,000 independent chains of
+// 200 steps each (well mixed: the steps' spread is a fifth of the window) give independent
+// draws; Pearson's chi-square against the density integrated by quadrature, false-alarm
+// rate 1e-3 per test. The first also checks its own power: the same chains accepting by f
+// alone (the r^2 Jacobian dropped) must fail (p < 1e-6).
+namespace {
+
+struct PerturbationSetup {
+  LoadedScene loaded;
+  ExplicitPath x;
+  int j = -1;
+  Vec3 c, w;
+  float r = 0;
+};
+
+// A fog-door path whose only medium vertex is j, with light.
+bool find_medium_path(PathSpace &space, PerturbationSetup &s) {
+  Pcg32 rng(3, 5);
+  RayStats stats;
+  for (int attempt = 0; attempt < 200000; ++attempt) {
+    if (!(space.sample_independent(rng, stats, s.x) > 0)) continue;
+    int media = 0, j = -1;
+    for (int i = 1; i + 1 < s.x.n; ++i)
+      if (s.x.x[size_t(i)].v.type == VertexType::Medium) { ++media; j = i; }
+    if (media != 1) continue;
+    s.j = j;
+    s.c = s.x.x[size_t(j + 1)].v.p;
+    s.r = length(s.x.x[size_t(j)].v.p - s.c);
+    s.w = (s.x.x[size_t(j)].v.p - s.c) / s.r;
+    return true;
+  }
+  return false;
+}
+
+// Luminance of f with x_j moved to p (0 outside the window test's caller decides).
+double f_at(const PathSpace &space, const Scene &scene, ExplicitPath &scratch, const PerturbationSetup &s, Vec3 p) {
+  RayStats stats;
+  scratch = s.x;
+  scratch.x[size_t(s.j)].v.p = p;
+  for (int i : {s.j, s.j + 1}) {
+    ExplicitVertex &v = scratch.x[size_t(i)];
+    Vec3 wo = normalize(scratch.x[size_t(i - 1)].v.p - v.v.p);
+    v.v.wo = wo;
+    if (v.v.type == VertexType::Surface) v.v.bsdf = scene.bsdf(v.hit, wo, 0);
+  }
+  space.evaluate(scratch, stats);
+  return luminance(scratch.f);
+}
+
+// One chain from x, `steps` perturbations of type t, proposals outside the window rejected;
+// returns the final coordinate.
+// without_jacobian: accept by f(y) / f(x) alone (the test's power: that must fail).
+template <class Coordinate>
+double run_chain(const PathSpace &space, const PerturbationSetup &s, MutationType t, Pcg32 &rng, int steps,
+                 const Coordinate &coordinate, double lo, double hi, bool without_jacobian = false) {
+  RayStats stats;
+  ExplicitPath current = s.x, proposal;
+  for (int k = 0; k < steps; ++k) {
+    Proposal p = space.perturb_medium_vertex(current, t, rng, stats, proposal);
+    if (!(p.ratio > 0)) continue;
+    double q = coordinate(proposal.x[size_t(s.j)].v.p);
+    if (q < lo || q > hi) continue;
+    double a = std::min(1.0, luminance(proposal.f) * (without_jacobian ? 1.0 : p.ratio) / luminance(current.f));
+    if (rng.next_float() < a) std::swap(current, proposal);
+  }
+  return coordinate(current.x[size_t(s.j)].v.p);
+}
+
+}  // namespace
+
+TEST(PathMltPerturbations, PropagationLeavesTheDistanceDensityInvariant) {
+  PerturbationSetup s;
+  load(s.loaded, "fog_door.json");
+  const Scene &scene = s.loaded.scene();
+  MutationSettings m;
+  const float window = 0.4f;
+  m.distance[0] = 1e-3f;
+  m.distance[1] = window;
+  PathSpace space(scene, kMaxBounces, kOrigin, kSize, float(kWidth * kHeight), 0.0f, m);
+  ASSERT_TRUE(find_medium_path(space, s));
+  const double lo = std::max(0.05, double(s.r) - window), hi = s.r + window;
+  ExplicitPath scratch;
+  auto g = [&](double r) { return f_at(space, scene, scratch, s, s.c + s.w * float(r)) * r * r; };
+  double z = 0;
+  for (int b = 0; b < 20; ++b)
+    for (int k = 0; k < 64; ++k) z += g(lo + (hi - lo) * (b + (k + 0.5) / 64) / 20) * (hi - lo) / (20 * 64);
+  ASSERT_GT(z, 0);
+  Pcg32 rng(21, 22);
+  auto distance = [&](Vec3 p) { return double(length(p - s.c)); };
+  test::ChiSquareResult r = test::chi_square_1d(
+      [&](float) { return float(run_chain(space, s, MutationType::Propagation, rng, 200, distance, lo, hi)); },
+      [&](double x) { return g(x) / z; }, lo, hi, 2000, 1, 20);
+  // The same chains accepting by f alone (no r^2) must be told apart.
+  test::ChiSquareResult wrong = test::chi_square_1d(
+      [&](float) { return float(run_chain(space, s, MutationType::Propagation, rng, 200, distance, lo, hi, true)); },
+      [&](double x) { return g(x) / z; }, lo, hi, 2000, 1, 20);
+  std::printf("[ mlt propagation ] vertex %d of %d, r %.3f in [%.3f, %.3f]: chi-square p = %.3g (dof %d); without the "
+              "r^2 Jacobian p = %.3g\n",
+              s.j, s.x.n, s.r, lo, hi, r.p_value, r.dof, wrong.p_value);
+  EXPECT_GT(r.p_value, 1e-3) << r.detail;
+  EXPECT_LT(wrong.p_value, 1e-6) << "the test cannot tell a missing Jacobian";
+}
+
+TEST(PathMltPerturbations, ScatteringLeavesTheAngleDensityInvariant) {
+  PerturbationSetup s;
+  load(s.loaded, "fog_door.json");
+  const Scene &scene = s.loaded.scene();
+  MutationSettings m;
+  const float window = 0.3f;  // radians
+  m.angle[0] = 1e-3f;
+  m.angle[1] = window;
+  PathSpace space(scene, kMaxBounces, kOrigin, kSize, float(kWidth * kHeight), 0.0f, m);
+  ASSERT_TRUE(find_medium_path(space, s));
+  const Frame frame(s.w);
+  ExplicitPath scratch;
+  // Density over theta: the integral over phi of f sin(theta) (64-point rule).
+  auto g = [&](double theta) {
+    double sum = 0;
+    for (int k = 0; k < 64; ++k) {
+      double phi = 2 * kPi * (k + 0.5) / 64;
+      Vec3 d = frame.to_world(Vec3(float(std::sin(theta) * std::cos(phi)), float(std::sin(theta) * std::sin(phi)),
+                                   float(std::cos(theta))));
+      sum += f_at(space, scene, scratch, s, s.c + d * s.r);
+    }
+    return sum * (2 * kPi / 64) * std::sin(theta);
+  };
+  const int bins = 12;
+  double z = 0;
+  for (int b = 0; b < bins; ++b)
+    for (int k = 0; k < 64; ++k) z += g(window * (b + (k + 0.5) / 64) / bins) * window / (bins * 64);
+  ASSERT_GT(z, 0);
+  Pcg32 rng(31, 32);
+  auto angle = [&](Vec3 p) { return double(std::acos(std::clamp(dot(normalize(p - s.c), s.w), -1.0f, 1.0f))); };
+  test::ChiSquareResult r = test::chi_square_1d(
+      [&](float) { return float(run_chain(space, s, MutationType::Scattering, rng, 200, angle, 0.0, window)); },
+      [&](double x) { return g(x) / z; }, 0.0, window, 2000, 1, bins);
+  std::printf("[ mlt scattering ] vertex %d of %d, r %.3f: chi-square p = %.3g (dof %d)\n", s.j, s.x.n, s.r, r.p_value,
+              r.dof);
+  EXPECT_GT(r.p_value, 1e-3) << r.detail;
+}

@@ -43,6 +43,14 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
     m.bootstrap_per_pixel = settings.mlt_bootstrap;
     m.chains = settings.mlt_chains;
     m.relative_target = false;  // Veach's target: the path's luminance
+    for (int i = 0; i < 4; ++i) m.mutations.weights[i] = settings.mlt_mutations[i];
+    // Veach's lens perturbation: 0.1 pixel to a tenth of the image.
+    m.mutations.lens[0] = 0.1f;
+    m.mutations.lens[1] = std::max(1.0f, 0.1f * float(std::max(settings.width, settings.height)));
+    for (int i = 0; i < 2; ++i) {
+      m.mutations.distance[i] = settings.mlt_propagation_range[i] * scene.bounding_radius();
+      m.mutations.angle[i] = settings.mlt_scattering_angle[i];
+    }
     return std::make_unique<mlt::Metropolis>(scene, settings, bdpt_settings(settings), m);
   }
   if (settings.integrator == "auto") return std::make_unique<AutoIntegrator>(scene, settings);
@@ -144,6 +152,35 @@ RenderSettings RenderSettings::from_params(Params &p) {
   s.mlt_target = p.get_string("mlt_target", s.mlt_target);
   if (s.mlt_target != "luminance" && s.mlt_target != "relative")
     fail(p.what() + ": 'mlt_target' must be luminance or relative, got '" + s.mlt_target + "'");
+  if (const nlohmann::json *mutations = p.get_json("mlt_mutations")) {
+    static const char *names[4] = {"bidirectional", "lens", "propagation", "scattering"};
+    if (!mutations->is_object())
+      fail(p.what() + ": 'mlt_mutations' must be an object of weights {\"bidirectional\", \"lens\", \"propagation\", "
+                      "\"scattering\"}");
+    float sum = 0;
+    for (int i = 0; i < 4; ++i) s.mlt_mutations[i] = 0;
+    for (auto it = mutations->begin(); it != mutations->end(); ++it) {
+      int i = 0;
+      while (i < 4 && it.key() != names[i]) ++i;
+      if (i == 4)
+        fail(p.what() + ": 'mlt_mutations': unknown mutation '" + it.key() +
+             "' (available: bidirectional, lens, propagation, scattering)");
+      const float w = it.value().is_number() ? it.value().get<float>() : -1.0f;
+      if (!(w >= 0) || !std::isfinite(w)) fail(p.what() + ": 'mlt_mutations': '" + it.key() + "' must be a weight >= 0");
+      s.mlt_mutations[i] = w;
+      sum += w;
+    }
+    if (!(sum > 0)) fail(p.what() + ": 'mlt_mutations': the weights must not all be 0");
+  }
+  auto range = [&](const char *key, float (&out)[2], float hi, const char *what) {
+    auto r = p.get_floats(key, 2, {out[0], out[1]});
+    if (!(r[0] > 0 && r[0] < r[1] && r[1] <= hi))
+      fail(p.what() + ": '" + key + "' must be [min, max] with 0 < min < max <= " + std::to_string(hi) + " (" + what + ")");
+    out[0] = r[0];
+    out[1] = r[1];
+  };
+  range("mlt_propagation_range", s.mlt_propagation_range, 10.0f, "fractions of the scene's bounding radius");
+  range("mlt_scattering_angle", s.mlt_scattering_angle, kPi, "radians");
   if (const nlohmann::json *candidates = p.get_json("auto_candidates")) {
     s.auto_candidates.clear();
     if (!candidates->is_array() || candidates->empty())
@@ -237,6 +274,12 @@ std::string RenderSettings::image_settings_json() const {
     j["mlt_chains"] = mlt_chains;
     j["mlt_step_size"] = mlt_step_size;
     j["mlt_target"] = mlt_target;
+    if (integrator == "mlt") {
+      j["mlt_mutations"] = {{"bidirectional", mlt_mutations[0]}, {"lens", mlt_mutations[1]},
+                            {"propagation", mlt_mutations[2]}, {"scattering", mlt_mutations[3]}};
+      j["mlt_propagation_range"] = {mlt_propagation_range[0], mlt_propagation_range[1]};
+      j["mlt_scattering_angle"] = {mlt_scattering_angle[0], mlt_scattering_angle[1]};
+    }
   }
   return j.dump();
 }

@@ -44,6 +44,7 @@ struct Chain {
   ExplicitPath path, path_proposal;
   Pcg32 mutation;
   uint64_t specular = 0;
+  uint64_t type_proposed[kMutationTypes] = {}, type_accepted[kMutationTypes] = {};
 };
 
 double Metropolis::memory_estimate(const RenderSettings &settings, bool multiplexed, bool path_space) {
@@ -75,7 +76,7 @@ Metropolis::Metropolis(const Scene &scene, const RenderSettings &settings, const
   image_area_ = float(settings.width) * float(settings.height);
   if (mlt.path_space)
     path_space_ = std::make_unique<PathSpace>(scene, bdpt_settings.max_bounces, sample_origin_, sample_size_, image_area_,
-                                              mlt.large_step_probability);
+                                              mlt.large_step_probability, mlt.mutations);
 }
 
 void Metropolis::first_hit_pass(RenderContext &ctx) const {
@@ -196,6 +197,7 @@ void Metropolis::render(RenderContext &ctx) {
       State state;
       ExplicitPath path;
       uint64_t specular = 0;
+      for (int t = 0; t < kMutationTypes; ++t) stats_.type_proposed[t] = stats_.type_accepted[t] = 0;
       for (uint64_t i = r.begin(); i != r.end(); ++i) {
         if (path_space_) {
           // An independent path from the sample's own generator (a chain replays it).
@@ -350,9 +352,12 @@ void Metropolis::render(RenderContext &ctx) {
             if ((m & 15) == 0 && ctx.control.should_stop()) break;
             bool large;
             double ratio = 1;  // T(y -> x) / T(x -> y): 1 for primary sample space's symmetric steps
+            int type = 0;
             if (path_space_) {
               Proposal p = path_space_->mutate(chain.path, chain.mutation, stats, chain.path_proposal);
               large = p.type == MutationType::Large;
+              type = int(p.type);
+              ++chain.type_proposed[type];
               ratio = p.ratio;
               path_state(chain.path_proposal, chain.proposal);
               if (!(ratio > 0)) {
@@ -392,8 +397,12 @@ void Metropolis::render(RenderContext &ctx) {
             (large ? chain.large_steps : chain.small_steps) += 1;
             if (a >= 1 || chain.acceptance.next_float() < a) {
               std::swap(chain.current, chain.proposal);
-              if (path_space_) std::swap(chain.path, chain.path_proposal);
-              else chain.sampler.accept();
+              if (path_space_) {
+                std::swap(chain.path, chain.path_proposal);
+                ++chain.type_accepted[type];
+              } else {
+                chain.sampler.accept();
+              }
               (large ? chain.large_accepted : chain.small_accepted) += 1;
             } else if (!path_space_) {
               chain.sampler.reject();  // path space: the state was never touched
@@ -468,6 +477,10 @@ void Metropolis::render(RenderContext &ctx) {
         stats_.large_accepted += chain.large_accepted;
         stats_.large_found += chain.large_found;
         specular += chain.specular;
+        for (int t = 0; t < kMutationTypes; ++t) {
+          stats_.type_proposed[t] += chain.type_proposed[t];
+          stats_.type_accepted[t] += chain.type_accepted[t];
+        }
         rays += chain.rays;
         chain.rays = 0;
         for (size_t k = 0; k < chain.strategy_counts.size(); ++k) stats_.strategy_counts[k] += chain.strategy_counts[k];
@@ -506,11 +519,17 @@ std::string Metropolis::stats_json() const {
   // path at all: the ceiling of their acceptance.
   j["large_step_found"] = stats_.large_steps ? double(stats_.large_found) / double(stats_.large_steps) : 0.0;
   if (mlt_.path_space) {
-    // Acceptance per mutation type: the bidirectional mutation (partial) and the large
-    // step (the whole path regenerated, Veach's bidirectional mutation at its largest).
-    j["mutation_types"] = {mutation_name(MutationType::Bidirectional), mutation_name(MutationType::Large)};
-    j["bidirectional_proposals"] = stats_.small_steps;
-    j["bidirectional_acceptance"] = j["small_step_acceptance"];
+    // Per mutation type: proposals and acceptance ("large": the whole path regenerated,
+    // Veach's bidirectional mutation at its largest; small steps are all the others).
+    nlohmann::json types = nlohmann::json::object();
+    for (int t = 0; t < kMutationTypes; ++t) {
+      const uint64_t n = stats_.type_proposed[t];
+      const double acceptance = n ? double(stats_.type_accepted[t]) / double(n) : 0.0;
+      const std::string name = mutation_name(MutationType(t));
+      types[name] = {{"proposals", n}, {"acceptance", acceptance}};
+      if (t != int(MutationType::Large)) j[name + "_acceptance"] = acceptance;
+    }
+    j["mutation_types"] = types;
     j["specular_proposals"] = stats_.specular;
   }
   if (mlt_.multiplexed) {

@@ -28,6 +28,7 @@ struct MltSettings {
   // Veach's path-space MLT ("mlt", path_space.h): states are explicit paths, mutated by
   // the bidirectional mutation; large steps regenerate the whole path. Luminance target.
   bool path_space = false;
+  MutationSettings mutations;  // mlt
   float large_step_probability = 0.3f;
   uint32_t bootstrap_per_pixel = 1;  // bootstrap samples per pixel of the rendered region (at least 4096)
   uint32_t chains = 256;
@@ -64,6 +65,7 @@ struct MltStats {
   // (depth d has d + 2 strategies, depth 0 one).
   std::vector<uint64_t> strategy_counts;
   uint64_t specular = 0;  // path space: proposals that stopped at a delta lobe (not sampled yet)
+  uint64_t type_proposed[kMutationTypes] = {}, type_accepted[kMutationTypes] = {};  // path space
   std::string warning;
 };
 

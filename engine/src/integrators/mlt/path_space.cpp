@@ -38,8 +38,9 @@ float free_flight(const Medium &m, float segment, Pcg32 &rng) {
 
 float cosine_at(const PathVertex &v, Vec3 w) { return v.on_surface() ? absdot(v.ng, w) : 1.0f; }
 
-// Veach's preference for short deletions: a deletion of kd edges weighs 2^-(kd-1).
-double deletion_weight(int kd) { return std::ldexp(1.0, -(kd - 1)); }
+// Veach's preference for short deletions (1997, sec. 11.4.2): one vertex (kd = 2 edges)
+// most, one edge half as much, then halving with every edge more.
+double deletion_weight(int kd) { return kd == 1 ? 0.5 : std::ldexp(1.0, -(kd - 2)); }
 // Valid positions of a deletion of kd edges on a path of nv vertices: l in -1 .. nv - kd,
 // but never the edge before the camera or after the light alone (kd = 1 at the ends).
 int deletion_positions(int nv, int kd) { return nv - kd + 2 - (kd == 1 ? 2 : 0); }
@@ -57,7 +58,7 @@ double split_sum(const double *fwd, const double *rev, int lo, int count) {
 }
 
 PathSpace::PathSpace(const Scene &scene, int max_bounces, Vec2 sample_origin, Vec2 sample_size, float image_area,
-                     float large_step_probability)
+                     float large_step_probability, const MutationSettings &mutations)
     : scene_(scene),
       max_vertices_(max_bounces + 2),
       sample_origin_(sample_origin),
@@ -65,6 +66,7 @@ PathSpace::PathSpace(const Scene &scene, int max_bounces, Vec2 sample_origin, Ve
       image_area_(image_area),
       region_area_(sample_size.x * sample_size.y),
       large_step_probability_(large_step_probability),
+      mutations_(mutations),
       media_(scene.has_media()) {}
 
 std::string PathSpace::unsupported(const Scene &scene, const RenderSettings &settings) {
@@ -109,6 +111,7 @@ std::string PathSpace::unsupported(const Scene &scene, const RenderSettings &set
 // ---- Sampling ----
 
 bool PathSpace::trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &stats, ExplicitVertex &z) const {
+  if (!is_finite(ray.o) || !is_finite(ray.d) || !(length_squared(ray.d) > 0)) return false;
   for (int guard = 0; guard < 256; ++guard) {
     SurfaceHit hit;
     CoincidentBoundary boundary;
@@ -119,7 +122,8 @@ bool PathSpace::trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &sta
       int m = media.current(scene_);
       if (m >= 0) {
         float t = free_flight(scene_.medium(m), segment, rng);
-        if (t >= 0) {
+        if (t == 0) return false;  // on the vertex it left (probability 0): no new vertex
+        if (t > 0) {
           PathVertex &v = bdpt::fresh_vertex(z.v);
           v.type = VertexType::Medium;
           v.p = ray.o + ray.d * t;
@@ -474,7 +478,8 @@ void addition_range(int nv, int l, int m, int max_vertices, int &lo, int &hi) {
   lo = std::max(int(l == -1) + int(m == nv), 2 - kept);
   hi = max_vertices - kept;
 }
-double addition_weight(int na, int nd) { return std::ldexp(1.0, -std::abs(na - nd)); }
+// Added vertices around the deleted count; never none for none (the path unchanged).
+double addition_weight(int na, int nd) { return na == 0 && nd == 0 ? 0.0 : std::ldexp(1.0, -std::abs(na - nd)); }
 }  // namespace
 
 double PathSpace::addition_probability(int nv, int l, int m, int na) const {
@@ -485,7 +490,7 @@ double PathSpace::addition_probability(int nv, int l, int m, int na) const {
   const int nd = m - l - 1;
   double z = 0;
   for (int k = lo; k <= hi; ++k) z += addition_weight(k, nd);
-  return addition_weight(na, nd) / z;
+  return z > 0 ? addition_weight(na, nd) / z : 0.0;
 }
 
 double PathSpace::transition_density(int nv_x, int l, int m, const ExplicitPath &y, int na) const {
@@ -512,6 +517,19 @@ double PathSpace::sample_independent(Pcg32 &rng, RayStats &stats, ExplicitPath &
 }
 
 Proposal PathSpace::mutate(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const {
+  // Fixed probabilities (never the state's): a mutation that cannot apply to x (a
+  // perturbation of a path without medium vertices) proposes nothing, and the chain stays.
+  if (rng.next_float() < large_step_probability_) return bidirectional(x, true, rng, stats, y);
+  const float *w = mutations_.weights;
+  float u = rng.next_float() * (w[0] + w[1] + w[2] + w[3]);
+  if (u < w[0]) return bidirectional(x, false, rng, stats, y);
+  if (u < w[0] + w[1]) return perturb_lens(x, rng, stats, y);
+  return perturb_medium_vertex(x, u < w[0] + w[1] + w[2] ? MutationType::Propagation : MutationType::Scattering, rng,
+                               stats, y);
+}
+
+Proposal PathSpace::bidirectional(const ExplicitPath &x, bool large, Pcg32 &rng, RayStats &stats,
+                                  ExplicitPath &y) const {
   Proposal proposal;
   y.reserve(max_vertices_);
   y.specular = false;
@@ -519,7 +537,7 @@ Proposal PathSpace::mutate(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, E
   const int nv = x.n;
   // The deletion: everything (a large step), or kd edges by Veach's weights, placed uniformly.
   int l, m;
-  if (rng.next_float() < large_step_probability_) {
+  if (large) {
     proposal.type = MutationType::Large;
     l = -1;
     m = nv;
@@ -547,6 +565,7 @@ Proposal PathSpace::mutate(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, E
     addition_range(nv, l, m, max_vertices_, lo, hi);
     double z = 0;
     for (int k = lo; k <= hi; ++k) z += addition_weight(k, nd);
+    if (!(z > 0)) return proposal;  // only the unchanged path: nothing to propose
     double u = rng.next_float() * z;
     na = lo;
     for (; na < hi; ++na) {
@@ -570,6 +589,85 @@ Proposal PathSpace::mutate(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, E
   if (!(t_xy > 0) || !std::isfinite(t_yx)) return proposal;
   proposal.ratio = t_yx / t_xy;
   if (proposal.type == MutationType::Large) proposal.independent = double(fy) / independent_density(y);
+  return proposal;
+}
+
+Proposal PathSpace::perturb_medium_vertex(const ExplicitPath &x, MutationType type, Pcg32 &rng, RayStats &stats,
+                                          ExplicitPath &y) const {
+  Proposal proposal;
+  proposal.type = type;
+  const float u_vertex = rng.next_float(), u_size = rng.next_float(), u_direction = rng.next_float();
+  int media = 0;
+  for (int i = 1; i + 1 < x.n; ++i) media += x.x[size_t(i)].v.type == VertexType::Medium;
+  if (media == 0) return proposal;
+  int pick = std::min(int(u_vertex * float(media)), media - 1), j = 1;
+  for (;; ++j)
+    if (x.x[size_t(j)].v.type == VertexType::Medium && pick-- == 0) break;
+  y.reserve(max_vertices_);
+  y.specular = false;
+  y.n = x.n;
+  for (int i = 0; i < x.n; ++i) y.x[size_t(i)] = x.x[size_t(i)];
+  // Spherical coordinates of x_j about its light-side neighbour c.
+  const Vec3 c = x.x[size_t(j + 1)].v.p;
+  const Vec3 d = x.x[size_t(j)].v.p - c;
+  const float r = length(d);
+  if (!(r > 0)) return proposal;
+  const Vec3 w = d / r;
+  Vec3 p;
+  double jacobian = 1;
+  if (type == MutationType::Propagation) {
+    // D ~ 1 / D on [Dmin, Dmax], either way along the line from c (never past c).
+    const float lo = mutations_.distance[0], hi = mutations_.distance[1];
+    const float distance = lo * std::pow(hi / lo, u_size);
+    const float r_new = u_direction < 0.5f ? r + distance : r - distance;
+    if (!(r_new > 0)) return proposal;
+    p = c + w * r_new;
+    jacobian = (double(r_new) * r_new) / (double(r) * r);
+  } else {
+    // theta ~ 1 / theta on [theta_min, theta_max], phi uniform: a density in solid angle
+    // that depends on the angle between the directions only.
+    const float lo = mutations_.angle[0], hi = mutations_.angle[1];
+    const float theta = lo * std::pow(hi / lo, u_size), phi = 2 * kPi * u_direction;
+    Frame frame(w);
+    p = c + frame.to_world(Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta))) * r;
+  }
+  y.x[size_t(j)].v.p = p;
+  settle(y.x[size_t(j)], y.x[size_t(j - 1)]);
+  settle(y.x[size_t(j + 1)], y.x[size_t(j)]);  // its camera-side neighbour moved
+  evaluate(y, stats);
+  if (!(luminance(y.f) > 0)) return proposal;
+  proposal.ratio = jacobian;
+  proposal.l = j - 1;
+  proposal.m = j + 1;
+  proposal.na = 1;
+  return proposal;
+}
+
+Proposal PathSpace::perturb_lens(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const {
+  Proposal proposal;
+  proposal.type = MutationType::Lens;
+  const float u_radius = rng.next_float(), u_angle = rng.next_float();
+  if (x.n < 3) return proposal;  // x_1 on the light: lamps are not traced from the camera
+  const float lo = mutations_.lens[0], hi = mutations_.lens[1];
+  const float radius = lo * std::pow(hi / lo, u_radius), angle = 2 * kPi * u_angle;
+  const Vec2 raster{x.raster.x + radius * std::cos(angle), x.raster.y + radius * std::sin(angle)};
+  if (!(raster.x >= sample_origin_.x && raster.x < sample_origin_.x + sample_size_.x &&
+        raster.y >= sample_origin_.y && raster.y < sample_origin_.y + sample_size_.y))
+    return proposal;
+  y.reserve(max_vertices_);
+  y.specular = false;
+  y.n = x.n;
+  for (int i = 0; i < x.n; ++i) y.x[size_t(i)] = x.x[size_t(i)];
+  Ray ray = scene_.camera().generate_ray(raster, Vec2(0.5f, 0.5f));
+  if (!trace_step(ray, y.x[0].v.media, rng, stats, y.x[1])) return proposal;
+  settle(y.x[1], y.x[0]);
+  settle(y.x[2], y.x[1]);
+  evaluate(y, stats);
+  if (!(luminance(y.f) > 0) || !(y.fwd[1] > 0)) return proposal;
+  proposal.ratio = x.fwd[1] / y.fwd[1];
+  proposal.l = 0;
+  proposal.m = 2;
+  proposal.na = 1;
   return proposal;
 }
 

@@ -39,8 +39,27 @@ struct ExplicitPath {
   void reserve(int max_vertices);
 };
 
-enum class MutationType : uint8_t { Large, Bidirectional, Count };
-inline const char *mutation_name(MutationType t) { return t == MutationType::Large ? "large" : "bidirectional"; }
+// Large: the whole path regenerated. Bidirectional: Veach's, on a subpath. Lens: Veach's
+// lens perturbation without specular chains (the raster point moved by a distance ~ 1/R
+// and x_1 traced afresh from it, joined to x_2). Propagation and
+// Scattering (Pauly, Kollig & Keller 2000, sec. 4): a medium vertex moved in spherical
+// coordinates about its light-side neighbour, along the line from it (distance D with
+// density ~ 1/D) or across it (angle theta with density ~ 1/theta), the rest of the path
+// kept and reconnected.
+enum class MutationType : uint8_t { Large, Bidirectional, Lens, Propagation, Scattering, Count };
+constexpr int kMutationTypes = int(MutationType::Count);
+inline const char *mutation_name(MutationType t) {
+  static const char *names[] = {"large", "bidirectional", "lens", "propagation", "scattering"};
+  return names[int(t)];
+}
+
+constexpr int kWeightedMutations = 4;  // bidirectional, lens, propagation, scattering
+struct MutationSettings {
+  float weights[kWeightedMutations] = {1.0f, 1.0f, 1.0f, 1.0f};  // of the non-large mutations
+  float lens[2] = {0.1f, 10.0f};          // lens: [R_min, R_max], pixels
+  float distance[2] = {1e-3f, 1.0f};      // propagation: [Dmin, Dmax], scene units
+  float angle[2] = {1e-4f, 0.2f};         // scattering: [theta_min, theta_max], radians
+};
 
 // One proposal: the path it made, and T(y -> x) / T(x -> y) (0: no path).
 struct Proposal {
@@ -53,7 +72,7 @@ struct Proposal {
 class PathSpace {
  public:
   PathSpace(const Scene &scene, int max_bounces, Vec2 sample_origin, Vec2 sample_size, float image_area,
-            float large_step_probability);
+            float large_step_probability, const MutationSettings &mutations = {});
   // Why mlt cannot render this scene with these settings (a message naming the light,
   // medium, camera or setting), or "" when it can.
   static std::string unsupported(const Scene &scene, const RenderSettings &settings);
@@ -66,8 +85,20 @@ class PathSpace {
   double sample_independent(Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
   // q(y) of a path whose densities are evaluated.
   double independent_density(const ExplicitPath &y) const;
-  // Veach's bidirectional mutation of x (evaluated) into y; y is written, x never.
+  // One mutation of x (evaluated) into y, its type chosen by the settings' weights (large
+  // steps by their own probability); y is written, x never.
   Proposal mutate(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
+  // Veach's bidirectional mutation (large: the whole path).
+  Proposal bidirectional(const ExplicitPath &x, bool large, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
+  // The propagation (radial) or scattering (angular) perturbation of a medium vertex of x
+  // chosen uniformly (none: no proposal). The ratio is the Jacobian of spherical coordinates
+  // about the light-side neighbour, r_y^2 / r_x^2 (1 for the angular move): the perturbation
+  // densities in r and in solid angle are symmetric.
+  Proposal perturb_medium_vertex(const ExplicitPath &x, MutationType type, Pcg32 &rng, RayStats &stats,
+                                 ExplicitPath &y) const;
+  // The lens perturbation: T(y->x) / T(x->y) = fwd_x[1] / fwd_y[1] (the raster offset's
+  // density is symmetric; fwd[1] is the uniform raster density times the same Jacobian).
+  Proposal perturb_lens(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
 
   // The pieces of T (tests check them against an independent evaluation).
   double deletion_probability(int nv, int l, int m) const;
@@ -99,6 +130,7 @@ class PathSpace {
   Vec2 sample_origin_, sample_size_;
   float image_area_, region_area_;
   float large_step_probability_;
+  MutationSettings mutations_;
   bool media_;
 };
 
