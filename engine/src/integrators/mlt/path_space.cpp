@@ -67,7 +67,14 @@ PathSpace::PathSpace(const Scene &scene, int max_bounces, Vec2 sample_origin, Ve
       region_area_(sample_size.x * sample_size.y),
       large_step_probability_(large_step_probability),
       mutations_(mutations),
-      media_(scene.has_media()) {}
+      media_(scene.has_media()) {
+  // Without media the medium perturbations could only fail (a property of the scene, not
+  // of a state: the mutation probabilities stay fixed).
+  if (!media_) {
+    mutations_.weights[2] = mutations_.weights[3] = 0;
+    if (!(mutations_.weights[0] + mutations_.weights[1] > 0)) mutations_.weights[0] = 1;
+  }
+}
 
 std::string PathSpace::unsupported(const Scene &scene, const RenderSettings &settings) {
   const Camera &camera = scene.camera();
