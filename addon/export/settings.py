@@ -117,6 +117,19 @@ def light_path_settings(scene, props=None):
     return s
 
 
+def film_settings(scene, props=None):
+    """Film > Transparent (scene.render.film_transparent) and Transparent Glass (Cycles'
+    scene.cycles, else our mirror on props): keys only when the film is transparent."""
+    if not getattr(scene.render, "film_transparent", False):
+        return {}
+    src = light_path_source(scene, props)
+    s = {"film_transparent": True}
+    if getattr(src, "film_transparent_glass", False):
+        s["film_transparent_glass"] = True
+        s["film_transparent_roughness"] = min(max(float(getattr(src, "film_transparent_roughness", 0.1)), 0.0), 1.0)
+    return s
+
+
 def session_settings(scene, props, frame=None, warn=print):
     """props: scene.rendezvous (or a stand-in with the same fields)."""
     render = scene.render
@@ -141,6 +154,7 @@ def session_settings(scene, props, frame=None, warn=print):
         "clamp": float(props.clamp),
     }
     s.update(light_path_settings(scene, props))
+    s.update(film_settings(scene, props))
     # Blender's pixel filter width (Film > Pixel Filter, Cycles' Blackman-Harris).
     filter_size = getattr(render, "filter_size", None)
     if filter_size is not None and abs(float(filter_size) - 1.5) > 1e-6:

@@ -151,6 +151,14 @@ class RendezvousRenderSettings(bpy.types.PropertyGroup):
     sample_clamp_indirect: FloatProperty(name="Clamp Indirect", default=10.0, min=0.0,
                                          description="Cap on the brightness of light arriving after more "
                                                      "bounces (0 = off): fewer fireflies, less indirect light")
+    # Cycles' Film > Transparent Glass (scene.cycles while its add-on is enabled); the
+    # Transparent switch itself is Blender's scene.render.film_transparent.
+    film_transparent_glass: BoolProperty(name="Transparent Glass", default=False,
+                                         description="With Film > Transparent: the world seen through smooth "
+                                                     "glass is transparent too (for compositing over a plate)")
+    film_transparent_roughness: FloatProperty(name="Roughness Threshold", default=0.1, min=0.0, max=1.0,
+                                              description="With Transparent Glass: refractions up to this "
+                                                          "roughness keep the world behind them transparent")
     seed: IntProperty(name="Seed", default=0, min=0, description="Seed of the random sequences: another seed gives another "
                                                               "noise pattern of the same image")
     use_animated_seed: BoolProperty(name="Animated Seed", default=False,

@@ -188,6 +188,26 @@ class RENDEZVOUS_PT_light_paths_caustics(RendezvousSubpanel, bpy.types.Panel):
         col.prop(src, "caustics_refractive", text="Refractive")
 
 
+class RENDEZVOUS_PT_film(RendezvousPanel, bpy.types.Panel):
+    """Cycles' Film panel: Pixel Filter and Transparent (with Transparent Glass)."""
+    bl_label = "Film"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        layout = _split(self.layout)
+        render = context.scene.render
+        layout.prop(render, "filter_size", text="Pixel Filter")
+        col = layout.column(heading="Transparent")
+        col.prop(render, "film_transparent", text="")
+        src = light_path_source(context.scene)
+        sub = col.column()
+        sub.active = render.film_transparent
+        sub.prop(src, "film_transparent_glass", text="Transparent Glass")
+        glass = sub.column()
+        glass.active = render.film_transparent and src.film_transparent_glass
+        glass.prop(src, "film_transparent_roughness", text="Roughness Threshold")
+
+
 class RENDEZVOUS_PT_performance(RendezvousPanel, bpy.types.Panel):
     bl_label = "Performance"
     bl_options = {"DEFAULT_CLOSED"}
@@ -235,7 +255,7 @@ class RENDEZVOUS_PT_passes(RendezvousPanel, bpy.types.Panel):
 classes = (RENDEZVOUS_PT_sampling, RENDEZVOUS_PT_sampling_viewport, RENDEZVOUS_PT_sampling_render,
            RENDEZVOUS_PT_sampling_metropolis, RENDEZVOUS_PT_sampling_advanced, RENDEZVOUS_PT_sampling_farm,
            RENDEZVOUS_PT_light_paths, RENDEZVOUS_PT_light_paths_max_bounces, RENDEZVOUS_PT_light_paths_clamping,
-           RENDEZVOUS_PT_light_paths_caustics,
+           RENDEZVOUS_PT_light_paths_caustics, RENDEZVOUS_PT_film,
            RENDEZVOUS_PT_performance, RENDEZVOUS_PT_passes)
 
 

@@ -49,6 +49,8 @@ void usage() {
                "  --unweighted           with --strategy: without its MIS weight\n"
                "  --mis NAME             bdpt weights: power (default), balance or lafortune_willems\n"
                "  --max-bounces N        maximum path length\n"
+               "  --film-transparent     the world seen directly is transparent (alpha = coverage; PNG and EXR)\n"
+               "  --transparent-glass    with it: also seen through smooth glass (Cycles' Transparent Glass)\n"
                "  --view NAME            PNG view transform: Standard (default) or Filmic\n"
                "  --summary              print what the engine modelled (JSON)\n"
                "  --quiet                no progress bar\n");
@@ -168,6 +170,8 @@ int main(int argc, char **argv) {
         }
         overrides["noise_target"] = e;
       }
+      else if (a == "--film-transparent") overrides["film_transparent"] = true;
+      else if (a == "--transparent-glass") overrides["film_transparent_glass"] = true;
       else if (a == "--threads") overrides["threads"] = std::stoi(next());
       else if (a == "--seed") overrides["seed"] = std::stoi(next());
       else if (a == "--sample-offset") overrides["sample_offset"] = std::stoi(next());

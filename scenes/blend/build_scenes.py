@@ -53,14 +53,19 @@ def link(ob):
     return ob
 
 
-def node_material(name, node_type, inputs, output="BSDF", **props):
-    """A material of one stock shader node (its inputs by name, its properties) into the output."""
+def empty_material(name):
+    """A node material with nothing but its Material Output: (material, tree, output)."""
     m = bpy.data.materials.new(name)
     m.use_nodes = True
     nt = m.node_tree
     for n in list(nt.nodes):
         nt.nodes.remove(n)
-    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    return m, nt, nt.nodes.new("ShaderNodeOutputMaterial")
+
+
+def node_material(name, node_type, inputs, output="BSDF", **props):
+    """A material of one stock shader node (its inputs by name, its properties) into the output."""
+    m, nt, out = empty_material(name)
     node = nt.nodes.new(node_type)
     for k, v in props.items():
         setattr(node, k, v)
@@ -607,6 +612,53 @@ def light_paths_clamp():
     return scene
 
 
+def mix_material(name, first, second, fac):
+    """Mix Shader of two stock shader nodes ((node type, inputs) each), fac toward the second."""
+    m, nt, out = empty_material(name)
+    mix = nt.nodes.new("ShaderNodeMixShader")
+    mix.inputs["Fac"].default_value = fac
+    for slot, (node_type, inputs) in ((1, first), (2, second)):
+        node = nt.nodes.new(node_type)
+        for k, v in inputs.items():
+            node.inputs[k].default_value = v
+        nt.links.new(node.outputs[0], mix.inputs[slot])
+    nt.links.new(mix.outputs["Shader"], out.inputs["Surface"])
+    return m
+
+
+def film_transparent():
+    """Film > Transparent: a diffuse ball, a smooth glass ball and a card half Transparent
+    BSDF on a floor small enough that the world shows all around them (a blue sky, lit
+    also by a sun). The world seen directly, and through the card, is transparent; through
+    the glass only with Transparent Glass on."""
+    scene = reset(48)
+    scene.render.film_transparent = True
+    bg = scene.world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (0.4, 0.5, 0.7, 1.0)
+    plane("Floor", 3.0, diffuse_material("FloorMat", (0.6, 0.55, 0.5)))
+    for name, x, material in (("Ball", -0.8, diffuse_material("BallMat", (0.8, 0.3, 0.2))),
+                              ("GlassBall", 0.8, node_material("Glass", "ShaderNodeBsdfGlass",
+                                                               {"Color": (1, 1, 1, 1), "Roughness": 0.0, "IOR": 1.45},
+                                                               distribution="SHARP"))):
+        bpy.ops.mesh.primitive_uv_sphere_add(segments=32, ring_count=16, radius=0.5, location=(x, 0, 0.5))
+        ob = bpy.context.active_object
+        ob.name = name
+        bpy.ops.object.shade_smooth()
+        ob.data.materials.append(material)
+    card = plane("Card", 0.8, mix_material("HalfTransparent", ("ShaderNodeBsdfDiffuse", {"Color": (0.2, 0.7, 0.3, 1)}),
+                                           ("ShaderNodeBsdfTransparent", {"Color": (1, 1, 1, 1)}), 0.5),
+                 location=(0.0, 0.6, 1.5))
+    card.rotation_euler = (math.radians(90), 0, 0)
+    light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(35), 0, math.radians(30)))
+    cam = bpy.data.cameras.new("Camera")
+    cam.lens = 55
+    ob = link(bpy.data.objects.new("Camera", cam))
+    ob.location = (0, -4.5, 1.6)
+    look_at(ob, (0, 0, 0.75))
+    scene.camera = ob
+    return scene
+
+
 LIGHT_PATH_SCENES = ["light_paths_diffuse", "light_paths_mirror", "light_paths_caustics", "light_paths_clamp"]
 
 
@@ -634,6 +686,7 @@ SCENES = {
     "light_paths_mirror": light_paths_mirror,
     "light_paths_caustics": light_paths_caustics,
     "light_paths_clamp": light_paths_clamp,
+    "film_transparent": film_transparent,
 }
 
 # Scenes whose brightness must agree with Cycles.

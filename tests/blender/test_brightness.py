@@ -30,7 +30,8 @@ def out_dir():
     return d
 
 
-def read_render(scene, path):
+def read_render(scene, path, alpha=False):
+    """The Render Result saved as a float EXR and read back: RGB (RGBA with alpha)."""
     scene.render.image_settings.file_format = "OPEN_EXR"
     scene.render.image_settings.color_depth = "32"
     scene.render.image_settings.color_mode = "RGBA"
@@ -40,7 +41,7 @@ def read_render(scene, path):
     im.pixels.foreach_get(px)
     shape = (im.size[1], im.size[0], 4)
     bpy.data.images.remove(im)
-    return px.reshape(shape)[:, :, :3].astype(np.float64)
+    return px.reshape(shape)[:, :, :4 if alpha else 3].astype(np.float64)
 
 
 def cycles_sampling(scene, samples, seed):

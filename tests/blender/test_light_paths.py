@@ -35,7 +35,7 @@ MIN_EFFECT = 0.05
 CLAMP_MEAN_TOLERANCE = 0.03
 
 
-def render(scene, engine, samples, path, integrator="PATH", seed=1):
+def render(scene, engine, samples, path, integrator="PATH", seed=1, alpha=False):
     if engine == "CYCLES":
         cycles_sampling(scene, samples, seed)
     else:
@@ -48,7 +48,7 @@ def render(scene, engine, samples, path, integrator="PATH", seed=1):
         p.clamp = 0.0
     t = time.time()
     bpy.ops.render.render()
-    return read_render(scene, path), time.time() - t
+    return read_render(scene, path, alpha), time.time() - t
 
 
 def main():

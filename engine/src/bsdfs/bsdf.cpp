@@ -365,6 +365,8 @@ bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSampl
   out.wi = frame_.to_world(wi);
   if (!consistent_side(out.wi, ng_, wi.z)) return false;
   out.cone_spread = lobe_cone_spread(lobe);
+  if (lobe.is_dielectric() && wi.z * wo.z < 0)
+    out.refraction_alpha2 = lobe.type == LobeType::SmoothDielectric ? 0.0f : lobe.ggx.ax * lobe.ggx.ay;
   if (lobe.is_delta()) {
     out.is_delta = true;
     out.pass_through = lobe.type == LobeType::Transparent;

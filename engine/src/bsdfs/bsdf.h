@@ -113,6 +113,9 @@ struct BsdfSample {
   // How much wider the ray's footprint cone gets per unit distance after this
   // scattering (the sampled lobe's angular width; 0 for delta lobes; core/ray_cone.h).
   float cone_spread = 0;
+  // A refraction by a dielectric lobe: its alpha_x * alpha_y (0 when smooth), else -1
+  // (Cycles' transparent glass, integrators/film_alpha.h).
+  float refraction_alpha2 = -1;
 };
 
 class Bsdf {

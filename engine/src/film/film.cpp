@@ -95,7 +95,9 @@ void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float 
         case RDV_PASS_COMBINED: {
           const SplatSums &sp = splats_[i];
           for (int c = 0; c < 3; ++c) dst[c] = float((n > 0 ? p.sample[c] / n : 0.0) + sp[c] * splat_scale);
-          dst[3] = 1.0f;
+          // Coverage: what of the pixel's samples did not see the transparent background
+          // or a holdout (splats land on surfaces the camera sees: they cover nothing).
+          dst[3] = n > 0 ? float(std::clamp(1.0 - p.transparent / n, 0.0, 1.0)) : 1.0f;
           break;
         }
         case RDV_PASS_DEPTH: dst[0] = a.depth; break;

@@ -19,11 +19,16 @@ struct Rect {
 };
 
 // A pixel's camera samples: their sum (double: render parts add up to the whole
-// render's sums, film/render_part.h) and count.
+// render's sums, film/render_part.h) and count. transparent: the samples' transparency
+// (integrators/film_alpha.h; alpha = 1 - transparent / count), 0 with an opaque film; a
+// float in the count's padding, so the film costs no more (alpha needs no more precision:
+// 2^24 samples of 1 still sum exactly).
 struct PixelSum {
   std::array<double, 3> sample{};
   uint32_t count = 0;
+  float transparent = 0;
 };
+static_assert(sizeof(PixelSum) == 32, "the transparency sum lives in the count's padding");
 
 // The same for the samples of a pixel's half B: with the rest, two independent half
 // images whose difference estimates the noise (film/noise_estimate.h). Kept apart so
@@ -42,8 +47,9 @@ struct PixelAov {
 class FilmTile {
  public:
   const Rect &rect() const { return rect_; }
-  void add_sample(int x, int y, Color L, bool half_b) {
+  void add_sample(int x, int y, Color L, bool half_b, float transparency = 0) {
     PixelSum &p = pixels_[index(x, y)];
+    p.transparent += transparency;
     p.sample[0] += L.x;
     p.sample[1] += L.y;
     p.sample[2] += L.z;

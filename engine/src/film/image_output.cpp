@@ -108,6 +108,11 @@ std::string write_image(const Film &film, const std::string &path, const std::st
       fail("cannot write '" + path + "': " + out->geterror(), RDV_ERROR_IO);
     return warning;
   }
+  // The film's colour is premultiplied by its alpha (a transparent film); PNG stores
+  // straight alpha, as Blender writes it.
+  for (size_t i = 0; i < rgba.size(); i += 4)
+    if (rgba[i + 3] > 0 && rgba[i + 3] < 1)
+      for (int c = 0; c < 3; ++c) rgba[i + c] /= rgba[i + 3];
   warning = apply_view_transform(rgba, w, h, view);
   std::vector<uint8_t> bytes(rgba.size());
   for (size_t i = 0; i < rgba.size(); ++i) {

@@ -16,7 +16,10 @@ using json = nlohmann::json;
 // Channel layout of the layer "RdvMerge": each double as two words (high, low), so a
 // part holds its sums bit for bit (EXR has no 64-bit channels).
 constexpr const char *kLayer = "RdvMerge.";
-constexpr int kWordsPerPixel = 6 + 1 + 6 + 6 + 6 + 1;
+constexpr int kWordsPerPixel = 6 + 1 + 6 + 6 + 6 + 1 + 2;
+// The last channels (the transparency sum) are newer than the format: a part without
+// them has an opaque film (0).
+constexpr int kOptionalChannels = 2;
 
 void put_double(uint32_t *&w, double v) {
   uint64_t bits;
@@ -44,6 +47,7 @@ std::vector<std::string> channel_names() {
   doubles("normal", "xyz");
   doubles("albedo", "rgb");
   names.push_back(std::string(kLayer) + "depth");  // float bits
+  doubles("transparent", "v");
   return names;
 }
 
@@ -77,16 +81,20 @@ LoadedPart load_part(const std::string &path) {
   for (size_t k = 0; k < names.size(); ++k) {
     for (int c = 0; c < spec.nchannels; ++c)
       if (spec.channelnames[size_t(c)] == names[k]) index[k] = c;
-    if (index[k] < 0) fail("part '" + path + "': channel " + names[k] + " is missing");
+    if (index[k] < 0 && k + kOptionalChannels < names.size())
+      fail("part '" + path + "': channel " + names[k] + " is missing");
   }
-  const int lo = *std::min_element(index.begin(), index.end()), hi = *std::max_element(index.begin(), index.end()) + 1;
+  int lo = spec.nchannels, hi = 0;
+  for (int c : index)
+    if (c >= 0) lo = std::min(lo, c), hi = std::max(hi, c + 1);
   const size_t pixels = size_t(part.width) * part.height, span = size_t(hi - lo);
   std::vector<uint32_t> words(pixels * span);
   if (!in->read_image(0, 0, lo, hi, OIIO::TypeDesc::UINT, words.data()))
     fail("part '" + path + "': cannot read its channels: " + in->geterror(), RDV_ERROR_IO);
   part.words.resize(pixels * names.size());
   for (size_t i = 0; i < pixels; ++i)
-    for (size_t k = 0; k < names.size(); ++k) part.words[i * names.size() + k] = words[i * span + size_t(index[k] - lo)];
+    for (size_t k = 0; k < names.size(); ++k)
+      part.words[i * names.size() + k] = index[k] < 0 ? 0u : words[i * span + size_t(index[k] - lo)];
   return part;
 }
 
@@ -166,6 +174,7 @@ PartChannels part_channels(const Film &film) {
     for (double v : a.normal) put_double(w, v);
     for (double v : a.albedo) put_double(w, v);
     std::memcpy(w++, &a.depth, 4);
+    put_double(w, p.transparent);
   }
   return out;
 }
@@ -275,7 +284,8 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
       for (int c = 3; c < 12; ++c) v[c] = get_double(w);
       float depth;
       std::memcpy(&depth, w++, 4);
-      for (int c = 0; c < 12; ++c)
+      v[12] = get_double(w);
+      for (int c = 0; c < 13; ++c)
         if (!std::isfinite(v[c]))
           fail("part '" + part.path + "': pixel (" + std::to_string(i % width) + ", " + std::to_string(i / width) +
                ") holds a non-finite sum (a damaged file?)");
@@ -283,6 +293,7 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
         fail("part '" + part.path + "': pixel sample counts overflow 2^32 when merged");
       for (int c = 0; c < 3; ++c) p.sample[c] += v[c];
       p.count += count;
+      p.transparent += v[12];
       if (splats)
         for (int c = 0; c < 3; ++c) s[c] += same_numerator ? v[3 + c] : v[3 + c] * rescale;
       for (int c = 0; c < 3; ++c) {

@@ -10,6 +10,7 @@
 #include "core/params.h"
 #include "film/film.h"
 #include "film/pixel_filter.h"
+#include "integrators/film_alpha.h"
 #include "integrators/light_path_limits.h"
 #include "render/render_control.h"
 #include "samplers/sampler.h"
@@ -54,6 +55,8 @@ struct RenderSettings {
   // Cycles' Light Paths: per-kind bounce limits, caustics switches, direct / indirect
   // clamps (integrators/light_path_limits.h); all off by default.
   LightPathLimits limits;
+  // Film > Transparent and holdouts (integrators/film_alpha.h); holdouts is the scene's.
+  FilmAlpha alpha;
   float filter_width = 1.5f;
   Rect border;             // the rendered region
   // BDPT debug view: only the (s, t) strategy contributes, MIS-weighted unless unweighted.
@@ -100,6 +103,9 @@ struct FirstHit {
   float depth = 1e10f;
   Vec3 normal{0.0f};
   Color albedo{0.0f};
+  // What of the sample sees the transparent background or a holdout (film_alpha.h):
+  // the pixel's alpha is 1 minus its mean.
+  float transparency = 0;
 };
 
 // A contribution to wherever on the image a light path reaches the camera.

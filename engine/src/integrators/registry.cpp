@@ -8,10 +8,14 @@
 
 namespace rdv {
 
-static bdpt::BdptSettings bdpt_settings(const RenderSettings &settings) {
+// The film's alpha settings.
+static FilmAlpha film_alpha(const RenderSettings &settings, const Scene &) { return settings.alpha; }
+
+static bdpt::BdptSettings bdpt_settings(const RenderSettings &settings, const Scene &scene) {
   bdpt::BdptSettings b;
   b.max_bounces = settings.max_bounces;
   b.limits = settings.limits;
+  b.alpha = film_alpha(settings, scene);
   b.strategy_s = settings.strategy_s;
   b.strategy_t = settings.strategy_t;
   b.strategy_unweighted = settings.strategy_unweighted;
@@ -22,8 +26,8 @@ static bdpt::BdptSettings bdpt_settings(const RenderSettings &settings) {
 }
 
 std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, const Scene &scene) {
-  if (settings.integrator == "path") return std::make_unique<PathTracer>(scene, settings.max_bounces, settings.limits);
-  if (settings.integrator == "bdpt") return std::make_unique<bdpt::Bdpt>(scene, bdpt_settings(settings));
+  if (settings.integrator == "path") return std::make_unique<PathTracer>(scene, settings.max_bounces, settings.limits, film_alpha(settings, scene));
+  if (settings.integrator == "bdpt") return std::make_unique<bdpt::Bdpt>(scene, bdpt_settings(settings, scene));
   if (settings.integrator == "pssmlt" || settings.integrator == "mmlt") {
     mlt::MltSettings m;
     m.multiplexed = settings.integrator == "mmlt";
@@ -32,7 +36,7 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
     m.chains = settings.mlt_chains;
     m.step_size = settings.mlt_step_size;
     m.relative_target = settings.mlt_target == "relative";
-    return std::make_unique<mlt::Metropolis>(scene, settings, bdpt_settings(settings), m);
+    return std::make_unique<mlt::Metropolis>(scene, settings, bdpt_settings(settings, scene), m);
   }
   if (settings.integrator == "mlt") {
     std::string why = mlt::PathSpace::unsupported(scene, settings);
@@ -124,6 +128,11 @@ RenderSettings RenderSettings::from_params(Params &p) {
   s.max_bounces = p.get_int("max_bounces", 12);
   if (s.max_bounces < 0 || s.max_bounces > 1024) fail(p.what() + ": 'max_bounces' must be in 0..1024");
   s.limits = light_path_limits(p);
+  s.alpha.film_transparent = p.get_bool("film_transparent", false);
+  s.alpha.transparent_glass = p.get_bool("film_transparent_glass", false);
+  s.alpha.glass_roughness = p.get_float("film_transparent_roughness", s.alpha.glass_roughness);
+  if (!(s.alpha.glass_roughness >= 0 && s.alpha.glass_roughness <= 1))
+    fail(p.what() + ": 'film_transparent_roughness' must be in 0..1, got " + std::to_string(s.alpha.glass_roughness));
   s.seed = static_cast<uint32_t>(p.get_int("seed", 0));
   s.threads = p.get_int("threads", 0);
   if (s.threads < 0) fail(p.what() + ": 'threads' must not be negative");
@@ -256,6 +265,11 @@ std::string RenderSettings::image_settings_json() const {
     j["caustics_refractive"] = limits.caustics_refractive;
     j["clamp_direct"] = limits.clamp_direct;
     j["clamp_indirect"] = limits.clamp_indirect;
+  }
+  if (alpha.film_transparent) {  // written only when used: older parts stay comparable
+    j["film_transparent"] = true;
+    j["film_transparent_glass"] = alpha.transparent_glass;
+    j["film_transparent_roughness"] = alpha.glass_roughness;
   }
   j["filter_width"] = filter_width;
   j["border"] = {border.x0, border.y0, border.x1, border.y1};

@@ -57,7 +57,7 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
           float m = max_component(L);
           if (m > settings.clamp) L *= settings.clamp / m;
         }
-        film_tile.add_sample(x, y, L, half_b);
+        film_tile.add_sample(x, y, L, half_b, first_hit.transparency);
         if (first_hit.valid) film_tile.add_first_hit(x, y, first_hit.depth, first_hit.normal, first_hit.albedo);
         else film_tile.add_first_hit(x, y, 1e10f, Vec3(0.0f), Color(0.0f));
       }

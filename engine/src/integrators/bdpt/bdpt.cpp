@@ -22,6 +22,12 @@ FirstHit Bdpt::first_surface(const PathVertex *camera_path, int n) const {
   return first_hit;
 }
 
+float Bdpt::transparency(const PathVertex *camera_path, int n) const {
+  const PathVertex &end = camera_path[n - 1];
+  if (n > 1 && end.infinite && end.see_through && settings_.alpha.film_transparent) return average(end.beta);
+  return 0;
+}
+
 template <bool kMedia>
 Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
                std::vector<Splat> &splats) const {
@@ -35,7 +41,10 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
   int nc = camera_subpath<kMedia>(camera_ray, sampler, stats, camera_path.data(), emitted.data());
   Color L(0.0f);  // starts with the lamps and volume emission the camera path passed
   for (const Color &e : emitted) L += e;
-  if (first_hit) *first_hit = first_surface(camera_path.data(), nc);
+  if (first_hit) {
+    *first_hit = first_surface(camera_path.data(), nc);
+    if (settings_.alpha.tracked()) first_hit->transparency = transparency(camera_path.data(), nc);
+  }
   int nl = light_subpath<kMedia>(sampler, stats, light_path.data());
 
   const bool one_strategy = settings_.strategy_s >= 0;

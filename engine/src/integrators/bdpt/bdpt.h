@@ -21,6 +21,7 @@ enum class MisHeuristic : uint8_t {
 struct BdptSettings {
   int max_bounces = 12;
   LightPathLimits limits;  // Cycles' per-kind bounces, caustics, clamps (light_path_limits.h)
+  FilmAlpha alpha;         // transparent film and holdouts (film_alpha.h)
   MisHeuristic mis = MisHeuristic::Power;
   // Debug view: render only the (s, t) strategy with s + t - 2 == debug_depth... see
   // strategy_s / strategy_t: when >= 0, only that strategy contributes.
@@ -75,6 +76,8 @@ class Bdpt final : public TileIntegrator {
   const BdptSettings &settings() const { return settings_; }
   // The first-hit AOVs of a camera subpath of n vertices (Depth, Normal, Albedo).
   FirstHit first_surface(const PathVertex *camera_path, int n) const;
+  // What of a camera subpath of n vertices sees the transparent background (film_alpha.h).
+  float transparency(const PathVertex *camera_path, int n) const;
   // One connection strategy (connect.cpp); raster receives the pixel for t == 1.
   template <bool kMedia>
   Color connect(PathVertex *light_path, PathVertex *camera_path, int s, int t, Sampler &sampler, RayStats &stats,

@@ -29,10 +29,13 @@ Color Bdpt::Le(const PathVertex &v, const PathVertex &toward) const {
   if (!v.is_light()) return Color(0.0f);
   bool seen_by_camera = toward.type == VertexType::Camera;
   if (v.infinite) {
+    // The world seen through a transparent film is not there (film_alpha.h).
+    const bool transparent_world = v.see_through && settings_.alpha.film_transparent;
     Color L(0.0f);
     for (uint32_t li : scene_.infinite_lights()) {
       const Light &light = scene_.lights()[li];
       if (seen_by_camera && !light.visible_camera) continue;
+      if (transparent_world && light.type == LightType::Background) continue;
       L += infinite_light_radiance(light, v.dir);
     }
     return L;

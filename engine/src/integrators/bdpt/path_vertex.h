@@ -50,6 +50,9 @@ struct PathVertex {
   // their first vertex after the light: it is always a path's last scattering vertex),
   // and whether the caustics switches allow the subpath's pairs so far.
   ScatterKind kind = ScatterKind::Transparent;
+  // Camera subpaths with a transparent film or holdouts (integrators/film_alpha.h): every
+  // scattering between the camera and this vertex kept the background seen through.
+  bool see_through = false;
   bool caustics_ok = true;
   BounceCounts counts;
 

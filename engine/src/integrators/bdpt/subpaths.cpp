@@ -73,6 +73,8 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
   // caustics switch), no longer subpath makes a path the limits keep, except, on camera
   // paths, the one more vertex where an emitter may be found (light_path_limits.cpp).
   const bool classify = settings_.limits.classify;
+  // Transparent film: whether the camera still sees through (film_alpha.h).
+  bool see_through = camera && settings_.alpha.tracked();
   auto limits_end_walk = [&](Vec3 wi) {
     if (record_kind(path, n, wi, camera)) return false;
     if (camera) max_vertices = std::min(max_vertices, n + 1);
@@ -128,6 +130,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
           v.specularity = std::fabs(medium.phase.g);  // forward (or back) scattering: specular-like
           v.media = media;
           v.link_to_prev(prev, pdf_fwd);
+          see_through = false;
           ++n;
           if (n >= max_vertices) return n;
           sampler.start_stream(stream, dims::bounce(k, dims::kScatterDirection));
@@ -157,10 +160,13 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       continue;
     }
     if (!found) {
-      if (mode == TransportMode::Radiance && !scene_.infinite_lights().empty()) {
+      // The world; with a transparent film, also where there is none (the alpha it leaves).
+      const bool transparent_world = see_through && settings_.alpha.film_transparent;
+      if (mode == TransportMode::Radiance && (!scene_.infinite_lights().empty() || transparent_world)) {
         fresh_vertex(v);
         v.type = VertexType::Light;
         v.infinite = true;
+        v.see_through = see_through;
         v.dir = ray.d;
         v.wo = -ray.d;
         v.beta = beta;
@@ -183,6 +189,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     const Material &material = scene_.material(hit.material);
     fresh_surface_vertex(v, hit, ray.d, boundary, media);  // boundary: none without media
     v.beta = beta;
+    v.see_through = see_through;
     v.bsdf = scene_.bsdf(hit, v.wo, cone.width_at(hit.t), &v.emitted);
     cone = cone.after(hit.t);
     if (material.emits()) v.light = int(scene_.triangle_light(hit.instance, hit.prim));
@@ -199,6 +206,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     if (!v.bsdf.sample(v.wo, u_lobe, u, mode, bs)) return n;
     if (classify && limits_end_walk(bs.wi)) return n;
     beta *= bs.weight;
+    if (see_through) see_through = settings_.alpha.keeps_seeing_through(bs);
     float pdf_rev;
     if (bs.is_delta) {
       v.delta = true;

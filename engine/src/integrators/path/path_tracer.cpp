@@ -125,6 +125,10 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
   };
   // A contribution of a path with `vertices` scattering vertices (clamped if asked).
   auto add = [&](const Color &c, int vertices) { L += limits_.clamps ? limits_.clamp(c, vertices) : c; };
+  // Transparent film (film_alpha.h): whether the camera still sees through to the
+  // background, and what of the sample did.
+  bool see_through = alpha_.tracked();
+  float transparency = 0;
   auto russian_roulette = [&](int depth) {
     if (depth < 3) return true;
     float q = std::max(0.05f, 1.0f - max_component(beta));
@@ -191,6 +195,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           start_scatter(dims::kScatterDirection);
           Vec3 wi = medium.phase.sample(wo, sampler.get_2d());
           specular_bounce = false;
+          see_through = false;
           prev_pdf = medium.phase.pdf(wo, wi);
           prev_p = p;
           if (limits_.classify) count_bounce(ScatterKind::Volume);
@@ -216,9 +221,13 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       continue;
     }
     if (!found) {
+      // The world seen through a transparent film is not there: only its alpha is.
+      const bool transparent_world = see_through && alpha_.film_transparent;
+      if (transparent_world) transparency += average(beta);
       for (uint32_t li : scene_.infinite_lights()) {  // the world, beyond clip_end too
         const Light &light = scene_.lights()[li];
         if (depth == 0 && !light.visible_camera) continue;
+        if (transparent_world && light.type == LightType::Background) continue;
         Color Le = infinite_light_radiance(light, ray.d);
         if (!is_black(Le)) add(beta * Le * emission_weight(li, light_pdf(light, prev_p, ray.d, kInf)), depth);
       }
@@ -294,6 +303,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     Vec2 u = sampler.get_2d();
     if (!bsdf.sample(wo, u_lobe, u, TransportMode::Radiance, bs)) break;
     beta *= bs.weight;
+    if (see_through) see_through = alpha_.keeps_seeing_through(bs);
     if (bs.pass_through) {
       // Straight through a transparent surface: not a bounce, and the MIS state of the
       // last scattering vertex stays (transparent shadows give NEE the same paths).
@@ -320,6 +330,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     new_ray(Ray{spawn_origin(hit.p, hit.ng, hit.error, bs.wi), bs.wi, kInf});
     if (!russian_roulette(depth) || is_black(beta)) break;
   }
+  if (first_hit) first_hit->transparency = transparency;
   return L;
 }
 

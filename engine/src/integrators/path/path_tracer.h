@@ -10,8 +10,8 @@ namespace rdv {
 
 class PathTracer final : public TileIntegrator {
  public:
-  PathTracer(const Scene &scene, int max_bounces, const LightPathLimits &limits = {})
-      : scene_(scene), max_bounces_(max_bounces), limits_(limits) {}
+  PathTracer(const Scene &scene, int max_bounces, const LightPathLimits &limits = {}, const FilmAlpha &alpha = {})
+      : scene_(scene), max_bounces_(max_bounces), limits_(limits), alpha_(alpha) {}
   Color Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
            std::vector<Splat> &splats) const override;
 
@@ -23,6 +23,7 @@ class PathTracer final : public TileIntegrator {
   const Scene &scene_;
   int max_bounces_;
   LightPathLimits limits_;
+  FilmAlpha alpha_;
 };
 
 }  // namespace rdv

@@ -1,0 +1,108 @@
+"""Film > Transparent against Cycles: the world seen directly (and through a half-Transparent
+card, and through smooth glass when Transparent Glass is on) leaves alpha, not colour.
+build_scenes.film_transparent, 48x48: Cycles renders it, then Rendezvous' path tracer and
+BDPT in this process. Per integrator:
+- colour (premultiplied) and alpha as test_brightness.compare: means within 2%, 8x8 blocks
+  within 3% or 5 standard errors;
+- exact where they must be: pixels 2 px or more from anything Cycles covers have alpha 0 and
+  colour 0 in both; pixels 2 px or more from any partial alpha in Cycles' image have alpha 1;
+- the film opaque again (Film > Transparent off): alpha exactly 1 everywhere.
+
+    run_blender.py --script test_film.py -- VARIANT [--samples N]
+VARIANT: transparent (Transparent Glass off) or transparent_glass.
+"""
+
+import argparse
+import os
+import sys
+import traceback
+
+import bpy
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from test_brightness import build_scenes, compare, finish, out_dir  # noqa: E402
+from test_light_paths import render as render_engine  # noqa: E402
+import numpy as np  # noqa: E402
+
+MARGIN = 2  # pixels: the pixel filter reaches 1.5 px
+
+
+def render(scene, engine, samples, path, integrator="PATH"):
+    """RGBA of the scene rendered by engine (seed 1), and the seconds it took."""
+    return render_engine(scene, engine, samples, path, integrator, alpha=True)
+
+
+def dilate(mask, r):
+    out = mask.copy()
+    h, w = mask.shape
+    for dy in range(-r, r + 1):
+        for dx in range(-r, r + 1):
+            shifted = np.zeros_like(mask)
+            shifted[max(dy, 0):h + min(dy, 0), max(dx, 0):w + min(dx, 0)] = \
+                mask[max(-dy, 0):h + min(-dy, 0), max(-dx, 0):w + min(-dx, 0)]
+            out |= shifted
+    return out
+
+
+def exact_checks(name, ref, test):
+    """Failures where alpha (and colour) must be exact; ref: Cycles' RGBA."""
+    failures = []
+    empty = ~dilate(ref[:, :, 3] > 0, MARGIN)  # nothing of the scene within reach
+    opaque = ~dilate(ref[:, :, 3] < 1, MARGIN)  # nothing transparent within reach
+    wrong_empty = int(np.count_nonzero(test[empty] != 0))
+    wrong_opaque = int(np.count_nonzero(test[:, :, 3][opaque] != 1))
+    print("ALPHA %-26s empty pixels %d (non-zero in Rendezvous: %d), opaque pixels %d (alpha != 1: %d)"
+          % (name, int(empty.sum()), wrong_empty, int(opaque.sum()), wrong_opaque))
+    if empty.sum() < 50 or opaque.sum() < 50:
+        failures.append("%s: the scene shows too little world (%d px) or solid surface (%d px) to test"
+                        % (name, int(empty.sum()), int(opaque.sum())))
+    if wrong_empty:
+        failures.append("%s: %d values non-zero where only the transparent world is seen" % (name, wrong_empty))
+    if wrong_opaque:
+        failures.append("%s: %d pixels of solid surface have alpha != 1" % (name, wrong_opaque))
+    return failures
+
+
+def main():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    ap = argparse.ArgumentParser()
+    ap.add_argument("variant", choices=["transparent", "transparent_glass"])
+    ap.add_argument("--samples", type=int, default=256)
+    a = ap.parse_args(argv)
+    odir = out_dir()
+    failures = []
+    try:
+        scene = build_scenes.build("film_transparent")
+        scene.cycles.film_transparent_glass = a.variant == "transparent_glass"
+        scene.rendezvous.film_transparent_glass = a.variant == "transparent_glass"  # unused while Cycles is on
+        ref, tc = render(scene, "CYCLES", a.samples, os.path.join(odir, a.variant + "_cycles.exr"))
+        print("  Cycles %d spp: %.1f s, alpha mean %.4f" % (a.samples, tc, ref[:, :, 3].mean()))
+        for integrator, samples in (("PATH", a.samples), ("BDPT", a.samples // 2)):
+            name = "%s %s" % (a.variant, integrator)
+            test, tr = render(scene, "RENDEZVOUS", samples,
+                              os.path.join(odir, "%s_%s.exr" % (a.variant, integrator.lower())), integrator)
+            print("  Rendezvous %s %d spp: %.1f s, alpha mean %.4f" % (integrator, samples, tr, test[:, :, 3].mean()))
+            if not np.isfinite(test).all():
+                failures.append("%s: non-finite pixels" % name)
+            for what, r, t in (("colour", ref[:, :, :3], test[:, :, :3]),
+                               ("alpha", np.repeat(ref[:, :, 3:], 3, axis=2), np.repeat(test[:, :, 3:], 3, axis=2))):
+                ok_mean, ok_blocks, ratio = compare("%s %s" % (name, what), r, t)
+                if not ok_mean:
+                    failures.append("%s %s: mean ratio Rendezvous/Cycles = %.4f" % (name, what, ratio))
+                if not ok_blocks:
+                    failures.append("%s %s: block means differ beyond noise" % (name, what))
+            failures += exact_checks(name, ref, test)
+        scene.render.film_transparent = False
+        opaque, _ = render(scene, "RENDEZVOUS", 16, os.path.join(odir, a.variant + "_opaque.exr"))
+        not_one = int(np.count_nonzero(opaque[:, :, 3] != 1))
+        print("ALPHA opaque film: %d pixels with alpha != 1" % not_one)
+        if not_one:
+            failures.append("opaque film: %d pixels with alpha != 1" % not_one)
+    except Exception as exc:
+        traceback.print_exc()
+        failures.append("%s: %s" % (a.variant, exc))
+    finish("FILM", failures, odir)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,105 @@
+// Film > Transparent (integrators/film_alpha.h): the world seen directly leaves alpha 0 and
+// no colour, exactly; a card that is 30% Transparent BSDF leaves alpha 0.7 in front of
+// the world (z-test on the mean, |z| < 4.5); smooth glass keeps the world transparent
+// only with Transparent Glass; path tracing and BDPT agree on alpha and colour (means,
+// |z| < 4.5); an opaque film's alpha is 1. Fixed seeds, orthographic 16x16 views.
+#include <gtest/gtest.h>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include "render_helpers.h"
+
+using namespace rdv::test;
+using nlohmann::json;
+
+namespace {
+
+// An orthographic view down onto `card` (a 1 x 1 quad filling the view's middle half, or
+// `shape`) under a blue world and a sun, nothing else.
+json card_scene(const json &card_material, const json &settings,
+                const json &shape = {{"type", "quad"}, {"size", 1}}) {
+  json mats = json::array();
+  json m = card_material;
+  m["name"] = "card";
+  mats.push_back(m);
+  json s = {{"width", 16}, {"height", 16}, {"samples", 64}, {"max_bounces", 8}, {"film_transparent", true}};
+  s.update(settings);
+  return {{"settings", s},
+          {"camera", {{"type", "orthographic"}, {"ortho_scale", 2.0}, {"clip_start", 0.01},
+                      {"transform", {{"look_at", {{"from", {0, 0.001, 3}}, {"to", {0, 0, 0}}}}}}}},
+          {"world", {{"color", {0.3, 0.4, 0.6}}, {"strength", 1}}},
+          {"materials", mats},
+          {"meshes", {{{"name", "card"}, {"shape", shape}, {"materials", {"card"}}}}},
+          {"lights", {{{"type", "sun"}, {"strength", 2}, {"angle", 0}, {"direction", {-0.3, 0.2, -1}}}}}};
+}
+
+// Mean and standard error of channel c over the pixels of rows / columns [4, 12) (the card).
+MeanEstimate card_mean(const Image &img, int c) {
+  double s = 0, s2 = 0;
+  int n = 0;
+  for (int y = 5; y < 11; ++y)
+    for (int x = 5; x < 11; ++x) {
+      double v = img.rgba[(size_t(y) * img.width + x) * 4 + c];
+      s += v;
+      s2 += v * v;
+      ++n;
+    }
+  double mean = s / n;
+  return {mean, std::sqrt(std::max(s2 / n - mean * mean, 0.0) / n)};
+}
+
+void expect_near_z(MeanEstimate a, MeanEstimate b, const std::string &what) {
+  double z = (a.mean - b.mean) / std::hypot(std::hypot(a.standard_error, b.standard_error), 1e-5);
+  EXPECT_LT(std::fabs(z), 4.5) << what << ": " << a.mean << " vs " << b.mean;
+}
+
+}  // namespace
+
+TEST(FilmAlpha, WorldSeenDirectlyIsTransparentAndBlack) {
+  for (const char *integrator : {"path", "bdpt", "pssmlt"}) {
+    Image img = render_json(card_scene({{"type", "diffuse"}}, {{"integrator", integrator}}).dump());
+    ASSERT_TRUE(img.all_finite()) << integrator;
+    // Corners: 3 px and more from the card's edge (the pixel filter reaches 1.5 px).
+    for (int y : {0, 1, 14, 15})
+      for (int x : {0, 1, 14, 15})
+        for (int c = 0; c < 4; ++c)
+          EXPECT_EQ(img.rgba[(size_t(y) * 16 + x) * 4 + c], 0.0f) << integrator << " pixel " << x << "," << y;
+    // The card's middle: alpha exactly 1.
+    EXPECT_EQ(card_mean(img, 3).mean, 1.0) << integrator;
+  }
+}
+
+TEST(FilmAlpha, TransparentBsdfLeavesItsShareOfAlpha) {
+  json card = {{"type", "mix"}, {"fac", 0.3}, {"shader1", {{"type", "diffuse"}}}, {"shader2", {{"type", "transparent"}}}};
+  Image path = render_json(card_scene(card, {{"integrator", "path"}, {"samples", 256}}).dump());
+  Image bdpt = render_json(card_scene(card, {{"integrator", "bdpt"}, {"samples", 256}, {"seed", 7}}).dump());
+  expect_near_z(card_mean(path, 3), {0.7, 0}, "path alpha");
+  expect_near_z(card_mean(bdpt, 3), {0.7, 0}, "bdpt alpha");
+  for (int c = 0; c < 3; ++c) expect_near_z(card_mean(path, c), card_mean(bdpt, c), "colour, path vs bdpt");
+}
+
+TEST(FilmAlpha, GlassIsTransparentOnlyWithTransparentGlass) {
+  json glass = {{"type", "glass"}, {"roughness", 0}, {"ior", 1.45}};
+  const json slab = {{"type", "box"}, {"size", {1, 1, 0.2}}, {"smooth", false}};
+  for (const char *integrator : {"path", "bdpt"}) {
+    Image opaque_glass = render_json(card_scene(glass, {{"integrator", integrator}}, slab).dump());
+    EXPECT_EQ(card_mean(opaque_glass, 3).mean, 1.0) << integrator << ": glass without Transparent Glass";
+    Image clear =
+        render_json(card_scene(glass, {{"integrator", integrator}, {"film_transparent_glass", true}}, slab).dump());
+    // A glass slab seen face on lets the world through but for its Fresnel reflections
+    // (R = 3.4% per face at normal incidence for IOR 1.45; 2R / (1 + R) = 6.5% in all):
+    // alpha is what it reflects.
+    MeanEstimate a = card_mean(clear, 3);
+    EXPECT_LT(std::fabs(a.mean - 0.065), 5 * a.standard_error + 0.005) << integrator << ": " << a.mean;
+    // Rough glass above the threshold stays opaque.
+    json rough = {{"type", "glass"}, {"roughness", 0.5}, {"ior", 1.45}};
+    Image frosted =
+        render_json(card_scene(rough, {{"integrator", integrator}, {"film_transparent_glass", true}}, slab).dump());
+    EXPECT_EQ(card_mean(frosted, 3).mean, 1.0) << integrator << ": frosted glass";
+  }
+}
+
+TEST(FilmAlpha, OpaqueFilmHasAlphaOne) {
+  Image img = render_json(card_scene({{"type", "diffuse"}}, {{"film_transparent", false}}).dump());
+  for (size_t i = 0; i < img.rgba.size(); i += 4) ASSERT_EQ(img.rgba[i + 3], 1.0f);
+  EXPECT_GT(img.rgba[3 * 0 + 0], 0.0f);  // the world is there
+}
