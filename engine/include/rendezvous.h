@@ -172,7 +172,9 @@ RDV_API rdv_status rdv_scene_summary(rdv_scene *scene, const char **out_json);
  *   "time_limit":seconds,"max_bounces":B,"seed":S,"threads":T,"clamp":C,
  *   "border":[x0,y0,x1,y1],"sample_offset":O,"scene_hash":"...","noise_target":E,
  *   "noise_pass":false,"adaptive_sampling":false,"adaptive_threshold":0.01,
- *   "adaptive_min_samples":0} (noise_target: halt once the estimated relative MSE is below E,
+ *   "adaptive_min_samples":0,"film_transparent":false,"film_transparent_glass":false,
+ *   "film_transparent_roughness":0.1} (film_transparent: the world seen directly is transparent and
+ *   RDV_PASS_COMBINED's alpha is coverage, as Cycles' Film > Transparent; noise_target: halt once the estimated relative MSE is below E,
  *   0 = off; noise_pass: estimate the noise for RDV_PASS_NOISE without a target;
  *   docs/noise.md) (sample_offset and
  *   scene_hash: render parts, see rdv_merge_parts). A session always has a halt condition: samples
