@@ -55,7 +55,7 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
       m.mutations.distance[i] = settings.mlt_propagation_range[i] * scene.bounding_radius();
       m.mutations.angle[i] = settings.mlt_scattering_angle[i];
     }
-    return std::make_unique<mlt::Metropolis>(scene, settings, bdpt_settings(settings), m);
+    return std::make_unique<mlt::Metropolis>(scene, settings, bdpt_settings(settings, scene), m);
   }
   if (settings.integrator == "auto") return std::make_unique<AutoIntegrator>(scene, settings);
   fail("render settings: unknown integrator '" + settings.integrator + "' (available: path, bdpt, pssmlt, mmlt, mlt, auto)");
