@@ -497,8 +497,7 @@ class _Lowerer:
         if k in ("translucent", "sheen"):
             return self._with_normal({"type": k, "color": self.value(p["color"], True)}, c)
         if k == "holdout":
-            self.approx(c.node, "holdout not supported, rendered black")
-            return None
+            return {"type": "holdout"}  # black, and a hole in the alpha where the camera sees it
         if k == "unsupported":
             idname = c.props.get("bl_idname", "?")
             if idname == "ShaderNodeBsdfVelvet":

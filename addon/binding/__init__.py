@@ -90,6 +90,7 @@ _PROTOTYPES = {
     "rdv_live_objects": (_status, [_c_uint32_p, _c_uint32_p]),
     "rdv_scene_add_instance": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_void_p, _c_uint32_p]),
     "rdv_scene_set_instance_transform": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_void_p]),
+    "rdv_scene_set_instance_params": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_char_p]),
     "rdv_scene_add_light": (_status, [_scene_p, ctypes.c_char_p, ctypes.c_char_p, _c_uint32_p]),
     "rdv_scene_set_world": (_status, [_scene_p, ctypes.c_char_p]),
     "rdv_scene_set_camera": (_status, [_scene_p, ctypes.c_char_p]),
@@ -381,6 +382,10 @@ class Scene(_Handle):
 
     def set_instance_transform(self, instance, transform):
         self.lib.check(self.lib.rdv_scene_set_instance_transform(self.handle, int(instance), _matrix16(transform)),
+                       "instance %d" % instance)
+
+    def set_instance_params(self, instance, params):
+        self.lib.check(self.lib.rdv_scene_set_instance_params(self.handle, int(instance), _json(params)),
                        "instance %d" % instance)
 
     def add_light(self, name, params):

@@ -129,6 +129,9 @@ class _Sink:
         e.records[e.current_key] = _Record("mesh", iid, list(m16), e.current_name, mesh_id=mesh_id)
         return iid
 
+    def set_instance_params(self, instance, params):
+        self.rscene.set_instance_params(instance, params)
+
     def add_light(self, name, params):
         lid = self.rscene.add_light(name, params)
         e = self.exp

@@ -205,8 +205,6 @@ class SceneExporter:
         if not getattr(ob, "visible_camera", True):
             self.warn("Object '%s': camera ray visibility off is not supported yet, object rendered normally"
                       % ob.name)
-        if getattr(ob, "is_holdout", False):
-            self.warn("Object '%s': holdout not supported yet, object rendered normally" % ob.name)
         domain = gas_domain(ob)
         if domain is not None:
             self._grid_medium(ob, m16, self._fluid_source(ob, m16, domain))
@@ -221,7 +219,9 @@ class SceneExporter:
             mesh_id = self._meshes[key] = self._add_mesh(ob, mats)
         if mesh_id is None:
             return
-        self.sink.add_instance(mesh_id, m16)
+        instance = self.sink.add_instance(mesh_id, m16)
+        if getattr(ob, "is_holdout", False):  # Object > Visibility > Holdout
+            self.sink.set_instance_params(instance, {"holdout": True})
         self.stats.instances += 1
 
     # ---- grid media: Volume objects and fluid domains ---------------------------------------

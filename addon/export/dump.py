@@ -111,6 +111,9 @@ class JsonSink:
         self.instances.append({"mesh": self.meshes[mesh]["name"], "transform": [_num(x) for x in transform]})
         return len(self.instances) - 1
 
+    def set_instance_params(self, instance, params):
+        self.instances[instance].update(params)
+
     def add_light(self, name, params):
         d = {"name": name}
         d.update(params)

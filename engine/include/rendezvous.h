@@ -146,6 +146,10 @@ RDV_API rdv_status rdv_scene_add_instance(rdv_scene *scene, uint32_t mesh,
                                           const float transform[16], uint32_t *out_instance);
 RDV_API rdv_status rdv_scene_set_instance_transform(rdv_scene *scene, uint32_t instance,
                                                     const float transform[16]);
+/* An instance's object settings: {"holdout": false} (Object > Visibility > Holdout: the
+ * instance renders black and cuts its coverage out of RDV_PASS_COMBINED's alpha where the
+ * camera sees it, as Cycles). Absent keys take their defaults. */
+RDV_API rdv_status rdv_scene_set_instance_params(rdv_scene *scene, uint32_t instance, const char *params_json);
 
 /* Lights: {"type":"point"|"spot"|"sun"|"area", "transform":[16], ...}. Units are
  * Blender's: Watts for point/spot/area, irradiance (W/m^2) for sun. */

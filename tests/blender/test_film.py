@@ -1,5 +1,7 @@
-"""Film > Transparent against Cycles: the world seen directly (and through a half-Transparent
-card, and through smooth glass when Transparent Glass is on) leaves alpha, not colour.
+"""Film > Transparent and holdouts against Cycles: the world seen directly (and through a
+half-Transparent card, and through smooth glass when Transparent Glass is on) leaves alpha, not
+colour; with an opaque film, a holdout object (Object > Visibility > Holdout) and a card half
+Holdout shader cut their coverage out of the alpha and render black.
 build_scenes.film_transparent, 48x48: Cycles renders it, then Rendezvous' path tracer and
 BDPT in this process. Per integrator:
 - colour (premultiplied) and alpha as test_brightness.compare: means within 2%, 8x8 blocks
@@ -9,7 +11,8 @@ BDPT in this process. Per integrator:
 - the film opaque again (Film > Transparent off): alpha exactly 1 everywhere.
 
     run_blender.py --script test_film.py -- VARIANT [--samples N]
-VARIANT: transparent (Transparent Glass off) or transparent_glass.
+VARIANT: transparent (Transparent Glass off), transparent_glass, or holdout (the opaque film with
+the diffuse ball a holdout object and the card's Transparent BSDF a Holdout shader).
 """
 
 import argparse
@@ -66,7 +69,7 @@ def exact_checks(name, ref, test):
 def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     ap = argparse.ArgumentParser()
-    ap.add_argument("variant", choices=["transparent", "transparent_glass"])
+    ap.add_argument("variant", choices=["transparent", "transparent_glass", "holdout"])
     ap.add_argument("--samples", type=int, default=256)
     a = ap.parse_args(argv)
     odir = out_dir()
@@ -75,6 +78,11 @@ def main():
         scene = build_scenes.build("film_transparent")
         scene.cycles.film_transparent_glass = a.variant == "transparent_glass"
         scene.rendezvous.film_transparent_glass = a.variant == "transparent_glass"  # unused while Cycles is on
+        if a.variant == "holdout":
+            scene.render.film_transparent = False
+            bpy.data.objects["Ball"].is_holdout = True
+            bpy.data.objects["Card"].material_slots[0].material = build_scenes.mix_material(
+                "HalfHoldout", ("ShaderNodeBsdfDiffuse", {"Color": (0.2, 0.7, 0.3, 1)}), ("ShaderNodeHoldout", {}), 0.5)
         ref, tc = render(scene, "CYCLES", a.samples, os.path.join(odir, a.variant + "_cycles.exr"))
         print("  Cycles %d spp: %.1f s, alpha mean %.4f" % (a.samples, tc, ref[:, :, 3].mean()))
         for integrator, samples in (("PATH", a.samples), ("BDPT", a.samples // 2)):
@@ -92,6 +100,9 @@ def main():
                 if not ok_blocks:
                     failures.append("%s %s: block means differ beyond noise" % (name, what))
             failures += exact_checks(name, ref, test)
+        if a.variant == "holdout":
+            finish("FILM", failures, odir)
+            return
         scene.render.film_transparent = False
         opaque, _ = render(scene, "RENDEZVOUS", 16, os.path.join(odir, a.variant + "_opaque.exr"))
         not_one = int(np.count_nonzero(opaque[:, :, 3] != 1))

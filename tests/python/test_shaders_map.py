@@ -277,9 +277,10 @@ class TestCombinators(unittest.TestCase):
         self.assertEqual(p, {"type": "diffuse", "color": [0.0, 0.0, 0.0]})
         self.assertIsNone(w)
 
-    def test_holdout_warns(self):
+    def test_holdout_lowers_to_holdout(self):
         p, w = material_with(lambda t: t.new("ShaderNodeHoldout", "H").out())
-        self.assertIn("Holdout 'H'", w)
+        self.assertEqual(p, {"type": "holdout"})
+        self.assertIsNone(w)
 
 
 class TestValues(unittest.TestCase):

@@ -168,6 +168,13 @@ rdv_status rdv_scene_set_instance_transform(rdv_scene *s, uint32_t instance, con
   });
 }
 
+rdv_status rdv_scene_set_instance_params(rdv_scene *s, uint32_t instance, const char *params) {
+  return guarded([&] {
+    rdv::Params p(params ? params : "", "instance " + std::to_string(instance));
+    editable(s).set_instance_params(instance, p);
+  });
+}
+
 rdv_status rdv_scene_add_light(rdv_scene *s, const char *name, const char *params, uint32_t *out) {
   return guarded([&] {
     std::string n = name_or(name, "unnamed");

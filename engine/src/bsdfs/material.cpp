@@ -118,6 +118,8 @@ struct Parser {
     } else if (type == "transparent") {
       c.type = MaterialType::Transparent;
       c.in[kBaseColor] = value(p, "color", Color(1.0f));
+    } else if (type == "holdout") {
+      c.type = MaterialType::Holdout;  // scatters nothing: only its weight counts (holdout_at)
     } else if (type == "translucent") {
       c.type = MaterialType::Translucent;
       c.in[kBaseColor] = value(p, "color", Color(0.8f));
@@ -128,7 +130,8 @@ struct Parser {
       principled(p, c, w);
     } else {
       fail(p.what() + ": unknown material type '" + type +
-           "' (diffuse, emission, glossy, glass, refraction, principled, transparent, translucent, sheen, mix, add)");
+           "' (diffuse, emission, glossy, glass, refraction, principled, transparent, translucent, sheen, holdout, "
+           "mix, add)");
     }
     c.normal = normal(p, "normal");
     m.closures.push_back(c);
@@ -194,7 +197,7 @@ Material Material::from_params(Params &p, const std::string &name, const ImageBu
       {"diffuse", MaterialType::Diffuse}, {"emission", MaterialType::Emission}, {"glossy", MaterialType::Glossy},
       {"glass", MaterialType::Glass}, {"refraction", MaterialType::Refraction}, {"principled", MaterialType::Principled},
       {"transparent", MaterialType::Transparent}, {"translucent", MaterialType::Translucent},
-      {"sheen", MaterialType::Sheen}, {"mix", MaterialType::Mix},
+      {"sheen", MaterialType::Sheen}, {"holdout", MaterialType::Holdout}, {"mix", MaterialType::Mix},
       {"add", MaterialType::Add}};
   for (auto &[n, t] : kTypes)
     if (type == n) m.type = t;
@@ -203,6 +206,7 @@ Material Material::from_params(Params &p, const std::string &name, const ImageBu
   p.check_all_used();
   for (const Closure &c : m.closures) {
     if (c.type == MaterialType::Transparent) m.transparent = true;
+    if (c.type == MaterialType::Holdout) m.holdout = true;
     if (c.type == MaterialType::Principled &&
         (!m.graph.is_constant(c.in[kAlpha]) || m.graph.node(c.in[kAlpha]).value.x < 1.0f))
       m.transparent = true;
@@ -321,6 +325,7 @@ const char *Material::type_name() const {
     case MaterialType::Transparent: return "transparent";
     case MaterialType::Translucent: return "translucent";
     case MaterialType::Sheen: return "sheen";
+    case MaterialType::Holdout: return "holdout";
     case MaterialType::Mix: return "mix";
     case MaterialType::Add: return "add";
   }
@@ -403,6 +408,20 @@ Color Material::shadow_transmission(const ShadingPoint &sp) const {
     else t += Color(w * (1.0f - clampf(graph.eval_float(c.in[kAlpha], sp), 0.0f, 1.0f)));
   }
   return vmin(t, Color(1.0f));
+}
+
+float Material::holdout_at(const ShadingPoint &sp) const {
+  float h = 0;
+  for (const Closure &c : closures) {
+    if (c.type != MaterialType::Holdout) continue;
+    float w = 1;
+    for (const Closure::Factor &f : c.weight) {
+      float v = clampf(graph.eval_float(f.node, sp), 0.0f, 1.0f);
+      w *= f.invert ? 1 - v : v;
+    }
+    h += w;
+  }
+  return std::min(h, 1.0f);
 }
 
 namespace {
@@ -541,6 +560,7 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
         break;
       }
       case MaterialType::Emission:
+      case MaterialType::Holdout:  // no lobe: what is held out scatters nothing
       case MaterialType::Mix:
       case MaterialType::Add: break;
     }

@@ -17,7 +17,7 @@
 namespace rdv {
 
 enum class MaterialType : uint8_t {
-  Diffuse, Emission, Glossy, Glass, Refraction, Principled, Transparent, Translucent, Sheen, Mix, Add
+  Diffuse, Emission, Glossy, Glass, Refraction, Principled, Transparent, Translucent, Sheen, Holdout, Mix, Add
 };
 
 // Inputs of a closure (index into Closure::in). Not every closure uses every input.
@@ -68,6 +68,7 @@ struct Material {
   TextureGraph graph;
   std::vector<std::string> warnings;  // for Scene::warn (missing images, approximations)
   bool transparent = false;  // may let shadow rays through (Transparent BSDF, Principled alpha)
+  bool holdout = false;      // has a Holdout closure (integrators/film_alpha.h)
   // A constant material (no texture, normal map or anisotropy) has its lobes resolved
   // once, when parsed: shading a hit then copies them, and needs no ShadingPoint.
   struct ResolvedLobes {
@@ -97,6 +98,9 @@ struct Material {
   Bsdf make_bsdf(const ShadingPoint &sp, Vec3 wo) const;
   // What passes straight through at sp (the Transparent lobes' weight): for shadow rays.
   Color shadow_transmission(const ShadingPoint &sp) const;
+  // What of the surface at sp is held out (the Holdout closures' weight, at most 1): it
+  // scatters nothing, and camera paths that see it leave that much alpha.
+  float holdout_at(const ShadingPoint &sp) const;
   // Without surface information (textures see uv = 0): for callers that have none,
   // and for constant materials, which need none.
   Bsdf make_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const;

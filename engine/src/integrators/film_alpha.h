@@ -9,7 +9,9 @@
 // of its throughput to the sample's transparency, and the world's radiance there is not
 // added (suns still are: they are lights, not the background). A pixel's alpha is 1 minus
 // its samples' mean transparency. Media on the way attenuate the throughput, so fog in
-// front of a transparent background gives partial alpha, as in Cycles.
+// front of a transparent background gives partial alpha, as in Cycles. A holdout (object
+// or Holdout closure) seen through adds its weight times that average, film transparent or
+// not; what it holds out scatters nothing (black wherever it is seen).
 #pragma once
 #include "bsdfs/bsdf.h"
 
@@ -19,9 +21,12 @@ struct FilmAlpha {
   bool film_transparent = false;   // scene.render.film_transparent
   bool transparent_glass = false;  // scene.cycles.film_transparent_glass
   float glass_roughness = 0.1f;    // scene.cycles.film_transparent_roughness (Cycles' default)
+  // The scene has holdout objects or materials (Scene::has_holdouts): camera paths track
+  // seeing through with an opaque film too, as a holdout cuts alpha either way.
+  bool holdouts = false;
 
   // Whether camera paths need to know if they still see through (else: no cost at all).
-  bool tracked() const { return film_transparent; }
+  bool tracked() const { return film_transparent || holdouts; }
   // Whether a camera path that saw through before scattering as `bs` still does.
   bool keeps_seeing_through(const BsdfSample &bs) const {
     if (bs.pass_through) return true;

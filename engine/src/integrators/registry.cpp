@@ -8,8 +8,12 @@
 
 namespace rdv {
 
-// The film's alpha settings.
-static FilmAlpha film_alpha(const RenderSettings &settings, const Scene &) { return settings.alpha; }
+// The film's alpha settings with what the scene adds (its holdouts).
+static FilmAlpha film_alpha(const RenderSettings &settings, const Scene &scene) {
+  FilmAlpha a = settings.alpha;
+  a.holdouts = scene.has_holdouts();
+  return a;
+}
 
 static bdpt::BdptSettings bdpt_settings(const RenderSettings &settings, const Scene &scene) {
   bdpt::BdptSettings b;

@@ -52,6 +52,9 @@ struct Instance {
   Transform abs_linear, error_mixing;
   uint32_t light_base = 0;  // first emissive-triangle light of this instance
   bool enabled = true;      // false for a zero-scale transform: not rendered
+  // Object > Visibility > Holdout: a hole in the alpha where the camera sees it, and
+  // nothing else there; shaded as usual for every other ray (integrators/film_alpha.h).
+  bool holdout = false;
 };
 
 }  // namespace rdv

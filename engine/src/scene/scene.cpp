@@ -416,8 +416,12 @@ void Scene::commit() {
     bounding_radius_ = std::max(length(hi - lo) * 0.5f, 1e-6f);
   }
   build_lights();
-  has_transparency_ = false;
-  for (const Material &m : materials_) has_transparency_ = has_transparency_ || m.transparent;
+  has_transparency_ = has_holdouts_ = false;
+  for (const Material &m : materials_) {
+    has_transparency_ = has_transparency_ || m.transparent;
+    has_holdouts_ = has_holdouts_ || m.holdout;
+  }
+  for (const Instance &inst : instances_) has_holdouts_ = has_holdouts_ || (inst.enabled && inst.holdout);
   has_heterogeneous_media_ = false;
   for (const Medium &m : media_) has_heterogeneous_media_ = has_heterogeneous_media_ || m.is_heterogeneous();
   find_camera_media();
@@ -693,6 +697,19 @@ ShadingPoint Scene::shading_point(const SurfaceHit &hit, Vec3 dir, float width) 
   sp.dpdv = inst.to_world.vector(sp.dpdv_object);
   if (width > 0) set_footprint(sp, dir, width);
   return sp;
+}
+
+float Scene::holdout_weight(const SurfaceHit &hit) const {
+  if (instances_[hit.instance].holdout) return 1;
+  const Material &m = materials_[hit.material];
+  return m.holdout ? m.holdout_at(shading_point(hit)) : 0.0f;
+}
+
+void Scene::set_instance_params(uint32_t id, Params &params) {
+  if (id >= instances_.size()) fail("instance " + std::to_string(id) + ": no such instance");
+  instances_[id].holdout = params.get_bool("holdout", false);
+  params.check_all_used();
+  dirty_ = true;
 }
 
 Bsdf Scene::bsdf(const SurfaceHit &hit, Vec3 wo, float width, Color *Le) const {

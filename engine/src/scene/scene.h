@@ -66,6 +66,8 @@ class Scene {
   void set_light(uint32_t id, Params &params);
   uint32_t add_instance(uint32_t mesh, const Transform &to_world);
   void set_instance_transform(uint32_t instance, const Transform &to_world);
+  // {"holdout": bool} (rdv_scene_set_instance_params).
+  void set_instance_params(uint32_t instance, Params &params);
   uint32_t add_light(const std::string &name, Params &params);
   void set_world(Params &params);
   void set_camera(Params &params);
@@ -127,6 +129,11 @@ class Scene {
   }
   // Some material lets shadow rays through (Transparent BSDF, Principled alpha).
   bool has_transparency() const { return has_transparency_; }
+  // Some instance or material is a holdout (integrators/film_alpha.h).
+  bool has_holdouts() const { return has_holdouts_; }
+  // What of the surface at hit is held out: 1 on a holdout instance, else its material's
+  // Holdout closures' weight (0 for most).
+  float holdout_weight(const SurfaceHit &hit) const;
   const std::vector<Light> &lights() const { return lights_; }
   // The light an emissive triangle is, for MIS when a path hits it.
   uint32_t triangle_light(uint32_t instance, uint32_t prim) const {
@@ -209,6 +216,7 @@ class Scene {
   Color world_radiance_{0.05f};
   std::shared_ptr<EnvironmentMap> environment_;  // world HDRI, or null
   bool has_transparency_ = false;
+  bool has_holdouts_ = false;
   bool has_heterogeneous_media_ = false;  // derived by commit()
   Camera camera_;
   bool has_camera_ = false;

@@ -23,9 +23,14 @@ FirstHit Bdpt::first_surface(const PathVertex *camera_path, int n) const {
 }
 
 float Bdpt::transparency(const PathVertex *camera_path, int n) const {
-  const PathVertex &end = camera_path[n - 1];
-  if (n > 1 && end.infinite && end.see_through && settings_.alpha.film_transparent) return average(end.beta);
-  return 0;
+  float t = 0;
+  for (int i = 1; i < n; ++i) {
+    const PathVertex &v = camera_path[i];
+    if (!v.see_through) break;
+    if (v.holdout > 0) t += v.holdout * average(v.beta);
+    if (v.infinite && settings_.alpha.film_transparent) t += average(v.beta);
+  }
+  return t;
 }
 
 template <bool kMedia>

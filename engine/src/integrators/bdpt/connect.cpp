@@ -83,6 +83,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     // Light tracing: connect the light subpath to a point on the lens.
     PathVertex &qs = light_path[s - 1];
     if (!qs.connectible(scene_) || (qs.type != VertexType::Surface && qs.type != VertexType::Medium)) return L;
+    if (qs.holdout >= 1) return L;  // a holdout object seen by the camera is not there (film_alpha.h)
     const Camera &camera = scene_.camera();
     Camera::ImportanceSample is;
     sampler.start_stream(SampleStream::Lens, dims::lens(uint32_t(s) - 1, dims::kLensPoint));

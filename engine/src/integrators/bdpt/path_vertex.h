@@ -53,6 +53,7 @@ struct PathVertex {
   // Camera subpaths with a transparent film or holdouts (integrators/film_alpha.h): every
   // scattering between the camera and this vertex kept the background seen through.
   bool see_through = false;
+  float holdout = 0;  // scenes with holdouts: what of this surface is held out (Scene::holdout_weight)
   bool caustics_ok = true;
   BounceCounts counts;
 

@@ -190,9 +190,15 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     fresh_surface_vertex(v, hit, ray.d, boundary, media);  // boundary: none without media
     v.beta = beta;
     v.see_through = see_through;
+    if (settings_.alpha.holdouts) v.holdout = scene_.holdout_weight(hit);
     v.bsdf = scene_.bsdf(hit, v.wo, cone.width_at(hit.t), &v.emitted);
     cone = cone.after(hit.t);
     if (material.emits()) v.light = int(scene_.triangle_light(hit.instance, hit.prim));
+    if (see_through && v.holdout >= 1) {  // all held out where the camera sees it: nothing of it is seen
+      v.bsdf = Bsdf(hit.ng, hit.ns, v.wo);
+      v.emitted = Color(0.0f);
+      v.light = -1;
+    }
     v.link_to_prev(prev, pdf_fwd);
     v.surface_connectible = v.bsdf.has_lobes() && !v.bsdf.is_delta();
     if (settings_.mis == MisHeuristic::LafortuneWillems) v.specularity = v.bsdf.specularity();

@@ -82,7 +82,7 @@ Metropolis::Metropolis(const Scene &scene, const RenderSettings &settings, const
 void Metropolis::first_hit_pass(RenderContext &ctx) const {
   const Rect &region = settings_.border;
   const bool media = scene_.has_media();
-  const bool alpha = settings_.alpha.film_transparent;
+  const bool alpha = bdpt_.settings().alpha.tracked();
   ctx.arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<int>(region.y0, region.y1, 1), [&](const tbb::blocked_range<int> &rows) {
       thread_local std::vector<bdpt::PathVertex> path(2);
@@ -104,8 +104,7 @@ void Metropolis::first_hit_pass(RenderContext &ctx) const {
             FirstHit hit = bdpt_.first_surface(path.data(), n);
             // The pixel's sample count averages the AOVs and the alpha (from first hits:
             // the world seen straight from the camera); the image itself is all splats.
-            float transparency = 0;
-            if (alpha) transparency = n == 1 || path[1].infinite ? 1.0f : 0.0f;  // the camera ray escaped
+            const float transparency = alpha ? bdpt_.transparency(path.data(), n) : 0.0f;
             rows_tile.add_sample(x, y, Color(0.0f), false, transparency);
             if (hit.valid) rows_tile.add_first_hit(x, y, hit.depth, hit.normal, hit.albedo);
             else rows_tile.add_first_hit(x, y, 1e10f, Vec3(0.0f), Color(0.0f));

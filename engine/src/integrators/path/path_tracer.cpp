@@ -252,6 +252,11 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     Color Le;
     Bsdf bsdf = scene_.bsdf(hit, wo, cone.width_at(hit.t), &Le);
     cone = cone.after(hit.t);
+    if (see_through && alpha_.holdouts) {  // as Cycles: only where the camera sees through
+      const float h = scene_.holdout_weight(hit);
+      transparency += h * average(beta);
+      if (h >= 1) break;  // all held out: nothing of it is seen
+    }
     if (material.emits()) {
       uint32_t li = scene_.triangle_light(hit.instance, hit.prim);
       float pdf = light_pdf(scene_.lights()[li], prev_p, ray.d, length(hit.p - prev_p));
