@@ -1,8 +1,8 @@
 // Glass end to end through the C ABI and the path tracer: a closed lossless
 // dielectric sphere under a uniform world looks exactly like the world, whatever its
 // IOR and roughness. This fails if refraction is blocked, if ray origins are offset
-// to the wrong side, if the eta^2 radiance scaling is missing or wrong (entering
-// scales by 1/eta^2, leaving by eta^2), or if total internal reflection loses energy.
+// to the wrong side, if refraction scales radiance at all in Radiance mode (Cycles'
+// convention, bsdfs/dielectric.cpp), or if total internal reflection loses energy.
 // z-test on the pixel mean at |z| < 4.5 (false-alarm rate < 1e-5 per check), fixed seeds.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -36,8 +36,15 @@ void expect_mean(const Image &img, double expected, const std::string &what, dou
 }  // namespace
 
 TEST(GlassFurnace, SmoothSphereLooksLikeTheWorld) {
-  for (double ior : {1.0001, 1.5, 2.4})  // IOR 4: correct but heavy-tailed (RR weights 16x); covered in stat tests
-    expect_mean(render_json(glass_furnace(ior, 0.0, false)), 0.8, "smooth glass ior " + std::to_string(ior));
+  // IOR 2.4: the flat facets trap rays by total internal reflection (critical angle
+  // 24.6 degrees) until Russian roulette ends them, and the few survivors carry large
+  // weights: a heavy tail that makes one image's mean typically low and its standard
+  // error an underestimate (8 seeds at 256 spp: 0.786 .. 0.804, median 0.793, with or
+  // without refraction's eta^2 in Radiance mode; 0.80 over seeds). Allowed 2% there.
+  // IOR 4: heavier still; covered in stat tests.
+  for (double ior : {1.0001, 1.5, 2.4})
+    expect_mean(render_json(glass_furnace(ior, 0.0, false)), 0.8, "smooth glass ior " + std::to_string(ior),
+                ior > 2 ? 0.02 : 1e-5);
 }
 
 TEST(GlassFurnace, RoughSphereLooksLikeTheWorld) {

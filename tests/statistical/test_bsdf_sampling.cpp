@@ -91,9 +91,9 @@ TEST(BsdfEnergy, AlbedoAtMostOne) {
         Color w(0.0f);
         float pdf;
         float a = rng.next_float();
-        // Importance mode: the flux a lobe scatters (radiance through a refraction is
-        // legitimately scaled by 1 / eta^2, which exceeds 1 leaving a dense medium).
-        if (!lobe_sample(c.lobe, wo, {a, rng.next_float()}, wi, w, pdf, TransportMode::Importance)) w = Color(0.0f);
+        // Radiance mode: the flux a lobe scatters (Importance mode carries refraction's
+        // 1 / eta^2, which exceeds 1 leaving a dense medium).
+        if (!lobe_sample(c.lobe, wo, {a, rng.next_float()}, wi, w, pdf, TransportMode::Radiance)) w = Color(0.0f);
         double v = max_component(w);
         sum += v;
         sum2 += v * v;

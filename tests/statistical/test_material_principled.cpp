@@ -113,7 +113,8 @@ TEST(MaterialSampling, WeightIsEvalOverPdfInBothModes) {
   }
 }
 
-// Directional albedo by Monte Carlo (Importance mode: scattered flux). Mixes of
+// Directional albedo by Monte Carlo (Radiance mode: scattered flux; Importance mode
+// carries refraction's 1 / eta^2). Mixes of
 // energy-conserving closures stay <= 1 (4 standard errors); a lossless mix (translucent
 // + multiscatter white glossy) keeps 1 within 1.5%.
 TEST(MaterialEnergy, MixturesConserveEnergy) {
@@ -128,7 +129,7 @@ TEST(MaterialEnergy, MixturesConserveEnergy) {
         BsdfSample s;
         float ul = rng.next_float(), a = rng.next_float();
         double v = 0;
-        if (bsdf.sample(wo, ul, {a, rng.next_float()}, TransportMode::Importance, s)) v = max_component(s.weight);
+        if (bsdf.sample(wo, ul, {a, rng.next_float()}, TransportMode::Radiance, s)) v = max_component(s.weight);
         sum += v;
         sum2 += v * v;
       }
@@ -210,7 +211,7 @@ TEST(MaterialEnergy, MixOfTwoFullPrincipledKeepsEveryLobe) {
   const std::string b = R"({"type":"principled","base_color":[0.9,0.7,0.5],"subsurface":0.5,"subsurface_color":[0.8,0.9,1],"metallic":0.3,"specular":0.7,"specular_tint":0.3,"roughness":0.6,"sheen":0.8,"clearcoat":0.5,"clearcoat_roughness":0.3,"transmission":0.3,"transmission_roughness":0.2,"ior":1.3,"alpha":0.8})";
   const float fac = 0.35f;
   struct Albedo { Color mean, se; };
-  // Directional albedo per channel: the mean sample weight (Importance mode: flux).
+  // Directional albedo per channel: the mean sample weight (Radiance mode: flux).
   auto albedo = [](const Material &m, Vec3 wo, uint64_t seed) {
     Bsdf bsdf = m.make_bsdf(point(), wo);
     Pcg32 rng(seed);
@@ -220,7 +221,7 @@ TEST(MaterialEnergy, MixOfTwoFullPrincipledKeepsEveryLobe) {
     for (int i = 0; i < n; ++i) {
       BsdfSample smp;
       float ul = rng.next_float(), u1 = rng.next_float();
-      if (!bsdf.sample(wo, ul, {u1, rng.next_float()}, TransportMode::Importance, smp)) continue;
+      if (!bsdf.sample(wo, ul, {u1, rng.next_float()}, TransportMode::Radiance, smp)) continue;
       for (int k = 0; k < 3; ++k) { s[k] += smp.weight[k]; s2[k] += double(smp.weight[k]) * smp.weight[k]; }
     }
     Albedo r;

@@ -3,8 +3,8 @@
 // Each lobe has eval / sample / pdf in the local shading frame; the Bsdf adds the
 // frame change, lobe selection and the transport-mode rules BDPT needs:
 //  - Radiance mode (camera paths) and Importance mode (light paths) differ by the
-//    shading-normal correction (Veach 1997, eq. 5.17) and, for refraction (later
-//    lobes), by the eta^2 radiance scaling.
+//    shading-normal correction (Veach 1997, eq. 5.17) and, for refraction, by the
+//    1 / eta^2 that Importance mode carries (bsdfs/dielectric.cpp says why).
 #pragma once
 #include <array>
 #include <type_traits>
@@ -248,8 +248,9 @@ class Bsdf {
 
 // Per-lobe routines in the local frame (wo.z > 0), exposed for the statistical tests.
 // They leave out the layers above a lobe (the Bsdf applies those).
-// mode matters only for refraction: in Radiance mode transmitted f is divided by
-// eta^2 (eta = lobe.ior, the relative IOR of the side wi enters), in Importance mode not.
+// mode matters only for refraction: in Importance mode transmitted f is divided by
+// eta^2 (eta = lobe.ior, the relative IOR of the side wi enters), in Radiance mode not
+// (Cycles' convention; bsdfs/dielectric.cpp).
 Color lobe_eval(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode = TransportMode::Radiance);  // f (without cosine)
 float lobe_pdf(const Lobe &lobe, Vec3 wo, Vec3 wi);
 // lobe_eval and lobe_pdf at once (terms both need are computed once).

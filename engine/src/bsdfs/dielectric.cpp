@@ -1,15 +1,19 @@
 // Conventions (local frame, z = shading normal on wo's side): lobe.ior = eta is the
-// IOR of the z < 0 side relative to the z > 0 side. Refracted radiance is scaled by
-// 1 / eta^2 in Radiance mode (camera paths) and not in Importance mode (light paths),
-// which makes f_importance(wo, wi) = f_radiance(wi, wo) (Veach 1997, ch. 5.2).
+// IOR of the z < 0 side relative to the z > 0 side. Physically, radiance refracted into
+// a denser medium grows by eta^2 (the basic radiance L / n^2 is what is conserved); like
+// Cycles, whose images our users compare with, Radiance mode (camera paths) leaves that
+// out, so a camera inside water or glass sees the world as bright as a camera in air
+// does (a real camera's sensor sits behind a port, in air). Importance mode (light paths)
+// then carries the 1 / eta^2, which keeps f_importance(wo, wi) = f_radiance(wi, wo)
+// (Veach 1997, ch. 5.2): BDPT's strategies and Metropolis still agree with the path tracer.
 #include "bsdfs/dielectric.h"
 
 namespace rdv::dielectric {
 
 namespace {
 
-float radiance_scale(float eta, TransportMode mode) {
-  return mode == TransportMode::Radiance ? 1.0f / (eta * eta) : 1.0f;
+float refraction_scale(float eta, TransportMode mode) {
+  return mode == TransportMode::Importance ? 1.0f / (eta * eta) : 1.0f;
 }
 
 // Generalised half vector of a refraction pair, facing +z; false if degenerate.
@@ -45,7 +49,7 @@ Color eval(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode) {
   if (F >= 1.0f) return Color(0.0f);  // total internal reflection
   float denom = sqr(wih * eta + woh);
   float f = (1.0f - F) * d * lobe.ggx.G2(wo, wi) * eta * eta * std::fabs(wih * woh) / (denom * wo.z * std::fabs(wi.z));
-  return lobe.color * (f * radiance_scale(eta, mode));
+  return lobe.color * (f * refraction_scale(eta, mode));
 }
 
 float pdf(const Lobe &lobe, Vec3 wo, Vec3 wi) {
@@ -89,7 +93,7 @@ bool sample(const Lobe &lobe, Vec3 wo, Vec2 u, float uc, Vec3 &wi, Color &weight
     if (wi.z >= 0) return false;
     float wih = dot(wi, h);
     pdf_out = (1.0f - F) * dvis * eta * eta * std::fabs(wih) / sqr(wih * eta + woh);
-    weight = lobe.color * (lobe.ggx.G2(wo, wi) / lobe.ggx.G1(wo) * radiance_scale(eta, mode));
+    weight = lobe.color * (lobe.ggx.G2(wo, wi) / lobe.ggx.G1(wo) * refraction_scale(eta, mode));
   }
   return pdf_out > 0 && std::isfinite(pdf_out);
 }
@@ -110,7 +114,7 @@ bool sample_smooth(const Lobe &lobe, Vec3 wo, Vec2 u, Vec3 &wi, Color &weight, f
   }
   if (!refract(wo, Vec3(0, 0, 1), eta, wi)) return false;
   pdf_out = 1.0f - F;
-  weight = lobe.color * radiance_scale(eta, mode);  // (1 - F) / (1 - F)
+  weight = lobe.color * refraction_scale(eta, mode);  // (1 - F) / (1 - F)
   return true;
 }
 
