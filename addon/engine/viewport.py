@@ -47,7 +47,8 @@ from ..export import SceneExporter, ExportError, GEOMETRY_TYPES, gas_domain
 from ..export import volumes
 from ..export import images as export_images
 from ..export.lights import light_params
-from ..export.settings import INTEGRATORS, INTEGRATOR_LABELS, METROPOLIS, light_path_settings, metropolis_settings
+from ..export.settings import (INTEGRATORS, INTEGRATOR_LABELS, METROPOLIS, light_path_settings, light_paths_for,
+                               metropolis_settings)
 from ..utils import Messages, normalize_frame, is_finite_matrix, determinant3
 from ..utils.images import image_average
 
@@ -428,10 +429,22 @@ def _view_key(region, rv3d):
             rv3d.view_perspective, region.width, region.height)
 
 
+_settings_warnings = set()
+
+
+def _warn_once(text):
+    """A warning about the viewport's settings, on the console the first time it comes up
+    (viewport_settings runs on every update)."""
+    if text not in _settings_warnings:
+        _settings_warnings.add(text)
+        print("Rendezvous viewport: WARNING: %s" % text)
+
+
 def viewport_settings(scene):
     props = scene.rendezvous
-    s = {"integrator": INTEGRATORS.get(props.viewport_integrator, "path"),
-         "samples": max(1, int(props.viewport_samples)), "light_paths": light_path_settings(scene),
+    integrator = INTEGRATORS.get(props.viewport_integrator, "path")
+    s = {"integrator": integrator, "samples": max(1, int(props.viewport_samples)),
+         "light_paths": light_paths_for(integrator, light_path_settings(scene), warn=_warn_once),
          "clamp": float(props.clamp), "threads": int(props.threads), "seed": int(props.seed) & 0x7FFFFFFF,
          "pause": bool(props.viewport_pause)}
     if s["integrator"] in METROPOLIS:

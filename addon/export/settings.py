@@ -117,6 +117,25 @@ def light_path_settings(scene, props=None):
     return s
 
 
+# The Light Paths keys path-space MLT does not implement (it takes max_bounces only).
+MLT_UNSUPPORTED_LIGHT_PATHS = BOUNCE_KINDS + ("caustics_reflective", "caustics_refractive", "clamp_direct",
+                                              "clamp_indirect")
+
+
+def light_paths_for(integrator, light_paths, warn=print):
+    """light_paths (light_path_settings) as `integrator` takes them: Metropolis (Path Space)
+    implements only max_bounces, and a default Blender scene sets Cycles' per-kind bounces
+    and Clamp Indirect 10, which the engine would refuse for it; they are left out, with one
+    warning naming them."""
+    if integrator != "mlt":
+        return light_paths
+    dropped = [k for k in MLT_UNSUPPORTED_LIGHT_PATHS if k in light_paths]
+    if dropped:
+        warn("Metropolis (Path Space) ignores these Light Paths settings (it follows Max Bounces only): %s"
+             % ", ".join(dropped))
+    return {k: v for k, v in light_paths.items() if k not in dropped}
+
+
 def film_settings(scene, props=None):
     """Film > Transparent (scene.render.film_transparent) and Transparent Glass (Cycles'
     scene.cycles, else our mirror on props): keys only when the film is transparent."""
@@ -153,7 +172,7 @@ def session_settings(scene, props, frame=None, warn=print):
         "threads": int(props.threads),
         "clamp": float(props.clamp),
     }
-    s.update(light_path_settings(scene, props))
+    s.update(light_paths_for(s["integrator"], light_path_settings(scene, props), warn))
     s.update(film_settings(scene, props))
     # Blender's pixel filter width (Film > Pixel Filter, Cycles' Blackman-Harris).
     filter_size = getattr(render, "filter_size", None)

@@ -567,7 +567,7 @@ FLUID_TOLERANCE = 0.05
 def test_metropolis(args):
     """Both Metropolis integrators render through the add-on: finite, lit, and their figures
     (chains, b, acceptance) reach last_render; the Metropolis settings reach the engine."""
-    for integrator in ("PSSMLT", "MMLT"):
+    for integrator in ("PSSMLT", "MMLT", "MLT"):
         scene = build_scenes.build("cornell_lamp_near_ceiling")
         result, dt = render(scene, samples=8, integrator=integrator, mlt_chains=16, mlt_large_step=0.4)
         check(result == {"FINISHED"}, "%s: render returned %s" % (integrator, result))
