@@ -36,7 +36,7 @@ def metropolis_settings(props):
             "mlt_target": props.mlt_target.lower(),
             # Path space (mlt) only: its mutations' weights (the other integrators ignore them).
             "mlt_mutations": {name: float(getattr(props, "mlt_mutation_" + name, 1.0))
-                              for name in ("bidirectional", "lens", "propagation", "scattering")}}
+                              for name in ("bidirectional", "lens", "propagation", "scattering", "caustic")}}
 MIS = {"POWER": "power", "BALANCE": "balance", "LAFORTUNE_WILLEMS": "lafortune_willems"}
 DEFAULT_SAMPLES = 128
 

@@ -77,6 +77,9 @@ class RendezvousRenderSettings(bpy.types.PropertyGroup):
     mlt_mutation_scattering: _mutation_weight(
         "Scattering", "the scattering perturbation, which turns a scattering point in a volume a little about "
                       "the vertex the light came from")
+    mlt_mutation_caustic: _mutation_weight(
+        "Caustic", "the caustic perturbation (Veach), which turns the light's direction into a chain of mirrors "
+                   "or smooth glass a little and retraces it to the surface or fog the camera sees: caustics")
     mlt_target: EnumProperty(
         name="Target", default="RELATIVE",
         items=[("RELATIVE", "Even Error", "Mutations spread by relative error: regions brighter than the image's "

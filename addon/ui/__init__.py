@@ -111,6 +111,7 @@ class RENDEZVOUS_PT_sampling_metropolis(RendezvousSubpanel, bpy.types.Panel):
             col.prop(props, "mlt_mutation_lens")
             col.prop(props, "mlt_mutation_propagation")
             col.prop(props, "mlt_mutation_scattering")
+            col.prop(props, "mlt_mutation_caustic")
 
 
 class RENDEZVOUS_PT_sampling_advanced(RendezvousSubpanel, bpy.types.Panel):

@@ -41,8 +41,9 @@ void usage() {
                "  --mlt-large-step P     pssmlt / mmlt / mlt: probability of a large step\n"
                "  --mlt-bootstrap N      pssmlt / mmlt / mlt: bootstrap samples per pixel\n"
                "  --mlt-chains N         pssmlt / mmlt / mlt: number of Markov chains\n"
-               "  --mlt-mutations B,L,P,S  mlt: weights of the bidirectional mutation, the lens perturbation and\n"
-               "                         the propagation and scattering perturbations of medium vertices (default 1,1,1,1)\n"
+               "  --mlt-mutations B,L,P,S[,C]  mlt: weights of the bidirectional mutation, the lens perturbation,\n"
+               "                         the propagation and scattering perturbations of medium vertices and the\n"
+               "                         caustic perturbation (default 1,1,1,1,1; C left out: 1)\n"
                "  --mlt-step-size S      pssmlt / mmlt: small-step size in primary sample space\n"
                "  --mlt-target T         pssmlt / mmlt: luminance or relative (even relative error)\n"
                "  --strategy S,T         bdpt: render only strategy (s, t), MIS-weighted\n"
@@ -181,11 +182,12 @@ int main(int argc, char **argv) {
       else if (a == "--mlt-bootstrap") overrides["mlt_bootstrap"] = std::stoi(next());
       else if (a == "--mlt-chains") overrides["mlt_chains"] = std::stoi(next());
       else if (a == "--mlt-mutations") {
-        // B,L,P,S: the weights of mlt's bidirectional mutation and lens / propagation / scattering perturbations.
+        // B,L,P,S[,C]: the weights of mlt's bidirectional mutation and lens / propagation / scattering /
+        // caustic perturbations (a list of four, as before the caustic perturbation, keeps its default).
         std::stringstream list(next());
         std::string item;
         nlohmann::json w = nlohmann::json::object();
-        for (const char *name : {"bidirectional", "lens", "propagation", "scattering"})
+        for (const char *name : {"bidirectional", "lens", "propagation", "scattering", "caustic"})
           if (std::getline(list, item, ',')) w[name] = std::stof(item);
         overrides["mlt_mutations"] = w;
       }

@@ -10,6 +10,11 @@
 // double loop. Also: f is a function of the vertices (re-building every BSDF by the
 // rule gives the same f), and a proposal never touches the state it mutates (rejected
 // proposals leave it bit-identical). Deterministic (fixed seeds): nothing fails by chance.
+// Specular vertices (the glass ball and the mirror of mirror_caustic, its lamp made a
+// point): their densities are the event's probability from a Fresnel term written out here
+// in double precision (1 for the mirror), the light side's divided by the refraction's
+// d omega_camera / d omega_light = cos_l / (eta^2 cos_c) (the delta about the direction
+// toward the light that f carries), and splits that would connect at one are left out.
 #include <gtest/gtest.h>
 #include <cmath>
 #include <cstring>
@@ -35,9 +40,13 @@ struct LoadedScene {
   const Scene &scene() const { return *handle->scene; }
 };
 
-void load(LoadedScene &s, const std::string &name) {
+// point_lamps: lamps of radius 0 (mlt samples no lamp with a radius).
+void load(LoadedScene &s, const std::string &name, bool point_lamps = false) {
   rdv_scene_create(&s.handle);
-  rdv_tools::load_scene_json(test::load_scene(name).dump(), test::source_path("scenes"), s.handle);
+  nlohmann::json j = test::load_scene(name);
+  if (point_lamps)
+    for (auto &light : j["lights"]) light["radius"] = 0;
+  rdv_tools::load_scene_json(j.dump(), test::source_path("scenes"), s.handle);
   ASSERT_EQ(rdv_scene_commit(s.handle), RDV_OK);
   s.handle->scene->camera().set_resolution(kWidth, kHeight);
 }
@@ -67,10 +76,53 @@ struct BruteForce {
     return s / 3;
   }
   static Vec3 dir(const ExplicitPath &p, int from, int to) { return normalize(p.x[size_t(to)].v.p - p.x[size_t(from)].v.p); }
+  // A specular vertex's event from wo to wi (smooth glass of IOR 1.5, or a mirror): its
+  // probability and d omega_wi / d omega_wo; 0 when wi is not where the event sends wo.
+  double specular_event(const ExplicitVertex &v, Vec3 wo, Vec3 wi, double &jacobian) const {
+    jacobian = 1;
+    const Material &material = scene.material(v.hit.material);
+    Vec3 n = v.hit.ns;
+    if (dot(n, v.hit.ng) < 0) n = -n;
+    const bool front = dot(wo, v.hit.ng) > 0;
+    if (!front) n = -n;  // the side wo is on
+    const double ci = dot(wo, n);
+    if (!(ci > 0)) return 0;
+    const bool reflection = dot(wo, v.hit.ng) * dot(wi, v.hit.ng) > 0;
+    if (material.type != MaterialType::Glass) {
+      if (!reflection) return 0;
+      Vec3 r = n * float(2 * ci) - wo;
+      return dot(r, wi) > 1 - 1e-5 ? 1.0 : 0.0;
+    }
+    const double eta = front ? 1.5 : 1 / 1.5;  // the far side's IOR over the near side's
+    const double sin2_t = (1 - ci * ci) / (eta * eta);
+    double F = 1, ct = 0;
+    if (sin2_t < 1) {
+      ct = std::sqrt(1 - sin2_t);
+      const double rs = (ci - eta * ct) / (ci + eta * ct), rp = (eta * ci - ct) / (eta * ci + ct);
+      F = 0.5 * (rs * rs + rp * rp);
+    }
+    if (reflection) {
+      Vec3 r = n * float(2 * ci) - wo;
+      return dot(r, wi) > 1 - 1e-5 ? F : 0.0;
+    }
+    if (F >= 1) return 0;
+    const double ax = -wo.x / eta + n.x * (ci / eta - ct), ay = -wo.y / eta + n.y * (ci / eta - ct),
+                 az = -wo.z / eta + n.z * (ci / eta - ct);
+    if (ax * wi.x + ay * wi.y + az * wi.z < 1 - 1e-5) return 0;
+    jacobian = ci / (eta * eta * ct);
+    return 1 - F;
+  }
   // The density of scattering at vertex v from direction wo into wi, v's BSDF rebuilt
-  // from its hit with wo as the direction it is built from.
-  double scatter_pdf(const ExplicitVertex &v, Vec3 wo, Vec3 wi) const {
+  // from its hit with wo as the direction it is built from. Specular vertices: the
+  // event's probability (a delta about wi); toward_camera: sampled from the light side,
+  // converted to the delta about wo.
+  double scatter_pdf(const ExplicitVertex &v, Vec3 wo, Vec3 wi, bool toward_camera = false) const {
     if (v.v.type == VertexType::Medium) return scene.medium(v.v.medium).phase.pdf(wo, wi);
+    if (v.v.delta) {
+      double jacobian;
+      double p = specular_event(v, wo, wi, jacobian);
+      return toward_camera ? p / jacobian : p;
+    }
     return scene.bsdf(v.hit, wo, 0).pdf(wo, wi);
   }
   double to_area(const ExplicitPath &p, int from, int i) const {
@@ -110,7 +162,7 @@ struct BruteForce {
       emission_pdf(light, light_vertex.p, light_vertex.ng, w, scene.bounding_radius(), pdf_pos, pdf_dir);
       pdf = pdf_dir;
     } else {
-      pdf = scatter_pdf(p.x[size_t(i + 1)], dir(p, i + 1, i + 2), w);
+      pdf = scatter_pdf(p.x[size_t(i + 1)], dir(p, i + 1, i + 2), w, true);
     }
     const bdpt::PathVertex &v = p.x[size_t(i)].v;
     return pdf * to_area(p, i + 1, i) * free_flight(p.x[size_t(i + 1)].v.p, v.p, v.type == VertexType::Medium);
@@ -146,6 +198,8 @@ struct BruteForce {
   double transition(int nv_from, int l, int m, const ExplicitPath &to, int na) const {
     double sum = 0;
     for (int j = 0; j <= na; ++j) {
+      const int a = l + j, b = l + j + 1;  // the connection
+      if ((a >= 0 && to.x[size_t(a)].v.delta) || (b < to.n && to.x[size_t(b)].v.delta)) continue;
       double product = 1;
       for (int i = l + 1; i <= l + na; ++i) product *= i <= l + j ? camera_side(to, i) : light_side(to, i);
       sum += product;
@@ -172,22 +226,31 @@ std::vector<unsigned char> digest(const ExplicitPath &p) {
     add(&v.wo, sizeof v.wo);
     add(&v.light, sizeof v.light);
     add(&v.medium, sizeof v.medium);
+    add(&v.delta, sizeof v.delta);
     add(&p.fwd[size_t(i)], sizeof(double));
     add(&p.rev[size_t(i)], sizeof(double));
   }
   return bytes;
 }
 
-void check_scene(const std::string &name, int starts, int mutations_per_start) {
+int specular_vertices(const ExplicitPath &p) {
+  int k = 0;
+  for (int i = 1; i + 1 < p.n; ++i) k += p.x[size_t(i)].v.delta;
+  return k;
+}
+
+// min_specular: how many checked proposals must have specular vertices in x or y.
+void check_scene(const std::string &name, int starts, int mutations_per_start, bool point_lamps = false,
+                 int min_specular = 0) {
   LoadedScene loaded;
-  load(loaded, name);
+  load(loaded, name, point_lamps);
   const Scene &scene = loaded.scene();
   PathSpace space(scene, kMaxBounces, kOrigin, kSize, float(kWidth * kHeight), kLargeStep);
   BruteForce brute{scene};
   Pcg32 rng(7, 11);
   RayStats stats;
   ExplicitPath x, y, z;
-  int checked = 0, worse = 0, medium_paths = 0, large = 0, lens = 0;
+  int checked = 0, worse = 0, medium_paths = 0, large = 0, lens = 0, specular = 0, lens_specular = 0, caustic = 0;
   double worst = 0, worst_f = 0;
   for (int s = 0; s < starts; ++s) {
     if (!(space.sample_independent(rng, stats, x) > 0)) continue;
@@ -218,18 +281,25 @@ void check_scene(const std::string &name, int starts, int mutations_per_start) {
       }
       if (std::isfinite(error)) worst = std::max(worst, error);
       ++checked;
+      specular += specular_vertices(x) + specular_vertices(y) > 0;
       large += p.type == MutationType::Large;
       for (int i = 0; i < y.n; ++i) medium_paths += y.x[size_t(i)].v.type == VertexType::Medium;
     }
-    // The lens perturbation: only x_1 moves; its ratio is that of x_1's camera-side densities.
+    // The lens perturbation: x_1 .. x_c move (x_c the first non-specular vertex); its ratio
+    // is that of their camera-side densities.
+    int c = 1;
+    while (c < x.n - 1 && x.x[size_t(c)].v.delta) ++c;
     for (int k = 0; k < mutations_per_start; ++k) {
       Proposal p = space.perturb_lens(x, rng, stats, y);
       if (!(p.ratio > 0)) continue;
-      double brute_ratio = brute.camera_side(x, 1) / brute.camera_side(y, 1);
+      double brute_ratio = 1;
+      for (int i = 1; i <= c; ++i) brute_ratio *= brute.camera_side(x, i) / brute.camera_side(y, i);
       double error = std::fabs(std::log(p.ratio / brute_ratio));
-      bool same_rest = y.n == x.n;
-      for (int i = 2; same_rest && i < x.n; ++i) same_rest = y.x[size_t(i)].v.p == x.x[size_t(i)].v.p;
-      EXPECT_TRUE(same_rest) << name << ": the lens perturbation moved more than x_1";
+      bool same_rest = y.n == x.n && p.m == c + 1;
+      for (int i = c + 1; same_rest && i < x.n; ++i) same_rest = y.x[size_t(i)].v.p == x.x[size_t(i)].v.p;
+      for (int i = 1; same_rest && i < c; ++i) same_rest = y.x[size_t(i)].v.delta;
+      EXPECT_TRUE(same_rest) << name << ": the lens perturbation moved more than x_1 .. x_c";
+      lens_specular += c > 1;
       if (!(error < 1e-3)) {
         ++worse;
         if (worse <= 3) ADD_FAILURE() << name << ": lens ratio " << p.ratio << " vs brute force " << brute_ratio;
@@ -237,11 +307,41 @@ void check_scene(const std::string &name, int starts, int mutations_per_start) {
       if (std::isfinite(error)) worst = std::max(worst, error);
       ++lens;
     }
+    // The caustic perturbation: x_1 .. x_(k-1) move (x_2 .. x_(k-1) the specular chain);
+    // its ratio is that of their light-side densities, the first without its direction's.
+    int kc = 2;
+    while (kc < x.n - 1 && x.x[size_t(kc)].v.delta) ++kc;
+    for (int k = 0; k < mutations_per_start; ++k) {
+      Proposal p = space.perturb_caustic(x, rng, stats, y);
+      if (!(p.ratio > 0)) continue;
+      auto area = [&](const ExplicitPath &q) {
+        const bdpt::PathVertex &v = q.x[size_t(kc - 1)].v;
+        return brute.to_area(q, kc, kc - 1) *
+               brute.free_flight(q.x[size_t(kc)].v.p, v.p, v.type == VertexType::Medium);
+      };
+      double brute_ratio = area(x) / area(y);
+      for (int i = 1; i <= kc - 2; ++i) brute_ratio *= brute.light_side(x, i) / brute.light_side(y, i);
+      double error = std::fabs(std::log(p.ratio / brute_ratio));
+      bool same_rest = y.n == x.n && p.m == kc && kc >= 3;
+      for (int i = kc; same_rest && i < x.n; ++i) same_rest = y.x[size_t(i)].v.p == x.x[size_t(i)].v.p;
+      for (int i = 2; same_rest && i < kc; ++i) same_rest = y.x[size_t(i)].v.delta;
+      EXPECT_TRUE(same_rest) << name << ": the caustic perturbation moved more than x_1 .. x_(k-1)";
+      if (!(error < 1e-3)) {
+        ++worse;
+        if (worse <= 3) ADD_FAILURE() << name << ": caustic ratio " << p.ratio << " vs brute force " << brute_ratio;
+      }
+      if (std::isfinite(error)) worst = std::max(worst, error);
+      ++caustic;
+    }
     EXPECT_TRUE(digest(x) == before) << name << ": a proposal changed the state it mutated";
   }
-  std::printf("[ mlt densities ] %-12s %d bidirectional proposals checked (%d large), %d lens; %d medium vertices; "
-              "worst |log ratio error| %.2e; worst f rebuild error %.2e\n",
-              name.c_str(), checked, large, lens, medium_paths, worst, worst_f);
+  std::printf("[ mlt densities ] %-12s %d bidirectional proposals checked (%d large, %d with specular vertices), %d "
+              "lens (%d through specular vertices), %d caustic; %d medium vertices; worst |log ratio error| %.2e; "
+              "worst f rebuild error %.2e\n",
+              name.c_str(), checked, large, specular, lens, lens_specular, caustic, medium_paths, worst, worst_f);
+  EXPECT_GE(specular, min_specular) << name;
+  EXPECT_GE(lens_specular, min_specular / 10) << name;
+  EXPECT_GE(caustic, min_specular / 10) << name;
   EXPECT_GT(checked, 200) << name;
   EXPECT_GT(lens, 200) << name;
   if (scene.world_medium() >= 0) EXPECT_GT(medium_paths, 0) << name;
@@ -254,6 +354,11 @@ void check_scene(const std::string &name, int starts, int mutations_per_start) {
 TEST(PathMltDensities, CornellBoxRatiosMatchBruteForce) { check_scene("cornell_box.json", 300, 20); }
 
 TEST(PathMltDensities, FogDoorRatiosMatchBruteForce) { check_scene("fog_door.json", 4000, 20); }
+
+// Smooth glass and a mirror: paths through the ball and seen in the mirror.
+TEST(PathMltDensities, MirrorCausticSpecularRatiosMatchBruteForce) {
+  check_scene("mirror_caustic.json", 20000, 20, true, 100);
+}
 
 // The perturbations of a medium vertex (Pauly, Kollig & Keller 2000, sec. 4) against the
 // density they must leave invariant, evaluated numerically. On a fog-door path with one

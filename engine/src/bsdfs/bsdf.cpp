@@ -386,6 +386,44 @@ bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSampl
   return true;
 }
 
+Color Bsdf::delta_eval(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_out, float &jacobian) const {
+  pdf_out = 0;
+  jacobian = 1;
+  Color f(0.0f);
+  if (n_ == 0 || dot(wo_w, ng_) <= 0) return f;
+  const Vec3 wo = frame_.to_local(wo_w);
+  constexpr float kSameDirection = 1.0f - 1e-5f;  // cos of about 4.5e-3 rad
+  for (int i = 0; i < n_; ++i) {
+    const Lobe &lobe = lobes_[i];
+    if (!lobe.is_delta()) continue;
+    // A smooth dielectric reflects for u.x < F and refracts above: both events; the
+    // other delta lobes have one.
+    Vec3 first_wi(0.0f);
+    const int events = lobe.type == LobeType::SmoothDielectric ? 2 : 1;
+    for (int e = 0; e < events; ++e) {
+      Vec3 wi;
+      Color weight;
+      float pdf;
+      if (!lobe_sample(lobe, wo, Vec2(e == 0 ? 0.0f : 0.99999994f, 0.5f), wi, weight, pdf, mode, 0.5f)) continue;
+      if (e == 1 && wi == first_wi) continue;  // total internal reflection: one event
+      if (e == 0) first_wi = wi;
+      const Vec3 wi_event = frame_.to_world(wi);
+      if (dot(wi_event, wi_w) < kSameDirection || !consistent_side(wi_event, ng_, wi.z)) continue;
+      if (lobe.layers_above) {
+        LayerScales layers;
+        layer_scales(wo, wi, layers);
+        weight *= layers.of(lobe.layers_above);
+      }
+      const float p = pick_[i] * pdf;
+      f += weight * (pdf * shading_correction(wo_w, wi_event, mode));  // weight x p / pick
+      pdf_out += p;
+      if (wi.z < 0 && lobe.type == LobeType::SmoothDielectric && std::fabs(wi.z) > 0)
+        jacobian = wo.z / (lobe.ior * lobe.ior * std::fabs(wi.z));
+    }
+  }
+  return f;
+}
+
 float Bsdf::specularity() const {
   float w = 0;
   for (int i = 0; i < n_; ++i) {

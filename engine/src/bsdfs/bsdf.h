@@ -169,6 +169,15 @@ class Bsdf {
   // The densities are left 0 where f is 0 (the connection contributes nothing).
   Color f_and_pdfs(Vec3 wo, Vec3 wi, TransportMode mode, float &pdf_fwd, float &pdf_rev) const;
   bool sample(Vec3 wo, float u_lobe, Vec2 u, TransportMode mode, BsdfSample &out) const;
+  // The delta lobes' events (mirror reflection, smooth reflection and refraction, pass-
+  // through) that send wo to wi, up to an angle of about 4e-3 (vertices rounded to
+  // floats): f * |cos(wi)| summed over them as the coefficient of a Dirac delta in solid
+  // angle about wi (what sample() gives as weight x pdf), their summed selection
+  // probability (sample()'s pdf) in pdf, and in jacobian d omega_wi / d omega_wo of the
+  // event (cos_o / (eta^2 cos_i) for a refraction, else 1), which converts a delta about
+  // wi into one about wo (path-space MLT samples specular vertices from either side).
+  // Black with pdf 0 where no delta event sends wo to wi.
+  Color delta_eval(Vec3 wo, Vec3 wi, TransportMode mode, float &pdf, float &jacobian) const;
   // Directional albedo-like colour for the Diffuse Color AOV.
   Color albedo() const;
   // Lafortune & Willems' "degree of specularity" in [0, 1] (BDPT's "lafortune_willems"

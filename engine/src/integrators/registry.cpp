@@ -51,13 +51,14 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
     m.bootstrap_per_pixel = settings.mlt_bootstrap;
     m.chains = settings.mlt_chains;
     m.relative_target = false;  // Veach's target: the path's luminance
-    for (int i = 0; i < 4; ++i) m.mutations.weights[i] = settings.mlt_mutations[i];
+    for (int i = 0; i < mlt::kWeightedMutations; ++i) m.mutations.weights[i] = settings.mlt_mutations[i];
     // Veach's lens perturbation: 0.1 pixel to a tenth of the image.
     m.mutations.lens[0] = 0.1f;
     m.mutations.lens[1] = std::max(1.0f, 0.1f * float(std::max(settings.width, settings.height)));
     for (int i = 0; i < 2; ++i) {
       m.mutations.distance[i] = settings.mlt_propagation_range[i] * scene.bounding_radius();
       m.mutations.angle[i] = settings.mlt_scattering_angle[i];
+      m.mutations.caustic[i] = settings.mlt_caustic_angle[i];
     }
     return std::make_unique<mlt::Metropolis>(scene, settings, bdpt_settings(settings, scene), m);
   }
@@ -166,18 +167,18 @@ RenderSettings RenderSettings::from_params(Params &p) {
   if (s.mlt_target != "luminance" && s.mlt_target != "relative")
     fail(p.what() + ": 'mlt_target' must be luminance or relative, got '" + s.mlt_target + "'");
   if (const nlohmann::json *mutations = p.get_json("mlt_mutations")) {
-    static const char *names[4] = {"bidirectional", "lens", "propagation", "scattering"};
+    static const char *names[5] = {"bidirectional", "lens", "propagation", "scattering", "caustic"};
     if (!mutations->is_object())
       fail(p.what() + ": 'mlt_mutations' must be an object of weights {\"bidirectional\", \"lens\", \"propagation\", "
-                      "\"scattering\"}");
+                      "\"scattering\", \"caustic\"}");
     float sum = 0;
-    for (int i = 0; i < 4; ++i) s.mlt_mutations[i] = 0;
+    for (int i = 0; i < 5; ++i) s.mlt_mutations[i] = 0;
     for (auto it = mutations->begin(); it != mutations->end(); ++it) {
       int i = 0;
-      while (i < 4 && it.key() != names[i]) ++i;
-      if (i == 4)
+      while (i < 5 && it.key() != names[i]) ++i;
+      if (i == 5)
         fail(p.what() + ": 'mlt_mutations': unknown mutation '" + it.key() +
-             "' (available: bidirectional, lens, propagation, scattering)");
+             "' (available: bidirectional, lens, propagation, scattering, caustic)");
       const float w = it.value().is_number() ? it.value().get<float>() : -1.0f;
       if (!(w >= 0) || !std::isfinite(w)) fail(p.what() + ": 'mlt_mutations': '" + it.key() + "' must be a weight >= 0");
       s.mlt_mutations[i] = w;
@@ -194,6 +195,7 @@ RenderSettings RenderSettings::from_params(Params &p) {
   };
   range("mlt_propagation_range", s.mlt_propagation_range, 10.0f, "fractions of the scene's bounding radius");
   range("mlt_scattering_angle", s.mlt_scattering_angle, kPi, "radians");
+  range("mlt_caustic_angle", s.mlt_caustic_angle, kPi, "radians");
   if (const nlohmann::json *candidates = p.get_json("auto_candidates")) {
     s.auto_candidates.clear();
     if (!candidates->is_array() || candidates->empty())
@@ -294,9 +296,11 @@ std::string RenderSettings::image_settings_json() const {
     j["mlt_target"] = mlt_target;
     if (integrator == "mlt") {
       j["mlt_mutations"] = {{"bidirectional", mlt_mutations[0]}, {"lens", mlt_mutations[1]},
-                            {"propagation", mlt_mutations[2]}, {"scattering", mlt_mutations[3]}};
+                            {"propagation", mlt_mutations[2]}, {"scattering", mlt_mutations[3]},
+                            {"caustic", mlt_mutations[4]}};
       j["mlt_propagation_range"] = {mlt_propagation_range[0], mlt_propagation_range[1]};
       j["mlt_scattering_angle"] = {mlt_scattering_angle[0], mlt_scattering_angle[1]};
+      j["mlt_caustic_angle"] = {mlt_caustic_angle[0], mlt_caustic_angle[1]};
     }
   }
   return j.dump();

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include "core/log.h"
@@ -43,7 +44,6 @@ struct Chain {
   // Path space: the state's path and the proposal's, and the mutations' generator.
   ExplicitPath path, path_proposal;
   Pcg32 mutation;
-  uint64_t specular = 0;
   uint64_t type_proposed[kMutationTypes] = {}, type_accepted[kMutationTypes] = {};
 };
 
@@ -193,13 +193,13 @@ void Metropolis::render(RenderContext &ctx) {
   std::vector<float> weights(n_bootstrap);
   std::vector<uint8_t> strategy(mlt_.multiplexed ? n_bootstrap : 0);  // s of each (multiplexed)
   const uint64_t seed0 = bootstrap_seed(settings_.seed_for_chains());
+  std::atomic<bool> specular_paths{false};  // path space: a bootstrap path with a specular vertex
   ctx.arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<uint64_t>(0, n_bootstrap, 256), [&](const tbb::blocked_range<uint64_t> &r) {
       if (ctx.control.should_stop()) return;
       RayStats stats;
       State state;
       ExplicitPath path;
-      uint64_t specular = 0;
       for (int t = 0; t < kMutationTypes; ++t) stats_.type_proposed[t] = stats_.type_accepted[t] = 0;
       for (uint64_t i = r.begin(); i != r.end(); ++i) {
         if (path_space_) {
@@ -208,7 +208,9 @@ void Metropolis::render(RenderContext &ctx) {
           double q = path_space_->sample_independent(rng, stats, path);
           double w = q > 0 ? double(luminance(path.f)) / q : 0.0;
           weights[i] = std::isfinite(w) ? float(w) : 0.0f;
-          specular += path.specular;
+          if (q > 0 && !specular_paths.load(std::memory_order_relaxed))
+            for (int k = 1; k + 1 < path.n; ++k)
+              if (path.x[size_t(k)].v.delta) specular_paths.store(true, std::memory_order_relaxed);
           continue;
         }
         PssSampler sampler(seed0, i, mlt_.step_size, p_large);
@@ -217,19 +219,11 @@ void Metropolis::render(RenderContext &ctx) {
         weights[i] = state.target;
         if (mlt_.multiplexed) strategy[i] = uint8_t(state.s);
       }
-      if (specular > 0) {
-        std::lock_guard<std::mutex> lock(stats_mutex_);
-        stats_.specular += specular;
-      }
       ctx.control.add_rays(stats.rays);
     });
   });
   if (ctx.control.should_stop()) return;
-  uint64_t specular_bootstrap = 0;
-  {
-    std::lock_guard<std::mutex> lock(stats_mutex_);
-    specular_bootstrap = stats_.specular;
-  }
+  if (path_space_) path_space_->set_specular_paths(specular_paths.load());
 
   // b (the image's total luminance, in the targets' units) and its standard error,
   // per depth; sums in index order, the same on any thread count.
@@ -368,7 +362,6 @@ void Metropolis::render(RenderContext &ctx) {
                 chain.proposal.target = 0;
               }
               chain.proposal.independent = p.independent;
-              chain.specular += chain.path_proposal.specular;
             } else {
               chain.sampler.start_iteration();
               large = chain.sampler.large_step();
@@ -471,7 +464,6 @@ void Metropolis::render(RenderContext &ctx) {
       stats_.b = b_now;
       stats_.b_standard_error = b_error;
       stats_.small_steps = stats_.small_accepted = stats_.large_steps = stats_.large_accepted = stats_.large_found = 0;
-      uint64_t specular = 0;
       if (mlt_.multiplexed) std::fill(stats_.strategy_counts.begin(), stats_.strategy_counts.end(), 0);
       for (Chain &chain : chains) {
         stats_.small_steps += chain.small_steps;
@@ -479,7 +471,6 @@ void Metropolis::render(RenderContext &ctx) {
         stats_.large_steps += chain.large_steps;
         stats_.large_accepted += chain.large_accepted;
         stats_.large_found += chain.large_found;
-        specular += chain.specular;
         for (int t = 0; t < kMutationTypes; ++t) {
           stats_.type_proposed[t] += chain.type_proposed[t];
           stats_.type_accepted[t] += chain.type_accepted[t];
@@ -487,13 +478,6 @@ void Metropolis::render(RenderContext &ctx) {
         rays += chain.rays;
         chain.rays = 0;
         for (size_t k = 0; k < chain.strategy_counts.size(); ++k) stats_.strategy_counts[k] += chain.strategy_counts[k];
-      }
-      stats_.specular = specular_bootstrap + specular;
-      if (path_space_ && stats_.specular > 0 && stats_.warning.empty()) {
-        stats_.warning = "mlt: " + std::to_string(stats_.specular) + " proposals and bootstrap paths" +
-                         " stopped at a perfectly specular surface (mirror, smooth glass, alpha), which mlt "
-                         "does not sample yet: light through such surfaces is missing (use bdpt or pssmlt)";
-        log_warning(stats_.warning);
       }
     }
     ctx.control.add_rays(rays);
@@ -533,7 +517,6 @@ std::string Metropolis::stats_json() const {
       if (t != int(MutationType::Large)) j[name + "_acceptance"] = acceptance;
     }
     j["mutation_types"] = types;
-    j["specular_proposals"] = stats_.specular;
   }
   if (mlt_.multiplexed) {
     j["depth_b"] = stats_.depth_b;

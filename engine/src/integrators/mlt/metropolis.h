@@ -64,7 +64,6 @@ struct MltStats {
   // multiplexed: how many mutations ended in each (depth, s) state, depth-major
   // (depth d has d + 2 strategies, depth 0 one).
   std::vector<uint64_t> strategy_counts;
-  uint64_t specular = 0;  // path space: proposals that stopped at a delta lobe (not sampled yet)
   uint64_t type_proposed[kMutationTypes] = {}, type_accepted[kMutationTypes] = {};  // path space
   std::string warning;
 };

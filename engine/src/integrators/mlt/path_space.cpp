@@ -18,6 +18,7 @@ void ExplicitPath::reserve(int max_vertices) {
   x.resize(n);
   fwd.assign(n, 0.0);
   rev.assign(n, 0.0);
+  rev_area.assign(n, 0.0);
 }
 
 namespace {
@@ -47,12 +48,18 @@ int deletion_positions(int nv, int kd) { return nv - kd + 2 - (kd == 1 ? 2 : 0);
 
 }  // namespace
 
-double split_sum(const double *fwd, const double *rev, int lo, int count) {
+double split_sum(const ExplicitPath &y, int lo, int count) {
+  // A split connects vertices lo + j - 1 and lo + j; none can at a specular vertex.
+  auto connectible = [&](int k) {
+    const bool a = k - 1 >= 0 && y.x[size_t(k - 1)].v.delta, b = k < y.n && y.x[size_t(k)].v.delta;
+    return !a && !b;
+  };
   // A_(j+1) = A_j rev_j + prod_(i <= j) fwd_i: the sum over the splits of the first j vertices.
-  double a = 1, prefix = 1;
+  const double *fwd = y.fwd.data(), *rev = y.rev.data();
+  double a = connectible(lo) ? 1 : 0, prefix = 1;
   for (int i = 0; i < count; ++i) {
     prefix *= fwd[lo + i];
-    a = a * rev[lo + i] + prefix;
+    a = a * rev[lo + i] + (connectible(lo + i + 1) ? prefix : 0.0);
   }
   return a;
 }
@@ -72,8 +79,15 @@ PathSpace::PathSpace(const Scene &scene, int max_bounces, Vec2 sample_origin, Ve
   // of a state: the mutation probabilities stay fixed).
   if (!media_) {
     mutations_.weights[2] = mutations_.weights[3] = 0;
-    if (!(mutations_.weights[0] + mutations_.weights[1] > 0)) mutations_.weights[0] = 1;
+    if (!(mutations_.weights[0] + mutations_.weights[1] + mutations_.weights[4] > 0)) mutations_.weights[0] = 1;
   }
+  caustic_weight_ = mutations_.weights[4];
+}
+
+void PathSpace::set_specular_paths(bool found) {
+  mutations_.weights[4] = found ? caustic_weight_ : 0.0f;
+  const float *w = mutations_.weights;
+  if (!(w[0] + w[1] + w[2] + w[3] > 0)) mutations_.weights[0] = 1;
 }
 
 std::string PathSpace::unsupported(const Scene &scene, const RenderSettings &settings) {
@@ -203,7 +217,7 @@ void PathSpace::settle(ExplicitVertex &z, const ExplicitVertex &camera_side) con
 }
 
 bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats) const {
-  const ExplicitVertex &prev = y.x[size_t(at - 1)];
+  ExplicitVertex &prev = y.x[size_t(at - 1)];
   Ray ray;
   MediumStack media;
   if (prev.v.type == VertexType::Camera) {
@@ -221,10 +235,7 @@ bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, Ray
       Vec2 u{rng.next_float(), rng.next_float()};
       BsdfSample bs;
       if (!prev.v.bsdf.has_lobes() || !prev.v.bsdf.sample(prev.v.wo, u_lobe, u, TransportMode::Radiance, bs)) return false;
-      if (bs.is_delta || bs.pass_through) {
-        y.specular = true;
-        return false;
-      }
+      prev.v.delta = bs.is_delta;  // the path's specular vertices are part of its state
       wi = bs.wi;
     } else {
       return false;  // lights do not scatter
@@ -239,7 +250,7 @@ bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, Ray
 }
 
 bool PathSpace::extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats) const {
-  const ExplicitVertex &next = y.x[size_t(at + 1)];
+  ExplicitVertex &next = y.x[size_t(at + 1)];
   Vec3 wi;
   if (at + 1 == y.n - 1) {
     // Leaving the light: its emission direction (sample_emission's, whatever point it picks).
@@ -258,10 +269,7 @@ bool PathSpace::extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayS
       Bsdf bsdf = scene_.bsdf(next.hit, w_light, 0);
       BsdfSample bs;
       if (!bsdf.has_lobes() || !bsdf.sample(w_light, u_lobe, u, TransportMode::Importance, bs)) return false;
-      if (bs.is_delta || bs.pass_through) {
-        y.specular = true;
-        return false;
-      }
+      next.v.delta = bs.is_delta;
       wi = bs.wi;
     } else {
       return false;
@@ -291,6 +299,10 @@ bool PathSpace::regenerate(ExplicitPath &y, int l, int na, int j, Pcg32 &rng, Ra
       return false;
     }
   }
+  // The connection's ends scatter by their non-delta lobes (a kept vertex may have been
+  // specular in x); a pure delta BSDF there makes f 0.
+  if (l + j >= 0) y.x[size_t(l + j)].v.delta = false;
+  if (l + j + 1 <= last) y.x[size_t(l + j + 1)].v.delta = false;
   // The light-side vertices and the kept vertex after them face their new camera side.
   for (int i = l + j + 1; i <= std::min(l + na + 1, last); ++i) settle(y.x[size_t(i)], y.x[size_t(i - 1)]);
   return true;
@@ -385,6 +397,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   y.f = Color(0.0f);
   std::fill(y.fwd.begin(), y.fwd.begin() + n, 0.0);
   std::fill(y.rev.begin(), y.rev.begin() + n, 0.0);
+  std::fill(y.rev_area.begin(), y.rev_area.begin() + n, 0.0);
   if (n < 2 || n > max_vertices_) return;
   const ExplicitVertex &last = y.x[size_t(n - 1)];
   if (y.x[0].v.type != VertexType::Camera || last.v.light < 0) return;
@@ -421,10 +434,13 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     if (!trace_edge(a, b, w, e, stats)) return;
     const float cos_b = cosine_at(b.v, w), cos_a = cosine_at(a.v, w);
     f *= e.tr * (cos_b / d2);
-    // Scattering at a (interior vertices), toward b.
+    // Scattering at a (interior vertices), toward b. A specular vertex: the coefficient
+    // of its Dirac delta (about the direction toward b), which its densities share.
+    float pdf_delta = 0, jacobian = 1;
     if (i >= 1) {
       if (a.v.type == VertexType::Surface) {
-        f *= a.v.bsdf.eval(a.v.wo, w, TransportMode::Radiance);
+        f *= a.v.delta ? a.v.bsdf.delta_eval(a.v.wo, w, TransportMode::Radiance, pdf_delta, jacobian)
+                       : a.v.bsdf.eval(a.v.wo, w, TransportMode::Radiance);
       } else {
         const Medium &medium = scene_.medium(a.v.medium);
         f *= medium.sigma_s * medium.phase.eval(a.v.wo, w);
@@ -437,7 +453,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     if (i == 0) {
       pdf_b = (double(image_area_) / region_area_) / (area * c2 * cos0);
     } else if (a.v.type == VertexType::Surface) {
-      pdf_b = a.v.bsdf.pdf(a.v.wo, w);
+      pdf_b = a.v.delta ? pdf_delta : a.v.bsdf.pdf(a.v.wo, w);
     } else {
       pdf_b = scene_.medium(a.v.medium).phase.pdf(a.v.wo, w);
     }
@@ -452,11 +468,21 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     } else if (b.v.type == VertexType::Surface) {
       Vec3 w_light = normalize(y.x[size_t(i + 2)].v.p - b.v.p);
       Bsdf light_side = scene_.bsdf(b.hit, w_light, 0);
-      pdf_a = light_side.pdf(w_light, -w);
+      if (b.v.delta) {
+        // Sampled from the light side, b's delta is about the direction toward a: in
+        // units of f's (about the direction toward the light) it is divided by the
+        // light-side event's d omega_a / d omega_light.
+        float pdf_rev, jacobian_rev;
+        light_side.delta_eval(w_light, -w, TransportMode::Importance, pdf_rev, jacobian_rev);
+        pdf_a = jacobian_rev > 0 ? double(pdf_rev) / jacobian_rev : 0.0;
+      } else {
+        pdf_a = light_side.pdf(w_light, -w);
+      }
     } else {
       pdf_a = scene_.medium(b.v.medium).phase.pdf(normalize(y.x[size_t(i + 2)].v.p - b.v.p), -w);
     }
-    y.rev[size_t(i)] = pdf_a * cos_a / d2 * e.rev;
+    y.rev_area[size_t(i)] = cos_a / d2 * e.rev;
+    y.rev[size_t(i)] = pdf_a * y.rev_area[size_t(i)];
   }
   f *= emitted(last, normalize(y.x[size_t(n - 2)].v.p - last.v.p));
   y.fwd[0] = 1;  // the pinhole
@@ -503,16 +529,15 @@ double PathSpace::addition_probability(int nv, int l, int m, int na) const {
 double PathSpace::transition_density(int nv_x, int l, int m, const ExplicitPath &y, int na) const {
   double p = deletion_probability(nv_x, l, m) * addition_probability(nv_x, l, m, na);
   if (!(p > 0)) return 0;
-  return p * split_sum(y.fwd.data(), y.rev.data(), l + 1, na) / double(na + 1);
+  return p * split_sum(y, l + 1, na) / double(na + 1);
 }
 
 double PathSpace::independent_density(const ExplicitPath &y) const {
-  return split_sum(y.fwd.data(), y.rev.data(), 0, y.n) / double(y.n + 1) / double(max_vertices_ - 1);
+  return split_sum(y, 0, y.n) / double(y.n + 1) / double(max_vertices_ - 1);
 }
 
 double PathSpace::sample_independent(Pcg32 &rng, RayStats &stats, ExplicitPath &y) const {
   y.reserve(max_vertices_);
-  y.specular = false;
   y.f = Color(0.0f);
   const int nv = 2 + std::min(int(rng.next_float() * float(max_vertices_ - 1)), max_vertices_ - 2);
   const int j = std::min(int(rng.next_float() * float(nv + 1)), nv);
@@ -528,9 +553,10 @@ Proposal PathSpace::mutate(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, E
   // perturbation of a path without medium vertices) proposes nothing, and the chain stays.
   if (rng.next_float() < large_step_probability_) return bidirectional(x, true, rng, stats, y);
   const float *w = mutations_.weights;
-  float u = rng.next_float() * (w[0] + w[1] + w[2] + w[3]);
+  float u = rng.next_float() * (w[0] + w[1] + w[2] + w[3] + w[4]);
   if (u < w[0]) return bidirectional(x, false, rng, stats, y);
   if (u < w[0] + w[1]) return perturb_lens(x, rng, stats, y);
+  if (u >= w[0] + w[1] + w[2] + w[3] && w[4] > 0) return perturb_caustic(x, rng, stats, y);
   return perturb_medium_vertex(x, u < w[0] + w[1] + w[2] ? MutationType::Propagation : MutationType::Scattering, rng,
                                stats, y);
 }
@@ -539,7 +565,6 @@ Proposal PathSpace::bidirectional(const ExplicitPath &x, bool large, Pcg32 &rng,
                                   ExplicitPath &y) const {
   Proposal proposal;
   y.reserve(max_vertices_);
-  y.specular = false;
   y.f = Color(0.0f);
   const int nv = x.n;
   // The deletion: everything (a large step), or kd edges by Veach's weights, placed uniformly.
@@ -611,7 +636,6 @@ Proposal PathSpace::perturb_medium_vertex(const ExplicitPath &x, MutationType ty
   for (;; ++j)
     if (x.x[size_t(j)].v.type == VertexType::Medium && pick-- == 0) break;
   y.reserve(max_vertices_);
-  y.specular = false;
   y.n = x.n;
   for (int i = 0; i < x.n; ++i) y.x[size_t(i)] = x.x[size_t(i)];
   // Spherical coordinates of x_j about its light-side neighbour c.
@@ -654,7 +678,11 @@ Proposal PathSpace::perturb_lens(const ExplicitPath &x, Pcg32 &rng, RayStats &st
   Proposal proposal;
   proposal.type = MutationType::Lens;
   const float u_radius = rng.next_float(), u_angle = rng.next_float();
-  if (x.n < 3) return proposal;  // x_1 on the light: lamps are not traced from the camera
+  // Veach's E S* D: x_1 .. x_(c-1) specular, x_c the first vertex that is not, joined to
+  // x_(c+1), which must not be specular either (a delta cannot be joined).
+  int c = 1;
+  while (c < x.n - 1 && x.x[size_t(c)].v.delta) ++c;
+  if (c > x.n - 2 || x.x[size_t(c + 1)].v.delta) return proposal;  // x_c on the light: lamps are not traced
   const float lo = mutations_.lens[0], hi = mutations_.lens[1];
   const float radius = lo * std::pow(hi / lo, u_radius), angle = 2 * kPi * u_angle;
   const Vec2 raster{x.raster.x + radius * std::cos(angle), x.raster.y + radius * std::sin(angle)};
@@ -662,19 +690,69 @@ Proposal PathSpace::perturb_lens(const ExplicitPath &x, Pcg32 &rng, RayStats &st
         raster.y >= sample_origin_.y && raster.y < sample_origin_.y + sample_size_.y))
     return proposal;
   y.reserve(max_vertices_);
-  y.specular = false;
   y.n = x.n;
   for (int i = 0; i < x.n; ++i) y.x[size_t(i)] = x.x[size_t(i)];
   Ray ray = scene_.camera().generate_ray(raster, Vec2(0.5f, 0.5f));
   if (!trace_step(ray, y.x[0].v.media, rng, stats, y.x[1])) return proposal;
   settle(y.x[1], y.x[0]);
-  settle(y.x[2], y.x[1]);
+  // Through the specular chain as the camera walk samples it: each of y_1 .. y_(c-1) must
+  // scatter by a delta lobe (y's chain then has x's shape, so the move can be undone).
+  for (int k = 1; k < c; ++k)
+    if (!extend_from_camera_side(y, k + 1, rng, stats) || !y.x[size_t(k)].v.delta) return proposal;
+  settle(y.x[size_t(c + 1)], y.x[size_t(c)]);
   evaluate(y, stats);
-  if (!(luminance(y.f) > 0) || !(y.fwd[1] > 0)) return proposal;
-  proposal.ratio = x.fwd[1] / y.fwd[1];
+  if (!(luminance(y.f) > 0)) return proposal;
+  // The raster offset's density is symmetric; the rest is the camera walk's density of
+  // x_1 .. x_c (the uniform raster density cancels), event probabilities included.
+  double px = 1, py = 1;
+  for (int k = 1; k <= c; ++k) {
+    px *= x.fwd[size_t(k)];
+    py *= y.fwd[size_t(k)];
+  }
+  if (!(py > 0)) return proposal;
+  proposal.ratio = px / py;
   proposal.l = 0;
-  proposal.m = 2;
-  proposal.na = 1;
+  proposal.m = c + 1;
+  proposal.na = c;
+  return proposal;
+}
+
+Proposal PathSpace::perturb_caustic(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const {
+  Proposal proposal;
+  proposal.type = MutationType::Caustic;
+  const float u_size = rng.next_float(), u_azimuth = rng.next_float();
+  if (x.n < 4 || x.x[1].v.delta) return proposal;
+  int k = 2;
+  while (k < x.n - 1 && x.x[size_t(k)].v.delta) ++k;
+  if (k < 3 || x.x[size_t(k)].v.delta) return proposal;  // no specular chain before a non-specular x_k
+  const Vec3 from = x.x[size_t(k)].v.p;
+  const Vec3 d = x.x[size_t(k - 1)].v.p - from;
+  if (!(length_squared(d) > 0)) return proposal;
+  const float lo = mutations_.caustic[0], hi = mutations_.caustic[1];
+  const float theta = lo * std::pow(hi / lo, u_size), phi = 2 * kPi * u_azimuth;
+  const Vec3 w = Frame(normalize(d)).to_world(
+      Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)));
+  y.reserve(max_vertices_);
+  y.n = x.n;
+  for (int i = 0; i < x.n; ++i) y.x[size_t(i)] = x.x[size_t(i)];
+  const ExplicitVertex &end = y.x[size_t(k)];
+  Ray ray{end.v.on_surface() ? spawn_origin(end.v.p, end.v.ng, end.v.error, w) : end.v.p, w, kInf};
+  if (!trace_step(ray, stack_toward(end, w), rng, stats, y.x[size_t(k - 1)])) return proposal;
+  for (int at = k - 2; at >= 1; --at)
+    if (!extend_from_light_side(y, at, rng, stats) || !y.x[size_t(at + 1)].v.delta) return proposal;
+  for (int i = 1; i <= k; ++i) settle(y.x[size_t(i)], y.x[size_t(i - 1)]);
+  evaluate(y, stats);
+  if (!(luminance(y.f) > 0)) return proposal;
+  double px = x.rev_area[size_t(k - 1)], py = y.rev_area[size_t(k - 1)];
+  for (int i = 1; i <= k - 2; ++i) {
+    px *= x.rev[size_t(i)];
+    py *= y.rev[size_t(i)];
+  }
+  if (!(py > 0)) return proposal;
+  proposal.ratio = px / py;
+  proposal.l = 0;
+  proposal.m = k;
+  proposal.na = k - 1;
   return proposal;
 }
 

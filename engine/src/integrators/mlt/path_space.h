@@ -33,32 +33,38 @@ struct ExplicitPath {
   std::vector<ExplicitVertex> x;  // x[0] the camera ... x[n - 1] on a light
   int n = 0;
   std::vector<double> fwd, rev;  // per vertex: density of sampling it from the camera / light side
+  // rev[i] over the directional density it was scattered with at x_(i+1): the solid angle
+  // to area factor and the free flight (the caustic perturbation picks the direction itself).
+  std::vector<double> rev_area;
   Color f{0.0f};                 // image_area x the measurement contribution (splat value)
   Vec2 raster{0, 0};
-  bool specular = false;  // the proposal stopped at a delta lobe (not sampled yet)
   void reserve(int max_vertices);
 };
 
 // Large: the whole path regenerated. Bidirectional: Veach's, on a subpath. Lens: Veach's
-// lens perturbation without specular chains (the raster point moved by a distance ~ 1/R
-// and x_1 traced afresh from it, joined to x_2). Propagation and
+// lens perturbation (the raster point moved by a distance ~ 1/R, the camera ray traced
+// afresh through the path's specular chain E S* to its first non-specular vertex, joined
+// to the next). Propagation and
 // Scattering (Pauly, Kollig & Keller 2000, sec. 4): a medium vertex moved in spherical
 // coordinates about its light-side neighbour, along the line from it (distance D with
 // density ~ 1/D) or across it (angle theta with density ~ 1/theta), the rest of the path
-// kept and reconnected.
-enum class MutationType : uint8_t { Large, Bidirectional, Lens, Propagation, Scattering, Count };
+// kept and reconnected. Caustic: Veach's caustic perturbation of a path E D S+ (D|L) ...:
+// the direction leaving the light-side end of the specular chain turned a little, the chain
+// retraced toward the camera to its first vertex, joined to the camera.
+enum class MutationType : uint8_t { Large, Bidirectional, Lens, Propagation, Scattering, Caustic, Count };
 constexpr int kMutationTypes = int(MutationType::Count);
 inline const char *mutation_name(MutationType t) {
-  static const char *names[] = {"large", "bidirectional", "lens", "propagation", "scattering"};
+  static const char *names[] = {"large", "bidirectional", "lens", "propagation", "scattering", "caustic"};
   return names[int(t)];
 }
 
-constexpr int kWeightedMutations = 4;  // bidirectional, lens, propagation, scattering
+constexpr int kWeightedMutations = 5;  // bidirectional, lens, propagation, scattering, caustic
 struct MutationSettings {
-  float weights[kWeightedMutations] = {1.0f, 1.0f, 1.0f, 1.0f};  // of the non-large mutations
+  float weights[kWeightedMutations] = {1.0f, 1.0f, 1.0f, 1.0f, 1.0f};  // of the non-large mutations
   float lens[2] = {0.1f, 10.0f};          // lens: [R_min, R_max], pixels
   float distance[2] = {1e-3f, 1.0f};      // propagation: [Dmin, Dmax], scene units
   float angle[2] = {1e-4f, 0.2f};         // scattering: [theta_min, theta_max], radians
+  float caustic[2] = {1e-4f, 0.05f};      // caustic: [theta_min, theta_max], radians
 };
 
 // One proposal: the path it made, and T(y -> x) / T(x -> y) (0: no path).
@@ -96,9 +102,22 @@ class PathSpace {
   // densities in r and in solid angle are symmetric.
   Proposal perturb_medium_vertex(const ExplicitPath &x, MutationType type, Pcg32 &rng, RayStats &stats,
                                  ExplicitPath &y) const;
-  // The lens perturbation: T(y->x) / T(x->y) = fwd_x[1] / fwd_y[1] (the raster offset's
-  // density is symmetric; fwd[1] is the uniform raster density times the same Jacobian).
+  // Veach's lens perturbation of a path E S* D ...: the raster point moved, the camera ray
+  // traced afresh through as many specular vertices as x has before its first non-specular
+  // vertex x_c (each delta event sampled as the camera walk does), then joined to x_(c+1).
+  // T(y->x) / T(x->y) = prod fwd_x[1..c] / prod fwd_y[1..c] (the raster offset's density
+  // is symmetric; fwd[1] is the uniform raster density times the same Jacobian).
   Proposal perturb_lens(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
+  // Veach's caustic perturbation of a path E D S+ (D|L) ...: x_1 not specular, x_2 .. x_(k-1)
+  // specular, x_k not; the direction from x_k toward x_(k-1) turned by theta ~ 1/theta on
+  // the caustic angle range (uniform azimuth: a density in solid angle symmetric in the two
+  // directions), the chain retraced from x_k as the light walk samples it (each of
+  // y_(k-1) .. y_2 must scatter by a delta lobe) to y_1, which is joined to the camera.
+  // T(y->x) / T(x->y) = (rev_area_x[k-1] prod rev_x[1..k-2]) / (the same of y).
+  Proposal perturb_caustic(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
+  // After the bootstrap: whether any of its paths had a specular vertex. Without, the caustic
+  // perturbation could only fail and gets weight 0 (fixed before the chains run).
+  void set_specular_paths(bool found);
 
   // The pieces of T (tests check them against an independent evaluation).
   double deletion_probability(int nv, int l, int m) const;
@@ -131,12 +150,14 @@ class PathSpace {
   float image_area_, region_area_;
   float large_step_probability_;
   MutationSettings mutations_;
+  float caustic_weight_ = 0;  // the caustic perturbation's weight when paths have specular vertices
   bool media_;
 };
 
-// Sum over the splits j = 0 .. count of the new vertices lo .. lo + count - 1 (the
+// Sum over the splits j = 0 .. count of y's new vertices lo .. lo + count - 1 (the
 // first j from the camera side, the rest from the light side) of the product of
-// their densities, each split chosen with probability 1 / (count + 1).
-double split_sum(const double *fwd, const double *rev, int lo, int count);
+// their densities, each split chosen with probability 1 / (count + 1). A split whose
+// connection would touch a specular vertex (PathVertex::delta) cannot make y: left out.
+double split_sum(const ExplicitPath &y, int lo, int count);
 
 }  // namespace rdv::mlt
