@@ -226,8 +226,8 @@ RDV_API rdv_status rdv_session_progress(rdv_session *session, rdv_progress *out_
  * (depth, s) state, depth-major: depth 0 has s = 0 only, depth d >= 1 has s = 0..d+1) and
  * "strategy_b" (the bootstrap's b of each such state); mlt also "bidirectional_acceptance"
  * (= small_step_acceptance: its partial bidirectional mutations; large steps regenerate the
- * whole path) and "specular_proposals"; "warning" when the image cannot be made (e.g. the
- * bootstrap found no light). Integrator auto: "auto" {"integrator" (the pick; null during
+ * whole path), "mutation_types" and "<type>_acceptance" of each perturbation; "warning"
+ * when the image cannot be made (e.g. the bootstrap found no light). Integrator auto: "auto" {"integrator" (the pick; null during
  * the pilots), "pilot_seconds", "pilots": [{"integrator", "seconds", "rel_mse",
  * "efficiency", "spp"}], "time_limit_extended" when slow pilots left the pick under 5% of
  * the limit}, next to the pick's own figures. Safe to call while rendering. */
