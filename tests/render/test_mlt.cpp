@@ -145,6 +145,21 @@ TEST(MltDeterminism, SameImageOnOneAndTwoThreads) {
   }
 }
 
+// The same with specular vertices and every perturbation (the volume caustic, a point spot).
+TEST(MltDeterminism, VolumeCausticSameImageOnOneAndTwoThreads) {
+  json scene = with_point_lamps(load_scene("volume_caustic.json"));
+  json s = {{"width", 32}, {"height", 24}, {"integrator", "mlt"}, {"samples", 16}, {"seed", 5}, {"mlt_chains", 16}};
+  s["threads"] = 1;
+  Image one = render_json(scene.dump(), s.dump());
+  s["threads"] = 2;
+  Image two = render_json(scene.dump(), s.dump());
+  ASSERT_EQ(one.rgba.size(), two.rgba.size());
+  EXPECT_EQ(0, std::memcmp(one.rgba.data(), two.rgba.data(), one.rgba.size() * sizeof(float)));
+  EXPECT_EQ(one.stats, two.stats);
+  EXPECT_TRUE(one.all_finite());
+  EXPECT_GT(json::parse(one.stats)["mutation_types"]["caustic"]["proposals"].get<uint64_t>(), 0u);
+}
+
 // A scene whose bootstrap finds no light: black, with a warning naming the cause;
 // finishes (no hang), no NaN.
 TEST(MltRobustness, NoLightRendersBlackWithAWarning) {
