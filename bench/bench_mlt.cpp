@@ -11,7 +11,8 @@
 //             [--study] [--study-large 0.1,0.5] [--study-chains 32,2048] [--study-step 0.003,0.03]
 //             [--point-lamps] [scene.json ...]
 // --point-lamps: the scenes' lamps get radius 0 (mlt samples no lamp with a radius). The
-// "mean" column is the image's mean over the reference's (a bias shows there).
+// "mean" column is the image's mean over the reference's, "blocks" the relMSE of the 8 x 8
+// pixel block means (noise averages out there, a bias in a region does not).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -79,8 +80,8 @@ int main(int argc, char **argv) {
       scenes.push_back(dir + s);
 
   std::printf("Equal-time relMSE against a reference of 2 x %.0f s BDPT; %d px wide\n", reference_seconds, width);
-  std::printf("%-14s %6s %-22s | %11s | %8s | %8s | %6s | %9s | %12s | %s\n", "scene", "budget", "integrator",
-              "relMSE", "vs BDPT", "net", "mean", "spp/mpp", "mutations/s", "acceptance small / large");
+  std::printf("%-14s %6s %-22s | %11s | %8s | %8s | %6s | %9s | %9s | %12s | %s\n", "scene", "budget", "integrator",
+              "relMSE", "vs BDPT", "net", "mean", "blocks", "spp/mpp", "mutations/s", "acceptance small / large");
   for (const std::string &path : scenes) {
     BenchScene scene = load_bench_scene(path, width);
     if (point_lamps) {
@@ -114,6 +115,20 @@ int main(int argc, char **argv) {
           sum += r.rgb[i];
           ref_sum += ref[i];
         }
+        // 8 x 8 block means of both (whole blocks only).
+        const int w = common["width"].get<int>(), h = common["height"].get<int>(), bw = w / 8, bh = h / 8;
+        std::vector<float> blocks(size_t(bw) * bh * 3, 0.0f);
+        std::vector<double> ref_blocks(blocks.size(), 0.0);
+        for (int y = 0; y < bh * 8; ++y)
+          for (int x = 0; x < bw * 8; ++x)
+            for (int c = 0; c < 3; ++c) {
+              const size_t at = (size_t(y) * w + x) * 3 + c, b = (size_t(y / 8) * bw + x / 8) * 3 + c;
+              if (at < r.rgb.size() && at < ref.size()) {
+                blocks[b] += r.rgb[at] / 64.0f;
+                ref_blocks[b] += ref[at] / 64.0;
+              }
+            }
+        const double e_blocks = rel_mse(blocks, ref_blocks);
         if (s["integrator"] == "bdpt") e_bdpt = e;
         std::string extra;
         char buf[160];
@@ -126,10 +141,10 @@ int main(int argc, char **argv) {
         } else {
           extra = std::string(12, ' ') + " |";
         }
-        std::printf("%-14s %5.0fs %-22s | %11.3e | %8.3f | %8.3f | %6.4f | %9u | %s\n", name.c_str(), budget,
+        std::printf("%-14s %5.0fs %-22s | %11.3e | %8.3f | %8.3f | %6.4f | %9.2e | %9u | %s\n", name.c_str(), budget,
                     label.c_str(), e, e_bdpt > 0 ? e / e_bdpt : 1.0,
                     e_bdpt > ref_noise ? (e - ref_noise) / (e_bdpt - ref_noise) : 1.0, ref_sum > 0 ? sum / ref_sum : 0.0,
-                    r.progress.samples_done, extra.c_str());
+                    e_blocks, r.progress.samples_done, extra.c_str());
         std::fflush(stdout);
       };
       for (const std::string &integrator : integrators)  // bdpt first: the other rows' ratios are to it
