@@ -3,7 +3,7 @@ material previews (preview.py)."""
 
 import bpy
 
-from . import final, preview, viewport
+from . import final, passes, preview, viewport
 
 ENGINE_ID = "RENDEZVOUS"
 
@@ -49,7 +49,7 @@ class RendezvousRenderEngine(bpy.types.RenderEngine):
         viewport.view_draw(self, context, depsgraph)
 
     def update_render_passes(self, scene=None, renderlayer=None):
-        final.register_passes(self, scene, renderlayer)
+        passes.register_passes(self, scene, renderlayer)
 
 
 def register():

@@ -13,6 +13,7 @@ from ..binding import EngineError, LibraryError
 from ..export import SceneExporter, ExportError, SettingsError, session_settings, resolution, border_rect
 from ..export.settings import INTEGRATOR_LABELS, auto_choice_text, part_output_path, scene_hash
 from ..utils import Messages
+from .passes import enabled_passes, light_pass_settings
 from ..utils.images import image_average, clear_cache
 
 PUSH_INTERVAL = 0.5   # seconds between film copies into Blender
@@ -21,31 +22,6 @@ PUSH_INTERVAL = 0.5   # seconds between film copies into Blender
 last_render = {}
 cancel_hook = None  # callable() -> bool; True cancels like test_break()
 POLL_INTERVAL = 0.02  # seconds between test_break() polls (cancel within 100 ms)
-
-# Blender pass name -> (engine pass, channels, chan_id, type)
-PASSES = {
-    "Combined": (binding.PASS_COMBINED, 4),
-    "Depth": (binding.PASS_DEPTH, 1),
-    "Normal": (binding.PASS_NORMAL, 3),
-    "DiffCol": (binding.PASS_ALBEDO, 3),
-    "Noise": (binding.PASS_NOISE, 1),
-}
-
-
-def register_passes(engine, scene, layer):
-    if scene is None or layer is None:
-        return
-    engine.register_pass(scene, layer, "Combined", 4, "RGBA", "COLOR")
-    if getattr(layer, "use_pass_z", False):
-        engine.register_pass(scene, layer, "Depth", 1, "Z", "VALUE")
-    if getattr(layer, "use_pass_normal", False):
-        engine.register_pass(scene, layer, "Normal", 3, "XYZ", "VECTOR")
-    if getattr(layer, "use_pass_diffuse_color", False):
-        engine.register_pass(scene, layer, "DiffCol", 3, "RGB", "COLOR")
-    props = getattr(scene, "rendezvous", None)
-    if props is not None and getattr(props, "use_pass_noise", False):
-        engine.register_pass(scene, layer, "Noise", 1, "X", "VALUE")
-
 
 def _integrator_label(settings):
     return INTEGRATOR_LABELS.get(settings.get("integrator"), "?")
@@ -117,14 +93,16 @@ def _stats_text(settings, p, session=None):
 class _Film:
     """Preallocated float32 arrays for each pass of the RenderResult layer."""
 
-    def __init__(self, session, result, rect):
+    def __init__(self, session, result, rect, wanted):
+        """wanted: enabled_passes() of the view layer rendered."""
         self.session = session
         self.result = result
         self.x, self.y, self.w, self.h = rect
         self.passes = []
         layer = result.layers[0]
+        by_name = {name: (engine_pass, channels) for name, engine_pass, channels, _, _ in wanted}
         for rp in layer.passes:
-            info = PASSES.get(rp.name)
+            info = by_name.get(rp.name)
             if info is None:
                 continue
             engine_pass, channels = info
@@ -177,6 +155,7 @@ def _render(engine, depsgraph):
     props = scene.rendezvous
     messages = Messages()
     settings = session_settings(scene, props, frame=scene.frame_current, warn=messages.warn)
+    settings.update(light_pass_settings(depsgraph.view_layer, scene, settings.get("integrator"), messages.warn))
     if props.part_output:
         settings["scene_hash"] = scene_hash(bpy.data.filepath, scene.name, scene.frame_current)
     last_render.clear()
@@ -205,7 +184,7 @@ def _render(engine, depsgraph):
         rect = border_rect(scene.render, width, height) or (0, 0, width, height)
         session.start()
         result = engine.begin_result(0, 0, rect[2], rect[3], layer=depsgraph.view_layer.name)
-        film = _Film(session, result, rect)
+        film = _Film(session, result, rect, enabled_passes(depsgraph.view_layer, scene))
         cancelled = False
         last_push = time.monotonic()
         while True:

@@ -177,7 +177,8 @@ RDV_API rdv_status rdv_scene_summary(rdv_scene *scene, const char **out_json);
  *   "border":[x0,y0,x1,y1],"sample_offset":O,"scene_hash":"...","noise_target":E,
  *   "noise_pass":false,"adaptive_sampling":false,"adaptive_threshold":0.01,
  *   "adaptive_min_samples":0,"film_transparent":false,"film_transparent_glass":false,
- *   "film_transparent_roughness":0.1} (film_transparent: the world seen directly is transparent and
+ *   "film_transparent_roughness":0.1,"light_passes":false} (light_passes: keep Cycles' light
+ *   passes RDV_PASS_EMISSION .. RDV_PASS_VOLUME_INDIRECT, path and bdpt only; film_transparent: the world seen directly is transparent and
  *   RDV_PASS_COMBINED's alpha is coverage, as Cycles' Film > Transparent; noise_target: halt once the estimated relative MSE is below E,
  *   0 = off; noise_pass: estimate the noise for RDV_PASS_NOISE without a target;
  *   docs/noise.md) (sample_offset and
@@ -238,9 +239,29 @@ typedef enum rdv_pass {
   RDV_PASS_DEPTH = 1,    /* camera-space distance along -Z, 1 float (1e10 = nothing hit) */
   RDV_PASS_NORMAL = 2,   /* world-space shading normal of the first hit, 3 floats */
   RDV_PASS_ALBEDO = 3,   /* first-hit albedo (Blender's Diffuse Color), 3 floats */
-  RDV_PASS_NOISE = 4     /* estimated relative error of each pixel, 1 float: the root of its
+  RDV_PASS_NOISE = 4,    /* estimated relative error of each pixel, 1 float: the root of its
                             estimated relative MSE, averaged over R, G, B (docs/noise.md);
                             0 where there is no estimate yet (fewer than 2 samples) */
+  /* Cycles' light passes (session setting "light_passes": true; path and bdpt), 3 floats
+   * each: a path's contribution by the first scattering vertex the camera sees (its kind,
+   * and Direct = the path's only scattering vertex, else Indirect; Emission and
+   * Environment: emitters and the world's background seen with no scattering). Direct and
+   * Indirect read divided by their kind's Color (as Cycles shows them), so Combined =
+   * Emission + Environment + sum (Direct + Indirect) x Color + Volume Direct + Indirect.
+   * Reading one from a session without light passes gives zeros. */
+  RDV_PASS_EMISSION = 5,
+  RDV_PASS_ENVIRONMENT = 6,
+  RDV_PASS_DIFFUSE_DIRECT = 7,
+  RDV_PASS_DIFFUSE_INDIRECT = 8,
+  RDV_PASS_DIFFUSE_COLOR = 9,
+  RDV_PASS_GLOSSY_DIRECT = 10,
+  RDV_PASS_GLOSSY_INDIRECT = 11,
+  RDV_PASS_GLOSSY_COLOR = 12,
+  RDV_PASS_TRANSMISSION_DIRECT = 13,
+  RDV_PASS_TRANSMISSION_INDIRECT = 14,
+  RDV_PASS_TRANSMISSION_COLOR = 15,
+  RDV_PASS_VOLUME_DIRECT = 16,
+  RDV_PASS_VOLUME_INDIRECT = 17
 } rdv_pass;
 RDV_API int rdv_pass_channels(rdv_pass pass);
 

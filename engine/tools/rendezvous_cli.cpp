@@ -50,6 +50,8 @@ void usage() {
                "  --unweighted           with --strategy: without its MIS weight\n"
                "  --mis NAME             bdpt weights: power (default), balance or lafortune_willems\n"
                "  --max-bounces N        maximum path length\n"
+               "  --passes light         Cycles' light passes as EXR layers (Emit, Env, DiffDir, DiffInd, DiffCol,\n"
+               "                         Gloss*, Trans*, VolumeDir, VolumeInd; path and bdpt)\n"
                "  --film-transparent     the world seen directly is transparent (alpha = coverage; PNG and EXR)\n"
                "  --transparent-glass    with it: also seen through smooth glass (Cycles' Transparent Glass)\n"
                "  --view NAME            PNG view transform: Standard (default) or Filmic\n"
@@ -170,6 +172,19 @@ int main(int argc, char **argv) {
           return 2;
         }
         overrides["noise_target"] = e;
+      }
+      else if (a == "--passes") {
+        // Render passes beyond Combined / Depth / Normal / Albedo, as EXR layers: "light"
+        // (Cycles' light passes, path and bdpt).
+        std::stringstream list(next());
+        std::string item;
+        while (std::getline(list, item, ',')) {
+          if (item == "light") overrides["light_passes"] = true;
+          else {
+            std::fprintf(stderr, "rendezvous: --passes: unknown pass set '%s' (available: light)\n", item.c_str());
+            return 2;
+          }
+        }
       }
       else if (a == "--film-transparent") overrides["film_transparent"] = true;
       else if (a == "--transparent-glass") overrides["film_transparent_glass"] = true;

@@ -659,6 +659,47 @@ def film_transparent():
     return scene
 
 
+def light_passes():
+    """Cycles' light passes: a diffuse, a glossy (GGX 0.3) and a smooth glass ball on a diffuse
+    floor under a blue world and a wide sun, a small emissive ball the camera sees, and a cube of
+    thin fog in front (Volume Direct / Indirect; Cycles' volume bounces 2). Every light pass
+    has something in it."""
+    scene = reset(48)
+    bg = scene.world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (0.4, 0.5, 0.7, 1.0)
+    plane("Floor", 3.0, diffuse_material("FloorMat", (0.6, 0.55, 0.5)))
+    balls = (("DiffuseBall", -1.0, diffuse_material("BallMat", (0.8, 0.3, 0.2))),
+             ("GlossyBall", 0.0, glossy_material("Gloss", 0.3, (0.9, 0.8, 0.6))),
+             ("GlassBall", 1.0, node_material("Glass", "ShaderNodeBsdfGlass",
+                                              {"Color": (1, 1, 1, 1), "Roughness": 0.0, "IOR": 1.45},
+                                              distribution="SHARP")))
+    for name, x, material in balls:
+        bpy.ops.mesh.primitive_uv_sphere_add(segments=32, ring_count=16, radius=0.45, location=(x, 0, 0.45))
+        ob = bpy.context.active_object
+        ob.name = name
+        bpy.ops.object.shade_smooth()
+        ob.data.materials.append(material)
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=16, ring_count=8, radius=0.15, location=(0.5, 0.9, 1.3))
+    lamp = bpy.context.active_object
+    lamp.name = "LampBall"
+    lamp.data.materials.append(emission_material("Lamp", (1.0, 0.9, 0.7), 5.0))
+    fog = link(bpy.data.objects.new("Fog", box_mesh("FogMesh", 0.7)))
+    fog.location = (-0.5, -1.3, 0.45)
+    fog.data.materials.append(principled_volume_material("FogMat", Density=0.8, Color=(0.9, 0.9, 0.8, 1.0))[0])
+    scene.cycles.volume_bounces = 2
+    scene.cycles.blur_glossy = 0.0  # Filter Glossy (Rendezvous has none): caustics as they are
+    scene.cycles.sample_clamp_indirect = 0.0  # BDPT clamps per strategy, not per path (README)
+    # A 10 degree sun: the glass ball's caustic (Diffuse Indirect) converges in path tracing.
+    light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(35), 0, math.radians(30)), angle=math.radians(10))
+    cam = bpy.data.cameras.new("Camera")
+    cam.lens = 50
+    ob = link(bpy.data.objects.new("Camera", cam))
+    ob.location = (0, -4.5, 1.6)
+    look_at(ob, (0, 0, 0.55))
+    scene.camera = ob
+    return scene
+
+
 LIGHT_PATH_SCENES = ["light_paths_diffuse", "light_paths_mirror", "light_paths_caustics", "light_paths_clamp"]
 
 
@@ -687,6 +728,7 @@ SCENES = {
     "light_paths_caustics": light_paths_caustics,
     "light_paths_clamp": light_paths_clamp,
     "film_transparent": film_transparent,
+    "light_passes": light_passes,
 }
 
 # Scenes whose brightness must agree with Cycles.

@@ -26,6 +26,12 @@ struct Image {
   std::string warnings;     // scene messages + loader problems
   rdv_progress progress{};
   std::string stats;        // rdv_session_stats (the integrator's own figures)
+  // Light passes (settings "light_passes"), by rdv_pass - RDV_PASS_EMISSION: 3 floats per
+  // pixel, top-down; empty without them.
+  std::vector<std::vector<float>> light_passes;
+  const float *light_pass(rdv_pass pass, int x, int y) const {
+    return &light_passes[size_t(pass - RDV_PASS_EMISSION)][(size_t(y) * width + x) * 3];
+  }
   float luminance(int x, int y) const {
     const float *p = &rgba[(size_t(y) * width + x) * 4];
     return 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];

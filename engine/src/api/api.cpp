@@ -300,6 +300,19 @@ int rdv_pass_channels(rdv_pass pass) {
     case RDV_PASS_NORMAL: return 3;
     case RDV_PASS_ALBEDO: return 3;
     case RDV_PASS_NOISE: return 1;
+    case RDV_PASS_EMISSION:
+    case RDV_PASS_ENVIRONMENT:
+    case RDV_PASS_DIFFUSE_DIRECT:
+    case RDV_PASS_DIFFUSE_INDIRECT:
+    case RDV_PASS_DIFFUSE_COLOR:
+    case RDV_PASS_GLOSSY_DIRECT:
+    case RDV_PASS_GLOSSY_INDIRECT:
+    case RDV_PASS_GLOSSY_COLOR:
+    case RDV_PASS_TRANSMISSION_DIRECT:
+    case RDV_PASS_TRANSMISSION_INDIRECT:
+    case RDV_PASS_TRANSMISSION_COLOR:
+    case RDV_PASS_VOLUME_DIRECT:
+    case RDV_PASS_VOLUME_INDIRECT: return 3;
   }
   return 0;
 }

@@ -468,3 +468,75 @@ Color Bsdf::albedo() const {
 }
 
 }  // namespace rdv
+
+namespace rdv {
+
+// Which light-pass kind a lobe scatters as (film/light_passes.h; Cycles counts
+// translucent and sheen as diffuse, a glass closure's reflection as glossy).
+static int pass_kind(LobeType type, bool reflection) {
+  switch (type) {
+    case LobeType::Lambert:
+    case LobeType::OrenNayar:
+    case LobeType::PrincipledDiffuse:
+    case LobeType::Sheen:
+    case LobeType::Translucent: return 0;
+    case LobeType::GgxConductor:
+    case LobeType::SpecularConductor: return 1;
+    case LobeType::SmoothDielectric:
+    case LobeType::GgxDielectric:
+    case LobeType::Transparent: break;
+  }
+  return reflection ? 1 : 2;
+}
+
+KindSplit Bsdf::kind_split(Vec3 wo_w, Vec3 wi_w, bool delta) const {
+  const bool reflection = dot(wo_w, ng_) * dot(wi_w, ng_) > 0;
+  Vec3 wo, wi;
+  bool flipped;
+  if (!delta && n_ > 0 && local_pair(wo_w, wi_w, wo, wi, flipped)) {
+    LobeScratch scratch;
+    LayerScales layers;
+    if (num_layers_) layer_scales(wo, wi, layers);
+    float w[3] = {0, 0, 0};
+    for (int i = 0; i < n_; ++i) {
+      const Lobe &lobe = lobe_from_side(lobes_[i], flipped, scratch);
+      if (lobe.is_delta()) continue;
+      Color fi = lobe_eval(lobe, wo, wi, TransportMode::Radiance);
+      if (lobe.layers_above) fi *= layers.of(lobe.layers_above);
+      w[pass_kind(lobe.type, reflection)] += std::max(average(fi), 0.0f);
+    }
+    const float total = w[0] + w[1] + w[2];
+    if (total > 0) {
+      KindSplit s;
+      for (int k = 0; k < 3; ++k) s.w[k] = w[k] / total;
+      return s;
+    }
+  }
+  if (delta) return KindSplit::only(reflection ? 1 : 2);
+  const ScatterKind kind = scatter_kind(wo_w, wi_w);
+  return KindSplit::only(kind == ScatterKind::Diffuse || kind == ScatterKind::Translucent ? 0
+                         : kind == ScatterKind::Glossy                                   ? 1
+                                                                                         : 2);
+}
+
+void Bsdf::kind_colors(Vec3 wo_w, Color out[kColorKinds]) const {
+  for (int k = 0; k < kColorKinds; ++k) out[k] = Color(0.0f);
+  const float side = dot(wo_w, ng_);
+  const float cos_o = absdot(wo_w, frame_.n);
+  for (int i = 0; i < n_; ++i) {
+    const Lobe &lobe = lobes_[i];
+    const Color c = lobe.color * lobe.scale;
+    if (lobe.type == LobeType::Transparent) continue;
+    if (!lobe.is_dielectric()) {
+      out[pass_kind(lobe.type, true)] += c;
+    } else if (lobe.refraction_only) {
+      out[2] += c;
+    } else {
+      const float F = fresnel_dielectric(cos_o, side < 0 ? 1.0f / lobe.ior : lobe.ior);
+      out[1] += c * F;
+      out[2] += c * (1.0f - F);
+    }
+  }
+}
+
+}  // namespace rdv

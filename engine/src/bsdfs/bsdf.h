@@ -13,6 +13,7 @@
 #include "bsdfs/microfacet.h"
 #include "bsdfs/scatter_kind.h"
 #include "core/math.h"
+#include "film/light_passes.h"
 
 namespace rdv {
 
@@ -190,6 +191,13 @@ class Bsdf {
   // reflection; translucent, refracting or transparent transmission). Exact for BSDFs of
   // one kind; a mixture counts as its dominant kind.
   ScatterKind scatter_kind(Vec3 wo, Vec3 wi) const;
+  // Cycles' light passes (film/light_passes.h), camera side: the share of each kind in f
+  // from wo to wi (delta: the sampled lobe was delta, so the side decides: glossy
+  // reflection or transmission), and the colour passes' closure colours seen from wo
+  // (diffuse, glossy, transmission; a dielectric's colour split by its Fresnel at wo,
+  // as Cycles 3.4's Glass BSDF weights its reflection and refraction closures).
+  KindSplit kind_split(Vec3 wo, Vec3 wi, bool delta) const;
+  void kind_colors(Vec3 wo, Color out[kColorKinds]) const;
   const Frame &frame() const { return frame_; }
   Vec3 geometric_normal() const { return ng_; }
 

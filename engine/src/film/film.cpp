@@ -6,14 +6,16 @@
 
 namespace rdv {
 
-Film::Film(int width, int height, Rect region, bool halves)
+Film::Film(int width, int height, Rect region, bool halves, bool light_passes)
     : width_(width), height_(height), region_(region), pixels_(size_t(width) * height),
       aovs_(size_t(width) * height), splats_(size_t(width) * height),
-      half_pixels_(halves ? size_t(width) * height : 0), half_splats_(halves ? size_t(width) * height : 0) {}
+      half_pixels_(halves ? size_t(width) * height : 0), half_splats_(halves ? size_t(width) * height : 0),
+      light_(light_passes ? size_t(width) * height : 0), light_splats_(light_passes ? size_t(width) * height : 0) {}
 
-size_t Film::bytes_per_pixel(bool halves) {
+size_t Film::bytes_per_pixel(bool halves, bool light_passes) {
   return sizeof(PixelSum) + sizeof(PixelAov) + sizeof(SplatSums) +
-         (halves ? sizeof(HalfSum) + sizeof(SplatSums) : 0);
+         (halves ? sizeof(HalfSum) + sizeof(SplatSums) : 0) +
+         (light_passes ? sizeof(LightPassSums) + sizeof(LightSplatSums) : 0);
 }
 
 void Film::take_tile(const Rect &rect, FilmTile &tile) const {
@@ -22,12 +24,15 @@ void Film::take_tile(const Rect &rect, FilmTile &tile) const {
   tile.pixels_.resize(n);
   tile.halves_.resize(has_halves() ? n : 0);
   tile.aovs_.resize(n);
+  tile.light_.resize(has_light_passes() ? n : 0);
   std::lock_guard<std::mutex> frame(frame_mutex_);
   for (int y = rect.y0; y < rect.y1; ++y) {
     std::copy_n(&pixels_[index(rect.x0, y)], rect.width(), &tile.pixels_[tile.index(rect.x0, y)]);
     if (has_halves())
       std::copy_n(&half_pixels_[index(rect.x0, y)], rect.width(), &tile.halves_[tile.index(rect.x0, y)]);
     std::copy_n(&aovs_[index(rect.x0, y)], rect.width(), &tile.aovs_[tile.index(rect.x0, y)]);
+    if (has_light_passes())
+      std::copy_n(&light_[index(rect.x0, y)], rect.width(), &tile.light_[tile.index(rect.x0, y)]);
   }
 }
 
@@ -39,17 +44,21 @@ void Film::put_tile(const FilmTile &tile) {
     if (has_halves())
       std::copy_n(&tile.halves_[tile.index(rect.x0, y)], rect.width(), &half_pixels_[index(rect.x0, y)]);
     std::copy_n(&tile.aovs_[tile.index(rect.x0, y)], rect.width(), &aovs_[index(rect.x0, y)]);
+    if (has_light_passes())
+      std::copy_n(&tile.light_[tile.index(rect.x0, y)], rect.width(), &light_[index(rect.x0, y)]);
   }
 }
 
-void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b) {
-  if (!is_finite(L)) return;
+// Calls add(pixel index, weight) for every pixel whose filter covers `raster`, with the
+// same normalised Blackman-Harris weights filter importance sampling gives camera samples.
+template <class Add>
+static void splat_footprint(Vec2 raster, const PixelFilter &filter, const Rect &region, int width, const Add &add) {
   float radius = filter.radius();
   float norm = 1.0f / (filter.integral() * filter.integral());
-  int x0 = std::max(region_.x0, int(std::floor(raster.x - radius - 0.5f)));
-  int x1 = std::min(region_.x1 - 1, int(std::ceil(raster.x + radius - 0.5f)));
-  int y0 = std::max(region_.y0, int(std::floor(raster.y - radius - 0.5f)));
-  int y1 = std::min(region_.y1 - 1, int(std::ceil(raster.y + radius - 0.5f)));
+  int x0 = std::max(region.x0, int(std::floor(raster.x - radius - 0.5f)));
+  int x1 = std::min(region.x1 - 1, int(std::ceil(raster.x + radius - 0.5f)));
+  int y0 = std::max(region.y0, int(std::floor(raster.y - radius - 0.5f)));
+  int y1 = std::min(region.y1 - 1, int(std::ceil(raster.y + radius - 0.5f)));
   if (x1 < x0) return;
   // The filter is separable: its weights along x are the same for every row.
   std::array<float, PixelFilter::kMaxTaps> wx;
@@ -59,21 +68,76 @@ void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_
     if (wy <= 0) continue;
     for (int x = x0; x <= x1; ++x) {
       float w = wy * wx[x - x0];
-      if (w > 0) {
-        Color c = L * (w * norm);
-        SplatSums &sum = splats_[index(x, y)];
-        sum[0] += c.x;
-        sum[1] += c.y;
-        sum[2] += c.z;
-        if (half_b && has_halves()) {
-          SplatSums &half = half_splats_[index(x, y)];
-          half[0] += c.x;
-          half[1] += c.y;
-          half[2] += c.z;
-        }
-      }
+      if (w > 0) add(size_t(y) * size_t(width) + size_t(x), w * norm);
     }
   }
+}
+
+static void add_to(std::array<double, 3> &sum, const Color &c) {
+  sum[0] += c.x;
+  sum[1] += c.y;
+  sum[2] += c.z;
+}
+
+void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b) {
+  if (!is_finite(L)) return;
+  const bool half = half_b && has_halves();
+  splat_footprint(raster, filter, region_, width_, [&](size_t i, float w) {
+    Color c = L * w;
+    add_to(splats_[i], c);
+    if (half) add_to(half_splats_[i], c);
+  });
+}
+
+void Film::add_light_splat(Vec2 raster, Color L, int slot, const PixelFilter &filter) {
+  if (!is_finite(L) || !has_light_passes()) return;
+  splat_footprint(raster, filter, region_, width_, [&](size_t i, float w) { add_to(light_splats_[i][slot], L * w); });
+}
+
+void Film::read_light_pass(rdv_pass pass, size_t i, float *dst) const {
+  const LightPassSums &p = light_[i];
+  const double n = pixels_[i].count;
+  const double splat_scale = state_.splat_scale;
+  // The pass's mean: camera samples' sums over their count plus the splats.
+  auto mean = [&](int slot) {
+    std::array<double, 3> m;
+    for (int c = 0; c < 3; ++c) m[c] = (n > 0 ? p.light[slot][c] / n : 0.0) + light_splats_[i][slot][c] * splat_scale;
+    return m;
+  };
+  auto color_mean = [&](int kind) {
+    std::array<double, 3> m;
+    for (int c = 0; c < 3; ++c) m[c] = n > 0 ? p.color[kind][c] / n : 0.0;
+    return m;
+  };
+  Color out(0.0f);
+  switch (pass) {
+    case RDV_PASS_EMISSION:
+    case RDV_PASS_ENVIRONMENT: {
+      std::array<double, 3> m = mean(pass == RDV_PASS_EMISSION ? kEmissionSlot : kEnvironmentSlot);
+      out = Color(float(m[0]), float(m[1]), float(m[2]));
+      break;
+    }
+    case RDV_PASS_DIFFUSE_COLOR:
+    case RDV_PASS_GLOSSY_COLOR:
+    case RDV_PASS_TRANSMISSION_COLOR: {
+      std::array<double, 3> m = color_mean((pass - RDV_PASS_DIFFUSE_COLOR) / 3);
+      out = Color(float(m[0]), float(m[1]), float(m[2]));
+      break;
+    }
+    case RDV_PASS_VOLUME_DIRECT:
+    case RDV_PASS_VOLUME_INDIRECT: {
+      std::array<double, 3> m = mean(light_pass_slot(3, pass == RDV_PASS_VOLUME_INDIRECT));
+      out = Color(float(m[0]), float(m[1]), float(m[2]));
+      break;
+    }
+    default: {  // Direct / Indirect of a kind with a colour: divided by it, as Cycles shows them
+      const int offset = pass - RDV_PASS_DIFFUSE_DIRECT;  // kinds 3 passes apart: direct, indirect, color
+      const int kind = offset / 3;
+      out = safe_divide_even_color(mean(light_pass_slot(kind, offset % 3 == 1)), color_mean(kind));
+      break;
+    }
+  }
+  for (int c = 0; c < 3; ++c) dst[c] = out[c];
 }
 
 void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float *out, FrameState *state) const {
@@ -117,6 +181,10 @@ void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float 
                        : 0.0f;
           break;
         }
+        default:
+          if (has_light_passes()) read_light_pass(pass, i, dst);
+          else std::fill_n(dst, channels, 0.0f);
+          break;
       }
     }
   }

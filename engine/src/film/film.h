@@ -49,11 +49,14 @@ class Film {
  public:
   // halves: keep the two half images a noise estimate needs (RenderSettings::
   // estimates_noise()); without them a frame can only be published with HalfSplit::None.
-  Film(int width, int height, Rect region, bool halves = false);
-  // What one pixel costs (samples, splats, AOVs, halves): for the memory check before a
-  // film is made.
-  static size_t bytes_per_pixel(bool halves);
+  // light_passes: keep Cycles' light passes (film/light_passes.h); without them a film
+  // stores and copies nothing of them.
+  Film(int width, int height, Rect region, bool halves = false, bool light_passes = false);
+  // What one pixel costs (samples, splats, AOVs, halves, light passes): for the memory
+  // check before a film is made.
+  static size_t bytes_per_pixel(bool halves, bool light_passes = false);
   bool has_halves() const { return !half_splats_.empty(); }
+  bool has_light_passes() const { return !light_.empty(); }
   int width() const { return width_; }
   int height() const { return height_; }
   const Rect &region() const { return region_; }
@@ -75,6 +78,10 @@ class Film {
     // half_b: the splat belongs to half image B too (film/noise_estimate.h); needs halves.
     void add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b = false) {
       film_.add_splat(raster, L, filter, half_b);
+    }
+    // The same splat's light pass (its slot, film/light_passes.h); needs light passes.
+    void add_light_splat(Vec2 raster, Color L, int slot, const PixelFilter &filter) {
+      film_.add_light_splat(raster, L, slot, filter);
     }
     // The frame now complete: samples (or mutations) per pixel and the splats' scale.
     void publish(uint32_t samples, SplatNormalisation splats) { publish(samples, splats, HalfSplit::None, {}); }
@@ -117,9 +124,14 @@ class Film {
   const std::vector<SplatSums> &splat_sums() const { return splats_; }
   std::vector<PixelAov> &aov_sums() { return aovs_; }
   const std::vector<PixelAov> &aov_sums() const { return aovs_; }
+  const std::vector<LightPassSums> &light_pass_sums() const { return light_; }
+  const std::vector<LightSplatSums> &light_splat_sums() const { return light_splats_; }
 
  private:
   void add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b);
+  void add_light_splat(Vec2 raster, Color L, int slot, const PixelFilter &filter);
+  // One pixel of a light pass (RDV_PASS_EMISSION .. RDV_PASS_VOLUME_INDIRECT) into dst.
+  void read_light_pass(rdv_pass pass, size_t i, float *dst) const;
   size_t index(int x, int y) const { return size_t(y) * width_ + x; }
   int width_, height_;
   Rect region_;
@@ -129,6 +141,9 @@ class Film {
   // Half B's share of pixels_ and splats_; both empty when the film keeps no halves.
   std::vector<HalfSum> half_pixels_;
   std::vector<SplatSums> half_splats_;
+  // Light passes: camera samples' sums and splats; both empty unless asked for.
+  std::vector<LightPassSums> light_;
+  std::vector<LightSplatSums> light_splats_;
   FrameState state_;
   mutable std::mutex frame_mutex_;  // guards all of the above but the sizes
 };

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 #include "core/math.h"
+#include "film/light_passes.h"
 
 namespace rdv {
 
@@ -62,6 +63,8 @@ class FilmTile {
       h.count += 1;
     }
   }
+  // Light passes (film/light_passes.h): only when the film keeps them (Film::has_light_passes).
+  void add_light_passes(int x, int y, const LightPassSample &sample) { light_[index(x, y)].add(sample); }
   void add_first_hit(int x, int y, float depth, Vec3 normal, Color albedo) {
     PixelAov &a = aovs_[index(x, y)];
     a.depth = std::min(a.depth, depth);
@@ -78,6 +81,7 @@ class FilmTile {
   std::vector<PixelSum> pixels_;
   std::vector<HalfSum> halves_;  // empty unless the film keeps halves
   std::vector<PixelAov> aovs_;
+  std::vector<LightPassSums> light_;  // empty unless the film keeps light passes
 };
 
 }  // namespace rdv

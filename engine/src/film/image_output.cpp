@@ -73,7 +73,27 @@ std::string write_image(const Film &film, const std::string &path, const std::st
       noise.resize(size_t(w) * h);
       film.read(RDV_PASS_NOISE, 0, 0, w, h, true, noise.data());
     }
-    const int image_channels = noise.empty() ? 11 : 12;
+    // Cycles' light passes, as Blender names them, when the film keeps them.
+    static const std::pair<rdv_pass, const char *> kLightPasses[] = {
+        {RDV_PASS_EMISSION, "Emit"},           {RDV_PASS_ENVIRONMENT, "Env"},
+        {RDV_PASS_DIFFUSE_DIRECT, "DiffDir"},  {RDV_PASS_DIFFUSE_INDIRECT, "DiffInd"},
+        {RDV_PASS_DIFFUSE_COLOR, "DiffCol"},   {RDV_PASS_GLOSSY_DIRECT, "GlossDir"},
+        {RDV_PASS_GLOSSY_INDIRECT, "GlossInd"}, {RDV_PASS_GLOSSY_COLOR, "GlossCol"},
+        {RDV_PASS_TRANSMISSION_DIRECT, "TransDir"}, {RDV_PASS_TRANSMISSION_INDIRECT, "TransInd"},
+        {RDV_PASS_TRANSMISSION_COLOR, "TransCol"}, {RDV_PASS_VOLUME_DIRECT, "VolumeDir"},
+        {RDV_PASS_VOLUME_INDIRECT, "VolumeInd"}};
+    std::vector<float> light;  // pixel-major, 3 channels per pass
+    const int light_channels = film.has_light_passes() ? 3 * int(std::size(kLightPasses)) : 0;
+    if (light_channels) {
+      light.resize(size_t(w) * h * light_channels);
+      std::vector<float> one(size_t(w) * h * 3);
+      for (size_t k = 0; k < std::size(kLightPasses); ++k) {
+        film.read(kLightPasses[k].first, 0, 0, w, h, true, one.data());
+        for (size_t i = 0; i < size_t(w) * h; ++i)
+          for (int c = 0; c < 3; ++c) light[i * light_channels + 3 * k + c] = one[i * 3 + c];
+      }
+    }
+    const int image_channels = (noise.empty() ? 11 : 12) + light_channels;
     PartChannels extra;
     if (part) extra = part_channels(film);
     const size_t extra_channels = extra.names.size();
@@ -86,7 +106,10 @@ std::string write_image(const Film &film, const std::string &path, const std::st
       d[4] = depth[i];
       for (int c = 0; c < 3; ++c) { d[5 + c] = normal[i * 3 + c]; d[8 + c] = albedo[i * 3 + c]; }
       if (!noise.empty()) d[11] = noise[i];
-      std::memcpy(&all[i * nc], d, size_t(image_channels) * sizeof(float));
+      const int base_channels = image_channels - light_channels;
+      std::memcpy(&all[i * nc], d, size_t(base_channels) * sizeof(float));
+      if (light_channels)
+        std::memcpy(&all[i * nc + base_channels], &light[i * light_channels], size_t(light_channels) * sizeof(float));
       if (extra_channels)
         std::memcpy(&all[i * nc + image_channels], &extra.words[i * extra_channels], extra_channels * 4);
     }
@@ -94,6 +117,9 @@ std::string write_image(const Film &film, const std::string &path, const std::st
     spec.channelnames = {"R", "G", "B", "A", "Depth.Z", "Normal.X", "Normal.Y", "Normal.Z",
                          "Albedo.R", "Albedo.G", "Albedo.B"};
     if (!noise.empty()) spec.channelnames.push_back("Noise.V");
+    if (light_channels)
+      for (const auto &[pass, name] : kLightPasses)
+        for (const char *c : {".R", ".G", ".B"}) spec.channelnames.push_back(std::string(name) + c);
     spec.channelformats.assign(image_channels, OIIO::TypeDesc::FLOAT);
     for (const std::string &name : extra.names) {
       spec.channelnames.push_back(name);

@@ -55,6 +55,8 @@ struct RenderSettings {
   // Cycles' Light Paths: per-kind bounce limits, caustics switches, direct / indirect
   // clamps (integrators/light_path_limits.h); all off by default.
   LightPathLimits limits;
+  // Cycles' light passes (film/light_passes.h): the film keeps them (path and bdpt).
+  bool light_passes = false;
   // Film > Transparent and holdouts (integrators/film_alpha.h); holdouts is the scene's.
   FilmAlpha alpha;
   float filter_width = 1.5f;
@@ -108,6 +110,11 @@ struct FirstHit {
   // What of the sample sees the transparent background or a holdout (film_alpha.h):
   // the pixel's alpha is 1 minus its mean.
   float transparency = 0;
+  // Cycles' light passes of the sample, when the film keeps them (else null): the
+  // integrator adds each contribution's share (film/light_passes.h), and the shares of
+  // its splats to pass_splats.
+  LightPassSample *passes = nullptr;
+  std::vector<PassSplat> *pass_splats = nullptr;
 };
 
 // A contribution to wherever on the image a light path reaches the camera.

@@ -138,6 +138,7 @@ RenderSettings RenderSettings::from_params(Params &p) {
   s.alpha.glass_roughness = p.get_float("film_transparent_roughness", s.alpha.glass_roughness);
   if (!(s.alpha.glass_roughness >= 0 && s.alpha.glass_roughness <= 1))
     fail(p.what() + ": 'film_transparent_roughness' must be in 0..1, got " + std::to_string(s.alpha.glass_roughness));
+  s.light_passes = p.get_bool("light_passes", false);
   s.seed = static_cast<uint32_t>(p.get_int("seed", 0));
   s.threads = p.get_int("threads", 0);
   if (s.threads < 0) fail(p.what() + ": 'threads' must not be negative");
@@ -212,13 +213,14 @@ RenderSettings RenderSettings::from_params(Params &p) {
       fail(p.what() + ": integrator 'auto' picks by error x time: it needs a time limit ('time_limit')");
     if (s.sample_offset > 0)
       fail(p.what() + ": integrator 'auto' cannot render a part ('sample_offset'): every part must use one integrator");
-    // Adaptive sampling is for path and bdpt: the pick is one of them.
-    if (s.adaptive_sampling)
+    // Adaptive sampling and light passes are for path and bdpt: the pick is one of them.
+    if (s.adaptive_sampling || s.light_passes)
       s.auto_candidates.erase(std::remove_if(s.auto_candidates.begin(), s.auto_candidates.end(),
                                              [](const std::string &c) { return c != "path" && c != "bdpt"; }),
                               s.auto_candidates.end());
     if (s.auto_candidates.empty())
-      fail(p.what() + ": integrator 'auto' with 'adaptive_sampling' needs path or bdpt among 'auto_candidates'");
+      fail(p.what() + ": integrator 'auto' with 'adaptive_sampling' or 'light_passes' needs path or bdpt among "
+                      "'auto_candidates'");
   }
   s.border = {0, 0, s.width, s.height};
   auto b = p.get_floats("border", 4, {0, 0, float(s.width), float(s.height)});
@@ -232,9 +234,12 @@ RenderSettings RenderSettings::from_params(Params &p) {
   if (s.adaptive_sampling && s.sample_offset > 0)
     fail(p.what() + ": 'adaptive_sampling' cannot render a part ('sample_offset' " + std::to_string(s.sample_offset) +
          "): each pixel's sample count depends on the samples before it, so parts would not add up");
+  if (s.light_passes && s.integrator != "path" && s.integrator != "bdpt" && s.integrator != "auto")
+    fail(p.what() + ": 'light_passes' are made by path and bdpt; " + s.integrator +
+         " does not classify its paths into them yet (render the passes with path or bdpt)");
   // Before the session allocates anything: the film, and Metropolis' bootstrap and chains.
   std::string film = std::to_string(s.width) + "x" + std::to_string(s.height) + " film";
-  double bytes = double(s.width) * double(s.height) * double(Film::bytes_per_pixel(s.estimates_noise()));
+  double bytes = double(s.width) * double(s.height) * double(Film::bytes_per_pixel(s.estimates_noise(), s.light_passes));
   if (s.integrator == "pssmlt" || s.integrator == "mmlt" || s.integrator == "mlt") {
     bytes += mlt::Metropolis::memory_estimate(s, s.integrator == "mmlt", s.integrator == "mlt");
     film += " with " + s.integrator + "'s bootstrap (" + std::to_string(s.mlt_bootstrap) + " per pixel) and " +

@@ -15,6 +15,10 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
   const RenderSettings &settings = ctx.settings;
   splats.a.clear();
   splats.b.clear();
+  splats.a_passes.clear();
+  splats.b_passes.clear();
+  const bool light_passes = ctx.film.has_light_passes();
+  LightPassSample passes;
   splats.paths = splats.half_b_paths = 0;
   // Estimating the noise, samples alternate between two independently scrambled
   // replicates of the sequence, half images A and B (film/noise_estimate.h): the even
@@ -48,6 +52,11 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
         CameraRay cr;
         cr.ray = camera.generate_ray(raster, sampler.get_2d(), &cr.lens_point, &cr.cone);
         FirstHit first_hit;
+        if (light_passes) {
+          passes.clear();
+          first_hit.passes = &passes;
+          first_hit.pass_splats = half_b ? &splats.b_passes : &splats.a_passes;
+        }
         Color L = Li(cr, sampler, stats, &first_hit, half_b ? splats.b : splats.a);
         if (!is_finite(L) || L.x < 0 || L.y < 0 || L.z < 0) {  // never let NaN/Inf into the film
           ++dropped;
@@ -55,9 +64,13 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
         }
         if (settings.clamp > 0) {
           float m = max_component(L);
-          if (m > settings.clamp) L *= settings.clamp / m;
+          if (m > settings.clamp) {
+            L *= settings.clamp / m;
+            if (light_passes) passes.scale(settings.clamp / m);
+          }
         }
         film_tile.add_sample(x, y, L, half_b, first_hit.transparency);
+        if (light_passes) film_tile.add_light_passes(x, y, passes);
         if (first_hit.valid) film_tile.add_first_hit(x, y, first_hit.depth, first_hit.normal, first_hit.albedo);
         else film_tile.add_first_hit(x, y, 1e10f, Vec3(0.0f), Color(0.0f));
       }
@@ -110,6 +123,8 @@ void TileIntegrator::render(RenderContext &ctx) {
       for (TileSplats &splats : tile_splats) {  // in tile order: the same sums on any thread count
         for (const Splat &sp : splats.a) frame.add_splat(sp.raster, sp.L, ctx.filter);
         for (const Splat &sp : splats.b) frame.add_splat(sp.raster, sp.L, ctx.filter, true);
+        for (const PassSplat &sp : splats.a_passes) frame.add_light_splat(sp.raster, sp.L, sp.slot, ctx.filter);
+        for (const PassSplat &sp : splats.b_passes) frame.add_light_splat(sp.raster, sp.L, sp.slot, ctx.filter);
         paths += splats.paths;
         half_b_paths += splats.half_b_paths;
       }

@@ -46,6 +46,17 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
   int nc = camera_subpath<kMedia>(camera_ray, sampler, stats, camera_path.data(), emitted.data());
   Color L(0.0f);  // starts with the lamps and volume emission the camera path passed
   for (const Color &e : emitted) L += e;
+  // (Kept here: *first_hit is overwritten with the first surface's AOVs below.)
+  LightPassSample *const passes = first_hit ? first_hit->passes : nullptr;
+  std::vector<PassSplat> *const pass_splats = first_hit ? first_hit->pass_splats : nullptr;
+  if (passes) {  // light passes (light_passes.cpp): the colours, and the emission passed
+    add_color_passes(camera_path.data(), nc, *passes);
+    for (int n = 0; n < int(emitted.size()); ++n) {
+      if (is_black(emitted[n])) continue;
+      PassClass pc = pass_class(light_path.data(), camera_path.data(), 0, n + 2, Vec3(0.0f));
+      passes->add(emitted[n], pc.scatterings, pc.first);
+    }
+  }
   if (first_hit) {
     *first_hit = first_surface(camera_path.data(), nc);
     if (settings_.alpha.tracked()) first_hit->transparency = transparency(camera_path.data(), nc);
@@ -63,11 +74,25 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
       if (one_strategy && (s != settings_.strategy_s || t != settings_.strategy_t)) continue;
       Vec2 raster;
       float w = 1;
-      Color c = connect<kMedia>(light_path.data(), camera_path.data(), s, t, sampler, stats, &raster, &w);
+      Vec3 connection_dir(0.0f);
+      Color c = connect<kMedia>(light_path.data(), camera_path.data(), s, t, sampler, stats, &raster, &w,
+                                passes ? &connection_dir : nullptr);
       if (one_strategy && settings_.strategy_unweighted && w > 0) c = c / w;
       if (!is_finite(c) || is_black(c)) continue;
       if (t == 1) splats.push_back({raster, c});
       else L += c;
+      if (passes) {
+        PassClass pc = pass_class(light_path.data(), camera_path.data(), s, t, connection_dir);
+        if (t == 1) {
+          add_pass_splats(*pass_splats, raster, c, pc.scatterings, pc.first);
+        } else if (pc.scatterings == 0 && s == 0 && camera_path[t - 1].infinite) {
+          const Color background = c * background_share(camera_path[t - 1]);  // the world seen directly
+          passes->add(background, 0, pc.first, true);
+          passes->add(c - background, 0, pc.first);
+        } else {
+          passes->add(c, pc.scatterings, pc.first);
+        }
+      }
     }
   }
   return L;

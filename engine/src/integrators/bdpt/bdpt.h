@@ -78,10 +78,24 @@ class Bdpt final : public TileIntegrator {
   FirstHit first_surface(const PathVertex *camera_path, int n) const;
   // What of a camera subpath of n vertices sees the transparent background (film_alpha.h).
   float transparency(const PathVertex *camera_path, int n) const;
-  // One connection strategy (connect.cpp); raster receives the pixel for t == 1.
+  // One connection strategy (connect.cpp); raster receives the pixel for t == 1;
+  // connection_dir (if given) the direction of the connection from its camera-side end
+  // (t == 1: from the light vertex toward the lens).
   template <bool kMedia>
   Color connect(PathVertex *light_path, PathVertex *camera_path, int s, int t, Sampler &sampler, RayStats &stats,
-                Vec2 *raster, float *mis_weight_out) const;
+                Vec2 *raster, float *mis_weight_out, Vec3 *connection_dir = nullptr) const;
+  // Cycles' light passes (light_passes.cpp, film/light_passes.h): how many scattering
+  // vertices the path of strategy (s, t) has and how its first one from the camera
+  // splits by kind (connection_dir as connect gives it); the colour passes of a camera
+  // subpath; the share of the world's background in what the camera sees at `v`.
+  struct PassClass {
+    int scatterings = 0;
+    KindSplit first;
+  };
+  PassClass pass_class(const PathVertex *light_path, const PathVertex *camera_path, int s, int t,
+                       Vec3 connection_dir) const;
+  void add_color_passes(const PathVertex *camera_path, int n, LightPassSample &passes) const;
+  Color background_share(const PathVertex &v) const;
 
  private:
   template <bool kMedia>

@@ -63,7 +63,7 @@ Color Bdpt::transmittance(const PathVertex &a, const PathVertex &b, Sampler &sam
 
 template <bool kMedia>
 Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int t, Sampler &sampler,
-                    RayStats &stats, Vec2 *raster, float *mis_weight_out) const {
+                    RayStats &stats, Vec2 *raster, float *mis_weight_out, Vec3 *connection_dir) const {
   Color L(0.0f);
   PathVertex &pt = camera_path[t - 1];
   // s = 0 needs a camera path that ended on an emitter; one that ended on a lamp (or
@@ -95,6 +95,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     sampled.ng = sampled.ns = camera.forward();
     sampled.beta = Color(is.We / is.pdf);
     if constexpr (kMedia) sampled.media = MediumStack::for_camera(scene_);
+    if (connection_dir) *connection_dir = direction_to(qs, sampled);
     Scattering sq = scatter(qs, direction_to(qs, sampled), TransportMode::Importance);
     L = qs.beta * sq.f * sampled.beta;
     if (qs.on_surface()) L *= absdot(is.wi, qs.ns);
@@ -136,6 +137,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     }
     if (limits.classify && !limits_keep(light_path, camera_path, 1, t, kind_toward(pt, direction_to(pt, sampled)), kNone))
       return L;
+    if (connection_dir) *connection_dir = direction_to(pt, sampled);
     light_densities(sampled, pt, sampled.pdf_fwd, densities.pt_rev);
     Scattering sp = scatter(pt, direction_to(pt, sampled), TransportMode::Radiance);
     L = pt.beta * sp.f * sampled.beta;
@@ -160,6 +162,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     PathVertex &qs = light_path[s - 1];
     if (!qs.connectible(scene_) || !pt.connectible(scene_)) return L;
     Vec3 dir = normalize(pt.p - qs.p);
+    if (connection_dir) *connection_dir = -dir;
     if (limits.classify && !limits_keep(light_path, camera_path, s, t, kind_toward(pt, -dir), kind_toward(qs, dir)))
       return L;
     Scattering sq = scatter(qs, dir, TransportMode::Importance);
@@ -190,7 +193,9 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
   return limits.clamps ? limits.clamp(L * w, s + t - 2) : L * w;
 }
 
-template Color Bdpt::connect<false>(PathVertex *, PathVertex *, int, int, Sampler &, RayStats &, Vec2 *, float *) const;
-template Color Bdpt::connect<true>(PathVertex *, PathVertex *, int, int, Sampler &, RayStats &, Vec2 *, float *) const;
+template Color Bdpt::connect<false>(PathVertex *, PathVertex *, int, int, Sampler &, RayStats &, Vec2 *, float *,
+                                    Vec3 *) const;
+template Color Bdpt::connect<true>(PathVertex *, PathVertex *, int, int, Sampler &, RayStats &, Vec2 *, float *,
+                                   Vec3 *) const;
 
 }  // namespace rdv::bdpt

@@ -24,6 +24,7 @@ struct PathVertex {
   Vec3 wo{0.0f};        // toward the vertex this one was reached from
   float pdf_fwd = 0, pdf_rev = 0;
   bool delta = false;   // scattered by a delta lobe: cannot be connected to
+  bool passed_through = false;  // went straight through (Transparent BSDF, alpha): no scattering for the light passes
   int light = -1;       // light index: light vertices, and surfaces on emitters
   bool infinite = false;  // an infinite light (escaped ray or light-subpath start); p unused, dir set
   Vec3 dir{0.0f};       // infinite lights: direction from the scene toward the light

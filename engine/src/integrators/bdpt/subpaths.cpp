@@ -216,6 +216,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     float pdf_rev;
     if (bs.is_delta) {
       v.delta = true;
+      v.passed_through = bs.pass_through;
       pdf_fwd = pdf_rev = 0;
     } else {
       pdf_fwd = bs.pdf;

@@ -123,8 +123,19 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     if (!limits_.within(counts)) stop_after = true;
     last_kind = kind;
   };
-  // A contribution of a path with `vertices` scattering vertices (clamped if asked).
-  auto add = [&](const Color &c, int vertices) { L += limits_.clamps ? limits_.clamp(c, vertices) : c; };
+  // Light passes (film/light_passes.h), when the film keeps them: each contribution's
+  // share by the first scattering vertex, split as first_split (at depth 0 set for the
+  // direction next-event estimation samples, then for the one the path goes on in).
+  LightPassSample *const passes = first_hit ? first_hit->passes : nullptr;
+  KindSplit first_split;
+  // A contribution of a path with `vertices` scattering vertices (clamped if asked);
+  // background: the world's background (the Environment pass when seen directly).
+  auto add_to_passes = [&](const Color &c, int vertices, bool background) {
+    Color v = limits_.clamps ? limits_.clamp(c, vertices) : c;
+    L += v;
+    if (passes) passes->add(v, vertices, first_split, background);
+  };
+  auto add = [&](const Color &c, int vertices) { add_to_passes(c, vertices, false); };
   // Transparent film (film_alpha.h): whether the camera still sees through to the
   // background, and what of the sample did.
   bool see_through = alpha_.tracked();
@@ -189,6 +200,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
             return Color(medium.phase.eval(wo, wi));
           };
           auto same_medium = [&](Vec3) { return stack; };
+          if (passes && depth == 0) first_split = KindSplit::only(3);  // a volume scattering
           add(beta * sample_direct_light<true>(scene_, uint32_t(depth) + 1, p, Vec3(0.0f), Vec3(0.0f), phase,
                                                same_medium, sampler, stats),
               depth + 1);
@@ -229,7 +241,9 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
         if (depth == 0 && !light.visible_camera) continue;
         if (transparent_world && light.type == LightType::Background) continue;
         Color Le = infinite_light_radiance(light, ray.d);
-        if (!is_black(Le)) add(beta * Le * emission_weight(li, light_pdf(light, prev_p, ray.d, kInf)), depth);
+        if (!is_black(Le))
+          add_to_passes(beta * Le * emission_weight(li, light_pdf(light, prev_p, ray.d, kInf)), depth,
+                        light.type == LightType::Background);
       }
       break;
     }
@@ -257,6 +271,11 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       transparency += h * average(beta);
       if (h >= 1) break;  // all held out: nothing of it is seen
     }
+    if (passes && depth == 0) {  // the colour passes: every layer the camera sees, by what reaches it
+      Color colors[kColorKinds];
+      bsdf.kind_colors(wo, colors);
+      for (int k = 0; k < kColorKinds; ++k) passes->color[k] += beta * colors[k];
+    }
     if (material.emits()) {
       uint32_t li = scene_.triangle_light(hit.instance, hit.prim);
       float pdf = light_pdf(scene_.lights()[li], prev_p, ray.d, length(hit.p - prev_p));
@@ -281,6 +300,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           *pdf = 0;
           return Color(0.0f);
         }
+        if (passes && depth == 0) first_split = bsdf.kind_split(wo, wi, false);
         return bsdf.eval_and_pdf(wo, wi, TransportMode::Radiance, *pdf);
       };
       if constexpr (kMedia) {
@@ -320,6 +340,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       --depth;
       continue;
     }
+    if (passes && depth == 0) first_split = bsdf.kind_split(wo, bs.wi, bs.is_delta);
     if (limits_.classify) {
       ScatterKind kind = bsdf.scatter_kind(wo, bs.wi);
       if (!limits_.caustic_allowed(last_kind, kind)) break;

@@ -1,0 +1,86 @@
+"""Render passes: which ones a view layer asks for (Blender's own view_layer.use_pass_*
+and Cycles' view_layer.cycles.use_pass_volume_*), registering them with Blender
+(RenderEngine.update_render_passes, so the compositor's Render Layers node and multilayer
+EXR have them) and which engine pass fills each (engine/include/rendezvous.h, rdv_pass).
+
+Cycles' light passes need the session setting "light_passes" (path and bdpt classify
+their paths; the Metropolis integrators do not yet: a warning says so and the passes
+stay black)."""
+
+from .. import binding
+
+# (Blender pass name, view layer property, where it lives, engine pass, channels, chan_id, type)
+# where: "layer" = view_layer, "cycles" = view_layer.cycles, "rendezvous" = scene.rendezvous
+_DATA_PASSES = [
+    ("Depth", "use_pass_z", "layer", binding.PASS_DEPTH, 1, "Z", "VALUE"),
+    ("Normal", "use_pass_normal", "layer", binding.PASS_NORMAL, 3, "XYZ", "VECTOR"),
+]
+LIGHT_PASSES = [
+    ("Emit", "use_pass_emit", "layer", binding.PASS_EMISSION),
+    ("Env", "use_pass_environment", "layer", binding.PASS_ENVIRONMENT),
+    ("DiffDir", "use_pass_diffuse_direct", "layer", binding.PASS_DIFFUSE_DIRECT),
+    ("DiffInd", "use_pass_diffuse_indirect", "layer", binding.PASS_DIFFUSE_INDIRECT),
+    ("GlossDir", "use_pass_glossy_direct", "layer", binding.PASS_GLOSSY_DIRECT),
+    ("GlossInd", "use_pass_glossy_indirect", "layer", binding.PASS_GLOSSY_INDIRECT),
+    ("GlossCol", "use_pass_glossy_color", "layer", binding.PASS_GLOSSY_COLOR),
+    ("TransDir", "use_pass_transmission_direct", "layer", binding.PASS_TRANSMISSION_DIRECT),
+    ("TransInd", "use_pass_transmission_indirect", "layer", binding.PASS_TRANSMISSION_INDIRECT),
+    ("TransCol", "use_pass_transmission_color", "layer", binding.PASS_TRANSMISSION_COLOR),
+    ("VolumeDir", "use_pass_volume_direct", "cycles", binding.PASS_VOLUME_DIRECT),
+    ("VolumeInd", "use_pass_volume_indirect", "cycles", binding.PASS_VOLUME_INDIRECT),
+]
+LIGHT_PASS_INTEGRATORS = ("path", "bdpt", "auto")
+
+
+def _flag(layer, scene, prop, where):
+    if where == "cycles":
+        owner = getattr(layer, "cycles", None)
+    elif where == "rendezvous":
+        owner = getattr(scene, "rendezvous", None)
+    else:
+        owner = layer
+    return bool(owner is not None and getattr(owner, prop, False))
+
+
+def wants_light_passes(layer, scene=None):
+    """Whether the view layer asks for any of Cycles' light passes. Diffuse Color alone does
+    not: without them it is the first hit's albedo (as before), with them Cycles' diffuse
+    colour that Diffuse Direct / Indirect divide by."""
+    return any(_flag(layer, scene, prop, where) for _, prop, where, _ in LIGHT_PASSES)
+
+
+def enabled_passes(layer, scene):
+    """[(Blender name, engine pass, channels, chan_id, type)] the layer renders, Combined first."""
+    out = [("Combined", binding.PASS_COMBINED, 4, "RGBA", "COLOR")]
+    for name, prop, where, engine_pass, channels, chan_id, kind in _DATA_PASSES:
+        if _flag(layer, scene, prop, where):
+            out.append((name, engine_pass, channels, chan_id, kind))
+    light = wants_light_passes(layer, scene)
+    if _flag(layer, scene, "use_pass_diffuse_color", "layer"):
+        # Cycles' Diffuse Color (what Diffuse Direct / Indirect divide by) with light passes;
+        # else the first hit's albedo, as before.
+        out.append(("DiffCol", binding.PASS_DIFFUSE_COLOR if light else binding.PASS_ALBEDO, 3, "RGB", "COLOR"))
+    for name, prop, where, engine_pass in LIGHT_PASSES:
+        if _flag(layer, scene, prop, where):
+            out.append((name, engine_pass, 3, "RGB", "COLOR"))
+    if _flag(layer, scene, "use_pass_noise", "rendezvous"):
+        out.append(("Noise", binding.PASS_NOISE, 1, "X", "VALUE"))
+    return out
+
+
+def register_passes(engine, scene, layer):
+    if scene is None or layer is None:
+        return
+    for name, _, channels, chan_id, kind in enabled_passes(layer, scene):
+        engine.register_pass(scene, layer, name, channels, chan_id, kind)
+
+
+def light_pass_settings(layer, scene, integrator, warn=print):
+    """The session settings the layer's light passes need ({} without any)."""
+    if not wants_light_passes(layer, scene):
+        return {}
+    if integrator not in LIGHT_PASS_INTEGRATORS:
+        warn("Passes: the light passes (Emission, Environment, Diffuse / Glossy / Transmission / Volume) are "
+             "made by the Path Tracing and Bidirectional integrators; with %s they stay black" % integrator)
+        return {}
+    return {"light_passes": True}

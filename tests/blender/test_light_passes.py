@@ -1,0 +1,155 @@
+"""Cycles' light passes against Cycles: build_scenes.light_passes (48x48: diffuse, glossy and
+glass balls, an emissive ball, the world, a sun, a cube of fog) rendered by Cycles, then by
+Rendezvous' path tracer and BDPT in this process, with View Layer > Passes > Light all on (and
+Cycles' Volume Direct / Indirect), written as a multilayer EXR and read back pass by pass
+(oiiotool). Per integrator:
+- every light pass (Direct and Indirect times their Color: what they add to Combined) as
+  test_brightness.compare (means within 2%, 8x8 blocks within 3% or 5
+  standard errors) where it holds at least 2% of Combined's mean; a smaller pass (noise
+  dominated at these sample counts) must differ from Cycles' by at most 0.5% of Combined's
+  mean;
+- Emission + Environment + sum (Direct + Indirect) x Color + Volume equals Combined per pixel
+  (relative 1e-4; pixels where a kind's colour is partly 0 next to pixels where it is not are
+  left out: BDPT's light-tracing splats reach 1.5 px from the surface they classify).
+
+    run_blender.py --script test_light_passes.py -- [--samples N]
+"""
+
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import traceback
+
+import bpy
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from test_brightness import build_scenes, compare, finish, out_dir  # noqa: E402
+from test_light_paths import render as render_engine  # noqa: E402
+import numpy as np  # noqa: E402
+
+LIGHT = ["Emit", "Env", "DiffDir", "DiffInd", "DiffCol", "GlossDir", "GlossInd", "GlossCol",
+         "TransDir", "TransInd", "TransCol", "VolumeDir", "VolumeInd"]
+SMALL_SHARE = 0.02      # a pass below 2% of Combined's mean is compared absolutely ...
+SMALL_ABS = 0.005       # ... within 0.5% of Combined's mean
+SUM_TOLERANCE = 1e-4
+
+
+def enable_light_passes(layer):
+    for prop in ("use_pass_emit", "use_pass_environment", "use_pass_diffuse_direct", "use_pass_diffuse_indirect",
+                 "use_pass_diffuse_color", "use_pass_glossy_direct", "use_pass_glossy_indirect",
+                 "use_pass_glossy_color", "use_pass_transmission_direct", "use_pass_transmission_indirect",
+                 "use_pass_transmission_color"):
+        setattr(layer, prop, True)
+    layer.cycles.use_pass_volume_direct = True
+    layer.cycles.use_pass_volume_indirect = True
+
+
+def read_rgb(path):
+    """A plain RGB EXR as H x W x 3, rows from the top."""
+    im = bpy.data.images.load(path, check_existing=False)
+    px = np.empty(im.size[0] * im.size[1] * 4, np.float32)
+    im.pixels.foreach_get(px)
+    shape = (im.size[1], im.size[0], 4)
+    bpy.data.images.remove(im)
+    return px.reshape(shape)[::-1, :, :3].astype(np.float64)
+
+
+def read_passes(path, layer, names, odir, tag):
+    """{pass name: H x W x 3} from the multilayer EXR at path."""
+    out = {}
+    for name in names:
+        one = os.path.join(odir, "%s_%s.exr" % (tag, name))
+        chans = ",".join("%s.%s.%s" % (layer, name, c) for c in "RGB")
+        subprocess.run(["oiiotool", path, "--ch", chans, "--chnames", "R,G,B", "-d", "float", "-o", one], check=True,
+                       capture_output=True)
+        out[name] = read_rgb(one)
+    return out
+
+
+def render(scene, engine, samples, path, integrator="PATH"):
+    render_engine(scene, engine, samples, path + ".single.exr", integrator)  # renders; saves Combined
+    scene.render.image_settings.file_format = "OPEN_EXR_MULTILAYER"
+    scene.render.image_settings.color_depth = "32"
+    bpy.data.images["Render Result"].save_render(path)
+    return read_passes(path, bpy.context.view_layer.name, ["Combined"] + LIGHT, os.path.dirname(path),
+                       os.path.basename(path))
+
+
+def contribution(p, name):
+    """What the pass adds to Combined: a Direct or Indirect pass times its Color. The divided
+    pass itself is ill-conditioned where the colour is small (a ball's silhouette), so its mean
+    over an image is dominated by a few edge pixels' noise in either renderer."""
+    for kind in ("Diff", "Gloss", "Trans"):
+        if name in (kind + "Dir", kind + "Ind"):
+            return p[name] * p[kind + "Col"]
+    return p[name]
+
+
+def sum_check(name, p):
+    """Failures of Emission + Environment + sum (Dir + Ind) x Col + Volume = Combined."""
+    total = p["Emit"] + p["Env"] + p["VolumeDir"] + p["VolumeInd"]
+    keep = np.ones(p["Combined"].shape[:2], bool)
+    for kind in ("Diff", "Gloss", "Trans"):
+        col = p[kind + "Col"]
+        total = total + (p[kind + "Dir"] + p[kind + "Ind"]) * col
+        partial = (col <= 0).any(axis=2)
+        seen = (col != 0).any(axis=2)
+        near = np.zeros_like(seen)
+        for dy in range(-2, 3):
+            for dx in range(-2, 3):
+                near |= np.roll(np.roll(seen, dy, axis=0), dx, axis=1)
+        keep &= ~(partial & near)
+    err = np.abs(total - p["Combined"]) / (np.abs(p["Combined"]) + 1e-3)
+    worst = float(err[keep].max()) if keep.any() else 0.0
+    print("SUM %-12s pixels checked %d of %d, worst relative error %.2e" % (name, int(keep.sum()), keep.size, worst))
+    if keep.sum() < keep.size * 3 // 4:
+        return ["%s: too few pixels to check the pass sum (%d)" % (name, int(keep.sum()))]
+    return ["%s: light passes sum to Combined only within %.2e" % (name, worst)] if worst > SUM_TOLERANCE else []
+
+
+def main():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--samples", type=int, default=1024)
+    a = ap.parse_args(argv)
+    odir = out_dir()
+    failures = []
+    if not shutil.which("oiiotool"):
+        finish("LIGHT PASSES", ["oiiotool (Debian's openimageio-tools) is needed to read the passes"], odir)
+    try:
+        scene = build_scenes.build("light_passes")
+        enable_light_passes(bpy.context.view_layer)
+        ref = render(scene, "CYCLES", a.samples, os.path.join(odir, "light_passes_cycles.exr"))
+        combined_mean = ref["Combined"].mean()
+        for integrator, samples in (("PATH", a.samples), ("BDPT", a.samples // 2)):
+            test = render(scene, "RENDEZVOUS", samples, os.path.join(odir, "light_passes_%s.exr" % integrator.lower()),
+                          integrator)
+            for name in ["Combined"] + LIGHT:
+                r, t = contribution(ref, name), contribution(test, name)
+                label = "%s %s" % (integrator, name)
+                if not np.isfinite(t).all():
+                    failures.append("%s: non-finite pixels" % label)
+                    continue
+                if r.mean() < SMALL_SHARE * combined_mean:
+                    diff = abs(t.mean() - r.mean()) / combined_mean
+                    print("BRIGHTNESS %-24s small pass: cycles mean %.5f rendezvous mean %.5f (%.2f%% of Combined) -> %s"
+                          % (label, r.mean(), t.mean(), 100 * diff, "ok" if diff <= SMALL_ABS else "FAIL"))
+                    if diff > SMALL_ABS:
+                        failures.append("%s: mean %.5f vs Cycles %.5f" % (label, t.mean(), r.mean()))
+                    continue
+                ok_mean, ok_blocks, ratio = compare(label, r, t)
+                if not ok_mean:
+                    failures.append("%s: mean ratio Rendezvous/Cycles = %.4f" % (label, ratio))
+                if not ok_blocks:
+                    failures.append("%s: block means differ beyond noise" % label)
+            failures += sum_check(integrator, test)
+    except Exception as exc:
+        traceback.print_exc()
+        failures.append("light passes: %s" % exc)
+    finish("LIGHT PASSES", failures, odir)
+
+
+if __name__ == "__main__":
+    main()
