@@ -626,6 +626,27 @@ def mix_material(name, first, second, fac):
     return m
 
 
+def camera_looking_at(location, target, lens):
+    """The scene's camera at location, looking at target."""
+    cam = bpy.data.cameras.new("Camera")
+    cam.lens = lens
+    ob = link(bpy.data.objects.new("Camera", cam))
+    ob.location = location
+    look_at(ob, target)
+    bpy.context.scene.camera = ob
+    return ob
+
+
+def smooth_ball(name, location, radius, material):
+    """A smooth-shaded UV sphere (32 x 16) with one material."""
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=32, ring_count=16, radius=radius, location=location)
+    ob = bpy.context.active_object
+    ob.name = name
+    bpy.ops.object.shade_smooth()
+    ob.data.materials.append(material)
+    return ob
+
+
 def film_transparent():
     """Film > Transparent: a diffuse ball, a smooth glass ball and a card half Transparent
     BSDF on a floor small enough that the world shows all around them (a blue sky, lit
@@ -640,22 +661,13 @@ def film_transparent():
                               ("GlassBall", 0.8, node_material("Glass", "ShaderNodeBsdfGlass",
                                                                {"Color": (1, 1, 1, 1), "Roughness": 0.0, "IOR": 1.45},
                                                                distribution="SHARP"))):
-        bpy.ops.mesh.primitive_uv_sphere_add(segments=32, ring_count=16, radius=0.5, location=(x, 0, 0.5))
-        ob = bpy.context.active_object
-        ob.name = name
-        bpy.ops.object.shade_smooth()
-        ob.data.materials.append(material)
+        smooth_ball(name, (x, 0, 0.5), 0.5, material)
     card = plane("Card", 0.8, mix_material("HalfTransparent", ("ShaderNodeBsdfDiffuse", {"Color": (0.2, 0.7, 0.3, 1)}),
                                            ("ShaderNodeBsdfTransparent", {"Color": (1, 1, 1, 1)}), 0.5),
                  location=(0.0, 0.6, 1.5))
     card.rotation_euler = (math.radians(90), 0, 0)
     light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(35), 0, math.radians(30)))
-    cam = bpy.data.cameras.new("Camera")
-    cam.lens = 55
-    ob = link(bpy.data.objects.new("Camera", cam))
-    ob.location = (0, -4.5, 1.6)
-    look_at(ob, (0, 0, 0.75))
-    scene.camera = ob
+    camera_looking_at((0, -4.5, 1.6), (0, 0, 0.75), 55)
     return scene
 
 
@@ -674,11 +686,7 @@ def light_passes():
                                               {"Color": (1, 1, 1, 1), "Roughness": 0.0, "IOR": 1.45},
                                               distribution="SHARP")))
     for name, x, material in balls:
-        bpy.ops.mesh.primitive_uv_sphere_add(segments=32, ring_count=16, radius=0.45, location=(x, 0, 0.45))
-        ob = bpy.context.active_object
-        ob.name = name
-        bpy.ops.object.shade_smooth()
-        ob.data.materials.append(material)
+        smooth_ball(name, (x, 0, 0.45), 0.45, material)
     bpy.ops.mesh.primitive_uv_sphere_add(segments=16, ring_count=8, radius=0.15, location=(0.5, 0.9, 1.3))
     lamp = bpy.context.active_object
     lamp.name = "LampBall"
@@ -691,12 +699,7 @@ def light_passes():
     scene.cycles.sample_clamp_indirect = 0.0  # BDPT clamps per strategy, not per path (README)
     # A 10 degree sun: the glass ball's caustic (Diffuse Indirect) converges in path tracing.
     light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(35), 0, math.radians(30)), angle=math.radians(10))
-    cam = bpy.data.cameras.new("Camera")
-    cam.lens = 50
-    ob = link(bpy.data.objects.new("Camera", cam))
-    ob.location = (0, -4.5, 1.6)
-    look_at(ob, (0, 0, 0.55))
-    scene.camera = ob
+    camera_looking_at((0, -4.5, 1.6), (0, 0, 0.55), 50)
     return scene
 
 
