@@ -49,11 +49,13 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
   // (Kept here: *first_hit is overwritten with the first surface's AOVs below.)
   LightPassSample *const passes = first_hit ? first_hit->passes : nullptr;
   std::vector<PassSplat> *const pass_splats = first_hit ? first_hit->pass_splats : nullptr;
+  PassCache first_split;
   if (passes) {  // light passes (light_passes.cpp): the colours, and the emission passed
+    first_split = pass_cache(camera_path.data(), nc);
     add_color_passes(camera_path.data(), nc, *passes);
     for (int n = 0; n < int(emitted.size()); ++n) {
       if (is_black(emitted[n])) continue;
-      PassClass pc = pass_class(light_path.data(), camera_path.data(), 0, n + 2, Vec3(0.0f));
+      PassClass pc = pass_class(light_path.data(), camera_path.data(), 0, n + 2, Vec3(0.0f), first_split);
       passes->add(emitted[n], pc.scatterings, pc.first);
     }
   }
@@ -82,7 +84,7 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
       if (t == 1) splats.push_back({raster, c});
       else L += c;
       if (passes) {
-        PassClass pc = pass_class(light_path.data(), camera_path.data(), s, t, connection_dir);
+        PassClass pc = pass_class(light_path.data(), camera_path.data(), s, t, connection_dir, first_split);
         if (t == 1) {
           add_pass_splats(*pass_splats, raster, c, pc.scatterings, pc.first);
         } else if (pc.scatterings == 0 && s == 0 && camera_path[t - 1].infinite) {

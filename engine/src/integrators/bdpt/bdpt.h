@@ -92,8 +92,15 @@ class Bdpt final : public TileIntegrator {
     int scatterings = 0;
     KindSplit first;
   };
+  // The first scattering camera vertex's split toward the next camera vertex, the same
+  // for every strategy that goes on past it: found once per camera subpath of n vertices.
+  struct PassCache {
+    int vertex = -1;
+    KindSplit split;
+  };
+  PassCache pass_cache(const PathVertex *camera_path, int n) const;
   PassClass pass_class(const PathVertex *light_path, const PathVertex *camera_path, int s, int t,
-                       Vec3 connection_dir) const;
+                       Vec3 connection_dir, const PassCache &cache) const;
   void add_color_passes(const PathVertex *camera_path, int n, LightPassSample &passes) const;
   Color background_share(const PathVertex &v) const;
 

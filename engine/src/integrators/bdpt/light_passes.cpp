@@ -18,8 +18,21 @@ static KindSplit split_at(const PathVertex &v, Vec3 toward_camera, Vec3 toward_l
   return v.bsdf.kind_split(toward_camera, toward_light, delta);
 }
 
+Bdpt::PassCache Bdpt::pass_cache(const PathVertex *camera_path, int n) const {
+  PassCache cache;
+  for (int i = 1; i + 1 < n; ++i) {
+    const PathVertex &v = camera_path[i];
+    if (v.type != VertexType::Surface && v.type != VertexType::Medium) break;
+    if (v.passed_through) continue;
+    cache.vertex = i;
+    cache.split = split_at(v, v.wo, direction_to_next(camera_path, i), v.delta);
+    break;
+  }
+  return cache;
+}
+
 Bdpt::PassClass Bdpt::pass_class(const PathVertex *light_path, const PathVertex *camera_path, int s, int t,
-                                 Vec3 connection_dir) const {
+                                 Vec3 connection_dir, const PassCache &cache) const {
   PassClass c;
   // Scattering vertices: c1 .. c(last) (s = 0: c(t-1) is the emitter), then l(s-1) .. l1.
   const int last = s == 0 ? t - 2 : t - 1;
@@ -38,8 +51,10 @@ Bdpt::PassClass Bdpt::pass_class(const PathVertex *light_path, const PathVertex 
     const PathVertex &v = camera_path[first_camera];
     // On along the camera subpath, or (the connection vertex) toward the light side.
     const bool connection = s >= 1 && first_camera == t - 1;
-    c.first = split_at(v, v.wo, connection ? connection_dir : direction_to_next(camera_path, first_camera),
-                       connection ? false : v.delta);
+    if (!connection && first_camera == cache.vertex) c.first = cache.split;
+    else
+      c.first = split_at(v, v.wo, connection ? connection_dir : direction_to_next(camera_path, first_camera),
+                         connection ? false : v.delta);
   } else if (first_light >= 0) {
     const PathVertex &v = light_path[first_light];
     const bool connection = first_light == s - 1;
