@@ -635,6 +635,13 @@ Proposal PathSpace::perturb_medium_vertex(const ExplicitPath &x, MutationType ty
   int pick = std::min(int(u_vertex * float(media)), media - 1), j = 1;
   for (;; ++j)
     if (x.x[size_t(j)].v.type == VertexType::Medium && pick-- == 0) break;
+  // A specular neighbour fixes x_j's direction from it: moving x_j can keep its event
+  // only along the line from a specular light-side neighbour (the propagation
+  // perturbation), never off it or from a specular camera-side neighbour. Those moves
+  // would have f = 0 exactly; they are not proposed, since the comparison of directions
+  // that finds a delta's event allows about 4e-3 rad, and small moves inside it would be
+  // taken for paths on the event.
+  if (x.x[size_t(j - 1)].v.delta || (type == MutationType::Scattering && x.x[size_t(j + 1)].v.delta)) return proposal;
   y.reserve(max_vertices_);
   y.n = x.n;
   for (int i = 0; i < x.n; ++i) y.x[size_t(i)] = x.x[size_t(i)];
