@@ -130,9 +130,12 @@ int merge_main(int argc, char **argv) {
 static void print_auto_choice(const nlohmann::json &choice, double time_limit) {
   const std::string pick = choice["integrator"].is_string() ? choice["integrator"].get<std::string>() : "";
   for (const nlohmann::json &p : choice["pilots"])
-    std::fprintf(stderr, "rendezvous: auto: %-6s pilot %.2f s x 2, %u spp, estimated relMSE %.3g, efficiency %.3g /s%s\n",
+    std::fprintf(stderr,
+                 "rendezvous: auto: %-6s pilot %.2f s, %u spp, estimated relMSE %.3g (own pilots %.3g, against "
+                 "the others %.3g), efficiency %.3g /s%s\n",
                  p["integrator"].get<std::string>().c_str(), p["seconds"].get<double>(), p["spp"].get<unsigned>(),
-                 p["rel_mse"].get<double>(), p["efficiency"].get<double>(),
+                 p["rel_mse"].get<double>(), p.value("rel_mse_own", 0.0), p.value("rel_mse_cross", 0.0),
+                 p["efficiency"].get<double>(),
                  p["integrator"] == pick ? "  <- chosen" : "");
   if (pick.empty())
     std::fprintf(stderr, "rendezvous: auto: cancelled during the pilots\n");

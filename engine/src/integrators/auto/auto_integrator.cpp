@@ -9,10 +9,47 @@
 
 namespace rdv {
 
+namespace {
+
+double relative_square(double d, double reference) {
+  return d * d / (reference * reference + kRelativeMseEpsilon);
+}
+
+}  // namespace
+
+std::vector<double> errors_against_each_other(const std::vector<std::vector<float>> &images,
+                                              const std::vector<double> &reference,
+                                              const std::vector<bool> &has_samples) {
+  std::vector<size_t> usable;
+  for (size_t c = 0; c < images.size(); ++c)
+    if (has_samples[c]) usable.push_back(c);
+  std::vector<double> errors(images.size(), -1.0);
+  const size_t n = usable.size();
+  if (n < 3 || reference.empty()) return errors;
+  std::vector<double> sums(n, 0.0);
+  double total = 0;
+  for (size_t a = 0; a < n; ++a)
+    for (size_t b = a + 1; b < n; ++b) {
+      const std::vector<float> &x = images[usable[a]], &y = images[usable[b]];
+      double sum = 0;
+      for (size_t i = 0; i < x.size(); ++i) sum += relative_square(double(x[i]) - y[i], reference[i]);
+      const double d = sum / double(x.size());
+      sums[a] += d;
+      sums[b] += d;
+      total += d;
+    }
+  for (size_t a = 0; a < n; ++a) {
+    const double v = (sums[a] - total / double(n - 1)) / double(n - 2);
+    errors[usable[a]] = std::max(0.0, v);
+  }
+  return errors;
+}
+
 std::string AutoChoice::json() const {
   nlohmann::json p = nlohmann::json::array();
   for (const AutoPilot &x : pilots)
     p.push_back({{"integrator", x.integrator}, {"seconds", x.seconds}, {"rel_mse", x.rel_mse},
+                 {"rel_mse_own", x.rel_mse_own}, {"rel_mse_cross", x.rel_mse_cross},
                  {"efficiency", x.efficiency}, {"spp", x.spp}});
   nlohmann::json j = {{"pilot_seconds", pilot_seconds}, {"pilots", p}};
   j["integrator"] = integrator.empty() ? nlohmann::json(nullptr) : nlohmann::json(integrator);
@@ -29,64 +66,68 @@ AutoIntegrator::AutoIntegrator(const Scene &scene, const RenderSettings &setting
 
 AutoChoice AutoIntegrator::choose(RenderContext &ctx) {
   const std::vector<std::string> &candidates = settings_.auto_candidates;
-  const double each = settings_.time_limit * kPilotFraction / (2.0 * candidates.size());
+  const double each = settings_.time_limit * kPilotFraction / double(candidates.size());
   const Rect &region = settings_.border;
   const size_t values = size_t(region.width()) * size_t(region.height()) * 3;
   AutoChoice choice;
-  std::vector<std::vector<float>> differences;  // a - b per candidate
-  std::vector<double> pooled(values, 0.0);      // the sum of every pilot image
+  std::vector<std::vector<float>> images;    // each candidate's pilot
+  std::vector<double> pooled(values, 0.0);  // the mean of every pilot image
+  std::vector<double> own;                   // each pilot's estimate of its own error; < 0: none
   std::vector<float> rgba(values / 3 * 4);
   for (const std::string &name : candidates) {
     RenderSettings s = settings_;
     s.integrator = name;
     s.samples = 0;
     s.time_limit = each;
-    s.noise_target = 0;  // a pilot runs its whole time: the estimate needs equal times
+    s.noise_target = 0;    // a pilot runs its whole time
+    s.noise_pass = true;   // and keeps the half images that estimate its noise
+    s.adaptive_sampling = false;
     AutoPilot pilot;
     pilot.integrator = name;
-    pilot.spp = UINT32_MAX;
-    std::vector<float> d(values);
-    for (int i = 0; i < 2; ++i) {
-      s.seed = settings_.seed + uint32_t(i);
-      Film film(settings_.width, settings_.height, region, s.estimates_noise());
-      RenderControl control(each, 0);
-      control.follow(ctx.control);  // a cancel of the render stops its pilots
-      std::unique_ptr<Integrator> integrator = make_integrator(s, scene_);
-      RenderContext pilot_ctx{ctx.scene, s, film, ctx.filter, control, ctx.arena};
-      control.start();
-      integrator->render(pilot_ctx);
-      control.finish();
-      ctx.control.add_rays(control.rays());
-      ctx.control.add_dropped(control.dropped());
-      if (ctx.control.cancel_requested()) return choice;
-      film.read(RDV_PASS_COMBINED, region.x0, region.y0, region.width(), region.height(), true, rgba.data());
-      for (size_t p = 0; p < values / 3; ++p)
-        for (int c = 0; c < 3; ++c) {
-          const float v = rgba[p * 4 + c];
-          pooled[p * 3 + c] += v;
-          d[p * 3 + c] = i == 0 ? v : d[p * 3 + c] - v;
-        }
-      pilot.seconds += 0.5 * control.elapsed();
-      pilot.spp = std::min(pilot.spp, film.frame_state().samples);
-      choice.pilot_seconds += control.elapsed();
-    }
-    differences.push_back(std::move(d));
+    Film film(settings_.width, settings_.height, region, s.estimates_noise());
+    RenderControl control(each, 0);
+    control.follow(ctx.control);  // a cancel of the render stops its pilots
+    std::unique_ptr<Integrator> integrator = make_integrator(s, scene_);
+    RenderContext pilot_ctx{ctx.scene, s, film, ctx.filter, control, ctx.arena};
+    control.start();
+    integrator->render(pilot_ctx);
+    control.finish();
+    ctx.control.add_rays(control.rays());
+    ctx.control.add_dropped(control.dropped());
+    if (ctx.control.cancel_requested()) return choice;
+    film.read(RDV_PASS_COMBINED, region.x0, region.y0, region.width(), region.height(), true, rgba.data());
+    std::vector<float> image(values);
+    for (size_t p = 0; p < values / 3; ++p)
+      for (int c = 0; c < 3; ++c) {
+        image[p * 3 + c] = rgba[p * 4 + c];
+        pooled[p * 3 + c] += rgba[p * 4 + c] / double(candidates.size());
+      }
+    // From the pilot's two independent half images (film/noise_estimate.h; for Metropolis
+    // its odd and even chains): negative while a half has no sample.
+    const double estimate = film.relative_mse_estimate();
+    own.push_back(std::isfinite(estimate) ? estimate : -1.0);
+    pilot.seconds = control.elapsed();
+    pilot.spp = film.frame_state().samples;
+    choice.pilot_seconds += control.elapsed();
+    images.push_back(std::move(image));
     choice.pilots.push_back(pilot);
   }
-  // Every pilot is an unbiased image of the same scene: their mean is the least noisy
-  // reference at hand for relMSE's denominator (a pilot's own noisy mean there makes
-  // very noisy pilots all look alike: (a - m)^2 / m^2 is at most ~1 per value).
-  for (double &v : pooled) v /= 2.0 * candidates.size();
+  std::vector<bool> has_samples;
+  for (const AutoPilot &p : choice.pilots) has_samples.push_back(p.spp > 0);
+  const std::vector<double> cross = errors_against_each_other(images, pooled, has_samples);
   double best = 0;
   for (size_t c = 0; c < candidates.size(); ++c) {
     AutoPilot &p = choice.pilots[c];
-    double sum = 0;
-    for (size_t i = 0; i < values; ++i)
-      sum += double(differences[c][i]) * differences[c][i] / (pooled[i] * pooled[i] + kRelativeMseEpsilon);
-    p.rel_mse = values == 0 ? 0.0 : sum / double(values) / 2;  // E(a - b)^2 = 2 var
+    p.rel_mse_own = own[c];
+    p.rel_mse_cross = cross[c];
+    // A pilot's halves show only the paths it found: one that missed a rare caustic
+    // looks converged, but its image differs from the others' by that caustic. The
+    // larger estimate is its error.
+    p.rel_mse = std::max(own[c], cross[c]);
     // A pilot with no measurable error (an exact image) is as efficient as can be, not 1/0;
-    // but one without a sample (Metropolis still in its bootstrap) measured nothing.
-    p.efficiency = p.spp == 0 ? 0.0 : 1.0 / (std::max(p.rel_mse, 1e-30) * std::max(p.seconds, 1e-9));
+    // but one without a sample (Metropolis still in its bootstrap) or without any
+    // estimate measured nothing.
+    p.efficiency = p.spp == 0 || p.rel_mse < 0 ? 0.0 : 1.0 / (std::max(p.rel_mse, 1e-30) * std::max(p.seconds, 1e-9));
     if (c == 0 || p.efficiency > best) {
       best = p.efficiency;
       choice.integrator = p.integrator;
