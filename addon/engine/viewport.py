@@ -46,7 +46,6 @@ from ..binding import EngineError, LibraryError
 from ..export import SceneExporter, ExportError, GEOMETRY_TYPES, gas_domain
 from ..export import volumes
 from ..export import images as export_images
-from ..export.lights import light_params
 from ..export.settings import (INTEGRATORS, INTEGRATOR_LABELS, METROPOLIS, light_path_settings, light_paths_for,
                                metropolis_settings)
 from ..utils import Messages, normalize_frame, is_finite_matrix, determinant3
@@ -97,6 +96,7 @@ class _Record:
         self.kind, self.engine_id, self.m16, self.ob_name = kind, engine_id, m16, ob_name
         self.mesh_id, self.params = mesh_id, params
         self.material_id = self.box = self.materials = None
+        self.settings = {}  # meshes: rdv_scene_set_instance_params (holdout, ray visibility)
 
 
 class _Sink:
@@ -132,6 +132,7 @@ class _Sink:
 
     def set_instance_params(self, instance, params):
         self.rscene.set_instance_params(instance, params)
+        self.exp.records[self.exp.current_key].settings = params
 
     def add_light(self, name, params):
         lid = self.rscene.add_light(name, params)
@@ -228,10 +229,15 @@ class ViewportExporter(SceneExporter):
                     rec.m16 = m16
                     self.edits += 1
                     stats["transform_updates"] += 1
+                settings = self.object_settings(ob)
+                if settings != rec.settings:  # holdout or ray visibility toggled
+                    rscene.set_instance_params(rec.engine_id, settings)
+                    rec.settings = settings
+                    self.edits += 1
             else:
                 if not is_finite_matrix(m16):
                     return False
-                params = light_params(ob.data, m16, ob.name, self.warn)
+                params = self.light_settings(ob, m16)
                 if params is None:
                     return False
                 if params != rec.params:

@@ -15,6 +15,7 @@ from .materials import MaterialCache
 from . import images
 from .mesh import mesh_arrays
 from . import volumes
+from . import visibility
 from .settings import session_settings, resolution, border_rect, SettingsError  # noqa: F401
 
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
@@ -141,6 +142,9 @@ class SceneExporter:
                                                     image_file=self.image_file)
         if warning:
             self.warn(warning)
+        hidden = visibility.world_visibility(self.scene.world)
+        if hidden:  # World > Ray Visibility
+            params["visibility"] = hidden
         self.sink.set_world(params)
 
     def export_objects(self):
@@ -167,14 +171,34 @@ class SceneExporter:
         if not is_finite_matrix(m16):
             self.warn("Light '%s': non-finite transform, skipped" % ob.name)
             return
-        params = light_params(ob.data, m16, ob.name, self.warn)
+        params = self.light_settings(ob, m16)
         if params is None:
             return
         name = self._unique(ob.name, self._light_names)
         self.sink.add_light(name, params)
         self.stats.lights += 1
 
+    def light_settings(self, ob, m16):
+        """The light's engine parameters with its ray visibility (None: skipped, warned)."""
+        params = light_params(ob.data, m16, ob.name, self.warn)
+        if params is not None:
+            rays = visibility.light_visibility(ob, ob.data)
+            if rays:  # Object > Visibility > Ray Visibility, Light > Cast Shadow
+                params["visibility"] = rays
+        return params
+
     # ---- geometry -------------------------------------------------------------------
+    @staticmethod
+    def object_settings(ob):
+        """rdv_scene_set_instance_params of a mesh object: holdout and ray visibility ({}: defaults)."""
+        settings = {}
+        if getattr(ob, "is_holdout", False):  # Object > Visibility > Holdout
+            settings["holdout"] = True
+        rays = visibility.object_visibility(ob)
+        if rays:  # Object > Visibility > Ray Visibility
+            settings["visibility"] = rays
+        return settings
+
     def _object_materials(self, ob):
         mats = [slot.material for slot in ob.material_slots]
         if not mats and ob.data is not None and hasattr(ob.data, "materials"):
@@ -202,9 +226,6 @@ class SceneExporter:
         if abs(determinant3(m16)) < 1e-24:
             self.warn("Object '%s': zero scale, skipped" % ob.name)
             return
-        if not getattr(ob, "visible_camera", True):
-            self.warn("Object '%s': camera ray visibility off is not supported yet, object rendered normally"
-                      % ob.name)
         domain = gas_domain(ob)
         if domain is not None:
             self._grid_medium(ob, m16, self._fluid_source(ob, m16, domain))
@@ -220,8 +241,9 @@ class SceneExporter:
         if mesh_id is None:
             return
         instance = self.sink.add_instance(mesh_id, m16)
-        if getattr(ob, "is_holdout", False):  # Object > Visibility > Holdout
-            self.sink.set_instance_params(instance, {"holdout": True})
+        settings = self.object_settings(ob)
+        if settings:
+            self.sink.set_instance_params(instance, settings)
         self.stats.instances += 1
 
     # ---- grid media: Volume objects and fluid domains ---------------------------------------

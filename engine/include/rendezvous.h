@@ -148,7 +148,11 @@ RDV_API rdv_status rdv_scene_set_instance_transform(rdv_scene *scene, uint32_t i
                                                     const float transform[16]);
 /* An instance's object settings: {"holdout": false} (Object > Visibility > Holdout: the
  * instance renders black and cuts its coverage out of RDV_PASS_COMBINED's alpha where the
- * camera sees it, as Cycles). Absent keys take their defaults. */
+ * camera sees it, as Cycles), "visibility": {"camera": true, "diffuse": true, "glossy": true,
+ * "transmission": true, "shadow": true, "volume_scatter": true} (Object > Visibility > Ray
+ * Visibility: rays of a kind pass through what is hidden from them, as Cycles; lights and
+ * the world take the same "visibility" in their parameters). Absent keys take their
+ * defaults. */
 RDV_API rdv_status rdv_scene_set_instance_params(rdv_scene *scene, uint32_t instance, const char *params_json);
 
 /* Lights: {"type":"point"|"spot"|"sun"|"area", "transform":[16], ...}. Units are

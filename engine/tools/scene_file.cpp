@@ -339,7 +339,14 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
     return default_material;
   };
 
-  struct MeshEntry { uint32_t id; json transform; bool instanced = false, holdout = false; };
+  // An instance's object settings (rdv_scene_set_instance_params): "holdout", "visibility".
+  auto object_params = [](const json &j, const std::string &what) {
+    json p = json::object();
+    if (flag_of(j, "holdout", false, what)) p["holdout"] = true;
+    if (j.contains("visibility")) p["visibility"] = j["visibility"];  // the engine checks it
+    return p;
+  };
+  struct MeshEntry { uint32_t id; json transform; bool instanced = false; json params; };
   std::map<std::string, MeshEntry> meshes;
   for (const json &j : list_of(doc, "meshes")) {
     std::string name = text_of(j, "name", "mesh " + std::to_string(meshes.size()), "mesh " + std::to_string(meshes.size()));
@@ -387,7 +394,7 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
                                          uint32_t(data.size() / comps)) != RDV_OK)
           out.problems.push_back(std::string(rdv_last_error()) + "; attribute left out");
       }
-      meshes[name] = {id, j.contains("transform") ? j["transform"] : json(), false, flag_of(j, "holdout", false, what)};
+      meshes[name] = {id, j.contains("transform") ? j["transform"] : json(), false, object_params(j, what)};
     } catch (const rdv::Error &e) {
       if (e.status == RDV_ERROR_LIMIT) throw;
       out.problems.push_back(std::string(e.what()) + "; mesh left out");
@@ -396,7 +403,7 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
     }
   }
 
-  auto add_instance = [&](uint32_t mesh, const json &transform, const std::string &what, bool holdout) {
+  auto add_instance = [&](uint32_t mesh, const json &transform, const std::string &what, const json &params) {
     // The engine's own transform rules (16 numbers, or translate/rotate/scale).
     rdv::Transform t;
     try {
@@ -406,7 +413,7 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
     }
     uint32_t id;
     if (rdv_scene_add_instance(scene, mesh, &t.m[0][0], &id) != RDV_OK) return report(what);
-    if (holdout && rdv_scene_set_instance_params(scene, id, R"({"holdout": true})") != RDV_OK) report(what);
+    if (!params.empty() && rdv_scene_set_instance_params(scene, id, params.dump().c_str()) != RDV_OK) report(what);
   };
 
   for (const json &j : list_of(doc, "instances")) {
@@ -419,7 +426,7 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
     it->second.instanced = true;
     try {
       add_instance(it->second.id, j.contains("transform") ? j["transform"] : json(), "instance of mesh '" + mesh + "'",
-                   flag_of(j, "holdout", false, "instance of mesh '" + mesh + "'"));
+                   object_params(j, "instance of mesh '" + mesh + "'"));
     } catch (const std::exception &e) {
       out.problems.push_back(e.what());
     }
@@ -427,7 +434,7 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
   for (auto &[name, entry] : meshes) {
     if (entry.instanced) continue;
     try {
-      add_instance(entry.id, entry.transform, "mesh '" + name + "'", entry.holdout);
+      add_instance(entry.id, entry.transform, "mesh '" + name + "'", entry.params);
     } catch (const std::exception &e) {
       out.problems.push_back(e.what());
     }

@@ -89,6 +89,36 @@ class TestLights(unittest.TestCase):
 
 
 @unittest.skipIf(np is None, "numpy not available")
+class TestRayVisibility(unittest.TestCase):
+    """Object, light and world ray visibility: only what differs from the engine's defaults."""
+
+    def setUp(self):
+        load_addon()
+        import rendezvous.export.visibility as visibility
+        self.v = visibility
+
+    def test_objects(self):
+        seen = ns(visible_camera=True, visible_diffuse=True, visible_glossy=True, visible_transmission=True,
+                  visible_volume_scatter=True, visible_shadow=True)
+        self.assertEqual(self.v.object_visibility(seen), {})
+        hidden = ns(**{**vars(seen), "visible_camera": False, "visible_shadow": False})
+        self.assertEqual(self.v.object_visibility(hidden), {"camera": False, "shadow": False})
+
+    def test_lights(self):
+        lamp = ns(visible_camera=False, visible_diffuse=True, visible_glossy=False, visible_transmission=True,
+                  visible_volume_scatter=True, visible_shadow=False)  # the object's shadow is not Cycles' setting
+        self.assertEqual(self.v.light_visibility(lamp, ns(cycles=ns(cast_shadow=True))), {"glossy": False})
+        lamp.visible_camera = True
+        self.assertEqual(self.v.light_visibility(lamp, ns(cycles=ns(cast_shadow=False))),
+                         {"glossy": False, "camera": True, "shadow": False})
+
+    def test_world(self):
+        self.assertEqual(self.v.world_visibility(None), {})
+        w = ns(cycles_visibility=ns(camera=False, diffuse=True, glossy=True, transmission=True, scatter=False,
+                                    shadow=False))
+        self.assertEqual(self.v.world_visibility(w), {"camera": False, "volume_scatter": False})
+
+
 class TestCameraSettings(unittest.TestCase):
     @classmethod
     def setUpClass(cls):

@@ -3,10 +3,11 @@
 
 namespace rdv {
 
-Color transparent_shadow(const Scene &scene, Vec3 o, Vec3 d, float tmax, uint64_t &rays, int max_layers) {
+Color transparent_shadow(const Scene &scene, Vec3 o, Vec3 d, float tmax, uint64_t &rays, uint32_t mask,
+                         int max_layers) {
   Color tr(1.0f);
   for (int layer = 0; layer <= max_layers; ++layer) {
-    Ray ray{o, d, tmax};
+    Ray ray{o, d, tmax, mask};
     SurfaceHit hit;
     ++rays;
     if (!scene.intersect(ray, hit) || !(hit.t < tmax)) return tr;

@@ -10,6 +10,8 @@ namespace rdv {
 // black at the first opaque surface. At most max_layers transparent surfaces are
 // crossed (Cycles' transparent max bounces); beyond that the ray counts as blocked.
 // rays is incremented per traced ray.
-Color transparent_shadow(const Scene &scene, Vec3 o, Vec3 d, float tmax, uint64_t &rays, int max_layers = 16);
+// mask: the kinds of ray it stands for (scene/ray_visibility.h).
+Color transparent_shadow(const Scene &scene, Vec3 o, Vec3 d, float tmax, uint64_t &rays, uint32_t mask,
+                         int max_layers = 16);
 
 }  // namespace rdv

@@ -153,6 +153,9 @@ struct Transform {
 struct Ray {
   Vec3 o, d;
   float tmax = kInf;
+  // The kind of ray (scene/ray_visibility.h): it meets only instances visible to one of
+  // these bits. All ones: every instance.
+  uint32_t mask = 0xffffffffu;
 };
 
 }  // namespace rdv

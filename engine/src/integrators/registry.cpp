@@ -1,5 +1,6 @@
 #include "integrators/integrator.h"
 #include "core/limits.h"
+#include "core/log.h"
 #include <nlohmann/json.hpp>
 #include "integrators/auto/auto_integrator.h"
 #include "integrators/bdpt/bdpt.h"
@@ -31,6 +32,10 @@ static bdpt::BdptSettings bdpt_settings(const RenderSettings &settings, const Sc
 
 std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, const Scene &scene) {
   if (settings.integrator == "path") return std::make_unique<PathTracer>(scene, settings.max_bounces, settings.limits, film_alpha(settings, scene));
+  if (scene.has_mixed_visibility() && settings.integrator != "path")
+    log_warning(scene.mixed_visibility_object() + " is seen by some kinds of ray but not by others (ray visibility): " +
+                "light subpaths cannot follow that, so " + settings.integrator +
+                " uses only its camera-path strategies (path tracing with next-event estimation) for this scene");
   if (settings.integrator == "bdpt") return std::make_unique<bdpt::Bdpt>(scene, bdpt_settings(settings, scene));
   if (settings.integrator == "pssmlt" || settings.integrator == "mmlt") {
     mlt::MltSettings m;
@@ -43,6 +48,10 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
     return std::make_unique<mlt::Metropolis>(scene, settings, bdpt_settings(settings, scene), m);
   }
   if (settings.integrator == "mlt") {
+    if (scene.has_ray_visibility())
+      fail("render settings: integrator mlt: " + scene.ray_visibility_object() +
+           " is hidden from some kinds of ray (ray visibility), which mlt does not implement yet (use bdpt, pssmlt "
+           "or mmlt)");
     std::string why = mlt::PathSpace::unsupported(scene, settings);
     if (!why.empty()) fail("render settings: integrator mlt: " + why);
     mlt::MltSettings m;

@@ -81,7 +81,9 @@ Light make_light(Params &p) {
   } else {
     fail(p.what() + ": unknown light type '" + type + "' (point, spot, sun, area)");
   }
-  l.visible_camera = p.get_bool("visible_camera", false);
+  // "visible_camera" (older files) is the default of "visibility": {"camera": ...}.
+  const bool camera = p.get_bool("visible_camera", false);
+  l.visibility = visibility::from_params(p, visibility::kNonCamera | (camera ? visibility::kCamera : 0));
   p.check_all_used();
   return l;
 }
@@ -103,7 +105,7 @@ Light make_background_light(Color radiance) {
   Light l;
   l.type = LightType::Background;
   l.radiance = radiance;
-  l.visible_camera = true;  // the world is the background
+  l.visibility = visibility::kAll;  // the world is the background
   return l;
 }
 
@@ -112,7 +114,7 @@ Light make_environment_light(const EnvironmentMap *env) {
   l.type = LightType::Background;
   l.env = env;
   l.radiance = env->mean();
-  l.visible_camera = true;  // the world is the background
+  l.visibility = visibility::kAll;  // the world is the background
   return l;
 }
 

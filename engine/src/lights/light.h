@@ -14,6 +14,7 @@
 #include <string>
 #include "core/math.h"
 #include "core/params.h"
+#include "scene/ray_visibility.h"
 
 namespace rdv {
 
@@ -41,9 +42,18 @@ struct Light {
   bool textured = false;
   Vec3 error{0.0f};      // triangle: rounding error bound of its points (core/ray_offset.h); Embree can hit it
   float power = 0;       // for light selection (scalar)
-  // Whether camera rays see the lamp itself. Off by default: Cycles 3.4 never shows
-  // lamps to the camera (it does show them in reflections).
-  bool visible_camera = false;
+  // The kinds of ray that see it (scene/ray_visibility.h). Lamps: camera rays only when
+  // asked (Cycles 3.4 never shows lamps to the camera, it does show them in reflections);
+  // without the shadow bit a lamp casts no shadows (Cycles' Cast Shadow). Emissive
+  // triangles: their instance's; the world: its own.
+  uint32_t visibility = visibility::kNonCamera;
+  bool visible_camera() const { return visibility & visibility::kCamera; }
+  // What blocks the last segment of a path from a scattering vertex to this light: the
+  // instances visible to shadow rays, or nothing for a lamp that casts no shadows (an
+  // emissive object hidden from shadow rays only casts no shadow itself).
+  uint32_t occluders() const {
+    return type == LightType::Triangle ? visibility::kShadow : visibility & visibility::kShadow;
+  }
   // Background: an importance-sampled equirectangular HDRI (owned by the Scene), or
   // null for the constant `radiance`.
   const EnvironmentMap *env = nullptr;

@@ -27,7 +27,7 @@ void MediumStack::cross(const Scene &scene, uint32_t material, Vec3 ng, Vec3 d) 
 }
 
 Color medium_transmittance(const Scene &scene, const ShadowRay &ray, MediumStack stack, uint64_t &rays, SampleRun &rng,
-                           bool see_through_transparent, MediumStack *end) {
+                           bool see_through_transparent, MediumStack *end, uint32_t mask) {
   Color tr(1.0f);
   const Vec3 d = ray.d;
   Vec3 o = ray.o;
@@ -36,7 +36,7 @@ Color medium_transmittance(const Scene &scene, const ShadowRay &ray, MediumStack
     SurfaceHit hit;
     CoincidentBoundary boundary;
     ++rays;
-    bool found = scene.intersect_media(Ray{o, d, remaining}, hit, boundary);
+    bool found = scene.intersect_media(Ray{o, d, remaining, mask}, hit, boundary);
     float seg = found ? hit.t : remaining;
     int m = stack.current(scene);
     if (m >= 0) {

@@ -38,8 +38,10 @@ class MediumStack {
 // path tracer's transparent shadows; BDPT makes such surfaces path vertices instead).
 // rng: the random numbers of grid media's transmittance estimators (the connection's
 // own dimensions, samplers/dimension_layout.h). end, if given, receives the media at
-// the far end (a volume light's point emits only inside its medium).
+// the far end (a volume light's point emits only inside its medium). mask: the kinds of
+// ray it stands for (scene/ray_visibility.h): surfaces invisible to them do not block.
 Color medium_transmittance(const Scene &scene, const ShadowRay &ray, MediumStack stack, uint64_t &rays, SampleRun &rng,
-                           bool see_through_transparent = false, MediumStack *end = nullptr);
+                           bool see_through_transparent = false, MediumStack *end = nullptr,
+                           uint32_t mask = 0xffffffffu);
 
 }  // namespace rdv

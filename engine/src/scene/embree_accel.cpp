@@ -96,6 +96,11 @@ void EmbreeAccel::build(const std::vector<Mesh> &meshes, const std::vector<Insta
     rtcSetGeometryInstancedScene(geom, mesh);
     // Our 4x4 row-major matrix starts with the 3x4 row-major block Embree wants.
     rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &inst.to_world.m[0][0]);
+    // Ray visibility (scene/ray_visibility.h) as the instance mask: a ray meets the
+    // instance when its mask shares a bit with it. The bits above the six kinds stay
+    // set, so rays of every kind (mask all ones) meet every instance. Medium boundaries
+    // are met by every ray: a ray that passes a volume's object still enters its medium.
+    rtcSetGeometryMask(geom, top == top_ ? inst.visibility | ~visibility::kAll : 0xffffffffu);
     rtcCommitGeometry(geom);
     rtcAttachGeometryByID(top, geom, id);
     rtcReleaseGeometry(geom);
@@ -158,7 +163,7 @@ bool EmbreeAccel::intersect(RTCScene scene, const Ray &ray, RawHit &hit) const {
   rh.ray.dir_x = ray.d.x; rh.ray.dir_y = ray.d.y; rh.ray.dir_z = ray.d.z;
   rh.ray.tnear = 0.0f;
   rh.ray.tfar = ray.tmax;
-  rh.ray.mask = 0xffffffffu;
+  rh.ray.mask = ray.mask;
   rh.ray.flags = 0;
   rh.ray.time = 0;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
@@ -173,7 +178,7 @@ bool EmbreeAccel::intersect(RTCScene scene, const Ray &ray, RawHit &hit) const {
   return true;
 }
 
-bool EmbreeAccel::occluded(Vec3 o, Vec3 d, float tmax) const {
+bool EmbreeAccel::occluded(Vec3 o, Vec3 d, float tmax, uint32_t mask) const {
   if (!can_trace(o, d, tmax)) return true;  // no light arrives along it
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
@@ -182,7 +187,7 @@ bool EmbreeAccel::occluded(Vec3 o, Vec3 d, float tmax) const {
   r.dir_x = d.x; r.dir_y = d.y; r.dir_z = d.z;
   r.tnear = 0.0f;
   r.tfar = tmax;
-  r.mask = 0xffffffffu;
+  r.mask = mask;
   r.flags = 0;
   r.time = 0;
   rtcOccluded1(top_, &ctx, &r);

@@ -10,6 +10,7 @@
 #include <vector>
 #include "core/math.h"
 #include "scene/mesh.h"
+#include "scene/ray_visibility.h"
 
 namespace rdv {
 
@@ -37,10 +38,17 @@ class EmbreeAccel {
 
   // Real surfaces only.
   bool intersect(const Ray &ray, RawHit &hit) const { return intersect(top_, ray, hit); }
-  bool occluded(Vec3 o, Vec3 d, float tmax) const;
+  // mask: the kinds of ray (scene/ray_visibility.h) the query stands for.
+  bool occluded(Vec3 o, Vec3 d, float tmax, uint32_t mask) const;
   // Medium boundaries only.
   bool has_boundaries() const { return boundary_top_ != nullptr; }
-  bool intersect_boundary(const Ray &ray, RawHit &hit) const { return intersect(boundary_top_, ray, hit); }
+  // Medium boundaries only, met by rays of every kind (a ray that passes a volume's
+  // object still enters and leaves its medium).
+  bool intersect_boundary(const Ray &ray, RawHit &hit) const {
+    Ray any = ray;
+    any.mask = visibility::kAnyRay;
+    return intersect(boundary_top_, any, hit);
+  }
   size_t memory_bytes() const { return memory_.load(); }
 
  private:

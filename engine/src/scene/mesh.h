@@ -55,6 +55,8 @@ struct Instance {
   // Object > Visibility > Holdout: a hole in the alpha where the camera sees it, and
   // nothing else there; shaded as usual for every other ray (integrators/film_alpha.h).
   bool holdout = false;
+  // Object > Visibility > Ray Visibility: the kinds of ray that see it (scene/ray_visibility.h).
+  uint32_t visibility = 63;
 };
 
 }  // namespace rdv

@@ -380,7 +380,12 @@ void Scene::set_world(Params &params) {
       c = Color(1, 0, 1);
     }
   }
+  const uint32_t world_visibility = visibility::from_params(params);
+  if (!(world_visibility & visibility::kShadow))
+    warn(params.what() + ": 'visibility.shadow' is no world setting in Cycles 3.4 (the world has no shadow rays of "
+                         "its own); ignored");
   params.check_all_used();
+  world_visibility_ = world_visibility;
   environment_ = map;
   world_radiance_ = c * s;
   dirty_ = true;
@@ -422,11 +427,43 @@ void Scene::commit() {
     has_holdouts_ = has_holdouts_ || m.holdout;
   }
   for (const Instance &inst : instances_) has_holdouts_ = has_holdouts_ || (inst.enabled && inst.holdout);
+  find_ray_visibility();
   has_heterogeneous_media_ = false;
   for (const Medium &m : media_) has_heterogeneous_media_ = has_heterogeneous_media_ || m.is_heterogeneous();
   find_camera_media();
   find_light_media();
   dirty_ = false;
+}
+
+void Scene::find_ray_visibility() {
+  using namespace visibility;
+  has_ray_visibility_ = has_mixed_visibility_ = false;
+  ray_visibility_object_.clear();
+  mixed_visibility_object_.clear();
+  auto hidden = [&](const std::string &what) {
+    if (!has_ray_visibility_) ray_visibility_object_ = what;
+    has_ray_visibility_ = true;
+  };
+  auto mixed = [&](const std::string &what) {
+    hidden(what);
+    if (!has_mixed_visibility_) mixed_visibility_object_ = what;
+    has_mixed_visibility_ = true;
+  };
+  for (uint32_t i = 0; i < instances_.size(); ++i) {
+    const Instance &inst = instances_[i];
+    if (!inst.enabled || inst.visibility == kAll) continue;
+    const std::string what = "object '" + meshes_[inst.mesh].name + "' (instance " + std::to_string(i) + ")";
+    const uint32_t rest = inst.visibility & kNonCamera;
+    if (rest != 0 && rest != kNonCamera) mixed(what);
+    else hidden(what);
+  }
+  for (uint32_t i = 0; i < user_lights_.size(); ++i) {
+    const uint32_t v = user_lights_[i].visibility;
+    const std::string what = "light '" + user_light_names_[i] + "'";
+    if (!(v & kShadow)) mixed(what + " (casts no shadows)");
+    else if ((v & kNonCamera) != kNonCamera) hidden(what);
+  }
+  if (world_visibility_ != kAll) hidden("the world");
 }
 
 // Which media the camera starts in.
@@ -485,6 +522,7 @@ void Scene::build_lights() {
                                         inst.error_mixing);
       l.instance = i;
       l.prim = t;
+      l.visibility = inst.visibility;
       l.textured = !mat.textured_emission.empty();
       lights_.push_back(l);
       ++emissive_triangles_;
@@ -496,6 +534,8 @@ void Scene::build_lights() {
   } else if (!is_black(world_radiance_)) {
     lights_.push_back(make_background_light(world_radiance_));
   }
+  for (Light &l : lights_)
+    if (l.type == LightType::Background) l.visibility = world_visibility_ | visibility::kShadow;  // as Cycles: no world shadow setting
   hittable_lights_.clear();
   infinite_lights_.clear();
   std::vector<float> power;
@@ -707,8 +747,14 @@ float Scene::holdout_weight(const SurfaceHit &hit) const {
 
 void Scene::set_instance_params(uint32_t id, Params &params) {
   if (id >= instances_.size()) fail("instance " + std::to_string(id) + ": no such instance");
-  instances_[id].holdout = params.get_bool("holdout", false);
+  Instance &inst = instances_[id];
+  const bool holdout = params.get_bool("holdout", false);
+  const uint32_t v = visibility::parse(params.get_json("visibility"),
+                                       "object '" + meshes_[inst.mesh].name + "' (instance " + std::to_string(id) + ")");
   params.check_all_used();
+  inst.holdout = holdout;
+  if (v != inst.visibility) accel_.mark_instances_dirty();  // instance masks live in the top BVH
+  inst.visibility = v;
   dirty_ = true;
 }
 

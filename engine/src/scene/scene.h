@@ -14,6 +14,7 @@
 #include "scene/camera.h"
 #include "scene/embree_accel.h"
 #include "scene/mesh.h"
+#include "scene/ray_visibility.h"
 
 namespace rdv {
 
@@ -66,7 +67,7 @@ class Scene {
   void set_light(uint32_t id, Params &params);
   uint32_t add_instance(uint32_t mesh, const Transform &to_world);
   void set_instance_transform(uint32_t instance, const Transform &to_world);
-  // {"holdout": bool} (rdv_scene_set_instance_params).
+  // {"holdout": bool, "visibility": {...}} (rdv_scene_set_instance_params; scene/ray_visibility.h).
   void set_instance_params(uint32_t instance, Params &params);
   uint32_t add_light(const std::string &name, Params &params);
   void set_world(Params &params);
@@ -87,7 +88,11 @@ class Scene {
     if (found) surface_at(raw, hit);
     return found;
   }
-  bool occluded(Vec3 o, Vec3 d, float tmax) const { return accel_.occluded(o, d, tmax); }
+  // mask: the kinds of ray the query stands for (scene/ray_visibility.h); instances
+  // invisible to all of them do not block it.
+  bool occluded(Vec3 o, Vec3 d, float tmax, uint32_t mask = visibility::kAnyRay) const {
+    return accel_.occluded(o, d, tmax, mask);
+  }
   // What textures need at a hit: object / generated coordinates, named attributes, UV
   // tangents, and the footprint of a ray along dir that is `width` wide there.
   ShadingPoint shading_point(const SurfaceHit &hit, Vec3 dir = Vec3(0.0f), float width = 0) const;
@@ -134,6 +139,19 @@ class Scene {
   // What of the surface at hit is held out: 1 on a holdout instance, else its material's
   // Holdout closures' weight (0 for most).
   float holdout_weight(const SurfaceHit &hit) const;
+  // ---- Ray visibility (scene/ray_visibility.h). has_ray_visibility: some instance, light
+  // or the world is hidden from some kind of ray beyond what lamps hide from the camera
+  // by default, so integrators classify their rays. has_mixed_visibility: some instance
+  // is seen by some but not all kinds of ray after a scattering or by shadow rays, or a
+  // lamp casts no shadows: then a ray of one kind passes what another meets, which paths
+  // traced from the lights cannot follow (integrators/path, bdpt say what they do).
+  bool has_ray_visibility() const { return has_ray_visibility_; }
+  bool has_mixed_visibility() const { return has_mixed_visibility_; }
+  uint32_t instance_visibility(uint32_t instance) const { return instances_[instance].visibility; }
+  // The first object (or light, or the world) hidden from some kind of ray, and the first
+  // whose visibility is mixed, for messages; "" if none.
+  const std::string &ray_visibility_object() const { return ray_visibility_object_; }
+  const std::string &mixed_visibility_object() const { return mixed_visibility_object_; }
   const std::vector<Light> &lights() const { return lights_; }
   // The light an emissive triangle is, for MIS when a path hits it.
   uint32_t triangle_light(uint32_t instance, uint32_t prim) const {
@@ -145,15 +163,15 @@ class Scene {
   const std::vector<uint32_t> &hittable_lights() const { return hittable_lights_; }
   const std::vector<uint32_t> &infinite_lights() const { return infinite_lights_; }
   // The nearest lamp (disk, rectangle) along the ray before tmax, or -1; lamps hidden
-  // from the camera are skipped for camera rays, and `skip` (the lamp the ray just
-  // passed). Sets tmax to its distance and L to its radiance. Disks face `facing` (the
+  // from the ray's kind (ray.mask; camera rays see lamps only when asked) are skipped,
+  // and `skip` (the lamp the ray just passed). Sets tmax to its distance and L to its radiance. Disks face `facing` (the
   // vertex the ray left). Lamps are transparent, as in Cycles 3.4 (shade_light goes on
   // through them): a path that meets one adds its radiance and carries on to what lies
   // behind it from the lamp's point (LampCrossing), and shadow rays ignore lamps.
-  int nearest_lamp(const Ray &ray, Vec3 facing, int skip, bool camera_ray, float &tmax, Color &L) const {
+  int nearest_lamp(const Ray &ray, Vec3 facing, int skip, float &tmax, Color &L) const {
     int lamp = -1;
     for (uint32_t li : hittable_lights_) {
-      if ((camera_ray && !lights_[li].visible_camera) || int(li) == skip) continue;
+      if (!(lights_[li].visibility & ray.mask) || int(li) == skip) continue;
       float t;
       Color Le;
       if (intersect_light(lights_[li], ray, facing, tmax, t, Le)) { tmax = t; lamp = int(li); L = Le; }
@@ -201,6 +219,7 @@ class Scene {
   int world_medium_ = -1;
   std::vector<int> camera_media_;
   void find_camera_media();
+  void find_ray_visibility();
   struct LightMedia {
     bool fixed = false;
     std::vector<int> media;
@@ -217,6 +236,9 @@ class Scene {
   std::shared_ptr<EnvironmentMap> environment_;  // world HDRI, or null
   bool has_transparency_ = false;
   bool has_holdouts_ = false;
+  uint32_t world_visibility_ = visibility::kAll;
+  bool has_ray_visibility_ = false, has_mixed_visibility_ = false;  // derived by commit()
+  std::string ray_visibility_object_, mixed_visibility_object_;
   bool has_heterogeneous_media_ = false;  // derived by commit()
   Camera camera_;
   bool has_camera_ = false;

@@ -42,6 +42,10 @@ struct Scattering {
 // connect() knows them from its own evaluations; the MIS weight only reads them.
 struct ConnectionDensities {
   float pt_rev = 0, pt_minus_rev = 0, qs_rev = 0, qs_minus_rev = 0;
+  // Ray visibility, next-event estimation (s = 1) in a scene with mixed visibility: the
+  // camera path could not have found the light (something visible to its kind lies
+  // between), so s = 0 is no strategy for this path.
+  bool s0_impossible = false;
 };
 
 // The MIS sums of a subpath's far end (Veach 1997, sec. 10.2, as running sums): for
@@ -55,7 +59,15 @@ void set_mis_sum(PathVertex *path, int k, bool delta_before, bool balance);
 
 class Bdpt final : public TileIntegrator {
  public:
-  Bdpt(const Scene &scene, const BdptSettings &settings) : scene_(scene), settings_(settings) {}
+  Bdpt(const Scene &scene, const BdptSettings &settings)
+      : scene_(scene), settings_(settings), camera_side_only_(scene.has_mixed_visibility()) {}
+  // Ray visibility that some kinds of ray after a scattering see and others do not
+  // (Scene::has_mixed_visibility): a ray traced from a light cannot know which kind of
+  // scattering will take up the path it reaches, so light subpaths cannot follow such
+  // visibility. Then only the strategies of the camera subpath run (s = 0 and s = 1: path
+  // tracing with next-event estimation), MIS-weighted between the two alone, in BDPT and
+  // in the Metropolis integrators built on it.
+  bool camera_side_only() const { return camera_side_only_; }
   Color Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
            std::vector<Splat> &splats) const override;
 
@@ -112,7 +124,8 @@ class Bdpt final : public TileIntegrator {
   template <bool kMedia>
   int random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, float pdf, int max_vertices,
                   TransportMode mode, PathVertex *path, Color *emitted, RayCone cone = {}) const;
-  Color lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathVertex *path, int n, float pdf_dir) const;
+  Color lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathVertex *path, int n, float pdf_dir,
+                      RayStats &stats) const;
   void gather_volume_emission(const Medium &medium, const Ray &ray, float tmax, SampleRun &rng, Color beta,
                               PathVertex *path, int n, float pdf_dir, Color &emitted) const;
   // Densities (mis.cpp), area measure at the receiving vertex.
@@ -136,15 +149,23 @@ class Bdpt final : public TileIntegrator {
                    ScatterKind kl) const;
   // Vertex helpers (connect.cpp).
   Scattering scatter(const PathVertex &v, Vec3 wi, TransportMode mode) const;
-  Color Le(const PathVertex &v, const PathVertex &toward) const;
+  // Scenes with mixed visibility: the last segment of the path is tested against what
+  // casts each light's shadows (integrators/visibility_clear.h), counting rays in stats.
+  Color Le(const PathVertex &v, const PathVertex &toward, RayStats &stats) const;
+  // Ray visibility: whether the light a light subpath of s >= 2 vertices starts at is
+  // visible to the kind of scattering at light_path[1], whose next direction is `wi`
+  // when s == 2 (else toward light_path[2]).
+  bool light_start_visible(const PathVertex *light_path, int s, Vec3 wi) const;
   // Visibility (0 or 1) or, with media, transmittance from a to b, its estimators
   // drawing at `position` of `stream` (the connection's own dimensions).
+  // mask: the kinds of ray the connection stands for (scene/ray_visibility.h).
   template <bool kMedia>
   Color transmittance(const PathVertex &a, const PathVertex &b, Sampler &sampler, SampleStream stream,
-                      uint32_t position, RayStats &stats) const;
+                      uint32_t position, RayStats &stats, uint32_t mask) const;
 
   const Scene &scene_;
   BdptSettings settings_;
+  bool camera_side_only_ = false;
 };
 
 }  // namespace rdv::bdpt

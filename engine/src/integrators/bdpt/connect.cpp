@@ -5,6 +5,7 @@
 #include "media/medium_stack.h"
 #include "samplers/dimension_layout.h"
 #include "integrators/bdpt/bdpt.h"
+#include "integrators/visibility_clear.h"
 
 namespace rdv::bdpt {
 
@@ -24,28 +25,44 @@ Scattering Bdpt::scatter(const PathVertex &v, Vec3 wi, TransportMode mode) const
   return sc;
 }
 
-// Radiance a light vertex (or an emissive surface) sends toward `toward`.
-Color Bdpt::Le(const PathVertex &v, const PathVertex &toward) const {
+// Radiance a light vertex (or an emissive surface) sends toward `toward`, a camera-path
+// vertex (its out_mask: the kind of ray that found v).
+Color Bdpt::Le(const PathVertex &v, const PathVertex &toward, RayStats &stats) const {
   if (!v.is_light()) return Color(0.0f);
-  bool seen_by_camera = toward.type == VertexType::Camera;
+  // Mixed visibility: the segment from a scattering vertex is blocked by shadow casters.
+  const bool test_shadows = camera_side_only_ && toward.type != VertexType::Camera;
   if (v.infinite) {
     // The world seen through a transparent film is not there (film_alpha.h).
     const bool transparent_world = v.see_through && settings_.alpha.film_transparent;
+    const ShadowRay s = shadow_ray_to_infinity(toward.p, toward.ng, toward.error, v.dir);
     Color L(0.0f);
     for (uint32_t li : scene_.infinite_lights()) {
       const Light &light = scene_.lights()[li];
-      if (seen_by_camera && !light.visible_camera) continue;
+      if (!(light.visibility & toward.out_mask)) continue;  // camera rays: suns are not seen
       if (transparent_world && light.type == LightType::Background) continue;
+      if (test_shadows && !visibility_clear(scene_, s, light.occluders(), false, stats.rays)) continue;
       L += infinite_light_radiance(light, v.dir);
     }
     return L;
   }
+  if (test_shadows && v.light >= 0 &&
+      !visibility_clear(scene_, shadow_ray(toward.p, toward.ng, toward.error, v.p, v.ng, v.error),
+                        scene_.lights()[v.light].occluders(), false, stats.rays))
+    return Color(0.0f);
   return v.emitted;  // lamps, and emissive surfaces (both sides; textures evaluated at the hit)
+}
+
+bool Bdpt::light_start_visible(const PathVertex *light_path, int s, Vec3 wi) const {
+  if (!scene_.has_ray_visibility() || s < 2 || light_path[0].light < 0) return true;
+  const uint32_t v = scene_.lights()[light_path[0].light].visibility;
+  if ((v & visibility::kNonCamera) == visibility::kNonCamera) return true;
+  if (s >= 3) wi = -light_path[2].wo;
+  return v & visibility::after(kind_toward(light_path[1], wi));
 }
 
 template <bool kMedia>
 Color Bdpt::transmittance(const PathVertex &a, const PathVertex &b, Sampler &sampler, SampleStream stream,
-                          uint32_t position, RayStats &stats) const {
+                          uint32_t position, RayStats &stats, uint32_t mask) const {
   Vec3 d = b.p - a.p;
   float dist = length(d);
   if (!(dist > 0)) return Color(0.0f);
@@ -54,10 +71,10 @@ Color Bdpt::transmittance(const PathVertex &a, const PathVertex &b, Sampler &sam
   ShadowRay shadow = shadow_ray(a.p, a.ng, a.error, b.p, b.ng, b.error);
   if constexpr (kMedia) {
     SampleRun run(sampler, stream, position, dims::kMediumRun);
-    return medium_transmittance(scene_, shadow, a.media_toward(scene_, d), stats.rays, run);
+    return medium_transmittance(scene_, shadow, a.media_toward(scene_, d), stats.rays, run, false, nullptr, mask);
   } else {
     ++stats.rays;
-    return scene_.occluded(shadow.o, shadow.d, shadow.tmax) ? Color(0.0f) : Color(1.0f);
+    return scene_.occluded(shadow.o, shadow.d, shadow.tmax, mask) ? Color(0.0f) : Color(1.0f);
   }
 }
 
@@ -69,13 +86,14 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
   // s = 0 needs a camera path that ended on an emitter; one that ended on a lamp (or
   // the world) counts only as s = 0.
   if (s == 0 ? !pt.is_light() : t > 1 && pt.type == VertexType::Light) return L;
+  if (camera_side_only_ && s >= 2) return L;  // light subpaths cannot follow mixed visibility
   PathVertex sampled;
   ConnectionDensities densities;
   const LightPathLimits &limits = settings_.limits;
   constexpr ScatterKind kNone = ScatterKind::Transparent;
   if (s == 0) {
     if (limits.classify && !limits_keep(light_path, camera_path, 0, t, kNone, kNone)) return L;
-    L = Le(pt, camera_path[t - 2]) * pt.beta;
+    L = Le(pt, camera_path[t - 2], stats) * pt.beta;
     if (!is_black(L) && t > 2) {
       light_densities(pt, camera_path[t - 2], densities.pt_rev, densities.pt_minus_rev);
     }
@@ -84,12 +102,14 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     PathVertex &qs = light_path[s - 1];
     if (!qs.connectible(scene_) || (qs.type != VertexType::Surface && qs.type != VertexType::Medium)) return L;
     if (qs.holdout >= 1) return L;  // a holdout object seen by the camera is not there (film_alpha.h)
+    if (!(qs.visibility & visibility::kCamera)) return L;  // hidden from the camera
     const Camera &camera = scene_.camera();
     Camera::ImportanceSample is;
     sampler.start_stream(SampleStream::Lens, dims::lens(uint32_t(s) - 1, dims::kLensPoint));
     Vec2 u = sampler.get_2d();
     if (!camera.can_be_connected() || !camera.sample_importance(qs.p, u, is) || !(is.pdf > 0)) return L;
     if (limits.classify && !limits_keep(light_path, camera_path, s, 1, kNone, kind_toward(qs, is.wi))) return L;
+    if (!light_start_visible(light_path, s, is.wi)) return L;
     sampled.type = VertexType::Camera;
     sampled.p = is.lens_point;
     sampled.ng = sampled.ns = camera.forward();
@@ -101,7 +121,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     if (qs.on_surface()) L *= absdot(is.wi, qs.ns);
     if (!is_black(L))
       L *= transmittance<kMedia>(qs, sampled, sampler, SampleStream::Lens, dims::lens(uint32_t(s) - 1, dims::kLensMedia),
-                                 stats);
+                                 stats, visibility::kCamera);
     *raster = is.raster;
     densities.pt_rev = qs.convert_density(sq.pdf_fwd, sampled);
     densities.qs_rev = sampled.convert_density(is.pdf_dir, qs);
@@ -137,6 +157,12 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     }
     if (limits.classify && !limits_keep(light_path, camera_path, 1, t, kind_toward(pt, direction_to(pt, sampled)), kNone))
       return L;
+    // Ray visibility: the light must be visible to the kind of the scattering toward it.
+    uint32_t kind = visibility::kAnyRay;
+    if (scene_.has_ray_visibility()) {
+      kind = visibility::after(kind_toward(pt, direction_to(pt, sampled)));
+      if (!(light.visibility & kind)) return L;
+    }
     if (connection_dir) *connection_dir = direction_to(pt, sampled);
     light_densities(sampled, pt, sampled.pdf_fwd, densities.pt_rev);
     Scattering sp = scatter(pt, direction_to(pt, sampled), TransportMode::Radiance);
@@ -150,12 +176,15 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
       if constexpr (kMedia) {
         MediumStack end;
         SampleRun run(sampler, SampleStream::LightPoint, dims::next_event(vertex, dims::kNeeMedia), dims::kMediumRun);
-        L *= medium_transmittance(scene_, shadow, pt.media_toward(scene_, ls.wi), stats.rays, run, false, &end);
+        L *= medium_transmittance(scene_, shadow, pt.media_toward(scene_, ls.wi), stats.rays, run, false, &end,
+                                  light.occluders());
         if (ls.medium >= 0 && !is_black(L) && end.current(scene_) != ls.medium) L = Color(0.0f);  // outside its medium
-      } else {
+      } else if (light.occluders()) {
         ++stats.rays;
-        if (scene_.occluded(shadow.o, shadow.d, shadow.tmax)) L = Color(0.0f);
+        if (scene_.occluded(shadow.o, shadow.d, shadow.tmax, light.occluders())) L = Color(0.0f);
       }
+      // Mixed visibility: could the camera path have found the light along this segment?
+      if (camera_side_only_ && !is_black(L)) densities.s0_impossible = !visibility_clear(scene_, shadow, kind, false, stats.rays);
     }
   } else {
     // Both ends are surface or medium vertices (finite points).
@@ -165,6 +194,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     if (connection_dir) *connection_dir = -dir;
     if (limits.classify && !limits_keep(light_path, camera_path, s, t, kind_toward(pt, -dir), kind_toward(qs, dir)))
       return L;
+    if (!light_start_visible(light_path, s, dir)) return L;
     Scattering sq = scatter(qs, dir, TransportMode::Importance);
     if (is_black(sq.f)) return L;  // nothing to trace a shadow ray for
     Scattering sp = scatter(pt, -dir, TransportMode::Radiance);
@@ -180,8 +210,10 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     if (qs.on_surface()) { g *= absdot(qs.ns, d); cos_qs = absdot(qs.ng, d); }
     if (pt.on_surface()) { g *= absdot(pt.ns, d); cos_pt = absdot(pt.ng, d); }
     if (!(g > 0)) return Color(0.0f);
+    // Without mixed visibility every instance is seen by all kinds after a scattering or
+    // by none: one mask stands for them.
     L *= transmittance<kMedia>(qs, pt, sampler, SampleStream::Connection, dims::connection(uint32_t(s), uint32_t(t)),
-                               stats) * g;
+                               stats, visibility::kNonCamera) * g;
     if (is_black(L)) return L;
     densities.pt_rev = sq.pdf_fwd * cos_pt * inv_d2;  // qs.convert_density(sq.pdf_fwd, pt)
     densities.pt_minus_rev = pt.to_prev_density(sp.pdf_rev);

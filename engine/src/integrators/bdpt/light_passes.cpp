@@ -83,7 +83,7 @@ Color Bdpt::background_share(const PathVertex &v) const {
   Color background(0.0f), all(0.0f);
   for (uint32_t li : scene_.infinite_lights()) {
     const Light &light = scene_.lights()[li];
-    if (!light.visible_camera || (transparent_world && light.type == LightType::Background)) continue;
+    if (!light.visible_camera() || (transparent_world && light.type == LightType::Background)) continue;
     const Color Le = infinite_light_radiance(light, v.dir);
     all += Le;
     if (light.type == LightType::Background) background += Le;

@@ -99,10 +99,19 @@ float Bdpt::light_tracing_share(const PathVertex *light_path, int s) const {
 float Bdpt::mis_weight(const PathVertex *light_path, const PathVertex *camera_path, const PathVertex &sampled, int s,
                        int t, const ConnectionDensities &c) const {
   if (s + t == 2) return 1.0f;
-  if (settings_.mis == MisHeuristic::LafortuneWillems)
-    return lafortune_willems_weight(light_path, camera_path, s == 1 ? sampled : light_path[0], s, t);
   const bool balance = this->balance();
   auto power = [balance](double r) { return balance ? r : r * r; };
+  if (camera_side_only_) {
+    // Only s = 0 and s = 1 run (camera_side_only): each is the other's one rival, when
+    // it can make the path (not past a delta vertex or from a delta light, nor, for s =
+    // 1, where the camera path could not have found the light).
+    double sum = 0;
+    if (s == 0 && !camera_path[t - 2].delta) sum = power(ratio(c.pt_rev, camera_path[t - 1]));
+    if (s == 1 && !c.s0_impossible && !light_start_is_delta(sampled)) sum = power(ratio(c.qs_rev, sampled));
+    return sum < HUGE_VAL ? float(1.0 / (1.0 + sum)) : 0.0f;
+  }
+  if (settings_.mis == MisHeuristic::LafortuneWillems)
+    return lafortune_willems_weight(light_path, camera_path, s == 1 ? sampled : light_path[0], s, t);
   // Nothing is copied or modified: the densities this strategy changes are overrides
   // (c), read for the two vertices nearest the connection on each side; the strategies
   // further down each subpath are summed once per subpath (mis_sum). The connection

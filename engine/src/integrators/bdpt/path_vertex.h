@@ -57,6 +57,10 @@ struct PathVertex {
   float holdout = 0;  // scenes with holdouts: what of this surface is held out (Scene::holdout_weight)
   bool caustics_ok = true;
   BounceCounts counts;
+  // Ray visibility (scene/ray_visibility.h): a surface's instance's bits (scenes with ray
+  // visibility), and on camera subpaths the kind of the ray that left the vertex.
+  uint32_t visibility = visibility::kAll;
+  uint32_t out_mask = visibility::kAnyRay;
 
   // The media a connection leaving this vertex along w starts in: surfaces that w
   // goes through (transmission) hand over to the medium on the other side.

@@ -3,6 +3,7 @@
 // before it (pbrt-v3's RandomWalk), plus Russian roulette.
 #include "core/ray_offset.h"
 #include "integrators/bdpt/bdpt.h"
+#include "integrators/visibility_clear.h"
 #include "media/emission_gather.h"
 #include "samplers/dimension_layout.h"
 
@@ -75,6 +76,14 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
   const bool classify = settings_.limits.classify;
   // Transparent film: whether the camera still sees through (film_alpha.h).
   bool see_through = camera && settings_.alpha.tracked();
+  // Ray visibility (scene/ray_visibility.h): camera paths trace each ray as the kind of
+  // the scattering it leaves; light paths as any kind after a scattering (without mixed
+  // visibility every instance is seen by all of them or by none).
+  const bool classify_rays = scene_.has_ray_visibility();
+  const bool instance_bits = classify_rays;
+  auto ray_kind = [&](ScatterKind kind) {
+    return !camera ? visibility::kNonCamera : classify_rays ? visibility::after(kind) : visibility::kAnyRay;
+  };
   auto limits_end_walk = [&](Vec3 wi) {
     if (record_kind(path, n, wi, camera)) return false;
     if (camera) max_vertices = std::min(max_vertices, n + 1);
@@ -104,7 +113,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     // lamps neither reflect nor block).
     Color lamp_L;
     int lamp = mode == TransportMode::Radiance && emitted
-                   ? scene_.nearest_lamp(ray, lamp_facing, lamp_passed, n == 0, tmax, lamp_L)
+                   ? scene_.nearest_lamp(ray, lamp_facing, lamp_passed, tmax, lamp_L)
                    : -1;
     if constexpr (kMedia) {
       int m = media.current(scene_);
@@ -139,7 +148,8 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
           if (classify && limits_end_walk(wi)) return n;
           prev.pdf_rev = v.to_prev_density(pdf_fwd);
           if (mode == TransportMode::Radiance && n >= 2) set_mis_sum(path, n - 1, path[n - 2].delta, balance());
-          ray = Ray{v.p, wi, kInf};
+          ray = Ray{v.p, wi, kInf, ray_kind(ScatterKind::Volume)};
+          v.out_mask = ray.mask;
           lamp_facing = ray.o;
           lamp_passed = -1;
           if (mode == TransportMode::Radiance) cone = cone.after(ms.t).scattered(kRoughConeSpread);
@@ -151,11 +161,11 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     if (lamp >= 0) {
       // The path that ends on the lamp (s = 0), weighted here; the walk goes on past it.
       Vec3 q = ray.o + ray.d * tmax;
-      emitted[n] += lamp_emission(lamp, q, -ray.d, lamp_L, beta, path, n, pdf_fwd);
+      emitted[n] += lamp_emission(lamp, q, -ray.d, lamp_L, beta, path, n, pdf_fwd, stats);
       if (++boundary_crossings > 256) return n;
       ++crossings;
       cone = cone.after(tmax);
-      ray = Ray{q, ray.d, kInf};
+      ray = Ray{q, ray.d, kInf, ray.mask};
       lamp_passed = lamp;
       continue;
     }
@@ -178,7 +188,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     if constexpr (kMedia) {
       if (scene_.is_boundary_only(hit.material)) {  // an index-matched boundary: no vertex
         media.cross(scene_, hit, boundary, ray.d);
-        ray = Ray{spawn_origin(hit.p, hit.ng, hit.error, ray.d), ray.d, kInf};
+        ray = Ray{spawn_origin(hit.p, hit.ng, hit.error, ray.d), ray.d, kInf, ray.mask};
         lamp_facing = ray.o;
         lamp_passed = -1;
         if (++boundary_crossings > 256) return n;
@@ -191,6 +201,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     v.beta = beta;
     v.see_through = see_through;
     if (settings_.alpha.holdouts) v.holdout = scene_.holdout_weight(hit);
+    if (instance_bits) v.visibility = scene_.instance_visibility(hit.instance);
     v.bsdf = scene_.bsdf(hit, v.wo, cone.width_at(hit.t), &v.emitted);
     cone = cone.after(hit.t);
     if (material.emits()) v.light = int(scene_.triangle_light(hit.instance, hit.prim));
@@ -229,7 +240,12 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     if constexpr (kMedia) {
       if (dot(bs.wi, hit.ng) * dot(ray.d, hit.ng) > 0) media.cross(scene_, hit, boundary, bs.wi);  // refracted through
     }
-    ray = Ray{spawn_origin(hit.p, hit.ng, hit.error, bs.wi), bs.wi, kInf};
+    // A pass through a transparent surface keeps the ray's kind.
+    ray = Ray{spawn_origin(hit.p, hit.ng, hit.error, bs.wi), bs.wi, kInf,
+              bs.pass_through                ? ray.mask
+              : camera && classify_rays ? ray_kind(v.bsdf.scatter_kind(v.wo, bs.wi))
+                                        : ray_kind(ScatterKind::Transparent)};
+    v.out_mask = ray.mask;
     lamp_facing = ray.o;
     lamp_passed = -1;
     // Camera paths: wider after a rough bounce, as in the path tracer. Light paths
@@ -247,7 +263,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
 // lamp point stands in for the next vertex while its weight is computed; the walk then
 // goes on through the lamp, so the vertex is overwritten.
 Color Bdpt::lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathVertex *path, int n,
-                          float pdf_dir) const {
+                          float pdf_dir, RayStats &stats) const {
   const Light &light = scene_.lights()[lamp];
   const PathVertex &prev = path[n];
   PathVertex &point = fresh_vertex(path[n + 1]);
@@ -261,6 +277,10 @@ Color Bdpt::lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathV
   point.pdf_fwd = prev.convert_density(pdf_dir, point);
   Color c = beta * Le;
   if (n == 0) return c;  // seen straight from the camera: s = 0, t = 2 is the only strategy
+  // Mixed visibility: the segment from the scattering vertex is blocked by shadow casters.
+  if (camera_side_only_ && !visibility_clear(scene_, shadow_ray(prev.p, prev.ng, prev.error, q, Vec3(0.0f), Vec3(0.0f)),
+                                             light.occluders(), false, stats.rays))
+    return Color(0.0f);
   const LightPathLimits &limits = settings_.limits;
   if (limits.classify && !limits_keep(path, path, 0, n + 2, ScatterKind::Transparent, ScatterKind::Transparent))
     return Color(0.0f);
@@ -319,7 +339,9 @@ int Bdpt::camera_subpath(const CameraRay &cr, Sampler &sampler, RayStats &stats,
   v.delta = pdf_dir == 0;
   if (pdf_dir == 0) pdf_dir = 1;
   int walk = max_vertices >= 0 ? max_vertices - 1 : settings_.max_bounces + 1;
-  return 1 + random_walk<kMedia>(cr.ray, sampler, stats, Color(1.0f), pdf_dir, walk, TransportMode::Radiance, path,
+  Ray ray = cr.ray;
+  ray.mask = v.out_mask = visibility::kCamera;  // camera rays see what is visible to the camera
+  return 1 + random_walk<kMedia>(ray, sampler, stats, Color(1.0f), pdf_dir, walk, TransportMode::Radiance, path,
                                  emitted, cr.cone);
 }
 
@@ -341,6 +363,7 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int
   if (!(es.pdf_pos > 0) || !(es.pdf_dir > 0) || is_black(es.Le)) return 0;
   // Emissive triangles are in the BVH: leave them as any surface is left.
   Ray ray = es.ray;
+  ray.mask = visibility::kNonCamera;
   if (light.type == LightType::Triangle) ray.o = spawn_origin(ray.o, light.axis, light.error, ray.d);
   PathVertex &v = path[0];
   fresh_vertex(v);

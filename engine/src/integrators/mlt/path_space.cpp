@@ -405,7 +405,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     if (y.x[size_t(i)].v.type == VertexType::Camera || y.x[size_t(i)].v.type == VertexType::Light) return;
   const Light &light = scene_.lights()[size_t(last.v.light)];
   const bool lamp = light.type != LightType::Triangle;  // not in the BVH: no walk reaches it
-  if (n == 2 && lamp && !light.visible_camera) return;  // Cycles never shows lamps to the camera
+  if (n == 2 && lamp && !light.visible_camera()) return;  // Cycles never shows lamps to the camera
 
   // The camera: We = 1 / (A cos^4) (pbrt's pinhole) for a raster point in the sample region.
   const Camera &camera = scene_.camera();

@@ -2,11 +2,13 @@
 #include "bsdfs/transparency.h"
 #include "core/ray_offset.h"
 #include "core/sampling.h"
+#include "integrators/visibility_clear.h"
 #include "media/emission_gather.h"
 #include "media/medium_stack.h"
 #include "samplers/dimension_layout.h"
 
 namespace rdv {
+
 
 // Next-event estimation: one light chosen by power, one point on it, MIS-weighted
 // against the scattering function having sampled the same direction.
@@ -16,10 +18,16 @@ namespace rdv {
 // With media, the shadow ray carries transmittance through media and index-matched
 // boundaries; without, it is a plain occlusion query.
 // vertex: the path vertex p is (its next-event block, samplers/dimension_layout.h).
-template <bool kMedia, class Scatter, class MediaToward>
+// kind_toward(wi): the kind of ray (scene/ray_visibility.h) the scattering toward wi
+// sends, asked only in scenes with ray visibility: a light hidden from it gives nothing.
+// The shadow ray is blocked by what the light's shadows are cast by (Light::occluders).
+// In scenes with mixed visibility, scattering toward the light could only have found it
+// if nothing visible to that kind lies between (visibility_clear): else this estimate
+// is the path's only one and takes all its weight.
+template <bool kMedia, class Scatter, class MediaToward, class KindToward>
 static Color sample_direct_light(const Scene &scene, uint32_t vertex, Vec3 p, Vec3 ng, Vec3 p_error,
-                                 const Scatter &scatter, const MediaToward &media_toward, Sampler &sampler,
-                                 RayStats &stats) {
+                                 const Scatter &scatter, const MediaToward &media_toward,
+                                 const KindToward &kind_toward, Sampler &sampler, RayStats &stats) {
   sampler.start_stream(SampleStream::LightPoint, dims::next_event(vertex, dims::kNeeLightChoice));
   float u_light = sampler.get_1d();
   Vec2 u = sampler.get_2d();
@@ -33,24 +41,30 @@ static Color sample_direct_light(const Scene &scene, uint32_t vertex, Vec3 p, Ve
     u_volume = dims::volume_point(sampler, SampleStream::LightPoint, dims::next_event(vertex, dims::kNeeVolumePoint));
   LightSample ls;
   if (!scene.sample_light(index, p, u, u_volume, ls) || !(ls.pdf > 0)) return Color(0.0f);
+  uint32_t kind = visibility::kAnyRay;
+  if (scene.has_ray_visibility()) {
+    kind = kind_toward(ls.wi);
+    if (!(light.visibility & kind)) return Color(0.0f);
+  }
   float scatter_pdf;
   Color f = scatter(ls.wi, &scatter_pdf);
   if (is_black(f)) return Color(0.0f);
   Color tr(1.0f);
   ShadowRay shadow = std::isinf(ls.dist) ? shadow_ray_to_infinity(p, ng, p_error, ls.wi)
                                          : shadow_ray(p, ng, p_error, ls.p, ls.n, ls.error);
+  const uint32_t occluders = light.occluders();
   if constexpr (kMedia) {
     SampleRun run(sampler, SampleStream::LightPoint, dims::next_event(vertex, dims::kNeeMedia), dims::kMediumRun);
     MediumStack end;
-    tr = medium_transmittance(scene, shadow, media_toward(ls.wi), stats.rays, run, true, &end);
+    tr = medium_transmittance(scene, shadow, media_toward(ls.wi), stats.rays, run, true, &end, occluders);
     if (is_black(tr)) return Color(0.0f);
     if (ls.medium >= 0 && end.current(scene) != ls.medium) return Color(0.0f);  // outside the emitting medium
-  } else {
+  } else if (occluders) {
     ++stats.rays;
-    if (scene.occluded(shadow.o, shadow.d, shadow.tmax)) {
+    if (scene.occluded(shadow.o, shadow.d, shadow.tmax, occluders)) {
       // Transparent shadows (alpha, Transparent BSDF): look through what blocked the ray.
       if (!scene.has_transparency()) return Color(0.0f);
-      tr = transparent_shadow(scene, shadow.o, shadow.d, shadow.tmax, stats.rays);
+      tr = transparent_shadow(scene, shadow.o, shadow.d, shadow.tmax, stats.rays, occluders);
       if (is_black(tr)) return Color(0.0f);
     }
   }
@@ -58,7 +72,9 @@ static Color sample_direct_light(const Scene &scene, uint32_t vertex, Vec3 p, Ve
   // Volume lights: camera paths gather their emission at 1 / emission_step points per
   // unit length along the sampled direction (media/emission_gather.h).
   if (light.type == LightType::Volume) scatter_pdf /= light.volume->medium().emission_step;
-  float weight = light.is_delta() ? 1.0f : power_heuristic(light_pdf, scatter_pdf);
+  const bool scattering_finds_it =
+      !scene.has_mixed_visibility() || visibility_clear(scene, shadow, kind, true, stats.rays);
+  float weight = light.is_delta() || !scattering_finds_it ? 1.0f : power_heuristic(light_pdf, scatter_pdf);
   return f * ls.L * tr * (weight / light_pdf);
 }
 
@@ -73,10 +89,18 @@ template <bool kMedia>
 Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit) const {
   Color L(0.0f), beta(1.0f);
   Ray ray = camera_ray.ray;
+  ray.mask = visibility::kCamera;  // camera rays see what is visible to the camera
   RayCone cone = camera_ray.cone;  // the footprint, for filtered texture lookups
   bool specular_bounce = true;  // camera rays count as specular: no MIS on what they see
   float prev_pdf = 0;
   Vec3 prev_p = ray.o;
+  // Ray visibility (scene/ray_visibility.h): rays leaving a scattering of a kind meet only
+  // what is visible to it. With mixed visibility the last segment of a path to a light
+  // is blocked by what casts that light's shadows, as next-event estimation's is:
+  // emission found by scattering counts only when that segment is clear too.
+  const bool classify_rays = scene_.has_ray_visibility();
+  const bool mixed = scene_.has_mixed_visibility();
+  Vec3 prev_ng(0.0f), prev_error(0.0f);  // the last scattering vertex's surface (zero in a medium)
   const Distribution1D &dist = scene_.light_distribution();
   MediumStack stack;
   if constexpr (kMedia) stack = MediumStack::for_camera(scene_);
@@ -105,6 +129,10 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     dims::SegmentDims d = layer_passed ? segment_dims(offset)
                                        : dims::SegmentDims{SampleStream::Camera, dims::bounce(uint32_t(segment_depth), offset)};
     sampler.start_stream(d.stream, d.position);
+  };
+  // Segments from the camera are not last segments from a scattering vertex.
+  auto shadows_allow = [&](const Light &light, const ShadowRay &s) {
+    return !mixed || segment_depth == 0 || visibility_clear(scene_, s, light.occluders(), true, stats.rays);
   };
 
   // MIS weight for emission found by BSDF sampling, given that light's solid-angle pdf.
@@ -163,7 +191,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
 
     // Analytic lights (disks, rectangles) in front of the surface.
     Color light_L;
-    int hit_light = scene_.nearest_lamp(ray, lamp_facing, lamp_passed, depth == 0, tmax, light_L);
+    int hit_light = scene_.nearest_lamp(ray, lamp_facing, lamp_passed, tmax, light_L);
 
     if constexpr (kMedia) {
       int m = stack.current(scene_);
@@ -201,8 +229,9 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           };
           auto same_medium = [&](Vec3) { return stack; };
           if (passes && depth == 0) first_split = KindSplit::only(3);  // a volume scattering
+          auto scatter_kind = [](Vec3) { return visibility::after(ScatterKind::Volume); };
           add(beta * sample_direct_light<true>(scene_, uint32_t(depth) + 1, p, Vec3(0.0f), Vec3(0.0f), phase,
-                                               same_medium, sampler, stats),
+                                               same_medium, scatter_kind, sampler, stats),
               depth + 1);
           start_scatter(dims::kScatterDirection);
           Vec3 wi = medium.phase.sample(wo, sampler.get_2d());
@@ -210,8 +239,9 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           see_through = false;
           prev_pdf = medium.phase.pdf(wo, wi);
           prev_p = p;
+          prev_ng = prev_error = Vec3(0.0f);
           if (limits_.classify) count_bounce(ScatterKind::Volume);
-          new_ray(Ray{p, wi, kInf});
+          new_ray(Ray{p, wi, kInf, classify_rays ? visibility::after(ScatterKind::Volume) : visibility::kAnyRay});
           cone = cone.after(ms.t).scattered(kRoughConeSpread);
           if (!russian_roulette(depth) || is_black(beta)) break;
           continue;
@@ -221,13 +251,15 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
 
     if (hit_light >= 0) {
       Vec3 q = ray.o + ray.d * tmax;
-      float pdf = light_pdf(scene_.lights()[hit_light], prev_p, ray.d, length(q - prev_p));
-      add(beta * light_L * emission_weight(hit_light, pdf), depth);
+      const Light &lamp = scene_.lights()[hit_light];
+      float pdf = light_pdf(lamp, prev_p, ray.d, length(q - prev_p));
+      if (shadows_allow(lamp, shadow_ray(prev_p, prev_ng, prev_error, q, Vec3(0.0f), Vec3(0.0f))))
+        add(beta * light_L * emission_weight(hit_light, pdf), depth);
       // Not a bounce: on from the lamp's point to what lies behind it.
       if (++boundary_crossings > 256) break;
       ++crossings;
       cone = cone.after(tmax);
-      ray = Ray{q, ray.d, kInf};
+      ray = Ray{q, ray.d, kInf, ray.mask};
       lamp_passed = hit_light;
       --depth;
       continue;
@@ -238,8 +270,9 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       if (transparent_world) transparency += average(beta);
       for (uint32_t li : scene_.infinite_lights()) {  // the world, beyond clip_end too
         const Light &light = scene_.lights()[li];
-        if (depth == 0 && !light.visible_camera) continue;
+        if (!(light.visibility & ray.mask)) continue;  // camera rays: suns are not seen, the world is unless hidden
         if (transparent_world && light.type == LightType::Background) continue;
+        if (!shadows_allow(light, shadow_ray_to_infinity(prev_p, prev_ng, prev_error, ray.d))) continue;
         Color Le = infinite_light_radiance(light, ray.d);
         if (!is_black(Le))
           add_to_passes(beta * Le * emission_weight(li, light_pdf(light, prev_p, ray.d, kInf)), depth,
@@ -252,7 +285,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       // An index-matched medium boundary: change medium and carry straight on.
       if (scene_.is_boundary_only(hit.material)) {
         stack.cross(scene_, hit, boundary, ray.d);
-        new_ray(Ray{spawn_origin(hit.p, hit.ng, hit.error, ray.d), ray.d, kInf});
+        new_ray(Ray{spawn_origin(hit.p, hit.ng, hit.error, ray.d), ray.d, kInf, ray.mask});
         cone = cone.after(hit.t);
         if (++boundary_crossings > 256) break;
         ++crossings;
@@ -278,8 +311,10 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     }
     if (material.emits()) {
       uint32_t li = scene_.triangle_light(hit.instance, hit.prim);
-      float pdf = light_pdf(scene_.lights()[li], prev_p, ray.d, length(hit.p - prev_p));
-      add(beta * Le * emission_weight(li, pdf), depth);
+      const Light &light = scene_.lights()[li];
+      float pdf = light_pdf(light, prev_p, ray.d, length(hit.p - prev_p));
+      if (shadows_allow(light, shadow_ray(prev_p, prev_ng, prev_error, hit.p, hit.ng, hit.error)))
+        add(beta * Le * emission_weight(li, pdf), depth);
     }
     if (depth == 0 && first_hit) {
       const Camera &cam = scene_.camera();
@@ -303,6 +338,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
         if (passes && depth == 0) first_split = bsdf.kind_split(wo, wi, false);
         return bsdf.eval_and_pdf(wo, wi, TransportMode::Radiance, *pdf);
       };
+      auto scatter_kind = [&](Vec3 wi) { return visibility::after(bsdf.scatter_kind(wo, wi)); };
       if constexpr (kMedia) {
         // The shadow ray starts in the medium on wi's side: reflection stays in the
         // current one, transmission crosses into the other.
@@ -312,12 +348,12 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           return s;
         };
         add(beta * sample_direct_light<true>(scene_, uint32_t(depth) + 1, hit.p, hit.ng, hit.error, surface,
-                                             media_toward, sampler, stats),
+                                             media_toward, scatter_kind, sampler, stats),
             depth + 1);
       } else {
         auto unused = [](Vec3) { return 0; };
         add(beta * sample_direct_light<false>(scene_, uint32_t(depth) + 1, hit.p, hit.ng, hit.error, surface, unused,
-                                              sampler, stats),
+                                              scatter_kind, sampler, stats),
             depth + 1);
       }
     }
@@ -333,7 +369,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       // Straight through a transparent surface: not a bounce, and the MIS state of the
       // last scattering vertex stays (transparent shadows give NEE the same paths).
       if constexpr (kMedia) stack.cross(scene_, hit, boundary, ray.d);
-      new_ray(Ray{spawn_origin(hit.p, hit.ng, hit.error, ray.d), ray.d, kInf});
+      new_ray(Ray{spawn_origin(hit.p, hit.ng, hit.error, ray.d), ray.d, kInf, ray.mask});
       if (++boundary_crossings > 256 || is_black(beta)) break;
       ++crossings;
       layer_passed = true;
@@ -341,19 +377,25 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       continue;
     }
     if (passes && depth == 0) first_split = bsdf.kind_split(wo, bs.wi, bs.is_delta);
-    if (limits_.classify) {
+    uint32_t next_mask = visibility::kAnyRay;
+    if (limits_.classify || classify_rays) {
       ScatterKind kind = bsdf.scatter_kind(wo, bs.wi);
-      if (!limits_.caustic_allowed(last_kind, kind)) break;
-      count_bounce(kind);
+      if (classify_rays) next_mask = visibility::after(kind);
+      if (limits_.classify) {
+        if (!limits_.caustic_allowed(last_kind, kind)) break;
+        count_bounce(kind);
+      }
     }
     specular_bounce = bs.is_delta;
     cone = cone.scattered(bs.cone_spread);  // wider after a rough bounce
     prev_pdf = bs.pdf;
     prev_p = hit.p;
+    prev_ng = hit.ng;
+    prev_error = hit.error;
     if constexpr (kMedia) {
       if (dot(bs.wi, hit.ng) * dot(ray.d, hit.ng) > 0) stack.cross(scene_, hit, boundary, bs.wi);  // refracted through
     }
-    new_ray(Ray{spawn_origin(hit.p, hit.ng, hit.error, bs.wi), bs.wi, kInf});
+    new_ray(Ray{spawn_origin(hit.p, hit.ng, hit.error, bs.wi), bs.wi, kInf, next_mask});
     if (!russian_roulette(depth) || is_black(beta)) break;
   }
   if (first_hit) first_hit->transparency = transparency;
