@@ -104,6 +104,14 @@ def block_means(a):
     return a.reshape(hb, BLOCK, wb, BLOCK, *a.shape[2:]).mean(axis=(1, 3))
 
 
+def setting_effect(with_setting, without):
+    """The largest relative change of an 8x8 block's mean that a setting makes (over the blocks
+    lit in either image): a test shows with it that it would see the setting ignored."""
+    a, b = block_means(with_setting.mean(axis=2)), block_means(without.mean(axis=2))
+    lit = np.maximum(a, b) > 0.1 * with_setting.mean()
+    return float((np.abs(a - b)[lit] / np.maximum(a, b)[lit]).max())
+
+
 def compare(name, ref, test):
     mref, mtest = ref.reshape(-1, 3).mean(axis=0), test.reshape(-1, 3).mean(axis=0)
     lum_ref, lum_test = mref.mean(), mtest.mean()

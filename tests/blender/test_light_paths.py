@@ -25,8 +25,7 @@ import traceback
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_brightness import block_means, build_scenes, compare, cycles_sampling, finish, out_dir, read_render  # noqa: E402
-import numpy as np  # noqa: E402
+from test_brightness import build_scenes, compare, cycles_sampling, finish, out_dir, read_render, setting_effect  # noqa: E402
 
 LIGHT_PATH_PROPS = ("max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces",
                     "transparent_max_bounces", "caustics_reflective", "caustics_refractive",
@@ -86,9 +85,7 @@ def main():
         for prop, value in changed.items():
             setattr(scene.cycles, prop, defaults[prop])
         plain, _ = render(scene, "RENDEZVOUS", a.samples, os.path.join(odir, a.scene + "_default.exr"))
-        bref, bplain = block_means(ref.mean(axis=2)), block_means(plain.mean(axis=2))
-        lit = bref > 0.1 * ref.mean()
-        effect = float(np.abs(bplain[lit] / bref[lit] - 1.0).max())
+        effect = setting_effect(ref, plain)
         print("  with Cycles' default light paths instead: mean %.4f of Cycles', largest block change %.1f%%"
               % (plain.mean() / ref.mean(), 100 * effect))
         if effect < MIN_EFFECT:

@@ -23,14 +23,12 @@ import argparse
 import math
 import os
 import sys
-import time
 import traceback
 
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_brightness import block_means, build_scenes, compare, finish, out_dir, render_cycles, render_rendezvous  # noqa: E402
-import numpy as np  # noqa: E402
+from test_brightness import build_scenes, compare, finish, out_dir, render_cycles, render_rendezvous, setting_effect  # noqa: E402
 
 MIN_EFFECT = 0.05
 SIZE = 48
@@ -132,9 +130,7 @@ def main():
                 failures.append("%s %s: mean ratio Rendezvous/Cycles = %.4f" % (a.variant, integrator, ratio))
             if not ok_blocks:
                 failures.append("%s %s: block means differ beyond noise" % (a.variant, integrator))
-        bref, bplain = block_means(ref.mean(axis=2)), block_means(plain.mean(axis=2))
-        lit = np.maximum(bref, bplain) > 0.1 * ref.mean()
-        effect = float((np.abs(bref - bplain)[lit] / np.maximum(bplain, bref)[lit]).max())
+        effect = setting_effect(ref, plain)
         print("  Cycles without the setting: mean %.4f of Cycles' with it, largest block change %.1f%%"
               % (plain.mean() / ref.mean(), 100 * effect))
         if effect < MIN_EFFECT:
