@@ -90,7 +90,7 @@ class _Record:
     """What one depsgraph instance became: kind "mesh" (an instance of mesh_id), "light"
     (params) or "medium" (a grid medium: material_id over its grids in the box mesh_id, made
     from the object's materials)."""
-    __slots__ = ("kind", "engine_id", "m16", "ob_name", "mesh_id", "params", "material_id", "box", "materials")
+    __slots__ = ("kind", "engine_id", "m16", "ob_name", "mesh_id", "params", "material_id", "box", "materials", "settings")
 
     def __init__(self, kind, engine_id, m16, ob_name, mesh_id=None, params=None):
         self.kind, self.engine_id, self.m16, self.ob_name = kind, engine_id, m16, ob_name
