@@ -146,6 +146,14 @@ RDV_API rdv_status rdv_scene_add_instance(rdv_scene *scene, uint32_t mesh,
                                           const float transform[16], uint32_t *out_instance);
 RDV_API rdv_status rdv_scene_set_instance_transform(rdv_scene *scene, uint32_t instance,
                                                     const float transform[16]);
+/* Motion blur: the instance's transform at num_steps evenly spaced times from the shutter's
+ * opening to its closing (the camera's "shutter_open" / "shutter_close"), 16 row-major
+ * floats each, interpolated linearly between steps; num_steps 0 or 1: it does not move.
+ * A non-finite step is RDV_ERROR_INVALID_ARGUMENT naming the object; motion through a zero
+ * scale or a mirror flip leaves the instance static with a warning. Instances that emit
+ * light or bound a medium do not move (they stay at their transform). */
+RDV_API rdv_status rdv_scene_set_instance_motion(rdv_scene *scene, uint32_t instance,
+                                                 const float *transforms, uint32_t num_steps);
 /* An instance's object settings: {"holdout": false} (Object > Visibility > Holdout: the
  * instance renders black and cuts its coverage out of RDV_PASS_COMBINED's alpha where the
  * camera sees it, as Cycles), "visibility": {"camera": true, "diffuse": true, "glossy": true,

@@ -53,6 +53,7 @@ void usage() {
                "  --passes light         Cycles' light passes as EXR layers (Emit, Env, DiffDir, DiffInd, DiffCol,\n"
                "                         Gloss*, Trans*, VolumeDir, VolumeInd; path and bdpt)\n"
                "  --film-transparent     the world seen directly is transparent (alpha = coverage; PNG and EXR)\n"
+               "  --motion-blur on|off   off: the shutter stays closed, objects render at their 'transform'\n"
                "  --transparent-glass    with it: also seen through smooth glass (Cycles' Transparent Glass)\n"
                "  --view NAME            PNG view transform: Standard (default) or Filmic\n"
                "  --summary              print what the engine modelled (JSON)\n"
@@ -150,6 +151,7 @@ int main(int argc, char **argv) {
   if (argc > 1 && std::strcmp(argv[1], "study") == 0) return rdv_tools::study_main(argc, argv);
   std::string scene_path, output = "render.png", view = "Standard";
   nlohmann::json overrides = nlohmann::json::object();
+  rdv_tools::LoadOptions load_options;
   bool quiet = false, summary = false;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
@@ -190,6 +192,14 @@ int main(int argc, char **argv) {
         }
       }
       else if (a == "--film-transparent") overrides["film_transparent"] = true;
+      else if (a == "--motion-blur") {
+        std::string v = next();
+        if (v != "on" && v != "off") {
+          std::fprintf(stderr, "rendezvous: --motion-blur: expected on or off, got '%s'\n", v.c_str());
+          return 2;
+        }
+        load_options.motion_blur = v == "on";
+      }
       else if (a == "--transparent-glass") overrides["film_transparent_glass"] = true;
       else if (a == "--threads") overrides["threads"] = std::stoi(next());
       else if (a == "--seed") overrides["seed"] = std::stoi(next());
@@ -240,7 +250,7 @@ int main(int argc, char **argv) {
   if (!check(rdv_scene_create(&scene), "scene")) return 1;
   rdv_tools::LoadedScene loaded;
   try {
-    loaded = rdv_tools::load_scene_file(scene_path, scene);
+    loaded = rdv_tools::load_scene_file(scene_path, scene, load_options);
   } catch (const std::exception &e) {
     std::fprintf(stderr, "rendezvous: %s\n", e.what());
     rdv_scene_destroy(scene);

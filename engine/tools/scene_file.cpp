@@ -300,7 +300,8 @@ const std::map<std::string, int> kTopLevelKeys = {{"settings", 0}, {"camera", 0}
 
 }  // namespace
 
-LoadedScene load_scene_json(const std::string &text, const std::string &base_dir, rdv_scene *scene) {
+LoadedScene load_scene_json(const std::string &text, const std::string &base_dir, rdv_scene *scene,
+                            const LoadOptions &options) {
   LoadedScene out;
   json doc;
   try {
@@ -339,11 +340,13 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
     return default_material;
   };
 
-  // An instance's object settings (rdv_scene_set_instance_params): "holdout", "visibility".
-  auto object_params = [](const json &j, const std::string &what) {
+  // An instance's object settings (rdv_scene_set_instance_params): "holdout", "visibility";
+  // and its "motion" (rdv_scene_set_instance_motion), unless motion blur is off.
+  auto object_params = [&options](const json &j, const std::string &what) {
     json p = json::object();
     if (flag_of(j, "holdout", false, what)) p["holdout"] = true;
     if (j.contains("visibility")) p["visibility"] = j["visibility"];  // the engine checks it
+    if (j.contains("motion") && options.motion_blur) p["motion"] = j["motion"];
     return p;
   };
   struct MeshEntry { uint32_t id; json transform; bool instanced = false; json params; };
@@ -411,9 +414,27 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
     } catch (const rdv::Error &e) {
       throw std::runtime_error(e.what());
     }
+    // Motion steps: a list of transforms (the same rules), evenly spaced over the shutter.
+    std::vector<float> steps;
+    json settings = params;
+    if (settings.contains("motion")) {
+      const json &motion = settings["motion"];
+      if (!motion.is_array()) throw std::runtime_error(what + ": 'motion' must be a list of transforms");
+      try {
+        for (size_t k = 0; k < motion.size(); ++k) {
+          rdv::Transform step = rdv::parse_transform(motion[k], what + " 'motion' step " + std::to_string(k));
+          steps.insert(steps.end(), &step.m[0][0], &step.m[0][0] + 16);
+        }
+      } catch (const rdv::Error &e) {
+        throw std::runtime_error(e.what());
+      }
+      settings.erase("motion");
+    }
     uint32_t id;
     if (rdv_scene_add_instance(scene, mesh, &t.m[0][0], &id) != RDV_OK) return report(what);
-    if (!params.empty() && rdv_scene_set_instance_params(scene, id, params.dump().c_str()) != RDV_OK) report(what);
+    if (!settings.empty() && rdv_scene_set_instance_params(scene, id, settings.dump().c_str()) != RDV_OK) report(what);
+    if (!steps.empty() && rdv_scene_set_instance_motion(scene, id, steps.data(), uint32_t(steps.size() / 16)) != RDV_OK)
+      report(what);
   };
 
   for (const json &j : list_of(doc, "instances")) {
@@ -454,20 +475,23 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
     if (status != RDV_OK) out.problems.push_back(std::string(rdv_last_error()) + "; using the default world");
   }
   if (!doc.contains("camera")) throw std::runtime_error("the scene has no 'camera'");
-  if (rdv_scene_set_camera(scene, doc["camera"].dump().c_str()) != RDV_OK)
+  json camera = doc["camera"];
+  if (!options.motion_blur && camera.is_object())
+    for (const char *key : {"shutter_open", "shutter_close", "motion"}) camera.erase(key);
+  if (rdv_scene_set_camera(scene, camera.dump().c_str()) != RDV_OK)
     throw std::runtime_error(rdv_last_error());
   out.settings_json = doc.contains("settings") ? doc["settings"].dump() : "{}";
   return out;
 }
 
-LoadedScene load_scene_file(const std::string &path, rdv_scene *scene) {
+LoadedScene load_scene_file(const std::string &path, rdv_scene *scene, const LoadOptions &options) {
   std::ifstream f(path);
   if (!f) throw std::runtime_error("cannot open scene file '" + path + "'");
   std::stringstream ss;
   ss << f.rdbuf();
   std::string base = std::filesystem::path(path).parent_path().string();
   try {
-    return load_scene_json(ss.str(), base.empty() ? "." : base, scene);
+    return load_scene_json(ss.str(), base.empty() ? "." : base, scene, options);
   } catch (const std::exception &e) {
     throw std::runtime_error("scene file '" + path + "': " + e.what());
   }

@@ -16,8 +16,14 @@ struct LoadedScene {
 // Loads `path` into `scene`. An object with bad data is reported in problems and
 // left out (a bad material is replaced by Blender's magenta); a file that cannot be
 // read or parsed throws std::runtime_error with a message naming the file.
-LoadedScene load_scene_file(const std::string &path, rdv_scene *scene);
+struct LoadOptions {
+  // false: the shutter stays closed (motion blur off: the camera's shutter and every
+  // "motion" are ignored; objects render at their "transform").
+  bool motion_blur = true;
+};
+LoadedScene load_scene_file(const std::string &path, rdv_scene *scene, const LoadOptions &options = {});
 // Same, from JSON text; base_dir resolves "binary" side files.
-LoadedScene load_scene_json(const std::string &text, const std::string &base_dir, rdv_scene *scene);
+LoadedScene load_scene_json(const std::string &text, const std::string &base_dir, rdv_scene *scene,
+                            const LoadOptions &options = {});
 
 }  // namespace rdv_tools

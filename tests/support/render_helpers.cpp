@@ -120,6 +120,17 @@ std::vector<std::vector<double>> seeded_renders(const std::string &scene_json, c
   return out;
 }
 
+rdv_status session_status(rdv_scene *scene, const std::string &settings) {
+  rdv_session *session = nullptr;
+  rdv_status status = rdv_session_create(scene, settings.c_str(), &session);
+  if (status == RDV_OK) {
+    status = rdv_session_start(session);
+    if (status == RDV_OK) rdv_session_wait(session);
+    rdv_session_destroy(session);
+  }
+  return status;
+}
+
 std::string temp_path(const std::string &name) {
   auto dir = std::filesystem::temp_directory_path() / ("rdv_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);

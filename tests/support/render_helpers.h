@@ -64,6 +64,10 @@ MeanEstimate pixel_mean(const Image &img, int channel);
 std::string source_path(const std::string &relative);  // RDV_SOURCE_DIR + relative
 nlohmann::json load_scene(const std::string &name);     // scenes/<name>, parsed
 
+// Creates, starts and waits for a session on the scene: the first failed status (its
+// message in rdv_last_error), or RDV_OK. For tests of what a session refuses.
+rdv_status session_status(rdv_scene *scene, const std::string &settings);
+
 // A path for a file a test writes, in a directory of this process's own: ctest runs
 // test processes in parallel, and two that wrote the same name in a shared directory
 // would read each other's half-written files.

@@ -168,6 +168,19 @@ rdv_status rdv_scene_set_instance_transform(rdv_scene *s, uint32_t instance, con
   });
 }
 
+rdv_status rdv_scene_set_instance_motion(rdv_scene *s, uint32_t instance, const float *transforms, uint32_t num_steps) {
+  return guarded([&] {
+    if (num_steps > 0) require(transforms, "transforms");
+    if (num_steps > rdv::Scene::kMaxMotionSteps)  // before anything is allocated for them
+      rdv::fail("instance " + std::to_string(instance) + ": " + std::to_string(num_steps) + " motion steps; at most " +
+                    std::to_string(rdv::Scene::kMaxMotionSteps),
+                RDV_ERROR_LIMIT);
+    std::vector<rdv::Transform> steps(num_steps);
+    for (uint32_t k = 0; k < num_steps; ++k) steps[k] = rdv::Transform::from_row_major(transforms + 16 * size_t(k));
+    editable(s).set_instance_motion(instance, steps);
+  });
+}
+
 rdv_status rdv_scene_set_instance_params(rdv_scene *s, uint32_t instance, const char *params) {
   return guarded([&] {
     rdv::Params p(params ? params : "", "instance " + std::to_string(instance));

@@ -52,6 +52,11 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
       fail("render settings: integrator mlt: " + scene.ray_visibility_object() +
            " is hidden from some kinds of ray (ray visibility), which mlt does not implement yet (use bdpt, pssmlt "
            "or mmlt)");
+    if (scene.has_motion())
+      fail("render settings: integrator mlt: " + scene.moving_object() +
+           " moves while the shutter is open (motion blur), which path-space mlt does not implement (its "
+           "mutations would need the shutter time as a path coordinate); use bdpt, pssmlt or mmlt, or switch "
+           "motion blur off (Render Properties > Motion Blur; engine: the camera's 'shutter_open' = 'shutter_close')");
     std::string why = mlt::PathSpace::unsupported(scene, settings);
     if (!why.empty()) fail("render settings: integrator mlt: " + why);
     mlt::MltSettings m;

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include "core/limits.h"
+#include "samplers/dimension_layout.h"
 
 namespace rdv {
 
@@ -34,7 +35,7 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
   Sampler &sampler_b = use_sobol ? static_cast<Sampler &>(sobol_b) : independent_b;
   RayStats stats;
   uint64_t dropped = 0;
-  const Camera &camera = ctx.scene.camera();
+  const bool motion = ctx.scene.has_motion();
   thread_local FilmTile film_tile;  // this thread's pixels of the tile, published whole
   ctx.film.take_tile(tile, film_tile);
   for (int y = tile.y0; y < tile.y1; ++y) {
@@ -49,8 +50,11 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
         sampler.start_sample(uint32_t(x), uint32_t(y), replicates ? s >> 1 : s);
         Vec2 uf = sampler.get_2d();
         Vec2 raster{x + 0.5f + ctx.filter.sample(uf.x), y + 0.5f + ctx.filter.sample(uf.y)};
+        Vec2 u_lens = sampler.get_2d();
+        // Motion blur: the whole sample, both subpaths, is traced at one shutter time.
+        shutter::SampleTime at(motion ? dims::shutter_time(sampler) : shutter::now());
         CameraRay cr;
-        cr.ray = camera.generate_ray(raster, sampler.get_2d(), &cr.lens_point, &cr.cone);
+        cr.ray = ctx.scene.camera_now().generate_ray(raster, u_lens, &cr.lens_point, &cr.cone);
         FirstHit first_hit;
         if (light_passes) {
           passes.clear();

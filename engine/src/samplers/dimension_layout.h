@@ -8,7 +8,8 @@
 // Walk streams (Camera: the camera path; Light: the light subpath). Positions:
 //   0                   Camera: pixel filter (2D)      Light: light choice (1D)
 //   1                   Camera: lens (2D)              Light: point on the light (2D)
-//   2                                                  Light: direction (2D)
+//   2                   Camera: shutter time (1D;      Light: direction (2D)
+//                       motion blur only: one time for the whole sample, both subpaths)
 //   3, 4                                               Light: volume-light point (kVolumePoint)
 //   kWalkStart + k * kBounceDims + offset: bounce k, the segment leaving vertex k and
 //                       the decisions at the vertex k + 1 it reaches:
@@ -54,7 +55,7 @@ constexpr uint32_t kMediumRun = 32;
 constexpr uint32_t kGatherRun = 64;
 
 // The start of a walk stream.
-constexpr uint32_t kCameraFilter = 0, kCameraLens = 1;
+constexpr uint32_t kCameraFilter = 0, kCameraLens = 1, kCameraTime = 2;
 constexpr uint32_t kLightChoice = 0, kLightPosition = 1, kLightDirection = 2, kLightVolumePoint = 3;
 constexpr uint32_t kWalkStart = 5;
 
@@ -103,6 +104,12 @@ static_assert(uint64_t(kMaxCrossings - 1) * kMaxVertices * kCrossingDims + uint6
               kMaxStreamPosition);
 static_assert(uint64_t(kWalkStart) + uint64_t(kMaxVertices) * kBounceDims <= kMaxStreamPosition);
 static_assert((uint64_t(kMaxVertices) * (kMaxVertices + 1) / 2 + kMaxVertices) * kMediumRun <= kMaxStreamPosition);
+
+// The sample's shutter time in [0, 1) (scene/motion.h), drawn only in scenes that move.
+inline float shutter_time(Sampler &sampler) {
+  sampler.start_stream(SampleStream::Camera, kCameraTime);
+  return sampler.get_1d();
+}
 
 // A volume light's point numbers at `position` of `stream` (a 2D, then a 1D draw):
 // drawn only when the light chosen is a volume light.

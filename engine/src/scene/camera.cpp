@@ -1,5 +1,7 @@
 #include "scene/camera.h"
 #include "core/sampling.h"
+#include <cmath>
+#include <nlohmann/json.hpp>
 
 namespace rdv {
 
@@ -37,9 +39,43 @@ Camera Camera::from_params(Params &p) {
   if (c.clip_start < 0 || c.clip_end <= c.clip_start) fail(p.what() + ": need 0 <= clip_start < clip_end");
   if (c.aperture_radius < 0 || c.focus_distance <= 0) fail(p.what() + ": aperture must be >= 0 and focus_distance > 0");
   if (c.blades != 0 && c.blades < 3) fail(p.what() + ": 'blades' must be 0 (round) or at least 3");
+  c.shutter_open = p.get_float("shutter_open", 0);
+  c.shutter_close = p.get_float("shutter_close", 0);
+  if (!std::isfinite(c.shutter_open) || !std::isfinite(c.shutter_close) || c.shutter_close < c.shutter_open)
+    fail(p.what() + ": the shutter must close ('shutter_close', " + std::to_string(c.shutter_close) +
+         ") no earlier than it opens ('shutter_open', " + std::to_string(c.shutter_open) + "): a shutter time >= 0");
+  if (const nlohmann::json *steps = p.get_json("motion")) {
+    const nlohmann::json &motion = *steps;
+    if (!motion.is_array()) fail(p.what() + ": 'motion' must be a list of transforms");
+    for (size_t k = 0; k < motion.size(); ++k) {
+      Transform t = parse_transform(motion[k], p.what() + " 'motion' step " + std::to_string(k));
+      if (!(std::fabs(t.det3()) >= 1e-20f))
+        fail(p.what() + ": 'motion' step " + std::to_string(k) + " is degenerate (zero scale)");
+      c.motion.push_back(t);
+    }
+    if (c.motion.size() == 1) c.motion.clear();  // one step: it does not move
+  }
   c.to_camera_ = c.to_world.inverse();
   c.forward_ = normalize(-c.to_world.column(2));
   return c;
+}
+
+void Camera::move_to(const Transform &t) {
+  // Gram-Schmidt on the blended axes: view direction (-z) first, then x, y from them.
+  Vec3 x = t.column(0), y = t.column(1), z = t.column(2);
+  float lx = length(x), ly = length(y), lz = length(z);
+  Vec3 zn = normalize(z);
+  Vec3 xn = normalize(x - zn * dot(x, zn));
+  Vec3 yn = cross(zn, xn);
+  if (dot(yn, y) < 0) yn = -yn;  // a mirrored camera stays mirrored
+  to_world = t;
+  for (int r = 0; r < 3; ++r) {
+    to_world.m[r][0] = xn[r] * lx;
+    to_world.m[r][1] = yn[r] * ly;
+    to_world.m[r][2] = zn[r] * lz;
+  }
+  to_camera_ = to_world.inverse();
+  forward_ = normalize(-to_world.column(2));
 }
 
 void Camera::set_resolution(int width, int height) {

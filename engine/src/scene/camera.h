@@ -2,6 +2,7 @@
 // a thin lens with optional polygonal aperture. Cycles' viewplane conventions, so a
 // render frames exactly what Blender's camera view shows.
 #pragma once
+#include <vector>
 #include "core/math.h"
 #include "core/params.h"
 #include "core/ray_cone.h"
@@ -21,6 +22,17 @@ struct Camera {
   // Raw parameters; the viewplane depends on the image aspect (set_resolution).
   float focal_length = 50, sensor_width = 36, sensor_height = 24, shift_x = 0, shift_y = 0, ortho_scale = 6;
   int sensor_fit = 0;  // 0 auto, 1 horizontal, 2 vertical
+
+  // Motion blur (scene/motion.h): the shutter opens and closes at these times (frames,
+  // relative to the frame rendered; equal: no motion blur), and a moving camera's
+  // to_world at n >= 2 evenly spaced times between them (empty: it does not move).
+  float shutter_open = 0, shutter_close = 0;
+  std::vector<Transform> motion;
+  bool shutter_is_open() const { return shutter_close > shutter_open; }
+  bool moves() const { return shutter_is_open() && motion.size() >= 2; }
+  // Places the camera at to_world (a moving camera at a sample's time; Scene::camera_now):
+  // a blended rotation is made orthogonal again, keeping its axes' lengths.
+  void move_to(const Transform &to_world);
 
   static Camera from_params(Params &p);
   void set_resolution(int width, int height);

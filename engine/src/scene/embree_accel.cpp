@@ -91,11 +91,21 @@ void EmbreeAccel::build(const std::vector<Mesh> &meshes, const std::vector<Insta
   top_ = rtcNewScene(device_);
   update_ray_range(instances);
   boundary_top_ = nullptr;  // made only when some instance has boundaries
+  has_motion_ = false;
+  for (const Instance &inst : instances) has_motion_ = has_motion_ || (inst.enabled && inst.moving);
   auto add_instance = [&](RTCScene top, RTCScene mesh, const Instance &inst, uint32_t id) {
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
     rtcSetGeometryInstancedScene(geom, mesh);
-    // Our 4x4 row-major matrix starts with the 3x4 row-major block Embree wants.
-    rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &inst.to_world.m[0][0]);
+    // Our 4x4 row-major matrix starts with the 3x4 row-major block Embree wants. A moving
+    // instance has one per time step over the shutter (scene/motion.h), interpolated
+    // linearly by Embree at each ray's time: a motion-blur BVH node for it alone.
+    if (inst.moving) {
+      rtcSetGeometryTimeStepCount(geom, unsigned(inst.motion.size()));
+      for (unsigned k = 0; k < inst.motion.size(); ++k)
+        rtcSetGeometryTransform(geom, k, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &inst.motion[k].m[0][0]);
+    } else {
+      rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &inst.to_world.m[0][0]);
+    }
     // Ray visibility (scene/ray_visibility.h) as the instance mask: a ray meets the
     // instance when its mask shares a bit with it. The bits above the six kinds stay
     // set, so rays of every kind (mask all ones) meet every instance. Medium boundaries
@@ -141,16 +151,27 @@ void EmbreeAccel::update_ray_range(const std::vector<Instance> &instances) {
   // |o'| <= |L| |o| + |t| (max norms; |L| the largest row sum). Half of FLT_LARGE leaves
   // room for rounding. Scene::set_instance_transform keeps |L| and |t| far below it.
   range_ = RayRange{kEmbreeLarge / 2, kEmbreeLarge / 2};
-  for (const Instance &inst : instances) {
-    if (!inst.enabled) continue;
+  auto narrow = [&](const Transform &to_object) {
     float rows = 0;
     for (int r = 0; r < 3; ++r)
-      rows = std::max(rows, std::fabs(inst.to_object.m[r][0]) + std::fabs(inst.to_object.m[r][1]) +
-                                std::fabs(inst.to_object.m[r][2]));
-    float shift = max_abs(inst.to_object.column(3));
-    if (rows <= 1 && shift <= kEmbreeLarge / 4) continue;
+      rows = std::max(rows, std::fabs(to_object.m[r][0]) + std::fabs(to_object.m[r][1]) +
+                                std::fabs(to_object.m[r][2]));
+    float shift = max_abs(to_object.column(3));
+    if (rows <= 1 && shift <= kEmbreeLarge / 4) return;
     range_.origin = std::min(range_.origin, (kEmbreeLarge / 2 - shift) / std::max(rows, 1.0f));
     range_.direction = std::min(range_.direction, kEmbreeLarge / 2 / std::max(rows, 1.0f));
+  };
+  for (const Instance &inst : instances) {
+    if (!inst.enabled) continue;
+    narrow(inst.to_object);
+    // A moving instance: its steps and the quarter points between them (Scene checks
+    // that the interpolated transforms stay invertible; scene/motion.cpp).
+    if (inst.moving)
+      for (size_t k = 0; k + 1 < inst.motion.size(); ++k)
+        for (float f : {0.0f, 0.25f, 0.5f, 0.75f, 1.0f}) {
+          Transform t = transform_at(inst.motion, (float(k) + f) / float(inst.motion.size() - 1));
+          narrow(t.inverse());
+        }
   }
 }
 
@@ -165,7 +186,7 @@ bool EmbreeAccel::intersect(RTCScene scene, const Ray &ray, RawHit &hit) const {
   rh.ray.tfar = ray.tmax;
   rh.ray.mask = ray.mask;
   rh.ray.flags = 0;
-  rh.ray.time = 0;
+  rh.ray.time = ray_time();
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(scene, &ctx, &rh);
@@ -189,7 +210,7 @@ bool EmbreeAccel::occluded(Vec3 o, Vec3 d, float tmax, uint32_t mask) const {
   r.tfar = tmax;
   r.mask = mask;
   r.flags = 0;
-  r.time = 0;
+  r.time = ray_time();
   rtcOccluded1(top_, &ctx, &r);
   return r.tfar < 0;  // Embree sets tfar = -inf on a hit
 }

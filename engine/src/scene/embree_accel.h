@@ -10,6 +10,7 @@
 #include <vector>
 #include "core/math.h"
 #include "scene/mesh.h"
+#include "scene/motion.h"
 #include "scene/ray_visibility.h"
 
 namespace rdv {
@@ -50,6 +51,9 @@ class EmbreeAccel {
     return intersect(boundary_top_, any, hit);
   }
   size_t memory_bytes() const { return memory_.load(); }
+  // Some instance moves (Instance::moving): rays carry the sample's shutter time
+  // (scene/motion.h). Without, every ray's time is 0 and Embree ignores it.
+  bool has_motion() const { return has_motion_; }
 
  private:
   static bool memory_monitor(void *user, ssize_t bytes, bool post);
@@ -58,6 +62,8 @@ class EmbreeAccel {
   // on others); a ray beyond them meets nothing (see embree_accel.cpp).
   struct RayRange { float origin, direction; };
   RayRange range_{0, 0};  // set by build(); nothing is traced before it
+  bool has_motion_ = false;
+  float ray_time() const { return has_motion_ ? shutter::now() : 0.0f; }
   void update_ray_range(const std::vector<Instance> &instances);
   bool can_trace(Vec3 o, Vec3 d, float tfar) const;
   // A mesh's two BVHs: its real surfaces and its medium boundaries (either may be null).

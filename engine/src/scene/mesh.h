@@ -44,12 +44,19 @@ struct Mesh {
   }
 };
 
-struct Instance {
-  uint32_t mesh = 0;
+// Where an instance is: its transform, the inverse, and how they carry rounding errors
+// (core/ray_offset.h): |M| and |M| |M^-1|. A moving instance's at a shutter time:
+// Scene::placement_now.
+struct InstancePlacement {
   Transform to_world;
   Transform to_object;
-  // How the transform carries rounding errors (core/ray_offset.h): |M| and |M| |M^-1|.
   Transform abs_linear, error_mixing;
+  // All four from to_world, which must be invertible.
+  static InstancePlacement of(const Transform &to_world);
+};
+
+struct Instance : InstancePlacement {
+  uint32_t mesh = 0;
   uint32_t light_base = 0;  // first emissive-triangle light of this instance
   bool enabled = true;      // false for a zero-scale transform: not rendered
   // Object > Visibility > Holdout: a hole in the alpha where the camera sees it, and
@@ -57,6 +64,11 @@ struct Instance {
   bool holdout = false;
   // Object > Visibility > Ray Visibility: the kinds of ray that see it (scene/ray_visibility.h).
   uint32_t visibility = 63;
+  // Motion blur (scene/motion.h): to_world at n >= 2 evenly spaced times over the open
+  // shutter, or empty. `moving` (derived by Scene::commit) says whether the instance is
+  // rendered moving: steps given, the shutter open, and not a light or medium boundary.
+  std::vector<Transform> motion;
+  bool moving = false;
 };
 
 }  // namespace rdv

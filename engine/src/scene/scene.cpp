@@ -291,6 +291,21 @@ static bool invertible(const Transform &t) { return std::fabs(t.det3()) > 1e-30f
 // The largest entry of an instance's inverse transform that is rendered (see set_instance_transform).
 constexpr float kMaxInverseEntry = 1e12f;
 
+InstancePlacement InstancePlacement::of(const Transform &to_world) {
+  InstancePlacement p;
+  p.to_world = to_world;
+  p.to_object = to_world.inverse();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) p.abs_linear.m[r][c] = std::fabs(to_world.m[r][c]);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) {
+      float sum = 0;
+      for (int k = 0; k < 3; ++k) sum += p.abs_linear.m[r][k] * std::fabs(p.to_object.m[k][c]);
+      p.error_mixing.m[r][c] = sum;
+    }
+  return p;
+}
+
 uint32_t Scene::add_instance(uint32_t mesh, const Transform &to_world) {
   if (mesh >= meshes_.size())
     fail("instance of mesh " + std::to_string(mesh) + ": no such mesh (" + std::to_string(meshes_.size()) + " meshes)");
@@ -319,14 +334,7 @@ void Scene::set_instance_transform(uint32_t id, const Transform &to_world) {
     inst.enabled = in_range;
   }
   if (inst.enabled) {
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) inst.abs_linear.m[r][c] = std::fabs(to_world.m[r][c]);
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) {
-        float sum = 0;
-        for (int k = 0; k < 3; ++k) sum += inst.abs_linear.m[r][k] * std::fabs(inst.to_object.m[k][c]);
-        inst.error_mixing.m[r][c] = sum;
-      }
+    static_cast<InstancePlacement &>(inst) = InstancePlacement::of(to_world);
   } else if (!in_range) {
     warn("instance of mesh '" + meshes_[inst.mesh].name +
          "': transform places it beyond the range rays reach (its inverse has an entry over 1e12: a scale "
@@ -394,7 +402,13 @@ void Scene::set_world(Params &params) {
 void Scene::set_camera(Params &params) {
   Camera c = Camera::from_params(params);
   params.check_all_used();
-  camera_ = c;
+  // Opening or closing the shutter starts or stops the instances' motion.
+  if (!has_camera_ || c.shutter_is_open() != camera_.shutter_is_open()) {
+    accel_.mark_instances_dirty();
+    dirty_ = true;
+  }
+  camera_ = std::move(c);
+  camera_generation_ = next_camera_generation();
   has_camera_ = true;
 }
 
@@ -402,19 +416,26 @@ void Scene::commit() {
   if (!has_camera_) fail("scene: no camera was set (rdv_scene_set_camera)", RDV_ERROR_STATE);
   if (!dirty_) {
     find_camera_media();  // the camera may have moved into or out of a volume
+    has_motion_ = camera_.moves() || accel_.has_motion();
     return;
   }
+  find_motion();
   accel_.build(meshes_, instances_, material_boundary_);
-  // Bounding sphere of the instanced geometry: sizes the power of infinite lights.
+  // Bounding sphere of the instanced geometry: sizes the power of infinite lights. A
+  // moving instance lies between its steps (linear interpolation) all the shutter long.
   Vec3 lo(kInf), hi(-kInf);
-  for (const Instance &inst : instances_) {
-    if (!inst.enabled) continue;
-    const Mesh &m = meshes_[inst.mesh];
+  auto grow = [&](const Mesh &m, const Transform &to_world) {
     for (uint32_t i = 0; i < m.num_vertices(); ++i) {
-      Vec3 p = inst.to_world.point(m.positions[i]);
+      Vec3 p = to_world.point(m.positions[i]);
       lo = vmin(lo, p);
       hi = vmax(hi, p);
     }
+  };
+  for (const Instance &inst : instances_) {
+    if (!inst.enabled) continue;
+    grow(meshes_[inst.mesh], inst.to_world);
+    if (inst.moving)
+      for (const Transform &step : inst.motion) grow(meshes_[inst.mesh], step);
   }
   if (lo.x <= hi.x) {
     bounding_center_ = (lo + hi) * 0.5f;
@@ -432,6 +453,7 @@ void Scene::commit() {
   for (const Medium &m : media_) has_heterogeneous_media_ = has_heterogeneous_media_ || m.is_heterogeneous();
   find_camera_media();
   find_light_media();
+  has_motion_ = camera_.moves() || accel_.has_motion();
   dirty_ = false;
 }
 
@@ -615,16 +637,22 @@ void Scene::surface_at(uint32_t instance, uint32_t prim, float b1, float b2, Sur
   const uint32_t *tri = &m.indices[3 * prim];
   float b0 = 1.0f - b1 - b2;
   Vec3 p0 = m.positions[tri[0]], p1 = m.positions[tri[1]], p2 = m.positions[tri[2]];
+  InstancePlacement moved;
+  const InstancePlacement &at = inst.moving ? (moved = placement_now(inst)) : placement(inst);
   // Position from barycentrics in object space: more precise than o + t d.
-  hit.p = inst.to_world.point(p0 * b0 + p1 * b1 + p2 * b2);
-  hit.error = transformed_point_error(triangle_point_error(p0, p1, p2), hit.p, inst.abs_linear, inst.error_mixing);
-  Vec3 ng = normalize(inst.to_object.normal_by_inverse(cross(p1 - p0, p2 - p0)));
+  Vec3 p_object = p0 * b0 + p1 * b1 + p2 * b2;
+  hit.p = at.to_world.point(p_object);
+  hit.error = transformed_point_error(triangle_point_error(p0, p1, p2), hit.p, at.abs_linear, at.error_mixing);
+  // Embree interpolates the steps in its own rounding (perhaps with fused multiply-adds):
+  // the matrices differ from ours by an ulp or two of their entries.
+  if (inst.moving) hit.error += (at.abs_linear.vector(vabs(p_object)) + vabs(at.to_world.column(3))) * (2 * kUlp);
+  Vec3 ng = normalize(at.to_object.normal_by_inverse(cross(p1 - p0, p2 - p0)));
   Vec3 ns = ng;
   if (!m.normals.empty()) {
     Vec3 n = m.normals[tri[0]] * b0 + m.normals[tri[1]] * b1 + m.normals[tri[2]] * b2;
     float len2 = length_squared(n);
     if (len2 > 1e-12f) {
-      ns = normalize(inst.to_object.normal_by_inverse(n));
+      ns = normalize(at.to_object.normal_by_inverse(n));
       if (dot(ns, ng) < 0) ng = -ng;  // the vertex normals say which side is the front
     }
   }
@@ -710,7 +738,10 @@ ShadingPoint Scene::shading_point(const SurfaceHit &hit, Vec3 dir, float width) 
     sp.generated_scale[i] = extent[i] > 0 ? 1.0f / extent[i] : 0.5f;
     sp.generated[i] = (sp.p_object[i] - m.bbox_lo[i]) * sp.generated_scale[i] + (extent[i] > 0 ? 0.0f : 0.5f);
   }
-  sp.object_to_world = &inst.to_world.m[0][0];
+  InstancePlacement moved;
+  const InstancePlacement &at = inst.moving ? (moved = placement_now(inst)) : placement(inst);
+  std::copy(&at.to_world.m[0][0], &at.to_world.m[0][0] + 12, sp.object_to_world);
+  sp.has_object_to_world = true;
   // dp/du, dp/dv from the triangle's UVs (pbrt's triangle derivatives).
   Vec3 e1 = p1 - p0, e2 = p2 - p0;
   bool frame = false;
@@ -733,8 +764,8 @@ ShadingPoint Scene::shading_point(const SurfaceHit &hit, Vec3 dir, float width) 
     sp.dpdv_object = f.t;
   }
   sp.has_uv_frame = frame;
-  sp.dpdu = inst.to_world.vector(sp.dpdu_object);
-  sp.dpdv = inst.to_world.vector(sp.dpdv_object);
+  sp.dpdu = at.to_world.vector(sp.dpdu_object);
+  sp.dpdv = at.to_world.vector(sp.dpdv_object);
   if (width > 0) set_footprint(sp, dir, width);
   return sp;
 }
@@ -791,6 +822,13 @@ std::string Scene::summary_json() const {
   j["triangles_dropped"] = dropped_triangles_;
   j["lights"] = light_types;
   j["emissive_triangles"] = emissive_triangles_;
+  if (camera_.shutter_is_open()) {  // motion blur (scene/motion.h)
+    uint32_t moving = 0;
+    for (const Instance &inst : instances_) moving += inst.enabled && inst.moving;
+    j["motion_blur"] = {{"shutter", {camera_.shutter_open, camera_.shutter_close}},
+                        {"moving_instances", moving},
+                        {"camera_moves", camera_.moves()}};
+  }
   j["world"] = environment_ ? "environment" : is_black(world_radiance_) ? "none" : "constant";
   j["materials"] = material_types;
   int textures = 0;

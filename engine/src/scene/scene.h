@@ -67,6 +67,12 @@ class Scene {
   void set_light(uint32_t id, Params &params);
   uint32_t add_instance(uint32_t mesh, const Transform &to_world);
   void set_instance_transform(uint32_t instance, const Transform &to_world);
+  // Motion blur (scene/motion.h): the instance's transform at n evenly spaced times over
+  // the open shutter (n = 0 or 1: it does not move). Non-finite steps are an error naming
+  // the object; steps that pass through a zero scale leave it static, with a warning.
+  void set_instance_motion(uint32_t instance, const std::vector<Transform> &steps);
+  // The most steps an object may give (Cycles' 7 motion steps are 65 transforms).
+  static constexpr size_t kMaxMotionSteps = 1024;
   // {"holdout": bool, "visibility": {...}} (rdv_scene_set_instance_params; scene/ray_visibility.h).
   void set_instance_params(uint32_t instance, Params &params);
   uint32_t add_light(const std::string &name, Params &params);
@@ -105,8 +111,20 @@ class Scene {
   bool sample_light(uint32_t light, Vec3 ref, Vec2 u, Vec3 u_volume, LightSample &out) const;
   bool sample_emission(uint32_t light, Vec2 u_pos, Vec2 u_dir, Vec3 u_volume, EmissionSample &out) const;
 
+  // The camera as set (at its "transform"). A sample traces with camera_now().
   const Camera &camera() const { return camera_; }
-  Camera &camera() { return camera_; }
+  Camera &camera() {
+    camera_generation_ = next_camera_generation();  // the caller may change it
+    return camera_;
+  }
+  // The camera at the shutter time of the sample this thread traces (scene/motion.h):
+  // the camera itself unless it moves.
+  const Camera &camera_now() const;
+  // Motion blur: the camera or some instance moves while the shutter is open (derived by
+  // commit()). Without, samples draw no time and every ray is traced at time 0.
+  bool has_motion() const { return has_motion_; }
+  // The first moving object's name (for messages), "" if none.
+  const std::string &moving_object() const { return moving_object_; }
   bool has_camera() const { return has_camera_; }
   const Material &material(uint32_t id) const { return materials_[id]; }
   // ---- Participating media (scene.cpp). A scene without them pays nothing: the
@@ -189,6 +207,17 @@ class Scene {
  private:
   void build_lights();
   void build_volume_lights();
+  // ---- Motion blur (scene/motion.cpp).
+  // Which instances move (Instance::moving), before the BVHs are built.
+  void find_motion();
+  static const InstancePlacement &placement(const Instance &inst) { return inst; }
+  // A moving instance's placement at the sample's shutter time.
+  InstancePlacement placement_now(const Instance &inst) const;
+  std::string instance_name(uint32_t id) const;
+  static uint64_t next_camera_generation();
+  bool has_motion_ = false;
+  std::string moving_object_;
+  uint64_t camera_generation_ = next_camera_generation();  // tells camera_now's cache that the camera changed
   // The surface point at barycentrics (b1, b2) of a triangle of an instance.
   void surface_at(uint32_t instance, uint32_t prim, float b1, float b2, SurfaceHit &hit) const;
   void surface_at(const RawHit &raw, SurfaceHit &hit) const {

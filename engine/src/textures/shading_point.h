@@ -28,7 +28,10 @@ struct ShadingPoint {
   const Mesh *mesh = nullptr;          // for named attributes
   uint32_t v[3] = {0, 0, 0};           // triangle vertex indices
   float b[3] = {1, 0, 0};              // barycentrics
-  const float *object_to_world = nullptr;  // row-major 3x4, for object-space normal maps
+  // Row-major 3x4 object-to-world transform (at the sample's shutter time for a moving
+  // object), for object-space normal maps; has_object_to_world false: none (identity).
+  float object_to_world[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+  bool has_object_to_world = false;
 
   // Interpolated attribute (id from attribute_id()); false if the mesh lacks it.
   bool attribute(uint32_t id, float out[4], int &components) const;

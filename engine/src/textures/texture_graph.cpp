@@ -713,7 +713,7 @@ Vec3 TextureGraph::eval_normal(int idx, const ShadingPoint &sp) const {
       Vec3 b = cross(N, t);
       if (dot(b, sp.dpdv) < 0) b = -b;
       out = t * m.x + b * m.y + N * m.z;
-    } else if (n.mode == 1 && sp.object_to_world) {
+    } else if (n.mode == 1 && sp.has_object_to_world) {
       const float *M = sp.object_to_world;
       out = {M[0] * m.x + M[1] * m.y + M[2] * m.z, M[4] * m.x + M[5] * m.y + M[6] * m.z,
              M[8] * m.x + M[9] * m.y + M[10] * m.z};

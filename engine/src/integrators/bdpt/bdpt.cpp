@@ -12,7 +12,7 @@ Color Bdpt::Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
 FirstHit Bdpt::first_surface(const PathVertex *camera_path, int n) const {
   FirstHit first_hit;
   if (n > 1 && camera_path[1].type == VertexType::Surface) {
-    const Camera &cam = scene_.camera();
+    const Camera &cam = scene_.camera_now();
     const PathVertex &v = camera_path[1];
     first_hit.valid = true;
     first_hit.depth = dot(v.p - cam.position(), cam.forward());

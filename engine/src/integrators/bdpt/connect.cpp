@@ -103,7 +103,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     if (!qs.connectible(scene_) || (qs.type != VertexType::Surface && qs.type != VertexType::Medium)) return L;
     if (qs.holdout >= 1) return L;  // a holdout object seen by the camera is not there (film_alpha.h)
     if (!(qs.visibility & visibility::kCamera)) return L;  // hidden from the camera
-    const Camera &camera = scene_.camera();
+    const Camera &camera = scene_.camera_now();
     Camera::ImportanceSample is;
     sampler.start_stream(SampleStream::Lens, dims::lens(uint32_t(s) - 1, dims::kLensPoint));
     Vec2 u = sampler.get_2d();

@@ -325,7 +325,7 @@ void Bdpt::gather_volume_emission(const Medium &medium, const Ray &ray, float tm
 template <bool kMedia>
 int Bdpt::camera_subpath(const CameraRay &cr, Sampler &sampler, RayStats &stats, PathVertex *path,
                          Color *emitted, int max_vertices) const {
-  const Camera &camera = scene_.camera();
+  const Camera &camera = scene_.camera_now();
   PathVertex &v = path[0];
   fresh_vertex(v);
   v.type = VertexType::Camera;

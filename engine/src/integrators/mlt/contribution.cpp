@@ -4,6 +4,7 @@
 // sample region (density 1 / region_area_) and light-tracing splats carry the camera's
 // importance normalised over the whole image, so E[splats to pixel j] = I_j.
 #include "integrators/mlt/metropolis.h"
+#include "samplers/dimension_layout.h"
 
 namespace rdv::mlt {
 
@@ -12,7 +13,7 @@ CameraRay Metropolis::camera_sample(Sampler &sampler, Vec2 *raster) const {
   Vec2 u = sampler.get_2d();
   *raster = {sample_origin_.x + u.x * sample_size_.x, sample_origin_.y + u.y * sample_size_.y};
   CameraRay cr;
-  cr.ray = scene_.camera().generate_ray(*raster, sampler.get_2d(), &cr.lens_point, &cr.cone);
+  cr.ray = scene_.camera_now().generate_ray(*raster, sampler.get_2d(), &cr.lens_point, &cr.cone);
   return cr;
 }
 
@@ -85,6 +86,9 @@ void Metropolis::evaluate(PssSampler &sampler, RayStats &stats, State &state, in
   state.splats.clear();
   state.depth = state.s = -1;
   const bool media = scene_.has_media();
+  // Motion blur: the state's shutter time is one more primary sample (the Camera stream's
+  // kCameraTime), mutated as the others; the whole state is traced at it.
+  shutter::SampleTime at(scene_.has_motion() ? dims::shutter_time(sampler) : shutter::now());
   if (!mlt_.multiplexed) evaluate_kelemen(sampler, stats, state);  // Li decides on media itself
   else if (media) evaluate_multiplexed<true>(sampler, stats, state, depth_override);
   else evaluate_multiplexed<false>(sampler, stats, state, depth_override);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include "core/log.h"
+#include "samplers/dimension_layout.h"
 
 namespace rdv::mlt {
 
@@ -97,8 +98,10 @@ void Metropolis::first_hit_pass(RenderContext &ctx) const {
             sampler.start_sample(uint32_t(x), uint32_t(y), i);
             Vec2 uf = sampler.get_2d();
             Vec2 raster{x + 0.5f + ctx.filter.sample(uf.x), y + 0.5f + ctx.filter.sample(uf.y)};
+            Vec2 u_lens = sampler.get_2d();
+            shutter::SampleTime at(scene_.has_motion() ? dims::shutter_time(sampler) : shutter::now());
             CameraRay cr;
-            cr.ray = scene_.camera().generate_ray(raster, sampler.get_2d(), &cr.lens_point, &cr.cone);
+            cr.ray = scene_.camera_now().generate_ray(raster, u_lens, &cr.lens_point, &cr.cone);
             int n = media ? bdpt_.camera_subpath<true>(cr, sampler, stats, path.data(), nullptr, 2)
                           : bdpt_.camera_subpath<false>(cr, sampler, stats, path.data(), nullptr, 2);
             FirstHit hit = bdpt_.first_surface(path.data(), n);

@@ -317,7 +317,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
         add(beta * Le * emission_weight(li, pdf), depth);
     }
     if (depth == 0 && first_hit) {
-      const Camera &cam = scene_.camera();
+      const Camera &cam = scene_.camera_now();
       first_hit->valid = true;
       first_hit->depth = dot(hit.p - cam.position(), cam.forward());
       first_hit->normal = dot(hit.ns, wo) < 0 ? -hit.ns : hit.ns;

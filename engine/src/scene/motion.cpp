@@ -1,0 +1,117 @@
+// Motion blur in the scene (scene/motion.h): instances' transform steps, which of them
+// move, where a moving instance or camera is at a sample's shutter time.
+#include <atomic>
+#include <cmath>
+#include "core/error.h"
+#include "scene/scene.h"
+
+namespace rdv {
+
+namespace {
+
+// As set_instance_transform: an inverse entry above it cannot be traced.
+constexpr float kMaxInverseEntry = 1e12f;
+
+// An interpolated transform that can be inverted and traced: Embree inverts it for every
+// ray at its time, so a step through zero scale would put NaNs into its traversal.
+bool traceable(const Transform &t) {
+  if (!t.is_finite() || !(std::fabs(t.det3()) > 1e-30f)) return false;
+  Transform inv = t.inverse();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c)
+      if (!(std::fabs(inv.m[r][c]) <= kMaxInverseEntry)) return false;
+  return true;
+}
+
+}  // namespace
+
+std::string Scene::instance_name(uint32_t id) const {
+  return "object '" + meshes_[instances_[id].mesh].name + "' (instance " + std::to_string(id) + ")";
+}
+
+uint64_t Scene::next_camera_generation() {
+  static std::atomic<uint64_t> generation{0};
+  return ++generation;
+}
+
+void Scene::set_instance_motion(uint32_t id, const std::vector<Transform> &steps) {
+  if (id >= instances_.size()) fail("instance " + std::to_string(id) + ": no such instance");
+  const std::string what = instance_name(id);
+  if (steps.size() > kMaxMotionSteps)
+    fail(what + ": " + std::to_string(steps.size()) + " motion steps; at most " + std::to_string(kMaxMotionSteps),
+         RDV_ERROR_LIMIT);
+  for (size_t k = 0; k < steps.size(); ++k)
+    if (!steps[k].is_finite()) fail(what + ": motion step " + std::to_string(k) + " is not finite (NaN or Inf)");
+  Instance &inst = instances_[id];
+  inst.motion.clear();
+  if (steps.size() >= 2) {
+    // Between steps and at their quarter points: the determinant of a linear blend is a
+    // cubic in the blend factor, so a sign change (a mirror flip) or zero shows there.
+    bool ok = true;
+    const float sign = steps[0].det3() > 0 ? 1.0f : -1.0f;
+    for (size_t k = 0; k + 1 < steps.size() && ok; ++k)
+      for (float f : {0.0f, 0.25f, 0.5f, 0.75f, 1.0f}) {
+        Transform t = transform_at(steps, (float(k) + f) / float(steps.size() - 1));
+        if (!traceable(t) || !(t.det3() * sign > 0)) { ok = false; break; }
+      }
+    if (ok) inst.motion = steps;
+    else warn(what + ": its motion passes through a zero scale or a mirror flip; rendered without motion blur");
+  }
+  accel_.mark_instances_dirty();
+  dirty_ = true;
+}
+
+void Scene::find_motion() {
+  moving_object_.clear();
+  const bool open = camera_.shutter_is_open();
+  for (uint32_t i = 0; i < instances_.size(); ++i) {
+    Instance &inst = instances_[i];
+    inst.moving = false;
+    if (!open || !inst.enabled || inst.motion.size() < 2) continue;
+    // Lights and medium boundaries stay where "transform" puts them (the shutter's middle
+    // for Blender's default Position Center): light sampling and the media a point is in
+    // are found once per commit, not per sample.
+    const Mesh &m = meshes_[inst.mesh];
+    bool emits = false, bounds_medium = false;
+    for (uint32_t mat : m.materials) {
+      emits = emits || materials_[mat].emits();
+      bounds_medium = bounds_medium || material_interior_[mat] >= 0 || material_boundary_[mat];
+    }
+    if (emits || bounds_medium) {
+      warn(instance_name(i) + (emits ? ": emits light" : ": bounds a medium") +
+           "; rendered without motion blur, where its transform puts it");
+      continue;
+    }
+    inst.moving = true;
+    if (moving_object_.empty()) moving_object_ = instance_name(i);
+  }
+  if (moving_object_.empty() && camera_.moves()) moving_object_ = "the camera";
+}
+
+InstancePlacement Scene::placement_now(const Instance &inst) const {
+  return InstancePlacement::of(transform_at(inst.motion, shutter::now()));
+}
+
+const Camera &Scene::camera_now() const {
+  if (!camera_.moves()) return camera_;
+  // One moved copy per thread, remade when the scene's camera or the sample's time changes.
+  struct Moved {
+    uint64_t generation = 0;
+    float time = -1;
+    Camera camera;
+  };
+  thread_local Moved moved;
+  const float u = shutter::now();
+  if (moved.generation != camera_generation_) {
+    moved.camera = camera_;
+    moved.generation = camera_generation_;
+    moved.time = -1;
+  }
+  if (moved.time != u) {
+    moved.camera.move_to(transform_at(camera_.motion, u));
+    moved.time = u;
+  }
+  return moved.camera;
+}
+
+}  // namespace rdv
