@@ -95,7 +95,16 @@ def _rgb(v, default):
 
 def convert_material(material, image_average=None, image_file=None, volume_grids=False):
     """A bpy Material (or stand-in) -> (engine params, warning or None).  volume_grids: for a
-    Volume object (grid references {"name": ...} in the medium, completed by the exporter)."""
+    Volume object (grid references {"name": ...} in the medium, completed by the exporter).
+    Material > Settings > Pass Index goes along as "pass_index" (the Material Index pass)."""
+    params, warning = _convert_material(material, image_average, image_file, volume_grids)
+    index = int(getattr(material, "pass_index", 0) or 0) if material is not None else 0
+    if index:
+        params = dict(params, pass_index=index)
+    return params, warning
+
+
+def _convert_material(material, image_average, image_file, volume_grids):
     name = getattr(material, "name", "?")
     if material is None:
         return dict(DEFAULT_SURFACE), None
@@ -122,7 +131,17 @@ def _check_written_size(params):
 
 
 def convert_world(world, image_average=None, image_file=None):
-    """A bpy World (or stand-in, or None) -> ({"color", "strength", ...}, warning or None)."""
+    """A bpy World (or stand-in, or None) -> ({"color", "strength", ...}, warning or None).
+    World > Mist Pass goes along as "mist" {"start", "depth", "falloff"} (the Mist pass)."""
+    params, warning = _convert_world(world, image_average, image_file)
+    mist = getattr(world, "mist_settings", None)
+    if mist is not None:
+        params = dict(params, mist={"start": float(mist.start), "depth": float(mist.depth),
+                                    "falloff": str(mist.falloff).lower()})
+    return params, warning
+
+
+def _convert_world(world, image_average, image_file):
     if world is None:
         return {"color": [0.0, 0.0, 0.0], "strength": 1.0}, None
     name = getattr(world, "name", "?")

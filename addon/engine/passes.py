@@ -14,6 +14,9 @@ from .. import binding
 _DATA_PASSES = [
     ("Depth", "use_pass_z", "layer", binding.PASS_DEPTH, 1, "Z", "VALUE"),
     ("Normal", "use_pass_normal", "layer", binding.PASS_NORMAL, 3, "XYZ", "VECTOR"),
+    ("Mist", "use_pass_mist", "layer", binding.PASS_MIST, 1, "Z", "VALUE"),
+    ("IndexOB", "use_pass_object_index", "layer", binding.PASS_OBJECT_INDEX, 1, "X", "VALUE"),
+    ("IndexMA", "use_pass_material_index", "layer", binding.PASS_MATERIAL_INDEX, 1, "X", "VALUE"),
 ]
 LIGHT_PASSES = [
     ("Emit", "use_pass_emit", "layer", binding.PASS_EMISSION),
@@ -76,11 +79,14 @@ def register_passes(engine, scene, layer):
 
 
 def light_pass_settings(layer, scene, integrator, warn=print):
-    """The session settings the layer's light passes need ({} without any)."""
+    """The session settings the layer's passes need: light passes ({} without any), and
+    View Layer > Passes > Alpha Threshold, which the Object and Material Index passes use."""
+    threshold = getattr(layer, "pass_alpha_threshold", None)
+    data = {"pass_alpha_threshold": float(threshold)} if threshold is not None else {}
     if not wants_light_passes(layer, scene):
-        return {}
+        return data
     if integrator not in LIGHT_PASS_INTEGRATORS:
         warn("Passes: the light passes (Emission, Environment, Diffuse / Glossy / Transmission / Volume) are "
              "made by the Path Tracing and Bidirectional integrators; with %s they stay black" % integrator)
-        return {}
-    return {"light_passes": True}
+        return data
+    return dict(data, light_passes=True)

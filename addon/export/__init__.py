@@ -190,8 +190,11 @@ class SceneExporter:
     # ---- geometry -------------------------------------------------------------------
     @staticmethod
     def object_settings(ob):
-        """rdv_scene_set_instance_params of a mesh object: holdout and ray visibility ({}: defaults)."""
+        """rdv_scene_set_instance_params of a mesh object: holdout, ray visibility and pass index
+        ({}: defaults)."""
         settings = {}
+        if getattr(ob, "pass_index", 0):  # Object > Relations > Pass Index (the Object Index pass)
+            settings["pass_index"] = int(ob.pass_index)
         if getattr(ob, "is_holdout", False):  # Object > Visibility > Holdout
             settings["holdout"] = True
         rays = visibility.object_visibility(ob)

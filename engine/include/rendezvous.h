@@ -273,7 +273,17 @@ typedef enum rdv_pass {
   RDV_PASS_TRANSMISSION_INDIRECT = 14,
   RDV_PASS_TRANSMISSION_COLOR = 15,
   RDV_PASS_VOLUME_DIRECT = 16,
-  RDV_PASS_VOLUME_INDIRECT = 17
+  RDV_PASS_VOLUME_INDIRECT = 17,
+  /* Cycles' data passes (docs/scene-format.md, Passes), 1 float each, every integrator
+   * (pssmlt, mmlt and mlt from their first-hit pass):
+   * MIST: 0 at the camera side, 1 far away and where the world is seen (the world's
+   * "mist": start, depth, falloff), filtered over the pixel, mixed through transparent
+   * surfaces and fog as Cycles does; OBJECT_INDEX / MATERIAL_INDEX: the "pass_index" of
+   * the object / material the pixel's first sample sees (the first surface at least
+   * "pass_alpha_threshold" opaque; 0 for the world), not filtered, as Cycles. */
+  RDV_PASS_MIST = 18,
+  RDV_PASS_OBJECT_INDEX = 19,
+  RDV_PASS_MATERIAL_INDEX = 20
 } rdv_pass;
 RDV_API int rdv_pass_channels(rdv_pass pass);
 

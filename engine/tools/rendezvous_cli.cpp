@@ -51,7 +51,8 @@ void usage() {
                "  --mis NAME             bdpt weights: power (default), balance or lafortune_willems\n"
                "  --max-bounces N        maximum path length\n"
                "  --passes light         Cycles' light passes as EXR layers (Emit, Env, DiffDir, DiffInd, DiffCol,\n"
-               "                         Gloss*, Trans*, VolumeDir, VolumeInd; path and bdpt)\n"
+               "                         Gloss*, Trans*, VolumeDir, VolumeInd; path and bdpt);\n"
+               "         data            Mist.Z, IndexOB.X, IndexMA.X (every integrator); e.g. --passes light,data\n"
                "  --film-transparent     the world seen directly is transparent (alpha = coverage; PNG and EXR)\n"
                "  --motion-blur on|off   off: the shutter stays closed, objects render at their 'transform'\n"
                "  --transparent-glass    with it: also seen through smooth glass (Cycles' Transparent Glass)\n"
@@ -180,13 +181,14 @@ int main(int argc, char **argv) {
       }
       else if (a == "--passes") {
         // Render passes beyond Combined / Depth / Normal / Albedo, as EXR layers: "light"
-        // (Cycles' light passes, path and bdpt).
+        // (Cycles' light passes, path and bdpt), "data" (Mist, Object and Material Index).
         std::stringstream list(next());
         std::string item;
         while (std::getline(list, item, ',')) {
           if (item == "light") overrides["light_passes"] = true;
+          else if (item == "data") overrides["data_passes"] = true;
           else {
-            std::fprintf(stderr, "rendezvous: --passes: unknown pass set '%s' (available: light)\n", item.c_str());
+            std::fprintf(stderr, "rendezvous: --passes: unknown pass set '%s' (available: light, data)\n", item.c_str());
             return 2;
           }
         }

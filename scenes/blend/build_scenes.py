@@ -703,6 +703,36 @@ def light_passes():
     return scene
 
 
+def data_passes():
+    """Mist, Object Index and Material Index: a diffuse ball (object 3, material 7) and a
+    glossy ball (object 5, material 2) on a floor (object 1) running into the distance, a card
+    40% Transparent BSDF (object 9, material 4: opaque enough for the default alpha threshold)
+    in front of the floor, under a sun and a blue world; linear mist from 2 to 8 units."""
+    scene = reset(40)
+    bg = scene.world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (0.4, 0.5, 0.7, 1.0)
+    scene.world.mist_settings.start = 2.0
+    scene.world.mist_settings.depth = 6.0
+    scene.world.mist_settings.falloff = "LINEAR"
+    floor = plane("Floor", 12.0, diffuse_material("FloorMat", (0.6, 0.55, 0.5)), location=(0, 3.0, 0))
+    floor.pass_index = 1
+    ball_mat = diffuse_material("BallMat", (0.8, 0.3, 0.2))
+    ball_mat.pass_index = 7
+    gloss = glossy_material("Gloss", 0.3, (0.9, 0.8, 0.6))
+    gloss.pass_index = 2
+    smooth_ball("DiffuseBall", (-0.8, 0, 0.6), 0.6, ball_mat).pass_index = 3
+    smooth_ball("GlossyBall", (0.9, 1.5, 0.6), 0.6, gloss).pass_index = 5
+    card_mat = mix_material("Card", ("ShaderNodeBsdfDiffuse", {"Color": (0.2, 0.7, 0.3, 1)}),
+                            ("ShaderNodeBsdfTransparent", {"Color": (1, 1, 1, 1)}), 0.4)
+    card_mat.pass_index = 4
+    card = plane("Card", 0.8, card_mat, location=(0.2, -1.2, 0.3))
+    card.rotation_euler = (math.radians(90), 0, 0)
+    card.pass_index = 9
+    light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(35), 0, math.radians(30)))
+    camera_looking_at((0, -4.5, 1.6), (0, 1.0, 0.5), 40)
+    return scene
+
+
 LIGHT_PATH_SCENES = ["light_paths_diffuse", "light_paths_mirror", "light_paths_caustics", "light_paths_clamp"]
 
 
@@ -732,6 +762,7 @@ SCENES = {
     "light_paths_clamp": light_paths_clamp,
     "film_transparent": film_transparent,
     "light_passes": light_passes,
+    "data_passes": data_passes,
 }
 
 # Scenes whose brightness must agree with Cycles.

@@ -38,6 +38,12 @@ static Image render_scene(rdv_scene *scene, const rdv_tools::LoadedScene &loaded
   img.noise.resize(size_t(img.width) * img.height);
   if (rdv_session_read_film(session, RDV_PASS_NOISE, 0, 0, img.width, img.height, 1, img.noise.data()) != RDV_OK)
     throw std::runtime_error(std::string("read_film: ") + rdv_last_error());
+  for (auto [pass, out] : {std::pair{RDV_PASS_MIST, &img.mist}, std::pair{RDV_PASS_OBJECT_INDEX, &img.object_index},
+                           std::pair{RDV_PASS_MATERIAL_INDEX, &img.material_index}}) {
+    out->resize(size_t(img.width) * img.height);
+    if (rdv_session_read_film(session, pass, 0, 0, img.width, img.height, 1, out->data()) != RDV_OK)
+      throw std::runtime_error(std::string("read_film: ") + rdv_last_error());
+  }
   if (settings.value("light_passes", false)) {
     for (int pass = RDV_PASS_EMISSION; pass <= RDV_PASS_VOLUME_INDIRECT; ++pass) {
       std::vector<float> &out = img.light_passes.emplace_back(size_t(img.width) * img.height * 3);

@@ -29,6 +29,8 @@ struct Image {
   // Light passes (settings "light_passes"), by rdv_pass - RDV_PASS_EMISSION: 3 floats per
   // pixel, top-down; empty without them.
   std::vector<std::vector<float>> light_passes;
+  // Data passes (film/data_passes.h): Mist, Object Index, Material Index, top-down.
+  std::vector<float> mist, object_index, material_index;
   const float *light_pass(rdv_pass pass, int x, int y) const {
     return &light_passes[size_t(pass - RDV_PASS_EMISSION)][(size_t(y) * width + x) * 3];
   }

@@ -197,12 +197,12 @@ TEST(Limits, FilmAndMetropolisMemoryIsCheckedFirst) {
   {
     MemoryCap cap("1024");
     EXPECT_EQ(RDV_ERROR_LIMIT, rdv_session_create(sc.s, R"({"width":65536,"height":65536,"samples":1})", &session));
-    // 112 bytes a pixel: double sums of samples, splats, normals and albedo (render parts
-    // merge them); 168 with half image B's samples and splats (the noise estimate).
-    EXPECT_TRUE(has(error(), "render settings: 65536x65536 film needs about 448.0 GB")) << error();
+    // 128 bytes a pixel: double sums of samples, splats, normals, albedo and mist (render
+    // parts merge them); 184 with half image B's samples and splats (the noise estimate).
+    EXPECT_TRUE(has(error(), "render settings: 65536x65536 film needs about 512.0 GB")) << error();
     EXPECT_EQ(RDV_ERROR_LIMIT, rdv_session_create(sc.s, R"({"width":65536,"height":65536,"samples":1,
                                                              "noise_pass":true})", &session));
-    EXPECT_TRUE(has(error(), "65536x65536 film needs about 672.0 GB")) << error();
+    EXPECT_TRUE(has(error(), "65536x65536 film needs about 736.0 GB")) << error();
     EXPECT_TRUE(has(error(), "1.0 GB")) << error();
     EXPECT_EQ(session, nullptr);
     // Metropolis: 4096 bootstrap samples per pixel of a 4K image, 1025 depths (mmlt).

@@ -313,6 +313,9 @@ int rdv_pass_channels(rdv_pass pass) {
     case RDV_PASS_NORMAL: return 3;
     case RDV_PASS_ALBEDO: return 3;
     case RDV_PASS_NOISE: return 1;
+    case RDV_PASS_MIST:
+    case RDV_PASS_OBJECT_INDEX:
+    case RDV_PASS_MATERIAL_INDEX: return 1;
     case RDV_PASS_EMISSION:
     case RDV_PASS_ENVIRONMENT:
     case RDV_PASS_DIFFUSE_DIRECT:

@@ -1,4 +1,5 @@
 #include "bsdfs/material.h"
+#include "film/data_passes.h"
 #include "bsdfs/layering.h"
 #include "bsdfs/lobe_merge.h"
 #include "bsdfs/shading_normal.h"
@@ -193,6 +194,7 @@ Material Material::from_params(Params &p, const std::string &name, const ImageBu
   m.name = name;
   m.graph.image_buffers = images;
   std::string type = p.get_string("type", "diffuse");
+  m.pass_index = float(pass_index_of(p, "material '" + name + "'"));
   static const std::pair<const char *, MaterialType> kTypes[] = {
       {"diffuse", MaterialType::Diffuse}, {"emission", MaterialType::Emission}, {"glossy", MaterialType::Glossy},
       {"glass", MaterialType::Glass}, {"refraction", MaterialType::Refraction}, {"principled", MaterialType::Principled},

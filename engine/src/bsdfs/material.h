@@ -69,6 +69,7 @@ struct Material {
   std::vector<std::string> warnings;  // for Scene::warn (missing images, approximations)
   bool transparent = false;  // may let shadow rays through (Transparent BSDF, Principled alpha)
   bool holdout = false;      // has a Holdout closure (integrators/film_alpha.h)
+  float pass_index = 0;      // Material > Settings > Pass Index (film/data_passes.h)
   // A constant material (no texture, normal map or anisotropy) has its lobes resolved
   // once, when parsed: shading a hit then copies them, and needs no ShadingPoint.
   struct ResolvedLobes {

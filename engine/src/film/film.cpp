@@ -6,11 +6,12 @@
 
 namespace rdv {
 
-Film::Film(int width, int height, Rect region, bool halves, bool light_passes)
+Film::Film(int width, int height, Rect region, bool halves, bool light_passes, bool data_passes)
     : width_(width), height_(height), region_(region), pixels_(size_t(width) * height),
       aovs_(size_t(width) * height), splats_(size_t(width) * height),
       half_pixels_(halves ? size_t(width) * height : 0), half_splats_(halves ? size_t(width) * height : 0),
-      light_(light_passes ? size_t(width) * height : 0), light_splats_(light_passes ? size_t(width) * height : 0) {}
+      light_(light_passes ? size_t(width) * height : 0), light_splats_(light_passes ? size_t(width) * height : 0),
+      data_passes_(data_passes) {}
 
 size_t Film::bytes_per_pixel(bool halves, bool light_passes) {
   return sizeof(PixelSum) + sizeof(PixelAov) + sizeof(SplatSums) +
@@ -165,6 +166,10 @@ void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float 
           break;
         }
         case RDV_PASS_DEPTH: dst[0] = a.depth; break;
+        // Data passes (film/data_passes.h): the mist from its cover, as Cycles' 1 - sum / n.
+        case RDV_PASS_MIST: dst[0] = n > 0 ? float(std::clamp(1.0 - a.mist_cover / n, 0.0, 1.0)) : 1.0f; break;
+        case RDV_PASS_OBJECT_INDEX: dst[0] = a.object_index; break;
+        case RDV_PASS_MATERIAL_INDEX: dst[0] = a.material_index; break;
         case RDV_PASS_NORMAL: {
           double len = std::sqrt(a.normal[0] * a.normal[0] + a.normal[1] * a.normal[1] + a.normal[2] * a.normal[2]);
           for (int c = 0; c < 3; ++c) dst[c] = len > 0 ? float(a.normal[c] / len) : 0.0f;

@@ -51,12 +51,15 @@ class Film {
   // estimates_noise()); without them a frame can only be published with HalfSplit::None.
   // light_passes: keep Cycles' light passes (film/light_passes.h); without them a film
   // stores and copies nothing of them.
-  Film(int width, int height, Rect region, bool halves = false, bool light_passes = false);
+  // data_passes: EXR output carries Mist, Object and Material Index (film/data_passes.h;
+  // the film keeps them either way).
+  Film(int width, int height, Rect region, bool halves = false, bool light_passes = false, bool data_passes = false);
   // What one pixel costs (samples, splats, AOVs, halves, light passes): for the memory
   // check before a film is made.
   static size_t bytes_per_pixel(bool halves, bool light_passes = false);
   bool has_halves() const { return !half_splats_.empty(); }
   bool has_light_passes() const { return !light_.empty(); }
+  bool writes_data_passes() const { return data_passes_; }
   int width() const { return width_; }
   int height() const { return height_; }
   const Rect &region() const { return region_; }
@@ -144,6 +147,7 @@ class Film {
   // Light passes: camera samples' sums and splats; both empty unless asked for.
   std::vector<LightPassSums> light_;
   std::vector<LightSplatSums> light_splats_;
+  bool data_passes_ = false;
   FrameState state_;
   mutable std::mutex frame_mutex_;  // guards all of the above but the sizes
 };

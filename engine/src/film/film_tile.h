@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 #include "core/math.h"
+#include "film/data_passes.h"
 #include "film/light_passes.h"
 
 namespace rdv {
@@ -39,10 +40,16 @@ struct HalfSum {
   uint32_t count = 0;
 };
 
-// First-hit AOVs: nearest depth, summed normals and albedos (averaged by the count).
+// First-hit AOVs: nearest depth, summed normals and albedos (averaged by the count);
+// the data passes (film/data_passes.h): the samples' summed mist cover (double, as the
+// other sums: render parts merge to the whole render's) and the pass indices of the
+// pixel's sample 0 (0 in every other sample, so render parts add up to them).
 struct PixelAov {
   float depth = 1e10f;
+  float object_index = 0;
   std::array<double, 3> normal{}, albedo{};
+  double mist_cover = 0;
+  float material_index = 0;
 };
 
 class FilmTile {
@@ -65,6 +72,15 @@ class FilmTile {
   }
   // Light passes (film/light_passes.h): only when the film keeps them (Film::has_light_passes).
   void add_light_passes(int x, int y, const LightPassSample &sample) { light_[index(x, y)].add(sample); }
+  // first_sample: the pixel's sample 0, the one whose pass indices Cycles keeps.
+  void add_data_passes(int x, int y, const DataPassSample &data, bool first_sample) {
+    PixelAov &a = aovs_[index(x, y)];
+    a.mist_cover += data.mist_cover;
+    if (first_sample) {
+      a.object_index = data.object_index;
+      a.material_index = data.material_index;
+    }
+  }
   void add_first_hit(int x, int y, float depth, Vec3 normal, Color albedo) {
     PixelAov &a = aovs_[index(x, y)];
     a.depth = std::min(a.depth, depth);

@@ -93,7 +93,20 @@ std::string write_image(const Film &film, const std::string &path, const std::st
           for (int c = 0; c < 3; ++c) light[i * light_channels + 3 * k + c] = one[i * 3 + c];
       }
     }
-    const int image_channels = (noise.empty() ? 11 : 12) + light_channels;
+    // Cycles' data passes, as Blender names them, when the settings ask for them.
+    static const std::pair<rdv_pass, const char *> kDataPasses[] = {
+        {RDV_PASS_MIST, "Mist.Z"}, {RDV_PASS_OBJECT_INDEX, "IndexOB.X"}, {RDV_PASS_MATERIAL_INDEX, "IndexMA.X"}};
+    std::vector<float> data;  // pixel-major, 1 channel per pass
+    const int data_channels = film.writes_data_passes() ? int(std::size(kDataPasses)) : 0;
+    if (data_channels) {
+      data.resize(size_t(w) * h * data_channels);
+      std::vector<float> one(size_t(w) * h);
+      for (int k = 0; k < data_channels; ++k) {
+        film.read(kDataPasses[k].first, 0, 0, w, h, true, one.data());
+        for (size_t i = 0; i < size_t(w) * h; ++i) data[i * data_channels + k] = one[i];
+      }
+    }
+    const int image_channels = (noise.empty() ? 11 : 12) + light_channels + data_channels;
     PartChannels extra;
     if (part) extra = part_channels(film);
     const size_t extra_channels = extra.names.size();
@@ -106,10 +119,13 @@ std::string write_image(const Film &film, const std::string &path, const std::st
       d[4] = depth[i];
       for (int c = 0; c < 3; ++c) { d[5 + c] = normal[i * 3 + c]; d[8 + c] = albedo[i * 3 + c]; }
       if (!noise.empty()) d[11] = noise[i];
-      const int base_channels = image_channels - light_channels;
+      const int base_channels = image_channels - light_channels - data_channels;
       std::memcpy(&all[i * nc], d, size_t(base_channels) * sizeof(float));
       if (light_channels)
         std::memcpy(&all[i * nc + base_channels], &light[i * light_channels], size_t(light_channels) * sizeof(float));
+      if (data_channels)
+        std::memcpy(&all[i * nc + base_channels + light_channels], &data[i * data_channels],
+                    size_t(data_channels) * sizeof(float));
       if (extra_channels)
         std::memcpy(&all[i * nc + image_channels], &extra.words[i * extra_channels], extra_channels * 4);
     }
@@ -120,6 +136,7 @@ std::string write_image(const Film &film, const std::string &path, const std::st
     if (light_channels)
       for (const auto &[pass, name] : kLightPasses)
         for (const char *c : {".R", ".G", ".B"}) spec.channelnames.push_back(std::string(name) + c);
+    for (int k = 0; k < data_channels; ++k) spec.channelnames.push_back(kDataPasses[k].second);
     spec.channelformats.assign(image_channels, OIIO::TypeDesc::FLOAT);
     for (const std::string &name : extra.names) {
       spec.channelnames.push_back(name);

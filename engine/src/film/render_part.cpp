@@ -16,10 +16,10 @@ using json = nlohmann::json;
 // Channel layout of the layer "RdvMerge": each double as two words (high, low), so a
 // part holds its sums bit for bit (EXR has no 64-bit channels).
 constexpr const char *kLayer = "RdvMerge.";
-constexpr int kWordsPerPixel = 6 + 1 + 6 + 6 + 6 + 1 + 2;
-// The last channels (the transparency sum) are newer than the format: a part without
-// them has an opaque film (0).
-constexpr int kOptionalChannels = 2;
+constexpr int kWordsPerPixel = 6 + 1 + 6 + 6 + 6 + 1 + 2 + 4;
+// The last channels (the transparency sum, the data passes) are newer than the format:
+// a part without them has an opaque film and no data passes (0).
+constexpr int kOptionalChannels = 6;
 
 void put_double(uint32_t *&w, double v) {
   uint64_t bits;
@@ -48,6 +48,10 @@ std::vector<std::string> channel_names() {
   doubles("albedo", "rgb");
   names.push_back(std::string(kLayer) + "depth");  // float bits
   doubles("transparent", "v");
+  // The data passes (film/data_passes.h): the mist cover's sum, and the pass indices (float
+  // bits), which only the part holding sample 0 has (0 in the others: they add up).
+  doubles("mist_cover", "v");
+  for (const char *name : {"object_index", "material_index"}) names.push_back(std::string(kLayer) + name);
   return names;
 }
 
@@ -175,6 +179,8 @@ PartChannels part_channels(const Film &film) {
     for (double v : a.albedo) put_double(w, v);
     std::memcpy(w++, &a.depth, 4);
     put_double(w, p.transparent);
+    put_double(w, a.mist_cover);
+    for (float v : {a.object_index, a.material_index}) std::memcpy(w++, &v, 4);
   }
   return out;
 }
@@ -285,7 +291,12 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
       float depth;
       std::memcpy(&depth, w++, 4);
       v[12] = get_double(w);
-      for (int c = 0; c < 13; ++c)
+      v[13] = get_double(w);  // mist cover
+      float index[2];         // object, material
+      for (float &d : index) std::memcpy(&d, w++, 4);
+      v[14] = index[0];
+      v[15] = index[1];
+      for (int c = 0; c < 16; ++c)
         if (!std::isfinite(v[c]))
           fail("part '" + part.path + "': pixel (" + std::to_string(i % width) + ", " + std::to_string(i / width) +
                ") holds a non-finite sum (a damaged file?)");
@@ -301,6 +312,9 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
         a.albedo[c] += v[9 + c];
       }
       if (!std::isnan(depth)) a.depth = std::min(a.depth, depth);
+      a.mist_cover += v[13];
+      a.object_index += index[0];
+      a.material_index += index[1];
     }
   }
   {

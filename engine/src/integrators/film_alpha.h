@@ -24,6 +24,9 @@ struct FilmAlpha {
   // The scene has holdout objects or materials (Scene::has_holdouts): camera paths track
   // seeing through with an opaque film too, as a holdout cuts alpha either way.
   bool holdouts = false;
+  // View Layer > Passes > Alpha Threshold (view_layer.pass_alpha_threshold): the Object and
+  // Material Index passes take the first surface at least this opaque (film/data_passes.h).
+  float pass_alpha_threshold = 0.5f;
 
   // Whether camera paths need to know if they still see through (else: no cost at all).
   bool tracked() const { return film_transparent || holdouts; }

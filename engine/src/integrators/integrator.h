@@ -57,6 +57,9 @@ struct RenderSettings {
   LightPathLimits limits;
   // Cycles' light passes (film/light_passes.h): the film keeps them (path and bdpt).
   bool light_passes = false;
+  // Mist, Object Index and Material Index (film/data_passes.h) as EXR layers; the film
+  // has them either way (every integrator), for reads.
+  bool data_passes = false;
   // Film > Transparent and holdouts (integrators/film_alpha.h); holdouts is the scene's.
   FilmAlpha alpha;
   float filter_width = 1.5f;
@@ -110,6 +113,9 @@ struct FirstHit {
   // What of the sample sees the transparent background or a holdout (film_alpha.h):
   // the pixel's alpha is 1 minus its mean.
   float transparency = 0;
+  // Mist, Object Index and Material Index (film/data_passes.h), along the camera's
+  // see-through chain.
+  DataPassSample data;
   // Cycles' light passes of the sample, when the film keeps them (else null): the
   // integrator adds each contribution's share (film/light_passes.h), and the shares of
   // its splats to pass_splats.

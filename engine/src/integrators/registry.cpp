@@ -153,6 +153,10 @@ RenderSettings RenderSettings::from_params(Params &p) {
   if (!(s.alpha.glass_roughness >= 0 && s.alpha.glass_roughness <= 1))
     fail(p.what() + ": 'film_transparent_roughness' must be in 0..1, got " + std::to_string(s.alpha.glass_roughness));
   s.light_passes = p.get_bool("light_passes", false);
+  s.data_passes = p.get_bool("data_passes", false);
+  s.alpha.pass_alpha_threshold = p.get_float("pass_alpha_threshold", s.alpha.pass_alpha_threshold);
+  if (!(s.alpha.pass_alpha_threshold >= 0 && s.alpha.pass_alpha_threshold <= 1))
+    fail(p.what() + ": 'pass_alpha_threshold' must be in 0..1, got " + std::to_string(s.alpha.pass_alpha_threshold));
   s.seed = static_cast<uint32_t>(p.get_int("seed", 0));
   s.threads = p.get_int("threads", 0);
   if (s.threads < 0) fail(p.what() + ": 'threads' must not be negative");
@@ -291,6 +295,8 @@ std::string RenderSettings::image_settings_json() const {
     j["clamp_direct"] = limits.clamp_direct;
     j["clamp_indirect"] = limits.clamp_indirect;
   }
+  if (alpha.pass_alpha_threshold != FilmAlpha{}.pass_alpha_threshold)  // the index passes' (older parts: default)
+    j["pass_alpha_threshold"] = alpha.pass_alpha_threshold;
   if (alpha.film_transparent) {  // written only when used: older parts stay comparable
     j["film_transparent"] = true;
     j["film_transparent_glass"] = alpha.transparent_glass;

@@ -74,6 +74,7 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
           }
         }
         film_tile.add_sample(x, y, L, half_b, first_hit.transparency);
+        film_tile.add_data_passes(x, y, first_hit.data, s == 0);
         if (light_passes) film_tile.add_light_passes(x, y, passes);
         if (first_hit.valid) film_tile.add_first_hit(x, y, first_hit.depth, first_hit.normal, first_hit.albedo);
         else film_tile.add_first_hit(x, y, 1e10f, Vec3(0.0f), Color(0.0f));

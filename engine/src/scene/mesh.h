@@ -69,6 +69,8 @@ struct Instance : InstancePlacement {
   // rendered moving: steps given, the shutter open, and not a light or medium boundary.
   std::vector<Transform> motion;
   bool moving = false;
+  // Object > Relations > Pass Index (the Object Index pass, film/data_passes.h).
+  float pass_index = 0;
 };
 
 }  // namespace rdv

@@ -352,6 +352,21 @@ uint32_t Scene::add_light(const std::string &name, Params &params) {
 }
 
 void Scene::set_world(Params &params) {
+  MistSettings mist;
+  if (const nlohmann::json *j = params.get_json("mist")) {  // World > Mist Pass
+    Params m(j->dump(), params.what() + " mist");
+    mist.start = m.get_float("start", mist.start);
+    mist.depth = m.get_float("depth", mist.depth);
+    const std::string falloff = m.get_string("falloff", "quadratic");
+    m.check_all_used();
+    if (!std::isfinite(mist.start) || !std::isfinite(mist.depth) || mist.start < 0 || mist.depth < 0)
+      fail(m.what() + ": 'start' and 'depth' must be finite and not negative, got " + std::to_string(mist.start) +
+           " and " + std::to_string(mist.depth));
+    if (falloff == "quadratic") mist.falloff = MistSettings::Falloff::Quadratic;
+    else if (falloff == "linear") mist.falloff = MistSettings::Falloff::Linear;
+    else if (falloff == "inverse_quadratic") mist.falloff = MistSettings::Falloff::InverseQuadratic;
+    else fail(m.what() + ": 'falloff' must be quadratic, linear or inverse_quadratic, got '" + falloff + "'");
+  }
   if (const nlohmann::json *volume = params.get_json("volume")) {  // fog everywhere
     Params v(volume->dump(), params.what() + " volume");
     Medium m = Medium::from_params(v, "world");
@@ -394,6 +409,7 @@ void Scene::set_world(Params &params) {
                          "its own); ignored");
   params.check_all_used();
   world_visibility_ = world_visibility;
+  mist_ = mist;
   environment_ = map;
   world_radiance_ = c * s;
   dirty_ = true;
@@ -770,6 +786,19 @@ ShadingPoint Scene::shading_point(const SurfaceHit &hit, Vec3 dir, float width) 
   return sp;
 }
 
+void Scene::add_data_passes(const SurfaceHit &hit, Color beta, float alpha_threshold, DataPassSample &data) const {
+  const Material &m = materials_[hit.material];
+  Color alpha(1.0f);  // Cycles' surface alpha: 1 - the Transparent closures' weight
+  if (m.transparent) alpha = vmax(Color(1.0f) - m.shadow_transmission(shading_point(hit)), Color(0.0f));
+  // Cycles' camera_distance: from the camera's position (orthographic: along its axis), at
+  // the sample's shutter time.
+  const Camera &camera = camera_now();
+  const Vec3 w = hit.p - camera.position();
+  const float distance = camera.type == Camera::Type::Orthographic ? std::fabs(dot(w, camera.forward())) : length(w);
+  data.add_surface(mist_, alpha_threshold, distance, beta * alpha, average(alpha), instances_[hit.instance].pass_index,
+                   m.pass_index);
+}
+
 float Scene::holdout_weight(const SurfaceHit &hit) const {
   if (instances_[hit.instance].holdout) return 1;
   const Material &m = materials_[hit.material];
@@ -780,10 +809,12 @@ void Scene::set_instance_params(uint32_t id, Params &params) {
   if (id >= instances_.size()) fail("instance " + std::to_string(id) + ": no such instance");
   Instance &inst = instances_[id];
   const bool holdout = params.get_bool("holdout", false);
-  const uint32_t v = visibility::parse(params.get_json("visibility"),
-                                       "object '" + meshes_[inst.mesh].name + "' (instance " + std::to_string(id) + ")");
+  const std::string object = "object '" + meshes_[inst.mesh].name + "' (instance " + std::to_string(id) + ")";
+  const uint32_t v = visibility::parse(params.get_json("visibility"), object);
+  const int pass_index = pass_index_of(params, object);
   params.check_all_used();
   inst.holdout = holdout;
+  inst.pass_index = float(pass_index);
   if (v != inst.visibility) accel_.mark_instances_dirty();  // instance masks live in the top BVH
   inst.visibility = v;
   dirty_ = true;

@@ -7,6 +7,7 @@
 #include <vector>
 #include "bsdfs/material.h"
 #include "core/distribution.h"
+#include "film/data_passes.h"
 #include "lights/environment.h"
 #include "lights/light.h"
 #include "lights/volume_light.h"
@@ -157,6 +158,11 @@ class Scene {
   // What of the surface at hit is held out: 1 on a holdout instance, else its material's
   // Holdout closures' weight (0 for most).
   float holdout_weight(const SurfaceHit &hit) const;
+  // ---- Data passes (film/data_passes.h): the world's mist settings, and the surface at
+  // hit as a camera path's see-through chain meets it with throughput beta (its distance
+  // from the camera, opacity and pass indices) added to data.
+  const MistSettings &mist() const { return mist_; }
+  void add_data_passes(const SurfaceHit &hit, Color beta, float alpha_threshold, DataPassSample &data) const;
   // ---- Ray visibility (scene/ray_visibility.h). has_ray_visibility: some instance, light
   // or the world is hidden from some kind of ray beyond what lamps hide from the camera
   // by default, so integrators classify their rays. has_mixed_visibility: some instance
@@ -266,6 +272,7 @@ class Scene {
   bool has_transparency_ = false;
   bool has_holdouts_ = false;
   uint32_t world_visibility_ = visibility::kAll;
+  MistSettings mist_;
   bool has_ray_visibility_ = false, has_mixed_visibility_ = false;  // derived by commit()
   std::string ray_visibility_object_, mixed_visibility_object_;
   bool has_heterogeneous_media_ = false;  // derived by commit()

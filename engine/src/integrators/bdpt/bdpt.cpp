@@ -43,7 +43,9 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
   if (camera_path.size() < capacity) { camera_path.resize(capacity); light_path.resize(capacity); }
   emitted.assign(capacity, Color(0.0f));
 
-  int nc = camera_subpath<kMedia>(camera_ray, sampler, stats, camera_path.data(), emitted.data());
+  DataPassSample data;  // the data passes (film/data_passes.h), gathered by the camera walk
+  int nc = camera_subpath<kMedia>(camera_ray, sampler, stats, camera_path.data(), emitted.data(), -1,
+                                  first_hit ? &data : nullptr);
   Color L(0.0f);  // starts with the lamps and volume emission the camera path passed
   for (const Color &e : emitted) L += e;
   // (Kept here: *first_hit is overwritten with the first surface's AOVs below.)
@@ -61,6 +63,7 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
   }
   if (first_hit) {
     *first_hit = first_surface(camera_path.data(), nc);
+    first_hit->data = data;
     if (settings_.alpha.tracked()) first_hit->transparency = transparency(camera_path.data(), nc);
   }
   int nl = camera_side_only_ ? 0 : light_subpath<kMedia>(sampler, stats, light_path.data());

@@ -80,9 +80,13 @@ class Bdpt final : public TileIntegrator {
   // emitted has room for max_vertices (or max_bounces + 2) entries, zeroed by the caller.
   // max_vertices: at most this many (multiplexed MLT's one strategy); -1: as the
   // settings' max_bounces allow.
+  // data: the sample's data passes (film/data_passes.h), gathered along the walk's
+  // see-through chain; see_through_only: the walk ends where that chain does (the
+  // Metropolis integrators' first-hit pass).
   template <bool kMedia>
   int camera_subpath(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, PathVertex *path,
-                     Color *emitted, int max_vertices = -1) const;
+                     Color *emitted, int max_vertices = -1, DataPassSample *data = nullptr,
+                     bool see_through_only = false) const;
   template <bool kMedia>
   int light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int max_vertices = -1) const;
   const BdptSettings &settings() const { return settings_; }
@@ -123,7 +127,8 @@ class Bdpt final : public TileIntegrator {
   // cone: the ray's footprint (camera paths), for filtered texture lookups.
   template <bool kMedia>
   int random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, float pdf, int max_vertices,
-                  TransportMode mode, PathVertex *path, Color *emitted, RayCone cone = {}) const;
+                  TransportMode mode, PathVertex *path, Color *emitted, RayCone cone = {},
+                  DataPassSample *data = nullptr, bool see_through_only = false) const;
   Color lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathVertex *path, int n, float pdf_dir,
                       RayStats &stats) const;
   void gather_volume_emission(const Medium &medium, const Ray &ray, float tmax, SampleRun &rng, Color beta,

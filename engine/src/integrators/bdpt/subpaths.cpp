@@ -54,7 +54,8 @@ void PathVertex::link_to_prev(const PathVertex &prev, float pdf_dir) {
 
 template <bool kMedia>
 int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, float pdf_fwd, int max_vertices,
-                      TransportMode mode, PathVertex *path, Color *emitted, RayCone cone) const {
+                      TransportMode mode, PathVertex *path, Color *emitted, RayCone cone, DataPassSample *data,
+                      bool see_through_only) const {
   if (max_vertices <= 0) return 0;
   const float beta_start = std::max(max_component(beta), 1e-30f);
   MediumStack media = path[0].media;
@@ -75,7 +76,8 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
   // paths, the one more vertex where an emitter may be found (light_path_limits.cpp).
   const bool classify = settings_.limits.classify;
   // Transparent film: whether the camera still sees through (film_alpha.h).
-  bool see_through = camera && settings_.alpha.tracked();
+  // The data passes (film/data_passes.h) follow the same chain.
+  bool see_through = camera && (settings_.alpha.tracked() || data || see_through_only);
   // Ray visibility (scene/ray_visibility.h): camera paths trace each ray as the kind of
   // the scattering it leaves; light paths as any kind after a scattering (without mixed
   // visibility every instance is seen by all of them or by none).
@@ -141,7 +143,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
           v.link_to_prev(prev, pdf_fwd);
           see_through = false;
           ++n;
-          if (n >= max_vertices) return n;
+          if (n >= max_vertices || see_through_only) return n;
           sampler.start_stream(stream, dims::bounce(k, dims::kScatterDirection));
           Vec3 wi = medium.phase.sample(v.wo, sampler.get_2d());
           pdf_fwd = medium.phase.pdf(v.wo, wi);  // the phase function is symmetric
@@ -172,6 +174,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     if (!found) {
       // The world; with a transparent film, also where there is none (the alpha it leaves).
       const bool transparent_world = see_through && settings_.alpha.film_transparent;
+      if (see_through && data) data->add_world();
       if (mode == TransportMode::Radiance && (!scene_.infinite_lights().empty() || transparent_world)) {
         fresh_vertex(v);
         v.type = VertexType::Light;
@@ -209,6 +212,8 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       v.bsdf = Bsdf(hit.ng, hit.ns, v.wo);
       v.emitted = Color(0.0f);
       v.light = -1;
+    } else if (see_through && data) {
+      scene_.add_data_passes(hit, beta, settings_.alpha.pass_alpha_threshold, *data);
     }
     v.link_to_prev(prev, pdf_fwd);
     v.surface_connectible = v.bsdf.has_lobes() && !v.bsdf.is_delta();
@@ -224,6 +229,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     if (classify && limits_end_walk(bs.wi)) return n;
     beta *= bs.weight;
     if (see_through) see_through = settings_.alpha.keeps_seeing_through(bs);
+    if (see_through_only && !see_through) return n;
     float pdf_rev;
     if (bs.is_delta) {
       v.delta = true;
@@ -324,7 +330,7 @@ void Bdpt::gather_volume_emission(const Medium &medium, const Ray &ray, float tm
 
 template <bool kMedia>
 int Bdpt::camera_subpath(const CameraRay &cr, Sampler &sampler, RayStats &stats, PathVertex *path,
-                         Color *emitted, int max_vertices) const {
+                         Color *emitted, int max_vertices, DataPassSample *data, bool see_through_only) const {
   const Camera &camera = scene_.camera_now();
   PathVertex &v = path[0];
   fresh_vertex(v);
@@ -342,7 +348,7 @@ int Bdpt::camera_subpath(const CameraRay &cr, Sampler &sampler, RayStats &stats,
   Ray ray = cr.ray;
   ray.mask = v.out_mask = visibility::kCamera;  // camera rays see what is visible to the camera
   return 1 + random_walk<kMedia>(ray, sampler, stats, Color(1.0f), pdf_dir, walk, TransportMode::Radiance, path,
-                                 emitted, cr.cone);
+                                 emitted, cr.cone, data, see_through_only);
 }
 
 template <bool kMedia>
@@ -412,8 +418,10 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int
   return n + 1;
 }
 
-template int Bdpt::camera_subpath<false>(const CameraRay &, Sampler &, RayStats &, PathVertex *, Color *, int) const;
-template int Bdpt::camera_subpath<true>(const CameraRay &, Sampler &, RayStats &, PathVertex *, Color *, int) const;
+template int Bdpt::camera_subpath<false>(const CameraRay &, Sampler &, RayStats &, PathVertex *, Color *, int,
+                                         DataPassSample *, bool) const;
+template int Bdpt::camera_subpath<true>(const CameraRay &, Sampler &, RayStats &, PathVertex *, Color *, int,
+                                        DataPassSample *, bool) const;
 template int Bdpt::light_subpath<false>(Sampler &, RayStats &, PathVertex *, int) const;
 template int Bdpt::light_subpath<true>(Sampler &, RayStats &, PathVertex *, int) const;
 

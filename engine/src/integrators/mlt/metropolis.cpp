@@ -26,6 +26,9 @@ constexpr uint64_t kPilotLeaves = 16;  // the pilot's partial maps (memory: leav
 constexpr uint64_t kChainStreams = 1ull << 48;  // chain streams: apart from bootstrap indices
 
 constexpr int kFirstHitSamples = 4;  // camera rays per pixel for the Depth / Normal / Albedo passes
+// Vertices of a first-hit walk: the camera and up to 16 surfaces it sees through (Cycles'
+// default Transparent max bounces is 8).
+constexpr int kFirstHitVertices = 18;
 
 }  // namespace
 
@@ -86,7 +89,8 @@ void Metropolis::first_hit_pass(RenderContext &ctx) const {
   const bool alpha = bdpt_.settings().alpha.tracked();
   ctx.arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<int>(region.y0, region.y1, 1), [&](const tbb::blocked_range<int> &rows) {
-      thread_local std::vector<bdpt::PathVertex> path(2);
+      // Up to the camera's see-through chain's length (transparent layers in front).
+      thread_local std::vector<bdpt::PathVertex> path(kFirstHitVertices);
       SobolSampler sampler(settings_.seed_for_chains());
       RayStats stats;
       thread_local FilmTile rows_tile;  // these rows' pixels, published whole
@@ -102,13 +106,18 @@ void Metropolis::first_hit_pass(RenderContext &ctx) const {
             shutter::SampleTime at(scene_.has_motion() ? dims::shutter_time(sampler) : shutter::now());
             CameraRay cr;
             cr.ray = scene_.camera_now().generate_ray(raster, u_lens, &cr.lens_point, &cr.cone);
-            int n = media ? bdpt_.camera_subpath<true>(cr, sampler, stats, path.data(), nullptr, 2)
-                          : bdpt_.camera_subpath<false>(cr, sampler, stats, path.data(), nullptr, 2);
+            // The walk ends where the camera stops seeing through (its first scattering).
+            DataPassSample data;
+            int n = media ? bdpt_.camera_subpath<true>(cr, sampler, stats, path.data(), nullptr, kFirstHitVertices,
+                                                       &data, true)
+                          : bdpt_.camera_subpath<false>(cr, sampler, stats, path.data(), nullptr, kFirstHitVertices,
+                                                        &data, true);
             FirstHit hit = bdpt_.first_surface(path.data(), n);
             // The pixel's sample count averages the AOVs and the alpha (from first hits:
             // the world seen straight from the camera); the image itself is all splats.
             const float transparency = alpha ? bdpt_.transparency(path.data(), n) : 0.0f;
             rows_tile.add_sample(x, y, Color(0.0f), false, transparency);
+            rows_tile.add_data_passes(x, y, data, i == 0 && settings_.sample_offset == 0);
             if (hit.valid) rows_tile.add_first_hit(x, y, hit.depth, hit.normal, hit.albedo);
             else rows_tile.add_first_hit(x, y, 1e10f, Vec3(0.0f), Color(0.0f));
           }

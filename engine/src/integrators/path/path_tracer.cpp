@@ -165,8 +165,10 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
   };
   auto add = [&](const Color &c, int vertices) { add_to_passes(c, vertices, false); };
   // Transparent film (film_alpha.h): whether the camera still sees through to the
-  // background, and what of the sample did.
-  bool see_through = alpha_.tracked();
+  // background, and what of the sample did. The data passes (film/data_passes.h) follow
+  // the same chain of surfaces, so it is tracked whenever they are asked for.
+  bool see_through = alpha_.tracked() || first_hit;
+  DataPassSample *const data = first_hit ? &first_hit->data : nullptr;
   float transparency = 0;
   auto russian_roulette = [&](int depth) {
     if (depth < 3) return true;
@@ -268,6 +270,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       // The world seen through a transparent film is not there: only its alpha is.
       const bool transparent_world = see_through && alpha_.film_transparent;
       if (transparent_world) transparency += average(beta);
+      if (see_through && data) data->add_world();
       for (uint32_t li : scene_.infinite_lights()) {  // the world, beyond clip_end too
         const Light &light = scene_.lights()[li];
         if (!(light.visibility & ray.mask)) continue;  // camera rays: suns are not seen, the world is unless hidden
@@ -304,6 +307,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       transparency += h * average(beta);
       if (h >= 1) break;  // all held out: nothing of it is seen
     }
+    if (see_through && data) scene_.add_data_passes(hit, beta, alpha_.pass_alpha_threshold, *data);
     if (passes && depth == 0) {  // the colour passes: every layer the camera sees, by what reaches it
       Color colors[kColorKinds];
       bsdf.kind_colors(wo, colors);
