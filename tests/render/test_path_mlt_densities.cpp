@@ -10,6 +10,8 @@
 // double loop. Also: f is a function of the vertices (re-building every BSDF by the
 // rule gives the same f), and a proposal never touches the state it mutates (rejected
 // proposals leave it bit-identical). Deterministic (fixed seeds): nothing fails by chance.
+// Lamps with a radius: their sphere's point and direction densities (lights/sphere_lamp.h)
+// written out here from the point's offset from the lamp's centre.
 // Specular vertices (the glass ball and the mirror of mirror_caustic, its lamp made a
 // point): their densities are the event's probability from a Fresnel term written out here
 // in double precision (1 for the mirror), the light side's divided by the refraction's
@@ -40,12 +42,8 @@ struct LoadedScene {
   const Scene &scene() const { return *handle->scene; }
 };
 
-// point_lamps: lamps of radius 0 (mlt samples no lamp with a radius).
-void load(LoadedScene &s, const std::string &name, bool point_lamps = false) {
+void load(LoadedScene &s, const nlohmann::json &j) {
   rdv_scene_create(&s.handle);
-  nlohmann::json j = test::load_scene(name);
-  if (point_lamps)
-    for (auto &light : j["lights"]) light["radius"] = 0;
   rdv_tools::load_scene_json(j.dump(), test::source_path("scenes"), s.handle);
   ASSERT_EQ(rdv_scene_commit(s.handle), RDV_OK);
   s.handle->scene->camera().set_resolution(kWidth, kHeight);
@@ -135,7 +133,19 @@ struct BruteForce {
     const int n = p.n;
     if (i == 0) return 1;
     const bdpt::PathVertex &v = p.x[size_t(i)].v;
-    if (i == n - 1 && scene.lights()[size_t(v.light)].type != LightType::Triangle) return 0;  // lamps: no walk hits them
+    if (i == n - 1 && scene.lights()[size_t(v.light)].type != LightType::Triangle) {
+      // Lamps: no walk hits them, but for the spheres of lamps with a radius (one lamp in
+      // these scenes: nothing else's sphere on the way), where the ray enters: the cosine
+      // at the sphere from the point's offset from the centre.
+      const Light &light = scene.lights()[size_t(v.light)];
+      if (light.radius == 0) return 0;
+      Vec3 w = dir(p, i - 1, i);
+      const double cos_lamp = -dot(sphere_normal(light, v.p), w);
+      if (!(cos_lamp > 0)) return 0;
+      const Vec3 from = p.x[size_t(i - 1)].v.p;
+      return scatter_pdf(p.x[size_t(i - 1)], dir(p, i - 1, i - 2), w) * cos_lamp / double(length_squared(v.p - from)) *
+             free_flight(from, v.p, false);
+    }
     Vec3 w = dir(p, i - 1, i);
     double pdf;
     Vec3 from = p.x[size_t(i - 1)].v.p;
@@ -149,15 +159,40 @@ struct BruteForce {
     }
     return pdf * to_area(p, i - 1, i) * free_flight(from, v.p, v.type == VertexType::Medium);
   }
+  // A lamp with a radius is a sphere (lights/sphere_lamp.h): its point uniform over the
+  // sphere (a point lamp) or over the cap of points whose normal is within pi/2 + the
+  // cone's half angle of the spot's axis; the direction cosine-distributed about the
+  // normal (point) or uniform in the cone (spot), never below the point's horizon. The
+  // normal here is the point's offset from the centre, not the vertex's stored one.
+  static Vec3 sphere_normal(const Light &light, Vec3 p) { return normalize(p - light.position); }
+  static double sphere_point_pdf(const Light &light, Vec3 p) {
+    const double r = light.radius;
+    double cap = kPi;  // the cap's angular radius
+    if (light.type == LightType::Spot) cap = std::min(double(kPi), kPi / 2 + std::acos(double(light.cos_half_spot)));
+    if (std::acos(std::clamp(double(dot(sphere_normal(light, p), light.axis)), -1.0, 1.0)) > cap) return 0;
+    return 1 / (2 * kPi * (1 - std::cos(cap)) * r * r);
+  }
+  static double sphere_direction_pdf(const Light &light, Vec3 p, Vec3 d) {
+    const double c = dot(sphere_normal(light, p), d);
+    if (!(c > 0)) return 0;
+    if (light.type != LightType::Spot) return c / kPi;
+    const double cos_cone = light.cos_half_spot;
+    return dot(light.axis, d) > cos_cone ? 1 / (2 * kPi * (1 - cos_cone)) : 0.0;
+  }
   double light_side(const ExplicitPath &p, int i) const {
     const int n = p.n;
     const bdpt::PathVertex &light_vertex = p.x[size_t(n - 1)].v;
     const Light &light = scene.lights()[size_t(light_vertex.light)];
-    if (i == n - 1) return double(scene.light_distribution().pmf(size_t(light_vertex.light))) * light.inv_area;
+    const bool sphere = (light.type == LightType::Point || light.type == LightType::Spot) && light.radius > 0;
+    if (i == n - 1)
+      return double(scene.light_distribution().pmf(size_t(light_vertex.light))) *
+             (sphere ? sphere_point_pdf(light, light_vertex.p) : light.inv_area);
     if (i == 0) return 0;
     Vec3 w = dir(p, i + 1, i);
     double pdf;
-    if (i == n - 2) {
+    if (i == n - 2 && sphere) {
+      pdf = sphere_direction_pdf(light, light_vertex.p, w);
+    } else if (i == n - 2) {
       float pdf_pos, pdf_dir;
       emission_pdf(light, light_vertex.p, light_vertex.ng, w, scene.bounding_radius(), pdf_pos, pdf_dir);
       pdf = pdf_dir;
@@ -240,10 +275,10 @@ int specular_vertices(const ExplicitPath &p) {
 }
 
 // min_specular: how many checked proposals must have specular vertices in x or y.
-void check_scene(const std::string &name, int starts, int mutations_per_start, bool point_lamps = false,
+void check_scene(const std::string &name, const nlohmann::json &json, int starts, int mutations_per_start,
                  int min_specular = 0) {
   LoadedScene loaded;
-  load(loaded, name, point_lamps);
+  load(loaded, json);
   const Scene &scene = loaded.scene();
   PathSpace space(scene, kMaxBounces, kOrigin, kSize, float(kWidth * kHeight), kLargeStep);
   BruteForce brute{scene};
@@ -251,9 +286,13 @@ void check_scene(const std::string &name, int starts, int mutations_per_start, b
   RayStats stats;
   ExplicitPath x, y, z;
   int checked = 0, worse = 0, medium_paths = 0, large = 0, lens = 0, specular = 0, lens_specular = 0, caustic = 0;
+  int off_sphere = 0;
   double worst = 0, worst_f = 0;
   for (int s = 0; s < starts; ++s) {
     if (!(space.sample_independent(rng, stats, x) > 0)) continue;
+    const Light &light = scene.lights()[size_t(x.x[size_t(x.n - 1)].v.light)];
+    if (light.radius > 0 && (light.type == LightType::Point || light.type == LightType::Spot))
+      off_sphere += !(std::fabs(length(x.x[size_t(x.n - 1)].v.p - light.position) / light.radius - 1) < 1e-4);
     // f is a function of the vertices: every BSDF rebuilt by the rule gives the same f.
     z = x;
     for (int i = 1; i + 1 < z.n; ++i)
@@ -346,7 +385,12 @@ void check_scene(const std::string &name, int starts, int mutations_per_start, b
   EXPECT_GT(lens, 200) << name;
   if (scene.world_medium() >= 0) EXPECT_GT(medium_paths, 0) << name;
   EXPECT_EQ(worse, 0) << name;
+  EXPECT_EQ(off_sphere, 0) << name << ": a lamp vertex off its sphere";
   EXPECT_LT(worst_f, 1e-5) << name;
+}
+
+void check_scene(const std::string &name, int starts, int mutations_per_start) {
+  check_scene(name, test::load_scene(name), starts, mutations_per_start);
 }
 
 }  // namespace
@@ -355,9 +399,25 @@ TEST(PathMltDensities, CornellBoxRatiosMatchBruteForce) { check_scene("cornell_b
 
 TEST(PathMltDensities, FogDoorRatiosMatchBruteForce) { check_scene("fog_door.json", 4000, 20); }
 
-// Smooth glass and a mirror: paths through the ball and seen in the mirror.
+// Smooth glass and a mirror: paths through the ball and seen in the mirror. Its lamp made
+// a point (radius 0) here; with its radius (3 cm: a sphere lamp) below.
 TEST(PathMltDensities, MirrorCausticSpecularRatiosMatchBruteForce) {
-  check_scene("mirror_caustic.json", 20000, 20, true, 100);
+  nlohmann::json j = test::load_scene("mirror_caustic.json");
+  for (auto &light : j["lights"]) light["radius"] = 0;
+  check_scene("mirror_caustic.json", j, 20000, 20, 100);
+}
+
+// Lamps with a radius (lights/sphere_lamp.h): the shipped mirror caustic's 3 cm point lamp
+// (specular chains from a sphere lamp), and the fog through the door with its area lamp
+// replaced by a 5 cm spot (medium vertices lit by a spot's sphere, the cap and cone
+// densities).
+TEST(PathMltDensities, RadiusLampRatiosMatchBruteForce) {
+  check_scene("mirror_caustic.json (3 cm lamp)", test::load_scene("mirror_caustic.json"), 12000, 20, 60);
+  nlohmann::json fog = test::load_scene("fog_door.json");
+  fog["lights"] = nlohmann::json::array({{{"name", "spot"}, {"type", "spot"}, {"position", {3.5, 1.2, 2.4}},
+                                          {"direction", {-0.3, 0, -1}}, {"power", 2000}, {"radius", 0.05},
+                                          {"spot_size", 1.2}, {"spot_blend", 0.2}}});
+  check_scene("fog_door.json (5 cm spot)", fog, 16000, 20);
 }
 
 // The perturbations of a medium vertex (Pauly, Kollig & Keller 2000, sec. 4) against the
@@ -439,7 +499,7 @@ double run_chain(const PathSpace &space, const PerturbationSetup &s, MutationTyp
 
 TEST(PathMltPerturbations, PropagationLeavesTheDistanceDensityInvariant) {
   PerturbationSetup s;
-  load(s.loaded, "fog_door.json");
+  load(s.loaded, test::load_scene("fog_door.json"));
   const Scene &scene = s.loaded.scene();
   MutationSettings m;
   const float window = 0.4f;
@@ -472,7 +532,7 @@ TEST(PathMltPerturbations, PropagationLeavesTheDistanceDensityInvariant) {
 
 TEST(PathMltPerturbations, ScatteringLeavesTheAngleDensityInvariant) {
   PerturbationSetup s;
-  load(s.loaded, "fog_door.json");
+  load(s.loaded, test::load_scene("fog_door.json"));
   const Scene &scene = s.loaded.scene();
   MutationSettings m;
   const float window = 0.3f;  // radians

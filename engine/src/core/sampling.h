@@ -42,6 +42,15 @@ inline Vec3 uniform_sphere(Vec2 u) {
 }
 constexpr float uniform_sphere_pdf() { return kInv4Pi; }
 
+// Uniform direction in the cone around axis with cos >= cos_max (density 1 / (2 pi (1 - cos_max))).
+inline Vec3 uniform_cone(Vec3 axis, float cos_max, Vec2 u) {
+  float c = 1.0f - u.x * (1.0f - cos_max);
+  float s = safe_sqrt(1.0f - c * c), phi = 2.0f * kPi * u.y;
+  Frame f(axis);
+  return f.to_world(Vec3(s * std::cos(phi), s * std::sin(phi), c));
+}
+inline float uniform_cone_pdf(float cos_max) { return 1.0f / (2.0f * kPi * (1.0f - cos_max)); }
+
 // Barycentrics uniform over a triangle (Heitz's low-distortion square-to-triangle map).
 inline Vec2 uniform_triangle(Vec2 u) {
   float b0, b1;

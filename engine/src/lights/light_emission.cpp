@@ -10,14 +10,6 @@
 
 namespace rdv {
 
-// Uniform direction in the cone around axis with cos >= cos_max.
-static Vec3 uniform_cone(Vec3 axis, float cos_max, Vec2 u) {
-  float c = 1.0f - u.x * (1.0f - cos_max);
-  float s = safe_sqrt(1.0f - c * c), phi = 2.0f * kPi * u.y;
-  Frame f(axis);
-  return f.to_world(Vec3(s * std::cos(phi), s * std::sin(phi), c));
-}
-
 bool light_is_delta_position(const Light &l) {
   return (l.type == LightType::Point || l.type == LightType::Spot) && l.radius == 0;
 }

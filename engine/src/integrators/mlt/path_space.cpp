@@ -5,6 +5,7 @@
 #include <cmath>
 #include "core/ray_offset.h"
 #include "lights/light.h"
+#include "lights/sphere_lamp.h"
 #include "media/medium_stack.h"
 
 namespace rdv::mlt {
@@ -75,6 +76,8 @@ PathSpace::PathSpace(const Scene &scene, int max_bounces, Vec2 sample_origin, Ve
       large_step_probability_(large_step_probability),
       mutations_(mutations),
       media_(scene.has_media()) {
+  for (uint32_t i = 0; i < uint32_t(scene.lights().size()); ++i)
+    if (is_sphere_lamp(scene.lights()[i])) sphere_lamps_.push_back(i);
   // Without media the medium perturbations could only fail (a property of the scene, not
   // of a state: the mutation probabilities stay fixed).
   if (!media_) {
@@ -107,12 +110,6 @@ std::string PathSpace::unsupported(const Scene &scene, const RenderSettings &set
       case LightType::Sun:
       case LightType::Background: return which + " is a sun or world light; mlt does not sample lights at infinity yet";
       case LightType::Volume: return which + " is an emissive volume; mlt does not sample volume lights yet";
-      case LightType::Point:
-      case LightType::Spot:
-        if (l.radius > 0)
-          return which + " is a point or spot lamp of radius " + std::to_string(l.radius) +
-                 "; mlt samples point and spot lamps of radius 0 only";
-        break;
       case LightType::Triangle:
         if (l.textured) return which + " is a mesh with textured emission; mlt samples uniform emitters only";
         break;
@@ -131,7 +128,20 @@ std::string PathSpace::unsupported(const Scene &scene, const RenderSettings &set
 
 // ---- Sampling ----
 
-bool PathSpace::trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &stats, ExplicitVertex &z) const {
+int PathSpace::first_sphere_lamp(Vec3 o, Vec3 d, float tmax, float &t) const {
+  int first = -1;
+  for (uint32_t index : sphere_lamps_) {
+    float t_lamp;
+    if (intersect_sphere_lamp(scene_.lights()[index], o, d, tmax, t_lamp)) {
+      first = int(index);
+      tmax = t = t_lamp;
+    }
+  }
+  return first;
+}
+
+bool PathSpace::trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &stats, ExplicitVertex &z,
+                           bool to_light) const {
   if (!is_finite(ray.o) || !is_finite(ray.d) || !(length_squared(ray.d) > 0)) return false;
   for (int guard = 0; guard < 256; ++guard) {
     SurfaceHit hit;
@@ -139,6 +149,10 @@ bool PathSpace::trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &sta
     ++stats.rays;
     bool found = media_ ? scene_.intersect_media(ray, hit, boundary) : scene_.intersect(ray, hit);
     float segment = found ? hit.t : ray.tmax;
+    // The last vertex from the camera side: a lamp's sphere in front of the surface.
+    float t_lamp = 0;
+    const int lamp = to_light ? first_sphere_lamp(ray.o, ray.d, segment, t_lamp) : -1;
+    if (lamp >= 0) segment = t_lamp;
     if (media_) {
       int m = media.current(scene_);
       if (m >= 0) {
@@ -154,12 +168,23 @@ bool PathSpace::trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &sta
           return true;
         }
       }
-      if (found && scene_.is_boundary_only(hit.material)) {  // an index-matched boundary: no vertex
+      if (found && lamp < 0 && scene_.is_boundary_only(hit.material)) {  // an index-matched boundary: no vertex
         media.cross(scene_, hit, boundary, ray.d);
         float tmax = std::isinf(ray.tmax) ? kInf : ray.tmax - hit.t;
         ray = Ray{spawn_origin(hit.p, hit.ng, hit.error, ray.d), ray.d, tmax};
         continue;
       }
+    }
+    if (lamp >= 0) {
+      const Light &light = scene_.lights()[size_t(lamp)];
+      PathVertex &v = bdpt::fresh_vertex(z.v);
+      v.type = VertexType::Light;
+      v.light = lamp;
+      v.ng = v.ns = normalize(ray.o + ray.d * t_lamp - light.position);
+      v.p = light.position + v.ng * light.radius;
+      v.wo = -ray.d;
+      v.media = media;
+      return true;
     }
     if (!found) return false;
     PathVertex &v = bdpt::fresh_surface_vertex(z.v, hit, ray.d, boundary, media);
@@ -184,20 +209,31 @@ bool PathSpace::light_vertex(Pcg32 &rng, ExplicitVertex &z, Vec3 &dir) const {
   Vec2 u_pos{rng.next_float(), rng.next_float()}, u_dir{rng.next_float(), rng.next_float()};
   if (dist.size() == 0 || dist.total() <= 0) return false;
   uint32_t index = uint32_t(dist.sample_discrete(u_light, nullptr));
-  EmissionSample es;
-  if (!scene_.sample_emission(index, u_pos, u_dir, Vec3(0.5f), es)) return false;
   const Light &light = scene_.lights()[index];
+  // Where the light's rays start, and one direction (for the vertex's media).
+  Ray ray;
+  Vec3 n(0.0f);
+  if (is_sphere_lamp(light)) {  // a point on the lamp's sphere (lights/sphere_lamp.h), facing out
+    Vec3 p;
+    sample_sphere_lamp_point(light, u_pos, p, n);
+    ray = Ray{p, n, kInf};
+  } else {
+    EmissionSample es;
+    if (!scene_.sample_emission(index, u_pos, u_dir, Vec3(0.5f), es)) return false;
+    ray = es.ray;
+    if (light.type == LightType::Area || light.type == LightType::Triangle) n = light.axis;
+  }
   PathVertex &v = bdpt::fresh_vertex(z.v);
   v.type = VertexType::Light;
   v.light = int(index);
-  v.p = es.ray.o;
-  if (light.type == LightType::Area || light.type == LightType::Triangle) v.ng = v.ns = light.axis;
+  v.p = ray.o;
+  v.ng = v.ns = n;
   if (light.type == LightType::Triangle) v.error = light.error;
   if (media_) {
     if (const std::vector<int> *media = scene_.light_media(index)) v.media = MediumStack::from(*media);
-    else v.media = MediumStack::from(scene_.media_along(es.ray.o, es.ray.d));
+    else v.media = MediumStack::from(scene_.media_along(ray.o, ray.d));
   }
-  dir = es.ray.d;
+  dir = ray.d;
   return true;
 }
 
@@ -244,7 +280,7 @@ bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, Ray
     ray = Ray{prev.v.on_surface() ? spawn_origin(prev.v.p, prev.v.ng, prev.v.error, wi) : prev.v.p, wi, kInf};
   }
   ExplicitVertex &z = y.x[size_t(at)];
-  if (!trace_step(ray, media, rng, stats, z)) return false;
+  if (!trace_step(ray, media, rng, stats, z, at == y.n - 1)) return false;
   settle(z, prev);
   return true;
 }
@@ -253,11 +289,18 @@ bool PathSpace::extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayS
   ExplicitVertex &next = y.x[size_t(at + 1)];
   Vec3 wi;
   if (at + 1 == y.n - 1) {
-    // Leaving the light: its emission direction (sample_emission's, whatever point it picks).
+    // Leaving the light: its emission direction (sample_emission's, whatever point it
+    // picks; a sphere lamp's from its point).
     EmissionSample es;
     Vec2 u_pos{rng.next_float(), rng.next_float()}, u_dir{rng.next_float(), rng.next_float()};
-    if (next.v.light < 0 || !scene_.sample_emission(uint32_t(next.v.light), u_pos, u_dir, Vec3(0.5f), es)) return false;
-    wi = es.ray.d;
+    if (next.v.light < 0) return false;
+    const Light &light = scene_.lights()[size_t(next.v.light)];
+    if (is_sphere_lamp(light)) {
+      if (!sample_sphere_lamp_direction(light, next.v.ng, u_dir, wi)) return false;
+    } else {
+      if (!scene_.sample_emission(uint32_t(next.v.light), u_pos, u_dir, Vec3(0.5f), es)) return false;
+      wi = es.ray.d;
+    }
   } else {
     Vec3 w_light = normalize(y.x[size_t(at + 2)].v.p - next.v.p);
     if (next.v.type == VertexType::Medium) {
@@ -312,6 +355,7 @@ bool PathSpace::regenerate(ExplicitPath &y, int l, int na, int j, Pcg32 &rng, Ra
 
 Color PathSpace::emitted(const ExplicitVertex &light_vertex, Vec3 w) const {
   const Light &l = scene_.lights()[size_t(light_vertex.v.light)];
+  if (is_sphere_lamp(l)) return sphere_lamp_radiance(l, light_vertex.v.ng, w);
   switch (l.type) {
     case LightType::Area: return dot(l.axis, w) > 0 ? l.radiance : Color(0.0f);
     case LightType::Triangle:
@@ -323,7 +367,8 @@ Color PathSpace::emitted(const ExplicitVertex &light_vertex, Vec3 w) const {
 
 double PathSpace::light_position_density(const ExplicitVertex &light_vertex) const {
   const Light &l = scene_.lights()[size_t(light_vertex.v.light)];
-  return double(scene_.light_distribution().pmf(size_t(light_vertex.v.light))) * l.inv_area;
+  const double area_pdf = is_sphere_lamp(l) ? sphere_lamp_point_pdf(l, light_vertex.v.ng) : l.inv_area;
+  return double(scene_.light_distribution().pmf(size_t(light_vertex.v.light))) * area_pdf;
 }
 
 bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec3 w, EdgeTrace &e,
@@ -462,9 +507,13 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     if (i == 0) {
       pdf_a = 0;  // nothing reaches the pinhole
     } else if (i + 1 == n - 1) {
-      float pdf_pos, pdf_dir;
-      emission_pdf(light, b.v.p, b.v.ng, -w, scene_.bounding_radius(), pdf_pos, pdf_dir);
-      pdf_a = pdf_dir;
+      if (is_sphere_lamp(light)) {
+        pdf_a = sphere_lamp_direction_pdf(light, b.v.ng, -w);
+      } else {
+        float pdf_pos, pdf_dir;
+        emission_pdf(light, b.v.p, b.v.ng, -w, scene_.bounding_radius(), pdf_pos, pdf_dir);
+        pdf_a = pdf_dir;
+      }
     } else if (b.v.type == VertexType::Surface) {
       Vec3 w_light = normalize(y.x[size_t(i + 2)].v.p - b.v.p);
       Bsdf light_side = scene_.bsdf(b.hit, w_light, 0);
@@ -486,7 +535,20 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   }
   f *= emitted(last, normalize(y.x[size_t(n - 2)].v.p - last.v.p));
   y.fwd[0] = 1;  // the pinhole
-  if (lamp) y.fwd[size_t(n - 1)] = 0;
+  // The camera side reaches the light where its last ray meets it first: a lamp's sphere
+  // where the ray enters it (emitted() is 0 from inside), another lamp's sphere on the
+  // way takes the ray instead; point and spot lamps without a radius are never reached.
+  if (lamp && !is_sphere_lamp(light)) {
+    y.fwd[size_t(n - 1)] = 0;
+  } else if (!sphere_lamps_.empty()) {
+    Vec3 from = y.x[size_t(n - 2)].v.p;
+    if (n == 2) from = from + w0 * (camera.clip_start / dot(w0, camera.forward()));
+    const Vec3 d = last.v.p - from;
+    const float length_d = length(d);
+    float t;
+    const int first = first_sphere_lamp(from, d / length_d, length_d * (1 - 1e-4f), t);
+    if (first >= 0 && first != last.v.light) y.fwd[size_t(n - 1)] = 0;
+  }
   y.rev[size_t(n - 1)] = light_position_density(last);
   f *= image_area_;
   if (!is_finite(f) || f.x < 0 || f.y < 0 || f.z < 0) f = Color(0.0f);

@@ -11,7 +11,8 @@
 // BSDF / phase sampling (from the light side with a BSDF built toward the light-side
 // neighbour), free-flight distances by one channel chosen uniformly, a camera ray by a
 // raster point uniform over the sample region, a light by power and a point uniform on
-// it. The bidirectional mutation's transition density T(x -> y) is a sum of products
+// it (a lamp with a radius: a point on its sphere, lights/sphere_lamp.h, which the camera
+// side's last step may also reach). The bidirectional mutation's transition density T(x -> y) is a sum of products
 // of these (Veach 1997, sec. 11.4.2), so the acceptance ratio is exact.
 #pragma once
 #include <string>
@@ -133,7 +134,12 @@ class PathSpace {
     double fwd = 1, rev = 1;  // free-flight densities of reaching b from a / a from b
   };
   bool trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec3 w, EdgeTrace &e, RayStats &stats) const;
-  bool trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &stats, ExplicitVertex &z) const;
+  // to_light: the last vertex from the camera side, which may be a lamp's sphere.
+  bool trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &stats, ExplicitVertex &z,
+                  bool to_light = false) const;
+  // The sphere lamp (lights/sphere_lamp.h) the ray o + t d enters first for t < tmax
+  // (its index, t), or -1.
+  int first_sphere_lamp(Vec3 o, Vec3 d, float tmax, float &t) const;
   bool camera_vertex(ExplicitVertex &z) const;
   bool light_vertex(Pcg32 &rng, ExplicitVertex &z, Vec3 &dir) const;
   bool extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats) const;
@@ -152,6 +158,7 @@ class PathSpace {
   MutationSettings mutations_;
   float caustic_weight_ = 0;  // the caustic perturbation's weight when paths have specular vertices
   bool media_;
+  std::vector<uint32_t> sphere_lamps_;  // the lights that are lamps with a radius
 };
 
 // Sum over the splits j = 0 .. count of y's new vertices lo .. lo + count - 1 (the
