@@ -110,6 +110,7 @@ _PROTOTYPES = {
     "rdv_scene_add_instance": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_void_p, _c_uint32_p]),
     "rdv_scene_set_instance_transform": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_void_p]),
     "rdv_scene_set_instance_params": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_char_p]),
+    "rdv_scene_set_instance_motion": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_void_p, ctypes.c_uint32]),
     "rdv_scene_add_light": (_status, [_scene_p, ctypes.c_char_p, ctypes.c_char_p, _c_uint32_p]),
     "rdv_scene_set_world": (_status, [_scene_p, ctypes.c_char_p]),
     "rdv_scene_set_camera": (_status, [_scene_p, ctypes.c_char_p]),
@@ -405,6 +406,17 @@ class Scene(_Handle):
 
     def set_instance_params(self, instance, params):
         self.lib.check(self.lib.rdv_scene_set_instance_params(self.handle, int(instance), _json(params)),
+                       "instance %d" % instance)
+
+    def set_instance_motion(self, instance, matrices):
+        """Motion blur: the instance's transforms (16 row-major numbers each) at evenly spaced
+        times over the open shutter."""
+        import numpy as np
+        arr = np.ascontiguousarray(matrices, dtype=np.float32).reshape(-1)
+        if arr.size % 16:
+            raise EngineError("instance %d: motion steps need 16 numbers each, got %d" % (instance, arr.size))
+        steps = arr.size // 16
+        self.lib.check(self.lib.rdv_scene_set_instance_motion(self.handle, int(instance), _ptr(arr), steps),
                        "instance %d" % instance)
 
     def add_light(self, name, params):

@@ -166,7 +166,8 @@ def _render(engine, depsgraph):
     rscene = binding.Scene(lib)
     session = None
     try:
-        exporter = SceneExporter(depsgraph, rscene, image_average=image_average, messages=messages)
+        exporter = SceneExporter(depsgraph, rscene, image_average=image_average, messages=messages,
+                                 frame_set=engine.frame_set)
         stats = exporter.export()
         if engine.test_break():
             return
@@ -177,6 +178,9 @@ def _render(engine, depsgraph):
             engine.report({"WARNING"}, line)
         print("Rendezvous: exported %d meshes (%d triangles), %d instances, %d lights, %d materials in %.3f s"
               % (stats.meshes, stats.triangles, stats.instances, stats.lights, stats.materials, stats.seconds))
+        if stats.moving:
+            print("Rendezvous: motion blur: %d moving objects, transforms sampled in %.3f s"
+                  % (stats.moving, stats.motion_seconds))
 
         session = binding.Session(rscene, settings)
         engine.session = session

@@ -8,11 +8,12 @@ or dump.JsonSink for the bug-report JSON.  So both paths run the same export.
 import time
 
 from .. import shaders_map
-from ..utils import Messages, determinant3, is_finite_matrix
+from ..utils import Messages, determinant3, is_finite_matrix, normalize_frame
 from .camera import camera_params
 from .lights import light_params
 from .materials import MaterialCache
 from . import images
+from . import motion
 from .mesh import mesh_arrays
 from . import volumes
 from . import visibility
@@ -30,6 +31,8 @@ class ExportStats:
         self.triangles = 0
         self.materials = 0
         self.seconds = 0.0
+        self.moving = 0  # objects (and the camera) sent with motion steps
+        self.motion_seconds = 0.0  # of seconds: sampling their transforms over the shutter
 
     def as_dict(self):
         return dict(self.__dict__)
@@ -73,8 +76,12 @@ def gas_domain(ob):
 
 
 class SceneExporter:
-    def __init__(self, depsgraph, sink, image_average=None, messages=None, is_viewport=False, image_file=None):
+    def __init__(self, depsgraph, sink, image_average=None, messages=None, is_viewport=False, image_file=None,
+                 frame_set=None):
+        """frame_set(frame, subframe): evaluates the depsgraph at another time (RenderEngine.frame_set);
+        given, objects that move while the shutter is open are sent with their motion steps."""
         self.depsgraph = depsgraph
+        self.frame_set = frame_set
         self.scene = depsgraph.scene
         self.sink = sink
         self.messages = messages if messages is not None else Messages()
@@ -91,6 +98,8 @@ class SceneExporter:
         self._light_names = set()
         self._uv_cache = {}
         self.is_viewport = is_viewport
+        self.motion = None  # motion.MotionSampler while exporting a frame with motion blur
+        self._camera_params = None
 
     def warn(self, text):
         self.messages.warn(text)
@@ -123,9 +132,17 @@ class SceneExporter:
     # ---- whole scene ------------------------------------------------------------
     def export(self):
         t0 = time.perf_counter()
+        # Motion blur (Cycles shows none in the viewport, nor do we).
+        self.interval = None if self.is_viewport else motion.shutter_interval(self.scene)
+        if self.interval is not None and self.frame_set is not None:
+            import bpy
+            if motion.scene_is_animated(bpy.data):
+                self.motion = motion.MotionSampler(self.interval)
         self.export_camera()
         self.export_world()
         self.export_objects()
+        if self.motion is not None:
+            self.export_motion()
         self.stats.materials = len(self.materials._ids)
         self.stats.seconds = time.perf_counter() - t0
         return self.stats
@@ -135,7 +152,26 @@ class SceneExporter:
         if cam is None:
             raise ExportError("Scene '%s' has no camera" % self.scene.name)
         cam_eval = cam.evaluated_get(self.depsgraph)
-        self.sink.set_camera(camera_params(cam_eval, self.warn))
+        self._camera_params = camera_params(cam_eval, self.warn)
+        if self.interval is not None:
+            self._camera_params["shutter_open"], self._camera_params["shutter_close"] = self.interval
+        if self.motion is not None:
+            self.motion.track_camera((cam.name, "", ()), motion.object_steps(cam),
+                                     [float(x) for row in cam_eval.matrix_world for x in row])
+        self.sink.set_camera(self._camera_params)
+
+    def export_motion(self):
+        """The transforms of what moves while the shutter is open (motion.py)."""
+        moving = self.motion.sample(self.depsgraph, self.frame_set, self.scene.frame_current)
+        for key, matrices in moving.items():
+            if key == self.motion.camera_key:
+                self._camera_params["motion"] = [normalize_frame(m)[0] for m in matrices]
+                self.sink.set_camera(self._camera_params)
+            else:
+                for instance in self.motion.instances(key):
+                    self.sink.set_instance_motion(instance, matrices)
+        self.stats.moving = len(moving)
+        self.stats.motion_seconds = self.motion.seconds
 
     def export_world(self):
         params, warning = shaders_map.convert_world(self.scene.world, image_average=self.image_average,
@@ -159,7 +195,7 @@ class SceneExporter:
             if otype == "LIGHT":
                 self._light(ob, inst.matrix_world)
             elif otype in GEOMETRY_TYPES:
-                self._geometry(ob, inst.matrix_world)
+                self._geometry(ob, inst.matrix_world, inst)
             elif otype == "VOLUME":
                 self._volume(ob, inst.matrix_world)
             elif otype in ("VOLUME", "CURVES", "POINTCLOUD"):
@@ -221,7 +257,7 @@ class SceneExporter:
             names |= n
         return uses, sorted(names)
 
-    def _geometry(self, ob, matrix):
+    def _geometry(self, ob, matrix, inst=None):
         m16 = [*matrix[0], *matrix[1], *matrix[2], *matrix[3]]
         if not is_finite_matrix(m16):
             self.warn("Object '%s': non-finite transform, skipped" % ob.name)
@@ -247,6 +283,8 @@ class SceneExporter:
         settings = self.object_settings(ob)
         if settings:
             self.sink.set_instance_params(instance, settings)
+        if self.motion is not None and inst is not None:
+            self.motion.track(motion.instance_key(inst, ob), motion.object_steps(ob), instance, m16)
         self.stats.instances += 1
 
     # ---- grid media: Volume objects and fluid domains ---------------------------------------

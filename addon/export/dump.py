@@ -114,6 +114,9 @@ class JsonSink:
     def set_instance_params(self, instance, params):
         self.instances[instance].update(params)
 
+    def set_instance_motion(self, instance, matrices):
+        self.instances[instance]["motion"] = [[_num(x) for x in m] for m in matrices]
+
     def add_light(self, name, params):
         d = {"name": name}
         d.update(params)
@@ -160,7 +163,9 @@ def write_scene_json(depsgraph, filepath, binary=False, props=None, image_averag
             sink = JsonSink(bin_file, os.path.basename(bin_path))
         else:
             sink = JsonSink()
-        exporter = SceneExporter(depsgraph, sink, image_average=image_average, messages=messages)
+        # Motion steps at other times: the depsgraph follows the scene's frame (motion.py).
+        exporter = SceneExporter(depsgraph, sink, image_average=image_average, messages=messages,
+                                 frame_set=lambda frame, subframe: scene.frame_set(frame, subframe=subframe))
         exporter.export()
         settings = session_settings(scene, props, warn=messages.warn)
     finally:

@@ -136,6 +136,31 @@ def compare(name, ref, test):
     return ok_mean, ok_blocks, ratio
 
 
+def check_setting(title, name, scene, apply, samples, odir, failures, min_effect=0.05):
+    """A setting against Cycles: Cycles renders the scene without it, then apply() sets it and
+    Cycles, Rendezvous' path tracer (samples) and BDPT (samples / 2) render it. Appends to
+    failures: a mean or block difference from Cycles (compare), or a setting that changes no
+    lit 8x8 block of Cycles' image by min_effect (the test would not see it ignored)."""
+    plain, _ = render_cycles(scene, samples, os.path.join(odir, name + "_cycles_plain.exr"))
+    apply()
+    ref, tc = render_cycles(scene, samples, os.path.join(odir, name + "_cycles.exr"))
+    print("%s %s: Cycles %d spp %.1f s" % (title, name, samples, tc))
+    for integrator, n in (("PATH", samples), ("BDPT", samples // 2)):
+        test, tr = render_rendezvous(scene, n, os.path.join(odir, "%s_%s.exr" % (name, integrator.lower())), integrator)
+        print("  Rendezvous %s %d spp: %.1f s" % (integrator, n, tr))
+        ok_mean, ok_blocks, ratio = compare("%s %s" % (name, integrator), ref, test)
+        if not ok_mean:
+            failures.append("%s %s: mean ratio Rendezvous/Cycles = %.4f" % (name, integrator, ratio))
+        if not ok_blocks:
+            failures.append("%s %s: block means differ beyond noise" % (name, integrator))
+    effect = setting_effect(ref, plain)
+    print("  Cycles without the setting: mean %.4f of Cycles' with it, largest block change %.1f%%"
+          % (plain.mean() / ref.mean(), 100 * effect))
+    if effect < min_effect:
+        failures.append("%s: the setting changes no block by %.0f%% (the test would not see it ignored)"
+                        % (name, 100 * min_effect))
+
+
 def finish(title, failures, odir):
     """Prints the verdict; exits 1 on failures (listing them and where the images are)."""
     if failures:

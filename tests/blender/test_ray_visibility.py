@@ -28,7 +28,7 @@ import traceback
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_brightness import build_scenes, compare, finish, out_dir, render_cycles, render_rendezvous, setting_effect  # noqa: E402
+from test_brightness import build_scenes, check_setting, finish, out_dir  # noqa: E402
 
 MIN_EFFECT = 0.05
 SIZE = 48
@@ -117,25 +117,7 @@ def main():
     failures = []
     try:
         scene, apply = build(a.variant)
-        plain, _ = render_cycles(scene, a.samples, os.path.join(odir, a.variant + "_cycles_plain.exr"))
-        apply()
-        ref, tc = render_cycles(scene, a.samples, os.path.join(odir, a.variant + "_cycles.exr"))
-        print("RAY VISIBILITY %s: Cycles %d spp %.1f s" % (a.variant, a.samples, tc))
-        for integrator, samples in (("PATH", a.samples), ("BDPT", a.samples // 2)):
-            test, tr = render_rendezvous(scene, samples, os.path.join(odir, "%s_%s.exr" % (a.variant, integrator.lower())),
-                                         integrator)
-            print("  Rendezvous %s %d spp: %.1f s" % (integrator, samples, tr))
-            ok_mean, ok_blocks, ratio = compare("%s %s" % (a.variant, integrator), ref, test)
-            if not ok_mean:
-                failures.append("%s %s: mean ratio Rendezvous/Cycles = %.4f" % (a.variant, integrator, ratio))
-            if not ok_blocks:
-                failures.append("%s %s: block means differ beyond noise" % (a.variant, integrator))
-        effect = setting_effect(ref, plain)
-        print("  Cycles without the setting: mean %.4f of Cycles' with it, largest block change %.1f%%"
-              % (plain.mean() / ref.mean(), 100 * effect))
-        if effect < MIN_EFFECT:
-            failures.append("%s: the setting changes no block by %.0f%% (the test would not see it ignored)"
-                            % (a.variant, 100 * MIN_EFFECT))
+        check_setting("RAY VISIBILITY", a.variant, scene, apply, a.samples, odir, failures, MIN_EFFECT)
     except Exception as exc:
         traceback.print_exc()
         failures.append("%s: %s" % (a.variant, exc))
