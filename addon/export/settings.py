@@ -80,7 +80,7 @@ ENGINE_MAX_BOUNCES = 1024
 # Cycles' defaults, which scene.rendezvous mirrors (for a settings owner without a field).
 LIGHT_PATH_DEFAULTS = {"max_bounces": 12, "diffuse_bounces": 4, "glossy_bounces": 4, "transmission_bounces": 12,
                        "volume_bounces": 0, "caustics_reflective": True, "caustics_refractive": True,
-                       "sample_clamp_direct": 0.0, "sample_clamp_indirect": 10.0}
+                       "sample_clamp_direct": 0.0, "sample_clamp_indirect": 10.0, "blur_glossy": 1.0}
 
 
 def light_path_source(scene, props=None):
@@ -114,12 +114,15 @@ def light_path_settings(scene, props=None):
         v = float(get(key))
         if v > 0:
             s[key.replace("sample_", "")] = v
+    blur = float(get("blur_glossy"))  # Filter Glossy: the path tracer's (README)
+    if blur > 0:
+        s["filter_glossy"] = blur
     return s
 
 
 # The Light Paths keys path-space MLT does not implement (it takes max_bounces only).
 MLT_UNSUPPORTED_LIGHT_PATHS = BOUNCE_KINDS + ("caustics_reflective", "caustics_refractive", "clamp_direct",
-                                              "clamp_indirect")
+                                              "clamp_indirect", "filter_glossy")
 
 
 def light_paths_for(integrator, light_paths, warn=print):
@@ -127,6 +130,10 @@ def light_paths_for(integrator, light_paths, warn=print):
     implements only max_bounces, and a default Blender scene sets Cycles' per-kind bounces
     and Clamp Indirect 10, which the engine would refuse for it; they are left out, with one
     warning naming them."""
+    if integrator in ("bdpt", "pssmlt", "mmlt") and "filter_glossy" in light_paths:
+        # Filter Glossy is the path tracer's alone (its strategies could not share one
+        # roughened BSDF): not sent, so the engine does not warn on every default scene.
+        return {k: v for k, v in light_paths.items() if k != "filter_glossy"}
     if integrator != "mlt":
         return light_paths
     dropped = [k for k in MLT_UNSUPPORTED_LIGHT_PATHS if k in light_paths]

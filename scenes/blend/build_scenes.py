@@ -605,6 +605,31 @@ def light_paths_caustics():
     return scene
 
 
+def light_paths_filter_glossy():
+    """Filter Glossy 1 (Cycles' default): a smooth glass ball on a diffuse floor under a small
+    area lamp; the caustic under it is seen after the floor's diffuse bounce, so the glass
+    there is blurred (0.5 sqrt(1 - pdf) roughness) and the caustic spreads. Path tracing only
+    (BDPT renders it unfiltered)."""
+    reset(32)
+    plane("Floor", 10.0, diffuse_material("FloorMat", (0.7, 0.7, 0.7)))
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=48, ring_count=24, radius=0.6, location=(0, 0, 0.6))
+    ball = bpy.context.active_object
+    bpy.ops.object.shade_smooth()
+    ball.data.materials.append(node_material("Glass", "ShaderNodeBsdfGlass",
+                                             {"Color": (1, 1, 1, 1), "Roughness": 0.0, "IOR": 1.5},
+                                             distribution="SHARP"))
+    light("AREA", "Lamp", 300.0, (-0.6, -0.3, 3.2), size=0.5)
+    cam = bpy.data.cameras.new("Camera")
+    cam.lens = 50
+    ob = link(bpy.data.objects.new("Camera", cam))
+    ob.location = (0.4, -2.6, 2.6)
+    look_at(ob, (0.35, 0.2, 0.0))
+    scene = bpy.context.scene
+    scene.camera = ob
+    scene.cycles.blur_glossy = 2.0
+    return scene
+
+
 def light_paths_clamp():
     """The Cornell box with indirect light clamped at 0.5 (sum of RGB per contribution)."""
     scene = cornell_box(lamp_gap=0.01, res=48)
@@ -695,7 +720,7 @@ def light_passes():
     fog.location = (-0.5, -1.3, 0.45)
     fog.data.materials.append(principled_volume_material("FogMat", Density=0.8, Color=(0.9, 0.9, 0.8, 1.0))[0])
     scene.cycles.volume_bounces = 2
-    scene.cycles.blur_glossy = 0.0  # Filter Glossy (Rendezvous has none): caustics as they are
+    scene.cycles.blur_glossy = 0.0  # Filter Glossy (BDPT has none): caustics as they are
     scene.cycles.sample_clamp_indirect = 0.0  # BDPT clamps per strategy, not per path (README)
     # A 10 degree sun: the glass ball's caustic (Diffuse Indirect) converges in path tracing.
     light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(35), 0, math.radians(30)), angle=math.radians(10))
@@ -733,7 +758,8 @@ def data_passes():
     return scene
 
 
-LIGHT_PATH_SCENES = ["light_paths_diffuse", "light_paths_mirror", "light_paths_caustics", "light_paths_clamp"]
+LIGHT_PATH_SCENES = ["light_paths_diffuse", "light_paths_mirror", "light_paths_caustics", "light_paths_clamp",
+                     "light_paths_filter_glossy"]
 
 
 SCENES = {
@@ -760,6 +786,7 @@ SCENES = {
     "light_paths_mirror": light_paths_mirror,
     "light_paths_caustics": light_paths_caustics,
     "light_paths_clamp": light_paths_clamp,
+    "light_paths_filter_glossy": light_paths_filter_glossy,
     "film_transparent": film_transparent,
     "light_passes": light_passes,
     "data_passes": data_passes,

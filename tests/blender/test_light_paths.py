@@ -29,7 +29,7 @@ from test_brightness import build_scenes, compare, cycles_sampling, finish, out_
 
 LIGHT_PATH_PROPS = ("max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces",
                     "transparent_max_bounces", "caustics_reflective", "caustics_refractive",
-                    "sample_clamp_direct", "sample_clamp_indirect")
+                    "sample_clamp_direct", "sample_clamp_indirect", "blur_glossy")
 MIN_EFFECT = 0.05
 CLAMP_MEAN_TOLERANCE = 0.03
 
@@ -69,7 +69,8 @@ def main():
         print("LIGHT PATHS %s: scene.cycles %s" % (a.scene, changed))
         ref, tc = render(scene, "CYCLES", a.samples, os.path.join(odir, a.scene + "_cycles.exr"))
         print("  Cycles %d spp: %.1f s" % (a.samples, tc))
-        integrators = (("PATH", a.samples),) if "sample_clamp_indirect" in changed else \
+        # BDPT's clamp is per strategy, and it has no Filter Glossy (README): path tracing only.
+        integrators = (("PATH", a.samples),) if {"sample_clamp_indirect", "blur_glossy"} & set(changed) else \
             (("PATH", a.samples), ("BDPT", a.samples // 2))
         for integrator, samples in integrators:
             test, tr = render(scene, "RENDEZVOUS", samples, os.path.join(odir, "%s_%s.exr" % (a.scene, integrator.lower())),
@@ -84,6 +85,8 @@ def main():
                 failures.append("%s %s: block means differ beyond noise" % (a.scene, integrator))
         for prop, value in changed.items():
             setattr(scene.cycles, prop, defaults[prop])
+        if "blur_glossy" in changed:  # Cycles' default filters too: compare with it off
+            scene.cycles.blur_glossy = 0.0
         plain, _ = render(scene, "RENDEZVOUS", a.samples, os.path.join(odir, a.scene + "_default.exr"))
         effect = setting_effect(ref, plain)
         print("  with Cycles' default light paths instead: mean %.4f of Cycles', largest block change %.1f%%"

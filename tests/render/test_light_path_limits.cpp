@@ -72,6 +72,27 @@ TEST(LightPathLimits, LimitsThatNeverBindChangeNothing) {
   }
 }
 
+// Filter Glossy (integrators/filter_glossy.h): 0 is the image without it, bit for bit; on,
+// the glass ball's caustic on the floor (seen after the floor's diffuse bounce) changes,
+// and nothing seen straight from the camera that has no glossy lobe after a bounce: the
+// path tracer only.
+TEST(LightPathLimits, FilterGlossyZeroChangesNothingAndOnBlursCaustics) {
+  json scene = load_scene("caustic.json");
+  json s = small({{"integrator", "path"}, {"samples", 16}, {"seed", 3}});
+  Image plain = render_json(scene.dump(), s.dump());
+  s["filter_glossy"] = 0;
+  Image zero = render_json(scene.dump(), s.dump());
+  EXPECT_EQ(std::memcmp(plain.rgba.data(), zero.rgba.data(), plain.rgba.size() * sizeof(float)), 0);
+  s["filter_glossy"] = 1;
+  Image filtered = render_json(scene.dump(), s.dump());
+  ASSERT_TRUE(filtered.all_finite());
+  int changed = 0;
+  for (size_t i = 0; i < plain.rgba.size(); ++i) changed += plain.rgba[i] != filtered.rgba[i];
+  EXPECT_GT(changed, 0);
+  s["filter_glossy"] = -1;
+  EXPECT_THROW(render_json(scene.dump(), s.dump()), std::runtime_error);
+}
+
 // Every BDPT strategy keeps the paths the path tracer keeps: diffuse bounces 1 in the
 // Cornell box; glossy and transmission limits on glass and glossy spheres.
 TEST(LightPathLimits, BdptMatchesPathWithBounceLimits) {

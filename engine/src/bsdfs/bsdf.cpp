@@ -539,4 +539,20 @@ void Bsdf::kind_colors(Vec3 wo_w, Color out[kColorKinds]) const {
   }
 }
 
+void Bsdf::blur(float alpha) {
+  if (GgxDistribution{alpha, alpha}.is_smooth()) return;  // too small to make anything rough
+  for (int i = 0; i < n_; ++i) {
+    Lobe &l = lobes_[i];
+    switch (l.type) {
+      case LobeType::SpecularConductor: l.type = LobeType::GgxConductor; break;
+      case LobeType::SmoothDielectric: l.type = LobeType::GgxDielectric; break;
+      case LobeType::GgxConductor:
+      case LobeType::GgxDielectric: break;
+      default: continue;  // not a microfacet lobe: Cycles blurs none of these
+    }
+    l.ggx.ax = std::max(l.ggx.ax, alpha);
+    l.ggx.ay = std::max(l.ggx.ay, alpha);
+  }
+}
+
 }  // namespace rdv

@@ -197,6 +197,10 @@ class Bsdf {
   // (diffuse, glossy, transmission; a dielectric's colour split by its Fresnel at wo,
   // as Cycles 3.4's Glass BSDF weights its reflection and refraction closures).
   KindSplit kind_split(Vec3 wo, Vec3 wi, bool delta) const;
+  // Cycles' Filter Glossy (integrators/filter_glossy.h): every microfacet lobe made at
+  // least `alpha` rough (alpha_x, alpha_y); perfect mirrors and smooth glass become GGX
+  // lobes of that roughness, as Cycles renders Sharp closures as GGX with the filter on.
+  void blur(float alpha);
   void kind_colors(Vec3 wo, Color out[kColorKinds]) const;
   const Frame &frame() const { return frame_; }
   Vec3 geometric_normal() const { return ng_; }

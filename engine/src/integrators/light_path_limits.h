@@ -47,6 +47,10 @@ struct LightPathLimits {
   // Cap on the RGB sum of one contribution (0 = off): direct = at most one scattering
   // vertex on the path, indirect = the rest.
   float clamp_direct = 0, clamp_indirect = 0;
+  // Filter Glossy (scene.cycles.blur_glossy; 0 = off): glossy lobes after unlikely
+  // bounces are roughened (filter_glossy.h). The path tracer applies it; BDPT and the
+  // Metropolis integrators cannot do so consistently across their strategies (README).
+  float filter_glossy = 0;
   // Set by finish(): whether paths must be classified / contributions clamped at all
   // (a scene that uses none of these renders exactly as without them).
   bool classify = false, clamps = false;

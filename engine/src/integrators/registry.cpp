@@ -32,6 +32,10 @@ static bdpt::BdptSettings bdpt_settings(const RenderSettings &settings, const Sc
 
 std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, const Scene &scene) {
   if (settings.integrator == "path") return std::make_unique<PathTracer>(scene, settings.max_bounces, settings.limits, film_alpha(settings, scene));
+  if (settings.limits.filter_glossy > 0 && settings.integrator != "auto")
+    log_warning("filter_glossy (Filter Glossy) is applied by the path tracer only: " + settings.integrator +
+                " renders glossy surfaces unfiltered (their strategies cannot share one roughened BSDF; README, "
+                "Filter Glossy)");
   if (scene.has_mixed_visibility() && settings.integrator != "path")
     log_warning(scene.mixed_visibility_object() + " is seen by some kinds of ray but not by others (ray visibility): " +
                 "light subpaths cannot follow that, so " + settings.integrator +
@@ -102,6 +106,9 @@ static LightPathLimits light_path_limits(Params &p) {
   l.clamp_indirect = p.get_float("clamp_indirect", 0);
   if (!(l.clamp_direct >= 0) || !(l.clamp_indirect >= 0))
     fail(p.what() + ": 'clamp_direct' and 'clamp_indirect' must not be negative (0 = off)");
+  l.filter_glossy = p.get_float("filter_glossy", 0);
+  if (!(l.filter_glossy >= 0) || !std::isfinite(l.filter_glossy))
+    fail(p.what() + ": 'filter_glossy' must be finite and not negative (0 = off)");
   l.finish();
   return l;
 }
@@ -295,6 +302,7 @@ std::string RenderSettings::image_settings_json() const {
     j["clamp_direct"] = limits.clamp_direct;
     j["clamp_indirect"] = limits.clamp_indirect;
   }
+  if (limits.filter_glossy > 0) j["filter_glossy"] = limits.filter_glossy;  // (older parts: off)
   if (alpha.pass_alpha_threshold != FilmAlpha{}.pass_alpha_threshold)  // the index passes' (older parts: default)
     j["pass_alpha_threshold"] = alpha.pass_alpha_threshold;
   if (alpha.film_transparent) {  // written only when used: older parts stay comparable

@@ -2,6 +2,7 @@
 #include "bsdfs/transparency.h"
 #include "core/ray_offset.h"
 #include "core/sampling.h"
+#include "integrators/filter_glossy.h"
 #include "integrators/visibility_clear.h"
 #include "media/emission_gather.h"
 #include "media/medium_stack.h"
@@ -144,6 +145,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
   // is over its limit the path still collects emission at its next vertex, then ends
   // (stop_after). last_kind: the last scattering's kind, for the caustics switches.
   BounceCounts counts;
+  FilterGlossy filter(limits_.filter_glossy);  // Filter Glossy (filter_glossy.h)
   bool stop_after = false;
   ScatterKind last_kind = ScatterKind::Transparent;
   auto count_bounce = [&](ScatterKind kind) {
@@ -240,6 +242,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           specular_bounce = false;
           see_through = false;
           prev_pdf = medium.phase.pdf(wo, wi);
+          filter.scattered(prev_pdf);
           prev_p = p;
           prev_ng = prev_error = Vec3(0.0f);
           if (limits_.classify) count_bounce(ScatterKind::Volume);
@@ -301,6 +304,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     Vec3 wo = -ray.d;
     Color Le;
     Bsdf bsdf = scene_.bsdf(hit, wo, cone.width_at(hit.t), &Le);
+    if (filter.on()) bsdf.blur(filter.alpha());
     cone = cone.after(hit.t);
     if (see_through && alpha_.holdouts) {  // as Cycles: only where the camera sees through
       const float h = scene_.holdout_weight(hit);
@@ -393,6 +397,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     specular_bounce = bs.is_delta;
     cone = cone.scattered(bs.cone_spread);  // wider after a rough bounce
     prev_pdf = bs.pdf;
+    if (!bs.is_delta) filter.scattered(bs.pdf);
     prev_p = hit.p;
     prev_ng = hit.ng;
     prev_error = hit.error;
