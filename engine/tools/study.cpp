@@ -1,9 +1,6 @@
 #include "study.h"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -15,6 +12,8 @@
 #include <stdexcept>
 #include "equal_time.h"
 #include "film/image_error.h"
+#include "halt_check.h"
+#include "study_output.h"
 
 #ifndef RDV_TOOLS_DIR
 #define RDV_TOOLS_DIR "."
@@ -46,6 +45,12 @@ void print_study_usage() {
                "                         DIR/study.csv for the same scene file, settings and reference\n"
                "                         are kept; other scenes' rows are kept either way)\n"
                "  --no-plots             CSV and table only\n"
+               "  --halt-targets LIST    instead of the budgets, check the noise-target halt: render with\n"
+               "                         each target (a relative MSE, or Nx: N times the scene's reference\n"
+               "                         noise) and compare the true error at the halt with it (halt.csv,\n"
+               "                         a table between <!-- halt:begin --> / <!-- halt:end -->)\n"
+               "  --halt-cap SECONDS     a halt render's time limit (default the largest budget)\n"
+               "  --halt-seeds N         seeds per target, from --seed on (default 1)\n"
                "  --quiet                no progress bar\n");
 }
 
@@ -81,19 +86,6 @@ bool parse_int(const std::string &text, int lo, int hi, int &out) {
   } catch (const std::exception &) {
     return false;
   }
-}
-
-std::string format_seconds(double s) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", s);
-  return b;
-}
-
-std::string format_clock(double s) {
-  char b[32];
-  int t = int(std::lround(std::max(0.0, s)));
-  std::snprintf(b, sizeof b, "%d:%02d", t / 60, t % 60);
-  return b;
 }
 
 // One render of the study: the CSV's row.
@@ -165,12 +157,6 @@ void write_csv(const std::string &file, const std::vector<StudyRow> &rows) {
   fs::rename(partial, file);
 }
 
-std::string format_error(double e) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.3g", e);
-  return b;
-}
-
 // The table (one row per scene and integrator, one column per budget, the lowest error
 // of each scene and budget in bold), the references, and the plots.
 std::string markdown_table(const std::vector<StudyRow> &rows, const std::string &markdown_file,
@@ -236,27 +222,6 @@ std::string markdown_table(const std::vector<StudyRow> &rows, const std::string 
   return md.str();
 }
 
-// Writes `table` into `file`: between the markers when the file has them, else the whole file.
-void write_markdown(const std::string &file, const std::string &table) {
-  const std::string begin = "<!-- study:begin -->", end = "<!-- study:end -->";
-  std::string text;
-  {
-    std::ifstream in(file);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    text = ss.str();
-  }
-  size_t b = text.find(begin), e = text.find(end);
-  if (b != std::string::npos && e != std::string::npos && e > b) {
-    text = text.substr(0, b + begin.size()) + "\n" + table + text.substr(e);
-  } else {
-    text = "# Convergence study (`rendezvous study`)\n\n" + table;
-  }
-  std::ofstream out(file);
-  out << text;
-  if (!out) throw std::runtime_error(file + ": cannot write");
-}
-
 // plot_study.py next to this file's source (or RDV_STUDY_PLOT), run by Debian's Python
 // (or RDV_PYTHON): matplotlib comes from python3-matplotlib, which a pyenv python lacks.
 bool write_plots(const std::string &csv, const std::string &out_dir) {
@@ -279,71 +244,6 @@ bool write_plots(const std::string &csv, const std::string &out_dir) {
     return false;
   }
   return true;
-}
-
-// The progress bar: planned seconds done of all planned, the render under way, the time
-// left at the rate so far. A line per render when stderr is not a terminal.
-class StudyProgress {
- public:
-  StudyProgress(double planned, int renders, bool quiet)
-      : planned_(std::max(planned, 1e-9)), renders_(renders), quiet_(quiet), tty_(isatty(2)) {}
-  void update(double done_in_render, const std::string &what) {
-    if (quiet_ || !tty_) return;
-    show(done_ + done_in_render, what, false);
-  }
-  void finish_render(double planned_seconds, const std::string &what) {
-    done_ += planned_seconds;
-    ++finished_;
-    if (quiet_) return;
-    show(done_, what, true);
-  }
-
- private:
-  void show(double done, const std::string &what, bool render_done) {
-    const double f = std::min(1.0, done / planned_);
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    const int bar = int(f * 30);
-    std::string left = f > 0.01 ? "about " + format_clock(wall / f - wall) + " left" : "";
-    if (tty_)
-      std::fprintf(stderr, "\r\033[K[%-30s] %3d%%  %d/%d  %s  %s  %s", std::string(bar, '#').c_str(), int(f * 100),
-                   finished_ + (render_done ? 0 : 1), renders_, what.c_str(), format_clock(wall).c_str(), left.c_str());
-    else if (render_done)
-      std::fprintf(stderr, "rendezvous study: %3d%%  %d/%d  %s  %s  %s\n", int(f * 100), finished_, renders_,
-                   what.c_str(), format_clock(wall).c_str(), left.c_str());
-    if (render_done && tty_ && finished_ == renders_) std::fprintf(stderr, "\n");
-    std::fflush(stderr);
-  }
-  double planned_, done_ = 0;
-  int renders_, finished_ = 0;
-  bool quiet_, tty_;
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-};
-
-// Every integrator asked for exists: a session on an empty scene (the engine's own
-// message names the unknown one and those available), before any long render.
-bool check_integrators(const StudyOptions &o, std::string &error) {
-  std::vector<std::string> names = o.integrators;
-  names.push_back(o.reference_integrator);
-  rdv_scene *scene = nullptr;
-  if (rdv_scene_create(&scene) != RDV_OK) {
-    error = rdv_last_error();
-    return false;
-  }
-  bool ok = rdv_scene_set_camera(scene, "{}") == RDV_OK;  // a session needs one; the default camera
-  if (!ok) error = rdv_last_error();
-  for (const std::string &name : names) {
-    if (!ok) break;
-    json settings = {{"width", 1}, {"height", 1}, {"samples", 1}, {"integrator", name}};
-    rdv_session *session = nullptr;
-    if (rdv_session_create(scene, settings.dump().c_str(), &session) != RDV_OK) {
-      error = "integrator '" + name + "': " + rdv_last_error();
-      ok = false;
-      break;
-    }
-    rdv_session_destroy(session);
-  }
-  rdv_scene_destroy(scene);
-  return ok;
 }
 
 }  // namespace
@@ -412,6 +312,31 @@ bool parse_study_options(int argc, char **argv, StudyOptions &o, std::string &er
         error = a + " " + v + ": not a whole number from " + std::to_string(lo) + " to " + std::to_string(hi);
         return false;
       }
+    } else if (a == "--halt-targets") {
+      if (!value(v)) return false;
+      o.halt_targets.clear();
+      for (const std::string &item : split(v, ',')) {
+        StudyOptions::HaltTarget t;
+        t.of_reference_noise = !item.empty() && item.back() == 'x';
+        if (!parse_seconds(t.of_reference_noise ? item.substr(0, item.size() - 1) : item, t.value)) {
+          error = "--halt-targets " + v + ": '" + item +
+                  "' is neither a positive relative MSE nor a positive multiple of the reference's noise (e.g. 10x)";
+          return false;
+        }
+        o.halt_targets.push_back(t);
+      }
+    } else if (a == "--halt-cap") {
+      if (!value(v)) return false;
+      if (!parse_seconds(v, o.halt_cap)) {
+        error = "--halt-cap " + v + ": not a positive number of seconds";
+        return false;
+      }
+    } else if (a == "--halt-seeds") {
+      if (!value(v)) return false;
+      if (!parse_int(v, 1, 1000, o.halt_seeds)) {
+        error = "--halt-seeds " + v + ": not a whole number from 1 to 1000";
+        return false;
+      }
     } else if (a == "--fresh") {
       o.fresh = true;
     } else if (a == "--no-plots") {
@@ -432,22 +357,38 @@ bool parse_study_options(int argc, char **argv, StudyOptions &o, std::string &er
   return true;
 }
 
+double study_reference_seconds(const StudyOptions &options) {
+  return options.reference_seconds > 0 ? options.reference_seconds
+                                       : 4 * *std::max_element(options.budgets.begin(), options.budgets.end());
+}
+
+std::vector<EqualTimeScene> load_study_scenes(const StudyOptions &options) {
+  std::vector<EqualTimeScene> scenes;
+  for (const std::string &path : options.scenes) {
+    scenes.push_back(load_equal_time_scene(path, options.width));
+    scenes.back().common["threads"] = options.threads;
+    if (scenes.back().name.find(',') != std::string::npos)
+      throw std::runtime_error(path + ": a comma in the scene's name (it names rows of the CSV file)");
+    for (size_t i = 0; i + 1 < scenes.size(); ++i)
+      if (scenes[i].name == scenes.back().name)
+        throw std::runtime_error(path + ": two scenes named " + scenes.back().name + " (" + scenes[i].path + ")");
+  }
+  fs::create_directories(options.out_dir);
+  return scenes;
+}
+
+ReferenceRequest study_reference(const StudyOptions &options, const EqualTimeScene &scene) {
+  return {options.reference_integrator, study_reference_seconds(options),
+          options.cache_dir.empty() ? (fs::path(scene.base) / ".study-cache").string() : options.cache_dir};
+}
+
 int run_study(const StudyOptions &options) {
-  const double reference_seconds =
-      options.reference_seconds > 0 ? options.reference_seconds : 4 * *std::max_element(options.budgets.begin(), options.budgets.end());
+  if (!options.halt_targets.empty()) return run_halt_check(options);
+  const double reference_seconds = study_reference_seconds(options);
   // Read every scene file first: a wrong path stops the study before hours of rendering.
   std::vector<EqualTimeScene> scenes;
   try {
-    for (const std::string &path : options.scenes) {
-      scenes.push_back(load_equal_time_scene(path, options.width));
-      scenes.back().common["threads"] = options.threads;
-      if (scenes.back().name.find(',') != std::string::npos)
-        throw std::runtime_error(path + ": a comma in the scene's name (it names rows of the CSV file)");
-      for (size_t i = 0; i + 1 < scenes.size(); ++i)
-        if (scenes[i].name == scenes.back().name)
-          throw std::runtime_error(path + ": two scenes named " + scenes.back().name + " (" + scenes[i].path + ")");
-    }
-    fs::create_directories(options.out_dir);
+    scenes = load_study_scenes(options);
   } catch (const std::exception &e) {
     std::fprintf(stderr, "rendezvous study: %s\n", e.what());
     return 1;
@@ -494,8 +435,7 @@ int run_study(const StudyOptions &options) {
           planned += budget;
         }
       }
-    references.push_back({options.reference_integrator, reference_seconds,
-                          options.cache_dir.empty() ? (fs::path(s.base) / ".study-cache").string() : options.cache_dir});
+    references.push_back(study_reference(options, s));
     const bool renders = !todo.empty() && todo.back().scene == si;
     if (renders && !fs::exists(reference_cache_file(s, references.back()))) {
       planned += reference_seconds;
@@ -503,7 +443,9 @@ int run_study(const StudyOptions &options) {
     }
   }
   std::string error;
-  if (!todo.empty() && !check_integrators(options, error)) {
+  std::vector<std::string> names = options.integrators;
+  names.push_back(options.reference_integrator);
+  if (!todo.empty() && !check_integrators(names, error)) {
     std::fprintf(stderr, "rendezvous study: %s\n", error.c_str());
     return 1;
   }
@@ -562,7 +504,7 @@ int run_study(const StudyOptions &options) {
   try {
     if (options.plots) plotted = write_plots(csv, options.out_dir);
     const std::string table = markdown_table(rows, markdown, options.out_dir, options.plots && plotted);
-    write_markdown(markdown, table);
+    write_markdown(markdown, table, "study", "Convergence study (`rendezvous study`)");
     if (!options.quiet) std::printf("%s", table.c_str());
   } catch (const std::exception &e) {
     std::fprintf(stderr, "rendezvous study: %s\n", e.what());

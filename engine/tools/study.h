@@ -6,6 +6,7 @@
 #pragma once
 #include <string>
 #include <vector>
+#include "equal_time.h"
 
 namespace rdv_tools {
 
@@ -25,6 +26,17 @@ struct StudyOptions {
   bool fresh = false;  // render these scenes' rows again (otherwise rows already in study.csv are kept;
                        // other scenes' rows are kept either way)
   bool quiet = false;  // no progress bar
+
+  // The noise-target check (`--halt-targets`, halt_check.h): instead of the time budgets,
+  // each scene and integrator renders with each noise target, and the true error at the
+  // halt is compared with the target.
+  struct HaltTarget {
+    double value = 0;
+    bool of_reference_noise = false;  // "10x": 10 times the scene's reference noise
+  };
+  std::vector<HaltTarget> halt_targets;
+  double halt_cap = 0;  // seconds a render may run without reaching its target; 0: the largest budget
+  int halt_seeds = 1;   // seeds seed, seed + 1, ...
 };
 
 // Parses `rendezvous study ...` (argv[0] = "rendezvous", argv[1] = "study"). Returns
@@ -34,6 +46,12 @@ bool parse_study_options(int argc, char **argv, StudyOptions &options, std::stri
 // Runs the study; returns the process exit code (0: every file written, 1: an error,
 // printed to stderr naming the scene, integrator or file).
 int run_study(const StudyOptions &options);
+
+// The study's scene files, read and checked (names distinct, no comma), and the output
+// directory made. Throws std::runtime_error naming the file.
+std::vector<EqualTimeScene> load_study_scenes(const StudyOptions &options);
+// The reference every measurement of `scene` is made against (cached next to it or in --cache).
+ReferenceRequest study_reference(const StudyOptions &options, const EqualTimeScene &scene);
 
 // The whole subcommand: parse, then run (2 on bad arguments).
 int study_main(int argc, char **argv);

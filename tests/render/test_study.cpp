@@ -173,6 +173,10 @@ TEST(Study, BadArgumentsAreRefusedNamingThem) {
       {{"s.json", "--seed", "1.5"}, "--seed 1.5: not a whole number from 0"},
       {{"s.json", "--frobnicate"}, "unknown option --frobnicate"},
       {{"s.json", "--out"}, "--out needs a value"},
+      {{"s.json", "--halt-targets", "0.01,-1"}, "'-1' is neither a positive relative MSE nor a positive multiple"},
+      {{"s.json", "--halt-targets", "x"}, "'x' is neither"},
+      {{"s.json", "--halt-cap", "0"}, "--halt-cap 0: not a positive number of seconds"},
+      {{"s.json", "--halt-seeds", "0"}, "--halt-seeds 0: not a whole number from 1"},
   };
   for (const Case &c : cases) {
     StudyOptions o;
@@ -185,6 +189,42 @@ TEST(Study, BadArgumentsAreRefusedNamingThem) {
   EXPECT_TRUE(parse({"a.json", "b.json", "--budgets", "9,1,3", "--integrators", "bdpt"}, o, error)) << error;
   EXPECT_EQ(o.scenes, (std::vector<std::string>{"a.json", "b.json"}));
   EXPECT_EQ(o.budgets, (std::vector<double>{1, 3, 9}));
+  EXPECT_TRUE(parse({"a.json", "--halt-targets", "0.01,10x", "--halt-seeds", "2"}, o, error)) << error;
+  ASSERT_EQ(o.halt_targets.size(), 2u);
+  EXPECT_EQ(o.halt_targets[0].value, 0.01);
+  EXPECT_FALSE(o.halt_targets[0].of_reference_noise);
+  EXPECT_EQ(o.halt_targets[1].value, 10);
+  EXPECT_TRUE(o.halt_targets[1].of_reference_noise);
+  EXPECT_EQ(o.halt_seeds, 2);
+}
+
+// The noise-target check (halt_check.cpp) on the Cornell box, 16 pixels wide: path
+// tracing with a target of 10x the reference's noise stops on it within the 4 s cap (it
+// gets there in ~1/20 of the reference's time), with a finite estimate below the target
+// and a true error measured; a row per seed, the table between the markers.
+TEST(Study, HaltCheckMeasuresTheErrorAtTheHalt) {
+  const fs::path dir = scratch("halt");
+  StudyOptions o = tiny_study(dir, {"path"}, {1}, 2);
+  o.halt_targets = {{10, true}};
+  o.halt_cap = 4;
+  o.halt_seeds = 2;
+  std::ofstream(dir / "doc.md") << "# Doc\n\n<!-- halt:begin -->\nOLD\n<!-- halt:end -->\n";
+  o.markdown = (dir / "doc.md").string();
+  ASSERT_EQ(rdv_tools::run_study(o), 0);
+  const std::string csv = read_text(dir / "out" / "halt.csv");
+  ASSERT_EQ(lines(csv).size(), 3u) << csv;
+  EXPECT_EQ(column(csv, 4), (std::vector<std::string>{"17", "18"}));
+  EXPECT_EQ(column(csv, 8), (std::vector<std::string>{"1", "1"})) << "stopped on the target: " << csv;
+  std::vector<std::string> target = column(csv, 6), estimate = column(csv, 11), error = column(csv, 12);
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_LT(std::stod(estimate[i]), std::stod(target[i])) << csv;
+    EXPECT_TRUE(std::isfinite(std::stod(error[i])) && std::stod(error[i]) > 0) << csv;
+  }
+  const std::string doc = read_text(dir / "doc.md");
+  EXPECT_EQ(doc.find("OLD"), std::string::npos) << doc;
+  EXPECT_NE(doc.find("| cornell_box | path | 17 |"), std::string::npos) << doc;
+  EXPECT_NE(doc.find("2 of 2 renders stopped on their target"), std::string::npos) << doc;
+  fs::remove_all(dir);
 }
 
 TEST(Study, MissingSceneOrUnknownIntegratorStopsBeforeRendering) {
