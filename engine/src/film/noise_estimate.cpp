@@ -45,8 +45,14 @@ bool pixel_relative_variance(const PixelSum &pixel, const HalfSum &half, const S
     const double variance = d * d * f * (1 - f) + frame.scale_relative_variance * square;
     // E[I^2] = ref^2 + Var(I): I^2 - variance estimates the reference's square. I^2
     // alone would hide a firefly in a dark pixel (its own brightness in the denominator),
-    // the very error the metric weighs most.
-    sum += variance / (std::max(0.0, square - variance) + kRelativeMseEpsilon);
+    // the very error the metric weighs most. That estimate (A B for equal halves) is
+    // unbiased but grows with an outlier in one half (A = r + 2e: r^2 + 2 e r), so a
+    // stuck Metropolis chain or a firefly in a lit pixel still divided its own error
+    // down ~7x (caustic.json, pssmlt). Where the halves differ by more than 2x, the
+    // dimmer half bounds it: at most 2 min(A, B)^2, which ordinary noise rarely reaches.
+    const double lower = std::min(a[c], b[c]);
+    const double reference_square = std::min(std::max(0.0, square - variance), 4 * lower * lower);
+    sum += variance / (reference_square + kRelativeMseEpsilon);
   }
   *relative_variance = sum / 3;
   return std::isfinite(*relative_variance);

@@ -16,7 +16,9 @@ namespace rdv {
 
 // The estimated relative variance of one pixel, averaged over its channels: the variance
 // v = (A - B)^2 f (1 - f), plus the frame's scale error (MLT's b) times I^2, over
-// (max(0, I^2 - v) + 0.01), the reference's square estimated without the noise in I^2.
+// (max(0, I^2 - v) + 0.01), the reference's square estimated without the noise in I^2
+// (and, where the halves differ by more than 2x, at most 2 min(A, B)^2: an outlier in one
+// half must not brighten the denominator of its own error).
 // False when the pixel has no estimate yet (a half without samples).
 bool pixel_relative_variance(const PixelSum &pixel, const HalfSum &half, const SplatSums &splats, const SplatSums &half_splats,
                              const FrameState &frame, double *relative_variance);
