@@ -4,6 +4,7 @@
 // brightness BDPT gives.
 #include <gtest/gtest.h>
 #include <OpenImageIO/imageio.h>
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <nlohmann/json.hpp>
@@ -76,9 +77,12 @@ std::string merge(const std::vector<std::string> &parts, const std::string &out,
 
 // 4 ranges of 4 samples merged (named out of order) vs one render of 16: the image
 // channels bit for bit, the raw double sums within the rounding of re-associated sums.
-void expect_merge_equals_whole(const std::string &integrator) {
+// With the Noise pass (`halves`), the parts keep their half images and the merge has
+// the whole render's Noise channel and half sums.
+void expect_merge_equals_whole(const std::string &integrator, bool halves = false) {
   json scene = load_scene("cornell_box.json");
   json s = {{"width", 40}, {"height", 32}, {"integrator", integrator}, {"max_bounces", 6}, {"seed", 7}, {"threads", 2}};
+  if (halves) s["noise_pass"] = true;
   s["samples"] = 16;
   const std::string whole = temp_path(integrator + "_whole.exr");
   render_part(scene, s, whole);
@@ -99,6 +103,9 @@ void expect_merge_equals_whole(const std::string &integrator) {
 
   Channels a = read_channels(whole), b = read_channels(merged);
   ASSERT_EQ(a.names, b.names);
+  const bool has_noise = std::find(a.names.begin(), a.names.end(), "Noise.V") != a.names.end();
+  EXPECT_EQ(has_noise, halves);
+  EXPECT_EQ(std::find(a.names.begin(), a.names.end(), "RdvMerge.half_sample_count") != a.names.end(), halves);
   ASSERT_EQ(a.words.size(), b.words.size());
   size_t image_differences = 0, raw_differences = 0;
   double worst_raw = 0;
@@ -130,6 +137,8 @@ void expect_merge_equals_whole(const std::string &integrator) {
 
 TEST(RenderParts, FourRangesEqualOneRenderPath) { expect_merge_equals_whole("path"); }
 TEST(RenderParts, FourRangesEqualOneRenderBdpt) { expect_merge_equals_whole("bdpt"); }
+TEST(RenderParts, FourRangesWithNoiseEqualOneRenderPath) { expect_merge_equals_whole("path", true); }
+TEST(RenderParts, FourRangesWithNoiseEqualOneRenderBdpt) { expect_merge_equals_whole("bdpt", true); }
 
 // Every refusal names the part and the problem; missing ranges are listed.
 TEST(RenderParts, MergeRefusesPartsThatDoNotBelongTogether) {

@@ -26,7 +26,7 @@ struct SplatNormalisation {
 // How a frame splits into the two independent half images that estimate its noise
 // (film/noise_estimate.h): by camera sample (path, bdpt: the odd samples, each with its
 // light path), by chain (MLT: the odd chains' splats), or not at all (the settings ask
-// for no estimate; merged render parts carry no halves).
+// for no estimate; merged render parts have halves when every part kept its own).
 enum class HalfSplit : uint8_t { None, CameraSamples, Splats };
 
 struct FrameState {
@@ -127,6 +127,11 @@ class Film {
   const std::vector<SplatSums> &splat_sums() const { return splats_; }
   std::vector<PixelAov> &aov_sums() { return aovs_; }
   const std::vector<PixelAov> &aov_sums() const { return aovs_; }
+  // Half image B's sums (empty without halves).
+  std::vector<HalfSum> &half_pixel_sums() { return half_pixels_; }
+  const std::vector<HalfSum> &half_pixel_sums() const { return half_pixels_; }
+  std::vector<SplatSums> &half_splat_sums() { return half_splats_; }
+  const std::vector<SplatSums> &half_splat_sums() const { return half_splats_; }
   const std::vector<LightPassSums> &light_pass_sums() const { return light_; }
   const std::vector<LightSplatSums> &light_splat_sums() const { return light_splats_; }
 

@@ -66,8 +66,8 @@ std::string write_image(const Film &film, const std::string &path, const std::st
     film.read(RDV_PASS_DEPTH, 0, 0, w, h, true, depth.data());
     film.read(RDV_PASS_NORMAL, 0, 0, w, h, true, normal.data());
     film.read(RDV_PASS_ALBEDO, 0, 0, w, h, true, albedo.data());
-    // The estimated relative error of each pixel, when the frame has half images (not
-    // a merge of render parts).
+    // The estimated relative error of each pixel, when the frame has half images (a
+    // merge of render parts too, when they kept theirs).
     std::vector<float> noise;
     if (film.frame_state().split != HalfSplit::None) {
       noise.resize(size_t(w) * h);
@@ -108,7 +108,7 @@ std::string write_image(const Film &film, const std::string &path, const std::st
     }
     const int image_channels = (noise.empty() ? 11 : 12) + light_channels + data_channels;
     PartChannels extra;
-    if (part) extra = part_channels(film);
+    if (part) extra = part_channels(film, *part);
     const size_t extra_channels = extra.names.size();
     // One 32-bit word per channel: float bits for the image, unsigned for the part's sums.
     const size_t nc = image_channels + extra_channels;

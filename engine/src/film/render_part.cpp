@@ -55,12 +55,24 @@ std::vector<std::string> channel_names() {
   return names;
 }
 
+// Half image B's sums (PartRecord::halves), after those of channel_names().
+constexpr int kHalfWordsPerPixel = 6 + 1 + 6;
+std::vector<std::string> half_channel_names() {
+  std::vector<std::string> names;
+  for (const char *group : {"half_sample", "half_splat"}) {
+    for (const char *a = "rgb"; *a; ++a)
+      for (const char *half : {"_hi", "_lo"}) names.push_back(std::string(kLayer) + group + "_" + *a + half);
+    if (std::string(group) == "half_sample") names.push_back(std::string(kLayer) + "half_sample_count");
+  }
+  return names;
+}
+
 // One part file: its record and its raw sums as words.
 struct LoadedPart {
   std::string path;
   PartRecord record;
   int width = 0, height = 0;
-  std::vector<uint32_t> words;  // kWordsPerPixel per pixel
+  std::vector<uint32_t> words;  // kWordsPerPixel (+ kHalfWordsPerPixel with halves) per pixel
 };
 
 LoadedPart load_part(const std::string &path) {
@@ -77,16 +89,20 @@ LoadedPart load_part(const std::string &path) {
   part.width = spec.width;
   part.height = spec.height;
   check_memory("part '" + path + "'", "its " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " sums",
-               double(spec.width) * double(spec.height) * double(spec.nchannels + kWordsPerPixel) * 4.0 +
-                   double(spec.width) * double(spec.height) * double(Film::bytes_per_pixel(false)));
+               double(spec.width) * double(spec.height) *
+                       double(spec.nchannels + kWordsPerPixel + (part.record.halves ? kHalfWordsPerPixel : 0)) * 4.0 +
+                   double(spec.width) * double(spec.height) * double(Film::bytes_per_pixel(part.record.halves)));
   // EXR keeps channels sorted by name: find each of ours, read the span they lie in.
-  const std::vector<std::string> names = channel_names();
+  std::vector<std::string> names = channel_names();
+  const size_t base = names.size();
+  if (part.record.halves)
+    for (const std::string &name : half_channel_names()) names.push_back(name);
   std::vector<int> index(names.size(), -1);
   for (size_t k = 0; k < names.size(); ++k) {
     for (int c = 0; c < spec.nchannels; ++c)
       if (spec.channelnames[size_t(c)] == names[k]) index[k] = c;
-    if (index[k] < 0 && k + kOptionalChannels < names.size())
-      fail("part '" + path + "': channel " + names[k] + " is missing");
+    const bool optional = k < base && k + kOptionalChannels >= base;
+    if (index[k] < 0 && !optional) fail("part '" + path + "': channel " + names[k] + " is missing");
   }
   int lo = spec.nchannels, hi = 0;
   for (int c : index)
@@ -132,6 +148,7 @@ std::string PartRecord::to_json() const {
   for (const SampleRange &r : ranges) j["ranges"].push_back({r.begin, r.end});
   j["splat_numerator"] = splats.numerator;  // printed to round-trip exactly
   j["splat_paths"] = splats.paths;
+  if (halves) j["half_splats"] = {half_splats.numerator, half_splats.paths};
   return j.dump();
 }
 
@@ -150,6 +167,11 @@ PartRecord PartRecord::from_json(const std::string &text, const std::string &par
     }
     r.splats.numerator = j.at("splat_numerator").get<double>();
     r.splats.paths = j.at("splat_paths").get<double>();
+    if (j.contains("half_splats")) {  // optional: parts without halves, and older parts
+      r.halves = true;
+      r.half_splats.numerator = j["half_splats"].at(0).get<double>();
+      r.half_splats.paths = j["half_splats"].at(1).get<double>();
+    }
     json settings = j.at("settings");
     settings.at("width").get<int>();
     settings.at("height").get<int>();
@@ -157,16 +179,20 @@ PartRecord PartRecord::from_json(const std::string &text, const std::string &par
   } catch (const json::exception &e) {
     fail("part '" + part + "': malformed '" + std::string(part_attribute_name()) + "' attribute: " + e.what());
   }
-  if (!std::isfinite(r.splats.numerator) || !std::isfinite(r.splats.paths) || r.splats.paths < 0)
+  if (!std::isfinite(r.splats.numerator) || !std::isfinite(r.splats.paths) || r.splats.paths < 0 ||
+      !std::isfinite(r.half_splats.numerator) || !std::isfinite(r.half_splats.paths) || r.half_splats.paths < 0)
     fail("part '" + part + "': splat normalisation is not finite");
   return r;
 }
 
-PartChannels part_channels(const Film &film) {
+PartChannels part_channels(const Film &film, const PartRecord &record) {
   PartChannels out;
   out.names = channel_names();
+  const bool halves = record.halves && film.has_halves();
+  if (halves)
+    for (const std::string &name : half_channel_names()) out.names.push_back(name);
   const size_t n = size_t(film.width()) * film.height();
-  out.words.resize(n * kWordsPerPixel);
+  out.words.resize(n * (kWordsPerPixel + (halves ? kHalfWordsPerPixel : 0)));
   uint32_t *w = out.words.data();
   for (size_t i = 0; i < n; ++i) {
     const PixelSum &p = film.pixel_sums()[i];
@@ -181,6 +207,12 @@ PartChannels part_channels(const Film &film) {
     put_double(w, p.transparent);
     put_double(w, a.mist_cover);
     for (float v : {a.object_index, a.material_index}) std::memcpy(w++, &v, 4);
+    if (halves) {
+      const HalfSum &h = film.half_pixel_sums()[i];
+      for (double v : h.sample) put_double(w, v);
+      *w++ = h.count;
+      for (double v : film.half_splat_sums()[i]) put_double(w, v);
+    }
   }
   return out;
 }
@@ -264,12 +296,20 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
   for (size_t k = 0; k < order.size(); ++k) order[k] = k;
   auto first_sample = [&](size_t k) { return parts[k].record.ranges.empty() ? 0 : parts[k].record.ranges[0].begin; };
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return first_sample(a) < first_sample(b); });
-  double numerator = 0, paths_total = 0;
+  double numerator = 0, paths_total = 0, half_numerator = 0, half_paths_total = 0;
   for (size_t k : order)
     if (parts[k].record.splats.paths > 0 && numerator == 0) numerator = parts[k].record.splats.numerator;
+  // Half images only when every part kept its own (the same settings make them all do,
+  // unless a part published no pass).
+  const bool halves = std::all_of(parts.begin(), parts.end(), [](const LoadedPart &p) { return p.record.halves; });
+  if (!halves && std::any_of(parts.begin(), parts.end(), [](const LoadedPart &p) { return p.record.halves; }))
+    result.warnings.push_back("some parts carry no half images: the merged image has no noise estimate (no Noise pass)");
+  for (size_t k : order)
+    if (halves && parts[k].record.half_splats.paths > 0 && half_numerator == 0)
+      half_numerator = parts[k].record.half_splats.numerator;
 
   const auto &border = settings["border"];
-  result.film = std::make_unique<Film>(width, height, Rect{border[0].get<int>(), border[1].get<int>(), border[2].get<int>(), border[3].get<int>()});
+  result.film = std::make_unique<Film>(width, height, Rect{border[0].get<int>(), border[1].get<int>(), border[2].get<int>(), border[3].get<int>()}, halves);
   Film &film = *result.film;
   const size_t n = size_t(width) * height;
   for (size_t k : order) {
@@ -279,6 +319,10 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
     const bool same_numerator = sn.numerator == numerator;
     const double rescale = splats && numerator != 0 ? sn.numerator / numerator : 0.0;
     if (splats) paths_total += sn.paths;
+    const SplatNormalisation &hn = part.record.half_splats;
+    const bool half_splats = halves && hn.paths > 0;
+    const double half_rescale = half_splats && half_numerator != 0 ? hn.numerator / half_numerator : 0.0;
+    if (half_splats) half_paths_total += hn.paths;
     const uint32_t *w = part.words.data();
     for (size_t i = 0; i < n; ++i) {
       PixelSum &p = film.pixel_sums()[i];
@@ -315,17 +359,39 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
       a.mist_cover += v[13];
       a.object_index += index[0];
       a.material_index += index[1];
+      if (halves) {
+        double h[6];
+        for (int c = 0; c < 3; ++c) h[c] = get_double(w);
+        const uint32_t half_count = *w++;
+        for (int c = 3; c < 6; ++c) h[c] = get_double(w);
+        for (double value : h)
+          if (!std::isfinite(value))
+            fail("part '" + part.path + "': pixel (" + std::to_string(i % width) + ", " + std::to_string(i / width) +
+                 ") holds a non-finite half-image sum (a damaged file?)");
+        HalfSum &hp = film.half_pixel_sums()[i];
+        for (int c = 0; c < 3; ++c) hp.sample[c] += h[c];
+        hp.count += half_count;
+        if (half_splats)
+          for (int c = 0; c < 3; ++c)
+            film.half_splat_sums()[i][c] += hn.numerator == half_numerator ? h[3 + c] : h[3 + c] * half_rescale;
+      }
     }
   }
   {
     uint64_t samples = 0;
     for (const SampleRange &r : result.record.ranges) samples += r.end - r.begin;
     Film::PassPublisher frame(film);
-    frame.publish(uint32_t(std::min<uint64_t>(samples, UINT32_MAX)), {numerator, paths_total});
+    if (halves)
+      frame.publish(uint32_t(std::min<uint64_t>(samples, UINT32_MAX)), {numerator, paths_total},
+                    HalfSplit::CameraSamples, {half_numerator, half_paths_total});
+    else
+      frame.publish(uint32_t(std::min<uint64_t>(samples, UINT32_MAX)), {numerator, paths_total});
   }
   result.record.scene_hash = first.record.scene_hash;
   result.record.settings_json = first.record.settings_json;
   result.record.splats = {numerator, paths_total};
+  result.record.halves = halves;
+  result.record.half_splats = {half_numerator, half_paths_total};
   return result;
 }
 

@@ -27,6 +27,12 @@ struct PartRecord {
   std::string settings_json;         // RenderSettings::image_settings_json
   std::vector<SampleRange> ranges;   // sorted, disjoint
   SplatNormalisation splats;
+  // The part keeps half image B of its camera samples (path, bdpt estimating their noise:
+  // the odd samples of the whole render's sequence), so merged parts have the halves, the
+  // Noise pass and the estimate one render of all the samples would. Metropolis parts'
+  // halves (odd chains, each part its own b) are not merged.
+  bool halves = false;
+  SplatNormalisation half_splats;  // half B's splats: numerator / its paths
 
   std::string to_json() const;
   // Throws an Error naming `part` (a file name) when the text is not a part record.
@@ -39,7 +45,7 @@ struct PartChannels {
   std::vector<std::string> names;
   std::vector<uint32_t> words;  // width * height * names.size()
 };
-PartChannels part_channels(const Film &film);
+PartChannels part_channels(const Film &film, const PartRecord &record);
 const char *part_attribute_name();  // the EXR header attribute holding PartRecord::to_json
 
 struct MergeOptions {

@@ -81,6 +81,8 @@ PartRecord Session::part_record() const {
   const FrameState frame = film_.frame_state();
   r.ranges.push_back({begin, begin + frame.samples});
   r.splats = frame.splats;
+  r.halves = frame.split == HalfSplit::CameraSamples && film_.has_halves();
+  if (r.halves) r.half_splats = frame.half_splats;
   return r;
 }
 

@@ -30,6 +30,18 @@ constexpr int kFirstHitSamples = 4;  // camera rays per pixel for the Depth / No
 // default Transparent max bounces is 8).
 constexpr int kFirstHitVertices = 18;
 
+// Samples per path depth of the pilot or the bootstrap, for `per_pixel` of the region's
+// pixels (at least 4096). Up to kFullDepths depths (multiplexed) each get all of it; more
+// share it, so the start-up grows with the region, not with the region times the depths:
+// at 1000 bounces (a depth each) mmlt made no mutation in 18 s on a 128 x 128 furnace, and
+// each deep sample traces its whole depth. Every depth's b stays the unbiased mean of its
+// own samples (just noisier), and the large steps go on refining b while the chains run.
+constexpr int kFullDepths = 16;
+uint64_t samples_per_depth(uint64_t per_pixel, uint64_t region_pixels, int depths) {
+  const double share = std::min(1.0, double(kFullDepths) / double(std::max(depths, 1)));
+  return uint64_t(std::ceil(std::max(4096.0, double(per_pixel) * double(region_pixels)) * share));
+}
+
 }  // namespace
 
 // A Markov chain: its sampler (the state's numbers), its state and proposal, and what it
@@ -54,7 +66,8 @@ struct Chain {
 double Metropolis::memory_estimate(const RenderSettings &settings, bool multiplexed, bool path_space) {
   const double region_pixels = double(settings.border.width()) * double(settings.border.height());
   const double depths = multiplexed ? settings.max_bounces + 1 : 1;
-  const double bootstrap = std::max(4096.0, double(settings.mlt_bootstrap) * region_pixels) * depths;
+  const double bootstrap =
+      double(samples_per_depth(settings.mlt_bootstrap, uint64_t(region_pixels), int(depths))) * depths;
   // Per bootstrap sample: its target, the start distribution's function and CDF, its
   // strategy (multiplexed). Per chain: the chain, and its sampler's and states' buffers
   // (a few kB, grown with the path length).
@@ -135,7 +148,7 @@ ImportanceMap Metropolis::pilot(RenderContext &ctx, int depths) {
   const int blocks_y = (int(std::ceil(sample_size_.y)) + B - 1) / B;
   const size_t blocks = size_t(blocks_x) * size_t(blocks_y);
   const uint64_t region_pixels = uint64_t(settings_.border.width()) * uint64_t(settings_.border.height());
-  const uint64_t per_depth = std::max<uint64_t>(4096, kPilotPerPixel * region_pixels);
+  const uint64_t per_depth = samples_per_depth(kPilotPerPixel, region_pixels, depths);
   const uint64_t n = per_depth * uint64_t(depths);
   const uint64_t seed0 = pilot_seed(settings_.seed_for_chains());
   // Per block: the luminance, then the light-carrying splats.
@@ -200,7 +213,7 @@ void Metropolis::render(RenderContext &ctx) {
   }
 
   // Bootstrap: independent samples (per path depth, multiplexed), their targets.
-  const uint64_t per_depth = std::max<uint64_t>(4096, uint64_t(mlt_.bootstrap_per_pixel) * region_pixels);
+  const uint64_t per_depth = samples_per_depth(mlt_.bootstrap_per_pixel, region_pixels, depths);
   const uint64_t n_bootstrap = per_depth * uint64_t(depths);
   std::vector<float> weights(n_bootstrap);
   std::vector<uint8_t> strategy(mlt_.multiplexed ? n_bootstrap : 0);  // s of each (multiplexed)
