@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -44,14 +43,7 @@ std::string halt_line(const HaltRow &r) {
 
 std::vector<HaltRow> read_halt_csv(const std::string &file) {
   std::vector<HaltRow> rows;
-  std::ifstream in(file);
-  std::string line;
-  if (!std::getline(in, line) || line != kHaltHeader) return rows;
-  while (std::getline(in, line)) {
-    std::vector<std::string> f;
-    std::stringstream ss(line);
-    for (std::string item; std::getline(ss, item, ',');) f.push_back(item);
-    if (f.size() != 14) continue;
+  for (const std::vector<std::string> &f : read_csv_records(file, kHaltHeader, 14)) {
     try {
       HaltRow r;
       r.scene = f[0];
@@ -76,14 +68,9 @@ std::vector<HaltRow> read_halt_csv(const std::string &file) {
 }
 
 void write_halt_csv(const std::string &file, const std::vector<HaltRow> &rows) {
-  const std::string partial = file + ".partial";
-  {
-    std::ofstream out(partial);
-    out << kHaltHeader << "\n";
-    for (const HaltRow &r : rows) out << halt_line(r) << "\n";
-    if (!out) throw std::runtime_error(file + ": cannot write");
-  }
-  fs::rename(partial, file);
+  std::vector<std::string> lines;
+  for (const HaltRow &r : rows) lines.push_back(halt_line(r));
+  write_csv_lines(file, kHaltHeader, lines);
 }
 
 std::string ratio_text(double r) {

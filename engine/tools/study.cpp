@@ -118,12 +118,7 @@ std::string csv_line(const StudyRow &r) {
 // The rows of an earlier run (a file that is missing or not a study CSV gives none).
 std::vector<StudyRow> read_csv(const std::string &file) {
   std::vector<StudyRow> rows;
-  std::ifstream in(file);
-  std::string line;
-  if (!std::getline(in, line) || line != kCsvHeader) return rows;
-  while (std::getline(in, line)) {
-    std::vector<std::string> f = split(line, ',');
-    if (f.size() != 13) continue;
+  for (const std::vector<std::string> &f : read_csv_records(file, kCsvHeader, 13)) {
     try {
       StudyRow r;
       r.scene = f[0];
@@ -147,14 +142,9 @@ std::vector<StudyRow> read_csv(const std::string &file) {
 }
 
 void write_csv(const std::string &file, const std::vector<StudyRow> &rows) {
-  const std::string partial = file + ".partial";
-  {
-    std::ofstream out(partial);
-    out << kCsvHeader << "\n";
-    for (const StudyRow &r : rows) out << csv_line(r) << "\n";
-    if (!out) throw std::runtime_error(file + ": cannot write");
-  }
-  fs::rename(partial, file);
+  std::vector<std::string> lines;
+  for (const StudyRow &r : rows) lines.push_back(csv_line(r));
+  write_csv_lines(file, kCsvHeader, lines);
 }
 
 // The table (one row per scene and integrator, one column per budget, the lowest error

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -51,6 +52,33 @@ void write_markdown(const std::string &file, const std::string &table, const std
   std::ofstream out(file);
   out << text;
   if (!out) throw std::runtime_error(file + ": cannot write");
+}
+
+std::vector<std::vector<std::string>> read_csv_records(const std::string &file, const std::string &header,
+                                                       size_t fields) {
+  std::vector<std::vector<std::string>> records;
+  std::ifstream in(file);
+  std::string line;
+  if (!std::getline(in, line) || line != header) return records;
+  while (std::getline(in, line)) {
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string item; std::getline(ss, item, ',');) f.push_back(item);
+    if (!line.empty() && line.back() == ',') f.push_back("");
+    if (f.size() == fields) records.push_back(std::move(f));
+  }
+  return records;
+}
+
+void write_csv_lines(const std::string &file, const std::string &header, const std::vector<std::string> &lines) {
+  const std::string partial = file + ".partial";
+  {
+    std::ofstream out(partial);
+    out << header << "\n";
+    for (const std::string &line : lines) out << line << "\n";
+    if (!out) throw std::runtime_error(file + ": cannot write");
+  }
+  std::filesystem::rename(partial, file);
 }
 
 bool check_integrators(const std::vector<std::string> &names, std::string &error) {

@@ -17,6 +17,14 @@ std::string format_clock(double s);    // m:ss
 void write_markdown(const std::string &file, const std::string &table, const std::string &section,
                     const std::string &heading);
 
+// The data rows of a CSV file written under `header`, split at commas, those with
+// `fields` fields only (a file that is missing or has another header gives none).
+std::vector<std::vector<std::string>> read_csv_records(const std::string &file, const std::string &header,
+                                                       size_t fields);
+// Writes the header and the lines whole or not at all (a .partial file renamed): an
+// interrupted run never leaves half a table. Throws std::runtime_error naming the file.
+void write_csv_lines(const std::string &file, const std::string &header, const std::vector<std::string> &lines);
+
 // Every integrator named exists: a session on an empty scene (the engine's own message
 // names the unknown one and those available). False with that message in `error`.
 bool check_integrators(const std::vector<std::string> &names, std::string &error);
