@@ -309,6 +309,13 @@ def mode_preview():
                 print("PREVIEW operator refused (attempt %d): redrawing" % (attempt + 1))
                 for a in win.screen.areas:
                     a.tag_redraw()
+                # A tagged redraw may never come while the machine is loaded (CI at -j2 saw
+                # 100 refusals in a row): draw the window now, which resets the switch.
+                try:
+                    with bpy.context.temp_override(window=win, area=area, region=region):
+                        bpy.ops.wm.redraw_timer(type='DRAW_WIN_SWAP', iterations=1)
+                except RuntimeError as draw_exc:
+                    print("PREVIEW forced redraw refused: %s" % draw_exc)
             yield 0.1
         t0 = time.time()
         while "samples" not in preview.last_preview and "error" not in preview.last_preview \
