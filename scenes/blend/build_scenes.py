@@ -579,6 +579,17 @@ def light_paths_mirror():
     return scene
 
 
+def smooth_glass_ball():
+    """A smooth glass ball (IOR 1.5, sharp) of radius 0.6 resting on the floor at the origin."""
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=48, ring_count=24, radius=0.6, location=(0, 0, 0.6))
+    ball = bpy.context.active_object
+    bpy.ops.object.shade_smooth()
+    ball.data.materials.append(node_material("Glass", "ShaderNodeBsdfGlass",
+                                             {"Color": (1, 1, 1, 1), "Roughness": 0.0, "IOR": 1.5},
+                                             distribution="SHARP"))
+    return ball
+
+
 def light_paths_caustics():
     """A smooth glass ball on a floor under an area lamp with both caustics switches off:
     the floor under it stays in shadow, the ball still shows the floor and the lamp."""
@@ -586,12 +597,7 @@ def light_paths_caustics():
     plane("Floor", 10.0, diffuse_material("FloorMat", (0.7, 0.7, 0.7)))
     back = plane("Wall", 10.0, diffuse_material("WallMat", (0.5, 0.55, 0.6)), location=(0, 3, 5))
     back.rotation_euler = (math.radians(90), 0, 0)
-    bpy.ops.mesh.primitive_uv_sphere_add(segments=48, ring_count=24, radius=0.6, location=(0, 0, 0.6))
-    ball = bpy.context.active_object
-    bpy.ops.object.shade_smooth()
-    ball.data.materials.append(node_material("Glass", "ShaderNodeBsdfGlass",
-                                             {"Color": (1, 1, 1, 1), "Roughness": 0.0, "IOR": 1.5},
-                                             distribution="SHARP"))
+    smooth_glass_ball()
     light("AREA", "Lamp", 300.0, (-1.2, -0.6, 3.2), size=0.3)
     cam = bpy.data.cameras.new("Camera")
     cam.lens = 35
@@ -612,12 +618,7 @@ def light_paths_filter_glossy():
     (BDPT renders it unfiltered)."""
     reset(32)
     plane("Floor", 10.0, diffuse_material("FloorMat", (0.7, 0.7, 0.7)))
-    bpy.ops.mesh.primitive_uv_sphere_add(segments=48, ring_count=24, radius=0.6, location=(0, 0, 0.6))
-    ball = bpy.context.active_object
-    bpy.ops.object.shade_smooth()
-    ball.data.materials.append(node_material("Glass", "ShaderNodeBsdfGlass",
-                                             {"Color": (1, 1, 1, 1), "Roughness": 0.0, "IOR": 1.5},
-                                             distribution="SHARP"))
+    smooth_glass_ball()
     light("AREA", "Lamp", 300.0, (-0.6, -0.3, 3.2), size=0.5)
     cam = bpy.data.cameras.new("Camera")
     cam.lens = 50
