@@ -154,6 +154,17 @@ RDV_API rdv_status rdv_scene_set_instance_transform(rdv_scene *scene, uint32_t i
  * light or bound a medium do not move (they stay at their transform). */
 RDV_API rdv_status rdv_scene_set_instance_motion(rdv_scene *scene, uint32_t instance,
                                                  const float *transforms, uint32_t num_steps);
+/* Deformation motion blur: the mesh's vertex positions at num_steps evenly spaced times
+ * from the shutter's opening to its closing, num_vertices x 3 floats per step, one step
+ * after the other, blended linearly between steps (as transforms); normals: its vertex
+ * normals at the same times, laid out alike (NULL: the mesh's normals at every time; a
+ * flat mesh ignores them). num_steps 0 or 1: it does not deform. num_vertices other than
+ * the mesh's, or a NaN / Inf value, is RDV_ERROR_INVALID_ARGUMENT naming the mesh, which
+ * keeps what it had. Every instance of the mesh deforms. Meshes that emit light or bound
+ * a medium do not deform (a warning; they render as at their frame). A replaced mesh
+ * (rdv_scene_set_mesh) has no steps until given them again. */
+RDV_API rdv_status rdv_scene_set_mesh_motion(rdv_scene *scene, uint32_t mesh, const float *positions,
+                                             const float *normals, uint32_t num_vertices, uint32_t num_steps);
 /* An instance's object settings: {"holdout": false} (Object > Visibility > Holdout: the
  * instance renders black and cuts its coverage out of RDV_PASS_COMBINED's alpha where the
  * camera sees it, as Cycles), "visibility": {"camera": true, "diffuse": true, "glossy": true,

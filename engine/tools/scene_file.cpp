@@ -386,6 +386,33 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
         out.problems.push_back(std::string(rdv_last_error()) + "; mesh left out");
         continue;
       }
+      // Deformation blur (rdv_scene_set_mesh_motion): "motion_positions" (and, optionally,
+      // "motion_normals"), a list of steps of 3 numbers per vertex, unless motion blur is off.
+      if (j.contains("motion_positions") && options.motion_blur) {
+        auto steps_of = [&](const char *key) {
+          std::vector<float> flat;
+          if (!j.contains(key)) return flat;
+          if (!j[key].is_array()) throw std::runtime_error(what + ": '" + key + "' must be a list of steps");
+          for (size_t k = 0; k < j[key].size(); ++k) {
+            std::vector<float> step = numbers<float>(j[key][k], what + " '" + key + "' step " + std::to_string(k));
+            if (step.size() != a.positions.size())
+              throw std::runtime_error(what + ": '" + key + "' step " + std::to_string(k) + " has " +
+                                       std::to_string(step.size()) + " numbers, the mesh's vertices " +
+                                       std::to_string(a.positions.size()));
+            flat.insert(flat.end(), step.begin(), step.end());
+          }
+          return flat;
+        };
+        std::vector<float> positions = steps_of("motion_positions"), normals = steps_of("motion_normals");
+        if (!normals.empty() && normals.size() != positions.size())
+          throw std::runtime_error(what + ": 'motion_normals' has " + std::to_string(normals.size() / std::max<size_t>(a.positions.size(), 1)) +
+                                   " steps, 'motion_positions' " + std::to_string(positions.size() / std::max<size_t>(a.positions.size(), 1)));
+        const uint32_t nv = uint32_t(a.positions.size() / 3);
+        const uint32_t num_steps = nv ? uint32_t(positions.size() / (3 * size_t(nv))) : 0;
+        if (rdv_scene_set_mesh_motion(scene, id, positions.data(), normals.empty() ? nullptr : normals.data(), nv,
+                                      num_steps) != RDV_OK)
+          out.problems.push_back(std::string(rdv_last_error()) + "; rendered without deformation blur");
+      }
       // Named per-vertex attributes: [{"name", "kind": "uv"|"color", "components", "data"}].
       for (const json &at : list_of(j, "attributes")) {
         std::string an = text_of(at, "name", "", what + " attribute"), kind = text_of(at, "kind", "color", what + " attribute '" + an + "'");

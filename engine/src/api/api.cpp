@@ -181,6 +181,11 @@ rdv_status rdv_scene_set_instance_motion(rdv_scene *s, uint32_t instance, const 
   });
 }
 
+rdv_status rdv_scene_set_mesh_motion(rdv_scene *s, uint32_t mesh, const float *positions, const float *normals,
+                                     uint32_t num_vertices, uint32_t num_steps) {
+  return guarded([&] { editable(s).set_mesh_motion(mesh, positions, normals, num_vertices, num_steps); });
+}
+
 rdv_status rdv_scene_set_instance_params(rdv_scene *s, uint32_t instance, const char *params) {
   return guarded([&] {
     rdv::Params p(params ? params : "", "instance " + std::to_string(instance));

@@ -47,8 +47,17 @@ EmbreeAccel::MeshScenes EmbreeAccel::mesh_scenes(const Mesh &m, const std::vecto
     rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);  // no cracks between adjacent triangles
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
     // Shared, not copied: Mesh::positions carries the padding Embree's SSE loads need.
-    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, m.positions.data(), 0,
-                               sizeof(Vec3), m.num_vertices());
+    // A deforming mesh: one vertex buffer per time step (each padded the same way),
+    // blended by Embree at each ray's time (scene/motion.h).
+    if (m.deforming) {
+      rtcSetGeometryTimeStepCount(geom, unsigned(m.position_steps.size()));
+      for (unsigned k = 0; k < m.position_steps.size(); ++k)
+        rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, k, RTC_FORMAT_FLOAT3, m.position_steps[k].data(), 0,
+                                   sizeof(Vec3), m.num_vertices());
+    } else {
+      rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, m.positions.data(), 0,
+                                 sizeof(Vec3), m.num_vertices());
+    }
     if (count == n) {
       rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, m.indices.data(), 0,
                                  3 * sizeof(uint32_t), n);
@@ -92,7 +101,8 @@ void EmbreeAccel::build(const std::vector<Mesh> &meshes, const std::vector<Insta
   update_ray_range(instances);
   boundary_top_ = nullptr;  // made only when some instance has boundaries
   has_motion_ = false;
-  for (const Instance &inst : instances) has_motion_ = has_motion_ || (inst.enabled && inst.moving);
+  for (const Instance &inst : instances)
+    has_motion_ = has_motion_ || (inst.enabled && (inst.moving || meshes[inst.mesh].deforming));
   auto add_instance = [&](RTCScene top, RTCScene mesh, const Instance &inst, uint32_t id) {
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
     rtcSetGeometryInstancedScene(geom, mesh);

@@ -51,7 +51,7 @@ class EmbreeAccel {
     return intersect(boundary_top_, any, hit);
   }
   size_t memory_bytes() const { return memory_.load(); }
-  // Some instance moves (Instance::moving): rays carry the sample's shutter time
+  // Some instance moves (Instance::moving) or deforms (Mesh::deforming): rays carry the sample's shutter time
   // (scene/motion.h). Without, every ray's time is 0 and Embree ignores it.
   bool has_motion() const { return has_motion_; }
 

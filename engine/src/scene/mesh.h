@@ -29,11 +29,23 @@ struct Mesh {
   std::vector<uint32_t> emissive_rank;
   uint32_t num_emissive = 0;
   static constexpr uint32_t kNotEmissive = 0xffffffffu;
+  // Deformation motion blur (scene/motion.h): the vertex positions at n >= 2 evenly
+  // spaced times over the open shutter (each with the padding element, as positions,
+  // for Embree's vertex buffer of that time step), or empty; normal_steps: the vertex
+  // normals at the same times (unit or zero), or empty (then `normals` at every time).
+  // `deforming` (derived by Scene::commit): steps given, the shutter open, and not an
+  // emitter or a medium boundary. positions stays the mesh at its frame: lights,
+  // bounds and everything outside a sample use it.
+  std::vector<std::vector<Vec3>> position_steps, normal_steps;
+  bool deforming = false;
 
   uint32_t num_vertices() const { return static_cast<uint32_t>(positions.size() - 1); }
   uint32_t num_triangles() const { return static_cast<uint32_t>(indices.size() / 3); }
   size_t memory_bytes() const {
-    return positions.capacity() * sizeof(Vec3) + normals.capacity() * sizeof(Vec3) +
+    size_t steps = 0;
+    for (const auto &v : position_steps) steps += v.capacity() * sizeof(Vec3);
+    for (const auto &v : normal_steps) steps += v.capacity() * sizeof(Vec3);
+    return steps + positions.capacity() * sizeof(Vec3) + normals.capacity() * sizeof(Vec3) +
            uvs.capacity() * sizeof(Vec2) + (indices.capacity() + materials.capacity() + emissive_rank.capacity()) * 4 +
            attribute_bytes();
   }

@@ -3,6 +3,7 @@
 #include <atomic>
 #include <cmath>
 #include "core/error.h"
+#include "core/limits.h"
 #include "scene/scene.h"
 
 namespace rdv {
@@ -61,9 +62,97 @@ void Scene::set_instance_motion(uint32_t id, const std::vector<Transform> &steps
   dirty_ = true;
 }
 
+void Scene::set_mesh_motion(uint32_t id, const float *positions, const float *normals, uint32_t num_vertices,
+                            uint32_t num_steps) {
+  if (id >= meshes_.size()) fail("mesh " + std::to_string(id) + ": no such mesh");
+  Mesh &m = meshes_[id];
+  const std::string what = "mesh '" + m.name + "'";
+  if (num_steps > kMaxMotionSteps)
+    fail(what + ": " + std::to_string(num_steps) + " deformation steps; at most " + std::to_string(kMaxMotionSteps),
+         RDV_ERROR_LIMIT);
+  std::vector<std::vector<Vec3>> position_steps, normal_steps;
+  if (num_steps >= 2) {
+    if (num_vertices != m.num_vertices())
+      fail(what + ": deformation steps of " + std::to_string(num_vertices) + " vertices, but the mesh has " +
+           std::to_string(m.num_vertices()));
+    if (!positions) fail(what + ": deformation 'positions' is NULL");
+    check_memory(what, std::to_string(num_steps) + " deformation steps of " + std::to_string(num_vertices) + " vertices",
+                 double(num_steps) * double(num_vertices) * sizeof(Vec3) * (normals ? 2 : 1));
+    // Validate everything before keeping anything: a rejected step leaves the mesh as it was.
+    auto read = [&](const float *data, const char *kind, std::vector<std::vector<Vec3>> &out) {
+      out.assign(num_steps, std::vector<Vec3>(size_t(num_vertices) + 1, Vec3(0.0f)));  // +1: Embree's padding
+      for (uint32_t k = 0; k < num_steps; ++k)
+        for (uint32_t i = 0; i < num_vertices; ++i) {
+          const float *x = data + 3 * (size_t(k) * num_vertices + i);
+          Vec3 v{x[0], x[1], x[2]};
+          if (!is_finite(v))
+            fail(what + ": deformation step " + std::to_string(k) + ", vertex " + std::to_string(i) + ": " + kind +
+                 " is not finite (NaN or Inf)");
+          out[k][i] = v;
+        }
+    };
+    read(positions, "position", position_steps);
+    if (normals) {
+      read(normals, "normal", normal_steps);
+      for (auto &step : normal_steps)
+        for (Vec3 &n : step) {
+          const float len = length(n);
+          n = len > 0 ? n / len : Vec3(0.0f);  // zero: the face normal, as in make_mesh
+        }
+    }
+  }
+  m.position_steps = std::move(position_steps);
+  m.normal_steps = m.normals.empty() ? decltype(normal_steps)() : std::move(normal_steps);
+  accel_.mark_mesh_dirty(id);
+  dirty_ = true;
+}
+
+void Scene::triangle_now(const Mesh &m, const uint32_t *tri, Vec3 p[3]) {
+  if (!m.deforming) {
+    for (int k = 0; k < 3; ++k) p[k] = m.positions[tri[k]];
+    return;
+  }
+  const StepBlend s = step_blend(m.position_steps.size(), shutter::now());
+  const std::vector<Vec3> &a = m.position_steps[s.first], &b = m.position_steps[s.first + 1];
+  for (int k = 0; k < 3; ++k) p[k] = blend(a[tri[k]], b[tri[k]], s.f);
+}
+
+void Scene::normals_now(const Mesh &m, const uint32_t *tri, Vec3 n[3]) {
+  if (!m.deforming || m.normal_steps.empty()) {
+    for (int k = 0; k < 3; ++k) n[k] = m.normals[tri[k]];
+    return;
+  }
+  const StepBlend s = step_blend(m.normal_steps.size(), shutter::now());
+  const std::vector<Vec3> &a = m.normal_steps[s.first], &b = m.normal_steps[s.first + 1];
+  for (int k = 0; k < 3; ++k) n[k] = blend(a[tri[k]], b[tri[k]], s.f);
+}
+
 void Scene::find_motion() {
   moving_object_.clear();
   const bool open = camera_.shutter_is_open();
+  // Deforming meshes first: an instance of one counts as moving for the ray time.
+  for (uint32_t id = 0; id < meshes_.size(); ++id) {
+    Mesh &m = meshes_[id];
+    bool deforming = open && m.position_steps.size() >= 2;
+    if (deforming) {
+      // As for moving instances: lights are sampled, and media found, where the mesh is
+      // at its frame. (Cycles 3.4 blurs a deforming emitter's light too; refused here
+      // rather than sampled where the surface is not.)
+      bool emits = false, bounds_medium = false;
+      for (uint32_t mat : m.materials) {
+        emits = emits || materials_[mat].emits();
+        bounds_medium = bounds_medium || material_interior_[mat] >= 0 || material_boundary_[mat];
+      }
+      if (emits || bounds_medium) {
+        warn("mesh '" + m.name + "'" + (emits ? ": emits light" : ": bounds a medium") +
+             "; rendered without deformation blur, as it is at its frame");
+        deforming = false;
+      }
+    }
+    if (deforming != m.deforming) accel_.mark_mesh_dirty(id);  // one vertex buffer or one per step
+    m.deforming = deforming;
+    if (deforming && moving_object_.empty()) moving_object_ = "mesh '" + m.name + "' (deformation)";
+  }
   for (uint32_t i = 0; i < instances_.size(); ++i) {
     Instance &inst = instances_[i];
     inst.moving = false;

@@ -438,20 +438,28 @@ void Scene::commit() {
   find_motion();
   accel_.build(meshes_, instances_, material_boundary_);
   // Bounding sphere of the instanced geometry: sizes the power of infinite lights. A
-  // moving instance lies between its steps (linear interpolation) all the shutter long.
+  // moving instance or deforming mesh lies between its steps (linear interpolation) all
+  // the shutter long.
   Vec3 lo(kInf), hi(-kInf);
-  auto grow = [&](const Mesh &m, const Transform &to_world) {
-    for (uint32_t i = 0; i < m.num_vertices(); ++i) {
-      Vec3 p = to_world.point(m.positions[i]);
+  auto grow = [&](const std::vector<Vec3> &positions, const Transform &to_world) {
+    for (size_t i = 0; i + 1 < positions.size(); ++i) {  // not the padding element
+      Vec3 p = to_world.point(positions[i]);
       lo = vmin(lo, p);
       hi = vmax(hi, p);
     }
   };
   for (const Instance &inst : instances_) {
     if (!inst.enabled) continue;
-    grow(meshes_[inst.mesh], inst.to_world);
+    const Mesh &m = meshes_[inst.mesh];
+    grow(m.positions, inst.to_world);
     if (inst.moving)
-      for (const Transform &step : inst.motion) grow(meshes_[inst.mesh], step);
+      for (const Transform &step : inst.motion) grow(m.positions, step);
+    if (m.deforming)  // each step under each of the instance's transforms (a bound for the lights' power)
+      for (const std::vector<Vec3> &positions : m.position_steps) {
+        grow(positions, inst.to_world);
+        if (inst.moving)
+          for (const Transform &step : inst.motion) grow(positions, step);
+      }
   }
   if (lo.x <= hi.x) {
     bounding_center_ = (lo + hi) * 0.5f;
@@ -652,20 +660,28 @@ void Scene::surface_at(uint32_t instance, uint32_t prim, float b1, float b2, Sur
   const Mesh &m = meshes_[inst.mesh];
   const uint32_t *tri = &m.indices[3 * prim];
   float b0 = 1.0f - b1 - b2;
-  Vec3 p0 = m.positions[tri[0]], p1 = m.positions[tri[1]], p2 = m.positions[tri[2]];
+  Vec3 p[3];
+  triangle_now(m, tri, p);  // a deforming mesh's triangle where Embree met it
+  const Vec3 p0 = p[0], p1 = p[1], p2 = p[2];
   InstancePlacement moved;
   const InstancePlacement &at = inst.moving ? (moved = placement_now(inst)) : placement(inst);
   // Position from barycentrics in object space: more precise than o + t d.
   Vec3 p_object = p0 * b0 + p1 * b1 + p2 * b2;
   hit.p = at.to_world.point(p_object);
-  hit.error = transformed_point_error(triangle_point_error(p0, p1, p2), hit.p, at.abs_linear, at.error_mixing);
-  // Embree interpolates the steps in its own rounding (perhaps with fused multiply-adds):
-  // the matrices differ from ours by an ulp or two of their entries.
+  Vec3 object_error = triangle_point_error(p0, p1, p2);
+  // Embree blends a deforming mesh's vertex steps in its own rounding (perhaps with
+  // fused multiply-adds): its vertices differ from ours by an ulp or two.
+  if (m.deforming) object_error += vmax(vabs(p0), vmax(vabs(p1), vabs(p2))) * (2 * kUlp);
+  hit.error = transformed_point_error(object_error, hit.p, at.abs_linear, at.error_mixing);
+  // The same for a moving instance's steps: the matrices differ from ours by an ulp or
+  // two of their entries.
   if (inst.moving) hit.error += (at.abs_linear.vector(vabs(p_object)) + vabs(at.to_world.column(3))) * (2 * kUlp);
   Vec3 ng = normalize(at.to_object.normal_by_inverse(cross(p1 - p0, p2 - p0)));
   Vec3 ns = ng;
   if (!m.normals.empty()) {
-    Vec3 n = m.normals[tri[0]] * b0 + m.normals[tri[1]] * b1 + m.normals[tri[2]] * b2;
+    Vec3 vn[3];
+    normals_now(m, tri, vn);
+    Vec3 n = vn[0] * b0 + vn[1] * b1 + vn[2] * b2;
     float len2 = length_squared(n);
     if (len2 > 1e-12f) {
       ns = normalize(at.to_object.normal_by_inverse(n));
@@ -745,7 +761,9 @@ ShadingPoint Scene::shading_point(const SurfaceHit &hit, Vec3 dir, float width) 
   sp.mesh = &m;
   sp.v[0] = tri[0]; sp.v[1] = tri[1]; sp.v[2] = tri[2];
   sp.b[0] = 1.0f - hit.b1 - hit.b2; sp.b[1] = hit.b1; sp.b[2] = hit.b2;
-  Vec3 p0 = m.positions[tri[0]], p1 = m.positions[tri[1]], p2 = m.positions[tri[2]];
+  Vec3 p[3];
+  triangle_now(m, tri, p);
+  const Vec3 p0 = p[0], p1 = p[1], p2 = p[2];
   sp.p_object = p0 * sp.b[0] + p1 * sp.b[1] + p2 * sp.b[2];
   // Blender's texture space: the bounding box to 0..1; a flat axis counts as 2 units
   // wide around the box's middle (BKE_mesh_texspace_calc), so it maps to 0.5.
@@ -856,8 +874,11 @@ std::string Scene::summary_json() const {
   if (camera_.shutter_is_open()) {  // motion blur (scene/motion.h)
     uint32_t moving = 0;
     for (const Instance &inst : instances_) moving += inst.enabled && inst.moving;
+    uint32_t deforming = 0;
+    for (const Mesh &m : meshes_) deforming += m.deforming;
     j["motion_blur"] = {{"shutter", {camera_.shutter_open, camera_.shutter_close}},
                         {"moving_instances", moving},
+                        {"deforming_meshes", deforming},
                         {"camera_moves", camera_.moves()}};
   }
   j["world"] = environment_ ? "environment" : is_black(world_radiance_) ? "none" : "constant";

@@ -74,6 +74,13 @@ class Scene {
   void set_instance_motion(uint32_t instance, const std::vector<Transform> &steps);
   // The most steps an object may give (Cycles' 7 motion steps are 65 transforms).
   static constexpr size_t kMaxMotionSteps = 1024;
+  // Deformation motion blur (scene/motion.h): the mesh's vertex positions (3 floats per
+  // vertex) at num_steps evenly spaced times over the open shutter, one step after the
+  // other, and its vertex normals at the same times (null: its normals at every time).
+  // num_steps 0 or 1: it does not deform. A vertex count other than the mesh's or a
+  // non-finite value is an error naming the mesh, which keeps what it had.
+  void set_mesh_motion(uint32_t mesh, const float *positions, const float *normals, uint32_t num_vertices,
+                       uint32_t num_steps);
   // {"holdout": bool, "visibility": {...}} (rdv_scene_set_instance_params; scene/ray_visibility.h).
   void set_instance_params(uint32_t instance, Params &params);
   uint32_t add_light(const std::string &name, Params &params);
@@ -220,6 +227,10 @@ class Scene {
   // A moving instance's placement at the sample's shutter time.
   InstancePlacement placement_now(const Instance &inst) const;
   std::string instance_name(uint32_t id) const;
+  // A triangle's vertices at the sample's shutter time: as stored unless the mesh deforms.
+  static void triangle_now(const Mesh &m, const uint32_t *tri, Vec3 p[3]);
+  // Its vertex normals at the same time (a smooth mesh's).
+  static void normals_now(const Mesh &m, const uint32_t *tri, Vec3 n[3]);
   static uint64_t next_camera_generation();
   bool has_motion_ = false;
   std::string moving_object_;
