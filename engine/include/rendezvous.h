@@ -200,7 +200,9 @@ RDV_API rdv_status rdv_scene_summary(rdv_scene *scene, const char **out_json);
  *   "border":[x0,y0,x1,y1],"sample_offset":O,"scene_hash":"...","noise_target":E,
  *   "noise_pass":false,"adaptive_sampling":false,"adaptive_threshold":0.01,
  *   "adaptive_min_samples":0,"film_transparent":false,"film_transparent_glass":false,
- *   "film_transparent_roughness":0.1,"light_passes":false} (light_passes: keep Cycles' light
+ *   "film_transparent_roughness":0.1,"light_passes":false,"strategy_passes":false,
+ *   "strategy_passes_max_depth":3} (strategy_passes: BDPT's per-strategy images,
+ *   RDV_PASS_STRATEGY_FIRST ..; light_passes: keep Cycles' light
  *   passes RDV_PASS_EMISSION .. RDV_PASS_VOLUME_INDIRECT, path and bdpt only; film_transparent: the world seen directly is transparent and
  *   RDV_PASS_COMBINED's alpha is coverage, as Cycles' Film > Transparent; noise_target: halt once the estimated relative MSE is below E,
  *   0 = off; noise_pass: estimate the noise for RDV_PASS_NOISE without a target;
@@ -294,7 +296,16 @@ typedef enum rdv_pass {
    * "pass_alpha_threshold" opaque; 0 for the world), not filtered, as Cycles. */
   RDV_PASS_MIST = 18,
   RDV_PASS_OBJECT_INDEX = 19,
-  RDV_PASS_MATERIAL_INDEX = 20
+  RDV_PASS_MATERIAL_INDEX = 20,
+  /* BDPT's strategy passes (session setting "strategy_passes": true, bdpt only; docs/bdpt.md),
+   * 3 floats each: pass RDV_PASS_STRATEGY_FIRST + k holds strategy k's MIS-weighted share of
+   * Combined, for the paths of depth (bounces) d = s + t - 2 up to "strategy_passes_max_depth"
+   * D (default 3, at most 6), numbered depth-major: k = 0 is s = 0, t = 2 (depth 0), then for
+   * each depth d = 1 .. D: s = 0 .. d + 1 (t = d + 2 - s); the last, k = 1 + D (D + 5) / 2,
+   * holds every longer path (EXR "Strategy_rest"). All of them sum to Combined's RGB. Reading
+   * one beyond the session's passes (or without them) gives zeros. */
+  RDV_PASS_STRATEGY_FIRST = 64,
+  RDV_PASS_STRATEGY_LAST = 98 /* k = 34: the rest of D = 6 */
 } rdv_pass;
 RDV_API int rdv_pass_channels(rdv_pass pass);
 

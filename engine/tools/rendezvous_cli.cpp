@@ -53,6 +53,8 @@ void usage() {
                "  --passes light         Cycles' light passes as EXR layers (Emit, Env, DiffDir, DiffInd, DiffCol,\n"
                "                         Gloss*, Trans*, VolumeDir, VolumeInd; path and bdpt);\n"
                "         data            Mist.Z, IndexOB.X, IndexMA.X (every integrator); e.g. --passes light,data\n"
+               "         strategies      bdpt: each strategy's MIS-weighted image, Strategy_s<S>t<T>, of paths up to\n"
+               "                         --strategy-depth N bounces (default 3, at most 6), and Strategy_rest\n"
                "  --film-transparent     the world seen directly is transparent (alpha = coverage; PNG and EXR)\n"
                "  --motion-blur on|off   off: the shutter stays closed, objects render at their 'transform'\n"
                "  --transparent-glass    with it: also seen through smooth glass (Cycles' Transparent Glass)\n"
@@ -181,14 +183,17 @@ int main(int argc, char **argv) {
       }
       else if (a == "--passes") {
         // Render passes beyond Combined / Depth / Normal / Albedo, as EXR layers: "light"
-        // (Cycles' light passes, path and bdpt), "data" (Mist, Object and Material Index).
+        // (Cycles' light passes, path and bdpt), "data" (Mist, Object and Material Index),
+        // "strategies" (BDPT's per-strategy images, docs/bdpt.md).
         std::stringstream list(next());
         std::string item;
         while (std::getline(list, item, ',')) {
           if (item == "light") overrides["light_passes"] = true;
           else if (item == "data") overrides["data_passes"] = true;
+          else if (item == "strategies") overrides["strategy_passes"] = true;
           else {
-            std::fprintf(stderr, "rendezvous: --passes: unknown pass set '%s' (available: light, data)\n", item.c_str());
+            std::fprintf(stderr, "rendezvous: --passes: unknown pass set '%s' (available: light, data, strategies)\n",
+                         item.c_str());
             return 2;
           }
         }
@@ -229,6 +234,7 @@ int main(int argc, char **argv) {
         if (c == std::string::npos) throw std::invalid_argument(v);
         overrides["strategy"] = {std::stoi(v.substr(0, c)), std::stoi(v.substr(c + 1))};
       } else if (a == "--unweighted") overrides["strategy_unweighted"] = true;
+      else if (a == "--strategy-depth") overrides["strategy_passes_max_depth"] = std::stoi(next());
       else if (a == "--max-bounces") overrides["max_bounces"] = std::stoi(next());
       else if (a == "--view") view = next();
       else if (a == "--quiet") quiet = true;

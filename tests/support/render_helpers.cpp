@@ -44,13 +44,17 @@ static Image render_scene(rdv_scene *scene, const rdv_tools::LoadedScene &loaded
     if (rdv_session_read_film(session, pass, 0, 0, img.width, img.height, 1, out->data()) != RDV_OK)
       throw std::runtime_error(std::string("read_film: ") + rdv_last_error());
   }
-  if (settings.value("light_passes", false)) {
-    for (int pass = RDV_PASS_EMISSION; pass <= RDV_PASS_VOLUME_INDIRECT; ++pass) {
-      std::vector<float> &out = img.light_passes.emplace_back(size_t(img.width) * img.height * 3);
+  // The 3-float passes of [first, last] a setting asks for.
+  auto read_passes = [&](const char *setting, int first, int last, std::vector<std::vector<float>> &passes) {
+    if (!settings.value(setting, false)) return;
+    for (int pass = first; pass <= last; ++pass) {
+      std::vector<float> &out = passes.emplace_back(size_t(img.width) * img.height * 3);
       if (rdv_session_read_film(session, rdv_pass(pass), 0, 0, img.width, img.height, 1, out.data()) != RDV_OK)
         throw std::runtime_error(std::string("read_film: ") + rdv_last_error());
     }
-  }
+  };
+  read_passes("light_passes", RDV_PASS_EMISSION, RDV_PASS_VOLUME_INDIRECT, img.light_passes);
+  read_passes("strategy_passes", RDV_PASS_STRATEGY_FIRST, RDV_PASS_STRATEGY_LAST, img.strategy_passes);
   rdv_session_destroy(session);
   return img;
 }

@@ -29,6 +29,13 @@ struct Image {
   // Light passes (settings "light_passes"), by rdv_pass - RDV_PASS_EMISSION: 3 floats per
   // pixel, top-down; empty without them.
   std::vector<std::vector<float>> light_passes;
+  // BDPT's strategy passes (settings "strategy_passes"), by rdv_pass - RDV_PASS_STRATEGY_FIRST
+  // over the whole range (passes beyond the session's read as zeros): 3 floats per pixel,
+  // top-down; empty without them.
+  std::vector<std::vector<float>> strategy_passes;
+  const float *strategy_pass(int k, int x, int y) const {
+    return &strategy_passes[size_t(k)][(size_t(y) * width + x) * 3];
+  }
   // Data passes (film/data_passes.h): Mist, Object Index, Material Index, top-down.
   std::vector<float> mist, object_index, material_index;
   const float *light_pass(rdv_pass pass, int x, int y) const {

@@ -334,8 +334,9 @@ int rdv_pass_channels(rdv_pass pass) {
     case RDV_PASS_TRANSMISSION_COLOR:
     case RDV_PASS_VOLUME_DIRECT:
     case RDV_PASS_VOLUME_INDIRECT: return 3;
+    default: break;
   }
-  return 0;
+  return pass >= RDV_PASS_STRATEGY_FIRST && pass <= RDV_PASS_STRATEGY_LAST ? 3 : 0;
 }
 
 rdv_status rdv_session_read_film(rdv_session *s, rdv_pass pass, uint32_t x, uint32_t y, uint32_t w, uint32_t h,

@@ -6,17 +6,25 @@
 
 namespace rdv {
 
-Film::Film(int width, int height, Rect region, bool halves, bool light_passes, bool data_passes)
+static_assert(StrategyPasses::count_for(StrategyPasses::kMaxDepth) == RDV_PASS_STRATEGY_LAST - RDV_PASS_STRATEGY_FIRST + 1,
+              "the C ABI's range of strategy passes holds those of the deepest setting");
+
+Film::Film(int width, int height, Rect region, bool halves, bool light_passes, bool data_passes,
+           int strategy_max_depth)
     : width_(width), height_(height), region_(region), pixels_(size_t(width) * height),
       aovs_(size_t(width) * height), splats_(size_t(width) * height),
       half_pixels_(halves ? size_t(width) * height : 0), half_splats_(halves ? size_t(width) * height : 0),
       light_(light_passes ? size_t(width) * height : 0), light_splats_(light_passes ? size_t(width) * height : 0),
-      data_passes_(data_passes) {}
+      data_passes_(data_passes), strategies_{strategy_max_depth},
+      strategy_(size_t(width) * height * size_t(strategies_.count())),
+      strategy_splats_(size_t(width) * height * size_t(strategies_.splat_count())) {}
 
-size_t Film::bytes_per_pixel(bool halves, bool light_passes) {
+size_t Film::bytes_per_pixel(bool halves, bool light_passes, int strategy_max_depth) {
+  const StrategyPasses strategies{strategy_max_depth};
   return sizeof(PixelSum) + sizeof(PixelAov) + sizeof(SplatSums) +
          (halves ? sizeof(HalfSum) + sizeof(SplatSums) : 0) +
-         (light_passes ? sizeof(LightPassSums) + sizeof(LightSplatSums) : 0);
+         (light_passes ? sizeof(LightPassSums) + sizeof(LightSplatSums) : 0) +
+         size_t(strategies.count() + strategies.splat_count()) * sizeof(StrategySums);
 }
 
 void Film::take_tile(const Rect &rect, FilmTile &tile) const {
@@ -26,6 +34,9 @@ void Film::take_tile(const Rect &rect, FilmTile &tile) const {
   tile.halves_.resize(has_halves() ? n : 0);
   tile.aovs_.resize(n);
   tile.light_.resize(has_light_passes() ? n : 0);
+  const size_t ns = size_t(strategies_.count());  // strategy sums per pixel
+  tile.strategy_count_ = int(ns);
+  tile.strategy_.resize(n * ns);
   std::lock_guard<std::mutex> frame(frame_mutex_);
   for (int y = rect.y0; y < rect.y1; ++y) {
     std::copy_n(&pixels_[index(rect.x0, y)], rect.width(), &tile.pixels_[tile.index(rect.x0, y)]);
@@ -34,6 +45,8 @@ void Film::take_tile(const Rect &rect, FilmTile &tile) const {
     std::copy_n(&aovs_[index(rect.x0, y)], rect.width(), &tile.aovs_[tile.index(rect.x0, y)]);
     if (has_light_passes())
       std::copy_n(&light_[index(rect.x0, y)], rect.width(), &tile.light_[tile.index(rect.x0, y)]);
+    if (ns)
+      std::copy_n(&strategy_[index(rect.x0, y) * ns], rect.width() * ns, &tile.strategy_[tile.index(rect.x0, y) * ns]);
   }
 }
 
@@ -47,6 +60,8 @@ void Film::put_tile(const FilmTile &tile) {
     std::copy_n(&tile.aovs_[tile.index(rect.x0, y)], rect.width(), &aovs_[index(rect.x0, y)]);
     if (has_light_passes())
       std::copy_n(&tile.light_[tile.index(rect.x0, y)], rect.width(), &light_[index(rect.x0, y)]);
+    if (const size_t ns = size_t(strategies_.count()))
+      std::copy_n(&tile.strategy_[tile.index(rect.x0, y) * ns], rect.width() * ns, &strategy_[index(rect.x0, y) * ns]);
   }
 }
 
@@ -93,6 +108,25 @@ void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_
 void Film::add_light_splat(Vec2 raster, Color L, int slot, const PixelFilter &filter) {
   if (!is_finite(L) || !has_light_passes()) return;
   splat_footprint(raster, filter, region_, width_, [&](size_t i, float w) { add_to(light_splats_[i][slot], L * w); });
+}
+
+void Film::add_strategy_splat(Vec2 raster, Color L, int k, const PixelFilter &filter) {
+  const int slot = strategies_.enabled() ? strategies_.splat_slot(k) : -1;
+  if (!is_finite(L) || slot < 0) return;
+  const size_t n = size_t(strategies_.splat_count());
+  splat_footprint(raster, filter, region_, width_,
+                  [&](size_t i, float w) { add_to(strategy_splats_[i * n + size_t(slot)], L * w); });
+}
+
+void Film::read_strategy_pass(int k, size_t i, float *dst) const {
+  const double n = pixels_[i].count;
+  const StrategySums &sum = strategy_[i * size_t(strategies_.count()) + size_t(k)];
+  const int slot = strategies_.splat_slot(k);
+  for (int c = 0; c < 3; ++c) {
+    double m = n > 0 ? sum[c] / n : 0.0;
+    if (slot >= 0) m += strategy_splats_[i * size_t(strategies_.splat_count()) + size_t(slot)][c] * state_.splat_scale;
+    dst[c] = float(m);
+  }
 }
 
 void Film::read_light_pass(rdv_pass pass, size_t i, float *dst) const {
@@ -187,7 +221,10 @@ void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float 
           break;
         }
         default:
-          if (has_light_passes()) read_light_pass(pass, i, dst);
+          if (pass >= RDV_PASS_STRATEGY_FIRST) {
+            if (pass - RDV_PASS_STRATEGY_FIRST < strategies_.count()) read_strategy_pass(pass - RDV_PASS_STRATEGY_FIRST, i, dst);
+            else std::fill_n(dst, channels, 0.0f);
+          } else if (has_light_passes()) read_light_pass(pass, i, dst);
           else std::fill_n(dst, channels, 0.0f);
           break;
       }

@@ -53,13 +53,17 @@ class Film {
   // stores and copies nothing of them.
   // data_passes: EXR output carries Mist, Object and Material Index (film/data_passes.h;
   // the film keeps them either way).
-  Film(int width, int height, Rect region, bool halves = false, bool light_passes = false, bool data_passes = false);
-  // What one pixel costs (samples, splats, AOVs, halves, light passes): for the memory
-  // check before a film is made.
-  static size_t bytes_per_pixel(bool halves, bool light_passes = false);
+  // strategy_max_depth: keep BDPT's strategy passes of paths up to this depth
+  // (film/strategy_passes.h); -1: none, and the film stores and copies nothing of them.
+  Film(int width, int height, Rect region, bool halves = false, bool light_passes = false, bool data_passes = false,
+       int strategy_max_depth = -1);
+  // What one pixel costs (samples, splats, AOVs, halves, light and strategy passes): for
+  // the memory check before a film is made.
+  static size_t bytes_per_pixel(bool halves, bool light_passes = false, int strategy_max_depth = -1);
   bool has_halves() const { return !half_splats_.empty(); }
   bool has_light_passes() const { return !light_.empty(); }
   bool writes_data_passes() const { return data_passes_; }
+  const StrategyPasses &strategy_passes() const { return strategies_; }
   int width() const { return width_; }
   int height() const { return height_; }
   const Rect &region() const { return region_; }
@@ -85,6 +89,10 @@ class Film {
     // The same splat's light pass (its slot, film/light_passes.h); needs light passes.
     void add_light_splat(Vec2 raster, Color L, int slot, const PixelFilter &filter) {
       film_.add_light_splat(raster, L, slot, filter);
+    }
+    // The same splat's strategy pass k (a t = 1 strategy, film/strategy_passes.h); needs them.
+    void add_strategy_splat(Vec2 raster, Color L, int k, const PixelFilter &filter) {
+      film_.add_strategy_splat(raster, L, k, filter);
     }
     // The frame now complete: samples (or mutations) per pixel and the splats' scale.
     void publish(uint32_t samples, SplatNormalisation splats) { publish(samples, splats, HalfSplit::None, {}); }
@@ -138,6 +146,9 @@ class Film {
  private:
   void add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b);
   void add_light_splat(Vec2 raster, Color L, int slot, const PixelFilter &filter);
+  void add_strategy_splat(Vec2 raster, Color L, int k, const PixelFilter &filter);
+  // One pixel of strategy pass k into dst (3 floats).
+  void read_strategy_pass(int k, size_t i, float *dst) const;
   // One pixel of a light pass (RDV_PASS_EMISSION .. RDV_PASS_VOLUME_INDIRECT) into dst.
   void read_light_pass(rdv_pass pass, size_t i, float *dst) const;
   size_t index(int x, int y) const { return size_t(y) * width_ + x; }
@@ -153,6 +164,10 @@ class Film {
   std::vector<LightPassSums> light_;
   std::vector<LightSplatSums> light_splats_;
   bool data_passes_ = false;
+  // Strategy passes: count() sums per pixel of camera samples, splat_count() of splats;
+  // both empty unless asked for.
+  StrategyPasses strategies_;
+  std::vector<StrategySums> strategy_, strategy_splats_;
   FrameState state_;
   mutable std::mutex frame_mutex_;  // guards all of the above but the sizes
 };

@@ -11,6 +11,7 @@
 #include "core/math.h"
 #include "film/data_passes.h"
 #include "film/light_passes.h"
+#include "film/strategy_passes.h"
 
 namespace rdv {
 
@@ -72,6 +73,13 @@ class FilmTile {
   }
   // Light passes (film/light_passes.h): only when the film keeps them (Film::has_light_passes).
   void add_light_passes(int x, int y, const LightPassSample &sample) { light_[index(x, y)].add(sample); }
+  // Strategy passes (film/strategy_passes.h): the sample's share in each of the film's
+  // strategy_count passes; only when the film keeps them.
+  void add_strategy_passes(int x, int y, const Color *sample) {
+    StrategySums *sums = &strategy_[index(x, y) * size_t(strategy_count_)];
+    for (int k = 0; k < strategy_count_; ++k)
+      for (int c = 0; c < 3; ++c) sums[k][c] += sample[k][c];
+  }
   // first_sample: the pixel's sample 0, the one whose pass indices Cycles keeps.
   void add_data_passes(int x, int y, const DataPassSample &data, bool first_sample) {
     PixelAov &a = aovs_[index(x, y)];
@@ -98,6 +106,8 @@ class FilmTile {
   std::vector<HalfSum> halves_;  // empty unless the film keeps halves
   std::vector<PixelAov> aovs_;
   std::vector<LightPassSums> light_;  // empty unless the film keeps light passes
+  std::vector<StrategySums> strategy_;  // strategy_count_ per pixel (0 unless the film keeps them)
+  int strategy_count_ = 0;
 };
 
 }  // namespace rdv

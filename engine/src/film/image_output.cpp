@@ -73,7 +73,14 @@ std::string write_image(const Film &film, const std::string &path, const std::st
       noise.resize(size_t(w) * h);
       film.read(RDV_PASS_NOISE, 0, 0, w, h, true, noise.data());
     }
-    // Cycles' light passes, as Blender names them, when the film keeps them.
+    // The passes beyond those, as EXR layers (channel names as Blender's multilayer EXR has
+    // them): Cycles' light passes when the film keeps them, its data passes when the
+    // settings ask for them, BDPT's strategy passes when the film keeps them.
+    struct Layer {
+      rdv_pass pass;
+      std::vector<std::string> channels;
+    };
+    std::vector<Layer> layers;
     static const std::pair<rdv_pass, const char *> kLightPasses[] = {
         {RDV_PASS_EMISSION, "Emit"},           {RDV_PASS_ENVIRONMENT, "Env"},
         {RDV_PASS_DIFFUSE_DIRECT, "DiffDir"},  {RDV_PASS_DIFFUSE_INDIRECT, "DiffInd"},
@@ -82,31 +89,32 @@ std::string write_image(const Film &film, const std::string &path, const std::st
         {RDV_PASS_TRANSMISSION_DIRECT, "TransDir"}, {RDV_PASS_TRANSMISSION_INDIRECT, "TransInd"},
         {RDV_PASS_TRANSMISSION_COLOR, "TransCol"}, {RDV_PASS_VOLUME_DIRECT, "VolumeDir"},
         {RDV_PASS_VOLUME_INDIRECT, "VolumeInd"}};
-    std::vector<float> light;  // pixel-major, 3 channels per pass
-    const int light_channels = film.has_light_passes() ? 3 * int(std::size(kLightPasses)) : 0;
-    if (light_channels) {
-      light.resize(size_t(w) * h * light_channels);
-      std::vector<float> one(size_t(w) * h * 3);
-      for (size_t k = 0; k < std::size(kLightPasses); ++k) {
-        film.read(kLightPasses[k].first, 0, 0, w, h, true, one.data());
+    auto rgb = [](const std::string &name) { return std::vector<std::string>{name + ".R", name + ".G", name + ".B"}; };
+    if (film.has_light_passes())
+      for (const auto &[pass, name] : kLightPasses) layers.push_back({pass, rgb(name)});
+    if (film.writes_data_passes())
+      for (const auto &[pass, name] : {std::pair{RDV_PASS_MIST, "Mist.Z"}, std::pair{RDV_PASS_OBJECT_INDEX, "IndexOB.X"},
+                                       std::pair{RDV_PASS_MATERIAL_INDEX, "IndexMA.X"}})
+        layers.push_back({pass, {name}});
+    const StrategyPasses &strategies = film.strategy_passes();
+    for (int k = 0; k < strategies.count(); ++k)
+      layers.push_back({rdv_pass(RDV_PASS_STRATEGY_FIRST + k), rgb(strategies.name(k))});
+    int layer_channels = 0;
+    for (const Layer &layer : layers) layer_channels += int(layer.channels.size());
+    std::vector<float> passes(size_t(w) * h * layer_channels);  // pixel-major, the layers' channels in order
+    {
+      std::vector<float> one;
+      int first = 0;
+      for (const Layer &layer : layers) {
+        const int nc = int(layer.channels.size());
+        one.resize(size_t(w) * h * nc);
+        film.read(layer.pass, 0, 0, w, h, true, one.data());
         for (size_t i = 0; i < size_t(w) * h; ++i)
-          for (int c = 0; c < 3; ++c) light[i * light_channels + 3 * k + c] = one[i * 3 + c];
+          for (int c = 0; c < nc; ++c) passes[i * layer_channels + first + c] = one[i * nc + c];
+        first += nc;
       }
     }
-    // Cycles' data passes, as Blender names them, when the settings ask for them.
-    static const std::pair<rdv_pass, const char *> kDataPasses[] = {
-        {RDV_PASS_MIST, "Mist.Z"}, {RDV_PASS_OBJECT_INDEX, "IndexOB.X"}, {RDV_PASS_MATERIAL_INDEX, "IndexMA.X"}};
-    std::vector<float> data;  // pixel-major, 1 channel per pass
-    const int data_channels = film.writes_data_passes() ? int(std::size(kDataPasses)) : 0;
-    if (data_channels) {
-      data.resize(size_t(w) * h * data_channels);
-      std::vector<float> one(size_t(w) * h);
-      for (int k = 0; k < data_channels; ++k) {
-        film.read(kDataPasses[k].first, 0, 0, w, h, true, one.data());
-        for (size_t i = 0; i < size_t(w) * h; ++i) data[i * data_channels + k] = one[i];
-      }
-    }
-    const int image_channels = (noise.empty() ? 11 : 12) + light_channels + data_channels;
+    const int image_channels = (noise.empty() ? 11 : 12) + layer_channels;
     PartChannels extra;
     if (part) extra = part_channels(film, *part);
     const size_t extra_channels = extra.names.size();
@@ -119,13 +127,10 @@ std::string write_image(const Film &film, const std::string &path, const std::st
       d[4] = depth[i];
       for (int c = 0; c < 3; ++c) { d[5 + c] = normal[i * 3 + c]; d[8 + c] = albedo[i * 3 + c]; }
       if (!noise.empty()) d[11] = noise[i];
-      const int base_channels = image_channels - light_channels - data_channels;
+      const int base_channels = image_channels - layer_channels;
       std::memcpy(&all[i * nc], d, size_t(base_channels) * sizeof(float));
-      if (light_channels)
-        std::memcpy(&all[i * nc + base_channels], &light[i * light_channels], size_t(light_channels) * sizeof(float));
-      if (data_channels)
-        std::memcpy(&all[i * nc + base_channels + light_channels], &data[i * data_channels],
-                    size_t(data_channels) * sizeof(float));
+      if (layer_channels)
+        std::memcpy(&all[i * nc + base_channels], &passes[i * layer_channels], size_t(layer_channels) * sizeof(float));
       if (extra_channels)
         std::memcpy(&all[i * nc + image_channels], &extra.words[i * extra_channels], extra_channels * 4);
     }
@@ -133,10 +138,8 @@ std::string write_image(const Film &film, const std::string &path, const std::st
     spec.channelnames = {"R", "G", "B", "A", "Depth.Z", "Normal.X", "Normal.Y", "Normal.Z",
                          "Albedo.R", "Albedo.G", "Albedo.B"};
     if (!noise.empty()) spec.channelnames.push_back("Noise.V");
-    if (light_channels)
-      for (const auto &[pass, name] : kLightPasses)
-        for (const char *c : {".R", ".G", ".B"}) spec.channelnames.push_back(std::string(name) + c);
-    for (int k = 0; k < data_channels; ++k) spec.channelnames.push_back(kDataPasses[k].second);
+    for (const Layer &layer : layers)
+      spec.channelnames.insert(spec.channelnames.end(), layer.channels.begin(), layer.channels.end());
     spec.channelformats.assign(image_channels, OIIO::TypeDesc::FLOAT);
     for (const std::string &name : extra.names) {
       spec.channelnames.push_back(name);

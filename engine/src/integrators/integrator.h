@@ -57,6 +57,10 @@ struct RenderSettings {
   LightPathLimits limits;
   // Cycles' light passes (film/light_passes.h): the film keeps them (path and bdpt).
   bool light_passes = false;
+  // BDPT's strategy passes (film/strategy_passes.h) of paths up to max depth (bounces).
+  bool strategy_passes = false;
+  int strategy_passes_max_depth = 3;
+  int strategy_pass_depth() const { return strategy_passes ? strategy_passes_max_depth : -1; }
   // Mist, Object Index and Material Index (film/data_passes.h) as EXR layers; the film
   // has them either way (every integrator), for reads.
   bool data_passes = false;
@@ -121,6 +125,12 @@ struct FirstHit {
   // its splats to pass_splats.
   LightPassSample *passes = nullptr;
   std::vector<PassSplat> *pass_splats = nullptr;
+  // BDPT's strategy passes of the sample, when the film keeps them (else null): each
+  // strategy's contribution goes to strategies[layout.index(s, t)], a t = 1 strategy's
+  // splat to strategy_splats with that index as its slot (film/strategy_passes.h).
+  StrategyPasses strategy_layout;
+  Color *strategies = nullptr;
+  std::vector<PassSplat> *strategy_splats = nullptr;
 };
 
 // A contribution to wherever on the image a light path reaches the camera.

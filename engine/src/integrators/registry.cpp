@@ -161,6 +161,12 @@ RenderSettings RenderSettings::from_params(Params &p) {
     fail(p.what() + ": 'film_transparent_roughness' must be in 0..1, got " + std::to_string(s.alpha.glass_roughness));
   s.light_passes = p.get_bool("light_passes", false);
   s.data_passes = p.get_bool("data_passes", false);
+  s.strategy_passes = p.get_bool("strategy_passes", false);
+  s.strategy_passes_max_depth = p.get_int("strategy_passes_max_depth", s.strategy_passes_max_depth);
+  if (s.strategy_passes_max_depth < 0 || s.strategy_passes_max_depth > StrategyPasses::kMaxDepth)
+    fail(p.what() + ": 'strategy_passes_max_depth' must be in 0.." + std::to_string(StrategyPasses::kMaxDepth) +
+         " (bounces; the passes of longer paths are one 'rest' pass), got " +
+         std::to_string(s.strategy_passes_max_depth));
   s.alpha.pass_alpha_threshold = p.get_float("pass_alpha_threshold", s.alpha.pass_alpha_threshold);
   if (!(s.alpha.pass_alpha_threshold >= 0 && s.alpha.pass_alpha_threshold <= 1))
     fail(p.what() + ": 'pass_alpha_threshold' must be in 0..1, got " + std::to_string(s.alpha.pass_alpha_threshold));
@@ -246,6 +252,13 @@ RenderSettings RenderSettings::from_params(Params &p) {
     if (s.auto_candidates.empty())
       fail(p.what() + ": integrator 'auto' with 'adaptive_sampling' or 'light_passes' needs path or bdpt among "
                       "'auto_candidates'");
+    if (s.strategy_passes) {  // BDPT's own passes: the pick must be bdpt
+      s.auto_candidates.erase(std::remove_if(s.auto_candidates.begin(), s.auto_candidates.end(),
+                                             [](const std::string &c) { return c != "bdpt"; }),
+                              s.auto_candidates.end());
+      if (s.auto_candidates.empty())
+        fail(p.what() + ": integrator 'auto' with 'strategy_passes' needs bdpt among 'auto_candidates'");
+    }
   }
   s.border = {0, 0, s.width, s.height};
   auto b = p.get_floats("border", 4, {0, 0, float(s.width), float(s.height)});
@@ -262,9 +275,13 @@ RenderSettings RenderSettings::from_params(Params &p) {
   if (s.light_passes && s.integrator != "path" && s.integrator != "bdpt" && s.integrator != "auto")
     fail(p.what() + ": 'light_passes' are made by path and bdpt; " + s.integrator +
          " does not classify its paths into them yet (render the passes with path or bdpt)");
+  if (s.strategy_passes && s.integrator != "bdpt" && s.integrator != "auto")
+    fail(p.what() + ": 'strategy_passes' are bidirectional path tracing's strategies (s, t); " + s.integrator +
+         " has none of them (render the passes with bdpt)");
   // Before the session allocates anything: the film, and Metropolis' bootstrap and chains.
   std::string film = std::to_string(s.width) + "x" + std::to_string(s.height) + " film";
-  double bytes = double(s.width) * double(s.height) * double(Film::bytes_per_pixel(s.estimates_noise(), s.light_passes));
+  double bytes = double(s.width) * double(s.height) *
+                 double(Film::bytes_per_pixel(s.estimates_noise(), s.light_passes, s.strategy_pass_depth()));
   if (s.integrator == "pssmlt" || s.integrator == "mmlt" || s.integrator == "mlt") {
     bytes += mlt::Metropolis::memory_estimate(s, s.integrator == "mmlt", s.integrator == "mlt");
     film += " with " + s.integrator + "'s bootstrap (" + std::to_string(s.mlt_bootstrap) + " per pixel) and " +

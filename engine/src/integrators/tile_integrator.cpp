@@ -18,8 +18,13 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
   splats.b.clear();
   splats.a_passes.clear();
   splats.b_passes.clear();
+  splats.strategies.clear();
   const bool light_passes = ctx.film.has_light_passes();
   LightPassSample passes;
+  // Strategy passes (film/strategy_passes.h): the sample's share in each.
+  const StrategyPasses &strategy_layout = ctx.film.strategy_passes();
+  thread_local std::vector<Color> strategies;
+  strategies.assign(size_t(strategy_layout.count()), Color(0.0f));
   splats.paths = splats.half_b_paths = 0;
   // Estimating the noise, samples alternate between two independently scrambled
   // replicates of the sequence, half images A and B (film/noise_estimate.h): the even
@@ -61,6 +66,12 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
           first_hit.passes = &passes;
           first_hit.pass_splats = half_b ? &splats.b_passes : &splats.a_passes;
         }
+        if (strategy_layout.enabled()) {
+          std::fill(strategies.begin(), strategies.end(), Color(0.0f));
+          first_hit.strategy_layout = strategy_layout;
+          first_hit.strategies = strategies.data();
+          first_hit.strategy_splats = &splats.strategies;
+        }
         Color L = Li(cr, sampler, stats, &first_hit, half_b ? splats.b : splats.a);
         if (!is_finite(L) || L.x < 0 || L.y < 0 || L.z < 0) {  // never let NaN/Inf into the film
           ++dropped;
@@ -71,11 +82,13 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
           if (m > settings.clamp) {
             L *= settings.clamp / m;
             if (light_passes) passes.scale(settings.clamp / m);
+            for (Color &c : strategies) c *= settings.clamp / m;
           }
         }
         film_tile.add_sample(x, y, L, half_b, first_hit.transparency);
         film_tile.add_data_passes(x, y, first_hit.data, s == 0);
         if (light_passes) film_tile.add_light_passes(x, y, passes);
+        if (strategy_layout.enabled()) film_tile.add_strategy_passes(x, y, strategies.data());
         if (first_hit.valid) film_tile.add_first_hit(x, y, first_hit.depth, first_hit.normal, first_hit.albedo);
         else film_tile.add_first_hit(x, y, 1e10f, Vec3(0.0f), Color(0.0f));
       }
@@ -130,6 +143,7 @@ void TileIntegrator::render(RenderContext &ctx) {
         for (const Splat &sp : splats.b) frame.add_splat(sp.raster, sp.L, ctx.filter, true);
         for (const PassSplat &sp : splats.a_passes) frame.add_light_splat(sp.raster, sp.L, sp.slot, ctx.filter);
         for (const PassSplat &sp : splats.b_passes) frame.add_light_splat(sp.raster, sp.L, sp.slot, ctx.filter);
+        for (const PassSplat &sp : splats.strategies) frame.add_strategy_splat(sp.raster, sp.L, sp.slot, ctx.filter);
         paths += splats.paths;
         half_b_paths += splats.half_b_paths;
       }

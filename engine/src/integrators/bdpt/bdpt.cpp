@@ -51,6 +51,12 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
   // (Kept here: *first_hit is overwritten with the first surface's AOVs below.)
   LightPassSample *const passes = first_hit ? first_hit->passes : nullptr;
   std::vector<PassSplat> *const pass_splats = first_hit ? first_hit->pass_splats : nullptr;
+  // Strategy passes (film/strategy_passes.h): each contribution's strategy, as it enters L.
+  const StrategyPasses strategy_layout = first_hit ? first_hit->strategy_layout : StrategyPasses{};
+  Color *const strategies = first_hit ? first_hit->strategies : nullptr;
+  std::vector<PassSplat> *const strategy_splats = first_hit ? first_hit->strategy_splats : nullptr;
+  if (strategies)  // the lamps and volume emission the camera path passed: s = 0, t = n + 2
+    for (int n = 0; n < int(emitted.size()); ++n) strategies[strategy_layout.index(0, n + 2)] += emitted[n];
   PassCache first_split;
   if (passes) {  // light passes (light_passes.cpp): the colours, and the emission passed
     first_split = pass_cache(camera_path.data(), nc);
@@ -86,6 +92,11 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
       if (!is_finite(c) || is_black(c)) continue;
       if (t == 1) splats.push_back({raster, c});
       else L += c;
+      if (strategies) {
+        const int k = strategy_layout.index(s, t);
+        if (t == 1) strategy_splats->push_back({raster, c, uint8_t(k)});
+        else strategies[k] += c;
+      }
       if (passes) {
         PassClass pc = pass_class(light_path.data(), camera_path.data(), s, t, connection_dir, first_split);
         if (t == 1) {

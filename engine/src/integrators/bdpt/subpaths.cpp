@@ -310,6 +310,8 @@ void Bdpt::gather_volume_emission(const Medium &medium, const Ray &ray, float tm
   const LightPathLimits &limits = settings_.limits;
   if (limits.classify && n > 0 && !limits_keep(path, path, 0, n + 2, ScatterKind::Transparent, ScatterKind::Transparent))
     return;
+  const bool one_strategy = settings_.strategy_s >= 0;  // the debug view of one strategy (s, t)
+  if (one_strategy && (settings_.strategy_s != 0 || settings_.strategy_t != n + 2)) return;
   gather_emission(medium, ray.o, ray.d, tmax, rng, [&](Vec3 x, Color c, float rate) {
     float w = 1;
     if (rate > 0 && n > 0) {  // seen straight from the camera: s = 0, t = 2 is the only strategy
@@ -323,6 +325,7 @@ void Bdpt::gather_volume_emission(const Medium &medium, const Ray &ray, float tm
       ConnectionDensities d;
       light_densities(point, prev, d.pt_rev, d.pt_minus_rev);
       w = mis_weight(path, path, point, 0, n + 2, d);  // s = 0 reads no light vertex
+      if (one_strategy && settings_.strategy_unweighted) w = 1;
     }
     emitted += limits.clamps ? limits.clamp(beta * c * w, n) : beta * c * w;
   });
