@@ -1,7 +1,8 @@
 // Benchmark (prints numbers, asserts nothing): what Cycles' light passes cost
-// (film/light_passes.h). Each scene renders with path tracing and BDPT at a fixed sample
-// count, the light passes off and on alternately (5 runs each, the film's memory and the
-// median time printed), so that drifts of the machine's speed hit both alike.
+// (film/light_passes.h), and BDPT's strategy passes (film/strategy_passes.h). Each scene
+// renders at a fixed sample count, the passes off and on alternately (5 runs each, the
+// film's memory and the median time printed), so that drifts of the machine's speed hit
+// both alike.
 // Goal: on < 1.10x off. A render without them computes and stores nothing of them.
 #include <algorithm>
 #include <chrono>
@@ -41,19 +42,19 @@ static double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-int main() {
+// Renders each scene with each integrator, the passes `settings` ask for off and on alternately.
+static void compare(const std::vector<const char *> &scenes, const std::vector<const char *> &integrators,
+                    const nlohmann::json &settings) {
   const int runs = 5;
-  std::printf("film memory per pixel: %zu bytes without light passes, %zu with\n", rdv::Film::bytes_per_pixel(false),
-              rdv::Film::bytes_per_pixel(false, true));
-  std::printf("%-16s %-5s %8s %8s %7s\n", "scene", "integ", "off s", "on s", "on/off");
-  for (const char *name : {"cornell_box.json", "light_types.json", "fog_spot.json"}) {
+  std::printf("%-16s %-5s %8s %8s %7s   (%s)\n", "scene", "integ", "off s", "on s", "on/off", settings.dump().c_str());
+  for (const char *name : scenes) {
     const std::string path = std::string(RDV_SOURCE_DIR) + "/scenes/" + name;
-    for (const char *integrator : {"path", "bdpt"}) {
+    for (const char *integrator : integrators) {
       nlohmann::json base = {{"integrator", integrator}, {"width", 256}, {"height", 256}, {"samples", 16}, {"seed", 1}};
+      nlohmann::json with = base;
+      with.update(settings);
       std::vector<double> off, on;
       for (int r = 0; r < runs; ++r) {
-        nlohmann::json with = base;
-        with["light_passes"] = true;
         off.push_back(render_seconds(path, base));
         on.push_back(render_seconds(path, with));
       }
@@ -62,5 +63,24 @@ int main() {
       std::fflush(stdout);
     }
   }
+}
+
+// bench_light_passes [light] [strategies]: which tables (both by default).
+int main(int argc, char **argv) {
+  auto wanted = [&](const char *table) {
+    if (argc < 2) return true;
+    for (int i = 1; i < argc; ++i)
+      if (std::string(argv[i]) == table) return true;
+    return false;
+  };
+  std::printf("film memory per pixel: %zu bytes without passes, %zu with light passes, %zu with strategy passes "
+              "(max depth 3)\n",
+              rdv::Film::bytes_per_pixel(false), rdv::Film::bytes_per_pixel(false, true),
+              rdv::Film::bytes_per_pixel(false, false, 3));
+  if (wanted("light"))
+    compare({"cornell_box.json", "light_types.json", "fog_spot.json"}, {"path", "bdpt"}, {{"light_passes", true}});
+  // BDPT's strategy passes (film/strategy_passes.h), 14 passes at the default depth 3.
+  if (wanted("strategies"))
+    compare({"cornell_box.json", "caustic.json", "fog_spot.json"}, {"bdpt"}, {{"strategy_passes", true}});
   return 0;
 }

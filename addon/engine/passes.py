@@ -5,7 +5,8 @@ EXR have them) and which engine pass fills each (engine/include/rendezvous.h, rd
 
 Cycles' light passes need the session setting "light_passes" (path and bdpt classify
 their paths; the Metropolis integrators do not yet: a warning says so and the passes
-stay black)."""
+stay black). BDPT's strategy passes (view_layer.rendezvous.use_pass_strategies) need
+"strategy_passes"; other integrators have no strategies: a warning, and black passes."""
 
 from .. import binding
 
@@ -33,6 +34,25 @@ LIGHT_PASSES = [
     ("VolumeInd", "use_pass_volume_indirect", "cycles", binding.PASS_VOLUME_INDIRECT),
 ]
 LIGHT_PASS_INTEGRATORS = ("path", "bdpt", "auto")
+
+
+def strategy_passes(max_depth):
+    """[(Blender pass name, engine pass)] of BDPT's strategy passes of paths up to max_depth
+    bounces, numbered as engine/src/film/strategy_passes.h: depth-major (depth 0: s = 0,
+    t = 2; depth d: s = 0 .. d + 1, t = d + 2 - s), then the longer paths' rest."""
+    names = ["Strategy_s0t2"]
+    for depth in range(1, max_depth + 1):
+        names += ["Strategy_s%dt%d" % (s, depth + 2 - s) for s in range(depth + 2)]
+    names.append("Strategy_rest")
+    return [(name, binding.PASS_STRATEGY_FIRST + k) for k, name in enumerate(names)]
+
+
+def wanted_strategy_depth(layer):
+    """The view layer's strategy depth when it asks for the strategy passes, else None."""
+    props = getattr(layer, "rendezvous", None)
+    if props is None or not getattr(props, "use_pass_strategies", False):
+        return None
+    return int(props.strategy_max_depth)
 
 
 def _flag(layer, scene, prop, where):
@@ -68,6 +88,9 @@ def enabled_passes(layer, scene):
             out.append((name, engine_pass, 3, "RGB", "COLOR"))
     if _flag(layer, scene, "use_pass_noise", "rendezvous"):
         out.append(("Noise", binding.PASS_NOISE, 1, "X", "VALUE"))
+    depth = wanted_strategy_depth(layer)
+    if depth is not None:
+        out += [(name, engine_pass, 3, "RGB", "COLOR") for name, engine_pass in strategy_passes(depth)]
     return out
 
 
@@ -79,10 +102,18 @@ def register_passes(engine, scene, layer):
 
 
 def light_pass_settings(layer, scene, integrator, warn=print):
-    """The session settings the layer's passes need: light passes ({} without any), and
-    View Layer > Passes > Alpha Threshold, which the Object and Material Index passes use."""
+    """The session settings the layer's passes need: light passes ({} without any), BDPT's
+    strategy passes, and View Layer > Passes > Alpha Threshold, which the Object and Material
+    Index passes use."""
     threshold = getattr(layer, "pass_alpha_threshold", None)
     data = {"pass_alpha_threshold": float(threshold)} if threshold is not None else {}
+    depth = wanted_strategy_depth(layer)
+    if depth is not None:
+        if integrator == "bdpt":
+            data.update(strategy_passes=True, strategy_passes_max_depth=depth)
+        else:
+            warn("Passes: the BDPT strategy passes are the Bidirectional integrator's strategies; with %s they "
+                 "stay black" % integrator)
     if not wants_light_passes(layer, scene):
         return data
     if integrator not in LIGHT_PASS_INTEGRATORS:

@@ -184,16 +184,41 @@ class RendezvousRenderSettings(bpy.types.PropertyGroup):
                                      "free for other work at the cost of render speed")
 
 
-classes = (RendezvousRenderSettings,)
+def _update_render_passes(self, context):
+    """The compositor's Render Layers node shows the passes at once (as Cycles' pass toggles)."""
+    view_layer = getattr(context, "view_layer", None)
+    if view_layer is not None:
+        view_layer.update_render_passes()
+
+
+class RendezvousViewLayerSettings(bpy.types.PropertyGroup):
+    """view_layer.rendezvous: passes of our own (View Layer > Passes > Rendezvous Passes)."""
+    use_pass_strategies: BoolProperty(
+        name="BDPT Strategies", default=False, update=_update_render_passes,
+        description="Bidirectional only: one pass per strategy (s light vertices, t camera vertices) of the "
+                    "paths up to Strategy Depth bounces, its MIS-weighted share of Combined "
+                    "(Strategy_s1t2: next-event estimation at the first hit, Strategy_s2t1: light tracing, ...), "
+                    "and Strategy_rest for longer paths; they sum to Combined. Shows which way of sampling "
+                    "found each part of the image. Other integrators leave them black")
+    strategy_max_depth: IntProperty(
+        name="Strategy Depth", default=3, min=0, max=6, update=_update_render_passes,
+        description="Bounces of the longest paths split by strategy (3: paths of 1 to 4 segments, 13 passes); "
+                    "each more bounce adds its strategies' passes and their memory")
+
+
+classes = (RendezvousRenderSettings, RendezvousViewLayerSettings)
 
 
 def register():
     for cls in classes:
         bpy.utils.register_class(cls)
     bpy.types.Scene.rendezvous = PointerProperty(type=RendezvousRenderSettings, name="Rendezvous")
+    bpy.types.ViewLayer.rendezvous = PointerProperty(type=RendezvousViewLayerSettings, name="Rendezvous")
 
 
 def unregister():
+    if hasattr(bpy.types.ViewLayer, "rendezvous"):
+        del bpy.types.ViewLayer.rendezvous
     if hasattr(bpy.types.Scene, "rendezvous"):
         del bpy.types.Scene.rendezvous
     for cls in reversed(classes):

@@ -250,6 +250,12 @@ class RENDEZVOUS_PT_passes(RendezvousPanel, bpy.types.Panel):
     def draw(self, context):
         layout = _split(self.layout)
         layout.prop(context.scene.rendezvous, "use_pass_noise")
+        layer = getattr(context.view_layer, "rendezvous", None)
+        if layer is not None:
+            layout.prop(layer, "use_pass_strategies")
+            row = layout.row()
+            row.active = layer.use_pass_strategies
+            row.prop(layer, "strategy_max_depth")
 
 
 # Parents before their subpanels (Blender needs the parent registered first).
