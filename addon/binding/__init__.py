@@ -116,6 +116,8 @@ _PROTOTYPES = {
     "rdv_scene_set_instance_transform": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_void_p]),
     "rdv_scene_set_instance_params": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_char_p]),
     "rdv_scene_set_instance_motion": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_void_p, ctypes.c_uint32]),
+    "rdv_scene_set_mesh_motion": (_status, [_scene_p, ctypes.c_uint32, ctypes.c_void_p, ctypes.c_void_p,
+                                            ctypes.c_uint32, ctypes.c_uint32]),
     "rdv_scene_add_light": (_status, [_scene_p, ctypes.c_char_p, ctypes.c_char_p, _c_uint32_p]),
     "rdv_scene_set_world": (_status, [_scene_p, ctypes.c_char_p]),
     "rdv_scene_set_camera": (_status, [_scene_p, ctypes.c_char_p]),
@@ -423,6 +425,22 @@ class Scene(_Handle):
         steps = arr.size // 16
         self.lib.check(self.lib.rdv_scene_set_instance_motion(self.handle, int(instance), _ptr(arr), steps),
                        "instance %d" % instance)
+
+    def set_mesh_motion(self, mesh, positions, normals=None):
+        """Deformation blur: the mesh's vertex positions (and normals, or None) at evenly spaced
+        times over the open shutter, one (V*3,) float32 array per step."""
+        import numpy as np
+        pos = np.ascontiguousarray(np.concatenate([np.asarray(p, np.float32).reshape(-1) for p in positions]))
+        steps = len(positions)
+        nv = pos.size // (3 * steps) if steps else 0
+        nrm = None
+        if normals is not None:
+            nrm = np.ascontiguousarray(np.concatenate([np.asarray(n, np.float32).reshape(-1) for n in normals]))
+            if nrm.size != pos.size:
+                raise EngineError("mesh %d: deformation normals and positions differ in size" % mesh)
+        self.lib.check(self.lib.rdv_scene_set_mesh_motion(self.handle, int(mesh), _ptr(pos),
+                                                          None if nrm is None else _ptr(nrm), nv, steps),
+                       "mesh %d" % mesh)
 
     def add_light(self, name, params):
         out = ctypes.c_uint32()

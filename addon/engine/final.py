@@ -178,9 +178,9 @@ def _render(engine, depsgraph):
             engine.report({"WARNING"}, line)
         print("Rendezvous: exported %d meshes (%d triangles), %d instances, %d lights, %d materials in %.3f s"
               % (stats.meshes, stats.triangles, stats.instances, stats.lights, stats.materials, stats.seconds))
-        if stats.moving:
-            print("Rendezvous: motion blur: %d moving objects, transforms sampled in %.3f s"
-                  % (stats.moving, stats.motion_seconds))
+        if stats.moving or stats.deforming:
+            print("Rendezvous: motion blur: %d moving objects, %d deforming meshes, sampled in %.3f s"
+                  % (stats.moving, stats.deforming, stats.motion_seconds))
 
         session = binding.Session(rscene, settings)
         engine.session = session

@@ -32,6 +32,7 @@ class ExportStats:
         self.materials = 0
         self.seconds = 0.0
         self.moving = 0  # objects (and the camera) sent with motion steps
+        self.deforming = 0  # meshes sent with deformation steps
         self.motion_seconds = 0.0  # of seconds: sampling their transforms over the shutter
 
     def as_dict(self):
@@ -170,7 +171,12 @@ class SceneExporter:
             else:
                 for instance in self.motion.instances(key):
                     self.sink.set_instance_motion(instance, matrices)
+        for mesh_id, positions, normals in self.motion.deformed:
+            self.sink.set_mesh_motion(mesh_id, positions, normals)
+        for text in self.motion.warnings:
+            self.warn(text)
         self.stats.moving = len(moving)
+        self.stats.deforming = len(self.motion.deformed)
         self.stats.motion_seconds = self.motion.seconds
 
     def export_world(self):
@@ -273,10 +279,12 @@ class SceneExporter:
         data = ob.data
         key = (data.as_pointer() if data is not None else ob.as_pointer(),
                tuple(m.name_full if m is not None else None for m in mats))
+        frame = None
         if key in self._meshes:
             mesh_id = self._meshes[key]
         else:
-            mesh_id = self._meshes[key] = self._add_mesh(ob, mats)
+            frame = []  # the mesh's arrays at the frame, for deformation blur
+            mesh_id = self._meshes[key] = self._add_mesh(ob, mats, frame)
         if mesh_id is None:
             return
         instance = self.sink.add_instance(mesh_id, m16)
@@ -285,6 +293,8 @@ class SceneExporter:
             self.sink.set_instance_params(instance, settings)
         if self.motion is not None and inst is not None:
             self.motion.track(motion.instance_key(inst, ob), motion.object_steps(ob), instance, m16)
+            if frame and not inst.is_instance and motion.may_deform(ob):
+                self.motion.track_deform(motion.instance_key(inst, ob), motion.object_steps(ob), mesh_id, *frame[0])
         self.stats.instances += 1
 
     # ---- grid media: Volume objects and fluid domains ---------------------------------------
@@ -392,7 +402,10 @@ class SceneExporter:
         self.stats.instances += 1
         return material, mesh_id
 
-    def _add_mesh(self, ob, mats):
+    def _add_mesh(self, ob, mats, frame=None):
+        """The object's evaluated mesh to the sink: its mesh id, or None (warned). frame: a
+        list that receives (arrays, need_uvs, attribute names), the layout its deformation
+        steps must repeat (motion.MotionSampler.track_deform)."""
         need_uvs, attr_names = self._uv_needs(mats)
         owned = False
         me = None
@@ -433,6 +446,8 @@ class SceneExporter:
                                      uvs=arrays.uvs, material_ids=material_ids, default_material=default, **kw)
         self.stats.meshes += 1
         self.stats.triangles += arrays.num_triangles
+        if frame is not None and mesh_id is not None:
+            frame.append((ob.name, arrays, need_uvs, attr_names))
         return mesh_id
 
     @staticmethod

@@ -117,6 +117,11 @@ class JsonSink:
     def set_instance_motion(self, instance, matrices):
         self.instances[instance]["motion"] = [[_num(x) for x in m] for m in matrices]
 
+    def set_mesh_motion(self, mesh, positions, normals=None):
+        self.meshes[mesh]["motion_positions"] = [_floats(p) for p in positions]
+        if normals is not None:
+            self.meshes[mesh]["motion_normals"] = [_floats(n) for n in normals]
+
     def add_light(self, name, params):
         d = {"name": name}
         d.update(params)

@@ -92,6 +92,23 @@ def quad_mesh(name, size_x, size_y=None):
     return me
 
 
+def shape_key_animation(ob, key_offsets, frames):
+    """Deforms a mesh object by a shape key: key_offsets (one (dx, dy, dz) per vertex, in the
+    object's space) scaled by the key's value, keyframed linearly through (frame, value)
+    pairs. For deformation motion blur: the vertices move while the transform stays."""
+    ob.shape_key_add(name="Basis")
+    key = ob.shape_key_add(name="Deform")
+    for point, offset in zip(key.data, key_offsets):
+        point.co = [c + d for c, d in zip(point.co, offset)]
+    for frame, value in frames:
+        key.value = value
+        key.keyframe_insert("value", frame=frame)
+    for fc in ob.data.shape_keys.animation_data.action.fcurves:
+        for k in fc.keyframe_points:
+            k.interpolation = "LINEAR"
+    return key
+
+
 def plane(name="Floor", size=20.0, material=None, location=(0, 0, 0)):
     ob = link(bpy.data.objects.new(name, quad_mesh(name + "Mesh", size)))
     ob.location = location

@@ -4,10 +4,15 @@ samples. A floor and 24 balls under an area lamp, 192x192, 64 samples per pixel:
           on (goal: no cost; the add-on samples nothing, the engine draws no time);
   moving: 12 of the balls keyframed to slide and the camera to pan (Cycles' default Steps 1:
           3 transforms each), motion blur off and on, Rendezvous path / BDPT and Cycles.
+  deforming: the camera still, 12 of the balls sheared by a keyframed shape key (deformation
+          blur: their vertices move, 3 steps each), motion blur off and on, Rendezvous path /
+          BDPT and Cycles.
 Each figure is the median of 3 renders (wall time of bpy.ops.render.render, export included),
 renders of A and B alternated; the ratio on / off is what motion blur costs each renderer.
 
-    python3 run_blender.py --lib build/engine/librendezvous.so --script bench_motion_blur.py
+    python3 run_blender.py --lib build/engine/librendezvous.so --script bench_motion_blur.py [-- CASE ...]
+
+CASE: static, moving, deforming (default: all three).
 """
 
 import os
@@ -24,7 +29,7 @@ SAMPLES = 64
 RUNS = 3
 
 
-def build(moving):
+def build(moving, deforming=False):
     scene = build_scenes.reset(SIZE)
     scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.08, 0.09, 0.1, 1.0)
     bpy.ops.mesh.primitive_plane_add(size=12, location=(0, 0, 0))
@@ -32,6 +37,9 @@ def build(moving):
         x, y = -3.0 + (i % 6) * 1.2, -1.0 + (i // 6) * 1.2
         bpy.ops.mesh.primitive_uv_sphere_add(radius=0.4, location=(x, y, 0.4), segments=32, ring_count=16)
         ball = bpy.context.object
+        if deforming and i % 2 == 0:  # the top slides 1.2 m between frames 1 and 3, the bottom stays
+            offsets = [(1.2 * (v.co.z + 0.4) / 0.8, 0.0, 0.0) for v in ball.data.vertices]
+            build_scenes.shape_key_animation(ball, offsets, [(1, 0.0), (3, 1.0)])
         if moving and i % 2 == 0:
             for frame, dx in ((1, -0.6), (3, 0.6)):
                 ball.location = (x + dx, y, 0.4)
@@ -76,18 +84,28 @@ def compare(scene, label, engine, integrator=None):
     return a, b
 
 
-def main():
-    print("BENCH motion blur: %dx%d, %d spp, median of %d" % (SIZE, SIZE, SAMPLES, RUNS))
-    scene = build(moving=False)
-    for integrator in ("PATH", "BDPT"):
-        compare(scene, "static, Rendezvous " + integrator.lower(), "RENDEZVOUS", integrator)
-    scene = build(moving=True)
+def against_cycles(scene, case):
     results = {}
     for integrator in ("PATH", "BDPT"):
-        results[integrator] = compare(scene, "moving, Rendezvous " + integrator.lower(), "RENDEZVOUS", integrator)
-    results["CYCLES"] = compare(scene, "moving, Cycles", "CYCLES")
-    print("BENCH motion blur: moving scene with motion blur, Rendezvous path / Cycles %.3f, bdpt / Cycles %.3f"
-          % (results["PATH"][1] / results["CYCLES"][1], results["BDPT"][1] / results["CYCLES"][1]))
+        results[integrator] = compare(scene, "%s, Rendezvous %s" % (case, integrator.lower()), "RENDEZVOUS",
+                                      integrator)
+    results["CYCLES"] = compare(scene, case + ", Cycles", "CYCLES")
+    print("BENCH motion blur: %s scene with motion blur, Rendezvous path / Cycles %.3f, bdpt / Cycles %.3f"
+          % (case, results["PATH"][1] / results["CYCLES"][1], results["BDPT"][1] / results["CYCLES"][1]))
+
+
+def main():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    cases = argv or ["static", "moving", "deforming"]
+    print("BENCH motion blur: %dx%d, %d spp, median of %d" % (SIZE, SIZE, SAMPLES, RUNS))
+    if "static" in cases:
+        scene = build(moving=False)
+        for integrator in ("PATH", "BDPT"):
+            compare(scene, "static, Rendezvous " + integrator.lower(), "RENDEZVOUS", integrator)
+    if "moving" in cases:
+        against_cycles(build(moving=True), "moving")
+    if "deforming" in cases:
+        against_cycles(build(moving=False, deforming=True), "deforming")
 
 
 main()

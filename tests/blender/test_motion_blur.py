@@ -2,7 +2,8 @@
 red square keyframed to slide across a grey floor under an area lamp (variant `square`:
 shutter 1 frame, Position Center, the square moves 2.4 m while the shutter is open, 2.4 times
 its width), and a static ball and floor seen from a keyframed camera that pans sideways
-(variant `camera`: shutter 0.5, Position Start). Cycles renders it, then Rendezvous' path
+(variant `camera`: shutter 0.5, Position Start), and a square whose vertices shear across the
+floor by a shape key (variant `deform`: deformation blur, shutter 1, Position Center). Cycles renders it, then Rendezvous' path
 tracer and BDPT render the same scene in this process (the add-on samples the transforms at
 Cycles' step times). Per integrator: image mean within 2% of Cycles', 8x8 blocks within 3% or
 5 standard errors (test_brightness.check_setting). Cycles also renders the scene with motion
@@ -68,6 +69,18 @@ def build(variant):
         square.rotation_euler = (1.2, 0, 0)  # facing the camera
         square.data.materials.append(material("Red", (0.8, 0.15, 0.1)))
         keyframe_linear(square, "location", [(FRAME - 1, (-2.4, 0, 0.6)), (FRAME + 1, (2.4, 0, 0.6))])
+        scene.render.motion_blur_shutter = 1.0
+        scene.cycles.motion_blur_position = "CENTER"
+    elif variant == "deform":
+        # Deformation blur: the square's vertices move (a shape key), not its transform; its
+        # top edge slides 6 m and its bottom edge 3.6 m between frames 1 and 3, so the
+        # shutter sees a sheared smear no transform gives.
+        bpy.ops.mesh.primitive_plane_add(size=1.0, location=(-2.4, 0, 0.6))
+        square = bpy.context.object
+        square.rotation_euler = (1.2, 0, 0)  # facing the camera
+        square.data.materials.append(material("Red", (0.8, 0.15, 0.1)))
+        offsets = [(6.0 if v.co.y > 0 else 3.6, 0.0, 0.0) for v in square.data.vertices]
+        build_scenes.shape_key_animation(square, offsets, [(FRAME - 1, 0.0), (FRAME + 1, 1.0)])
         scene.render.motion_blur_shutter = 1.0
         scene.cycles.motion_blur_position = "CENTER"
     elif variant == "camera":

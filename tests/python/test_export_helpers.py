@@ -382,6 +382,64 @@ class TestDumpSink(unittest.TestCase):
             self.assertEqual((b["num_vertices"], b["num_triangles"]), (4, 2))
 
 
+@unittest.skipIf(np is None, "needs numpy")
+class TestDeformationBlur(unittest.TestCase):
+    """export/motion.py's deformation steps: sent only when a vertex moves, refused (with a
+    warning naming the object) when the vertex count changes over the shutter."""
+
+    def setUp(self):
+        load_addon()
+        from rendezvous.export import motion
+        from rendezvous.export.mesh import MeshArrays
+        self.motion, self.MeshArrays = motion, MeshArrays
+
+    def arrays(self, x, count=3):
+        positions = np.array([[x + i, 0.0, 0.0] for i in range(count)], np.float32).reshape(-1)
+        return self.MeshArrays(positions, None, None, np.array([0, 1, 2], np.uint32), np.zeros(1, np.uint32))
+
+    def sampled(self, at_steps):
+        sampler = self.motion.MotionSampler((-0.5, 0.5))
+        sampler.track_deform(("Cloth", "", ()), 3, 7, "Cloth", self.arrays(0.0), False, [])
+        sampler._deformations({("Cloth", "", ()): dict(zip((0.0, 1.0), at_steps))})
+        return sampler
+
+    def test_moving_vertices_are_sent(self):
+        s = self.sampled([self.arrays(-1.0), self.arrays(1.0)])
+        self.assertEqual(len(s.deformed), 1)
+        mesh, positions, normals = s.deformed[0]
+        self.assertEqual((mesh, len(positions), normals), (7, 3, None))
+        self.assertEqual([float(p[0]) for p in positions], [-1.0, 0.0, 1.0])  # the frame's in the middle
+        self.assertEqual(s.warnings, [])
+
+    def test_still_vertices_are_not_sent(self):
+        self.assertEqual(self.sampled([self.arrays(0.0), self.arrays(0.0)]).deformed, [])
+
+    def test_changing_vertex_count_warns_naming_the_object(self):
+        s = self.sampled([self.arrays(-1.0), self.arrays(1.0, count=4)])
+        self.assertEqual(s.deformed, [])
+        self.assertEqual(len(s.warnings), 1)
+        self.assertIn("Object 'Cloth'", s.warnings[0])
+        self.assertIn("without deformation blur", s.warnings[0])
+
+    def test_may_deform(self):
+        mesh = ns(shape_keys=ns(), animation_data=None)
+        ob = ns(type="MESH", cycles=ns(use_deform_motion=True), modifiers=[], data=mesh)
+        self.assertTrue(self.motion.may_deform(ob))
+        ob.cycles.use_deform_motion = False  # Object > Motion Blur > Deformation off
+        self.assertFalse(self.motion.may_deform(ob))
+        plain = ns(type="MESH", cycles=ns(use_deform_motion=True), modifiers=[], data=ns(shape_keys=None,
+                                                                                          animation_data=None))
+        self.assertFalse(self.motion.may_deform(plain))
+
+    def test_dump_writes_steps(self):
+        from rendezvous.export.dump import JsonSink
+        sink = JsonSink()
+        sink.add_material("m", {"type": "diffuse"})
+        mesh = sink.add_mesh("Cloth", [0, 0, 0, 1, 0, 0, 0, 1, 0], [0, 1, 2], default_material=0)
+        sink.set_mesh_motion(mesh, [np.zeros(9, np.float32), np.ones(9, np.float32)])
+        self.assertEqual(sink.meshes[mesh]["motion_positions"], [[0] * 9, [1] * 9])
+
+
 class TestBinding(unittest.TestCase):
     def test_missing_library_message(self):
         load_addon()
