@@ -3,7 +3,9 @@ red square keyframed to slide across a grey floor under an area lamp (variant `s
 shutter 1 frame, Position Center, the square moves 2.4 m while the shutter is open, 2.4 times
 its width), and a static ball and floor seen from a keyframed camera that pans sideways
 (variant `camera`: shutter 0.5, Position Start), and a square whose vertices shear across the
-floor by a shape key (variant `deform`: deformation blur, shutter 1, Position Center). Cycles renders it, then Rendezvous' path
+floor by a shape key (variant `deform`: deformation blur, shutter 1, Position Center), and a
+smooth ball a shape key squashes and slides (variant `deform_smooth`: its vertex normals turn
+over the shutter). Cycles renders it, then Rendezvous' path
 tracer and BDPT render the same scene in this process (the add-on samples the transforms at
 Cycles' step times). Per integrator: image mean within 2% of Cycles', 8x8 blocks within 3% or
 5 standard errors (test_brightness.check_setting). Cycles also renders the scene with motion
@@ -81,6 +83,18 @@ def build(variant):
         square.data.materials.append(material("Red", (0.8, 0.15, 0.1)))
         offsets = [(6.0 if v.co.y > 0 else 3.6, 0.0, 0.0) for v in square.data.vertices]
         build_scenes.shape_key_animation(square, offsets, [(FRAME - 1, 0.0), (FRAME + 1, 1.0)])
+        scene.render.motion_blur_shutter = 1.0
+        scene.cycles.motion_blur_position = "CENTER"
+    elif variant == "deform_smooth":
+        # Deformation blur with smooth normals: a smooth ball a shape key squashes to 40% of its
+        # height, widens by 60% and slides 3.6 m between frames 1 and 3, so its vertex normals
+        # turn over the shutter.
+        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=(-1.2, 0, 0.5), segments=32, ring_count=16)
+        bpy.ops.object.shade_smooth()
+        ball = bpy.context.object
+        ball.data.materials.append(material("Red", (0.8, 0.15, 0.1)))
+        offsets = [(0.6 * v.co.x + 3.6, 0.0, -0.6 * (v.co.z + 0.5)) for v in ball.data.vertices]
+        build_scenes.shape_key_animation(ball, offsets, [(FRAME - 1, 0.0), (FRAME + 1, 1.0)])
         scene.render.motion_blur_shutter = 1.0
         scene.cycles.motion_blur_position = "CENTER"
     elif variant == "camera":
