@@ -95,27 +95,23 @@ static void add_to(std::array<double, 3> &sum, const Color &c) {
   sum[2] += c.z;
 }
 
-void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b) {
+void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b, uint8_t strategy) {
   if (!is_finite(L)) return;
   const bool half = half_b && has_halves();
+  // Its strategy pass's splat sums, when the film keeps them: one footprint for both.
+  const int slot = strategy < strategies_.count() ? strategies_.splat_slot(strategy) : -1;
+  const size_t slots = size_t(strategies_.splat_count());
   splat_footprint(raster, filter, region_, width_, [&](size_t i, float w) {
     Color c = L * w;
     add_to(splats_[i], c);
     if (half) add_to(half_splats_[i], c);
+    if (slot >= 0) add_to(strategy_splats_[i * slots + size_t(slot)], c);
   });
 }
 
 void Film::add_light_splat(Vec2 raster, Color L, int slot, const PixelFilter &filter) {
   if (!is_finite(L) || !has_light_passes()) return;
   splat_footprint(raster, filter, region_, width_, [&](size_t i, float w) { add_to(light_splats_[i][slot], L * w); });
-}
-
-void Film::add_strategy_splat(Vec2 raster, Color L, int k, const PixelFilter &filter) {
-  const int slot = strategies_.enabled() ? strategies_.splat_slot(k) : -1;
-  if (!is_finite(L) || slot < 0) return;
-  const size_t n = size_t(strategies_.splat_count());
-  splat_footprint(raster, filter, region_, width_,
-                  [&](size_t i, float w) { add_to(strategy_splats_[i * n + size_t(slot)], L * w); });
 }
 
 void Film::read_strategy_pass(int k, size_t i, float *dst) const {

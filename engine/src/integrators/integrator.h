@@ -127,16 +127,18 @@ struct FirstHit {
   std::vector<PassSplat> *pass_splats = nullptr;
   // BDPT's strategy passes of the sample, when the film keeps them (else null): each
   // strategy's contribution goes to strategies[layout.index(s, t)], a t = 1 strategy's
-  // splat to strategy_splats with that index as its slot (film/strategy_passes.h).
+  // splat carries that index (Splat::strategy; film/strategy_passes.h).
   StrategyPasses strategy_layout;
   Color *strategies = nullptr;
-  std::vector<PassSplat> *strategy_splats = nullptr;
 };
 
 // A contribution to wherever on the image a light path reaches the camera.
+// strategy: its BDPT strategy pass (film/strategy_passes.h), kNoStrategy for none.
 struct Splat {
+  static constexpr uint8_t kNoStrategy = 0xff;
   Vec2 raster;
   Color L;
+  uint8_t strategy = kNoStrategy;
 };
 
 struct CameraRay {

@@ -18,7 +18,6 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
   splats.b.clear();
   splats.a_passes.clear();
   splats.b_passes.clear();
-  splats.strategies.clear();
   const bool light_passes = ctx.film.has_light_passes();
   LightPassSample passes;
   // Strategy passes (film/strategy_passes.h): the sample's share in each.
@@ -70,7 +69,6 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
           std::fill(strategies.begin(), strategies.end(), Color(0.0f));
           first_hit.strategy_layout = strategy_layout;
           first_hit.strategies = strategies.data();
-          first_hit.strategy_splats = &splats.strategies;
         }
         Color L = Li(cr, sampler, stats, &first_hit, half_b ? splats.b : splats.a);
         if (!is_finite(L) || L.x < 0 || L.y < 0 || L.z < 0) {  // never let NaN/Inf into the film
@@ -139,11 +137,10 @@ void TileIntegrator::render(RenderContext &ctx) {
     {
       Film::PassPublisher frame(ctx.film);
       for (TileSplats &splats : tile_splats) {  // in tile order: the same sums on any thread count
-        for (const Splat &sp : splats.a) frame.add_splat(sp.raster, sp.L, ctx.filter);
-        for (const Splat &sp : splats.b) frame.add_splat(sp.raster, sp.L, ctx.filter, true);
+        for (const Splat &sp : splats.a) frame.add_splat(sp.raster, sp.L, ctx.filter, false, sp.strategy);
+        for (const Splat &sp : splats.b) frame.add_splat(sp.raster, sp.L, ctx.filter, true, sp.strategy);
         for (const PassSplat &sp : splats.a_passes) frame.add_light_splat(sp.raster, sp.L, sp.slot, ctx.filter);
         for (const PassSplat &sp : splats.b_passes) frame.add_light_splat(sp.raster, sp.L, sp.slot, ctx.filter);
-        for (const PassSplat &sp : splats.strategies) frame.add_strategy_splat(sp.raster, sp.L, sp.slot, ctx.filter);
         paths += splats.paths;
         half_b_paths += splats.half_b_paths;
       }

@@ -15,7 +15,6 @@ namespace rdv {
 struct TileSplats {
   std::vector<Splat> a, b;
   std::vector<PassSplat> a_passes, b_passes;  // light passes only: the splats' shares (film/light_passes.h)
-  std::vector<PassSplat> strategies;  // strategy passes only: the splats' strategies (film/strategy_passes.h)
   uint64_t paths = 0, half_b_paths = 0;
 };
 

@@ -54,7 +54,6 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
   // Strategy passes (film/strategy_passes.h): each contribution's strategy, as it enters L.
   const StrategyPasses strategy_layout = first_hit ? first_hit->strategy_layout : StrategyPasses{};
   Color *const strategies = first_hit ? first_hit->strategies : nullptr;
-  std::vector<PassSplat> *const strategy_splats = first_hit ? first_hit->strategy_splats : nullptr;
   if (strategies)  // the lamps and volume emission the camera path passed: s = 0, t = n + 2
     for (int n = 0; n < int(emitted.size()); ++n) strategies[strategy_layout.index(0, n + 2)] += emitted[n];
   PassCache first_split;
@@ -90,13 +89,10 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
                                 passes ? &connection_dir : nullptr);
       if (one_strategy && settings_.strategy_unweighted && w > 0) c = c / w;
       if (!is_finite(c) || is_black(c)) continue;
-      if (t == 1) splats.push_back({raster, c});
+      const int k = strategies ? strategy_layout.index(s, t) : -1;  // its strategy pass
+      if (t == 1) splats.push_back({raster, c, k >= 0 ? uint8_t(k) : Splat::kNoStrategy});
       else L += c;
-      if (strategies) {
-        const int k = strategy_layout.index(s, t);
-        if (t == 1) strategy_splats->push_back({raster, c, uint8_t(k)});
-        else strategies[k] += c;
-      }
+      if (strategies && t > 1) strategies[k] += c;
       if (passes) {
         PassClass pc = pass_class(light_path.data(), camera_path.data(), s, t, connection_dir, first_split);
         if (t == 1) {
