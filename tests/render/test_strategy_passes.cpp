@@ -6,7 +6,7 @@
 // - a pass is its strategy's image: the same seed rendered with "strategy": [s, t] (the
 //   CLI's --strategy) gives the same numbers bit for bit (the same sample stream: every
 //   strategy draws at dimensions of its own);
-// - Combined is bit-identical with the passes on and off;
+// - Combined is bit-identical with the passes on and off; a clamp scales them as Combined;
 // - other integrators and depths out of range are refused with a message naming them.
 #include <gtest/gtest.h>
 #include <cmath>
@@ -37,9 +37,11 @@ void pass_sum(const Image &img, int first, int last, int x, int y, double out[3]
     for (int c = 0; c < 3; ++c) out[c] += img.strategy_pass(k, x, y)[c];
 }
 
-void expect_sum_is_combined(const std::string &name) {
+void expect_sum_is_combined(const std::string &name, const json &settings = json::object()) {
   const json scene = small_scene(name);
-  const Image img = render_with(scene, {{"strategy_passes", true}});
+  json with = {{"strategy_passes", true}};
+  with.update(settings);
+  const Image img = render_with(scene, with);
   const rdv::StrategyPasses layout{3};
   ASSERT_EQ(img.strategy_passes.size(), size_t(RDV_PASS_STRATEGY_LAST - RDV_PASS_STRATEGY_FIRST + 1));
   double combined_total = 0, rest_total = 0;
@@ -66,6 +68,8 @@ void expect_sum_is_combined(const std::string &name) {
 TEST(StrategyPasses, SumIsCombinedCornellBox) { expect_sum_is_combined("cornell_box.json"); }
 TEST(StrategyPasses, SumIsCombinedCausticUnderGlass) { expect_sum_is_combined("caustic.json"); }
 TEST(StrategyPasses, SumIsCombinedFogSpot) { expect_sum_is_combined("fog_spot.json"); }
+// A clamped sample's passes are scaled as its Combined is.
+TEST(StrategyPasses, SumIsCombinedClamped) { expect_sum_is_combined("caustic.json", {{"clamp", 0.5}}); }
 
 TEST(StrategyPasses, EachDepthIsItsShareOfCombined) {
   const json scene = small_scene("cornell_box.json");
