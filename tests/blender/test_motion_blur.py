@@ -5,7 +5,8 @@ its width), and a static ball and floor seen from a keyframed camera that pans s
 (variant `camera`: shutter 0.5, Position Start), and a square whose vertices shear across the
 floor by a shape key (variant `deform`: deformation blur, shutter 1, Position Center), and a
 smooth ball a shape key squashes and slides (variant `deform_smooth`: its vertex normals turn
-over the shutter). Cycles renders it, then Rendezvous' path
+over the shutter; variant `deform_warnings`: a mesh whose faces change over the shutter and an
+emitting one render without deformation blur, each with a warning naming it). Cycles renders it, then Rendezvous' path
 tracer and BDPT render the same scene in this process (the add-on samples the transforms at
 Cycles' step times). Per integrator: image mean within 2% of Cycles', 8x8 blocks within 3% or
 5 standard errors (test_brightness.check_setting). Cycles also renders the scene with motion
@@ -22,7 +23,7 @@ import traceback
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_brightness import build_scenes, check_setting, finish, out_dir  # noqa: E402
+from test_brightness import build_scenes, check_setting, finish, out_dir, render_rendezvous  # noqa: E402
 
 MIN_EFFECT = 0.05
 SIZE = 48
@@ -110,6 +111,40 @@ def build(variant):
     return scene
 
 
+def check_deform_warnings(failures):
+    """Deformation blur refused where it cannot be done, with a warning naming the object: a
+    mesh whose face and vertex counts change over the shutter (a Build modifier), and an
+    emitting one (the engine does not blur light sampling); the sheared square still deforms."""
+    from rendezvous.engine import final
+    scene = build("deform")
+    bpy.ops.mesh.primitive_ico_sphere_add(radius=0.4, location=(1.0, 0.0, 0.5), subdivisions=2)
+    growing = bpy.context.object
+    growing.name = "Growing"
+    build_mod = growing.modifiers.new("Build", "BUILD")
+    build_mod.frame_start, build_mod.frame_duration = 1, 4
+    bpy.ops.mesh.primitive_plane_add(size=0.5, location=(0.0, 0.8, 1.5))
+    glow = bpy.context.object
+    glow.name = "Glow"
+    m = bpy.data.materials.new("GlowMat")
+    m.use_nodes = True
+    m.node_tree.nodes["Principled BSDF"].inputs["Emission"].default_value = (1.0, 1.0, 1.0, 1.0)
+    m.node_tree.nodes["Principled BSDF"].inputs["Emission Strength"].default_value = 2.0
+    glow.data.materials.append(m)
+    build_scenes.shape_key_animation(glow, [(0.5, 0.0, 0.0)] * len(glow.data.vertices),
+                                     [(FRAME - 1, 0.0), (FRAME + 1, 1.0)])
+    scene.frame_set(FRAME)
+    render_rendezvous(scene, 4, os.path.join(out_dir(), "motion_deform_warnings.exr"))
+    msgs = final.last_render["messages"]
+    for text in msgs:
+        print("WARNING SEEN:", text)
+    expected = (("Object 'Growing'", "without deformation blur"), ("'Glow'", "without deformation blur"))
+    for name, what in expected:
+        if not any(name in text and what in text for text in msgs):
+            failures.append("no warning naming %s (%s) in: %s" % (name, what, msgs))
+    if any("'Plane'" in text for text in msgs):
+        failures.append("unexpected warning about the sheared square: %s" % msgs)
+
+
 def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     ap = argparse.ArgumentParser()
@@ -118,6 +153,14 @@ def main():
     a = ap.parse_args(argv)
     odir = out_dir()
     failures = []
+    if a.variant == "deform_warnings":
+        try:
+            check_deform_warnings(failures)
+        except Exception as exc:
+            traceback.print_exc()
+            failures.append("deform_warnings: %s" % exc)
+        finish("MOTION BLUR", failures, odir)
+        return
     try:
         scene = build(a.variant)
         scene.render.use_motion_blur = False
