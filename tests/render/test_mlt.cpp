@@ -22,8 +22,8 @@ namespace {
 
 constexpr int kRuns = 8;
 // 4 scenes x 2 integrators with the default (relative) target, the door gap with the
-// luminance target, and mlt on 4 scenes; 36 blocks each.
-constexpr int kBlockTestsInFile = 14 * 36;
+// luminance target, and mlt on 6 scenes; 36 blocks each.
+constexpr int kBlockTestsInFile = 16 * 36;
 const double kAlphaPerBlock = 1.0 - std::pow(1.0 - 0.01, 1.0 / kBlockTestsInFile);
 
 struct Runs {
@@ -124,9 +124,17 @@ TEST(MltVsBdpt, PathSpaceMirrorCaustic) {
   expect_same_image(scene, "mirror caustic", 128, 256, "luminance", {"mlt"});
 }
 TEST(MltVsBdpt, PathSpaceVolumeCaustic) {
+  expect_same_image(load_scene("volume_caustic.json"), "volume caustic", 128, 256, "luminance", {"mlt"});
+}
+// Its spot made a point: the same paths without the lamp's sphere.
+TEST(MltVsBdpt, PathSpaceVolumeCausticPointSpot) {
   json scene = load_scene("volume_caustic.json");
-  for (auto &light : scene["lights"]) light["radius"] = 0;  // mlt refuses lamps with a radius in media
-  expect_same_image(scene, "volume caustic", 128, 256, "luminance", {"mlt"});
+  for (auto &light : scene["lights"]) light["radius"] = 0;
+  expect_same_image(scene, "volume caustic (point spot)", 128, 256, "luminance", {"mlt"});
+}
+// Fog lit by a spot with a radius (fog_spot.json's 5 cm spot: a sphere lamp in a medium).
+TEST(MltVsBdpt, PathSpaceFogSpot) {
+  expect_same_image(load_scene("fog_spot.json"), "fog spot", 16, 32, "luminance", {"mlt"});
 }
 
 // A fixed chain count gives the same image on any number of threads (chains seeded by

@@ -15,7 +15,6 @@ TEST(PathMltRobustness, UnsupportedSceneIsRefusedNamingTheProblem) {
   SceneHandle scene;
   json smoke = load_scene("smoke_spot.json");
   smoke["world"] = {{"color", {0, 0, 0}}};  // a black world: no light at infinity
-  for (auto &light : smoke["lights"]) light["radius"] = 0;  // (a lamp with a radius in media is refused too)
   rdv_tools::load_scene_json(smoke.dump(), source_path("scenes"), scene.s);
   ASSERT_EQ(rdv_scene_commit(scene.s), RDV_OK);
   rdv_session *session = nullptr;
