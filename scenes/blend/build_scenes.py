@@ -780,6 +780,100 @@ LIGHT_PATH_SCENES = ["light_paths_diffuse", "light_paths_mirror", "light_paths_c
                      "light_paths_filter_glossy"]
 
 
+# ---- motion blur (tests/blender/test_motion_blur.py) ----------------------------------------
+MOTION_SIZE = 48
+MOTION_FRAME = 2
+
+
+def matte_material(name, color):
+    """A Principled BSDF of this base colour without specular reflection."""
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    m.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (*color, 1.0)
+    m.node_tree.nodes["Principled BSDF"].inputs["Specular"].default_value = 0.0
+    return m
+
+
+def keyframe_linear(ob, path, values_by_frame):
+    """Keyframes ob.<path> at each (frame, value), interpolated linearly between them."""
+    for frame, value in values_by_frame:
+        setattr(ob, path, value)
+        ob.keyframe_insert(path, frame=frame)
+    for fc in ob.animation_data.action.fcurves:
+        for k in fc.keyframe_points:
+            k.interpolation = "LINEAR"
+
+
+def motion_blur(variant):
+    """The motion blur scenes: a grey floor under an area lamp (48x48, motion blur on), and
+    square: a red square keyframed to slide 4.8 m between frames 1 and 3 (shutter 1, Center);
+    camera: a static ball seen from a camera keyframed to pan (shutter 0.5, Start);
+    deform: a square sheared by a shape key (deformation blur);
+    deform_smooth: a smooth ball a shape key squashes and slides (its normals turn)."""
+    scene = reset(MOTION_SIZE)
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.08, 0.09, 0.1, 1.0)
+    bpy.ops.mesh.primitive_plane_add(size=6, location=(0, 0, 0))
+    bpy.context.object.data.materials.append(matte_material("Floor", (0.7, 0.7, 0.7)))
+    lamp_data = bpy.data.lights.new("Lamp", "AREA")
+    lamp_data.energy = 200
+    lamp_data.size = 1.0
+    lamp = bpy.data.objects.new("Lamp", lamp_data)
+    lamp.location = (0.5, -1.0, 3.2)
+    scene.collection.objects.link(lamp)
+    cam_data = bpy.data.cameras.new("Camera")
+    cam_data.lens = 35
+    cam = bpy.data.objects.new("Camera", cam_data)
+    cam.location = (0, -4.5, 2.6)
+    look_at(cam, (0, 0, 0.3))
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    scene.render.use_motion_blur = True
+    if variant == "square":
+        bpy.ops.mesh.primitive_plane_add(size=1.0, location=(0, 0, 0.6))
+        square = bpy.context.object
+        square.rotation_euler = (1.2, 0, 0)  # facing the camera
+        square.data.materials.append(matte_material("Red", (0.8, 0.15, 0.1)))
+        keyframe_linear(square, "location", [(MOTION_FRAME - 1, (-2.4, 0, 0.6)), (MOTION_FRAME + 1, (2.4, 0, 0.6))])
+        scene.render.motion_blur_shutter = 1.0
+        scene.cycles.motion_blur_position = "CENTER"
+    elif variant == "deform":
+        # Deformation blur: the square's vertices move (a shape key), not its transform; its
+        # top edge slides 6 m and its bottom edge 3.6 m between frames 1 and 3, so the
+        # shutter sees a sheared smear no transform gives.
+        bpy.ops.mesh.primitive_plane_add(size=1.0, location=(-2.4, 0, 0.6))
+        square = bpy.context.object
+        square.rotation_euler = (1.2, 0, 0)  # facing the camera
+        square.data.materials.append(matte_material("Red", (0.8, 0.15, 0.1)))
+        offsets = [(6.0 if v.co.y > 0 else 3.6, 0.0, 0.0) for v in square.data.vertices]
+        shape_key_animation(square, offsets, [(MOTION_FRAME - 1, 0.0), (MOTION_FRAME + 1, 1.0)])
+        scene.render.motion_blur_shutter = 1.0
+        scene.cycles.motion_blur_position = "CENTER"
+    elif variant == "deform_smooth":
+        # Deformation blur with smooth normals: a smooth ball a shape key squashes to 40% of its
+        # height, widens by 60% and slides 3.6 m between frames 1 and 3, so its vertex normals
+        # turn over the shutter.
+        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=(-1.2, 0, 0.5), segments=32, ring_count=16)
+        bpy.ops.object.shade_smooth()
+        ball = bpy.context.object
+        ball.data.materials.append(matte_material("Red", (0.8, 0.15, 0.1)))
+        offsets = [(0.6 * v.co.x + 3.6, 0.0, -0.6 * (v.co.z + 0.5)) for v in ball.data.vertices]
+        shape_key_animation(ball, offsets, [(MOTION_FRAME - 1, 0.0), (MOTION_FRAME + 1, 1.0)])
+        scene.render.motion_blur_shutter = 1.0
+        scene.cycles.motion_blur_position = "CENTER"
+    elif variant == "camera":
+        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=(0, 0, 0.5), segments=48, ring_count=24)
+        bpy.ops.object.shade_smooth()
+        bpy.context.object.data.materials.append(matte_material("Red", (0.8, 0.15, 0.1)))
+        keyframe_linear(cam, "location", [(MOTION_FRAME - 1, (-0.8, -4.5, 2.6)), (MOTION_FRAME + 1, (0.8, -4.5, 2.6))])
+        scene.render.motion_blur_shutter = 0.5
+        scene.cycles.motion_blur_position = "START"
+    else:
+        raise ValueError("unknown variant %r" % variant)
+    scene.frame_set(MOTION_FRAME)
+    return scene
+
+
+
 SCENES = {
     "cornell_lamp_near_ceiling": cornell_lamp_near_ceiling,
     "plane_point": plane_point,
@@ -808,6 +902,10 @@ SCENES = {
     "film_transparent": film_transparent,
     "light_passes": light_passes,
     "data_passes": data_passes,
+    "motion_square": lambda: motion_blur("square"),
+    "motion_camera": lambda: motion_blur("camera"),
+    "motion_deform": lambda: motion_blur("deform"),
+    "motion_deform_smooth": lambda: motion_blur("deform_smooth"),
 }
 
 # Scenes whose brightness must agree with Cycles.

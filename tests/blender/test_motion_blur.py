@@ -26,89 +26,12 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from test_brightness import build_scenes, check_setting, finish, out_dir, render_rendezvous  # noqa: E402
 
 MIN_EFFECT = 0.05
-SIZE = 48
-FRAME = 2
-
-
-def material(name, color):
-    m = bpy.data.materials.new(name)
-    m.use_nodes = True
-    m.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (*color, 1.0)
-    m.node_tree.nodes["Principled BSDF"].inputs["Specular"].default_value = 0.0
-    return m
-
-
-def keyframe_linear(ob, path, values_by_frame):
-    for frame, value in values_by_frame:
-        setattr(ob, path, value)
-        ob.keyframe_insert(path, frame=frame)
-    for fc in ob.animation_data.action.fcurves:
-        for k in fc.keyframe_points:
-            k.interpolation = "LINEAR"
+FRAME = build_scenes.MOTION_FRAME  # the frame rendered
 
 
 def build(variant):
-    scene = build_scenes.reset(SIZE)
-    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.08, 0.09, 0.1, 1.0)
-    bpy.ops.mesh.primitive_plane_add(size=6, location=(0, 0, 0))
-    bpy.context.object.data.materials.append(material("Floor", (0.7, 0.7, 0.7)))
-    lamp_data = bpy.data.lights.new("Lamp", "AREA")
-    lamp_data.energy = 200
-    lamp_data.size = 1.0
-    lamp = bpy.data.objects.new("Lamp", lamp_data)
-    lamp.location = (0.5, -1.0, 3.2)
-    scene.collection.objects.link(lamp)
-    cam_data = bpy.data.cameras.new("Camera")
-    cam_data.lens = 35
-    cam = bpy.data.objects.new("Camera", cam_data)
-    cam.location = (0, -4.5, 2.6)
-    build_scenes.look_at(cam, (0, 0, 0.3))
-    scene.collection.objects.link(cam)
-    scene.camera = cam
-    scene.render.use_motion_blur = True
-    if variant == "square":
-        bpy.ops.mesh.primitive_plane_add(size=1.0, location=(0, 0, 0.6))
-        square = bpy.context.object
-        square.rotation_euler = (1.2, 0, 0)  # facing the camera
-        square.data.materials.append(material("Red", (0.8, 0.15, 0.1)))
-        keyframe_linear(square, "location", [(FRAME - 1, (-2.4, 0, 0.6)), (FRAME + 1, (2.4, 0, 0.6))])
-        scene.render.motion_blur_shutter = 1.0
-        scene.cycles.motion_blur_position = "CENTER"
-    elif variant == "deform":
-        # Deformation blur: the square's vertices move (a shape key), not its transform; its
-        # top edge slides 6 m and its bottom edge 3.6 m between frames 1 and 3, so the
-        # shutter sees a sheared smear no transform gives.
-        bpy.ops.mesh.primitive_plane_add(size=1.0, location=(-2.4, 0, 0.6))
-        square = bpy.context.object
-        square.rotation_euler = (1.2, 0, 0)  # facing the camera
-        square.data.materials.append(material("Red", (0.8, 0.15, 0.1)))
-        offsets = [(6.0 if v.co.y > 0 else 3.6, 0.0, 0.0) for v in square.data.vertices]
-        build_scenes.shape_key_animation(square, offsets, [(FRAME - 1, 0.0), (FRAME + 1, 1.0)])
-        scene.render.motion_blur_shutter = 1.0
-        scene.cycles.motion_blur_position = "CENTER"
-    elif variant == "deform_smooth":
-        # Deformation blur with smooth normals: a smooth ball a shape key squashes to 40% of its
-        # height, widens by 60% and slides 3.6 m between frames 1 and 3, so its vertex normals
-        # turn over the shutter.
-        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=(-1.2, 0, 0.5), segments=32, ring_count=16)
-        bpy.ops.object.shade_smooth()
-        ball = bpy.context.object
-        ball.data.materials.append(material("Red", (0.8, 0.15, 0.1)))
-        offsets = [(0.6 * v.co.x + 3.6, 0.0, -0.6 * (v.co.z + 0.5)) for v in ball.data.vertices]
-        build_scenes.shape_key_animation(ball, offsets, [(FRAME - 1, 0.0), (FRAME + 1, 1.0)])
-        scene.render.motion_blur_shutter = 1.0
-        scene.cycles.motion_blur_position = "CENTER"
-    elif variant == "camera":
-        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=(0, 0, 0.5), segments=48, ring_count=24)
-        bpy.ops.object.shade_smooth()
-        bpy.context.object.data.materials.append(material("Red", (0.8, 0.15, 0.1)))
-        keyframe_linear(cam, "location", [(FRAME - 1, (-0.8, -4.5, 2.6)), (FRAME + 1, (0.8, -4.5, 2.6))])
-        scene.render.motion_blur_shutter = 0.5
-        scene.cycles.motion_blur_position = "START"
-    else:
-        raise ValueError("unknown variant %r" % variant)
-    scene.frame_set(FRAME)
-    return scene
+    """The motion blur scene of a variant (scenes/blend/build_scenes.py: motion_<variant>)."""
+    return build_scenes.build("motion_" + variant)
 
 
 def check_deform_warnings(failures):
