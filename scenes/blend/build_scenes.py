@@ -814,18 +814,11 @@ def motion_blur(variant):
     scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.08, 0.09, 0.1, 1.0)
     bpy.ops.mesh.primitive_plane_add(size=6, location=(0, 0, 0))
     bpy.context.object.data.materials.append(matte_material("Floor", (0.7, 0.7, 0.7)))
-    lamp_data = bpy.data.lights.new("Lamp", "AREA")
-    lamp_data.energy = 200
-    lamp_data.size = 1.0
-    lamp = bpy.data.objects.new("Lamp", lamp_data)
-    lamp.location = (0.5, -1.0, 3.2)
-    scene.collection.objects.link(lamp)
-    cam_data = bpy.data.cameras.new("Camera")
-    cam_data.lens = 35
-    cam = bpy.data.objects.new("Camera", cam_data)
+    light("AREA", "Lamp", 200, (0.5, -1.0, 3.2), size=1.0)
+    cam = link(bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera")))
+    cam.data.lens = 35
     cam.location = (0, -4.5, 2.6)
     look_at(cam, (0, 0, 0.3))
-    scene.collection.objects.link(cam)
     scene.camera = cam
     scene.render.use_motion_blur = True
     if variant == "square":
