@@ -486,8 +486,9 @@ def bad_input():
     ob.data.materials.append(m)
 
 
-def showcase():
-    """Materials, instances (collection instance, shared mesh), smooth and flat shading."""
+def materials_instances():
+    """Materials, instances (collection instance, shared mesh), smooth and flat shading: the
+    general scene of the add-on tests (export, cancel, viewport)."""
     reset(96)
     plane(material=diffuse_material("FloorMat", (0.6, 0.6, 0.6)))
     cam = camera_down(6.0, lens=35.0)
@@ -527,6 +528,58 @@ def showcase():
     twin = link(bpy.data.objects.new("SphereTwin", sphere.data))
     twin.location = (0, -0.8, 0.6)
 
+
+
+def showcase():
+    """What Rendezvous is for, the README's render command: a room lit only through a gap in
+    its back wall by a spot outside, thin fog in the room (the beam shows as a shaft) and a
+    glass ball in the beam (its caustic on the floor). Unbiased Light Paths in both engines:
+    caustics on, no Filter Glossy, no clamping, two volume bounces. 640 x 360."""
+    scene = reset(64)
+    scene.render.resolution_x, scene.render.resolution_y = 640, 360
+    plane("Floor", 20.0, diffuse_material("FloorMat", (0.55, 0.5, 0.45)))
+    wall_mat = diffuse_material("WallMat", (0.7, 0.7, 0.68))
+    half, height = 2.5, 2.8
+
+    def wall(name, size_x, size_y, location, rotation):
+        ob = link(bpy.data.objects.new(name, quad_mesh(name + "Mesh", size_x, size_y)))
+        ob.location = location
+        ob.rotation_euler = tuple(math.radians(a) for a in rotation)
+        ob.data.materials.append(wall_mat)
+        return ob
+
+    wall("Ceiling", 2 * half, 2 * half, (0, 0, height), (180, 0, 0))
+    wall("LeftWall", 2 * half, height, (-half, 0, height / 2), (90, 0, 90))
+    wall("RightWall", 2 * half, height, (half, 0, height / 2), (90, 0, -90))
+    wall("FrontWall", 2 * half, height, (0, -half, height / 2), (-90, 0, 0))
+    # the back wall in three pieces around a door-high gap 0.3 m wide at x = 0.8
+    gap_x, gap_w, gap_h = 0.8, 0.3, 2.2
+    left_w = gap_x - gap_w / 2 + half
+    right_w = half - (gap_x + gap_w / 2)
+    wall("BackWallLeft", left_w, height, (-half + left_w / 2, half, height / 2), (90, 0, 0))
+    wall("BackWallRight", right_w, height, (half - right_w / 2, half, height / 2), (90, 0, 0))
+    wall("BackWallLintel", gap_w, height - gap_h, (gap_x, half, (gap_h + height) / 2), (90, 0, 0))
+    # the spot outside, aimed through the gap at the ball
+    ball_at = (0.0, 0.3, 0.3)
+    spot = light("SPOT", "Sun through the door", 8000.0, (1.5, 4.5, 2.6), spot_size=math.radians(30),
+                 spot_blend=0.1, shadow_soft_size=0.05)
+    look_at(spot, ball_at)
+    ball = smooth_ball("GlassBall", ball_at, 0.3, node_material(
+        "Glass", "ShaderNodeBsdfGlass", {"Color": (1, 1, 1, 1), "Roughness": 0.0, "IOR": 1.5}, distribution="SHARP"))
+    # thin fog filling the room (inside the walls)
+    fog = link(bpy.data.objects.new("Fog", box_mesh("FogBox", 1.0)))
+    fog.location = (0, 0, height / 2)
+    fog.scale = (2 * half - 0.02, 2 * half - 0.02, height - 0.02)
+    fog_mat, _ = principled_volume_material("FogMat", Density=0.06, Color=(1.0, 1.0, 1.0, 1.0))
+    fog.data.materials.append(fog_mat)
+    camera_looking_at((-1.9, -2.4, 1.6), (0.25, 0.35, 0.45), 22.0)
+    scene.view_settings.view_transform = "Filmic"
+    c = scene.cycles
+    c.caustics_reflective = c.caustics_refractive = True
+    c.blur_glossy = 0.0
+    c.sample_clamp_direct = c.sample_clamp_indirect = 0.0
+    c.volume_bounces = 2
+    return scene
 
 
 def cornell_box(lamp_gap=0.0, res=128):
@@ -881,6 +934,7 @@ SCENES = {
     "emissive_textured": emissive_textured,
     "volume_blackbody": volume_blackbody,
     "bad_input": bad_input,
+    "materials_instances": materials_instances,
     "showcase": showcase,
     "veach_point": veach_point,
     "veach_spot": veach_spot,

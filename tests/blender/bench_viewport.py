@@ -9,7 +9,7 @@ radius (write_test_vdb ball N), prints the time from Rendered on to the first fr
 Volume object and on the mesh volume: the time to the first new frame drawn and the
 in-place re-export time (the add-on reads the grid and the engine loads the .vdb again).
 
-For a showcase scene plus one sphere of N triangles, prints:
+For the materials_instances scene plus one sphere of N triangles, prints:
   * time from switching to Rendered to the first Rendezvous frame drawn, and Cycles' (same run,
     CPU device: when the centre of the region first shows rendered pixels);
   * time from a camera move / object move / material colour change to the first new frame drawn

@@ -22,7 +22,7 @@ MAKE = """
 import sys, bpy
 sys.path.insert(0, %r)
 import build_scenes
-scene = build_scenes.build("showcase")
+scene = build_scenes.build("materials_instances")
 scene.render.resolution_x = scene.render.resolution_y = 128
 scene.render.engine = "RENDEZVOUS"
 scene.rendezvous.samples = 1000000

@@ -50,7 +50,7 @@ def main():
     ap.add_argument("--lib", default=None)
     ap.add_argument("--script", required=True)
     ap.add_argument("--timeout", type=float, default=300)
-    ap.add_argument("--scene", default="showcase", help="scenes/blend/build_scenes.py scene opened in the window "
+    ap.add_argument("--scene", default="materials_instances", help="scenes/blend/build_scenes.py scene opened in the window "
                     "(a file on the command line also keeps the splash screen away)")
     ap.add_argument("rest", nargs="*")
     a = ap.parse_args()

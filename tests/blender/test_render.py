@@ -114,7 +114,7 @@ def test_bad_input(args):
 
 
 def test_cancel(args):
-    scene = build_scenes.build("showcase")
+    scene = build_scenes.build("materials_instances")
     scene.render.resolution_x = scene.render.resolution_y = 128
     fire_at = {}
 
@@ -251,7 +251,7 @@ def test_noise(args):
 
 def test_dump(args):
     check(args.cli and os.path.exists(args.cli), "--cli must name the command-line renderer")
-    scene = build_scenes.build("showcase")
+    scene = build_scenes.build("materials_instances")
     scene.render.engine = "RENDEZVOUS"
     scene.rendezvous.samples = 16
     scene.rendezvous.seed = 3

@@ -162,7 +162,7 @@ def wait_converged(timeout=8.0):
 
 
 def setup_scene(samples=8):
-    scene = bpy.context.scene  # showcase.blend from scenes/blend, opened by run_viewport.py
+    scene = bpy.context.scene  # materials_instances.blend from scenes/blend, opened by run_viewport.py
     scene.render.engine = "RENDEZVOUS"
     scene.rendezvous.viewport_samples = samples
     scene.cycles.max_bounces = 3  # Light Paths are shared with Cycles: 3 bounces = 4 scattering vertices
