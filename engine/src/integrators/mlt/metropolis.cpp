@@ -490,6 +490,9 @@ void Metropolis::render(RenderContext &ctx) {
       stats_.b_standard_error = b_error;
       stats_.small_steps = stats_.small_accepted = stats_.large_steps = stats_.large_accepted = stats_.large_found = 0;
       if (mlt_.multiplexed) std::fill(stats_.strategy_counts.begin(), stats_.strategy_counts.end(), 0);
+      // The chains' counts are totals since the start: summed afresh each pass.
+      std::fill(std::begin(stats_.type_proposed), std::end(stats_.type_proposed), 0);
+      std::fill(std::begin(stats_.type_accepted), std::end(stats_.type_accepted), 0);
       for (Chain &chain : chains) {
         stats_.small_steps += chain.small_steps;
         stats_.small_accepted += chain.small_accepted;
