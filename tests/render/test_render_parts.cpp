@@ -78,11 +78,16 @@ std::string merge(const std::vector<std::string> &parts, const std::string &out,
 // 4 ranges of 4 samples merged (named out of order) vs one render of 16: the image
 // channels bit for bit, the raw double sums within the rounding of re-associated sums.
 // With the Noise pass (`halves`), the parts keep their half images and the merge has
-// the whole render's Noise channel and half sums.
-void expect_merge_equals_whole(const std::string &integrator, bool halves = false) {
+// the whole render's Noise channel and half sums. With `passes`, Cycles' light passes,
+// the data passes and (bdpt) the strategy passes: the merge has them all.
+void expect_merge_equals_whole(const std::string &integrator, bool halves = false, bool passes = false) {
   json scene = load_scene("cornell_box.json");
   json s = {{"width", 40}, {"height", 32}, {"integrator", integrator}, {"max_bounces", 6}, {"seed", 7}, {"threads", 2}};
   if (halves) s["noise_pass"] = true;
+  if (passes) {
+    s["light_passes"] = s["data_passes"] = true;
+    if (integrator == "bdpt") s["strategy_passes"] = true;
+  }
   s["samples"] = 16;
   const std::string whole = temp_path(integrator + "_whole.exr");
   render_part(scene, s, whole);
@@ -106,6 +111,10 @@ void expect_merge_equals_whole(const std::string &integrator, bool halves = fals
   const bool has_noise = std::find(a.names.begin(), a.names.end(), "Noise.V") != a.names.end();
   EXPECT_EQ(has_noise, halves);
   EXPECT_EQ(std::find(a.names.begin(), a.names.end(), "RdvMerge.half_sample_count") != a.names.end(), halves);
+  for (const char *pass : {"DiffDir.R", "Mist.Z", "IndexOB.X", "Strategy_s2t1.R", "Strategy_rest.B"}) {
+    const bool expected = passes && (integrator == "bdpt" || std::string(pass).rfind("Strategy", 0) != 0);
+    EXPECT_EQ(std::find(a.names.begin(), a.names.end(), pass) != a.names.end(), expected) << pass;
+  }
   ASSERT_EQ(a.words.size(), b.words.size());
   size_t image_differences = 0, raw_differences = 0;
   double worst_raw = 0;
@@ -129,8 +138,10 @@ void expect_merge_equals_whole(const std::string &integrator, bool halves = fals
   // Double sums of the same floats added in another order: a few units in the last
   // place of the sum (2^-52 relative each), far below float's 2^-24.
   EXPECT_LT(worst_raw, 1e-14);
+  const size_t image_channels = size_t(std::count_if(a.names.begin(), a.names.end(),
+                                                     [&](const std::string &n) { return n.rfind("RdvMerge.", 0) != 0; }));
   std::printf("[ merge %-4s ] image channels: %zu of %zu words differ; raw sums: %zu doubles differ, worst %.3g relative\n",
-              integrator.c_str(), image_differences, pixels * 11, raw_differences, worst_raw);
+              integrator.c_str(), image_differences, pixels * image_channels, raw_differences, worst_raw);
 }
 
 }  // namespace
@@ -139,6 +150,33 @@ TEST(RenderParts, FourRangesEqualOneRenderPath) { expect_merge_equals_whole("pat
 TEST(RenderParts, FourRangesEqualOneRenderBdpt) { expect_merge_equals_whole("bdpt"); }
 TEST(RenderParts, FourRangesWithNoiseEqualOneRenderPath) { expect_merge_equals_whole("path", true); }
 TEST(RenderParts, FourRangesWithNoiseEqualOneRenderBdpt) { expect_merge_equals_whole("bdpt", true); }
+TEST(RenderParts, FourRangesWithPassesEqualOneRenderPath) { expect_merge_equals_whole("path", false, true); }
+TEST(RenderParts, FourRangesWithPassesEqualOneRenderBdpt) { expect_merge_equals_whole("bdpt", false, true); }
+
+// Parts that carry different passes merge to the passes they all carry, with a warning
+// naming what was left out.
+TEST(RenderParts, MergeKeepsThePassesEveryPartCarries) {
+  json scene = load_scene("cornell_box.json");
+  json s = {{"width", 16}, {"height", 12}, {"integrator", "bdpt"}, {"samples", 2}, {"light_passes", true},
+            {"data_passes", true}, {"strategy_passes", true}};
+  const std::string p0 = temp_path("passes0.exr"), p1 = temp_path("passes1.exr"), out = temp_path("passes.exr");
+  render_part(scene, s, p0);
+  s["sample_offset"] = 2;
+  s["light_passes"] = false;
+  s["strategy_passes_max_depth"] = 2;
+  render_part(scene, s, p1);
+  rdv_status status;
+  std::string report;
+  ASSERT_EQ(merge({p0, p1}, out, "{}", &status, &report), "");
+  const std::string warnings = json::parse(report)["warnings"].dump();
+  EXPECT_NE(warnings.find("no light passes"), std::string::npos) << warnings;
+  EXPECT_NE(warnings.find("strategy passes of different depths"), std::string::npos) << warnings;
+  const Channels merged = read_channels(out);
+  auto has = [&](const char *name) { return std::find(merged.names.begin(), merged.names.end(), name) != merged.names.end(); };
+  EXPECT_TRUE(has("Mist.Z"));
+  EXPECT_FALSE(has("DiffDir.R"));
+  EXPECT_FALSE(has("Strategy_s2t1.R"));
+}
 
 // Every refusal names the part and the problem; missing ranges are listed.
 TEST(RenderParts, MergeRefusesPartsThatDoNotBelongTogether) {

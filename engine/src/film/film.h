@@ -137,8 +137,17 @@ class Film {
   const std::vector<HalfSum> &half_pixel_sums() const { return half_pixels_; }
   std::vector<SplatSums> &half_splat_sums() { return half_splats_; }
   const std::vector<SplatSums> &half_splat_sums() const { return half_splats_; }
+  // Light passes' sums (empty without them).
+  std::vector<LightPassSums> &light_pass_sums() { return light_; }
   const std::vector<LightPassSums> &light_pass_sums() const { return light_; }
+  std::vector<LightSplatSums> &light_splat_sums() { return light_splats_; }
   const std::vector<LightSplatSums> &light_splat_sums() const { return light_splats_; }
+  // Strategy passes' sums: strategy_passes().count() per pixel of camera samples and
+  // splat_count() of splats (empty without them).
+  std::vector<StrategySums> &strategy_sums() { return strategy_; }
+  const std::vector<StrategySums> &strategy_sums() const { return strategy_; }
+  std::vector<StrategySums> &strategy_splat_sums() { return strategy_splats_; }
+  const std::vector<StrategySums> &strategy_splat_sums() const { return strategy_splats_; }
 
  private:
   void add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b, uint8_t strategy);

@@ -67,12 +67,31 @@ std::vector<std::string> half_channel_names() {
   return names;
 }
 
+// The passes' sums (PartRecord::light_passes, strategy_max_depth), after the halves'.
+std::vector<std::string> pass_channel_names(const PartRecord &record) {
+  std::vector<std::string> names;
+  auto color = [&](const std::string &group) {
+    for (const char *a = "rgb"; *a; ++a)
+      for (const char *half : {"_hi", "_lo"}) names.push_back(std::string(kLayer) + group + "_" + *a + half);
+  };
+  if (record.light_passes) {
+    for (int k = 0; k < kLightPassSlots; ++k) color("light" + std::to_string(k));
+    for (int k = 0; k < kColorKinds; ++k) color("light_color" + std::to_string(k));
+    for (int k = 0; k < kLightPassSlots; ++k) color("light_splat" + std::to_string(k));
+  }
+  const StrategyPasses strategies{record.strategy_max_depth};
+  for (int k = 0; k < strategies.count(); ++k) color("strategy" + std::to_string(k));
+  for (int k = 0; k < strategies.splat_count(); ++k) color("strategy_splat" + std::to_string(k));
+  return names;
+}
+
 // One part file: its record and its raw sums as words.
 struct LoadedPart {
   std::string path;
   PartRecord record;
   int width = 0, height = 0;
-  std::vector<uint32_t> words;  // kWordsPerPixel (+ kHalfWordsPerPixel with halves) per pixel
+  // per pixel: kWordsPerPixel, kHalfWordsPerPixel with halves, then the passes' words
+  std::vector<uint32_t> words;
 };
 
 LoadedPart load_part(const std::string &path) {
@@ -88,15 +107,20 @@ LoadedPart load_part(const std::string &path) {
   part.record = PartRecord::from_json(text, path);
   part.width = spec.width;
   part.height = spec.height;
+  const std::vector<std::string> pass_names = pass_channel_names(part.record);
   check_memory("part '" + path + "'", "its " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " sums",
                double(spec.width) * double(spec.height) *
-                       double(spec.nchannels + kWordsPerPixel + (part.record.halves ? kHalfWordsPerPixel : 0)) * 4.0 +
-                   double(spec.width) * double(spec.height) * double(Film::bytes_per_pixel(part.record.halves)));
+                       double(spec.nchannels + kWordsPerPixel + (part.record.halves ? kHalfWordsPerPixel : 0) +
+                              pass_names.size()) * 4.0 +
+                   double(spec.width) * double(spec.height) *
+                       double(Film::bytes_per_pixel(part.record.halves, part.record.light_passes,
+                                                    part.record.strategy_max_depth)));
   // EXR keeps channels sorted by name: find each of ours, read the span they lie in.
   std::vector<std::string> names = channel_names();
   const size_t base = names.size();
   if (part.record.halves)
     for (const std::string &name : half_channel_names()) names.push_back(name);
+  names.insert(names.end(), pass_names.begin(), pass_names.end());
   std::vector<int> index(names.size(), -1);
   for (size_t k = 0; k < names.size(); ++k) {
     for (int c = 0; c < spec.nchannels; ++c)
@@ -149,6 +173,10 @@ std::string PartRecord::to_json() const {
   j["splat_numerator"] = splats.numerator;  // printed to round-trip exactly
   j["splat_paths"] = splats.paths;
   if (halves) j["half_splats"] = {half_splats.numerator, half_splats.paths};
+  // written only when carried: parts without them read as before
+  if (light_passes) j["light_passes"] = true;
+  if (data_passes) j["data_passes"] = true;
+  if (strategy_max_depth >= 0) j["strategy_max_depth"] = strategy_max_depth;
   return j.dump();
 }
 
@@ -172,6 +200,12 @@ PartRecord PartRecord::from_json(const std::string &text, const std::string &par
       r.half_splats.numerator = j["half_splats"].at(0).get<double>();
       r.half_splats.paths = j["half_splats"].at(1).get<double>();
     }
+    r.light_passes = j.value("light_passes", false);
+    r.data_passes = j.value("data_passes", false);
+    r.strategy_max_depth = j.value("strategy_max_depth", -1);
+    if (r.strategy_max_depth < -1 || r.strategy_max_depth > StrategyPasses::kMaxDepth)
+      fail("part '" + part + "': strategy passes of depth " + std::to_string(r.strategy_max_depth) +
+           " (at most " + std::to_string(StrategyPasses::kMaxDepth) + ")");
     json settings = j.at("settings");
     settings.at("width").get<int>();
     settings.at("height").get<int>();
@@ -191,8 +225,16 @@ PartChannels part_channels(const Film &film, const PartRecord &record) {
   const bool halves = record.halves && film.has_halves();
   if (halves)
     for (const std::string &name : half_channel_names()) out.names.push_back(name);
+  // the passes the film keeps (the record says the same: Session::part_record)
+  PartRecord passes;
+  passes.light_passes = film.has_light_passes();
+  passes.strategy_max_depth = film.strategy_passes().max_depth;
+  const std::vector<std::string> pass_names = pass_channel_names(passes);
+  out.names.insert(out.names.end(), pass_names.begin(), pass_names.end());
   const size_t n = size_t(film.width()) * film.height();
-  out.words.resize(n * (kWordsPerPixel + (halves ? kHalfWordsPerPixel : 0)));
+  const size_t strategies = size_t(film.strategy_passes().count()),
+               strategy_splats = size_t(film.strategy_passes().splat_count());
+  out.words.resize(n * (kWordsPerPixel + (halves ? kHalfWordsPerPixel : 0) + pass_names.size()));
   uint32_t *w = out.words.data();
   for (size_t i = 0; i < n; ++i) {
     const PixelSum &p = film.pixel_sums()[i];
@@ -213,6 +255,19 @@ PartChannels part_channels(const Film &film, const PartRecord &record) {
       *w++ = h.count;
       for (double v : film.half_splat_sums()[i]) put_double(w, v);
     }
+    if (passes.light_passes) {
+      const LightPassSums &l = film.light_pass_sums()[i];
+      for (const auto &c : l.light)
+        for (double v : c) put_double(w, v);
+      for (const auto &c : l.color)
+        for (double v : c) put_double(w, v);
+      for (const auto &c : film.light_splat_sums()[i])
+        for (double v : c) put_double(w, v);
+    }
+    for (size_t k = 0; k < strategies; ++k)
+      for (double v : film.strategy_sums()[i * strategies + k]) put_double(w, v);
+    for (size_t k = 0; k < strategy_splats; ++k)
+      for (double v : film.strategy_splat_sums()[i * strategy_splats + k]) put_double(w, v);
   }
   return out;
 }
@@ -308,8 +363,24 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
     if (halves && parts[k].record.half_splats.paths > 0 && half_numerator == 0)
       half_numerator = parts[k].record.half_splats.numerator;
 
+  // The passes every part carries (the others' are left out, with a warning).
+  auto all_parts = [&](auto has) { return std::all_of(parts.begin(), parts.end(), has); };
+  auto some_part = [&](auto has) { return std::any_of(parts.begin(), parts.end(), has); };
+  const bool light_passes = all_parts([](const LoadedPart &p) { return p.record.light_passes; });
+  const bool data_passes = all_parts([](const LoadedPart &p) { return p.record.data_passes; });
+  const int depth = first.record.strategy_max_depth;
+  const int strategy_depth =
+      all_parts([&](const LoadedPart &p) { return p.record.strategy_max_depth == depth; }) ? depth : -1;
+  if (!light_passes && some_part([](const LoadedPart &p) { return p.record.light_passes; }))
+    result.warnings.push_back("some parts carry no light passes: the merged image has none");
+  if (!data_passes && some_part([](const LoadedPart &p) { return p.record.data_passes; }))
+    result.warnings.push_back("some parts carry no data passes (Mist, IndexOB, IndexMA): the merged image has none");
+  if (strategy_depth < 0 && some_part([](const LoadedPart &p) { return p.record.strategy_max_depth >= 0; }))
+    result.warnings.push_back("the parts carry strategy passes of different depths, or some none: the merged image has none");
+
   const auto &border = settings["border"];
-  result.film = std::make_unique<Film>(width, height, Rect{border[0].get<int>(), border[1].get<int>(), border[2].get<int>(), border[3].get<int>()}, halves);
+  result.film = std::make_unique<Film>(width, height, Rect{border[0].get<int>(), border[1].get<int>(), border[2].get<int>(), border[3].get<int>()}, halves,
+                                       light_passes, data_passes, strategy_depth);
   Film &film = *result.film;
   const size_t n = size_t(width) * height;
   for (size_t k : order) {
@@ -375,6 +446,31 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
           for (int c = 0; c < 3; ++c)
             film.half_splat_sums()[i][c] += hn.numerator == half_numerator ? h[3 + c] : h[3 + c] * half_rescale;
       }
+      // The passes' sums: camera samples' added, splats' rescaled as the image's; those
+      // of a pass the merge leaves out are skipped.
+      auto add_sums = [&](std::array<double, 3> *sum, size_t count, bool splat) {
+        for (size_t k = 0; k < count; ++k) {
+          std::array<double, 3> v;
+          for (double &c : v) c = get_double(w);
+          for (double c : v)
+            if (!std::isfinite(c))
+              fail("part '" + part.path + "': pixel (" + std::to_string(i % width) + ", " + std::to_string(i / width) +
+                   ") holds a non-finite pass sum (a damaged file?)");
+          if (!sum || (splat && !splats)) continue;
+          for (int c = 0; c < 3; ++c) sum[k][c] += splat && !same_numerator ? v[c] * rescale : v[c];
+        }
+      };
+      if (part.record.light_passes) {
+        LightPassSums *l = light_passes ? &film.light_pass_sums()[i] : nullptr;
+        add_sums(l ? l->light.data() : nullptr, kLightPassSlots, false);
+        add_sums(l ? l->color.data() : nullptr, kColorKinds, false);
+        add_sums(light_passes ? film.light_splat_sums()[i].data() : nullptr, kLightPassSlots, true);
+      }
+      const StrategyPasses strategies{part.record.strategy_max_depth};
+      const bool keep = part.record.strategy_max_depth == strategy_depth;
+      const size_t ns = size_t(strategies.count()), nsplat = size_t(strategies.splat_count());
+      add_sums(keep ? &film.strategy_sums()[i * ns] : nullptr, ns, false);
+      add_sums(keep ? &film.strategy_splat_sums()[i * nsplat] : nullptr, nsplat, true);
     }
   }
   {
@@ -392,6 +488,9 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
   result.record.splats = {numerator, paths_total};
   result.record.halves = halves;
   result.record.half_splats = {half_numerator, half_paths_total};
+  result.record.light_passes = light_passes;
+  result.record.data_passes = data_passes;
+  result.record.strategy_max_depth = strategy_depth;
   return result;
 }
 

@@ -33,6 +33,11 @@ struct PartRecord {
   // halves (odd chains, each part its own b) are not merged.
   bool halves = false;
   SplatNormalisation half_splats;  // half B's splats: numerator / its paths
+  // The passes the part carries beyond the image's (a merge keeps those every part has):
+  // Cycles' light passes' sums, the data passes as EXR layers (their sums are always
+  // there), BDPT's strategy passes' sums of paths up to this depth (-1: none).
+  bool light_passes = false, data_passes = false;
+  int strategy_max_depth = -1;
 
   std::string to_json() const;
   // Throws an Error naming `part` (a file name) when the text is not a part record.

@@ -83,6 +83,9 @@ PartRecord Session::part_record() const {
   r.splats = frame.splats;
   r.halves = frame.split == HalfSplit::CameraSamples && film_.has_halves();
   if (r.halves) r.half_splats = frame.half_splats;
+  r.light_passes = film_.has_light_passes();
+  r.data_passes = film_.writes_data_passes();
+  r.strategy_max_depth = film_.strategy_passes().max_depth;
   return r;
 }
 
