@@ -95,23 +95,31 @@ static void add_to(std::array<double, 3> &sum, const Color &c) {
   sum[2] += c.z;
 }
 
-void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b, uint8_t strategy) {
+void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b, uint8_t strategy,
+                     const SplatLightPass &light_pass) {
   if (!is_finite(L)) return;
   const bool half = half_b && has_halves();
-  // Its strategy pass's splat sums, when the film keeps them: one footprint for both.
+  // Its strategy pass's and light passes' splat sums, when the film keeps them: one
+  // footprint for all.
   const int slot = strategy < strategies_.count() ? strategies_.splat_slot(strategy) : -1;
   const size_t slots = size_t(strategies_.splat_count());
+  // The kinds with a share, found once per splat (most splats have one).
+  int n_kinds = 0;
+  std::array<Color, kPassKinds> kind_L;
+  std::array<uint8_t, kPassKinds> kind_slot;
+  if (light_pass.on && has_light_passes())
+    for (int k = 0; k < kPassKinds; ++k)
+      if (light_pass.first.w[k] > 0) {
+        kind_L[n_kinds] = L * light_pass.first.w[k];
+        kind_slot[n_kinds++] = uint8_t(light_pass_slot(k, light_pass.indirect));
+      }
   splat_footprint(raster, filter, region_, width_, [&](size_t i, float w) {
     Color c = L * w;
     add_to(splats_[i], c);
     if (half) add_to(half_splats_[i], c);
     if (slot >= 0) add_to(strategy_splats_[i * slots + size_t(slot)], c);
+    for (int k = 0; k < n_kinds; ++k) add_to(light_splats_[i][kind_slot[k]], kind_L[k] * w);
   });
-}
-
-void Film::add_light_splat(Vec2 raster, Color L, int slot, const PixelFilter &filter) {
-  if (!is_finite(L) || !has_light_passes()) return;
-  splat_footprint(raster, filter, region_, width_, [&](size_t i, float w) { add_to(light_splats_[i][slot], L * w); });
 }
 
 void Film::read_strategy_pass(int k, size_t i, float *dst) const {

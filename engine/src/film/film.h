@@ -84,12 +84,10 @@ class Film {
     // splatted and sampled estimates converge to the same image.
     // half_b: the splat belongs to half image B too (film/noise_estimate.h); needs halves.
     // strategy: its strategy pass (film/strategy_passes.h; a t = 1 strategy), or 0xff.
-    void add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b = false, uint8_t strategy = 0xff) {
-      film_.add_splat(raster, L, filter, half_b, strategy);
-    }
-    // The same splat's light pass (its slot, film/light_passes.h); needs light passes.
-    void add_light_splat(Vec2 raster, Color L, int slot, const PixelFilter &filter) {
-      film_.add_light_splat(raster, L, slot, filter);
+    // light_pass: its light passes (film/light_passes.h), when the film keeps them.
+    void add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b = false, uint8_t strategy = 0xff,
+                   const SplatLightPass &light_pass = {}) {
+      film_.add_splat(raster, L, filter, half_b, strategy, light_pass);
     }
     // The frame now complete: samples (or mutations) per pixel and the splats' scale.
     void publish(uint32_t samples, SplatNormalisation splats) { publish(samples, splats, HalfSplit::None, {}); }
@@ -150,8 +148,8 @@ class Film {
   const std::vector<StrategySums> &strategy_splat_sums() const { return strategy_splats_; }
 
  private:
-  void add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b, uint8_t strategy);
-  void add_light_splat(Vec2 raster, Color L, int slot, const PixelFilter &filter);
+  void add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b, uint8_t strategy,
+                 const SplatLightPass &light_pass);
   // One pixel of strategy pass k into dst (3 floats).
   void read_strategy_pass(int k, size_t i, float *dst) const;
   // One pixel of a light pass (RDV_PASS_EMISSION .. RDV_PASS_VOLUME_INDIRECT) into dst.

@@ -69,19 +69,14 @@ struct LightPassSample {
   }
 };
 
-// A light-tracing contribution's share of one light pass (splatted where it reaches the image).
-struct PassSplat {
-  Vec2 raster;
-  Color L;
-  uint8_t slot;
+// The light passes of a light-tracing splat (a path with >= 1 scattering vertices): the
+// split of its first one (from the camera) and whether it was not the only one. The film
+// adds the splat's shares over the image splat's own filter footprint.
+struct SplatLightPass {
+  KindSplit first;
+  bool on = false;  // the film keeps light passes
+  bool indirect = false;
 };
-// The light splats of a contribution L at raster by a path with `scatterings` (>= 1)
-// scattering vertices whose first one (from the camera) splits as `first`.
-template <class Splats>
-void add_pass_splats(Splats &out, Vec2 raster, const Color &L, int scatterings, const KindSplit &first) {
-  for (int k = 0; k < kPassKinds; ++k)
-    if (first.w[k] > 0) out.push_back({raster, L * first.w[k], uint8_t(light_pass_slot(k, scatterings > 1))});
-}
 
 // A pixel's sums (double, as the film's own: thousands of samples).
 struct LightPassSums {

@@ -121,10 +121,9 @@ struct FirstHit {
   // see-through chain.
   DataPassSample data;
   // Cycles' light passes of the sample, when the film keeps them (else null): the
-  // integrator adds each contribution's share (film/light_passes.h), and the shares of
-  // its splats to pass_splats.
+  // integrator adds each contribution's share (film/light_passes.h); its splats carry
+  // their own (Splat::light_pass).
   LightPassSample *passes = nullptr;
-  std::vector<PassSplat> *pass_splats = nullptr;
   // BDPT's strategy passes of the sample, when the film keeps them (else null): each
   // strategy's contribution goes to strategies[layout.index(s, t)], a t = 1 strategy's
   // splat carries that index (Splat::strategy; film/strategy_passes.h).
@@ -134,11 +133,14 @@ struct FirstHit {
 
 // A contribution to wherever on the image a light path reaches the camera.
 // strategy: its BDPT strategy pass (film/strategy_passes.h), kNoStrategy for none.
+// light_pass: its light passes (film/light_passes.h) when the film keeps them: the split of
+// its path's first scattering vertex, and whether that was not the only one.
 struct Splat {
   static constexpr uint8_t kNoStrategy = 0xff;
   Vec2 raster;
   Color L;
   uint8_t strategy = kNoStrategy;
+  SplatLightPass light_pass;
 };
 
 struct CameraRay {

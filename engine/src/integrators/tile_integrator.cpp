@@ -16,8 +16,6 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
   const RenderSettings &settings = ctx.settings;
   splats.a.clear();
   splats.b.clear();
-  splats.a_passes.clear();
-  splats.b_passes.clear();
   const bool light_passes = ctx.film.has_light_passes();
   LightPassSample passes;
   // Strategy passes (film/strategy_passes.h): the sample's share in each.
@@ -63,7 +61,6 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
         if (light_passes) {
           passes.clear();
           first_hit.passes = &passes;
-          first_hit.pass_splats = half_b ? &splats.b_passes : &splats.a_passes;
         }
         if (strategy_layout.enabled()) {
           std::fill(strategies.begin(), strategies.end(), Color(0.0f));
@@ -137,10 +134,8 @@ void TileIntegrator::render(RenderContext &ctx) {
     {
       Film::PassPublisher frame(ctx.film);
       for (TileSplats &splats : tile_splats) {  // in tile order: the same sums on any thread count
-        for (const Splat &sp : splats.a) frame.add_splat(sp.raster, sp.L, ctx.filter, false, sp.strategy);
-        for (const Splat &sp : splats.b) frame.add_splat(sp.raster, sp.L, ctx.filter, true, sp.strategy);
-        for (const PassSplat &sp : splats.a_passes) frame.add_light_splat(sp.raster, sp.L, sp.slot, ctx.filter);
-        for (const PassSplat &sp : splats.b_passes) frame.add_light_splat(sp.raster, sp.L, sp.slot, ctx.filter);
+        for (const Splat &sp : splats.a) frame.add_splat(sp.raster, sp.L, ctx.filter, false, sp.strategy, sp.light_pass);
+        for (const Splat &sp : splats.b) frame.add_splat(sp.raster, sp.L, ctx.filter, true, sp.strategy, sp.light_pass);
         paths += splats.paths;
         half_b_paths += splats.half_b_paths;
       }

@@ -14,7 +14,6 @@ namespace rdv {
 // light paths of half A's and of half B's samples, and how many light paths half B traced.
 struct TileSplats {
   std::vector<Splat> a, b;
-  std::vector<PassSplat> a_passes, b_passes;  // light passes only: the splats' shares (film/light_passes.h)
   uint64_t paths = 0, half_b_paths = 0;
 };
 

@@ -50,7 +50,6 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
   for (const Color &e : emitted) L += e;
   // (Kept here: *first_hit is overwritten with the first surface's AOVs below.)
   LightPassSample *const passes = first_hit ? first_hit->passes : nullptr;
-  std::vector<PassSplat> *const pass_splats = first_hit ? first_hit->pass_splats : nullptr;
   // Strategy passes (film/strategy_passes.h): each contribution's strategy, as it enters L.
   const StrategyPasses strategy_layout = first_hit ? first_hit->strategy_layout : StrategyPasses{};
   Color *const strategies = first_hit ? first_hit->strategies : nullptr;
@@ -90,14 +89,14 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
       if (one_strategy && settings_.strategy_unweighted && w > 0) c = c / w;
       if (!is_finite(c) || is_black(c)) continue;
       const int k = strategies ? strategy_layout.index(s, t) : -1;  // its strategy pass
-      if (t == 1) splats.push_back({raster, c, k >= 0 ? uint8_t(k) : Splat::kNoStrategy});
+      PassClass pc;
+      if (passes) pc = pass_class(light_path.data(), camera_path.data(), s, t, connection_dir, first_split);
+      if (t == 1) splats.push_back({raster, c, k >= 0 ? uint8_t(k) : Splat::kNoStrategy,
+                                    {pc.first, passes != nullptr, pc.scatterings > 1}});
       else L += c;
       if (strategies && t > 1) strategies[k] += c;
-      if (passes) {
-        PassClass pc = pass_class(light_path.data(), camera_path.data(), s, t, connection_dir, first_split);
-        if (t == 1) {
-          add_pass_splats(*pass_splats, raster, c, pc.scatterings, pc.first);
-        } else if (pc.scatterings == 0 && s == 0 && camera_path[t - 1].infinite) {
+      if (passes && t > 1) {
+        if (pc.scatterings == 0 && s == 0 && camera_path[t - 1].infinite) {
           const Color background = c * background_share(camera_path[t - 1]);  // the world seen directly
           passes->add(background, 0, pc.first, true);
           passes->add(c - background, 0, pc.first);
