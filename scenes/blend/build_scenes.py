@@ -116,6 +116,15 @@ def plane(name="Floor", size=20.0, material=None, location=(0, 0, 0)):
     return ob
 
 
+def quad_object(name, size_x, size_y, location, rotation, material):
+    """A quad (size_x by size_y) placed at location, rotated by Euler angles in degrees."""
+    ob = link(bpy.data.objects.new(name, quad_mesh(name + "Mesh", size_x, size_y)))
+    ob.location = location
+    ob.rotation_euler = tuple(math.radians(a) for a in rotation)
+    ob.data.materials.append(material)
+    return ob
+
+
 def camera_down(height=3.0, lens=50.0, location=(0.0, 0.0)):
     cam = bpy.data.cameras.new("Camera")
     cam.lens = lens
@@ -542,11 +551,7 @@ def showcase():
     half, height = 2.5, 2.8
 
     def wall(name, size_x, size_y, location, rotation):
-        ob = link(bpy.data.objects.new(name, quad_mesh(name + "Mesh", size_x, size_y)))
-        ob.location = location
-        ob.rotation_euler = tuple(math.radians(a) for a in rotation)
-        ob.data.materials.append(wall_mat)
-        return ob
+        return quad_object(name, size_x, size_y, location, rotation, wall_mat)
 
     wall("Ceiling", 2 * half, 2 * half, (0, 0, height), (180, 0, 0))
     wall("LeftWall", 2 * half, height, (-half, 0, height / 2), (90, 0, 90))
@@ -591,12 +596,6 @@ def cornell_box(lamp_gap=0.0, res=128):
     red = diffuse_material("Red", (0.63, 0.065, 0.05))
     green = diffuse_material("Green", (0.14, 0.45, 0.09))
 
-    def quad(name, sx, sy, location, rotation, material):
-        ob = link(bpy.data.objects.new(name, quad_mesh(name + "Mesh", sx, sy)))
-        ob.location = location
-        ob.rotation_euler = tuple(math.radians(a) for a in rotation)
-        ob.data.materials.append(material)
-
     def block(name, size, location, rot_z):
         ob = link(bpy.data.objects.new(name, box_mesh(name + "Mesh", 1.0)))
         ob.scale = size
@@ -604,14 +603,14 @@ def cornell_box(lamp_gap=0.0, res=128):
         ob.rotation_euler = (0.0, 0.0, math.radians(rot_z))
         ob.data.materials.append(white)
 
-    quad("Floor", 2, 2, (0, 0, 0), (0, 0, 0), white)
-    quad("Ceiling", 2, 2, (0, 0, 2), (180, 0, 0), white)
-    quad("Back", 2, 2, (0, 1, 1), (90, 0, 0), white)
-    quad("Left", 2, 2, (-1, 0, 1), (0, 90, 0), red)
-    quad("Right", 2, 2, (1, 0, 1), (0, -90, 0), green)
+    quad_object("Floor", 2, 2, (0, 0, 0), (0, 0, 0), white)
+    quad_object("Ceiling", 2, 2, (0, 0, 2), (180, 0, 0), white)
+    quad_object("Back", 2, 2, (0, 1, 1), (90, 0, 0), white)
+    quad_object("Left", 2, 2, (-1, 0, 1), (0, 90, 0), red)
+    quad_object("Right", 2, 2, (1, 0, 1), (0, -90, 0), green)
     block("ShortBlock", (0.6, 0.6, 0.6), (0.33, -0.35, 0.3), -17)
     block("TallBlock", (0.6, 0.6, 1.2), (-0.33, 0.3, 0.6), 17)
-    quad("Lamp", 0.47, 0.38, (0, 0, 2 - lamp_gap), (180, 0, 0), emission_material("Lamp", (1.0, 0.85, 0.6), 15.0))
+    quad_object("Lamp", 0.47, 0.38, (0, 0, 2 - lamp_gap), (180, 0, 0), emission_material("Lamp", (1.0, 0.85, 0.6), 15.0))
     cam = bpy.data.cameras.new("Camera")
     cam.lens = 50
     cam.sensor_width = 36
@@ -669,13 +668,8 @@ def light_paths_caustics():
     back.rotation_euler = (math.radians(90), 0, 0)
     smooth_glass_ball()
     light("AREA", "Lamp", 300.0, (-1.2, -0.6, 3.2), size=0.3)
-    cam = bpy.data.cameras.new("Camera")
-    cam.lens = 35
-    ob = link(bpy.data.objects.new("Camera", cam))
-    ob.location = (0, -4.5, 2.6)
-    look_at(ob, (0, 0, 0.4))
+    camera_looking_at((0, -4.5, 2.6), (0, 0, 0.4), 35)
     scene = bpy.context.scene
-    scene.camera = ob
     scene.cycles.caustics_reflective = False
     scene.cycles.caustics_refractive = False
     return scene
@@ -690,13 +684,8 @@ def light_paths_filter_glossy():
     plane("Floor", 10.0, diffuse_material("FloorMat", (0.7, 0.7, 0.7)))
     smooth_glass_ball()
     light("AREA", "Lamp", 300.0, (-0.6, -0.3, 3.2), size=0.5)
-    cam = bpy.data.cameras.new("Camera")
-    cam.lens = 50
-    ob = link(bpy.data.objects.new("Camera", cam))
-    ob.location = (0.4, -2.6, 2.6)
-    look_at(ob, (0.35, 0.2, 0.0))
+    camera_looking_at((0.4, -2.6, 2.6), (0.35, 0.2, 0.0), 50)
     scene = bpy.context.scene
-    scene.camera = ob
     scene.cycles.blur_glossy = 2.0
     return scene
 

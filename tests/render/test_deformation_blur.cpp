@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include "motion_blur_stage.h"
 #include "render_helpers.h"
 #include "statistics.h"
 
@@ -183,25 +184,7 @@ json ball_scene(bool deform) {
     ball["transform"] = transforms[1];
     ball["motion"] = transforms;
   }
-  return {{"settings", {{"width", kSize}, {"height", kSize}, {"samples", 32}, {"max_bounces", 4}, {"seed", 1}}},
-          {"camera",
-           {{"focal_length", 35},
-            {"transform", {{"look_at", {{"from", {0, -5, 2.2}}, {"to", {0, 0, 0.6}}}}}},
-            {"shutter_open", -0.25},
-            {"shutter_close", 0.25}}},
-          {"world", {{"color", {0.08, 0.09, 0.1}}}},
-          {"materials",
-           {{{"name", "floor"}, {"type", "diffuse"}, {"color", {0.7, 0.7, 0.7}}},
-            {{"name", "red"}, {"type", "diffuse"}, {"color", {0.8, 0.15, 0.1}}},
-            {{"name", "blue"}, {"type", "glossy"}, {"color", {0.3, 0.4, 0.8}}, {"roughness", 0.3}}}},
-          {"meshes",
-           {{{"name", "floor"}, {"shape", {{"type", "quad"}, {"size", 6}}}, {"materials", {"floor"}}},
-            {{"name", "box"},
-             {"shape", {{"type", "box"}, {"size", {0.8, 0.8, 0.8}}}},
-             {"materials", {"red"}},
-             {"transform", {{"translate", {-1, 0, 0.4}}}}},
-            ball}},
-          {"lights", {{{"type", "area"}, {"size", 1.0}, {"power", 200}, {"position", {0.5, -1.0, 3.2}}, {"direction", {0, 0, -1}}}}}};
+  return motion_blur_stage(kSize, nullptr, ball);
 }
 
 }  // namespace

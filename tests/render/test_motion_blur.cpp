@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include "motion_blur_stage.h"
 #include "render_helpers.h"
 #include "statistics.h"
 
@@ -101,32 +102,15 @@ const double kAlphaPerBlock = 1.0 - std::pow(1.0 - 0.01, 1.0 / (2 * 16));
 
 // A red box sliding and a glossy ball rising and turning, over a floor, under an area lamp.
 json moving_scene() {
-  return {{"settings", {{"width", kSize}, {"height", kSize}, {"samples", 32}, {"max_bounces", 4}, {"seed", 1}}},
-          {"camera",
-           {{"focal_length", 35},
-            {"transform", {{"look_at", {{"from", {0, -5, 2.2}}, {"to", {0, 0, 0.6}}}}}},
-            {"shutter_open", -0.25},
-            {"shutter_close", 0.25}}},
-          {"world", {{"color", {0.08, 0.09, 0.1}}}},
-          {"materials",
-           {{{"name", "floor"}, {"type", "diffuse"}, {"color", {0.7, 0.7, 0.7}}},
-            {{"name", "red"}, {"type", "diffuse"}, {"color", {0.8, 0.15, 0.1}}},
-            {{"name", "blue"}, {"type", "glossy"}, {"color", {0.3, 0.4, 0.8}}, {"roughness", 0.3}}}},
-          {"meshes",
-           {{{"name", "floor"}, {"shape", {{"type", "quad"}, {"size", 6}}}, {"materials", {"floor"}}},
-            {{"name", "box"},
-             {"shape", {{"type", "box"}, {"size", {0.8, 0.8, 0.8}}}},
-             {"materials", {"red"}},
-             {"transform", {{"translate", {-1, 0, 0.4}}}},
-             {"motion", {{{"translate", {-1.8, 0, 0.4}}}, {{"translate", {-1, 0, 0.4}}}, {{"translate", {-0.2, 0, 0.4}}}}}},
-            {{"name", "ball"},
-             {"shape", {{"type", "sphere"}, {"radius", 0.5}, {"segments", 24}}},
-             {"materials", {"blue"}},
-             {"transform", {{"translate", {1, 0.3, 0.5}}}},
-             {"motion",
-              {{{"translate", {1, 0.3, 0.5}}, {"rotate", {0, 0, -30}}},
-               {{"translate", {1, 0.3, 1.3}}, {"rotate", {0, 0, 30}}}}}}}},
-          {"lights", {{{"type", "area"}, {"size", 1.0}, {"power", 200}, {"position", {0.5, -1.0, 3.2}}, {"direction", {0, 0, -1}}}}}};
+  const json box_motion = {{{"translate", {-1.8, 0, 0.4}}}, {{"translate", {-1, 0, 0.4}}}, {{"translate", {-0.2, 0, 0.4}}}};
+  const json ball = {{"name", "ball"},
+                     {"shape", {{"type", "sphere"}, {"radius", 0.5}, {"segments", 24}}},
+                     {"materials", {"blue"}},
+                     {"transform", {{"translate", {1, 0.3, 0.5}}}},
+                     {"motion",
+                      {{{"translate", {1, 0.3, 0.5}}, {"rotate", {0, 0, -30}}},
+                       {{"translate", {1, 0.3, 1.3}}, {"rotate", {0, 0, 30}}}}}};
+  return motion_blur_stage(kSize, box_motion, ball);
 }
 
 }  // namespace

@@ -68,18 +68,18 @@ std::vector<std::string> half_channel_names() {
 }
 
 // The passes' sums (PartRecord::light_passes, strategy_max_depth), after the halves'.
-std::vector<std::string> pass_channel_names(const PartRecord &record) {
+std::vector<std::string> pass_channel_names(bool light_passes, int strategy_max_depth) {
   std::vector<std::string> names;
   auto color = [&](const std::string &group) {
     for (const char *a = "rgb"; *a; ++a)
       for (const char *half : {"_hi", "_lo"}) names.push_back(std::string(kLayer) + group + "_" + *a + half);
   };
-  if (record.light_passes) {
+  if (light_passes) {
     for (int k = 0; k < kLightPassSlots; ++k) color("light" + std::to_string(k));
     for (int k = 0; k < kColorKinds; ++k) color("light_color" + std::to_string(k));
     for (int k = 0; k < kLightPassSlots; ++k) color("light_splat" + std::to_string(k));
   }
-  const StrategyPasses strategies{record.strategy_max_depth};
+  const StrategyPasses strategies{strategy_max_depth};
   for (int k = 0; k < strategies.count(); ++k) color("strategy" + std::to_string(k));
   for (int k = 0; k < strategies.splat_count(); ++k) color("strategy_splat" + std::to_string(k));
   return names;
@@ -107,7 +107,8 @@ LoadedPart load_part(const std::string &path) {
   part.record = PartRecord::from_json(text, path);
   part.width = spec.width;
   part.height = spec.height;
-  const std::vector<std::string> pass_names = pass_channel_names(part.record);
+  const std::vector<std::string> pass_names =
+      pass_channel_names(part.record.light_passes, part.record.strategy_max_depth);
   check_memory("part '" + path + "'", "its " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " sums",
                double(spec.width) * double(spec.height) *
                        double(spec.nchannels + kWordsPerPixel + (part.record.halves ? kHalfWordsPerPixel : 0) +
@@ -226,10 +227,8 @@ PartChannels part_channels(const Film &film, const PartRecord &record) {
   if (halves)
     for (const std::string &name : half_channel_names()) out.names.push_back(name);
   // the passes the film keeps (the record says the same: Session::part_record)
-  PartRecord passes;
-  passes.light_passes = film.has_light_passes();
-  passes.strategy_max_depth = film.strategy_passes().max_depth;
-  const std::vector<std::string> pass_names = pass_channel_names(passes);
+  const bool light_passes = film.has_light_passes();
+  const std::vector<std::string> pass_names = pass_channel_names(light_passes, film.strategy_passes().max_depth);
   out.names.insert(out.names.end(), pass_names.begin(), pass_names.end());
   const size_t n = size_t(film.width()) * film.height();
   const size_t strategies = size_t(film.strategy_passes().count()),
@@ -255,7 +254,7 @@ PartChannels part_channels(const Film &film, const PartRecord &record) {
       *w++ = h.count;
       for (double v : film.half_splat_sums()[i]) put_double(w, v);
     }
-    if (passes.light_passes) {
+    if (light_passes) {
       const LightPassSums &l = film.light_pass_sums()[i];
       for (const auto &c : l.light)
         for (double v : c) put_double(w, v);
