@@ -120,26 +120,27 @@ def light_path_settings(scene, props=None):
     return s
 
 
-# The Light Paths keys path-space MLT does not implement (it takes max_bounces only).
-MLT_UNSUPPORTED_LIGHT_PATHS = BOUNCE_KINDS + ("caustics_reflective", "caustics_refractive", "clamp_direct",
-                                              "clamp_indirect", "filter_glossy")
+# The Light Paths keys path-space MLT does not take: a clamp caps one sample's estimate,
+# which a path-space chain does not have (its f is a function of the path alone).
+MLT_UNSUPPORTED_LIGHT_PATHS = ("clamp_direct", "clamp_indirect")
 
 
 def light_paths_for(integrator, light_paths, warn=print):
-    """light_paths (light_path_settings) as `integrator` takes them: Metropolis (Path Space)
-    implements only max_bounces, and a default Blender scene sets Cycles' per-kind bounces
-    and Clamp Indirect 10, which the engine would refuse for it; they are left out, with one
-    warning naming them."""
-    if integrator in ("bdpt", "pssmlt", "mmlt") and "filter_glossy" in light_paths:
-        # Filter Glossy is the path tracer's alone (its strategies could not share one
-        # roughened BSDF): not sent, so the engine does not warn on every default scene.
-        return {k: v for k, v in light_paths.items() if k != "filter_glossy"}
+    """light_paths (light_path_settings) as `integrator` takes them. Filter Glossy is the path
+    tracer's alone (BDPT's and the Metropolis integrators' strategies could not share one
+    roughened BSDF): not sent to them, so the engine does not warn on every default scene
+    (the path tracer and Automatic keep it). Metropolis (Path Space)
+    takes the per-kind bounces and the caustics switches but no clamps (a default Blender
+    scene has Clamp Indirect 10, which the engine would refuse for it): they are left out,
+    with one warning naming them."""
+    if integrator in ("bdpt", "pssmlt", "mmlt", "mlt") and "filter_glossy" in light_paths:
+        light_paths = {k: v for k, v in light_paths.items() if k != "filter_glossy"}
     if integrator != "mlt":
         return light_paths
     dropped = [k for k in MLT_UNSUPPORTED_LIGHT_PATHS if k in light_paths]
     if dropped:
-        warn("Metropolis (Path Space) ignores these Light Paths settings (it follows Max Bounces only): %s"
-             % ", ".join(dropped))
+        warn("Metropolis (Path Space) ignores the Light Paths clamps (%s): a clamp caps one sample's estimate, "
+             "which a path-space chain does not have" % ", ".join(dropped))
     return {k: v for k, v in light_paths.items() if k not in dropped}
 
 

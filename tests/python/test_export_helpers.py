@@ -205,13 +205,18 @@ class TestCameraSettings(unittest.TestCase):
             session_settings(scene, self.props(integrator="AUTO", time_limit=0.0, **mlt))
         self.assertIn("Time Limit", str(caught.exception))
 
-    def test_path_space_mlt_takes_max_bounces_only(self):
+    def test_path_space_mlt_takes_limits_but_no_clamps(self):
         from rendezvous.export.settings import light_paths_for
         cycles_defaults = {"max_bounces": 13, "diffuse_bounces": 4, "glossy_bounces": 4, "clamp_indirect": 10.0}
         warnings = []
-        self.assertEqual(light_paths_for("mlt", cycles_defaults, warnings.append), {"max_bounces": 13})
+        self.assertEqual(light_paths_for("mlt", cycles_defaults, warnings.append),
+                         {"max_bounces": 13, "diffuse_bounces": 4, "glossy_bounces": 4})
         self.assertEqual(len(warnings), 1)
-        self.assertIn("diffuse_bounces, glossy_bounces, clamp_indirect", warnings[0])
+        self.assertIn("clamps (clamp_indirect)", warnings[0])
+        self.assertEqual(light_paths_for("mlt", {"max_bounces": 13, "caustics_refractive": False,
+                                                 "filter_glossy": 1.0}, warnings.append),
+                         {"max_bounces": 13, "caustics_refractive": False})
+        self.assertEqual(len(warnings), 1)
         self.assertEqual(light_paths_for("bdpt", cycles_defaults, warnings.append), cycles_defaults)
         self.assertEqual(light_paths_for("mlt", {"max_bounces": 13}, warnings.append), {"max_bounces": 13})
         self.assertEqual(len(warnings), 1)

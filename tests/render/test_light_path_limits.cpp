@@ -5,6 +5,7 @@
 // the path tracer, K runs each, Welch's t-test on every 8x8 block (1% false alarms over
 // the file, Sidak-corrected per block; fixed seeds, so each verdict is reproducible).
 #include <gtest/gtest.h>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <nlohmann/json.hpp>
@@ -18,7 +19,8 @@ namespace {
 
 constexpr int kRuns = 8;
 constexpr int kSize = 48;
-constexpr int kBlockTestsInFile = 5 * 36;  // five BDPT-vs-path comparisons of 6x6 blocks
+// Five BDPT-vs-path and three mlt-vs-BDPT comparisons of 6x6 blocks.
+constexpr int kBlockTestsInFile = 8 * 36;
 const double kAlphaPerBlock = 1.0 - std::pow(1.0 - 0.01, 1.0 / kBlockTestsInFile);
 
 json small(json settings) {
@@ -27,18 +29,68 @@ json small(json settings) {
   return settings;
 }
 
+// K seeded renders of `integrator` with the limits (Metropolis: a small bootstrap, 64 chains).
+std::vector<std::vector<double>> runs_of(const json &scene, const json &limits, const char *integrator, int samples,
+                                         uint32_t first_seed) {
+  json s = small(limits);
+  s["integrator"] = integrator;
+  s["samples"] = samples;
+  if (std::strcmp(integrator, "mlt") == 0) {
+    s["mlt_bootstrap"] = 4;
+    s["mlt_chains"] = 64;
+  }
+  return seeded_renders(scene.dump(), s.dump(), kRuns, first_seed);
+}
+
+// The mean over the runs of each run's mean pixel, and its standard error.
+void mean_and_error(const std::vector<std::vector<double>> &runs, double &mean, double &error) {
+  double s = 0, s2 = 0;
+  for (const auto &img : runs) {
+    double m = 0;
+    for (double v : img) m += v;
+    m /= double(img.size());
+    s += m;
+    s2 += m * m;
+  }
+  const double k = double(runs.size());
+  mean = s / k;
+  error = std::sqrt(std::max(0.0, s2 / k - mean * mean) / (k - 1));
+}
+
+// `test` (integrator, samples) against `reference` on every 8x8 block; with `brightness`
+// also the runs' mean within 3.3 standard errors of the reference's (false alarms 1e-3).
+void expect_same_image(const json &scene, const json &limits, const std::string &what,
+                       std::pair<const char *, int> reference, std::pair<const char *, int> test,
+                       bool brightness = false) {
+  auto ref = runs_of(scene, limits, reference.first, reference.second, 1);
+  auto got = runs_of(scene, limits, test.first, test.second, std::strcmp(test.first, "mlt") == 0 ? 2001 : 1001);
+  BlockComparison c = compare_blocks(got, ref, kSize, kSize, 8, kAlphaPerBlock);
+  EXPECT_EQ(c.failed, 0) << what << ": " << c.detail;
+  std::string mean;
+  if (brightness) {
+    double m_got, e_got, m_ref, e_ref;
+    mean_and_error(got, m_got, e_got);
+    mean_and_error(ref, m_ref, e_ref);
+    const double error = std::sqrt(e_got * e_got + e_ref * e_ref), z = (m_got - m_ref) / error;
+    EXPECT_LT(std::fabs(z), 3.3) << what << ": mean " << m_got << " vs " << reference.first << " " << m_ref;
+    char text[96];
+    std::snprintf(text, sizeof text, "mean ratio %.4f +- %.4f (z %.2f); ", m_got / m_ref, error / m_ref, z);
+    mean = text;
+  }
+  std::printf("[ light paths ] %s %-28s %s%s\n", test.first, what.c_str(), mean.c_str(),
+              c.detail.substr(0, 120).c_str());
+}
+
 void expect_bdpt_matches_path(const json &scene, const json &limits, const std::string &what, int samples_pt,
                               int samples_bdpt) {
-  json s = small(limits);
-  s["integrator"] = "path";
-  s["samples"] = samples_pt;
-  auto pt = seeded_renders(scene.dump(), s.dump(), kRuns, 1);
-  s["integrator"] = "bdpt";
-  s["samples"] = samples_bdpt;
-  auto bd = seeded_renders(scene.dump(), s.dump(), kRuns, 1001);
-  BlockComparison c = compare_blocks(bd, pt, kSize, kSize, 8, kAlphaPerBlock);
-  EXPECT_EQ(c.failed, 0) << what << ": " << c.detail;
-  std::printf("[ light paths ] %-28s %s\n", what.c_str(), c.detail.substr(0, 120).c_str());
+  expect_same_image(scene, limits, what, {"path", samples_pt}, {"bdpt", samples_bdpt});
+}
+
+// Path-space MLT (integrators/mlt/path_space.h) against BDPT: the limits make f = 0 outside
+// them, so the chains' image is BDPT's with the same limits.
+void expect_mlt_matches_bdpt(const json &scene, const json &limits, const std::string &what, int samples_bdpt,
+                             int mutations) {
+  expect_same_image(scene, limits, what, {"bdpt", samples_bdpt}, {"mlt", mutations}, true);
 }
 
 double mean_of(const Image &img) { return (img.channel_mean(0) + img.channel_mean(1) + img.channel_mean(2)) / 3; }
@@ -160,6 +212,41 @@ TEST(LightPathLimits, ClampIndirectKeepsDirectLight) {
     ASSERT_TRUE(capped.all_finite());
     EXPECT_GT(mean_of(capped), 0.0) << integrator;
     EXPECT_LT(mean_of(capped), 0.5 * mean_of(two)) << integrator;
+  }
+}
+
+// Path-space MLT: the per-kind limits and the caustics switches as BDPT has them (a diffuse
+// limit in the Cornell box, the caustics switched off under the glass ball, one volume
+// bounce in fog lit by a spot with a radius); limits that never bind change nothing, bit for
+// bit; clamps are refused, naming why (a chain has no per-sample estimate to cap).
+TEST(LightPathLimits, PathSpaceMltMatchesBdpt) {
+  expect_mlt_matches_bdpt(load_scene("cornell_box.json"), {{"max_bounces", 8}, {"diffuse_bounces", 1}},
+                          "cornell diffuse 1", 32, 64);
+  json caustic = load_scene("caustic.json");
+  caustic["lights"][0]["radius"] = 0.4;
+  expect_mlt_matches_bdpt(caustic, {{"max_bounces", 8}, {"caustics_refractive", false}, {"caustics_reflective", false}},
+                          "caustics off", 32, 64);
+  expect_mlt_matches_bdpt(load_scene("fog_spot.json"), {{"max_bounces", 8}, {"volume_bounces", 1}}, "fog volume 1",
+                          32, 64);
+}
+
+TEST(LightPathLimits, PathSpaceMltLimitsThatNeverBindChangeNothing) {
+  json scene = load_scene("cornell_box.json");
+  json s = small({{"integrator", "mlt"}, {"samples", 8}, {"seed", 5}, {"max_bounces", 6}, {"mlt_chains", 16}});
+  Image plain = render_json(scene.dump(), s.dump());
+  s["diffuse_bounces"] = s["glossy_bounces"] = s["transmission_bounces"] = s["volume_bounces"] = 6;
+  Image classified = render_json(scene.dump(), s.dump());
+  EXPECT_EQ(std::memcmp(plain.rgba.data(), classified.rgba.data(), plain.rgba.size() * sizeof(float)), 0);
+}
+
+TEST(LightPathLimits, PathSpaceMltRefusesClampsNamingWhy) {
+  json scene = load_scene("cornell_box.json");
+  try {
+    render_json(scene.dump(), small({{"integrator", "mlt"}, {"samples", 1}, {"clamp_indirect", 10}}).dump());
+    ADD_FAILURE() << "mlt accepted clamp_indirect";
+  } catch (const std::runtime_error &e) {
+    EXPECT_NE(std::string(e.what()).find("clamp"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("estimate"), std::string::npos) << e.what();
   }
 }
 

@@ -93,7 +93,7 @@ Metropolis::Metropolis(const Scene &scene, const RenderSettings &settings, const
   image_area_ = float(settings.width) * float(settings.height);
   if (mlt.path_space)
     path_space_ = std::make_unique<PathSpace>(scene, bdpt_settings.max_bounces, sample_origin_, sample_size_, image_area_,
-                                              mlt.large_step_probability, mlt.mutations);
+                                              mlt.large_step_probability, mlt.mutations, bdpt_settings.limits);
 }
 
 void Metropolis::first_hit_pass(RenderContext &ctx) const {

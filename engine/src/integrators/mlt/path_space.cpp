@@ -89,7 +89,8 @@ double split_sum(const ExplicitPath &y, int lo, int count) {
 }
 
 PathSpace::PathSpace(const Scene &scene, int max_bounces, Vec2 sample_origin, Vec2 sample_size, float image_area,
-                     float large_step_probability, const MutationSettings &mutations)
+                     float large_step_probability, const MutationSettings &mutations,
+                     const LightPathLimits &limits)
     : scene_(scene),
       max_vertices_(max_bounces + 2),
       sample_origin_(sample_origin),
@@ -98,6 +99,7 @@ PathSpace::PathSpace(const Scene &scene, int max_bounces, Vec2 sample_origin, Ve
       region_area_(sample_size.x * sample_size.y),
       large_step_probability_(large_step_probability),
       mutations_(mutations),
+      limits_(limits),
       media_(scene.has_media()) {
   for (uint32_t i = 0; i < uint32_t(scene.lights().size()); ++i)
     if (is_sphere_lamp(scene.lights()[i])) sphere_lamps_.push_back(i);
@@ -123,9 +125,12 @@ std::string PathSpace::unsupported(const Scene &scene, const RenderSettings &set
   if (camera.aperture_radius > 0)
     return "the camera has depth of field (aperture radius " + std::to_string(camera.aperture_radius) +
            "); mlt samples pinhole cameras only (use bdpt or pssmlt)";
-  if (settings.limits.classify || settings.limits.clamps)
-    return "Light Paths limits (per-kind bounces, caustics switches, clamps) are not implemented for mlt, only "
-           "max_bounces";
+  // A clamp caps one sample's estimate (f / p of one strategy, MIS-weighted), which depends
+  // on how the path was sampled; a Metropolis chain's f is a function of the path alone,
+  // with no estimate to cap (docs/mlt.md). pssmlt / mmlt clamp BDPT's estimates.
+  if (settings.limits.clamps)
+    return "Light Paths clamps (clamp_direct / clamp_indirect) cap one sample's estimate, which a path-space chain "
+           "does not have (its f is a function of the path alone); switch them off (0) or use bdpt, pssmlt or mmlt";
   for (size_t i = 0; i < scene.lights().size(); ++i) {
     const Light &l = scene.lights()[i];
     const std::string which = "light " + std::to_string(i);
@@ -493,6 +498,13 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   const double c2 = double(cos0) * cos0;
   Color f(float(1.0 / (area * c2 * c2) * cos0));
 
+  // Cycles' Light Paths limits: each scattering vertex's kind, as the path tracer labels it
+  // (its BSDF built toward the camera, the direction toward the light), counted over every
+  // scattering vertex but the one that meets the light; the caustics switches over each
+  // pair of neighbours (integrators/light_path_limits.h).
+  BounceCounts counts;
+  ScatterKind before = ScatterKind::Diffuse;
+
   // Edge by edge: transmittance, geometry, the scattering at its camera-side end, and
   // the densities of its two ends as the other end's walk would reach them.
   for (int i = 0; i + 1 < n; ++i) {
@@ -516,6 +528,16 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
       } else {
         const Medium &medium = scene_.medium(a.v.medium);
         f *= medium.sigma_s * medium.phase.eval(a.v.wo, w);
+      }
+      if (limits_.classify) {
+        const ScatterKind kind =
+            a.v.type == VertexType::Medium ? ScatterKind::Volume : a.v.bsdf.scatter_kind(a.v.wo, w);
+        if (i >= 2 && !limits_.caustic_allowed(before, kind)) return;
+        if (i + 1 < n - 1) {  // not the vertex that meets the light
+          counts.add(kind);
+          if (!limits_.within(counts)) return;
+        }
+        before = kind;
       }
     }
     if (is_black(f)) return;

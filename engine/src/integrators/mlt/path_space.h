@@ -14,6 +14,9 @@
 // it (a lamp with a radius: a point on its sphere, lights/sphere_lamp.h, which the camera
 // side's last step may also reach). The bidirectional mutation's transition density T(x -> y) is a sum of products
 // of these (Veach 1997, sec. 11.4.2), so the acceptance ratio is exact.
+// Cycles' Light Paths limits (per-kind bounces, caustics switches) are a property of the
+// vertices: f is 0 for a path outside them (integrators/light_path_limits.h), every vertex
+// classified as the path tracer classifies it, so every mutation sees the same f.
 #pragma once
 #include <string>
 #include <vector>
@@ -79,7 +82,8 @@ struct Proposal {
 class PathSpace {
  public:
   PathSpace(const Scene &scene, int max_bounces, Vec2 sample_origin, Vec2 sample_size, float image_area,
-            float large_step_probability, const MutationSettings &mutations = {});
+            float large_step_probability, const MutationSettings &mutations = {},
+            const LightPathLimits &limits = {});
   // Why mlt cannot render this scene with these settings (a message naming the light,
   // medium, camera or setting), or "" when it can.
   static std::string unsupported(const Scene &scene, const RenderSettings &settings);
@@ -156,6 +160,7 @@ class PathSpace {
   float image_area_, region_area_;
   float large_step_probability_;
   MutationSettings mutations_;
+  LightPathLimits limits_;  // per-kind bounces and caustics switches (clamps are refused)
   float caustic_weight_ = 0;  // the caustic perturbation's weight when paths have specular vertices
   bool media_;
   std::vector<uint32_t> sphere_lamps_;  // the lights that are lamps with a radius
