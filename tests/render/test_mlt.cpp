@@ -22,8 +22,8 @@ namespace {
 
 constexpr int kRuns = 8;
 // 4 scenes x 2 integrators with the default (relative) target, the door gap with the
-// luminance target, and mlt on 6 scenes; 36 blocks each.
-constexpr int kBlockTestsInFile = 16 * 36;
+// luminance target, and mlt on 8 scenes; 36 blocks each.
+constexpr int kBlockTestsInFile = 18 * 36;
 const double kAlphaPerBlock = 1.0 - std::pow(1.0 - 0.01, 1.0 / kBlockTestsInFile);
 
 struct Runs {
@@ -135,6 +135,18 @@ TEST(MltVsBdpt, PathSpaceVolumeCausticPointSpot) {
 // Fog lit by a spot with a radius (fog_spot.json's 5 cm spot: a sphere lamp in a medium).
 TEST(MltVsBdpt, PathSpaceFogSpot) {
   expect_same_image(load_scene("fog_spot.json"), "fog spot", 16, 32, "luminance", {"mlt"});
+}
+// Cameras (path_space.h): a thin lens with a hexagonal aperture focused on the back wall
+// (the front of the boxes blurred), and an orthographic camera.
+TEST(MltVsBdpt, PathSpaceThinLens) {
+  json scene = load_scene("cornell_box.json");
+  scene["camera"].update({{"fstop", 0.5}, {"focus_distance", 4.9}, {"blades", 6}});
+  expect_same_image(scene, "cornell (thin lens)", 32, 64, "luminance", {"mlt"});
+}
+TEST(MltVsBdpt, PathSpaceOrthographic) {
+  json scene = load_scene("cornell_box.json");
+  scene["camera"].update({{"type", "orthographic"}, {"ortho_scale", 2.4}});
+  expect_same_image(scene, "cornell (orthographic)", 32, 64, "luminance", {"mlt"});
 }
 
 // A fixed chain count gives the same image on any number of threads (chains seeded by

@@ -4,6 +4,7 @@
 // its densities in test_path_mlt_densities.cpp.)
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include "render_helpers.h"
 
 using namespace rdv::test;
@@ -25,6 +26,24 @@ TEST(PathMltRobustness, UnsupportedSceneIsRefusedNamingTheProblem) {
   }
   EXPECT_NE(r, RDV_OK);
   EXPECT_NE(std::string(rdv_last_error()).find("grid medium"), std::string::npos) << rdv_last_error();
+}
+
+// An orthographic camera with depth of field (its x_0 would be a lens offset from x_1's
+// foot, a density mlt does not have) is refused naming it; without, and thin lenses, render.
+TEST(PathMltRobustness, OrthographicDepthOfFieldIsRefusedNamingTheCamera) {
+  json scene = load_scene("cornell_box.json");
+  scene["camera"].update({{"type", "orthographic"}, {"ortho_scale", 2.4}, {"aperture_radius", 0.05}});
+  json s = {{"width", 8}, {"height", 8}, {"integrator", "mlt"}, {"samples", 1}, {"mlt_chains", 4}};
+  try {
+    render_json(scene.dump(), s.dump());
+    ADD_FAILURE() << "mlt rendered an orthographic camera with depth of field";
+  } catch (const std::runtime_error &e) {
+    EXPECT_NE(std::string(e.what()).find("orthographic with depth of field"), std::string::npos) << e.what();
+  }
+  scene["camera"]["aperture_radius"] = 0;
+  EXPECT_TRUE(render_json(scene.dump(), s.dump()).all_finite());
+  scene["camera"].update({{"type", "perspective"}, {"aperture_radius", 0.05}});
+  EXPECT_TRUE(render_json(scene.dump(), s.dump()).all_finite());
 }
 
 // Stats: acceptance per mutation type, b and its error; samples = mutations per pixel.

@@ -129,9 +129,16 @@ struct BruteForce {
     double cos = v.on_surface() ? std::fabs(dot(v.ng, normalize(d))) : 1.0;
     return cos / double(length_squared(d));
   }
+  // The aperture's area: a disk, or a regular polygon of `blades` corners on its circle.
+  double aperture_area() const {
+    const Camera &camera = scene.camera();
+    const double r = camera.aperture_radius;
+    if (!(r > 0)) return 1;
+    return camera.blades >= 3 ? 0.5 * camera.blades * std::sin(2 * kPi / camera.blades) * r * r : kPi * r * r;
+  }
   double camera_side(const ExplicitPath &p, int i) const {
     const int n = p.n;
-    if (i == 0) return 1;
+    if (i == 0) return 1 / aperture_area();  // a point uniform on the aperture (a pinhole: 1)
     const bdpt::PathVertex &v = p.x[size_t(i)].v;
     if (i == n - 1 && scene.lights()[size_t(v.light)].type != LightType::Triangle) {
       // Lamps: no walk hits them, but for the spheres of lamps with a radius (one lamp in
@@ -149,10 +156,21 @@ struct BruteForce {
     Vec3 w = dir(p, i - 1, i);
     double pdf;
     Vec3 from = p.x[size_t(i - 1)].v.p;
+    const double raster_density = double(kWidth) * kHeight / (double(kSize.x) * kSize.y);
+    if (i == 1 && scene.camera().type == Camera::Type::Orthographic) {
+      // A raster point uniform, its ray along the view axis from the image plane (scene
+      // units, the camera unscaled): density per plane area, dA_plane = |cos| dA at x_1.
+      const Camera &camera = scene.camera();
+      const double plane_area = double(camera.right - camera.left) * (camera.top - camera.bottom);
+      const double cos1 = v.on_surface() ? std::fabs(dot(v.ng, camera.forward())) : 1.0;
+      const Vec3 foot = v.p - camera.forward() * dot(v.p - camera.position(), camera.forward());
+      return raster_density / plane_area * cos1 *
+             free_flight(foot + camera.forward() * camera.clip_start, v.p, v.type == VertexType::Medium);
+    }
     if (i == 1) {
       const Camera &camera = scene.camera();
       double cos0 = dot(w, camera.forward());
-      pdf = (double(kWidth) * kHeight / (double(kSize.x) * kSize.y)) / (camera.viewplane_area() * cos0 * cos0 * cos0);
+      pdf = raster_density / (camera.viewplane_area() * cos0 * cos0 * cos0);
       from = from + w * float(camera.clip_start / cos0);
     } else {
       pdf = scatter_pdf(p.x[size_t(i - 1)], dir(p, i - 1, i - 2), w);
@@ -396,6 +414,30 @@ void check_scene(const std::string &name, int starts, int mutations_per_start) {
 }  // namespace
 
 TEST(PathMltDensities, CornellBoxRatiosMatchBruteForce) { check_scene("cornell_box.json", 300, 20); }
+
+// Cameras (path_space.h): a thin lens (x_0 uniform on a hexagonal aperture, the lens
+// perturbation keeping it), and an orthographic camera (x_0 x_1's foot on the image plane);
+// in the Cornell box and in the fog through the door (free flights from the lens / plane).
+nlohmann::json with_camera(nlohmann::json scene, const nlohmann::json &camera) {
+  scene["camera"].update(camera);
+  return scene;
+}
+const nlohmann::json kThinLens = {{"fstop", 0.5}, {"focus_distance", 3.0}, {"blades", 6}};
+const nlohmann::json kOrthographic = {{"type", "orthographic"}, {"ortho_scale", 2.4}};
+
+TEST(PathMltDensities, ThinLensRatiosMatchBruteForce) {
+  check_scene("cornell_box.json (thin lens)", with_camera(test::load_scene("cornell_box.json"), kThinLens), 300, 20);
+  check_scene("fog_door.json (thin lens)",
+              with_camera(test::load_scene("fog_door.json"), {{"fstop", 0.4}, {"focus_distance", 2.5}}), 3000, 20);
+}
+
+TEST(PathMltDensities, OrthographicRatiosMatchBruteForce) {
+  check_scene("cornell_box.json (orthographic)", with_camera(test::load_scene("cornell_box.json"), kOrthographic),
+              2000, 20);
+  check_scene("fog_door.json (orthographic)",
+              with_camera(test::load_scene("fog_door.json"), {{"type", "orthographic"}, {"ortho_scale", 3.0}}), 8000,
+              20);
+}
 
 TEST(PathMltDensities, FogDoorRatiosMatchBruteForce) { check_scene("fog_door.json", 4000, 20); }
 

@@ -106,6 +106,18 @@ Vec2 Camera::lens_sample(Vec2 u) const {
 }
 
 Ray Camera::generate_ray(Vec2 raster, Vec2 u_lens, Vec3 *lens_point, RayCone *cone) const {
+  if (aperture_radius > 0) {
+    const Vec2 lens = lens_sample(u_lens);
+    return ray_from(raster, &lens, lens_point, cone);
+  }
+  return ray_from(raster, nullptr, lens_point, cone);
+}
+
+Ray Camera::generate_ray_from_lens(Vec2 raster, Vec2 lens) const {
+  return ray_from(raster, aperture_radius > 0 ? &lens : nullptr, nullptr, nullptr);
+}
+
+Ray Camera::ray_from(Vec2 raster, const Vec2 *lens_offset, Vec3 *lens_point, RayCone *cone) const {
   float fx = raster.x / width_, fy = raster.y / height_;
   Vec3 plane{left + fx * (right - left), top - fy * (top - bottom), 0};
   Vec3 o, d;
@@ -116,8 +128,8 @@ Ray Camera::generate_ray(Vec2 raster, Vec2 u_lens, Vec3 *lens_point, RayCone *co
     o = Vec3(plane.x, plane.y, 0.0f);
     d = Vec3(0, 0, -1.0f);
   }
-  if (aperture_radius > 0) {
-    Vec2 lens = lens_sample(u_lens);
+  if (lens_offset) {
+    const Vec2 lens = *lens_offset;
     Vec3 focus = o + d * focus_distance;  // d.z == -1: this point lies on the focal plane
     o = o + Vec3(lens.x, lens.y, 0);
     d = focus - o;
@@ -176,6 +188,42 @@ bool Camera::raster_of_direction(Vec3 d, Vec2 &raster, float &cos_theta) const {
   float px = pc.x / -pc.z, py = pc.y / -pc.z;
   raster = {(px - left) / (right - left) * width_, (top - py) / (top - bottom) * height_};
   return true;
+}
+
+bool Camera::raster_through_lens(Vec3 lens_point, Vec3 d, Vec2 &raster, float &cos_theta) const {
+  if (!(aperture_radius > 0)) return raster_of_direction(d, raster, cos_theta);
+  cos_theta = dot(d, forward_);
+  if (type != Type::Perspective || cos_theta <= 0) return false;
+  // As importance(): in camera space, through the ray's point on the focal plane.
+  Vec3 pc = to_camera_.vector(lens_point - position()) + to_camera_.vector(d) * (focus_distance / cos_theta);
+  if (pc.z >= 0) return false;
+  float px = pc.x / -pc.z, py = pc.y / -pc.z;
+  raster = {(px - left) / (right - left) * width_, (top - py) / (top - bottom) * height_};
+  return true;
+}
+
+bool Camera::raster_of_point(Vec3 p, Vec2 &raster, Vec3 &plane_point) const {
+  Vec3 pc = to_camera_.point(p);
+  if (type != Type::Orthographic || pc.z >= 0) return false;
+  raster = {(pc.x - left) / (right - left) * width_, (top - pc.y) / (top - bottom) * height_};
+  plane_point = to_world.point(Vec3(pc.x, pc.y, 0));
+  return true;
+}
+
+float Camera::image_plane_area() const {
+  return viewplane_area() * length(cross(to_world.column(0), to_world.column(1)));
+}
+
+Vec2 Camera::lens_of_point(Vec3 p) const {
+  Vec3 pc = to_camera_.point(p);
+  return {pc.x, pc.y};
+}
+
+float Camera::aperture_area() const {
+  if (!(aperture_radius > 0)) return 1.0f;
+  const float r2 = aperture_radius * aperture_radius;
+  if (blades >= 3) return 0.5f * float(blades) * std::sin(2.0f * kPi / float(blades)) * r2;
+  return kPi * r2;
 }
 
 void Camera::importance_pdf(const Ray &ray, float &pdf_pos, float &pdf_dir) const {

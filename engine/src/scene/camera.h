@@ -42,6 +42,17 @@ struct Camera {
   // length; lens_point receives the point on the lens the ray comes from, cone the
   // ray's footprint (one pixel wide; core/ray_cone.h).
   Ray generate_ray(Vec2 raster, Vec2 u_lens, Vec3 *lens_point = nullptr, RayCone *cone = nullptr) const;
+  // The same ray from a given point of the aperture (`lens`: its offset from the lens centre
+  // in camera space, as lens_sample makes it; ignored by a pinhole).
+  Ray generate_ray_from_lens(Vec2 raster, Vec2 lens) const;
+  // A point of the aperture, uniform over it (disk or polygon), as its camera-space offset
+  // and in the world; and the offset of a world point on the aperture's plane.
+  Vec2 lens_sample(Vec2 u) const;
+  Vec3 lens_to_world(Vec2 lens) const { return to_world.point(Vec3(lens.x, lens.y, 0)); }
+  Vec2 lens_of_point(Vec3 p) const;
+  // The aperture's true area (pi r^2, or the polygon's); 1 for a pinhole. lens_area() is
+  // pi r^2 for every aperture: BDPT's strategies use it on both sides, where it cancels.
+  float aperture_area() const;
 
   // ---- Importance, for light tracing and BDPT's t = 1 strategies (pbrt's We) ----
   // Only perspective cameras (pinhole or thin lens) can be reached by light paths;
@@ -63,13 +74,22 @@ struct Camera {
   // Perspective cameras: where a ray from the pinhole along unit d lands on the image
   // (raster, not limited to the image) and its cosine to the view axis; false behind.
   bool raster_of_direction(Vec3 d, Vec2 &raster, float &cos_theta) const;
+  // Perspective cameras with a thin lens: where the ray from lens_point (on the aperture)
+  // along unit d lands on the image (through its point on the focal plane); a pinhole:
+  // raster_of_direction.
+  bool raster_through_lens(Vec3 lens_point, Vec3 d, Vec2 &raster, float &cos_theta) const;
+  // Orthographic cameras: the raster position of the world point p (not limited to the
+  // image) and its foot on the image plane (where its camera ray starts); false behind.
+  bool raster_of_point(Vec3 p, Vec2 &raster, Vec3 &plane_point) const;
+  // The orthographic image's area on its plane, in scene units squared.
+  float image_plane_area() const;
   // The image's area on the viewplane at unit distance (perspective).
   float viewplane_area() const { return (right - left) * (top - bottom); }
   Vec3 position() const { return to_world.column(3); }
   Vec3 forward() const { return forward_; }
 
  private:
-  Vec2 lens_sample(Vec2 u) const;
+  Ray ray_from(Vec2 raster, const Vec2 *lens, Vec3 *lens_point, RayCone *cone) const;
   int width_ = 1, height_ = 1;
   Transform to_camera_;
   Vec3 forward_{0, 0, -1};

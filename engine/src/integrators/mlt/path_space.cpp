@@ -120,11 +120,10 @@ void PathSpace::set_specular_paths(bool found) {
 
 std::string PathSpace::unsupported(const Scene &scene, const RenderSettings &settings) {
   const Camera &camera = scene.camera();
-  if (camera.type != Camera::Type::Perspective)
-    return "the camera is orthographic; mlt samples perspective pinhole cameras only (use bdpt or pssmlt)";
-  if (camera.aperture_radius > 0)
-    return "the camera has depth of field (aperture radius " + std::to_string(camera.aperture_radius) +
-           "); mlt samples pinhole cameras only (use bdpt or pssmlt)";
+  if (camera.type == Camera::Type::Orthographic && camera.aperture_radius > 0)
+    return "the camera is orthographic with depth of field (aperture radius " + std::to_string(camera.aperture_radius) +
+           "); mlt samples orthographic cameras without it and perspective ones with or without (use bdpt or pssmlt, "
+           "or set the aperture to 0)";
   // A clamp caps one sample's estimate (f / p of one strategy, MIS-weighted), which depends
   // on how the path was sampled; a Metropolis chain's f is a function of the path alone,
   // with no estimate to cap (docs/mlt.md). pssmlt / mmlt clamp BDPT's estimates.
@@ -226,12 +225,23 @@ bool PathSpace::trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &sta
   return false;
 }
 
-bool PathSpace::camera_vertex(ExplicitVertex &z) const {
+bool PathSpace::camera_vertex(Pcg32 &rng, ExplicitVertex &z) const {
+  const Camera &camera = scene_.camera();
   PathVertex &v = bdpt::fresh_vertex(z.v);
   v.type = VertexType::Camera;
-  v.p = scene_.camera().position();
+  v.p = camera.position();  // orthographic: moved to x_1's foot on the image plane by evaluate()
+  if (camera.aperture_radius > 0) {
+    Vec2 u{rng.next_float(), rng.next_float()};
+    v.p = camera.lens_to_world(camera.lens_sample(u));
+  }
   if (media_) v.media = MediumStack::for_camera(scene_);
   return true;
+}
+
+Ray PathSpace::camera_ray(const ExplicitVertex &camera_vertex, Vec2 raster) const {
+  const Camera &camera = scene_.camera();
+  if (camera.aperture_radius > 0) return camera.generate_ray_from_lens(raster, camera.lens_of_point(camera_vertex.v.p));
+  return camera.generate_ray(raster, Vec2(0.5f, 0.5f));
 }
 
 bool PathSpace::light_vertex(Pcg32 &rng, ExplicitVertex &z, Vec3 &dir) const {
@@ -275,7 +285,11 @@ MediumStack PathSpace::stack_toward(const ExplicitVertex &z, Vec3 w) const {
 // z's camera-side neighbour is now `camera_side`: its wo, its media on that side and
 // (surfaces) its BSDF follow (path_space.h: f's rule).
 void PathSpace::settle(ExplicitVertex &z, const ExplicitVertex &camera_side) const {
-  Vec3 w = normalize(camera_side.v.p - z.v.p);
+  const Camera &camera = scene_.camera();
+  // An orthographic camera sees x_1 along its view axis, wherever x_1 is.
+  Vec3 w = camera_side.v.type == VertexType::Camera && camera.type == Camera::Type::Orthographic
+               ? -camera.forward()
+               : normalize(camera_side.v.p - z.v.p);
   if (z.v.type == VertexType::Surface) {
     if (media_) z.v.media = z.v.media_toward(scene_, w);
     z.v.bsdf = scene_.bsdf(z.hit, w, 0);
@@ -290,7 +304,7 @@ bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, Ray
   if (prev.v.type == VertexType::Camera) {
     // A raster point uniform over the sample region, through the pinhole.
     Vec2 raster{sample_origin_.x + rng.next_float() * sample_size_.x, sample_origin_.y + rng.next_float() * sample_size_.y};
-    ray = scene_.camera().generate_ray(raster, Vec2(0.5f, 0.5f));
+    ray = camera_ray(prev, raster);
     media = prev.v.media;
   } else {
     Vec3 wi;
@@ -359,7 +373,7 @@ bool PathSpace::extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayS
 bool PathSpace::regenerate(ExplicitPath &y, int l, int na, int j, Pcg32 &rng, RayStats &stats) const {
   for (int i = 0; i < j; ++i) {
     int at = l + 1 + i;
-    if (at == 0) camera_vertex(y.x[0]);
+    if (at == 0) camera_vertex(rng, y.x[0]);
     else if (!extend_from_camera_side(y, at, rng, stats)) return false;
   }
   if (l + j + 1 == 0) return false;  // the camera cannot be reached from the light side
@@ -483,20 +497,36 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   const bool lamp = light.type != LightType::Triangle;  // not in the BVH: no walk reaches it
   if (n == 2 && lamp && !light.visible_camera()) return;  // Cycles never shows lamps to the camera
 
-  // The camera: We = 1 / (A cos^4) (pbrt's pinhole) for a raster point in the sample region.
+  // The camera, for a raster point in the sample region (pbrt's We). A pinhole or a thin
+  // lens: We = 1 / (A A_lens cos^4), A the image's area at unit distance, x_0 on the
+  // aperture (a pinhole: A_lens = 1), the raster point where the ray from x_0 to x_1
+  // crosses the focal plane. Orthographic: x_0 is x_1's foot on the image plane (the
+  // direction is a delta along the view axis), We = 1 / A_plane per unit of plane area,
+  // and the first edge has no 1 / d^2 (dA_plane = cos_1 dA_1).
   const Camera &camera = scene_.camera();
-  Vec3 w0 = normalize(y.x[1].v.p - y.x[0].v.p);
+  const bool ortho = camera.type == Camera::Type::Orthographic;
   Vec2 raster;
-  float cos0;
-  if (!camera.raster_of_direction(w0, raster, cos0)) return;
+  Vec3 w0;
+  float cos0 = 1;
+  double pdf_x1_dir;  // camera side: x_1's density per unit solid angle (ortho: per plane area)
+  Color f;
+  if (ortho) {
+    if (!camera.raster_of_point(y.x[1].v.p, raster, y.x[0].v.p)) return;
+    w0 = camera.forward();
+    f = Color(float(1.0 / camera.image_plane_area()));
+    pdf_x1_dir = (double(image_area_) / region_area_) / camera.image_plane_area();
+  } else {
+    w0 = normalize(y.x[1].v.p - y.x[0].v.p);
+    if (!camera.raster_through_lens(y.x[0].v.p, w0, raster, cos0)) return;
+    const double area = camera.viewplane_area(), c2 = double(cos0) * cos0;
+    f = Color(float(1.0 / (area * camera.aperture_area() * c2 * c2) * cos0));
+    pdf_x1_dir = (double(image_area_) / region_area_) / (area * c2 * cos0);
+  }
   if (!(raster.x >= sample_origin_.x && raster.x < sample_origin_.x + sample_size_.x &&
         raster.y >= sample_origin_.y && raster.y < sample_origin_.y + sample_size_.y))
     return;
   float depth = dot(y.x[1].v.p - camera.position(), camera.forward());
   if (depth < camera.clip_start || depth > camera.clip_end) return;
-  const double area = camera.viewplane_area();
-  const double c2 = double(cos0) * cos0;
-  Color f(float(1.0 / (area * c2 * c2) * cos0));
 
   // Cycles' Light Paths limits: each scattering vertex's kind, as the path tracer labels it
   // (its BSDF built toward the camera, the direction toward the light), counted over every
@@ -512,12 +542,13 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     Vec3 d = b.v.p - a.v.p;
     float d2 = length_squared(d);
     if (!(d2 > 0)) return;
-    Vec3 w = d / std::sqrt(d2);
+    Vec3 w = i == 0 ? w0 : d / std::sqrt(d2);
     if (too_short_at_specular(a.v, b.v, std::sqrt(d2))) return;
     EdgeTrace e;
     if (!trace_edge(a, b, w, e, stats)) return;
     const float cos_b = cosine_at(b.v, w), cos_a = cosine_at(a.v, w);
-    f *= e.tr * (cos_b / d2);
+    const float geometry = i == 0 && ortho ? cos_b : cos_b / d2;
+    f *= e.tr * geometry;
     // Scattering at a (interior vertices), toward b. A specular vertex: the coefficient
     // of its Dirac delta (about the direction toward b), which its densities share.
     float pdf_delta = 0, jacobian = 1;
@@ -545,16 +576,16 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     // side (b scattered toward it): area measure, times the free flight.
     double pdf_b = 0;
     if (i == 0) {
-      pdf_b = (double(image_area_) / region_area_) / (area * c2 * cos0);
+      pdf_b = pdf_x1_dir;
     } else if (a.v.type == VertexType::Surface) {
       pdf_b = a.v.delta ? pdf_delta : a.v.bsdf.pdf(a.v.wo, w);
     } else {
       pdf_b = scene_.medium(a.v.medium).phase.pdf(a.v.wo, w);
     }
-    y.fwd[size_t(i + 1)] = pdf_b * cos_b / d2 * e.fwd;
+    y.fwd[size_t(i + 1)] = i == 0 && ortho ? pdf_b * cos_b * e.fwd : pdf_b * cos_b / d2 * e.fwd;
     double pdf_a = 0;
     if (i == 0) {
-      pdf_a = 0;  // nothing reaches the pinhole
+      pdf_a = 0;  // the camera vertex is always sampled from the camera side
     } else if (i + 1 == n - 1) {
       if (is_sphere_lamp(light)) {
         pdf_a = sphere_lamp_direction_pdf(light, b.v.ng, -w);
@@ -583,7 +614,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     y.rev[size_t(i)] = pdf_a * y.rev_area[size_t(i)];
   }
   f *= emitted(last, normalize(y.x[size_t(n - 2)].v.p - last.v.p));
-  y.fwd[0] = 1;  // the pinhole
+  y.fwd[0] = 1.0 / camera.aperture_area();  // a point uniform on the aperture (pinhole, orthographic: 1)
   // The camera side reaches the light where its last ray meets it first: a lamp's sphere
   // where the ray enters it (emitted() is 0 from inside), another lamp's sphere on the
   // way takes the ray instead; point and spot lamps without a radius are never reached.
@@ -810,7 +841,7 @@ Proposal PathSpace::perturb_lens(const ExplicitPath &x, Pcg32 &rng, RayStats &st
   y.reserve(max_vertices_);
   y.n = x.n;
   for (int i = 0; i < x.n; ++i) y.x[size_t(i)] = x.x[size_t(i)];
-  Ray ray = scene_.camera().generate_ray(raster, Vec2(0.5f, 0.5f));
+  Ray ray = camera_ray(y.x[0], raster);
   if (!trace_step(ray, y.x[0].v.media, rng, stats, y.x[1])) return proposal;
   settle(y.x[1], y.x[0]);
   // Through the specular chain as the camera walk samples it: each of y_1 .. y_(c-1) must

@@ -144,7 +144,11 @@ class PathSpace {
   // The sphere lamp (lights/sphere_lamp.h) the ray o + t d enters first for t < tmax
   // (its index, t), or -1.
   int first_sphere_lamp(Vec3 o, Vec3 d, float tmax, float &t) const;
-  bool camera_vertex(ExplicitVertex &z) const;
+  // x_0: the pinhole, a point uniform on a thin lens's aperture, or (orthographic) a
+  // stand-in that evaluate() moves to x_1's foot on the image plane.
+  bool camera_vertex(Pcg32 &rng, ExplicitVertex &z) const;
+  // The camera ray from x_0 through a raster point (a thin lens: from x_0's lens point).
+  Ray camera_ray(const ExplicitVertex &camera_vertex, Vec2 raster) const;
   bool light_vertex(Pcg32 &rng, ExplicitVertex &z, Vec3 &dir) const;
   bool extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats) const;
   bool extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats) const;
