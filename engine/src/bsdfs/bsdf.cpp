@@ -494,6 +494,15 @@ KindSplit Bsdf::kind_split(Vec3 wo_w, Vec3 wi_w, bool delta) const {
   Vec3 wo, wi;
   bool flipped;
   if (!delta && n_ > 0 && local_pair(wo_w, wi_w, wo, wi, flipped)) {
+    // Lobes all of one kind on this side (a plain diffuse surface): the split is that
+    // kind's whole, with no lobe to evaluate. (A path with a share has f > 0 here.)
+    int single = -1;
+    for (int i = 0; i < n_ && single != -2; ++i)
+      if (!lobes_[i].is_delta()) {
+        const int k = pass_kind(lobes_[i].type, reflection);
+        single = single == -1 || single == k ? k : -2;
+      }
+    if (single >= 0) return KindSplit::only(single);
     LobeScratch scratch;
     LayerScales layers;
     if (num_layers_) layer_scales(wo, wi, layers);

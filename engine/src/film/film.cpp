@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 namespace rdv {
 
@@ -67,15 +69,17 @@ void Film::put_tile(const FilmTile &tile) {
 
 // Calls add(pixel index, weight) for every pixel whose filter covers `raster`, with the
 // same normalised Blackman-Harris weights filter importance sampling gives camera samples.
+// Only rows [row0, row1) (a band of the region's rows).
 template <class Add>
-static void splat_footprint(Vec2 raster, const PixelFilter &filter, const Rect &region, int width, const Add &add) {
+static void splat_footprint(Vec2 raster, const PixelFilter &filter, const Rect &region, int width, int row0, int row1,
+                            const Add &add) {
   float radius = filter.radius();
   float norm = 1.0f / (filter.integral() * filter.integral());
   int x0 = std::max(region.x0, int(std::floor(raster.x - radius - 0.5f)));
   int x1 = std::min(region.x1 - 1, int(std::ceil(raster.x + radius - 0.5f)));
-  int y0 = std::max(region.y0, int(std::floor(raster.y - radius - 0.5f)));
-  int y1 = std::min(region.y1 - 1, int(std::ceil(raster.y + radius - 0.5f)));
-  if (x1 < x0) return;
+  int y0 = std::max(std::max(region.y0, row0), int(std::floor(raster.y - radius - 0.5f)));
+  int y1 = std::min(std::min(region.y1, row1) - 1, int(std::ceil(raster.y + radius - 0.5f)));
+  if (x1 < x0 || y1 < y0) return;
   // The filter is separable: its weights along x are the same for every row.
   std::array<float, PixelFilter::kMaxTaps> wx;
   for (int x = x0; x <= x1; ++x) wx[x - x0] = filter.evaluate(raster.x - (x + 0.5f));
@@ -95,8 +99,21 @@ static void add_to(std::array<double, 3> &sum, const Color &c) {
   sum[2] += c.z;
 }
 
+void Film::for_each_row_band(const std::function<void(int, int)> &band) {
+  const int rows = region_.height();
+  // A few bands per thread, so one band with the image's bright spot does not hold the rest.
+  const int bands = std::clamp(4 * tbb::this_task_arena::max_concurrency(), 1, std::max(rows, 1));
+  if (bands == 1) {
+    band(region_.y0, region_.y1);
+    return;
+  }
+  tbb::parallel_for(0, bands, [&](int b) {
+    band(region_.y0 + int(int64_t(rows) * b / bands), region_.y0 + int(int64_t(rows) * (b + 1) / bands));
+  });
+}
+
 void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b, uint8_t strategy,
-                     const SplatLightPass &light_pass) {
+                     const SplatLightPass &light_pass, int y0, int y1) {
   if (!is_finite(L)) return;
   const bool half = half_b && has_halves();
   // Its strategy pass's and light passes' splat sums, when the film keeps them: one
@@ -113,7 +130,7 @@ void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_
         kind_L[n_kinds] = L * light_pass.first.w[k];
         kind_slot[n_kinds++] = uint8_t(light_pass_slot(k, light_pass.indirect));
       }
-  splat_footprint(raster, filter, region_, width_, [&](size_t i, float w) {
+  splat_footprint(raster, filter, region_, width_, y0, y1, [&](size_t i, float w) {
     Color c = L * w;
     add_to(splats_[i], c);
     if (half) add_to(half_splats_[i], c);

@@ -133,9 +133,15 @@ void TileIntegrator::render(RenderContext &ctx) {
     done = last;
     {
       Film::PassPublisher frame(ctx.film);
-      for (TileSplats &splats : tile_splats) {  // in tile order: the same sums on any thread count
-        for (const Splat &sp : splats.a) frame.add_splat(sp.raster, sp.L, ctx.filter, false, sp.strategy, sp.light_pass);
-        for (const Splat &sp : splats.b) frame.add_splat(sp.raster, sp.L, ctx.filter, true, sp.strategy, sp.light_pass);
+      ctx.arena.execute([&] {
+        frame.add_splats(ctx.filter, [&](const auto &visit) {  // in tile order: the same sums on any thread count
+          for (const TileSplats &splats : tile_splats) {
+            for (const Splat &sp : splats.a) visit(sp.raster, sp.L, false, sp.strategy, sp.light_pass);
+            for (const Splat &sp : splats.b) visit(sp.raster, sp.L, true, sp.strategy, sp.light_pass);
+          }
+        });
+      });
+      for (const TileSplats &splats : tile_splats) {
         paths += splats.paths;
         half_b_paths += splats.half_b_paths;
       }
