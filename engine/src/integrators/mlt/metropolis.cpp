@@ -464,10 +464,13 @@ void Metropolis::render(RenderContext &ctx) {
       // ask for an estimate: chains are independent, their samples are not.
       Film::PassPublisher frame(ctx.film);
       const bool halves = n_chains > 1 && settings_.estimates_noise();
-      for (size_t c = 0; c < chains.size(); ++c) {
-        for (const Splat &sp : chains[c].splats) frame.add_splat(sp.raster, sp.L, ctx.filter, halves && (c & 1));
-        chains[c].splats.clear();
-      }
+      ctx.arena.execute([&] {
+        frame.add_splats(ctx.filter, [&](const auto &visit) {  // in chain order: the same sums on any thread count
+          for (size_t c = 0; c < chains.size(); ++c)
+            for (const Splat &sp : chains[c].splats) visit(sp.raster, sp.L, halves && (c & 1), sp.strategy, sp.light_pass);
+        });
+      });
+      for (Chain &chain : chains) chain.splats.clear();
       if (done > 0)
         frame.publish(uint32_t(std::min<uint64_t>(done / region_pixels, UINT32_MAX)), {b_now, double(done)},
                       halves ? HalfSplit::Splats : HalfSplit::None, {b_now, double(done_b)},
