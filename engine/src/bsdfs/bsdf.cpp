@@ -548,8 +548,19 @@ void Bsdf::kind_colors(Vec3 wo_w, Color out[kColorKinds]) const {
   }
 }
 
+float Bsdf::blur_threshold() const {
+  float threshold = kInf;
+  for (int i = 0; i < n_; ++i) {
+    const Lobe &l = lobes_[i];
+    if (l.type == LobeType::SpecularConductor || l.type == LobeType::SmoothDielectric) return -1;
+    if (l.type == LobeType::GgxConductor || l.type == LobeType::GgxDielectric)
+      threshold = std::min(threshold, std::min(l.ggx.ax, l.ggx.ay));
+  }
+  return threshold;
+}
+
 void Bsdf::blur(float alpha) {
-  if (GgxDistribution{alpha, alpha}.is_smooth()) return;  // too small to make anything rough
+  if (!blur_acts(alpha)) return;  // too small to make anything rough
   for (int i = 0; i < n_; ++i) {
     Lobe &l = lobes_[i];
     switch (l.type) {

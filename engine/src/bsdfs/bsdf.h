@@ -201,6 +201,13 @@ class Bsdf {
   // least `alpha` rough (alpha_x, alpha_y); perfect mirrors and smooth glass become GGX
   // lobes of that roughness, as Cycles renders Sharp closures as GGX with the filter on.
   void blur(float alpha);
+  // Whether blur(alpha) changes this BSDF: alpha is rough enough to act and some lobe is a
+  // perfect mirror, smooth glass or a GGX lobe smoother than alpha in some direction.
+  bool blur_changes(float alpha) const { return blur_acts(alpha) && alpha > blur_threshold(); }
+  // The roughness above which blur() changes some lobe (-1: a sharp lobe, which any acting
+  // blur changes; infinite: no microfacet lobe), and whether alpha acts at all.
+  float blur_threshold() const;
+  static bool blur_acts(float alpha) { return !GgxDistribution{alpha, alpha}.is_smooth(); }
   void kind_colors(Vec3 wo, Color out[kColorKinds]) const;
   const Frame &frame() const { return frame_; }
   Vec3 geometric_normal() const { return ng_; }

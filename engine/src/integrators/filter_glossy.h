@@ -8,11 +8,20 @@
 // is blurred, and one seen straight or in a sharp mirror is not. It trades a bias for
 // less noise from paths that are unlikely to be sampled.
 //
-// The blurred BSDF depends on how the path reached the vertex from the camera, so only an
-// integrator that builds every path from the camera can apply it: the path tracer. BDPT's
-// light subpaths (and the Metropolis integrators built on them) would sample a vertex's
-// BSDF before its camera-side history exists, and their strategies would then estimate
-// different images; they render unfiltered and the engine says so.
+// The blurred BSDF at a vertex is a function of the path's camera-side prefix (its camera-
+// side densities), so the path's contribution f is one function however the path was
+// sampled, and BDPT (with pssmlt and mmlt, which sample its strategies) estimates the
+// same image as the path tracer (docs/bdpt.md, Filter Glossy):
+//  - camera subpaths sample and evaluate the blurred BSDF, as the path tracer does;
+//  - light subpaths sample the unblurred BSDF, which is the path's BSDF wherever the blur
+//    leaves it unchanged; a strategy whose light walk sampled a direction at a vertex the
+//    blur changes (by that path's camera-side densities) cannot make the path: it adds
+//    nothing, and the MIS weights of every strategy leave it out (a property of the path,
+//    so the weights still sum to one); the light vertex a strategy connects at is
+//    evaluated with its blurred BSDF. Strategies that sample from the camera side (s = 0,
+//    next-event estimation, and every connection nearer the light than the blurred
+//    vertices) always remain.
+// Path-space mlt evaluates paths without this rule: it renders unfiltered and warns.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -29,8 +38,10 @@ struct FilterGlossy {
   // A scattering sampled its direction with density pdf (not for delta lobes).
   void scattered(float pdf) { min_pdf = std::min(min_pdf, pdf); }
   // The roughness (alpha) every microfacet lobe at the next surface gets at least; 0: none.
-  float alpha() const {
-    const float p = min_pdf * inv_blur;
+  float alpha() const { return alpha_after(min_pdf); }
+  // The same for a path whose smallest density so far is min_density.
+  float alpha_after(float min_density) const {
+    const float p = min_density * inv_blur;
     return p < 1 ? 0.5f * std::sqrt(1.0f - p) : 0.0f;
   }
 };

@@ -27,15 +27,21 @@ static bdpt::BdptSettings bdpt_settings(const RenderSettings &settings, const Sc
   b.mis = settings.mis == "balance"             ? bdpt::MisHeuristic::Balance
           : settings.mis == "lafortune_willems" ? bdpt::MisHeuristic::LafortuneWillems
                                                 : bdpt::MisHeuristic::Power;
+  if (b.mis == bdpt::MisHeuristic::LafortuneWillems && settings.limits.filter_glossy > 0) {
+    // Their split gives each strategy a share whether or not it can make the path, and
+    // Filter Glossy takes the light-walk strategies from some paths (filter_glossy.h).
+    log_warning("mis 'lafortune_willems' cannot be combined with filter_glossy (Filter Glossy): BDPT uses the "
+                "power heuristic");
+    b.mis = bdpt::MisHeuristic::Power;
+  }
   return b;
 }
 
 std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, const Scene &scene) {
   if (settings.integrator == "path") return std::make_unique<PathTracer>(scene, settings.max_bounces, settings.limits, film_alpha(settings, scene));
-  if (settings.limits.filter_glossy > 0 && settings.integrator != "auto")
-    log_warning("filter_glossy (Filter Glossy) is applied by the path tracer only: " + settings.integrator +
-                " renders glossy surfaces unfiltered (their strategies cannot share one roughened BSDF; README, "
-                "Filter Glossy)");
+  if (settings.limits.filter_glossy > 0 && settings.integrator == "mlt")
+    log_warning("filter_glossy (Filter Glossy) is applied by path, bdpt, pssmlt and mmlt: mlt (path space) renders "
+                "glossy surfaces unfiltered (its mutations evaluate paths without the blur; README, Filter Glossy)");
   if (scene.has_mixed_visibility() && settings.integrator != "path")
     log_warning(scene.mixed_visibility_object() + " is seen by some kinds of ray but not by others (ray visibility): " +
                 "light subpaths cannot follow that, so " + settings.integrator +

@@ -46,6 +46,9 @@ struct ConnectionDensities {
   // camera path could not have found the light (something visible to its kind lies
   // between), so s = 0 is no strategy for this path.
   bool s0_impossible = false;
+  // Filter Glossy: the connection's light vertex q_s has a BSDF the blur changed (by the
+  // path's camera-side densities), so no light walk could have sampled past it.
+  bool qs_blurred = false;
 };
 
 // The MIS sums of a subpath's far end (Veach 1997, sec. 10.2, as running sums): for
@@ -153,7 +156,13 @@ class Bdpt final : public TileIntegrator {
   bool limits_keep(const PathVertex *light_path, const PathVertex *camera_path, int s, int t, ScatterKind kc,
                    ScatterKind kl) const;
   // Vertex helpers (connect.cpp).
-  Scattering scatter(const PathVertex &v, Vec3 wi, TransportMode mode) const;
+  // bsdf: the BSDF to use at a surface instead of v's (Filter Glossy's blurred one).
+  Scattering scatter(const PathVertex &v, Vec3 wi, TransportMode mode, const Bsdf *bsdf = nullptr) const;
+  // Filter Glossy (filter_glossy.h): whether the blur leaves the light walk's vertices
+  // light_path[s - 2] .. light_path[1] unchanged, given the smallest camera-side density of
+  // the path up to light_path[s - 2] (its scatterings at the camera vertices and at
+  // light_path[s - 1] toward light_path[s - 2]).
+  bool light_walk_unblurred(const PathVertex *light_path, int s, float min_pdf) const;
   // Scenes with mixed visibility: the last segment of the path is tested against what
   // casts each light's shadows (integrators/visibility_clear.h), counting rays in stats.
   Color Le(const PathVertex &v, const PathVertex &toward, RayStats &stats) const;

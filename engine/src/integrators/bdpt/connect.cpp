@@ -5,6 +5,7 @@
 #include "media/medium_stack.h"
 #include "samplers/dimension_layout.h"
 #include "integrators/bdpt/bdpt.h"
+#include "integrators/filter_glossy.h"
 #include "integrators/visibility_clear.h"
 
 namespace rdv::bdpt {
@@ -13,14 +14,14 @@ static Vec3 direction_to(const PathVertex &from, const PathVertex &to) {
   return to.infinite ? to.dir : normalize(to.p - from.p);
 }
 
-Scattering Bdpt::scatter(const PathVertex &v, Vec3 wi, TransportMode mode) const {
+Scattering Bdpt::scatter(const PathVertex &v, Vec3 wi, TransportMode mode, const Bsdf *bsdf) const {
   Scattering sc;
   if (v.type == VertexType::Medium) {
     const HenyeyGreenstein &phase = scene_.medium(v.medium).phase;
     sc.f = Color(phase.eval(v.wo, wi));
     sc.pdf_fwd = sc.pdf_rev = phase.pdf(v.wo, wi);  // symmetric, and sampled exactly
   } else if (v.type == VertexType::Surface) {
-    sc.f = v.bsdf.f_and_pdfs(v.wo, wi, mode, sc.pdf_fwd, sc.pdf_rev);
+    sc.f = (bsdf ? *bsdf : v.bsdf).f_and_pdfs(v.wo, wi, mode, sc.pdf_fwd, sc.pdf_rev);
   }
   return sc;
 }
@@ -50,6 +51,17 @@ Color Bdpt::Le(const PathVertex &v, const PathVertex &toward, RayStats &stats) c
                         scene_.lights()[v.light].occluders(), false, stats.rays))
     return Color(0.0f);
   return v.emitted;  // lamps, and emissive surfaces (both sides; textures evaluated at the hit)
+}
+
+bool Bdpt::light_walk_unblurred(const PathVertex *light_path, int s, float min_pdf) const {
+  const FilterGlossy filter(settings_.limits.filter_glossy);
+  for (int j = s - 2; j >= 1; --j) {
+    const PathVertex &v = light_path[j];
+    const float alpha = filter.alpha_after(min_pdf);
+    if (Bsdf::blur_acts(alpha) && alpha > v.blur_threshold) return false;
+    min_pdf = std::min(min_pdf, v.filter_pdf);
+  }
+  return true;
 }
 
 bool Bdpt::light_start_visible(const PathVertex *light_path, int s, Vec3 wi) const {
@@ -117,6 +129,9 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     if constexpr (kMedia) sampled.media = MediumStack::for_camera(scene_);
     if (connection_dir) *connection_dir = direction_to(qs, sampled);
     Scattering sq = scatter(qs, direction_to(qs, sampled), TransportMode::Importance);
+    // Filter Glossy: seen straight from the camera, qs is never blurred; the light walk's
+    // vertices before it must not be (filter_glossy.h).
+    if (limits.filter_glossy > 0 && s >= 3 && !light_walk_unblurred(light_path, s, sq.pdf_rev)) return L;
     L = qs.beta * sq.f * sampled.beta;
     if (qs.on_surface()) L *= absdot(is.wi, qs.ns);
     if (!is_black(L))
@@ -189,15 +204,39 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
   } else {
     // Both ends are surface or medium vertices (finite points).
     PathVertex &qs = light_path[s - 1];
-    if (!qs.connectible(scene_) || !pt.connectible(scene_)) return L;
+    // Filter Glossy (filter_glossy.h): qs may be blurred (a smooth one made connectible).
+    const bool filter = limits.filter_glossy > 0;
+    if ((!filter && !qs.connectible(scene_)) || !pt.connectible(scene_)) return L;
     Vec3 dir = normalize(pt.p - qs.p);
     if (connection_dir) *connection_dir = -dir;
     if (limits.classify && !limits_keep(light_path, camera_path, s, t, kind_toward(pt, -dir), kind_toward(qs, dir)))
       return L;
     if (!light_start_visible(light_path, s, dir)) return L;
-    Scattering sq = scatter(qs, dir, TransportMode::Importance);
-    if (is_black(sq.f)) return L;  // nothing to trace a shadow ray for
-    Scattering sp = scatter(pt, -dir, TransportMode::Radiance);
+    Scattering sq, sp;
+    if (filter) {
+      // qs's BSDF as the path has it: blurred by the camera side's smallest density,
+      // pt's scattering toward qs included.
+      sp = scatter(pt, -dir, TransportMode::Radiance);
+      if (is_black(sp.f)) return L;
+      float min_pdf = std::min(pt.filter_pdf, sp.pdf_fwd);
+      const float alpha = FilterGlossy(limits.filter_glossy).alpha_after(min_pdf);
+      Bsdf blurred;
+      if (qs.type == VertexType::Surface && qs.bsdf.blur_changes(alpha)) {
+        blurred = qs.bsdf;
+        blurred.blur(alpha);
+        if (!blurred.has_lobes() || blurred.is_delta()) return L;
+        densities.qs_blurred = true;
+      } else if (!qs.connectible(scene_)) {
+        return L;
+      }
+      sq = scatter(qs, dir, TransportMode::Importance, densities.qs_blurred ? &blurred : nullptr);
+      if (is_black(sq.f)) return L;
+      if (s >= 3 && !light_walk_unblurred(light_path, s, std::min(min_pdf, sq.pdf_rev))) return L;
+    } else {
+      sq = scatter(qs, dir, TransportMode::Importance);
+      if (is_black(sq.f)) return L;  // nothing to trace a shadow ray for
+      sp = scatter(pt, -dir, TransportMode::Radiance);
+    }
     L = qs.beta * sq.f * sp.f * pt.beta;
     if (is_black(L)) return L;
     // The geometry term and the two area-measure conversions share one distance.

@@ -57,7 +57,9 @@ static double ratio(float rev, const PathVertex &v) { return double(remap0(rev))
 
 void set_mis_sum(PathVertex *path, int k, bool delta_before, bool balance) {
   double r = ratio(path[k].pdf_rev, path[k]);
-  double below = k > 0 ? path[k - 1].mis_sum : 0.0;
+  // Filter Glossy: the strategies below would have a light walk sample at a vertex the
+  // blur changed (filter_glossy.h): they cannot make the path.
+  double below = k > 0 && !path[k].blurred ? path[k - 1].mis_sum : 0.0;
   path[k].mis_sum = (balance ? r : r * r) * ((!path[k].delta && !delta_before ? 1.0 : 0.0) + below);
 }
 
@@ -117,15 +119,20 @@ float Bdpt::mis_weight(const PathVertex *light_path, const PathVertex *camera_pa
   // further down each subpath are summed once per subpath (mis_sum). The connection
   // vertices are connectible by construction (never delta here).
   double sum = 0;
-  // Camera side: strategies with fewer camera vertices (i = t - 1 down to 1).
-  if (t >= 2) {
+  // Camera side: strategies with fewer camera vertices (i = t - 1 down to 1). Filter
+  // Glossy: each has its light walk sample at the vertices from its connection up to this
+  // strategy's light vertex (qs), so it cannot make the path once one of them was blurred
+  // (filter_glossy.h; set_mis_sum stops the running sums there). An emitter the camera
+  // path found (s = 0) is no scattering vertex.
+  if (t >= 2 && !c.qs_blurred) {
     const PathVertex &pt_minus = camera_path[t - 2];
-    double r = ratio(c.pt_rev, camera_path[t - 1]);
+    const PathVertex &pt = camera_path[t - 1];
+    double r = ratio(c.pt_rev, pt);
     if (!pt_minus.delta) sum += power(r);
-    if (t >= 3) {
+    if (t >= 3 && !(s > 0 && pt.blurred)) {
       const PathVertex &below = camera_path[t - 3];
       r *= ratio(c.pt_minus_rev, pt_minus);
-      sum += power(r) * ((!pt_minus.delta && !below.delta ? 1.0 : 0.0) + below.mis_sum);
+      sum += power(r) * ((!pt_minus.delta && !below.delta ? 1.0 : 0.0) + (pt_minus.blurred ? 0.0 : below.mis_sum));
     }
   }
   // Light side: strategies with fewer light vertices (i = s - 1 down to 0). The light

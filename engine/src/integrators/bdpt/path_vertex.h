@@ -57,6 +57,15 @@ struct PathVertex {
   float holdout = 0;  // scenes with holdouts: what of this surface is held out (Scene::holdout_weight)
   bool caustics_ok = true;
   BounceCounts counts;
+  // Filter Glossy (integrators/filter_glossy.h; set only when it is on). Camera subpaths:
+  // filter_pdf, the smallest density of the scatterings before this vertex (what its BSDF
+  // was blurred by), and blurred: the blur changed its BSDF. Light subpaths: filter_pdf,
+  // the density (solid angle) with which a camera walk scattering here samples the
+  // direction toward the vertex before it (infinite for a delta event), and blur_threshold,
+  // the BSDF's (Bsdf::blur_threshold; infinite for media).
+  float filter_pdf = kInf;
+  float blur_threshold = kInf;
+  bool blurred = false;
   // Ray visibility (scene/ray_visibility.h): a surface's instance's bits (scenes with ray
   // visibility), and on camera subpaths the kind of the ray that left the vertex.
   uint32_t visibility = visibility::kAll;

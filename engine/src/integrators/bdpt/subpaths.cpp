@@ -3,6 +3,7 @@
 // before it (pbrt-v3's RandomWalk), plus Russian roulette.
 #include "core/ray_offset.h"
 #include "integrators/bdpt/bdpt.h"
+#include "integrators/filter_glossy.h"
 #include "integrators/visibility_clear.h"
 #include "media/emission_gather.h"
 #include "samplers/dimension_layout.h"
@@ -75,6 +76,10 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
   // caustics switch), no longer subpath makes a path the limits keep, except, on camera
   // paths, the one more vertex where an emitter may be found (light_path_limits.cpp).
   const bool classify = settings_.limits.classify;
+  // Filter Glossy (filter_glossy.h): camera walks blur each BSDF by the smallest density
+  // so far, as the path tracer does; light walks sample unblurred and record what a
+  // connection needs to tell whether the blur would have changed their vertices.
+  FilterGlossy filter(settings_.limits.filter_glossy);
   // Transparent film: whether the camera still sees through (film_alpha.h).
   // The data passes (film/data_passes.h) follow the same chain.
   bool see_through = camera && (settings_.alpha.tracked() || data || see_through_only);
@@ -141,12 +146,17 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
           v.specularity = std::fabs(medium.phase.g);  // forward (or back) scattering: specular-like
           v.media = media;
           v.link_to_prev(prev, pdf_fwd);
+          if (camera) v.filter_pdf = filter.min_pdf;
           see_through = false;
           ++n;
           if (n >= max_vertices || see_through_only) return n;
           sampler.start_stream(stream, dims::bounce(k, dims::kScatterDirection));
           Vec3 wi = medium.phase.sample(v.wo, sampler.get_2d());
           pdf_fwd = medium.phase.pdf(v.wo, wi);  // the phase function is symmetric
+          if (filter.on()) {
+            if (camera) filter.scattered(pdf_fwd);
+            else v.filter_pdf = pdf_fwd;
+          }
           if (classify && limits_end_walk(wi)) return n;
           prev.pdf_rev = v.to_prev_density(pdf_fwd);
           if (mode == TransportMode::Radiance && n >= 2) set_mis_sum(path, n - 1, path[n - 2].delta, balance());
@@ -215,6 +225,18 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     } else if (see_through && data) {
       scene_.add_data_passes(hit, beta, settings_.alpha.pass_alpha_threshold, *data);
     }
+    if (filter.on()) {
+      if (camera) {
+        v.filter_pdf = filter.min_pdf;
+        const float alpha = filter.alpha();
+        if (v.bsdf.blur_changes(alpha)) {
+          v.bsdf.blur(alpha);
+          v.blurred = true;
+        }
+      } else {
+        v.blur_threshold = v.bsdf.blur_threshold();
+      }
+    }
     v.link_to_prev(prev, pdf_fwd);
     v.surface_connectible = v.bsdf.has_lobes() && !v.bsdf.is_delta();
     if (settings_.mis == MisHeuristic::LafortuneWillems) v.specularity = v.bsdf.specularity();
@@ -238,6 +260,10 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     } else {
       pdf_fwd = bs.pdf;
       pdf_rev = v.bsdf.pdf(bs.wi, v.wo);
+      if (filter.on()) {
+        if (camera) filter.scattered(bs.pdf);
+        else v.filter_pdf = pdf_rev;
+      }
     }
     prev.pdf_rev = v.to_prev_density(pdf_rev);
     // Camera subpaths: the MIS sum up to prev (the camera vertex itself is no strategy);
