@@ -678,8 +678,8 @@ def light_paths_caustics():
 def light_paths_filter_glossy():
     """Filter Glossy 1 (Cycles' default): a smooth glass ball on a diffuse floor under a small
     area lamp; the caustic under it is seen after the floor's diffuse bounce, so the glass
-    there is blurred (0.5 sqrt(1 - pdf) roughness) and the caustic spreads. Path tracing only
-    (BDPT renders it unfiltered)."""
+    there is blurred (0.5 sqrt(1 - pdf) roughness) and the caustic spreads (path tracing and
+    BDPT)."""
     reset(32)
     plane("Floor", 10.0, diffuse_material("FloorMat", (0.7, 0.7, 0.7)))
     smooth_glass_ball()

@@ -69,8 +69,8 @@ def main():
         print("LIGHT PATHS %s: scene.cycles %s" % (a.scene, changed))
         ref, tc = render(scene, "CYCLES", a.samples, os.path.join(odir, a.scene + "_cycles.exr"))
         print("  Cycles %d spp: %.1f s" % (a.samples, tc))
-        # BDPT's clamp is per strategy, and it has no Filter Glossy (README): path tracing only.
-        integrators = (("PATH", a.samples),) if {"sample_clamp_indirect", "blur_glossy"} & set(changed) else \
+        # BDPT's clamp is per strategy (README): path tracing only. Filter Glossy: both.
+        integrators = (("PATH", a.samples),) if "sample_clamp_indirect" in changed else \
             (("PATH", a.samples), ("BDPT", a.samples // 2))
         for integrator, samples in integrators:
             test, tr = render(scene, "RENDEZVOUS", samples, os.path.join(odir, "%s_%s.exr" % (a.scene, integrator.lower())),

@@ -207,7 +207,8 @@ class TestCameraSettings(unittest.TestCase):
 
     def test_path_space_mlt_takes_limits_but_no_clamps(self):
         from rendezvous.export.settings import light_paths_for
-        cycles_defaults = {"max_bounces": 13, "diffuse_bounces": 4, "glossy_bounces": 4, "clamp_indirect": 10.0}
+        cycles_defaults = {"max_bounces": 13, "diffuse_bounces": 4, "glossy_bounces": 4, "clamp_indirect": 10.0,
+                           "filter_glossy": 1.0}
         warnings = []
         self.assertEqual(light_paths_for("mlt", cycles_defaults, warnings.append),
                          {"max_bounces": 13, "diffuse_bounces": 4, "glossy_bounces": 4})
@@ -217,7 +218,8 @@ class TestCameraSettings(unittest.TestCase):
                                                  "filter_glossy": 1.0}, warnings.append),
                          {"max_bounces": 13, "caustics_refractive": False})
         self.assertEqual(len(warnings), 1)
-        self.assertEqual(light_paths_for("bdpt", cycles_defaults, warnings.append), cycles_defaults)
+        for integrator in ("path", "bdpt", "pssmlt", "mmlt"):  # Filter Glossy included
+            self.assertEqual(light_paths_for(integrator, cycles_defaults, warnings.append), cycles_defaults)
         self.assertEqual(light_paths_for("mlt", {"max_bounces": 13}, warnings.append), {"max_bounces": 13})
         self.assertEqual(len(warnings), 1)
 
