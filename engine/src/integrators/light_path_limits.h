@@ -48,8 +48,8 @@ struct LightPathLimits {
   // vertex on the path, indirect = the rest.
   float clamp_direct = 0, clamp_indirect = 0;
   // Filter Glossy (scene.cycles.blur_glossy; 0 = off): glossy lobes after unlikely
-  // bounces are roughened (filter_glossy.h). The path tracer applies it; BDPT and the
-  // Metropolis integrators cannot do so consistently across their strategies (README).
+  // bounces are roughened (filter_glossy.h): path tracing, BDPT, pssmlt and mmlt (one
+  // image for all their strategies); path-space mlt ignores it with a warning.
   float filter_glossy = 0;
   // Set by finish(): whether paths must be classified / contributions clamped at all
   // (a scene that uses none of these renders exactly as without them).
