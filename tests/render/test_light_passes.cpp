@@ -1,22 +1,27 @@
 // Cycles' light passes (film/light_passes.h): per pixel, Emission + Environment + the
 // sum over kinds of (Direct + Indirect) x Color + Volume Direct + Indirect equals Combined
-// to float rounding (path tracing and BDPT, every strategy and light tracing's splats
-// included); Combined itself is bit-identical with the passes on and off; path tracing
-// and BDPT agree on every pass's mean (8 seeds each, |t| < 5 with 14 degrees of freedom:
-// p = 2e-4 each, about 0.4% for the 20 non-trivial means). A small scene with every kind:
-// diffuse floor, glossy and glass balls, an emissive ball, the world, a lamp of radius
-// 0.3 and a wide sun (finite: path tracing sees their caustics too), optionally fog.
+// to float rounding (path tracing, BDPT, every strategy and light tracing's splats
+// included, and the Metropolis integrators pssmlt, mmlt and mlt); Combined itself is
+// bit-identical with the passes on and off; path tracing and BDPT agree on every pass's
+// mean (8 seeds each, |t| < 5 with 14 degrees of freedom: p = 2e-4 each, about 0.4% for the
+// 20 non-trivial means); each Metropolis integrator agrees with BDPT on every pass block by
+// block (8 seeds each, Welch's t per 8x8 block, 1% false alarms over the 3 x 12 x 12 block
+// tests, Sidak-corrected). A small scene with every kind: diffuse floor, glossy and glass
+// balls, an emissive ball, the world, a lamp of radius 0.3 and a wide sun (finite: path
+// tracing sees their caustics too), optionally fog (mlt: without the world and the sun,
+// which it does not sample).
 #include <gtest/gtest.h>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include "render_helpers.h"
+#include "statistics.h"
 
 using namespace rdv::test;
 using nlohmann::json;
 
 namespace {
 
-json passes_scene(bool fog, const json &settings) {
+json passes_scene(bool fog, const json &settings, bool lights_at_infinity = true) {
   json s = {{"width", 32}, {"height", 24}, {"samples", 32}, {"max_bounces", 8}, {"light_passes", true}};
   s.update(settings);
   json mats = {{{"name", "floor"}, {"type", "diffuse"}, {"color", {0.7, 0.6, 0.5}}},
@@ -34,15 +39,25 @@ json passes_scene(bool fog, const json &settings) {
   if (fog)
     meshes.push_back({{"name", "fog"}, {"shape", {{"type", "box"}, {"size", {1.2, 0.8, 0.8}}}},
                       {"materials", {"fog"}}, {"transform", {{"translate", {0, -1.4, 0.6}}}}});
+  json lights = {{{"type", "point"}, {"position", {1.5, -1.5, 3}}, {"power", 300}, {"radius", 0.3}}};
+  if (lights_at_infinity)
+    lights.push_back({{"type", "sun"}, {"strength", 1.5}, {"angle", 0.3}, {"direction", {0.4, 0.3, -1}}});
   return {{"settings", s},
           {"camera", {{"type", "perspective"}, {"focal_length", 35},
                       {"transform", {{"look_at", {{"from", {0, -4, 1.4}}, {"to", {0, 0, 0.5}}}}}}}},
-          {"world", {{"color", {0.2, 0.3, 0.5}}, {"strength", 1}}},
+          {"world", {{"color", {0.2, 0.3, 0.5}}, {"strength", lights_at_infinity ? 1 : 0}}},
           {"materials", mats},
           {"meshes", meshes},
-          {"lights", {{{"type", "point"}, {"position", {1.5, -1.5, 3}}, {"power", 300}, {"radius", 0.3}},
-                      {{"type", "sun"}, {"strength", 1.5}, {"angle", 0.3}, {"direction", {0.4, 0.3, -1}}}}}};
+          {"lights", lights}};
 }
+
+// The Metropolis integrators' settings for these tests (small: a chain count and a
+// bootstrap that a 32 x 24 image needs).
+json metropolis(const char *integrator, int mutations) {
+  return {{"integrator", integrator}, {"samples", mutations}, {"mlt_chains", 64}, {"mlt_bootstrap", 4}};
+}
+// mlt samples no light at infinity: its scene has neither world nor sun.
+bool needs_finite_lights(const std::string &integrator) { return integrator == "mlt"; }
 
 // Emission + Environment + sum (Direct + Indirect) x Color + volume, at pixel (x, y).
 void reconstruct(const Image &img, int x, int y, float out[3]) {
@@ -78,8 +93,11 @@ bool reconstructible(const Image &img, int x, int y) {
   return true;
 }
 
-void expect_sum_is_combined(bool fog, const char *integrator) {
-  Image img = render_json(passes_scene(fog, {{"integrator", integrator}}).dump());
+void expect_sum_is_combined(bool fog, const char *integrator, const json &settings = json::object()) {
+  json s = {{"integrator", integrator}};
+  s.update(settings);
+  Image img = render_json(passes_scene(fog, s, !needs_finite_lights(integrator)).dump());
+  ASSERT_TRUE(img.warnings.find("light_passes") == std::string::npos) << img.warnings;
   ASSERT_TRUE(img.all_finite());
   ASSERT_EQ(img.light_passes.size(), 13u);
   int checked = 0;
@@ -89,7 +107,7 @@ void expect_sum_is_combined(bool fog, const char *integrator) {
       for (const auto &pass : img.light_passes)
         for (int c = 0; c < 3; ++c) ASSERT_TRUE(std::isfinite(pass[(size_t(y) * img.width + x) * 3 + c]));
       // Path tracing has no splats: every pixel's passes come from its own samples.
-      if (std::string(integrator) == "bdpt" && !reconstructible(img, x, y)) continue;
+      if (std::string(integrator) != "path" && !reconstructible(img, x, y)) continue;
       ++checked;
       float sum[3];
       reconstruct(img, x, y, sum);
@@ -129,11 +147,21 @@ TEST(LightPasses, SumIsCombinedBdpt) {
   expect_sum_is_combined(true, "bdpt");
 }
 
+TEST(LightPasses, SumIsCombinedMetropolis) {
+  for (const char *integrator : {"pssmlt", "mmlt", "mlt"}) {
+    expect_sum_is_combined(false, integrator, metropolis(integrator, 32));
+    expect_sum_is_combined(true, integrator, metropolis(integrator, 32));
+  }
+}
+
 TEST(LightPasses, CombinedUnchangedByPasses) {
-  for (const char *integrator : {"path", "bdpt"}) {
-    Image on = render_json(passes_scene(true, {{"integrator", integrator}, {"samples", 8}}).dump());
-    Image off =
-        render_json(passes_scene(true, {{"integrator", integrator}, {"samples", 8}, {"light_passes", false}}).dump());
+  for (const char *integrator : {"path", "bdpt", "pssmlt", "mmlt", "mlt"}) {
+    json s = {{"integrator", integrator}, {"samples", 8}};
+    if (std::string(integrator) != "path" && std::string(integrator) != "bdpt") s = metropolis(integrator, 8);
+    const bool infinite = !needs_finite_lights(integrator);
+    Image on = render_json(passes_scene(true, s, infinite).dump());
+    s["light_passes"] = false;
+    Image off = render_json(passes_scene(true, s, infinite).dump());
     ASSERT_EQ(on.rgba.size(), off.rgba.size());
     EXPECT_TRUE(off.light_passes.empty());
     size_t differ = 0;
@@ -165,6 +193,62 @@ TEST(LightPasses, PathAndBdptAgree) {
       std::printf("%s%s: path %.5f bdpt %.5f z %.2f\n", names[p], fog ? " (fog)" : "", mean[0], mean[1], z);
       EXPECT_LT(std::fabs(z), 5.0) << names[p] << (fog ? " (fog)" : "") << ": path " << mean[0] << " vs bdpt "
                                    << mean[1];
+    }
+  }
+}
+
+// Each Metropolis integrator against BDPT, pass by pass (what each adds to Combined: a
+// Direct or Indirect pass times its Color, the Color passes themselves), block by block,
+// on the scene without lights at infinity (which every integrator renders) with fog.
+TEST(LightPasses, MetropolisAgreesWithBdpt) {
+  constexpr int kRuns = 8, kBlock = 8, kWidth = 32, kHeight = 24;
+  constexpr int kPasses = 13;  // all but Environment (no world), and Combined
+  const int blocks = (kWidth / kBlock) * (kHeight / kBlock);
+  const double alpha = 1.0 - std::pow(1.0 - 0.01, 1.0 / (3.0 * kPasses * blocks));
+  static const char *names[14] = {"Emit",     "Env",      "DiffDir",  "DiffInd",  "DiffCol",   "GlossDir", "GlossInd",
+                                  "GlossCol", "TransDir", "TransInd", "TransCol", "VolumeDir", "VolumeInd", "Combined"};
+  // runs[pass][run]: per pixel R + G + B of the pass's contribution.
+  auto render_runs = [&](const json &settings, uint32_t seed0) {
+    std::vector<std::vector<std::vector<double>>> runs(14);  // the 13 passes, Combined
+    for (int k = 0; k < kRuns; ++k) {
+      json s = settings;
+      s["seed"] = seed0 + uint32_t(k);
+      Image img = render_json(passes_scene(true, s, false).dump());
+      EXPECT_TRUE(img.all_finite());
+      EXPECT_EQ(img.light_passes.size(), 13u);
+      if (img.light_passes.size() != 13u) return runs;
+      for (int p = 0; p < 13; ++p) {
+        std::vector<double> v(size_t(kWidth) * kHeight);
+        for (int y = 0; y < kHeight; ++y)
+          for (int x = 0; x < kWidth; ++x) {
+            const rdv_pass pass = rdv_pass(RDV_PASS_EMISSION + p);
+            const int kind = (p - 2) / 3;  // Direct / Indirect of a kind with a colour: times it
+            const bool divided = p >= 2 && p < 11 && (p - 2) % 3 != 2;
+            const float *value = img.light_pass(pass, x, y);
+            const float *color = divided ? img.light_pass(rdv_pass(RDV_PASS_DIFFUSE_COLOR + 3 * kind), x, y) : nullptr;
+            double sum = 0;
+            for (int c = 0; c < 3; ++c) sum += double(value[c]) * (color ? color[c] : 1.0f);
+            v[size_t(y) * kWidth + x] = sum;
+          }
+        runs[size_t(p)].push_back(std::move(v));
+      }
+      std::vector<double> combined(size_t(kWidth) * kHeight);
+      for (size_t i = 0; i < combined.size(); ++i)
+        combined[i] = double(img.rgba[4 * i]) + img.rgba[4 * i + 1] + img.rgba[4 * i + 2];
+      runs[13].push_back(std::move(combined));
+    }
+    return runs;
+  };
+  const auto bdpt = render_runs({{"integrator", "bdpt"}, {"samples", 256}}, 1);
+  for (const char *integrator : {"pssmlt", "mmlt", "mlt"}) {
+    const auto mlt = render_runs(metropolis(integrator, 512), 3001);
+    for (int p = 0; p < 14; ++p) {
+      if (p == 1) continue;  // Environment: no world
+      if (mlt[size_t(p)].size() != size_t(kRuns) || bdpt[size_t(p)].size() != size_t(kRuns)) return;
+      BlockComparison c = compare_blocks(mlt[size_t(p)], bdpt[size_t(p)], kWidth, kHeight, kBlock, alpha);
+      std::printf("[ %-6s vs bdpt ] %-9s mean ratio %.4f, %d of %d blocks differ, worst p %.2g\n", integrator,
+                  names[p], c.mean_ratio, c.failed, c.blocks, c.worst_p);
+      EXPECT_EQ(c.failed, 0) << integrator << " " << names[p] << ": " << c.detail;
     }
   }
 }

@@ -528,6 +528,14 @@ KindSplit Bsdf::kind_split(Vec3 wo_w, Vec3 wi_w, bool delta) const {
                                                                                          : 2);
 }
 
+bool Bsdf::passes_straight_through(Vec3 wo, Vec3 wi) const {
+  constexpr float kSameDirection = 1.0f - 1e-5f;  // as delta_eval's events
+  if (dot(-wo, wi) < kSameDirection) return false;
+  for (int i = 0; i < n_; ++i)
+    if (lobes_[i].type == LobeType::Transparent) return true;
+  return false;
+}
+
 void Bsdf::kind_colors(Vec3 wo_w, Color out[kColorKinds]) const {
   for (int k = 0; k < kColorKinds; ++k) out[k] = Color(0.0f);
   const float side = dot(wo_w, ng_);

@@ -197,6 +197,9 @@ class Bsdf {
   // (diffuse, glossy, transmission; a dielectric's colour split by its Fresnel at wo,
   // as Cycles 3.4's Glass BSDF weights its reflection and refraction closures).
   KindSplit kind_split(Vec3 wo, Vec3 wi, bool delta) const;
+  // Whether wo -> wi is a straight pass through a Transparent lobe (no scattering for the
+  // light passes), for paths that know only their directions (path-space MLT).
+  bool passes_straight_through(Vec3 wo, Vec3 wi) const;
   // Cycles' Filter Glossy (integrators/filter_glossy.h): every microfacet lobe made at
   // least `alpha` rough (alpha_x, alpha_y); perfect mirrors and smooth glass become GGX
   // lobes of that roughness, as Cycles renders Sharp closures as GGX with the filter on.

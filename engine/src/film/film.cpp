@@ -113,29 +113,38 @@ void Film::for_each_row_band(const std::function<void(int, int)> &band) {
 }
 
 void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b, uint8_t strategy,
-                     const SplatLightPass &light_pass, int y0, int y1) {
+                     const SplatLightPass &light_pass, const SlotShare *shares, int y0, int y1) {
   if (!is_finite(L)) return;
   const bool half = half_b && has_halves();
   // Its strategy pass's and light passes' splat sums, when the film keeps them: one
   // footprint for all.
   const int slot = strategy < strategies_.count() ? strategies_.splat_slot(strategy) : -1;
   const size_t slots = size_t(strategies_.splat_count());
-  // The kinds with a share, found once per splat (most splats have one).
-  int n_kinds = 0;
-  std::array<Color, kPassKinds> kind_L;
-  std::array<uint8_t, kPassKinds> kind_slot;
-  if (light_pass.on && has_light_passes())
-    for (int k = 0; k < kPassKinds; ++k)
-      if (light_pass.first.w[k] > 0) {
-        kind_L[n_kinds] = L * light_pass.first.w[k];
-        kind_slot[n_kinds++] = uint8_t(light_pass_slot(k, light_pass.indirect));
+  // The slots with a share, found once per splat (most splats have one): the kinds of
+  // its first scattering vertex, or the shares it carries (Metropolis).
+  int n_shares = 0;
+  std::array<Color, kLightPassSlots> share_L;
+  std::array<uint8_t, kLightPassSlots> share_slot;
+  if (light_pass.on && has_light_passes()) {
+    if (light_pass.shares > 0) {
+      for (int k = 0; k < std::min<int>(light_pass.shares, kLightPassSlots); ++k) {
+        share_L[n_shares] = shares[k].L;
+        share_slot[n_shares++] = shares[k].slot;
       }
+    } else {
+      for (int k = 0; k < kPassKinds; ++k)
+        if (light_pass.first.w[k] > 0) {
+          share_L[n_shares] = L * light_pass.first.w[k];
+          share_slot[n_shares++] = uint8_t(light_pass_slot(k, light_pass.indirect));
+        }
+    }
+  }
   splat_footprint(raster, filter, region_, width_, y0, y1, [&](size_t i, float w) {
     Color c = L * w;
     add_to(splats_[i], c);
     if (half) add_to(half_splats_[i], c);
     if (slot >= 0) add_to(strategy_splats_[i * slots + size_t(slot)], c);
-    for (int k = 0; k < n_kinds; ++k) add_to(light_splats_[i][kind_slot[k]], kind_L[k] * w);
+    for (int k = 0; k < n_shares; ++k) add_to(light_splats_[i][share_slot[k]], share_L[k] * w);
   });
 }
 

@@ -85,21 +85,23 @@ class Film {
     // splatted and sampled estimates converge to the same image.
     // half_b: the splat belongs to half image B too (film/noise_estimate.h); needs halves.
     // strategy: its strategy pass (film/strategy_passes.h; a t = 1 strategy), or 0xff.
-    // light_pass: its light passes (film/light_passes.h), when the film keeps them.
+    // light_pass: its light passes (film/light_passes.h), when the film keeps them;
+    // shares: its light_pass.shares slot shares, when it has any.
     void add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b = false, uint8_t strategy = 0xff,
-                   const SplatLightPass &light_pass = {}) {
-      film_.add_splat(raster, L, filter, half_b, strategy, light_pass, film_.region_.y0, film_.region_.y1);
+                   const SplatLightPass &light_pass = {}, const SlotShare *shares = nullptr) {
+      film_.add_splat(raster, L, filter, half_b, strategy, light_pass, shares, film_.region_.y0, film_.region_.y1);
     }
     // Many splats at once, in parallel over bands of rows on the calling task arena:
     // each pixel still gets its splats in the order `each` gives them, so the sums are
     // add_splat's one at a time, bit for bit, on any thread count. (One thread applying a
     // pass's light-tracing splats left the other core idle for 5-15% of a BDPT render.)
-    // each(visit) calls visit(raster, L, half_b, strategy, light_pass) for every splat.
+    // each(visit) calls visit(raster, L, half_b, strategy, light_pass[, shares]) for every splat.
     template <class EachSplat>
     void add_splats(const PixelFilter &filter, const EachSplat &each) {
       film_.for_each_row_band([&](int y0, int y1) {
-        each([&](Vec2 raster, Color L, bool half_b, uint8_t strategy, const SplatLightPass &light_pass) {
-          film_.add_splat(raster, L, filter, half_b, strategy, light_pass, y0, y1);
+        each([&](Vec2 raster, Color L, bool half_b, uint8_t strategy, const SplatLightPass &light_pass,
+                 const SlotShare *shares = nullptr) {
+          film_.add_splat(raster, L, filter, half_b, strategy, light_pass, shares, y0, y1);
         });
       });
     }
@@ -164,7 +166,7 @@ class Film {
  private:
   // The splat's share in rows [y0, y1) (a band of add_splats).
   void add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b, uint8_t strategy,
-                 const SplatLightPass &light_pass, int y0, int y1);
+                 const SplatLightPass &light_pass, const SlotShare *shares, int y0, int y1);
   // Calls band(y0, y1) for disjoint bands of the region's rows that cover it, in parallel.
   void for_each_row_band(const std::function<void(int, int)> &band);
   // One pixel of strategy pass k into dst (3 floats).

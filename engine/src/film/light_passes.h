@@ -69,13 +69,23 @@ struct LightPassSample {
   }
 };
 
-// The light passes of a light-tracing splat (a path with >= 1 scattering vertices): the
-// split of its first one (from the camera) and whether it was not the only one. The film
-// adds the splat's shares over the image splat's own filter footprint.
+// A splat's share in one light-pass slot: the Metropolis integrators' splat of a camera
+// sample sums paths of several classes, so it carries its split slot by slot.
+struct SlotShare {
+  Color L;
+  uint8_t slot = kEmissionSlot;
+};
+
+// The light passes of a splat. A light-tracing splat (a path with >= 1 scattering
+// vertices): the split of its first one (from the camera) and whether it was not the
+// only one. A splat with `shares` > 0 (Metropolis): its shares are the next `shares`
+// SlotShares of its owner's list, in splat order, and first / indirect are unused. The
+// film adds the splat's shares over the image splat's own filter footprint.
 struct SplatLightPass {
   KindSplit first;
   bool on = false;  // the film keeps light passes
   bool indirect = false;
+  uint8_t shares = 0;
 };
 
 // A pixel's sums (double, as the film's own: thousands of samples).

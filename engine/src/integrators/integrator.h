@@ -55,7 +55,7 @@ struct RenderSettings {
   // Cycles' Light Paths: per-kind bounce limits, caustics switches, direct / indirect
   // clamps (integrators/light_path_limits.h); all off by default.
   LightPathLimits limits;
-  // Cycles' light passes (film/light_passes.h): the film keeps them (path and bdpt).
+  // Cycles' light passes (film/light_passes.h): the film keeps them (every integrator).
   bool light_passes = false;
   // BDPT's strategy passes (film/strategy_passes.h) of paths up to max depth (bounces).
   bool strategy_passes = false;

@@ -250,14 +250,13 @@ RenderSettings RenderSettings::from_params(Params &p) {
       fail(p.what() + ": integrator 'auto' picks by error x time: it needs a time limit ('time_limit')");
     if (s.sample_offset > 0)
       fail(p.what() + ": integrator 'auto' cannot render a part ('sample_offset'): every part must use one integrator");
-    // Adaptive sampling and light passes are for path and bdpt: the pick is one of them.
-    if (s.adaptive_sampling || s.light_passes)
+    // Adaptive sampling is for path and bdpt: the pick is one of them.
+    if (s.adaptive_sampling)
       s.auto_candidates.erase(std::remove_if(s.auto_candidates.begin(), s.auto_candidates.end(),
                                              [](const std::string &c) { return c != "path" && c != "bdpt"; }),
                               s.auto_candidates.end());
     if (s.auto_candidates.empty())
-      fail(p.what() + ": integrator 'auto' with 'adaptive_sampling' or 'light_passes' needs path or bdpt among "
-                      "'auto_candidates'");
+      fail(p.what() + ": integrator 'auto' with 'adaptive_sampling' needs path or bdpt among 'auto_candidates'");
     if (s.strategy_passes) {  // BDPT's own passes: the pick must be bdpt
       s.auto_candidates.erase(std::remove_if(s.auto_candidates.begin(), s.auto_candidates.end(),
                                              [](const std::string &c) { return c != "bdpt"; }),
@@ -278,9 +277,6 @@ RenderSettings RenderSettings::from_params(Params &p) {
   if (s.adaptive_sampling && s.sample_offset > 0)
     fail(p.what() + ": 'adaptive_sampling' cannot render a part ('sample_offset' " + std::to_string(s.sample_offset) +
          "): each pixel's sample count depends on the samples before it, so parts would not add up");
-  if (s.light_passes && s.integrator != "path" && s.integrator != "bdpt" && s.integrator != "auto")
-    fail(p.what() + ": 'light_passes' are made by path and bdpt; " + s.integrator +
-         " does not classify its paths into them yet (render the passes with path or bdpt)");
   if (s.strategy_passes && s.integrator != "bdpt" && s.integrator != "auto")
     fail(p.what() + ": 'strategy_passes' are bidirectional path tracing's strategies (s, t); " + s.integrator +
          " has none of them (render the passes with bdpt)");

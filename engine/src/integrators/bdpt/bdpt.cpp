@@ -95,15 +95,7 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
                                     {pc.first, passes != nullptr, pc.scatterings > 1}});
       else L += c;
       if (strategies && t > 1) strategies[k] += c;
-      if (passes && t > 1) {
-        if (pc.scatterings == 0 && s == 0 && camera_path[t - 1].infinite) {
-          const Color background = c * background_share(camera_path[t - 1]);  // the world seen directly
-          passes->add(background, 0, pc.first, true);
-          passes->add(c - background, 0, pc.first);
-        } else {
-          passes->add(c, pc.scatterings, pc.first);
-        }
-      }
+      if (passes && t > 1) add_light_pass(camera_path.data(), s, t, pc, c, *passes);
     }
   }
   return L;

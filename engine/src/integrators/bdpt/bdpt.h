@@ -122,6 +122,13 @@ class Bdpt final : public TileIntegrator {
                        Vec3 connection_dir, const PassCache &cache) const;
   void add_color_passes(const PathVertex *camera_path, int n, LightPassSample &passes) const;
   Color background_share(const PathVertex &v) const;
+  // A contribution c of strategy (s, t >= 2), classified as pc, into a camera sample's
+  // passes: the world seen directly goes to Environment by its background share.
+  void add_light_pass(const PathVertex *camera_path, int s, int t, const PassClass &pc, Color c,
+                      LightPassSample &passes) const;
+  // A scattering vertex's split by kind between the directions toward the camera and the
+  // light (delta: it scatters by a delta lobe; surfaces by their lobes' shares of f).
+  static KindSplit split_at(const PathVertex &v, Vec3 toward_camera, Vec3 toward_light, bool delta);
 
  private:
   template <bool kMedia>

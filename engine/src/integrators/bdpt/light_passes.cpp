@@ -13,7 +13,7 @@ static Vec3 direction_to_next(const PathVertex *path, int i) {
   return next.infinite ? next.dir : normalize(next.p - path[i].p);
 }
 
-static KindSplit split_at(const PathVertex &v, Vec3 toward_camera, Vec3 toward_light, bool delta) {
+KindSplit Bdpt::split_at(const PathVertex &v, Vec3 toward_camera, Vec3 toward_light, bool delta) {
   if (v.type == VertexType::Medium) return KindSplit::only(3);
   return v.bsdf.kind_split(toward_camera, toward_light, delta);
 }
@@ -75,6 +75,17 @@ void Bdpt::add_color_passes(const PathVertex *camera_path, int n, LightPassSampl
     v.bsdf.kind_colors(v.wo, colors);
     for (int k = 0; k < kColorKinds; ++k) passes.color[k] += v.beta * colors[k];
     if (!v.passed_through) break;
+  }
+}
+
+void Bdpt::add_light_pass(const PathVertex *camera_path, int s, int t, const PassClass &pc, Color c,
+                          LightPassSample &passes) const {
+  if (pc.scatterings == 0 && s == 0 && camera_path[t - 1].infinite) {
+    const Color background = c * background_share(camera_path[t - 1]);  // the world seen directly
+    passes.add(background, 0, pc.first, true);
+    passes.add(c - background, 0, pc.first);
+  } else {
+    passes.add(c, pc.scatterings, pc.first);
   }
 }
 

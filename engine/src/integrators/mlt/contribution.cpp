@@ -32,9 +32,19 @@ void Metropolis::evaluate_kelemen(PssSampler &sampler, RayStats &stats, State &s
   CameraRay cr = camera_sample(sampler, &raster);
   size_t first_light_splat = state.splats.size();
   state.splats.push_back({raster, Color(0.0f)});
-  Color L = bdpt_.Li(cr, sampler, stats, nullptr, state.splats);
+  // Light passes: BDPT splits the camera sample by slot (its light-tracing splats carry
+  // their own split).
+  LightPassSample passes;
+  FirstHit first_hit;
+  if (light_passes_) {
+    passes.clear();
+    first_hit.passes = &passes;
+  }
+  Color L = bdpt_.Li(cr, sampler, stats, light_passes_ ? &first_hit : nullptr, state.splats);
   // Never NaN / Inf or a negative value into the film or the acceptance ratio.
-  state.splats[first_light_splat].L = is_finite(L) && L.x >= 0 && L.y >= 0 && L.z >= 0 ? L * region_area_ : Color(0.0f);
+  const bool valid = is_finite(L) && L.x >= 0 && L.y >= 0 && L.z >= 0;
+  state.splats[first_light_splat].L = valid ? L * region_area_ : Color(0.0f);
+  if (valid && light_passes_) add_shares(state, first_light_splat, passes, region_area_);
   for (size_t i = first_light_splat + 1; i < state.splats.size(); ++i) state.splats[i].L *= image_area_;
 }
 
@@ -64,26 +74,54 @@ void Metropolis::evaluate_multiplexed(PssSampler &sampler, RayStats &stats, Stat
   const int nc = bdpt_.camera_subpath<kMedia>(cr, sampler, stats, camera_path.data(), emitted.data(), t);
   Vec2 light_raster;
   Color c(0.0f);
+  // Light passes: the strategy's path classified as BDPT classifies it.
+  const bool light_passes = light_passes_;
+  LightPassSample passes;
+  bdpt::Bdpt::PassClass pc;
+  Vec3 connection_dir(0.0f);
   if (s == 0) {
     // The camera path ends at an emitter hit (vertex t - 1), or at a lamp or emissive
     // medium its last segment passed (BDPT weighs those on the walk).
     c = emitted[size_t(t - 2)];
-    if (nc == t) c += bdpt_.connect<kMedia>(light_path.data(), camera_path.data(), 0, t, sampler, stats, &light_raster, nullptr);
+    Color hit(0.0f);
+    if (nc == t) {
+      hit = bdpt_.connect<kMedia>(light_path.data(), camera_path.data(), 0, t, sampler, stats, &light_raster, nullptr);
+      c += hit;
+    }
+    if (light_passes) {
+      passes.clear();
+      pc = bdpt_.pass_class(light_path.data(), camera_path.data(), 0, t, connection_dir, {});
+      passes.add(emitted[size_t(t - 2)], pc.scatterings, pc.first);
+      if (nc == t) bdpt_.add_light_pass(camera_path.data(), 0, t, pc, hit, passes);
+    }
   } else {
     if (nc != t) return;
     // s = 1 samples a light point of its own (next-event estimation): no light subpath.
     if (s >= 2 && bdpt_.light_subpath<kMedia>(sampler, stats, light_path.data(), s) != s) return;
-    c = bdpt_.connect<kMedia>(light_path.data(), camera_path.data(), s, t, sampler, stats, &light_raster, nullptr);
+    c = bdpt_.connect<kMedia>(light_path.data(), camera_path.data(), s, t, sampler, stats, &light_raster, nullptr,
+                              light_passes ? &connection_dir : nullptr);
+    if (light_passes) {
+      passes.clear();
+      pc = bdpt_.pass_class(light_path.data(), camera_path.data(), s, t, connection_dir, {});
+      if (t >= 2) bdpt_.add_light_pass(camera_path.data(), s, t, pc, c, passes);
+    }
   }
   if (!is_finite(c) || is_black(c) || c.x < 0 || c.y < 0 || c.z < 0) return;
   // One strategy of `strategies`, at a depth chosen with probability depth_pmf.
-  c *= float(strategies) / depth_pmf;
-  if (t == 1) state.splats.push_back({light_raster, c * image_area_});
-  else state.splats.push_back({raster, c * region_area_});
+  const float per_strategy = float(strategies) / depth_pmf;
+  c *= per_strategy;
+  if (t == 1) {
+    state.splats.push_back({light_raster, c * image_area_, Splat::kNoStrategy,
+                            {pc.first, light_passes, pc.scatterings > 1}});
+  } else {
+    state.splats.push_back({raster, c * region_area_});
+    if (light_passes) add_shares(state, state.splats.size() - 1, passes, per_strategy * region_area_);
+  }
 }
 
 void Metropolis::evaluate(PssSampler &sampler, RayStats &stats, State &state, int depth_override) const {
   state.splats.clear();
+  state.shares.clear();
   state.depth = state.s = -1;
   const bool media = scene_.has_media();
   // Motion blur: the state's shutter time is one more primary sample (the Camera stream's
@@ -95,18 +133,24 @@ void Metropolis::evaluate(PssSampler &sampler, RayStats &stats, State &state, in
   state.target = target_of(state.splats);
   if (!std::isfinite(state.target)) {  // an overflow in a splat: the state carries nothing
     state.splats.clear();
+    state.shares.clear();
     state.target = 0;
   }
   state.independent = state.target;
 }
 
-void Metropolis::path_state(const ExplicitPath &path, State &state) {
+void Metropolis::path_state(const ExplicitPath &path, State &state) const {
   state.splats.clear();
+  state.shares.clear();
   state.depth = state.s = -1;
   state.independent = 0;
   state.target = luminance(path.f);
-  if (state.target > 0 && std::isfinite(state.target)) state.splats.push_back({path.raster, path.f});
-  else state.target = 0;
+  if (state.target > 0 && std::isfinite(state.target)) {
+    state.splats.push_back({path.raster, path.f});
+    if (light_passes_) classify_path(path, state);
+  } else {
+    state.target = 0;
+  }
 }
 
 }  // namespace rdv::mlt

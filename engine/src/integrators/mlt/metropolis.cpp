@@ -25,7 +25,16 @@ constexpr uint64_t kPilotPerPixel = 4;
 constexpr uint64_t kPilotLeaves = 16;  // the pilot's partial maps (memory: leaves x blocks floats)
 constexpr uint64_t kChainStreams = 1ull << 48;  // chain streams: apart from bootstrap indices
 
-constexpr int kFirstHitSamples = 4;  // camera rays per pixel for the Depth / Normal / Albedo passes
+constexpr uint32_t kFirstHitSamples = 4;  // camera rays per pixel for the Depth / Normal / Albedo passes
+// With light passes, the colour passes divide Direct and Indirect: a pixel on a
+// silhouette needs more rays than the AOVs for its colour to converge as the light does.
+// One ray per 8 mutations per pixel, 4 .. 64 (64 with a time limit): 64 rays a pixel are
+// ~0.1% of 512 mutations' time.
+constexpr uint32_t kMaxColorSamples = 64;
+uint32_t first_hit_samples(bool light_passes, uint32_t mutations) {
+  if (!light_passes) return kFirstHitSamples;
+  return mutations == 0 ? kMaxColorSamples : std::clamp(mutations / 8, kFirstHitSamples, kMaxColorSamples);
+}
 // Vertices of a first-hit walk: the camera and up to 16 surfaces it sees through (Cycles'
 // default Transparent max bounces is 8).
 constexpr int kFirstHitVertices = 18;
@@ -42,6 +51,18 @@ uint64_t samples_per_depth(uint64_t per_pixel, uint64_t region_pixels, int depth
   return uint64_t(std::ceil(std::max(4096.0, double(per_pixel) * double(region_pixels)) * share));
 }
 
+// A state's splats and their light-pass shares into a chain's pass, weighted by w.
+void record_splats(const State &state, float w, std::vector<Splat> &splats, std::vector<SlotShare> &shares) {
+  const SlotShare *share = state.shares.data();
+  for (const Splat &sp : state.splats) {
+    if (!is_black(sp.L)) {
+      splats.push_back({sp.raster, sp.L * w, Splat::kNoStrategy, sp.light_pass});
+      for (int k = 0; k < sp.light_pass.shares; ++k) shares.push_back({share[k].L * w, share[k].slot});
+    }
+    share += sp.light_pass.shares;
+  }
+}
+
 }  // namespace
 
 // A Markov chain: its sampler (the state's numbers), its state and proposal, and what it
@@ -54,6 +75,7 @@ struct Chain {
   Pcg32 acceptance;
   State current, proposal;
   std::vector<Splat> splats;
+  std::vector<SlotShare> shares;  // light passes: the splats' slot shares (Splat::light_pass.shares)
   uint64_t small_steps = 0, small_accepted = 0, large_steps = 0, large_accepted = 0, large_found = 0, rays = 0;
   double large_sum = 0, large_sum2 = 0;  // targets of its large-step proposals
   std::vector<uint64_t> strategy_counts;
@@ -100,6 +122,8 @@ void Metropolis::first_hit_pass(RenderContext &ctx) const {
   const Rect &region = settings_.border;
   const bool media = scene_.has_media();
   const bool alpha = bdpt_.settings().alpha.tracked();
+  const bool light_passes = ctx.film.has_light_passes();
+  const uint32_t samples = first_hit_samples(light_passes, settings_.samples);
   ctx.arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<int>(region.y0, region.y1, 1), [&](const tbb::blocked_range<int> &rows) {
       // Up to the camera's see-through chain's length (transparent layers in front).
@@ -111,7 +135,7 @@ void Metropolis::first_hit_pass(RenderContext &ctx) const {
       for (int y = rows.begin(); y != rows.end(); ++y) {
         if (ctx.control.should_stop()) break;
         for (int x = region.x0; x < region.x1; ++x) {
-          for (uint32_t i = 0; i < kFirstHitSamples; ++i) {
+          for (uint32_t i = 0; i < samples; ++i) {
             sampler.start_sample(uint32_t(x), uint32_t(y), i);
             Vec2 uf = sampler.get_2d();
             Vec2 raster{x + 0.5f + ctx.filter.sample(uf.x), y + 0.5f + ctx.filter.sample(uf.y)};
@@ -131,6 +155,12 @@ void Metropolis::first_hit_pass(RenderContext &ctx) const {
             const float transparency = alpha ? bdpt_.transparency(path.data(), n) : 0.0f;
             rows_tile.add_sample(x, y, Color(0.0f), false, transparency);
             rows_tile.add_data_passes(x, y, data, i == 0 && settings_.sample_offset == 0);
+            if (light_passes) {  // the colour passes: the closures the camera sees first (light_passes.cpp)
+              LightPassSample colors;
+              colors.clear();
+              bdpt_.add_color_passes(path.data(), n, colors);
+              rows_tile.add_light_passes(x, y, colors);
+            }
             if (hit.valid) rows_tile.add_first_hit(x, y, hit.depth, hit.normal, hit.albedo);
             else rows_tile.add_first_hit(x, y, 1e10f, Vec3(0.0f), Color(0.0f));
           }
@@ -298,6 +328,9 @@ void Metropolis::render(RenderContext &ctx) {
 
   // Chains: each starts from a bootstrap sample picked by importance (its target),
   // replayed from that sample's numbers, then mutates with a generator of its own.
+  // Their states carry their light passes when the film keeps them (the pilot's and the
+  // bootstrap's need none).
+  light_passes_ = ctx.film.has_light_passes();
   const uint32_t n_chains = mlt_.chains;
   const Distribution1D starts(weights);
   std::vector<Chain> chains;
@@ -336,6 +369,7 @@ void Metropolis::render(RenderContext &ctx) {
           chain.sampler.set(SampleStream::Strategy, 0, u);
           float inv = pmf > 0 ? 1.0f / sampled_pmf : 0.0f;
           for (Splat &sp : chain.current.splats) sp.L *= inv;
+          for (SlotShare &share : chain.current.shares) share.L *= inv;
           chain.current.target *= inv;
           chain.strategy_counts.assign(strategy_index(depths, 0), 0);
         }
@@ -368,6 +402,7 @@ void Metropolis::render(RenderContext &ctx) {
           uint64_t n = std::min(pass_size, quota - std::min(quota, made[c]));
           Chain &chain = chains[c];
           chain.splats.clear();
+          chain.shares.clear();
           RayStats stats;
           uint64_t m = 0;
           for (; m < n; ++m) {
@@ -384,6 +419,7 @@ void Metropolis::render(RenderContext &ctx) {
               path_state(chain.path_proposal, chain.proposal);
               if (!(ratio > 0)) {
                 chain.proposal.splats.clear();
+                chain.proposal.shares.clear();
                 chain.proposal.target = 0;
               }
               chain.proposal.independent = p.independent;
@@ -397,16 +433,8 @@ void Metropolis::render(RenderContext &ctx) {
             // Veach's expected values: proposal and state splatted with the
             // probabilities a and 1 - a of being the next state, each over its
             // target (the image is b / mutations times their sum).
-            if (fy > 0 && a > 0) {
-              const float w = a / fy;
-              for (const Splat &sp : chain.proposal.splats)
-                if (!is_black(sp.L)) chain.splats.push_back({sp.raster, sp.L * w});
-            }
-            if (fx > 0 && a < 1) {
-              const float w = (1 - a) / fx;
-              for (const Splat &sp : chain.current.splats)
-                if (!is_black(sp.L)) chain.splats.push_back({sp.raster, sp.L * w});
-            }
+            if (fy > 0 && a > 0) record_splats(chain.proposal, a / fy, chain.splats, chain.shares);
+            if (fx > 0 && a < 1) record_splats(chain.current, (1 - a) / fx, chain.splats, chain.shares);
             // A large step's proposal is an independent uniform sample: one more
             // sample of b.
             if (large) {
@@ -466,11 +494,19 @@ void Metropolis::render(RenderContext &ctx) {
       const bool halves = n_chains > 1 && settings_.estimates_noise();
       ctx.arena.execute([&] {
         frame.add_splats(ctx.filter, [&](const auto &visit) {  // in chain order: the same sums on any thread count
-          for (size_t c = 0; c < chains.size(); ++c)
-            for (const Splat &sp : chains[c].splats) visit(sp.raster, sp.L, halves && (c & 1), sp.strategy, sp.light_pass);
+          for (size_t c = 0; c < chains.size(); ++c) {
+            const SlotShare *share = chains[c].shares.data();
+            for (const Splat &sp : chains[c].splats) {
+              visit(sp.raster, sp.L, halves && (c & 1), sp.strategy, sp.light_pass, share);
+              share += sp.light_pass.shares;
+            }
+          }
         });
       });
-      for (Chain &chain : chains) chain.splats.clear();
+      for (Chain &chain : chains) {
+        chain.splats.clear();
+        chain.shares.clear();
+      }
       if (done > 0)
         frame.publish(uint32_t(std::min<uint64_t>(done / region_pixels, UINT32_MAX)), {b_now, double(done)},
                       halves ? HalfSplit::Splats : HalfSplit::None, {b_now, double(done_b)},

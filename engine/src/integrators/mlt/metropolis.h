@@ -42,6 +42,9 @@ struct MltSettings {
 // splats estimate the whole image) and the scalar the chain targets.
 struct State {
   std::vector<Splat> splats;
+  // Light passes (the film keeps them; light_passes.cpp): the slot shares of the splats
+  // that carry some (Splat::light_pass.shares), in splat order.
+  std::vector<SlotShare> shares;
   float target = 0;
   // An independent sample of b when the state was sampled independently (a large step
   // or the bootstrap): the target itself in primary sample space, target / q in path space.
@@ -89,7 +92,12 @@ class Metropolis final : public Integrator {
 
  private:
   // Path space: the state of an evaluated explicit path (its one splat).
-  static void path_state(const ExplicitPath &path, State &state);
+  void path_state(const ExplicitPath &path, State &state) const;
+  // Cycles' light passes (light_passes.cpp, film/light_passes.h): splat i of the state
+  // (a camera sample) gets the slots of `passes` times scale as its shares; a path-space
+  // state's splat is classified by the path's first scattering vertex from the camera.
+  static void add_shares(State &state, size_t i, const LightPassSample &passes, float scale);
+  static void classify_path(const ExplicitPath &path, State &state);
   const char *name() const { return mlt_.path_space ? "mlt" : mlt_.multiplexed ? "mmlt" : "pssmlt"; }
   void evaluate_kelemen(PssSampler &sampler, RayStats &stats, State &state) const;
   template <bool kMedia>
@@ -99,7 +107,8 @@ class Metropolis final : public Integrator {
   float target_of(const std::vector<Splat> &splats) const;
   // Relative target: the coarse image from independent samples that the target divides by.
   ImportanceMap pilot(RenderContext &ctx, int depths);
-  // Depth, normal and albedo from a few camera rays per pixel (MLT has no per-pixel samples).
+  // Depth, normal, albedo, alpha, the data passes and the light passes' colours from a few
+  // camera rays per pixel (MLT has no per-pixel samples).
   void first_hit_pass(RenderContext &ctx) const;
 
   const Scene &scene_;
@@ -114,6 +123,7 @@ class Metropolis final : public Integrator {
   float image_area_;      // light-tracing splats carry the camera importance of the whole image
   Distribution1D depth_distribution_;  // multiplexed: path depth by b
   ImportanceMap importance_;  // empty: the luminance target
+  bool light_passes_ = false;  // the film keeps Cycles' light passes: states carry their split
   std::unique_ptr<PathSpace> path_space_;  // mlt only
 
   mutable std::mutex stats_mutex_;
