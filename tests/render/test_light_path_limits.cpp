@@ -43,21 +43,6 @@ std::vector<std::vector<double>> runs_of(const json &scene, const json &limits, 
   return seeded_renders(scene.dump(), s.dump(), kRuns, first_seed);
 }
 
-// The mean over the runs of each run's mean pixel, and its standard error.
-void mean_and_error(const std::vector<std::vector<double>> &runs, double &mean, double &error) {
-  double s = 0, s2 = 0;
-  for (const auto &img : runs) {
-    double m = 0;
-    for (double v : img) m += v;
-    m /= double(img.size());
-    s += m;
-    s2 += m * m;
-  }
-  const double k = double(runs.size());
-  mean = s / k;
-  error = std::sqrt(std::max(0.0, s2 / k - mean * mean) / (k - 1));
-}
-
 // `test` (integrator, samples) against `reference` on every 8x8 block; with `brightness`
 // also the runs' mean within 3.3 standard errors of the reference's (false alarms 1e-3).
 void expect_same_image(const json &scene, const json &limits, const std::string &what,
@@ -69,13 +54,11 @@ void expect_same_image(const json &scene, const json &limits, const std::string 
   EXPECT_EQ(c.failed, 0) << what << ": " << c.detail;
   std::string mean;
   if (brightness) {
-    double m_got, e_got, m_ref, e_ref;
-    mean_and_error(got, m_got, e_got);
-    mean_and_error(ref, m_ref, e_ref);
-    const double error = std::sqrt(e_got * e_got + e_ref * e_ref), z = (m_got - m_ref) / error;
-    EXPECT_LT(std::fabs(z), 3.3) << what << ": mean " << m_got << " vs " << reference.first << " " << m_ref;
+    const BrightnessComparison b = compare_brightness(got, ref);
+    EXPECT_LT(std::fabs(b.z), 3.3) << what << ": mean " << b.mean_a << " vs " << reference.first << " " << b.mean_b;
     char text[96];
-    std::snprintf(text, sizeof text, "mean ratio %.4f +- %.4f (z %.2f); ", m_got / m_ref, error / m_ref, z);
+    std::snprintf(text, sizeof text, "mean ratio %.4f +- %.4f (z %.2f); ", b.mean_a / b.mean_b, b.error / b.mean_b,
+                  b.z);
     mean = text;
   }
   std::printf("[ light paths ] %s %-28s %s%s\n", test.first, what.c_str(), mean.c_str(),

@@ -41,6 +41,30 @@ double student_t_two_sided(double t, double dof) {
   return incomplete_beta(dof / 2, 0.5, dof / (dof + t * t));
 }
 
+BrightnessComparison compare_brightness(const std::vector<std::vector<double>> &runs_a,
+                                        const std::vector<std::vector<double>> &runs_b) {
+  auto mean_and_variance = [](const std::vector<std::vector<double>> &runs, double &mean, double &variance) {
+    double s = 0, s2 = 0;
+    for (const auto &img : runs) {
+      double m = 0;
+      for (double v : img) m += v;
+      m /= double(img.size());
+      s += m;
+      s2 += m * m;
+    }
+    const double k = double(runs.size());
+    mean = s / k;
+    variance = std::max(0.0, s2 / k - mean * mean) / (k - 1);  // of the mean
+  };
+  BrightnessComparison c;
+  double va, vb;
+  mean_and_variance(runs_a, c.mean_a, va);
+  mean_and_variance(runs_b, c.mean_b, vb);
+  c.error = std::sqrt(va + vb);
+  c.z = c.error > 0 ? (c.mean_a - c.mean_b) / c.error : 0.0;
+  return c;
+}
+
 BlockComparison compare_blocks(const std::vector<std::vector<double>> &runs_a,
                                const std::vector<std::vector<double>> &runs_b, int width, int height, int block,
                                double alpha) {

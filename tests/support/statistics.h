@@ -25,4 +25,12 @@ BlockComparison compare_blocks(const std::vector<std::vector<double>> &runs_a,
                                const std::vector<std::vector<double>> &runs_b, int width, int height, int block,
                                double alpha_per_block);
 
+// The brightness of runs_a against runs_b: each run's mean pixel, the mean over the runs
+// and its standard error, and z = (mean_a - mean_b) / (their combined standard error).
+struct BrightnessComparison {
+  double mean_a = 0, mean_b = 0, error = 0, z = 0;
+};
+BrightnessComparison compare_brightness(const std::vector<std::vector<double>> &runs_a,
+                                        const std::vector<std::vector<double>> &runs_b);
+
 }  // namespace rdv::test

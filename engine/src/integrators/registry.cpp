@@ -58,10 +58,6 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
     return std::make_unique<mlt::Metropolis>(scene, settings, bdpt_settings(settings, scene), m);
   }
   if (settings.integrator == "mlt") {
-    if (scene.has_ray_visibility())
-      fail("render settings: integrator mlt: " + scene.ray_visibility_object() +
-           " is hidden from some kinds of ray (ray visibility), which mlt does not implement yet (use bdpt, pssmlt "
-           "or mmlt)");
     if (scene.has_motion())
       fail("render settings: integrator mlt: " + scene.moving_object() +
            " moves while the shutter is open (motion blur), which path-space mlt does not implement (its "

@@ -100,7 +100,9 @@ PathSpace::PathSpace(const Scene &scene, int max_bounces, Vec2 sample_origin, Ve
       large_step_probability_(large_step_probability),
       mutations_(mutations),
       limits_(limits),
-      media_(scene.has_media()) {
+      media_(scene.has_media()),
+      visibility_(scene.has_ray_visibility()),
+      mixed_visibility_(scene.has_mixed_visibility()) {
   for (uint32_t i = 0; i < uint32_t(scene.lights().size()); ++i)
     if (is_sphere_lamp(scene.lights()[i])) sphere_lamps_.push_back(i);
   // Without media the medium perturbations could only fail (a property of the scene, not
@@ -158,9 +160,10 @@ std::string PathSpace::unsupported(const Scene &scene, const RenderSettings &set
 
 // ---- Sampling ----
 
-int PathSpace::first_sphere_lamp(Vec3 o, Vec3 d, float tmax, float &t) const {
+int PathSpace::first_sphere_lamp(Vec3 o, Vec3 d, float tmax, float &t, uint32_t mask) const {
   int first = -1;
   for (uint32_t index : sphere_lamps_) {
+    if (!(scene_.lights()[index].visibility & mask)) continue;  // hidden from this kind of ray
     float t_lamp;
     if (intersect_sphere_lamp(scene_.lights()[index], o, d, tmax, t_lamp)) {
       first = int(index);
@@ -181,7 +184,7 @@ bool PathSpace::trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &sta
     float segment = found ? hit.t : ray.tmax;
     // The last vertex from the camera side: a lamp's sphere in front of the surface.
     float t_lamp = 0;
-    const int lamp = to_light ? first_sphere_lamp(ray.o, ray.d, segment, t_lamp) : -1;
+    const int lamp = to_light ? first_sphere_lamp(ray.o, ray.d, segment, t_lamp, ray.mask) : -1;
     if (lamp >= 0) segment = t_lamp;
     if (media_) {
       int m = media.current(scene_);
@@ -201,7 +204,7 @@ bool PathSpace::trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &sta
       if (found && lamp < 0 && scene_.is_boundary_only(hit.material)) {  // an index-matched boundary: no vertex
         media.cross(scene_, hit, boundary, ray.d);
         float tmax = std::isinf(ray.tmax) ? kInf : ray.tmax - hit.t;
-        ray = Ray{spawn_origin(hit.p, hit.ng, hit.error, ray.d), ray.d, tmax};
+        ray = Ray{spawn_origin(hit.p, hit.ng, hit.error, ray.d), ray.d, tmax, ray.mask};
         continue;
       }
     }
@@ -278,6 +281,18 @@ bool PathSpace::light_vertex(Pcg32 &rng, ExplicitVertex &z, Vec3 &dir) const {
   return true;
 }
 
+uint32_t PathSpace::ray_mask(const ExplicitPath &y, int i, Vec3 w) const {
+  if (!visibility_) return visibility::kAnyRay;
+  uint32_t mask = visibility::kCamera;
+  for (int j = 1; j <= i; ++j) {
+    const PathVertex &v = y.x[size_t(j)].v;
+    const Vec3 wj = j == i ? w : normalize(y.x[size_t(j + 1)].v.p - v.p);
+    const ScatterKind kind = v.type == VertexType::Medium ? ScatterKind::Volume : v.bsdf.scatter_kind(v.wo, wj);
+    if (kind != ScatterKind::Transparent) mask = visibility::after(kind);
+  }
+  return mask;
+}
+
 MediumStack PathSpace::stack_toward(const ExplicitVertex &z, Vec3 w) const {
   return media_ ? z.v.media_toward(scene_, w) : MediumStack();
 }
@@ -306,6 +321,7 @@ bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, Ray
     Vec2 raster{sample_origin_.x + rng.next_float() * sample_size_.x, sample_origin_.y + rng.next_float() * sample_size_.y};
     ray = camera_ray(prev, raster);
     media = prev.v.media;
+    if (visibility_) ray.mask = visibility::kCamera;
   } else {
     Vec3 wi;
     if (prev.v.type == VertexType::Medium) {
@@ -322,7 +338,8 @@ bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, Ray
       return false;  // lights do not scatter
     }
     media = stack_toward(prev, wi);
-    ray = Ray{prev.v.on_surface() ? spawn_origin(prev.v.p, prev.v.ng, prev.v.error, wi) : prev.v.p, wi, kInf};
+    ray = Ray{prev.v.on_surface() ? spawn_origin(prev.v.p, prev.v.ng, prev.v.error, wi) : prev.v.p, wi, kInf,
+              ray_mask(y, at - 1, wi)};
   }
   ExplicitVertex &z = y.x[size_t(at)];
   if (!trace_step(ray, media, rng, stats, z, at == y.n - 1)) return false;
@@ -364,7 +381,8 @@ bool PathSpace::extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayS
     }
   }
   MediumStack media = stack_toward(next, wi);
-  Ray ray{next.v.on_surface() ? spawn_origin(next.v.p, next.v.ng, next.v.error, wi) : next.v.p, wi, kInf};
+  Ray ray{next.v.on_surface() ? spawn_origin(next.v.p, next.v.ng, next.v.error, wi) : next.v.p, wi, kInf,
+          light_walk_mask()};
   return trace_step(ray, media, rng, stats, y.x[size_t(at)]);
 }
 
@@ -416,8 +434,8 @@ double PathSpace::light_position_density(const ExplicitVertex &light_vertex) con
   return double(scene_.light_distribution().pmf(size_t(light_vertex.v.light))) * area_pdf;
 }
 
-bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec3 w, EdgeTrace &e,
-                           RayStats &stats) const {
+bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec3 w, const EdgeMasks &masks,
+                           EdgeTrace &e, RayStats &stats) const {
   e = EdgeTrace();
   Vec3 from = a.v.p;
   if (a.v.type == VertexType::Camera) {  // camera rays start at the near clip plane
@@ -427,9 +445,13 @@ bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec
   ShadowRay s = shadow_ray(from, a.v.ng, a.v.error, b.v.p, b.v.ng, b.v.error);
   if (!media_) {
     ++stats.rays;
-    e.visible = !scene_.occluded(s.o, s.d, s.tmax);
+    e.visible = !masks.f || !scene_.occluded(s.o, s.d, s.tmax, masks.f);
+    if (e.visible) walks_along(s, masks, e, stats);
     return e.visible;
   }
+  // Mask 0 (the last edge to a lamp that casts no shadows): nothing blocks, the medium
+  // boundaries still count.
+  const uint32_t trace_mask = masks.f ? masks.f : visibility::kAnyRay;
   MediumStack stack = a.v.type == VertexType::Camera ? a.v.media : a.v.media_toward(scene_, w);
   Vec3 o = s.o;
   float remaining = s.tmax;
@@ -443,7 +465,7 @@ bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec
     SurfaceHit hit;
     CoincidentBoundary boundary;
     ++stats.rays;
-    bool found = scene_.intersect_media(Ray{o, s.d, remaining}, hit, boundary);
+    bool found = scene_.intersect_media(Ray{o, s.d, remaining, trace_mask}, hit, boundary);
     float segment = found ? hit.t : remaining;
     int m = stack.current(scene_);
     double pass = 1;
@@ -463,8 +485,11 @@ bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec
     last_medium = m;
     last_length = segment;
     if (!found) break;
-    if (!scene_.is_boundary_only(hit.material)) return false;  // blocked
-    stack.cross(scene_, hit, boundary, s.d);
+    if (!scene_.is_boundary_only(hit.material)) {
+      if (masks.f) return false;  // blocked
+    } else {
+      stack.cross(scene_, hit, boundary, s.d);
+    }
     o = spawn_origin(hit.p, hit.ng, hit.error, s.d);
     remaining -= hit.t;
     if (remaining <= 0) break;
@@ -479,7 +504,21 @@ bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec
     e.rev = pass_but_first * scatter_density(scene_.medium(first_medium), first_length);
   }
   e.visible = true;
+  walks_along(s, masks, e, stats);
   return true;
+}
+
+void PathSpace::walks_along(const ShadowRay &s, const EdgeMasks &masks, EdgeTrace &e, RayStats &stats) const {
+  // Ray visibility where the walks' kinds of ray differ from f's: a walk stops at what its
+  // own kind meets (real surfaces; medium boundaries are crossed as f crosses them).
+  if (masks.camera_walk != masks.f) {
+    ++stats.rays;
+    if (scene_.occluded(s.o, s.d, s.tmax, masks.camera_walk)) e.fwd = 0;
+  }
+  if (masks.light_walk != masks.f && e.rev > 0) {
+    ++stats.rays;
+    if (scene_.occluded(s.o, s.d, s.tmax, masks.light_walk)) e.rev = 0;
+  }
 }
 
 void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
@@ -496,6 +535,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   const Light &light = scene_.lights()[size_t(last.v.light)];
   const bool lamp = light.type != LightType::Triangle;  // not in the BVH: no walk reaches it
   if (n == 2 && lamp && !light.visible_camera()) return;  // Cycles never shows lamps to the camera
+  // (with ray visibility the edge loop checks every light against its ray's kind)
 
   // The camera, for a raster point in the sample region (pbrt's We). A pinhole or a thin
   // lens: We = 1 / (A A_lens cos^4), A the image's area at unit distance, x_0 on the
@@ -534,6 +574,9 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   // pair of neighbours (integrators/light_path_limits.h).
   BounceCounts counts;
   ScatterKind before = ScatterKind::Diffuse;
+  // Ray visibility (scene/ray_visibility.h): the kind of ray each edge stands for, camera
+  // rays from x_0, then each scattering's kind (a pass-through keeps the kind it had).
+  uint32_t ray_kind = visibility_ ? visibility::kCamera : visibility::kAnyRay;
 
   // Edge by edge: transmittance, geometry, the scattering at its camera-side end, and
   // the densities of its two ends as the other end's walk would reach them.
@@ -544,8 +587,46 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     if (!(d2 > 0)) return;
     Vec3 w = i == 0 ? w0 : d / std::sqrt(d2);
     if (too_short_at_specular(a.v, b.v, std::sqrt(d2))) return;
+    if (i >= 1 && (limits_.classify || visibility_)) {
+      // The kind of scattering at a toward b, as the path tracer labels it (its BSDF built
+      // toward the camera): Cycles' Light Paths limits count it over every scattering
+      // vertex but the one that meets the light, the caustics switches check each pair of
+      // neighbours (integrators/light_path_limits.h); it sets the kind of ray toward b.
+      const ScatterKind kind =
+          a.v.type == VertexType::Medium ? ScatterKind::Volume : a.v.bsdf.scatter_kind(a.v.wo, w);
+      if (limits_.classify) {
+        if (i >= 2 && !limits_.caustic_allowed(before, kind)) return;
+        if (i + 1 < n - 1) {  // not the vertex that meets the light
+          counts.add(kind);
+          if (!limits_.within(counts)) return;
+        }
+        before = kind;
+      }
+      if (visibility_ && kind != ScatterKind::Transparent) ray_kind = visibility::after(kind);
+    }
+    EdgeMasks masks{ray_kind, ray_kind, ray_kind};
+    if (visibility_) {
+      // b must be visible to the kind of ray that reaches it; the light walk (which cannot
+      // know the kind) meets what any ray but the camera's meets.
+      if (i + 1 == n - 1) {
+        if (!(light.visibility & ray_kind)) return;
+      } else if (b.v.on_surface() && !(scene_.instance_visibility(b.hit.instance) & ray_kind)) {
+        return;
+      }
+      if (i >= 1 && mixed_visibility_) masks.light_walk = visibility::kNonCamera;
+      // The last segment from a scattering vertex to the light is blocked by what casts
+      // the light's shadows, whichever strategy made it (integrators/visibility_clear.h);
+      // the camera walk reaches the light only where nothing its kind meets lies between.
+      if (i >= 1 && i + 1 == n - 1) {
+        masks.f = light.occluders();
+        if (!mixed_visibility_) masks.camera_walk = masks.f;
+      }
+    }
     EdgeTrace e;
-    if (!trace_edge(a, b, w, e, stats)) return;
+    if (!trace_edge(a, b, w, masks, e, stats)) return;
+    if (visibility_ && i >= 1 && a.v.on_surface() &&
+        !(scene_.instance_visibility(a.hit.instance) & visibility::kNonCamera))
+      e.rev = 0;  // light walks pass what only the camera sees
     const float cos_b = cosine_at(b.v, w), cos_a = cosine_at(a.v, w);
     const float geometry = i == 0 && ortho ? cos_b : cos_b / d2;
     f *= e.tr * geometry;
@@ -559,16 +640,6 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
       } else {
         const Medium &medium = scene_.medium(a.v.medium);
         f *= medium.sigma_s * medium.phase.eval(a.v.wo, w);
-      }
-      if (limits_.classify) {
-        const ScatterKind kind =
-            a.v.type == VertexType::Medium ? ScatterKind::Volume : a.v.bsdf.scatter_kind(a.v.wo, w);
-        if (i >= 2 && !limits_.caustic_allowed(before, kind)) return;
-        if (i + 1 < n - 1) {  // not the vertex that meets the light
-          counts.add(kind);
-          if (!limits_.within(counts)) return;
-        }
-        before = kind;
       }
     }
     if (is_black(f)) return;
@@ -626,7 +697,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     const Vec3 d = last.v.p - from;
     const float length_d = length(d);
     float t;
-    const int first = first_sphere_lamp(from, d / length_d, length_d * (1 - 1e-4f), t);
+    const int first = first_sphere_lamp(from, d / length_d, length_d * (1 - 1e-4f), t, ray_kind);
     if (first >= 0 && first != last.v.light) y.fwd[size_t(n - 1)] = 0;
   }
   y.rev[size_t(n - 1)] = light_position_density(last);
@@ -842,6 +913,7 @@ Proposal PathSpace::perturb_lens(const ExplicitPath &x, Pcg32 &rng, RayStats &st
   y.n = x.n;
   for (int i = 0; i < x.n; ++i) y.x[size_t(i)] = x.x[size_t(i)];
   Ray ray = camera_ray(y.x[0], raster);
+  if (visibility_) ray.mask = visibility::kCamera;
   if (!trace_step(ray, y.x[0].v.media, rng, stats, y.x[1])) return proposal;
   settle(y.x[1], y.x[0]);
   // Through the specular chain as the camera walk samples it: each of y_1 .. y_(c-1) must
@@ -885,7 +957,8 @@ Proposal PathSpace::perturb_caustic(const ExplicitPath &x, Pcg32 &rng, RayStats 
   y.n = x.n;
   for (int i = 0; i < x.n; ++i) y.x[size_t(i)] = x.x[size_t(i)];
   const ExplicitVertex &end = y.x[size_t(k)];
-  Ray ray{end.v.on_surface() ? spawn_origin(end.v.p, end.v.ng, end.v.error, w) : end.v.p, w, kInf};
+  Ray ray{end.v.on_surface() ? spawn_origin(end.v.p, end.v.ng, end.v.error, w) : end.v.p, w, kInf,
+          light_walk_mask()};
   if (!trace_step(ray, stack_toward(end, w), rng, stats, y.x[size_t(k - 1)])) return proposal;
   for (int at = k - 2; at >= 1; --at)
     if (!extend_from_light_side(y, at, rng, stats) || !y.x[size_t(at + 1)].v.delta) return proposal;

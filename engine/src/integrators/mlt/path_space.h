@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 #include "core/hash.h"
+#include "core/ray_offset.h"
 #include "integrators/bdpt/path_vertex.h"
 #include "integrators/integrator.h"
 
@@ -137,13 +138,28 @@ class PathSpace {
     Color tr{1.0f};
     double fwd = 1, rev = 1;  // free-flight densities of reaching b from a / a from b
   };
-  bool trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec3 w, EdgeTrace &e, RayStats &stats) const;
+  // The kinds of ray (scene/ray_visibility.h) an edge stands for: f's (what blocks the
+  // edge), and those of the walks that would sample its two ends (what stops them); all
+  // visibility::kAnyRay in scenes without ray visibility.
+  struct EdgeMasks {
+    uint32_t f, camera_walk, light_walk;
+  };
+  bool trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec3 w, const EdgeMasks &masks, EdgeTrace &e,
+                  RayStats &stats) const;
+  // A walk's density of an end is 0 where something its kind of ray meets lies on the edge.
+  void walks_along(const ShadowRay &s, const EdgeMasks &masks, EdgeTrace &e, RayStats &stats) const;
+  // The kind of ray leaving y's vertex i toward w (camera rays from x_0; after a
+  // scattering its kind's; a pass-through keeps the kind that reached it).
+  uint32_t ray_mask(const ExplicitPath &y, int i, Vec3 w) const;
+  // Light-side walks do not know the kind of the scattering they will meet: they meet what
+  // any ray but the camera's meets.
+  uint32_t light_walk_mask() const { return visibility_ ? visibility::kNonCamera : visibility::kAnyRay; }
   // to_light: the last vertex from the camera side, which may be a lamp's sphere.
   bool trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &stats, ExplicitVertex &z,
                   bool to_light = false) const;
   // The sphere lamp (lights/sphere_lamp.h) the ray o + t d enters first for t < tmax
   // (its index, t), or -1.
-  int first_sphere_lamp(Vec3 o, Vec3 d, float tmax, float &t) const;
+  int first_sphere_lamp(Vec3 o, Vec3 d, float tmax, float &t, uint32_t mask) const;
   // x_0: the pinhole, a point uniform on a thin lens's aperture, or (orthographic) a
   // stand-in that evaluate() moves to x_1's foot on the image plane.
   bool camera_vertex(Pcg32 &rng, ExplicitVertex &z) const;
@@ -167,6 +183,7 @@ class PathSpace {
   LightPathLimits limits_;  // per-kind bounces and caustics switches (clamps are refused)
   float caustic_weight_ = 0;  // the caustic perturbation's weight when paths have specular vertices
   bool media_;
+  bool visibility_, mixed_visibility_;  // Scene::has_ray_visibility / has_mixed_visibility
   std::vector<uint32_t> sphere_lamps_;  // the lights that are lamps with a radius
 };
 
