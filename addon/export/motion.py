@@ -18,8 +18,8 @@ data: may_deform) has its evaluated mesh sampled at the same step times, in the 
 was exported in at the frame (mesh.mesh_arrays with the same UV and attribute needs), and
 sent as vertex steps only when some vertex moves. A vertex count that changes over the
 shutter leaves it without deformation blur, with a warning naming it (Cycles: "Topology
-differs, disabling motion blur"). Instanced copies (particles, collection instances) and
-emitting meshes render without it (the engine refuses to blur an emitter's light). Cost in
+differs, disabling motion blur"). Instanced copies (particles, collection instances) render
+without it; emitting meshes deform (and move) with their light, as in Cycles. Cost in
 bench_motion_blur's `deforming` case (12 sheared balls of 482 vertices, 2 step times besides the
 frame's): 0.004 s of sampling.
 Not yet: rolling shutter and shutter curves.

@@ -851,7 +851,8 @@ def motion_blur(variant):
     square: a red square keyframed to slide 4.8 m between frames 1 and 3 (shutter 1, Center);
     camera: a static ball seen from a camera keyframed to pan (shutter 0.5, Start);
     deform: a square sheared by a shape key (deformation blur);
-    deform_smooth: a smooth ball a shape key squashes and slides (its normals turn)."""
+    deform_smooth: a smooth ball a shape key squashes and slides (its normals turn);
+    emitters: two glowing planes, one keyframed and one a shape key slides, light the floor."""
     scene = reset(MOTION_SIZE)
     scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.08, 0.09, 0.1, 1.0)
     bpy.ops.mesh.primitive_plane_add(size=6, location=(0, 0, 0))
@@ -893,6 +894,27 @@ def motion_blur(variant):
         ball.data.materials.append(matte_material("Red", (0.8, 0.15, 0.1)))
         offsets = [(0.6 * v.co.x + 3.6, 0.0, -0.6 * (v.co.z + 0.5)) for v in ball.data.vertices]
         shape_key_animation(ball, offsets, [(MOTION_FRAME - 1, 0.0), (MOTION_FRAME + 1, 1.0)])
+        scene.render.motion_blur_shutter = 1.0
+        scene.cycles.motion_blur_position = "CENTER"
+    elif variant == "emitters":
+        # Emitting meshes move with their light: a glowing plane keyframed to slide 4.8 m and
+        # one a shape key slides 3.6 m (deformation blur), both facing the floor at 1.2 m, the
+        # area lamp dimmed so that they light most of it.
+        bpy.data.objects["Lamp"].data.energy = 20
+        glow = matte_material("Glow", (0.0, 0.0, 0.0))
+        glow.node_tree.nodes["Principled BSDF"].inputs["Emission"].default_value = (1.0, 0.9, 0.8, 1.0)
+        glow.node_tree.nodes["Principled BSDF"].inputs["Emission Strength"].default_value = 30.0
+        bpy.ops.mesh.primitive_plane_add(size=0.6, location=(0, -0.6, 1.2), rotation=(3.14159265, 0, 0))
+        sliding = bpy.context.object
+        sliding.name = "Sliding glow"
+        sliding.data.materials.append(glow)
+        keyframe_linear(sliding, "location", [(MOTION_FRAME - 1, (-2.4, -0.6, 1.2)), (MOTION_FRAME + 1, (2.4, -0.6, 1.2))])
+        bpy.ops.mesh.primitive_plane_add(size=0.6, location=(-1.8, 0.8, 1.2), rotation=(3.14159265, 0, 0))
+        deforming = bpy.context.object
+        deforming.name = "Deforming glow"
+        deforming.data.materials.append(glow)
+        shape_key_animation(deforming, [(3.6, 0.0, 0.0)] * len(deforming.data.vertices),
+                            [(MOTION_FRAME - 1, 0.0), (MOTION_FRAME + 1, 1.0)])
         scene.render.motion_blur_shutter = 1.0
         scene.cycles.motion_blur_position = "CENTER"
     elif variant == "camera":
@@ -942,6 +964,7 @@ SCENES = {
     "motion_camera": lambda: motion_blur("camera"),
     "motion_deform": lambda: motion_blur("deform"),
     "motion_deform_smooth": lambda: motion_blur("deform_smooth"),
+    "motion_emitters": lambda: motion_blur("emitters"),
 }
 
 # Scenes whose brightness must agree with Cycles.

@@ -1,6 +1,6 @@
-// The stage the motion-blur tests share (test_motion_blur.cpp, test_deformation_blur.cpp):
-// a floor, a red box and a glossy blue ball over it under an area lamp, the camera's
-// shutter open over [-0.25, 0.25] frames.
+// The stages the motion-blur tests share (test_motion_blur.cpp, test_deformation_blur.cpp):
+// a floor, a red box and a glossy blue ball over it under an area lamp; and a floor lit
+// only by an emitting mesh. The camera's shutter is open over [-0.25, 0.25] frames.
 #pragma once
 #include <nlohmann/json.hpp>
 
@@ -29,6 +29,22 @@ inline nlohmann::json motion_blur_stage(int size, const nlohmann::json &box_moti
           {"meshes", {{{"name", "floor"}, {"shape", {{"type", "quad"}, {"size", 6}}}, {"materials", {"floor"}}}, box, ball}},
           {"lights",
            {{{"type", "area"}, {"size", 1.0}, {"power", 200}, {"position", {0.5, -1.0, 3.2}}, {"direction", {0, 0, -1}}}}}};
+}
+
+// A floor (6 x 6, grey) seen from above, lit only by `lamp`, a mesh of material "lamp"
+// (emission 20), over a black world.
+inline nlohmann::json emitter_stage(int size, const nlohmann::json &lamp) {
+  return {{"settings", {{"width", size}, {"height", size}, {"samples", 64}, {"max_bounces", 3}}},
+          {"camera",
+           {{"focal_length", 30},
+            {"transform", {{"look_at", {{"from", {0, -4, 4}}, {"to", {0, 0, 0}}}}}},
+            {"shutter_open", -0.25},
+            {"shutter_close", 0.25}}},
+          {"world", {{"color", {0, 0, 0}}}},
+          {"materials",
+           {{{"name", "floor"}, {"type", "diffuse"}, {"color", {0.7, 0.7, 0.7}}},
+            {{"name", "lamp"}, {"type", "emission"}, {"color", {1, 0.9, 0.8}}, {"strength", 20}}}},
+          {"meshes", {{{"name", "floor"}, {"shape", {{"type", "quad"}, {"size", 6}}}, {"materials", {"floor"}}}, lamp}}};
 }
 
 }  // namespace rdv::test

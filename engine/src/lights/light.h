@@ -40,6 +40,9 @@ struct Light {
   // it (radiance holds the mean, and Scene::sample_light evaluates the texture).
   uint32_t instance = 0, prim = 0;
   bool textured = false;
+  // Triangle of a moving instance or deforming mesh (motion blur): the fields above are
+  // where it is at its frame; Scene::light_now places it at a sample's shutter time.
+  bool moves = false;
   Vec3 error{0.0f};      // triangle: rounding error bound of its points (core/ray_offset.h); Embree can hit it
   float power = 0;       // for light selection (scalar)
   // The kinds of ray that see it (scene/ray_visibility.h). Lamps: camera rays only when

@@ -135,17 +135,13 @@ void Scene::find_motion() {
     Mesh &m = meshes_[id];
     bool deforming = open && m.position_steps.size() >= 2;
     if (deforming) {
-      // As for moving instances: lights are sampled, and media found, where the mesh is
-      // at its frame. (Cycles 3.4 blurs a deforming emitter's light too; refused here
-      // rather than sampled where the surface is not.)
-      bool emits = false, bounds_medium = false;
-      for (uint32_t mat : m.materials) {
-        emits = emits || materials_[mat].emits();
+      // As for moving instances: the media a point is in are found where the mesh is at
+      // its frame. (An emitting mesh deforms with its light: light_now.)
+      bool bounds_medium = false;
+      for (uint32_t mat : m.materials)
         bounds_medium = bounds_medium || material_interior_[mat] >= 0 || material_boundary_[mat];
-      }
-      if (emits || bounds_medium) {
-        warn("mesh '" + m.name + "'" + (emits ? ": emits light" : ": bounds a medium") +
-             "; rendered without deformation blur, as it is at its frame");
+      if (bounds_medium) {
+        warn("mesh '" + m.name + "': bounds a medium; rendered without deformation blur, as it is at its frame");
         deforming = false;
       }
     }
@@ -157,18 +153,15 @@ void Scene::find_motion() {
     Instance &inst = instances_[i];
     inst.moving = false;
     if (!open || !inst.enabled || inst.motion.size() < 2) continue;
-    // Lights and medium boundaries stay where "transform" puts them (the shutter's middle
-    // for Blender's default Position Center): light sampling and the media a point is in
-    // are found once per commit, not per sample.
+    // Medium boundaries stay where "transform" puts them (the shutter's middle for
+    // Blender's default Position Center): the media a point is in are found once per
+    // commit, not per sample. (An emitting object moves with its light: light_now.)
     const Mesh &m = meshes_[inst.mesh];
-    bool emits = false, bounds_medium = false;
-    for (uint32_t mat : m.materials) {
-      emits = emits || materials_[mat].emits();
+    bool bounds_medium = false;
+    for (uint32_t mat : m.materials)
       bounds_medium = bounds_medium || material_interior_[mat] >= 0 || material_boundary_[mat];
-    }
-    if (emits || bounds_medium) {
-      warn(instance_name(i) + (emits ? ": emits light" : ": bounds a medium") +
-           "; rendered without motion blur, where its transform puts it");
+    if (bounds_medium) {
+      warn(instance_name(i) + ": bounds a medium; rendered without motion blur, where its transform puts it");
       continue;
     }
     inst.moving = true;

@@ -570,6 +570,7 @@ void Scene::build_lights() {
       l.prim = t;
       l.visibility = inst.visibility;
       l.textured = !mat.textured_emission.empty();
+      l.moves = inst.moving || m.deforming;  // motion blur: light_now places it
       lights_.push_back(l);
       ++emissive_triangles_;
     }
@@ -711,15 +712,53 @@ Color Scene::triangle_emission(const Light &l, Vec3 p) const {
   return materials_[hit.material].emission_at(shading_point(hit));
 }
 
-bool Scene::sample_light(uint32_t light, Vec3 ref, Vec2 u, Vec3 u_volume, LightSample &out) const {
+const Light &Scene::light_now(uint32_t light, Light &storage) const {
   const Light &l = lights_[light];
+  if (!l.moves) return l;
+  const Instance &inst = instances_[l.instance];
+  const Mesh &m = meshes_[inst.mesh];
+  const uint32_t *tri = &m.indices[3 * l.prim];
+  Vec3 p[3];
+  triangle_now(m, tri, p);
+  InstancePlacement moved;
+  const InstancePlacement &at = inst.moving ? (moved = placement_now(inst)) : placement(inst);
+  const Vec3 a = at.to_world.point(p[0]), b = at.to_world.point(p[1]), c = at.to_world.point(p[2]);
+  storage = l;
+  const Vec3 n = cross(b - a, c - a);
+  const float len = length(n);
+  if (!(len > 0) || !std::isfinite(len)) {  // collapsed at this time: it emits nothing now
+    storage.inv_area = 0;
+    storage.radiance = Color(0.0f);
+    return storage;
+  }
+  storage.p0 = a;
+  storage.edge_u = b - a;
+  storage.edge_v = c - a;
+  storage.axis = n / len;
+  storage.inv_area = 2.0f / len;
+  // As surface_at's bound for a hit on it at this time (Embree's blends differ by an ulp or two).
+  Vec3 object_error = triangle_point_error(p[0], p[1], p[2]);
+  const Vec3 largest = vmax(vabs(p[0]), vmax(vabs(p[1]), vabs(p[2])));
+  if (m.deforming) object_error += largest * (2 * kUlp);
+  storage.error = transformed_point_error(object_error, vmax(vabs(a), vmax(vabs(b), vabs(c))), at.abs_linear,
+                                          at.error_mixing);
+  if (inst.moving) storage.error += (at.abs_linear.vector(largest) + vabs(at.to_world.column(3))) * (2 * kUlp);
+  return storage;
+}
+
+bool Scene::sample_light(uint32_t light, Vec3 ref, Vec2 u, Vec3 u_volume, LightSample &out) const {
+  Light moved;
+  const Light &l = light_now(light, moved);
+  if (l.moves && !(l.inv_area > 0)) return false;  // a moving triangle collapsed at this time
   if (!rdv::sample_light(l, ref, u, u_volume, out)) return false;
   if (l.textured) out.L = triangle_emission(l, out.p);
   return true;
 }
 
 bool Scene::sample_emission(uint32_t light, Vec2 u_pos, Vec2 u_dir, Vec3 u_volume, EmissionSample &out) const {
-  const Light &l = lights_[light];
+  Light moved;
+  const Light &l = light_now(light, moved);
+  if (l.moves && !(l.inv_area > 0)) return false;  // a moving triangle collapsed at this time
   if (!rdv::sample_emission(l, u_pos, u_dir, u_volume, bounding_center_, bounding_radius_, out)) return false;
   if (l.textured) out.Le = triangle_emission(l, out.ray.o);
   return true;

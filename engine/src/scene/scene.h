@@ -118,6 +118,10 @@ class Scene {
   // evaluated at the sampled point.
   bool sample_light(uint32_t light, Vec3 ref, Vec2 u, Vec3 u_volume, LightSample &out) const;
   bool sample_emission(uint32_t light, Vec2 u_pos, Vec2 u_dir, Vec3 u_volume, EmissionSample &out) const;
+  // The light where it is at this thread's shutter time (scene/motion.h): an emissive
+  // triangle of a moving or deforming object (Light::moves) is placed in `storage`, as
+  // surface_at places a hit on it; every other light is lights()[light] itself.
+  const Light &light_now(uint32_t light, Light &storage) const;
 
   // The camera as set (at its "transform"). A sample traces with camera_now().
   const Camera &camera() const { return camera_; }

@@ -28,7 +28,8 @@ void Bdpt::light_densities(const PathVertex &lv, const PathVertex &v, float &ori
   float d2 = length_squared(w);
   w = w / std::sqrt(d2);
   float pdf_pos, pdf_dir;
-  emission_pdf(scene_.lights()[lv.light], lv.p, lv.ng, w, radius, pdf_pos, pdf_dir);
+  Light moved;
+  emission_pdf(scene_.light_now(uint32_t(lv.light), moved), lv.p, lv.ng, w, radius, pdf_pos, pdf_dir);
   origin = pdf_pos * scene_.light_distribution().pmf(lv.light);
   toward = 0;
   if (!(d2 > 0)) return;

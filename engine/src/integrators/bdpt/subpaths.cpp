@@ -389,7 +389,8 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int
   if (dist.size() == 0 || dist.total() <= 0) return 0;
   float pmf;
   uint32_t index = uint32_t(dist.sample_discrete(u_light, &pmf));
-  const Light &light = scene_.lights()[index];
+  Light moved;
+  const Light &light = scene_.light_now(index, moved);  // a moving emitter at the sample's time
   Vec3 u_volume(0.0f);
   if (light.type == LightType::Volume)
     u_volume = dims::volume_point(sampler, SampleStream::Light, dims::kLightVolumePoint);

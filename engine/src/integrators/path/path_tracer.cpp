@@ -319,7 +319,8 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     }
     if (material.emits()) {
       uint32_t li = scene_.triangle_light(hit.instance, hit.prim);
-      const Light &light = scene_.lights()[li];
+      Light moved;
+      const Light &light = scene_.light_now(li, moved);  // where the ray met it
       float pdf = light_pdf(light, prev_p, ray.d, length(hit.p - prev_p));
       if (shadows_allow(light, shadow_ray(prev_p, prev_ng, prev_error, hit.p, hit.ng, hit.error)))
         add(beta * Le * emission_weight(li, pdf), depth);
