@@ -1,5 +1,7 @@
 // Benchmark (prints numbers, asserts nothing): what Cycles' light passes cost
-// (film/light_passes.h), and BDPT's strategy passes (film/strategy_passes.h). Each scene
+// (film/light_passes.h) for path and bdpt, and for the Metropolis integrators (table
+// "metropolis": 64 mutations per pixel, bootstrap and pilot included), and BDPT's strategy
+// passes (film/strategy_passes.h). Each scene
 // renders at a fixed sample count, the passes off and on alternately (5 runs each, the
 // film's memory and the median time printed), so that drifts of the machine's speed hit
 // both alike.
@@ -44,13 +46,14 @@ static double median(std::vector<double> v) {
 
 // Renders each scene with each integrator, the passes `settings` ask for off and on alternately.
 static void compare(const std::vector<const char *> &scenes, const std::vector<const char *> &integrators,
-                    const nlohmann::json &settings) {
+                    const nlohmann::json &settings, int samples = 16) {
   const int runs = 5;
-  std::printf("%-16s %-5s %8s %8s %7s   (%s)\n", "scene", "integ", "off s", "on s", "on/off", settings.dump().c_str());
+  std::printf("%-16s %-6s %8s %8s %7s   (%s, %d samples)\n", "scene", "integ", "off s", "on s", "on/off",
+              settings.dump().c_str(), samples);
   for (const char *name : scenes) {
     const std::string path = std::string(RDV_SOURCE_DIR) + "/scenes/" + name;
     for (const char *integrator : integrators) {
-      nlohmann::json base = {{"integrator", integrator}, {"width", 256}, {"height", 256}, {"samples", 16}, {"seed", 1}};
+      nlohmann::json base = {{"integrator", integrator}, {"width", 256}, {"height", 256}, {"samples", samples}, {"seed", 1}};
       nlohmann::json with = base;
       with.update(settings);
       std::vector<double> off, on;
@@ -59,13 +62,13 @@ static void compare(const std::vector<const char *> &scenes, const std::vector<c
         on.push_back(render_seconds(path, with));
       }
       const double a = median(off), b = median(on);
-      std::printf("%-16s %-5s %8.3f %8.3f %7.3f\n", name, integrator, a, b, b / a);
+      std::printf("%-16s %-6s %8.3f %8.3f %7.3f\n", name, integrator, a, b, b / a);
       std::fflush(stdout);
     }
   }
 }
 
-// bench_light_passes [light] [strategies]: which tables (both by default).
+// bench_light_passes [light] [metropolis] [strategies]: which tables (all by default).
 int main(int argc, char **argv) {
   auto wanted = [&](const char *table) {
     if (argc < 2) return true;
@@ -79,6 +82,9 @@ int main(int argc, char **argv) {
               rdv::Film::bytes_per_pixel(false, false, 3));
   if (wanted("light"))
     compare({"cornell_box.json", "light_types.json", "fog_spot.json"}, {"path", "bdpt"}, {{"light_passes", true}});
+  // The Metropolis integrators (light_types has a sun, which mlt does not sample).
+  if (wanted("metropolis"))
+    compare({"cornell_box.json", "fog_spot.json"}, {"pssmlt", "mmlt", "mlt"}, {{"light_passes", true}}, 64);
   // BDPT's strategy passes (film/strategy_passes.h), 14 passes at the default depth 3.
   if (wanted("strategies"))
     compare({"cornell_box.json", "caustic.json", "fog_spot.json"}, {"bdpt"}, {{"strategy_passes", true}});

@@ -3,9 +3,8 @@ and Cycles' view_layer.cycles.use_pass_volume_*), registering them with Blender
 (RenderEngine.update_render_passes, so the compositor's Render Layers node and multilayer
 EXR have them) and which engine pass fills each (engine/include/rendezvous.h, rdv_pass).
 
-Cycles' light passes need the session setting "light_passes" (path and bdpt classify
-their paths; the Metropolis integrators do not yet: a warning says so and the passes
-stay black). BDPT's strategy passes (view_layer.rendezvous.use_pass_strategies) need
+Cycles' light passes need the session setting "light_passes" (every integrator classifies
+its paths: path, bdpt, the Metropolis integrators and auto's pick). BDPT's strategy passes (view_layer.rendezvous.use_pass_strategies) need
 "strategy_passes"; other integrators have no strategies: a warning, and black passes."""
 
 from .. import binding
@@ -33,7 +32,6 @@ LIGHT_PASSES = [
     ("VolumeDir", "use_pass_volume_direct", "cycles", binding.PASS_VOLUME_DIRECT),
     ("VolumeInd", "use_pass_volume_indirect", "cycles", binding.PASS_VOLUME_INDIRECT),
 ]
-LIGHT_PASS_INTEGRATORS = ("path", "bdpt", "auto")
 
 
 def strategy_passes(max_depth):
@@ -115,9 +113,5 @@ def light_pass_settings(layer, scene, integrator, warn=print):
             warn("Passes: the BDPT strategy passes are the Bidirectional integrator's strategies; with %s they "
                  "stay black" % integrator)
     if not wants_light_passes(layer, scene):
-        return data
-    if integrator not in LIGHT_PASS_INTEGRATORS:
-        warn("Passes: the light passes (Emission, Environment, Diffuse / Glossy / Transmission / Volume) are "
-             "made by the Path Tracing and Bidirectional integrators; with %s they stay black" % integrator)
         return data
     return dict(data, light_passes=True)

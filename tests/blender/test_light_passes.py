@@ -1,6 +1,7 @@
 """Cycles' light passes against Cycles: build_scenes.light_passes (48x48: diffuse, glossy and
 glass balls, an emissive ball, the world, a sun, a cube of fog) rendered by Cycles, then by
-Rendezvous' path tracer and BDPT in this process, with View Layer > Passes > Light all on (and
+Rendezvous' path tracer and BDPT (or the integrators --integrators names: PSSMLT and MMLT with
+as many mutations per pixel as Cycles' samples) in this process, with View Layer > Passes > Light all on (and
 Cycles' Volume Direct / Indirect), written as a multilayer EXR and read back pass by pass
 (oiiotool). Per integrator:
 - every light pass (Direct and Indirect times their Color: what they add to Combined) as
@@ -8,11 +9,15 @@ Cycles' Volume Direct / Indirect), written as a multilayer EXR and read back pas
   standard errors) where it holds at least 2% of Combined's mean; a smaller pass (noise
   dominated at these sample counts) must differ from Cycles' by at most 0.5% of Combined's
   mean;
+- the Metropolis integrators: every pass (and Combined) within 1% of Combined's mean of Cycles'
+  (their noise is correlated between neighbouring pixels, which the block test's noise estimate
+  does not see; the engine's LightPasses.MetropolisAgreesWithBdpt compares them block by block
+  with independent seeds);
 - Emission + Environment + sum (Direct + Indirect) x Color + Volume equals Combined per pixel
   (relative 1e-4; pixels where a kind's colour is partly 0 next to pixels where it is not are
   left out: BDPT's light-tracing splats reach 1.5 px from the surface they classify).
 
-    run_blender.py --script test_light_passes.py -- [--samples N]
+    run_blender.py --script test_light_passes.py -- [--samples N] [--integrators PATH,BDPT]
 """
 
 import argparse
@@ -34,6 +39,7 @@ LIGHT = ["Emit", "Env", "DiffDir", "DiffInd", "DiffCol", "GlossDir", "GlossInd",
 SMALL_SHARE = 0.02      # a pass below 2% of Combined's mean is compared absolutely ...
 SMALL_ABS = 0.005       # ... within 0.5% of Combined's mean
 SUM_TOLERANCE = 1e-4
+METROPOLIS_ABS = 0.01   # Metropolis: every pass within 1% of Combined's mean
 
 
 def enable_light_passes(layer):
@@ -113,7 +119,10 @@ def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     ap = argparse.ArgumentParser()
     ap.add_argument("--samples", type=int, default=1024)
+    ap.add_argument("--integrators", default="PATH,BDPT")
     a = ap.parse_args(argv)
+    # Samples per pixel (Metropolis: mutations per pixel) of each integrator.
+    samples = {"PATH": a.samples, "BDPT": a.samples // 2, "PSSMLT": a.samples, "MMLT": a.samples}
     odir = out_dir()
     failures = []
     if not shutil.which("oiiotool"):
@@ -123,14 +132,21 @@ def main():
         enable_light_passes(bpy.context.view_layer)
         ref = render(scene, "CYCLES", a.samples, os.path.join(odir, "light_passes_cycles.exr"))
         combined_mean = ref["Combined"].mean()
-        for integrator, samples in (("PATH", a.samples), ("BDPT", a.samples // 2)):
-            test = render(scene, "RENDEZVOUS", samples, os.path.join(odir, "light_passes_%s.exr" % integrator.lower()),
-                          integrator)
+        for integrator in a.integrators.split(","):
+            test = render(scene, "RENDEZVOUS", samples[integrator],
+                          os.path.join(odir, "light_passes_%s.exr" % integrator.lower()), integrator)
             for name in ["Combined"] + LIGHT:
                 r, t = contribution(ref, name), contribution(test, name)
                 label = "%s %s" % (integrator, name)
                 if not np.isfinite(t).all():
                     failures.append("%s: non-finite pixels" % label)
+                    continue
+                if integrator in ("PSSMLT", "MMLT"):
+                    diff = abs(t.mean() - r.mean()) / combined_mean
+                    print("BRIGHTNESS %-24s cycles mean %.5f rendezvous mean %.5f (%.2f%% of Combined) -> %s"
+                          % (label, r.mean(), t.mean(), 100 * diff, "ok" if diff <= METROPOLIS_ABS else "FAIL"))
+                    if diff > METROPOLIS_ABS:
+                        failures.append("%s: mean %.5f vs Cycles %.5f" % (label, t.mean(), r.mean()))
                     continue
                 if r.mean() < SMALL_SHARE * combined_mean:
                     diff = abs(t.mean() - r.mean()) / combined_mean
