@@ -93,6 +93,14 @@ def contribution(p, name):
     return p[name]
 
 
+def absolute_check(label, r, t, combined_mean, tolerance, what):
+    """Failures of a pass whose mean must be within tolerance x Combined's mean of Cycles'."""
+    diff = abs(t.mean() - r.mean()) / combined_mean
+    print("BRIGHTNESS %-24s %scycles mean %.5f rendezvous mean %.5f (%.2f%% of Combined) -> %s"
+          % (label, what, r.mean(), t.mean(), 100 * diff, "ok" if diff <= tolerance else "FAIL"))
+    return ["%s: mean %.5f vs Cycles %.5f" % (label, t.mean(), r.mean())] if diff > tolerance else []
+
+
 def sum_check(name, p):
     """Failures of Emission + Environment + sum (Dir + Ind) x Col + Volume = Combined."""
     total = p["Emit"] + p["Env"] + p["VolumeDir"] + p["VolumeInd"]
@@ -142,18 +150,10 @@ def main():
                     failures.append("%s: non-finite pixels" % label)
                     continue
                 if integrator in ("PSSMLT", "MMLT"):
-                    diff = abs(t.mean() - r.mean()) / combined_mean
-                    print("BRIGHTNESS %-24s cycles mean %.5f rendezvous mean %.5f (%.2f%% of Combined) -> %s"
-                          % (label, r.mean(), t.mean(), 100 * diff, "ok" if diff <= METROPOLIS_ABS else "FAIL"))
-                    if diff > METROPOLIS_ABS:
-                        failures.append("%s: mean %.5f vs Cycles %.5f" % (label, t.mean(), r.mean()))
+                    failures += absolute_check(label, r, t, combined_mean, METROPOLIS_ABS, "")
                     continue
                 if r.mean() < SMALL_SHARE * combined_mean:
-                    diff = abs(t.mean() - r.mean()) / combined_mean
-                    print("BRIGHTNESS %-24s small pass: cycles mean %.5f rendezvous mean %.5f (%.2f%% of Combined) -> %s"
-                          % (label, r.mean(), t.mean(), 100 * diff, "ok" if diff <= SMALL_ABS else "FAIL"))
-                    if diff > SMALL_ABS:
-                        failures.append("%s: mean %.5f vs Cycles %.5f" % (label, t.mean(), r.mean()))
+                    failures += absolute_check(label, r, t, combined_mean, SMALL_ABS, "small pass: ")
                     continue
                 ok_mean, ok_blocks, ratio = compare(label, r, t)
                 if not ok_mean:
