@@ -57,10 +57,40 @@ const Vec2 kSize{kWidth + 2 * kFilterRadius, kHeight + 2 * kFilterRadius};
 struct BruteForce {
   const Scene &scene;
   int max_vertices = kMaxBounces + 2;
+  // Or a box of homogeneous medium (axis-aligned, medium 0) in a scene without a world one.
+  bool box = false;
+  Vec3 box_lo{0.0f}, box_hi{0.0f};
+
+  // The length of the line a + t d, t in [0, tmax], inside the box (slabs).
+  double inside_box(Vec3 a, Vec3 d, double tmax) const {
+    double t0 = 0, t1 = tmax;
+    for (int k = 0; k < 3; ++k) {
+      const double o = (&a.x)[k], dk = (&d.x)[k], lo = (&box_lo.x)[k], hi = (&box_hi.x)[k];
+      if (dk == 0) {
+        if (o < lo || o > hi) return 0;
+        continue;
+      }
+      double ta = (lo - o) / dk, tb = (hi - o) / dk;
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+    }
+    return t1 > t0 ? t1 - t0 : 0.0;
+  }
+  double box_flight(double length_inside, bool stops) const {
+    const Medium &m = scene.medium(0);
+    double s = 0;
+    for (int c = 0; c < 3; ++c) {
+      double st = m.sigma_t[c], tr = std::exp(-st * length_inside);
+      s += stops ? st * tr : tr;
+    }
+    return s / 3;
+  }
 
   // Free flight over the straight segment a -> b in the world medium (the only medium of
   // these scenes): stopping in it at b, or passing it.
   double free_flight(Vec3 a, Vec3 b, bool stops) const {
+    if (box) return box_flight(inside_box(a, normalize(b - a), length(b - a)), stops);
     const int wm = scene.world_medium();
     const double d = length(b - a);
     if (wm < 0) return stops ? 0.0 : 1.0;
@@ -73,7 +103,22 @@ struct BruteForce {
     }
     return s / 3;
   }
-  static Vec3 dir(const ExplicitPath &p, int from, int to) { return normalize(p.x[size_t(to)].v.p - p.x[size_t(from)].v.p); }
+  // Lights at infinity: their vertex is the direction toward the light.
+  static Vec3 dir(const ExplicitPath &p, int from, int to) {
+    if (p.x[size_t(to)].v.infinite) return p.x[size_t(to)].v.dir;
+    if (p.x[size_t(from)].v.infinite) return -p.x[size_t(from)].v.dir;
+    return normalize(p.x[size_t(to)].v.p - p.x[size_t(from)].v.p);
+  }
+  // An edge to a light at infinity: these scenes have no world medium there.
+  double free_flight(const ExplicitPath &p, int a, int b, bool stops) const {
+    const bdpt::PathVertex &va = p.x[size_t(a)].v, &vb = p.x[size_t(b)].v;
+    if (box && (va.infinite || vb.infinite)) {
+      const bdpt::PathVertex &finite = va.infinite ? vb : va, &light = va.infinite ? va : vb;
+      return box_flight(inside_box(finite.p, light.dir, 1e30), stops);
+    }
+    if (va.infinite || vb.infinite) return scene.world_medium() < 0 ? 1.0 : 0.0;
+    return free_flight(p.x[size_t(a)].v.p, p.x[size_t(b)].v.p, stops);
+  }
   // A specular vertex's event from wo to wi (smooth glass of IOR 1.5, or a mirror): its
   // probability and d omega_wi / d omega_wo; 0 when wi is not where the event sends wo.
   double specular_event(const ExplicitVertex &v, Vec3 wo, Vec3 wi, double &jacobian) const {
@@ -123,8 +168,12 @@ struct BruteForce {
     }
     return scene.bsdf(v.hit, wo, 0).pdf(wo, wi);
   }
+  // Solid angle at `from` to area at i; from a light at infinity: its disk to area at i (the
+  // cosine there); to one: none (its vertex is in solid angle).
   double to_area(const ExplicitPath &p, int from, int i) const {
     const bdpt::PathVertex &v = p.x[size_t(i)].v;
+    if (v.infinite) return 1;
+    if (p.x[size_t(from)].v.infinite) return v.on_surface() ? std::fabs(dot(v.ng, p.x[size_t(from)].v.dir)) : 1.0;
     Vec3 d = v.p - p.x[size_t(from)].v.p;
     double cos = v.on_surface() ? std::fabs(dot(v.ng, normalize(d))) : 1.0;
     return cos / double(length_squared(d));
@@ -140,6 +189,20 @@ struct BruteForce {
     const int n = p.n;
     if (i == 0) return 1 / aperture_area();  // a point uniform on the aperture (a pinhole: 1)
     const bdpt::PathVertex &v = p.x[size_t(i)].v;
+    if (v.infinite) {
+      // Escaped: the density of the direction at x_(n-2) (a sun without an angle: never).
+      const Light &light = scene.lights()[size_t(v.light)];
+      if (light.type == LightType::Sun && light.radius == 0) return 0;
+      double pdf;
+      if (i == 1) {
+        const double cos0 = dot(v.dir, scene.camera().forward());
+        pdf = (double(kWidth) * kHeight / (double(kSize.x) * kSize.y)) /
+              (scene.camera().viewplane_area() * cos0 * cos0 * cos0);
+      } else {
+        pdf = scatter_pdf(p.x[size_t(i - 1)], dir(p, i - 1, i - 2), v.dir);
+      }
+      return pdf * free_flight(p, i - 1, i, false);
+    }
     if (i == n - 1 && scene.lights()[size_t(v.light)].type != LightType::Triangle) {
       // Lamps: no walk hits them, but for the spheres of lamps with a radius (one lamp in
       // these scenes: nothing else's sphere on the way), where the ray enters: the cosine
@@ -175,7 +238,7 @@ struct BruteForce {
     } else {
       pdf = scatter_pdf(p.x[size_t(i - 1)], dir(p, i - 1, i - 2), w);
     }
-    return pdf * to_area(p, i - 1, i) * free_flight(from, v.p, v.type == VertexType::Medium);
+    return pdf * to_area(p, i - 1, i) * free_flight(from, v.p, v.type == VertexType::Medium);  // finite: as before
   }
   // A lamp with a radius is a sphere (lights/sphere_lamp.h): its point uniform over the
   // sphere (a point lamp) or over the cap of points whose normal is within pi/2 + the
@@ -202,6 +265,27 @@ struct BruteForce {
     const bdpt::PathVertex &light_vertex = p.x[size_t(n - 1)].v;
     const Light &light = scene.lights()[size_t(light_vertex.light)];
     const bool sphere = (light.type == LightType::Point || light.type == LightType::Spot) && light.radius > 0;
+    if (light_vertex.infinite) {
+      // A direction by each light's power and direction density (a sun without an angle:
+      // its delta, 1), summed over the lights at infinity it stands for; then a point
+      // uniform on the disk of the bounding radius perpendicular to it, at the cosine.
+      if (i == n - 1) {
+        if (light.type == LightType::Sun && light.radius == 0)
+          return double(scene.light_distribution().pmf(size_t(light_vertex.light)));
+        double pdf = 0;
+        for (size_t k = 0; k < scene.lights().size(); ++k) {
+          const Light &l = scene.lights()[k];
+          if (l.is_infinite() && !(l.type == LightType::Sun && l.radius == 0))
+            pdf += double(scene.light_distribution().pmf(k)) * light_pdf(l, Vec3(0.0f), light_vertex.dir, kInf);
+        }
+        return pdf;
+      }
+      if (i == n - 2 && i > 0) {
+        const double r = scene.bounding_radius();
+        return to_area(p, n - 1, i) * free_flight(p, n - 1, i, p.x[size_t(i)].v.type == VertexType::Medium) /
+               (kPi * r * r);
+      }
+    }
     if (i == n - 1)
       return double(scene.light_distribution().pmf(size_t(light_vertex.light))) *
              (sphere ? sphere_point_pdf(light, light_vertex.p) : light.inv_area);
@@ -218,7 +302,7 @@ struct BruteForce {
       pdf = scatter_pdf(p.x[size_t(i + 1)], dir(p, i + 1, i + 2), w, true);
     }
     const bdpt::PathVertex &v = p.x[size_t(i)].v;
-    return pdf * to_area(p, i + 1, i) * free_flight(p.x[size_t(i + 1)].v.p, v.p, v.type == VertexType::Medium);
+    return pdf * to_area(p, i + 1, i) * free_flight(p, i + 1, i, v.type == VertexType::Medium);
   }
   // Deletions: every (l, m) of a path of nv vertices but the edges before the camera
   // and after the light alone, and the whole path (a large step).
@@ -280,6 +364,7 @@ std::vector<unsigned char> digest(const ExplicitPath &p) {
     add(&v.light, sizeof v.light);
     add(&v.medium, sizeof v.medium);
     add(&v.delta, sizeof v.delta);
+    add(&v.dir, sizeof v.dir);
     add(&p.fwd[size_t(i)], sizeof(double));
     add(&p.rev[size_t(i)], sizeof(double));
   }
@@ -293,18 +378,24 @@ int specular_vertices(const ExplicitPath &p) {
 }
 
 // min_specular: how many checked proposals must have specular vertices in x or y.
+// box_lo, box_hi: the scene's one medium is in that axis-aligned box (BruteForce::box).
 void check_scene(const std::string &name, const nlohmann::json &json, int starts, int mutations_per_start,
-                 int min_specular = 0) {
+                 int min_specular = 0, const Vec3 *box_lo = nullptr, const Vec3 *box_hi = nullptr) {
   LoadedScene loaded;
   load(loaded, json);
   const Scene &scene = loaded.scene();
   PathSpace space(scene, kMaxBounces, kOrigin, kSize, float(kWidth * kHeight), kLargeStep);
   BruteForce brute{scene};
+  if (box_lo) {
+    brute.box = true;
+    brute.box_lo = *box_lo;
+    brute.box_hi = *box_hi;
+  }
   Pcg32 rng(7, 11);
   RayStats stats;
   ExplicitPath x, y, z;
   int checked = 0, worse = 0, medium_paths = 0, large = 0, lens = 0, specular = 0, lens_specular = 0, caustic = 0;
-  int off_sphere = 0;
+  int off_sphere = 0, infinite = 0, delta_sun = 0;
   double worst = 0, worst_f = 0;
   for (int s = 0; s < starts; ++s) {
     if (!(space.sample_independent(rng, stats, x) > 0)) continue;
@@ -340,6 +431,10 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
       ++checked;
       specular += specular_vertices(x) + specular_vertices(y) > 0;
       large += p.type == MutationType::Large;
+      const bdpt::PathVertex &end = y.x[size_t(y.n - 1)].v;
+      infinite += end.infinite;
+      delta_sun += end.infinite && scene.lights()[size_t(end.light)].type == LightType::Sun &&
+                   scene.lights()[size_t(end.light)].radius == 0;
       for (int i = 0; i < y.n; ++i) medium_paths += y.x[size_t(i)].v.type == VertexType::Medium;
     }
     // The lens perturbation: x_1 .. x_c move (x_c the first non-specular vertex); its ratio
@@ -373,8 +468,7 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
       if (!(p.ratio > 0)) continue;
       auto area = [&](const ExplicitPath &q) {
         const bdpt::PathVertex &v = q.x[size_t(kc - 1)].v;
-        return brute.to_area(q, kc, kc - 1) *
-               brute.free_flight(q.x[size_t(kc)].v.p, v.p, v.type == VertexType::Medium);
+        return brute.to_area(q, kc, kc - 1) * brute.free_flight(q, kc, kc - 1, v.type == VertexType::Medium);
       };
       double brute_ratio = area(x) / area(y);
       for (int i = 1; i <= kc - 2; ++i) brute_ratio *= brute.light_side(x, i) / brute.light_side(y, i);
@@ -393,15 +487,17 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
     EXPECT_TRUE(digest(x) == before) << name << ": a proposal changed the state it mutated";
   }
   std::printf("[ mlt densities ] %-12s %d bidirectional proposals checked (%d large, %d with specular vertices), %d "
-              "lens (%d through specular vertices), %d caustic; %d medium vertices; worst |log ratio error| %.2e; "
-              "worst f rebuild error %.2e\n",
-              name.c_str(), checked, large, specular, lens, lens_specular, caustic, medium_paths, worst, worst_f);
+              "lens (%d through specular vertices), %d caustic; %d medium vertices; %d ending at infinity (%d at a sun "
+              "without an angle); worst |log ratio error| %.2e; worst f rebuild error %.2e\n",
+              name.c_str(), checked, large, specular, lens, lens_specular, caustic, medium_paths, infinite, delta_sun,
+              worst, worst_f);
+  if (!scene.infinite_lights().empty()) EXPECT_GT(infinite, checked / 10) << name;
   EXPECT_GE(specular, min_specular) << name;
   EXPECT_GE(lens_specular, min_specular / 10) << name;
   EXPECT_GE(caustic, min_specular / 10) << name;
   EXPECT_GT(checked, 200) << name;
   EXPECT_GT(lens, 200) << name;
-  if (scene.world_medium() >= 0) EXPECT_GT(medium_paths, 0) << name;
+  if (scene.world_medium() >= 0 || box_lo) EXPECT_GT(medium_paths, 0) << name;
   EXPECT_EQ(worse, 0) << name;
   EXPECT_EQ(off_sphere, 0) << name << ": a lamp vertex off its sphere";
   EXPECT_LT(worst_f, 1e-5) << name;
@@ -460,6 +556,49 @@ TEST(PathMltDensities, RadiusLampRatiosMatchBruteForce) {
                                           {"direction", {-0.3, 0, -1}}, {"power", 2000}, {"radius", 0.05},
                                           {"spot_size", 1.2}, {"spot_blend", 0.2}}});
   check_scene("fog_door.json (5 cm spot)", fog, 16000, 20);
+}
+
+// Lights at infinity (path_space.h): the Cornell box with its lamp taken out of the ceiling
+// (a window), lit through it by a sky HDRI (importance-sampled) and a sun 0.1 rad wide, the
+// two one vertex whose density is the sum of theirs; the glass ball and mirror under a sun
+// without an angle (a delta in direction: reached only from the light side, its chains
+// through the ball and the caustic perturbation's parallel shift of its ray) and a uniform
+// world. Also the window with a fog box in it (medium vertices lit from infinity).
+nlohmann::json cornell_window() {
+  nlohmann::json j = test::load_scene("cornell_box.json");
+  nlohmann::json meshes = nlohmann::json::array();
+  for (auto &m : j["meshes"])
+    if (m["name"] != "lamp") meshes.push_back(m);
+  j["meshes"] = meshes;
+  j["world"] = {{"environment", {{"file", "textures/sky_small.hdr"}}}, {"strength", 1.0}};
+  j["lights"] = nlohmann::json::array(
+      {{{"name", "sun"}, {"type", "sun"}, {"direction", {0.15, 0.1, -1}}, {"angle", 0.1}, {"strength", 3}}});
+  return j;
+}
+
+TEST(PathMltDensities, InfiniteLightsRatiosMatchBruteForce) {
+  check_scene("cornell_box.json (window: sky + sun)", cornell_window(), 3000, 20);
+  nlohmann::json j = test::load_scene("mirror_caustic.json");
+  j["lights"] = nlohmann::json::array(
+      {{{"name", "sun"}, {"type", "sun"}, {"direction", {0.3, 0.4, -1}}, {"angle", 0}, {"strength", 3}}});
+  j["world"] = {{"color", {0.05, 0.06, 0.08}}};
+  check_scene("mirror_caustic.json (sun, world)", j, 20000, 20, 100);
+  nlohmann::json fog = cornell_window();
+  fog["materials"].push_back(
+      {{"name", "fog"}, {"type", "volume"}, {"volume", {{"density", 0.8}, {"color", {0.9, 0.9, 0.9}}, {"anisotropy", 0.3}}}});
+  fog["meshes"].push_back({{"name", "fog_box"}, {"shape", {{"type", "box"}, {"size", {1.6, 1.6, 0.5}}}},
+                           {"materials", {"fog"}}, {"transform", {{"translate", {0, 0, 1.6}}}}});
+  const Vec3 lo(-0.8f, -0.8f, 1.35f), hi(0.8f, 0.8f, 1.85f);
+  check_scene("cornell_box.json (window, fog box)", fog, 3000, 20, 0, &lo, &hi);
+}
+
+// Textured emission (the lamp's colour an image): f reads the texture at the vertex; the
+// densities are the untextured ones (light choice by the material's mean emission x area).
+TEST(PathMltDensities, TexturedLampRatiosMatchBruteForce) {
+  nlohmann::json j = test::load_scene("cornell_box.json");
+  for (auto &m : j["materials"])
+    if (m["name"] == "lamp") m["color"] = {{"node", "image"}, {"file", "textures/tiles.png"}};
+  check_scene("cornell_box.json (textured lamp)", j, 300, 20);
 }
 
 // The perturbations of a medium vertex (Pauly, Kollig & Keller 2000, sec. 4) against the

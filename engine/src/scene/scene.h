@@ -122,6 +122,8 @@ class Scene {
   // triangle of a moving or deforming object (Light::moves) is placed in `storage`, as
   // surface_at places a hit on it; every other light is lights()[light] itself.
   const Light &light_now(uint32_t light, Light &storage) const;
+  // Radiance of a textured emissive triangle at point p on it (unfiltered texture lookup).
+  Color triangle_emission(const Light &light, Vec3 p) const;
 
   // The camera as set (at its "transform"). A sample traces with camera_now().
   const Camera &camera() const { return camera_; }
@@ -249,8 +251,6 @@ class Scene {
   // surface, or null.
   bool intersect_with_boundaries(const Ray &ray, const RawHit *surface, SurfaceHit &hit,
                                  CoincidentBoundary &boundary) const;
-  // Radiance of a textured emissive triangle at point p on it.
-  Color triangle_emission(const Light &light, Vec3 p) const;
   Mesh make_mesh(const std::string &name, const float *positions, uint32_t num_vertices, const float *normals,
                  const float *uvs, const uint32_t *indices, uint32_t num_triangles, const uint32_t *material_ids,
                  uint32_t default_material);

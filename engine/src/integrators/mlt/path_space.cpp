@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include "core/ray_offset.h"
+#include "core/sampling.h"
 #include "lights/light.h"
 #include "lights/sphere_lamp.h"
 #include "media/medium_stack.h"
@@ -39,6 +40,12 @@ float free_flight(const Medium &m, float segment, Pcg32 &rng) {
 }
 
 float cosine_at(const PathVertex &v, Vec3 w) { return v.on_surface() ? absdot(v.ng, w) : 1.0f; }
+
+// The direction from a toward b: a light at infinity is a direction (the state holds it,
+// not a point), the same from wherever its neighbour is.
+Vec3 toward(const ExplicitVertex &a, const ExplicitVertex &b) {
+  return b.v.infinite ? b.v.dir : normalize(b.v.p - a.v.p);
+}
 
 // How far a vertex's position may be from where the ray that found its neighbour (or the
 // neighbour itself) took it: a surface point's spawn offset along its normal
@@ -103,8 +110,14 @@ PathSpace::PathSpace(const Scene &scene, int max_bounces, Vec2 sample_origin, Ve
       media_(scene.has_media()),
       visibility_(scene.has_ray_visibility()),
       mixed_visibility_(scene.has_mixed_visibility()) {
-  for (uint32_t i = 0; i < uint32_t(scene.lights().size()); ++i)
-    if (is_sphere_lamp(scene.lights()[i])) sphere_lamps_.push_back(i);
+  for (uint32_t i = 0; i < uint32_t(scene.lights().size()); ++i) {
+    const Light &light = scene.lights()[i];
+    if (is_sphere_lamp(light)) sphere_lamps_.push_back(i);
+    if (light.is_infinite() && !light_is_delta_direction(light)) {
+      if (infinite_light_ < 0) infinite_light_ = int(i);
+      infinite_lights_.push_back(i);
+    }
+  }
   // Without media the medium perturbations could only fail (a property of the scene, not
   // of a state: the mutation probabilities stay fixed).
   if (!media_) {
@@ -135,18 +148,12 @@ std::string PathSpace::unsupported(const Scene &scene, const RenderSettings &set
   for (size_t i = 0; i < scene.lights().size(); ++i) {
     const Light &l = scene.lights()[i];
     const std::string which = "light " + std::to_string(i);
-    switch (l.type) {
-      case LightType::Sun:
-      case LightType::Background: return which + " is a sun or world light; mlt does not sample lights at infinity yet";
-      case LightType::Volume: return which + " is an emissive volume; mlt does not sample volume lights yet";
-      case LightType::Triangle:
-        if (l.textured) return which + " is a mesh with textured emission; mlt samples uniform emitters only";
-        break;
-      case LightType::Point:
-      case LightType::Spot:
-        break;
-      default: break;
-    }
+    if (l.type == LightType::Volume) return which + " is an emissive volume; mlt does not sample volume lights yet";
+    // An orthographic camera's ray alone reaching the world would be a path whose only
+    // coordinate is its point on the image plane, which the state (x_1) does not have.
+    if (camera.type == Camera::Type::Orthographic && l.is_infinite() && l.visible_camera())
+      return which + " is a sun or world light the orthographic camera sees; mlt does not sample that yet (use bdpt "
+                     "or pssmlt, or hide the world from the camera: World > Ray Visibility > Camera)";
   }
   for (int m = 0; m < scene.num_media(); ++m) {
     const Medium &medium = scene.medium(m);
@@ -219,7 +226,20 @@ bool PathSpace::trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &sta
       v.media = media;
       return true;
     }
-    if (!found) return false;
+    if (!found) {
+      // Escaped: the last vertex from the camera side may be the lights at infinity
+      // (all of them but suns without an angle, which no direction sampled at random hits).
+      if (!to_light || infinite_light_ < 0) return false;
+      PathVertex &v = bdpt::fresh_vertex(z.v);
+      v.type = VertexType::Light;
+      v.light = infinite_light_;
+      v.infinite = true;
+      v.dir = normalize(ray.d);
+      v.p = ray.o;
+      v.wo = -v.dir;
+      v.media = media;
+      return true;
+    }
     PathVertex &v = bdpt::fresh_surface_vertex(z.v, hit, ray.d, boundary, media);
     if (scene_.material(hit.material).emits()) v.light = int(scene_.triangle_light(hit.instance, hit.prim));
     z.hit = hit;
@@ -271,13 +291,23 @@ bool PathSpace::light_vertex(Pcg32 &rng, ExplicitVertex &z, Vec3 &dir) const {
   v.type = VertexType::Light;
   v.light = int(index);
   v.p = ray.o;
+  dir = ray.d;
+  if (light.is_infinite()) {
+    // A direction (the point on the disk it starts from is sampled with the next vertex,
+    // extend_from_light_side); the lights at infinity but a sun without an angle are one
+    // vertex whose density sums theirs (light_position_density).
+    v.infinite = true;
+    v.dir = -ray.d;
+    v.wo = ray.d;
+    if (!light_is_delta_direction(light)) v.light = infinite_light_;
+    return true;
+  }
   v.ng = v.ns = n;
   if (light.type == LightType::Triangle) v.error = light.error;
   if (media_) {
     if (const std::vector<int> *media = scene_.light_media(index)) v.media = MediumStack::from(*media);
     else v.media = MediumStack::from(scene_.media_along(ray.o, ray.d));
   }
-  dir = ray.d;
   return true;
 }
 
@@ -300,6 +330,7 @@ MediumStack PathSpace::stack_toward(const ExplicitVertex &z, Vec3 w) const {
 // z's camera-side neighbour is now `camera_side`: its wo, its media on that side and
 // (surfaces) its BSDF follow (path_space.h: f's rule).
 void PathSpace::settle(ExplicitVertex &z, const ExplicitVertex &camera_side) const {
+  if (z.v.infinite) return;  // a direction: it stays whatever its neighbour does
   const Camera &camera = scene_.camera();
   // An orthographic camera sees x_1 along its view axis, wherever x_1 is.
   Vec3 w = camera_side.v.type == VertexType::Camera && camera.type == Camera::Type::Orthographic
@@ -350,6 +381,18 @@ bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, Ray
 bool PathSpace::extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats) const {
   ExplicitVertex &next = y.x[size_t(at + 1)];
   Vec3 wi;
+  if (next.v.infinite) {
+    // From a light at infinity along its direction: the ray starts at a point uniform on
+    // the disk perpendicular to it that covers the scene (sample_emission's; the density
+    // of the vertex it reaches is the disk's times the cosine there, evaluate()).
+    Vec2 u_pos{rng.next_float(), rng.next_float()};
+    const float radius = scene_.bounding_radius();
+    const Frame frame(next.v.dir);
+    const Vec2 q = concentric_disk(u_pos) * radius;
+    const Vec3 o = scene_.bounding_center() + next.v.dir * radius + frame.s * q.x + frame.t * q.y;
+    const MediumStack media = media_ ? MediumStack::from(scene_.media_along(o, -next.v.dir)) : MediumStack();
+    return trace_step(Ray{o, -next.v.dir, kInf, light_walk_mask()}, media, rng, stats, y.x[size_t(at)]);
+  }
   if (at + 1 == y.n - 1) {
     // Leaving the light: its emission direction (sample_emission's, whatever point it
     // picks; a sphere lamp's from its point).
@@ -364,7 +407,7 @@ bool PathSpace::extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayS
       wi = es.ray.d;
     }
   } else {
-    Vec3 w_light = normalize(y.x[size_t(at + 2)].v.p - next.v.p);
+    Vec3 w_light = toward(next, y.x[size_t(at + 2)]);
     if (next.v.type == VertexType::Medium) {
       Vec2 u{rng.next_float(), rng.next_float()};
       wi = scene_.medium(next.v.medium).phase.sample(w_light, u);
@@ -416,12 +459,26 @@ bool PathSpace::regenerate(ExplicitPath &y, int l, int na, int j, Pcg32 &rng, Ra
 
 // ---- f and the densities ----
 
-Color PathSpace::emitted(const ExplicitVertex &light_vertex, Vec3 w) const {
+Color PathSpace::emitted(const ExplicitVertex &light_vertex, Vec3 w, uint32_t ray_kind) const {
   const Light &l = scene_.lights()[size_t(light_vertex.v.light)];
+  if (light_vertex.v.infinite) {
+    // A sun without an angle: its irradiance (a delta in direction, as a point lamp's
+    // intensity is one in position; no camera ray meets it). The others: the sum of the
+    // radiance along the direction of those the kind of ray that reaches them sees.
+    if (light_is_delta_direction(l))
+      return ray_kind != visibility::kCamera && (l.visibility & ray_kind) ? l.radiance : Color(0.0f);
+    Color L(0.0f);
+    for (uint32_t index : infinite_lights_) {
+      const Light &light = scene_.lights()[index];
+      if (light.visibility & ray_kind) L += infinite_light_radiance(light, light_vertex.v.dir);
+    }
+    return L;
+  }
   if (is_sphere_lamp(l)) return sphere_lamp_radiance(l, light_vertex.v.ng, w);
   switch (l.type) {
     case LightType::Area: return dot(l.axis, w) > 0 ? l.radiance : Color(0.0f);
-    case LightType::Triangle:
+    // Textured emission: the texture where the vertex is, unfiltered (f's rule).
+    case LightType::Triangle: return l.textured ? scene_.triangle_emission(l, light_vertex.v.p) : l.radiance;
     case LightType::Point: return l.radiance;
     case LightType::Spot: return l.radiance * spot_attenuation(l, w);
     default: return Color(0.0f);
@@ -430,8 +487,19 @@ Color PathSpace::emitted(const ExplicitVertex &light_vertex, Vec3 w) const {
 
 double PathSpace::light_position_density(const ExplicitVertex &light_vertex) const {
   const Light &l = scene_.lights()[size_t(light_vertex.v.light)];
+  const Distribution1D &choice = scene_.light_distribution();
+  if (light_vertex.v.infinite) {
+    // The direction's density in solid angle (a sun without an angle: 1, its delta's).
+    if (light_is_delta_direction(l)) return double(choice.pmf(size_t(light_vertex.v.light)));
+    double pdf = 0;
+    for (uint32_t index : infinite_lights_)
+      pdf += double(choice.pmf(index)) * light_pdf(scene_.lights()[index], Vec3(0.0f), light_vertex.v.dir, kInf);
+    return pdf;
+  }
+  // Light choice by power (a textured mesh triangle's by its material's mean emission
+  // times its area, Scene::commit), a point uniform on it.
   const double area_pdf = is_sphere_lamp(l) ? sphere_lamp_point_pdf(l, light_vertex.v.ng) : l.inv_area;
-  return double(scene_.light_distribution().pmf(size_t(light_vertex.v.light))) * area_pdf;
+  return double(choice.pmf(size_t(light_vertex.v.light))) * area_pdf;
 }
 
 bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec3 w, const EdgeMasks &masks,
@@ -442,7 +510,8 @@ bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec
     const Camera &camera = scene_.camera();
     from = from + w * (camera.clip_start / dot(w, camera.forward()));
   }
-  ShadowRay s = shadow_ray(from, a.v.ng, a.v.error, b.v.p, b.v.ng, b.v.error);
+  ShadowRay s = b.v.infinite ? shadow_ray_to_infinity(from, a.v.ng, a.v.error, w)
+                             : shadow_ray(from, a.v.ng, a.v.error, b.v.p, b.v.ng, b.v.error);
   if (!media_) {
     ++stats.rays;
     e.visible = !masks.f || !scene_.occluded(s.o, s.d, s.tmax, masks.f);
@@ -469,6 +538,7 @@ bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec
     float segment = found ? hit.t : remaining;
     int m = stack.current(scene_);
     double pass = 1;
+    if (m >= 0 && !(segment < kInf)) return false;  // no light comes through an unbounded medium
     if (m >= 0) {
       const Medium &medium = scene_.medium(m);
       e.tr *= medium.transmittance(segment);
@@ -534,8 +604,10 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     if (y.x[size_t(i)].v.type == VertexType::Camera || y.x[size_t(i)].v.type == VertexType::Light) return;
   const Light &light = scene_.lights()[size_t(last.v.light)];
   const bool lamp = light.type != LightType::Triangle;  // not in the BVH: no walk reaches it
-  if (n == 2 && lamp && !light.visible_camera()) return;  // Cycles never shows lamps to the camera
-  // (with ray visibility the edge loop checks every light against its ray's kind)
+  // Cycles never shows lamps to the camera (lights at infinity: emitted() keeps those the
+  // ray that reaches them sees); with ray visibility the edge loop checks every light
+  // against its ray's kind.
+  if (n == 2 && lamp && !last.v.infinite && !light.visible_camera()) return;
 
   // The camera, for a raster point in the sample region (pbrt's We). A pinhole or a thin
   // lens: We = 1 / (A A_lens cos^4), A the image's area at unit distance, x_0 on the
@@ -551,12 +623,13 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   double pdf_x1_dir;  // camera side: x_1's density per unit solid angle (ortho: per plane area)
   Color f;
   if (ortho) {
+    if (y.x[1].v.infinite) return;  // refused (unsupported()): the world seen along the view axis
     if (!camera.raster_of_point(y.x[1].v.p, raster, y.x[0].v.p)) return;
     w0 = camera.forward();
     f = Color(float(1.0 / camera.image_plane_area()));
     pdf_x1_dir = (double(image_area_) / region_area_) / camera.image_plane_area();
   } else {
-    w0 = normalize(y.x[1].v.p - y.x[0].v.p);
+    w0 = toward(y.x[0], y.x[1]);
     if (!camera.raster_through_lens(y.x[0].v.p, w0, raster, cos0)) return;
     const double area = camera.viewplane_area(), c2 = double(cos0) * cos0;
     f = Color(float(1.0 / (area * camera.aperture_area() * c2 * c2) * cos0));
@@ -565,8 +638,10 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   if (!(raster.x >= sample_origin_.x && raster.x < sample_origin_.x + sample_size_.x &&
         raster.y >= sample_origin_.y && raster.y < sample_origin_.y + sample_size_.y))
     return;
-  float depth = dot(y.x[1].v.p - camera.position(), camera.forward());
-  if (depth < camera.clip_start || depth > camera.clip_end) return;
+  if (!y.x[1].v.infinite) {  // the world beyond the clip end is seen: Cycles' camera rays end there
+    float depth = dot(y.x[1].v.p - camera.position(), camera.forward());
+    if (depth < camera.clip_start || depth > camera.clip_end) return;
+  }
 
   // Cycles' Light Paths limits: each scattering vertex's kind, as the path tracer labels it
   // (its BSDF built toward the camera, the direction toward the light), counted over every
@@ -582,11 +657,16 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   // the densities of its two ends as the other end's walk would reach them.
   for (int i = 0; i + 1 < n; ++i) {
     const ExplicitVertex &a = y.x[size_t(i)], &b = y.x[size_t(i + 1)];
-    Vec3 d = b.v.p - a.v.p;
-    float d2 = length_squared(d);
-    if (!(d2 > 0)) return;
-    Vec3 w = i == 0 ? w0 : d / std::sqrt(d2);
-    if (too_short_at_specular(a.v, b.v, std::sqrt(d2))) return;
+    // An edge to a light at infinity: no geometry term (its vertex is in solid angle).
+    Vec3 w = b.v.dir;
+    float d2 = 1;
+    if (!b.v.infinite) {
+      Vec3 d = b.v.p - a.v.p;
+      d2 = length_squared(d);
+      if (!(d2 > 0)) return;
+      w = i == 0 ? w0 : d / std::sqrt(d2);
+      if (too_short_at_specular(a.v, b.v, std::sqrt(d2))) return;
+    }
     if (i >= 1 && (limits_.classify || visibility_)) {
       // The kind of scattering at a toward b, as the path tracer labels it (its BSDF built
       // toward the camera): Cycles' Light Paths limits count it over every scattering
@@ -609,7 +689,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
       // b must be visible to the kind of ray that reaches it; the light walk (which cannot
       // know the kind) meets what any ray but the camera's meets.
       if (i + 1 == n - 1) {
-        if (!(light.visibility & ray_kind)) return;
+        if (!last.v.infinite && !(light.visibility & ray_kind)) return;  // infinite: emitted()
       } else if (b.v.on_surface() && !(scene_.instance_visibility(b.hit.instance) & ray_kind)) {
         return;
       }
@@ -657,6 +737,14 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     double pdf_a = 0;
     if (i == 0) {
       pdf_a = 0;  // the camera vertex is always sampled from the camera side
+    } else if (b.v.infinite) {
+      // From a light at infinity: a point uniform on the disk of the scene's bounding
+      // radius perpendicular to the direction (BDPT's light tracing), the ray along it
+      // reaching a (the cosine there below). a is inside the bounding sphere.
+      const float radius = scene_.bounding_radius();
+      const Vec3 offset = a.v.p - scene_.bounding_center();
+      const bool covered = length_squared(offset - b.v.dir * dot(offset, b.v.dir)) <= radius * radius;
+      pdf_a = covered ? 1.0 / (double(kPi) * radius * radius) : 0.0;
     } else if (i + 1 == n - 1) {
       if (is_sphere_lamp(light)) {
         pdf_a = sphere_lamp_direction_pdf(light, b.v.ng, -w);
@@ -666,7 +754,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
         pdf_a = pdf_dir;
       }
     } else if (b.v.type == VertexType::Surface) {
-      Vec3 w_light = normalize(y.x[size_t(i + 2)].v.p - b.v.p);
+      Vec3 w_light = toward(b, y.x[size_t(i + 2)]);
       Bsdf light_side = scene_.bsdf(b.hit, w_light, 0);
       if (b.v.delta) {
         // Sampled from the light side, b's delta is about the direction toward a: in
@@ -679,26 +767,35 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
         pdf_a = light_side.pdf(w_light, -w);
       }
     } else {
-      pdf_a = scene_.medium(b.v.medium).phase.pdf(normalize(y.x[size_t(i + 2)].v.p - b.v.p), -w);
+      pdf_a = scene_.medium(b.v.medium).phase.pdf(toward(b, y.x[size_t(i + 2)]), -w);
     }
     y.rev_area[size_t(i)] = cos_a / d2 * e.rev;
     y.rev[size_t(i)] = pdf_a * y.rev_area[size_t(i)];
   }
-  f *= emitted(last, normalize(y.x[size_t(n - 2)].v.p - last.v.p));
+  // The kind of ray that meets the light (without ray visibility: the camera's for the camera
+  // ray alone, lamps' default visibility, else any other kind).
+  const uint32_t kind_at_light = visibility_ ? ray_kind : n == 2 ? visibility::kCamera : visibility::kNonCamera;
+  f *= emitted(last, -toward(y.x[size_t(n - 2)], last), kind_at_light);
   y.fwd[0] = 1.0 / camera.aperture_area();  // a point uniform on the aperture (pinhole, orthographic: 1)
   // The camera side reaches the light where its last ray meets it first: a lamp's sphere
   // where the ray enters it (emitted() is 0 from inside), another lamp's sphere on the
-  // way takes the ray instead; point and spot lamps without a radius are never reached.
-  if (lamp && !is_sphere_lamp(light)) {
+  // way takes the ray instead; point and spot lamps without a radius and suns without an
+  // angle are never reached; the other lights at infinity where the ray escapes.
+  const bool reachable = last.v.infinite ? !light_is_delta_direction(light) : !lamp || is_sphere_lamp(light);
+  if (!reachable) {
     y.fwd[size_t(n - 1)] = 0;
   } else if (!sphere_lamps_.empty()) {
     Vec3 from = y.x[size_t(n - 2)].v.p;
     if (n == 2) from = from + w0 * (camera.clip_start / dot(w0, camera.forward()));
-    const Vec3 d = last.v.p - from;
-    const float length_d = length(d);
-    float t;
-    const int first = first_sphere_lamp(from, d / length_d, length_d * (1 - 1e-4f), t, ray_kind);
-    if (first >= 0 && first != last.v.light) y.fwd[size_t(n - 1)] = 0;
+    float t, length_d = kInf;
+    Vec3 w_last = last.v.dir;
+    if (!last.v.infinite) {
+      const Vec3 d = last.v.p - from;
+      length_d = length(d);
+      w_last = d / length_d;
+    }
+    const int first = first_sphere_lamp(from, w_last, length_d * (1 - 1e-4f), t, ray_kind);
+    if (first >= 0 && (last.v.infinite || first != last.v.light)) y.fwd[size_t(n - 1)] = 0;
   }
   y.rev[size_t(n - 1)] = light_position_density(last);
   f *= image_area_;
@@ -855,9 +952,41 @@ Proposal PathSpace::perturb_medium_vertex(const ExplicitPath &x, MutationType ty
   // that finds a delta's event allows about 4e-3 rad, and small moves inside it would be
   // taken for paths on the event.
   if (x.x[size_t(j - 1)].v.delta || (type == MutationType::Scattering && x.x[size_t(j + 1)].v.delta)) return proposal;
+  const ExplicitVertex &light_side = x.x[size_t(j + 1)];
+  if (light_side.v.infinite && type == MutationType::Scattering &&
+      light_is_delta_direction(scene_.lights()[size_t(light_side.v.light)]))
+    return proposal;  // a sun without an angle: its direction cannot turn
   y.reserve(max_vertices_);
   y.n = x.n;
   for (int i = 0; i < x.n; ++i) y.x[size_t(i)] = x.x[size_t(i)];
+  if (light_side.v.infinite) {
+    // The light-side neighbour is a direction (a light at infinity): propagation moves x_j
+    // along it (a translation: Jacobian 1), scattering turns the direction at x_j by theta
+    // ~ 1 / theta, phi uniform (symmetric in solid angle, the measure of that vertex).
+    if (type == MutationType::Propagation) {
+      const float lo = mutations_.distance[0], hi = mutations_.distance[1];
+      const float distance = lo * std::pow(hi / lo, u_size);
+      y.x[size_t(j)].v.p = x.x[size_t(j)].v.p - light_side.v.dir * (u_direction < 0.5f ? distance : -distance);
+      settle(y.x[size_t(j)], y.x[size_t(j - 1)]);
+      proposal.l = j - 1;
+      proposal.m = j + 1;
+    } else {
+      const float lo = mutations_.angle[0], hi = mutations_.angle[1];
+      const float theta = lo * std::pow(hi / lo, u_size), phi = 2 * kPi * u_direction;
+      const Vec3 turned = normalize(Frame(light_side.v.dir)
+                                        .to_world(Vec3(std::sin(theta) * std::cos(phi),
+                                                       std::sin(theta) * std::sin(phi), std::cos(theta))));
+      y.x[size_t(j + 1)].v.dir = turned;
+      y.x[size_t(j + 1)].v.wo = -turned;
+      proposal.l = j;
+      proposal.m = j + 2;
+    }
+    evaluate(y, stats);
+    if (!(luminance(y.f) > 0)) return proposal;
+    proposal.ratio = 1;
+    proposal.na = 1;
+    return proposal;
+  }
   // Spherical coordinates of x_j about its light-side neighbour c.
   const Vec3 c = x.x[size_t(j + 1)].v.p;
   const Vec3 d = x.x[size_t(j)].v.p - c;
@@ -946,20 +1075,37 @@ Proposal PathSpace::perturb_caustic(const ExplicitPath &x, Pcg32 &rng, RayStats 
   int k = 2;
   while (k < x.n - 1 && x.x[size_t(k)].v.delta) ++k;
   if (k < 3 || x.x[size_t(k)].v.delta) return proposal;  // no specular chain before a non-specular x_k
-  const Vec3 from = x.x[size_t(k)].v.p;
-  const Vec3 d = x.x[size_t(k - 1)].v.p - from;
-  if (!(length_squared(d) > 0)) return proposal;
   const float lo = mutations_.caustic[0], hi = mutations_.caustic[1];
   const float theta = lo * std::pow(hi / lo, u_size), phi = 2 * kPi * u_azimuth;
-  const Vec3 w = Frame(normalize(d)).to_world(
-      Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)));
+  const Vec3 local(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
   y.reserve(max_vertices_);
   y.n = x.n;
   for (int i = 0; i < x.n; ++i) y.x[size_t(i)] = x.x[size_t(i)];
   const ExplicitVertex &end = y.x[size_t(k)];
-  Ray ray{end.v.on_surface() ? spawn_origin(end.v.p, end.v.ng, end.v.error, w) : end.v.p, w, kInf,
-          light_walk_mask()};
-  if (!trace_step(ray, stack_toward(end, w), rng, stats, y.x[size_t(k - 1)])) return proposal;
+  Ray ray;
+  MediumStack media;
+  if (end.v.infinite) {
+    // A light at infinity: its rays are parallel; the one through x_(k-1) moved across
+    // the direction by R theta (R the scene's bounding radius; theta as below, phi uniform:
+    // a density over the disk the light side samples that depends on the offset's length
+    // only), traced from that disk. rev_area[k - 1] is then the disk-to-area factor.
+    const Vec3 dir = end.v.dir;
+    const Frame frame(dir);
+    const float radius = scene_.bounding_radius(), shift = radius * theta;
+    const Vec3 through = x.x[size_t(k - 1)].v.p + (frame.s * std::cos(phi) + frame.t * std::sin(phi)) * shift;
+    const Vec3 o = through + dir * (radius - dot(through - scene_.bounding_center(), dir));
+    ray = Ray{o, -dir, kInf, light_walk_mask()};
+    media = media_ ? MediumStack::from(scene_.media_along(o, -dir)) : MediumStack();
+  } else {
+    const Vec3 from = x.x[size_t(k)].v.p;
+    const Vec3 d = x.x[size_t(k - 1)].v.p - from;
+    if (!(length_squared(d) > 0)) return proposal;
+    const Vec3 w = Frame(normalize(d)).to_world(local);
+    ray = Ray{end.v.on_surface() ? spawn_origin(end.v.p, end.v.ng, end.v.error, w) : end.v.p, w, kInf,
+              light_walk_mask()};
+    media = stack_toward(end, w);
+  }
+  if (!trace_step(ray, media, rng, stats, y.x[size_t(k - 1)])) return proposal;
   for (int at = k - 2; at >= 1; --at)
     if (!extend_from_light_side(y, at, rng, stats) || !y.x[size_t(at + 1)].v.delta) return proposal;
   for (int i = 1; i <= k; ++i) settle(y.x[size_t(i)], y.x[size_t(i - 1)]);

@@ -12,7 +12,13 @@
 // neighbour), free-flight distances by one channel chosen uniformly, a camera ray by a
 // raster point uniform over the sample region, a light by power and a point uniform on
 // it (a lamp with a radius: a point on its sphere, lights/sphere_lamp.h, which the camera
-// side's last step may also reach). The bidirectional mutation's transition density T(x -> y) is a sum of products
+// side's last step may also reach). Lights at infinity (sun, world): the last vertex is a
+// direction (solid-angle measure, no geometry term on its edge); the camera side reaches it
+// by escaping (the BSDF / phase density of the direction); the light side picks it by the
+// light's direction density (a sun without an angle: a delta, never hit) and then the next
+// vertex by a point uniform on the disk perpendicular to it covering the scene (BDPT's),
+// times the cosine there. Every light at infinity but a sun without an angle is one vertex:
+// f sums their radiance, its light-side density their pmf x direction density. The bidirectional mutation's transition density T(x -> y) is a sum of products
 // of these (Veach 1997, sec. 11.4.2), so the acceptance ratio is exact.
 // Cycles' Light Paths limits (per-kind bounces, caustics switches) are a property of the
 // vertices: f is 0 for a path outside them (integrators/light_path_limits.h), every vertex
@@ -171,7 +177,9 @@ class PathSpace {
   void settle(ExplicitVertex &z, const ExplicitVertex &camera_side) const;
   MediumStack stack_toward(const ExplicitVertex &z, Vec3 w) const;
   bool regenerate(ExplicitPath &y, int l, int na, int j, Pcg32 &rng, RayStats &stats) const;
-  Color emitted(const ExplicitVertex &light, Vec3 w) const;
+  // w: from the light toward its camera-side neighbour; ray_kind: the kind of ray that meets
+  // it (lights at infinity that kind does not see give nothing).
+  Color emitted(const ExplicitVertex &light, Vec3 w, uint32_t ray_kind) const;
   double light_position_density(const ExplicitVertex &light) const;
 
   const Scene &scene_;
@@ -185,6 +193,10 @@ class PathSpace {
   bool media_;
   bool visibility_, mixed_visibility_;  // Scene::has_ray_visibility / has_mixed_visibility
   std::vector<uint32_t> sphere_lamps_;  // the lights that are lamps with a radius
+  // The lights at infinity but suns without an angle: one vertex (a direction) for all of
+  // them, labelled with the first; f sums their radiance, the light side their densities.
+  std::vector<uint32_t> infinite_lights_;
+  int infinite_light_ = -1;
 };
 
 // Sum over the splits j = 0 .. count of y's new vertices lo .. lo + count - 1 (the
