@@ -22,8 +22,8 @@ namespace {
 
 constexpr int kRuns = 8;
 // 4 scenes x 2 integrators with the default (relative) target, the door gap with the
-// luminance target, and mlt on 8 scenes; 36 blocks each.
-constexpr int kBlockTestsInFile = 18 * 36;
+// luminance target, and mlt on 12 scenes; 36 blocks each.
+constexpr int kBlockTestsInFile = 22 * 36;
 const double kAlphaPerBlock = 1.0 - std::pow(1.0 - 0.01, 1.0 / kBlockTestsInFile);
 
 struct Runs {
@@ -147,6 +147,44 @@ TEST(MltVsBdpt, PathSpaceOrthographic) {
   json scene = load_scene("cornell_box.json");
   scene["camera"].update({{"type", "orthographic"}, {"ortho_scale", 2.4}});
   expect_same_image(scene, "cornell (orthographic)", 32, 64, "luminance", {"mlt"});
+}
+
+// Lights at infinity and textured emission: the Cornell box with its lamp taken out of the
+// ceiling (a window), lit through it by the sky HDRI and a sun 0.1 rad wide (their paths
+// end at one vertex at infinity), and by a sun without an angle (a delta in direction,
+// reached from the light side only); the Cornell box with its lamp's emission an image.
+json cornell_window(double sun_angle) {
+  json j = load_scene("cornell_box.json");
+  json meshes = json::array();
+  for (auto &m : j["meshes"])
+    if (m["name"] != "lamp") meshes.push_back(m);
+  j["meshes"] = meshes;
+  j["world"] = {{"environment", {{"file", source_path("scenes/textures/sky_small.hdr")}}}, {"strength", 1.0}};
+  j["lights"] = json::array(
+      {{{"name", "sun"}, {"type", "sun"}, {"direction", {0.15, 0.1, -1}}, {"angle", sun_angle}, {"strength", 3}}});
+  return j;
+}
+TEST(MltVsBdpt, PathSpaceWindowSkyAndSun) {
+  expect_same_image(cornell_window(0.1), "window (sky, 0.1 rad sun)", 32, 64, "luminance", {"mlt"});
+}
+TEST(MltVsBdpt, PathSpaceWindowSkyAndDeltaSun) {
+  expect_same_image(cornell_window(0.0), "window (sky, delta sun)", 32, 64, "luminance", {"mlt"});
+}
+// A box of fog under the window: medium vertices whose light-side neighbour is at infinity
+// (the propagation perturbation moves them along its direction, the scattering one turns it).
+TEST(MltVsBdpt, PathSpaceWindowFogBox) {
+  json j = cornell_window(0.1);
+  j["materials"].push_back(
+      {{"name", "fog"}, {"type", "volume"}, {"volume", {{"density", 0.8}, {"color", {0.9, 0.9, 0.9}}, {"anisotropy", 0.3}}}});
+  j["meshes"].push_back({{"name", "fog_box"}, {"shape", {{"type", "box"}, {"size", {1.6, 1.6, 0.5}}}},
+                         {"materials", {"fog"}}, {"transform", {{"translate", {0, 0, 1.6}}}}});
+  expect_same_image(j, "window fog box", 32, 64, "luminance", {"mlt"});
+}
+TEST(MltVsBdpt, PathSpaceTexturedLamp) {
+  json j = load_scene("cornell_box.json");
+  for (auto &m : j["materials"])
+    if (m["name"] == "lamp") m["color"] = {{"node", "image"}, {"file", source_path("scenes/textures/tiles.png")}};
+  expect_same_image(j, "textured lamp", 32, 64, "luminance", {"mlt"});
 }
 
 // A fixed chain count gives the same image on any number of threads (chains seeded by
