@@ -21,6 +21,7 @@
 #include <sstream>
 #include "api/handles.h"
 #include "integrators/bdpt/bdpt.h"
+#include "integrators/filter_glossy.h"
 #include "lights/light.h"
 #include "render_helpers.h"
 #include "samplers/sampler.h"
@@ -62,7 +63,13 @@ double to_area(double pdf_solid_angle, const PathVertex &a, const PathVertex &b)
 // The power-heuristic weight of strategy s on the path y (y[0] on the lamp, y[n-1]
 // the camera), with every strategy's density as a full product. y[0 .. s-1] came from
 // the light subpath, the rest from the camera subpath.
-double brute_force_weight(const Scene &scene, const std::vector<const PathVertex *> &y, int s) {
+// Filter Glossy (filter_glossy > 0, integrators/filter_glossy.h): each vertex's BSDF is the
+// one the blur by the path's camera-side densities gives it (camera vertices hold it; light
+// vertices are blurred here), the camera walk samples with it and the light walk with the
+// unblurred one, and a strategy whose light walk sampled at a vertex the blur changed has
+// density 0.
+double brute_force_weight(const Scene &scene, const std::vector<const PathVertex *> &y, int s,
+                          float filter_glossy = 0) {
   const int n = int(y.size());
   // Direction at y[i] toward its neighbour y[j]. Along a subpath it is the direction
   // the random walk sampled (stored as the later vertex's wo): from a surface point
@@ -77,6 +84,24 @@ double brute_force_weight(const Scene &scene, const std::vector<const PathVertex
   // Density of each vertex when the light subpath makes it (from_light) and when the
   // camera subpath makes it (from_camera).
   std::vector<double> from_light(n, 0.0), from_camera(n, 1.0);
+  // The path's BSDF at each scattering vertex, and whether the blur changed it.
+  std::vector<Bsdf> path_bsdf(n);
+  std::vector<bool> changed(n, false);
+  const FilterGlossy filter(filter_glossy);
+  float min_pdf = kInf;
+  for (int i = n - 2; i >= 1; --i) {
+    path_bsdf[i] = y[i]->bsdf;
+    const float alpha = filter.alpha_after(min_pdf);
+    if (i >= s) {
+      changed[i] = y[i]->blurred;  // a camera vertex: blurred by its walk
+    } else if (filter.on() && y[i]->type == VertexType::Surface && y[i]->bsdf.blur_changes(alpha)) {
+      changed[i] = true;
+      path_bsdf[i].blur(alpha);
+    }
+    const bool delta_on_path = (i < s - 1 || i > s) && y[i]->delta;  // (the connection ends scatter by it)
+    if (filter.on() && y[i]->type == VertexType::Surface && !delta_on_path)
+      min_pdf = std::min(min_pdf, path_bsdf[i].pdf(dir(i, i + 1), dir(i, i - 1)));
+  }
   const Light &light = scene.lights()[y[0]->light];
   float pdf_pos, pdf_dir;
   emission_pdf(light, y[0]->p, y[0]->ng, dir(0, 1), scene.bounding_radius(), pdf_pos, pdf_dir);
@@ -88,10 +113,12 @@ double brute_force_weight(const Scene &scene, const std::vector<const PathVertex
   scene.camera().importance_pdf(Ray{y[n - 1]->p, dir(n - 1, n - 2), kInf}, cam_pos, cam_dir);
   from_camera[n - 2] = to_area(cam_dir, *y[n - 1], *y[n - 2]);
   for (int i = n - 3; i >= 0; --i)
-    from_camera[i] = to_area(y[i + 1]->bsdf.pdf(dir(i + 1, i + 2), dir(i + 1, i)), *y[i + 1], *y[i]);
+    from_camera[i] = to_area(path_bsdf[i + 1].pdf(dir(i + 1, i + 2), dir(i + 1, i)), *y[i + 1], *y[i]);
   // Strategies with 0 .. n-1 light vertices (at least the camera vertex comes from
   // the camera; t = 1 connects to the lens, which the pinhole camera allows).
   auto density = [&](int k) {
+    for (int i = 1; i <= k - 2; ++i)
+      if (changed[i]) return 0.0;  // the light walk sampled at a vertex the blur changed
     double p = 1;
     for (int i = 0; i < k; ++i) p *= from_light[i];
     for (int i = k; i < n; ++i) p *= from_camera[i];
@@ -134,7 +161,7 @@ double lafortune_willems_brute_force(const std::vector<const PathVertex *> &y, i
 // connect() reports no contribution then).
 void expect_weights_match_brute_force(const nlohmann::json &doc, int min_checks,
                                       MisHeuristic mis = MisHeuristic::Power, bool delta_light = false,
-                                      int min_light_tracing = 0) {
+                                      int min_light_tracing = 0, float filter_glossy = 0) {
   LoadedScene loaded;
   load(loaded, doc);
   const Scene &scene = loaded.scene();
@@ -143,6 +170,7 @@ void expect_weights_match_brute_force(const nlohmann::json &doc, int min_checks,
   BdptSettings settings;
   settings.max_bounces = 6;
   settings.mis = mis;
+  settings.limits.filter_glossy = filter_glossy;
   const bool lw = mis == MisHeuristic::LafortuneWillems;
   Bdpt bdpt(scene, settings);
   SobolSampler sampler(7);
@@ -192,7 +220,7 @@ void expect_weights_match_brute_force(const nlohmann::json &doc, int min_checks,
               }
             }
             double expected = lw ? lafortune_willems_brute_force(y, t, delta_light, path_delta)
-                                 : brute_force_weight(scene, y, found_lamp ? 0 : s);
+                                 : brute_force_weight(scene, y, found_lamp ? 0 : s, filter_glossy);
             if (t == 1 && expected > 0) ++light_tracing;
             double error = std::abs(w - expected);
             worst = std::max(worst, error);
@@ -222,6 +250,19 @@ TEST(BdptMisWeights, GlossyCornellBoxMatchesBruteForce) {
   for (auto &m : doc["materials"])
     if (m["name"] == "white") m = {{"name", "white"}, {"type", "glossy"}, {"color", {0.8, 0.8, 0.8}}, {"roughness", 0.4}};
   expect_weights_match_brute_force(doc, 2000);
+}
+
+// Filter Glossy 1 in a box of diffuse white walls and nearly smooth glossy red and green
+// ones (GGX 0.05): after a diffuse bounce the coloured walls are blurred (alpha about 0.41),
+// on camera vertices and at connections; strategies whose light walk sampled at a blurred
+// vertex must have no share, and the reverse densities at blurred light vertices are the
+// blurred BSDF's (filter_glossy.h).
+TEST(BdptMisWeights, FilterGlossyCornellBoxMatchesBruteForce) {
+  nlohmann::json doc = cornell_box();
+  for (auto &m : doc["materials"])
+    if (m["name"] == "red" || m["name"] == "green")
+      m = {{"name", m["name"]}, {"type", "glossy"}, {"color", m["color"]}, {"roughness", 0.05}};
+  expect_weights_match_brute_force(doc, 2000, MisHeuristic::Power, false, 0, 1.0f);
 }
 
 // Lafortune & Willems' weights against their definition. Glossy walls (W = 0.6 at each
