@@ -39,6 +39,10 @@ static bdpt::BdptSettings bdpt_settings(const RenderSettings &settings, const Sc
 
 std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, const Scene &scene) {
   if (settings.integrator == "path") return std::make_unique<PathTracer>(scene, settings.max_bounces, settings.limits, film_alpha(settings, scene));
+  if (settings.clamp > 0 && (settings.integrator == "mmlt" || settings.integrator == "mlt"))
+    log_warning("clamp " + std::to_string(settings.clamp) + " is not applied by " + settings.integrator +
+                ": it caps a camera sample's value, which " + settings.integrator +
+                "'s states (one strategy, or one path) do not have; path, bdpt and pssmlt apply it");
   if (settings.limits.filter_glossy > 0 && settings.integrator == "mlt")
     log_warning("filter_glossy (Filter Glossy) is applied by path, bdpt, pssmlt and mmlt: mlt (path space) renders "
                 "glossy surfaces unfiltered (its mutations evaluate paths without the blur; README, Filter Glossy)");

@@ -43,6 +43,14 @@ void Metropolis::evaluate_kelemen(PssSampler &sampler, RayStats &stats, State &s
   Color L = bdpt_.Li(cr, sampler, stats, light_passes_ ? &first_hit : nullptr, state.splats);
   // Never NaN / Inf or a negative value into the film or the acceptance ratio.
   const bool valid = is_finite(L) && L.x >= 0 && L.y >= 0 && L.z >= 0;
+  // The sample clamp caps the camera sample as BDPT's tile loop does (its light-tracing
+  // splats are not capped there either): the chains then target BDPT's clamped image.
+  const float clamp = settings_.clamp;
+  if (valid && clamp > 0 && max_component(L) > clamp) {
+    const float scale = clamp / max_component(L);
+    L *= scale;
+    if (light_passes_) passes.scale(scale);
+  }
   state.splats[first_light_splat].L = valid ? L * region_area_ : Color(0.0f);
   if (valid && light_passes_) add_shares(state, first_light_splat, passes, region_area_);
   for (size_t i = first_light_splat + 1; i < state.splats.size(); ++i) state.splats[i].L *= image_area_;
