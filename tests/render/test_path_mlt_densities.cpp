@@ -24,6 +24,7 @@
 #include "api/handles.h"
 #include "integrators/mlt/path_space.h"
 #include "lights/light.h"
+#include "scene/motion.h"
 #include "chi_square.h"
 #include "render_helpers.h"
 
@@ -180,12 +181,14 @@ struct BruteForce {
   }
   // The aperture's area: a disk, or a regular polygon of `blades` corners on its circle.
   double aperture_area() const {
-    const Camera &camera = scene.camera();
+    const Camera &camera = scene.camera_now();
     const double r = camera.aperture_radius;
     if (!(r > 0)) return 1;
     return camera.blades >= 3 ? 0.5 * camera.blades * std::sin(2 * kPi / camera.blades) * r * r : kPi * r * r;
   }
+  // Motion blur: the camera, the lights and the hits of a path at its shutter time.
   double camera_side(const ExplicitPath &p, int i) const {
+    shutter::SampleTime at(p.time);
     const int n = p.n;
     if (i == 0) return 1 / aperture_area();  // a point uniform on the aperture (a pinhole: 1)
     const bdpt::PathVertex &v = p.x[size_t(i)].v;
@@ -195,9 +198,9 @@ struct BruteForce {
       if (light.type == LightType::Sun && light.radius == 0) return 0;
       double pdf;
       if (i == 1) {
-        const double cos0 = dot(v.dir, scene.camera().forward());
+        const double cos0 = dot(v.dir, scene.camera_now().forward());
         pdf = (double(kWidth) * kHeight / (double(kSize.x) * kSize.y)) /
-              (scene.camera().viewplane_area() * cos0 * cos0 * cos0);
+              (scene.camera_now().viewplane_area() * cos0 * cos0 * cos0);
       } else {
         pdf = scatter_pdf(p.x[size_t(i - 1)], dir(p, i - 1, i - 2), v.dir);
       }
@@ -220,10 +223,10 @@ struct BruteForce {
     double pdf;
     Vec3 from = p.x[size_t(i - 1)].v.p;
     const double raster_density = double(kWidth) * kHeight / (double(kSize.x) * kSize.y);
-    if (i == 1 && scene.camera().type == Camera::Type::Orthographic) {
+    if (i == 1 && scene.camera_now().type == Camera::Type::Orthographic) {
       // A raster point uniform, its ray along the view axis from the image plane (scene
       // units, the camera unscaled): density per plane area, dA_plane = |cos| dA at x_1.
-      const Camera &camera = scene.camera();
+      const Camera &camera = scene.camera_now();
       const double plane_area = double(camera.right - camera.left) * (camera.top - camera.bottom);
       const double cos1 = v.on_surface() ? std::fabs(dot(v.ng, camera.forward())) : 1.0;
       const Vec3 foot = v.p - camera.forward() * dot(v.p - camera.position(), camera.forward());
@@ -231,7 +234,7 @@ struct BruteForce {
              free_flight(foot + camera.forward() * camera.clip_start, v.p, v.type == VertexType::Medium);
     }
     if (i == 1) {
-      const Camera &camera = scene.camera();
+      const Camera &camera = scene.camera_now();
       double cos0 = dot(w, camera.forward());
       pdf = raster_density / (camera.viewplane_area() * cos0 * cos0 * cos0);
       from = from + w * float(camera.clip_start / cos0);
@@ -261,9 +264,11 @@ struct BruteForce {
     return dot(light.axis, d) > cos_cone ? 1 / (2 * kPi * (1 - cos_cone)) : 0.0;
   }
   double light_side(const ExplicitPath &p, int i) const {
+    shutter::SampleTime at(p.time);
     const int n = p.n;
     const bdpt::PathVertex &light_vertex = p.x[size_t(n - 1)].v;
-    const Light &light = scene.lights()[size_t(light_vertex.light)];
+    Light moved;
+    const Light &light = scene.light_now(uint32_t(light_vertex.light), moved);
     const bool sphere = (light.type == LightType::Point || light.type == LightType::Spot) && light.radius > 0;
     if (light_vertex.infinite) {
       // A direction by each light's power and direction density (a sun without an angle:
@@ -355,6 +360,7 @@ std::vector<unsigned char> digest(const ExplicitPath &p) {
   add(&p.n, sizeof p.n);
   add(&p.f, sizeof p.f);
   add(&p.raster, sizeof p.raster);
+  add(&p.time, sizeof p.time);
   for (int i = 0; i < p.n; ++i) {
     const bdpt::PathVertex &v = p.x[size_t(i)].v;
     add(&v.type, sizeof v.type);
@@ -396,6 +402,7 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
   ExplicitPath x, y, z;
   int checked = 0, worse = 0, medium_paths = 0, large = 0, lens = 0, specular = 0, lens_specular = 0, caustic = 0;
   int off_sphere = 0, infinite = 0, delta_sun = 0;
+  int time_moved = 0, time_lost = 0;  // motion blur: large steps that drew a new time; others that changed it
   double worst = 0, worst_f = 0;
   for (int s = 0; s < starts; ++s) {
     if (!(space.sample_independent(rng, stats, x) > 0)) continue;
@@ -404,6 +411,7 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
       off_sphere += !(std::fabs(length(x.x[size_t(x.n - 1)].v.p - light.position) / light.radius - 1) < 1e-4);
     // f is a function of the vertices: every BSDF rebuilt by the rule gives the same f.
     z = x;
+    shutter::SampleTime at(x.time);
     for (int i = 1; i + 1 < z.n; ++i)
       if (z.x[size_t(i)].v.type == VertexType::Surface) {
         Vec3 wo = normalize(z.x[size_t(i - 1)].v.p - z.x[size_t(i)].v.p);
@@ -429,6 +437,8 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
       }
       if (std::isfinite(error)) worst = std::max(worst, error);
       ++checked;
+      if (p.type == MutationType::Large) time_moved += y.time != x.time;
+      else time_lost += y.time != x.time;
       specular += specular_vertices(x) + specular_vertices(y) > 0;
       large += p.type == MutationType::Large;
       const bdpt::PathVertex &end = y.x[size_t(y.n - 1)].v;
@@ -451,6 +461,7 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
       for (int i = c + 1; same_rest && i < x.n; ++i) same_rest = y.x[size_t(i)].v.p == x.x[size_t(i)].v.p;
       for (int i = 1; same_rest && i < c; ++i) same_rest = y.x[size_t(i)].v.delta;
       EXPECT_TRUE(same_rest) << name << ": the lens perturbation moved more than x_1 .. x_c";
+      time_lost += y.time != x.time;
       lens_specular += c > 1;
       if (!(error < 1e-3)) {
         ++worse;
@@ -477,6 +488,7 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
       for (int i = kc; same_rest && i < x.n; ++i) same_rest = y.x[size_t(i)].v.p == x.x[size_t(i)].v.p;
       for (int i = 2; same_rest && i < kc; ++i) same_rest = y.x[size_t(i)].v.delta;
       EXPECT_TRUE(same_rest) << name << ": the caustic perturbation moved more than x_1 .. x_(k-1)";
+      time_lost += y.time != x.time;
       if (!(error < 1e-3)) {
         ++worse;
         if (worse <= 3) ADD_FAILURE() << name << ": caustic ratio " << p.ratio << " vs brute force " << brute_ratio;
@@ -491,6 +503,11 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
               "without an angle); worst |log ratio error| %.2e; worst f rebuild error %.2e\n",
               name.c_str(), checked, large, specular, lens, lens_specular, caustic, medium_paths, infinite, delta_sun,
               worst, worst_f);
+  if (scene.has_motion())
+    std::printf("[ mlt densities ] %-12s motion: %d of %d large steps at a new shutter time\n", name.c_str(), time_moved,
+                large);
+  EXPECT_EQ(time_lost, 0) << name << ": a mutation other than the large step changed the shutter time";
+  if (scene.has_motion()) EXPECT_GT(time_moved, large / 2) << name;
   if (!scene.infinite_lights().empty()) EXPECT_GT(infinite, checked / 10) << name;
   EXPECT_GE(specular, min_specular) << name;
   EXPECT_GE(lens_specular, min_specular / 10) << name;
@@ -536,6 +553,34 @@ TEST(PathMltDensities, OrthographicRatiosMatchBruteForce) {
 }
 
 TEST(PathMltDensities, FogDoorRatiosMatchBruteForce) { check_scene("fog_door.json", 4000, 20); }
+
+// Motion blur (path_space.h): the shutter time a coordinate of the path, drawn by large
+// steps (density 1) and kept by the other mutations; every density at the path's time. The
+// Cornell box with its tall block sliding and turning, its lamp sliding and tilting (a moving
+// emitter: Scene::light_now's point density and emission direction density), seen by a
+// camera that moves while the shutter is open (its raster density and lens at that time); and
+// the same with a thin lens.
+nlohmann::json cornell_in_motion() {
+  nlohmann::json j = test::load_scene("cornell_box.json");
+  j["camera"]["shutter_open"] = -0.25;
+  j["camera"]["shutter_close"] = 0.25;
+  j["camera"]["motion"] = {{{"look_at", {{"from", {-0.3, -3.9, 0.9}}, {"to", {0, 0, 1}}, {"up", {0, 0, 1}}}}},
+                           {{"look_at", {{"from", {0.3, -3.9, 1.1}}, {"to", {0, 0, 1}}, {"up", {0, 0, 1}}}}}};
+  for (auto &m : j["meshes"]) {
+    if (m["name"] == "tall_block")
+      m["motion"] = {{{"translate", {-0.45, 0.3, 0.6}}, {"rotate", {0, 0, 5}}},
+                     {{"translate", {-0.2, 0.3, 0.6}}, {"rotate", {0, 0, 30}}}};
+    if (m["name"] == "lamp")
+      m["motion"] = {{{"translate", {-0.1, 0, 1.99}}, {"rotate", {175, 0, 0}}},
+                     {{"translate", {0.1, 0, 1.99}}, {"rotate", {185, 0, 0}}}};
+  }
+  return j;
+}
+
+TEST(PathMltDensities, MotionBlurRatiosMatchBruteForce) {
+  check_scene("cornell_box.json (in motion)", cornell_in_motion(), 300, 20);
+  check_scene("cornell_box.json (in motion, thin lens)", with_camera(cornell_in_motion(), kThinLens), 300, 20);
+}
 
 // Smooth glass and a mirror: paths through the ball and seen in the mirror. Its lamp made
 // a point (radius 0) here; with its radius (3 cm: a sphere lamp) below.

@@ -62,11 +62,6 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
     return std::make_unique<mlt::Metropolis>(scene, settings, bdpt_settings(settings, scene), m);
   }
   if (settings.integrator == "mlt") {
-    if (scene.has_motion())
-      fail("render settings: integrator mlt: " + scene.moving_object() +
-           " moves while the shutter is open (motion blur), which path-space mlt does not implement (its "
-           "mutations would need the shutter time as a path coordinate); use bdpt, pssmlt or mmlt, or switch "
-           "motion blur off (Render Properties > Motion Blur; engine: the camera's 'shutter_open' = 'shutter_close')");
     std::string why = mlt::PathSpace::unsupported(scene, settings);
     if (!why.empty()) fail("render settings: integrator mlt: " + why);
     mlt::MltSettings m;

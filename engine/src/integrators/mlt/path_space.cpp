@@ -8,6 +8,7 @@
 #include "lights/light.h"
 #include "lights/sphere_lamp.h"
 #include "media/medium_stack.h"
+#include "scene/motion.h"
 
 namespace rdv::mlt {
 
@@ -108,6 +109,7 @@ PathSpace::PathSpace(const Scene &scene, int max_bounces, Vec2 sample_origin, Ve
       mutations_(mutations),
       limits_(limits),
       media_(scene.has_media()),
+      motion_(scene.has_motion()),
       visibility_(scene.has_ray_visibility()),
       mixed_visibility_(scene.has_mixed_visibility()) {
   for (uint32_t i = 0; i < uint32_t(scene.lights().size()); ++i) {
@@ -249,7 +251,7 @@ bool PathSpace::trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &sta
 }
 
 bool PathSpace::camera_vertex(Pcg32 &rng, ExplicitVertex &z) const {
-  const Camera &camera = scene_.camera();
+  const Camera &camera = scene_.camera_now();
   PathVertex &v = bdpt::fresh_vertex(z.v);
   v.type = VertexType::Camera;
   v.p = camera.position();  // orthographic: moved to x_1's foot on the image plane by evaluate()
@@ -262,7 +264,7 @@ bool PathSpace::camera_vertex(Pcg32 &rng, ExplicitVertex &z) const {
 }
 
 Ray PathSpace::camera_ray(const ExplicitVertex &camera_vertex, Vec2 raster) const {
-  const Camera &camera = scene_.camera();
+  const Camera &camera = scene_.camera_now();
   if (camera.aperture_radius > 0) return camera.generate_ray_from_lens(raster, camera.lens_of_point(camera_vertex.v.p));
   return camera.generate_ray(raster, Vec2(0.5f, 0.5f));
 }
@@ -273,7 +275,8 @@ bool PathSpace::light_vertex(Pcg32 &rng, ExplicitVertex &z, Vec3 &dir) const {
   Vec2 u_pos{rng.next_float(), rng.next_float()}, u_dir{rng.next_float(), rng.next_float()};
   if (dist.size() == 0 || dist.total() <= 0) return false;
   uint32_t index = uint32_t(dist.sample_discrete(u_light, nullptr));
-  const Light &light = scene_.lights()[index];
+  Light moved;
+  const Light &light = scene_.light_now(index, moved);  // a moving emitter where it is at the path's time
   // Where the light's rays start, and one direction (for the vertex's media).
   Ray ray;
   Vec3 n(0.0f);
@@ -331,7 +334,7 @@ MediumStack PathSpace::stack_toward(const ExplicitVertex &z, Vec3 w) const {
 // (surfaces) its BSDF follow (path_space.h: f's rule).
 void PathSpace::settle(ExplicitVertex &z, const ExplicitVertex &camera_side) const {
   if (z.v.infinite) return;  // a direction: it stays whatever its neighbour does
-  const Camera &camera = scene_.camera();
+  const Camera &camera = scene_.camera_now();
   // An orthographic camera sees x_1 along its view axis, wherever x_1 is.
   Vec3 w = camera_side.v.type == VertexType::Camera && camera.type == Camera::Type::Orthographic
                ? -camera.forward()
@@ -460,7 +463,8 @@ bool PathSpace::regenerate(ExplicitPath &y, int l, int na, int j, Pcg32 &rng, Ra
 // ---- f and the densities ----
 
 Color PathSpace::emitted(const ExplicitVertex &light_vertex, Vec3 w, uint32_t ray_kind) const {
-  const Light &l = scene_.lights()[size_t(light_vertex.v.light)];
+  Light moved;
+  const Light &l = scene_.light_now(uint32_t(light_vertex.v.light), moved);
   if (light_vertex.v.infinite) {
     // A sun without an angle: its irradiance (a delta in direction, as a point lamp's
     // intensity is one in position; no camera ray meets it). The others: the sum of the
@@ -486,7 +490,8 @@ Color PathSpace::emitted(const ExplicitVertex &light_vertex, Vec3 w, uint32_t ra
 }
 
 double PathSpace::light_position_density(const ExplicitVertex &light_vertex) const {
-  const Light &l = scene_.lights()[size_t(light_vertex.v.light)];
+  Light moved;
+  const Light &l = scene_.light_now(uint32_t(light_vertex.v.light), moved);
   const Distribution1D &choice = scene_.light_distribution();
   if (light_vertex.v.infinite) {
     // The direction's density in solid angle (a sun without an angle: 1, its delta's).
@@ -507,7 +512,7 @@ bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec
   e = EdgeTrace();
   Vec3 from = a.v.p;
   if (a.v.type == VertexType::Camera) {  // camera rays start at the near clip plane
-    const Camera &camera = scene_.camera();
+    const Camera &camera = scene_.camera_now();
     from = from + w * (camera.clip_start / dot(w, camera.forward()));
   }
   ShadowRay s = b.v.infinite ? shadow_ray_to_infinity(from, a.v.ng, a.v.error, w)
@@ -592,6 +597,7 @@ void PathSpace::walks_along(const ShadowRay &s, const EdgeMasks &masks, EdgeTrac
 }
 
 void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
+  shutter::SampleTime at(y.time);  // every ray, the camera and the lights at the path's time
   const int n = y.n;
   y.f = Color(0.0f);
   std::fill(y.fwd.begin(), y.fwd.begin() + n, 0.0);
@@ -602,7 +608,8 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   if (y.x[0].v.type != VertexType::Camera || last.v.light < 0) return;
   for (int i = 1; i < n - 1; ++i)
     if (y.x[size_t(i)].v.type == VertexType::Camera || y.x[size_t(i)].v.type == VertexType::Light) return;
-  const Light &light = scene_.lights()[size_t(last.v.light)];
+  Light moved_light;
+  const Light &light = scene_.light_now(uint32_t(last.v.light), moved_light);
   const bool lamp = light.type != LightType::Triangle;  // not in the BVH: no walk reaches it
   // Cycles never shows lamps to the camera (lights at infinity: emitted() keeps those the
   // ray that reaches them sees); with ray visibility the edge loop checks every light
@@ -615,7 +622,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   // crosses the focal plane. Orthographic: x_0 is x_1's foot on the image plane (the
   // direction is a delta along the view axis), We = 1 / A_plane per unit of plane area,
   // and the first edge has no 1 / d^2 (dA_plane = cos_1 dA_1).
-  const Camera &camera = scene_.camera();
+  const Camera &camera = scene_.camera_now();
   const bool ortho = camera.type == Camera::Type::Orthographic;
   Vec2 raster;
   Vec3 w0;
@@ -849,6 +856,8 @@ double PathSpace::independent_density(const ExplicitPath &y) const {
 double PathSpace::sample_independent(Pcg32 &rng, RayStats &stats, ExplicitPath &y) const {
   y.reserve(max_vertices_);
   y.f = Color(0.0f);
+  y.time = shutter_time(rng);
+  shutter::SampleTime at(y.time);
   const int nv = 2 + std::min(int(rng.next_float() * float(max_vertices_ - 1)), max_vertices_ - 2);
   const int j = std::min(int(rng.next_float() * float(nv + 1)), nv);
   y.n = nv;
@@ -861,6 +870,9 @@ double PathSpace::sample_independent(Pcg32 &rng, RayStats &stats, ExplicitPath &
 Proposal PathSpace::mutate(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const {
   // Fixed probabilities (never the state's): a mutation that cannot apply to x (a
   // perturbation of a path without medium vertices) proposes nothing, and the chain stays.
+  // Every mutation but the large step keeps x's shutter time (path_space.h).
+  y.time = x.time;
+  shutter::SampleTime at(x.time);
   if (rng.next_float() < large_step_probability_) return bidirectional(x, true, rng, stats, y);
   const float *w = mutations_.weights;
   float u = rng.next_float() * (w[0] + w[1] + w[2] + w[3] + w[4]);
@@ -916,6 +928,9 @@ Proposal PathSpace::bidirectional(const ExplicitPath &x, bool large, Pcg32 &rng,
     }
   }
   const int j = std::min(int(rng.next_float() * float(na + 1)), na);
+  // A large step draws a new shutter time (density 1: q and T unchanged); the others keep x's.
+  y.time = proposal.type == MutationType::Large ? shutter_time(rng) : x.time;
+  shutter::SampleTime at(y.time);
   proposal.l = l;
   proposal.m = m;
   proposal.na = na;
@@ -958,6 +973,8 @@ Proposal PathSpace::perturb_medium_vertex(const ExplicitPath &x, MutationType ty
     return proposal;  // a sun without an angle: its direction cannot turn
   y.reserve(max_vertices_);
   y.n = x.n;
+  y.time = x.time;
+  shutter::SampleTime at(y.time);
   for (int i = 0; i < x.n; ++i) y.x[size_t(i)] = x.x[size_t(i)];
   if (light_side.v.infinite) {
     // The light-side neighbour is a direction (a light at infinity): propagation moves x_j
@@ -1040,6 +1057,8 @@ Proposal PathSpace::perturb_lens(const ExplicitPath &x, Pcg32 &rng, RayStats &st
     return proposal;
   y.reserve(max_vertices_);
   y.n = x.n;
+  y.time = x.time;
+  shutter::SampleTime at(y.time);
   for (int i = 0; i < x.n; ++i) y.x[size_t(i)] = x.x[size_t(i)];
   Ray ray = camera_ray(y.x[0], raster);
   if (visibility_) ray.mask = visibility::kCamera;
@@ -1080,6 +1099,8 @@ Proposal PathSpace::perturb_caustic(const ExplicitPath &x, Pcg32 &rng, RayStats 
   const Vec3 local(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
   y.reserve(max_vertices_);
   y.n = x.n;
+  y.time = x.time;
+  shutter::SampleTime at(y.time);
   for (int i = 0; i < x.n; ++i) y.x[size_t(i)] = x.x[size_t(i)];
   const ExplicitVertex &end = y.x[size_t(k)];
   Ray ray;

@@ -20,6 +20,11 @@
 // times the cosine there. Every light at infinity but a sun without an angle is one vertex:
 // f sums their radiance, its light-side density their pmf x direction density. The bidirectional mutation's transition density T(x -> y) is a sum of products
 // of these (Veach 1997, sec. 11.4.2), so the acceptance ratio is exact.
+// Motion blur (scene/motion.h): the shutter time is one more coordinate of the state, one
+// per path as BDPT traces one per camera sample. f, every density and every ray of a path
+// are at its time (the scene's rays, Scene::camera_now, Scene::light_now); a large step
+// draws a new time uniform over the shutter (density 1, a factor of q and T), every other
+// mutation keeps it (a kept vertex lies on a surface only at the time it was found).
 // Cycles' Light Paths limits (per-kind bounces, caustics switches) are a property of the
 // vertices: f is 0 for a path outside them (integrators/light_path_limits.h), every vertex
 // classified as the path tracer classifies it, so every mutation sees the same f.
@@ -49,6 +54,7 @@ struct ExplicitPath {
   std::vector<double> rev_area;
   Color f{0.0f};                 // image_area x the measurement contribution (splat value)
   Vec2 raster{0, 0};
+  float time = 0.5f;  // the shutter time in [0, 1) of every vertex (scenes that move; else unused)
   void reserve(int max_vertices);
 };
 
@@ -182,6 +188,10 @@ class PathSpace {
   Color emitted(const ExplicitVertex &light, Vec3 w, uint32_t ray_kind) const;
   double light_position_density(const ExplicitVertex &light) const;
 
+  // A large step's shutter time: uniform over the shutter (density 1) in scenes that move;
+  // none drawn in static ones (their paths trace as before, bit for bit).
+  float shutter_time(Pcg32 &rng) const { return motion_ ? rng.next_float() : 0.5f; }
+
   const Scene &scene_;
   int max_vertices_;
   Vec2 sample_origin_, sample_size_;
@@ -191,6 +201,7 @@ class PathSpace {
   LightPathLimits limits_;  // per-kind bounces and caustics switches (clamps are refused)
   float caustic_weight_ = 0;  // the caustic perturbation's weight when paths have specular vertices
   bool media_;
+  bool motion_;  // Scene::has_motion
   bool visibility_, mixed_visibility_;  // Scene::has_ray_visibility / has_mixed_visibility
   std::vector<uint32_t> sphere_lamps_;  // the lights that are lamps with a radius
   // The lights at infinity but suns without an angle: one vertex (a direction) for all of
