@@ -183,6 +183,11 @@ def _render(engine, depsgraph):
                   % (stats.moving, stats.deforming, stats.motion_seconds))
 
         session = binding.Session(rscene, settings)
+        # The session's own warnings (a setting its integrator does not apply) join the scene's.
+        reported = len(messages.lines)
+        messages.extend(rscene.messages())
+        for line in messages.lines[reported:]:
+            engine.report({"WARNING"}, line)
         engine.session = session
         width, height = resolution(scene.render)
         rect = border_rect(scene.render, width, height) or (0, 0, width, height)

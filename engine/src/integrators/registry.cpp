@@ -30,7 +30,7 @@ static bdpt::BdptSettings bdpt_settings(const RenderSettings &settings, const Sc
   if (b.mis == bdpt::MisHeuristic::LafortuneWillems && settings.limits.filter_glossy > 0) {
     // Their split gives each strategy a share whether or not it can make the path, and
     // Filter Glossy takes the light-walk strategies from some paths (filter_glossy.h).
-    log_warning("mis 'lafortune_willems' cannot be combined with filter_glossy (Filter Glossy): BDPT uses the "
+    scene.warn("mis 'lafortune_willems' cannot be combined with filter_glossy (Filter Glossy): BDPT uses the "
                 "power heuristic");
     b.mis = bdpt::MisHeuristic::Power;
   }
@@ -40,14 +40,14 @@ static bdpt::BdptSettings bdpt_settings(const RenderSettings &settings, const Sc
 std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, const Scene &scene) {
   if (settings.integrator == "path") return std::make_unique<PathTracer>(scene, settings.max_bounces, settings.limits, film_alpha(settings, scene));
   if (settings.clamp > 0 && (settings.integrator == "mmlt" || settings.integrator == "mlt"))
-    log_warning("clamp " + std::to_string(settings.clamp) + " is not applied by " + settings.integrator +
+    scene.warn("'clamp' (the sample clamp) is not applied by " + settings.integrator +
                 ": it caps a camera sample's value, which " + settings.integrator +
                 "'s states (one strategy, or one path) do not have; path, bdpt and pssmlt apply it");
   if (settings.limits.filter_glossy > 0 && settings.integrator == "mlt")
-    log_warning("filter_glossy (Filter Glossy) is applied by path, bdpt, pssmlt and mmlt: mlt (path space) renders "
+    scene.warn("filter_glossy (Filter Glossy) is applied by path, bdpt, pssmlt and mmlt: mlt (path space) renders "
                 "glossy surfaces unfiltered (its mutations evaluate paths without the blur; README, Filter Glossy)");
   if (scene.has_mixed_visibility() && settings.integrator != "path")
-    log_warning(scene.mixed_visibility_object() + " is seen by some kinds of ray but not by others (ray visibility): " +
+    scene.warn(scene.mixed_visibility_object() + " is seen by some kinds of ray but not by others (ray visibility): " +
                 "light subpaths cannot follow that, so " + settings.integrator +
                 " uses only its camera-path strategies (path tracing with next-event estimation) for this scene");
   if (settings.integrator == "bdpt") return std::make_unique<bdpt::Bdpt>(scene, bdpt_settings(settings, scene));

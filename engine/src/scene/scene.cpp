@@ -10,10 +10,18 @@ namespace rdv {
 
 Scene::Scene() = default;
 
-void Scene::warn(const std::string &message) {
+void Scene::warn(const std::string &message) const {
   log_warning(message);
+  std::lock_guard<std::mutex> lock(messages_mutex_);
+  // Once each: a viewport makes a session per change, each with the same settings' warnings.
+  if (("\n" + messages_).find("\n" + message + "\n") != std::string::npos) return;
   messages_ += message;
   messages_ += '\n';
+}
+
+std::string Scene::messages() const {
+  std::lock_guard<std::mutex> lock(messages_mutex_);
+  return messages_;
 }
 
 // A material description may carry a "volume" (the medium inside meshes using it), and

@@ -3,6 +3,7 @@
 // sampler). Only what the scene contains is built.
 #pragma once
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 #include "bsdfs/material.h"
@@ -218,8 +219,10 @@ class Scene {
   float bounding_radius() const { return bounding_radius_; }
   Vec3 bounding_center() const { return bounding_center_; }
 
-  void warn(const std::string &message);
-  const std::string &messages() const { return messages_; }
+  // A warning for the user (rdv_scene_messages), also from a session's settings (const:
+  // the scene's content does not change).
+  void warn(const std::string &message) const;
+  std::string messages() const;
   const EnvironmentMap *environment() const { return environment_.get(); }
   std::string summary_json() const;
 
@@ -306,7 +309,9 @@ class Scene {
   uint64_t emissive_triangles_ = 0;
   uint32_t dropped_triangles_ = 0;
 
-  std::string messages_;
+  // Sessions made on one scene from several threads may warn at once.
+  mutable std::mutex messages_mutex_;
+  mutable std::string messages_;
 };
 
 }  // namespace rdv
