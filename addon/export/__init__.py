@@ -293,7 +293,7 @@ class SceneExporter:
             self.sink.set_instance_params(instance, settings)
         if self.motion is not None and inst is not None:
             self.motion.track(motion.instance_key(inst, ob), motion.object_steps(ob), instance, m16)
-            if frame and not inst.is_instance and motion.may_deform(ob):
+            if frame and motion.may_deform(ob):
                 self.motion.track_deform(motion.instance_key(inst, ob), motion.object_steps(ob), mesh_id, *frame[0])
         self.stats.instances += 1
 

@@ -851,6 +851,7 @@ def motion_blur(variant):
     square: a red square keyframed to slide 4.8 m between frames 1 and 3 (shutter 1, Center);
     camera: a static ball seen from a camera keyframed to pan (shutter 0.5, Start);
     deform: a square sheared by a shape key (deformation blur);
+    deform_instanced: that square seen only through two collection instances;
     deform_smooth: a smooth ball a shape key squashes and slides (its normals turn);
     emitters: two glowing planes, one keyframed and one a shape key slides, light the floor."""
     scene = reset(MOTION_SIZE)
@@ -882,6 +883,28 @@ def motion_blur(variant):
         square.data.materials.append(matte_material("Red", (0.8, 0.15, 0.1)))
         offsets = [(6.0 if v.co.y > 0 else 3.6, 0.0, 0.0) for v in square.data.vertices]
         shape_key_animation(square, offsets, [(MOTION_FRAME - 1, 0.0), (MOTION_FRAME + 1, 1.0)])
+        scene.render.motion_blur_shutter = 1.0
+        scene.cycles.motion_blur_position = "CENTER"
+    elif variant == "deform_instanced":
+        # Deformation blur on instanced copies: the sheared square of `deform` lives only in a
+        # collection excluded from the view layer, seen through two collection instances.
+        source = bpy.data.collections.new("Sheared")
+        scene.collection.children.link(source)
+        bpy.ops.mesh.primitive_plane_add(size=1.0, location=(0, 0, 0))
+        square = bpy.context.object
+        for c in list(square.users_collection):
+            c.objects.unlink(square)
+        source.objects.link(square)
+        square.rotation_euler = (1.2, 0, 0)  # facing the camera
+        square.data.materials.append(matte_material("Red", (0.8, 0.15, 0.1)))
+        offsets = [(6.0 if v.co.y > 0 else 3.6, 0.0, 0.0) for v in square.data.vertices]
+        shape_key_animation(square, offsets, [(MOTION_FRAME - 1, 0.0), (MOTION_FRAME + 1, 1.0)])
+        bpy.context.view_layer.layer_collection.children["Sheared"].exclude = True
+        for name, location in (("Copy low", (-2.4, 0.4, 0.5)), ("Copy high", (-2.4, -0.4, 1.5))):
+            copy = link(bpy.data.objects.new(name, None))
+            copy.location = location
+            copy.instance_type = "COLLECTION"
+            copy.instance_collection = source
         scene.render.motion_blur_shutter = 1.0
         scene.cycles.motion_blur_position = "CENTER"
     elif variant == "deform_smooth":
@@ -964,6 +987,7 @@ SCENES = {
     "motion_camera": lambda: motion_blur("camera"),
     "motion_deform": lambda: motion_blur("deform"),
     "motion_deform_smooth": lambda: motion_blur("deform_smooth"),
+    "motion_deform_instanced": lambda: motion_blur("deform_instanced"),
     "motion_emitters": lambda: motion_blur("emitters"),
 }
 

@@ -5,7 +5,8 @@ its width), and a static ball and floor seen from a keyframed camera that pans s
 (variant `camera`: shutter 0.5, Position Start), and a square whose vertices shear across the
 floor by a shape key (variant `deform`: deformation blur, shutter 1, Position Center), and a
 smooth ball a shape key squashes and slides (variant `deform_smooth`: its vertex normals turn
-over the shutter), two glowing planes lighting the floor, one keyframed to slide and one slid
+over the shutter), the sheared square seen only through two collection instances (variant
+`deform_instanced`: the copies share its deformation), two glowing planes lighting the floor, one keyframed to slide and one slid
 by a shape key (variant `emitters`: emitters move with their light; variant `deform_warnings`:
 a mesh whose faces change over the shutter renders without deformation blur, with a warning
 naming it, and a deforming emitter is blurred without one). Cycles renders it, then Rendezvous' path
