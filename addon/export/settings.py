@@ -114,7 +114,7 @@ def light_path_settings(scene, props=None):
         v = float(get(key))
         if v > 0:
             s[key.replace("sample_", "")] = v
-    blur = float(get("blur_glossy"))  # Filter Glossy: path, bdpt, pssmlt, mmlt (README)
+    blur = float(get("blur_glossy"))  # Filter Glossy: every integrator (README)
     if blur > 0:
         s["filter_glossy"] = blur
     return s
@@ -126,14 +126,11 @@ MLT_UNSUPPORTED_LIGHT_PATHS = ("clamp_direct", "clamp_indirect")
 
 
 def light_paths_for(integrator, light_paths, warn=print):
-    """light_paths (light_path_settings) as `integrator` takes them. Filter Glossy: path,
-    BDPT, pssmlt and mmlt apply it (one image for all their strategies); path-space
-    Metropolis evaluates paths without it, so it is not sent there (the engine would warn on
-    every default scene). Metropolis (Path Space) takes the per-kind bounces and the
-    caustics switches but no clamps (a default Blender scene has Clamp Indirect 10, which the
-    engine would refuse for it): they are left out, with one warning naming them."""
-    if integrator == "mlt" and "filter_glossy" in light_paths:
-        light_paths = {k: v for k, v in light_paths.items() if k != "filter_glossy"}
+    """light_paths (light_path_settings) as `integrator` takes them. Filter Glossy: every
+    integrator applies it (one image for all). Metropolis (Path Space) takes the per-kind
+    bounces, the caustics switches and Filter Glossy but no clamps (a default Blender scene
+    has Clamp Indirect 10, which the engine would refuse for it): they are left out, with one
+    warning naming them."""
     if integrator != "mlt":
         return light_paths
     dropped = [k for k in MLT_UNSUPPORTED_LIGHT_PATHS if k in light_paths]

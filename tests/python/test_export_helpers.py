@@ -211,12 +211,12 @@ class TestCameraSettings(unittest.TestCase):
                            "filter_glossy": 1.0}
         warnings = []
         self.assertEqual(light_paths_for("mlt", cycles_defaults, warnings.append),
-                         {"max_bounces": 13, "diffuse_bounces": 4, "glossy_bounces": 4})
+                         {"max_bounces": 13, "diffuse_bounces": 4, "glossy_bounces": 4, "filter_glossy": 1.0})
         self.assertEqual(len(warnings), 1)
         self.assertIn("clamps (clamp_indirect)", warnings[0])
         self.assertEqual(light_paths_for("mlt", {"max_bounces": 13, "caustics_refractive": False,
                                                  "filter_glossy": 1.0}, warnings.append),
-                         {"max_bounces": 13, "caustics_refractive": False})
+                         {"max_bounces": 13, "caustics_refractive": False, "filter_glossy": 1.0})
         self.assertEqual(len(warnings), 1)
         for integrator in ("path", "bdpt", "pssmlt", "mmlt"):  # Filter Glossy included
             self.assertEqual(light_paths_for(integrator, cycles_defaults, warnings.append), cycles_defaults)

@@ -19,9 +19,10 @@ namespace {
 
 constexpr int kRuns = 8;
 constexpr int kSize = 48;
-// Seven BDPT-vs-path, two pssmlt / mmlt-vs-path and three mlt-vs-BDPT comparisons of 6x6
-// blocks (the check that unfiltered BDPT differs expects failures and takes no share).
-constexpr int kBlockTestsInFile = 12 * 36;
+// Seven BDPT-vs-path, two pssmlt / mmlt-vs-path, one mlt-vs-path and four mlt-vs-BDPT
+// comparisons of 6x6 blocks (the check that unfiltered BDPT differs expects failures and
+// takes no share).
+constexpr int kBlockTestsInFile = 14 * 36;
 const double kAlphaPerBlock = 1.0 - std::pow(1.0 - 0.01, 1.0 / kBlockTestsInFile);
 
 json small(json settings) {
@@ -132,9 +133,11 @@ TEST(LightPathLimits, FilterGlossyZeroChangesNothingAndOnBlursCaustics) {
 // Filter Glossy in BDPT (integrators/filter_glossy.h): the glass ball's caustic on the
 // floor, blurred by Filter Glossy 2, is the path tracer's in BDPT (its light-tracing
 // strategies through the blurred ball give way to the connections and next-event
-// estimation at the blurred glass) and in pssmlt and mmlt, which sample BDPT's strategies;
-// unfiltered, BDPT's caustic differs (the test sees the filter). Light_types' glossy and
-// gold spheres (GGX lobes smoother than the blur) with Filter Glossy 1 too.
+// estimation at the blurred glass) and in pssmlt and mmlt, which sample BDPT's strategies,
+// and in path-space mlt (the blur a function of each path's camera-side prefix, in f and in
+// both sides' densities; the mean too); unfiltered, BDPT's caustic differs (the test sees the
+// filter). Light_types' glossy and gold spheres (GGX lobes smoother than the blur) with
+// Filter Glossy 1 too, BDPT against the path tracer and mlt against BDPT.
 TEST(LightPathLimits, FilterGlossyInBdptAndMetropolisMatchesPath) {
   json caustic = load_scene("caustic.json");
   const json filtered = {{"max_bounces", 8}, {"filter_glossy", 2}};
@@ -143,6 +146,9 @@ TEST(LightPathLimits, FilterGlossyInBdptAndMetropolisMatchesPath) {
                            "filter glossy 1 light_types", 64, 16);
   for (const char *integrator : {"pssmlt", "mmlt"})
     expect_same_image(caustic, filtered, "filter glossy 2 caustic", {"path", 256}, {integrator, 64});
+  expect_same_image(caustic, filtered, "filter glossy 2 caustic", {"path", 256}, {"mlt", 64}, true);
+  expect_mlt_matches_bdpt(load_scene("light_types.json"), {{"max_bounces", 8}, {"filter_glossy", 1}},
+                          "filter glossy 1 light_types", 64, 64);
   auto pt = runs_of(caustic, filtered, "path", 256, 1);
   json unfiltered = filtered;
   unfiltered["filter_glossy"] = 0;

@@ -23,6 +23,7 @@
 #include <nlohmann/json.hpp>
 #include "api/handles.h"
 #include "integrators/mlt/path_space.h"
+#include "integrators/filter_glossy.h"
 #include "lights/light.h"
 #include "scene/motion.h"
 #include "chi_square.h"
@@ -159,15 +160,31 @@ struct BruteForce {
   // The density of scattering at vertex v from direction wo into wi, v's BSDF rebuilt
   // from its hit with wo as the direction it is built from. Specular vertices: the
   // event's probability (a delta about wi); toward_camera: sampled from the light side,
-  // converted to the delta about wo.
-  double scatter_pdf(const ExplicitVertex &v, Vec3 wo, Vec3 wi, bool toward_camera = false) const {
+  // converted to the delta about wo. blur: the BSDF blurred so (Filter Glossy).
+  double scatter_pdf(const ExplicitVertex &v, Vec3 wo, Vec3 wi, bool toward_camera = false, float blur = 0) const {
     if (v.v.type == VertexType::Medium) return scene.medium(v.v.medium).phase.pdf(wo, wi);
     if (v.v.delta) {
       double jacobian;
       double p = specular_event(v, wo, wi, jacobian);
       return toward_camera ? p / jacobian : p;
     }
-    return scene.bsdf(v.hit, wo, 0).pdf(wo, wi);
+    Bsdf bsdf = scene.bsdf(v.hit, wo, 0);
+    bsdf.blur(blur);
+    return bsdf.pdf(wo, wi);
+  }
+  // Filter Glossy (filter_glossy.h), written out: the roughness vertex k's BSDF is blurred
+  // with in f, from the smallest camera-side scattering density before it, each of those
+  // from the BSDF rebuilt from its hit and blurred by its own prefix in turn.
+  FilterGlossy filter{0};
+  float blur_alpha(const ExplicitPath &p, int k) const {
+    if (!filter.on()) return 0;
+    float min_pdf = kInf, alpha = 0;
+    for (int j = 1; j <= k; ++j) {
+      alpha = filter.alpha_after(min_pdf);  // vertex j's
+      if (j < k && !p.x[size_t(j)].v.delta)
+        min_pdf = std::min(min_pdf, float(scatter_pdf(p.x[size_t(j)], dir(p, j, j - 1), dir(p, j, j + 1), false, alpha)));
+    }
+    return alpha;
   }
   // Solid angle at `from` to area at i; from a light at infinity: its disk to area at i (the
   // cosine there); to one: none (its vertex is in solid angle).
@@ -202,7 +219,7 @@ struct BruteForce {
         pdf = (double(kWidth) * kHeight / (double(kSize.x) * kSize.y)) /
               (scene.camera_now().viewplane_area() * cos0 * cos0 * cos0);
       } else {
-        pdf = scatter_pdf(p.x[size_t(i - 1)], dir(p, i - 1, i - 2), v.dir);
+        pdf = scatter_pdf(p.x[size_t(i - 1)], dir(p, i - 1, i - 2), v.dir, false, blur_alpha(p, i - 1));
       }
       return pdf * free_flight(p, i - 1, i, false);
     }
@@ -216,7 +233,7 @@ struct BruteForce {
       const double cos_lamp = -dot(sphere_normal(light, v.p), w);
       if (!(cos_lamp > 0)) return 0;
       const Vec3 from = p.x[size_t(i - 1)].v.p;
-      return scatter_pdf(p.x[size_t(i - 1)], dir(p, i - 1, i - 2), w) * cos_lamp / double(length_squared(v.p - from)) *
+      return scatter_pdf(p.x[size_t(i - 1)], dir(p, i - 1, i - 2), w, false, blur_alpha(p, i - 1)) * cos_lamp / double(length_squared(v.p - from)) *
              free_flight(from, v.p, false);
     }
     Vec3 w = dir(p, i - 1, i);
@@ -239,7 +256,7 @@ struct BruteForce {
       pdf = raster_density / (camera.viewplane_area() * cos0 * cos0 * cos0);
       from = from + w * float(camera.clip_start / cos0);
     } else {
-      pdf = scatter_pdf(p.x[size_t(i - 1)], dir(p, i - 1, i - 2), w);
+      pdf = scatter_pdf(p.x[size_t(i - 1)], dir(p, i - 1, i - 2), w, false, blur_alpha(p, i - 1));
     }
     return pdf * to_area(p, i - 1, i) * free_flight(from, v.p, v.type == VertexType::Medium);  // finite: as before
   }
@@ -305,6 +322,12 @@ struct BruteForce {
       pdf = pdf_dir;
     } else {
       pdf = scatter_pdf(p.x[size_t(i + 1)], dir(p, i + 1, i + 2), w, true);
+      // Filter Glossy: the light walk samples x_(i+1) unblurred; where the blur changes that
+      // BSDF it cannot make the path.
+      const ExplicitVertex &next = p.x[size_t(i + 1)];
+      if (filter.on() && next.v.type == VertexType::Surface &&
+          scene.bsdf(next.hit, dir(p, i + 1, i + 2), 0).blur_changes(blur_alpha(p, i + 1)))
+        pdf = 0;
     }
     const bdpt::PathVertex &v = p.x[size_t(i)].v;
     return pdf * to_area(p, i + 1, i) * free_flight(p, i + 1, i, v.type == VertexType::Medium);
@@ -385,13 +408,18 @@ int specular_vertices(const ExplicitPath &p) {
 
 // min_specular: how many checked proposals must have specular vertices in x or y.
 // box_lo, box_hi: the scene's one medium is in that axis-aligned box (BruteForce::box).
+// filter_glossy: Cycles' Filter Glossy (0: off).
 void check_scene(const std::string &name, const nlohmann::json &json, int starts, int mutations_per_start,
-                 int min_specular = 0, const Vec3 *box_lo = nullptr, const Vec3 *box_hi = nullptr) {
+                 int min_specular = 0, const Vec3 *box_lo = nullptr, const Vec3 *box_hi = nullptr,
+                 float filter_glossy = 0) {
   LoadedScene loaded;
   load(loaded, json);
   const Scene &scene = loaded.scene();
-  PathSpace space(scene, kMaxBounces, kOrigin, kSize, float(kWidth * kHeight), kLargeStep);
+  LightPathLimits limits;
+  limits.filter_glossy = filter_glossy;
+  PathSpace space(scene, kMaxBounces, kOrigin, kSize, float(kWidth * kHeight), kLargeStep, MutationSettings{}, limits);
   BruteForce brute{scene};
+  brute.filter = FilterGlossy(filter_glossy);
   if (box_lo) {
     brute.box = true;
     brute.box_lo = *box_lo;
@@ -402,7 +430,8 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
   ExplicitPath x, y, z;
   int checked = 0, worse = 0, medium_paths = 0, large = 0, lens = 0, specular = 0, lens_specular = 0, caustic = 0;
   int off_sphere = 0, infinite = 0, delta_sun = 0;
-  int time_moved = 0, time_lost = 0;  // motion blur: large steps that drew a new time; others that changed it
+  int time_moved = 0, time_lost = 0;
+  int blurred = 0;  // Filter Glossy: proposals with a vertex the blur changed  // motion blur: large steps that drew a new time; others that changed it
   double worst = 0, worst_f = 0;
   for (int s = 0; s < starts; ++s) {
     if (!(space.sample_independent(rng, stats, x) > 0)) continue;
@@ -417,6 +446,7 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
         Vec3 wo = normalize(z.x[size_t(i - 1)].v.p - z.x[size_t(i)].v.p);
         z.x[size_t(i)].v.bsdf = scene.bsdf(z.x[size_t(i)].hit, wo, 0);
         z.x[size_t(i)].v.wo = wo;
+        z.x[size_t(i)].blur = 0;  // as built: evaluate blurs it by the rule
       }
     space.evaluate(z, stats);
     worst_f = std::max(worst_f, double(std::fabs(luminance(z.f) / luminance(x.f) - 1)));
@@ -437,6 +467,11 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
       }
       if (std::isfinite(error)) worst = std::max(worst, error);
       ++checked;
+      for (int i = 1; i + 1 < y.n; ++i)
+        if (y.x[size_t(i)].blur > 0 && scene.bsdf(y.x[size_t(i)].hit, y.x[size_t(i)].v.wo, 0).blur_changes(y.x[size_t(i)].blur)) {
+          ++blurred;
+          break;
+        }
       if (p.type == MutationType::Large) time_moved += y.time != x.time;
       else time_lost += y.time != x.time;
       specular += specular_vertices(x) + specular_vertices(y) > 0;
@@ -507,6 +542,11 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
     std::printf("[ mlt densities ] %-12s motion: %d of %d large steps at a new shutter time\n", name.c_str(), time_moved,
                 large);
   EXPECT_EQ(time_lost, 0) << name << ": a mutation other than the large step changed the shutter time";
+  if (filter_glossy > 0) {
+    std::printf("[ mlt densities ] %-12s filter glossy %g: %d bidirectional proposals with a vertex the blur changed\n",
+                name.c_str(), filter_glossy, blurred);
+    EXPECT_GT(blurred, checked / 20) << name;
+  }
   if (scene.has_motion()) EXPECT_GT(time_moved, large / 2) << name;
   if (!scene.infinite_lights().empty()) EXPECT_GT(infinite, checked / 10) << name;
   EXPECT_GE(specular, min_specular) << name;
@@ -553,6 +593,25 @@ TEST(PathMltDensities, OrthographicRatiosMatchBruteForce) {
 }
 
 TEST(PathMltDensities, FogDoorRatiosMatchBruteForce) { check_scene("fog_door.json", 4000, 20); }
+
+// Filter Glossy (path_space.h, filter_glossy.h): each BSDF in f blurred by its camera-side
+// prefix, the camera side sampling the blurred BSDF, the light side the unblurred one with
+// density 0 where the blur changes it. The glass ball and mirror (its lamp a point) with
+// Filter Glossy 1: the ball seen after the floor's diffuse bounce is blurred GGX glass, in the
+// mirror or straight it stays sharp; the Cornell box with glossy walls (GGX 0.05, roughened
+// after a diffuse bounce).
+TEST(PathMltDensities, FilterGlossyRatiosMatchBruteForce) {
+  nlohmann::json mirror = test::load_scene("mirror_caustic.json");
+  for (auto &light : mirror["lights"]) light["radius"] = 0;
+  check_scene("mirror_caustic.json (filter glossy 1)", mirror, 6000, 20, 0, nullptr, nullptr, 1.0f);
+  nlohmann::json cornell = test::load_scene("cornell_box.json");
+  for (auto &m : cornell["materials"])
+    if (m["name"] == "red" || m["name"] == "green") {
+      m["type"] = "glossy";
+      m["roughness"] = 0.05;
+    }
+  check_scene("cornell_box.json (glossy walls, filter glossy 1)", cornell, 600, 20, 0, nullptr, nullptr, 1.0f);
+}
 
 // Motion blur (path_space.h): the shutter time a coordinate of the path, drawn by large
 // steps (density 1) and kept by the other mutations; every density at the path's time. The

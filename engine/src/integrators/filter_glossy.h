@@ -21,7 +21,9 @@
 //    evaluated with its blurred BSDF. Strategies that sample from the camera side (s = 0,
 //    next-event estimation, and every connection nearer the light than the blurred
 //    vertices) always remain.
-// Path-space mlt evaluates paths without this rule: it renders unfiltered and warns.
+// Path-space mlt uses the same rule (mlt/path_space.h): f blurs each surface by its path's
+// camera-side prefix, the camera side samples the blurred BSDF, the light side the unblurred
+// one with density 0 where the blur changes it.
 #pragma once
 #include <algorithm>
 #include <cmath>

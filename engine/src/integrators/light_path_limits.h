@@ -48,8 +48,8 @@ struct LightPathLimits {
   // vertex on the path, indirect = the rest.
   float clamp_direct = 0, clamp_indirect = 0;
   // Filter Glossy (scene.cycles.blur_glossy; 0 = off): glossy lobes after unlikely
-  // bounces are roughened (filter_glossy.h): path tracing, BDPT, pssmlt and mmlt (one
-  // image for all their strategies); path-space mlt ignores it with a warning.
+  // bounces are roughened (filter_glossy.h): every integrator, one image for all their
+  // strategies (path-space mlt: a function of each path's camera-side prefix).
   float filter_glossy = 0;
   // Set by finish(): whether paths must be classified / contributions clamped at all
   // (a scene that uses none of these renders exactly as without them).

@@ -43,9 +43,6 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
     scene.warn("'clamp' (the sample clamp) is not applied by " + settings.integrator +
                 ": it caps a camera sample's value, which " + settings.integrator +
                 "'s states (one strategy, or one path) do not have; path, bdpt and pssmlt apply it");
-  if (settings.limits.filter_glossy > 0 && settings.integrator == "mlt")
-    scene.warn("filter_glossy (Filter Glossy) is applied by path, bdpt, pssmlt and mmlt: mlt (path space) renders "
-                "glossy surfaces unfiltered (its mutations evaluate paths without the blur; README, Filter Glossy)");
   if (scene.has_mixed_visibility() && settings.integrator != "path")
     scene.warn(scene.mixed_visibility_object() + " is seen by some kinds of ray but not by others (ray visibility): " +
                 "light subpaths cannot follow that, so " + settings.integrator +

@@ -108,6 +108,7 @@ PathSpace::PathSpace(const Scene &scene, int max_bounces, Vec2 sample_origin, Ve
       large_step_probability_(large_step_probability),
       mutations_(mutations),
       limits_(limits),
+      filter_(limits.filter_glossy),
       media_(scene.has_media()),
       motion_(scene.has_motion()),
       visibility_(scene.has_ray_visibility()),
@@ -342,14 +343,32 @@ void PathSpace::settle(ExplicitVertex &z, const ExplicitVertex &camera_side) con
   if (z.v.type == VertexType::Surface) {
     if (media_) z.v.media = z.v.media_toward(scene_, w);
     z.v.bsdf = scene_.bsdf(z.hit, w, 0);
+    z.blur = 0;
   }
   z.v.wo = w;
+}
+
+void PathSpace::blur_by_prefix(ExplicitVertex &z) const {
+  if (z.v.type != VertexType::Surface) return;
+  float alpha = filter_.alpha_after(z.v.filter_pdf);
+  if (!Bsdf::blur_acts(alpha)) alpha = 0;
+  if (alpha == z.blur) return;
+  if (z.blur > 0) z.v.bsdf = scene_.bsdf(z.hit, z.v.wo, 0);  // blurred by another prefix: as built
+  if (alpha > 0) z.v.bsdf.blur(alpha);
+  z.blur = alpha;
+}
+
+bool PathSpace::light_walk_made(const ExplicitPath &y, int lo, int hi) {
+  for (int i = lo; i <= hi; ++i)
+    if (!(y.rev[size_t(i)] > 0)) return false;
+  return true;
 }
 
 bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats) const {
   ExplicitVertex &prev = y.x[size_t(at - 1)];
   Ray ray;
   MediumStack media;
+  float scattered_pdf = kInf;  // Filter Glossy: the density prev sampled the direction with
   if (prev.v.type == VertexType::Camera) {
     // A raster point uniform over the sample region, through the pinhole.
     Vec2 raster{sample_origin_.x + rng.next_float() * sample_size_.x, sample_origin_.y + rng.next_float() * sample_size_.y};
@@ -360,13 +379,17 @@ bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, Ray
     Vec3 wi;
     if (prev.v.type == VertexType::Medium) {
       Vec2 u{rng.next_float(), rng.next_float()};
-      wi = scene_.medium(prev.v.medium).phase.sample(prev.v.wo, u);
+      const auto &phase = scene_.medium(prev.v.medium).phase;
+      wi = phase.sample(prev.v.wo, u);
+      if (filter_.on()) scattered_pdf = phase.pdf(prev.v.wo, wi);
     } else if (prev.v.type == VertexType::Surface) {
       float u_lobe = rng.next_float();
       Vec2 u{rng.next_float(), rng.next_float()};
+      if (filter_.on()) blur_by_prefix(prev);  // the camera side samples f's (blurred) BSDF
       BsdfSample bs;
       if (!prev.v.bsdf.has_lobes() || !prev.v.bsdf.sample(prev.v.wo, u_lobe, u, TransportMode::Radiance, bs)) return false;
       prev.v.delta = bs.is_delta;  // the path's specular vertices are part of its state
+      if (!bs.is_delta) scattered_pdf = bs.pdf;
       wi = bs.wi;
     } else {
       return false;  // lights do not scatter
@@ -378,6 +401,7 @@ bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, Ray
   ExplicitVertex &z = y.x[size_t(at)];
   if (!trace_step(ray, media, rng, stats, z, at == y.n - 1)) return false;
   settle(z, prev);
+  if (filter_.on()) z.v.filter_pdf = std::min(prev.v.filter_pdf, scattered_pdf);  // x_1: none before it
   return true;
 }
 
@@ -660,9 +684,16 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   // rays from x_0, then each scattering's kind (a pass-through keeps the kind it had).
   uint32_t ray_kind = visibility_ ? visibility::kCamera : visibility::kAnyRay;
 
+  // Filter Glossy: the smallest camera-side scattering density so far (filter_glossy.h).
+  float filter_min = kInf;
+
   // Edge by edge: transmittance, geometry, the scattering at its camera-side end, and
   // the densities of its two ends as the other end's walk would reach them.
   for (int i = 0; i + 1 < n; ++i) {
+    if (filter_.on() && i >= 1) {  // a's BSDF in f: blurred by its camera-side prefix
+      y.x[size_t(i)].v.filter_pdf = filter_min;
+      blur_by_prefix(y.x[size_t(i)]);
+    }
     const ExplicitVertex &a = y.x[size_t(i)], &b = y.x[size_t(i + 1)];
     // An edge to a light at infinity: no geometry term (its vertex is in solid angle).
     Vec3 w = b.v.dir;
@@ -741,6 +772,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
       pdf_b = scene_.medium(a.v.medium).phase.pdf(a.v.wo, w);
     }
     y.fwd[size_t(i + 1)] = i == 0 && ortho ? pdf_b * cos_b * e.fwd : pdf_b * cos_b / d2 * e.fwd;
+    if (i >= 1 && !a.v.delta) filter_min = std::min(filter_min, float(pdf_b));
     double pdf_a = 0;
     if (i == 0) {
       pdf_a = 0;  // the camera vertex is always sampled from the camera side
@@ -763,7 +795,9 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     } else if (b.v.type == VertexType::Surface) {
       Vec3 w_light = toward(b, y.x[size_t(i + 2)]);
       Bsdf light_side = scene_.bsdf(b.hit, w_light, 0);
-      if (b.v.delta) {
+      if (filter_.on() && light_side.blur_changes(filter_.alpha_after(filter_min))) {
+        pdf_a = 0;  // the light walk samples b unblurred: it cannot make f's blurred b
+      } else if (b.v.delta) {
         // Sampled from the light side, b's delta is about the direction toward a: in
         // units of f's (about the direction toward the light) it is divided by the
         // light-side event's d omega_a / d omega_light.
@@ -864,6 +898,7 @@ double PathSpace::sample_independent(Pcg32 &rng, RayStats &stats, ExplicitPath &
   if (!regenerate(y, -1, nv, j, rng, stats)) return 0;
   evaluate(y, stats);
   if (!(luminance(y.f) > 0)) return 0;
+  if (filter_.on() && !light_walk_made(y, j, nv - 1)) return 0;  // scattered where f blurs
   return independent_density(y);
 }
 
@@ -941,6 +976,7 @@ Proposal PathSpace::bidirectional(const ExplicitPath &x, bool large, Pcg32 &rng,
   evaluate(y, stats);
   const float fy = luminance(y.f);
   if (!(fy > 0)) return proposal;
+  if (filter_.on() && !light_walk_made(y, l + j + 1, l + na)) return proposal;  // scattered where f blurs
   const double t_xy = transition_density(nv, l, m, y, na);
   const double t_yx = transition_density(y.n, l, l + na + 1, x, nd);
   if (!(t_xy > 0) || !std::isfinite(t_yx)) return proposal;

@@ -25,6 +25,12 @@
 // are at its time (the scene's rays, Scene::camera_now, Scene::light_now); a large step
 // draws a new time uniform over the shutter (density 1, a factor of q and T), every other
 // mutation keeps it (a kept vertex lies on a surface only at the time it was found).
+// Filter Glossy (integrators/filter_glossy.h) is a property of the path too, as in BDPT: a
+// surface's BSDF in f is blurred by the smallest camera-side scattering density before it
+// (vertex.v.filter_pdf), a function of the camera-side prefix. The camera side samples that
+// blurred BSDF; the light side samples the unblurred one, so its density of a vertex is 0 where
+// the blur changes the BSDF it scattered at (a split that samples there cannot make the path;
+// a proposal that did is not made).
 // Cycles' Light Paths limits (per-kind bounces, caustics switches) are a property of the
 // vertices: f is 0 for a path outside them (integrators/light_path_limits.h), every vertex
 // classified as the path tracer classifies it, so every mutation sees the same f.
@@ -34,6 +40,7 @@
 #include "core/hash.h"
 #include "core/ray_offset.h"
 #include "integrators/bdpt/path_vertex.h"
+#include "integrators/filter_glossy.h"
 #include "integrators/integrator.h"
 
 namespace rdv::mlt {
@@ -43,6 +50,7 @@ struct ExplicitVertex {
   // side. Light vertices: light >= 0, media the light's.
   bdpt::PathVertex v;
   SurfaceHit hit;  // surfaces: rebuilds the BSDF when the camera-side neighbour changes
+  float blur = 0;  // Filter Glossy: the roughness v.bsdf is blurred with (0: as built)
 };
 
 struct ExplicitPath {
@@ -181,6 +189,12 @@ class PathSpace {
   bool extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats) const;
   bool extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats) const;
   void settle(ExplicitVertex &z, const ExplicitVertex &camera_side) const;
+  // Filter Glossy: z's BSDF blurred by the roughness z.v.filter_pdf gives (rebuilt from the
+  // hit when it was blurred by another prefix's).
+  void blur_by_prefix(ExplicitVertex &z) const;
+  // Filter Glossy: whether the light walk that sampled y's vertices lo .. hi could have made
+  // them (each has a light-side density).
+  static bool light_walk_made(const ExplicitPath &y, int lo, int hi);
   MediumStack stack_toward(const ExplicitVertex &z, Vec3 w) const;
   bool regenerate(ExplicitPath &y, int l, int na, int j, Pcg32 &rng, RayStats &stats) const;
   // w: from the light toward its camera-side neighbour; ray_kind: the kind of ray that meets
@@ -199,6 +213,7 @@ class PathSpace {
   float large_step_probability_;
   MutationSettings mutations_;
   LightPathLimits limits_;  // per-kind bounces and caustics switches (clamps are refused)
+  FilterGlossy filter_;     // Filter Glossy (off: 0)
   float caustic_weight_ = 0;  // the caustic perturbation's weight when paths have specular vertices
   bool media_;
   bool motion_;  // Scene::has_motion
