@@ -36,7 +36,8 @@ def metropolis_settings(props):
             "mlt_target": props.mlt_target.lower(),
             # Path space (mlt) only: its mutations' weights (the other integrators ignore them).
             "mlt_mutations": {name: float(getattr(props, "mlt_mutation_" + name, 1.0))
-                              for name in ("bidirectional", "lens", "propagation", "scattering", "caustic")}}
+                              for name in ("bidirectional", "lens", "propagation", "scattering", "caustic",
+                                           "multi_chain", "lens_subpath")}}
 MIS = {"POWER": "power", "BALANCE": "balance", "LAFORTUNE_WILLEMS": "lafortune_willems"}
 DEFAULT_SAMPLES = 128
 

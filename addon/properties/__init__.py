@@ -80,6 +80,13 @@ class RendezvousRenderSettings(bpy.types.PropertyGroup):
     mlt_mutation_caustic: _mutation_weight(
         "Caustic", "the caustic perturbation (Veach), which turns the light's direction into a chain of mirrors "
                    "or smooth glass a little and retraces it to the surface or fog the camera sees: caustics")
+    mlt_mutation_multi_chain: _mutation_weight(
+        "Multi-Chain", "the multi-chain perturbation (Veach), which moves the image position a little and, past each "
+                       "rough surface seen through mirrors or smooth glass, turns the path a little through the next "
+                       "chain of them: caustics seen in a mirror or through glass")
+    mlt_mutation_lens_subpath: _mutation_weight(
+        "Lens Subpath", "the lens subpath mutation (Veach), which traces the path's first vertices afresh through "
+                        "the chain's next pixel in a shuffled sweep of the image: every pixel gets visited")
     mlt_target: EnumProperty(
         name="Target", default="RELATIVE",
         items=[("RELATIVE", "Even Error", "Mutations spread by relative error: regions brighter than the image's "

@@ -112,6 +112,8 @@ class RENDEZVOUS_PT_sampling_metropolis(RendezvousSubpanel, bpy.types.Panel):
             col.prop(props, "mlt_mutation_propagation")
             col.prop(props, "mlt_mutation_scattering")
             col.prop(props, "mlt_mutation_caustic")
+            col.prop(props, "mlt_mutation_multi_chain")
+            col.prop(props, "mlt_mutation_lens_subpath")
 
 
 class RENDEZVOUS_PT_sampling_advanced(RendezvousSubpanel, bpy.types.Panel):

@@ -41,9 +41,10 @@ void usage() {
                "  --mlt-large-step P     pssmlt / mmlt / mlt: probability of a large step\n"
                "  --mlt-bootstrap N      pssmlt / mmlt / mlt: bootstrap samples per pixel\n"
                "  --mlt-chains N         pssmlt / mmlt / mlt: number of Markov chains\n"
-               "  --mlt-mutations B,L,P,S[,C]  mlt: weights of the bidirectional mutation, the lens perturbation,\n"
-               "                         the propagation and scattering perturbations of medium vertices and the\n"
-               "                         caustic perturbation (default 1,1,1,1,1; C left out: 1)\n"
+               "  --mlt-mutations B,L,P,S[,C[,M[,U]]]  mlt: weights of the bidirectional mutation, the lens\n"
+               "                         perturbation, the propagation and scattering perturbations of medium\n"
+               "                         vertices, the caustic and multi-chain perturbations and the lens subpath\n"
+               "                         mutation (default 1 each; those a shorter list leaves out: 1)\n"
                "  --mlt-step-size S      pssmlt / mmlt: small-step size in primary sample space\n"
                "  --mlt-target T         pssmlt / mmlt: luminance or relative (even relative error)\n"
                "  --strategy S,T         bdpt: render only strategy (s, t), MIS-weighted\n"
@@ -217,13 +218,15 @@ int main(int argc, char **argv) {
       else if (a == "--mlt-bootstrap") overrides["mlt_bootstrap"] = std::stoi(next());
       else if (a == "--mlt-chains") overrides["mlt_chains"] = std::stoi(next());
       else if (a == "--mlt-mutations") {
-        // B,L,P,S[,C]: the weights of mlt's bidirectional mutation and lens / propagation / scattering /
-        // caustic perturbations (a list of four, as before the caustic perturbation, keeps its default).
+        // B,L,P,S[,C[,M[,U]]]: the weights of mlt's bidirectional mutation, lens / propagation / scattering /
+        // caustic / multi-chain perturbations and lens subpath mutation (the ones a shorter list leaves out
+        // keep their defaults, as before they existed).
         std::stringstream list(next());
         std::string item;
         nlohmann::json w = nlohmann::json::object();
-        for (const char *name : {"bidirectional", "lens", "propagation", "scattering", "caustic"})
-          if (std::getline(list, item, ',')) w[name] = std::stof(item);
+        for (const char *name :
+             {"bidirectional", "lens", "propagation", "scattering", "caustic", "multi_chain", "lens_subpath"})
+          w[name] = std::getline(list, item, ',') ? std::stof(item) : 1.0f;
         overrides["mlt_mutations"] = w;
       }
       else if (a == "--mlt-step-size") overrides["mlt_step_size"] = std::stod(next());

@@ -182,7 +182,7 @@ class TestCameraSettings(unittest.TestCase):
                                                mlt_step_size=0.01, mlt_target="LUMINANCE"))
         self.assertEqual((s["integrator"], s["mlt_large_step"], s["mlt_chains"]), ("mlt", 0.2, 128))
         self.assertEqual(s["mlt_mutations"], {"bidirectional": 1.0, "lens": 1.0, "propagation": 1.0, "scattering": 1.0,
-                                              "caustic": 1.0})
+                                              "caustic": 1.0, "multi_chain": 1.0, "lens_subpath": 1.0})
         s = session_settings(scene, self.props(integrator="MLT", mlt_large_step=0.2, mlt_bootstrap=1, mlt_chains=128,
                                                mlt_step_size=0.01, mlt_target="LUMINANCE", mlt_mutation_propagation=3.0))
         self.assertEqual(s["mlt_mutations"]["propagation"], 3.0)

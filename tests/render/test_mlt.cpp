@@ -22,8 +22,8 @@ namespace {
 
 constexpr int kRuns = 8;
 // 4 scenes x 2 integrators with the default (relative) target, the door gap with the
-// luminance target, mlt on 12 scenes, and pssmlt with a sample clamp; 36 blocks each.
-constexpr int kBlockTestsInFile = 23 * 36;
+// luminance target, mlt on 13 scenes, and pssmlt with a sample clamp; 36 blocks each.
+constexpr int kBlockTestsInFile = 24 * 36;
 const double kAlphaPerBlock = 1.0 - std::pow(1.0 - 0.01, 1.0 / kBlockTestsInFile);
 
 struct Runs {
@@ -131,6 +131,18 @@ TEST(MltVsBdpt, PathSpaceMirrorCaustic) {
   json scene = load_scene("mirror_caustic.json");
   for (auto &light : scene["lights"]) light["radius"] = 0;
   expect_same_image(scene, "mirror caustic", 128, 256, "luminance", {"mlt"});
+}
+// The multi-chain perturbation and the lens subpath mutation doing most of the small steps
+// (weight 3 each against 1 for the bidirectional mutation, lens and caustic perturbations)
+// on the same scene: the floor seen through the ball and the caustic seen in the mirror
+// (E D S S D L, E S D S S D L: the turned chains), every pixel swept by the lens subpath
+// mutation's stratified positions.
+TEST(MltVsBdpt, PathSpaceMirrorCausticMultiChainAndLensSubpath) {
+  json scene = load_scene("mirror_caustic.json");
+  for (auto &light : scene["lights"]) light["radius"] = 0;
+  scene["settings"]["mlt_mutations"] = {{"bidirectional", 1}, {"lens", 1}, {"caustic", 1}, {"multi_chain", 3},
+                                        {"lens_subpath", 3}};
+  expect_same_image(scene, "mirror caustic (multi-chain, lens subpath)", 128, 256, "luminance", {"mlt"});
 }
 TEST(MltVsBdpt, PathSpaceVolumeCaustic) {
   expect_same_image(load_scene("volume_caustic.json"), "volume caustic", 128, 256, "luminance", {"mlt"});

@@ -4,7 +4,9 @@
 // its densities in test_path_mlt_densities.cpp.)
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <stdexcept>
+#include "integrators/mlt/image_strata.h"
 #include "render_helpers.h"
 
 using namespace rdv::test;
@@ -59,9 +61,34 @@ TEST(PathMltStats, ReportedThroughTheCAbi) {
   EXPECT_LT(stats["b_standard_error"].get<double>(), stats["b"].get<double>());
   EXPECT_GT(stats["bidirectional_acceptance"].get<double>(), 0.0);
   EXPECT_GT(stats["large_step_acceptance"].get<double>(), 0.0);
+  // The Cornell box has no specular vertex: the caustic and multi-chain perturbations get
+  // weight 0; the lens subpath mutation applies to every path E D ...
+  EXPECT_GT(stats["lens_subpath_acceptance"].get<double>(), 0.0);
+  EXPECT_EQ(stats["mutation_types"]["multi_chain"]["proposals"].get<uint64_t>(), 0u);
   // Every mutation is of one type: the per-type proposals sum to the mutations (they were
   // summed again on every pass: 3.6e9 bidirectional proposals in a 1.3e7-mutation render).
   uint64_t proposals = 0;
   for (auto &type : stats["mutation_types"].items()) proposals += type.value()["proposals"].get<uint64_t>();
   EXPECT_EQ(proposals, stats["mutations"].get<uint64_t>());
+}
+
+// The lens subpath mutation's image positions (integrators/mlt/image_strata.h): every cell
+// of the region once per cycle, in another order each cycle, each point inside its cell.
+TEST(PathMltImageStrata, EveryPixelOncePerCycle) {
+  const rdv::Vec2 origin{-1.5f, -1.5f}, size{10.0f, 7.5f};  // 10 x 8 cells, the last row half outside
+  rdv::mlt::ImageStrata strata(origin, size, 1234);
+  rdv::Pcg32 rng(5, 6);
+  std::vector<int> order[2];
+  for (int cycle = 0; cycle < 2; ++cycle) {
+    std::set<int> seen;
+    for (int i = 0; i < 80; ++i) {
+      const rdv::Vec2 p = strata.next(rng);
+      const int cx = int(std::floor(p.x - origin.x)), cy = int(std::floor(p.y - origin.y));
+      ASSERT_TRUE(cx >= 0 && cx < 10 && cy >= 0 && cy < 8) << p.x << ", " << p.y;
+      seen.insert(cy * 10 + cx);
+      order[cycle].push_back(cy * 10 + cx);
+    }
+    EXPECT_EQ(seen.size(), 80u) << "cycle " << cycle;
+  }
+  EXPECT_NE(order[0], order[1]);
 }

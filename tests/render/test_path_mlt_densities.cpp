@@ -429,6 +429,7 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
   RayStats stats;
   ExplicitPath x, y, z;
   int checked = 0, worse = 0, medium_paths = 0, large = 0, lens = 0, specular = 0, lens_specular = 0, caustic = 0;
+  int lens_subpaths = 0, multi_chain = 0, multi_chain_chains = 0, multi_chain_to_light = 0;
   int off_sphere = 0, infinite = 0, delta_sun = 0;
   int time_moved = 0, time_lost = 0;
   int blurred = 0;  // Filter Glossy: proposals with a vertex the blur changed  // motion blur: large steps that drew a new time; others that changed it
@@ -486,8 +487,17 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
     // is that of their camera-side densities.
     int c = 1;
     while (c < x.n - 1 && x.x[size_t(c)].v.delta) ++c;
-    for (int k = 0; k < mutations_per_start; ++k) {
-      Proposal p = space.perturb_lens(x, rng, stats, y);
+    // The lens subpath mutation (a raster point uniform on the region: its density is the
+    // same both ways) moves the same vertices with the same ratio.
+    for (int k = 0; k < 2 * mutations_per_start; ++k) {
+      const bool subpath = k % 2 == 1;
+      Proposal p;
+      if (subpath) {
+        const Vec2 raster{kOrigin.x + rng.next_float() * kSize.x, kOrigin.y + rng.next_float() * kSize.y};
+        p = space.lens_subpath(x, raster, rng, stats, y);
+      } else {
+        p = space.perturb_lens(x, rng, stats, y);
+      }
       if (!(p.ratio > 0)) continue;
       double brute_ratio = 1;
       for (int i = 1; i <= c; ++i) brute_ratio *= brute.camera_side(x, i) / brute.camera_side(y, i);
@@ -495,15 +505,54 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
       bool same_rest = y.n == x.n && p.m == c + 1;
       for (int i = c + 1; same_rest && i < x.n; ++i) same_rest = y.x[size_t(i)].v.p == x.x[size_t(i)].v.p;
       for (int i = 1; same_rest && i < c; ++i) same_rest = y.x[size_t(i)].v.delta;
-      EXPECT_TRUE(same_rest) << name << ": the lens perturbation moved more than x_1 .. x_c";
+      EXPECT_TRUE(same_rest) << name << ": the lens " << (subpath ? "subpath mutation" : "perturbation")
+                             << " moved more than x_1 .. x_c";
       time_lost += y.time != x.time;
       lens_specular += c > 1;
       if (!(error < 1e-3)) {
         ++worse;
-        if (worse <= 3) ADD_FAILURE() << name << ": lens ratio " << p.ratio << " vs brute force " << brute_ratio;
+        if (worse <= 3)
+          ADD_FAILURE() << name << ": lens" << (subpath ? " subpath" : "") << " ratio " << p.ratio << " vs brute force "
+                        << brute_ratio;
       }
       if (std::isfinite(error)) worst = std::max(worst, error);
-      ++lens;
+      ++(subpath ? lens_subpaths : lens);
+    }
+    // The multi-chain perturbation (x_(c+1) specular, or x_c the light): x_1 .. x_c as the
+    // lens perturbation moves them, then each chain x_a (not specular) -> x_(a+1) .. (specular) -> x_b from a
+    // turned direction; its ratio is that of the camera-side densities of the moved
+    // vertices, each x_(a+1) without its directional part.
+    for (int k = 0; k < mutations_per_start; ++k) {
+      Proposal p = space.perturb_multi_chain(x, rng, stats, y);
+      if (!(p.ratio > 0)) continue;
+      auto area = [&](const ExplicitPath &q, int i) {
+        const bdpt::PathVertex &v = q.x[size_t(i)].v;
+        return brute.to_area(q, i - 1, i) * brute.free_flight(q, i - 1, i, v.type == VertexType::Medium);
+      };
+      double brute_ratio = 1;
+      int chains = 0;
+      for (int i = 1; i < p.m; ++i) {
+        const bool turned = i - 1 >= c && !x.x[size_t(i - 1)].v.delta && x.x[size_t(i)].v.delta;
+        chains += turned;
+        brute_ratio *= turned ? area(x, i) / area(y, i) : brute.camera_side(x, i) / brute.camera_side(y, i);
+      }
+      double error = std::fabs(std::log(p.ratio / brute_ratio));
+      // E S* D S+ ...: at least one turned chain; E S* L: the camera's chain retraced to the light.
+      bool same_shape = y.n == x.n && (chains >= 1 ? p.m > c + 2 : c == x.n - 1 && p.m == x.n);
+      for (int i = p.m; same_shape && i < x.n; ++i) same_shape = y.x[size_t(i)].v.p == x.x[size_t(i)].v.p;
+      for (int i = 1; same_shape && i < p.m; ++i) same_shape = y.x[size_t(i)].v.delta == x.x[size_t(i)].v.delta;
+      EXPECT_TRUE(same_shape) << name << ": the multi-chain perturbation changed the path's shape or kept vertices";
+      if (!(error < 1e-3)) {
+        ++worse;
+        if (worse <= 3)
+          ADD_FAILURE() << name << ": multi-chain ratio " << p.ratio << " vs brute force " << brute_ratio << " (m "
+                        << p.m << " of " << x.n << ", " << chains << " chains)";
+      }
+      if (std::isfinite(error)) worst = std::max(worst, error);
+      ++multi_chain;
+      time_lost += y.time != x.time;
+      multi_chain_chains += chains > 1;
+      multi_chain_to_light += p.m == x.n;
     }
     // The caustic perturbation: x_1 .. x_(k-1) move (x_2 .. x_(k-1) the specular chain);
     // its ratio is that of their light-side densities, the first without its direction's.
@@ -534,10 +583,11 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
     EXPECT_TRUE(digest(x) == before) << name << ": a proposal changed the state it mutated";
   }
   std::printf("[ mlt densities ] %-12s %d bidirectional proposals checked (%d large, %d with specular vertices), %d "
-              "lens (%d through specular vertices), %d caustic; %d medium vertices; %d ending at infinity (%d at a sun "
-              "without an angle); worst |log ratio error| %.2e; worst f rebuild error %.2e\n",
-              name.c_str(), checked, large, specular, lens, lens_specular, caustic, medium_paths, infinite, delta_sun,
-              worst, worst_f);
+              "lens, %d lens subpath (%d through specular vertices), %d caustic, %d multi-chain (%d of several "
+              "chains, %d retraced to the light); %d medium vertices; %d ending at infinity (%d at a sun without an "
+              "angle); worst |log ratio error| %.2e; worst f rebuild error %.2e\n",
+              name.c_str(), checked, large, specular, lens, lens_subpaths, lens_specular, caustic, multi_chain,
+              multi_chain_chains, multi_chain_to_light, medium_paths, infinite, delta_sun, worst, worst_f);
   if (scene.has_motion())
     std::printf("[ mlt densities ] %-12s motion: %d of %d large steps at a new shutter time\n", name.c_str(), time_moved,
                 large);
@@ -554,6 +604,8 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
   EXPECT_GE(caustic, min_specular / 10) << name;
   EXPECT_GT(checked, 200) << name;
   EXPECT_GT(lens, 200) << name;
+  EXPECT_GT(lens_subpaths, 50) << name;  // a raster point anywhere: fewer reach x_(c+1) than the lens perturbation's
+  EXPECT_GE(multi_chain, min_specular / 10) << name;
   if (scene.world_medium() >= 0 || box_lo) EXPECT_GT(medium_paths, 0) << name;
   EXPECT_EQ(worse, 0) << name;
   EXPECT_EQ(off_sphere, 0) << name << ": a lamp vertex off its sphere";

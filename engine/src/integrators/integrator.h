@@ -83,11 +83,11 @@ struct RenderSettings {
   // What the chains follow: "luminance" or "relative" (luminance over a pilot's coarse image).
   std::string mlt_target = "relative";
   // mlt (path space): weights of the mutations that are not large steps (bidirectional,
-  // lens, propagation, scattering perturbation; Pauly et al. 2000; caustic perturbation,
-  // Veach 1997), the propagation distance range [min, max] in fractions of the scene's
-  // bounding radius and the scattering and caustic angle ranges in radians (all drawn
-  // with density ~ 1 / x).
-  float mlt_mutations[5] = {1.0f, 1.0f, 1.0f, 1.0f, 1.0f};
+  // lens, propagation, scattering perturbation; Pauly et al. 2000; caustic and multi-chain
+  // perturbations, lens subpath mutation, Veach 1997), the propagation distance range
+  // [min, max] in fractions of the scene's bounding radius and the scattering and caustic
+  // (also multi-chain) angle ranges in radians (all drawn with density ~ 1 / x).
+  float mlt_mutations[7] = {1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f};
   float mlt_propagation_range[2] = {1e-4f, 0.1f};
   float mlt_scattering_angle[2] = {1e-4f, 0.2f};
   float mlt_caustic_angle[2] = {1e-4f, 0.05f};

@@ -67,6 +67,7 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
     m.bootstrap_per_pixel = settings.mlt_bootstrap;
     m.chains = settings.mlt_chains;
     m.relative_target = false;  // Veach's target: the path's luminance
+    static_assert(sizeof(settings.mlt_mutations) / sizeof(float) == mlt::kWeightedMutations);
     for (int i = 0; i < mlt::kWeightedMutations; ++i) m.mutations.weights[i] = settings.mlt_mutations[i];
     // Veach's lens perturbation: 0.1 pixel to a tenth of the image.
     m.mutations.lens[0] = 0.1f;
@@ -197,18 +198,19 @@ RenderSettings RenderSettings::from_params(Params &p) {
   if (s.mlt_target != "luminance" && s.mlt_target != "relative")
     fail(p.what() + ": 'mlt_target' must be luminance or relative, got '" + s.mlt_target + "'");
   if (const nlohmann::json *mutations = p.get_json("mlt_mutations")) {
-    static const char *names[5] = {"bidirectional", "lens", "propagation", "scattering", "caustic"};
+    constexpr int kNames = mlt::kWeightedMutations;
+    auto name = [](int i) { return mlt::mutation_name(mlt::MutationType(i + 1)); };
+    std::string available;
+    for (int i = 0; i < kNames; ++i) available += std::string(i ? ", " : "") + name(i);
     if (!mutations->is_object())
-      fail(p.what() + ": 'mlt_mutations' must be an object of weights {\"bidirectional\", \"lens\", \"propagation\", "
-                      "\"scattering\", \"caustic\"}");
+      fail(p.what() + ": 'mlt_mutations' must be an object of weights (" + available + ")");
     float sum = 0;
-    for (int i = 0; i < 5; ++i) s.mlt_mutations[i] = 0;
+    for (int i = 0; i < kNames; ++i) s.mlt_mutations[i] = 0;
     for (auto it = mutations->begin(); it != mutations->end(); ++it) {
       int i = 0;
-      while (i < 5 && it.key() != names[i]) ++i;
-      if (i == 5)
-        fail(p.what() + ": 'mlt_mutations': unknown mutation '" + it.key() +
-             "' (available: bidirectional, lens, propagation, scattering, caustic)");
+      while (i < kNames && it.key() != name(i)) ++i;
+      if (i == kNames)
+        fail(p.what() + ": 'mlt_mutations': unknown mutation '" + it.key() + "' (available: " + available + ")");
       const float w = it.value().is_number() ? it.value().get<float>() : -1.0f;
       if (!(w >= 0) || !std::isfinite(w)) fail(p.what() + ": 'mlt_mutations': '" + it.key() + "' must be a weight >= 0");
       s.mlt_mutations[i] = w;
@@ -339,9 +341,10 @@ std::string RenderSettings::image_settings_json() const {
     j["mlt_step_size"] = mlt_step_size;
     j["mlt_target"] = mlt_target;
     if (integrator == "mlt") {
-      j["mlt_mutations"] = {{"bidirectional", mlt_mutations[0]}, {"lens", mlt_mutations[1]},
-                            {"propagation", mlt_mutations[2]}, {"scattering", mlt_mutations[3]},
-                            {"caustic", mlt_mutations[4]}};
+      nlohmann::json weights = nlohmann::json::object();
+      for (int i = 0; i < mlt::kWeightedMutations; ++i)
+        weights[mlt::mutation_name(mlt::MutationType(i + 1))] = mlt_mutations[i];
+      j["mlt_mutations"] = weights;
       j["mlt_propagation_range"] = {mlt_propagation_range[0], mlt_propagation_range[1]};
       j["mlt_scattering_angle"] = {mlt_scattering_angle[0], mlt_scattering_angle[1]};
       j["mlt_caustic_angle"] = {mlt_caustic_angle[0], mlt_caustic_angle[1]};

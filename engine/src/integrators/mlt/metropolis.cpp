@@ -82,6 +82,7 @@ struct Chain {
   // Path space: the state's path and the proposal's, and the mutations' generator.
   ExplicitPath path, path_proposal;
   Pcg32 mutation;
+  ImageStrata strata;  // the lens subpath mutation's image positions
   uint64_t type_proposed[kMutationTypes] = {}, type_accepted[kMutationTypes] = {};
 };
 
@@ -354,6 +355,7 @@ void Metropolis::render(RenderContext &ctx) {
           path_state(chain.path, chain.current);
           chain.path_proposal.reserve(path_space_->max_vertices());
           chain.mutation = Pcg32(chain_seed0, kChainStreams + 2 * uint64_t(n_chains) + uint64_t(c));
+          chain.strata = ImageStrata(sample_origin_, sample_size_, hash3(uint32_t(chain_seed0), uint32_t(chain_seed0 >> 32), c));
           continue;
         }
         chain.sampler.start_iteration();
@@ -411,7 +413,7 @@ void Metropolis::render(RenderContext &ctx) {
             double ratio = 1;  // T(y -> x) / T(x -> y): 1 for primary sample space's symmetric steps
             int type = 0;
             if (path_space_) {
-              Proposal p = path_space_->mutate(chain.path, chain.mutation, stats, chain.path_proposal);
+              Proposal p = path_space_->mutate(chain.path, chain.mutation, stats, chain.path_proposal, &chain.strata);
               large = p.type == MutationType::Large;
               type = int(p.type);
               ++chain.type_proposed[type];

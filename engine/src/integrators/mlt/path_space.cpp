@@ -22,6 +22,7 @@ void ExplicitPath::reserve(int max_vertices) {
   fwd.assign(n, 0.0);
   rev.assign(n, 0.0);
   rev_area.assign(n, 0.0);
+  fwd_area.assign(n, 0.0);
 }
 
 namespace {
@@ -78,6 +79,21 @@ double deletion_weight(int kd) { return kd == 1 ? 0.5 : std::ldexp(1.0, -(kd - 2
 // but never the edge before the camera or after the light alone (kd = 1 at the ends).
 int deletion_positions(int nv, int kd) { return nv - kd + 2 - (kd == 1 ? 2 : 0); }
 
+// Veach's E S* D: the index of x's first vertex after the camera that is not specular.
+int first_non_specular(const ExplicitPath &x) {
+  int c = 1;
+  while (c < x.n - 1 && x.x[size_t(c)].v.delta) ++c;
+  return c;
+}
+
+// A direction turned from w by theta ~ 1 / theta on [lo, hi] and a uniform azimuth: a
+// density in solid angle that depends on the angle between the two only (symmetric).
+Vec3 turned(Vec3 w, float lo, float hi, float u_size, float u_azimuth) {
+  const float theta = lo * std::pow(hi / lo, u_size), phi = 2 * kPi * u_azimuth;
+  return normalize(Frame(w).to_world(
+      Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta))));
+}
+
 }  // namespace
 
 double split_sum(const ExplicitPath &y, int lo, int count) {
@@ -123,17 +139,18 @@ PathSpace::PathSpace(const Scene &scene, int max_bounces, Vec2 sample_origin, Ve
   }
   // Without media the medium perturbations could only fail (a property of the scene, not
   // of a state: the mutation probabilities stay fixed).
-  if (!media_) {
-    mutations_.weights[2] = mutations_.weights[3] = 0;
-    if (!(mutations_.weights[0] + mutations_.weights[1] + mutations_.weights[4] > 0)) mutations_.weights[0] = 1;
-  }
+  if (!media_) mutations_.weights[2] = mutations_.weights[3] = 0;
   caustic_weight_ = mutations_.weights[4];
+  multi_chain_weight_ = mutations_.weights[5];
+  set_specular_paths(true);
 }
 
 void PathSpace::set_specular_paths(bool found) {
   mutations_.weights[4] = found ? caustic_weight_ : 0.0f;
-  const float *w = mutations_.weights;
-  if (!(w[0] + w[1] + w[2] + w[3] > 0)) mutations_.weights[0] = 1;
+  mutations_.weights[5] = found ? multi_chain_weight_ : 0.0f;
+  float sum = 0;
+  for (float w : mutations_.weights) sum += w;
+  if (!(sum > 0)) mutations_.weights[0] = 1;  // only mutations that could not apply: the bidirectional one
 }
 
 std::string PathSpace::unsupported(const Scene &scene, const RenderSettings &settings) {
@@ -394,14 +411,23 @@ bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, Ray
     } else {
       return false;  // lights do not scatter
     }
-    media = stack_toward(prev, wi);
-    ray = Ray{prev.v.on_surface() ? spawn_origin(prev.v.p, prev.v.ng, prev.v.error, wi) : prev.v.p, wi, kInf,
-              ray_mask(y, at - 1, wi)};
+    return trace_from(y, at - 1, wi, scattered_pdf, rng, stats);
   }
   ExplicitVertex &z = y.x[size_t(at)];
   if (!trace_step(ray, media, rng, stats, z, at == y.n - 1)) return false;
   settle(z, prev);
   if (filter_.on()) z.v.filter_pdf = std::min(prev.v.filter_pdf, scattered_pdf);  // x_1: none before it
+  return true;
+}
+
+bool PathSpace::trace_from(ExplicitPath &y, int at, Vec3 wi, float scattered_pdf, Pcg32 &rng,
+                           RayStats &stats) const {
+  ExplicitVertex &prev = y.x[size_t(at)], &z = y.x[size_t(at + 1)];
+  const Ray ray{prev.v.on_surface() ? spawn_origin(prev.v.p, prev.v.ng, prev.v.error, wi) : prev.v.p, wi, kInf,
+                ray_mask(y, at, wi)};
+  if (!trace_step(ray, stack_toward(prev, wi), rng, stats, z, at + 1 == y.n - 1)) return false;
+  settle(z, prev);
+  if (filter_.on()) z.v.filter_pdf = std::min(prev.v.filter_pdf, scattered_pdf);
   return true;
 }
 
@@ -627,6 +653,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   std::fill(y.fwd.begin(), y.fwd.begin() + n, 0.0);
   std::fill(y.rev.begin(), y.rev.begin() + n, 0.0);
   std::fill(y.rev_area.begin(), y.rev_area.begin() + n, 0.0);
+  std::fill(y.fwd_area.begin(), y.fwd_area.begin() + n, 0.0);
   if (n < 2 || n > max_vertices_) return;
   const ExplicitVertex &last = y.x[size_t(n - 1)];
   if (y.x[0].v.type != VertexType::Camera || last.v.light < 0) return;
@@ -771,7 +798,8 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     } else {
       pdf_b = scene_.medium(a.v.medium).phase.pdf(a.v.wo, w);
     }
-    y.fwd[size_t(i + 1)] = i == 0 && ortho ? pdf_b * cos_b * e.fwd : pdf_b * cos_b / d2 * e.fwd;
+    y.fwd_area[size_t(i + 1)] = i == 0 && ortho ? cos_b * e.fwd : cos_b / d2 * e.fwd;
+    y.fwd[size_t(i + 1)] = pdf_b * y.fwd_area[size_t(i + 1)];
     if (i >= 1 && !a.v.delta) filter_min = std::min(filter_min, float(pdf_b));
     double pdf_a = 0;
     if (i == 0) {
@@ -902,7 +930,8 @@ double PathSpace::sample_independent(Pcg32 &rng, RayStats &stats, ExplicitPath &
   return independent_density(y);
 }
 
-Proposal PathSpace::mutate(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const {
+Proposal PathSpace::mutate(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y,
+                           ImageStrata *strata) const {
   // Fixed probabilities (never the state's): a mutation that cannot apply to x (a
   // perturbation of a path without medium vertices) proposes nothing, and the chain stays.
   // Every mutation but the large step keeps x's shutter time (path_space.h).
@@ -910,12 +939,34 @@ Proposal PathSpace::mutate(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, E
   shutter::SampleTime at(x.time);
   if (rng.next_float() < large_step_probability_) return bidirectional(x, true, rng, stats, y);
   const float *w = mutations_.weights;
-  float u = rng.next_float() * (w[0] + w[1] + w[2] + w[3] + w[4]);
-  if (u < w[0]) return bidirectional(x, false, rng, stats, y);
-  if (u < w[0] + w[1]) return perturb_lens(x, rng, stats, y);
-  if (u >= w[0] + w[1] + w[2] + w[3] && w[4] > 0) return perturb_caustic(x, rng, stats, y);
-  return perturb_medium_vertex(x, u < w[0] + w[1] + w[2] ? MutationType::Propagation : MutationType::Scattering, rng,
-                               stats, y);
+  float total = 0;
+  for (int k = 0; k < kWeightedMutations; ++k) total += w[k];
+  float u = rng.next_float() * total;
+  int pick = 0;  // the last mutation with a weight takes what rounding leaves over
+  for (int k = 0; k < kWeightedMutations; ++k) {
+    if (!(w[k] > 0)) continue;
+    pick = k;
+    if (u < w[k]) break;
+    u -= w[k];
+  }
+  switch (MutationType(pick + 1)) {
+    case MutationType::Lens: return perturb_lens(x, rng, stats, y);
+    case MutationType::Propagation:
+    case MutationType::Scattering: return perturb_medium_vertex(x, MutationType(pick + 1), rng, stats, y);
+    case MutationType::Caustic: return perturb_caustic(x, rng, stats, y);
+    case MutationType::MultiChain: return perturb_multi_chain(x, rng, stats, y);
+    case MutationType::LensSubpath: {
+      Vec2 raster;
+      if (strata) {
+        raster = strata->next(rng);
+      } else {
+        const float ux = rng.next_float(), uy = rng.next_float();
+        raster = {sample_origin_.x + ux * sample_size_.x, sample_origin_.y + uy * sample_size_.y};
+      }
+      return lens_subpath(x, raster, rng, stats, y);
+    }
+    default: return bidirectional(x, false, rng, stats, y);
+  }
 }
 
 Proposal PathSpace::bidirectional(const ExplicitPath &x, bool large, Pcg32 &rng, RayStats &stats,
@@ -1076,39 +1127,41 @@ Proposal PathSpace::perturb_medium_vertex(const ExplicitPath &x, MutationType ty
   return proposal;
 }
 
-Proposal PathSpace::perturb_lens(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const {
-  Proposal proposal;
-  proposal.type = MutationType::Lens;
-  const float u_radius = rng.next_float(), u_angle = rng.next_float();
-  // Veach's E S* D: x_1 .. x_(c-1) specular, x_c the first vertex that is not, joined to
-  // x_(c+1), which must not be specular either (a delta cannot be joined).
-  int c = 1;
-  while (c < x.n - 1 && x.x[size_t(c)].v.delta) ++c;
-  if (c > x.n - 2 || x.x[size_t(c + 1)].v.delta) return proposal;  // x_c on the light: lamps are not traced
-  const float lo = mutations_.lens[0], hi = mutations_.lens[1];
-  const float radius = lo * std::pow(hi / lo, u_radius), angle = 2 * kPi * u_angle;
-  const Vec2 raster{x.raster.x + radius * std::cos(angle), x.raster.y + radius * std::sin(angle)};
+int PathSpace::retrace_lens(const ExplicitPath &x, Vec2 raster, Pcg32 &rng, RayStats &stats,
+                            ExplicitPath &y) const {
+  const int c = first_non_specular(x);
   if (!(raster.x >= sample_origin_.x && raster.x < sample_origin_.x + sample_size_.x &&
         raster.y >= sample_origin_.y && raster.y < sample_origin_.y + sample_size_.y))
-    return proposal;
+    return 0;
   y.reserve(max_vertices_);
   y.n = x.n;
-  y.time = x.time;
-  shutter::SampleTime at(y.time);
+  y.time = x.time;  // the caller's shutter::SampleTime is at it
   for (int i = 0; i < x.n; ++i) y.x[size_t(i)] = x.x[size_t(i)];
   Ray ray = camera_ray(y.x[0], raster);
   if (visibility_) ray.mask = visibility::kCamera;
-  if (!trace_step(ray, y.x[0].v.media, rng, stats, y.x[1])) return proposal;
+  if (!trace_step(ray, y.x[0].v.media, rng, stats, y.x[1], y.n == 2)) return 0;
   settle(y.x[1], y.x[0]);
   // Through the specular chain as the camera walk samples it: each of y_1 .. y_(c-1) must
   // scatter by a delta lobe (y's chain then has x's shape, so the move can be undone).
   for (int k = 1; k < c; ++k)
-    if (!extend_from_camera_side(y, k + 1, rng, stats) || !y.x[size_t(k)].v.delta) return proposal;
+    if (!extend_from_camera_side(y, k + 1, rng, stats) || !y.x[size_t(k)].v.delta) return 0;
+  return c;
+}
+
+Proposal PathSpace::lens_move(const ExplicitPath &x, Vec2 raster, MutationType type, Pcg32 &rng, RayStats &stats,
+                              ExplicitPath &y) const {
+  Proposal proposal;
+  proposal.type = type;
+  const int c = first_non_specular(x);
+  if (c > x.n - 2 || x.x[size_t(c + 1)].v.delta) return proposal;  // a delta cannot be joined
+  shutter::SampleTime at(x.time);  // every mutation but the large step keeps x's shutter time
+  if (retrace_lens(x, raster, rng, stats, y) != c) return proposal;
   settle(y.x[size_t(c + 1)], y.x[size_t(c)]);
   evaluate(y, stats);
   if (!(luminance(y.f) > 0)) return proposal;
-  // The raster offset's density is symmetric; the rest is the camera walk's density of
-  // x_1 .. x_c (the uniform raster density cancels), event probabilities included.
+  // The raster point's density is the same both ways (a symmetric offset, or uniform); the
+  // rest is the camera walk's density of x_1 .. x_c (fwd[1] holds the uniform raster
+  // density times the raster-to-area Jacobian), event probabilities included.
   double px = 1, py = 1;
   for (int k = 1; k <= c; ++k) {
     px *= x.fwd[size_t(k)];
@@ -1119,6 +1172,81 @@ Proposal PathSpace::perturb_lens(const ExplicitPath &x, Pcg32 &rng, RayStats &st
   proposal.l = 0;
   proposal.m = c + 1;
   proposal.na = c;
+  return proposal;
+}
+
+Proposal PathSpace::perturb_lens(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const {
+  const float u_radius = rng.next_float(), u_angle = rng.next_float();
+  const float lo = mutations_.lens[0], hi = mutations_.lens[1];
+  const float radius = lo * std::pow(hi / lo, u_radius), angle = 2 * kPi * u_angle;
+  const Vec2 raster{x.raster.x + radius * std::cos(angle), x.raster.y + radius * std::sin(angle)};
+  return lens_move(x, raster, MutationType::Lens, rng, stats, y);
+}
+
+Proposal PathSpace::lens_subpath(const ExplicitPath &x, Vec2 raster, Pcg32 &rng, RayStats &stats,
+                                 ExplicitPath &y) const {
+  return lens_move(x, raster, MutationType::LensSubpath, rng, stats, y);
+}
+
+Proposal PathSpace::perturb_multi_chain(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const {
+  Proposal proposal;
+  proposal.type = MutationType::MultiChain;
+  const float u_radius = rng.next_float(), u_angle = rng.next_float();
+  // x_c on the light (E S* L: the camera's chain must hit it again), or followed by a
+  // specular vertex; else the path is the lens perturbation's.
+  const int c = first_non_specular(x);
+  if (c < x.n - 1 && !x.x[size_t(c + 1)].v.delta) return proposal;
+  const float lo = mutations_.lens[0], hi = mutations_.lens[1];
+  const float radius = lo * std::pow(hi / lo, u_radius), angle = 2 * kPi * u_angle;
+  const Vec2 raster{x.raster.x + radius * std::cos(angle), x.raster.y + radius * std::sin(angle)};
+  shutter::SampleTime at(x.time);  // every mutation but the large step keeps x's shutter time
+  if (retrace_lens(x, raster, rng, stats, y) != c) return proposal;
+  // Chain by chain: x_a not specular, x_(a+1) .. x_(b-1) specular, x_b not (or the light).
+  int kept = c + 1;  // the first vertex y keeps
+  for (int a = c; a < x.n - 1 && x.x[size_t(a + 1)].v.delta;) {
+    int b = a + 1;
+    while (b < x.n - 1 && x.x[size_t(b)].v.delta) ++b;
+    const float u_size = rng.next_float(), u_azimuth = rng.next_float();
+    const Vec3 w = turned(toward(x.x[size_t(a)], x.x[size_t(a + 1)]), mutations_.caustic[0], mutations_.caustic[1],
+                          u_size, u_azimuth);
+    // Filter Glossy: the vertices after y_a are blurred by a prefix that includes y_a's
+    // density of the turned direction (f's rule, evaluate()), which the walk on samples.
+    float turned_pdf = kInf;
+    if (filter_.on()) {
+      ExplicitVertex &end = y.x[size_t(a)];
+      if (end.v.type == VertexType::Medium) {
+        turned_pdf = scene_.medium(end.v.medium).phase.pdf(end.v.wo, w);
+      } else {
+        blur_by_prefix(end);
+        turned_pdf = end.v.bsdf.pdf(end.v.wo, w);
+      }
+    }
+    if (!trace_from(y, a, w, turned_pdf, rng, stats)) return proposal;
+    for (int k = a + 1; k < b; ++k)
+      if (!extend_from_camera_side(y, k + 1, rng, stats) || !y.x[size_t(k)].v.delta) return proposal;
+    a = b;
+    kept = b + 1;
+  }
+  if (kept < x.n) settle(y.x[size_t(kept)], y.x[size_t(kept - 1)]);
+  evaluate(y, stats);
+  if (!(luminance(y.f) > 0)) return proposal;
+  // The raster offset's and the turns' densities are symmetric: what is left is the camera
+  // walk's density of the moved vertices, each turned direction's vertex without its
+  // directional part.
+  auto walk_density = [&](const ExplicitPath &p) {
+    double d = 1;
+    for (int k = 1; k < kept; ++k) {
+      const bool turned_to = k - 1 >= c && !x.x[size_t(k - 1)].v.delta && x.x[size_t(k)].v.delta;
+      d *= turned_to ? p.fwd_area[size_t(k)] : p.fwd[size_t(k)];
+    }
+    return d;
+  };
+  const double px = walk_density(x), py = walk_density(y);
+  if (!(py > 0) || !std::isfinite(px)) return proposal;
+  proposal.ratio = px / py;
+  proposal.l = 0;
+  proposal.m = kept;
+  proposal.na = kept - 1;
   return proposal;
 }
 

@@ -42,6 +42,7 @@
 #include "integrators/bdpt/path_vertex.h"
 #include "integrators/filter_glossy.h"
 #include "integrators/integrator.h"
+#include "integrators/mlt/image_strata.h"
 
 namespace rdv::mlt {
 
@@ -60,6 +61,9 @@ struct ExplicitPath {
   // rev[i] over the directional density it was scattered with at x_(i+1): the solid angle
   // to area factor and the free flight (the caustic perturbation picks the direction itself).
   std::vector<double> rev_area;
+  // fwd[i] over the directional density x_(i-1) scattered with (the multi-chain
+  // perturbation picks the direction itself).
+  std::vector<double> fwd_area;
   Color f{0.0f};                 // image_area x the measurement contribution (splat value)
   Vec2 raster{0, 0};
   float time = 0.5f;  // the shutter time in [0, 1) of every vertex (scenes that move; else unused)
@@ -75,21 +79,32 @@ struct ExplicitPath {
 // density ~ 1/D) or across it (angle theta with density ~ 1/theta), the rest of the path
 // kept and reconnected. Caustic: Veach's caustic perturbation of a path E D S+ (D|L) ...:
 // the direction leaving the light-side end of the specular chain turned a little, the chain
-// retraced toward the camera to its first vertex, joined to the camera.
-enum class MutationType : uint8_t { Large, Bidirectional, Lens, Propagation, Scattering, Caustic, Count };
+// retraced toward the camera to its first vertex, joined to the camera. MultiChain: Veach's
+// multi-chain perturbation of a path E S* D S+ D ...: the lens perturbation, then at each
+// non-specular vertex whose light-side neighbour is specular the direction turned a little
+// and the next specular chain retraced, until a chain ends at a vertex that can be joined
+// (or at the light). LensSubpath: Veach's lens subpath mutation: the camera ray through a
+// new image position (a chain's stratified sequence, image_strata.h), retraced as the lens
+// perturbation retraces it.
+enum class MutationType : uint8_t {
+  Large, Bidirectional, Lens, Propagation, Scattering, Caustic, MultiChain, LensSubpath, Count
+};
 constexpr int kMutationTypes = int(MutationType::Count);
 inline const char *mutation_name(MutationType t) {
-  static const char *names[] = {"large", "bidirectional", "lens", "propagation", "scattering", "caustic"};
+  static const char *names[] = {"large",   "bidirectional", "lens",        "propagation",
+                                "scattering", "caustic",    "multi_chain", "lens_subpath"};
   return names[int(t)];
 }
 
-constexpr int kWeightedMutations = 5;  // bidirectional, lens, propagation, scattering, caustic
+// bidirectional, lens, propagation, scattering, caustic, multi_chain, lens_subpath: the
+// MutationType order after Large (weights[i] is type i + 1's).
+constexpr int kWeightedMutations = 7;
 struct MutationSettings {
-  float weights[kWeightedMutations] = {1.0f, 1.0f, 1.0f, 1.0f, 1.0f};  // of the non-large mutations
+  float weights[kWeightedMutations] = {1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f};  // of the non-large mutations
   float lens[2] = {0.1f, 10.0f};          // lens: [R_min, R_max], pixels
   float distance[2] = {1e-3f, 1.0f};      // propagation: [Dmin, Dmax], scene units
   float angle[2] = {1e-4f, 0.2f};         // scattering: [theta_min, theta_max], radians
-  float caustic[2] = {1e-4f, 0.05f};      // caustic: [theta_min, theta_max], radians
+  float caustic[2] = {1e-4f, 0.05f};      // caustic and multi-chain: [theta_min, theta_max], radians
 };
 
 // One proposal: the path it made, and T(y -> x) / T(x -> y) (0: no path).
@@ -118,8 +133,10 @@ class PathSpace {
   // q(y) of a path whose densities are evaluated.
   double independent_density(const ExplicitPath &y) const;
   // One mutation of x (evaluated) into y, its type chosen by the settings' weights (large
-  // steps by their own probability); y is written, x never.
-  Proposal mutate(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
+  // steps by their own probability); y is written, x never. strata: the chain's sequence of
+  // image positions for the lens subpath mutation (none: a position uniform on the region).
+  Proposal mutate(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y,
+                  ImageStrata *strata = nullptr) const;
   // Veach's bidirectional mutation (large: the whole path).
   Proposal bidirectional(const ExplicitPath &x, bool large, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
   // The propagation (radial) or scattering (angular) perturbation of a medium vertex of x
@@ -141,8 +158,28 @@ class PathSpace {
   // y_(k-1) .. y_2 must scatter by a delta lobe) to y_1, which is joined to the camera.
   // T(y->x) / T(x->y) = (rev_area_x[k-1] prod rev_x[1..k-2]) / (the same of y).
   Proposal perturb_caustic(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
+  // Veach's multi-chain perturbation of a path E S* D S+ (D|L) ... (sec. 11.4.3), where the
+  // lens perturbation stops: x_c the first non-specular vertex, x_(c+1) specular, or x_c the
+  // light (E S* L: the retraced chain must hit it). The lens perturbation's move of x_1 ..
+  // x_c, then for each chain: at its non-specular camera-side
+  // end y_a the direction x_a -> x_(a+1) turned by theta ~ 1/theta on the caustic angle range
+  // (uniform azimuth: symmetric in solid angle), traced from y_a and on through as many
+  // specular vertices as x has there (each must scatter by a delta lobe, sampled as the
+  // camera walk samples it) to y_b, x_b the next non-specular vertex; y_b is joined to
+  // x_(b+1) when that is not specular, else the next chain starts at y_b. A chain that ends
+  // at the light must hit it (a lamp with a radius, a mesh lamp, a light at infinity).
+  // T(y->x) / T(x->y) = P(x) / P(y), P = prod fwd[1..c] times, per chain, fwd_area[a+1]
+  // prod fwd[a+2..b] (the turn's density cancels).
+  Proposal perturb_multi_chain(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
+  // Veach's lens subpath mutation (sec. 11.4.4): x's lens subpath x_1 .. x_c (E S* D, joined
+  // to a non-specular x_(c+1)) replaced by the camera walk's through the raster point given
+  // (the chain's stratified sequence), as many specular vertices as x's (each event
+  // sampled as the walk samples it). The new subpath's density is the camera walk's and the
+  // same for any x: T(y->x) / T(x->y) = prod fwd_x[1..c] / prod fwd_y[1..c] (the raster
+  // density, uniform on the region, in fwd[1]), exact when the raster point is uniform.
+  Proposal lens_subpath(const ExplicitPath &x, Vec2 raster, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
   // After the bootstrap: whether any of its paths had a specular vertex. Without, the caustic
-  // perturbation could only fail and gets weight 0 (fixed before the chains run).
+  // and multi-chain perturbations could only fail and get weight 0 (fixed before the chains run).
   void set_specular_paths(bool found);
 
   // The pieces of T (tests check them against an independent evaluation).
@@ -197,6 +234,18 @@ class PathSpace {
   static bool light_walk_made(const ExplicitPath &y, int lo, int hi);
   MediumStack stack_toward(const ExplicitVertex &z, Vec3 w) const;
   bool regenerate(ExplicitPath &y, int l, int na, int j, Pcg32 &rng, RayStats &stats) const;
+  // y_(at+1) traced from y_at along wi (a walk's ray: spawn offset, media, ray kind), facing y_at;
+  // scattered_pdf: y_at's density of wi (Filter Glossy's prefix; kInf for a delta event).
+  bool trace_from(ExplicitPath &y, int at, Vec3 wi, float scattered_pdf, Pcg32 &rng, RayStats &stats) const;
+  // The lens perturbation's and lens subpath mutation's move: y = x with x_1 .. x_c (E S*
+  // (D|L)) retraced from the camera through `raster`, each of y_1 .. y_(c-1) scattering by a
+  // delta lobe (x_c the light: y_c must be one). Returns c (0: no path; the raster point
+  // outside the sample region, or a chain of another shape).
+  int retrace_lens(const ExplicitPath &x, Vec2 raster, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
+  // The lens perturbation or the lens subpath mutation through `raster`: retrace_lens, y_c
+  // joined to x_(c+1) (which must not be specular).
+  Proposal lens_move(const ExplicitPath &x, Vec2 raster, MutationType type, Pcg32 &rng, RayStats &stats,
+                     ExplicitPath &y) const;
   // w: from the light toward its camera-side neighbour; ray_kind: the kind of ray that meets
   // it (lights at infinity that kind does not see give nothing).
   Color emitted(const ExplicitVertex &light, Vec3 w, uint32_t ray_kind) const;
@@ -214,7 +263,8 @@ class PathSpace {
   MutationSettings mutations_;
   LightPathLimits limits_;  // per-kind bounces and caustics switches (clamps are refused)
   FilterGlossy filter_;     // Filter Glossy (off: 0)
-  float caustic_weight_ = 0;  // the caustic perturbation's weight when paths have specular vertices
+  // The caustic and multi-chain perturbations' weights when paths have specular vertices.
+  float caustic_weight_ = 0, multi_chain_weight_ = 0;
   bool media_;
   bool motion_;  // Scene::has_motion
   bool visibility_, mixed_visibility_;  // Scene::has_ray_visibility / has_mixed_visibility
