@@ -129,6 +129,11 @@ struct FirstHit {
   // splat carries that index (Splat::strategy; film/strategy_passes.h).
   StrategyPasses strategy_layout;
   Color *strategies = nullptr;
+  // false: the caller keeps only `passes`' light slots and `strategies` (the Metropolis
+  // integrators, whose AOVs, data passes, alpha and colour passes come from a first-hit
+  // pass of their own), so the integrator computes none of the rest and leaves the
+  // other fields as they are.
+  bool aovs = true;
 };
 
 // A contribution to wherever on the image a light path reaches the camera.

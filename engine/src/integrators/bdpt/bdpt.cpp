@@ -43,9 +43,11 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
   if (camera_path.size() < capacity) { camera_path.resize(capacity); light_path.resize(capacity); }
   emitted.assign(capacity, Color(0.0f));
 
+  // The AOVs, data and colour passes, unless the caller makes its own (FirstHit::aovs).
+  const bool aovs = first_hit && first_hit->aovs;
   DataPassSample data;  // the data passes (film/data_passes.h), gathered by the camera walk
   int nc = camera_subpath<kMedia>(camera_ray, sampler, stats, camera_path.data(), emitted.data(), -1,
-                                  first_hit ? &data : nullptr);
+                                  aovs ? &data : nullptr);
   Color L(0.0f);  // starts with the lamps and volume emission the camera path passed
   for (const Color &e : emitted) L += e;
   // (Kept here: *first_hit is overwritten with the first surface's AOVs below.)
@@ -58,14 +60,14 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
   PassCache first_split;
   if (passes) {  // light passes (light_passes.cpp): the colours, and the emission passed
     first_split = pass_cache(camera_path.data(), nc);
-    add_color_passes(camera_path.data(), nc, *passes);
+    if (aovs) add_color_passes(camera_path.data(), nc, *passes);
     for (int n = 0; n < int(emitted.size()); ++n) {
       if (is_black(emitted[n])) continue;
       PassClass pc = pass_class(light_path.data(), camera_path.data(), 0, n + 2, Vec3(0.0f), first_split);
       passes->add(emitted[n], pc.scatterings, pc.first);
     }
   }
-  if (first_hit) {
+  if (aovs) {
     *first_hit = first_surface(camera_path.data(), nc);
     first_hit->data = data;
     if (settings_.alpha.tracked()) first_hit->transparency = transparency(camera_path.data(), nc);

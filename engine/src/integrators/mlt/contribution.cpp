@@ -33,9 +33,10 @@ void Metropolis::evaluate_kelemen(PssSampler &sampler, RayStats &stats, State &s
   size_t first_light_splat = state.splats.size();
   state.splats.push_back({raster, Color(0.0f)});
   // Light passes: BDPT splits the camera sample by slot (its light-tracing splats carry
-  // their own split).
+  // their own split); the colour passes and the AOVs come from the first-hit pass.
   LightPassSample passes;
   FirstHit first_hit;
+  first_hit.aovs = false;
   if (light_passes_) {
     passes.clear();
     first_hit.passes = &passes;
