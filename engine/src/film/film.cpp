@@ -67,19 +67,28 @@ void Film::put_tile(const FilmTile &tile) {
   }
 }
 
-// Calls add(pixel index, weight) for every pixel whose filter covers `raster`, with the
-// same normalised Blackman-Harris weights filter importance sampling gives camera samples.
-// Only rows [row0, row1) (a band of the region's rows).
+// The pixels whose filter covers `raster` (inclusive bounds), in rows [row0, row1) only
+// (a band of the region's rows): none when x1 < x0 or y1 < y0.
+struct SplatPixels {
+  int x0, x1, y0, y1;
+  bool empty() const { return x1 < x0 || y1 < y0; }
+};
+static SplatPixels splat_pixels(Vec2 raster, const PixelFilter &filter, const Rect &region, int row0, int row1) {
+  const float radius = filter.radius();
+  return {std::max(region.x0, int(std::floor(raster.x - radius - 0.5f))),
+          std::min(region.x1 - 1, int(std::ceil(raster.x + radius - 0.5f))),
+          std::max(std::max(region.y0, row0), int(std::floor(raster.y - radius - 0.5f))),
+          std::min(std::min(region.y1, row1) - 1, int(std::ceil(raster.y + radius - 0.5f)))};
+}
+
+// Calls add(pixel index, weight) for every pixel of `pixels` (splat_pixels of `raster`),
+// with the same normalised Blackman-Harris weights filter importance sampling gives
+// camera samples.
 template <class Add>
-static void splat_footprint(Vec2 raster, const PixelFilter &filter, const Rect &region, int width, int row0, int row1,
+static void splat_footprint(Vec2 raster, const SplatPixels &pixels, const PixelFilter &filter, int width,
                             const Add &add) {
-  float radius = filter.radius();
   float norm = 1.0f / (filter.integral() * filter.integral());
-  int x0 = std::max(region.x0, int(std::floor(raster.x - radius - 0.5f)));
-  int x1 = std::min(region.x1 - 1, int(std::ceil(raster.x + radius - 0.5f)));
-  int y0 = std::max(std::max(region.y0, row0), int(std::floor(raster.y - radius - 0.5f)));
-  int y1 = std::min(std::min(region.y1, row1) - 1, int(std::ceil(raster.y + radius - 0.5f)));
-  if (x1 < x0 || y1 < y0) return;
+  const auto [x0, x1, y0, y1] = pixels;
   // The filter is separable: its weights along x are the same for every row.
   std::array<float, PixelFilter::kMaxTaps> wx;
   for (int x = x0; x <= x1; ++x) wx[x - x0] = filter.evaluate(raster.x - (x + 0.5f));
@@ -115,6 +124,9 @@ void Film::for_each_row_band(const std::function<void(int, int)> &band) {
 void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b, uint8_t strategy,
                      const SplatLightPass &light_pass, const SlotShare *shares, int y0, int y1) {
   if (!is_finite(L)) return;
+  // Each band of rows sees every splat (add_splats): one outside it costs only this.
+  const SplatPixels pixels = splat_pixels(raster, filter, region_, y0, y1);
+  if (pixels.empty()) return;
   const bool half = half_b && has_halves();
   // Its strategy pass's and light passes' splat sums, when the film keeps them: one
   // footprint for all.
@@ -139,7 +151,7 @@ void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_
         }
     }
   }
-  splat_footprint(raster, filter, region_, width_, y0, y1, [&](size_t i, float w) {
+  splat_footprint(raster, pixels, filter, width_, [&](size_t i, float w) {
     Color c = L * w;
     add_to(splats_[i], c);
     if (half) add_to(half_splats_[i], c);
