@@ -491,34 +491,43 @@ static int pass_kind(LobeType type, bool reflection) {
 
 KindSplit Bsdf::kind_split(Vec3 wo_w, Vec3 wi_w, bool delta) const {
   const bool reflection = dot(wo_w, ng_) * dot(wi_w, ng_) > 0;
-  Vec3 wo, wi;
-  bool flipped;
-  if (!delta && n_ > 0 && local_pair(wo_w, wi_w, wo, wi, flipped)) {
+  if (!delta && n_ > 0) {
     // Lobes all of one kind on this side (a plain diffuse surface): the split is that
-    // kind's whole, with no lobe to evaluate. (A path with a share has f > 0 here.)
+    // kind's whole, with no lobe to evaluate (a path with a share has f > 0 here), where
+    // local_pair would find a pair; only its test is made, on the normal components.
     int single = -1;
     for (int i = 0; i < n_ && single != -2; ++i)
       if (!lobes_[i].is_delta()) {
         const int k = pass_kind(lobes_[i].type, reflection);
         single = single == -1 || single == k ? k : -2;
       }
-    if (single >= 0) return KindSplit::only(single);
-    LobeScratch scratch;
-    LayerScales layers;
-    if (num_layers_) layer_scales(wo, wi, layers);
-    float w[3] = {0, 0, 0};
-    for (int i = 0; i < n_; ++i) {
-      const Lobe &lobe = lobe_from_side(lobes_[i], flipped, scratch);
-      if (lobe.is_delta()) continue;
-      Color fi = lobe_eval(lobe, wo, wi, TransportMode::Radiance);
-      if (lobe.layers_above) fi *= layers.of(lobe.layers_above);
-      w[pass_kind(lobe.type, reflection)] += std::max(average(fi), 0.0f);
-    }
-    const float total = w[0] + w[1] + w[2];
-    if (total > 0) {
-      KindSplit s;
-      for (int k = 0; k < 3; ++k) s.w[k] = w[k] / total;
-      return s;
+    if (single >= 0) {
+      const float side = dot(wo_w, ng_);
+      const float wi_z = dot(wi_w, frame_.n);
+      if (side != 0 && consistent_side(wi_w, side < 0 ? -ng_ : ng_, side < 0 ? -wi_z : wi_z))
+        return KindSplit::only(single);
+    } else {
+      Vec3 wo, wi;
+      bool flipped;
+      if (local_pair(wo_w, wi_w, wo, wi, flipped)) {
+        LobeScratch scratch;
+        LayerScales layers;
+        if (num_layers_) layer_scales(wo, wi, layers);
+        float w[3] = {0, 0, 0};
+        for (int i = 0; i < n_; ++i) {
+          const Lobe &lobe = lobe_from_side(lobes_[i], flipped, scratch);
+          if (lobe.is_delta()) continue;
+          Color fi = lobe_eval(lobe, wo, wi, TransportMode::Radiance);
+          if (lobe.layers_above) fi *= layers.of(lobe.layers_above);
+          w[pass_kind(lobe.type, reflection)] += std::max(average(fi), 0.0f);
+        }
+        const float total = w[0] + w[1] + w[2];
+        if (total > 0) {
+          KindSplit s;
+          for (int k = 0; k < 3; ++k) s.w[k] = w[k] / total;
+          return s;
+        }
+      }
     }
   }
   if (delta) return KindSplit::only(reflection ? 1 : 2);
