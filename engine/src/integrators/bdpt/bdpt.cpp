@@ -1,4 +1,5 @@
 #include "integrators/bdpt/bdpt.h"
+#include "integrators/bdpt/pass_class.h"
 
 namespace rdv::bdpt {
 

@@ -117,15 +117,18 @@ class Bdpt final : public TileIntegrator {
     int vertex = -1;
     KindSplit split;
   };
-  PassCache pass_cache(const PathVertex *camera_path, int n) const;
-  PassClass pass_class(const PathVertex *light_path, const PathVertex *camera_path, int s, int t,
-                       Vec3 connection_dir, const PassCache &cache) const;
+  // pass_cache, pass_class and add_light_pass run for every strategy of every sample:
+  // inline (bdpt/pass_class.h, included where they are used), as out-of-line calls
+  // their arguments and results went through memory and stalled.
+  inline PassCache pass_cache(const PathVertex *camera_path, int n) const;
+  inline PassClass pass_class(const PathVertex *light_path, const PathVertex *camera_path, int s, int t,
+                              Vec3 connection_dir, const PassCache &cache) const;
   void add_color_passes(const PathVertex *camera_path, int n, LightPassSample &passes) const;
   Color background_share(const PathVertex &v) const;
   // A contribution c of strategy (s, t >= 2), classified as pc, into a camera sample's
   // passes: the world seen directly goes to Environment by its background share.
-  void add_light_pass(const PathVertex *camera_path, int s, int t, const PassClass &pc, Color c,
-                      LightPassSample &passes) const;
+  inline void add_light_pass(const PathVertex *camera_path, int s, int t, const PassClass &pc, Color c,
+                             LightPassSample &passes) const;
   // A scattering vertex's split by kind between the directions toward the camera and the
   // light (delta: it scatters by a delta lobe; surfaces by their lobes' shares of f).
   static KindSplit split_at(const PathVertex &v, Vec3 toward_camera, Vec3 toward_light, bool delta);

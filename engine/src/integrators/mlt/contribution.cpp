@@ -4,6 +4,7 @@
 // sample region (density 1 / region_area_) and light-tracing splats carry the camera's
 // importance normalised over the whole image, so E[splats to pixel j] = I_j.
 #include "integrators/mlt/metropolis.h"
+#include "integrators/bdpt/pass_class.h"
 #include "samplers/dimension_layout.h"
 
 namespace rdv::mlt {
