@@ -12,6 +12,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include "media_grids.h"
 #include "render_helpers.h"
 #include "statistics.h"
 
@@ -22,8 +23,8 @@ namespace {
 
 constexpr int kRuns = 8;
 // 4 scenes x 2 integrators with the default (relative) target, the door gap with the
-// luminance target, mlt on 13 scenes, and pssmlt with a sample clamp; 36 blocks each.
-constexpr int kBlockTestsInFile = 24 * 36;
+// luminance target, mlt on 15 scenes, and pssmlt with a sample clamp; 36 blocks each.
+constexpr int kBlockTestsInFile = 26 * 36;
 const double kAlphaPerBlock = 1.0 - std::pow(1.0 - 0.01, 1.0 / kBlockTestsInFile);
 
 struct Runs {
@@ -200,6 +201,26 @@ TEST(MltVsBdpt, PathSpaceWindowFogBox) {
   j["meshes"].push_back({{"name", "fog_box"}, {"shape", {{"type", "box"}, {"size", {1.6, 1.6, 0.5}}}},
                          {"materials", {"fog"}}, {"transform", {{"translate", {0, 0, 1.6}}}}});
   expect_same_image(j, "window fog box", 32, 64, "luminance", {"mlt"});
+}
+// Grid fog (integrators/mlt/free_flights.h): a box of it under the Cornell box's ceiling,
+// its density varying from voxel to voxel; BDPT samples it by delta and ratio tracking.
+TEST(MltVsBdpt, PathSpaceGridFog) {
+  expect_same_image(cornell_grid_fog(load_scene("cornell_box.json"), 2.0), "grid fog", 32, 64, "luminance", {"mlt"});
+}
+// Emissive media (volume lights): the grid fog emitting through an emission grid, the
+// Cornell box's lamp taken out, so the fog is the only light (seen directly, through itself
+// and on the walls). BDPT reaches it by light subpaths and next-event estimation from the
+// volume light and by gathering along camera segments.
+TEST(MltVsBdpt, PathSpaceEmissiveGridFog) {
+  json j = load_scene("cornell_box.json");
+  json meshes = json::array();
+  for (auto &m : j["meshes"])
+    if (m["name"] != "lamp") meshes.push_back(m);
+  j["meshes"] = meshes;
+  const json emission = {{"emission_color", {1.0, 0.6, 0.3}},
+                         {"emission_strength", 1.5},
+                         {"emission_grid", varied_grid(5, 4, 6, {{-0.9, -0.9, 1.3}, {0.9, 0.9, 1.9}})}};
+  expect_same_image(cornell_grid_fog(j, 2.0, emission), "emissive grid fog", 32, 64, "luminance", {"mlt"});
 }
 TEST(MltVsBdpt, PathSpaceTexturedLamp) {
   json j = load_scene("cornell_box.json");

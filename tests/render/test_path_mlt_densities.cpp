@@ -26,7 +26,9 @@
 #include "integrators/filter_glossy.h"
 #include "lights/light.h"
 #include "scene/motion.h"
+#include "lights/volume_light.h"
 #include "chi_square.h"
+#include "media_grids.h"
 #include "render_helpers.h"
 
 using namespace rdv;
@@ -79,6 +81,46 @@ struct BruteForce {
     }
     return t1 > t0 ? t1 - t0 : 0.0;
   }
+  // Grid fog (the box's medium a grid, box = true): the column of a -> b (the density's
+  // integral along it) by composite Simpson on 8,192 intervals of the part inside the box,
+  // in double; the density where a flight stops read at b.
+  bool grid = false;
+  double grid_flight(Vec3 a, Vec3 b, bool stops) const {
+    const Medium &m = scene.medium(0);
+    if (max_component(m.sigma_s) == 0) return stops ? 0.0 : 1.0;  // never stops, Tr is in f
+    const DensityGrid &g = *m.grid;
+    const Vec3 d = normalize(b - a);
+    const double length_ab = length(b - a);
+    double t0 = 0, t1 = length_ab;
+    for (int k = 0; k < 3; ++k) {
+      const double o = (&a.x)[k], dk = (&d.x)[k], lo = (&box_lo.x)[k], hi = (&box_hi.x)[k];
+      if (dk == 0) {
+        if (o < lo || o > hi) t1 = t0;
+        continue;
+      }
+      double ta = (lo - o) / dk, tb = (hi - o) / dk;
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+    }
+    double column = 0;
+    if (t1 > t0) {
+      constexpr int kIntervals = 8192;
+      const double h = (t1 - t0) / kIntervals;
+      for (int i = 0; i <= kIntervals; ++i) {
+        const double t = t0 + i * h, w = i == 0 || i == kIntervals ? 1 : (i % 2 ? 4 : 2);
+        column += w * g.density(g.world_to_grid().point(a + d * float(t)));
+      }
+      column *= h / 3;
+    }
+    const double end_density = g.density(g.world_to_grid().point(b));
+    double s = 0;
+    for (int c = 0; c < 3; ++c) {
+      const double st = m.sigma_t[c], tr = std::exp(-st * column);
+      s += stops ? st * end_density * tr : tr;
+    }
+    return s / 3;
+  }
   double box_flight(double length_inside, bool stops) const {
     const Medium &m = scene.medium(0);
     double s = 0;
@@ -92,6 +134,7 @@ struct BruteForce {
   // Free flight over the straight segment a -> b in the world medium (the only medium of
   // these scenes): stopping in it at b, or passing it.
   double free_flight(Vec3 a, Vec3 b, bool stops) const {
+    if (box && grid) return grid_flight(a, b, stops);
     if (box) return box_flight(inside_box(a, normalize(b - a), length(b - a)), stops);
     const int wm = scene.world_medium();
     const double d = length(b - a);
@@ -223,7 +266,8 @@ struct BruteForce {
       }
       return pdf * free_flight(p, i - 1, i, false);
     }
-    if (i == n - 1 && scene.lights()[size_t(v.light)].type != LightType::Triangle) {
+    const LightType end_type = scene.lights()[size_t(p.x[size_t(n - 1)].v.light)].type;
+    if (i == n - 1 && end_type != LightType::Triangle && end_type != LightType::Volume) {
       // Lamps: no walk hits them, but for the spheres of lamps with a radius (one lamp in
       // these scenes: nothing else's sphere on the way), where the ray enters: the cosine
       // at the sphere from the point's offset from the centre.
@@ -258,7 +302,9 @@ struct BruteForce {
     } else {
       pdf = scatter_pdf(p.x[size_t(i - 1)], dir(p, i - 1, i - 2), w, false, blur_alpha(p, i - 1));
     }
-    return pdf * to_area(p, i - 1, i) * free_flight(from, v.p, v.type == VertexType::Medium);  // finite: as before
+    // A volume light's point: where the last step's free flight stops in its medium.
+    const bool stops = v.type == VertexType::Medium || (i == n - 1 && end_type == LightType::Volume);
+    return pdf * to_area(p, i - 1, i) * free_flight(from, v.p, stops);  // finite: as before
   }
   // A lamp with a radius is a sphere (lights/sphere_lamp.h): its point uniform over the
   // sphere (a point lamp) or over the cap of points whose normal is within pi/2 + the
@@ -310,7 +356,9 @@ struct BruteForce {
     }
     if (i == n - 1)
       return double(scene.light_distribution().pmf(size_t(light_vertex.light))) *
-             (sphere ? sphere_point_pdf(light, light_vertex.p) : light.inv_area);
+             (sphere                               ? sphere_point_pdf(light, light_vertex.p)
+              : light.type == LightType::Volume ? double(light.volume->pdf(light_vertex.p))
+                                                   : double(light.inv_area));
     if (i == 0) return 0;
     Vec3 w = dir(p, i + 1, i);
     double pdf;
@@ -408,10 +456,11 @@ int specular_vertices(const ExplicitPath &p) {
 
 // min_specular: how many checked proposals must have specular vertices in x or y.
 // box_lo, box_hi: the scene's one medium is in that axis-aligned box (BruteForce::box).
-// filter_glossy: Cycles' Filter Glossy (0: off).
+// filter_glossy: Cycles' Filter Glossy (0: off). grid: the box's medium is a grid
+// (BruteForce::grid_flight).
 void check_scene(const std::string &name, const nlohmann::json &json, int starts, int mutations_per_start,
                  int min_specular = 0, const Vec3 *box_lo = nullptr, const Vec3 *box_hi = nullptr,
-                 float filter_glossy = 0) {
+                 float filter_glossy = 0, bool grid = false) {
   LoadedScene loaded;
   load(loaded, json);
   const Scene &scene = loaded.scene();
@@ -424,13 +473,14 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
     brute.box = true;
     brute.box_lo = *box_lo;
     brute.box_hi = *box_hi;
+    brute.grid = grid;
   }
   Pcg32 rng(7, 11);
   RayStats stats;
   ExplicitPath x, y, z;
   int checked = 0, worse = 0, medium_paths = 0, large = 0, lens = 0, specular = 0, lens_specular = 0, caustic = 0;
   int lens_subpaths = 0, multi_chain = 0, multi_chain_chains = 0, multi_chain_to_light = 0;
-  int off_sphere = 0, infinite = 0, delta_sun = 0;
+  int off_sphere = 0, infinite = 0, delta_sun = 0, volume_light = 0, volume_light_camera_side = 0;
   int time_moved = 0, time_lost = 0;
   int blurred = 0;  // Filter Glossy: proposals with a vertex the blur changed  // motion blur: large steps that drew a new time; others that changed it
   double worst = 0, worst_f = 0;
@@ -479,6 +529,10 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
       large += p.type == MutationType::Large;
       const bdpt::PathVertex &end = y.x[size_t(y.n - 1)].v;
       infinite += end.infinite;
+      if (scene.lights()[size_t(end.light)].type == LightType::Volume) {
+        ++volume_light;
+        volume_light_camera_side += y.fwd[size_t(y.n - 1)] > 0;
+      }
       delta_sun += end.infinite && scene.lights()[size_t(end.light)].type == LightType::Sun &&
                    scene.lights()[size_t(end.light)].radius == 0;
       for (int i = 0; i < y.n; ++i) medium_paths += y.x[size_t(i)].v.type == VertexType::Medium;
@@ -585,9 +639,11 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
   std::printf("[ mlt densities ] %-12s %d bidirectional proposals checked (%d large, %d with specular vertices), %d "
               "lens, %d lens subpath (%d through specular vertices), %d caustic, %d multi-chain (%d of several "
               "chains, %d retraced to the light); %d medium vertices; %d ending at infinity (%d at a sun without an "
-              "angle); worst |log ratio error| %.2e; worst f rebuild error %.2e\n",
+              "angle); %d ending in a volume light (%d of them reachable from the camera side); worst |log ratio "
+              "error| %.2e; worst f rebuild error %.2e\n",
               name.c_str(), checked, large, specular, lens, lens_subpaths, lens_specular, caustic, multi_chain,
-              multi_chain_chains, multi_chain_to_light, medium_paths, infinite, delta_sun, worst, worst_f);
+              multi_chain_chains, multi_chain_to_light, medium_paths, infinite, delta_sun, volume_light,
+              volume_light_camera_side, worst, worst_f);
   if (scene.has_motion())
     std::printf("[ mlt densities ] %-12s motion: %d of %d large steps at a new shutter time\n", name.c_str(), time_moved,
                 large);
@@ -598,6 +654,9 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
     EXPECT_GT(blurred, checked / 20) << name;
   }
   if (scene.has_motion()) EXPECT_GT(time_moved, large / 2) << name;
+  bool volume_lights = false;
+  for (const Light &l : scene.lights()) volume_lights |= l.type == LightType::Volume;
+  if (volume_lights) EXPECT_GT(volume_light, checked / 10) << name;
   if (!scene.infinite_lights().empty()) EXPECT_GT(infinite, checked / 10) << name;
   EXPECT_GE(specular, min_specular) << name;
   EXPECT_GE(lens_specular, min_specular / 10) << name;
@@ -606,7 +665,9 @@ void check_scene(const std::string &name, const nlohmann::json &json, int starts
   EXPECT_GT(lens, 200) << name;
   EXPECT_GT(lens_subpaths, 50) << name;  // a raster point anywhere: fewer reach x_(c+1) than the lens perturbation's
   EXPECT_GE(multi_chain, min_specular / 10) << name;
-  if (scene.world_medium() >= 0 || box_lo) EXPECT_GT(medium_paths, 0) << name;
+  bool scattering = false;  // a medium that never scatters has no medium vertices
+  for (int m = 0; m < scene.num_media(); ++m) scattering |= max_component(scene.medium(m).sigma_s) > 0;
+  if ((scene.world_medium() >= 0 || box_lo) && scattering) EXPECT_GT(medium_paths, 0) << name;
   EXPECT_EQ(worse, 0) << name;
   EXPECT_EQ(off_sphere, 0) << name << ": a lamp vertex off its sphere";
   EXPECT_LT(worst_f, 1e-5) << name;
@@ -755,6 +816,36 @@ TEST(PathMltDensities, TexturedLampRatiosMatchBruteForce) {
   for (auto &m : j["materials"])
     if (m["name"] == "lamp") m["color"] = {{"node", "image"}, {"file", "textures/tiles.png"}};
   check_scene("cornell_box.json (textured lamp)", j, 300, 20);
+}
+
+// Grid media (integrators/mlt/free_flights.h): the Cornell box with a box of grid fog under
+// its ceiling (7 x 6 x 5 voxels whose density varies along every axis), lit by the
+// lamp through it. mlt's column is exact piece by piece (a cubic between the voxel-centre
+// planes); the brute force integrates the density along each segment by Simpson's rule
+// and reads it at the stopping end.
+TEST(PathMltDensities, GridFogRatiosMatchBruteForce) {
+  const Vec3 lo(-0.9f, -0.9f, 1.3f), hi(0.9f, 0.9f, 1.9f);
+  check_scene("cornell_box.json (grid fog)", test::cornell_grid_fog(test::load_scene("cornell_box.json"), 2.0), 600,
+              20, 0, &lo, &hi, 0, true);
+}
+
+// Emissive media (volume lights): the grid fog emitting through an emission grid (5 x 4 x
+// 6 voxels), the lamp kept: paths end at a point of the fog chosen by the volume light's
+// power sampling, or where the last camera-side free flight stops in it. And the same fog
+// absorbing only (no scattering: reached from the light side only, its transmittance in f).
+TEST(PathMltDensities, EmissiveGridFogRatiosMatchBruteForce) {
+  const Vec3 lo(-0.9f, -0.9f, 1.3f), hi(0.9f, 0.9f, 1.9f);
+  const nlohmann::json emission = {
+      {"emission_color", {1.0, 0.6, 0.3}},
+      {"emission_strength", 1.5},
+      {"emission_grid", test::varied_grid(5, 4, 6, {{-0.9, -0.9, 1.3}, {0.9, 0.9, 1.9}})}};
+  const nlohmann::json cornell = test::load_scene("cornell_box.json");
+  check_scene("cornell_box.json (emissive grid fog)", test::cornell_grid_fog(cornell, 2.0, emission), 600, 20, 0, &lo,
+              &hi, 0, true);
+  nlohmann::json absorbing = emission;
+  absorbing["color"] = {0.0, 0.0, 0.0};
+  check_scene("cornell_box.json (emissive absorbing grid)", test::cornell_grid_fog(cornell, 2.0, absorbing), 600, 20,
+              0, &lo, &hi, 0, true);
 }
 
 // The perturbations of a medium vertex (Pauly, Kollig & Keller 2000, sec. 4) against the

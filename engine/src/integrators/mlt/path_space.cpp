@@ -5,8 +5,10 @@
 #include <cmath>
 #include "core/ray_offset.h"
 #include "core/sampling.h"
+#include "integrators/mlt/free_flights.h"
 #include "lights/light.h"
 #include "lights/sphere_lamp.h"
+#include "lights/volume_light.h"
 #include "media/medium_stack.h"
 #include "scene/motion.h"
 
@@ -27,21 +29,13 @@ void ExplicitPath::reserve(int max_vertices) {
 
 namespace {
 
-// Free flights as Medium::sample_homogeneous draws them: one colour channel chosen
-// uniformly, an exponential distance in it; a medium that does not scatter is passed.
-bool scatters(const Medium &m) { return max_component(m.sigma_s) > 0; }
-double pass_probability(const Medium &m, float length) { return scatters(m) ? average(m.transmittance(length)) : 1.0; }
-double scatter_density(const Medium &m, float t) { return scatters(m) ? average(m.sigma_t * m.transmittance(t)) : 0.0; }
-float free_flight(const Medium &m, float segment, Pcg32 &rng) {
-  if (!scatters(m)) return -1;
-  int c = std::min(int(rng.next_float() * 3.0f), 2);
-  float st = m.sigma_t[c];
-  float u = rng.next_float();
-  float t = st > 0 ? -std::log(1.0f - u) / st : kInf;
-  return t < segment ? t : -1.0f;
-}
-
 float cosine_at(const PathVertex &v, Vec3 w) { return v.on_surface() ? absdot(v.ng, w) : 1.0f; }
+
+// A point inside a medium: a scattering vertex, or a point of an emissive medium that is
+// a volume light (its light vertex, medium set).
+bool in_medium(const PathVertex &v) {
+  return v.type == VertexType::Medium || (v.type == VertexType::Light && v.medium >= 0);
+}
 
 // The direction from a toward b: a light at infinity is a direction (the state holds it,
 // not a point), the same from wherever its neighbour is.
@@ -168,7 +162,9 @@ std::string PathSpace::unsupported(const Scene &scene, const RenderSettings &set
   for (size_t i = 0; i < scene.lights().size(); ++i) {
     const Light &l = scene.lights()[i];
     const std::string which = "light " + std::to_string(i);
-    if (l.type == LightType::Volume) return which + " is an emissive volume; mlt does not sample volume lights yet";
+    if (l.type == LightType::Volume && scene.has_ray_visibility())
+      return which + " is an emissive volume in a scene with ray visibility settings; mlt does not apply those to "
+                     "volume emission yet (use bdpt or pssmlt)";
     // An orthographic camera's ray alone reaching the world would be a path whose only
     // coordinate is its point on the image plane, which the state (x_1) does not have.
     if (camera.type == Camera::Type::Orthographic && l.is_infinite() && l.visible_camera())
@@ -177,10 +173,12 @@ std::string PathSpace::unsupported(const Scene &scene, const RenderSettings &set
   }
   for (int m = 0; m < scene.num_media(); ++m) {
     const Medium &medium = scene.medium(m);
-    if (medium.is_heterogeneous())
+    // Emission outside any mesh (the world's volume) is no light source: BDPT gathers it
+    // from camera paths only, and a path-space state needs a light vertex to end at.
+    if (medium.is_emissive() && medium.light < 0)
       return "medium '" + medium.name +
-             "' is a grid medium; mlt's free-flight densities are closed form, for homogeneous media only";
-    if (medium.is_emissive()) return "medium '" + medium.name + "' emits light; mlt does not sample emissive media yet";
+             "' emits light outside any mesh (the world's volume); mlt samples emissive media inside meshes only "
+             "(use bdpt or pssmlt, or give the emission to a mesh's volume)";
   }
   return "";
 }
@@ -216,11 +214,18 @@ bool PathSpace::trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &sta
     if (media_) {
       int m = media.current(scene_);
       if (m >= 0) {
-        float t = free_flight(scene_.medium(m), segment, rng);
+        const Medium &medium = scene_.medium(m);
+        float t = sample_free_flight(medium, ray.o, ray.d, segment, rng);
         if (t == 0) return false;  // on the vertex it left (probability 0): no new vertex
         if (t > 0) {
           PathVertex &v = bdpt::fresh_vertex(z.v);
           v.type = VertexType::Medium;
+          // The last step from the camera side reaches a volume light where its free
+          // flight stops in the emissive medium: the point is the light vertex.
+          if (to_light && medium.light >= 0) {
+            v.type = VertexType::Light;
+            v.light = medium.light;
+          }
           v.p = ray.o + ray.d * t;
           v.wo = -ray.d;
           v.medium = m;
@@ -302,6 +307,11 @@ bool PathSpace::light_vertex(Pcg32 &rng, ExplicitVertex &z, Vec3 &dir) const {
     Vec3 p;
     sample_sphere_lamp_point(light, u_pos, p, n);
     ray = Ray{p, n, kInf};
+  } else if (light.type == LightType::Volume) {  // a point of the emissive medium by power
+    const Vec3 u_point{rng.next_float(), rng.next_float(), rng.next_float()};
+    float pdf = 0;
+    ray = Ray{light.volume->sample(u_pos, u_point, &pdf), Vec3(0, 0, 1), kInf};
+    if (!(pdf > 0)) return false;
   } else {
     EmissionSample es;
     if (!scene_.sample_emission(index, u_pos, u_dir, Vec3(0.5f), es)) return false;
@@ -325,6 +335,7 @@ bool PathSpace::light_vertex(Pcg32 &rng, ExplicitVertex &z, Vec3 &dir) const {
   }
   v.ng = v.ns = n;
   if (light.type == LightType::Triangle) v.error = light.error;
+  if (light.type == LightType::Volume) v.medium = light.volume->medium_index();
   if (media_) {
     if (const std::vector<int> *media = scene_.light_media(index)) v.media = MediumStack::from(*media);
     else v.media = MediumStack::from(scene_.media_along(ray.o, ray.d));
@@ -455,6 +466,8 @@ bool PathSpace::extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayS
     const Light &light = scene_.lights()[size_t(next.v.light)];
     if (is_sphere_lamp(light)) {
       if (!sample_sphere_lamp_direction(light, next.v.ng, u_dir, wi)) return false;
+    } else if (light.type == LightType::Volume) {
+      wi = uniform_sphere(u_dir);  // isotropic emission (emission_pdf's direction density)
     } else {
       if (!scene_.sample_emission(uint32_t(next.v.light), u_pos, u_dir, Vec3(0.5f), es)) return false;
       wi = es.ray.d;
@@ -535,6 +548,9 @@ Color PathSpace::emitted(const ExplicitVertex &light_vertex, Vec3 w, uint32_t ra
     case LightType::Triangle: return l.textured ? scene_.triangle_emission(l, light_vertex.v.p) : l.radiance;
     case LightType::Point: return l.radiance;
     case LightType::Spot: return l.radiance * spot_attenuation(l, w);
+    // Radiance per unit length at the point (the edge's column weighs the medium's own
+    // absorption on the way out; a point outside the medium has f = 0 from trace_edge).
+    case LightType::Volume: return l.volume->medium().emission_at(light_vertex.v.p);
     default: return Color(0.0f);
   }
 }
@@ -553,7 +569,10 @@ double PathSpace::light_position_density(const ExplicitVertex &light_vertex) con
   }
   // Light choice by power (a textured mesh triangle's by its material's mean emission
   // times its area, Scene::commit), a point uniform on it.
-  const double area_pdf = is_sphere_lamp(l) ? sphere_lamp_point_pdf(l, light_vertex.v.ng) : l.inv_area;
+  // A volume light: a point by emitted power, density in volume measure.
+  const double area_pdf = is_sphere_lamp(l)                ? sphere_lamp_point_pdf(l, light_vertex.v.ng)
+                          : l.type == LightType::Volume ? double(l.volume->pdf(light_vertex.v.p))
+                                                           : double(l.inv_area);
   return double(choice.pmf(size_t(light_vertex.v.light))) * area_pdf;
 }
 
@@ -581,8 +600,10 @@ bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec
   float remaining = s.tmax;
   // Free-flight densities along the edge's segments: all passed, but the one at a
   // medium end, where the flight stops instead.
+  // A segment's column (free_flights.h): its length in homogeneous media, the integral of
+  // the density in grid media.
   int first_medium = -2, last_medium = -1;
-  float first_length = 0, last_length = 0;
+  double first_column = 0, last_column = 0;
   double pass_all = 1, pass_but_first = 1, pass_but_last = 1;
   for (int guard = 0;; ++guard) {
     if (guard == 64) return false;
@@ -591,24 +612,28 @@ bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec
     ++stats.rays;
     bool found = scene_.intersect_media(Ray{o, s.d, remaining, trace_mask}, hit, boundary);
     float segment = found ? hit.t : remaining;
+    // The last segment's media run to b itself: the shadow ray stops 2e-4 of the edge short
+    // of it (core/ray_offset.h), which would be an error of that order in the column.
+    if (!found && !b.v.infinite) segment = length(b.v.p - o);
     int m = stack.current(scene_);
-    double pass = 1;
+    double pass = 1, column = 0;
     if (m >= 0 && !(segment < kInf)) return false;  // no light comes through an unbounded medium
     if (m >= 0) {
       const Medium &medium = scene_.medium(m);
-      e.tr *= medium.transmittance(segment);
-      pass = pass_probability(medium, segment);
+      column = medium_column(medium, o, s.d, segment);
+      e.tr *= column_transmittance(medium, column);
+      pass = pass_probability(medium, column);
     }
     pass_but_last = pass_all;
     if (first_medium == -2) {
       first_medium = m;
-      first_length = segment;
+      first_column = column;
     } else {
       pass_but_first *= pass;
     }
     pass_all *= pass;
     last_medium = m;
-    last_length = segment;
+    last_column = column;
     if (!found) break;
     if (!scene_.is_boundary_only(hit.material)) {
       if (masks.f) return false;  // blocked
@@ -620,13 +645,15 @@ bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec
     if (remaining <= 0) break;
   }
   e.fwd = e.rev = pass_all;
-  if (b.v.type == VertexType::Medium) {
+  if (in_medium(b.v)) {
     if (last_medium != b.v.medium) return false;  // not inside its own medium
-    e.fwd = pass_but_last * scatter_density(scene_.medium(last_medium), last_length);
+    const Medium &medium = scene_.medium(last_medium);
+    e.fwd = pass_but_last * stop_density(medium, last_column, medium_density(medium, b.v.p));
   }
   if (a.v.type == VertexType::Medium) {
     if (first_medium != a.v.medium) return false;
-    e.rev = pass_but_first * scatter_density(scene_.medium(first_medium), first_length);
+    const Medium &medium = scene_.medium(first_medium);
+    e.rev = pass_but_first * stop_density(medium, first_column, medium_density(medium, a.v.p));
   }
   e.visible = true;
   walks_along(s, masks, e, stats);
@@ -661,7 +688,8 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     if (y.x[size_t(i)].v.type == VertexType::Camera || y.x[size_t(i)].v.type == VertexType::Light) return;
   Light moved_light;
   const Light &light = scene_.light_now(uint32_t(last.v.light), moved_light);
-  const bool lamp = light.type != LightType::Triangle;  // not in the BVH: no walk reaches it
+  // Lamps: not in the BVH, no walk reaches them (a volume light is a medium the walks enter).
+  const bool lamp = light.type != LightType::Triangle && light.type != LightType::Volume;
   // Cycles never shows lamps to the camera (lights at infinity: emitted() keeps those the
   // ray that reaches them sees); with ray visibility the edge loop checks every light
   // against its ray's kind.
@@ -784,7 +812,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
                        : a.v.bsdf.eval(a.v.wo, w, TransportMode::Radiance);
       } else {
         const Medium &medium = scene_.medium(a.v.medium);
-        f *= medium.sigma_s * medium.phase.eval(a.v.wo, w);
+        f *= medium.sigma_s * (medium_density(medium, a.v.p) * medium.phase.eval(a.v.wo, w));
       }
     }
     if (is_black(f)) return;
@@ -850,7 +878,10 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   // where the ray enters it (emitted() is 0 from inside), another lamp's sphere on the
   // way takes the ray instead; point and spot lamps without a radius and suns without an
   // angle are never reached; the other lights at infinity where the ray escapes.
-  const bool reachable = last.v.infinite ? !light_is_delta_direction(light) : !lamp || is_sphere_lamp(light);
+  // A volume light where the last step's free flight stops in its medium: only if it scatters.
+  const bool reachable = last.v.infinite                  ? !light_is_delta_direction(light)
+                         : light.type == LightType::Volume ? medium_scatters(scene_.medium(last.v.medium))
+                                                           : !lamp || is_sphere_lamp(light);
   if (!reachable) {
     y.fwd[size_t(n - 1)] = 0;
   } else if (!sphere_lamps_.empty()) {
