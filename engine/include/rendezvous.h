@@ -297,6 +297,18 @@ typedef enum rdv_pass {
   RDV_PASS_MIST = 18,
   RDV_PASS_OBJECT_INDEX = 19,
   RDV_PASS_MATERIAL_INDEX = 20,
+  /* Cycles' denoising data (session setting "denoising_passes": true; every integrator;
+   * docs/scene-format.md, Passes), the feature images of Blender's Denoise node: the camera
+   * path followed through near-specular surfaces (mirrors, smooth glass, alpha_x alpha_y
+   * at most 0.075^2) to the first rough one, as Cycles 3.4. DENOISING_NORMAL: its shading
+   * normal in camera space (x right, y up, z along the view), 3 floats; DENOISING_ALBEDO:
+   * its rough closures' albedo times the specular ones' passed on the way, 3 floats;
+   * DENOISING_DEPTH: the path's length to it (each segment weighted by the albedo before
+   * it), 1 float. Means over the pixel's samples; 0 where the world is seen. Reading one
+   * from a session without them gives zeros. */
+  RDV_PASS_DENOISING_NORMAL = 21,
+  RDV_PASS_DENOISING_ALBEDO = 22,
+  RDV_PASS_DENOISING_DEPTH = 23,
   /* BDPT's strategy passes (session setting "strategy_passes": true, bdpt only; docs/bdpt.md),
    * 3 floats each: pass RDV_PASS_STRATEGY_FIRST + k holds strategy k's MIS-weighted share of
    * Combined, for the paths of depth (bounces) d = s + t - 2 up to "strategy_passes_max_depth"

@@ -54,6 +54,7 @@ void usage() {
                "  --passes light         Cycles' light passes as EXR layers (Emit, Env, DiffDir, DiffInd, DiffCol,\n"
                "                         Gloss*, Trans*, VolumeDir, VolumeInd; path and bdpt);\n"
                "         data            Mist.Z, IndexOB.X, IndexMA.X (every integrator); e.g. --passes light,data\n"
+               "         denoising       Denoising Normal / Albedo / Depth, Cycles' denoising data (every integrator)\n"
                "         strategies      bdpt: each strategy's MIS-weighted image, Strategy_s<S>t<T>, of paths up to\n"
                "                         --strategy-depth N bounces (default 3, at most 6), and Strategy_rest\n"
                "  --film-transparent     the world seen directly is transparent (alpha = coverage; PNG and EXR)\n"
@@ -185,15 +186,17 @@ int main(int argc, char **argv) {
       else if (a == "--passes") {
         // Render passes beyond Combined / Depth / Normal / Albedo, as EXR layers: "light"
         // (Cycles' light passes, path and bdpt), "data" (Mist, Object and Material Index),
-        // "strategies" (BDPT's per-strategy images, docs/bdpt.md).
+        // "denoising" (Cycles' Denoising Normal / Albedo / Depth), "strategies" (BDPT's
+        // per-strategy images, docs/bdpt.md).
         std::stringstream list(next());
         std::string item;
         while (std::getline(list, item, ',')) {
           if (item == "light") overrides["light_passes"] = true;
           else if (item == "data") overrides["data_passes"] = true;
+          else if (item == "denoising") overrides["denoising_passes"] = true;
           else if (item == "strategies") overrides["strategy_passes"] = true;
           else {
-            std::fprintf(stderr, "rendezvous: --passes: unknown pass set '%s' (available: light, data, strategies)\n",
+            std::fprintf(stderr, "rendezvous: --passes: unknown pass set '%s' (available: light, data, denoising, strategies)\n",
                          item.c_str());
             return 2;
           }

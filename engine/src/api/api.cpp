@@ -321,6 +321,9 @@ int rdv_pass_channels(rdv_pass pass) {
     case RDV_PASS_MIST:
     case RDV_PASS_OBJECT_INDEX:
     case RDV_PASS_MATERIAL_INDEX: return 1;
+    case RDV_PASS_DENOISING_NORMAL:
+    case RDV_PASS_DENOISING_ALBEDO: return 3;
+    case RDV_PASS_DENOISING_DEPTH: return 1;
     case RDV_PASS_EMISSION:
     case RDV_PASS_ENVIRONMENT:
     case RDV_PASS_DIFFUSE_DIRECT:

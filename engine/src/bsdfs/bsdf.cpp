@@ -565,6 +565,39 @@ void Bsdf::kind_colors(Vec3 wo_w, Color out[kColorKinds]) const {
   }
 }
 
+DenoisingClosures Bsdf::denoising_closures(Vec3 wo_w) const {
+  DenoisingClosures out;
+  const float cos_o = absdot(wo_w, frame_.n);
+  for (int i = 0; i < n_; ++i) {
+    const Lobe &lobe = lobes_[i];
+    Color albedo = lobe.color * lobe.scale;
+    bool rough = true;
+    switch (lobe.type) {
+      case LobeType::GgxConductor:
+        if (lobe.fresnel_mode != FresnelMode::Tint) albedo = lobe.fresnel(cos_o) * lobe.scale;
+        rough = lobe.ggx.ax * lobe.ggx.ay > kDenoisingRoughness2;
+        break;
+      case LobeType::GgxDielectric: rough = lobe.ggx.ax * lobe.ggx.ay > kDenoisingRoughness2; break;
+      case LobeType::SpecularConductor:
+        if (lobe.fresnel_mode != FresnelMode::Tint) albedo = lobe.fresnel(cos_o) * lobe.scale;
+        rough = false;
+        break;
+      case LobeType::SmoothDielectric:
+      case LobeType::Transparent: rough = false; break;
+      default: break;  // diffuse-like lobes
+    }
+    out.weight += pick_[i];
+    if (rough) {
+      out.rough_albedo += albedo;
+      out.rough_weight += pick_[i];
+    } else {
+      out.specular_albedo += albedo;
+    }
+  }
+  if (out.weight > 0) out.normal = frame_.n;
+  return out;
+}
+
 float Bsdf::blur_threshold() const {
   float threshold = kInf;
   for (int i = 0; i < n_; ++i) {

@@ -13,6 +13,7 @@
 #include "bsdfs/microfacet.h"
 #include "bsdfs/scatter_kind.h"
 #include "core/math.h"
+#include "film/denoising_passes.h"
 #include "film/light_passes.h"
 
 namespace rdv {
@@ -212,6 +213,11 @@ class Bsdf {
   float blur_threshold() const;
   static bool blur_acts(float alpha) { return !GgxDistribution{alpha, alpha}.is_smooth(); }
   void kind_colors(Vec3 wo, Color out[kColorKinds]) const;
+  // Cycles' denoising features (film/denoising_passes.h) seen from wo: each lobe's closure
+  // albedo (a dielectric's reflection and refraction together, a Fresnel-coloured
+  // reflection times its Fresnel at wo), rough (alpha_x alpha_y > 0.075^2, or diffuse-like)
+  // or near-specular, and its selection weight.
+  DenoisingClosures denoising_closures(Vec3 wo) const;
   const Frame &frame() const { return frame_; }
   Vec3 geometric_normal() const { return ng_; }
 

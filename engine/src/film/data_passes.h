@@ -21,6 +21,7 @@
 #include <cstdint>
 #include "core/math.h"
 #include "core/params.h"
+#include "film/denoising_passes.h"
 
 namespace rdv {
 
@@ -48,6 +49,9 @@ struct DataPassSample {
   float mist_cover = 0;  // sum over the chain of (1 - mist) x average(throughput x alpha)
   float object_index = 0, material_index = 0;
   bool indices_done = false;  // a surface at or above the alpha threshold set them
+  // Cycles' denoising data (film/denoising_passes.h), along the camera's path through
+  // near-specular surfaces (active only when the film keeps them).
+  DenoisingSample denoising;
 
   // A surface of the see-through chain: its distance from the camera (MistSettings), the
   // throughput reaching it times its alpha, its alpha's average and its pass indices.

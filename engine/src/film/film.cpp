@@ -12,20 +12,21 @@ static_assert(StrategyPasses::count_for(StrategyPasses::kMaxDepth) == RDV_PASS_S
               "the C ABI's range of strategy passes holds those of the deepest setting");
 
 Film::Film(int width, int height, Rect region, bool halves, bool light_passes, bool data_passes,
-           int strategy_max_depth)
+           int strategy_max_depth, bool denoising_passes)
     : width_(width), height_(height), region_(region), pixels_(size_t(width) * height),
       aovs_(size_t(width) * height), splats_(size_t(width) * height),
       half_pixels_(halves ? size_t(width) * height : 0), half_splats_(halves ? size_t(width) * height : 0),
       light_(light_passes ? size_t(width) * height : 0), light_splats_(light_passes ? size_t(width) * height : 0),
-      data_passes_(data_passes), strategies_{strategy_max_depth},
+      data_passes_(data_passes), denoising_(denoising_passes ? size_t(width) * height : 0), strategies_{strategy_max_depth},
       strategy_(size_t(width) * height * size_t(strategies_.count())),
       strategy_splats_(size_t(width) * height * size_t(strategies_.splat_count())) {}
 
-size_t Film::bytes_per_pixel(bool halves, bool light_passes, int strategy_max_depth) {
+size_t Film::bytes_per_pixel(bool halves, bool light_passes, int strategy_max_depth, bool denoising_passes) {
   const StrategyPasses strategies{strategy_max_depth};
   return sizeof(PixelSum) + sizeof(PixelAov) + sizeof(SplatSums) +
          (halves ? sizeof(HalfSum) + sizeof(SplatSums) : 0) +
          (light_passes ? sizeof(LightPassSums) + sizeof(LightSplatSums) : 0) +
+         (denoising_passes ? sizeof(DenoisingSums) : 0) +
          size_t(strategies.count() + strategies.splat_count()) * sizeof(StrategySums);
 }
 
@@ -36,6 +37,7 @@ void Film::take_tile(const Rect &rect, FilmTile &tile) const {
   tile.halves_.resize(has_halves() ? n : 0);
   tile.aovs_.resize(n);
   tile.light_.resize(has_light_passes() ? n : 0);
+  tile.denoising_.resize(has_denoising_passes() ? n : 0);
   const size_t ns = size_t(strategies_.count());  // strategy sums per pixel
   tile.strategy_count_ = int(ns);
   tile.strategy_.resize(n * ns);
@@ -47,6 +49,8 @@ void Film::take_tile(const Rect &rect, FilmTile &tile) const {
     std::copy_n(&aovs_[index(rect.x0, y)], rect.width(), &tile.aovs_[tile.index(rect.x0, y)]);
     if (has_light_passes())
       std::copy_n(&light_[index(rect.x0, y)], rect.width(), &tile.light_[tile.index(rect.x0, y)]);
+    if (has_denoising_passes())
+      std::copy_n(&denoising_[index(rect.x0, y)], rect.width(), &tile.denoising_[tile.index(rect.x0, y)]);
     if (ns)
       std::copy_n(&strategy_[index(rect.x0, y) * ns], rect.width() * ns, &tile.strategy_[tile.index(rect.x0, y) * ns]);
   }
@@ -62,6 +66,8 @@ void Film::put_tile(const FilmTile &tile) {
     std::copy_n(&tile.aovs_[tile.index(rect.x0, y)], rect.width(), &aovs_[index(rect.x0, y)]);
     if (has_light_passes())
       std::copy_n(&tile.light_[tile.index(rect.x0, y)], rect.width(), &light_[index(rect.x0, y)]);
+    if (has_denoising_passes())
+      std::copy_n(&tile.denoising_[tile.index(rect.x0, y)], rect.width(), &denoising_[index(rect.x0, y)]);
     if (const size_t ns = size_t(strategies_.count()))
       std::copy_n(&tile.strategy_[tile.index(rect.x0, y) * ns], rect.width() * ns, &strategy_[index(rect.x0, y) * ns]);
   }
@@ -255,6 +261,17 @@ void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float 
           for (int c = 0; c < 3; ++c) dst[c] = n > 0 ? float(a.albedo[c] / n) : 0.0f;
           break;
         }
+        // Denoising data (film/denoising_passes.h): the samples' means (zeros without them).
+        case RDV_PASS_DENOISING_NORMAL:
+        case RDV_PASS_DENOISING_ALBEDO: {
+          const bool normal = pass == RDV_PASS_DENOISING_NORMAL;
+          for (int c = 0; c < 3; ++c)
+            dst[c] = has_denoising_passes() && n > 0
+                         ? float((normal ? denoising_[i].normal[c] : denoising_[i].albedo[c]) / n)
+                         : 0.0f;
+          break;
+        }
+        case RDV_PASS_DENOISING_DEPTH: dst[0] = has_denoising_passes() && n > 0 ? float(denoising_[i].depth / n) : 0.0f; break;
         case RDV_PASS_NOISE: {
           double v;
           dst[0] = has_halves() && pixel_relative_variance(p, half_pixels_[i], splats_[i], half_splats_[i], state_, &v)

@@ -56,14 +56,17 @@ class Film {
   // the film keeps them either way).
   // strategy_max_depth: keep BDPT's strategy passes of paths up to this depth
   // (film/strategy_passes.h); -1: none, and the film stores and copies nothing of them.
+  // denoising_passes: keep Cycles' denoising data (film/denoising_passes.h).
   Film(int width, int height, Rect region, bool halves = false, bool light_passes = false, bool data_passes = false,
-       int strategy_max_depth = -1);
+       int strategy_max_depth = -1, bool denoising_passes = false);
   // What one pixel costs (samples, splats, AOVs, halves, light and strategy passes): for
   // the memory check before a film is made.
-  static size_t bytes_per_pixel(bool halves, bool light_passes = false, int strategy_max_depth = -1);
+  static size_t bytes_per_pixel(bool halves, bool light_passes = false, int strategy_max_depth = -1,
+                                bool denoising_passes = false);
   bool has_halves() const { return !half_splats_.empty(); }
   bool has_light_passes() const { return !light_.empty(); }
   bool writes_data_passes() const { return data_passes_; }
+  bool has_denoising_passes() const { return !denoising_.empty(); }
   const StrategyPasses &strategy_passes() const { return strategies_; }
   int width() const { return width_; }
   int height() const { return height_; }
@@ -156,6 +159,9 @@ class Film {
   const std::vector<LightPassSums> &light_pass_sums() const { return light_; }
   std::vector<LightSplatSums> &light_splat_sums() { return light_splats_; }
   const std::vector<LightSplatSums> &light_splat_sums() const { return light_splats_; }
+  // Denoising data's sums (empty without them).
+  std::vector<DenoisingSums> &denoising_sums() { return denoising_; }
+  const std::vector<DenoisingSums> &denoising_sums() const { return denoising_; }
   // Strategy passes' sums: strategy_passes().count() per pixel of camera samples and
   // splat_count() of splats (empty without them).
   std::vector<StrategySums> &strategy_sums() { return strategy_; }
@@ -186,6 +192,7 @@ class Film {
   std::vector<LightPassSums> light_;
   std::vector<LightSplatSums> light_splats_;
   bool data_passes_ = false;
+  std::vector<DenoisingSums> denoising_;  // empty unless asked for
   // Strategy passes: count() sums per pixel of camera samples, splat_count() of splats;
   // both empty unless asked for.
   StrategyPasses strategies_;

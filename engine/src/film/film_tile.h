@@ -88,6 +88,7 @@ class FilmTile {
       a.object_index = data.object_index;
       a.material_index = data.material_index;
     }
+    if (!denoising_.empty()) denoising_[index(x, y)].add(data.denoising);  // only when the film keeps them
   }
   void add_first_hit(int x, int y, float depth, Vec3 normal, Color albedo) {
     PixelAov &a = aovs_[index(x, y)];
@@ -106,6 +107,7 @@ class FilmTile {
   std::vector<HalfSum> halves_;  // empty unless the film keeps halves
   std::vector<PixelAov> aovs_;
   std::vector<LightPassSums> light_;  // empty unless the film keeps light passes
+  std::vector<DenoisingSums> denoising_;  // empty unless the film keeps denoising data
   std::vector<StrategySums> strategy_;  // strategy_count_ per pixel (0 unless the film keeps them)
   int strategy_count_ = 0;
 };

@@ -96,6 +96,11 @@ std::string write_image(const Film &film, const std::string &path, const std::st
       for (const auto &[pass, name] : {std::pair{RDV_PASS_MIST, "Mist.Z"}, std::pair{RDV_PASS_OBJECT_INDEX, "IndexOB.X"},
                                        std::pair{RDV_PASS_MATERIAL_INDEX, "IndexMA.X"}})
         layers.push_back({pass, {name}});
+    if (film.has_denoising_passes()) {  // Blender's names: its Denoise node reads them
+      layers.push_back({RDV_PASS_DENOISING_NORMAL, {"Denoising Normal.X", "Denoising Normal.Y", "Denoising Normal.Z"}});
+      layers.push_back({RDV_PASS_DENOISING_ALBEDO, {"Denoising Albedo.R", "Denoising Albedo.G", "Denoising Albedo.B"}});
+      layers.push_back({RDV_PASS_DENOISING_DEPTH, {"Denoising Depth.Z"}});
+    }
     const StrategyPasses &strategies = film.strategy_passes();
     for (int k = 0; k < strategies.count(); ++k)
       layers.push_back({rdv_pass(RDV_PASS_STRATEGY_FIRST + k), rgb(strategies.name(k))});

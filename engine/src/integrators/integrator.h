@@ -64,6 +64,8 @@ struct RenderSettings {
   // Mist, Object Index and Material Index (film/data_passes.h) as EXR layers; the film
   // has them either way (every integrator), for reads.
   bool data_passes = false;
+  // Cycles' denoising data (film/denoising_passes.h): the film keeps them (every integrator).
+  bool denoising_passes = false;
   // Film > Transparent and holdouts (integrators/film_alpha.h); holdouts is the scene's.
   FilmAlpha alpha;
   float filter_width = 1.5f;

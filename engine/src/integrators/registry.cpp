@@ -160,6 +160,7 @@ RenderSettings RenderSettings::from_params(Params &p) {
     fail(p.what() + ": 'film_transparent_roughness' must be in 0..1, got " + std::to_string(s.alpha.glass_roughness));
   s.light_passes = p.get_bool("light_passes", false);
   s.data_passes = p.get_bool("data_passes", false);
+  s.denoising_passes = p.get_bool("denoising_passes", false);
   s.strategy_passes = p.get_bool("strategy_passes", false);
   s.strategy_passes_max_depth = p.get_int("strategy_passes_max_depth", s.strategy_passes_max_depth);
   if (s.strategy_passes_max_depth < 0 || s.strategy_passes_max_depth > StrategyPasses::kMaxDepth)
@@ -277,7 +278,8 @@ RenderSettings RenderSettings::from_params(Params &p) {
   // Before the session allocates anything: the film, and Metropolis' bootstrap and chains.
   std::string film = std::to_string(s.width) + "x" + std::to_string(s.height) + " film";
   double bytes = double(s.width) * double(s.height) *
-                 double(Film::bytes_per_pixel(s.estimates_noise(), s.light_passes, s.strategy_pass_depth()));
+                 double(Film::bytes_per_pixel(s.estimates_noise(), s.light_passes, s.strategy_pass_depth(),
+                                                s.denoising_passes));
   if (s.integrator == "pssmlt" || s.integrator == "mmlt" || s.integrator == "mlt") {
     bytes += mlt::Metropolis::memory_estimate(s, s.integrator == "mmlt", s.integrator == "mlt");
     film += " with " + s.integrator + "'s bootstrap (" + std::to_string(s.mlt_bootstrap) + " per pixel) and " +

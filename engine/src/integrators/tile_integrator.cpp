@@ -17,6 +17,7 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
   splats.a.clear();
   splats.b.clear();
   const bool light_passes = ctx.film.has_light_passes();
+  const bool denoising_passes = ctx.film.has_denoising_passes();
   LightPassSample passes;
   // Strategy passes (film/strategy_passes.h): the sample's share in each.
   const StrategyPasses &strategy_layout = ctx.film.strategy_passes();
@@ -58,6 +59,7 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
         CameraRay cr;
         cr.ray = ctx.scene.camera_now().generate_ray(raster, u_lens, &cr.lens_point, &cr.cone);
         FirstHit first_hit;
+        first_hit.data.denoising.active = denoising_passes;
         if (light_passes) {
           passes.clear();
           first_hit.passes = &passes;

@@ -66,6 +66,12 @@ struct Medium {
   // A grid {"buffer": name} reads the dense grid of that name from `buffers`.
   static Medium from_params(Params &p, const std::string &name, const GridBuffers *buffers = nullptr);
 
+  // sigma_s / sigma_t per channel (0 where nothing attenuates): the denoising albedo of a
+  // scattering in it (film/denoising_passes.h).
+  Color scattering_albedo() const {
+    return {sigma_t.x > 0 ? sigma_s.x / sigma_t.x : 0.0f, sigma_t.y > 0 ? sigma_s.y / sigma_t.y : 0.0f,
+            sigma_t.z > 0 ? sigma_s.z / sigma_t.z : 0.0f};
+  }
   bool is_emissive() const { return !is_black(emission) || blackbody.active(); }
   // Emission at a world point (inside the medium).
   Color emission_at(Vec3 p) const {

@@ -9,7 +9,7 @@ namespace rdv {
 Session::Session(std::shared_ptr<Scene> scene, const RenderSettings &settings)
     : scene_(std::move(scene)), settings_(settings),
       film_(settings.width, settings.height, settings.border, settings.estimates_noise(), settings.light_passes,
-            settings.data_passes, settings.strategy_pass_depth()), filter_(settings.filter_width),
+            settings.data_passes, settings.strategy_pass_depth(), settings.denoising_passes), filter_(settings.filter_width),
       control_(settings.time_limit, settings.noise_target) {
   scene_->commit();
   scene_->camera().set_resolution(settings.width, settings.height);

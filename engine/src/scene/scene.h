@@ -177,6 +177,13 @@ class Scene {
   // from the camera, opacity and pass indices) added to data.
   const MistSettings &mist() const { return mist_; }
   void add_data_passes(const SurfaceHit &hit, Color beta, float alpha_threshold, DataPassSample &data) const;
+  // Denoising data (film/denoising_passes.h): a surface of BSDF bsdf seen from wo, reached
+  // by a ray segment of length `segment`, added to a sample whose features are active.
+  void add_denoising_surface(const Bsdf &bsdf, Vec3 wo, float segment, DenoisingSample &sample) const {
+    const Camera &camera = camera_now();
+    const CameraAxes axes{normalize(camera.to_world.column(0)), normalize(camera.to_world.column(1)), camera.forward()};
+    sample.add_surface(bsdf.denoising_closures(wo), segment, axes);
+  }
   // ---- Ray visibility (scene/ray_visibility.h). has_ray_visibility: some instance, light
   // or the world is hidden from some kind of ray beyond what lamps hide from the camera
   // by default, so integrators classify their rays. has_mixed_visibility: some instance

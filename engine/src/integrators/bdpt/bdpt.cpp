@@ -47,6 +47,7 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
   // The AOVs, data and colour passes, unless the caller makes its own (FirstHit::aovs).
   const bool aovs = first_hit && first_hit->aovs;
   DataPassSample data;  // the data passes (film/data_passes.h), gathered by the camera walk
+  if (first_hit) data.denoising.active = first_hit->data.denoising.active;
   int nc = camera_subpath<kMedia>(camera_ray, sampler, stats, camera_path.data(), emitted.data(), -1,
                                   aovs ? &data : nullptr);
   Color L(0.0f);  // starts with the lamps and volume emission the camera path passed

@@ -148,6 +148,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
           v.link_to_prev(prev, pdf_fwd);
           if (camera) v.filter_pdf = filter.min_pdf;
           see_through = false;
+          if (camera && data && data->denoising.active) data->denoising.add_volume_scatter(medium.scattering_albedo());
           ++n;
           if (n >= max_vertices || see_through_only) return n;
           sampler.start_stream(stream, dims::bounce(k, dims::kScatterDirection));
@@ -237,6 +238,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
         v.blur_threshold = v.bsdf.blur_threshold();
       }
     }
+    if (camera && data && data->denoising.active) scene_.add_denoising_surface(v.bsdf, v.wo, hit.t, data->denoising);
     v.link_to_prev(prev, pdf_fwd);
     v.surface_connectible = v.bsdf.has_lobes() && !v.bsdf.is_delta();
     if (settings_.mis == MisHeuristic::LafortuneWillems) v.specularity = v.bsdf.specularity();
@@ -251,7 +253,9 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     if (classify && limits_end_walk(bs.wi)) return n;
     beta *= bs.weight;
     if (see_through) see_through = settings_.alpha.keeps_seeing_through(bs);
-    if (see_through_only && !see_through) return n;
+    // The first-hit pass (see_through_only) goes on while the denoising data look for
+    // their surface.
+    if (see_through_only && !see_through && !(data && data->denoising.active)) return n;
     float pdf_rev;
     if (bs.is_delta) {
       v.delta = true;

@@ -124,6 +124,7 @@ void Metropolis::first_hit_pass(RenderContext &ctx) const {
   const bool media = scene_.has_media();
   const bool alpha = bdpt_.settings().alpha.tracked();
   const bool light_passes = ctx.film.has_light_passes();
+  const bool denoising_passes = ctx.film.has_denoising_passes();
   const uint32_t samples = first_hit_samples(light_passes, settings_.samples);
   ctx.arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<int>(region.y0, region.y1, 1), [&](const tbb::blocked_range<int> &rows) {
@@ -146,6 +147,7 @@ void Metropolis::first_hit_pass(RenderContext &ctx) const {
             cr.ray = scene_.camera_now().generate_ray(raster, u_lens, &cr.lens_point, &cr.cone);
             // The walk ends where the camera stops seeing through (its first scattering).
             DataPassSample data;
+            data.denoising.active = denoising_passes;
             int n = media ? bdpt_.camera_subpath<true>(cr, sampler, stats, path.data(), nullptr, kFirstHitVertices,
                                                        &data, true)
                           : bdpt_.camera_subpath<false>(cr, sampler, stats, path.data(), nullptr, kFirstHitVertices,

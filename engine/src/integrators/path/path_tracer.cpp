@@ -226,6 +226,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           // function, then a new direction from it.
           Vec3 p = ray.o + ray.d * ms.t;
           Vec3 wo = -ray.d;
+          if (data && data->denoising.active) data->denoising.add_volume_scatter(medium.scattering_albedo());
           if (depth >= max_bounces_ || stop_after) break;
           auto phase = [&](Vec3 wi, float *pdf) {
             *pdf = medium.phase.pdf(wo, wi);
@@ -312,6 +313,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       if (h >= 1) break;  // all held out: nothing of it is seen
     }
     if (see_through && data) scene_.add_data_passes(hit, beta, alpha_.pass_alpha_threshold, *data);
+    if (data && data->denoising.active) scene_.add_denoising_surface(bsdf, wo, hit.t, data->denoising);
     if (passes && depth == 0) {  // the colour passes: every layer the camera sees, by what reaches it
       Color colors[kColorKinds];
       bsdf.kind_colors(wo, colors);

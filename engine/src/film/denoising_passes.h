@@ -1,0 +1,85 @@
+// Cycles 3.4's denoising data (kernel/film/denoising_passes.h): Denoising Normal, Albedo
+// and Depth, the feature images Blender's Denoise node (OpenImageDenoise) takes.
+//
+// They are not the first hit's: a camera sample follows its path through near-specular
+// surfaces (mirrors, smooth glass, Transparent BSDF) to the first one rough enough, as
+// Cycles does:
+// - at each surface, the closures are split by roughness: alpha_x * alpha_y > 0.075^2
+//   (diffuse-like lobes count as rough) or near-specular;
+// - if more than 25% of the closures' sample weight is rough (or there is no closure),
+//   the features are written there: Normal = the shading normal in camera space (x
+//   right, y up, z along the view: a surface facing the camera has z < 0), Albedo =
+//   throughput x the rough closures' summed albedo; then the sample writes no more;
+// - else throughput *= the near-specular closures' summed albedo and the path goes on
+//   wherever it scatters (a glass ball shows the refracted or reflected surface, by its
+//   Fresnel, as the path picks them);
+// - Depth: every surface on the way adds average(throughput) x the length of the ray
+//   segment that reached it (the first from the near clip plane), so a mirror's pixel
+//   holds the distance to the mirror plus the reflected distance;
+// - a scattering in a volume ends it with Normal (0, 0, -1) and Albedo += throughput x
+//   the medium's single-scattering albedo;
+// - what the path never writes stays 0 (the world seen directly or in a mirror).
+// The pixel holds the mean over its samples (the normal is not renormalised, as Cycles).
+#pragma once
+#include <array>
+#include "core/math.h"
+
+namespace rdv {
+
+// Cycles' threshold on alpha_x * alpha_y (bsdf_get_specular_roughness_squared).
+inline constexpr float kDenoisingRoughness2 = 0.075f * 0.075f;
+
+// The closures of one surface as the features see them (Bsdf::denoising_closures).
+struct DenoisingClosures {
+  Color rough_albedo{0.0f}, specular_albedo{0.0f};
+  float weight = 0, rough_weight = 0;  // sample weights: all closures', the rough ones'
+  Vec3 normal{0.0f};                   // world-space shading normal, on the viewer's side
+};
+
+// The camera's axes for the features' normal (Cycles' camera space: +z forward).
+struct CameraAxes {
+  Vec3 right{1, 0, 0}, up{0, 1, 0}, forward{0, 0, -1};
+  Vec3 to_camera(Vec3 n) const { return {dot(n, right), dot(n, up), dot(n, forward)}; }
+};
+
+// One camera sample's features, gathered along its path (FirstHit::data.denoising).
+struct DenoisingSample {
+  bool active = false;  // still looking for the surface to write at (set when the film keeps them)
+  Color throughput{1.0f};
+  Vec3 normal{0.0f};
+  Color albedo{0.0f};
+  float depth = 0;
+
+  // A surface the path reached after a ray segment of length `segment`.
+  void add_surface(const DenoisingClosures &c, float segment, const CameraAxes &camera) {
+    depth += average(throughput) * segment;
+    if (c.weight == 0 || c.rough_weight * 4.0f > c.weight) {
+      normal = camera.to_camera(c.normal);
+      albedo = throughput * c.rough_albedo;
+      active = false;
+    } else {
+      throughput *= c.specular_albedo;
+    }
+  }
+  // A scattering in a volume of single-scattering albedo `medium_albedo`.
+  void add_volume_scatter(Color medium_albedo) {
+    normal = Vec3(0, 0, -1);
+    albedo = throughput * medium_albedo;
+    active = false;
+  }
+};
+
+// A pixel's sums of them (double: render parts merge to the whole render's).
+struct DenoisingSums {
+  std::array<double, 3> normal{}, albedo{};
+  double depth = 0;
+  void add(const DenoisingSample &s) {
+    for (int c = 0; c < 3; ++c) {
+      normal[c] += s.normal[c];
+      albedo[c] += s.albedo[c];
+    }
+    depth += s.depth;
+  }
+};
+
+}  // namespace rdv
