@@ -17,6 +17,11 @@ _DATA_PASSES = [
     ("Mist", "use_pass_mist", "layer", binding.PASS_MIST, 1, "Z", "VALUE"),
     ("IndexOB", "use_pass_object_index", "layer", binding.PASS_OBJECT_INDEX, 1, "X", "VALUE"),
     ("IndexMA", "use_pass_material_index", "layer", binding.PASS_MATERIAL_INDEX, 1, "X", "VALUE"),
+    # View Layer > Passes > Data > Denoising Data (Cycles' property; its Data panel shows it
+    # for us): the three passes Cycles registers, which Blender's Denoise node takes.
+    ("Denoising Normal", "denoising_store_passes", "cycles", binding.PASS_DENOISING_NORMAL, 3, "XYZ", "VECTOR"),
+    ("Denoising Albedo", "denoising_store_passes", "cycles", binding.PASS_DENOISING_ALBEDO, 3, "RGB", "COLOR"),
+    ("Denoising Depth", "denoising_store_passes", "cycles", binding.PASS_DENOISING_DEPTH, 1, "Z", "VALUE"),
 ]
 LIGHT_PASSES = [
     ("Emit", "use_pass_emit", "layer", binding.PASS_EMISSION),
@@ -101,10 +106,12 @@ def register_passes(engine, scene, layer):
 
 def light_pass_settings(layer, scene, integrator, warn=print):
     """The session settings the layer's passes need: light passes ({} without any), BDPT's
-    strategy passes, and View Layer > Passes > Alpha Threshold, which the Object and Material
-    Index passes use."""
+    strategy passes, the denoising data, and View Layer > Passes > Alpha Threshold, which the
+    Object and Material Index passes use."""
     threshold = getattr(layer, "pass_alpha_threshold", None)
     data = {"pass_alpha_threshold": float(threshold)} if threshold is not None else {}
+    if _flag(layer, scene, "denoising_store_passes", "cycles"):
+        data["denoising_passes"] = True
     depth = wanted_strategy_depth(layer)
     if depth is not None:
         if integrator == "bdpt":

@@ -818,6 +818,26 @@ def data_passes():
     return scene
 
 
+def denoising_data():
+    """Cycles' denoising data: a smooth glass ball (IOR 1.5) and a diffuse ball on a diffuse
+    floor, a tinted mirror (Glossy BSDF, roughness 0) standing behind them and a blue wall
+    behind the camera's view, under a sun and a blue world: the ball and the mirror show
+    the albedo and normal of what they refract and reflect, the depth along the way."""
+    scene = reset(40)
+    bg = scene.world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (0.4, 0.5, 0.7, 1.0)
+    plane("Floor", 12.0, diffuse_material("FloorMat", (0.6, 0.55, 0.5)))
+    smooth_ball("GlassBall", (0.5, 0, 0.6), 0.6,
+                node_material("Glass", "ShaderNodeBsdfGlass", {"Color": (1, 1, 1, 1), "Roughness": 0.0, "IOR": 1.5},
+                              distribution="SHARP"))
+    smooth_ball("DiffuseBall", (-0.9, -0.3, 0.45), 0.45, diffuse_material("BallMat", (0.8, 0.3, 0.2)))
+    mirror = plane("Mirror", 2.4, glossy_material("Mirror", 0.0, (0.9, 0.8, 0.7)), location=(-0.3, 1.6, 1.2))
+    mirror.rotation_euler = (math.radians(80), 0, math.radians(-15))
+    light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(35), 0, math.radians(30)))
+    camera_looking_at((0.3, -4.0, 1.8), (0, 0.5, 0.6), 40)
+    return scene
+
+
 LIGHT_PATH_SCENES = ["light_paths_diffuse", "light_paths_mirror", "light_paths_caustics", "light_paths_clamp",
                      "light_paths_filter_glossy"]
 
@@ -983,6 +1003,7 @@ SCENES = {
     "film_transparent": film_transparent,
     "light_passes": light_passes,
     "data_passes": data_passes,
+    "denoising_data": denoising_data,
     "motion_square": lambda: motion_blur("square"),
     "motion_camera": lambda: motion_blur("camera"),
     "motion_deform": lambda: motion_blur("deform"),

@@ -18,7 +18,9 @@
 //   holds the distance to the mirror plus the reflected distance;
 // - a scattering in a volume ends it with Normal (0, 0, -1) and Albedo += throughput x
 //   the medium's single-scattering albedo;
-// - what the path never writes stays 0 (the world seen directly or in a mirror).
+// - emission the path finds on the way (emitters, lamps, the world, seen directly or through
+//   the near-specular surfaces) adds throughput x its contribution to Albedo, as Cycles;
+// - what the path never writes stays 0 (Normal and Depth where the world is seen).
 // The pixel holds the mean over its samples (the normal is not renormalised, as Cycles).
 #pragma once
 #include <array>
@@ -61,6 +63,11 @@ struct DenoisingSample {
       throughput *= c.specular_albedo;
     }
   }
+  // Emission the path finds (an emitter, a lamp, the world; MIS-weighted as the image
+  // has it) while the features are active: Cycles adds it to the albedo too
+  // (film_write_emission_or_background_pass), so the world seen directly or in a mirror
+  // shows its colour there.
+  void add_emission(Color contribution) { albedo += throughput * contribution; }
   // A scattering in a volume of single-scattering albedo `medium_albedo`.
   void add_volume_scatter(Color medium_albedo) {
     normal = Vec3(0, 0, -1);

@@ -118,8 +118,12 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     float tmax = found ? hit.t : ray.tmax;
     // Lamps a camera path passes (they are not in the BVH; light paths ignore them, as
     // lamps neither reflect nor block).
+    // The denoising data (film/denoising_passes.h) take the emission the camera path finds
+    // while their features are active, unweighted (as Cycles' path tracing finds it
+    // through near-specular surfaces).
+    DenoisingSample *const denoising = camera && data && data->denoising.active ? &data->denoising : nullptr;
     Color lamp_L;
-    int lamp = mode == TransportMode::Radiance && emitted
+    int lamp = mode == TransportMode::Radiance && (emitted || denoising)
                    ? scene_.nearest_lamp(ray, lamp_facing, lamp_passed, tmax, lamp_L)
                    : -1;
     if constexpr (kMedia) {
@@ -148,7 +152,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
           v.link_to_prev(prev, pdf_fwd);
           if (camera) v.filter_pdf = filter.min_pdf;
           see_through = false;
-          if (camera && data && data->denoising.active) data->denoising.add_volume_scatter(medium.scattering_albedo());
+          if (denoising) denoising->add_volume_scatter(medium.scattering_albedo());
           ++n;
           if (n >= max_vertices || see_through_only) return n;
           sampler.start_stream(stream, dims::bounce(k, dims::kScatterDirection));
@@ -174,7 +178,8 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     if (lamp >= 0) {
       // The path that ends on the lamp (s = 0), weighted here; the walk goes on past it.
       Vec3 q = ray.o + ray.d * tmax;
-      emitted[n] += lamp_emission(lamp, q, -ray.d, lamp_L, beta, path, n, pdf_fwd, stats);
+      if (emitted) emitted[n] += lamp_emission(lamp, q, -ray.d, lamp_L, beta, path, n, pdf_fwd, stats);
+      if (denoising) denoising->add_emission(beta * lamp_L);
       if (++boundary_crossings > 256) return n;
       ++crossings;
       cone = cone.after(tmax);
@@ -195,6 +200,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
         v.wo = -ray.d;
         v.beta = beta;
         v.pdf_fwd = pdf_fwd;  // infinite lights keep solid-angle densities
+        if (denoising) denoising->add_emission(beta * Le(v, prev, stats));
         ++n;
       }
       return n;
@@ -238,7 +244,10 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
         v.blur_threshold = v.bsdf.blur_threshold();
       }
     }
-    if (camera && data && data->denoising.active) scene_.add_denoising_surface(v.bsdf, v.wo, hit.t, data->denoising);
+    if (denoising) {
+      if (v.light >= 0) denoising->add_emission(beta * Le(v, prev, stats));
+      scene_.add_denoising_surface(v.bsdf, v.wo, hit.t, *denoising);
+    }
     v.link_to_prev(prev, pdf_fwd);
     v.surface_connectible = v.bsdf.has_lobes() && !v.bsdf.is_delta();
     if (settings_.mis == MisHeuristic::LafortuneWillems) v.specularity = v.bsdf.specularity();

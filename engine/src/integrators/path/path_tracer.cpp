@@ -164,8 +164,16 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     Color v = limits_.clamps ? limits_.clamp(c, vertices) : c;
     L += v;
     if (passes) passes->add(v, vertices, first_split, background);
+    return v;
   };
   auto add = [&](const Color &c, int vertices) { add_to_passes(c, vertices, false); };
+  // Emission the path itself finds (not next-event estimation's): the denoising albedo
+  // takes it too while its features are active (film/denoising_passes.h).
+  DenoisingSample *const denoising = first_hit ? &first_hit->data.denoising : nullptr;
+  auto add_found = [&](const Color &c, int vertices, bool background = false) {
+    const Color v = add_to_passes(c, vertices, background);
+    if (denoising && denoising->active) denoising->add_emission(v);
+  };
   // Transparent film (film_alpha.h): whether the camera still sees through to the
   // background, and what of the sample did. The data passes (film/data_passes.h) follow
   // the same chain of surfaces, so it is tracked whenever they are asked for.
@@ -214,7 +222,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
               float pdf_light = dist.pmf(medium.light) * light->volume->pdf(x) * length_squared(x - prev_p);
               w = power_heuristic(prev_pdf * rate, pdf_light);
             }
-            add(beta * c * w, depth);
+            add_found(beta * c * w, depth);
           });
         }
         dims::SegmentDims f = segment_dims(dims::kMedium);
@@ -226,7 +234,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           // function, then a new direction from it.
           Vec3 p = ray.o + ray.d * ms.t;
           Vec3 wo = -ray.d;
-          if (data && data->denoising.active) data->denoising.add_volume_scatter(medium.scattering_albedo());
+          if (denoising && denoising->active) denoising->add_volume_scatter(medium.scattering_albedo());
           if (depth >= max_bounces_ || stop_after) break;
           auto phase = [&](Vec3 wi, float *pdf) {
             *pdf = medium.phase.pdf(wo, wi);
@@ -260,7 +268,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       const Light &lamp = scene_.lights()[hit_light];
       float pdf = light_pdf(lamp, prev_p, ray.d, length(q - prev_p));
       if (shadows_allow(lamp, shadow_ray(prev_p, prev_ng, prev_error, q, Vec3(0.0f), Vec3(0.0f))))
-        add(beta * light_L * emission_weight(hit_light, pdf), depth);
+        add_found(beta * light_L * emission_weight(hit_light, pdf), depth);
       // Not a bounce: on from the lamp's point to what lies behind it.
       if (++boundary_crossings > 256) break;
       ++crossings;
@@ -282,8 +290,8 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
         if (!shadows_allow(light, shadow_ray_to_infinity(prev_p, prev_ng, prev_error, ray.d))) continue;
         Color Le = infinite_light_radiance(light, ray.d);
         if (!is_black(Le))
-          add_to_passes(beta * Le * emission_weight(li, light_pdf(light, prev_p, ray.d, kInf)), depth,
-                        light.type == LightType::Background);
+          add_found(beta * Le * emission_weight(li, light_pdf(light, prev_p, ray.d, kInf)), depth,
+                    light.type == LightType::Background);
       }
       break;
     }
@@ -313,7 +321,6 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       if (h >= 1) break;  // all held out: nothing of it is seen
     }
     if (see_through && data) scene_.add_data_passes(hit, beta, alpha_.pass_alpha_threshold, *data);
-    if (data && data->denoising.active) scene_.add_denoising_surface(bsdf, wo, hit.t, data->denoising);
     if (passes && depth == 0) {  // the colour passes: every layer the camera sees, by what reaches it
       Color colors[kColorKinds];
       bsdf.kind_colors(wo, colors);
@@ -325,8 +332,9 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       const Light &light = scene_.light_now(li, moved);  // where the ray met it
       float pdf = light_pdf(light, prev_p, ray.d, length(hit.p - prev_p));
       if (shadows_allow(light, shadow_ray(prev_p, prev_ng, prev_error, hit.p, hit.ng, hit.error)))
-        add(beta * Le * emission_weight(li, pdf), depth);
+        add_found(beta * Le * emission_weight(li, pdf), depth);
     }
+    if (denoising && denoising->active) scene_.add_denoising_surface(bsdf, wo, hit.t, *denoising);
     if (depth == 0 && first_hit) {
       const Camera &cam = scene_.camera_now();
       first_hit->valid = true;

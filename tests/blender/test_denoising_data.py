@@ -1,0 +1,163 @@
+"""Cycles' denoising data against Cycles: build_scenes.denoising_data (40x40: a smooth glass
+ball, a diffuse ball, a tinted mirror behind them on a diffuse floor) rendered by Cycles, then
+by Rendezvous' path tracer, BDPT and PSSMLT in this process with View Layer > Passes > Data >
+Denoising Data on, written as a multilayer EXR and read back pass by pass (oiiotool).
+Per integrator and pass (Denoising Normal, Albedo, Depth):
+- the image's mean of each channel within MEAN_ABS of Cycles' (Depth: MEAN_REL relative);
+- 8x8 block means within BLOCK_ABS of Cycles' (Depth: BLOCK_REL relative) in every block
+  (PSSMLT, whose features come from its 4-sample first-hit pass: the means only).
+The glass ball's pixels are noisy in both (each sample follows its path's Fresnel choice),
+which is what the block tolerances allow for at these sample counts.
+
+Then Blender's compositor Denoise node on Rendezvous' passes: a 4-spp path-traced image with
+its Denoising Normal and Albedo through Render Layers > Denoise > Composite, against a 1024-spp
+render: the RMS error of the noisy and of the denoised image are printed. Debian's Blender 3.4
+is built without OpenImageDenoise, and its Denoise node then passes the image through
+unchanged; the test says which it saw (either passes: the figure is the report).
+
+    run_blender.py --script test_denoising_data.py -- [--samples N]
+"""
+
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import traceback
+
+import bpy
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from test_brightness import build_scenes, finish, out_dir  # noqa: E402
+from test_light_passes import read_rgb  # noqa: E402
+from test_light_paths import render as render_engine  # noqa: E402
+import numpy as np  # noqa: E402
+
+PASSES = [("Denoising Normal", "XYZ"), ("Denoising Albedo", "RGB"), ("Denoising Depth", "Z")]
+MEAN_ABS, BLOCK_ABS = 0.01, 0.04   # normal and albedo
+MEAN_REL, BLOCK_REL = 0.01, 0.04   # depth
+BLOCK = 8
+
+
+def read_passes(path, layer, odir, tag):
+    """{pass name: H x W x 3} from the multilayer EXR at path (Depth repeated)."""
+    out = {}
+    for name, chans in PASSES:
+        one = os.path.join(odir, "%s_%s.exr" % (tag, name.replace(" ", "_")))
+        cs = ["%s.%s.%s" % (layer, name, c) for c in chans]
+        if len(cs) == 1:
+            cs = cs * 3
+        subprocess.run(["oiiotool", path, "--ch", ",".join(cs), "--chnames", "R,G,B", "-d", "float", "-o", one],
+                       check=True, capture_output=True)
+        out[name] = read_rgb(one)
+    return out
+
+
+def render(scene, engine, samples, path, integrator="PATH"):
+    render_engine(scene, engine, samples, path + ".single.exr", integrator)
+    scene.render.image_settings.file_format = "OPEN_EXR_MULTILAYER"
+    scene.render.image_settings.color_depth = "32"
+    bpy.data.images["Render Result"].save_render(path)
+    return read_passes(path, bpy.context.view_layer.name, os.path.dirname(path), os.path.basename(path))
+
+
+def block_means(img):
+    h, w = img.shape[:2]
+    return img[:h // BLOCK * BLOCK, :w // BLOCK * BLOCK].reshape(h // BLOCK, BLOCK, w // BLOCK, BLOCK, -1).mean(axis=(1, 3))
+
+
+def compare(label, name, ref, test, blocks=True):
+    """Failures of test against ref for one pass (messages), printing the figures."""
+    depth = name == "Denoising Depth"
+    r, t = (ref[:, :, :1], test[:, :, :1]) if depth else (ref, test)
+    mr, mt = r.reshape(-1, r.shape[2]).mean(axis=0), t.reshape(-1, t.shape[2]).mean(axis=0)
+    br, bt = block_means(r), block_means(t)
+    if depth:
+        mean_err = np.abs(mt - mr) / np.maximum(np.abs(mr), 1e-6)
+        block_err = np.abs(bt - br) / np.maximum(np.abs(br), 0.25)  # (blocks of the world: 0)
+        mean_tol, block_tol = MEAN_REL, BLOCK_REL
+    else:
+        mean_err, block_err = np.abs(mt - mr), np.abs(bt - br)
+        mean_tol, block_tol = MEAN_ABS, BLOCK_ABS
+    bad = int((block_err.max(axis=2) > block_tol).sum())
+    print("DENOISING %-7s %-16s means Cycles %s Rendezvous %s; worst mean error %.4f (tolerance %.2f), "
+          "worst 8x8 block error %.4f (tolerance %.2f), %d of %d blocks beyond"
+          % (label, name, np.round(mr, 4).tolist(), np.round(mt, 4).tolist(), mean_err.max(), mean_tol,
+             block_err.max(), block_tol, bad, block_err.shape[0] * block_err.shape[1]))
+    failures = []
+    if mean_err.max() > mean_tol:
+        failures.append("%s %s: mean error %.4f > %.2f" % (label, name, mean_err.max(), mean_tol))
+    if blocks and bad:
+        failures.append("%s %s: %d blocks beyond %.2f" % (label, name, bad, block_tol))
+    return failures
+
+
+def denoise_node_check(scene, odir):
+    """Renders 4 spp through the compositor's Denoise node and 1024 spp without it; prints the
+    RMS errors. Returns failures (non-finite output, or a denoiser that made it worse)."""
+    scene.use_nodes = True
+    tree = scene.node_tree
+    for node in list(tree.nodes):
+        tree.nodes.remove(node)
+    layers = tree.nodes.new("CompositorNodeRLayers")
+    denoise = tree.nodes.new("CompositorNodeDenoise")
+    composite = tree.nodes.new("CompositorNodeComposite")
+    tree.links.new(layers.outputs["Image"], denoise.inputs["Image"])
+    tree.links.new(layers.outputs["Denoising Normal"], denoise.inputs["Normal"])
+    tree.links.new(layers.outputs["Denoising Albedo"], denoise.inputs["Albedo"])
+    tree.links.new(denoise.outputs["Image"], composite.inputs["Image"])
+    scene.render.use_compositing = True
+    denoised, _ = render_engine(scene, "RENDEZVOUS", 4, os.path.join(odir, "denoise_node_4spp.exr"), "PATH")
+    denoise.mute = True  # the same render without the denoiser
+    noisy, _ = render_engine(scene, "RENDEZVOUS", 4, os.path.join(odir, "denoise_node_4spp_noisy.exr"), "PATH")
+    reference, _ = render_engine(scene, "RENDEZVOUS", 1024, os.path.join(odir, "denoise_node_1024spp.exr"), "PATH")
+    scene.use_nodes = False
+
+    def rms(a):
+        return float(np.sqrt(np.mean((a - reference) ** 2)))
+
+    passed_through = np.array_equal(denoised, noisy)
+    print("DENOISE NODE 4 spp RMS error vs 1024 spp: noisy %.5f, through the Denoise node %.5f (%s); "
+          "reference mean %.4f" % (rms(noisy), rms(denoised),
+                                   "unchanged: this Blender's Denoise node has no OpenImageDenoise"
+                                   if passed_through else "%.2fx lower" % (rms(noisy) / max(rms(denoised), 1e-12)),
+                                   float(reference.mean())))
+    failures = []
+    if not np.isfinite(denoised).all():
+        failures.append("Denoise node: non-finite pixels")
+    elif not passed_through and rms(denoised) >= rms(noisy):
+        failures.append("Denoise node: error %.5f not below the noisy image's %.5f" % (rms(denoised), rms(noisy)))
+    return failures
+
+
+def main():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--samples", type=int, default=256)
+    a = ap.parse_args(argv)
+    odir = out_dir()
+    failures = []
+    if not shutil.which("oiiotool"):
+        finish("DENOISING DATA", ["oiiotool (Debian's openimageio-tools) is needed to read the passes"], odir)
+    try:
+        scene = build_scenes.build("denoising_data")
+        layer = bpy.context.view_layer
+        layer.cycles.denoising_store_passes = True
+        ref = render(scene, "CYCLES", a.samples, os.path.join(odir, "denoising_cycles.exr"))
+        for integrator, samples in (("PATH", a.samples), ("BDPT", a.samples // 2), ("PSSMLT", 4)):
+            test = render(scene, "RENDEZVOUS", samples, os.path.join(odir, "denoising_%s.exr" % integrator.lower()),
+                          integrator)
+            if not all(np.isfinite(p).all() for p in test.values()):
+                failures.append("%s: non-finite pixels" % integrator)
+                continue
+            for name, _ in PASSES:
+                failures += compare(integrator, name, ref[name], test[name], blocks=integrator != "PSSMLT")
+        failures += denoise_node_check(scene, odir)
+    except Exception as exc:
+        traceback.print_exc()
+        failures.append("denoising data: %s" % exc)
+    finish("DENOISING DATA", failures, odir)
+
+
+if __name__ == "__main__":
+    main()
