@@ -44,6 +44,14 @@ static Image render_scene(rdv_scene *scene, const rdv_tools::LoadedScene &loaded
     if (rdv_session_read_film(session, pass, 0, 0, img.width, img.height, 1, out->data()) != RDV_OK)
       throw std::runtime_error(std::string("read_film: ") + rdv_last_error());
   }
+  if (settings.value("denoising_passes", false))
+    for (auto [pass, out] : {std::pair{RDV_PASS_DENOISING_NORMAL, &img.denoising_normal},
+                             std::pair{RDV_PASS_DENOISING_ALBEDO, &img.denoising_albedo},
+                             std::pair{RDV_PASS_DENOISING_DEPTH, &img.denoising_depth}}) {
+      out->resize(size_t(img.width) * img.height * size_t(rdv_pass_channels(pass)));
+      if (rdv_session_read_film(session, pass, 0, 0, img.width, img.height, 1, out->data()) != RDV_OK)
+        throw std::runtime_error(std::string("read_film: ") + rdv_last_error());
+    }
   // The 3-float passes of [first, last] a setting asks for.
   auto read_passes = [&](const char *setting, int first, int last, std::vector<std::vector<float>> &passes) {
     if (!settings.value(setting, false)) return;

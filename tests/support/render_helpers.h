@@ -38,6 +38,9 @@ struct Image {
   }
   // Data passes (film/data_passes.h): Mist, Object Index, Material Index, top-down.
   std::vector<float> mist, object_index, material_index;
+  // Denoising data (settings "denoising_passes"; film/denoising_passes.h), top-down: Normal
+  // and Albedo 3 floats per pixel, Depth 1; empty without them.
+  std::vector<float> denoising_normal, denoising_albedo, denoising_depth;
   const float *light_pass(rdv_pass pass, int x, int y) const {
     return &light_passes[size_t(pass - RDV_PASS_EMISSION)][(size_t(y) * width + x) * 3];
   }
