@@ -270,11 +270,12 @@ struct BruteForce {
     if (i == n - 1 && end_type != LightType::Triangle && end_type != LightType::Volume) {
       // Lamps: no walk hits them, but for the spheres of lamps with a radius (one lamp in
       // these scenes: nothing else's sphere on the way), where the ray enters: the cosine
-      // at the sphere from the point's offset from the centre.
+      // at the sphere from the point's offset from the centre; and area lamps, from their
+      // emitting side: the cosine to their axis.
       const Light &light = scene.lights()[size_t(v.light)];
-      if (light.radius == 0) return 0;
+      if (light.type != LightType::Area && light.radius == 0) return 0;
       Vec3 w = dir(p, i - 1, i);
-      const double cos_lamp = -dot(sphere_normal(light, v.p), w);
+      const double cos_lamp = -dot(light.type == LightType::Area ? light.axis : sphere_normal(light, v.p), w);
       if (!(cos_lamp > 0)) return 0;
       const Vec3 from = p.x[size_t(i - 1)].v.p;
       return scatter_pdf(p.x[size_t(i - 1)], dir(p, i - 1, i - 2), w, false, blur_alpha(p, i - 1)) * cos_lamp / double(length_squared(v.p - from)) *
@@ -773,6 +774,17 @@ TEST(PathMltDensities, RadiusLampRatiosMatchBruteForce) {
                                           {"direction", {-0.3, 0, -1}}, {"power", 2000}, {"radius", 0.05},
                                           {"spot_size", 1.2}, {"spot_blend", 0.2}}});
   check_scene("fog_door.json (5 cm spot)", fog, 16000, 20);
+}
+
+// An area lamp seen through the glass ball and in the mirror (E S+ L: the camera walk's
+// last step reaches the lamp from its emitting side, the only strategy of such a path):
+// the mirror caustic's lamp made a 20 cm square facing down.
+TEST(PathMltDensities, AreaLampThroughSpecularRatiosMatchBruteForce) {
+  nlohmann::json j = test::load_scene("mirror_caustic.json");
+  j["lights"] = nlohmann::json::array({{{"name", "lamp"}, {"type", "area"}, {"shape", "square"}, {"size", 0.2},
+                                        {"power", 300}, {"transform", {{"look_at", {{"from", {-0.6, -2.0, 2.4}},
+                                                                                     {"to", {-0.3, 0, 0}}}}}}}});
+  check_scene("mirror_caustic.json (area lamp)", j, 12000, 20, 60);
 }
 
 // Lights at infinity (path_space.h): the Cornell box with its lamp taken out of the ceiling

@@ -125,7 +125,7 @@ PathSpace::PathSpace(const Scene &scene, int max_bounces, Vec2 sample_origin, Ve
       mixed_visibility_(scene.has_mixed_visibility()) {
   for (uint32_t i = 0; i < uint32_t(scene.lights().size()); ++i) {
     const Light &light = scene.lights()[i];
-    if (is_sphere_lamp(light)) sphere_lamps_.push_back(i);
+    if (is_sphere_lamp(light) || light.type == LightType::Area) hittable_lamps_.push_back(i);
     if (light.is_infinite() && !light_is_delta_direction(light)) {
       if (infinite_light_ < 0) infinite_light_ = int(i);
       infinite_lights_.push_back(i);
@@ -185,12 +185,15 @@ std::string PathSpace::unsupported(const Scene &scene, const RenderSettings &set
 
 // ---- Sampling ----
 
-int PathSpace::first_sphere_lamp(Vec3 o, Vec3 d, float tmax, float &t, uint32_t mask) const {
+int PathSpace::first_lamp(Vec3 o, Vec3 d, float tmax, float &t, uint32_t mask) const {
   int first = -1;
-  for (uint32_t index : sphere_lamps_) {
-    if (!(scene_.lights()[index].visibility & mask)) continue;  // hidden from this kind of ray
+  for (uint32_t index : hittable_lamps_) {
+    const Light &light = scene_.lights()[index];
+    if (!(light.visibility & mask)) continue;  // hidden from this kind of ray
     float t_lamp;
-    if (intersect_sphere_lamp(scene_.lights()[index], o, d, tmax, t_lamp)) {
+    Color radiance;  // emitted() evaluates it
+    if (is_sphere_lamp(light) ? intersect_sphere_lamp(light, o, d, tmax, t_lamp)
+                              : intersect_light(light, Ray{o, d, tmax}, tmax, t_lamp, radiance)) {
       first = int(index);
       tmax = t = t_lamp;
     }
@@ -207,9 +210,9 @@ bool PathSpace::trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &sta
     ++stats.rays;
     bool found = media_ ? scene_.intersect_media(ray, hit, boundary) : scene_.intersect(ray, hit);
     float segment = found ? hit.t : ray.tmax;
-    // The last vertex from the camera side: a lamp's sphere in front of the surface.
+    // The last vertex from the camera side: a lamp's sphere or an area lamp in front of the surface.
     float t_lamp = 0;
-    const int lamp = to_light ? first_sphere_lamp(ray.o, ray.d, segment, t_lamp, ray.mask) : -1;
+    const int lamp = to_light ? first_lamp(ray.o, ray.d, segment, t_lamp, ray.mask) : -1;
     if (lamp >= 0) segment = t_lamp;
     if (media_) {
       int m = media.current(scene_);
@@ -245,8 +248,13 @@ bool PathSpace::trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &sta
       PathVertex &v = bdpt::fresh_vertex(z.v);
       v.type = VertexType::Light;
       v.light = lamp;
-      v.ng = v.ns = normalize(ray.o + ray.d * t_lamp - light.position);
-      v.p = light.position + v.ng * light.radius;
+      if (light.type == LightType::Area) {  // a point on the rectangle or disk, its emitting side toward the ray
+        v.ng = v.ns = light.axis;
+        v.p = ray.o + ray.d * t_lamp;
+      } else {
+        v.ng = v.ns = normalize(ray.o + ray.d * t_lamp - light.position);
+        v.p = light.position + v.ng * light.radius;
+      }
       v.wo = -ray.d;
       v.media = media;
       return true;
@@ -875,16 +883,17 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   f *= emitted(last, -toward(y.x[size_t(n - 2)], last), kind_at_light);
   y.fwd[0] = 1.0 / camera.aperture_area();  // a point uniform on the aperture (pinhole, orthographic: 1)
   // The camera side reaches the light where its last ray meets it first: a lamp's sphere
-  // where the ray enters it (emitted() is 0 from inside), another lamp's sphere on the
-  // way takes the ray instead; point and spot lamps without a radius and suns without an
+  // where the ray enters it (emitted() is 0 from inside), an area lamp from its emitting
+  // side (E S+ L through a mirror or glass has no other strategy), another lamp on the way
+  // takes the ray instead; point and spot lamps without a radius and suns without an
   // angle are never reached; the other lights at infinity where the ray escapes.
   // A volume light where the last step's free flight stops in its medium: only if it scatters.
   const bool reachable = last.v.infinite                  ? !light_is_delta_direction(light)
                          : light.type == LightType::Volume ? medium_scatters(scene_.medium(last.v.medium))
-                                                           : !lamp || is_sphere_lamp(light);
+                                                           : !lamp || is_sphere_lamp(light) || light.type == LightType::Area;
   if (!reachable) {
     y.fwd[size_t(n - 1)] = 0;
-  } else if (!sphere_lamps_.empty()) {
+  } else if (!hittable_lamps_.empty()) {
     Vec3 from = y.x[size_t(n - 2)].v.p;
     if (n == 2) from = from + w0 * (camera.clip_start / dot(w0, camera.forward()));
     float t, length_d = kInf;
@@ -894,7 +903,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
       length_d = length(d);
       w_last = d / length_d;
     }
-    const int first = first_sphere_lamp(from, w_last, length_d * (1 - 1e-4f), t, ray_kind);
+    const int first = first_lamp(from, w_last, length_d * (1 - 1e-4f), t, ray_kind);
     if (first >= 0 && (last.v.infinite || first != last.v.light)) y.fwd[size_t(n - 1)] = 0;
   }
   y.rev[size_t(n - 1)] = light_position_density(last);

@@ -12,7 +12,7 @@
 // neighbour), free-flight distances by one channel chosen uniformly, a camera ray by a
 // raster point uniform over the sample region, a light by power and a point uniform on
 // it (a lamp with a radius: a point on its sphere, lights/sphere_lamp.h, which the camera
-// side's last step may also reach). Lights at infinity (sun, world): the last vertex is a
+// side's last step may also reach, as it reaches an area lamp). Lights at infinity (sun, world): the last vertex is a
 // direction (solid-angle measure, no geometry term on its edge); the camera side reaches it
 // by escaping (the BSDF / phase density of the direction); the light side picks it by the
 // light's direction density (a sun without an angle: a delta, never hit) and then the next
@@ -167,7 +167,7 @@ class PathSpace {
   // specular vertices as x has there (each must scatter by a delta lobe, sampled as the
   // camera walk samples it) to y_b, x_b the next non-specular vertex; y_b is joined to
   // x_(b+1) when that is not specular, else the next chain starts at y_b. A chain that ends
-  // at the light must hit it (a lamp with a radius, a mesh lamp, a light at infinity).
+  // at the light must hit it (a lamp with a radius, an area lamp, a mesh lamp, a light at infinity).
   // T(y->x) / T(x->y) = P(x) / P(y), P = prod fwd[1..c] times, per chain, fwd_area[a+1]
   // prod fwd[a+2..b] (the turn's density cancels).
   Proposal perturb_multi_chain(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
@@ -211,12 +211,12 @@ class PathSpace {
   // Light-side walks do not know the kind of the scattering they will meet: they meet what
   // any ray but the camera's meets.
   uint32_t light_walk_mask() const { return visibility_ ? visibility::kNonCamera : visibility::kAnyRay; }
-  // to_light: the last vertex from the camera side, which may be a lamp's sphere.
+  // to_light: the last vertex from the camera side, which may be a lamp's sphere or an area lamp.
   bool trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &stats, ExplicitVertex &z,
                   bool to_light = false) const;
-  // The sphere lamp (lights/sphere_lamp.h) the ray o + t d enters first for t < tmax
-  // (its index, t), or -1.
-  int first_sphere_lamp(Vec3 o, Vec3 d, float tmax, float &t, uint32_t mask) const;
+  // The lamp the ray o + t d meets first for t < tmax (its index, t), or -1: a sphere lamp
+  // (lights/sphere_lamp.h) where the ray enters it, an area lamp from its emitting side.
+  int first_lamp(Vec3 o, Vec3 d, float tmax, float &t, uint32_t mask) const;
   // x_0: the pinhole, a point uniform on a thin lens's aperture, or (orthographic) a
   // stand-in that evaluate() moves to x_1's foot on the image plane.
   bool camera_vertex(Pcg32 &rng, ExplicitVertex &z) const;
@@ -268,7 +268,7 @@ class PathSpace {
   bool media_;
   bool motion_;  // Scene::has_motion
   bool visibility_, mixed_visibility_;  // Scene::has_ray_visibility / has_mixed_visibility
-  std::vector<uint32_t> sphere_lamps_;  // the lights that are lamps with a radius
+  std::vector<uint32_t> hittable_lamps_;  // lamps with a radius (spheres) and area lamps: camera walks reach them
   // The lights at infinity but suns without an angle: one vertex (a direction) for all of
   // them, labelled with the first; f sums their radiance, the light side their densities.
   std::vector<uint32_t> infinite_lights_;
