@@ -3,7 +3,6 @@
 // is 1 / sum_i (p_i / p_s)^2, built from running products of reverse/forward density
 // ratios along each subpath, so no product of densities ever overflows.
 #include "integrators/bdpt/bdpt.h"
-#include "lights/sphere_lamp.h"
 
 namespace rdv::bdpt {
 
@@ -34,12 +33,6 @@ void Bdpt::light_densities(const PathVertex &lv, const PathVertex &v, float &ori
   origin = pdf_pos * scene_.light_distribution().pmf(lv.light);
   toward = 0;
   if (!(d2 > 0)) return;
-  // A lamp's sphere: next-event estimation samples the cone it subtends from v, far
-  // denser on the visible cap than the emission's uniform point; its area density stands
-  // for the lamp point (one value per path, so the weights still sum to one).
-  if (is_sphere_lamp(scene_.lights()[uint32_t(lv.light)]))
-    origin = scene_.light_distribution().pmf(lv.light) * sphere_lamp_cone_pdf(scene_.lights()[uint32_t(lv.light)], v.p) *
-             absdot(lv.ng, w) / d2;
   toward = pdf_dir / d2;
   if (v.on_surface()) toward *= absdot(v.ng, w);
 }

@@ -453,12 +453,6 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int
       if (path[1].on_surface()) path[1].pdf_fwd *= absdot(es.ray.d, path[1].ng);
     }
     v.pdf_fwd = infinite_light_density(v.dir);
-  } else if (n > 0 && is_sphere_lamp(light)) {
-    // A lamp's sphere: its point's density is next-event estimation's from the first
-    // vertex, as the other strategies reckon it (Bdpt::light_densities).
-    Vec3 w = path[1].p - v.p;
-    const float d2 = length_squared(w);
-    v.pdf_fwd = d2 > 0 ? pmf * sphere_lamp_cone_pdf(light, path[1].p) * absdot(v.ng, w / std::sqrt(d2)) / d2 : 0.0f;
   }
   // The MIS sums, now that every density is final (the last vertex's is never read).
   set_mis_sum(path, 0, light_start_is_delta(path[0]), balance());
