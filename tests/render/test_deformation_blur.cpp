@@ -202,21 +202,20 @@ TEST(DeformationBlur, DeformingBallMatchesTransformMotionEveryIntegrator) {
   BlockComparison c = compare_blocks(by_vertices, by_transform, kSize, kSize, 8, kAlphaPerBlock);
   EXPECT_EQ(c.failed, 0) << "path: " << c.detail;
   std::printf("[ deformation blur ] vertices vs transform, path: %s\n", c.detail.substr(0, 120).c_str());
-  auto bdpt = seeded_renders(deforming, json{{"integrator", "bdpt"}, {"samples", 32}}.dump(), kRuns, 1001);
-  c = compare_blocks(bdpt, by_vertices, kSize, kSize, 8, kAlphaPerBlock);
-  EXPECT_EQ(c.failed, 0) << "bdpt: " << c.detail;
-  std::printf("[ deformation blur ] bdpt vs path, deforming: %s\n", c.detail.substr(0, 120).c_str());
-  auto pssmlt = seeded_renders(deforming, json{{"integrator", "pssmlt"}, {"samples", 64}, {"mlt_bootstrap", 16}}.dump(),
-                               kRuns, 2001);
-  c = compare_blocks(pssmlt, by_vertices, kSize, kSize, 8, kAlphaPerBlock);
-  EXPECT_EQ(c.failed, 0) << "pssmlt: " << c.detail;
-  std::printf("[ deformation blur ] pssmlt vs path, deforming: %s\n", c.detail.substr(0, 120).c_str());
-  // Path-space mlt: the path's shutter time places every vertex on the deformed mesh.
-  auto mlt = seeded_renders(deforming, json{{"integrator", "mlt"}, {"samples", 64}, {"mlt_bootstrap", 16}}.dump(),
-                            kRuns, 3001);
-  c = compare_blocks(mlt, by_vertices, kSize, kSize, 8, kAlphaPerBlock);
-  EXPECT_EQ(c.failed, 0) << "mlt: " << c.detail;
-  std::printf("[ deformation blur ] mlt vs path, deforming: %s\n", c.detail.substr(0, 120).c_str());
+  // Each integrator against path's deforming renders (path-space mlt: the path's shutter
+  // time places every vertex on the deformed mesh).
+  const struct { json settings; uint32_t seed; } others[] = {
+      {{{"integrator", "bdpt"}, {"samples", 32}}, 1001},
+      {{{"integrator", "pssmlt"}, {"samples", 64}, {"mlt_bootstrap", 16}}, 2001},
+      {{{"integrator", "mlt"}, {"samples", 64}, {"mlt_bootstrap", 16}}, 3001},
+  };
+  for (const auto &other : others) {
+    const std::string name = other.settings["integrator"];
+    c = compare_blocks(seeded_renders(deforming, other.settings.dump(), kRuns, other.seed), by_vertices, kSize, kSize,
+                       8, kAlphaPerBlock);
+    EXPECT_EQ(c.failed, 0) << name << ": " << c.detail;
+    std::printf("[ deformation blur ] %s vs path, deforming: %s\n", name.c_str(), c.detail.substr(0, 120).c_str());
+  }
 }
 
 // One step is no deformation, and steps with the shutter closed are ignored: both render
