@@ -235,8 +235,9 @@ RenderSettings RenderSettings::from_params(Params &p) {
       fail(p.what() + ": 'auto_candidates' must be a non-empty list of integrators");
     for (const nlohmann::json &c : *candidates) {
       const std::string name = c.is_string() ? c.get<std::string>() : c.dump();
-      if (name != "path" && name != "bdpt" && name != "pssmlt" && name != "mmlt")
-        fail(p.what() + ": 'auto_candidates': unknown integrator '" + name + "' (available: path, bdpt, pssmlt, mmlt)");
+      if (name != "path" && name != "bdpt" && name != "pssmlt" && name != "mmlt" && name != "mlt")
+        fail(p.what() + ": 'auto_candidates': unknown integrator '" + name +
+             "' (available: path, bdpt, pssmlt, mmlt, mlt)");
       s.auto_candidates.push_back(name);
     }
   }

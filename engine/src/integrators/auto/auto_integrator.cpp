@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "film/film.h"
 #include "film/image_error.h"
+#include "integrators/mlt/path_space.h"
 #include "render/render_control.h"
 
 namespace rdv {
@@ -62,6 +63,20 @@ AutoIntegrator::AutoIntegrator(const Scene &scene, const RenderSettings &setting
   if (!(settings.time_limit > 0))
     fail("render settings: integrator 'auto' picks by error x time: it needs a time limit ('time_limit')");
   if (settings.auto_candidates.empty()) fail("render settings: integrator 'auto' has no candidates");
+  // Path-space mlt does not render every scene (PathSpace::unsupported): a candidate
+  // that would refuse it is left out, with the reason, instead of failing the render.
+  std::vector<std::string> &candidates = settings_.auto_candidates;
+  for (auto it = candidates.begin(); it != candidates.end();) {
+    const std::string why = *it == "mlt" ? mlt::PathSpace::unsupported(scene, settings) : "";
+    if (why.empty()) {
+      ++it;
+      continue;
+    }
+    scene.warn("integrator auto: candidate mlt left out: " + why);
+    it = candidates.erase(it);
+  }
+  if (candidates.empty())
+    fail("render settings: integrator 'auto': no candidate can render this scene (mlt: see the warning)");
 }
 
 AutoChoice AutoIntegrator::choose(RenderContext &ctx) {
