@@ -384,19 +384,28 @@ struct BruteForce {
   }
   // The lens subpath mutation's walk from the camera (path_space.h) makes p's vertices
   // 1 .. c with the product of their camera-side densities, but only through surfaces whose
-  // BSDF (rebuilt here) is all delta; to a light (c the last vertex) it passes no emitting
-  // surface and no lamp before it (each lamp intersected here), where it would have ended.
+  // BSDF (rebuilt here) is all delta. A short path (E S* L, E S* D L) is made whole: its walk
+  // passes no emitting surface and no lamp (each lamp intersected here), where it would have
+  // ended, and E S* D L's D is no light (an emitting surface, a point of an emissive medium),
+  // its light vertex then sampled by the light side.
   double lens_walk(const ExplicitPath &p, int c) const {
     shutter::SampleTime at(p.time);
-    const bool to_light = c == p.n - 1;
+    const bool short_path = c >= p.n - 2, to_d = c == p.n - 2;
     double density = 1;
     for (int i = 1; i <= c; ++i) density *= camera_side(p, i);
     for (int i = 1; i < c; ++i) {
       const ExplicitVertex &v = p.x[size_t(i)];
       if (v.v.type != VertexType::Surface || !scene.bsdf(v.hit, dir(p, i, i - 1), 0).is_delta()) return 0;
-      if (to_light && scene.material(v.hit.material).emits()) return 0;
+      if (short_path && scene.material(v.hit.material).emits()) return 0;
     }
-    for (int i = 0; to_light && i + 1 < c; ++i) {
+    if (!short_path) return density;
+    if (to_d) {
+      const ExplicitVertex &d = p.x[size_t(c)];
+      if (d.v.type == VertexType::Surface && scene.material(d.hit.material).emits()) return 0;
+      if (d.v.type == VertexType::Medium && scene.medium(d.v.medium).is_emissive()) return 0;
+      density *= light_side(p, p.n - 1);
+    }
+    for (int i = 0; i + 1 < c || (to_d && i < c); ++i) {
       Vec3 a = p.x[size_t(i)].v.p;
       const Vec3 w = dir(p, i, i + 1);
       if (i == 0) a = a + w * float(scene.camera_now().clip_start / dot(w, scene.camera_now().forward()));
@@ -488,8 +497,8 @@ int specular_vertices(const ExplicitPath &p) {
 // box_lo, box_hi: the scene's one medium is in that axis-aligned box (BruteForce::box).
 // filter_glossy: Cycles' Filter Glossy (0: off). grid: the box's medium is a grid
 // (BruteForce::grid_flight).
-// Returns how many lens subpath proposals went from a path E S* L to another with a specular
-// vertex in either.
+// Returns how many lens subpath proposals made a path E S* L with a specular vertex in it or
+// in the path it came from.
 int check_scene(const std::string &name, const nlohmann::json &json, int starts, int mutations_per_start,
                 int min_specular = 0, const Vec3 *box_lo = nullptr, const Vec3 *box_hi = nullptr,
                 float filter_glossy = 0, bool grid = false) {
@@ -513,7 +522,7 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
   int checked = 0, worse = 0, medium_paths = 0, large = 0, lens = 0, specular = 0, lens_specular = 0, caustic = 0;
   int lens_subpaths = 0, multi_chain = 0, multi_chain_chains = 0, multi_chain_to_light = 0;
   int lens_subpath_new_shape = 0, lens_subpath_to_light = 0;  // another specular count; E S* L to E S* L
-  int lens_subpath_to_light_specular = 0;
+  int lens_subpath_to_light_specular = 0, lens_subpath_short = 0;  // E S* L to E S* D L or back
   int off_sphere = 0, infinite = 0, delta_sun = 0, volume_light = 0, volume_light_camera_side = 0;
   int time_moved = 0, time_lost = 0;
   int blurred = 0;  // Filter Glossy: proposals with a vertex the blur changed  // motion blur: large steps that drew a new time; others that changed it
@@ -589,7 +598,8 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
         p = space.perturb_lens(x, rng, stats, y);
       }
       if (!(p.ratio > 0)) continue;
-      const int cy = subpath ? p.na : c;  // y's first non-specular vertex
+      int cy = 1;  // y's first non-specular vertex
+      while (cy < y.n - 1 && y.x[size_t(cy)].v.delta) ++cy;
       double brute_ratio = 1;
       if (subpath) {
         brute_ratio = brute.lens_walk(x, c) / brute.lens_walk(y, cy);
@@ -597,8 +607,11 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
         for (int i = 1; i <= c; ++i) brute_ratio *= brute.camera_side(x, i) / brute.camera_side(y, i);
       }
       double error = std::fabs(std::log(p.ratio / brute_ratio));
-      bool same_rest = y.n == x.n - c + cy && p.m == c + 1 && cy >= 1;
-      for (int i = c + 1; same_rest && i < x.n; ++i) same_rest = y.x[size_t(i - c + cy)].v.p == x.x[size_t(i)].v.p;
+      // A short path (E S* L, E S* D L) is replaced whole by another; else x_(c+1) .. are kept.
+      const bool short_path = subpath && c >= x.n - 2;
+      bool same_rest = short_path ? p.m == x.n && cy >= y.n - 2 : y.n == x.n - c + cy && p.m == c + 1;
+      for (int i = c + 1; same_rest && !short_path && i < x.n; ++i)
+        same_rest = y.x[size_t(i - c + cy)].v.p == x.x[size_t(i)].v.p;
       for (int i = 1; same_rest && i < cy; ++i) same_rest = y.x[size_t(i)].v.delta;
       EXPECT_TRUE(same_rest) << name << ": the lens " << (subpath ? "subpath mutation" : "perturbation")
                              << " moved more than x_1 .. x_c";
@@ -606,8 +619,9 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
       lens_specular += c > 1 || cy > 1;
       if (subpath) {
         lens_subpath_new_shape += cy != c;
-        lens_subpath_to_light += c == x.n - 1;
-        lens_subpath_to_light_specular += c == x.n - 1 && (c > 1 || cy > 1);
+        lens_subpath_to_light += cy == y.n - 1;
+        lens_subpath_to_light_specular += cy == y.n - 1 && (c > 1 || cy > 1);
+        lens_subpath_short += short_path && (c == x.n - 1) != (cy == y.n - 1);
       }
       if (!(error < 1e-3)) {
         ++worse;
@@ -690,9 +704,10 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
               name.c_str(), checked, large, specular, lens, lens_subpaths, lens_specular, caustic, multi_chain,
               multi_chain_chains, multi_chain_to_light, medium_paths, infinite, delta_sun, volume_light,
               volume_light_camera_side, worst, worst_f);
-  std::printf("[ mlt densities ] %-12s lens subpath: %d with another number of specular vertices, %d of E S* L "
-              "paths (%d with specular vertices)\n",
-              name.c_str(), lens_subpath_new_shape, lens_subpath_to_light, lens_subpath_to_light_specular);
+  std::printf("[ mlt densities ] %-12s lens subpath: %d with another number of specular vertices, %d to E S* L "
+              "(%d with specular vertices), %d between E S* L and E S* D L\n",
+              name.c_str(), lens_subpath_new_shape, lens_subpath_to_light, lens_subpath_to_light_specular,
+              lens_subpath_short);
   if (scene.has_motion())
     std::printf("[ mlt densities ] %-12s motion: %d of %d large steps at a new shutter time\n", name.c_str(), time_moved,
                 large);

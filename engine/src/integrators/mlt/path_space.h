@@ -175,12 +175,16 @@ class PathSpace {
   // Veach's lens subpath mutation (sec. 11.4.4): x's lens subpath x_1 .. x_c replaced by a
   // camera walk through the raster point given (the chain's stratified sequence), on through
   // surfaces whose BSDF is all delta lobes (an event sampled at each) for as many vertices as
-  // it takes (walk_lens_subpath): E S* D joined to a non-specular x_(c+1) when x has one,
-  // else (x is E S* L) the whole path a walk E S* L to the first light it meets, so the
-  // lamp seen in a mirror or through glass is proposed wherever the lamp is seen. The new
-  // subpath's density is the walk's and the same for any x: T(y->x) / T(x->y) =
-  // lens_subpath_density(x) / lens_subpath_density(y) (the raster density, uniform on the
-  // region, in fwd[1]), exact when the raster point is uniform.
+  // it takes (walk_lens_subpath). A path with more after its lens subpath than the light
+  // (E S* D D ..., E S* D S ...: x_(c+1) must not be specular) keeps x_(c+1) .. and the walk
+  // ends at its first vertex that is not all delta, joined to x_(c+1). A short path (E S* L,
+  // E S* D L) is replaced whole: the walk ends at the first light it meets (E S* L: the lamp
+  // seen directly, in a mirror or through glass, which only a camera walk makes) or at its
+  // first vertex that is not all delta, joined to a light vertex sampled as the light side
+  // samples it (E S* D L). The new path's density is the walk's (and the light vertex's)
+  // whatever x is: T(y->x) / T(x->y) = lens_subpath_density(x) / lens_subpath_density(y)
+  // (the raster density, uniform on the region, in fwd[1]), exact when the raster point is
+  // uniform.
   Proposal lens_subpath(const ExplicitPath &x, Vec2 raster, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
   // After the bootstrap: whether any of its paths had a specular vertex. Without, the caustic
   // and multi-chain perturbations could only fail and get weight 0 (fixed before the chains run).
@@ -253,18 +257,19 @@ class PathSpace {
   Proposal lens_move(const ExplicitPath &x, Vec2 raster, MutationType type, Pcg32 &rng, RayStats &stats,
                      ExplicitPath &y) const;
   // The lens subpath mutation's walk: y_0 = x_0, y_1 from the camera ray through `raster`,
-  // then on from each vertex whose BSDF is all delta lobes (an event sampled there). It ends
-  // (to_light) at the first light it meets: a lamp in front of the next surface, a mesh
-  // lamp, a light at infinity, a volume light where a free flight stops; or (not to_light,
-  // lamps passed as the walks pass them) at the first vertex that is not all delta. Returns
-  // that vertex's index c (0: none; the walk ended otherwise, or y_c would leave fewer than
-  // `after` vertices of room).
+  // then on from each vertex whose BSDF is all delta lobes (an event sampled there), to the
+  // first vertex that is not (returned if `after` more vertices fit behind it). to_light (a
+  // short path's walk): every step may end at a light, which ends the walk (a lamp in front
+  // of the next surface, a mesh lamp, a light at infinity, a volume light where a free flight
+  // stops); without, lamps are passed as the other walks pass them. Returns the end's index
+  // c (0: none; a walk beyond the path length, or a failed sample).
   int walk_lens_subpath(const ExplicitPath &x, Vec2 raster, bool to_light, int after, Pcg32 &rng,
                         RayStats &stats, ExplicitPath &y) const;
   // That walk's density of p's vertices 1 .. c (p evaluated): prod fwd[1..c], 0 where the
-  // walk would not make them (a vertex before c not all delta, or to_light: a light before
-  // c, or a lamp in front on an edge before c's).
-  double lens_subpath_density(const ExplicitPath &p, int c, bool to_light) const;
+  // walk would not make them (a vertex before c not all delta). A short path: also 0 where
+  // it would have ended at a light before (a mesh lamp before c, a lamp in front on an edge,
+  // E S* D L with D a light), and E S* D L times the light vertex's density rev[n - 1].
+  double lens_subpath_density(const ExplicitPath &p, int c, bool short_path) const;
   // w: from the light toward its camera-side neighbour; ray_kind: the kind of ray that meets
   // it (lights at infinity that kind does not see give nothing).
   Color emitted(const ExplicitVertex &light, Vec3 w, uint32_t ray_kind) const;
