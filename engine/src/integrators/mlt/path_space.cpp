@@ -400,7 +400,7 @@ bool PathSpace::light_walk_made(const ExplicitPath &y, int lo, int hi) {
   return true;
 }
 
-bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats) const {
+bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats, int to_light) const {
   ExplicitVertex &prev = y.x[size_t(at - 1)];
   Ray ray;
   MediumStack media;
@@ -430,21 +430,22 @@ bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, Ray
     } else {
       return false;  // lights do not scatter
     }
-    return trace_from(y, at - 1, wi, scattered_pdf, rng, stats);
+    return trace_from(y, at - 1, wi, scattered_pdf, rng, stats, to_light);
   }
   ExplicitVertex &z = y.x[size_t(at)];
-  if (!trace_step(ray, media, rng, stats, z, at == y.n - 1)) return false;
+  if (!trace_step(ray, media, rng, stats, z, to_light < 0 ? at == y.n - 1 : to_light > 0)) return false;
   settle(z, prev);
   if (filter_.on()) z.v.filter_pdf = std::min(prev.v.filter_pdf, scattered_pdf);  // x_1: none before it
   return true;
 }
 
-bool PathSpace::trace_from(ExplicitPath &y, int at, Vec3 wi, float scattered_pdf, Pcg32 &rng,
-                           RayStats &stats) const {
+bool PathSpace::trace_from(ExplicitPath &y, int at, Vec3 wi, float scattered_pdf, Pcg32 &rng, RayStats &stats,
+                           int to_light) const {
   ExplicitVertex &prev = y.x[size_t(at)], &z = y.x[size_t(at + 1)];
   const Ray ray{prev.v.on_surface() ? spawn_origin(prev.v.p, prev.v.ng, prev.v.error, wi) : prev.v.p, wi, kInf,
                 ray_mask(y, at, wi)};
-  if (!trace_step(ray, stack_toward(prev, wi), rng, stats, z, at + 1 == y.n - 1)) return false;
+  const bool last = to_light < 0 ? at + 1 == y.n - 1 : to_light > 0;
+  if (!trace_step(ray, stack_toward(prev, wi), rng, stats, z, last)) return false;
   settle(z, prev);
   if (filter_.on()) z.v.filter_pdf = std::min(prev.v.filter_pdf, scattered_pdf);
   return true;
@@ -1223,9 +1224,102 @@ Proposal PathSpace::perturb_lens(const ExplicitPath &x, Pcg32 &rng, RayStats &st
   return lens_move(x, raster, MutationType::Lens, rng, stats, y);
 }
 
+int PathSpace::walk_lens_subpath(const ExplicitPath &x, Vec2 raster, bool to_light, int after, Pcg32 &rng,
+                                 RayStats &stats, ExplicitPath &y) const {
+  if (!(raster.x >= sample_origin_.x && raster.x < sample_origin_.x + sample_size_.x &&
+        raster.y >= sample_origin_.y && raster.y < sample_origin_.y + sample_size_.y))
+    return 0;
+  y.reserve(max_vertices_);
+  y.time = x.time;  // the caller's shutter::SampleTime is at it
+  y.x[0] = x.x[0];
+  Ray ray = camera_ray(y.x[0], raster);
+  if (visibility_) ray.mask = visibility::kCamera;
+  if (!trace_step(ray, y.x[0].v.media, rng, stats, y.x[1], to_light)) return 0;
+  settle(y.x[1], y.x[0]);
+  for (int k = 1; k < max_vertices_; ++k) {
+    const PathVertex &z = y.x[size_t(k)].v;
+    if (to_light && (z.type == VertexType::Light || z.light >= 0)) return k;  // a light: the path's end
+    if (z.type != VertexType::Surface || !z.bsdf.is_delta()) return k + after < max_vertices_ ? k : 0;
+    if (k + 1 == max_vertices_ || !extend_from_camera_side(y, k + 1, rng, stats, to_light ? 1 : 0) || !z.delta)
+      return 0;
+  }
+  return 0;
+}
+
+double PathSpace::lens_subpath_density(const ExplicitPath &p, int c, bool short_path) const {
+  double density = 1;
+  for (int k = 1; k <= c; ++k) density *= p.fwd[size_t(k)];
+  if (!(density > 0)) return 0;
+  for (int k = 1; k < c; ++k) {
+    const PathVertex &z = p.x[size_t(k)].v;
+    if (z.type != VertexType::Surface || !z.bsdf.is_delta() || !z.delta) return 0;
+    if (short_path && z.light >= 0) return 0;  // the walk would have ended at this mesh lamp
+  }
+  if (!short_path) return density;
+  // A short path's walk ends at the first light it meets: E S* D L needs a D that is none (no
+  // mesh lamp, no free flight stopped in a volume light), and then a light vertex of the
+  // light side's density.
+  const bool to_d = c == p.n - 2;
+  if (to_d) {
+    const PathVertex &d = p.x[size_t(c)].v;
+    if (d.light >= 0 || (d.type == VertexType::Medium && scene_.medium(d.medium).light >= 0)) return 0;
+    density *= p.rev[size_t(p.n - 1)];
+  }
+  if (!hittable_lamps_.empty()) {
+    // Each step could end at a lamp in front of what it reaches (the last step to the light:
+    // fwd[c]'s business, evaluate()).
+    const Camera &camera = scene_.camera_now();
+    for (int k = 0; k + 1 < c || (to_d && k < c); ++k) {
+      Vec3 from = p.x[size_t(k)].v.p;
+      const Vec3 d = p.x[size_t(k + 1)].v.p - from;
+      const float length_d = length(d);
+      const Vec3 w = d / length_d;
+      if (k == 0) from = from + w * (camera.clip_start / dot(w, camera.forward()));  // camera rays start at the clip plane
+      float t;
+      if (first_lamp(from, w, length_d * (1 - 1e-4f), t, ray_mask(p, k, w)) >= 0) return 0;
+    }
+  }
+  return density;
+}
+
 Proposal PathSpace::lens_subpath(const ExplicitPath &x, Vec2 raster, Pcg32 &rng, RayStats &stats,
                                  ExplicitPath &y) const {
-  return lens_move(x, raster, MutationType::LensSubpath, rng, stats, y);
+  Proposal proposal;
+  proposal.type = MutationType::LensSubpath;
+  const int c = first_non_specular(x);
+  // A short path (E S* L, E S* D L): the whole path anew, a walk to the first light it meets
+  // or to a non-specular vertex joined to a light vertex from the light side. Else x_(c+1) ..
+  // are kept and the walk's end joined to x_(c+1).
+  const bool short_path = c >= x.n - 2;
+  if (!short_path && x.x[size_t(c + 1)].v.delta) return proposal;  // a delta cannot be joined
+  shutter::SampleTime at(x.time);  // every mutation but the large step keeps x's shutter time
+  const int after = short_path ? 1 : x.n - 1 - c;  // room after the walk's non-specular end
+  const int cy = walk_lens_subpath(x, raster, short_path, after, rng, stats, y);
+  if (cy == 0) return proposal;
+  if (short_path) {
+    const ExplicitVertex &end = y.x[size_t(cy)];
+    if (end.v.type == VertexType::Light || end.v.light >= 0) {
+      y.n = cy + 1;
+    } else {
+      Vec3 dir;
+      if (!light_vertex(rng, y.x[size_t(cy + 1)], dir)) return proposal;
+      y.n = cy + 2;
+      settle(y.x[size_t(cy + 1)], y.x[size_t(cy)]);
+    }
+  } else {
+    y.n = cy + 1 + after;
+    for (int i = c + 1; i < x.n; ++i) y.x[size_t(i - c + cy)] = x.x[size_t(i)];
+    settle(y.x[size_t(cy + 1)], y.x[size_t(cy)]);
+  }
+  evaluate(y, stats);
+  if (!(luminance(y.f) > 0)) return proposal;
+  const double px = lens_subpath_density(x, c, short_path), py = lens_subpath_density(y, cy, short_path);
+  if (!(py > 0) || !std::isfinite(px)) return proposal;
+  proposal.ratio = px / py;
+  proposal.l = 0;
+  proposal.m = short_path ? x.n : c + 1;
+  proposal.na = y.n - 1 - (short_path ? 0 : after);
+  return proposal;
 }
 
 Proposal PathSpace::perturb_multi_chain(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const {

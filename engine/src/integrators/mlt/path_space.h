@@ -83,9 +83,10 @@ struct ExplicitPath {
 // multi-chain perturbation of a path E S* D S+ D ...: the lens perturbation, then at each
 // non-specular vertex whose light-side neighbour is specular the direction turned a little
 // and the next specular chain retraced, until a chain ends at a vertex that can be joined
-// (or at the light). LensSubpath: Veach's lens subpath mutation: the camera ray through a
-// new image position (a chain's stratified sequence, image_strata.h), retraced as the lens
-// perturbation retraces it.
+// (or at the light). LensSubpath: Veach's lens subpath mutation: a camera walk through a
+// new image position (a chain's stratified sequence, image_strata.h) through any number of
+// specular vertices, to the first non-specular one (joined to the rest of the path) or, for
+// a path E S* L, to the first light.
 enum class MutationType : uint8_t {
   Large, Bidirectional, Lens, Propagation, Scattering, Caustic, MultiChain, LensSubpath, Count
 };
@@ -171,12 +172,19 @@ class PathSpace {
   // T(y->x) / T(x->y) = P(x) / P(y), P = prod fwd[1..c] times, per chain, fwd_area[a+1]
   // prod fwd[a+2..b] (the turn's density cancels).
   Proposal perturb_multi_chain(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
-  // Veach's lens subpath mutation (sec. 11.4.4): x's lens subpath x_1 .. x_c (E S* D, joined
-  // to a non-specular x_(c+1)) replaced by the camera walk's through the raster point given
-  // (the chain's stratified sequence), as many specular vertices as x's (each event
-  // sampled as the walk samples it). The new subpath's density is the camera walk's and the
-  // same for any x: T(y->x) / T(x->y) = prod fwd_x[1..c] / prod fwd_y[1..c] (the raster
-  // density, uniform on the region, in fwd[1]), exact when the raster point is uniform.
+  // Veach's lens subpath mutation (sec. 11.4.4): x's lens subpath x_1 .. x_c replaced by a
+  // camera walk through the raster point given (the chain's stratified sequence), on through
+  // surfaces whose BSDF is all delta lobes (an event sampled at each) for as many vertices as
+  // it takes (walk_lens_subpath). A path with more after its lens subpath than the light
+  // (E S* D D ..., E S* D S ...: x_(c+1) must not be specular) keeps x_(c+1) .. and the walk
+  // ends at its first vertex that is not all delta, joined to x_(c+1). A short path (E S* L,
+  // E S* D L) is replaced whole: the walk ends at the first light it meets (E S* L: the lamp
+  // seen directly, in a mirror or through glass, which only a camera walk makes) or at its
+  // first vertex that is not all delta, joined to a light vertex sampled as the light side
+  // samples it (E S* D L). The new path's density is the walk's (and the light vertex's)
+  // whatever x is: T(y->x) / T(x->y) = lens_subpath_density(x) / lens_subpath_density(y)
+  // (the raster density, uniform on the region, in fwd[1]), exact when the raster point is
+  // uniform.
   Proposal lens_subpath(const ExplicitPath &x, Vec2 raster, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
   // After the bootstrap: whether any of its paths had a specular vertex. Without, the caustic
   // and multi-chain perturbations could only fail and get weight 0 (fixed before the chains run).
@@ -223,7 +231,8 @@ class PathSpace {
   // The camera ray from x_0 through a raster point (a thin lens: from x_0's lens point).
   Ray camera_ray(const ExplicitVertex &camera_vertex, Vec2 raster) const;
   bool light_vertex(Pcg32 &rng, ExplicitVertex &z, Vec3 &dir) const;
-  bool extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats) const;
+  // to_light (trace_step's): 1 or 0; -1: whether y_at is y's last vertex.
+  bool extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats, int to_light = -1) const;
   bool extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats) const;
   void settle(ExplicitVertex &z, const ExplicitVertex &camera_side) const;
   // Filter Glossy: z's BSDF blurred by the roughness z.v.filter_pdf gives (rebuilt from the
@@ -236,16 +245,31 @@ class PathSpace {
   bool regenerate(ExplicitPath &y, int l, int na, int j, Pcg32 &rng, RayStats &stats) const;
   // y_(at+1) traced from y_at along wi (a walk's ray: spawn offset, media, ray kind), facing y_at;
   // scattered_pdf: y_at's density of wi (Filter Glossy's prefix; kInf for a delta event).
-  bool trace_from(ExplicitPath &y, int at, Vec3 wi, float scattered_pdf, Pcg32 &rng, RayStats &stats) const;
-  // The lens perturbation's and lens subpath mutation's move: y = x with x_1 .. x_c (E S*
+  bool trace_from(ExplicitPath &y, int at, Vec3 wi, float scattered_pdf, Pcg32 &rng, RayStats &stats,
+                  int to_light = -1) const;
+  // The lens and multi-chain perturbations' move: y = x with x_1 .. x_c (E S*
   // (D|L)) retraced from the camera through `raster`, each of y_1 .. y_(c-1) scattering by a
   // delta lobe (x_c the light: y_c must be one). Returns c (0: no path; the raster point
   // outside the sample region, or a chain of another shape).
   int retrace_lens(const ExplicitPath &x, Vec2 raster, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
-  // The lens perturbation or the lens subpath mutation through `raster`: retrace_lens, y_c
-  // joined to x_(c+1) (which must not be specular).
+  // The lens perturbation through `raster`: retrace_lens, y_c joined to x_(c+1) (which must
+  // not be specular).
   Proposal lens_move(const ExplicitPath &x, Vec2 raster, MutationType type, Pcg32 &rng, RayStats &stats,
                      ExplicitPath &y) const;
+  // The lens subpath mutation's walk: y_0 = x_0, y_1 from the camera ray through `raster`,
+  // then on from each vertex whose BSDF is all delta lobes (an event sampled there), to the
+  // first vertex that is not (returned if `after` more vertices fit behind it). to_light (a
+  // short path's walk): every step may end at a light, which ends the walk (a lamp in front
+  // of the next surface, a mesh lamp, a light at infinity, a volume light where a free flight
+  // stops); without, lamps are passed as the other walks pass them. Returns the end's index
+  // c (0: none; a walk beyond the path length, or a failed sample).
+  int walk_lens_subpath(const ExplicitPath &x, Vec2 raster, bool to_light, int after, Pcg32 &rng,
+                        RayStats &stats, ExplicitPath &y) const;
+  // That walk's density of p's vertices 1 .. c (p evaluated): prod fwd[1..c], 0 where the
+  // walk would not make them (a vertex before c not all delta). A short path: also 0 where
+  // it would have ended at a light before (a mesh lamp before c, a lamp in front on an edge,
+  // E S* D L with D a light), and E S* D L times the light vertex's density rev[n - 1].
+  double lens_subpath_density(const ExplicitPath &p, int c, bool short_path) const;
   // w: from the light toward its camera-side neighbour; ray_kind: the kind of ray that meets
   // it (lights at infinity that kind does not see give nothing).
   Color emitted(const ExplicitVertex &light, Vec3 w, uint32_t ray_kind) const;
