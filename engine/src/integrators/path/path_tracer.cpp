@@ -25,10 +25,13 @@ namespace rdv {
 // In scenes with mixed visibility, scattering toward the light could only have found it
 // if nothing visible to that kind lies between (visibility_clear): else this estimate
 // is the path's only one and takes all its weight.
+// catcher_only: the catcher pass's copy of a path (shadow_catcher.h): shadow rays meet
+// shadow catchers only, and emitting objects that are not catchers give no light.
 template <bool kMedia, class Scatter, class MediaToward, class KindToward>
 static Color sample_direct_light(const Scene &scene, uint32_t vertex, Vec3 p, Vec3 ng, Vec3 p_error,
                                  const Scatter &scatter, const MediaToward &media_toward,
-                                 const KindToward &kind_toward, Sampler &sampler, RayStats &stats) {
+                                 const KindToward &kind_toward, Sampler &sampler, RayStats &stats,
+                                 bool catcher_only = false) {
   sampler.start_stream(SampleStream::LightPoint, dims::next_event(vertex, dims::kNeeLightChoice));
   float u_light = sampler.get_1d();
   Vec2 u = sampler.get_2d();
@@ -37,6 +40,7 @@ static Color sample_direct_light(const Scene &scene, uint32_t vertex, Vec3 p, Ve
   float pmf;
   uint32_t index = uint32_t(dist.sample_discrete(u_light, &pmf));
   const Light &light = scene.lights()[index];
+  if (catcher_only && !light.shadow_catcher) return Color(0.0f);  // a synthetic object's light
   Vec3 u_volume(0.0f);
   if (light.type == LightType::Volume)
     u_volume = dims::volume_point(sampler, SampleStream::LightPoint, dims::next_event(vertex, dims::kNeeVolumePoint));
@@ -53,7 +57,9 @@ static Color sample_direct_light(const Scene &scene, uint32_t vertex, Vec3 p, Ve
   Color tr(1.0f);
   ShadowRay shadow = std::isinf(ls.dist) ? shadow_ray_to_infinity(p, ng, p_error, ls.wi)
                                          : shadow_ray(p, ng, p_error, ls.p, ls.n, ls.error);
-  const uint32_t occluders = light.occluders();
+  // The rays' masks: a catcher copy's meet shadow catchers only.
+  auto rays = [catcher_only](uint32_t mask) { return catcher_only ? visibility::catcher_rays(mask) : mask; };
+  const uint32_t occluders = rays(light.occluders());
   if constexpr (kMedia) {
     SampleRun run(sampler, SampleStream::LightPoint, dims::next_event(vertex, dims::kNeeMedia), dims::kMediumRun);
     MediumStack end;
@@ -74,20 +80,30 @@ static Color sample_direct_light(const Scene &scene, uint32_t vertex, Vec3 p, Ve
   // unit length along the sampled direction (media/emission_gather.h).
   if (light.type == LightType::Volume) scatter_pdf /= light.volume->medium().emission_step;
   const bool scattering_finds_it =
-      !scene.has_mixed_visibility() || visibility_clear(scene, shadow, kind, true, stats.rays);
+      !scene.has_mixed_visibility() || visibility_clear(scene, shadow, rays(kind), true, stats.rays);
   float weight = light.is_delta() || !scattering_finds_it ? 1.0f : power_heuristic(light_pdf, scatter_pdf);
   return f * ls.L * tr * (weight / light_pdf);
 }
 
 Color PathTracer::Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
                      std::vector<Splat> &) const {
+  using shadow_catcher::Role;
   // Decided once per sample: a scene without media runs the loop without medium code.
-  return scene_.has_media() ? trace<true>(camera_ray, sampler, stats, first_hit)
-                            : trace<false>(camera_ray, sampler, stats, first_hit);
+  CatcherSample *const catcher = first_hit ? first_hit->catcher : nullptr;
+  const Role role = catcher ? Role::Main : Role::None;
+  const Color L = scene_.has_media() ? trace<true>(camera_ray, sampler, stats, first_hit, role)
+                                     : trace<false>(camera_ray, sampler, stats, first_hit, role);
+  // The sample met a shadow catcher: its copy gathers the catcher pass (shadow_catcher.h).
+  if (catcher && catcher->split)
+    catcher->catcher = scene_.has_media() ? trace<true>(camera_ray, sampler, stats, nullptr, Role::Copy)
+                                          : trace<false>(camera_ray, sampler, stats, nullptr, Role::Copy);
+  return L;
 }
 
 template <bool kMedia>
-Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit) const {
+Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
+                        shadow_catcher::Role role) const {
+  using shadow_catcher::Role;
   Color L(0.0f), beta(1.0f);
   Ray ray = camera_ray.ray;
   ray.mask = visibility::kCamera;  // camera rays see what is visible to the camera
@@ -131,9 +147,21 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
                                        : dims::SegmentDims{SampleStream::Camera, dims::bounce(uint32_t(segment_depth), offset)};
     sampler.start_stream(d.stream, d.position);
   };
+  // Shadow catchers (shadow_catcher.h): whether the path has met its catcher; a copy
+  // adds only what it finds from there on (catcher_only: its rays meet catchers only).
+  CatcherSample *const catcher = role == Role::Main ? first_hit->catcher : nullptr;
+  bool split = false, catcher_only = false;
+  auto query = [&](const Ray &r) {
+    if (!catcher_only) return r;
+    Ray q = r;
+    q.mask = visibility::catcher_rays(r.mask);
+    return q;
+  };
   // Segments from the camera are not last segments from a scattering vertex.
   auto shadows_allow = [&](const Light &light, const ShadowRay &s) {
-    return !mixed || segment_depth == 0 || visibility_clear(scene_, s, light.occluders(), true, stats.rays);
+    if (!mixed || segment_depth == 0) return true;
+    const uint32_t occluders = catcher_only ? visibility::catcher_rays(light.occluders()) : light.occluders();
+    return visibility_clear(scene_, s, occluders, true, stats.rays);
   };
 
   // MIS weight for emission found by BSDF sampling, given that light's solid-angle pdf.
@@ -162,8 +190,9 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
   // background: the world's background (the Environment pass when seen directly).
   auto add_to_passes = [&](const Color &c, int vertices, bool background) {
     Color v = limits_.clamps ? limits_.clamp(c, vertices) : c;
+    if (role == Role::Copy && !catcher_only) return v;  // the main path's part
     L += v;
-    if (passes) passes->add(v, vertices, first_split, background);
+    if (passes && !split) passes->add(v, vertices, first_split, background);  // none after a split, as Cycles
     return v;
   };
   auto add = [&](const Color &c, int vertices) { add_to_passes(c, vertices, false); };
@@ -173,11 +202,12 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
   auto add_found = [&](const Color &c, int vertices, bool background = false) {
     const Color v = add_to_passes(c, vertices, background);
     if (denoising && denoising->active) denoising->add_emission(v);
+    return v;
   };
   // Transparent film (film_alpha.h): whether the camera still sees through to the
   // background, and what of the sample did. The data passes (film/data_passes.h) follow
   // the same chain of surfaces, so it is tracked whenever they are asked for.
-  bool see_through = alpha_.tracked() || first_hit;
+  bool see_through = alpha_.tracked() || first_hit || role != Role::None;
   DataPassSample *const data = first_hit ? &first_hit->data : nullptr;
   float transparency = 0;
   auto russian_roulette = [&](int depth) {
@@ -198,12 +228,12 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     SurfaceHit hit;
     CoincidentBoundary boundary;  // media: a medium boundary lying in the surface hit
     ++stats.rays;
-    bool found = kMedia ? scene_.intersect_media(ray, hit, boundary) : scene_.intersect(ray, hit);
+    bool found = kMedia ? scene_.intersect_media(query(ray), hit, boundary) : scene_.intersect(query(ray), hit);
     float tmax = found ? hit.t : ray.tmax;
 
     // Analytic lights (disks, rectangles) in front of the surface.
     Color light_L;
-    int hit_light = scene_.nearest_lamp(ray, lamp_facing, lamp_passed, tmax, light_L);
+    int hit_light = scene_.nearest_lamp(ray, lamp_facing, lamp_passed, tmax, light_L, catcher_only);
 
     if constexpr (kMedia) {
       int m = stack.current(scene_);
@@ -244,7 +274,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           if (passes && depth == 0) first_split = KindSplit::only(3);  // a volume scattering
           auto scatter_kind = [](Vec3) { return visibility::after(ScatterKind::Volume); };
           add(beta * sample_direct_light<true>(scene_, uint32_t(depth) + 1, p, Vec3(0.0f), Vec3(0.0f), phase,
-                                               same_medium, scatter_kind, sampler, stats),
+                                               same_medium, scatter_kind, sampler, stats, catcher_only),
               depth + 1);
           start_scatter(dims::kScatterDirection);
           Vec3 wi = medium.phase.sample(wo, sampler.get_2d());
@@ -287,11 +317,15 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
         const Light &light = scene_.lights()[li];
         if (!(light.visibility & ray.mask)) continue;  // camera rays: suns are not seen, the world is unless hidden
         if (transparent_world && light.type == LightType::Background) continue;
+        if (catcher_only && !light.shadow_catcher) continue;
         if (!shadows_allow(light, shadow_ray_to_infinity(prev_p, prev_ng, prev_error, ray.d))) continue;
         Color Le = infinite_light_radiance(light, ray.d);
-        if (!is_black(Le))
-          add_found(beta * Le * emission_weight(li, light_pdf(light, prev_p, ray.d, kInf)), depth,
-                    light.type == LightType::Background);
+        if (!is_black(Le)) {
+          const Color v = add_found(beta * Le * emission_weight(li, light_pdf(light, prev_p, ray.d, kInf)), depth,
+                                    light.type == LightType::Background);
+          // Cycles' background pass: the world seen directly, behind a catcher's matte.
+          if (catcher && see_through && !split && light.type == LightType::Background) catcher->background += v;
+        }
       }
       break;
     }
@@ -306,6 +340,26 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
         ++crossings;
         --depth;  // not a bounce
         continue;
+      }
+    }
+
+    // The first shadow catcher the camera sees through to (not a holdout object): the
+    // split (shadow_catcher.h).
+    if (role != Role::None && !split && see_through && scene_.is_shadow_catcher(hit.instance) &&
+        !scene_.is_holdout_instance(hit.instance)) {
+      split = true;
+      if (role == Role::Copy) {
+        catcher_only = true;
+      } else {
+        catcher->split = true;
+        catcher->matte = L;
+        catcher->matte_transparency = transparency + average(beta);
+        if (!alpha_.film_transparent)  // the world behind the catcher, seen along this ray
+          for (uint32_t li : scene_.infinite_lights()) {
+            const Light &light = scene_.lights()[li];
+            if (light.type == LightType::Background && (light.visibility & ray.mask))
+              catcher->background += beta * infinite_light_radiance(light, ray.d);
+          }
       }
     }
 
@@ -367,12 +421,12 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           return s;
         };
         add(beta * sample_direct_light<true>(scene_, uint32_t(depth) + 1, hit.p, hit.ng, hit.error, surface,
-                                             media_toward, scatter_kind, sampler, stats),
+                                             media_toward, scatter_kind, sampler, stats, catcher_only),
             depth + 1);
       } else {
         auto unused = [](Vec3) { return 0; };
         add(beta * sample_direct_light<false>(scene_, uint32_t(depth) + 1, hit.p, hit.ng, hit.error, surface, unused,
-                                              scatter_kind, sampler, stats),
+                                              scatter_kind, sampler, stats, catcher_only),
             depth + 1);
       }
     }
@@ -419,6 +473,10 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     if (!russian_roulette(depth) || is_black(beta)) break;
   }
   if (first_hit) first_hit->transparency = transparency;
+  if (catcher && !split) {  // no catcher met: all of it is the matte's
+    catcher->matte = L;
+    catcher->matte_transparency = transparency;
+  }
   return L;
 }
 

@@ -4,6 +4,7 @@
 // phase-function NEE through media and index-matched boundaries).
 // The reference every other integrator is checked against.
 #pragma once
+#include "integrators/path/shadow_catcher.h"
 #include "integrators/tile_integrator.h"
 
 namespace rdv {
@@ -17,9 +18,11 @@ class PathTracer final : public TileIntegrator {
 
  private:
   // The path loop, compiled twice: with participating media and without (a scene
-  // without media runs no medium code at all).
+  // without media runs no medium code at all). role: which of a sample's paths in a
+  // scene with a shadow catcher (shadow_catcher.h); Copy returns the catcher pass's value.
   template <bool kMedia>
-  Color trace(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit) const;
+  Color trace(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
+              shadow_catcher::Role role) const;
   const Scene &scene_;
   int max_bounces_;
   LightPathLimits limits_;
