@@ -26,6 +26,7 @@
 #pragma once
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include "core/math.h"
 
 namespace rdv {
@@ -37,6 +38,12 @@ struct CatcherSample {
   Color catcher{0.0f};
   Color background{0.0f};
   bool split = false;
+  // Finite and not negative, as the film takes samples.
+  bool valid() const {
+    for (const Color &c : {matte, catcher, background})
+      if (!is_finite(c) || c.x < 0 || c.y < 0 || c.z < 0) return false;
+    return std::isfinite(matte_transparency);
+  }
 };
 
 // A pixel's sums over its samples.

@@ -77,8 +77,7 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
           first_hit.strategies = strategies.data();
         }
         Color L = Li(cr, sampler, stats, &first_hit, half_b ? splats.b : splats.a);
-        auto bad = [](Color c) { return !is_finite(c) || c.x < 0 || c.y < 0 || c.z < 0; };
-        if (bad(L) || (shadow_catcher && (bad(catcher.catcher) || bad(catcher.matte) || bad(catcher.background)))) {
+        if (!is_finite(L) || L.x < 0 || L.y < 0 || L.z < 0 || (shadow_catcher && !catcher.valid())) {
           ++dropped;  // never let NaN/Inf into the film
           continue;
         }

@@ -17,10 +17,14 @@ class PathTracer final : public TileIntegrator {
            std::vector<Splat> &splats) const override;
 
  private:
-  // The path loop, compiled twice: with participating media and without (a scene
-  // without media runs no medium code at all). role: which of a sample's paths in a
-  // scene with a shadow catcher (shadow_catcher.h); Copy returns the catcher pass's value.
-  template <bool kMedia>
+  // The path loop, compiled for scenes with participating media and without (a scene
+  // without media runs no medium code at all), and with shadow catchers and without.
+  // role: which of a sample's paths in a scene with a shadow catcher (shadow_catcher.h;
+  // None without kCatcher); Copy returns the catcher pass's value.
+  // Li in a scene with a shadow catcher (first_hit->catcher set): the sample, then its copy.
+  [[gnu::noinline]] Color Li_with_catcher(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats,
+                                          FirstHit *first_hit) const;
+  template <bool kMedia, bool kCatcher>
   Color trace(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
               shadow_catcher::Role role) const;
   const Scene &scene_;
