@@ -92,10 +92,10 @@ static Color sample_direct_light(const Scene &scene, uint32_t vertex, Vec3 p, Ve
   return f * ls.L * tr * (weight / light_pdf);
 }
 
-template <bool kMedia, bool kCatcher>
-Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
-                        shadow_catcher::Role role) const {
+template <bool kMedia, shadow_catcher::Role kRole>
+Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit) const {
   using shadow_catcher::Role;
+  constexpr bool kCatcher = kRole != Role::None;
   Color L(0.0f), beta(1.0f);
   Ray ray = camera_ray.ray;
   ray.mask = visibility::kCamera;  // camera rays see what is visible to the camera
@@ -141,7 +141,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
   };
   // Shadow catchers (shadow_catcher.h): whether the path has met its catcher; a copy
   // adds only what it finds from there on (catcher_only: its rays meet catchers only).
-  CatcherSample *const catcher = kCatcher && role == Role::Main ? first_hit->catcher : nullptr;
+  CatcherSample *const catcher = kRole == Role::Main ? first_hit->catcher : nullptr;
   bool split = false, catcher_only = false;  // stay false without kCatcher
   // Segments from the camera are not last segments from a scattering vertex.
   auto shadows_allow = [&](const Light &light, const ShadowRay &s) {
@@ -177,7 +177,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
   // background: the world's background (the Environment pass when seen directly).
   auto add_to_passes = [&](const Color &c, int vertices, bool background) {
     Color v = limits_.clamps ? limits_.clamp(c, vertices) : c;
-    if (kCatcher && role == Role::Copy && !catcher_only) return v;  // the main path's part
+    if (kRole == Role::Copy && !catcher_only) return v;  // the main path's part
     L += v;
     if (passes && !(kCatcher && split)) passes->add(v, vertices, first_split, background);  // none after a split, as Cycles
     return v;
@@ -343,7 +343,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     if (kCatcher && !split && see_through && scene_.is_shadow_catcher(hit.instance) &&
         !scene_.is_holdout_instance(hit.instance)) {
       split = true;
-      if (role == Role::Copy) {
+      if constexpr (kRole == Role::Copy) {
         catcher_only = true;
       } else {
         catcher->split = true;

@@ -18,15 +18,14 @@ class PathTracer final : public TileIntegrator {
 
  private:
   // The path loop, compiled for scenes with participating media and without (a scene
-  // without media runs no medium code at all), and with shadow catchers and without.
-  // role: which of a sample's paths in a scene with a shadow catcher (shadow_catcher.h;
-  // None without kCatcher); Copy returns the catcher pass's value.
+  // without media runs no medium code at all), and for each role (shadow_catcher.h): None
+  // (no shadow catcher: none of their code), a sample's path in a scene with one (Main),
+  // its copy (Copy: returns the catcher pass's value).
   // Li in a scene with a shadow catcher (first_hit->catcher set): the sample, then its copy.
   [[gnu::noinline]] Color Li_with_catcher(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats,
                                           FirstHit *first_hit) const;
-  template <bool kMedia, bool kCatcher>
-  Color trace(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
-              shadow_catcher::Role role) const;
+  template <bool kMedia, shadow_catcher::Role kRole>
+  Color trace(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit) const;
   const Scene &scene_;
   int max_bounces_;
   LightPathLimits limits_;

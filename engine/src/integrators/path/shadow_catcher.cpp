@@ -5,9 +5,11 @@
 
 namespace rdv {
 
-template Color PathTracer::trace<false, true>(const CameraRay &, Sampler &, RayStats &, FirstHit *,
-                                              shadow_catcher::Role) const;
-template Color PathTracer::trace<true, true>(const CameraRay &, Sampler &, RayStats &, FirstHit *,
-                                             shadow_catcher::Role) const;
+using shadow_catcher::Role;
+
+template Color PathTracer::trace<false, Role::Main>(const CameraRay &, Sampler &, RayStats &, FirstHit *) const;
+template Color PathTracer::trace<true, Role::Main>(const CameraRay &, Sampler &, RayStats &, FirstHit *) const;
+template Color PathTracer::trace<false, Role::Copy>(const CameraRay &, Sampler &, RayStats &, FirstHit *) const;
+template Color PathTracer::trace<true, Role::Copy>(const CameraRay &, Sampler &, RayStats &, FirstHit *) const;
 
 }  // namespace rdv
