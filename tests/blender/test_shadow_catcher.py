@@ -9,6 +9,8 @@ it, then Rendezvous' path tracer in this process (256 samples each, seed 1):
   black: colour and alpha;
 - the lamp's own Shadow Catcher off (a light of the synthetic objects: it lights the image,
   not the Shadow Catcher pass, which then exceeds 1): the pass;
+- Film > Transparent off, the pass off: Combined is the world behind the floor darkened by the
+  shadow, the objects over it: colour (alpha is 1);
 each as test_brightness.compare (means within 2%, 8x8 blocks within 3% or 5 standard errors);
 the pass is registered with Blender (the compositor's Render Layers node lists it);
 - BDPT renders the catcher as an ordinary object and warns naming it.
@@ -83,10 +85,11 @@ def main():
         scene.render.film_transparent = True
         layer = bpy.context.view_layer
         lamp = bpy.data.objects["Point"]
-        for tag in ("pass", "approximate", "synthetic_lamp"):
-            pass_on = tag != "approximate"
+        for tag in ("pass", "approximate", "synthetic_lamp", "opaque_film"):
+            pass_on = tag in ("pass", "synthetic_lamp")
             layer.cycles.use_pass_shadow_catcher = pass_on
             lamp.is_shadow_catcher = tag != "synthetic_lamp"  # Blender's default for lights: on
+            scene.render.film_transparent = tag != "opaque_film"
             if pass_on:
                 from rendezvous.engine import passes as addon_passes
                 registered = [p[0] for p in addon_passes.enabled_passes(layer, scene)]
@@ -115,6 +118,7 @@ def main():
         from rendezvous.engine import final
         layer.cycles.use_pass_shadow_catcher = False
         lamp.is_shadow_catcher = True
+        scene.render.film_transparent = True
         q = render(scene, "RENDEZVOUS", 8, os.path.join(odir, "shadow_catcher_bdpt.exr"), "BDPT")
         warned = [line for line in final.last_render.get("messages", [])
                   if "shadow catcher" in line and "Floor" in line]
