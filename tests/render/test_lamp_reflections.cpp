@@ -46,8 +46,10 @@ std::string plate_scene(const Case &c, const std::string &integrator, int sample
 
 // The radiance the plate's centre reflects toward the camera: the GGX BSDF (as the
 // engine evaluates it: height-correlated Smith, no Fresnel for a Glossy BSDF of colour 1)
-// integrated over the lamp's disk facing the plate (Blender 3.4's point lamp), radiance
-// power / (4 pi * pi r^2), by quadrature in polar coordinates around the disk centre.
+// integrated over the lamp's sphere (lights/sphere_lamp.h), radiance power / (4 pi * pi r^2):
+// the cone of directions it subtends, which meets the plane through its centre facing the
+// plate in a disk of radius r D / sqrt(D^2 - r^2) (D: the centre's distance), by quadrature in
+// polar coordinates around the disk centre.
 double reflected_radiance(const Case &c) {
   float alpha = c.roughness * c.roughness;
   GgxDistribution ggx{alpha, alpha};
@@ -55,7 +57,9 @@ double reflected_radiance(const Case &c) {
   Vec3 centre = lamp_centre(c);
   Vec3 n = normalize(-centre);  // the disk faces the plate's centre (the origin)
   Vec3 s = normalize(cross(n, Vec3(0, 1, 0))), t = cross(n, s);
-  double r = c.lamp_radius, Le = 100 / (4 * kPiD * kPiD * r * r), sum = 0;
+  const double D2 = length_squared(centre);
+  double r = c.lamp_radius * std::sqrt(D2 / (D2 - double(c.lamp_radius) * c.lamp_radius)), sum = 0;
+  const double Le = 100 / (4 * kPiD * kPiD * double(c.lamp_radius) * c.lamp_radius);
   // Radius as r u^2 (dense near the centre, where a sharp lobe peaks) and angle.
   const int nu = 3000, nphi = 720;
   for (int i = 0; i < nu; ++i) {

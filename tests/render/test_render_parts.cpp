@@ -79,13 +79,13 @@ std::string merge(const std::vector<std::string> &parts, const std::string &out,
 // channels bit for bit, the raw double sums within the rounding of re-associated sums.
 // With the Noise pass (`halves`), the parts keep their half images and the merge has
 // the whole render's Noise channel and half sums. With `passes`, Cycles' light passes,
-// the data passes and (bdpt) the strategy passes: the merge has them all.
+// the data passes, the denoising data and (bdpt) the strategy passes: the merge has them all.
 void expect_merge_equals_whole(const std::string &integrator, bool halves = false, bool passes = false) {
   json scene = load_scene("cornell_box.json");
   json s = {{"width", 40}, {"height", 32}, {"integrator", integrator}, {"max_bounces", 6}, {"seed", 7}, {"threads", 2}};
   if (halves) s["noise_pass"] = true;
   if (passes) {
-    s["light_passes"] = s["data_passes"] = true;
+    s["light_passes"] = s["data_passes"] = s["denoising_passes"] = true;
     if (integrator == "bdpt") s["strategy_passes"] = true;
   }
   s["samples"] = 16;
@@ -111,7 +111,8 @@ void expect_merge_equals_whole(const std::string &integrator, bool halves = fals
   const bool has_noise = std::find(a.names.begin(), a.names.end(), "Noise.V") != a.names.end();
   EXPECT_EQ(has_noise, halves);
   EXPECT_EQ(std::find(a.names.begin(), a.names.end(), "RdvMerge.half_sample_count") != a.names.end(), halves);
-  for (const char *pass : {"DiffDir.R", "Mist.Z", "IndexOB.X", "Strategy_s2t1.R", "Strategy_rest.B"}) {
+  for (const char *pass :
+       {"DiffDir.R", "Mist.Z", "IndexOB.X", "Denoising Albedo.G", "Denoising Depth.Z", "Strategy_s2t1.R", "Strategy_rest.B"}) {
     const bool expected = passes && (integrator == "bdpt" || std::string(pass).rfind("Strategy", 0) != 0);
     EXPECT_EQ(std::find(a.names.begin(), a.names.end(), pass) != a.names.end(), expected) << pass;
   }
@@ -158,11 +159,11 @@ TEST(RenderParts, FourRangesWithPassesEqualOneRenderBdpt) { expect_merge_equals_
 TEST(RenderParts, MergeKeepsThePassesEveryPartCarries) {
   json scene = load_scene("cornell_box.json");
   json s = {{"width", 16}, {"height", 12}, {"integrator", "bdpt"}, {"samples", 2}, {"light_passes", true},
-            {"data_passes", true}, {"strategy_passes", true}};
+            {"data_passes", true}, {"strategy_passes", true}, {"denoising_passes", true}};
   const std::string p0 = temp_path("passes0.exr"), p1 = temp_path("passes1.exr"), out = temp_path("passes.exr");
   render_part(scene, s, p0);
   s["sample_offset"] = 2;
-  s["light_passes"] = false;
+  s["light_passes"] = s["denoising_passes"] = false;
   s["strategy_passes_max_depth"] = 2;
   render_part(scene, s, p1);
   rdv_status status;
@@ -171,11 +172,13 @@ TEST(RenderParts, MergeKeepsThePassesEveryPartCarries) {
   const std::string warnings = json::parse(report)["warnings"].dump();
   EXPECT_NE(warnings.find("no light passes"), std::string::npos) << warnings;
   EXPECT_NE(warnings.find("strategy passes of different depths"), std::string::npos) << warnings;
+  EXPECT_NE(warnings.find("no denoising data"), std::string::npos) << warnings;
   const Channels merged = read_channels(out);
   auto has = [&](const char *name) { return std::find(merged.names.begin(), merged.names.end(), name) != merged.names.end(); };
   EXPECT_TRUE(has("Mist.Z"));
   EXPECT_FALSE(has("DiffDir.R"));
   EXPECT_FALSE(has("Strategy_s2t1.R"));
+  EXPECT_FALSE(has("Denoising Normal.X"));
 }
 
 // Every refusal names the part and the problem; missing ranges are listed.

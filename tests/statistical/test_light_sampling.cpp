@@ -103,9 +103,10 @@ TEST(LightUnits, IrradianceMatchesClosedForms) {
   // Point, no radius: E = P / (4 pi d^2).
   expect_irradiance(light_from(R"({"type":"point","position":[0,0,2],"radius":0,"power":100})"),
                     100 / (4 * pi * d * d), "point");
-  // Point with radius r: a facing disk of radiance P / (4 pi * pi r^2): E = P / (4 pi (r^2 + d^2)).
+  // Point with radius r: a sphere of radiance P / (4 pi * pi r^2) seen whole from a surface
+  // facing it: E = L pi sin^2 = P / (4 pi d^2), as without a radius (lights/sphere_lamp.h).
   expect_irradiance(light_from(R"({"type":"point","position":[0,0,2],"radius":0.5,"power":100})"),
-                    100 / (4 * pi * (0.25 + d * d)), "point_radius");
+                    100 / (4 * pi * d * d), "point_radius");
   // Spot on its axis: cos(0) * smoothstep(..) = 1: same as a point.
   expect_irradiance(light_from(R"({"type":"spot","position":[0,0,2],"direction":[0,0,-1],"radius":0,"power":100})"),
                     100 / (4 * pi * d * d), "spot");

@@ -23,6 +23,7 @@
 #include "integrators/bdpt/bdpt.h"
 #include "integrators/filter_glossy.h"
 #include "lights/light.h"
+#include "lights/sphere_lamp.h"
 #include "render_helpers.h"
 #include "samplers/sampler.h"
 
@@ -105,7 +106,12 @@ double brute_force_weight(const Scene &scene, const std::vector<const PathVertex
   const Light &light = scene.lights()[y[0]->light];
   float pdf_pos, pdf_dir;
   emission_pdf(light, y[0]->p, y[0]->ng, dir(0, 1), scene.bounding_radius(), pdf_pos, pdf_dir);
-  from_light[0] = double(scene.light_distribution().pmf(y[0]->light)) * pdf_pos;
+  const double pmf = scene.light_distribution().pmf(y[0]->light);
+  from_light[0] = pmf * pdf_pos;
+  // A lamp's sphere: next-event estimation (one light vertex) samples the point in the
+  // cone the sphere subtends at y[1], not as the emission does (lights/sphere_lamp.h).
+  const double nee_origin =
+      is_sphere_lamp(light) ? pmf * sphere_lamp_cone_pdf(light, y[1]->p) * to_area(1.0, *y[1], *y[0]) : from_light[0];
   from_light[1] = to_area(pdf_dir, *y[0], *y[1]);
   for (int i = 2; i < n; ++i)
     from_light[i] = to_area(y[i - 1]->bsdf.pdf(dir(i - 1, i - 2), dir(i - 1, i)), *y[i - 1], *y[i]);
@@ -119,8 +125,8 @@ double brute_force_weight(const Scene &scene, const std::vector<const PathVertex
   auto density = [&](int k) {
     for (int i = 1; i <= k - 2; ++i)
       if (changed[i]) return 0.0;  // the light walk sampled at a vertex the blur changed
-    double p = 1;
-    for (int i = 0; i < k; ++i) p *= from_light[i];
+    double p = k == 1 ? nee_origin : 1.0;
+    for (int i = k == 1 ? 1 : 0; i < k; ++i) p *= from_light[i];
     for (int i = k; i < n; ++i) p *= from_camera[i];
     return p;
   };
@@ -296,4 +302,20 @@ TEST(BdptMisWeights, LafortuneWillemsMirrorGlassAndPointLampMatchDefinition) {
   meshes.erase(meshes.end() - 1);  // the lamp quad
   doc["lights"] = {{{"name", "bulb"}, {"type", "point"}, {"position", {0.2, -0.2, 1.8}}, {"power", 100}, {"radius", 0}}};
   expect_weights_match_brute_force(doc, 2000, MisHeuristic::LafortuneWillems, true, 20);
+}
+
+// A point lamp with a radius is a sphere (lights/sphere_lamp.h), whose point next-event
+// estimation samples in the cone it subtends (up to 4x the emission's uniform density on
+// the visible cap): each strategy must weigh the point by its own density. With the
+// emission's for next-event estimation too (pbrt's choice), or the cone's for light
+// subpaths too, most weights of paths near the lamp differ here; a glossy floor and walls
+// so that the light side's density matters.
+TEST(BdptMisWeights, SphereLampCornellBoxMatchesBruteForce) {
+  nlohmann::json doc = cornell_box();
+  for (auto &m : doc["materials"])
+    if (m["name"] == "white") m = {{"name", "white"}, {"type", "glossy"}, {"color", {0.8, 0.8, 0.8}}, {"roughness", 0.3}};
+  auto &meshes = doc["meshes"];
+  meshes.erase(meshes.end() - 1);  // the lamp quad
+  doc["lights"] = {{{"name", "bulb"}, {"type", "point"}, {"position", {0.1, -0.2, 1.5}}, {"power", 100}, {"radius", 0.3}}};
+  expect_weights_match_brute_force(doc, 2000);
 }

@@ -67,13 +67,15 @@ std::vector<std::string> half_channel_names() {
   return names;
 }
 
-// The passes' sums (PartRecord::light_passes, strategy_max_depth), after the halves'.
-std::vector<std::string> pass_channel_names(bool light_passes, int strategy_max_depth) {
+// The passes' sums (PartRecord::light_passes, strategy_max_depth, denoising_passes),
+// after the halves'.
+std::vector<std::string> pass_channel_names(bool light_passes, int strategy_max_depth, bool denoising_passes) {
   std::vector<std::string> names;
-  auto color = [&](const std::string &group) {
-    for (const char *a = "rgb"; *a; ++a)
+  auto doubles = [&](const std::string &group, const char *axes) {
+    for (const char *a = axes; *a; ++a)
       for (const char *half : {"_hi", "_lo"}) names.push_back(std::string(kLayer) + group + "_" + *a + half);
   };
+  auto color = [&](const std::string &group) { doubles(group, "rgb"); };
   if (light_passes) {
     for (int k = 0; k < kLightPassSlots; ++k) color("light" + std::to_string(k));
     for (int k = 0; k < kColorKinds; ++k) color("light_color" + std::to_string(k));
@@ -82,8 +84,14 @@ std::vector<std::string> pass_channel_names(bool light_passes, int strategy_max_
   const StrategyPasses strategies{strategy_max_depth};
   for (int k = 0; k < strategies.count(); ++k) color("strategy" + std::to_string(k));
   for (int k = 0; k < strategies.splat_count(); ++k) color("strategy_splat" + std::to_string(k));
+  if (denoising_passes) {
+    doubles("denoising_normal", "xyz");
+    doubles("denoising_albedo", "rgb");
+    doubles("denoising_depth", "v");
+  }
   return names;
 }
+constexpr size_t kDenoisingDoubles = 7;  // normal, albedo, depth
 
 // One part file: its record and its raw sums as words.
 struct LoadedPart {
@@ -108,14 +116,14 @@ LoadedPart load_part(const std::string &path) {
   part.width = spec.width;
   part.height = spec.height;
   const std::vector<std::string> pass_names =
-      pass_channel_names(part.record.light_passes, part.record.strategy_max_depth);
+      pass_channel_names(part.record.light_passes, part.record.strategy_max_depth, part.record.denoising_passes);
   check_memory("part '" + path + "'", "its " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " sums",
                double(spec.width) * double(spec.height) *
                        double(spec.nchannels + kWordsPerPixel + (part.record.halves ? kHalfWordsPerPixel : 0) +
                               pass_names.size()) * 4.0 +
                    double(spec.width) * double(spec.height) *
                        double(Film::bytes_per_pixel(part.record.halves, part.record.light_passes,
-                                                    part.record.strategy_max_depth)));
+                                                    part.record.strategy_max_depth, part.record.denoising_passes)));
   // EXR keeps channels sorted by name: find each of ours, read the span they lie in.
   std::vector<std::string> names = channel_names();
   const size_t base = names.size();
@@ -177,6 +185,7 @@ std::string PartRecord::to_json() const {
   // written only when carried: parts without them read as before
   if (light_passes) j["light_passes"] = true;
   if (data_passes) j["data_passes"] = true;
+  if (denoising_passes) j["denoising_passes"] = true;
   if (strategy_max_depth >= 0) j["strategy_max_depth"] = strategy_max_depth;
   return j.dump();
 }
@@ -203,6 +212,7 @@ PartRecord PartRecord::from_json(const std::string &text, const std::string &par
     }
     r.light_passes = j.value("light_passes", false);
     r.data_passes = j.value("data_passes", false);
+    r.denoising_passes = j.value("denoising_passes", false);
     r.strategy_max_depth = j.value("strategy_max_depth", -1);
     if (r.strategy_max_depth < -1 || r.strategy_max_depth > StrategyPasses::kMaxDepth)
       fail("part '" + part + "': strategy passes of depth " + std::to_string(r.strategy_max_depth) +
@@ -227,8 +237,9 @@ PartChannels part_channels(const Film &film, const PartRecord &record) {
   if (halves)
     for (const std::string &name : half_channel_names()) out.names.push_back(name);
   // the passes the film keeps (the record says the same: Session::part_record)
-  const bool light_passes = film.has_light_passes();
-  const std::vector<std::string> pass_names = pass_channel_names(light_passes, film.strategy_passes().max_depth);
+  const bool light_passes = film.has_light_passes(), denoising = film.has_denoising_passes();
+  const std::vector<std::string> pass_names =
+      pass_channel_names(light_passes, film.strategy_passes().max_depth, denoising);
   out.names.insert(out.names.end(), pass_names.begin(), pass_names.end());
   const size_t n = size_t(film.width()) * film.height();
   const size_t strategies = size_t(film.strategy_passes().count()),
@@ -267,6 +278,12 @@ PartChannels part_channels(const Film &film, const PartRecord &record) {
       for (double v : film.strategy_sums()[i * strategies + k]) put_double(w, v);
     for (size_t k = 0; k < strategy_splats; ++k)
       for (double v : film.strategy_splat_sums()[i * strategy_splats + k]) put_double(w, v);
+    if (denoising) {
+      const DenoisingSums &d = film.denoising_sums()[i];
+      for (double v : d.normal) put_double(w, v);
+      for (double v : d.albedo) put_double(w, v);
+      put_double(w, d.depth);
+    }
   }
   return out;
 }
@@ -367,6 +384,7 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
   auto some_part = [&](auto has) { return std::any_of(parts.begin(), parts.end(), has); };
   const bool light_passes = all_parts([](const LoadedPart &p) { return p.record.light_passes; });
   const bool data_passes = all_parts([](const LoadedPart &p) { return p.record.data_passes; });
+  const bool denoising = all_parts([](const LoadedPart &p) { return p.record.denoising_passes; });
   const int depth = first.record.strategy_max_depth;
   const int strategy_depth =
       all_parts([&](const LoadedPart &p) { return p.record.strategy_max_depth == depth; }) ? depth : -1;
@@ -374,12 +392,14 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
     result.warnings.push_back("some parts carry no light passes: the merged image has none");
   if (!data_passes && some_part([](const LoadedPart &p) { return p.record.data_passes; }))
     result.warnings.push_back("some parts carry no data passes (Mist, IndexOB, IndexMA): the merged image has none");
+  if (!denoising && some_part([](const LoadedPart &p) { return p.record.denoising_passes; }))
+    result.warnings.push_back("some parts carry no denoising data (Denoising Normal, Albedo, Depth): the merged image has none");
   if (strategy_depth < 0 && some_part([](const LoadedPart &p) { return p.record.strategy_max_depth >= 0; }))
     result.warnings.push_back("the parts carry strategy passes of different depths, or some none: the merged image has none");
 
   const auto &border = settings["border"];
   result.film = std::make_unique<Film>(width, height, Rect{border[0].get<int>(), border[1].get<int>(), border[2].get<int>(), border[3].get<int>()}, halves,
-                                       light_passes, data_passes, strategy_depth);
+                                       light_passes, data_passes, strategy_depth, denoising);
   Film &film = *result.film;
   const size_t n = size_t(width) * height;
   for (size_t k : order) {
@@ -394,6 +414,11 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
     const double half_rescale = half_splats && half_numerator != 0 ? hn.numerator / half_numerator : 0.0;
     if (half_splats) half_paths_total += hn.paths;
     const uint32_t *w = part.words.data();
+    auto check_finite = [&](double value, size_t i, const char *sum) {
+      if (!std::isfinite(value))
+        fail("part '" + part.path + "': pixel (" + std::to_string(i % width) + ", " + std::to_string(i / width) +
+             ") holds a non-finite " + sum + " (a damaged file?)");
+    };
     for (size_t i = 0; i < n; ++i) {
       PixelSum &p = film.pixel_sums()[i];
       SplatSums &s = film.splat_sums()[i];
@@ -410,10 +435,7 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
       for (float &d : index) std::memcpy(&d, w++, 4);
       v[14] = index[0];
       v[15] = index[1];
-      for (int c = 0; c < 16; ++c)
-        if (!std::isfinite(v[c]))
-          fail("part '" + part.path + "': pixel (" + std::to_string(i % width) + ", " + std::to_string(i / width) +
-               ") holds a non-finite sum (a damaged file?)");
+      for (int c = 0; c < 16; ++c) check_finite(v[c], i, "sum");
       if (uint64_t(p.count) + count > UINT32_MAX)
         fail("part '" + part.path + "': pixel sample counts overflow 2^32 when merged");
       for (int c = 0; c < 3; ++c) p.sample[c] += v[c];
@@ -434,10 +456,7 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
         for (int c = 0; c < 3; ++c) h[c] = get_double(w);
         const uint32_t half_count = *w++;
         for (int c = 3; c < 6; ++c) h[c] = get_double(w);
-        for (double value : h)
-          if (!std::isfinite(value))
-            fail("part '" + part.path + "': pixel (" + std::to_string(i % width) + ", " + std::to_string(i / width) +
-                 ") holds a non-finite half-image sum (a damaged file?)");
+        for (double value : h) check_finite(value, i, "half-image sum");
         HalfSum &hp = film.half_pixel_sums()[i];
         for (int c = 0; c < 3; ++c) hp.sample[c] += h[c];
         hp.count += half_count;
@@ -451,10 +470,7 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
         for (size_t k = 0; k < count; ++k) {
           std::array<double, 3> v;
           for (double &c : v) c = get_double(w);
-          for (double c : v)
-            if (!std::isfinite(c))
-              fail("part '" + part.path + "': pixel (" + std::to_string(i % width) + ", " + std::to_string(i / width) +
-                   ") holds a non-finite pass sum (a damaged file?)");
+          for (double c : v) check_finite(c, i, "pass sum");
           if (!sum || (splat && !splats)) continue;
           for (int c = 0; c < 3; ++c) sum[k][c] += splat && !same_numerator ? v[c] * rescale : v[c];
         }
@@ -470,6 +486,19 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
       const size_t ns = size_t(strategies.count()), nsplat = size_t(strategies.splat_count());
       add_sums(keep ? &film.strategy_sums()[i * ns] : nullptr, ns, false);
       add_sums(keep ? &film.strategy_splat_sums()[i * nsplat] : nullptr, nsplat, true);
+      if (part.record.denoising_passes) {
+        double d[kDenoisingDoubles];
+        for (double &v : d) v = get_double(w);
+        for (double v : d) check_finite(v, i, "denoising sum");
+        if (denoising) {
+          DenoisingSums &sum = film.denoising_sums()[i];
+          for (int c = 0; c < 3; ++c) {
+            sum.normal[c] += d[c];
+            sum.albedo[c] += d[3 + c];
+          }
+          sum.depth += d[6];
+        }
+      }
     }
   }
   {
@@ -489,6 +518,7 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
   result.record.half_splats = {half_numerator, half_paths_total};
   result.record.light_passes = light_passes;
   result.record.data_passes = data_passes;
+  result.record.denoising_passes = denoising;
   result.record.strategy_max_depth = strategy_depth;
   return result;
 }

@@ -35,8 +35,9 @@ struct PartRecord {
   SplatNormalisation half_splats;  // half B's splats: numerator / its paths
   // The passes the part carries beyond the image's (a merge keeps those every part has):
   // Cycles' light passes' sums, the data passes as EXR layers (their sums are always
-  // there), BDPT's strategy passes' sums of paths up to this depth (-1: none).
-  bool light_passes = false, data_passes = false;
+  // there), BDPT's strategy passes' sums of paths up to this depth (-1: none),
+  // Cycles' denoising data's sums (denoising_passes).
+  bool light_passes = false, data_passes = false, denoising_passes = false;
   int strategy_max_depth = -1;
 
   std::string to_json() const;

@@ -1,6 +1,7 @@
 #include "lights/light.h"
 #include "core/sampling.h"
 #include "lights/environment.h"
+#include "lights/sphere_lamp.h"
 #include "lights/volume_light.h"
 
 namespace rdv {
@@ -169,23 +170,20 @@ bool sample_light(const Light &l, Vec3 ref, Vec2 u, Vec3 u_volume, LightSample &
   switch (l.type) {
     case LightType::Point:
     case LightType::Spot: {
+      if (l.radius > 0) {  // the lamp's sphere (sphere_lamp.h)
+        if (!sample_sphere_lamp_from(l, ref, u, s.wi, s.dist, s.pdf)) return false;
+        s.p = ref + s.wi * s.dist;
+        s.L = sphere_lamp_radiance(l, normalize(s.p - l.position), -s.wi);
+        return !is_black(s.L);
+      }
       Vec3 to_ref = ref - l.position;
       float d2 = length_squared(to_ref);
       if (!(d2 > 0)) return false;
-      Vec3 n = to_ref / std::sqrt(d2);  // the disk faces the shaded point
-      if (l.radius > 0) {
-        Frame f(n);
-        Vec2 d = concentric_disk(u) * l.radius;
-        Vec3 p = l.position + f.s * d.x + f.t * d.y;
-        if (!to_solid_angle(ref, p, n, l.inv_area, false, s)) return false;
-        s.L = l.radiance;
-      } else {
-        s.dist = std::sqrt(d2);
-        s.wi = -n;
-        s.p = l.position;
-        s.pdf = 1;
-        s.L = l.radiance / d2;  // intensity / r^2
-      }
+      s.dist = std::sqrt(d2);
+      s.wi = -to_ref / s.dist;
+      s.p = l.position;
+      s.pdf = 1;
+      s.L = l.radiance / d2;  // intensity / r^2
       if (l.type == LightType::Spot) s.L *= spot_attenuation(l, -s.wi);
       return !is_black(s.L);
     }
@@ -254,10 +252,9 @@ float light_pdf(const Light &l, Vec3 ref, Vec3 wi, float dist) {
   switch (l.type) {
     case LightType::Point:
     case LightType::Spot: {
-      if (l.radius == 0) return 0;
-      Vec3 n = normalize(ref - l.position);
-      float cos_l = dot(n, -wi);
-      return cos_l > 0 ? dist * dist * l.inv_area / cos_l : 0.0f;
+      (void)wi;
+      (void)dist;  // a direction toward the sphere: the cone's density (sphere_lamp.h)
+      return l.radius > 0 ? sphere_lamp_cone_pdf(l, ref) : 0.0f;
     }
     case LightType::Sun: {
       if (l.radius == 0) return 0;
@@ -279,24 +276,13 @@ float light_pdf(const Light &l, Vec3 ref, Vec3 wi, float dist) {
   return 0;
 }
 
-bool intersect_light(const Light &l, const Ray &ray, Vec3 facing, float tmax, float &t, Color &L) {
+bool intersect_light(const Light &l, const Ray &ray, float tmax, float &t, Color &L) {
   switch (l.type) {
     case LightType::Point:
     case LightType::Spot: {
-      if (l.radius == 0) return false;
-      Vec3 n = facing - l.position;
-      float d2 = length_squared(n);
-      if (d2 <= l.radius * l.radius) return false;
-      n = n / std::sqrt(d2);
-      float denom = dot(ray.d, n);
-      if (denom >= 0) return false;
-      t = dot(l.position - ray.o, n) / denom;
-      if (!(t > 0 && t < tmax)) return false;
-      Vec3 q = ray.o + ray.d * t - l.position;
-      if (length_squared(q) > l.radius * l.radius) return false;
-      L = l.radiance;
-      if (l.type == LightType::Spot) L *= spot_attenuation(l, -ray.d);
-      return true;
+      if (l.radius == 0 || !intersect_sphere_lamp(l, ray.o, ray.d, tmax, t)) return false;
+      L = sphere_lamp_radiance(l, normalize(ray.o + ray.d * t - l.position), -ray.d);
+      return !is_black(L);
     }
     case LightType::Area: {
       float denom = dot(ray.d, l.axis);

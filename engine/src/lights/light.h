@@ -1,6 +1,6 @@
 // Light sources, in Blender 3.4 / Cycles units (intern/cycles/blender/light.cpp):
-//  point/spot: power P in Watts, radiant intensity P / (4 pi); with a radius, a disk
-//              facing the shaded point with radiance P / (4 pi * pi r^2);
+//  point/spot: power P in Watts, radiant intensity P / (4 pi); with a radius, a sphere
+//              of that radius emitting radiance P / (4 pi * pi r^2) (sphere_lamp.h);
 //  spot:       times cos(theta) * smoothstep of the cone blend;
 //  sun:        irradiance E; with an angle, directions over a disk of radius
 //              tan(angle / 2) at unit distance, radiance E / (pi r^2 cos^3);
@@ -107,13 +107,8 @@ bool sample_light(const Light &light, Vec3 ref, Vec2 u, Vec3 u_volume, LightSamp
 // Solid-angle density of sample_light choosing direction wi from ref, given the ray
 // reached the light at distance dist (triangles: also needs light normal via geometry).
 float light_pdf(const Light &light, Vec3 ref, Vec3 wi, float dist);
-// Analytic lights a ray can hit (disks, rectangles). Returns radiance. Point and spot
-// disks face `facing`: the vertex the ray left (Cycles 3.4 keeps the ray's origin
-// when it passes a lamp), which is also the point light sampling orients them toward.
-bool intersect_light(const Light &light, const Ray &ray, Vec3 facing, float tmax, float &t, Color &L);
-inline bool intersect_light(const Light &light, const Ray &ray, float tmax, float &t, Color &L) {
-  return intersect_light(light, ray, ray.o, tmax, t, L);
-}
+// Analytic lights a ray can hit (point and spot spheres, rectangles, ellipses). Returns radiance.
+bool intersect_light(const Light &light, const Ray &ray, float tmax, float &t, Color &L);
 // Radiance of an infinite light seen along an escaping direction.
 Color infinite_light_radiance(const Light &light, Vec3 d);
 

@@ -1,11 +1,11 @@
 // Where light subpaths start: a point on the light and a direction it emits in, with
-// the densities BDPT's MIS needs. Point and spot lights with a radius emit from
-// Blender 3.4's disk that faces the receiver: the disk perpendicular to the emitted
-// direction (parallel rays from the disk; first-order exact for receivers further
-// away than the radius, which is what the disk model itself assumes).
+// the densities BDPT's MIS needs. Point and spot lights with a radius emit from their
+// sphere (sphere_lamp.h): a point on it, then a direction leaving it, as next-event
+// estimation and the rays that hit it see the same sphere.
 #include "core/sampling.h"
 #include "lights/light.h"
 #include "lights/environment.h"
+#include "lights/sphere_lamp.h"
 #include "lights/volume_light.h"
 
 namespace rdv {
@@ -20,6 +20,16 @@ bool sample_emission(const Light &l, Vec2 u_pos, Vec2 u_dir, Vec3 u_volume, Vec3
   switch (l.type) {
     case LightType::Point:
     case LightType::Spot: {
+      if (l.radius > 0) {
+        Vec3 n, d;
+        out.pdf_pos = sample_sphere_lamp_point(l, u_pos, out.ray.o, n);
+        if (!sample_sphere_lamp_direction(l, n, u_dir, d)) return false;
+        out.pdf_dir = sphere_lamp_direction_pdf(l, n, d);
+        out.ray = {out.ray.o, d, kInf};
+        out.n = n;
+        out.Le = sphere_lamp_radiance(l, n, d);
+        return out.pdf_dir > 0 && !is_black(out.Le);
+      }
       Vec3 d;
       if (l.type == LightType::Spot) {
         d = uniform_cone(l.axis, l.cos_half_spot, u_dir);
@@ -28,16 +38,10 @@ bool sample_emission(const Light &l, Vec2 u_pos, Vec2 u_dir, Vec3 u_volume, Vec3
         d = uniform_sphere(u_dir);
         out.pdf_dir = uniform_sphere_pdf();
       }
-      Vec3 o = l.position;
-      if (l.radius > 0) {
-        Frame f(d);
-        Vec2 q = concentric_disk(u_pos) * l.radius;
-        o = o + f.s * q.x + f.t * q.y;
-      }
-      out.pdf_pos = l.inv_area;  // 1 / (pi r^2), or 1 for a delta position
-      out.ray = {o, d, kInf};
+      out.pdf_pos = 1;  // a delta position
+      out.ray = {l.position, d, kInf};
       out.n = Vec3(0.0f);
-      out.Le = l.radiance;       // disk radiance, or intensity for r = 0
+      out.Le = l.radiance;  // intensity
       if (l.type == LightType::Spot) out.Le *= spot_attenuation(l, d);
       return !is_black(out.Le);
     }
@@ -122,12 +126,17 @@ void emission_pdf(const Light &l, Vec3 p, Vec3 n, Vec3 dir, float radius, float 
   pdf_pos = pdf_dir = 0;
   switch (l.type) {
     case LightType::Point:
-      pdf_pos = l.inv_area;
-      pdf_dir = uniform_sphere_pdf();
-      break;
     case LightType::Spot:
-      pdf_pos = l.inv_area;
-      pdf_dir = dot(l.axis, dir) > l.cos_half_spot ? 1.0f / (2.0f * kPi * (1.0f - l.cos_half_spot)) : 0.0f;
+      if (l.radius > 0) {  // n: the sphere's normal at p
+        pdf_pos = sphere_lamp_point_pdf(l, n);
+        pdf_dir = sphere_lamp_direction_pdf(l, n, dir);
+      } else if (l.type == LightType::Point) {
+        pdf_pos = 1;
+        pdf_dir = uniform_sphere_pdf();
+      } else {
+        pdf_pos = 1;
+        pdf_dir = dot(l.axis, dir) > l.cos_half_spot ? 1.0f / (2.0f * kPi * (1.0f - l.cos_half_spot)) : 0.0f;
+      }
       break;
     case LightType::Area:
       pdf_pos = l.inv_area;

@@ -45,6 +45,35 @@ Color sphere_lamp_radiance(const Light &l, Vec3 n, Vec3 d) {
   return l.type == LightType::Spot ? l.radiance * spot_attenuation(l, d) : l.radiance;
 }
 
+namespace {
+// 1 - cos of the half angle of the cone the sphere subtends from distance^2 d2 > r^2,
+// without cancellation for a small far lamp.
+float one_minus_cos_max(const Light &l, float d2) {
+  const float sin2 = l.radius * l.radius / d2;
+  return sin2 / (1.0f + safe_sqrt(1.0f - sin2));
+}
+}  // namespace
+
+bool sample_sphere_lamp_from(const Light &l, Vec3 ref, Vec2 u, Vec3 &wi, float &dist, float &pdf) {
+  const Vec3 to_lamp = l.position - ref;
+  const float d2 = length_squared(to_lamp);
+  if (!(d2 > l.radius * l.radius)) return false;
+  const float d = std::sqrt(d2), omc_max = one_minus_cos_max(l, d2);
+  const float omc = u.x * omc_max, c = 1.0f - omc, s = safe_sqrt(omc * (2.0f - omc));
+  const float phi = 2.0f * kPi * u.y;
+  wi = Frame(to_lamp / d).to_world(Vec3(s * std::cos(phi), s * std::sin(phi), c));
+  // Where wi enters the sphere (at the rim, rounding may leave the root slightly negative).
+  dist = d * c - safe_sqrt(l.radius * l.radius - d2 * s * s);
+  pdf = 1.0f / (2.0f * kPi * omc_max);
+  return dist > 0 && std::isfinite(pdf);
+}
+
+float sphere_lamp_cone_pdf(const Light &l, Vec3 ref) {
+  const float d2 = length_squared(l.position - ref);
+  if (!(d2 > l.radius * l.radius)) return 0.0f;
+  return 1.0f / (2.0f * kPi * one_minus_cos_max(l, d2));
+}
+
 bool intersect_sphere_lamp(const Light &l, Vec3 o, Vec3 d, float tmax, float &t) {
   // |o + t d - c|^2 = r^2 with |d| = 1, in double: o may be far from the lamp.
   const double ox = double(o.x) - l.position.x, oy = double(o.y) - l.position.y, oz = double(o.z) - l.position.z;

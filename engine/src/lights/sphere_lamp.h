@@ -1,20 +1,20 @@
-// Point and spot lamps with a radius as a surface, for path-space MLT: a sphere of radius
-// r about the lamp's position that emits the lamp's disk radiance L outward from every
-// point (times the spot's falloff along the emitted direction).
+// Point and spot lamps with a radius as a surface, in every integrator: a sphere of
+// radius r about the lamp's position that emits the lamp's disk radiance L outward from
+// every point (times the spot's falloff along the emitted direction).
 //
-// Why a sphere: BDPT's light tracing (light_emission.cpp) emits along a direction d from
-// a point uniform on the disk of radius r through the centre perpendicular to d, with
-// radiance L: L travels along every line that passes within r of the centre, away from
-// the line's closest point. A sphere of radius r emitting L outward carries L along the
-// same lines (a line meets the sphere exactly when it passes within r of the centre),
-// from where it leaves the sphere: the same radiance everywhere outside the sphere, and
-// the same power (L pi r^2 4 pi). But a point on the sphere has an area density that
-// does not depend on the vertex it lights, so a Metropolis path may keep it while that
-// vertex moves (a disk facing its neighbour turns with it). Inside the sphere (geometry
-// or fog within r of the lamp's centre) the two differ: the sphere lights nothing there.
+// Why a sphere: Blender 3.4's model, a disk of radius r facing the receiver, is not one
+// emitter: its radiance field depends on who receives it, so light tracing cannot emit
+// it. Far from the lamp every model agrees (intensity L pi r^2, power L pi r^2 4 pi), but
+// within a few radii they differ at order r^2 / d^2: lit fog around a spot of radius 0.3
+// was 15% brighter in BDPT (whose light subpaths emitted lines within r of the centre, the
+// sphere's radiance field) than in the path tracer (the disk facing each fog point). A
+// sphere is one emitter for next-event estimation, rays that hit it, light subpaths and
+// path-space MLT (whose points must not depend on the vertex they light). Cycles 3.4
+// itself is not consistent there (its next-event estimation and its hits of the disk
+// differ at the same order); Cycles 4 made point lamps spheres.
 //
-// Camera-side walks reach the sphere where a ray enters it (a lamp seen in a mirror or
-// through glass has no other strategy in path space).
+// Camera-side walks reach the sphere where a ray enters it; points inside the sphere
+// (geometry or fog within r of the centre) receive nothing from it.
 //
 // Sampling, factored as a point then a direction from it (so the light-side density of a
 // kept point's direction is the second factor alone):
@@ -43,6 +43,12 @@ bool sample_sphere_lamp_direction(const Light &l, Vec3 n, Vec2 u, Vec3 &d);
 float sphere_lamp_direction_pdf(const Light &l, Vec3 n, Vec3 d);
 // Radiance leaving the point of normal n along d.
 Color sphere_lamp_radiance(const Light &l, Vec3 n, Vec3 d);
+// Next-event estimation from ref: a direction uniform in the cone of directions toward
+// the sphere, the distance to where it enters it, the solid-angle density; false from
+// inside the sphere.
+bool sample_sphere_lamp_from(const Light &l, Vec3 ref, Vec2 u, Vec3 &wi, float &dist, float &pdf);
+// The density of sample_sphere_lamp_from for a direction that meets the sphere (0 inside).
+float sphere_lamp_cone_pdf(const Light &l, Vec3 ref);
 // Where the ray o + t d (0 < t < tmax) enters the lamp's sphere (a ray from inside it
 // never does: the sphere emits outward only).
 bool intersect_sphere_lamp(const Light &l, Vec3 o, Vec3 d, float tmax, float &t);

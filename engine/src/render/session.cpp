@@ -99,6 +99,7 @@ PartRecord Session::part_record() const {
   if (r.halves) r.half_splats = frame.half_splats;
   r.light_passes = film_.has_light_passes();
   r.data_passes = film_.writes_data_passes();
+  r.denoising_passes = film_.has_denoising_passes();
   r.strategy_max_depth = film_.strategy_passes().max_depth;
   return r;
 }

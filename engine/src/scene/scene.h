@@ -215,21 +215,20 @@ class Scene {
   // Lights a ray can hit (disks, rectangles) apart from mesh emitters; infinite lights.
   const std::vector<uint32_t> &hittable_lights() const { return hittable_lights_; }
   const std::vector<uint32_t> &infinite_lights() const { return infinite_lights_; }
-  // The nearest lamp (disk, rectangle) along the ray before tmax, or -1; lamps hidden
+  // The nearest lamp (sphere, rectangle, ellipse) along the ray before tmax, or -1; lamps hidden
   // from the ray's kind (ray.mask; camera rays see lamps only when asked) are skipped,
-  // and `skip` (the lamp the ray just passed). Sets tmax to its distance and L to its radiance. Disks face `facing` (the
-  // vertex the ray left). Lamps are transparent, as in Cycles 3.4 (shade_light goes on
+  // and `skip` (the lamp the ray just passed). Sets tmax to its distance and L to its radiance. Lamps are transparent, as in Cycles 3.4 (shade_light goes on
   // through them): a path that meets one adds its radiance and carries on to what lies
   // behind it from the lamp's point (LampCrossing), and shadow rays ignore lamps.
   // catcher_only: the catcher pass's path of a shadow catcher (Light::shadow_catcher).
-  int nearest_lamp(const Ray &ray, Vec3 facing, int skip, float &tmax, Color &L, bool catcher_only = false) const {
+  int nearest_lamp(const Ray &ray, int skip, float &tmax, Color &L, bool catcher_only = false) const {
     int lamp = -1;
     for (uint32_t li : hittable_lights_) {
       if (!(lights_[li].visibility & ray.mask) || int(li) == skip) continue;
       if (catcher_only && !lights_[li].shadow_catcher) continue;
       float t;
       Color Le;
-      if (intersect_light(lights_[li], ray, facing, tmax, t, Le)) { tmax = t; lamp = int(li); L = Le; }
+      if (intersect_light(lights_[li], ray, tmax, t, Le)) { tmax = t; lamp = int(li); L = Le; }
     }
     return lamp;
   }

@@ -148,6 +148,8 @@ class Bdpt final : public TileIntegrator {
                               PathVertex *path, int n, float pdf_dir, Color &emitted) const;
   // Densities (mis.cpp), area measure at the receiving vertex.
   void light_densities(const PathVertex &light_vertex, const PathVertex &v, float &origin, float &toward) const;
+  void split_sphere_lamp_density(const Light &lamp, const PathVertex &light_vertex, Vec3 v, float &origin,
+                                 float &toward) const;
   float infinite_light_density(Vec3 dir) const;
   bool light_start_is_delta(const PathVertex &light_vertex) const;
   float lafortune_willems_weight(const PathVertex *light_path, const PathVertex *camera_path,

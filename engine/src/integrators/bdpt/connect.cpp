@@ -1,6 +1,7 @@
 // Connecting a light subpath prefix of s vertices to a camera subpath prefix of t
 // vertices (pbrt-v3's ConnectBDPT), with the vertex quantities the connection needs.
 #include "core/ray_offset.h"
+#include "lights/sphere_lamp.h"
 #include "lights/volume_light.h"
 #include "media/medium_stack.h"
 #include "samplers/dimension_layout.h"
@@ -168,6 +169,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
       sampled.p = ls.p;
       sampled.error = ls.error;
       if (light.type == LightType::Area || light.type == LightType::Triangle) sampled.ng = sampled.ns = light.axis;
+      if (is_sphere_lamp(light)) sampled.ng = sampled.ns = normalize(ls.p - light.position);
       if (light.type == LightType::Volume) sampled.gather_rate = 1.0f / light.volume->medium().emission_step;
     }
     if (limits.classify && !limits_keep(light_path, camera_path, 1, t, kind_toward(pt, direction_to(pt, sampled)), kNone))

@@ -3,6 +3,7 @@
 // is 1 / sum_i (p_i / p_s)^2, built from running products of reverse/forward density
 // ratios along each subpath, so no product of densities ever overflows.
 #include "integrators/bdpt/bdpt.h"
+#include "lights/sphere_lamp.h"
 
 namespace rdv::bdpt {
 
@@ -29,12 +30,37 @@ void Bdpt::light_densities(const PathVertex &lv, const PathVertex &v, float &ori
   w = w / std::sqrt(d2);
   float pdf_pos, pdf_dir;
   Light moved;
-  emission_pdf(scene_.light_now(uint32_t(lv.light), moved), lv.p, lv.ng, w, radius, pdf_pos, pdf_dir);
+  const Light &light = scene_.light_now(uint32_t(lv.light), moved);
+  emission_pdf(light, lv.p, lv.ng, w, radius, pdf_pos, pdf_dir);
   origin = pdf_pos * scene_.light_distribution().pmf(lv.light);
   toward = 0;
   if (!(d2 > 0)) return;
   toward = pdf_dir / d2;
   if (v.on_surface()) toward *= absdot(v.ng, w);
+  if (is_sphere_lamp(light)) split_sphere_lamp_density(light, lv, v.p, origin, toward);
+}
+
+// A lamp's sphere (sphere_lamp.h): next-event estimation (s = 1) samples its point from
+// the cone the sphere subtends at v, up to 4x denser on the visible cap than the
+// emission's uniform point, which the longer light subpaths (s >= 2) start from. Each
+// strategy keeps its own density: `origin` becomes the cone's (area measure at the lamp
+// point) and `toward`, v's density from the lamp, takes the inverse ratio, so that
+// origin x toward, all the strategies s >= 2 see of the lamp, is still the emission's.
+// The power heuristic then weighs every strategy by its true density; with the
+// emission's point density for s = 1 (pbrt's choice) next-event estimation was
+// under-weighted on glossy highlights, with the cone's for every s (no ratio moved to
+// v) light tracing was over-weighted, noisy on diffuse surfaces (2.8x the MSE of
+// the disk model on the caustic scene).
+void Bdpt::split_sphere_lamp_density(const Light &lamp, const PathVertex &lv, Vec3 v, float &origin,
+                                     float &toward) const {
+  Vec3 w = v - lv.p;
+  const float d2 = length_squared(w);
+  if (!(d2 > 0) || !(origin > 0)) return;
+  const float pmf = scene_.light_distribution().pmf(lv.light);
+  const float cone = pmf * sphere_lamp_cone_pdf(lamp, v) * absdot(lv.ng, w / std::sqrt(d2)) / d2;
+  if (!(cone > 0)) return;  // v inside the sphere or on its horizon: no next-event estimation
+  toward *= origin / cone;
+  origin = cone;
 }
 
 namespace {

@@ -3,6 +3,7 @@
 // before it (pbrt-v3's RandomWalk), plus Russian roulette.
 #include "core/ray_offset.h"
 #include "integrators/bdpt/bdpt.h"
+#include "lights/sphere_lamp.h"
 #include "integrators/filter_glossy.h"
 #include "integrators/visibility_clear.h"
 #include "media/emission_gather.h"
@@ -62,8 +63,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
   MediumStack media = path[0].media;
   int n = 0, boundary_crossings = 0;
   // Lamps are transparent (Scene::nearest_lamp): past one, the ray goes on from the lamp's
-  // point, its disks still facing the vertex the ray left, and not into the lamp it passed.
-  Vec3 lamp_facing = ray.o;
+  // point, not into the lamp it passed.
   int lamp_passed = -1;
   // Where each decision draws (samplers/dimension_layout.h): bounce k (the segment
   // leaving vertex k and the vertex k + 1 it reaches) draws from its block of the walk's
@@ -124,7 +124,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     DenoisingSample *const denoising = camera && data && data->denoising.active ? &data->denoising : nullptr;
     Color lamp_L;
     int lamp = mode == TransportMode::Radiance && (emitted || denoising)
-                   ? scene_.nearest_lamp(ray, lamp_facing, lamp_passed, tmax, lamp_L)
+                   ? scene_.nearest_lamp(ray, lamp_passed, tmax, lamp_L)
                    : -1;
     if constexpr (kMedia) {
       int m = media.current(scene_);
@@ -167,7 +167,6 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
           if (mode == TransportMode::Radiance && n >= 2) set_mis_sum(path, n - 1, path[n - 2].delta, balance());
           ray = Ray{v.p, wi, kInf, ray_kind(ScatterKind::Volume)};
           v.out_mask = ray.mask;
-          lamp_facing = ray.o;
           lamp_passed = -1;
           if (mode == TransportMode::Radiance) cone = cone.after(ms.t).scattered(kRoughConeSpread);
           if (!russian_roulette()) return n;
@@ -209,7 +208,6 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       if (scene_.is_boundary_only(hit.material)) {  // an index-matched boundary: no vertex
         media.cross(scene_, hit, boundary, ray.d);
         ray = Ray{spawn_origin(hit.p, hit.ng, hit.error, ray.d), ray.d, kInf, ray.mask};
-        lamp_facing = ray.o;
         lamp_passed = -1;
         if (++boundary_crossings > 256) return n;
         ++crossings;
@@ -291,7 +289,6 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
               : camera && classify_rays ? ray_kind(v.bsdf.scatter_kind(v.wo, bs.wi))
                                         : ray_kind(ScatterKind::Transparent)};
     v.out_mask = ray.mask;
-    lamp_facing = ray.o;
     lamp_passed = -1;
     // Camera paths: wider after a rough bounce, as in the path tracer. Light paths
     // carry no cone (unfiltered lookups).
@@ -315,7 +312,9 @@ Color Bdpt::lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathV
   point.type = VertexType::Light;
   point.light = lamp;
   point.p = q;
-  point.ng = point.ns = light.type == LightType::Area ? light.axis : Vec3(0.0f);
+  point.ng = point.ns = light.type == LightType::Area ? light.axis
+                        : is_sphere_lamp(light)        ? normalize(q - light.position)
+                                                       : Vec3(0.0f);
   point.wo = wo;
   point.beta = beta;
   point.emitted = Le;
@@ -454,6 +453,10 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int
       if (path[1].on_surface()) path[1].pdf_fwd *= absdot(es.ray.d, path[1].ng);
     }
     v.pdf_fwd = infinite_light_density(v.dir);
+  } else if (n > 0 && is_sphere_lamp(light)) {
+    // A lamp's sphere: next-event estimation's density for its point, the rest moved to
+    // the first vertex, as every strategy reckons it (Bdpt::split_sphere_lamp_density).
+    split_sphere_lamp_density(light, v, path[1].p, v.pdf_fwd, path[1].pdf_fwd);
   }
   // The MIS sums, now that every density is final (the last vertex's is never read).
   set_mis_sum(path, 0, light_start_is_delta(path[0]), balance());

@@ -115,12 +115,10 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
   if constexpr (kMedia) stack = MediumStack::for_camera(scene_);
   int boundary_crossings = 0;
   // Lamps are transparent (Scene::nearest_lamp): past one, the ray goes on from the lamp's
-  // point, its disks still facing the vertex the ray left, and not into the lamp it passed.
-  Vec3 lamp_facing = ray.o;
+  // point, not into the lamp it passed.
   int lamp_passed = -1;
   auto new_ray = [&](const Ray &r) {
     ray = r;
-    lamp_facing = r.o;
     lamp_passed = -1;
   };
   // Where each decision draws (samplers/dimension_layout.h): bounce `depth`'s block;
@@ -227,7 +225,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
 
     // Analytic lights (disks, rectangles) in front of the surface.
     Color light_L;
-    int hit_light = scene_.nearest_lamp(ray, lamp_facing, lamp_passed, tmax, light_L, kCatcher && catcher_only);
+    int hit_light = scene_.nearest_lamp(ray, lamp_passed, tmax, light_L, kCatcher && catcher_only);
 
     if constexpr (kMedia) {
       int m = stack.current(scene_);
