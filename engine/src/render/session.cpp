@@ -100,6 +100,8 @@ PartRecord Session::part_record() const {
   r.light_passes = film_.has_light_passes();
   r.data_passes = film_.writes_data_passes();
   r.denoising_passes = film_.has_denoising_passes();
+  r.shadow_catcher = film_.has_shadow_catcher();
+  r.catcher_display = film_.catcher_display();
   r.strategy_max_depth = film_.strategy_passes().max_depth;
   return r;
 }
