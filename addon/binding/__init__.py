@@ -45,6 +45,9 @@ PASS_MATERIAL_INDEX = 20
 PASS_DENOISING_NORMAL = 21
 PASS_DENOISING_ALBEDO = 22
 PASS_DENOISING_DEPTH = 23
+# Shadow catchers (instance setting "shadow_catcher"; engine/src/film/shadow_catcher_passes.h)
+PASS_SHADOW_CATCHER = 24
+PASS_SHADOW_CATCHER_MATTE = 25
 # BDPT's strategy passes (session setting "strategy_passes"): PASS_STRATEGY_FIRST + k, 3 floats
 # each, k numbered as engine/src/film/strategy_passes.h (addon/engine/passes.py names them)
 PASS_STRATEGY_FIRST = 64
@@ -53,6 +56,7 @@ PASS_CHANNELS = {PASS_COMBINED: 4, PASS_DEPTH: 1, PASS_NORMAL: 3, PASS_ALBEDO: 3
 PASS_CHANNELS.update({p: 3 for p in range(PASS_EMISSION, PASS_VOLUME_INDIRECT + 1)})
 PASS_CHANNELS.update({PASS_MIST: 1, PASS_OBJECT_INDEX: 1, PASS_MATERIAL_INDEX: 1})
 PASS_CHANNELS.update({PASS_DENOISING_NORMAL: 3, PASS_DENOISING_ALBEDO: 3, PASS_DENOISING_DEPTH: 1})
+PASS_CHANNELS.update({PASS_SHADOW_CATCHER: 3, PASS_SHADOW_CATCHER_MATTE: 4})
 PASS_CHANNELS.update({p: 3 for p in range(PASS_STRATEGY_FIRST, PASS_STRATEGY_LAST + 1)})
 
 

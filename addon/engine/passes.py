@@ -22,6 +22,9 @@ _DATA_PASSES = [
     ("Denoising Normal", "denoising_store_passes", "cycles", binding.PASS_DENOISING_NORMAL, 3, "XYZ", "VECTOR"),
     ("Denoising Albedo", "denoising_store_passes", "cycles", binding.PASS_DENOISING_ALBEDO, 3, "RGB", "COLOR"),
     ("Denoising Depth", "denoising_store_passes", "cycles", binding.PASS_DENOISING_DEPTH, 1, "Z", "VALUE"),
+    # View Layer > Passes > Light > Other > Shadow Catcher (Cycles' property): the catcher's
+    # shadows and light as a factor; Combined is then the matte (session "shadow_catcher_pass").
+    ("Shadow Catcher", "use_pass_shadow_catcher", "cycles", binding.PASS_SHADOW_CATCHER, 3, "RGB", "COLOR"),
 ]
 LIGHT_PASSES = [
     ("Emit", "use_pass_emit", "layer", binding.PASS_EMISSION),
@@ -106,12 +109,14 @@ def register_passes(engine, scene, layer):
 
 def light_pass_settings(layer, scene, integrator, warn=print):
     """The session settings the layer's passes need: light passes ({} without any), BDPT's
-    strategy passes, the denoising data, and View Layer > Passes > Alpha Threshold, which the
-    Object and Material Index passes use."""
+    strategy passes, the denoising data, the Shadow Catcher pass, and View Layer > Passes >
+    Alpha Threshold, which the Object and Material Index passes use."""
     threshold = getattr(layer, "pass_alpha_threshold", None)
     data = {"pass_alpha_threshold": float(threshold)} if threshold is not None else {}
     if _flag(layer, scene, "denoising_store_passes", "cycles"):
         data["denoising_passes"] = True
+    if _flag(layer, scene, "use_pass_shadow_catcher", "cycles"):
+        data["shadow_catcher_pass"] = True  # Combined: the matte, as Cycles (else the shadow is in it)
     depth = wanted_strategy_depth(layer)
     if depth is not None:
         if integrator == "bdpt":

@@ -221,24 +221,32 @@ class SceneExporter:
         self.stats.lights += 1
 
     def light_settings(self, ob, m16):
-        """The light's engine parameters with its ray visibility (None: skipped, warned)."""
+        """The light's engine parameters with its ray visibility and shadow-catcher flag (None:
+        skipped, warned)."""
         params = light_params(ob.data, m16, ob.name, self.warn)
         if params is not None:
             rays = visibility.light_visibility(ob, ob.data)
             if rays:  # Object > Visibility > Ray Visibility, Light > Cast Shadow
                 params["visibility"] = rays
+            # Object > Visibility > Shadow Catcher on a light (on for new lights): a light of
+            # the footage, which lights the Shadow Catcher pass too; turned off, the light is
+            # the synthetic objects' own and lights only the image (Cycles 3.4).
+            if not getattr(ob, "is_shadow_catcher", True):
+                params["shadow_catcher"] = False
         return params
 
     # ---- geometry -------------------------------------------------------------------
     @staticmethod
     def object_settings(ob):
-        """rdv_scene_set_instance_params of a mesh object: holdout, ray visibility and pass index
-        ({}: defaults)."""
+        """rdv_scene_set_instance_params of a mesh object: holdout, shadow catcher, ray visibility
+        and pass index ({}: defaults)."""
         settings = {}
         if getattr(ob, "pass_index", 0):  # Object > Relations > Pass Index (the Object Index pass)
             settings["pass_index"] = int(ob.pass_index)
         if getattr(ob, "is_holdout", False):  # Object > Visibility > Holdout
             settings["holdout"] = True
+        if getattr(ob, "is_shadow_catcher", False):  # Object > Visibility > Shadow Catcher
+            settings["shadow_catcher"] = True
         rays = visibility.object_visibility(ob)
         if rays:  # Object > Visibility > Ray Visibility
             settings["visibility"] = rays

@@ -170,8 +170,11 @@ RDV_API rdv_status rdv_scene_set_mesh_motion(rdv_scene *scene, uint32_t mesh, co
  * camera sees it, as Cycles), "visibility": {"camera": true, "diffuse": true, "glossy": true,
  * "transmission": true, "shadow": true, "volume_scatter": true} (Object > Visibility > Ray
  * Visibility: rays of a kind pass through what is hidden from them, as Cycles; lights and
- * the world take the same "visibility" in their parameters). Absent keys take their
- * defaults. */
+ * the world take the same "visibility" in their parameters), "shadow_catcher": false
+ * (Object > Visibility > Shadow Catcher, as Cycles 3.4: with the path tracer, RDV_PASS_COMBINED
+ * shows the other objects over the catcher, which holds only the shadows and light they
+ * add to it, and RDV_PASS_SHADOW_CATCHER that change as a factor; docs/scene-format.md,
+ * Shadow catcher). Absent keys take their defaults. */
 RDV_API rdv_status rdv_scene_set_instance_params(rdv_scene *scene, uint32_t instance, const char *params_json);
 
 /* Lights: {"type":"point"|"spot"|"sun"|"area", "transform":[16], ...}. Units are
@@ -309,6 +312,17 @@ typedef enum rdv_pass {
   RDV_PASS_DENOISING_NORMAL = 21,
   RDV_PASS_DENOISING_ALBEDO = 22,
   RDV_PASS_DENOISING_DEPTH = 23,
+  /* Shadow catchers (instance setting "shadow_catcher"; the path tracer; docs/scene-format.md,
+   * Shadow catcher), as Cycles 3.4. SHADOW_CATCHER: the catcher's light with the other
+   * objects over its light without them, per channel, 3 floats (1 where no catcher is seen,
+   * below 1 in shadows: multiply footage by it). SHADOW_CATCHER_MATTE: the other objects
+   * over a transparent catcher, RGBA. With a catcher in the scene, RDV_PASS_COMBINED reads
+   * as Blender's Combined: the matte when the session setting "shadow_catcher_pass" is true
+   * (View Layer > Passes > Shadow Catcher), else the matte with the shadow in its alpha
+   * (film transparent) or over the world seen behind the catcher (film opaque). Without a
+   * catcher, or with another integrator: 1 and zeros (alpha 1). */
+  RDV_PASS_SHADOW_CATCHER = 24,
+  RDV_PASS_SHADOW_CATCHER_MATTE = 25,
   /* BDPT's strategy passes (session setting "strategy_passes": true, bdpt only; docs/bdpt.md),
    * 3 floats each: pass RDV_PASS_STRATEGY_FIRST + k holds strategy k's MIS-weighted share of
    * Combined, for the paths of depth (bounces) d = s + t - 2 up to "strategy_passes_max_depth"

@@ -55,6 +55,8 @@ void usage() {
                "                         Gloss*, Trans*, VolumeDir, VolumeInd; path and bdpt);\n"
                "         data            Mist.Z, IndexOB.X, IndexMA.X (every integrator); e.g. --passes light,data\n"
                "         denoising       Denoising Normal / Albedo / Depth, Cycles' denoising data (every integrator)\n"
+               "         shadowcatcher   path: a scene with a shadow catcher writes Combined as the matte and the\n"
+               "                         layer 'Shadow Catcher' (else Combined holds the shadow, as Cycles)\n"
                "         strategies      bdpt: each strategy's MIS-weighted image, Strategy_s<S>t<T>, of paths up to\n"
                "                         --strategy-depth N bounces (default 3, at most 6), and Strategy_rest\n"
                "  --film-transparent     the world seen directly is transparent (alpha = coverage; PNG and EXR)\n"
@@ -194,9 +196,10 @@ int main(int argc, char **argv) {
           if (item == "light") overrides["light_passes"] = true;
           else if (item == "data") overrides["data_passes"] = true;
           else if (item == "denoising") overrides["denoising_passes"] = true;
+          else if (item == "shadowcatcher") overrides["shadow_catcher_pass"] = true;
           else if (item == "strategies") overrides["strategy_passes"] = true;
           else {
-            std::fprintf(stderr, "rendezvous: --passes: unknown pass set '%s' (available: light, data, denoising, strategies)\n",
+            std::fprintf(stderr, "rendezvous: --passes: unknown pass set '%s' (available: light, data, denoising, shadowcatcher, strategies)\n",
                          item.c_str());
             return 2;
           }

@@ -838,6 +838,24 @@ def denoising_data():
     return scene
 
 
+def shadow_catcher():
+    """Object > Visibility > Shadow Catcher: a floor that is a shadow catcher under a red
+    diffuse ball and a green card standing on it (ordinary objects), lit by a point lamp
+    and a blue world; the camera sees the world past the floor's far edge. The catcher pass
+    is 1 where nothing shadows the floor, below 1 in the ball's and card's shadows."""
+    scene = reset(48)
+    bg = scene.world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (0.4, 0.5, 0.7, 1.0)
+    bg.inputs["Strength"].default_value = 0.5
+    plane("Floor", 4.0, diffuse_material("FloorMat", (0.6, 0.55, 0.5))).is_shadow_catcher = True
+    smooth_ball("Ball", (-0.5, 0.2, 0.45), 0.45, diffuse_material("BallMat", (0.8, 0.3, 0.2)))
+    card = plane("Card", 0.6, diffuse_material("CardMat", (0.2, 0.7, 0.3)), location=(0.7, -0.2, 0.3))
+    card.rotation_euler = (math.radians(90), 0, math.radians(20))
+    light("POINT", "Point", 150.0, (0.8, -0.6, 2.2), shadow_soft_size=0.3)
+    camera_looking_at((0, -4.5, 1.8), (0, 0.3, 0.3), 45)
+    return scene
+
+
 LIGHT_PATH_SCENES = ["light_paths_diffuse", "light_paths_mirror", "light_paths_caustics", "light_paths_clamp",
                      "light_paths_filter_glossy"]
 
@@ -1004,6 +1022,7 @@ SCENES = {
     "light_passes": light_passes,
     "data_passes": data_passes,
     "denoising_data": denoising_data,
+    "shadow_catcher": shadow_catcher,
     "motion_square": lambda: motion_blur("square"),
     "motion_camera": lambda: motion_blur("camera"),
     "motion_deform": lambda: motion_blur("deform"),

@@ -80,9 +80,15 @@ std::string merge(const std::vector<std::string> &parts, const std::string &out,
 // With the Noise pass (`halves`), the parts keep their half images and the merge has
 // the whole render's Noise channel and half sums. With `passes`, Cycles' light passes,
 // the data passes, the denoising data and (bdpt) the strategy passes: the merge has them all.
-void expect_merge_equals_whole(const std::string &integrator, bool halves = false, bool passes = false) {
+// catcher: the box's first mesh is a shadow catcher, with the Shadow Catcher pass (path).
+void expect_merge_equals_whole(const std::string &integrator, bool halves = false, bool passes = false,
+                               bool catcher = false) {
   json scene = load_scene("cornell_box.json");
   json s = {{"width", 40}, {"height", 32}, {"integrator", integrator}, {"max_bounces", 6}, {"seed", 7}, {"threads", 2}};
+  if (catcher) {
+    scene["meshes"][0]["shadow_catcher"] = true;
+    s["shadow_catcher_pass"] = true;
+  }
   if (halves) s["noise_pass"] = true;
   if (passes) {
     s["light_passes"] = s["data_passes"] = s["denoising_passes"] = true;
@@ -116,6 +122,8 @@ void expect_merge_equals_whole(const std::string &integrator, bool halves = fals
     const bool expected = passes && (integrator == "bdpt" || std::string(pass).rfind("Strategy", 0) != 0);
     EXPECT_EQ(std::find(a.names.begin(), a.names.end(), pass) != a.names.end(), expected) << pass;
   }
+  EXPECT_EQ(std::find(a.names.begin(), a.names.end(), "Shadow Catcher.R") != a.names.end(), catcher);
+  EXPECT_EQ(std::find(a.names.begin(), a.names.end(), "RdvMerge.catcher_splits_v_hi") != a.names.end(), catcher);
   ASSERT_EQ(a.words.size(), b.words.size());
   size_t image_differences = 0, raw_differences = 0;
   double worst_raw = 0;
@@ -148,6 +156,9 @@ void expect_merge_equals_whole(const std::string &integrator, bool halves = fals
 }  // namespace
 
 TEST(RenderParts, FourRangesEqualOneRenderPath) { expect_merge_equals_whole("path"); }
+// A shadow catcher's sums (film/shadow_catcher_passes.h): Combined (the matte) and the
+// Shadow Catcher pass of the merge as one render's.
+TEST(RenderParts, FourRangesWithShadowCatcherEqualOneRenderPath) { expect_merge_equals_whole("path", false, true, true); }
 TEST(RenderParts, FourRangesEqualOneRenderBdpt) { expect_merge_equals_whole("bdpt"); }
 TEST(RenderParts, FourRangesWithNoiseEqualOneRenderPath) { expect_merge_equals_whole("path", true); }
 TEST(RenderParts, FourRangesWithNoiseEqualOneRenderBdpt) { expect_merge_equals_whole("bdpt", true); }

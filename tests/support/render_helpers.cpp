@@ -52,6 +52,13 @@ static Image render_scene(rdv_scene *scene, const rdv_tools::LoadedScene &loaded
       if (rdv_session_read_film(session, pass, 0, 0, img.width, img.height, 1, out->data()) != RDV_OK)
         throw std::runtime_error(std::string("read_film: ") + rdv_last_error());
     }
+  // Shadow catchers: read from every session (1 and zeros without a catcher).
+  for (auto [pass, out] : {std::pair{RDV_PASS_SHADOW_CATCHER, &img.shadow_catcher},
+                           std::pair{RDV_PASS_SHADOW_CATCHER_MATTE, &img.shadow_catcher_matte}}) {
+    out->resize(size_t(img.width) * img.height * size_t(rdv_pass_channels(pass)));
+    if (rdv_session_read_film(session, pass, 0, 0, img.width, img.height, 1, out->data()) != RDV_OK)
+      throw std::runtime_error(std::string("read_film: ") + rdv_last_error());
+  }
   // The 3-float passes of [first, last] a setting asks for.
   auto read_passes = [&](const char *setting, int first, int last, std::vector<std::vector<float>> &passes) {
     if (!settings.value(setting, false)) return;

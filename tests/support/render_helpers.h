@@ -41,6 +41,9 @@ struct Image {
   // Denoising data (settings "denoising_passes"; film/denoising_passes.h), top-down: Normal
   // and Albedo 3 floats per pixel, Depth 1; empty without them.
   std::vector<float> denoising_normal, denoising_albedo, denoising_depth;
+  // Shadow catchers (film/shadow_catcher_passes.h), top-down: the Shadow Catcher pass, 3
+  // floats per pixel, and the matte, RGBA.
+  std::vector<float> shadow_catcher, shadow_catcher_matte;
   const float *light_pass(rdv_pass pass, int x, int y) const {
     return &light_passes[size_t(pass - RDV_PASS_EMISSION)][(size_t(y) * width + x) * 3];
   }

@@ -324,6 +324,8 @@ int rdv_pass_channels(rdv_pass pass) {
     case RDV_PASS_DENOISING_NORMAL:
     case RDV_PASS_DENOISING_ALBEDO: return 3;
     case RDV_PASS_DENOISING_DEPTH: return 1;
+    case RDV_PASS_SHADOW_CATCHER: return 3;
+    case RDV_PASS_SHADOW_CATCHER_MATTE: return 4;
     case RDV_PASS_EMISSION:
     case RDV_PASS_ENVIRONMENT:
     case RDV_PASS_DIFFUSE_DIRECT:

@@ -38,6 +38,7 @@ void Film::take_tile(const Rect &rect, FilmTile &tile) const {
   tile.aovs_.resize(n);
   tile.light_.resize(has_light_passes() ? n : 0);
   tile.denoising_.resize(has_denoising_passes() ? n : 0);
+  tile.catcher_.resize(has_shadow_catcher() ? n : 0);
   const size_t ns = size_t(strategies_.count());  // strategy sums per pixel
   tile.strategy_count_ = int(ns);
   tile.strategy_.resize(n * ns);
@@ -51,6 +52,8 @@ void Film::take_tile(const Rect &rect, FilmTile &tile) const {
       std::copy_n(&light_[index(rect.x0, y)], rect.width(), &tile.light_[tile.index(rect.x0, y)]);
     if (has_denoising_passes())
       std::copy_n(&denoising_[index(rect.x0, y)], rect.width(), &tile.denoising_[tile.index(rect.x0, y)]);
+    if (has_shadow_catcher())
+      std::copy_n(&catcher_[index(rect.x0, y)], rect.width(), &tile.catcher_[tile.index(rect.x0, y)]);
     if (ns)
       std::copy_n(&strategy_[index(rect.x0, y) * ns], rect.width() * ns, &tile.strategy_[tile.index(rect.x0, y) * ns]);
   }
@@ -68,6 +71,8 @@ void Film::put_tile(const FilmTile &tile) {
       std::copy_n(&tile.light_[tile.index(rect.x0, y)], rect.width(), &light_[index(rect.x0, y)]);
     if (has_denoising_passes())
       std::copy_n(&tile.denoising_[tile.index(rect.x0, y)], rect.width(), &denoising_[index(rect.x0, y)]);
+    if (has_shadow_catcher())
+      std::copy_n(&tile.catcher_[tile.index(rect.x0, y)], rect.width(), &catcher_[index(rect.x0, y)]);
     if (const size_t ns = size_t(strategies_.count()))
       std::copy_n(&tile.strategy_[tile.index(rect.x0, y) * ns], rect.width() * ns, &strategy_[index(rect.x0, y) * ns]);
   }
@@ -166,6 +171,11 @@ void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_
   });
 }
 
+void Film::keep_shadow_catcher(const CatcherDisplay &display) {
+  catcher_display_ = display;
+  catcher_.assign(size_t(width_) * size_t(height_), CatcherSums{});
+}
+
 void Film::read_strategy_pass(int k, size_t i, float *dst) const {
   const double n = pixels_[i].count;
   const StrategySums &sum = strategy_[i * size_t(strategies_.count()) + size_t(k)];
@@ -240,11 +250,31 @@ void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float 
       const double n = p.count;
       switch (pass) {
         case RDV_PASS_COMBINED: {
+          if (has_shadow_catcher()) {  // as Blender shows it (film/shadow_catcher_passes.h)
+            const std::array<double, 4> v =
+                catcher_display_.pass ? shadow_catcher::matte(n, catcher_[i])
+                                      : shadow_catcher::matte_with_shadow(p.sample, p.transparent, n, catcher_[i],
+                                                                          catcher_display_.film_transparent);
+            for (int c = 0; c < 4; ++c) dst[c] = float(v[c]);
+            break;
+          }
           const SplatSums &sp = splats_[i];
           for (int c = 0; c < 3; ++c) dst[c] = float((n > 0 ? p.sample[c] / n : 0.0) + sp[c] * splat_scale);
           // Coverage: what of the pixel's samples did not see the transparent background
           // or a holdout (splats land on surfaces the camera sees: they cover nothing).
           dst[3] = n > 0 ? float(std::clamp(1.0 - p.transparent / n, 0.0, 1.0)) : 1.0f;
+          break;
+        }
+        case RDV_PASS_SHADOW_CATCHER: {
+          const std::array<double, 3> f = has_shadow_catcher() ? shadow_catcher::factor(p.sample, p.transparent, n, catcher_[i])
+                                                               : std::array<double, 3>{1.0, 1.0, 1.0};
+          for (int c = 0; c < 3; ++c) dst[c] = float(f[c]);
+          break;
+        }
+        case RDV_PASS_SHADOW_CATCHER_MATTE: {
+          const std::array<double, 4> v = has_shadow_catcher() ? shadow_catcher::matte(n, catcher_[i])
+                                                                : std::array<double, 4>{0.0, 0.0, 0.0, 1.0};
+          for (int c = 0; c < 4; ++c) dst[c] = float(v[c]);
           break;
         }
         case RDV_PASS_DEPTH: dst[0] = a.depth; break;

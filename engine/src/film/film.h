@@ -67,6 +67,12 @@ class Film {
   bool has_light_passes() const { return !light_.empty(); }
   bool writes_data_passes() const { return data_passes_; }
   bool has_denoising_passes() const { return !denoising_.empty(); }
+  // Shadow catchers (film/shadow_catcher_passes.h): from now on the film keeps their sums
+  // (the path tracer's samples in a scene with a catcher), and Combined reads as `display`
+  // says. Call before rendering.
+  void keep_shadow_catcher(const CatcherDisplay &display);
+  bool has_shadow_catcher() const { return !catcher_.empty(); }
+  const CatcherDisplay &catcher_display() const { return catcher_display_; }
   const StrategyPasses &strategy_passes() const { return strategies_; }
   int width() const { return width_; }
   int height() const { return height_; }
@@ -159,6 +165,9 @@ class Film {
   const std::vector<LightPassSums> &light_pass_sums() const { return light_; }
   std::vector<LightSplatSums> &light_splat_sums() { return light_splats_; }
   const std::vector<LightSplatSums> &light_splat_sums() const { return light_splats_; }
+  // Shadow catcher sums (empty without them).
+  std::vector<CatcherSums> &shadow_catcher_sums() { return catcher_; }
+  const std::vector<CatcherSums> &shadow_catcher_sums() const { return catcher_; }
   // Denoising data's sums (empty without them).
   std::vector<DenoisingSums> &denoising_sums() { return denoising_; }
   const std::vector<DenoisingSums> &denoising_sums() const { return denoising_; }
@@ -193,6 +202,8 @@ class Film {
   std::vector<LightSplatSums> light_splats_;
   bool data_passes_ = false;
   std::vector<DenoisingSums> denoising_;  // empty unless asked for
+  std::vector<CatcherSums> catcher_;  // empty unless keep_shadow_catcher
+  CatcherDisplay catcher_display_;
   // Strategy passes: count() sums per pixel of camera samples, splat_count() of splats;
   // both empty unless asked for.
   StrategyPasses strategies_;

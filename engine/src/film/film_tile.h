@@ -11,6 +11,7 @@
 #include "core/math.h"
 #include "film/data_passes.h"
 #include "film/light_passes.h"
+#include "film/shadow_catcher_passes.h"
 #include "film/strategy_passes.h"
 
 namespace rdv {
@@ -90,6 +91,8 @@ class FilmTile {
     }
     if (!denoising_.empty()) denoising_[index(x, y)].add(data.denoising);  // only when the film keeps them
   }
+  // Shadow catchers (film/shadow_catcher_passes.h): only when the film keeps them.
+  void add_shadow_catcher(int x, int y, const CatcherSample &sample) { catcher_[index(x, y)].add(sample); }
   void add_first_hit(int x, int y, float depth, Vec3 normal, Color albedo) {
     PixelAov &a = aovs_[index(x, y)];
     a.depth = std::min(a.depth, depth);
@@ -108,6 +111,7 @@ class FilmTile {
   std::vector<PixelAov> aovs_;
   std::vector<LightPassSums> light_;  // empty unless the film keeps light passes
   std::vector<DenoisingSums> denoising_;  // empty unless the film keeps denoising data
+  std::vector<CatcherSums> catcher_;  // empty unless the film keeps shadow catcher sums
   std::vector<StrategySums> strategy_;  // strategy_count_ per pixel (0 unless the film keeps them)
   int strategy_count_ = 0;
 };

@@ -101,6 +101,8 @@ std::string write_image(const Film &film, const std::string &path, const std::st
       layers.push_back({RDV_PASS_DENOISING_ALBEDO, {"Denoising Albedo.R", "Denoising Albedo.G", "Denoising Albedo.B"}});
       layers.push_back({RDV_PASS_DENOISING_DEPTH, {"Denoising Depth.Z"}});
     }
+    if (film.has_shadow_catcher() && film.catcher_display().pass)  // Combined is the matte: the shadow's here
+      layers.push_back({RDV_PASS_SHADOW_CATCHER, rgb("Shadow Catcher")});
     const StrategyPasses &strategies = film.strategy_passes();
     for (int k = 0; k < strategies.count(); ++k)
       layers.push_back({rdv_pass(RDV_PASS_STRATEGY_FIRST + k), rgb(strategies.name(k))});

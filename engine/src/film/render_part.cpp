@@ -67,9 +67,10 @@ std::vector<std::string> half_channel_names() {
   return names;
 }
 
-// The passes' sums (PartRecord::light_passes, strategy_max_depth, denoising_passes),
-// after the halves'.
-std::vector<std::string> pass_channel_names(bool light_passes, int strategy_max_depth, bool denoising_passes) {
+// The passes' sums (PartRecord::light_passes, strategy_max_depth, denoising_passes,
+// shadow_catcher), after the halves'.
+std::vector<std::string> pass_channel_names(bool light_passes, int strategy_max_depth, bool denoising_passes,
+                                            bool shadow_catcher) {
   std::vector<std::string> names;
   auto doubles = [&](const std::string &group, const char *axes) {
     for (const char *a = axes; *a; ++a)
@@ -89,9 +90,17 @@ std::vector<std::string> pass_channel_names(bool light_passes, int strategy_max_
     doubles("denoising_albedo", "rgb");
     doubles("denoising_depth", "v");
   }
+  if (shadow_catcher) {
+    doubles("catcher_matte", "rgb");
+    doubles("catcher_pass", "rgb");
+    doubles("catcher_world", "rgb");
+    doubles("catcher_matte_transparent", "v");
+    doubles("catcher_splits", "v");
+  }
   return names;
 }
 constexpr size_t kDenoisingDoubles = 7;  // normal, albedo, depth
+constexpr size_t kCatcherDoubles = 11;   // matte, catcher pass, world behind, matte transparency, splits
 
 // One part file: its record and its raw sums as words.
 struct LoadedPart {
@@ -116,7 +125,8 @@ LoadedPart load_part(const std::string &path) {
   part.width = spec.width;
   part.height = spec.height;
   const std::vector<std::string> pass_names =
-      pass_channel_names(part.record.light_passes, part.record.strategy_max_depth, part.record.denoising_passes);
+      pass_channel_names(part.record.light_passes, part.record.strategy_max_depth, part.record.denoising_passes,
+                         part.record.shadow_catcher);
   check_memory("part '" + path + "'", "its " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " sums",
                double(spec.width) * double(spec.height) *
                        double(spec.nchannels + kWordsPerPixel + (part.record.halves ? kHalfWordsPerPixel : 0) +
@@ -186,6 +196,8 @@ std::string PartRecord::to_json() const {
   if (light_passes) j["light_passes"] = true;
   if (data_passes) j["data_passes"] = true;
   if (denoising_passes) j["denoising_passes"] = true;
+  if (shadow_catcher)
+    j["shadow_catcher"] = {{"pass", catcher_display.pass}, {"film_transparent", catcher_display.film_transparent}};
   if (strategy_max_depth >= 0) j["strategy_max_depth"] = strategy_max_depth;
   return j.dump();
 }
@@ -213,6 +225,11 @@ PartRecord PartRecord::from_json(const std::string &text, const std::string &par
     r.light_passes = j.value("light_passes", false);
     r.data_passes = j.value("data_passes", false);
     r.denoising_passes = j.value("denoising_passes", false);
+    if (j.contains("shadow_catcher")) {
+      r.shadow_catcher = true;
+      r.catcher_display.pass = j["shadow_catcher"].at("pass").get<bool>();
+      r.catcher_display.film_transparent = j["shadow_catcher"].at("film_transparent").get<bool>();
+    }
     r.strategy_max_depth = j.value("strategy_max_depth", -1);
     if (r.strategy_max_depth < -1 || r.strategy_max_depth > StrategyPasses::kMaxDepth)
       fail("part '" + part + "': strategy passes of depth " + std::to_string(r.strategy_max_depth) +
@@ -237,9 +254,10 @@ PartChannels part_channels(const Film &film, const PartRecord &record) {
   if (halves)
     for (const std::string &name : half_channel_names()) out.names.push_back(name);
   // the passes the film keeps (the record says the same: Session::part_record)
-  const bool light_passes = film.has_light_passes(), denoising = film.has_denoising_passes();
+  const bool light_passes = film.has_light_passes(), denoising = film.has_denoising_passes(),
+             catcher = film.has_shadow_catcher();
   const std::vector<std::string> pass_names =
-      pass_channel_names(light_passes, film.strategy_passes().max_depth, denoising);
+      pass_channel_names(light_passes, film.strategy_passes().max_depth, denoising, catcher);
   out.names.insert(out.names.end(), pass_names.begin(), pass_names.end());
   const size_t n = size_t(film.width()) * film.height();
   const size_t strategies = size_t(film.strategy_passes().count()),
@@ -283,6 +301,13 @@ PartChannels part_channels(const Film &film, const PartRecord &record) {
       for (double v : d.normal) put_double(w, v);
       for (double v : d.albedo) put_double(w, v);
       put_double(w, d.depth);
+    }
+    if (catcher) {
+      const CatcherSums &c = film.shadow_catcher_sums()[i];
+      for (const auto *sums : {&c.matte, &c.catcher, &c.background})
+        for (double v : *sums) put_double(w, v);
+      put_double(w, c.matte_transparent);
+      put_double(w, c.splits);
     }
   }
   return out;
@@ -394,6 +419,13 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
     result.warnings.push_back("some parts carry no data passes (Mist, IndexOB, IndexMA): the merged image has none");
   if (!denoising && some_part([](const LoadedPart &p) { return p.record.denoising_passes; }))
     result.warnings.push_back("some parts carry no denoising data (Denoising Normal, Albedo, Depth): the merged image has none");
+  const bool catcher = all_parts([&](const LoadedPart &p) {
+    return p.record.shadow_catcher && p.record.catcher_display.pass == first.record.catcher_display.pass &&
+           p.record.catcher_display.film_transparent == first.record.catcher_display.film_transparent;
+  });
+  if (!catcher && some_part([](const LoadedPart &p) { return p.record.shadow_catcher; }))
+    result.warnings.push_back("some parts carry no shadow catcher sums, or other display settings: the merged image "
+                              "shows the catcher as an ordinary object (no Shadow Catcher pass)");
   if (strategy_depth < 0 && some_part([](const LoadedPart &p) { return p.record.strategy_max_depth >= 0; }))
     result.warnings.push_back("the parts carry strategy passes of different depths, or some none: the merged image has none");
 
@@ -401,6 +433,7 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
   result.film = std::make_unique<Film>(width, height, Rect{border[0].get<int>(), border[1].get<int>(), border[2].get<int>(), border[3].get<int>()}, halves,
                                        light_passes, data_passes, strategy_depth, denoising);
   Film &film = *result.film;
+  if (catcher) film.keep_shadow_catcher(first.record.catcher_display);
   const size_t n = size_t(width) * height;
   for (size_t k : order) {
     const LoadedPart &part = parts[k];
@@ -499,6 +532,23 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
           sum.depth += d[6];
         }
       }
+      if (part.record.shadow_catcher) {
+        double d[kCatcherDoubles];
+        for (double &v : d) v = get_double(w);
+        for (double v : d) check_finite(v, i, "shadow catcher sum");
+        if (catcher) {
+          CatcherSums &sum = film.shadow_catcher_sums()[i];
+          for (int c = 0; c < 3; ++c) {
+            sum.matte[c] += d[c];
+            sum.catcher[c] += d[3 + c];
+            sum.background[c] += d[6 + c];
+          }
+          sum.matte_transparent += float(d[9]);
+          if (d[10] < 0 || d[10] > UINT32_MAX || uint64_t(sum.splits) + uint64_t(d[10]) > UINT32_MAX)
+            fail("part '" + part.path + "': shadow catcher split counts out of range");
+          sum.splits += uint32_t(d[10]);
+        }
+      }
     }
   }
   {
@@ -519,6 +569,8 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
   result.record.light_passes = light_passes;
   result.record.data_passes = data_passes;
   result.record.denoising_passes = denoising;
+  result.record.shadow_catcher = catcher;
+  result.record.catcher_display = first.record.catcher_display;
   result.record.strategy_max_depth = strategy_depth;
   return result;
 }

@@ -39,6 +39,9 @@ struct PartRecord {
   // Cycles' denoising data's sums (denoising_passes).
   bool light_passes = false, data_passes = false, denoising_passes = false;
   int strategy_max_depth = -1;
+  // A shadow catcher's sums (film/shadow_catcher_passes.h) and how Combined reads with them.
+  bool shadow_catcher = false;
+  CatcherDisplay catcher_display;
 
   std::string to_json() const;
   // Throws an Error naming `part` (a file name) when the text is not a part record.

@@ -66,6 +66,10 @@ struct RenderSettings {
   bool data_passes = false;
   // Cycles' denoising data (film/denoising_passes.h): the film keeps them (every integrator).
   bool denoising_passes = false;
+  // View Layer > Passes > Shadow Catcher (film/shadow_catcher_passes.h): in a scene with a
+  // shadow catcher Combined reads as the matte (else with the shadow in it, as Cycles'
+  // approximate shadow catcher).
+  bool shadow_catcher_pass = false;
   // Film > Transparent and holdouts (integrators/film_alpha.h); holdouts is the scene's.
   FilmAlpha alpha;
   float filter_width = 1.5f;
@@ -126,6 +130,9 @@ struct FirstHit {
   // integrator adds each contribution's share (film/light_passes.h); its splats carry
   // their own (Splat::light_pass).
   LightPassSample *passes = nullptr;
+  // The sample's shadow catcher values when the film keeps them (the path tracer in a
+  // scene with a catcher; film/shadow_catcher_passes.h), else null.
+  CatcherSample *catcher = nullptr;
   // BDPT's strategy passes of the sample, when the film keeps them (else null): each
   // strategy's contribution goes to strategies[layout.index(s, t)], a t = 1 strategy's
   // splat carries that index (Splat::strategy; film/strategy_passes.h).

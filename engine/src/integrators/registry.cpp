@@ -161,6 +161,7 @@ RenderSettings RenderSettings::from_params(Params &p) {
   s.light_passes = p.get_bool("light_passes", false);
   s.data_passes = p.get_bool("data_passes", false);
   s.denoising_passes = p.get_bool("denoising_passes", false);
+  s.shadow_catcher_pass = p.get_bool("shadow_catcher_pass", false);
   s.strategy_passes = p.get_bool("strategy_passes", false);
   s.strategy_passes_max_depth = p.get_int("strategy_passes_max_depth", s.strategy_passes_max_depth);
   if (s.strategy_passes_max_depth < 0 || s.strategy_passes_max_depth > StrategyPasses::kMaxDepth)

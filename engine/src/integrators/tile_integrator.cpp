@@ -19,6 +19,9 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
   const bool light_passes = ctx.film.has_light_passes();
   const bool denoising_passes = ctx.film.has_denoising_passes();
   LightPassSample passes;
+  // Shadow catchers (film/shadow_catcher_passes.h): the sample's matte, catcher pass, split.
+  const bool shadow_catcher = ctx.film.has_shadow_catcher();
+  CatcherSample catcher;
   // Strategy passes (film/strategy_passes.h): the sample's share in each.
   const StrategyPasses &strategy_layout = ctx.film.strategy_passes();
   thread_local std::vector<Color> strategies;
@@ -64,14 +67,18 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
           passes.clear();
           first_hit.passes = &passes;
         }
+        if (shadow_catcher) {
+          catcher = CatcherSample{};
+          first_hit.catcher = &catcher;
+        }
         if (strategy_layout.enabled()) {
           std::fill(strategies.begin(), strategies.end(), Color(0.0f));
           first_hit.strategy_layout = strategy_layout;
           first_hit.strategies = strategies.data();
         }
         Color L = Li(cr, sampler, stats, &first_hit, half_b ? splats.b : splats.a);
-        if (!is_finite(L) || L.x < 0 || L.y < 0 || L.z < 0) {  // never let NaN/Inf into the film
-          ++dropped;
+        if (!is_finite(L) || L.x < 0 || L.y < 0 || L.z < 0 || (shadow_catcher && !catcher.valid())) {
+          ++dropped;  // never let NaN/Inf into the film
           continue;
         }
         if (settings.clamp > 0) {
@@ -80,11 +87,16 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
             L *= settings.clamp / m;
             if (light_passes) passes.scale(settings.clamp / m);
             for (Color &c : strategies) c *= settings.clamp / m;
+            catcher.matte *= settings.clamp / m;  // a part of L: scaled with it
           }
+          if (shadow_catcher)  // the catcher pass's path and the world behind: as a Combined of their own
+            for (Color *c : {&catcher.catcher, &catcher.background})
+              if (max_component(*c) > settings.clamp) *c *= settings.clamp / max_component(*c);
         }
         film_tile.add_sample(x, y, L, half_b, first_hit.transparency);
         film_tile.add_data_passes(x, y, first_hit.data, s == 0);
         if (light_passes) film_tile.add_light_passes(x, y, passes);
+        if (shadow_catcher) film_tile.add_shadow_catcher(x, y, catcher);
         if (strategy_layout.enabled()) film_tile.add_strategy_passes(x, y, strategies.data());
         if (first_hit.valid) film_tile.add_first_hit(x, y, first_hit.depth, first_hit.normal, first_hit.albedo);
         else film_tile.add_first_hit(x, y, 1e10f, Vec3(0.0f), Color(0.0f));

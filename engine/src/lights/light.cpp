@@ -85,6 +85,7 @@ Light make_light(Params &p) {
   // "visible_camera" (older files) is the default of "visibility": {"camera": ...}.
   const bool camera = p.get_bool("visible_camera", false);
   l.visibility = visibility::from_params(p, visibility::kNonCamera | (camera ? visibility::kCamera : 0));
+  l.shadow_catcher = p.get_bool("shadow_catcher", true);
   p.check_all_used();
   return l;
 }

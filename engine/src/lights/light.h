@@ -43,6 +43,13 @@ struct Light {
   // Triangle of a moving instance or deforming mesh (motion blur): the fields above are
   // where it is at its frame; Scene::light_now places it at a sample's shutter time.
   bool moves = false;
+  // Whether it lights the catcher pass of a shadow catcher (integrators/path/
+  // shadow_catcher.h), as Cycles 3.4: a lamp unless its object's Object > Visibility >
+  // Shadow Catcher is off (on by default for Blender's lights: a light of the footage; one
+  // turned off is the synthetic objects' own and brightens the pass: parameter
+  // "shadow_catcher", default true), an emissive triangle whose instance is a catcher, the
+  // world always.
+  bool shadow_catcher = false;  // (in the bools' padding)
   Vec3 error{0.0f};      // triangle: rounding error bound of its points (core/ray_offset.h); Embree can hit it
   float power = 0;       // for light selection (scalar)
   // The kinds of ray that see it (scene/ray_visibility.h). Lamps: camera rays only when

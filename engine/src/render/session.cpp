@@ -13,6 +13,20 @@ Session::Session(std::shared_ptr<Scene> scene, const RenderSettings &settings)
       control_(settings.time_limit, settings.noise_target) {
   scene_->commit();
   scene_->camera().set_resolution(settings.width, settings.height);
+  // Shadow catchers (integrators/path/shadow_catcher.h): the path tracer splits its paths at
+  // them; the other integrators render them as ordinary objects, and say so.
+  if (scene_->has_shadow_catchers()) {
+    if (settings_.integrator == "path")
+      film_.keep_shadow_catcher({settings_.shadow_catcher_pass, settings_.alpha.film_transparent});
+    else
+      scene_->warn(scene_->shadow_catcher_object() + " is a shadow catcher, which only the path tracer renders as "
+                   "one: " + settings_.integrator + " renders it as an ordinary object (Combined shows it shaded, "
+                   "the Shadow Catcher pass is 1)");
+    if (settings_.integrator == "path" && scene_->has_media())
+      scene_->warn(scene_->shadow_catcher_object() + " is a shadow catcher in a scene with participating media: "
+                   "its Shadow Catcher pass sees the media of every object (Cycles leaves out those of objects "
+                   "that are not shadow catchers)");
+  }
   integrator_ = make_integrator(settings_, *scene_);
 }
 
@@ -86,6 +100,8 @@ PartRecord Session::part_record() const {
   r.light_passes = film_.has_light_passes();
   r.data_passes = film_.writes_data_passes();
   r.denoising_passes = film_.has_denoising_passes();
+  r.shadow_catcher = film_.has_shadow_catcher();
+  r.catcher_display = film_.catcher_display();
   r.strategy_max_depth = film_.strategy_passes().max_depth;
   return r;
 }

@@ -117,10 +117,12 @@ void EmbreeAccel::build(const std::vector<Mesh> &meshes, const std::vector<Insta
       rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &inst.to_world.m[0][0]);
     }
     // Ray visibility (scene/ray_visibility.h) as the instance mask: a ray meets the
-    // instance when its mask shares a bit with it. The bits above the six kinds stay
-    // set, so rays of every kind (mask all ones) meet every instance. Medium boundaries
-    // are met by every ray: a ray that passes a volume's object still enters its medium.
-    rtcSetGeometryMask(geom, top == top_ ? inst.visibility | ~visibility::kAll : 0xffffffffu);
+    // instance when its mask shares a bit with it. The bits no kind uses stay set, so
+    // rays of every kind (mask all ones) meet every instance; shadow catchers carry their
+    // kinds a second time for the catcher pass's rays (visibility::instance_mask). Medium
+    // boundaries are met by every ray: a ray that passes a volume's object still enters
+    // its medium.
+    rtcSetGeometryMask(geom, top == top_ ? visibility::instance_mask(inst.visibility, inst.shadow_catcher) : 0xffffffffu);
     rtcCommitGeometry(geom);
     rtcAttachGeometryByID(top, geom, id);
     rtcReleaseGeometry(geom);

@@ -74,6 +74,10 @@ struct Instance : InstancePlacement {
   // Object > Visibility > Holdout: a hole in the alpha where the camera sees it, and
   // nothing else there; shaded as usual for every other ray (integrators/film_alpha.h).
   bool holdout = false;
+  // Object > Visibility > Shadow Catcher (integrators/path/shadow_catcher.h): the camera
+  // paths that meet it first split into the image with everything and the catcher's
+  // own pass, whose rays meet shadow catchers only.
+  bool shadow_catcher = false;
   // Object > Visibility > Ray Visibility: the kinds of ray that see it (scene/ray_visibility.h).
   uint32_t visibility = 63;
   // Motion blur (scene/motion.h): to_world at n >= 2 evenly spaced times over the open

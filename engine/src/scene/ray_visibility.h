@@ -23,6 +23,20 @@ constexpr uint32_t kNonCamera = kAll & ~kCamera;
 // which media a point is in; the default of Ray::mask).
 constexpr uint32_t kAnyRay = 0xffffffffu;
 
+// Shadow catchers (integrators/path/shadow_catcher.h): the rays of a catcher pass meet
+// shadow-catcher instances only. As Cycles 3.4 (SHADOW_CATCHER_VISIBILITY_SHIFT), their
+// kinds sit kCatcherShift bits up: a catcher instance's mask carries its visibility there
+// too, every other instance's nothing, so catcher_rays(kind) meets the catchers visible to
+// that kind and nothing else. The bits no kind uses stay set on every instance, so rays of
+// every kind (kAnyRay) meet them all, and masks of kinds below the shift are as before.
+constexpr int kCatcherShift = 8;
+inline uint32_t instance_mask(uint32_t visibility, bool shadow_catcher) {
+  const uint32_t unused_bits = ~(kAll | (kAll << kCatcherShift));
+  return visibility | unused_bits | (shadow_catcher ? visibility << kCatcherShift : 0u);
+}
+// The mask of a catcher pass's ray of the kinds in `mask` (kAnyRay: every kind).
+inline uint32_t catcher_rays(uint32_t mask) { return (mask & kAll) << kCatcherShift; }
+
 // The kind of the ray leaving a scattering of kind k.
 inline uint32_t after(ScatterKind k) {
   switch (k) {

@@ -577,6 +577,7 @@ void Scene::build_lights() {
       l.instance = i;
       l.prim = t;
       l.visibility = inst.visibility;
+      l.shadow_catcher = inst.shadow_catcher;
       l.textured = !mat.textured_emission.empty();
       l.moves = inst.moving || m.deforming;  // motion blur: light_now places it
       lights_.push_back(l);
@@ -589,8 +590,12 @@ void Scene::build_lights() {
   } else if (!is_black(world_radiance_)) {
     lights_.push_back(make_background_light(world_radiance_));
   }
-  for (Light &l : lights_)
+  for (Light &l : lights_) {
     if (l.type == LightType::Background) l.visibility = world_visibility_ | visibility::kShadow;  // as Cycles: no world shadow setting
+    // The world lights a shadow catcher's pass; so does emission in media, which the
+    // catcher pass's paths meet anyway (Session warns).
+    if (l.type == LightType::Background || l.type == LightType::Volume) l.shadow_catcher = true;
+  }
   hittable_lights_.clear();
   infinite_lights_.clear();
   std::vector<float> power;
@@ -864,6 +869,12 @@ void Scene::add_data_passes(const SurfaceHit &hit, Color beta, float alpha_thres
                    m.pass_index);
 }
 
+std::string Scene::shadow_catcher_object() const {
+  for (uint32_t i = 0; i < instances_.size(); ++i)
+    if (instances_[i].enabled && instances_[i].shadow_catcher) return instance_name(i);
+  return "";
+}
+
 float Scene::holdout_weight(const SurfaceHit &hit) const {
   if (instances_[hit.instance].holdout) return 1;
   const Material &m = materials_[hit.material];
@@ -874,14 +885,17 @@ void Scene::set_instance_params(uint32_t id, Params &params) {
   if (id >= instances_.size()) fail("instance " + std::to_string(id) + ": no such instance");
   Instance &inst = instances_[id];
   const bool holdout = params.get_bool("holdout", false);
+  const bool shadow_catcher = params.get_bool("shadow_catcher", false);
   const std::string object = "object '" + meshes_[inst.mesh].name + "' (instance " + std::to_string(id) + ")";
   const uint32_t v = visibility::parse(params.get_json("visibility"), object);
   const int pass_index = pass_index_of(params, object);
   params.check_all_used();
   inst.holdout = holdout;
   inst.pass_index = float(pass_index);
-  if (v != inst.visibility) accel_.mark_instances_dirty();  // instance masks live in the top BVH
+  // Instance masks (visibility, shadow catchers) live in the top BVH.
+  if (v != inst.visibility || shadow_catcher != inst.shadow_catcher) accel_.mark_instances_dirty();
   inst.visibility = v;
+  inst.shadow_catcher = shadow_catcher;
   dirty_ = true;
 }
 

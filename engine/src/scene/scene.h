@@ -82,7 +82,8 @@ class Scene {
   // non-finite value is an error naming the mesh, which keeps what it had.
   void set_mesh_motion(uint32_t mesh, const float *positions, const float *normals, uint32_t num_vertices,
                        uint32_t num_steps);
-  // {"holdout": bool, "visibility": {...}} (rdv_scene_set_instance_params; scene/ray_visibility.h).
+  // {"holdout": bool, "shadow_catcher": bool, "visibility": {...}, "pass_index": n}
+  // (rdv_scene_set_instance_params; scene/ray_visibility.h).
   void set_instance_params(uint32_t instance, Params &params);
   uint32_t add_light(const std::string &name, Params &params);
   void set_world(Params &params);
@@ -172,6 +173,13 @@ class Scene {
   // What of the surface at hit is held out: 1 on a holdout instance, else its material's
   // Holdout closures' weight (0 for most).
   float holdout_weight(const SurfaceHit &hit) const;
+  // ---- Shadow catchers (integrators/path/shadow_catcher.h). The first enabled instance
+  // that is one ("object 'Floor' (instance 3)", for messages), "" if none: read from the
+  // instances, so it holds before commit() too.
+  std::string shadow_catcher_object() const;
+  bool has_shadow_catchers() const { return !shadow_catcher_object().empty(); }
+  bool is_shadow_catcher(uint32_t instance) const { return instances_[instance].shadow_catcher; }
+  bool is_holdout_instance(uint32_t instance) const { return instances_[instance].holdout; }
   // ---- Data passes (film/data_passes.h): the world's mist settings, and the surface at
   // hit as a camera path's see-through chain meets it with throughput beta (its distance
   // from the camera, opacity and pass indices) added to data.
@@ -212,10 +220,12 @@ class Scene {
   // and `skip` (the lamp the ray just passed). Sets tmax to its distance and L to its radiance. Lamps are transparent, as in Cycles 3.4 (shade_light goes on
   // through them): a path that meets one adds its radiance and carries on to what lies
   // behind it from the lamp's point (LampCrossing), and shadow rays ignore lamps.
-  int nearest_lamp(const Ray &ray, int skip, float &tmax, Color &L) const {
+  // catcher_only: the catcher pass's path of a shadow catcher (Light::shadow_catcher).
+  int nearest_lamp(const Ray &ray, int skip, float &tmax, Color &L, bool catcher_only = false) const {
     int lamp = -1;
     for (uint32_t li : hittable_lights_) {
       if (!(lights_[li].visibility & ray.mask) || int(li) == skip) continue;
+      if (catcher_only && !lights_[li].shadow_catcher) continue;
       float t;
       Color Le;
       if (intersect_light(lights_[li], ray, tmax, t, Le)) { tmax = t; lamp = int(li); L = Le; }

@@ -1,0 +1,111 @@
+// Cycles 3.4's shadow catcher on the film (kernel/film/light_passes.h, film/read.h):
+// what a camera sample leaves, the pixel sums it adds to, and how the pixels read.
+//
+// A camera sample whose see-through chain meets a shadow catcher splits there
+// (integrators/path/shadow_catcher.h). Per pixel, over its n samples:
+// - C, T_C: Combined's sums and transparency (the film's own PixelSum): every
+//   contribution of the sample with the catcher an ordinary object;
+// - M, T_M (the matte): what the sample added before it met a catcher, or all it added
+//   if it met none; at the split the throughput's average joins T_M (the catcher is a
+//   hole in the matte);
+// - S (the catcher pass): what the sample's copy gathered from the split on, tracing
+//   only shadow catchers (the other objects neither seen nor casting shadows);
+// - B: the world seen along the camera's ray where the sample met the world or a
+//   catcher (Cycles' background pass behind the catcher, for the opaque film);
+// - the number of samples that split.
+// The pixels read as Cycles computes them:
+// - Shadow Catcher pass = (1 - a) + a (C - M) / S per channel (1 where S is 0, and
+//   where no sample split), a = 1 - T_C / n: the catcher's light with the other objects
+//   over its light without them (below 1 in their shadows);
+// - the matte (Combined with View Layer > Passes > Shadow Catcher on): M / n, alpha
+//   1 - T_M / n;
+// - Combined otherwise (Cycles' "approximate shadow catcher"): with the film transparent
+//   M / n with alpha a_m = (1 - a) (1 - clamp(average(factor))) + a, a = 1 - T_M / n: the
+//   shadow as alpha over black; with an opaque film M / n + B / n (1 - a_m), alpha 1: the
+//   world behind the catcher darkened by the shadow.
+#pragma once
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include "core/math.h"
+
+namespace rdv {
+
+// What one camera sample leaves (the path tracer fills it; integrators/path/shadow_catcher.h).
+struct CatcherSample {
+  Color matte{0.0f};
+  float matte_transparency = 0;
+  Color catcher{0.0f};
+  Color background{0.0f};
+  bool split = false;
+  // Finite and not negative, as the film takes samples.
+  bool valid() const {
+    for (const Color &c : {matte, catcher, background})
+      if (!is_finite(c) || c.x < 0 || c.y < 0 || c.z < 0) return false;
+    return std::isfinite(matte_transparency);
+  }
+};
+
+// A pixel's sums over its samples.
+struct CatcherSums {
+  std::array<double, 3> matte{}, catcher{}, background{};
+  float matte_transparent = 0;
+  uint32_t splits = 0;
+  void add(const CatcherSample &s) {
+    for (int c = 0; c < 3; ++c) {
+      matte[c] += s.matte[c];
+      catcher[c] += s.catcher[c];
+      background[c] += s.background[c];
+    }
+    matte_transparent += s.matte_transparency;
+    splits += s.split;
+  }
+};
+
+// How Combined reads in a scene with a shadow catcher (session settings).
+struct CatcherDisplay {
+  bool pass = false;              // View Layer > Passes > Shadow Catcher: Combined is the matte
+  bool film_transparent = false;  // Film > Transparent
+};
+
+namespace shadow_catcher {
+
+inline double saturate(double v) { return std::clamp(v, 0.0, 1.0); }
+
+// The Shadow Catcher pass of a pixel: combined's sums, transparency and sample count
+// (the film's PixelSum) with its catcher sums.
+inline std::array<double, 3> factor(const std::array<double, 3> &combined, double combined_transparent, double n,
+                                    const CatcherSums &s) {
+  if (s.splits == 0 || !(n > 0)) return {1.0, 1.0, 1.0};
+  // Sums, not means: the same samples make all three, so n cancels.
+  const double alpha = saturate(1.0 - combined_transparent / n);
+  std::array<double, 3> out;
+  for (int c = 0; c < 3; ++c) {
+    const double ratio = s.catcher[c] != 0 ? (combined[c] - s.matte[c]) / s.catcher[c] : 1.0;
+    out[c] = (1.0 - alpha) + alpha * ratio;
+  }
+  return out;
+}
+
+// The matte (RGBA): the other objects over a transparent catcher.
+inline std::array<double, 4> matte(double n, const CatcherSums &s) {
+  if (!(n > 0)) return {0.0, 0.0, 0.0, 1.0};
+  return {s.matte[0] / n, s.matte[1] / n, s.matte[2] / n, saturate(1.0 - s.matte_transparent / n)};
+}
+
+// Combined as Blender shows it without the Shadow Catcher pass (RGBA).
+inline std::array<double, 4> matte_with_shadow(const std::array<double, 3> &combined, double combined_transparent,
+                                               double n, const CatcherSums &s, bool film_transparent) {
+  std::array<double, 4> m = matte(n, s);
+  if (!(n > 0)) return m;
+  const std::array<double, 3> f = factor(combined, combined_transparent, n, s);
+  const double shadow = 1.0 - saturate((f[0] + f[1] + f[2]) / 3.0);
+  const double alpha = m[3];
+  const double alpha_matte = (1.0 - alpha) * shadow + alpha;
+  if (film_transparent) return {m[0], m[1], m[2], alpha_matte};
+  return {m[0] + s.background[0] / n * (1.0 - alpha_matte), m[1] + s.background[1] / n * (1.0 - alpha_matte),
+          m[2] + s.background[2] / n * (1.0 - alpha_matte), 1.0};
+}
+
+}  // namespace shadow_catcher
+}  // namespace rdv
