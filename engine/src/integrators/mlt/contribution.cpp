@@ -32,7 +32,7 @@ void Metropolis::evaluate_kelemen(PssSampler &sampler, RayStats &stats, State &s
   Vec2 raster;
   CameraRay cr = camera_sample(sampler, &raster);
   size_t first_light_splat = state.splats.size();
-  state.splats.push_back({raster, Color(0.0f)});
+  state.splats.push_back({raster, Color(0.0f), Splat::kNoStrategy, {}});
   // Light passes: BDPT splits the camera sample by slot (its light-tracing splats carry
   // their own split); the colour passes and the AOVs come from the first-hit pass.
   LightPassSample passes;
@@ -124,7 +124,7 @@ void Metropolis::evaluate_multiplexed(PssSampler &sampler, RayStats &stats, Stat
     state.splats.push_back({light_raster, c * image_area_, Splat::kNoStrategy,
                             {pc.first, light_passes, pc.scatterings > 1}});
   } else {
-    state.splats.push_back({raster, c * region_area_});
+    state.splats.push_back({raster, c * region_area_, Splat::kNoStrategy, {}});
     if (light_passes) add_shares(state, state.splats.size() - 1, passes, per_strategy * region_area_);
   }
 }
@@ -156,7 +156,7 @@ void Metropolis::path_state(const ExplicitPath &path, State &state) const {
   state.independent = 0;
   state.target = luminance(path.f);
   if (state.target > 0 && std::isfinite(state.target)) {
-    state.splats.push_back({path.raster, path.f});
+    state.splats.push_back({path.raster, path.f, Splat::kNoStrategy, {}});
     if (light_passes_) classify_path(path, state);
   } else {
     state.target = 0;
