@@ -183,6 +183,19 @@ TEST(ShadowCatcher, OtherIntegratorsRenderItAsAnOrdinaryObjectAndSaySo) {
   }
 }
 
+// Integrator auto renders a scene with a shadow catcher with the path tracer when path is
+// among its candidates (the others would render the catcher as an ordinary object), and
+// says so; the pass shows the ball's shadow (below 1 under it).
+TEST(ShadowCatcher, AutoPicksThePathTracer) {
+  const json settings = {{"integrator", "auto"}, {"time_limit", 1.0}, {"samples", 8}, {"shadow_catcher_pass", true}};
+  Image img = render_json(catcher_scene(true, true, kAreaLamp).dump(), settings.dump());
+  EXPECT_NE(img.warnings.find("integrator auto renders with path"), std::string::npos) << img.warnings;
+  EXPECT_EQ(json::parse(img.stats)["auto"]["integrator"], "path") << img.stats;
+  float darkest = 1;
+  for (float f : img.shadow_catcher) darkest = std::min(darkest, f);
+  EXPECT_LT(darkest, 0.5f) << "no shadow in the Shadow Catcher pass";
+}
+
 TEST(ShadowCatcher, SceneSettingIsCheckedAndResetable) {
   SceneHandle s;
   uint32_t material = 0, mesh = 0, inst = 0;

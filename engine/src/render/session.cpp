@@ -1,5 +1,6 @@
 #include "render/session.h"
 #include <tbb/task_arena.h>
+#include <algorithm>
 #include <new>
 #include "core/error.h"
 #include "core/log.h"
@@ -16,13 +17,23 @@ Session::Session(std::shared_ptr<Scene> scene, const RenderSettings &settings)
   // Shadow catchers (integrators/path/shadow_catcher.h): the path tracer splits its paths at
   // them; the other integrators render them as ordinary objects, and say so.
   if (scene_->has_shadow_catchers()) {
-    if (settings_.integrator == "path")
+    // Integrator auto picks the path tracer then, when it may (auto_candidates).
+    std::vector<std::string> &candidates = settings_.auto_candidates;
+    if (settings_.integrator == "auto" && candidates.size() > 1 &&
+        std::find(candidates.begin(), candidates.end(), "path") != candidates.end()) {
+      candidates = {"path"};
+      scene_->warn(scene_->shadow_catcher_object() + " is a shadow catcher, which only the path tracer renders as "
+                   "one: integrator auto renders with path");
+    }
+    const bool path = settings_.integrator == "path" ||
+                      (settings_.integrator == "auto" && candidates.size() == 1 && candidates[0] == "path");
+    if (path)
       film_.keep_shadow_catcher({settings_.shadow_catcher_pass, settings_.alpha.film_transparent});
     else
       scene_->warn(scene_->shadow_catcher_object() + " is a shadow catcher, which only the path tracer renders as "
                    "one: " + settings_.integrator + " renders it as an ordinary object (Combined shows it shaded, "
                    "the Shadow Catcher pass is 1)");
-    if (settings_.integrator == "path" && scene_->has_media())
+    if (path && scene_->has_media())
       scene_->warn(scene_->shadow_catcher_object() + " is a shadow catcher in a scene with participating media: "
                    "its Shadow Catcher pass sees the media of every object (Cycles leaves out those of objects "
                    "that are not shadow catchers)");
