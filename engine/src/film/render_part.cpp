@@ -519,10 +519,13 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
       const size_t ns = size_t(strategies.count()), nsplat = size_t(strategies.splat_count());
       add_sums(keep ? &film.strategy_sums()[i * ns] : nullptr, ns, false);
       add_sums(keep ? &film.strategy_splat_sums()[i * nsplat] : nullptr, nsplat, true);
+      // A pass's doubles, checked (those of a pass the merge leaves out are read past).
+      auto read_sums = [&](double *d, size_t count, const char *sum) {
+        for (size_t k = 0; k < count; ++k) check_finite(d[k] = get_double(w), i, sum);
+      };
       if (part.record.denoising_passes) {
         double d[kDenoisingDoubles];
-        for (double &v : d) v = get_double(w);
-        for (double v : d) check_finite(v, i, "denoising sum");
+        read_sums(d, kDenoisingDoubles, "denoising sum");
         if (denoising) {
           DenoisingSums &sum = film.denoising_sums()[i];
           for (int c = 0; c < 3; ++c) {
@@ -534,8 +537,7 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
       }
       if (part.record.shadow_catcher) {
         double d[kCatcherDoubles];
-        for (double &v : d) v = get_double(w);
-        for (double v : d) check_finite(v, i, "shadow catcher sum");
+        read_sums(d, kCatcherDoubles, "shadow catcher sum");
         if (catcher) {
           CatcherSums &sum = film.shadow_catcher_sums()[i];
           for (int c = 0; c < 3; ++c) {
