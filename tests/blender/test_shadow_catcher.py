@@ -1,7 +1,8 @@
 """Shadow catcher (Object > Visibility > Shadow Catcher) against Cycles 3.4: build_scenes.
 shadow_catcher (48x48: a floor that is a shadow catcher under a red ball and a green card, a
 point lamp, a blue world seen past the floor's edge), Film > Transparent on. Cycles renders
-it, then Rendezvous' path tracer in this process (256 samples each, seed 1):
+it, then Rendezvous with --integrator (PATH, the default, or BDPT) in this process (256
+samples each, seed 1):
 - View Layer > Passes > Shadow Catcher on (`view_layer.cycles.use_pass_shadow_catcher`): the
   Shadow Catcher pass (the floor's light with the objects over its light without them) and
   Combined, which is then the matte (the objects over a transparent floor): colour and alpha;
@@ -13,9 +14,9 @@ it, then Rendezvous' path tracer in this process (256 samples each, seed 1):
   shadow, the objects over it: colour (alpha is 1);
 each as test_brightness.compare (means within 2%, 8x8 blocks within 3% or 5 standard errors);
 the pass is registered with Blender (the compositor's Render Layers node lists it);
-- BDPT renders the catcher as an ordinary object and warns naming it.
+- (PATH run) Metropolis (PSSMLT) renders the catcher as an ordinary object and warns naming it.
 
-    run_blender.py --script test_shadow_catcher.py -- [--samples N]
+    run_blender.py --script test_shadow_catcher.py -- [--samples N] [--integrator PATH|BDPT]
 """
 
 import argparse
@@ -35,7 +36,7 @@ import numpy as np  # noqa: E402
 
 def read_layer(path, layer, name, chans, odir):
     """One pass of a multilayer EXR as H x W x len(chans), rows from the top."""
-    one = os.path.join(odir, "sc_one.exr")
+    one = os.path.join(odir, "sc_one_%d.exr" % os.getpid())  # ctest may run the variants at once
     subprocess.run(["oiiotool", path, "--ch", ",".join("%s.%s.%s" % (layer, name, c) for c in chans),
                     "--chnames", ",".join("RGBA"[:len(chans)]), "-d", "float", "-o", one], check=True,
                    capture_output=True)
@@ -75,7 +76,9 @@ def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     ap = argparse.ArgumentParser()
     ap.add_argument("--samples", type=int, default=256)
+    ap.add_argument("--integrator", default="PATH", choices=("PATH", "BDPT"))
     a = ap.parse_args(argv)
+    name = a.integrator.lower()
     odir = out_dir()
     failures = []
     if not shutil.which("oiiotool"):
@@ -95,11 +98,12 @@ def main():
                 registered = [p[0] for p in addon_passes.enabled_passes(layer, scene)]
                 if "Shadow Catcher" not in registered:
                     failures.append("the Shadow Catcher pass is not registered")
-            ref = render(scene, "CYCLES", a.samples, os.path.join(odir, "shadow_catcher_%s_cycles.exr" % tag))
-            test = render(scene, "RENDEZVOUS", a.samples, os.path.join(odir, "shadow_catcher_%s_path.exr" % tag))
+            ref = render(scene, "CYCLES", a.samples, os.path.join(odir, "shadow_catcher_%s_cycles_%s.exr" % (tag, name)))
+            test = render(scene, "RENDEZVOUS", a.samples, os.path.join(odir, "shadow_catcher_%s_%s.exr" % (tag, name)),
+                          a.integrator)
             rc, tc = ref["Combined"], test["Combined"]
-            print("SHADOW CATCHER %s: Cycles Combined mean %s, Rendezvous %s"
-                  % (tag, np.round(rc.reshape(-1, 4).mean(0), 4), np.round(tc.reshape(-1, 4).mean(0), 4)))
+            print("SHADOW CATCHER %s %s: Cycles Combined mean %s, Rendezvous %s"
+                  % (name, tag, np.round(rc.reshape(-1, 4).mean(0), 4), np.round(tc.reshape(-1, 4).mean(0), 4)))
             check("%s colour" % tag, rc[:, :, :3], tc[:, :, :3], failures)
             check("%s alpha" % tag, np.repeat(rc[:, :, 3:], 3, axis=2), np.repeat(tc[:, :, 3:], 3, axis=2), failures)
             if pass_on:
@@ -114,21 +118,22 @@ def main():
                                     % rs.max())
                 check("%s Shadow Catcher" % tag, rs, ts, failures)
 
-        # BDPT: the catcher as an ordinary object, and a warning naming it.
-        from rendezvous.engine import final
-        layer.cycles.use_pass_shadow_catcher = False
-        lamp.is_shadow_catcher = True
-        scene.render.film_transparent = True
-        q = render(scene, "RENDEZVOUS", 8, os.path.join(odir, "shadow_catcher_bdpt.exr"), "BDPT")
-        warned = [line for line in final.last_render.get("messages", [])
-                  if "shadow catcher" in line and "Floor" in line]
-        print("BDPT: Combined alpha mean %.4f, warning: %s" % (q["Combined"][:, :, 3].mean(), warned))
-        if not warned:
-            failures.append("BDPT with a shadow catcher did not warn naming the object")
+        # Metropolis: the catcher as an ordinary object, and a warning naming it.
+        if a.integrator == "PATH":
+            from rendezvous.engine import final
+            layer.cycles.use_pass_shadow_catcher = False
+            lamp.is_shadow_catcher = True
+            scene.render.film_transparent = True
+            q = render(scene, "RENDEZVOUS", 8, os.path.join(odir, "shadow_catcher_pssmlt.exr"), "PSSMLT")
+            warned = [line for line in final.last_render.get("messages", [])
+                      if "shadow catcher" in line and "Floor" in line]
+            print("PSSMLT: Combined alpha mean %.4f, warning: %s" % (q["Combined"][:, :, 3].mean(), warned))
+            if not warned:
+                failures.append("PSSMLT with a shadow catcher did not warn naming the object")
     except Exception:
         traceback.print_exc()
         failures.append("exception (see above)")
-    finish("SHADOW CATCHER", failures, odir)
+    finish("SHADOW CATCHER %s" % a.integrator, failures, odir)
 
 
 main()

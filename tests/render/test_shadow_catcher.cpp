@@ -9,13 +9,22 @@
 // - under a sun (a delta light) and a black world it is exactly 1 where the floor is lit
 //   and exactly 0 in the umbra; the matte there is transparent black, and Combined holds
 //   the shadow as alpha (film transparent) or over the world (film opaque);
-// - a scene whose catcher is off renders bit-identically with catcher support, and BDPT
-//   renders a catcher as an ordinary object (bit-identical to the flag off) and says so.
-// All checks are deterministic (fixed seeds, same paths): no false alarms.
+// - a scene whose catcher is off renders bit-identically with catcher support, and the
+//   Metropolis integrators render a catcher as an ordinary object (bit-identical to the flag
+//   off) and say so.
+// These checks are deterministic (fixed seeds, same paths): no false alarms.
+//
+// BDPT (integrators/bdpt/shadow_catcher.cpp): its copy draws the sample's random numbers
+// and has its strategies, so its pass is the lit ratio of BDPT renders up to rounding (one
+// seed, deterministic) on the bare floor, exactly 1 on sun-lit floor (to 1e-4) and 0 inside
+// the umbra; against the path tracer (other strategies) its images agree within noise: K
+// seeded renders of each, Welch's t-test on every 8x8 block (1% false alarms over those
+// tests, Sidak-corrected per block; fixed seeds, so each verdict is reproducible).
 #include <gtest/gtest.h>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include "render_helpers.h"
+#include "statistics.h"
 
 using namespace rdv::test;
 using nlohmann::json;
@@ -62,14 +71,27 @@ const float *px(const std::vector<float> &v, int channels, int x, int y) {
 
 }  // namespace
 
+// The scene with `lamp` rendered with the floor a shadow catcher (the pass on), with the
+// floor an ordinary object, and without the ball (and without the lamp: `lamp_in_pass`
+// false: hidden, `lamp_hidden` its visibility), with `settings`.
+struct LitRatioRenders {
+  Image caught, with_ball, without_ball;
+};
+LitRatioRenders lit_ratio_renders(const json &lamp, bool lamp_in_pass, const json &settings,
+                                  const json &lamp_hidden = kHidden) {
+  json with_pass = settings;
+  with_pass["shadow_catcher_pass"] = true;
+  json hidden_lamp = lamp;
+  if (!lamp_in_pass) hidden_lamp["visibility"] = lamp_hidden;  // the same light choices, no light
+  return {render_json(catcher_scene(true, true, lamp).dump(), with_pass.dump()),
+          render_json(catcher_scene(false, true, lamp).dump(), settings.dump()),
+          render_json(catcher_scene(false, false, hidden_lamp).dump(), settings.dump())};
+}
+
 // The Shadow Catcher pass of the scene with `lamp` against the ratio of renders with the
 // floor an ordinary object and without the ball (and without the lamp: `lamp_in_pass` false).
 void expect_lit_ratio(const json &lamp, bool lamp_in_pass) {
-  Image caught = render_json(catcher_scene(true, true, lamp).dump(), R"({"shadow_catcher_pass": true})");
-  Image with_ball = render_json(catcher_scene(false, true, lamp).dump());
-  json hidden_lamp = lamp;
-  if (!lamp_in_pass) hidden_lamp["visibility"] = kHidden;  // the same light choices, no light
-  Image without_ball = render_json(catcher_scene(false, false, hidden_lamp).dump());
+  const auto [caught, with_ball, without_ball] = lit_ratio_renders(lamp, lamp_in_pass, json::object());
   ASSERT_TRUE(caught.all_finite());
   int floor_pixels = 0, shadowed = 0;
   double worst = 0;
@@ -171,8 +193,8 @@ TEST(ShadowCatcher, OpaqueFilmShowsTheWorldBehindTheCatcherDarkenedByTheShadow) 
   EXPECT_GT(checked, kSize * kSize / 2);
 }
 
-TEST(ShadowCatcher, OtherIntegratorsRenderItAsAnOrdinaryObjectAndSaySo) {
-  for (const char *integrator : {"bdpt", "pssmlt"}) {
+TEST(ShadowCatcher, MetropolisRendersItAsAnOrdinaryObjectAndSaysSo) {
+  for (const char *integrator : {"pssmlt"}) {
     const json settings = {{"integrator", integrator}, {"samples", 4}, {"mlt_chains", 64}, {"mlt_bootstrap", 4}};
     Image caught = render_json(catcher_scene(true, true, kAreaLamp).dump(), settings.dump());
     Image plain = render_json(catcher_scene(false, true, kAreaLamp).dump(), settings.dump());
@@ -183,14 +205,16 @@ TEST(ShadowCatcher, OtherIntegratorsRenderItAsAnOrdinaryObjectAndSaySo) {
   }
 }
 
-// Integrator auto renders a scene with a shadow catcher with the path tracer when path is
-// among its candidates (the others would render the catcher as an ordinary object), and
-// says so; the pass shows the ball's shadow (below 1 under it).
-TEST(ShadowCatcher, AutoPicksThePathTracer) {
+// Integrator auto renders a scene with a shadow catcher with the path tracer or BDPT when
+// they are among its candidates (the Metropolis integrators would render the catcher as an
+// ordinary object), and says so; the pass shows the ball's shadow (below 1 under it).
+TEST(ShadowCatcher, AutoPicksAnIntegratorThatRendersIt) {
   const json settings = {{"integrator", "auto"}, {"time_limit", 1.0}, {"samples", 8}, {"shadow_catcher_pass", true}};
   Image img = render_json(catcher_scene(true, true, kAreaLamp).dump(), settings.dump());
-  EXPECT_NE(img.warnings.find("integrator auto renders with path"), std::string::npos) << img.warnings;
-  EXPECT_EQ(json::parse(img.stats)["auto"]["integrator"], "path") << img.stats;
+  EXPECT_NE(img.warnings.find("integrator auto renders with path or bdpt"), std::string::npos) << img.warnings;
+  const json stats = json::parse(img.stats);
+  EXPECT_TRUE(stats["auto"]["integrator"] == "path" || stats["auto"]["integrator"] == "bdpt") << img.stats;
+  EXPECT_EQ(stats["auto"]["pilots"].size(), 2u) << img.stats;
   float darkest = 1;
   for (float f : img.shadow_catcher) darkest = std::min(darkest, f);
   EXPECT_LT(darkest, 0.5f) << "no shadow in the Shadow Catcher pass";
@@ -208,4 +232,203 @@ TEST(ShadowCatcher, SceneSettingIsCheckedAndResetable) {
   EXPECT_NE(rdv_scene_set_instance_params(s.s, inst, R"({"shadow_catcher": "yes"})"), RDV_OK);
   EXPECT_EQ(rdv_scene_set_instance_params(s.s, inst, R"({"shadow_catcher": true})"), RDV_OK);
   EXPECT_EQ(rdv_scene_set_instance_params(s.s, inst, R"({})"), RDV_OK);  // back to an ordinary object
+}
+
+// ---- BDPT ----
+namespace {
+
+constexpr int kRuns = 8;
+// Block tests in the BDPT tests below: the pass, the matte, Combined and the matte's alpha
+// against the path tracer, 25 blocks each.
+constexpr int kBlockTests = 4 * 25;
+const double kAlphaPerBlock = 1.0 - std::pow(1.0 - 0.01, 1.0 / kBlockTests);
+
+// What the BDPT tests compare, per run: RGB summed per pixel (alpha alone for matte_alpha),
+// row-major.
+struct CatcherRuns {
+  std::vector<std::vector<double>> pass, matte, matte_alpha, combined;
+  std::vector<uint8_t> floor;  // 1 where no run's matte saw the ball (alpha 0 in every run)
+};
+
+CatcherRuns catcher_runs(const json &scene, json settings, uint32_t seed0) {
+  CatcherRuns r;
+  r.floor.assign(size_t(kSize) * kSize, 1);
+  for (int k = 0; k < kRuns; ++k) {
+    settings["seed"] = seed0 + uint32_t(k);
+    // The pass on: Combined is the matte; off (opaque film): the world behind, shaded.
+    json with_pass = settings;
+    with_pass["shadow_catcher_pass"] = true;
+    const Image img = render_json(scene.dump(), with_pass.dump());
+    const Image shaded = render_json(scene.dump(), settings.dump());
+    EXPECT_TRUE(img.all_finite() && shaded.all_finite());
+    EXPECT_EQ(img.progress.samples_dropped, 0u);
+    std::vector<double> pass(size_t(kSize) * kSize), matte(pass.size()), alpha(pass.size()), combined(pass.size());
+    for (size_t i = 0; i < pass.size(); ++i) {
+      for (int c = 0; c < 3; ++c) {
+        pass[i] += img.shadow_catcher[3 * i + c];
+        matte[i] += img.shadow_catcher_matte[4 * i + c];
+        combined[i] += shaded.rgba[4 * i + c];
+      }
+      alpha[i] = img.shadow_catcher_matte[4 * i + 3];
+      if (alpha[i] != 0) r.floor[i] = 0;
+    }
+    r.pass.push_back(pass);
+    r.matte.push_back(matte);
+    r.matte_alpha.push_back(alpha);
+    r.combined.push_back(combined);
+  }
+  return r;
+}
+
+// Zero outside `mask` in every run (the same in both sets: those pixels compare equal).
+std::vector<std::vector<double>> masked(std::vector<std::vector<double>> runs, const std::vector<uint8_t> &mask) {
+  for (auto &run : runs)
+    for (size_t i = 0; i < run.size(); ++i)
+      if (!mask[i]) run[i] = 0;
+  return runs;
+}
+
+std::vector<uint8_t> both(const std::vector<uint8_t> &a, const std::vector<uint8_t> &b) {
+  std::vector<uint8_t> m(a.size());
+  for (size_t i = 0; i < a.size(); ++i) m[i] = a[i] && b[i];
+  return m;
+}
+
+// Every 8x8 block of `bdpt` against `ref` (Welch); with `tolerance`, a block whose means
+// differ by less than that (relative) passes too.
+void expect_same_blocks(const std::vector<std::vector<double>> &bdpt, const std::vector<std::vector<double>> &ref,
+                        const std::string &what, double tolerance = 0) {
+  BlockComparison c = compare_blocks(bdpt, ref, kSize, kSize, 8, kAlphaPerBlock);
+  int beyond = c.failed;
+  if (tolerance > 0 && c.failed > 0) {
+    beyond = 0;
+    for (int by = 0; by < kSize; by += 8)
+      for (int bx = 0; bx < kSize; bx += 8) {
+        std::vector<std::vector<double>> a, b;
+        for (const auto *runs : {&bdpt, &ref}) {
+          auto &out = runs == &bdpt ? a : b;
+          for (const auto &run : *runs) {
+            std::vector<double> block;
+            for (int y = by; y < by + 8; ++y)
+              for (int x = bx; x < bx + 8; ++x) block.push_back(run[size_t(y) * kSize + x]);
+            out.push_back(block);
+          }
+        }
+        const BlockComparison one = compare_blocks(a, b, 8, 8, 8, kAlphaPerBlock);
+        if (one.failed && std::fabs(one.mean_ratio - 1.0) > tolerance) ++beyond;
+      }
+  }
+  EXPECT_EQ(beyond, 0) << what << ": " << c.detail;
+  std::printf("[ shadow catcher ] bdpt %-34s %s%s\n", what.c_str(), c.detail.substr(0, 110).c_str(),
+              beyond < c.failed ? " (within the tolerance)" : "");
+}
+
+}  // namespace
+
+// BDPT's Shadow Catcher pass, matte (colour and alpha) and Combined (the opaque film's
+// shaded world) against the path tracer's, block by block; the pass and Combined on the
+// floor the camera sees in every run (edge pixels divide sums of a few samples: their
+// ratio's bias differs between the integrators). Combined there is the world times the
+// clamped average of the pass, nearly the same in every run: its blocks differ between the
+// integrators by their ratios' clamped noise, 1e-4 relative, far beyond the runs' spread;
+// they pass within 0.5%.
+TEST(ShadowCatcher, BdptMatchesThePathTracer) {
+  const json scene = catcher_scene(true, true, kAreaLamp);
+  const CatcherRuns pt = catcher_runs(scene, {{"integrator", "path"}, {"samples", 64}}, 1);
+  const CatcherRuns bd = catcher_runs(scene, {{"integrator", "bdpt"}, {"samples", 32}}, 1001);
+  const std::vector<uint8_t> floor = both(pt.floor, bd.floor);
+  expect_same_blocks(masked(bd.pass, floor), masked(pt.pass, floor), "Shadow Catcher pass (floor)");
+  expect_same_blocks(bd.matte, pt.matte, "matte colour");
+  expect_same_blocks(bd.matte_alpha, pt.matte_alpha, "matte alpha");
+  expect_same_blocks(masked(bd.combined, floor), masked(pt.combined, floor), "Combined, opaque film (floor)", 5e-3);
+}
+
+// BDPT's pass against the ratio of BDPT renders with the floor an ordinary object and
+// without the ball (without the lamp when it is not the pass's), one seed: the copy draws
+// the sample's random numbers and has its strategies, so on the bare floor (matte 0: no
+// ball seen, no splat of it) the pass is that ratio up to rounding but where light tracing
+// reached the floor behind the ball (the copy's splats from points the camera cannot see
+// are dropped, the render without the ball keeps them): a few pixels by the ball. The lamp
+// hidden from the render without the ball still casts shadows: a lamp that casts none makes
+// BDPT trace camera subpaths only (Bdpt::camera_side_only), other strategies than the copy's.
+void expect_bdpt_lit_ratio(const json &lamp, bool lamp_in_pass) {
+  json lamp_hidden = kHidden;
+  lamp_hidden["shadow"] = true;
+  const auto [caught, with_ball, without_ball] =
+      lit_ratio_renders(lamp, lamp_in_pass, {{"integrator", "bdpt"}, {"samples", 16}}, lamp_hidden);
+  ASSERT_TRUE(caught.all_finite());
+  int floor_pixels = 0, equal = 0;
+  double worst = 0;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) {
+      const float *matte = px(caught.shadow_catcher_matte, 4, x, y);
+      if (matte[0] != 0.0f || matte[1] != 0.0f || matte[2] != 0.0f || matte[3] != 0.0f) continue;
+      ++floor_pixels;
+      const float *f = px(caught.shadow_catcher, 3, x, y);
+      double pixel = 0;
+      for (int c = 0; c < 3; ++c) {
+        const double ratio = with_ball.rgba[(size_t(y) * kSize + x) * 4 + c] / without_ball.rgba[(size_t(y) * kSize + x) * 4 + c];
+        pixel = std::max(pixel, std::fabs(f[c] - ratio) / std::max(ratio, 1.0));
+      }
+      equal += pixel <= 1e-4;
+      worst = std::max(worst, pixel);
+    }
+  std::printf("[ shadow catcher ] bdpt lamp in the pass %d: bare floor pixels %d, %d equal to the lit ratio within "
+              "1e-4 (worst %.2g)\n", int(lamp_in_pass), floor_pixels, equal, worst);
+  EXPECT_GT(floor_pixels, kSize * kSize / 2);
+  EXPECT_GE(equal, floor_pixels * 95 / 100);
+}
+
+TEST(ShadowCatcher, BdptPassIsTheLitRatio) {
+  expect_bdpt_lit_ratio(kAreaLamp, true);
+  json lamp = kAreaLamp;
+  lamp["shadow_catcher"] = false;  // the synthetic objects' lamp: it brightens the pass
+  expect_bdpt_lit_ratio(lamp, false);
+}
+
+// Under a sun and a black world, with a black ball: BDPT's copy has the sample's strategies
+// and random numbers, so where the path tracer's pass is exactly 1 (lit floor, 5x5
+// neighbourhood lit: no splat from the umbra reaches) BDPT's is 1 up to rounding (its
+// light tracing adds to Combined and the pass the same splats in another order), and it is
+// exactly 0 in the umbra's inside (no strategy reaches it); the matte of the floor is black.
+// Deterministic: one seed per run, no false alarms.
+TEST(ShadowCatcher, BdptSunLitFloorIsOneAndUmbraZero) {
+  const json black = {{"color", {0, 0, 0}}};
+  int lit = 0, umbra = 0, umbra_zero = 0;
+  double worst_lit = 0, worst_umbra = 0;
+  for (int k = 0; k < 4; ++k) {
+    const json scene = catcher_scene(true, true, kSun, black, {{"samples", 16}, {"seed", 10 + k}}, {0, 0, 0});
+    const Image pt = render_json(scene.dump(), R"({"shadow_catcher_pass": true})");
+    const Image img = render_json(scene.dump(), R"({"integrator": "bdpt", "shadow_catcher_pass": true})");
+    ASSERT_TRUE(img.all_finite());
+    auto all_around = [&](int x, int y, int r, float value) {
+      if (x < r || y < r || x >= kSize - r || y >= kSize - r) return false;
+      for (int dy = -r; dy <= r; ++dy)
+        for (int dx = -r; dx <= r; ++dx)
+          for (int c = 0; c < 3; ++c)
+            if (px(pt.shadow_catcher, 3, x + dx, y + dy)[c] != value) return false;
+      return true;
+    };
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x) {
+        if (px(img.shadow_catcher_matte, 4, x, y)[3] != 0.0f) continue;  // the ball is seen here
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(px(img.shadow_catcher_matte, 4, x, y)[c], 0.0f);
+        const float *f = px(img.shadow_catcher, 3, x, y);
+        if (all_around(x, y, 2, 1.0f)) {
+          ++lit;
+          for (int c = 0; c < 3; ++c) {
+            worst_lit = std::max(worst_lit, double(std::fabs(f[c] - 1.0f)));
+            EXPECT_NEAR(f[c], 1.0f, 1e-4f) << "lit floor " << x << "," << y << " run " << k;
+          }
+        } else if (all_around(x, y, 0, 0.0f)) {
+          ++umbra;
+          umbra_zero += f[0] == 0.0f && f[1] == 0.0f && f[2] == 0.0f;
+          worst_umbra = std::max(worst_umbra, double(f[0]));
+        }
+      }
+  }
+  std::printf("[ shadow catcher ] bdpt sun: lit floor pixels %d (worst |pass - 1| %.2g); umbra pixels %d, %d exactly 0 "
+              "(largest %.3g)\n", lit, worst_lit, umbra, umbra_zero, worst_umbra);
+  EXPECT_GT(lit, 100 * 4);
+  EXPECT_GT(umbra_zero, 4);
 }

@@ -133,11 +133,20 @@ void Film::for_each_row_band(const std::function<void(int, int)> &band) {
 }
 
 void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b, uint8_t strategy,
-                     const SplatLightPass &light_pass, const SlotShare *shares, int y0, int y1) {
+                     const SplatLightPass &light_pass, const SlotShare *shares, CatcherSplat catcher, int y0,
+                     int y1) {
   if (!is_finite(L)) return;
   // Each band of rows sees every splat (add_splats): one outside it costs only this.
   const SplatPixels pixels = splat_pixels(raster, filter, region_, y0, y1);
   if (pixels.empty()) return;
+  // BDPT in a scene with a shadow catcher (shadow_catcher_passes.h): a copy's splat is the
+  // catcher pass's alone; the others are Combined's, some the matte's too.
+  if (catcher == CatcherSplat::Pass) {
+    if (has_shadow_catcher())
+      splat_footprint(raster, pixels, filter, width_, [&](size_t i, float w) { add_to(catcher_[i].catcher_splats, L * w); });
+    return;
+  }
+  const bool to_matte = catcher == CatcherSplat::CombinedAndMatte && has_shadow_catcher();
   const bool half = half_b && has_halves();
   // Its strategy pass's and light passes' splat sums, when the film keeps them: one
   // footprint for all.
@@ -168,6 +177,7 @@ void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_
     if (half) add_to(half_splats_[i], c);
     if (slot >= 0) add_to(strategy_splats_[i * slots + size_t(slot)], c);
     for (int k = 0; k < n_shares; ++k) add_to(light_splats_[i][share_slot[k]], share_L[k] * w);
+    if (to_matte) add_to(catcher_[i].matte_splats, c);
   });
 }
 
@@ -251,10 +261,12 @@ void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float 
       switch (pass) {
         case RDV_PASS_COMBINED: {
           if (has_shadow_catcher()) {  // as Blender shows it (film/shadow_catcher_passes.h)
+            const CatcherSums sums = shadow_catcher::with_splats(catcher_[i], n, splat_scale);
             const std::array<double, 4> v =
-                catcher_display_.pass ? shadow_catcher::matte(n, catcher_[i])
-                                      : shadow_catcher::matte_with_shadow(p.sample, p.transparent, n, catcher_[i],
-                                                                          catcher_display_.film_transparent);
+                catcher_display_.pass
+                    ? shadow_catcher::matte(n, sums)
+                    : shadow_catcher::matte_with_shadow(shadow_catcher::with_splats(p.sample, splats_[i], n, splat_scale),
+                                                        p.transparent, n, sums, catcher_display_.film_transparent);
             for (int c = 0; c < 4; ++c) dst[c] = float(v[c]);
             break;
           }
@@ -266,14 +278,18 @@ void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float 
           break;
         }
         case RDV_PASS_SHADOW_CATCHER: {
-          const std::array<double, 3> f = has_shadow_catcher() ? shadow_catcher::factor(p.sample, p.transparent, n, catcher_[i])
-                                                               : std::array<double, 3>{1.0, 1.0, 1.0};
+          const std::array<double, 3> f =
+              has_shadow_catcher()
+                  ? shadow_catcher::factor(shadow_catcher::with_splats(p.sample, splats_[i], n, splat_scale), p.transparent,
+                                           n, shadow_catcher::with_splats(catcher_[i], n, splat_scale))
+                  : std::array<double, 3>{1.0, 1.0, 1.0};
           for (int c = 0; c < 3; ++c) dst[c] = float(f[c]);
           break;
         }
         case RDV_PASS_SHADOW_CATCHER_MATTE: {
-          const std::array<double, 4> v = has_shadow_catcher() ? shadow_catcher::matte(n, catcher_[i])
-                                                                : std::array<double, 4>{0.0, 0.0, 0.0, 1.0};
+          const std::array<double, 4> v = has_shadow_catcher()
+                                              ? shadow_catcher::matte(n, shadow_catcher::with_splats(catcher_[i], n, splat_scale))
+                                              : std::array<double, 4>{0.0, 0.0, 0.0, 1.0};
           for (int c = 0; c < 4; ++c) dst[c] = float(v[c]);
           break;
         }

@@ -68,7 +68,7 @@ class Film {
   bool writes_data_passes() const { return data_passes_; }
   bool has_denoising_passes() const { return !denoising_.empty(); }
   // Shadow catchers (film/shadow_catcher_passes.h): from now on the film keeps their sums
-  // (the path tracer's samples in a scene with a catcher), and Combined reads as `display`
+  // (the path tracer's and BDPT's samples in a scene with a catcher), and Combined reads as `display`
   // says. Call before rendering.
   void keep_shadow_catcher(const CatcherDisplay &display);
   bool has_shadow_catcher() const { return !catcher_.empty(); }
@@ -96,21 +96,25 @@ class Film {
     // strategy: its strategy pass (film/strategy_passes.h; a t = 1 strategy), or 0xff.
     // light_pass: its light passes (film/light_passes.h), when the film keeps them;
     // shares: its light_pass.shares slot shares, when it has any.
+    // catcher: the shadow catcher sums it adds to (BDPT; film/shadow_catcher_passes.h), when
+    // the film keeps them (else it is Combined's).
     void add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b = false, uint8_t strategy = 0xff,
-                   const SplatLightPass &light_pass = {}, const SlotShare *shares = nullptr) {
-      film_.add_splat(raster, L, filter, half_b, strategy, light_pass, shares, film_.region_.y0, film_.region_.y1);
+                   const SplatLightPass &light_pass = {}, const SlotShare *shares = nullptr,
+                   CatcherSplat catcher = CatcherSplat::Combined) {
+      film_.add_splat(raster, L, filter, half_b, strategy, light_pass, shares, catcher, film_.region_.y0,
+                      film_.region_.y1);
     }
     // Many splats at once, in parallel over bands of rows on the calling task arena:
     // each pixel still gets its splats in the order `each` gives them, so the sums are
     // add_splat's one at a time, bit for bit, on any thread count. (One thread applying a
     // pass's light-tracing splats left the other core idle for 5-15% of a BDPT render.)
-    // each(visit) calls visit(raster, L, half_b, strategy, light_pass[, shares]) for every splat.
+    // each(visit) calls visit(raster, L, half_b, strategy, light_pass[, shares[, catcher]]) for every splat.
     template <class EachSplat>
     void add_splats(const PixelFilter &filter, const EachSplat &each) {
       film_.for_each_row_band([&](int y0, int y1) {
         each([&](Vec2 raster, Color L, bool half_b, uint8_t strategy, const SplatLightPass &light_pass,
-                 const SlotShare *shares = nullptr) {
-          film_.add_splat(raster, L, filter, half_b, strategy, light_pass, shares, y0, y1);
+                 const SlotShare *shares = nullptr, CatcherSplat catcher = CatcherSplat::Combined) {
+          film_.add_splat(raster, L, filter, half_b, strategy, light_pass, shares, catcher, y0, y1);
         });
       });
     }
@@ -181,7 +185,7 @@ class Film {
  private:
   // The splat's share in rows [y0, y1) (a band of add_splats).
   void add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_b, uint8_t strategy,
-                 const SplatLightPass &light_pass, const SlotShare *shares, int y0, int y1);
+                 const SplatLightPass &light_pass, const SlotShare *shares, CatcherSplat catcher, int y0, int y1);
   // Calls band(y0, y1) for disjoint bands of the region's rows that cover it, in parallel.
   void for_each_row_band(const std::function<void(int, int)> &band);
   // One pixel of strategy pass k into dst (3 floats).

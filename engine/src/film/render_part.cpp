@@ -96,11 +96,14 @@ std::vector<std::string> pass_channel_names(bool light_passes, int strategy_max_
     doubles("catcher_world", "rgb");
     doubles("catcher_matte_transparent", "v");
     doubles("catcher_splits", "v");
+    doubles("catcher_matte_splat", "rgb");
+    doubles("catcher_pass_splat", "rgb");
   }
   return names;
 }
 constexpr size_t kDenoisingDoubles = 7;  // normal, albedo, depth
-constexpr size_t kCatcherDoubles = 11;   // matte, catcher pass, world behind, matte transparency, splits
+// matte, catcher pass, world behind, matte transparency, splits, matte and catcher pass splats
+constexpr size_t kCatcherDoubles = 17;
 
 // One part file: its record and its raw sums as words.
 struct LoadedPart {
@@ -308,6 +311,8 @@ PartChannels part_channels(const Film &film, const PartRecord &record) {
         for (double v : *sums) put_double(w, v);
       put_double(w, c.matte_transparent);
       put_double(w, c.splits);
+      for (const auto *sums : {&c.matte_splats, &c.catcher_splats})
+        for (double v : *sums) put_double(w, v);
     }
   }
   return out;
@@ -549,6 +554,10 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
           if (d[10] < 0 || d[10] > UINT32_MAX || uint64_t(sum.splits) + uint64_t(d[10]) > UINT32_MAX)
             fail("part '" + part.path + "': shadow catcher split counts out of range");
           sum.splits += uint32_t(d[10]);
+          for (int c = 0; c < 3; ++c) {
+            sum.matte_splats[c] += d[11 + c];
+            sum.catcher_splats[c] += d[14 + c];
+          }
         }
       }
     }

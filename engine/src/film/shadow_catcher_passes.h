@@ -12,7 +12,11 @@
 //   only shadow catchers (the other objects neither seen nor casting shadows);
 // - B: the world seen along the camera's ray where the sample met the world or a
 //   catcher (Cycles' background pass behind the catcher, for the opaque film);
-// - the number of samples that split.
+// - the number of samples that split;
+// - BDPT: the light-tracing splats of the matte (t = 1 paths that do not reach the camera
+//   straight from a catcher) and of the catcher pass (its copies' light tracing), kept as
+//   raw splat sums like the film's own and read with the frame's splat scale; Combined's
+//   sums are then the film's samples plus its splats (with_splats).
 // The pixels read as Cycles computes them:
 // - Shadow Catcher pass = (1 - a) + a (C - M) / S per channel (1 where S is 0, and
 //   where no sample split), a = 1 - T_C / n: the catcher's light with the other objects
@@ -49,6 +53,8 @@ struct CatcherSample {
 // A pixel's sums over its samples.
 struct CatcherSums {
   std::array<double, 3> matte{}, catcher{}, background{};
+  // BDPT's splats of the matte and of the catcher pass (raw, as the film's splat sums).
+  std::array<double, 3> matte_splats{}, catcher_splats{};
   float matte_transparent = 0;
   uint32_t splits = 0;
   void add(const CatcherSample &s) {
@@ -62,6 +68,11 @@ struct CatcherSums {
   }
 };
 
+// Which sums a splat (BDPT's light tracing) adds to in a scene with a shadow catcher:
+// Combined's only (a path past the split), Combined's and the matte's, or the catcher
+// pass's only (a copy's). Without catcher sums every splat is Combined's.
+enum class CatcherSplat : uint8_t { Combined, CombinedAndMatte, Pass };
+
 // How Combined reads in a scene with a shadow catcher (session settings).
 struct CatcherDisplay {
   bool pass = false;              // View Layer > Passes > Shadow Catcher: Combined is the matte
@@ -69,6 +80,24 @@ struct CatcherDisplay {
 };
 
 namespace shadow_catcher {
+
+// A pixel's sums read with its splats (BDPT's light tracing): its n samples' sums plus n
+// times the splats' mean (splat sums times the frame's splat scale), for Combined's sums
+// (`combined`, the film's samples, and `splats`, its splat sums) and the matte's. Without
+// splats (the path tracer) both are the samples' sums unchanged.
+inline std::array<double, 3> with_splats(const std::array<double, 3> &sums, const std::array<double, 3> &splats,
+                                         double n, double splat_scale) {
+  std::array<double, 3> out = sums;
+  for (int c = 0; c < 3; ++c)
+    if (splats[c] != 0) out[c] += splats[c] * splat_scale * n;
+  return out;
+}
+inline CatcherSums with_splats(const CatcherSums &s, double n, double splat_scale) {
+  CatcherSums out = s;
+  out.matte = with_splats(s.matte, s.matte_splats, n, splat_scale);
+  out.catcher = with_splats(s.catcher, s.catcher_splats, n, splat_scale);
+  return out;
+}
 
 inline double saturate(double v) { return std::clamp(v, 0.0, 1.0); }
 

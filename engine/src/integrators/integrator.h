@@ -130,8 +130,8 @@ struct FirstHit {
   // integrator adds each contribution's share (film/light_passes.h); its splats carry
   // their own (Splat::light_pass).
   LightPassSample *passes = nullptr;
-  // The sample's shadow catcher values when the film keeps them (the path tracer in a
-  // scene with a catcher; film/shadow_catcher_passes.h), else null.
+  // The sample's shadow catcher values when the film keeps them (the path tracer and BDPT
+  // in a scene with a catcher; film/shadow_catcher_passes.h), else null.
   CatcherSample *catcher = nullptr;
   // BDPT's strategy passes of the sample, when the film keeps them (else null): each
   // strategy's contribution goes to strategies[layout.index(s, t)], a t = 1 strategy's
@@ -149,12 +149,14 @@ struct FirstHit {
 // strategy: its BDPT strategy pass (film/strategy_passes.h), kNoStrategy for none.
 // light_pass: its light passes (film/light_passes.h) when the film keeps them: the split of
 // its path's first scattering vertex, and whether that was not the only one.
+// catcher: in a scene with a shadow catcher, the sums it adds to (film/shadow_catcher_passes.h).
 struct Splat {
   static constexpr uint8_t kNoStrategy = 0xff;
   Vec2 raster;
   Color L;
   uint8_t strategy = kNoStrategy;
   SplatLightPass light_pass;
+  CatcherSplat catcher = CatcherSplat::Combined;
 };
 
 struct CameraRay {

@@ -150,8 +150,8 @@ void TileIntegrator::render(RenderContext &ctx) {
       ctx.arena.execute([&] {
         frame.add_splats(ctx.filter, [&](const auto &visit) {  // in tile order: the same sums on any thread count
           for (const TileSplats &splats : tile_splats) {
-            for (const Splat &sp : splats.a) visit(sp.raster, sp.L, false, sp.strategy, sp.light_pass);
-            for (const Splat &sp : splats.b) visit(sp.raster, sp.L, true, sp.strategy, sp.light_pass);
+            for (const Splat &sp : splats.a) visit(sp.raster, sp.L, false, sp.strategy, sp.light_pass, nullptr, sp.catcher);
+            for (const Splat &sp : splats.b) visit(sp.raster, sp.L, true, sp.strategy, sp.light_pass, nullptr, sp.catcher);
           }
         });
       });

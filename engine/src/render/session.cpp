@@ -14,26 +14,33 @@ Session::Session(std::shared_ptr<Scene> scene, const RenderSettings &settings)
       control_(settings.time_limit, settings.noise_target) {
   scene_->commit();
   scene_->camera().set_resolution(settings.width, settings.height);
-  // Shadow catchers (integrators/path/shadow_catcher.h): the path tracer splits its paths at
-  // them; the other integrators render them as ordinary objects, and say so.
+  // Shadow catchers (integrators/path/shadow_catcher.h, integrators/bdpt/shadow_catcher.cpp):
+  // the path tracer and BDPT split their paths at them; the other integrators render them as
+  // ordinary objects, and say so.
   if (scene_->has_shadow_catchers()) {
-    // Integrator auto picks the path tracer then, when it may (auto_candidates).
+    auto renders_catchers = [](const std::string &name) { return name == "path" || name == "bdpt"; };
+    // Integrator auto picks among those that render a catcher, when it may (auto_candidates).
     std::vector<std::string> &candidates = settings_.auto_candidates;
-    if (settings_.integrator == "auto" && candidates.size() > 1 &&
-        std::find(candidates.begin(), candidates.end(), "path") != candidates.end()) {
-      candidates = {"path"};
-      scene_->warn(scene_->shadow_catcher_object() + " is a shadow catcher, which only the path tracer renders as "
-                   "one: integrator auto renders with path");
+    if (settings_.integrator == "auto" && !std::all_of(candidates.begin(), candidates.end(), renders_catchers) &&
+        std::any_of(candidates.begin(), candidates.end(), renders_catchers)) {
+      candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
+                                       [&](const std::string &name) { return !renders_catchers(name); }),
+                       candidates.end());
+      std::string names;
+      for (const std::string &name : candidates) names += (names.empty() ? "" : " or ") + name;
+      scene_->warn(scene_->shadow_catcher_object() + " is a shadow catcher, which only the path tracer and BDPT "
+                   "render as one: integrator auto renders with " + names);
     }
-    const bool path = settings_.integrator == "path" ||
-                      (settings_.integrator == "auto" && candidates.size() == 1 && candidates[0] == "path");
-    if (path)
+    const bool catchers = settings_.integrator == "auto"
+                              ? std::all_of(candidates.begin(), candidates.end(), renders_catchers)
+                              : renders_catchers(settings_.integrator);
+    if (catchers)
       film_.keep_shadow_catcher({settings_.shadow_catcher_pass, settings_.alpha.film_transparent});
     else
-      scene_->warn(scene_->shadow_catcher_object() + " is a shadow catcher, which only the path tracer renders as "
-                   "one: " + settings_.integrator + " renders it as an ordinary object (Combined shows it shaded, "
-                   "the Shadow Catcher pass is 1)");
-    if (path && scene_->has_media())
+      scene_->warn(scene_->shadow_catcher_object() + " is a shadow catcher, which only the path tracer and BDPT "
+                   "render as one: " + settings_.integrator + " renders it as an ordinary object (Combined shows "
+                   "it shaded, the Shadow Catcher pass is 1)");
+    if (catchers && scene_->has_media())
       scene_->warn(scene_->shadow_catcher_object() + " is a shadow catcher in a scene with participating media: "
                    "its Shadow Catcher pass sees the media of every object (Cycles leaves out those of objects "
                    "that are not shadow catchers)");

@@ -100,6 +100,9 @@ AutoChoice AutoIntegrator::choose(RenderContext &ctx) {
     AutoPilot pilot;
     pilot.integrator = name;
     Film film(settings_.width, settings_.height, region, s.estimates_noise());
+    // A shadow catcher's pass costs the pilots what it costs the render (its copies), and
+    // the pilots' images are the Combined the render shows.
+    if (ctx.film.has_shadow_catcher()) film.keep_shadow_catcher(ctx.film.catcher_display());
     RenderControl control(each, 0);
     control.follow(ctx.control);  // a cancel of the render stops its pilots
     std::unique_ptr<Integrator> integrator = make_integrator(s, scene_);

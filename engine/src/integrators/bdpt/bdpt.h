@@ -63,7 +63,8 @@ void set_mis_sum(PathVertex *path, int k, bool delta_before, bool balance);
 class Bdpt final : public TileIntegrator {
  public:
   Bdpt(const Scene &scene, const BdptSettings &settings)
-      : scene_(scene), settings_(settings), camera_side_only_(scene.has_mixed_visibility()) {}
+      : scene_(scene), settings_(settings), camera_side_only_(scene.has_mixed_visibility()),
+        catchers_(scene.has_shadow_catchers()) {}
   // Ray visibility that some kinds of ray after a scattering see and others do not
   // (Scene::has_mixed_visibility): a ray traced from a light cannot know which kind of
   // scattering will take up the path it reaches, so light subpaths cannot follow such
@@ -86,12 +87,16 @@ class Bdpt final : public TileIntegrator {
   // data: the sample's data passes (film/data_passes.h), gathered along the walk's
   // see-through chain; see_through_only: the walk ends where that chain does (the
   // Metropolis integrators' first-hit pass).
+  // catcher_copy: the subpath of a sample's catcher-pass copy (shadow_catcher.cpp): a camera
+  // subpath meets shadow catchers only from its split on; a light subpath starts only at a
+  // light of the catcher pass and meets shadow catchers only.
   template <bool kMedia>
   int camera_subpath(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, PathVertex *path,
                      Color *emitted, int max_vertices = -1, DataPassSample *data = nullptr,
-                     bool see_through_only = false) const;
+                     bool see_through_only = false, bool catcher_copy = false) const;
   template <bool kMedia>
-  int light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int max_vertices = -1) const;
+  int light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int max_vertices = -1,
+                    bool catcher_copy = false) const;
   const BdptSettings &settings() const { return settings_; }
   // The first-hit AOVs of a camera subpath of n vertices (Depth, Normal, Albedo).
   FirstHit first_surface(const PathVertex *camera_path, int n) const;
@@ -100,9 +105,12 @@ class Bdpt final : public TileIntegrator {
   // One connection strategy (connect.cpp); raster receives the pixel for t == 1;
   // connection_dir (if given) the direction of the connection from its camera-side end
   // (t == 1: from the light vertex toward the lens).
+  // catcher_copy: a strategy of a catcher-pass copy: its rays meet shadow catchers only past
+  // the split, and only the catcher pass's lights shine; light tracing (t = 1) only from a
+  // catcher, the camera ray to it checked against every object (the copy's prefix).
   template <bool kMedia>
   Color connect(PathVertex *light_path, PathVertex *camera_path, int s, int t, Sampler &sampler, RayStats &stats,
-                Vec2 *raster, float *mis_weight_out, Vec3 *connection_dir = nullptr) const;
+                Vec2 *raster, float *mis_weight_out, Vec3 *connection_dir = nullptr, bool catcher_copy = false) const;
   // Cycles' light passes (light_passes.cpp, film/light_passes.h): how many scattering
   // vertices the path of strategy (s, t) has and how its first one from the camera
   // splits by kind (connection_dir as connect gives it); the colour passes of a camera
@@ -134,16 +142,33 @@ class Bdpt final : public TileIntegrator {
   static KindSplit split_at(const PathVertex &v, Vec3 toward_camera, Vec3 toward_light, bool delta);
 
  private:
-  template <bool kMedia>
+  // One camera sample; kCatcher: in a scene with a shadow catcher whose sums the film keeps
+  // (first_hit->catcher): the sample's Combined, its matte, and its catcher-pass copy
+  // (shadow_catcher.cpp). Compiled apart, so scenes without a catcher run none of that code.
+  template <bool kMedia, bool kCatcher>
   Color li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
            std::vector<Splat> &splats) const;
+  // Shadow catchers (shadow_catcher.cpp): the camera vertex where a camera subpath of n
+  // vertices splits (its see-through chain's first catcher), -1 for none; a sample's copy,
+  // in the subpath storage given (emitted: `capacity` entries): its light tracing into
+  // `splats` (every sample) and, when the sample split at camera vertex `split`, the
+  // catcher pass of its camera subpath traced again (returned); the world seen along dir by
+  // a ray of the kinds in mask (Cycles' background pass).
+  int split_vertex(const PathVertex *camera_path, int n) const;
+  template <bool kMedia>
+  Color catcher_pass(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, int split,
+                     PathVertex *camera_path, PathVertex *light_path, Color *emitted, size_t capacity,
+                     std::vector<Splat> &splats) const;
+  Color background_along(Vec3 dir, uint32_t mask) const;
   // cone: the ray's footprint (camera paths), for filtered texture lookups.
+  // catcher_copy: as camera_subpath's and light_subpath's.
   template <bool kMedia>
   int random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, float pdf, int max_vertices,
                   TransportMode mode, PathVertex *path, Color *emitted, RayCone cone = {},
-                  DataPassSample *data = nullptr, bool see_through_only = false) const;
+                  DataPassSample *data = nullptr, bool see_through_only = false, bool catcher_copy = false) const;
+  // catcher_only: the walk of a catcher copy past its split (its shadow rays meet catchers only).
   Color lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathVertex *path, int n, float pdf_dir,
-                      RayStats &stats) const;
+                      RayStats &stats, bool catcher_only) const;
   void gather_volume_emission(const Medium &medium, const Ray &ray, float tmax, SampleRun &rng, Color beta,
                               PathVertex *path, int n, float pdf_dir, Color &emitted) const;
   // Densities (mis.cpp), area measure at the receiving vertex.
@@ -177,7 +202,8 @@ class Bdpt final : public TileIntegrator {
   bool light_walk_unblurred(const PathVertex *light_path, int s, float min_pdf) const;
   // Scenes with mixed visibility: the last segment of the path is tested against what
   // casts each light's shadows (integrators/visibility_clear.h), counting rays in stats.
-  Color Le(const PathVertex &v, const PathVertex &toward, RayStats &stats) const;
+  // catcher_only: a catcher copy's (only the catcher pass's lights; shadow rays meet catchers only).
+  Color Le(const PathVertex &v, const PathVertex &toward, RayStats &stats, bool catcher_only = false) const;
   // Ray visibility: whether the light a light subpath of s >= 2 vertices starts at is
   // visible to the kind of scattering at light_path[1], whose next direction is `wi`
   // when s == 2 (else toward light_path[2]).
@@ -192,6 +218,7 @@ class Bdpt final : public TileIntegrator {
   const Scene &scene_;
   BdptSettings settings_;
   bool camera_side_only_ = false;
+  bool catchers_ = false;  // the scene has a shadow catcher: walks mark its vertices (PathVertex::catcher)
 };
 
 }  // namespace rdv::bdpt

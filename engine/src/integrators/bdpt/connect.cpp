@@ -29,8 +29,12 @@ Scattering Bdpt::scatter(const PathVertex &v, Vec3 wi, TransportMode mode, const
 
 // Radiance a light vertex (or an emissive surface) sends toward `toward`, a camera-path
 // vertex (its out_mask: the kind of ray that found v).
-Color Bdpt::Le(const PathVertex &v, const PathVertex &toward, RayStats &stats) const {
+Color Bdpt::Le(const PathVertex &v, const PathVertex &toward, RayStats &stats, bool catcher_only) const {
   if (!v.is_light()) return Color(0.0f);
+  // A catcher copy's shadow rays meet shadow catchers only.
+  auto occluders = [catcher_only](const Light &light) {
+    return catcher_only ? visibility::catcher_rays(light.occluders()) : light.occluders();
+  };
   // Mixed visibility: the segment from a scattering vertex is blocked by shadow casters.
   const bool test_shadows = camera_side_only_ && toward.type != VertexType::Camera;
   if (v.infinite) {
@@ -42,14 +46,16 @@ Color Bdpt::Le(const PathVertex &v, const PathVertex &toward, RayStats &stats) c
       const Light &light = scene_.lights()[li];
       if (!(light.visibility & toward.out_mask)) continue;  // camera rays: suns are not seen
       if (transparent_world && light.type == LightType::Background) continue;
-      if (test_shadows && !visibility_clear(scene_, s, light.occluders(), false, stats.rays)) continue;
+      if (catcher_only && !light.shadow_catcher) continue;
+      if (test_shadows && !visibility_clear(scene_, s, occluders(light), false, stats.rays)) continue;
       L += infinite_light_radiance(light, v.dir);
     }
     return L;
   }
+  if (catcher_only && v.light >= 0 && !scene_.lights()[v.light].shadow_catcher) return Color(0.0f);
   if (test_shadows && v.light >= 0 &&
       !visibility_clear(scene_, shadow_ray(toward.p, toward.ng, toward.error, v.p, v.ng, v.error),
-                        scene_.lights()[v.light].occluders(), false, stats.rays))
+                        occluders(scene_.lights()[v.light]), false, stats.rays))
     return Color(0.0f);
   return v.emitted;  // lamps, and emissive surfaces (both sides; textures evaluated at the hit)
 }
@@ -93,8 +99,11 @@ Color Bdpt::transmittance(const PathVertex &a, const PathVertex &b, Sampler &sam
 
 template <bool kMedia>
 Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int t, Sampler &sampler,
-                    RayStats &stats, Vec2 *raster, float *mis_weight_out, Vec3 *connection_dir) const {
+                    RayStats &stats, Vec2 *raster, float *mis_weight_out, Vec3 *connection_dir,
+                    bool catcher_copy) const {
   Color L(0.0f);
+  // A catcher copy's connections meet shadow catchers only (shadow_catcher.cpp).
+  auto rays = [catcher_copy](uint32_t mask) { return catcher_copy ? visibility::catcher_rays(mask) : mask; };
   PathVertex &pt = camera_path[t - 1];
   // s = 0 needs a camera path that ended on an emitter; one that ended on a lamp (or
   // the world) counts only as s = 0.
@@ -106,7 +115,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
   constexpr ScatterKind kNone = ScatterKind::Transparent;
   if (s == 0) {
     if (limits.classify && !limits_keep(light_path, camera_path, 0, t, kNone, kNone)) return L;
-    L = Le(pt, camera_path[t - 2], stats) * pt.beta;
+    L = Le(pt, camera_path[t - 2], stats, catcher_copy) * pt.beta;
     if (!is_black(L) && t > 2) {
       light_densities(pt, camera_path[t - 2], densities.pt_rev, densities.pt_minus_rev);
     }
@@ -115,6 +124,9 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     PathVertex &qs = light_path[s - 1];
     if (!qs.connectible(scene_) || (qs.type != VertexType::Surface && qs.type != VertexType::Medium)) return L;
     if (qs.holdout >= 1) return L;  // a holdout object seen by the camera is not there (film_alpha.h)
+    // A catcher copy's path splits at a catcher the camera sees: its prefix, the camera ray,
+    // is in the whole scene (the transmittance below checks it against every object).
+    if (catcher_copy && !qs.catcher) return L;
     if (!(qs.visibility & visibility::kCamera)) return L;  // hidden from the camera
     const Camera &camera = scene_.camera_now();
     Camera::ImportanceSample is;
@@ -154,6 +166,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     float pmf;
     uint32_t index = uint32_t(dist.sample_discrete(u_light, &pmf));
     const Light &light = scene_.lights()[index];
+    if (catcher_copy && !light.shadow_catcher) return L;  // the synthetic objects' light
     Vec3 u_volume(0.0f);
     if (light.type == LightType::Volume)
       u_volume = dims::volume_point(sampler, SampleStream::LightPoint, dims::next_event(vertex, dims::kNeeVolumePoint));
@@ -194,14 +207,15 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
         MediumStack end;
         SampleRun run(sampler, SampleStream::LightPoint, dims::next_event(vertex, dims::kNeeMedia), dims::kMediumRun);
         L *= medium_transmittance(scene_, shadow, pt.media_toward(scene_, ls.wi), stats.rays, run, false, &end,
-                                  light.occluders());
+                                  rays(light.occluders()));
         if (ls.medium >= 0 && !is_black(L) && end.current(scene_) != ls.medium) L = Color(0.0f);  // outside its medium
-      } else if (light.occluders()) {
+      } else if (const uint32_t occluders = rays(light.occluders())) {
         ++stats.rays;
-        if (scene_.occluded(shadow.o, shadow.d, shadow.tmax, light.occluders())) L = Color(0.0f);
+        if (scene_.occluded(shadow.o, shadow.d, shadow.tmax, occluders)) L = Color(0.0f);
       }
       // Mixed visibility: could the camera path have found the light along this segment?
-      if (camera_side_only_ && !is_black(L)) densities.s0_impossible = !visibility_clear(scene_, shadow, kind, false, stats.rays);
+      if (camera_side_only_ && !is_black(L))
+        densities.s0_impossible = !visibility_clear(scene_, shadow, rays(kind), false, stats.rays);
     }
   } else {
     // Both ends are surface or medium vertices (finite points).
@@ -254,7 +268,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     // Without mixed visibility every instance is seen by all kinds after a scattering or
     // by none: one mask stands for them.
     L *= transmittance<kMedia>(qs, pt, sampler, SampleStream::Connection, dims::connection(uint32_t(s), uint32_t(t)),
-                               stats, visibility::kNonCamera) * g;
+                               stats, rays(visibility::kNonCamera)) * g;
     if (is_black(L)) return L;
     densities.pt_rev = sq.pdf_fwd * cos_pt * inv_d2;  // qs.convert_density(sq.pdf_fwd, pt)
     densities.pt_minus_rev = pt.to_prev_density(sp.pdf_rev);
@@ -267,8 +281,8 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
 }
 
 template Color Bdpt::connect<false>(PathVertex *, PathVertex *, int, int, Sampler &, RayStats &, Vec2 *, float *,
-                                    Vec3 *) const;
+                                    Vec3 *, bool) const;
 template Color Bdpt::connect<true>(PathVertex *, PathVertex *, int, int, Sampler &, RayStats &, Vec2 *, float *,
-                                   Vec3 *) const;
+                                   Vec3 *, bool) const;
 
 }  // namespace rdv::bdpt

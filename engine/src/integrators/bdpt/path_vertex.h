@@ -54,6 +54,9 @@ struct PathVertex {
   // Camera subpaths with a transparent film or holdouts (integrators/film_alpha.h): every
   // scattering between the camera and this vertex kept the background seen through.
   bool see_through = false;
+  // Scenes with a shadow catcher (bdpt/shadow_catcher.cpp): a surface of a catcher that is no
+  // holdout object.
+  bool catcher = false;
   float holdout = 0;  // scenes with holdouts: what of this surface is held out (Scene::holdout_weight)
   bool caustics_ok = true;
   BounceCounts counts;

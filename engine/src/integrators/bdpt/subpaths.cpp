@@ -57,7 +57,7 @@ void PathVertex::link_to_prev(const PathVertex &prev, float pdf_dir) {
 template <bool kMedia>
 int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, float pdf_fwd, int max_vertices,
                       TransportMode mode, PathVertex *path, Color *emitted, RayCone cone, DataPassSample *data,
-                      bool see_through_only) const {
+                      bool see_through_only, bool catcher_copy) const {
   if (max_vertices <= 0) return 0;
   const float beta_start = std::max(max_component(beta), 1e-30f);
   MediumStack media = path[0].media;
@@ -82,7 +82,11 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
   FilterGlossy filter(settings_.limits.filter_glossy);
   // Transparent film: whether the camera still sees through (film_alpha.h).
   // The data passes (film/data_passes.h) follow the same chain.
-  bool see_through = camera && (settings_.alpha.tracked() || data || see_through_only);
+  // A shadow catcher splits camera paths where that chain first meets one (shadow_catcher.cpp).
+  bool see_through = camera && (settings_.alpha.tracked() || data || see_through_only || catchers_);
+  // A catcher copy's rays meet shadow catchers only: a light walk's from its start, a
+  // camera walk's from its split on.
+  bool catcher_only = catcher_copy && !camera;
   // Ray visibility (scene/ray_visibility.h): camera paths trace each ray as the kind of
   // the scattering it leaves; light paths as any kind after a scattering (without mixed
   // visibility every instance is seen by all of them or by none).
@@ -114,7 +118,14 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     SurfaceHit hit;
     CoincidentBoundary boundary;  // media: a medium boundary lying in the surface hit
     ++stats.rays;
-    bool found = kMedia ? scene_.intersect_media(ray, hit, boundary) : scene_.intersect(ray, hit);
+    bool found;
+    if (catcher_only) {
+      Ray q = ray;
+      q.mask = visibility::catcher_rays(ray.mask);
+      found = kMedia ? scene_.intersect_media(q, hit, boundary) : scene_.intersect(q, hit);
+    } else {
+      found = kMedia ? scene_.intersect_media(ray, hit, boundary) : scene_.intersect(ray, hit);
+    }
     float tmax = found ? hit.t : ray.tmax;
     // Lamps a camera path passes (they are not in the BVH; light paths ignore them, as
     // lamps neither reflect nor block).
@@ -124,7 +135,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     DenoisingSample *const denoising = camera && data && data->denoising.active ? &data->denoising : nullptr;
     Color lamp_L;
     int lamp = mode == TransportMode::Radiance && (emitted || denoising)
-                   ? scene_.nearest_lamp(ray, lamp_passed, tmax, lamp_L)
+                   ? scene_.nearest_lamp(ray, lamp_passed, tmax, lamp_L, catcher_only)
                    : -1;
     if constexpr (kMedia) {
       int m = media.current(scene_);
@@ -177,7 +188,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     if (lamp >= 0) {
       // The path that ends on the lamp (s = 0), weighted here; the walk goes on past it.
       Vec3 q = ray.o + ray.d * tmax;
-      if (emitted) emitted[n] += lamp_emission(lamp, q, -ray.d, lamp_L, beta, path, n, pdf_fwd, stats);
+      if (emitted) emitted[n] += lamp_emission(lamp, q, -ray.d, lamp_L, beta, path, n, pdf_fwd, stats, catcher_only);
       if (denoising) denoising->add_emission(beta * lamp_L);
       if (++boundary_crossings > 256) return n;
       ++crossings;
@@ -223,6 +234,10 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     v.bsdf = scene_.bsdf(hit, v.wo, cone.width_at(hit.t), &v.emitted);
     cone = cone.after(hit.t);
     if (material.emits()) v.light = int(scene_.triangle_light(hit.instance, hit.prim));
+    if (catchers_ && scene_.is_shadow_catcher(hit.instance) && !scene_.is_holdout_instance(hit.instance)) {
+      v.catcher = true;
+      if (catcher_copy && see_through) catcher_only = true;  // a copy's split: catchers only from here on
+    }
     if (see_through && v.holdout >= 1) {  // all held out where the camera sees it: nothing of it is seen
       v.bsdf = Bsdf(hit.ng, hit.ns, v.wo);
       v.emitted = Color(0.0f);
@@ -305,7 +320,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
 // lamp point stands in for the next vertex while its weight is computed; the walk then
 // goes on through the lamp, so the vertex is overwritten.
 Color Bdpt::lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathVertex *path, int n,
-                          float pdf_dir, RayStats &stats) const {
+                          float pdf_dir, RayStats &stats, bool catcher_only) const {
   const Light &light = scene_.lights()[lamp];
   const PathVertex &prev = path[n];
   PathVertex &point = fresh_vertex(path[n + 1]);
@@ -322,8 +337,9 @@ Color Bdpt::lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathV
   Color c = beta * Le;
   if (n == 0) return c;  // seen straight from the camera: s = 0, t = 2 is the only strategy
   // Mixed visibility: the segment from the scattering vertex is blocked by shadow casters.
+  const uint32_t occluders = catcher_only ? visibility::catcher_rays(light.occluders()) : light.occluders();
   if (camera_side_only_ && !visibility_clear(scene_, shadow_ray(prev.p, prev.ng, prev.error, q, Vec3(0.0f), Vec3(0.0f)),
-                                             light.occluders(), false, stats.rays))
+                                             occluders, false, stats.rays))
     return Color(0.0f);
   const LightPathLimits &limits = settings_.limits;
   if (limits.classify && !limits_keep(path, path, 0, n + 2, ScatterKind::Transparent, ScatterKind::Transparent))
@@ -371,7 +387,8 @@ void Bdpt::gather_volume_emission(const Medium &medium, const Ray &ray, float tm
 
 template <bool kMedia>
 int Bdpt::camera_subpath(const CameraRay &cr, Sampler &sampler, RayStats &stats, PathVertex *path,
-                         Color *emitted, int max_vertices, DataPassSample *data, bool see_through_only) const {
+                         Color *emitted, int max_vertices, DataPassSample *data, bool see_through_only,
+                         bool catcher_copy) const {
   const Camera &camera = scene_.camera_now();
   PathVertex &v = path[0];
   fresh_vertex(v);
@@ -389,11 +406,12 @@ int Bdpt::camera_subpath(const CameraRay &cr, Sampler &sampler, RayStats &stats,
   Ray ray = cr.ray;
   ray.mask = v.out_mask = visibility::kCamera;  // camera rays see what is visible to the camera
   return 1 + random_walk<kMedia>(ray, sampler, stats, Color(1.0f), pdf_dir, walk, TransportMode::Radiance, path,
-                                 emitted, cr.cone, data, see_through_only);
+                                 emitted, cr.cone, data, see_through_only, catcher_copy);
 }
 
 template <bool kMedia>
-int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int max_vertices) const {
+int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int max_vertices,
+                        bool catcher_copy) const {
   const Distribution1D &dist = scene_.light_distribution();
   sampler.start_stream(SampleStream::Light, dims::kLightChoice);
   float u_light = sampler.get_1d();
@@ -403,6 +421,7 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int
   uint32_t index = uint32_t(dist.sample_discrete(u_light, &pmf));
   Light moved;
   const Light &light = scene_.light_now(index, moved);  // a moving emitter at the sample's time
+  if (catcher_copy && !light.shadow_catcher) return 0;  // the synthetic objects' light: not the catcher pass's
   Vec3 u_volume(0.0f);
   if (light.type == LightType::Volume)
     u_volume = dims::volume_point(sampler, SampleStream::Light, dims::kLightVolumePoint);
@@ -444,7 +463,8 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int
   float cos_emit = is_black(es.n) ? 1.0f : absdot(es.n, es.ray.d);
   Color beta = es.Le * (cos_emit / (pmf * es.pdf_pos * es.pdf_dir));
   int walk = max_vertices >= 0 ? max_vertices - 1 : settings_.max_bounces;
-  int n = random_walk<kMedia>(ray, sampler, stats, beta, es.pdf_dir, walk, TransportMode::Importance, path, nullptr);
+  int n = random_walk<kMedia>(ray, sampler, stats, beta, es.pdf_dir, walk, TransportMode::Importance, path, nullptr,
+                              {}, nullptr, false, catcher_copy);
   if (v.infinite) {
     // Infinite lights: the first hit's density is the planar one of the emission disk,
     // and the light vertex's own density is directional.
@@ -465,10 +485,10 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int
 }
 
 template int Bdpt::camera_subpath<false>(const CameraRay &, Sampler &, RayStats &, PathVertex *, Color *, int,
-                                         DataPassSample *, bool) const;
+                                         DataPassSample *, bool, bool) const;
 template int Bdpt::camera_subpath<true>(const CameraRay &, Sampler &, RayStats &, PathVertex *, Color *, int,
-                                        DataPassSample *, bool) const;
-template int Bdpt::light_subpath<false>(Sampler &, RayStats &, PathVertex *, int) const;
-template int Bdpt::light_subpath<true>(Sampler &, RayStats &, PathVertex *, int) const;
+                                        DataPassSample *, bool, bool) const;
+template int Bdpt::light_subpath<false>(Sampler &, RayStats &, PathVertex *, int, bool) const;
+template int Bdpt::light_subpath<true>(Sampler &, RayStats &, PathVertex *, int, bool) const;
 
 }  // namespace rdv::bdpt

@@ -32,7 +32,7 @@ void Metropolis::evaluate_kelemen(PssSampler &sampler, RayStats &stats, State &s
   Vec2 raster;
   CameraRay cr = camera_sample(sampler, &raster);
   size_t first_light_splat = state.splats.size();
-  state.splats.push_back({raster, Color(0.0f), Splat::kNoStrategy, {}});
+  state.splats.push_back({raster, Color(0.0f), Splat::kNoStrategy, {}, CatcherSplat::Combined});
   // Light passes: BDPT splits the camera sample by slot (its light-tracing splats carry
   // their own split); the colour passes and the AOVs come from the first-hit pass.
   LightPassSample passes;
@@ -122,9 +122,9 @@ void Metropolis::evaluate_multiplexed(PssSampler &sampler, RayStats &stats, Stat
   c *= per_strategy;
   if (t == 1) {
     state.splats.push_back({light_raster, c * image_area_, Splat::kNoStrategy,
-                            {pc.first, light_passes, pc.scatterings > 1}});
+                            {pc.first, light_passes, pc.scatterings > 1}, CatcherSplat::Combined});
   } else {
-    state.splats.push_back({raster, c * region_area_, Splat::kNoStrategy, {}});
+    state.splats.push_back({raster, c * region_area_, Splat::kNoStrategy, {}, CatcherSplat::Combined});
     if (light_passes) add_shares(state, state.splats.size() - 1, passes, per_strategy * region_area_);
   }
 }
@@ -156,7 +156,7 @@ void Metropolis::path_state(const ExplicitPath &path, State &state) const {
   state.independent = 0;
   state.target = luminance(path.f);
   if (state.target > 0 && std::isfinite(state.target)) {
-    state.splats.push_back({path.raster, path.f, Splat::kNoStrategy, {}});
+    state.splats.push_back({path.raster, path.f, Splat::kNoStrategy, {}, CatcherSplat::Combined});
     if (light_passes_) classify_path(path, state);
   } else {
     state.target = 0;

@@ -56,7 +56,7 @@ void record_splats(const State &state, float w, std::vector<Splat> &splats, std:
   const SlotShare *share = state.shares.data();
   for (const Splat &sp : state.splats) {
     if (!is_black(sp.L)) {
-      splats.push_back({sp.raster, sp.L * w, Splat::kNoStrategy, sp.light_pass});
+      splats.push_back({sp.raster, sp.L * w, Splat::kNoStrategy, sp.light_pass, CatcherSplat::Combined});
       for (int k = 0; k < sp.light_pass.shares; ++k) shares.push_back({share[k].L * w, share[k].slot});
     }
     share += sp.light_pass.shares;
