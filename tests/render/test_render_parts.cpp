@@ -80,7 +80,7 @@ std::string merge(const std::vector<std::string> &parts, const std::string &out,
 // With the Noise pass (`halves`), the parts keep their half images and the merge has
 // the whole render's Noise channel and half sums. With `passes`, Cycles' light passes,
 // the data passes, the denoising data and (bdpt) the strategy passes: the merge has them all.
-// catcher: the box's first mesh is a shadow catcher, with the Shadow Catcher pass (path).
+// catcher: the box's first mesh is a shadow catcher, with the Shadow Catcher pass.
 void expect_merge_equals_whole(const std::string &integrator, bool halves = false, bool passes = false,
                                bool catcher = false) {
   json scene = load_scene("cornell_box.json");
@@ -159,6 +159,8 @@ TEST(RenderParts, FourRangesEqualOneRenderPath) { expect_merge_equals_whole("pat
 // A shadow catcher's sums (film/shadow_catcher_passes.h): Combined (the matte) and the
 // Shadow Catcher pass of the merge as one render's.
 TEST(RenderParts, FourRangesWithShadowCatcherEqualOneRenderPath) { expect_merge_equals_whole("path", false, true, true); }
+// BDPT's too: its matte and catcher-pass splat sums.
+TEST(RenderParts, FourRangesWithShadowCatcherEqualOneRenderBdpt) { expect_merge_equals_whole("bdpt", false, true, true); }
 TEST(RenderParts, FourRangesEqualOneRenderBdpt) { expect_merge_equals_whole("bdpt"); }
 TEST(RenderParts, FourRangesWithNoiseEqualOneRenderPath) { expect_merge_equals_whole("path", true); }
 TEST(RenderParts, FourRangesWithNoiseEqualOneRenderBdpt) { expect_merge_equals_whole("bdpt", true); }
