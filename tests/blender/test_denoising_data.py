@@ -18,47 +18,21 @@ unchanged; the test says which it saw (either passes: the figure is the report).
     run_blender.py --script test_denoising_data.py -- [--samples N]
 """
 
-import argparse
 import os
-import shutil
-import subprocess
 import sys
-import traceback
 
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_brightness import build_scenes, finish, out_dir  # noqa: E402
-from test_light_passes import read_rgb  # noqa: E402
+from test_brightness import build_scenes  # noqa: E402
 from test_light_paths import render as render_engine  # noqa: E402
+from pass_test import render_passes, run  # noqa: E402
 import numpy as np  # noqa: E402
 
 PASSES = [("Denoising Normal", "XYZ"), ("Denoising Albedo", "RGB"), ("Denoising Depth", "Z")]
 MEAN_ABS, BLOCK_ABS = 0.01, 0.04   # normal and albedo
 MEAN_REL, BLOCK_REL = 0.01, 0.04   # depth
 BLOCK = 8
-
-
-def read_passes(path, layer, odir, tag):
-    """{pass name: H x W x 3} from the multilayer EXR at path (Depth repeated)."""
-    out = {}
-    for name, chans in PASSES:
-        one = os.path.join(odir, "%s_%s.exr" % (tag, name.replace(" ", "_")))
-        cs = ["%s.%s.%s" % (layer, name, c) for c in chans]
-        if len(cs) == 1:
-            cs = cs * 3
-        subprocess.run(["oiiotool", path, "--ch", ",".join(cs), "--chnames", "R,G,B", "-d", "float", "-o", one],
-                       check=True, capture_output=True)
-        out[name] = read_rgb(one)
-    return out
-
-
-def render(scene, engine, samples, path, integrator="PATH"):
-    render_engine(scene, engine, samples, path + ".single.exr", integrator)
-    scene.render.image_settings.file_format = "OPEN_EXR_MULTILAYER"
-    scene.render.image_settings.color_depth = "32"
-    bpy.data.images["Render Result"].save_render(path)
-    return read_passes(path, bpy.context.view_layer.name, os.path.dirname(path), os.path.basename(path))
 
 
 def block_means(img):
@@ -130,34 +104,21 @@ def denoise_node_check(scene, odir):
     return failures
 
 
-def main():
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--samples", type=int, default=256)
-    a = ap.parse_args(argv)
-    odir = out_dir()
-    failures = []
-    if not shutil.which("oiiotool"):
-        finish("DENOISING DATA", ["oiiotool (Debian's openimageio-tools) is needed to read the passes"], odir)
-    try:
-        scene = build_scenes.build("denoising_data")
-        layer = bpy.context.view_layer
-        layer.cycles.denoising_store_passes = True
-        ref = render(scene, "CYCLES", a.samples, os.path.join(odir, "denoising_cycles.exr"))
-        for integrator, samples in (("PATH", a.samples), ("BDPT", a.samples // 2), ("PSSMLT", 4)):
-            test = render(scene, "RENDEZVOUS", samples, os.path.join(odir, "denoising_%s.exr" % integrator.lower()),
-                          integrator)
-            if not all(np.isfinite(p).all() for p in test.values()):
-                failures.append("%s: non-finite pixels" % integrator)
-                continue
-            for name, _ in PASSES:
-                failures += compare(integrator, name, ref[name], test[name], blocks=integrator != "PSSMLT")
-        failures += denoise_node_check(scene, odir)
-    except Exception as exc:
-        traceback.print_exc()
-        failures.append("denoising data: %s" % exc)
-    finish("DENOISING DATA", failures, odir)
+def check(a, odir, failures):
+    scene = build_scenes.build("denoising_data")
+    layer = bpy.context.view_layer
+    layer.cycles.denoising_store_passes = True
+    ref = render_passes(scene, "CYCLES", a.samples, os.path.join(odir, "denoising_cycles.exr"), PASSES)
+    for integrator, samples in (("PATH", a.samples), ("BDPT", a.samples // 2), ("PSSMLT", 4)):
+        test = render_passes(scene, "RENDEZVOUS", samples,
+                             os.path.join(odir, "denoising_%s.exr" % integrator.lower()), PASSES, integrator)
+        if not all(np.isfinite(p).all() for p in test.values()):
+            failures.append("%s: non-finite pixels" % integrator)
+            continue
+        for name, _ in PASSES:
+            failures += compare(integrator, name, ref[name], test[name], blocks=integrator != "PSSMLT")
+    failures += denoise_node_check(scene, odir)
 
 
 if __name__ == "__main__":
-    main()
+    run("DENOISING DATA", check, samples=256)
