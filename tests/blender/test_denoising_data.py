@@ -8,6 +8,9 @@ Per integrator and pass (Denoising Normal, Albedo, Depth):
   (PSSMLT, whose features come from its 4-sample first-hit pass: the means only).
 The glass ball's pixels are noisy in both (each sample follows its path's Fresnel choice),
 which is what the block tolerances allow for at these sample counts.
+The same on build_scenes.denoising_fog (a cube of grey fog in front of a wall, a ball and the
+floor): every sample adds the fog's albedo x (1 - transmittance), and one that scatters there
+ends with Normal (0, 0, -1), as Cycles 3.4's volume integration writes them.
 
 Then Blender's compositor Denoise node on Rendezvous' passes: a 4-spp path-traced image with
 its Denoising Normal and Albedo through Render Layers > Denoise > Composite, against a 1024-spp
@@ -104,20 +107,29 @@ def denoise_node_check(scene, odir):
     return failures
 
 
-def check(a, odir, failures):
-    scene = build_scenes.build("denoising_data")
-    layer = bpy.context.view_layer
-    layer.cycles.denoising_store_passes = True
-    ref = render_passes(scene, "CYCLES", a.samples, os.path.join(odir, "denoising_cycles.exr"), PASSES)
-    for integrator, samples in (("PATH", a.samples), ("BDPT", a.samples // 2), ("PSSMLT", 4)):
-        test = render_passes(scene, "RENDEZVOUS", samples,
-                             os.path.join(odir, "denoising_%s.exr" % integrator.lower()), PASSES, integrator)
+def compare_scene(scene_name, tag, samples, odir):
+    """Failures of Rendezvous' path tracer, BDPT and PSSMLT against Cycles on one scene."""
+    scene = build_scenes.build(scene_name)
+    bpy.context.view_layer.cycles.denoising_store_passes = True
+    ref = render_passes(scene, "CYCLES", samples, os.path.join(odir, "%s_cycles.exr" % tag), PASSES)
+    failures = []
+    for integrator, n in (("PATH", samples), ("BDPT", samples // 2), ("PSSMLT", 4)):
+        test = render_passes(scene, "RENDEZVOUS", n, os.path.join(odir, "%s_%s.exr" % (tag, integrator.lower())),
+                             PASSES, integrator)
+        label = integrator if tag == "denoising" else "%s %s" % (tag, integrator)
         if not all(np.isfinite(p).all() for p in test.values()):
-            failures.append("%s: non-finite pixels" % integrator)
+            failures.append("%s: non-finite pixels" % label)
             continue
         for name, _ in PASSES:
-            failures += compare(integrator, name, ref[name], test[name], blocks=integrator != "PSSMLT")
+            failures += compare(label, name, ref[name], test[name], blocks=integrator != "PSSMLT")
+    return failures, scene
+
+
+def check(a, odir, failures):
+    found, scene = compare_scene("denoising_data", "denoising", a.samples, odir)
+    failures += found
     failures += denoise_node_check(scene, odir)
+    failures += compare_scene("denoising_fog", "fog", a.samples, odir)[0]
 
 
 if __name__ == "__main__":
