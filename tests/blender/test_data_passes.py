@@ -18,8 +18,8 @@ import sys
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_brightness import build_scenes  # noqa: E402
-from pass_test import brightness_failures, render_passes, run  # noqa: E402
+from test_brightness import brightness_failures, build_scenes, run_test  # noqa: E402
+from pass_test import render_passes  # noqa: E402
 import numpy as np  # noqa: E402
 
 DATA = [("Mist", "Z"), ("IndexOB", "X"), ("IndexMA", "X")]
@@ -75,4 +75,4 @@ def check(a, odir, failures):
 
 
 if __name__ == "__main__":
-    run("DATA PASSES", check, samples=256)
+    run_test("DATA PASSES", check, samples=256, needs_oiiotool=True)

@@ -27,9 +27,9 @@ import sys
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_brightness import build_scenes  # noqa: E402
+from test_brightness import build_scenes, run_test  # noqa: E402
 from test_light_paths import render as render_engine  # noqa: E402
-from pass_test import render_passes, run  # noqa: E402
+from pass_test import render_passes  # noqa: E402
 import numpy as np  # noqa: E402
 
 PASSES = [("Denoising Normal", "XYZ"), ("Denoising Albedo", "RGB"), ("Denoising Depth", "Z")]
@@ -133,4 +133,4 @@ def check(a, odir, failures):
 
 
 if __name__ == "__main__":
-    run("DENOISING DATA", check, samples=256)
+    run_test("DENOISING DATA", check, samples=256, needs_oiiotool=True)

@@ -26,8 +26,8 @@ import sys
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_brightness import build_scenes  # noqa: E402
-from pass_test import brightness_failures, render_passes, run  # noqa: E402
+from test_brightness import brightness_failures, build_scenes, run_test  # noqa: E402
+from pass_test import render_passes  # noqa: E402
 import numpy as np  # noqa: E402
 
 LIGHT = ["Emit", "Env", "DiffDir", "DiffInd", "DiffCol", "GlossDir", "GlossInd", "GlossCol",
@@ -119,5 +119,5 @@ def check(a, odir, failures):
 
 
 if __name__ == "__main__":
-    run("LIGHT PASSES", check, samples=1024,
-        add_arguments=lambda ap: ap.add_argument("--integrators", default="PATH,BDPT"))
+    run_test("LIGHT PASSES", check, samples=1024, needs_oiiotool=True,
+             add_arguments=lambda ap: ap.add_argument("--integrators", default="PATH,BDPT"))

@@ -24,8 +24,8 @@ import sys
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_brightness import build_scenes  # noqa: E402
-from pass_test import brightness_failures, render_passes, run  # noqa: E402
+from test_brightness import brightness_failures, build_scenes, run_test  # noqa: E402
+from pass_test import render_passes  # noqa: E402
 import numpy as np  # noqa: E402
 
 
@@ -90,4 +90,4 @@ def check_all(a, odir, failures):
         failures.append("BDPT with a shadow catcher did not warn naming the object")
 
 
-run("SHADOW CATCHER", check_all, samples=256)
+run_test("SHADOW CATCHER", check_all, samples=256, needs_oiiotool=True)

@@ -18,8 +18,8 @@ import sys
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_brightness import build_scenes  # noqa: E402
-from pass_test import render_passes, run  # noqa: E402
+from test_brightness import build_scenes, run_test  # noqa: E402
+from pass_test import render_passes  # noqa: E402
 import numpy as np  # noqa: E402
 
 DEPTH = 2
@@ -84,4 +84,4 @@ def check(a, odir, failures):
         failures.append("path tracing with the strategy passes on did not warn")
 
 
-run("STRATEGY PASSES", check, samples=16)
+run_test("STRATEGY PASSES", check, samples=16, needs_oiiotool=True)
