@@ -838,6 +838,26 @@ def denoising_data():
     return scene
 
 
+def denoising_fog():
+    """Cycles' denoising data in fog: a cube of grey fog (Principled Volume, density 1.5, colour
+    0.8: albedo 0.8, transmittance exp(-1.8) across) in front of a diffuse wall, a diffuse ball
+    and the floor, the rest of the view without fog, under a sun and a blue world. Samples
+    that scatter in the fog end there; all add albedo x (1 - transmittance) of the fog."""
+    scene = reset(40)
+    bg = scene.world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (0.4, 0.5, 0.7, 1.0)
+    plane("Floor", 12.0, diffuse_material("FloorMat", (0.6, 0.55, 0.5)))
+    wall = plane("Wall", 3.0, diffuse_material("WallMat", (0.5, 0.6, 0.4)), location=(0, 1.5, 1.5))
+    wall.rotation_euler = (math.radians(90), 0, 0)
+    smooth_ball("DiffuseBall", (0.4, 0.6, 0.5), 0.5, diffuse_material("BallMat", (0.8, 0.3, 0.2)))
+    fog = link(bpy.data.objects.new("Fog", box_mesh("FogMesh", 1.2)))
+    fog.location = (-0.4, -1.0, 0.9)
+    fog.data.materials.append(principled_volume_material("FogMat", Density=1.5, Color=(0.8, 0.8, 0.8, 1.0))[0])
+    light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(35), 0, math.radians(30)))
+    camera_looking_at((0, -4.0, 1.5), (0, 0.5, 0.9), 40)
+    return scene
+
+
 def shadow_catcher():
     """Object > Visibility > Shadow Catcher: a floor that is a shadow catcher under a red
     diffuse ball and a green card standing on it (ordinary objects), lit by a point lamp
@@ -1022,6 +1042,7 @@ SCENES = {
     "light_passes": light_passes,
     "data_passes": data_passes,
     "denoising_data": denoising_data,
+    "denoising_fog": denoising_fog,
     "shadow_catcher": shadow_catcher,
     "motion_square": lambda: motion_blur("square"),
     "motion_camera": lambda: motion_blur("camera"),
