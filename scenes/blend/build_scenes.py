@@ -423,6 +423,21 @@ def volume_blackbody():
     cube.data.materials.append(m)
 
 
+def volume_tinted():
+    """A cube of fog whose Principled Volume absorbs by channel (Absorption Color (0.25, 0.64,
+    1.0): Cycles 3.4 absorbs by 1 - its square root) over a floor lit by a sun: the floor
+    seen through the fog and its shadow are tinted by the per-channel extinction."""
+    reset()
+    plane()
+    camera_down(4.0, lens=35.0)
+    light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(25), 0, math.radians(20)))
+    m, _ = principled_volume_material("Tinted fog", Density=1.2, Color=(0.7, 0.7, 0.7, 1.0),
+                                      Absorption_Color=(0.25, 0.64, 1.0, 1.0))
+    cube = link(bpy.data.objects.new("TintedFog", box_mesh("TintedFogBox", 1.0)))
+    cube.location = (0.2, 0.0, 0.8)
+    cube.data.materials.append(m)
+
+
 def hdri_path():
     d = os.environ.get("RDV_TEST_TMP") or bpy.app.tempdir or "/tmp"
     return os.path.join(d, "rdv_test_sky.exr")
@@ -1025,6 +1040,7 @@ SCENES = {
     "principled_plane": principled_plane,
     "emissive_textured": emissive_textured,
     "volume_blackbody": volume_blackbody,
+    "volume_tinted": volume_tinted,
     "bad_input": bad_input,
     "materials_instances": materials_instances,
     "showcase": showcase,
