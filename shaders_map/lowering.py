@@ -13,6 +13,7 @@ replaced by its best constant/closure and recorded, and the caller gets ONE warn
 material naming those nodes.
 """
 
+import math
 from .ir import Const, Expr, Closure
 from .issues import Issues
 from .evaluate import Evaluator, is_constant
@@ -583,6 +584,8 @@ class _Lowerer:
                 m[k] = self._const_color(v, c.node, "volume " + k.replace("_", " "))
             else:
                 m[k] = self._const_float(v, c.node, "volume " + k.replace("_", " "))
+        if c.props.get("absorption_color_sqrt") and "absorption_color" in m:
+            m["absorption_color"] = [math.sqrt(max(x, 0.0)) for x in m["absorption_color"]]
         if self.volume_grids:
             # Cycles multiplies the density / temperature by these grids where the object has them.
             for prop, key, what in (("density_attribute", "grid", "density"),

@@ -37,7 +37,8 @@ def metropolis_settings(props):
             # Path space (mlt) only: its mutations' weights (the other integrators ignore them).
             "mlt_mutations": {name: float(getattr(props, "mlt_mutation_" + name, 1.0))
                               for name in ("bidirectional", "lens", "propagation", "scattering", "caustic",
-                                           "multi_chain", "lens_subpath")}}
+                                           "multi_chain", "lens_subpath")},
+            "mlt_keep_distances": float(getattr(props, "mlt_keep_distances", 0.5))}
 MIS = {"POWER": "power", "BALANCE": "balance", "LAFORTUNE_WILLEMS": "lafortune_willems"}
 DEFAULT_SAMPLES = 128
 

@@ -87,6 +87,12 @@ class RendezvousRenderSettings(bpy.types.PropertyGroup):
     mlt_mutation_lens_subpath: _mutation_weight(
         "Lens Subpath", "the lens subpath mutation (Veach), which traces the path's first vertices afresh through "
                         "the chain's next pixel in a shuffled sweep of the image: every pixel gets visited")
+    mlt_keep_distances: FloatProperty(
+        name="Keep Distances", default=0.5, min=0.0, max=1.0, subtype="FACTOR",
+        description="Metropolis (Path Space), scenes with volumes: how often the lens, caustic and multi-chain "
+                    "perturbations keep a scattering point's distance along the ray they retrace (Pauly et al.), "
+                    "so it moves a little with the caustic or the image position instead of jumping along the "
+                    "ray: higher follows volume caustics and shafts longer, lower explores depth more")
     mlt_target: EnumProperty(
         name="Target", default="RELATIVE",
         items=[("RELATIVE", "Even Error", "Mutations spread by relative error: regions brighter than the image's "

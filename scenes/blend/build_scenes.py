@@ -423,6 +423,21 @@ def volume_blackbody():
     cube.data.materials.append(m)
 
 
+def volume_tinted():
+    """A cube of fog whose Principled Volume absorbs by channel (Absorption Color (0.25, 0.64,
+    1.0): Cycles 3.4 absorbs by 1 - its square root) over a floor lit by a sun: the floor
+    seen through the fog and its shadow are tinted by the per-channel extinction."""
+    reset()
+    plane()
+    camera_down(4.0, lens=35.0)
+    light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(25), 0, math.radians(20)))
+    m, _ = principled_volume_material("Tinted fog", Density=1.2, Color=(0.7, 0.7, 0.7, 1.0),
+                                      Absorption_Color=(0.25, 0.64, 1.0, 1.0))
+    cube = link(bpy.data.objects.new("TintedFog", box_mesh("TintedFogBox", 1.0)))
+    cube.location = (0.2, 0.0, 0.8)
+    cube.data.materials.append(m)
+
+
 def hdri_path():
     d = os.environ.get("RDV_TEST_TMP") or bpy.app.tempdir or "/tmp"
     return os.path.join(d, "rdv_test_sky.exr")
@@ -838,6 +853,26 @@ def denoising_data():
     return scene
 
 
+def denoising_fog():
+    """Cycles' denoising data in fog: a cube of grey fog (Principled Volume, density 1.5, colour
+    0.8: albedo 0.8, transmittance exp(-1.8) across) in front of a diffuse wall, a diffuse ball
+    and the floor, the rest of the view without fog, under a sun and a blue world. Samples
+    that scatter in the fog end there; all add albedo x (1 - transmittance) of the fog."""
+    scene = reset(40)
+    bg = scene.world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (0.4, 0.5, 0.7, 1.0)
+    plane("Floor", 12.0, diffuse_material("FloorMat", (0.6, 0.55, 0.5)))
+    wall = plane("Wall", 3.0, diffuse_material("WallMat", (0.5, 0.6, 0.4)), location=(0, 1.5, 1.5))
+    wall.rotation_euler = (math.radians(90), 0, 0)
+    smooth_ball("DiffuseBall", (0.4, 0.6, 0.5), 0.5, diffuse_material("BallMat", (0.8, 0.3, 0.2)))
+    fog = link(bpy.data.objects.new("Fog", box_mesh("FogMesh", 1.2)))
+    fog.location = (-0.4, -1.0, 0.9)
+    fog.data.materials.append(principled_volume_material("FogMat", Density=1.5, Color=(0.8, 0.8, 0.8, 1.0))[0])
+    light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(35), 0, math.radians(30)))
+    camera_looking_at((0, -4.0, 1.5), (0, 0.5, 0.9), 40)
+    return scene
+
+
 def shadow_catcher():
     """Object > Visibility > Shadow Catcher: a floor that is a shadow catcher under a red
     diffuse ball and a green card standing on it (ordinary objects), lit by a point lamp
@@ -1005,6 +1040,7 @@ SCENES = {
     "principled_plane": principled_plane,
     "emissive_textured": emissive_textured,
     "volume_blackbody": volume_blackbody,
+    "volume_tinted": volume_tinted,
     "bad_input": bad_input,
     "materials_instances": materials_instances,
     "showcase": showcase,
@@ -1022,6 +1058,7 @@ SCENES = {
     "light_passes": light_passes,
     "data_passes": data_passes,
     "denoising_data": denoising_data,
+    "denoising_fog": denoising_fog,
     "shadow_catcher": shadow_catcher,
     "motion_square": lambda: motion_blur("square"),
     "motion_camera": lambda: motion_blur("camera"),

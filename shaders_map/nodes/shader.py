@@ -64,7 +64,9 @@ def volume_principled(ctx, node, socket):
         "temperature": ctx.input(node, "Temperature", default=1000.0),
     }, density_attribute=ctx.input_string(node, "Density Attribute"),
         color_attribute=ctx.input_string(node, "Color Attribute"),
-        temperature_attribute=ctx.input_string(node, "Temperature Attribute"))
+        temperature_attribute=ctx.input_string(node, "Temperature Attribute"),
+        # Cycles 3.4 (svm_node_principled_volume) absorbs by 1 - sqrt(Absorption Color).
+        absorption_color_sqrt=True)
 
 
 @maps("ShaderNodeVolumeScatter")

@@ -7,6 +7,7 @@ within their noise.
 
 import argparse
 import os
+import shutil
 import sys
 import time
 import traceback
@@ -167,6 +168,38 @@ def finish(title, failures, odir):
         print("%s TEST FAILED (images in %s):\n  %s" % (title, odir, "\n  ".join(failures)))
         sys.exit(1)
     print("%s TEST PASSED" % title)
+
+
+def brightness_failures(label, ref, test, blocks=True):
+    """compare() of test against Cycles' ref (means within 2%, 8x8 blocks within 3% or 5
+    standard errors; blocks=False: the mean only) as failure messages."""
+    ok_mean, ok_blocks, ratio = compare(label, ref, test)
+    failures = [] if ok_mean else ["%s: mean ratio Rendezvous/Cycles = %.4f" % (label, ratio)]
+    if blocks and not ok_blocks:
+        failures.append("%s: block means differ beyond noise" % label)
+    return failures
+
+
+def run_test(title, body, samples, add_arguments=None, needs_oiiotool=False):
+    """main() of a test against Cycles: parses the arguments after '--' (--samples N, `samples`
+    by default, and those add_arguments(parser) adds), checks for oiiotool if asked, calls
+    body(args, odir, failures) and prints the verdict (exit 1 on failures or an exception)."""
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--samples", type=int, default=samples)
+    if add_arguments:
+        add_arguments(ap)
+    a = ap.parse_args(argv)
+    odir = out_dir()
+    failures = []
+    if needs_oiiotool and not shutil.which("oiiotool"):
+        finish(title, ["oiiotool (Debian's openimageio-tools) is needed to read the passes"], odir)
+    try:
+        body(a, odir, failures)
+    except Exception as exc:
+        traceback.print_exc()
+        failures.append("%s: %s (traceback above)" % (title.lower(), exc))
+    finish(title, failures, odir)
 
 
 def main():

@@ -8,6 +8,9 @@ Per integrator and pass (Denoising Normal, Albedo, Depth):
   (PSSMLT, whose features come from its 4-sample first-hit pass: the means only).
 The glass ball's pixels are noisy in both (each sample follows its path's Fresnel choice),
 which is what the block tolerances allow for at these sample counts.
+The same on build_scenes.denoising_fog (a cube of grey fog in front of a wall, a ball and the
+floor): every sample adds the fog's albedo x (1 - transmittance), and one that scatters there
+ends with Normal (0, 0, -1), as Cycles 3.4's volume integration writes them.
 
 Then Blender's compositor Denoise node on Rendezvous' passes: a 4-spp path-traced image with
 its Denoising Normal and Albedo through Render Layers > Denoise > Composite, against a 1024-spp
@@ -18,47 +21,21 @@ unchanged; the test says which it saw (either passes: the figure is the report).
     run_blender.py --script test_denoising_data.py -- [--samples N]
 """
 
-import argparse
 import os
-import shutil
-import subprocess
 import sys
-import traceback
 
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_brightness import build_scenes, finish, out_dir  # noqa: E402
-from test_light_passes import read_rgb  # noqa: E402
+from test_brightness import build_scenes, run_test  # noqa: E402
 from test_light_paths import render as render_engine  # noqa: E402
+from pass_test import render_passes  # noqa: E402
 import numpy as np  # noqa: E402
 
 PASSES = [("Denoising Normal", "XYZ"), ("Denoising Albedo", "RGB"), ("Denoising Depth", "Z")]
 MEAN_ABS, BLOCK_ABS = 0.01, 0.04   # normal and albedo
 MEAN_REL, BLOCK_REL = 0.01, 0.04   # depth
 BLOCK = 8
-
-
-def read_passes(path, layer, odir, tag):
-    """{pass name: H x W x 3} from the multilayer EXR at path (Depth repeated)."""
-    out = {}
-    for name, chans in PASSES:
-        one = os.path.join(odir, "%s_%s.exr" % (tag, name.replace(" ", "_")))
-        cs = ["%s.%s.%s" % (layer, name, c) for c in chans]
-        if len(cs) == 1:
-            cs = cs * 3
-        subprocess.run(["oiiotool", path, "--ch", ",".join(cs), "--chnames", "R,G,B", "-d", "float", "-o", one],
-                       check=True, capture_output=True)
-        out[name] = read_rgb(one)
-    return out
-
-
-def render(scene, engine, samples, path, integrator="PATH"):
-    render_engine(scene, engine, samples, path + ".single.exr", integrator)
-    scene.render.image_settings.file_format = "OPEN_EXR_MULTILAYER"
-    scene.render.image_settings.color_depth = "32"
-    bpy.data.images["Render Result"].save_render(path)
-    return read_passes(path, bpy.context.view_layer.name, os.path.dirname(path), os.path.basename(path))
 
 
 def block_means(img):
@@ -130,34 +107,30 @@ def denoise_node_check(scene, odir):
     return failures
 
 
-def main():
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--samples", type=int, default=256)
-    a = ap.parse_args(argv)
-    odir = out_dir()
+def compare_scene(scene_name, tag, samples, odir):
+    """Failures of Rendezvous' path tracer, BDPT and PSSMLT against Cycles on one scene."""
+    scene = build_scenes.build(scene_name)
+    bpy.context.view_layer.cycles.denoising_store_passes = True
+    ref = render_passes(scene, "CYCLES", samples, os.path.join(odir, "%s_cycles.exr" % tag), PASSES)
     failures = []
-    if not shutil.which("oiiotool"):
-        finish("DENOISING DATA", ["oiiotool (Debian's openimageio-tools) is needed to read the passes"], odir)
-    try:
-        scene = build_scenes.build("denoising_data")
-        layer = bpy.context.view_layer
-        layer.cycles.denoising_store_passes = True
-        ref = render(scene, "CYCLES", a.samples, os.path.join(odir, "denoising_cycles.exr"))
-        for integrator, samples in (("PATH", a.samples), ("BDPT", a.samples // 2), ("PSSMLT", 4)):
-            test = render(scene, "RENDEZVOUS", samples, os.path.join(odir, "denoising_%s.exr" % integrator.lower()),
-                          integrator)
-            if not all(np.isfinite(p).all() for p in test.values()):
-                failures.append("%s: non-finite pixels" % integrator)
-                continue
-            for name, _ in PASSES:
-                failures += compare(integrator, name, ref[name], test[name], blocks=integrator != "PSSMLT")
-        failures += denoise_node_check(scene, odir)
-    except Exception as exc:
-        traceback.print_exc()
-        failures.append("denoising data: %s" % exc)
-    finish("DENOISING DATA", failures, odir)
+    for integrator, n in (("PATH", samples), ("BDPT", samples // 2), ("PSSMLT", 4)):
+        test = render_passes(scene, "RENDEZVOUS", n, os.path.join(odir, "%s_%s.exr" % (tag, integrator.lower())),
+                             PASSES, integrator)
+        label = integrator if tag == "denoising" else "%s %s" % (tag, integrator)
+        if not all(np.isfinite(p).all() for p in test.values()):
+            failures.append("%s: non-finite pixels" % label)
+            continue
+        for name, _ in PASSES:
+            failures += compare(label, name, ref[name], test[name], blocks=integrator != "PSSMLT")
+    return failures, scene
+
+
+def check(a, odir, failures):
+    found, scene = compare_scene("denoising_data", "denoising", a.samples, odir)
+    failures += found
+    failures += denoise_node_check(scene, odir)
+    failures += compare_scene("denoising_fog", "fog", a.samples, odir)[0]
 
 
 if __name__ == "__main__":
-    main()
+    run_test("DENOISING DATA", check, samples=256, needs_oiiotool=True)

@@ -15,15 +15,13 @@ VARIANT: transparent (Transparent Glass off), transparent_glass, or holdout (the
 the diffuse ball a holdout object and the card's Transparent BSDF a Holdout shader).
 """
 
-import argparse
 import os
 import sys
-import traceback
 
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_brightness import build_scenes, compare, finish, out_dir  # noqa: E402
+from test_brightness import brightness_failures, build_scenes, run_test  # noqa: E402
 from test_light_paths import render as render_engine  # noqa: E402
 import numpy as np  # noqa: E402
 
@@ -66,54 +64,38 @@ def exact_checks(name, ref, test):
     return failures
 
 
-def main():
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    ap = argparse.ArgumentParser()
-    ap.add_argument("variant", choices=["transparent", "transparent_glass", "holdout"])
-    ap.add_argument("--samples", type=int, default=256)
-    a = ap.parse_args(argv)
-    odir = out_dir()
-    failures = []
-    try:
-        scene = build_scenes.build("film_transparent")
-        scene.cycles.film_transparent_glass = a.variant == "transparent_glass"
-        scene.rendezvous.film_transparent_glass = a.variant == "transparent_glass"  # unused while Cycles is on
-        if a.variant == "holdout":
-            scene.render.film_transparent = False
-            bpy.data.objects["Ball"].is_holdout = True
-            bpy.data.objects["Card"].material_slots[0].material = build_scenes.mix_material(
-                "HalfHoldout", ("ShaderNodeBsdfDiffuse", {"Color": (0.2, 0.7, 0.3, 1)}), ("ShaderNodeHoldout", {}), 0.5)
-        ref, tc = render(scene, "CYCLES", a.samples, os.path.join(odir, a.variant + "_cycles.exr"))
-        print("  Cycles %d spp: %.1f s, alpha mean %.4f" % (a.samples, tc, ref[:, :, 3].mean()))
-        for integrator, samples in (("PATH", a.samples), ("BDPT", a.samples // 2)):
-            name = "%s %s" % (a.variant, integrator)
-            test, tr = render(scene, "RENDEZVOUS", samples,
-                              os.path.join(odir, "%s_%s.exr" % (a.variant, integrator.lower())), integrator)
-            print("  Rendezvous %s %d spp: %.1f s, alpha mean %.4f" % (integrator, samples, tr, test[:, :, 3].mean()))
-            if not np.isfinite(test).all():
-                failures.append("%s: non-finite pixels" % name)
-            for what, r, t in (("colour", ref[:, :, :3], test[:, :, :3]),
-                               ("alpha", np.repeat(ref[:, :, 3:], 3, axis=2), np.repeat(test[:, :, 3:], 3, axis=2))):
-                ok_mean, ok_blocks, ratio = compare("%s %s" % (name, what), r, t)
-                if not ok_mean:
-                    failures.append("%s %s: mean ratio Rendezvous/Cycles = %.4f" % (name, what, ratio))
-                if not ok_blocks:
-                    failures.append("%s %s: block means differ beyond noise" % (name, what))
-            failures += exact_checks(name, ref, test)
-        if a.variant == "holdout":
-            finish("FILM", failures, odir)
-            return
+def check(a, odir, failures):
+    scene = build_scenes.build("film_transparent")
+    scene.cycles.film_transparent_glass = a.variant == "transparent_glass"
+    scene.rendezvous.film_transparent_glass = a.variant == "transparent_glass"  # unused while Cycles is on
+    if a.variant == "holdout":
         scene.render.film_transparent = False
-        opaque, _ = render(scene, "RENDEZVOUS", 16, os.path.join(odir, a.variant + "_opaque.exr"))
-        not_one = int(np.count_nonzero(opaque[:, :, 3] != 1))
-        print("ALPHA opaque film: %d pixels with alpha != 1" % not_one)
-        if not_one:
-            failures.append("opaque film: %d pixels with alpha != 1" % not_one)
-    except Exception as exc:
-        traceback.print_exc()
-        failures.append("%s: %s" % (a.variant, exc))
-    finish("FILM", failures, odir)
+        bpy.data.objects["Ball"].is_holdout = True
+        bpy.data.objects["Card"].material_slots[0].material = build_scenes.mix_material(
+            "HalfHoldout", ("ShaderNodeBsdfDiffuse", {"Color": (0.2, 0.7, 0.3, 1)}), ("ShaderNodeHoldout", {}), 0.5)
+    ref, tc = render(scene, "CYCLES", a.samples, os.path.join(odir, a.variant + "_cycles.exr"))
+    print("  Cycles %d spp: %.1f s, alpha mean %.4f" % (a.samples, tc, ref[:, :, 3].mean()))
+    for integrator, samples in (("PATH", a.samples), ("BDPT", a.samples // 2)):
+        name = "%s %s" % (a.variant, integrator)
+        test, tr = render(scene, "RENDEZVOUS", samples,
+                          os.path.join(odir, "%s_%s.exr" % (a.variant, integrator.lower())), integrator)
+        print("  Rendezvous %s %d spp: %.1f s, alpha mean %.4f" % (integrator, samples, tr, test[:, :, 3].mean()))
+        if not np.isfinite(test).all():
+            failures.append("%s: non-finite pixels" % name)
+        for what, r, t in (("colour", ref[:, :, :3], test[:, :, :3]),
+                           ("alpha", np.repeat(ref[:, :, 3:], 3, axis=2), np.repeat(test[:, :, 3:], 3, axis=2))):
+            failures += brightness_failures("%s %s" % (name, what), r, t)
+        failures += exact_checks(name, ref, test)
+    if a.variant == "holdout":
+        return
+    scene.render.film_transparent = False
+    opaque, _ = render(scene, "RENDEZVOUS", 16, os.path.join(odir, a.variant + "_opaque.exr"))
+    not_one = int(np.count_nonzero(opaque[:, :, 3] != 1))
+    print("ALPHA opaque film: %d pixels with alpha != 1" % not_one)
+    if not_one:
+        failures.append("opaque film: %d pixels with alpha != 1" % not_one)
 
 
 if __name__ == "__main__":
-    main()
+    run_test("FILM", check, samples=256,
+             add_arguments=lambda ap: ap.add_argument("variant", choices=["transparent", "transparent_glass", "holdout"]))

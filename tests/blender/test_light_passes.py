@@ -20,18 +20,14 @@ Cycles' Volume Direct / Indirect), written as a multilayer EXR and read back pas
     run_blender.py --script test_light_passes.py -- [--samples N] [--integrators PATH,BDPT]
 """
 
-import argparse
 import os
-import shutil
-import subprocess
 import sys
-import traceback
 
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_brightness import build_scenes, compare, finish, out_dir  # noqa: E402
-from test_light_paths import render as render_engine  # noqa: E402
+from test_brightness import brightness_failures, build_scenes, run_test  # noqa: E402
+from pass_test import render_passes  # noqa: E402
 import numpy as np  # noqa: E402
 
 LIGHT = ["Emit", "Env", "DiffDir", "DiffInd", "DiffCol", "GlossDir", "GlossInd", "GlossCol",
@@ -52,35 +48,8 @@ def enable_light_passes(layer):
     layer.cycles.use_pass_volume_indirect = True
 
 
-def read_rgb(path):
-    """A plain RGB EXR as H x W x 3, rows from the top."""
-    im = bpy.data.images.load(path, check_existing=False)
-    px = np.empty(im.size[0] * im.size[1] * 4, np.float32)
-    im.pixels.foreach_get(px)
-    shape = (im.size[1], im.size[0], 4)
-    bpy.data.images.remove(im)
-    return px.reshape(shape)[::-1, :, :3].astype(np.float64)
-
-
-def read_passes(path, layer, names, odir, tag):
-    """{pass name: H x W x 3} from the multilayer EXR at path."""
-    out = {}
-    for name in names:
-        one = os.path.join(odir, "%s_%s.exr" % (tag, name))
-        chans = ",".join("%s.%s.%s" % (layer, name, c) for c in "RGB")
-        subprocess.run(["oiiotool", path, "--ch", chans, "--chnames", "R,G,B", "-d", "float", "-o", one], check=True,
-                       capture_output=True)
-        out[name] = read_rgb(one)
-    return out
-
-
 def render(scene, engine, samples, path, integrator="PATH"):
-    render_engine(scene, engine, samples, path + ".single.exr", integrator)  # renders; saves Combined
-    scene.render.image_settings.file_format = "OPEN_EXR_MULTILAYER"
-    scene.render.image_settings.color_depth = "32"
-    bpy.data.images["Render Result"].save_render(path)
-    return read_passes(path, bpy.context.view_layer.name, ["Combined"] + LIGHT, os.path.dirname(path),
-                       os.path.basename(path))
+    return render_passes(scene, engine, samples, path, [(name, "RGB") for name in ["Combined"] + LIGHT], integrator)
 
 
 def contribution(p, name):
@@ -123,49 +92,32 @@ def sum_check(name, p):
     return ["%s: light passes sum to Combined only within %.2e" % (name, worst)] if worst > SUM_TOLERANCE else []
 
 
-def main():
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--samples", type=int, default=1024)
-    ap.add_argument("--integrators", default="PATH,BDPT")
-    a = ap.parse_args(argv)
+def check(a, odir, failures):
     # Samples per pixel (Metropolis: mutations per pixel) of each integrator.
     samples = {"PATH": a.samples, "BDPT": a.samples // 2, "PSSMLT": a.samples, "MMLT": a.samples}
-    odir = out_dir()
-    failures = []
-    if not shutil.which("oiiotool"):
-        finish("LIGHT PASSES", ["oiiotool (Debian's openimageio-tools) is needed to read the passes"], odir)
-    try:
-        scene = build_scenes.build("light_passes")
-        enable_light_passes(bpy.context.view_layer)
-        ref = render(scene, "CYCLES", a.samples, os.path.join(odir, "light_passes_cycles.exr"))
-        combined_mean = ref["Combined"].mean()
-        for integrator in a.integrators.split(","):
-            test = render(scene, "RENDEZVOUS", samples[integrator],
-                          os.path.join(odir, "light_passes_%s.exr" % integrator.lower()), integrator)
-            for name in ["Combined"] + LIGHT:
-                r, t = contribution(ref, name), contribution(test, name)
-                label = "%s %s" % (integrator, name)
-                if not np.isfinite(t).all():
-                    failures.append("%s: non-finite pixels" % label)
-                    continue
-                if integrator in ("PSSMLT", "MMLT"):
-                    failures += absolute_check(label, r, t, combined_mean, METROPOLIS_ABS, "")
-                    continue
-                if r.mean() < SMALL_SHARE * combined_mean:
-                    failures += absolute_check(label, r, t, combined_mean, SMALL_ABS, "small pass: ")
-                    continue
-                ok_mean, ok_blocks, ratio = compare(label, r, t)
-                if not ok_mean:
-                    failures.append("%s: mean ratio Rendezvous/Cycles = %.4f" % (label, ratio))
-                if not ok_blocks:
-                    failures.append("%s: block means differ beyond noise" % label)
-            failures += sum_check(integrator, test)
-    except Exception as exc:
-        traceback.print_exc()
-        failures.append("light passes: %s" % exc)
-    finish("LIGHT PASSES", failures, odir)
+    scene = build_scenes.build("light_passes")
+    enable_light_passes(bpy.context.view_layer)
+    ref = render(scene, "CYCLES", a.samples, os.path.join(odir, "light_passes_cycles.exr"))
+    combined_mean = ref["Combined"].mean()
+    for integrator in a.integrators.split(","):
+        test = render(scene, "RENDEZVOUS", samples[integrator],
+                      os.path.join(odir, "light_passes_%s.exr" % integrator.lower()), integrator)
+        for name in ["Combined"] + LIGHT:
+            r, t = contribution(ref, name), contribution(test, name)
+            label = "%s %s" % (integrator, name)
+            if not np.isfinite(t).all():
+                failures.append("%s: non-finite pixels" % label)
+                continue
+            if integrator in ("PSSMLT", "MMLT"):
+                failures += absolute_check(label, r, t, combined_mean, METROPOLIS_ABS, "")
+                continue
+            if r.mean() < SMALL_SHARE * combined_mean:
+                failures += absolute_check(label, r, t, combined_mean, SMALL_ABS, "small pass: ")
+                continue
+            failures += brightness_failures(label, r, t)
+        failures += sum_check(integrator, test)
 
 
 if __name__ == "__main__":
-    main()
+    run_test("LIGHT PASSES", check, samples=1024, needs_oiiotool=True,
+             add_arguments=lambda ap: ap.add_argument("--integrators", default="PATH,BDPT"))

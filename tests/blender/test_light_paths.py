@@ -16,16 +16,14 @@ only, within 3% (measured 0.979; unclamped, the box is within 0.5%).
     run_blender.py --script test_light_paths.py -- SCENE [--samples N]
 """
 
-import argparse
 import os
 import sys
 import time
-import traceback
 
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_brightness import build_scenes, compare, cycles_sampling, finish, out_dir, read_render, setting_effect  # noqa: E402
+from test_brightness import build_scenes, compare, cycles_sampling, read_render, run_test, setting_effect  # noqa: E402
 
 LIGHT_PATH_PROPS = ("max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces",
                     "transparent_max_bounces", "caustics_reflective", "caustics_refractive",
@@ -50,55 +48,43 @@ def render(scene, engine, samples, path, integrator="PATH", seed=1, alpha=False)
     return read_render(scene, path, alpha), time.time() - t
 
 
-def main():
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    ap = argparse.ArgumentParser()
-    ap.add_argument("scene")
-    ap.add_argument("--samples", type=int, default=1024)
-    a = ap.parse_args(argv)
-    odir = out_dir()
-    failures = []
-    try:
-        scene = bpy.context.scene
-        for prop in LIGHT_PATH_PROPS:  # Cycles' defaults, then what the scene sets
-            scene.cycles.property_unset(prop)
-        defaults = {prop: getattr(scene.cycles, prop) for prop in LIGHT_PATH_PROPS}
-        scene = build_scenes.build(a.scene)
-        changed = {prop: getattr(scene.cycles, prop) for prop in LIGHT_PATH_PROPS
-                   if getattr(scene.cycles, prop) != defaults[prop]}
-        print("LIGHT PATHS %s: scene.cycles %s" % (a.scene, changed))
-        ref, tc = render(scene, "CYCLES", a.samples, os.path.join(odir, a.scene + "_cycles.exr"))
-        print("  Cycles %d spp: %.1f s" % (a.samples, tc))
-        # BDPT's clamp is per strategy (README): path tracing only. Filter Glossy: both.
-        integrators = (("PATH", a.samples),) if "sample_clamp_indirect" in changed else \
-            (("PATH", a.samples), ("BDPT", a.samples // 2))
-        for integrator, samples in integrators:
-            test, tr = render(scene, "RENDEZVOUS", samples, os.path.join(odir, "%s_%s.exr" % (a.scene, integrator.lower())),
-                              integrator)
-            print("  Rendezvous %s %d spp: %.1f s" % (integrator, samples, tr))
-            ok_mean, ok_blocks, ratio = compare("%s %s" % (a.scene, integrator), ref, test)
-            if "sample_clamp_indirect" in changed:
-                ok_mean, ok_blocks = abs(ratio - 1.0) <= CLAMP_MEAN_TOLERANCE, True
-            if not ok_mean:
-                failures.append("%s %s: mean ratio Rendezvous/Cycles = %.4f" % (a.scene, integrator, ratio))
-            if not ok_blocks:
-                failures.append("%s %s: block means differ beyond noise" % (a.scene, integrator))
-        for prop, value in changed.items():
-            setattr(scene.cycles, prop, defaults[prop])
-        if "blur_glossy" in changed:  # Cycles' default filters too: compare with it off
-            scene.cycles.blur_glossy = 0.0
-        plain, _ = render(scene, "RENDEZVOUS", a.samples, os.path.join(odir, a.scene + "_default.exr"))
-        effect = setting_effect(ref, plain)
-        print("  with Cycles' default light paths instead: mean %.4f of Cycles', largest block change %.1f%%"
-              % (plain.mean() / ref.mean(), 100 * effect))
-        if effect < MIN_EFFECT:
-            failures.append("%s: the settings change no block by %.0f%% (the test would not see them ignored)"
-                            % (a.scene, 100 * MIN_EFFECT))
-    except Exception as exc:
-        traceback.print_exc()
-        failures.append("%s: %s" % (a.scene, exc))
-    finish("LIGHT PATHS", failures, odir)
+def check(a, odir, failures):
+    scene = bpy.context.scene
+    for prop in LIGHT_PATH_PROPS:  # Cycles' defaults, then what the scene sets
+        scene.cycles.property_unset(prop)
+    defaults = {prop: getattr(scene.cycles, prop) for prop in LIGHT_PATH_PROPS}
+    scene = build_scenes.build(a.scene)
+    changed = {prop: getattr(scene.cycles, prop) for prop in LIGHT_PATH_PROPS
+               if getattr(scene.cycles, prop) != defaults[prop]}
+    print("LIGHT PATHS %s: scene.cycles %s" % (a.scene, changed))
+    ref, tc = render(scene, "CYCLES", a.samples, os.path.join(odir, a.scene + "_cycles.exr"))
+    print("  Cycles %d spp: %.1f s" % (a.samples, tc))
+    # BDPT's clamp is per strategy (README): path tracing only. Filter Glossy: both.
+    integrators = (("PATH", a.samples),) if "sample_clamp_indirect" in changed else \
+        (("PATH", a.samples), ("BDPT", a.samples // 2))
+    for integrator, samples in integrators:
+        test, tr = render(scene, "RENDEZVOUS", samples, os.path.join(odir, "%s_%s.exr" % (a.scene, integrator.lower())),
+                          integrator)
+        print("  Rendezvous %s %d spp: %.1f s" % (integrator, samples, tr))
+        ok_mean, ok_blocks, ratio = compare("%s %s" % (a.scene, integrator), ref, test)
+        if "sample_clamp_indirect" in changed:
+            ok_mean, ok_blocks = abs(ratio - 1.0) <= CLAMP_MEAN_TOLERANCE, True
+        if not ok_mean:
+            failures.append("%s %s: mean ratio Rendezvous/Cycles = %.4f" % (a.scene, integrator, ratio))
+        if not ok_blocks:
+            failures.append("%s %s: block means differ beyond noise" % (a.scene, integrator))
+    for prop, value in changed.items():
+        setattr(scene.cycles, prop, defaults[prop])
+    if "blur_glossy" in changed:  # Cycles' default filters too: compare with it off
+        scene.cycles.blur_glossy = 0.0
+    plain, _ = render(scene, "RENDEZVOUS", a.samples, os.path.join(odir, a.scene + "_default.exr"))
+    effect = setting_effect(ref, plain)
+    print("  with Cycles' default light paths instead: mean %.4f of Cycles', largest block change %.1f%%"
+          % (plain.mean() / ref.mean(), 100 * effect))
+    if effect < MIN_EFFECT:
+        failures.append("%s: the settings change no block by %.0f%% (the test would not see them ignored)"
+                        % (a.scene, 100 * MIN_EFFECT))
 
 
 if __name__ == "__main__":
-    main()
+    run_test("LIGHT PATHS", check, samples=1024, add_arguments=lambda ap: ap.add_argument("scene"))

@@ -18,15 +18,13 @@ blur off, to show that motion blur changes the image (some lit 8x8 block by at l
     run_blender.py --script test_motion_blur.py -- VARIANT [--samples N]
 """
 
-import argparse
 import os
 import sys
-import traceback
 
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_brightness import build_scenes, check_setting, finish, out_dir, render_rendezvous  # noqa: E402
+from test_brightness import build_scenes, check_setting, out_dir, render_rendezvous, run_test  # noqa: E402
 
 MIN_EFFECT = 0.05
 FRAME = build_scenes.MOTION_FRAME  # the frame rendered
@@ -70,35 +68,18 @@ def check_deform_warnings(failures):
             failures.append("unexpected warning about %s: %s" % (name, msgs))
 
 
-def main():
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    ap = argparse.ArgumentParser()
-    ap.add_argument("variant")
-    ap.add_argument("--samples", type=int, default=512)
-    a = ap.parse_args(argv)
-    odir = out_dir()
-    failures = []
+def check(a, odir, failures):
     if a.variant == "deform_warnings":
-        try:
-            check_deform_warnings(failures)
-        except Exception as exc:
-            traceback.print_exc()
-            failures.append("deform_warnings: %s" % exc)
-        finish("MOTION BLUR", failures, odir)
+        check_deform_warnings(failures)
         return
-    try:
-        scene = build(a.variant)
-        scene.render.use_motion_blur = False
+    scene = build(a.variant)
+    scene.render.use_motion_blur = False
 
-        def apply():
-            scene.render.use_motion_blur = True
+    def apply():
+        scene.render.use_motion_blur = True
 
-        check_setting("MOTION BLUR", "motion_" + a.variant, scene, apply, a.samples, odir, failures, MIN_EFFECT)
-    except Exception as exc:
-        traceback.print_exc()
-        failures.append("%s: %s" % (a.variant, exc))
-    finish("MOTION BLUR", failures, odir)
+    check_setting("MOTION BLUR", "motion_" + a.variant, scene, apply, a.samples, odir, failures, MIN_EFFECT)
 
 
 if __name__ == "__main__":
-    main()
+    run_test("MOTION BLUR", check, samples=512, add_arguments=lambda ap: ap.add_argument("variant"))

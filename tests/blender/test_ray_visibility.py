@@ -19,16 +19,14 @@ black background, the world still lights the scene).
     run_blender.py --script test_ray_visibility.py -- VARIANT [--samples N]
 """
 
-import argparse
 import math
 import os
 import sys
-import traceback
 
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_brightness import build_scenes, check_setting, finish, out_dir  # noqa: E402
+from test_brightness import build_scenes, check_setting, run_test  # noqa: E402
 
 MIN_EFFECT = 0.05
 SIZE = 48
@@ -107,22 +105,10 @@ def build(variant):
     return scene, apply
 
 
-def main():
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    ap = argparse.ArgumentParser()
-    ap.add_argument("variant")
-    ap.add_argument("--samples", type=int, default=512)
-    a = ap.parse_args(argv)
-    odir = out_dir()
-    failures = []
-    try:
-        scene, apply = build(a.variant)
-        check_setting("RAY VISIBILITY", a.variant, scene, apply, a.samples, odir, failures, MIN_EFFECT)
-    except Exception as exc:
-        traceback.print_exc()
-        failures.append("%s: %s" % (a.variant, exc))
-    finish("RAY VISIBILITY", failures, odir)
+def check(a, odir, failures):
+    scene, apply = build(a.variant)
+    check_setting("RAY VISIBILITY", a.variant, scene, apply, a.samples, odir, failures, MIN_EFFECT)
 
 
 if __name__ == "__main__":
-    main()
+    run_test("RAY VISIBILITY", check, samples=512, add_arguments=lambda ap: ap.add_argument("variant"))

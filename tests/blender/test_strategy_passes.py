@@ -12,18 +12,14 @@ multilayer EXR and read back pass by pass (oiiotool):
     run_blender.py --script test_strategy_passes.py -- [--samples N]
 """
 
-import argparse
 import os
-import shutil
 import sys
-import traceback
 
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_brightness import build_scenes, finish, out_dir  # noqa: E402
-from test_light_paths import render as render_engine  # noqa: E402
-from test_light_passes import read_passes  # noqa: E402
+from test_brightness import build_scenes, run_test  # noqa: E402
+from pass_test import render_passes  # noqa: E402
 import numpy as np  # noqa: E402
 
 DEPTH = 2
@@ -39,70 +35,53 @@ def strategy_names(depth):
 
 
 def render(scene, samples, path, integrator):
-    render_engine(scene, "RENDEZVOUS", samples, path + ".single.exr", integrator)
-    scene.render.image_settings.file_format = "OPEN_EXR_MULTILAYER"
-    scene.render.image_settings.color_depth = "32"
-    bpy.data.images["Render Result"].save_render(path)
-    return read_passes(path, bpy.context.view_layer.name, ["Combined"] + strategy_names(DEPTH),
-                       os.path.dirname(path), os.path.basename(path))
+    return render_passes(scene, "RENDEZVOUS", samples, path,
+                         [(name, "RGB") for name in ["Combined"] + strategy_names(DEPTH)], integrator)
 
 
-def main():
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--samples", type=int, default=16)
-    a = ap.parse_args(argv)
-    odir = out_dir()
-    failures = []
-    if not shutil.which("oiiotool"):
-        finish("STRATEGY PASSES", ["oiiotool (Debian's openimageio-tools) is needed to read the passes"], odir)
-    try:
-        scene = build_scenes.build("light_passes")
-        layer = bpy.context.view_layer
-        layer.rendezvous.use_pass_strategies = True
-        layer.rendezvous.strategy_max_depth = DEPTH
-        names = strategy_names(DEPTH)
+def check(a, odir, failures):
+    scene = build_scenes.build("light_passes")
+    layer = bpy.context.view_layer
+    layer.rendezvous.use_pass_strategies = True
+    layer.rendezvous.strategy_max_depth = DEPTH
+    names = strategy_names(DEPTH)
 
-        # The passes registered with Blender (the compositor's Render Layers node lists them).
-        from rendezvous.engine import passes as addon_passes
-        registered = [p[0] for p in addon_passes.enabled_passes(layer, scene)]
-        missing = [n for n in names if n not in registered]
-        if missing:
-            failures.append("passes not registered: %s" % ", ".join(missing))
+    # The passes registered with Blender (the compositor's Render Layers node lists them).
+    from rendezvous.engine import passes as addon_passes
+    registered = [p[0] for p in addon_passes.enabled_passes(layer, scene)]
+    missing = [n for n in names if n not in registered]
+    if missing:
+        failures.append("passes not registered: %s" % ", ".join(missing))
 
-        p = render(scene, a.samples, os.path.join(odir, "strategy_passes_bdpt.exr"), "BDPT")
-        total = np.zeros_like(p["Combined"])
-        for name in names:
-            v = p[name]
-            print("PASS %-16s mean %.5f" % (name, v.mean()))
-            if not np.isfinite(v).all():
-                failures.append("%s: non-finite pixels" % name)
-            total += v
-        err = np.abs(total - p["Combined"]) / (np.abs(p["Combined"]) + 1e-3)
-        print("SUM of %d passes vs Combined: worst relative error %.2e (Combined mean %.5f)"
-              % (len(names), float(err.max()), p["Combined"].mean()))
-        if err.max() > SUM_TOLERANCE:
-            failures.append("strategy passes sum to Combined only within %.2e" % err.max())
-        for name in ("Strategy_s1t2", "Strategy_s2t1", "Strategy_s2t2", "Strategy_rest"):
-            if not p[name].mean() > 0:
-                failures.append("%s holds no light" % name)
+    p = render(scene, a.samples, os.path.join(odir, "strategy_passes_bdpt.exr"), "BDPT")
+    total = np.zeros_like(p["Combined"])
+    for name in names:
+        v = p[name]
+        print("PASS %-16s mean %.5f" % (name, v.mean()))
+        if not np.isfinite(v).all():
+            failures.append("%s: non-finite pixels" % name)
+        total += v
+    err = np.abs(total - p["Combined"]) / (np.abs(p["Combined"]) + 1e-3)
+    print("SUM of %d passes vs Combined: worst relative error %.2e (Combined mean %.5f)"
+          % (len(names), float(err.max()), p["Combined"].mean()))
+    if err.max() > SUM_TOLERANCE:
+        failures.append("strategy passes sum to Combined only within %.2e" % err.max())
+    for name in ("Strategy_s1t2", "Strategy_s2t1", "Strategy_s2t2", "Strategy_rest"):
+        if not p[name].mean() > 0:
+            failures.append("%s holds no light" % name)
 
-        # Path tracing: the toggle stays on, the passes stay black, a warning says why.
-        from rendezvous.engine import final
-        q = render(scene, 4, os.path.join(odir, "strategy_passes_path.exr"), "PATH")
-        warned = any("strategy passes" in line for line in final.last_render.get("messages", []))
-        print("PATH: Combined mean %.5f, strategy passes max %.3g, warned %s"
-              % (q["Combined"].mean(), max(float(np.abs(q[n]).max()) for n in names), warned))
-        if not q["Combined"].mean() > 0:
-            failures.append("path tracing with the strategy passes on rendered nothing")
-        if any(np.abs(q[n]).max() != 0 for n in names):
-            failures.append("path tracing filled the strategy passes")
-        if not warned:
-            failures.append("path tracing with the strategy passes on did not warn")
-    except Exception:
-        traceback.print_exc()
-        failures.append("exception (see above)")
-    finish("STRATEGY PASSES", failures, odir)
+    # Path tracing: the toggle stays on, the passes stay black, a warning says why.
+    from rendezvous.engine import final
+    q = render(scene, 4, os.path.join(odir, "strategy_passes_path.exr"), "PATH")
+    warned = any("strategy passes" in line for line in final.last_render.get("messages", []))
+    print("PATH: Combined mean %.5f, strategy passes max %.3g, warned %s"
+          % (q["Combined"].mean(), max(float(np.abs(q[n]).max()) for n in names), warned))
+    if not q["Combined"].mean() > 0:
+        failures.append("path tracing with the strategy passes on rendered nothing")
+    if any(np.abs(q[n]).max() != 0 for n in names):
+        failures.append("path tracing filled the strategy passes")
+    if not warned:
+        failures.append("path tracing with the strategy passes on did not warn")
 
 
-main()
+run_test("STRATEGY PASSES", check, samples=16, needs_oiiotool=True)

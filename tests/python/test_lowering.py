@@ -188,6 +188,14 @@ class TestClosures(unittest.TestCase):
         self.assertEqual(p["type"], "volume")
         self.assertAlmostEqual(p["volume"]["density"], 0.5)
         self.assertIsNone(w)
+
+        def tinted(t):  # Cycles 3.4's Principled Volume absorbs by 1 - sqrt(Absorption Color)
+            v = t.new("ShaderNodeVolumePrincipled", "Tinted")
+            v.inp("Absorption Color").default_value = (0.25, 0.64, 1.0, 1.0)
+            return v.out()
+        p, w = keep("volume_tinted", convert(None, volume=tinted))
+        for got, want in zip(p["volume"]["absorption_color"], [0.5, 0.8, 1.0]):
+            self.assertAlmostEqual(got, want, places=6)
         p, w = keep("glass_smoke", convert(lambda t: t.new("ShaderNodeBsdfGlass", "G", distribution="GGX").out(),
                                            volume=lambda t: t.new("ShaderNodeVolumeAbsorption", "Abs").out()))
         self.assertEqual(p["type"], "glass")

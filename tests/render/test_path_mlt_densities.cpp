@@ -308,6 +308,22 @@ struct BruteForce {
     const bool stops = v.type == VertexType::Medium || (i == n - 1 && end_type == LightType::Volume);
     return pdf * to_area(p, i - 1, i) * free_flight(from, v.p, stops);  // finite: as before
   }
+  // The free flight that stops at medium vertex i from the camera side: from x_(i-1), the
+  // camera's rays from the clip start (camera_side's).
+  double camera_side_stop(const ExplicitPath &p, int i) const {
+    Vec3 from = p.x[size_t(i - 1)].v.p;
+    const Vec3 to = p.x[size_t(i)].v.p;
+    if (i == 1) {
+      const Camera &camera = scene.camera_now();
+      if (camera.type == Camera::Type::Orthographic) {
+        from = to - camera.forward() * (dot(to - camera.position(), camera.forward()) - camera.clip_start);
+      } else {
+        const Vec3 w = normalize(to - from);
+        from = from + w * float(camera.clip_start / dot(w, camera.forward()));
+      }
+    }
+    return free_flight(from, to, true);
+  }
   // A lamp with a radius is a sphere (lights/sphere_lamp.h): its point uniform over the
   // sphere (a point lamp) or over the cap of points whose normal is within pi/2 + the
   // cone's half angle of the spot's axis; the direction cosine-distributed about the
@@ -487,6 +503,20 @@ std::vector<unsigned char> digest(const ExplicitPath &p) {
   return bytes;
 }
 
+// Whether a perturbation retraced as Pauly's (MutationSettings::keep_distances) and kept
+// medium vertex i's distance from the vertex before it (x's and y's equal, kinds kept).
+// Such a vertex had no free flight drawn: the brute-force ratio loses that factor
+// (path_space.h), and the distance must be x's.
+bool kept_flight(const Proposal &p, const ExplicitPath &x, const ExplicitPath &y, int i) {
+  if (!p.kept_distances || x.x[size_t(i)].v.type != VertexType::Medium) return false;
+  EXPECT_EQ(int(y.x[size_t(i)].v.type), int(VertexType::Medium)) << "a kept medium vertex changed its kind";
+  const int before = p.type == MutationType::Caustic ? i + 1 : i - 1;  // the caustic retraces from the light side
+  const float rx = length(x.x[size_t(i)].v.p - x.x[size_t(before)].v.p);
+  const float ry = length(y.x[size_t(i)].v.p - y.x[size_t(before)].v.p);
+  EXPECT_NEAR(ry / rx, 1.0f, 1e-4f) << "a kept medium vertex's distance changed";
+  return true;
+}
+
 int specular_vertices(const ExplicitPath &p) {
   int k = 0;
   for (int i = 1; i + 1 < p.n; ++i) k += p.x[size_t(i)].v.delta;
@@ -525,6 +555,7 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
   int lens_subpath_to_light_specular = 0, lens_subpath_short = 0;  // E S* L to E S* D L or back
   int off_sphere = 0, infinite = 0, delta_sun = 0, volume_light = 0, volume_light_camera_side = 0;
   int time_moved = 0, time_lost = 0;
+  int kept_medium = 0;  // perturbations that kept a medium vertex's distance (Pauly's retrace)
   int blurred = 0;  // Filter Glossy: proposals with a vertex the blur changed  // motion blur: large steps that drew a new time; others that changed it
   double worst = 0, worst_f = 0;
   for (int s = 0; s < starts; ++s) {
@@ -605,6 +636,10 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
         brute_ratio = brute.lens_walk(x, c) / brute.lens_walk(y, cy);
       } else {
         for (int i = 1; i <= c; ++i) brute_ratio *= brute.camera_side(x, i) / brute.camera_side(y, i);
+        if (kept_flight(p, x, y, c)) {
+          ++kept_medium;
+          brute_ratio *= brute.camera_side_stop(y, c) / brute.camera_side_stop(x, c);
+        }
       }
       double error = std::fabs(std::log(p.ratio / brute_ratio));
       // A short path (E S* L, E S* D L) is replaced whole by another; else x_(c+1) .. are kept.
@@ -649,6 +684,10 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
         const bool turned = i - 1 >= c && !x.x[size_t(i - 1)].v.delta && x.x[size_t(i)].v.delta;
         chains += turned;
         brute_ratio *= turned ? area(x, i) / area(y, i) : brute.camera_side(x, i) / brute.camera_side(y, i);
+        if (kept_flight(p, x, y, i)) {
+          ++kept_medium;
+          brute_ratio *= brute.camera_side_stop(y, i) / brute.camera_side_stop(x, i);
+        }
       }
       double error = std::fabs(std::log(p.ratio / brute_ratio));
       // E S* D S+ ...: at least one turned chain; E S* L: the camera's chain retraced to the light.
@@ -681,6 +720,10 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
       };
       double brute_ratio = area(x) / area(y);
       for (int i = 1; i <= kc - 2; ++i) brute_ratio *= brute.light_side(x, i) / brute.light_side(y, i);
+      if (kept_flight(p, x, y, 1)) {
+        ++kept_medium;
+        brute_ratio *= brute.free_flight(y, 2, 1, true) / brute.free_flight(x, 2, 1, true);
+      }
       double error = std::fabs(std::log(p.ratio / brute_ratio));
       bool same_rest = y.n == x.n && p.m == kc && kc >= 3;
       for (int i = kc; same_rest && i < x.n; ++i) same_rest = y.x[size_t(i)].v.p == x.x[size_t(i)].v.p;
@@ -705,9 +748,10 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
               multi_chain_chains, multi_chain_to_light, medium_paths, infinite, delta_sun, volume_light,
               volume_light_camera_side, worst, worst_f);
   std::printf("[ mlt densities ] %-12s lens subpath: %d with another number of specular vertices, %d to E S* L "
-              "(%d with specular vertices), %d between E S* L and E S* D L\n",
+              "(%d with specular vertices), %d between E S* L and E S* D L; %d perturbations kept a medium "
+              "vertex's distance\n",
               name.c_str(), lens_subpath_new_shape, lens_subpath_to_light, lens_subpath_to_light_specular,
-              lens_subpath_short);
+              lens_subpath_short, kept_medium);
   if (scene.has_motion())
     std::printf("[ mlt densities ] %-12s motion: %d of %d large steps at a new shutter time\n", name.c_str(), time_moved,
                 large);
@@ -734,7 +778,10 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
   EXPECT_GE(lens_subpath_new_shape, min_specular / 100) << name;
   bool scattering = false;  // a medium that never scatters has no medium vertices
   for (int m = 0; m < scene.num_media(); ++m) scattering |= max_component(scene.medium(m).sigma_s) > 0;
-  if ((scene.world_medium() >= 0 || box_lo) && scattering) EXPECT_GT(medium_paths, 0) << name;
+  if ((scene.world_medium() >= 0 || box_lo) && scattering) {
+    EXPECT_GT(medium_paths, 0) << name;
+    EXPECT_GT(kept_medium, 0) << name;
+  }
   EXPECT_EQ(worse, 0) << name;
   EXPECT_EQ(off_sphere, 0) << name << ": a lamp vertex off its sphere";
   EXPECT_LT(worst_f, 1e-5) << name;
@@ -1002,20 +1049,31 @@ double f_at(const PathSpace &space, const Scene &scene, ExplicitPath &scratch, c
 // One chain from x, `steps` perturbations of type t, proposals outside the window rejected;
 // returns the final coordinate.
 // without_jacobian: accept by f(y) / f(x) alone (the test's power: that must fail).
-template <class Coordinate>
+// propose(current, rng, stats, proposal) -> Proposal: the perturbation (default: the
+// medium vertex perturbation of type t).
+template <class Coordinate, class Propose>
 double run_chain(const PathSpace &space, const PerturbationSetup &s, MutationType t, Pcg32 &rng, int steps,
-                 const Coordinate &coordinate, double lo, double hi, bool without_jacobian = false) {
+                 const Coordinate &coordinate, double lo, double hi, bool without_jacobian, const Propose &propose) {
   RayStats stats;
   ExplicitPath current = s.x, proposal;
   for (int k = 0; k < steps; ++k) {
-    Proposal p = space.perturb_medium_vertex(current, t, rng, stats, proposal);
+    Proposal p = propose(current, rng, stats, proposal);
     if (!(p.ratio > 0)) continue;
     double q = coordinate(proposal.x[size_t(s.j)].v.p);
-    if (q < lo || q > hi) continue;
+    if (!(q >= lo && q <= hi)) continue;  // NaN: outside a window the coordinate alone does not bound
     double a = std::min(1.0, luminance(proposal.f) * (without_jacobian ? 1.0 : p.ratio) / luminance(current.f));
     if (rng.next_float() < a) std::swap(current, proposal);
   }
   return coordinate(current.x[size_t(s.j)].v.p);
+}
+
+template <class Coordinate>
+double run_chain(const PathSpace &space, const PerturbationSetup &s, MutationType t, Pcg32 &rng, int steps,
+                 const Coordinate &coordinate, double lo, double hi, bool without_jacobian = false) {
+  return run_chain(space, s, t, rng, steps, coordinate, lo, hi, without_jacobian,
+                   [&](const ExplicitPath &x, Pcg32 &r, RayStats &stats, ExplicitPath &y) {
+                     return space.perturb_medium_vertex(x, t, r, stats, y);
+                   });
 }
 
 }  // namespace
@@ -1089,6 +1147,87 @@ TEST(PathMltPerturbations, ScatteringLeavesTheAngleDensityInvariant) {
   std::printf("[ mlt scattering ] vertex %d of %d, r %.3f: chi-square p = %.3g (dof %d)\n", s.j, s.x.n, s.r, r.p_value,
               r.dof);
   EXPECT_GT(r.p_value, 1e-3) << r.detail;
+}
+
+// Pauly's retrace in the lens perturbation (path_space.h, MutationSettings::keep_distances):
+// a medium x_1 keeps its distance r from the pinhole, so chains of lens perturbations that
+// all retrace that way move x_1 on the sphere of radius r about x_0, where the target is f
+// (the volume measure there is r^2 d omega). On a fog-door path whose x_1 is in the fog, away
+// from the image's centre: directions omega = normalize(w + a s + b t) about x_1's w, s toward
+// the view axis; 2,000 chains of 200 such perturbations inside the window a^2 + b^2 <= 0.25^2
+// (a proposal outside it is rejected). Pearson's chi-square of a against the integral over b
+// of f (1 + a^2 + b^2)^(-3/2) (d omega / da db) by quadrature, false-alarm rate 1e-3. Its power:
+// the same chains accepting by f alone (the raster-to-direction Jacobian of the 20 mm lens,
+// which tilts the density along s, dropped) must fail (p < 1e-6).
+TEST(PathMltPerturbations, LensRetraceKeepingTheDistanceLeavesTheDirectionDensityInvariant) {
+  PerturbationSetup s;
+  load(s.loaded, test::load_scene("fog_door.json"));
+  const Scene &scene = s.loaded.scene();
+  MutationSettings m;
+  m.keep_distances = 1;
+  m.lens[0] = 0.05f;
+  m.lens[1] = 2.0f;  // pixels of the 32 px image (84 degrees wide: about 0.05 rad)
+  PathSpace space(scene, kMaxBounces, kOrigin, kSize, float(kWidth * kHeight), 0.0f, m);
+  Pcg32 search(3, 5);
+  RayStats stats;
+  bool found = false;
+  const Vec2 centre{kWidth / 2.0f, kHeight / 2.0f};
+  for (int attempt = 0; attempt < 200000 && !found; ++attempt) {
+    if (!(space.sample_independent(search, stats, s.x) > 0)) continue;
+    // x_1 in the fog, 10 to 14 px from the centre, where the lens's Jacobian tilts the density
+    // most (f is 0 past the sample region, in the chains and in the quadrature alike).
+    const float off = length(Vec3(s.x.raster.x - centre.x, s.x.raster.y - centre.y, 0));
+    found = s.x.x[1].v.type == VertexType::Medium && !s.x.x[2].v.delta && off > 10 && off < 14;
+  }
+  ASSERT_TRUE(found);
+  s.j = 1;
+  s.c = s.x.x[0].v.p;
+  s.r = length(s.x.x[1].v.p - s.c);
+  s.w = (s.x.x[1].v.p - s.c) / s.r;
+  const Vec3 forward = scene.camera().forward();
+  const Vec3 sa = normalize(forward - s.w * dot(forward, s.w)), tb = cross(s.w, sa);
+  const double window = 0.25;
+  ExplicitPath scratch;
+  auto direction = [&](double a, double b) { return normalize(s.w + sa * float(a) + tb * float(b)); };
+  auto g = [&](double a) {
+    const double h = std::sqrt(std::max(0.0, window * window - a * a));
+    double sum = 0;
+    for (int k = 0; k < 64; ++k) {
+      const double b = -h + 2 * h * (k + 0.5) / 64;
+      sum += f_at(space, scene, scratch, s, s.c + direction(a, b) * s.r) * std::pow(1 + a * a + b * b, -1.5);
+    }
+    return sum * 2 * h / 64;
+  };
+  const int bins = 12;
+  double z = 0;
+  for (int b = 0; b < bins; ++b)
+    for (int k = 0; k < 64; ++k) z += g(window * (-1 + 2 * (b + (k + 0.5) / 64) / bins)) * 2 * window / (bins * 64);
+  ASSERT_GT(z, 0);
+  auto coordinate = [&](Vec3 p) {  // a; NaN outside the window
+    const Vec3 d = p - s.c;
+    const double along = dot(d, s.w), a = dot(d, sa) / along, b = dot(d, tb) / along;
+    return along > 0 && a * a + b * b <= window * window ? a : std::nan("");
+  };
+  auto lens = [&](const ExplicitPath &x, Pcg32 &r, RayStats &st, ExplicitPath &y) {
+    Proposal p = space.perturb_lens(x, r, st, y);
+    EXPECT_TRUE(!(p.ratio > 0) || p.kept_distances);
+    return p;
+  };
+  Pcg32 rng(41, 42);
+  auto chains = [&](bool without_jacobian) {
+    return test::chi_square_1d(
+        [&](float) {
+          return float(run_chain(space, s, MutationType::Lens, rng, 200, coordinate, -window, window, without_jacobian,
+                                 lens));
+        },
+        [&](double a) { return g(a) / z; }, -window, window, 2000, 1, bins);
+  };
+  test::ChiSquareResult r = chains(false), wrong = chains(true);
+  std::printf("[ mlt lens retrace ] x_1 at r %.3f, raster (%.1f, %.1f): chi-square p = %.3g (dof %d); without the "
+              "raster-to-direction Jacobian p = %.3g\n",
+              s.r, s.x.raster.x, s.x.raster.y, r.p_value, r.dof, wrong.p_value);
+  EXPECT_GT(r.p_value, 1e-3) << r.detail;
+  EXPECT_LT(wrong.p_value, 1e-6) << "the test cannot tell a missing Jacobian";
 }
 
 // A medium vertex next to a specular vertex, moved to a distance d from it along the

@@ -16,8 +16,13 @@
 // - Depth: every surface on the way adds average(throughput) x the length of the ray
 //   segment that reached it (the first from the near clip plane), so a mirror's pixel
 //   holds the distance to the mirror plus the reflected distance;
-// - a scattering in a volume ends it with Normal (0, 0, -1) and Albedo += throughput x
-//   the medium's single-scattering albedo;
+// - a ray segment through a medium that scatters adds beta x throughput x the medium's
+//   single-scattering albedo x (1 - the segment's transmittance) to Albedo, whether the
+//   path scatters on it or goes on (beta: the path's own throughput; Cycles' volume
+//   integration in kernel/integrator/shade_volume.h: its ray marching accumulates albedo x
+//   (1 - transmittance) step by step, a homogeneous segment in one step, and the expected
+//   value of a heterogeneous segment's sum is the same); a scattering on it ends the
+//   features with Normal (0, 0, -1);
 // - emission the path finds on the way (emitters, lamps, the world, seen directly or through
 //   the near-specular surfaces) adds throughput x its contribution to Albedo, as Cycles;
 // - what the path never writes stays 0 (Normal and Depth where the world is seen).
@@ -57,7 +62,7 @@ struct DenoisingSample {
     depth += average(throughput) * segment;
     if (c.weight == 0 || c.rough_weight * 4.0f > c.weight) {
       normal = camera.to_camera(c.normal);
-      albedo = throughput * c.rough_albedo;
+      albedo += throughput * c.rough_albedo;  // after what media and emission on the way added
       active = false;
     } else {
       throughput *= c.specular_albedo;
@@ -68,10 +73,16 @@ struct DenoisingSample {
   // (film_write_emission_or_background_pass), so the world seen directly or in a mirror
   // shows its colour there.
   void add_emission(Color contribution) { albedo += throughput * contribution; }
-  // A scattering in a volume of single-scattering albedo `medium_albedo`.
-  void add_volume_scatter(Color medium_albedo) {
+  // A ray segment through a medium of single-scattering albedo `medium_albedo` and
+  // transmittance `transmittance` (over the whole segment, to the surface or boundary that
+  // ends it), entered with path throughput beta.
+  void add_volume_segment(Color beta, Color medium_albedo, Color transmittance) {
+    albedo += throughput * beta * medium_albedo * (Color(1.0f) - transmittance);
+  }
+  // A scattering in a volume: Cycles takes it as diffuse enough to end the features, with
+  // the view direction as Normal.
+  void end_at_volume_scatter() {
     normal = Vec3(0, 0, -1);
-    albedo = throughput * medium_albedo;
     active = false;
   }
 };

@@ -97,6 +97,9 @@ struct RenderSettings {
   float mlt_propagation_range[2] = {1e-4f, 0.1f};
   float mlt_scattering_angle[2] = {1e-4f, 0.2f};
   float mlt_caustic_angle[2] = {1e-4f, 0.05f};
+  // mlt in scenes with media: the probability that a lens, caustic or multi-chain
+  // perturbation retraces as Pauly et al.'s do, keeping each medium vertex's distance.
+  float mlt_keep_distances = 0.5f;
 
   static RenderSettings from_params(Params &p);
   // Whether the render estimates its noise: half images from independent replicates

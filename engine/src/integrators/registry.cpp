@@ -77,6 +77,7 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
       m.mutations.angle[i] = settings.mlt_scattering_angle[i];
       m.mutations.caustic[i] = settings.mlt_caustic_angle[i];
     }
+    m.mutations.keep_distances = settings.mlt_keep_distances;
     return std::make_unique<mlt::Metropolis>(scene, settings, bdpt_settings(settings, scene), m);
   }
   if (settings.integrator == "auto") return std::make_unique<AutoIntegrator>(scene, settings);
@@ -230,6 +231,9 @@ RenderSettings RenderSettings::from_params(Params &p) {
   range("mlt_propagation_range", s.mlt_propagation_range, 10.0f, "fractions of the scene's bounding radius");
   range("mlt_scattering_angle", s.mlt_scattering_angle, kPi, "radians");
   range("mlt_caustic_angle", s.mlt_caustic_angle, kPi, "radians");
+  s.mlt_keep_distances = p.get_float("mlt_keep_distances", s.mlt_keep_distances);
+  if (!(s.mlt_keep_distances >= 0 && s.mlt_keep_distances <= 1))
+    fail(p.what() + ": 'mlt_keep_distances' must be a probability in [0, 1]");
   if (const nlohmann::json *candidates = p.get_json("auto_candidates")) {
     s.auto_candidates.clear();
     if (!candidates->is_array() || candidates->empty())
@@ -352,6 +356,7 @@ std::string RenderSettings::image_settings_json() const {
       j["mlt_propagation_range"] = {mlt_propagation_range[0], mlt_propagation_range[1]};
       j["mlt_scattering_angle"] = {mlt_scattering_angle[0], mlt_scattering_angle[1]};
       j["mlt_caustic_angle"] = {mlt_caustic_angle[0], mlt_caustic_angle[1]};
+      j["mlt_keep_distances"] = mlt_keep_distances;
     }
   }
   return j.dump();

@@ -2,6 +2,7 @@
 // commit() derives from them (Embree BVHs, emissive-triangle lights, the light
 // sampler). Only what the scene contains is built.
 #pragma once
+#include <bit>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -191,6 +192,29 @@ class Scene {
     const Camera &camera = camera_now();
     const CameraAxes axes{normalize(camera.to_world.column(0)), normalize(camera.to_world.column(1)), camera.forward()};
     sample.add_surface(bsdf.denoising_closures(wo), segment, axes);
+  }
+  // The ray segment from o along unit d to tmax through `medium`, entered with path
+  // throughput beta, added to a sample whose features are active. Grid media estimate the
+  // segment's transmittance by ratio tracking (or their ray marching) with numbers of its
+  // own, from a generator seeded by the segment, so the image samples the same with the
+  // passes on or off; a medium that does not scatter adds nothing and costs nothing.
+  static void add_denoising_volume(const Medium &medium, Vec3 o, Vec3 d, float tmax, Color beta,
+                                   DenoisingSample &sample) {
+    const Color albedo = medium.scattering_albedo();
+    if (is_black(albedo)) return;
+    Color transmittance;
+    if (medium.is_heterogeneous()) {
+      const uint32_t seed = hash3(hash3(std::bit_cast<uint32_t>(o.x), std::bit_cast<uint32_t>(o.y),
+                                        std::bit_cast<uint32_t>(o.z)),
+                                  hash3(std::bit_cast<uint32_t>(d.x), std::bit_cast<uint32_t>(d.y),
+                                        std::bit_cast<uint32_t>(d.z)),
+                                  std::bit_cast<uint32_t>(tmax));
+      SampleRun run{Pcg32(seed, 0x64656e6fu)};
+      transmittance = medium.transmittance(o, d, tmax, run);
+    } else {
+      transmittance = medium.transmittance(tmax);
+    }
+    sample.add_volume_segment(beta, albedo, transmittance);
   }
   // ---- Ray visibility (scene/ray_visibility.h). has_ray_visibility: some instance, light
   // or the world is hidden from some kind of ray beyond what lamps hide from the camera

@@ -146,6 +146,8 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
           SampleRun gather_run(sampler, g.stream, g.position, dims::kGatherRun);
           gather_volume_emission(medium, ray, tmax, gather_run, beta, path, n, pdf_fwd, emitted[n]);
         }
+        // The denoising albedo takes the segment's share before the path flies through it.
+        if (denoising) scene_.add_denoising_volume(medium, ray.o, ray.d, tmax, beta, *denoising);
         dims::SegmentDims f = dims::segment(camera, k, crossings, layout_vertices, dims::kMedium);
         SampleRun run(sampler, f.stream, f.position, dims::kMediumRun);
         MediumSample ms = medium.sample_distance(ray.o, ray.d, tmax, run);
@@ -163,7 +165,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
           v.link_to_prev(prev, pdf_fwd);
           if (camera) v.filter_pdf = filter.min_pdf;
           see_through = false;
-          if (denoising) denoising->add_volume_scatter(medium.scattering_albedo());
+          if (denoising) denoising->end_at_volume_scatter();
           ++n;
           if (n >= max_vertices || see_through_only) return n;
           sampler.start_stream(stream, dims::bounce(k, dims::kScatterDirection));

@@ -202,8 +202,9 @@ int PathSpace::first_lamp(Vec3 o, Vec3 d, float tmax, float &t, uint32_t mask) c
 }
 
 bool PathSpace::trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &stats, ExplicitVertex &z,
-                           bool to_light) const {
+                           bool to_light, float kept_flight) const {
   if (!is_finite(ray.o) || !is_finite(ray.d) || !(length_squared(ray.d) > 0)) return false;
+  if (kept_flight >= 0 && !media_) return false;
   for (int guard = 0; guard < 256; ++guard) {
     SurfaceHit hit;
     CoincidentBoundary boundary;
@@ -216,7 +217,18 @@ bool PathSpace::trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &sta
     if (lamp >= 0) segment = t_lamp;
     if (media_) {
       int m = media.current(scene_);
-      if (m >= 0) {
+      if (kept_flight >= 0) {
+        if (kept_flight < segment) {  // nothing the ray meets before the kept distance
+          if (m < 0) return false;
+          PathVertex &v = bdpt::fresh_vertex(z.v);
+          v.type = VertexType::Medium;
+          v.p = ray.o + ray.d * kept_flight;
+          v.wo = -ray.d;
+          v.medium = m;
+          v.media = media;
+          return true;
+        }
+      } else if (m >= 0) {
         const Medium &medium = scene_.medium(m);
         float t = sample_free_flight(medium, ray.o, ray.d, segment, rng);
         if (t == 0) return false;  // on the vertex it left (probability 0): no new vertex
@@ -239,10 +251,13 @@ bool PathSpace::trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &sta
       if (found && lamp < 0 && scene_.is_boundary_only(hit.material)) {  // an index-matched boundary: no vertex
         media.cross(scene_, hit, boundary, ray.d);
         float tmax = std::isinf(ray.tmax) ? kInf : ray.tmax - hit.t;
-        ray = Ray{spawn_origin(hit.p, hit.ng, hit.error, ray.d), ray.d, tmax, ray.mask};
+        const Vec3 o = spawn_origin(hit.p, hit.ng, hit.error, ray.d);
+        if (kept_flight >= 0) kept_flight -= dot(o - ray.o, ray.d);
+        ray = Ray{o, ray.d, tmax, ray.mask};
         continue;
       }
     }
+    if (kept_flight >= 0) return false;  // a surface or a lamp before the kept distance, or the ray escaped
     if (lamp >= 0) {
       const Light &light = scene_.lights()[size_t(lamp)];
       PathVertex &v = bdpt::fresh_vertex(z.v);
@@ -400,7 +415,8 @@ bool PathSpace::light_walk_made(const ExplicitPath &y, int lo, int hi) {
   return true;
 }
 
-bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats, int to_light) const {
+bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats, int to_light,
+                                        float kept_flight) const {
   ExplicitVertex &prev = y.x[size_t(at - 1)];
   Ray ray;
   MediumStack media;
@@ -430,31 +446,34 @@ bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, Ray
     } else {
       return false;  // lights do not scatter
     }
-    return trace_from(y, at - 1, wi, scattered_pdf, rng, stats, to_light);
+    return trace_from(y, at - 1, wi, scattered_pdf, rng, stats, to_light, kept_flight);
   }
   ExplicitVertex &z = y.x[size_t(at)];
-  if (!trace_step(ray, media, rng, stats, z, to_light < 0 ? at == y.n - 1 : to_light > 0)) return false;
+  if (kept_flight >= 0) kept_flight -= dot(ray.o - prev.v.p, ray.d);  // a thin lens's ray starts at its lens point
+  if (!trace_step(ray, media, rng, stats, z, to_light < 0 ? at == y.n - 1 : to_light > 0, kept_flight)) return false;
   settle(z, prev);
   if (filter_.on()) z.v.filter_pdf = std::min(prev.v.filter_pdf, scattered_pdf);  // x_1: none before it
   return true;
 }
 
 bool PathSpace::trace_from(ExplicitPath &y, int at, Vec3 wi, float scattered_pdf, Pcg32 &rng, RayStats &stats,
-                           int to_light) const {
+                           int to_light, float kept_flight) const {
   ExplicitVertex &prev = y.x[size_t(at)], &z = y.x[size_t(at + 1)];
   const Ray ray{prev.v.on_surface() ? spawn_origin(prev.v.p, prev.v.ng, prev.v.error, wi) : prev.v.p, wi, kInf,
                 ray_mask(y, at, wi)};
   const bool last = to_light < 0 ? at + 1 == y.n - 1 : to_light > 0;
-  if (!trace_step(ray, stack_toward(prev, wi), rng, stats, z, last)) return false;
+  if (kept_flight >= 0) kept_flight -= dot(ray.o - prev.v.p, wi);  // measured from prev, not the spawn offset
+  if (!trace_step(ray, stack_toward(prev, wi), rng, stats, z, last, kept_flight)) return false;
   settle(z, prev);
   if (filter_.on()) z.v.filter_pdf = std::min(prev.v.filter_pdf, scattered_pdf);
   return true;
 }
 
-bool PathSpace::extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats) const {
+bool PathSpace::extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats, float kept_flight) const {
   ExplicitVertex &next = y.x[size_t(at + 1)];
   Vec3 wi;
   if (next.v.infinite) {
+    if (kept_flight >= 0) return false;  // its rays start on a disk drawn afresh: no distance to keep
     // From a light at infinity along its direction: the ray starts at a point uniform on
     // the disk perpendicular to it that covers the scene (sample_emission's; the density
     // of the vertex it reaches is the disk's times the cosine there, evaluate()).
@@ -501,7 +520,19 @@ bool PathSpace::extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayS
   MediumStack media = stack_toward(next, wi);
   Ray ray{next.v.on_surface() ? spawn_origin(next.v.p, next.v.ng, next.v.error, wi) : next.v.p, wi, kInf,
           light_walk_mask()};
-  return trace_step(ray, media, rng, stats, y.x[size_t(at)]);
+  if (kept_flight >= 0) kept_flight -= dot(ray.o - next.v.p, wi);
+  return trace_step(ray, media, rng, stats, y.x[size_t(at)], false, kept_flight);
+}
+
+double PathSpace::camera_side_flight(const ExplicitPath &p, int i) const {
+  // fwd_area[i] = cos / d^2 x the free flight; a medium vertex has no cosine, and an
+  // orthographic camera's x_1 no d^2 (evaluate()).
+  if (i == 1 && scene_.camera_now().type == Camera::Type::Orthographic) return p.fwd_area[1];
+  return p.fwd_area[size_t(i)] * double(length_squared(p.x[size_t(i)].v.p - p.x[size_t(i - 1)].v.p));
+}
+
+double PathSpace::light_side_flight(const ExplicitPath &p, int i) {
+  return p.rev_area[size_t(i)] * double(length_squared(p.x[size_t(i)].v.p - p.x[size_t(i + 1)].v.p));
 }
 
 // y's vertices 0 .. l and l + na + 1 .. n - 1 are in place; the na between are sampled:
@@ -1168,7 +1199,7 @@ Proposal PathSpace::perturb_medium_vertex(const ExplicitPath &x, MutationType ty
   return proposal;
 }
 
-int PathSpace::retrace_lens(const ExplicitPath &x, Vec2 raster, Pcg32 &rng, RayStats &stats,
+int PathSpace::retrace_lens(const ExplicitPath &x, Vec2 raster, bool keep, Pcg32 &rng, RayStats &stats,
                             ExplicitPath &y) const {
   const int c = first_non_specular(x);
   if (!(raster.x >= sample_origin_.x && raster.x < sample_origin_.x + sample_size_.x &&
@@ -1178,25 +1209,33 @@ int PathSpace::retrace_lens(const ExplicitPath &x, Vec2 raster, Pcg32 &rng, RayS
   y.n = x.n;
   y.time = x.time;  // the caller's shutter::SampleTime is at it
   for (int i = 0; i < x.n; ++i) y.x[size_t(i)] = x.x[size_t(i)];
+  // Pauly's retrace: a medium x_c keeps its distance from x_(c-1).
+  const float kept =
+      keep && x.x[size_t(c)].v.type == VertexType::Medium ? length(x.x[size_t(c)].v.p - x.x[size_t(c - 1)].v.p) : -1.0f;
   Ray ray = camera_ray(y.x[0], raster);
   if (visibility_) ray.mask = visibility::kCamera;
-  if (!trace_step(ray, y.x[0].v.media, rng, stats, y.x[1], y.n == 2)) return 0;
+  // (a thin lens's ray leaves its lens point, x_0)
+  const float t = c == 1 && kept >= 0 ? kept - dot(ray.o - y.x[0].v.p, ray.d) : -1.0f;
+  if (!trace_step(ray, y.x[0].v.media, rng, stats, y.x[1], y.n == 2, t)) return 0;
   settle(y.x[1], y.x[0]);
   // Through the specular chain as the camera walk samples it: each of y_1 .. y_(c-1) must
   // scatter by a delta lobe (y's chain then has x's shape, so the move can be undone).
   for (int k = 1; k < c; ++k)
-    if (!extend_from_camera_side(y, k + 1, rng, stats) || !y.x[size_t(k)].v.delta) return 0;
+    if (!extend_from_camera_side(y, k + 1, rng, stats, -1, k + 1 == c ? kept : -1.0f) || !y.x[size_t(k)].v.delta)
+      return 0;
+  if (keep && y.x[size_t(c)].v.type != x.x[size_t(c)].v.type) return 0;  // the path's kinds are kept
   return c;
 }
 
-Proposal PathSpace::lens_move(const ExplicitPath &x, Vec2 raster, MutationType type, Pcg32 &rng, RayStats &stats,
-                              ExplicitPath &y) const {
+Proposal PathSpace::lens_move(const ExplicitPath &x, Vec2 raster, bool keep, MutationType type, Pcg32 &rng,
+                              RayStats &stats, ExplicitPath &y) const {
   Proposal proposal;
   proposal.type = type;
+  proposal.kept_distances = keep;
   const int c = first_non_specular(x);
   if (c > x.n - 2 || x.x[size_t(c + 1)].v.delta) return proposal;  // a delta cannot be joined
   shutter::SampleTime at(x.time);  // every mutation but the large step keeps x's shutter time
-  if (retrace_lens(x, raster, rng, stats, y) != c) return proposal;
+  if (retrace_lens(x, raster, keep, rng, stats, y) != c) return proposal;
   settle(y.x[size_t(c + 1)], y.x[size_t(c)]);
   evaluate(y, stats);
   if (!(luminance(y.f) > 0)) return proposal;
@@ -1208,7 +1247,11 @@ Proposal PathSpace::lens_move(const ExplicitPath &x, Vec2 raster, MutationType t
     px *= x.fwd[size_t(k)];
     py *= y.fwd[size_t(k)];
   }
-  if (!(py > 0)) return proposal;
+  if (keep && x.x[size_t(c)].v.type == VertexType::Medium) {  // no free flight drawn for y_c
+    px /= camera_side_flight(x, c);
+    py /= camera_side_flight(y, c);
+  }
+  if (!(py > 0) || !std::isfinite(px)) return proposal;
   proposal.ratio = px / py;
   proposal.l = 0;
   proposal.m = c + 1;
@@ -1221,7 +1264,7 @@ Proposal PathSpace::perturb_lens(const ExplicitPath &x, Pcg32 &rng, RayStats &st
   const float lo = mutations_.lens[0], hi = mutations_.lens[1];
   const float radius = lo * std::pow(hi / lo, u_radius), angle = 2 * kPi * u_angle;
   const Vec2 raster{x.raster.x + radius * std::cos(angle), x.raster.y + radius * std::sin(angle)};
-  return lens_move(x, raster, MutationType::Lens, rng, stats, y);
+  return lens_move(x, raster, keeps_distances(rng), MutationType::Lens, rng, stats, y);
 }
 
 int PathSpace::walk_lens_subpath(const ExplicitPath &x, Vec2 raster, bool to_light, int after, Pcg32 &rng,
@@ -1333,8 +1376,9 @@ Proposal PathSpace::perturb_multi_chain(const ExplicitPath &x, Pcg32 &rng, RaySt
   const float lo = mutations_.lens[0], hi = mutations_.lens[1];
   const float radius = lo * std::pow(hi / lo, u_radius), angle = 2 * kPi * u_angle;
   const Vec2 raster{x.raster.x + radius * std::cos(angle), x.raster.y + radius * std::sin(angle)};
+  const bool keep = proposal.kept_distances = keeps_distances(rng);
   shutter::SampleTime at(x.time);  // every mutation but the large step keeps x's shutter time
-  if (retrace_lens(x, raster, rng, stats, y) != c) return proposal;
+  if (retrace_lens(x, raster, keep, rng, stats, y) != c) return proposal;
   // Chain by chain: x_a not specular, x_(a+1) .. x_(b-1) specular, x_b not (or the light).
   int kept = c + 1;  // the first vertex y keeps
   for (int a = c; a < x.n - 1 && x.x[size_t(a + 1)].v.delta;) {
@@ -1356,8 +1400,12 @@ Proposal PathSpace::perturb_multi_chain(const ExplicitPath &x, Pcg32 &rng, RaySt
       }
     }
     if (!trace_from(y, a, w, turned_pdf, rng, stats)) return proposal;
+    const ExplicitVertex &x_b = x.x[size_t(b)];
+    const float flight = keep && x_b.v.type == VertexType::Medium ? length(x_b.v.p - x.x[size_t(b - 1)].v.p) : -1.0f;
     for (int k = a + 1; k < b; ++k)
-      if (!extend_from_camera_side(y, k + 1, rng, stats) || !y.x[size_t(k)].v.delta) return proposal;
+      if (!extend_from_camera_side(y, k + 1, rng, stats, -1, k + 1 == b ? flight : -1.0f) || !y.x[size_t(k)].v.delta)
+        return proposal;
+    if (keep && y.x[size_t(b)].v.type != x_b.v.type) return proposal;
     a = b;
     kept = b + 1;
   }
@@ -1366,12 +1414,14 @@ Proposal PathSpace::perturb_multi_chain(const ExplicitPath &x, Pcg32 &rng, RaySt
   if (!(luminance(y.f) > 0)) return proposal;
   // The raster offset's and the turns' densities are symmetric: what is left is the camera
   // walk's density of the moved vertices, each turned direction's vertex without its
-  // directional part.
+  // directional part, and with Pauly's retrace each medium end of a chain (x_c, the x_b)
+  // without its free flight.
   auto walk_density = [&](const ExplicitPath &p) {
     double d = 1;
     for (int k = 1; k < kept; ++k) {
       const bool turned_to = k - 1 >= c && !x.x[size_t(k - 1)].v.delta && x.x[size_t(k)].v.delta;
       d *= turned_to ? p.fwd_area[size_t(k)] : p.fwd[size_t(k)];
+      if (keep && x.x[size_t(k)].v.type == VertexType::Medium) d /= camera_side_flight(p, k);
     }
     return d;
   };
@@ -1395,6 +1445,9 @@ Proposal PathSpace::perturb_caustic(const ExplicitPath &x, Pcg32 &rng, RayStats 
   const float lo = mutations_.caustic[0], hi = mutations_.caustic[1];
   const float theta = lo * std::pow(hi / lo, u_size), phi = 2 * kPi * u_azimuth;
   const Vec3 local(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+  // Pauly's retrace: a medium x_1 keeps its distance from x_2.
+  const bool keep = proposal.kept_distances = keeps_distances(rng);
+  const bool kept_x1 = keep && x.x[1].v.type == VertexType::Medium;
   y.reserve(max_vertices_);
   y.n = x.n;
   y.time = x.time;
@@ -1425,8 +1478,11 @@ Proposal PathSpace::perturb_caustic(const ExplicitPath &x, Pcg32 &rng, RayStats 
     media = stack_toward(end, w);
   }
   if (!trace_step(ray, media, rng, stats, y.x[size_t(k - 1)])) return proposal;
+  const float kept = kept_x1 ? length(x.x[1].v.p - x.x[2].v.p) : -1.0f;
   for (int at = k - 2; at >= 1; --at)
-    if (!extend_from_light_side(y, at, rng, stats) || !y.x[size_t(at + 1)].v.delta) return proposal;
+    if (!extend_from_light_side(y, at, rng, stats, at == 1 ? kept : -1.0f) || !y.x[size_t(at + 1)].v.delta)
+      return proposal;
+  if (keep && y.x[1].v.type != x.x[1].v.type) return proposal;  // the path's kinds are kept
   for (int i = 1; i <= k; ++i) settle(y.x[size_t(i)], y.x[size_t(i - 1)]);
   evaluate(y, stats);
   if (!(luminance(y.f) > 0)) return proposal;
@@ -1435,7 +1491,11 @@ Proposal PathSpace::perturb_caustic(const ExplicitPath &x, Pcg32 &rng, RayStats 
     px *= x.rev[size_t(i)];
     py *= y.rev[size_t(i)];
   }
-  if (!(py > 0)) return proposal;
+  if (kept_x1) {  // no free flight drawn for y_1
+    px /= light_side_flight(x, 1);
+    py /= light_side_flight(y, 1);
+  }
+  if (!(py > 0) || !std::isfinite(px)) return proposal;
   proposal.ratio = px / py;
   proposal.l = 0;
   proposal.m = k;

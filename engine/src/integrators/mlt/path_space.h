@@ -106,6 +106,11 @@ struct MutationSettings {
   float distance[2] = {1e-3f, 1.0f};      // propagation: [Dmin, Dmax], scene units
   float angle[2] = {1e-4f, 0.2f};         // scattering: [theta_min, theta_max], radians
   float caustic[2] = {1e-4f, 0.05f};      // caustic and multi-chain: [theta_min, theta_max], radians
+  // Lens, caustic and multi-chain perturbations in scenes with media: the probability that a
+  // proposal retraces as Pauly's perturbations do (every retraced vertex keeps its kind, a
+  // medium vertex its distance from the vertex before it); else each medium vertex's distance
+  // is a new free flight, as the walks draw it.
+  float keep_distances = 0.5f;
 };
 
 // One proposal: the path it made, and T(y -> x) / T(x -> y) (0: no path).
@@ -114,6 +119,7 @@ struct Proposal {
   double ratio = 0;
   double independent = 0;  // large steps: lum(f(y)) / q(y), an independent sample of b
   int l = 0, m = 0, na = 0;  // x's vertices l+1 .. m-1 were replaced by y's l+1 .. l+na
+  bool kept_distances = false;  // lens, caustic, multi-chain: retraced as Pauly's (MutationSettings)
 };
 
 class PathSpace {
@@ -146,6 +152,16 @@ class PathSpace {
   // densities in r and in solid angle are symmetric.
   Proposal perturb_medium_vertex(const ExplicitPath &x, MutationType type, Pcg32 &rng, RayStats &stats,
                                  ExplicitPath &y) const;
+  // The lens, caustic and multi-chain perturbations retrace with probability
+  // keep_distances as Pauly, Kollig & Keller's scattering perturbations do ("preserving
+  // the path characteristic", sec. 5): each retraced vertex must have x's kind, and a medium
+  // vertex is put at x's distance from the vertex before it on the retraced ray instead of
+  // a new free flight (a volume caustic's scattering point moves with the caustic instead of
+  // jumping along the ray). The move then keeps that distance r: it is a move on the set of
+  // paths with that r, whose target is f times the Jacobian of the vertex's volume measure
+  // in (the perturbed coordinates, r). That Jacobian is the walk's density with its free
+  // flight drawn divided by it, so the ratio below loses each kept vertex's free-flight
+  // factor: T(y->x) / T(x->y) times flight_y / flight_x (camera_side_flight, light_side_flight).
   // Veach's lens perturbation of a path E S* D ...: the raster point moved, the camera ray
   // traced afresh through as many specular vertices as x has before its first non-specular
   // vertex x_c (each delta event sampled as the camera walk does), then joined to x_(c+1).
@@ -220,8 +236,11 @@ class PathSpace {
   // any ray but the camera's meets.
   uint32_t light_walk_mask() const { return visibility_ ? visibility::kNonCamera : visibility::kAnyRay; }
   // to_light: the last vertex from the camera side, which may be a lamp's sphere or an area lamp.
+  // kept_flight >= 0 (Pauly's retrace): no free flight is drawn; z is the medium point at that
+  // distance along the ray, and there is none if a surface or a lamp comes first or the point
+  // is in no medium.
   bool trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &stats, ExplicitVertex &z,
-                  bool to_light = false) const;
+                  bool to_light = false, float kept_flight = -1) const;
   // The lamp the ray o + t d meets first for t < tmax (its index, t), or -1: a sphere lamp
   // (lights/sphere_lamp.h) where the ray enters it, an area lamp from its emitting side.
   int first_lamp(Vec3 o, Vec3 d, float tmax, float &t, uint32_t mask) const;
@@ -231,9 +250,11 @@ class PathSpace {
   // The camera ray from x_0 through a raster point (a thin lens: from x_0's lens point).
   Ray camera_ray(const ExplicitVertex &camera_vertex, Vec2 raster) const;
   bool light_vertex(Pcg32 &rng, ExplicitVertex &z, Vec3 &dir) const;
-  // to_light (trace_step's): 1 or 0; -1: whether y_at is y's last vertex.
-  bool extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats, int to_light = -1) const;
-  bool extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats) const;
+  // to_light (trace_step's): 1 or 0; -1: whether y_at is y's last vertex. kept_flight >= 0:
+  // y_at is the medium point at that distance from the vertex the step leaves (trace_step's).
+  bool extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats, int to_light = -1,
+                               float kept_flight = -1) const;
+  bool extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayStats &stats, float kept_flight = -1) const;
   void settle(ExplicitVertex &z, const ExplicitVertex &camera_side) const;
   // Filter Glossy: z's BSDF blurred by the roughness z.v.filter_pdf gives (rebuilt from the
   // hit when it was blurred by another prefix's).
@@ -246,15 +267,24 @@ class PathSpace {
   // y_(at+1) traced from y_at along wi (a walk's ray: spawn offset, media, ray kind), facing y_at;
   // scattered_pdf: y_at's density of wi (Filter Glossy's prefix; kInf for a delta event).
   bool trace_from(ExplicitPath &y, int at, Vec3 wi, float scattered_pdf, Pcg32 &rng, RayStats &stats,
-                  int to_light = -1) const;
+                  int to_light = -1, float kept_flight = -1) const;
+  // Pauly's retrace (MutationSettings::keep_distances): drawn once per lens, caustic or
+  // multi-chain proposal in scenes with media (never in others, whose proposals stay as they were).
+  bool keeps_distances(Pcg32 &rng) const { return media_ && rng.next_float() < mutations_.keep_distances; }
+  // Where a retrace kept a medium vertex's distance, that vertex has no free flight drawn: its
+  // density lacks the walk's free-flight factor, which these give (a factor of fwd_area[i], a
+  // camera-side step from x_(i-1), and of rev_area[i], a light-side step from x_(i+1)).
+  double camera_side_flight(const ExplicitPath &p, int i) const;
+  static double light_side_flight(const ExplicitPath &p, int i);
   // The lens and multi-chain perturbations' move: y = x with x_1 .. x_c (E S*
   // (D|L)) retraced from the camera through `raster`, each of y_1 .. y_(c-1) scattering by a
   // delta lobe (x_c the light: y_c must be one). Returns c (0: no path; the raster point
   // outside the sample region, or a chain of another shape).
-  int retrace_lens(const ExplicitPath &x, Vec2 raster, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
+  // keep: Pauly's retrace (y_c must have x_c's kind; a medium x_c keeps its distance from x_(c-1)).
+  int retrace_lens(const ExplicitPath &x, Vec2 raster, bool keep, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
   // The lens perturbation through `raster`: retrace_lens, y_c joined to x_(c+1) (which must
   // not be specular).
-  Proposal lens_move(const ExplicitPath &x, Vec2 raster, MutationType type, Pcg32 &rng, RayStats &stats,
+  Proposal lens_move(const ExplicitPath &x, Vec2 raster, bool keep, MutationType type, Pcg32 &rng, RayStats &stats,
                      ExplicitPath &y) const;
   // The lens subpath mutation's walk: y_0 = x_0, y_1 from the camera ray through `raster`,
   // then on from each vertex whose BSDF is all delta lobes (an event sampled there), to the

@@ -247,6 +247,8 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
             add_found(beta * c * w, depth);
           });
         }
+        // The denoising albedo takes the segment's share before the path flies through it.
+        if (denoising && denoising->active) scene_.add_denoising_volume(medium, ray.o, ray.d, tmax, beta, *denoising);
         dims::SegmentDims f = segment_dims(dims::kMedium);
         SampleRun run(sampler, f.stream, f.position, dims::kMediumRun);
         MediumSample ms = medium.sample_distance(ray.o, ray.d, tmax, run);
@@ -256,7 +258,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           // function, then a new direction from it.
           Vec3 p = ray.o + ray.d * ms.t;
           Vec3 wo = -ray.d;
-          if (denoising && denoising->active) denoising->add_volume_scatter(medium.scattering_albedo());
+          if (denoising && denoising->active) denoising->end_at_volume_scatter();
           if (depth >= max_bounces_ || stop_after) break;
           auto phase = [&](Vec3 wi, float *pdf) {
             *pdf = medium.phase.pdf(wo, wi);
