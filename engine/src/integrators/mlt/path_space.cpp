@@ -74,6 +74,14 @@ double deletion_weight(int kd) { return kd == 1 ? 0.5 : std::ldexp(1.0, -(kd - 2
 int deletion_positions(int nv, int kd) { return nv - kd + 2 - (kd == 1 ? 2 : 0); }
 
 // Veach's E S* D: the index of x's first vertex after the camera that is not specular.
+// Pauly's retrace (PathSpace: keep_distances): the distance a retraced medium vertex x_i keeps
+// from its neighbour on the side the retrace comes from; -1 (a free flight is drawn) when the
+// proposal does not keep distances or x_i is no medium vertex.
+float kept_distance(const ExplicitPath &x, int i, int from, bool keep) {
+  const ExplicitVertex &v = x.x[size_t(i)];
+  return keep && v.v.type == VertexType::Medium ? length(v.v.p - x.x[size_t(from)].v.p) : -1.0f;
+}
+
 int first_non_specular(const ExplicitPath &x) {
   int c = 1;
   while (c < x.n - 1 && x.x[size_t(c)].v.delta) ++c;
@@ -1210,8 +1218,7 @@ int PathSpace::retrace_lens(const ExplicitPath &x, Vec2 raster, bool keep, Pcg32
   y.time = x.time;  // the caller's shutter::SampleTime is at it
   for (int i = 0; i < x.n; ++i) y.x[size_t(i)] = x.x[size_t(i)];
   // Pauly's retrace: a medium x_c keeps its distance from x_(c-1).
-  const float kept =
-      keep && x.x[size_t(c)].v.type == VertexType::Medium ? length(x.x[size_t(c)].v.p - x.x[size_t(c - 1)].v.p) : -1.0f;
+  const float kept = kept_distance(x, c, c - 1, keep);
   Ray ray = camera_ray(y.x[0], raster);
   if (visibility_) ray.mask = visibility::kCamera;
   // (a thin lens's ray leaves its lens point, x_0)
@@ -1401,7 +1408,7 @@ Proposal PathSpace::perturb_multi_chain(const ExplicitPath &x, Pcg32 &rng, RaySt
     }
     if (!trace_from(y, a, w, turned_pdf, rng, stats)) return proposal;
     const ExplicitVertex &x_b = x.x[size_t(b)];
-    const float flight = keep && x_b.v.type == VertexType::Medium ? length(x_b.v.p - x.x[size_t(b - 1)].v.p) : -1.0f;
+    const float flight = kept_distance(x, b, b - 1, keep);
     for (int k = a + 1; k < b; ++k)
       if (!extend_from_camera_side(y, k + 1, rng, stats, -1, k + 1 == b ? flight : -1.0f) || !y.x[size_t(k)].v.delta)
         return proposal;
@@ -1478,7 +1485,7 @@ Proposal PathSpace::perturb_caustic(const ExplicitPath &x, Pcg32 &rng, RayStats 
     media = stack_toward(end, w);
   }
   if (!trace_step(ray, media, rng, stats, y.x[size_t(k - 1)])) return proposal;
-  const float kept = kept_x1 ? length(x.x[1].v.p - x.x[2].v.p) : -1.0f;
+  const float kept = kept_distance(x, 1, 2, keep);
   for (int at = k - 2; at >= 1; --at)
     if (!extend_from_light_side(y, at, rng, stats, at == 1 ? kept : -1.0f) || !y.x[size_t(at + 1)].v.delta)
       return proposal;
