@@ -38,7 +38,8 @@ def metropolis_settings(props):
             "mlt_mutations": {name: float(getattr(props, "mlt_mutation_" + name, 1.0))
                               for name in ("bidirectional", "lens", "propagation", "scattering", "caustic",
                                            "multi_chain", "lens_subpath")},
-            "mlt_keep_distances": float(getattr(props, "mlt_keep_distances", 0.5))}
+            "mlt_keep_distances": float(getattr(props, "mlt_keep_distances", 0.5)),
+            "mlt_direct_samples": int(getattr(props, "mlt_direct_samples", 0))}
 MIS = {"POWER": "power", "BALANCE": "balance", "LAFORTUNE_WILLEMS": "lafortune_willems"}
 DEFAULT_SAMPLES = 128
 

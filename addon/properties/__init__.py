@@ -93,6 +93,11 @@ class RendezvousRenderSettings(bpy.types.PropertyGroup):
                     "perturbations keep a scattering point's distance along the ray they retrace (Pauly et al.), "
                     "so it moves a little with the caustic or the image position instead of jumping along the "
                     "ray: higher follows volume caustics and shafts longer, lower explores depth more")
+    mlt_direct_samples: IntProperty(
+        name="Direct Samples", default=0, min=0, max=65536,
+        description="Metropolis (Path Space): path-traced samples per pixel for direct light (lamps and the world "
+                    "seen directly or lighting a surface or volume at one bounce), which the chains then leave "
+                    "out (Veach): the chains spend every mutation on indirect light. 0: the chains take all light")
     mlt_target: EnumProperty(
         name="Target", default="RELATIVE",
         items=[("RELATIVE", "Even Error", "Mutations spread by relative error: regions brighter than the image's "

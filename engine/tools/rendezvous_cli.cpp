@@ -45,6 +45,8 @@ void usage() {
                "                         perturbation, the propagation and scattering perturbations of medium\n"
                "                         vertices, the caustic and multi-chain perturbations and the lens subpath\n"
                "                         mutation (default 1 each; those a shorter list leaves out: 1)\n"
+               "  --mlt-direct N         mlt: direct light (paths of one and two edges) by N path-traced samples\n"
+               "                         per pixel, the chains take the rest (0: the chains take every path)\n"
                "  --mlt-step-size S      pssmlt / mmlt: small-step size in primary sample space\n"
                "  --mlt-target T         pssmlt / mmlt: luminance or relative (even relative error)\n"
                "  --strategy S,T         bdpt: render only strategy (s, t), MIS-weighted\n"
@@ -235,6 +237,7 @@ int main(int argc, char **argv) {
           w[name] = std::getline(list, item, ',') ? std::stof(item) : 1.0f;
         overrides["mlt_mutations"] = w;
       }
+      else if (a == "--mlt-direct") overrides["mlt_direct_samples"] = std::stoi(next());
       else if (a == "--mlt-step-size") overrides["mlt_step_size"] = std::stod(next());
       else if (a == "--mlt-target") overrides["mlt_target"] = next();
       else if (a == "--strategy") {

@@ -221,6 +221,13 @@ TEST(Limits, FilmAndMetropolisMemoryIsCheckedFirst) {
   EXPECT_TRUE(has(error(), "'samples' is 4294967297")) << error();
   EXPECT_EQ(RDV_ERROR_INVALID_ARGUMENT, rdv_session_create(sc.s, R"({"width":-4294967295,"height":8})", &session));
   EXPECT_TRUE(has(error(), "'width'")) << error();
+  // Path-space MLT's settings out of their range: refused, naming the setting.
+  EXPECT_EQ(RDV_ERROR_INVALID_ARGUMENT,
+            rdv_session_create(sc.s, R"({"width":8,"height":8,"integrator":"mlt","mlt_keep_distances":1.5})", &session));
+  EXPECT_TRUE(has(error(), "'mlt_keep_distances' must be a probability in [0, 1]")) << error();
+  EXPECT_EQ(RDV_ERROR_INVALID_ARGUMENT,
+            rdv_session_create(sc.s, R"({"width":8,"height":8,"integrator":"mlt","mlt_direct_samples":-1})", &session));
+  EXPECT_TRUE(has(error(), "'mlt_direct_samples' must be in 0..65536")) << error();
 }
 
 TEST(Limits, AbiBuffersAreCheckedBeforeTheyAreRead) {

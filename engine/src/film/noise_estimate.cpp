@@ -18,6 +18,9 @@ bool pixel_relative_variance(const PixelSum &pixel, const HalfSum &half, const S
   const double n = pixel.count;
   double f;  // half B's share of the samples
   double a[3], b[3], full[3];
+  // MLT with direct light left to the path tracer: its camera samples make halves of their
+  // own, independent of the chains' (their variances add: camera_variance).
+  double camera_variance[3] = {0, 0, 0};
   if (frame.split == HalfSplit::CameraSamples) {
     const double nb = half.count, na = n - nb;
     if (!(na > 0 && nb > 0)) return false;
@@ -30,8 +33,16 @@ bool pixel_relative_variance(const PixelSum &pixel, const HalfSum &half, const S
   } else if (frame.split == HalfSplit::Splats) {
     if (!has_splats) return false;
     f = paths_b / frame.splats.paths;
+    const double nb = half.count, na = n - nb;
+    const bool camera_halves = na > 0 && nb > 0;
+    const double fc = camera_halves ? nb / n : 0.0;
     for (int c = 0; c < 3; ++c) {
-      const double camera = n > 0 ? pixel.sample[c] / n : 0.0;  // shared by both halves
+      // Camera samples without halves (the first-hit pass's, L = 0) are shared by both.
+      const double camera = n > 0 ? pixel.sample[c] / n : 0.0;
+      if (camera_halves) {
+        const double d = (pixel.sample[c] - half.sample[c]) / na - half.sample[c] / nb;
+        camera_variance[c] = d * d * fc * (1 - fc);
+      }
       a[c] = camera + (splats[c] - half_splats[c]) * scale_a;
       b[c] = camera + half_splats[c] * scale_b;
       full[c] = camera + splats[c] * scale;
@@ -42,7 +53,7 @@ bool pixel_relative_variance(const PixelSum &pixel, const HalfSum &half, const S
   double sum = 0;
   for (int c = 0; c < 3; ++c) {
     const double d = a[c] - b[c], square = full[c] * full[c];
-    const double variance = d * d * f * (1 - f) + frame.scale_relative_variance * square;
+    const double variance = d * d * f * (1 - f) + camera_variance[c] + frame.scale_relative_variance * square;
     // E[I^2] = ref^2 + Var(I): I^2 - variance estimates the reference's square. I^2
     // alone would hide a firefly in a dark pixel (its own brightness in the denominator),
     // the very error the metric weighs most. That estimate (A B for equal halves) is

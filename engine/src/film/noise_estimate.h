@@ -2,7 +2,9 @@
 // adaptive-sampling idea; in Monte Carlo terms, two replicates). The image is
 // I = (1 - f) A + f B, where half B holds a share f of the samples (path, bdpt: the odd
 // camera samples, from a second, independently scrambled replicate of the sequence,
-// each with its light path's splats; MLT: the odd chains). A and B are independent estimates with variances s^2 / n_A and s^2 / n_B, so
+// each with its light path's splats; MLT: the odd chains, and with direct light left to the
+// path tracer also its odd camera samples, whose variance adds to the chains').
+// A and B are independent estimates with variances s^2 / n_A and s^2 / n_B, so
 // E[(A - B)^2] f (1 - f) = s^2 / n = Var(I): the squared difference of the halves, scaled,
 // estimates the variance of each pixel of the image without a reference. Per-pixel
 // variance of the samples could not: BDPT's and MLT's splats are no pixel's samples,

@@ -165,7 +165,13 @@ LoadedPart load_part(const std::string &path) {
 }
 
 std::string range_text(const SampleRange &r) {
-  return "[" + std::to_string(r.begin) + ", " + std::to_string(r.end) + ")";
+  // Appended piece by piece: GCC 12's -Wrestrict misfires on "[" + std::to_string(...).
+  std::string text = "[";
+  text += std::to_string(r.begin);
+  text += ", ";
+  text += std::to_string(r.end);
+  text += ")";
+  return text;
 }
 
 // "key: a vs b" for every setting that differs.

@@ -100,6 +100,9 @@ struct RenderSettings {
   // mlt in scenes with media: the probability that a lens, caustic or multi-chain
   // perturbation retraces as Pauly et al.'s do, keeping each medium vertex's distance.
   float mlt_keep_distances = 0.5f;
+  // mlt: path-traced camera samples per pixel for direct light (paths of one and two
+  // edges), which the chains then leave out (0: the chains take every path).
+  uint32_t mlt_direct_samples = 0;
 
   static RenderSettings from_params(Params &p);
   // Whether the render estimates its noise: half images from independent replicates

@@ -66,7 +66,7 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
     m.large_step_probability = settings.mlt_large_step;
     m.bootstrap_per_pixel = settings.mlt_bootstrap;
     m.chains = settings.mlt_chains;
-    m.relative_target = false;  // Veach's target: the path's luminance
+    m.relative_target = settings.mlt_target == "relative";
     static_assert(sizeof(settings.mlt_mutations) / sizeof(float) == mlt::kWeightedMutations);
     for (int i = 0; i < mlt::kWeightedMutations; ++i) m.mutations.weights[i] = settings.mlt_mutations[i];
     // Veach's lens perturbation: 0.1 pixel to a tenth of the image.
@@ -78,6 +78,7 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
       m.mutations.caustic[i] = settings.mlt_caustic_angle[i];
     }
     m.mutations.keep_distances = settings.mlt_keep_distances;
+    m.direct_samples = settings.mlt_direct_samples;
     return std::make_unique<mlt::Metropolis>(scene, settings, bdpt_settings(settings, scene), m);
   }
   if (settings.integrator == "auto") return std::make_unique<AutoIntegrator>(scene, settings);
@@ -234,6 +235,10 @@ RenderSettings RenderSettings::from_params(Params &p) {
   s.mlt_keep_distances = p.get_float("mlt_keep_distances", s.mlt_keep_distances);
   if (!(s.mlt_keep_distances >= 0 && s.mlt_keep_distances <= 1))
     fail(p.what() + ": 'mlt_keep_distances' must be a probability in [0, 1]");
+  const int direct = p.get_int("mlt_direct_samples", int(s.mlt_direct_samples));
+  if (direct < 0 || direct > 65536)
+    fail(p.what() + ": 'mlt_direct_samples' must be in 0..65536 (path-traced samples per pixel for direct light)");
+  s.mlt_direct_samples = uint32_t(direct);
   if (const nlohmann::json *candidates = p.get_json("auto_candidates")) {
     s.auto_candidates.clear();
     if (!candidates->is_array() || candidates->empty())
@@ -357,6 +362,7 @@ std::string RenderSettings::image_settings_json() const {
       j["mlt_scattering_angle"] = {mlt_scattering_angle[0], mlt_scattering_angle[1]};
       j["mlt_caustic_angle"] = {mlt_caustic_angle[0], mlt_caustic_angle[1]};
       j["mlt_keep_distances"] = mlt_keep_distances;
+      j["mlt_direct_samples"] = mlt_direct_samples;
     }
   }
   return j.dump();

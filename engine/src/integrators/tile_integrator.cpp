@@ -109,12 +109,17 @@ done:
   ctx.control.add_dropped(dropped);
 }
 
-void TileIntegrator::render(RenderContext &ctx) {
-  const Rect &r = ctx.settings.border;
+std::vector<Rect> TileIntegrator::tiles(const Rect &r) {
   std::vector<Rect> tiles;
   for (int y = r.y0; y < r.y1; y += kTileSize)
     for (int x = r.x0; x < r.x1; x += kTileSize)
       tiles.push_back({x, y, std::min(x + kTileSize, r.x1), std::min(y + kTileSize, r.y1)});
+  return tiles;
+}
+
+void TileIntegrator::render(RenderContext &ctx) {
+  const Rect &r = ctx.settings.border;
+  const std::vector<Rect> tiles = TileIntegrator::tiles(r);
   std::vector<TileSplats> tile_splats(tiles.size());  // applied in tile order after a pass
   uint64_t paths = 0, half_b_paths = 0;  // light paths traced (by half B's samples), all passes
   // Adaptive sampling: pixels that stopped, checked at fixed sample counts (the same

@@ -31,6 +31,8 @@ class TileIntegrator : public Integrator {
   // (cancel latency: one pixel's batch of samples).
   void render_tile(RenderContext &ctx, const Rect &tile, uint32_t first, uint32_t last,
                    const std::vector<uint8_t> &converged, TileSplats &splats) const;
+  // The 16 x 16 tiles that cover a region, row by row.
+  static std::vector<Rect> tiles(const Rect &region);
 };
 
 }  // namespace rdv

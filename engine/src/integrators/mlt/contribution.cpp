@@ -154,13 +154,18 @@ void Metropolis::path_state(const ExplicitPath &path, State &state) const {
   state.shares.clear();
   state.depth = state.s = -1;
   state.independent = 0;
-  state.target = luminance(path.f);
+  state.target = path_target(path);
   if (state.target > 0 && std::isfinite(state.target)) {
     state.splats.push_back({path.raster, path.f, Splat::kNoStrategy, {}, CatcherSplat::Combined});
     if (light_passes_) classify_path(path, state);
   } else {
     state.target = 0;
   }
+}
+
+float Metropolis::path_target(const ExplicitPath &path) const {
+  const float y = luminance(path.f);
+  return importance_.empty() || !(y > 0) ? y : y * importance_.weight(path.raster);
 }
 
 }  // namespace rdv::mlt

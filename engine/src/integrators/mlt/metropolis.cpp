@@ -114,9 +114,30 @@ Metropolis::Metropolis(const Scene &scene, const RenderSettings &settings, const
   sample_size_ = {float(b.width()) + 2 * r, float(b.height()) + 2 * r};
   region_area_ = sample_size_.x * sample_size_.y;
   image_area_ = float(settings.width) * float(settings.height);
-  if (mlt.path_space)
+  if (mlt.path_space) {
+    MutationSettings mutations = mlt.mutations;
+    if (mlt.direct_samples > 0 && bdpt_settings.max_bounces >= 2) {
+      direct_ = std::make_unique<PathTracer>(scene, 1, bdpt_settings.limits, bdpt_settings.alpha);
+      mutations.min_vertices = 4;  // the chains' paths: three edges or more
+    }
     path_space_ = std::make_unique<PathSpace>(scene, bdpt_settings.max_bounces, sample_origin_, sample_size_, image_area_,
-                                              mlt.large_step_probability, mlt.mutations, bdpt_settings.limits);
+                                              mlt.large_step_probability, mutations, bdpt_settings.limits);
+  }
+}
+
+void Metropolis::direct_pass(RenderContext &ctx) const {
+  const std::vector<Rect> tiles = TileIntegrator::tiles(settings_.border);
+  // A farm part (sample_offset o, render_part.h) takes samples [o N, o N + N) of the
+  // sequence: parts never repeat one, and their merged pixel sums average all of them.
+  const uint64_t n = mlt_.direct_samples;
+  const uint64_t first = std::min<uint64_t>(uint64_t(settings_.sample_offset) * n, UINT32_MAX - n);
+  ctx.arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t> &r) {
+      TileSplats none;  // the path tracer reaches no pixel but its own
+      for (size_t i = r.begin(); i != r.end(); ++i)
+        direct_->render_tile(ctx, tiles[i], uint32_t(first), uint32_t(first + n), {}, none);
+    });
+  });
 }
 
 void Metropolis::first_hit_pass(RenderContext &ctx) const {
@@ -233,7 +254,8 @@ ImportanceMap Metropolis::pilot(RenderContext &ctx, int depths) {
 }
 
 void Metropolis::render(RenderContext &ctx) {
-  first_hit_pass(ctx);
+  if (direct_) direct_pass(ctx);
+  else first_hit_pass(ctx);
   const Rect &region = settings_.border;
   const uint64_t region_pixels = uint64_t(region.width()) * uint64_t(region.height());
   const float p_large = mlt_.large_step_probability;
@@ -264,7 +286,7 @@ void Metropolis::render(RenderContext &ctx) {
           // An independent path from the sample's own generator (a chain replays it).
           Pcg32 rng(seed0, i);
           double q = path_space_->sample_independent(rng, stats, path);
-          double w = q > 0 ? double(luminance(path.f)) / q : 0.0;
+          double w = q > 0 ? double(path_target(path)) / q : 0.0;
           weights[i] = std::isfinite(w) ? float(w) : 0.0f;
           if (q > 0 && !specular_paths.load(std::memory_order_relaxed))
             for (int k = 1; k + 1 < path.n; ++k)
@@ -310,6 +332,13 @@ void Metropolis::render(RenderContext &ctx) {
       for (uint64_t i = 0; i < n_bootstrap; ++i)
         stats_.strategy_b[strategy_index(int(i / per_depth), strategy[i])] += weights[i] / double(per_depth);
     }
+  }
+  if (direct_ && b == 0) {
+    // Direct light may be all the scene has (one plane under a lamp): the path tracer's
+    // samples are the image, the chains have nothing to do.
+    Film::PassPublisher frame(ctx.film);
+    frame.publish(mlt_.direct_samples, {});
+    return;
   }
   if (!(b > 0) || !std::isfinite(b)) {
     std::string why = !(b > 0) ? "none of its " + std::to_string(n_bootstrap) +
@@ -426,7 +455,9 @@ void Metropolis::render(RenderContext &ctx) {
                 chain.proposal.shares.clear();
                 chain.proposal.target = 0;
               }
-              chain.proposal.independent = p.independent;
+              // An independent sample of b, the target's integral: target(y) / q(y).
+              chain.proposal.independent =
+                  importance_.empty() ? p.independent : p.independent * importance_.weight(chain.path_proposal.raster);
             } else {
               chain.sampler.start_iteration();
               large = chain.sampler.large_step();

@@ -19,6 +19,7 @@
 #include "integrators/bdpt/bdpt.h"
 #include "integrators/mlt/importance_map.h"
 #include "integrators/mlt/path_space.h"
+#include "integrators/path/path_tracer.h"
 #include "samplers/pss_sampler.h"
 
 namespace rdv::mlt {
@@ -36,6 +37,11 @@ struct MltSettings {
   // The chains' target: false, the luminance of a state's splats (Kelemen, Hachisuka);
   // true, their luminance relative to a pilot's coarse image there (importance_map.h).
   bool relative_target = true;
+  // mlt: camera samples per pixel of the path tracer for the paths of one and two edges
+  // (a light seen directly, direct lighting), which the chains then leave out (Veach 1997,
+  // ch. 11: direct lighting by standard methods); 0: the chains take every path. Needs
+  // max_bounces >= 2 (else every path is direct and the chains take them all).
+  uint32_t direct_samples = 0;
 };
 
 // A state of a chain: where its sample lands on the image (in units where one sample's
@@ -93,6 +99,9 @@ class Metropolis final : public Integrator {
  private:
   // Path space: the state of an evaluated explicit path (its one splat).
   void path_state(const ExplicitPath &path, State &state) const;
+  // Path space: the chains' target for a path (its luminance, over the pilot's image there
+  // with the relative target).
+  float path_target(const ExplicitPath &path) const;
   // Cycles' light passes (light_passes.cpp, film/light_passes.h): splat i of the state
   // (a camera sample) gets the slots of `passes` times scale as its shares; a path-space
   // state's splat is classified by the path's first scattering vertex from the camera.
@@ -110,6 +119,10 @@ class Metropolis final : public Integrator {
   // Depth, normal, albedo, alpha, the data passes and the light passes' colours from a few
   // camera rays per pixel (MLT has no per-pixel samples).
   void first_hit_pass(RenderContext &ctx) const;
+  // Direct light left to the path tracer (MltSettings::direct_samples): its camera samples
+  // fill the pixel sums (Combined is their mean plus the chains' splats) and, in place of
+  // the first-hit pass, the AOVs, alpha, data and colour passes.
+  void direct_pass(RenderContext &ctx) const;
 
   const Scene &scene_;
   RenderSettings settings_;
@@ -125,6 +138,7 @@ class Metropolis final : public Integrator {
   ImportanceMap importance_;  // empty: the luminance target
   bool light_passes_ = false;  // the film keeps Cycles' light passes: states carry their split
   std::unique_ptr<PathSpace> path_space_;  // mlt only
+  std::unique_ptr<PathTracer> direct_;     // mlt with direct_samples: paths of one and two edges
 
   mutable std::mutex stats_mutex_;
   MltStats stats_;

@@ -119,6 +119,7 @@ PathSpace::PathSpace(const Scene &scene, int max_bounces, Vec2 sample_origin, Ve
                      const LightPathLimits &limits)
     : scene_(scene),
       max_vertices_(max_bounces + 2),
+      min_vertices_(mutations.min_vertices),
       sample_origin_(sample_origin),
       sample_size_(sample_size),
       image_area_(image_area),
@@ -729,7 +730,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   std::fill(y.rev.begin(), y.rev.begin() + n, 0.0);
   std::fill(y.rev_area.begin(), y.rev_area.begin() + n, 0.0);
   std::fill(y.fwd_area.begin(), y.fwd_area.begin() + n, 0.0);
-  if (n < 2 || n > max_vertices_) return;
+  if (n < min_vertices_ || n > max_vertices_) return;
   const ExplicitVertex &last = y.x[size_t(n - 1)];
   if (y.x[0].v.type != VertexType::Camera || last.v.light < 0) return;
   for (int i = 1; i < n - 1; ++i)
@@ -965,9 +966,9 @@ double PathSpace::deletion_probability(int nv, int l, int m) const {
 
 namespace {
 // The range of added vertex counts after deleting l+1 .. m-1 of nv (path_space.h).
-void addition_range(int nv, int l, int m, int max_vertices, int &lo, int &hi) {
+void addition_range(int nv, int l, int m, int min_vertices, int max_vertices, int &lo, int &hi) {
   const int kept = nv - (m - l - 1);
-  lo = std::max(int(l == -1) + int(m == nv), 2 - kept);
+  lo = std::max(int(l == -1) + int(m == nv), min_vertices - kept);
   hi = max_vertices - kept;
 }
 // Added vertices around the deleted count; never none for none (the path unchanged).
@@ -975,9 +976,9 @@ double addition_weight(int na, int nd) { return na == 0 && nd == 0 ? 0.0 : std::
 }  // namespace
 
 double PathSpace::addition_probability(int nv, int l, int m, int na) const {
-  if (l == -1 && m == nv) return na >= 2 && na <= max_vertices_ ? 1.0 / (max_vertices_ - 1) : 0.0;
+  if (l == -1 && m == nv) return na >= min_vertices_ && na <= max_vertices_ ? 1.0 / path_lengths() : 0.0;
   int lo, hi;
-  addition_range(nv, l, m, max_vertices_, lo, hi);
+  addition_range(nv, l, m, min_vertices_, max_vertices_, lo, hi);
   if (na < lo || na > hi) return 0;
   const int nd = m - l - 1;
   double z = 0;
@@ -992,7 +993,7 @@ double PathSpace::transition_density(int nv_x, int l, int m, const ExplicitPath 
 }
 
 double PathSpace::independent_density(const ExplicitPath &y) const {
-  return split_sum(y, 0, y.n) / double(y.n + 1) / double(max_vertices_ - 1);
+  return split_sum(y, 0, y.n) / double(y.n + 1) / double(path_lengths());
 }
 
 double PathSpace::sample_independent(Pcg32 &rng, RayStats &stats, ExplicitPath &y) const {
@@ -1000,7 +1001,7 @@ double PathSpace::sample_independent(Pcg32 &rng, RayStats &stats, ExplicitPath &
   y.f = Color(0.0f);
   y.time = shutter_time(rng);
   shutter::SampleTime at(y.time);
-  const int nv = 2 + std::min(int(rng.next_float() * float(max_vertices_ - 1)), max_vertices_ - 2);
+  const int nv = random_path_length(rng);
   const int j = std::min(int(rng.next_float() * float(nv + 1)), nv);
   y.n = nv;
   if (!regenerate(y, -1, nv, j, rng, stats)) return 0;
@@ -1010,18 +1011,52 @@ double PathSpace::sample_independent(Pcg32 &rng, RayStats &stats, ExplicitPath &
   return independent_density(y);
 }
 
+void PathSpace::mutation_weights(const ExplicitPath &x, float w[kWeightedMutations]) const {
+  const int n = x.n, c = first_non_specular(x);
+  auto delta = [&](int i) { return x.x[size_t(i)].v.delta; };
+  // Lens perturbation (lens_move): x_c joined to x_(c+1), which must not be specular.
+  const bool joinable = c <= n - 2 && !delta(c + 1);
+  // Medium vertices the propagation perturbation can move (after a non-specular camera-side
+  // neighbour), and the scattering perturbation (a non-specular neighbour on both sides).
+  bool propagation = false, scattering = false;
+  for (int j = 1; j + 1 < n; ++j) {
+    if (x.x[size_t(j)].v.type != VertexType::Medium || delta(j - 1)) continue;
+    propagation = true;
+    scattering = scattering || !delta(j + 1);
+  }
+  // Caustic perturbation: E D S+ (D|L) ...
+  int k = 2;
+  while (k < n - 1 && delta(k)) ++k;
+  const bool caustic = n >= 4 && !delta(1) && k >= 3 && !delta(k);
+  const bool applies[kWeightedMutations] = {
+      true,                  // bidirectional
+      joinable,              // lens
+      propagation,           // propagation
+      scattering,            // scattering
+      caustic,               // caustic
+      !joinable,             // multi-chain: x_(c+1) specular, or E S* L
+      joinable || c >= n - 2,  // lens subpath: x_(c+1) joinable, or a short path replaced whole
+  };
+  for (int t = 0; t < kWeightedMutations; ++t) w[t] = applies[t] ? mutations_.weights[t] : 0.0f;
+}
+
 Proposal PathSpace::mutate(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y,
                            ImageStrata *strata) const {
-  // Fixed probabilities (never the state's): a mutation that cannot apply to x (a
-  // perturbation of a path without medium vertices) proposes nothing, and the chain stays.
+  // The small steps' types by weight among those that can apply to x (mutation_weights:
+  // from x's vertex kinds alone), so a path that only two perturbations can move (a volume
+  // caustic, E M S S L) spends no steps on the five that would propose nothing. The
+  // choice's probability then depends on the state: the ratio takes P(type | y) /
+  // P(type | x) (0 where the type cannot apply to y: the move could not be undone).
   // Every mutation but the large step keeps x's shutter time (path_space.h).
   y.time = x.time;
   shutter::SampleTime at(x.time);
   if (rng.next_float() < large_step_probability_) return bidirectional(x, true, rng, stats, y);
-  const float *w = mutations_.weights;
+  float w[kWeightedMutations];
+  mutation_weights(x, w);
   float total = 0;
   for (int k = 0; k < kWeightedMutations; ++k) total += w[k];
   float u = rng.next_float() * total;
+  if (!(total > 0)) return Proposal{};  // no weighted type applies: nothing to propose
   int pick = 0;  // the last mutation with a weight takes what rounding leaves over
   for (int k = 0; k < kWeightedMutations; ++k) {
     if (!(w[k] > 0)) continue;
@@ -1029,10 +1064,23 @@ Proposal PathSpace::mutate(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, E
     if (u < w[k]) break;
     u -= w[k];
   }
-  switch (MutationType(pick + 1)) {
+  Proposal proposal = small_step(MutationType(pick + 1), x, rng, stats, y, strata);
+  if (proposal.ratio > 0) {
+    float wy[kWeightedMutations];
+    mutation_weights(y, wy);
+    float total_y = 0;
+    for (int k = 0; k < kWeightedMutations; ++k) total_y += wy[k];
+    proposal.ratio *= (double(wy[pick]) / double(total_y)) / (double(w[pick]) / double(total));
+  }
+  return proposal;
+}
+
+Proposal PathSpace::small_step(MutationType type, const ExplicitPath &x, Pcg32 &rng, RayStats &stats,
+                               ExplicitPath &y, ImageStrata *strata) const {
+  switch (type) {
     case MutationType::Lens: return perturb_lens(x, rng, stats, y);
     case MutationType::Propagation:
-    case MutationType::Scattering: return perturb_medium_vertex(x, MutationType(pick + 1), rng, stats, y);
+    case MutationType::Scattering: return perturb_medium_vertex(x, type, rng, stats, y);
     case MutationType::Caustic: return perturb_caustic(x, rng, stats, y);
     case MutationType::MultiChain: return perturb_multi_chain(x, rng, stats, y);
     case MutationType::LensSubpath: {
@@ -1079,10 +1127,10 @@ Proposal PathSpace::bidirectional(const ExplicitPath &x, bool large, Pcg32 &rng,
   // How many vertices to add, then how many of them from the camera side.
   int na;
   if (proposal.type == MutationType::Large) {
-    na = 2 + std::min(int(rng.next_float() * float(max_vertices_ - 1)), max_vertices_ - 2);
+    na = random_path_length(rng);
   } else {
     int lo, hi;
-    addition_range(nv, l, m, max_vertices_, lo, hi);
+    addition_range(nv, l, m, min_vertices_, max_vertices_, lo, hi);
     double z = 0;
     for (int k = lo; k <= hi; ++k) z += addition_weight(k, nd);
     if (!(z > 0)) return proposal;  // only the unchanged path: nothing to propose

@@ -35,6 +35,7 @@
 // vertices: f is 0 for a path outside them (integrators/light_path_limits.h), every vertex
 // classified as the path tracer classifies it, so every mutation sees the same f.
 #pragma once
+#include <algorithm>
 #include <string>
 #include <vector>
 #include "core/hash.h"
@@ -111,6 +112,11 @@ struct MutationSettings {
   // medium vertex its distance from the vertex before it); else each medium vertex's distance
   // is a new free flight, as the walks draw it.
   float keep_distances = 0.5f;
+  // The fewest vertices of a chain's path: 2 (every path), or 4 where the paths of one and
+  // two edges (a light seen, direct lighting) are left to the path tracer, as Veach left
+  // direct lighting to standard methods (Metropolis: MltSettings::direct_samples). Shorter
+  // paths have f = 0, and large steps and bidirectional mutations make none.
+  int min_vertices = 2;
 };
 
 // One proposal: the path it made, and T(y -> x) / T(x -> y) (0: no path).
@@ -135,13 +141,14 @@ class PathSpace {
   // f, the image position and both densities of every vertex of y (y.n and the vertices set).
   void evaluate(ExplicitPath &y, RayStats &stats) const;
   // A path with every vertex sampled afresh (a large step); returns its density q(y)
-  // (0: no path). The path length is uniform over 2 .. max_vertices vertices.
+  // (0: no path). The path length is uniform over min_vertices .. max_vertices vertices.
   double sample_independent(Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
   // q(y) of a path whose densities are evaluated.
   double independent_density(const ExplicitPath &y) const;
-  // One mutation of x (evaluated) into y, its type chosen by the settings' weights (large
-  // steps by their own probability); y is written, x never. strata: the chain's sequence of
-  // image positions for the lens subpath mutation (none: a position uniform on the region).
+  // One mutation of x (evaluated) into y, its type chosen by the settings' weights among the
+  // types that can apply to x (large steps by their own probability); y is written, x never.
+  // strata: the chain's sequence of image positions for the lens subpath mutation (none: a
+  // position uniform on the region).
   Proposal mutate(const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y,
                   ImageStrata *strata = nullptr) const;
   // Veach's bidirectional mutation (large: the whole path).
@@ -305,12 +312,23 @@ class PathSpace {
   Color emitted(const ExplicitVertex &light, Vec3 w, uint32_t ray_kind) const;
   double light_position_density(const ExplicitVertex &light) const;
 
+  // The settings' weight of each small step's type (MutationSettings::weights order), 0 for
+  // the types that cannot apply to x's vertex kinds (they would propose nothing).
+  void mutation_weights(const ExplicitPath &x, float w[kWeightedMutations]) const;
+  // The small step of that type (not the large step).
+  Proposal small_step(MutationType type, const ExplicitPath &x, Pcg32 &rng, RayStats &stats, ExplicitPath &y,
+                      ImageStrata *strata) const;
   // A large step's shutter time: uniform over the shutter (density 1) in scenes that move;
   // none drawn in static ones (their paths trace as before, bit for bit).
   float shutter_time(Pcg32 &rng) const { return motion_ ? rng.next_float() : 0.5f; }
+  // A large step's vertex count: uniform over min_vertices_ .. max_vertices_.
+  int path_lengths() const { return max_vertices_ - min_vertices_ + 1; }
+  int random_path_length(Pcg32 &rng) const {
+    return min_vertices_ + std::min(int(rng.next_float() * float(path_lengths())), path_lengths() - 1);
+  }
 
   const Scene &scene_;
-  int max_vertices_;
+  int max_vertices_, min_vertices_;
   Vec2 sample_origin_, sample_size_;
   float image_area_, region_area_;
   float large_step_probability_;
