@@ -1024,6 +1024,12 @@ void PathSpace::mutation_weights(const ExplicitPath &x, float w[kWeightedMutatio
     propagation = true;
     scattering = scattering || !delta(j + 1);
   }
+  // Multi-chain perturbation: x_(c+1) specular, or E S* L. Where every vertex after x_c is
+  // specular up to the light, its last chain must hit the light: never one the camera side
+  // cannot reach (a point or spot lamp, a sun without an angle: fwd = 0 there).
+  bool chain_to_light = true;
+  for (int i = c + 1; i < n - 1; ++i) chain_to_light = chain_to_light && delta(i);
+  const bool multi_chain = !joinable && (!chain_to_light || x.fwd[size_t(n - 1)] > 0);
   // Caustic perturbation: E D S+ (D|L) ...
   int k = 2;
   while (k < n - 1 && delta(k)) ++k;
@@ -1034,7 +1040,7 @@ void PathSpace::mutation_weights(const ExplicitPath &x, float w[kWeightedMutatio
       propagation,           // propagation
       scattering,            // scattering
       caustic,               // caustic
-      !joinable,             // multi-chain: x_(c+1) specular, or E S* L
+      multi_chain,           // multi-chain
       joinable || c >= n - 2,  // lens subpath: x_(c+1) joinable, or a short path replaced whole
   };
   for (int t = 0; t < kWeightedMutations; ++t) w[t] = applies[t] ? mutations_.weights[t] : 0.0f;
