@@ -102,7 +102,7 @@ class RendezvousRenderSettings(bpy.types.PropertyGroup):
         name="Target", default="RELATIVE",
         items=[("RELATIVE", "Even Error", "Mutations spread by relative error: regions brighter than the image's "
                 "mean get no more than their share (a short pilot of independent samples maps them)"),
-               ("LUMINANCE", "Brightness", "Mutations in proportion to brightness (Kelemen's and Hachisuka's "
+               ("LUMINANCE", "Brightness", "Mutations in proportion to brightness (Kelemen's, Hachisuka's and Veach's "
                 "target): a small bright region takes most of them")],
         description="Metropolis: where the chains spend their mutations: Even Error suits images with small bright regions, Brightness spends nothing on the pilot")
     samples: IntProperty(name="Samples", default=128, min=1, soft_max=4096,
