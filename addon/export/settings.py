@@ -31,15 +31,20 @@ def auto_choice_text(stats):
 
 def metropolis_settings(props):
     """The Metropolis integrators' settings of scene.rendezvous (final render and viewport)."""
-    return {"mlt_large_step": float(props.mlt_large_step), "mlt_bootstrap": int(props.mlt_bootstrap),
-            "mlt_chains": int(props.mlt_chains), "mlt_step_size": float(props.mlt_step_size),
-            "mlt_target": props.mlt_target.lower(),
-            # Path space (mlt) only: its mutations' weights (the other integrators ignore them).
-            "mlt_mutations": {name: float(getattr(props, "mlt_mutation_" + name, 1.0))
-                              for name in ("bidirectional", "lens", "propagation", "scattering", "caustic",
-                                           "multi_chain", "lens_subpath")},
-            "mlt_keep_distances": float(getattr(props, "mlt_keep_distances", 0.5)),
-            "mlt_direct_samples": int(getattr(props, "mlt_direct_samples", 0))}
+    s = {"mlt_large_step": float(props.mlt_large_step), "mlt_bootstrap": int(props.mlt_bootstrap),
+         "mlt_chains": int(props.mlt_chains), "mlt_step_size": float(props.mlt_step_size),
+         # Path space (mlt) only: its mutations' weights (the other integrators ignore them).
+         "mlt_mutations": {name: float(getattr(props, "mlt_mutation_" + name, 1.0))
+                           for name in ("bidirectional", "lens", "propagation", "scattering", "caustic",
+                                        "multi_chain", "lens_subpath")},
+         "mlt_keep_distances": float(getattr(props, "mlt_keep_distances", 0.5)),
+         "mlt_direct_samples": int(getattr(props, "mlt_direct_samples", 0))}
+    target = getattr(props, "mlt_target", "DEFAULT")
+    if target != "DEFAULT":  # else each integrator's own (the engine's default)
+        s["mlt_target"] = target.lower()
+    return s
+
+
 MIS = {"POWER": "power", "BALANCE": "balance", "LAFORTUNE_WILLEMS": "lafortune_willems"}
 DEFAULT_SAMPLES = 128
 

@@ -99,8 +99,10 @@ class RendezvousRenderSettings(bpy.types.PropertyGroup):
                     "seen directly or lighting a surface or volume at one bounce), which the chains then leave "
                     "out (Veach): the chains spend every mutation on indirect light. 0: the chains take all light")
     mlt_target: EnumProperty(
-        name="Target", default="RELATIVE",
-        items=[("RELATIVE", "Even Error", "Mutations spread by relative error: regions brighter than the image's "
+        name="Target", default="DEFAULT",
+        items=[("DEFAULT", "Automatic", "Even Error for Metropolis (Kelemen) and (Multiplexed), Brightness for "
+                "Metropolis (Path Space), whose chains spread wider between renders with Even Error"),
+               ("RELATIVE", "Even Error", "Mutations spread by relative error: regions brighter than the image's "
                 "mean get no more than their share (a short pilot of independent samples maps them)"),
                ("LUMINANCE", "Brightness", "Mutations in proportion to brightness (Kelemen's, Hachisuka's and Veach's "
                 "target): a small bright region takes most of them")],

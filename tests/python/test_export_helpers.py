@@ -189,6 +189,10 @@ class TestCameraSettings(unittest.TestCase):
         self.assertEqual(s["mlt_mutations"]["propagation"], 3.0)
         self.assertAlmostEqual(s["mlt_keep_distances"], 0.8)
         self.assertEqual(s["mlt_direct_samples"], 0)
+        # Target "Automatic": none sent, each integrator's own (relative; mlt luminance).
+        s = session_settings(scene, self.props(integrator="MLT", mlt_large_step=0.2, mlt_bootstrap=1, mlt_chains=128,
+                                               mlt_step_size=0.01, mlt_target="DEFAULT"))
+        self.assertNotIn("mlt_target", s)
         s = session_settings(scene, self.props(samples=0, time_limit=0.0))
         self.assertNotIn("mis", s)  # path tracing has no strategies to weight
         self.assertNotIn("mlt_chains", s)

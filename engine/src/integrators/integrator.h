@@ -87,7 +87,9 @@ struct RenderSettings {
   uint32_t mlt_chains = 256;
   float mlt_step_size = 0.01f;
   // What the chains follow: "luminance" or "relative" (luminance over a pilot's coarse image).
-  std::string mlt_target = "relative";
+  // "" (not given): each integrator's own, relative for pssmlt and mmlt, luminance for mlt
+  // (Veach's: the relative target's runs spread wider there, docs/mlt.md).
+  std::string mlt_target;
   // mlt (path space): weights of the mutations that are not large steps (bidirectional,
   // lens, propagation, scattering perturbation; Pauly et al. 2000; caustic and multi-chain
   // perturbations, lens subpath mutation, Veach 1997), the propagation distance range

@@ -55,7 +55,7 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
     m.bootstrap_per_pixel = settings.mlt_bootstrap;
     m.chains = settings.mlt_chains;
     m.step_size = settings.mlt_step_size;
-    m.relative_target = settings.mlt_target == "relative";
+    m.relative_target = settings.mlt_target != "luminance";
     return std::make_unique<mlt::Metropolis>(scene, settings, bdpt_settings(settings, scene), m);
   }
   if (settings.integrator == "mlt") {
@@ -199,7 +199,7 @@ RenderSettings RenderSettings::from_params(Params &p) {
   s.mlt_step_size = p.get_float("mlt_step_size", s.mlt_step_size);
   if (!(s.mlt_step_size > 0 && s.mlt_step_size <= 1)) fail(p.what() + ": 'mlt_step_size' must be in (0, 1]");
   s.mlt_target = p.get_string("mlt_target", s.mlt_target);
-  if (s.mlt_target != "luminance" && s.mlt_target != "relative")
+  if (p.has("mlt_target") && s.mlt_target != "luminance" && s.mlt_target != "relative")
     fail(p.what() + ": 'mlt_target' must be luminance or relative, got '" + s.mlt_target + "'");
   if (const nlohmann::json *mutations = p.get_json("mlt_mutations")) {
     constexpr int kNames = mlt::kWeightedMutations;
@@ -352,7 +352,7 @@ std::string RenderSettings::image_settings_json() const {
     j["mlt_bootstrap"] = mlt_bootstrap;
     j["mlt_chains"] = mlt_chains;
     j["mlt_step_size"] = mlt_step_size;
-    j["mlt_target"] = mlt_target;
+    j["mlt_target"] = !mlt_target.empty() ? mlt_target : integrator == "mlt" ? "luminance" : "relative";
     if (integrator == "mlt") {
       nlohmann::json weights = nlohmann::json::object();
       for (int i = 0; i < mlt::kWeightedMutations; ++i)
