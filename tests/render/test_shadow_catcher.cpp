@@ -10,8 +10,8 @@
 //   and exactly 0 in the umbra; the matte there is transparent black, and Combined holds
 //   the shadow as alpha (film transparent) or over the world (film opaque);
 // - a scene whose catcher is off renders bit-identically with catcher support, and the
-//   Metropolis integrators render a catcher as an ordinary object (bit-identical to the flag
-//   off) and say so.
+//   multiplexed and path-space Metropolis integrators (mmlt, mlt) render a catcher as an
+//   ordinary object (bit-identical to the flag off) and say so.
 // These checks are deterministic (fixed seeds, same paths): no false alarms.
 //
 // BDPT (integrators/bdpt/shadow_catcher.cpp): its copy draws the sample's random numbers
@@ -20,6 +20,8 @@
 // the umbra; against the path tracer (other strategies) its images agree within noise: K
 // seeded renders of each, Welch's t-test on every 8x8 block (1% false alarms over those
 // tests, Sidak-corrected per block; fixed seeds, so each verdict is reproducible).
+// pssmlt (integrators/mlt/contribution.cpp): BDPT's samples as its states, copies and all:
+// its passes against BDPT's the same way (the same 1% over both sets of block tests).
 #include <gtest/gtest.h>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -198,7 +200,7 @@ TEST(ShadowCatcher, OpaqueFilmShowsTheWorldBehindTheCatcherDarkenedByTheShadow) 
 }
 
 TEST(ShadowCatcher, MetropolisRendersItAsAnOrdinaryObjectAndSaysSo) {
-  for (const char *integrator : {"pssmlt"}) {
+  for (const char *integrator : {"mmlt", "mlt"}) {
     const json settings = {{"integrator", integrator}, {"samples", 4}, {"mlt_chains", 64}, {"mlt_bootstrap", 4}};
     Image caught = render_json(catcher_scene(true, true, kAreaLamp).dump(), settings.dump());
     Image plain = render_json(catcher_scene(false, true, kAreaLamp).dump(), settings.dump());
@@ -209,16 +211,18 @@ TEST(ShadowCatcher, MetropolisRendersItAsAnOrdinaryObjectAndSaysSo) {
   }
 }
 
-// Integrator auto renders a scene with a shadow catcher with the path tracer or BDPT when
-// they are among its candidates (the Metropolis integrators would render the catcher as an
-// ordinary object), and says so; the pass shows the ball's shadow (below 1 under it).
+// Integrator auto renders a scene with a shadow catcher with the path tracer, BDPT or pssmlt
+// when they are among its candidates (mmlt would render the catcher as an ordinary object),
+// and says so; the pass shows the ball's shadow (below 1 under it).
 TEST(ShadowCatcher, AutoPicksAnIntegratorThatRendersIt) {
   const json settings = {{"integrator", "auto"}, {"time_limit", 1.0}, {"samples", 8}, {"shadow_catcher_pass", true}};
   Image img = render_json(catcher_scene(true, true, kAreaLamp).dump(), settings.dump());
-  EXPECT_NE(img.warnings.find("integrator auto renders with path or bdpt"), std::string::npos) << img.warnings;
+  EXPECT_NE(img.warnings.find("integrator auto renders with path or bdpt or pssmlt"), std::string::npos)
+      << img.warnings;
   const json stats = json::parse(img.stats);
-  EXPECT_TRUE(stats["auto"]["integrator"] == "path" || stats["auto"]["integrator"] == "bdpt") << img.stats;
-  EXPECT_EQ(stats["auto"]["pilots"].size(), 2u) << img.stats;
+  const std::string chosen = stats["auto"]["integrator"];
+  EXPECT_TRUE(chosen == "path" || chosen == "bdpt" || chosen == "pssmlt") << img.stats;
+  EXPECT_EQ(stats["auto"]["pilots"].size(), 3u) << img.stats;
   float darkest = 1;
   for (float f : img.shadow_catcher) darkest = std::min(darkest, f);
   EXPECT_LT(darkest, 0.5f) << "no shadow in the Shadow Catcher pass";
@@ -242,9 +246,9 @@ TEST(ShadowCatcher, SceneSettingIsCheckedAndResetable) {
 namespace {
 
 constexpr int kRuns = 8;
-// Block tests in the BDPT tests below: the pass, the matte, Combined and the matte's alpha
-// against the path tracer, 25 blocks each.
-constexpr int kBlockTests = 4 * 25;
+// Block tests in the BDPT and pssmlt tests below: the pass, the matte, Combined and the
+// matte's alpha against the path tracer (BDPT) and against BDPT (pssmlt), 25 blocks each.
+constexpr int kBlockTests = 2 * 4 * 25;
 const double kAlphaPerBlock = 1.0 - std::pow(1.0 - 0.01, 1.0 / kBlockTests);
 
 // What the BDPT tests compare, per run: RGB summed per pixel (alpha alone for matte_alpha),
@@ -298,10 +302,10 @@ std::vector<uint8_t> both(const std::vector<uint8_t> &a, const std::vector<uint8
   return m;
 }
 
-// Every 8x8 block of `bdpt` against `ref` (Welch); with `tolerance`, a block whose means
-// differ by less than that (relative) passes too.
+// Every 8x8 block of `bdpt` (the integrator under test) against `ref` (Welch); with
+// `tolerance`, a block whose means differ by less than that (relative) passes too.
 void expect_same_blocks(const std::vector<std::vector<double>> &bdpt, const std::vector<std::vector<double>> &ref,
-                        const std::string &what, double tolerance = 0) {
+                        const std::string &what, double tolerance = 0, const char *integrator = "bdpt") {
   BlockComparison c = compare_blocks(bdpt, ref, kSize, kSize, 8, kAlphaPerBlock);
   int beyond = c.failed;
   if (tolerance > 0 && c.failed > 0) {
@@ -323,7 +327,7 @@ void expect_same_blocks(const std::vector<std::vector<double>> &bdpt, const std:
       }
   }
   EXPECT_EQ(beyond, 0) << what << ": " << c.detail;
-  std::printf("[ shadow catcher ] bdpt %-34s %s%s\n", what.c_str(), c.detail.substr(0, 110).c_str(),
+  std::printf("[ shadow catcher ] %s %-34s %s%s\n", integrator, what.c_str(), c.detail.substr(0, 110).c_str(),
               beyond < c.failed ? " (within the tolerance)" : "");
 }
 
@@ -336,10 +340,17 @@ void expect_same_blocks(const std::vector<std::vector<double>> &bdpt, const std:
 // clamped average of the pass, nearly the same in every run: its blocks differ between the
 // integrators by their ratios' clamped noise, 1e-4 relative, far beyond the runs' spread;
 // they pass within 0.5%.
+// BDPT's runs of the ball under the area lamp (the pssmlt test compares with them too).
+const CatcherRuns &bdpt_runs() {
+  static const CatcherRuns runs =
+      catcher_runs(catcher_scene(true, true, kAreaLamp), {{"integrator", "bdpt"}, {"samples", 32}}, 1001);
+  return runs;
+}
+
 TEST(ShadowCatcher, BdptMatchesThePathTracer) {
   const json scene = catcher_scene(true, true, kAreaLamp);
   const CatcherRuns pt = catcher_runs(scene, {{"integrator", "path"}, {"samples", 64}}, 1);
-  const CatcherRuns bd = catcher_runs(scene, {{"integrator", "bdpt"}, {"samples", 32}}, 1001);
+  const CatcherRuns &bd = bdpt_runs();
   const std::vector<uint8_t> floor = both(pt.floor, bd.floor);
   expect_same_blocks(masked(bd.pass, floor), masked(pt.pass, floor), "Shadow Catcher pass (floor)");
   expect_same_blocks(bd.matte, pt.matte, "matte colour");
@@ -387,22 +398,22 @@ TEST(ShadowCatcher, BdptPassIsTheLitRatio) {
   expect_bdpt_lit_ratio(lamp, false);
 }
 
-// Under a sun and a black world, with a black ball: BDPT's copy has the sample's strategies
-// and random numbers, so where the path tracer's pass is exactly 1 (lit floor, 5x5
-// neighbourhood lit: no splat from the umbra reaches) BDPT's is 1 up to rounding (its
-// light tracing adds to Combined and the pass the same splats in another order), and in
-// the path tracer's umbra it is exactly 0 where no splat of the lit floor reaches (13 of 57
-// pixels over the 4 seeds; the others at most 0.023); the matte of the floor is black.
-// Deterministic: one seed per run, no false alarms.
-TEST(ShadowCatcher, BdptSunLitFloorIsOneAndUmbraZero) {
-  const json black = {{"color", {0, 0, 0}}};
+// Under a sun and a black world, with a black ball, 4 seeds: the Shadow Catcher pass of
+// `settings`' integrator where the path tracer's is exactly 1 (lit floor, 5x5 neighbourhood
+// lit: no splat from the umbra reaches) must be 1 within 1e-4, and the matte of the floor
+// black; counts that and, in the path tracer's umbra, the pixels exactly 0.
+struct SunCounts {
   int lit = 0, umbra = 0, umbra_zero = 0;
   double worst_lit = 0, worst_umbra = 0;
+};
+SunCounts expect_sun_lit_floor_one(const json &settings) {
+  const json black = {{"color", {0, 0, 0}}};
+  SunCounts n;
   for (int k = 0; k < 4; ++k) {
     const json scene = catcher_scene(true, true, kSun, black, {{"samples", 16}, {"seed", 10 + k}}, {0, 0, 0});
     const Image pt = render_json(scene.dump(), R"({"shadow_catcher_pass": true})");
-    const Image img = render_json(scene.dump(), R"({"integrator": "bdpt", "shadow_catcher_pass": true})");
-    ASSERT_TRUE(img.all_finite());
+    const Image img = render_json(scene.dump(), settings.dump());
+    EXPECT_TRUE(img.all_finite());
     auto all_around = [&](int x, int y, int r, float value) {
       if (x < r || y < r || x >= kSize - r || y >= kSize - r) return false;
       for (int dy = -r; dy <= r; ++dy)
@@ -417,20 +428,62 @@ TEST(ShadowCatcher, BdptSunLitFloorIsOneAndUmbraZero) {
         for (int c = 0; c < 3; ++c) EXPECT_EQ(px(img.shadow_catcher_matte, 4, x, y)[c], 0.0f);
         const float *f = px(img.shadow_catcher, 3, x, y);
         if (all_around(x, y, 2, 1.0f)) {
-          ++lit;
+          ++n.lit;
           for (int c = 0; c < 3; ++c) {
-            worst_lit = std::max(worst_lit, double(std::fabs(f[c] - 1.0f)));
+            n.worst_lit = std::max(n.worst_lit, double(std::fabs(f[c] - 1.0f)));
             EXPECT_NEAR(f[c], 1.0f, 1e-4f) << "lit floor " << x << "," << y << " run " << k;
           }
         } else if (all_around(x, y, 0, 0.0f)) {
-          ++umbra;
-          umbra_zero += f[0] == 0.0f && f[1] == 0.0f && f[2] == 0.0f;
-          worst_umbra = std::max(worst_umbra, double(f[0]));
+          ++n.umbra;
+          n.umbra_zero += f[0] == 0.0f && f[1] == 0.0f && f[2] == 0.0f;
+          n.worst_umbra = std::max(n.worst_umbra, double(f[0]));
         }
       }
   }
-  std::printf("[ shadow catcher ] bdpt sun: lit floor pixels %d (worst |pass - 1| %.2g); umbra pixels %d, %d exactly 0 "
-              "(largest %.3g)\n", lit, worst_lit, umbra, umbra_zero, worst_umbra);
-  EXPECT_GT(lit, 100 * 4);
-  EXPECT_GT(umbra_zero, 4);
+  std::printf("[ shadow catcher ] %s sun: lit floor pixels %d (worst |pass - 1| %.2g); umbra pixels %d, %d exactly 0 "
+              "(largest %.3g)\n", settings["integrator"].get<std::string>().c_str(), n.lit, n.worst_lit, n.umbra,
+              n.umbra_zero, n.worst_umbra);
+  EXPECT_GT(n.lit, 100 * 4);
+  return n;
+}
+
+// BDPT's copy has the sample's strategies and random numbers, so where the path tracer's
+// pass is exactly 1 BDPT's is 1 up to rounding (its light tracing adds to Combined and the
+// pass the same splats in another order), and in the path tracer's umbra it is exactly 0
+// where no splat of the lit floor reaches (13 of 57 pixels over the 4 seeds; the others at
+// most 0.023). Deterministic: one seed per run, no false alarms.
+TEST(ShadowCatcher, BdptSunLitFloorIsOneAndUmbraZero) {
+  const SunCounts n = expect_sun_lit_floor_one({{"integrator", "bdpt"}, {"shadow_catcher_pass", true}});
+  EXPECT_GT(n.umbra_zero, 4);
+}
+
+// ---- pssmlt ----
+// pssmlt's states are BDPT samples with their catcher copies (integrators/mlt/
+// contribution.cpp): its chains target Combined's and the catcher pass's luminance, so its
+// Shadow Catcher pass, matte (colour, and the alpha of its first-hit rays) and the opaque
+// film's Combined agree with BDPT's block by block (the same false-alarm rate as above; K
+// seeded runs each, every run its own bootstrap). The floor's pass and Combined with the
+// same floor mask and 0.5% tolerance as BDPT's against the path tracer's.
+TEST(ShadowCatcher, PssmltMatchesBdpt) {
+  const json scene = catcher_scene(true, true, kAreaLamp);
+  const CatcherRuns &bd = bdpt_runs();
+  const CatcherRuns mlt = catcher_runs(
+      scene, {{"integrator", "pssmlt"}, {"samples", 32}, {"mlt_chains", 64}, {"mlt_bootstrap", 4}}, 2001);
+  const std::vector<uint8_t> floor = both(mlt.floor, bd.floor);
+  expect_same_blocks(masked(mlt.pass, floor), masked(bd.pass, floor), "Shadow Catcher pass (floor)", 0, "pssmlt");
+  expect_same_blocks(mlt.matte, bd.matte, "matte colour", 0, "pssmlt");
+  expect_same_blocks(mlt.matte_alpha, bd.matte_alpha, "matte alpha", 0, "pssmlt");
+  expect_same_blocks(masked(mlt.combined, floor), masked(bd.combined, floor), "Combined, opaque film (floor)", 5e-3,
+                     "pssmlt");
+}
+
+// pssmlt's state splats its Combined, matte and catcher pass with one weight, so where every
+// state's copy equals its Combined past the split (the lit floor: BDPT's sun test) the pass
+// is 1 up to rounding, whatever the chains visited (measured: 0 off), and in the umbra 0
+// where no splat of the lit floor reaches (10 of 57 pixels; the others at most 0.076).
+// Deterministic, no false alarms.
+TEST(ShadowCatcher, PssmltSunLitFloorIsOneAndUmbraZero) {
+  const SunCounts n = expect_sun_lit_floor_one(
+      {{"integrator", "pssmlt"}, {"shadow_catcher_pass", true}, {"mlt_chains", 64}, {"mlt_bootstrap", 4}});
+  EXPECT_GT(n.umbra_zero, 4);
 }

@@ -140,6 +140,11 @@ class Bdpt final : public TileIntegrator {
   // A scattering vertex's split by kind between the directions toward the camera and the
   // light (delta: it scatters by a delta lobe; surfaces by their lobes' shares of f).
   static KindSplit split_at(const PathVertex &v, Vec3 toward_camera, Vec3 toward_light, bool delta);
+  // Shadow catchers (shadow_catcher.cpp): the camera side of a sample's catcher values from
+  // its camera subpath of n vertices: whether it split, the matte's transparency and the
+  // world behind the catcher (film/shadow_catcher_passes.h); BDPT's samples and the
+  // Metropolis integrators' first-hit rays (their see-through chain is all it reads).
+  void camera_catcher_values(const PathVertex *camera_path, int n, CatcherSample &catcher) const;
 
  private:
   // One camera sample; kCatcher: in a scene with a shadow catcher whose sums the film keeps
@@ -155,6 +160,8 @@ class Bdpt final : public TileIntegrator {
   // catcher pass of its camera subpath traced again (returned); the world seen along dir by
   // a ray of the kinds in mask (Cycles' background pass).
   int split_vertex(const PathVertex *camera_path, int n) const;
+  // camera_catcher_values with the split known (split_vertex's).
+  void camera_catcher_values(const PathVertex *camera_path, int n, int split, CatcherSample &catcher) const;
   template <bool kMedia>
   Color catcher_pass(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, int split,
                      PathVertex *camera_path, PathVertex *light_path, Color *emitted, size_t capacity,

@@ -44,6 +44,28 @@ int Bdpt::split_vertex(const PathVertex *camera_path, int n) const {
   return -1;
 }
 
+void Bdpt::camera_catcher_values(const PathVertex *camera_path, int n, int split, CatcherSample &catcher) const {
+  // At the split the throughput joins the matte's transparency (the catcher is a hole in it).
+  catcher.split = split >= 0;
+  catcher.matte_transparency =
+      split >= 0 ? transparency(camera_path, split) + average(camera_path[split].beta) : transparency(camera_path, n);
+  // Cycles' background pass, with an opaque film: the world behind the catcher along the
+  // ray that met it, or the world the camera sees through to.
+  if (!settings_.alpha.film_transparent) {
+    if (split >= 0) {
+      const PathVertex &v = camera_path[split];
+      catcher.background = v.beta * background_along(-v.wo, camera_path[split - 1].out_mask);
+    } else if (n >= 2 && camera_path[n - 1].infinite && camera_path[n - 1].see_through) {
+      const PathVertex &v = camera_path[n - 1];
+      catcher.background = v.beta * background_along(v.dir, camera_path[n - 2].out_mask);
+    }
+  }
+}
+
+void Bdpt::camera_catcher_values(const PathVertex *camera_path, int n, CatcherSample &catcher) const {
+  camera_catcher_values(camera_path, n, split_vertex(camera_path, n), catcher);
+}
+
 Color Bdpt::background_along(Vec3 dir, uint32_t mask) const {
   Color L(0.0f);
   for (uint32_t li : scene_.infinite_lights()) {

@@ -21,9 +21,11 @@ CameraRay Metropolis::camera_sample(Sampler &sampler, Vec2 *raster) const {
 float Metropolis::target_of(const std::vector<Splat> &splats) const {
   double sum = 0;
   if (importance_.empty()) {
-    for (const Splat &sp : splats) sum += luminance(sp.L);
+    for (const Splat &sp : splats)
+      if (sp.catcher != CatcherSplat::Matte) sum += luminance(sp.L);
   } else {
-    for (const Splat &sp : splats) sum += double(luminance(sp.L)) * importance_.weight(sp.raster);
+    for (const Splat &sp : splats)
+      if (sp.catcher != CatcherSplat::Matte) sum += double(luminance(sp.L)) * importance_.weight(sp.raster);
   }
   return float(sum);
 }
@@ -42,9 +44,13 @@ void Metropolis::evaluate_kelemen(PssSampler &sampler, RayStats &stats, State &s
     passes.clear();
     first_hit.passes = &passes;
   }
-  Color L = bdpt_.Li(cr, sampler, stats, light_passes_ ? &first_hit : nullptr, state.splats);
+  // Shadow catchers: BDPT's sample makes its matte and its copy's catcher pass too, and
+  // tags its light-tracing splats (CatcherSplat).
+  CatcherSample catcher;
+  if (catchers_) first_hit.catcher = &catcher;
+  Color L = bdpt_.Li(cr, sampler, stats, light_passes_ || catchers_ ? &first_hit : nullptr, state.splats);
   // Never NaN / Inf or a negative value into the film or the acceptance ratio.
-  const bool valid = is_finite(L) && L.x >= 0 && L.y >= 0 && L.z >= 0;
+  const bool valid = is_finite(L) && L.x >= 0 && L.y >= 0 && L.z >= 0 && (!catchers_ || catcher.valid());
   // The sample clamp caps the camera sample as BDPT's tile loop does (its light-tracing
   // splats are not capped there either): the chains then target BDPT's clamped image.
   const float clamp = settings_.clamp;
@@ -52,10 +58,19 @@ void Metropolis::evaluate_kelemen(PssSampler &sampler, RayStats &stats, State &s
     const float scale = clamp / max_component(L);
     L *= scale;
     if (light_passes_) passes.scale(scale);
+    catcher.matte *= scale;  // a part of L: scaled with it
   }
   state.splats[first_light_splat].L = valid ? L * region_area_ : Color(0.0f);
   if (valid && light_passes_) add_shares(state, first_light_splat, passes, region_area_);
   for (size_t i = first_light_splat + 1; i < state.splats.size(); ++i) state.splats[i].L *= image_area_;
+  if (valid && catchers_) {
+    // The camera sample's matte and catcher pass as splats of their own where its Combined
+    // lands (film/shadow_catcher_passes.h; the first-hit pass adds the camera side). The
+    // pass is clamped as a Combined of its own, as BDPT's tile loop does.
+    if (clamp > 0 && max_component(catcher.catcher) > clamp) catcher.catcher *= clamp / max_component(catcher.catcher);
+    state.splats.push_back({raster, catcher.matte * region_area_, Splat::kNoStrategy, {}, CatcherSplat::Matte});
+    state.splats.push_back({raster, catcher.catcher * region_area_, Splat::kNoStrategy, {}, CatcherSplat::Pass});
+  }
 }
 
 template <bool kMedia>
