@@ -113,6 +113,36 @@ Color Bdpt::catcher_pass(const CameraRay &camera_ray, Sampler &sampler, RayStats
   return S;
 }
 
+template <bool kMedia>
+Color Bdpt::catcher_strategy(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, int s, int t, int split,
+                             PathVertex *camera_path, PathVertex *light_path, Color *emitted, size_t capacity,
+                             Vec2 *raster) const {
+  // The copy's light subpath, drawn where the main one's was (the same numbers).
+  auto copy_light_subpath = [&] {
+    return s < 2 || (!camera_side_only_ && light_subpath<kMedia>(sampler, stats, light_path, s, true) == s);
+  };
+  if (t == 1) {  // light tracing from a catcher, every sample (catcher_pass)
+    if (s < 2 || !copy_light_subpath()) return Color(0.0f);
+    return connect<kMedia>(light_path, camera_path, s, 1, sampler, stats, raster, nullptr, nullptr, true);
+  }
+  if (split < 0 || t - 1 < split) return Color(0.0f);  // a strategy of the copy's only from the split on
+  std::fill_n(emitted, capacity, Color(0.0f));
+  const int nc = camera_subpath<kMedia>(camera_ray, sampler, stats, camera_path, emitted, t, nullptr, false, true);
+  if (split_vertex(camera_path, nc) != split) return Color(0.0f);  // (never: its prefix is the main one's)
+  if (s == 0) {
+    Color c = t - 2 >= split ? emitted[t - 2] : Color(0.0f);  // a lamp passed past the split
+    if (nc == t) c += connect<kMedia>(light_path, camera_path, 0, t, sampler, stats, raster, nullptr, nullptr, true);
+    return c;
+  }
+  if (nc != t || !copy_light_subpath()) return Color(0.0f);
+  return connect<kMedia>(light_path, camera_path, s, t, sampler, stats, raster, nullptr, nullptr, true);
+}
+
+template Color Bdpt::catcher_strategy<false>(const CameraRay &, Sampler &, RayStats &, int, int, int, PathVertex *,
+                                             PathVertex *, Color *, size_t, Vec2 *) const;
+template Color Bdpt::catcher_strategy<true>(const CameraRay &, Sampler &, RayStats &, int, int, int, PathVertex *,
+                                            PathVertex *, Color *, size_t, Vec2 *) const;
+
 template Color Bdpt::li<false, true>(const CameraRay &, Sampler &, RayStats &, FirstHit *, std::vector<Splat> &) const;
 template Color Bdpt::li<true, true>(const CameraRay &, Sampler &, RayStats &, FirstHit *, std::vector<Splat> &) const;
 

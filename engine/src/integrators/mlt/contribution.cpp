@@ -119,10 +119,8 @@ void Metropolis::evaluate_multiplexed(PssSampler &sampler, RayStats &stats, Stat
       passes.add(emitted[size_t(t - 2)], pc.scatterings, pc.first);
       if (nc == t) bdpt_.add_light_pass(camera_path.data(), 0, t, pc, hit, passes);
     }
-  } else {
-    if (nc != t) return;
-    // s = 1 samples a light point of its own (next-event estimation): no light subpath.
-    if (s >= 2 && bdpt_.light_subpath<kMedia>(sampler, stats, light_path.data(), s) != s) return;
+  } else if (nc == t &&  // s = 1 samples a light point of its own (next-event estimation): no light subpath
+             (s < 2 || bdpt_.light_subpath<kMedia>(sampler, stats, light_path.data(), s) == s)) {
     c = bdpt_.connect<kMedia>(light_path.data(), camera_path.data(), s, t, sampler, stats, &light_raster, nullptr,
                               light_passes ? &connection_dir : nullptr);
     if (light_passes) {
@@ -131,17 +129,39 @@ void Metropolis::evaluate_multiplexed(PssSampler &sampler, RayStats &stats, Stat
       if (t >= 2) bdpt_.add_light_pass(camera_path.data(), s, t, pc, c, passes);
     }
   }
-  if (!is_finite(c) || is_black(c) || c.x < 0 || c.y < 0 || c.z < 0) return;
   // One strategy of `strategies`, at a depth chosen with probability depth_pmf.
   const float per_strategy = float(strategies) / depth_pmf;
-  c *= per_strategy;
-  if (t == 1) {
-    state.splats.push_back({light_raster, c * image_area_, Splat::kNoStrategy,
-                            {pc.first, light_passes, pc.scatterings > 1}, CatcherSplat::Combined});
-  } else {
-    state.splats.push_back({raster, c * region_area_, Splat::kNoStrategy, {}, CatcherSplat::Combined});
-    if (light_passes) add_shares(state, state.splats.size() - 1, passes, per_strategy * region_area_);
+  // Shadow catchers: the strategy's path sorted by the split as BDPT's sample loop sorts
+  // it (the matte's unless past the split; no light passes past it), then the same
+  // strategy of the sample's copy (the storage is free again), which may carry light where
+  // the main path carries none: the target counts both.
+  const int split = catchers_ ? bdpt_.split_vertex(camera_path.data(), nc) : -1;
+  auto past_split = [split](int vertex) { return split >= 0 && vertex >= split; };
+  const bool caught = catchers_ && (t == 1 ? light_path[size_t(s - 1)].catcher : past_split(t - 1));
+  // s = 0 split at its last vertex: the lamp it passed before is the matte's (a splat of its own).
+  const Color passed_matte = catchers_ && s == 0 && caught && !past_split(t - 2) ? emitted[size_t(t - 2)] : Color(0.0f);
+  const CatcherSplat tag = catchers_ && !caught ? CatcherSplat::CombinedAndMatte : CatcherSplat::Combined;
+  if (is_finite(c) && !is_black(c) && c.x >= 0 && c.y >= 0 && c.z >= 0) {
+    c *= per_strategy;
+    if (t == 1) {
+      state.splats.push_back({light_raster, c * image_area_, Splat::kNoStrategy,
+                              {pc.first, light_passes && !caught, pc.scatterings > 1}, tag});
+    } else {
+      state.splats.push_back({raster, c * region_area_, Splat::kNoStrategy, {}, tag});
+      if (light_passes && !caught) add_shares(state, state.splats.size() - 1, passes, per_strategy * region_area_);
+      if (!is_black(passed_matte))
+        state.splats.push_back({raster, passed_matte * (per_strategy * region_area_), Splat::kNoStrategy, {},
+                                CatcherSplat::Matte});
+    }
   }
+  if (!catchers_) return;
+  Vec2 copy_raster;
+  Color copy = bdpt_.catcher_strategy<kMedia>(cr, sampler, stats, s, t, split, camera_path.data(), light_path.data(),
+                                              emitted.data(), capacity, &copy_raster);
+  if (!is_finite(copy) || is_black(copy) || copy.x < 0 || copy.y < 0 || copy.z < 0) return;
+  copy *= per_strategy;
+  state.splats.push_back({t == 1 ? copy_raster : raster, copy * (t == 1 ? image_area_ : region_area_),
+                          Splat::kNoStrategy, {}, CatcherSplat::Pass});
 }
 
 void Metropolis::evaluate(PssSampler &sampler, RayStats &stats, State &state, int depth_override) const {

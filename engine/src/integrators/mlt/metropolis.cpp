@@ -244,7 +244,7 @@ ImportanceMap Metropolis::pilot(RenderContext &ctx, int depths) {
 
 void Metropolis::render(RenderContext &ctx) {
   // Shadow catchers change the target (target_of): known before the pilot and bootstrap.
-  catchers_ = ctx.film.has_shadow_catcher() && !mlt_.multiplexed && !path_space_;
+  catchers_ = ctx.film.has_shadow_catcher() && !path_space_;
   first_hit_pass(ctx);
   const Rect &region = settings_.border;
   const uint64_t region_pixels = uint64_t(region.width()) * uint64_t(region.height());

@@ -126,8 +126,8 @@ class Metropolis final : public Integrator {
   Distribution1D depth_distribution_;  // multiplexed: path depth by b
   ImportanceMap importance_;  // empty: the luminance target
   bool light_passes_ = false;  // the film keeps Cycles' light passes: states carry their split
-  // pssmlt in a scene with a shadow catcher whose sums the film keeps: states carry the
-  // sample's matte and catcher pass (contribution.cpp), the first-hit pass its camera side.
+  // pssmlt and mmlt in a scene with a shadow catcher whose sums the film keeps: states carry
+  // the matte and catcher pass (contribution.cpp), the first-hit pass their camera side.
   bool catchers_ = false;
   std::unique_ptr<PathSpace> path_space_;  // mlt only
 
