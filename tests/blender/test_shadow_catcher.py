@@ -1,8 +1,8 @@
 """Shadow catcher (Object > Visibility > Shadow Catcher) against Cycles 3.4: build_scenes.
 shadow_catcher (48x48: a floor that is a shadow catcher under a red ball and a green card, a
 point lamp, a blue world seen past the floor's edge), Film > Transparent on. Cycles renders
-it (256 samples unless --samples), then Rendezvous with --integrator (PATH, the default, BDPT,
-PSSMLT or MMLT) in this process (as many samples, or --mutations per pixel; seed 1):
+it, then Rendezvous with --integrator (PATH, the default, BDPT, PSSMLT or MMLT: mutations per
+pixel) in this process (256 samples each unless --samples, seed 1):
 - View Layer > Passes > Shadow Catcher on (`view_layer.cycles.use_pass_shadow_catcher`): the
   Shadow Catcher pass (the floor's light with the objects over its light without them) and
   Combined, which is then the matte (the objects over a transparent floor): colour and alpha;
@@ -18,7 +18,6 @@ the pass is registered with Blender (the compositor's Render Layers node lists i
   naming it.
 
     run_blender.py --script test_shadow_catcher.py -- [--samples N] [--integrator PATH|BDPT|PSSMLT|MMLT]
-        [--mutations N]
 """
 
 import os
@@ -64,8 +63,7 @@ def check_all(a, odir, failures):
                 failures.append("the Shadow Catcher pass is not registered")
         # (File names by integrator: ctest may run the two variants at once.)
         ref = render(scene, "CYCLES", a.samples, os.path.join(odir, "shadow_catcher_%s_cycles_%s.exr" % (tag, name)))
-        test = render(scene, "RENDEZVOUS", a.mutations or a.samples,
-                      os.path.join(odir, "shadow_catcher_%s_%s.exr" % (tag, name)),
+        test = render(scene, "RENDEZVOUS", a.samples, os.path.join(odir, "shadow_catcher_%s_%s.exr" % (tag, name)),
                       a.integrator)
         rc, tc = ref["Combined"], test["Combined"]
         print("SHADOW CATCHER %s %s: Cycles Combined mean %s, Rendezvous %s"
@@ -101,7 +99,6 @@ def check_all(a, odir, failures):
 
 def add_arguments(parser):
     parser.add_argument("--integrator", default="PATH", choices=("PATH", "BDPT", "PSSMLT", "MMLT"))
-    parser.add_argument("--mutations", type=int, default=0, help="Rendezvous' samples if not --samples (MLT)")
 
 
 run_test("SHADOW CATCHER", check_all, samples=256, add_arguments=add_arguments, needs_oiiotool=True)
