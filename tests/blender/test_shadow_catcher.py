@@ -1,8 +1,8 @@
 """Shadow catcher (Object > Visibility > Shadow Catcher) against Cycles 3.4: build_scenes.
 shadow_catcher (48x48: a floor that is a shadow catcher under a red ball and a green card, a
 point lamp, a blue world seen past the floor's edge), Film > Transparent on. Cycles renders
-it, then Rendezvous with --integrator (PATH, the default, or BDPT) in this process (256
-samples each, seed 1):
+it, then Rendezvous with --integrator (PATH, the default, BDPT, PSSMLT or MMLT: mutations per
+pixel) in this process (256 samples each unless --samples, seed 1):
 - View Layer > Passes > Shadow Catcher on (`view_layer.cycles.use_pass_shadow_catcher`): the
   Shadow Catcher pass (the floor's light with the objects over its light without them) and
   Combined, which is then the matte (the objects over a transparent floor): colour and alpha;
@@ -14,9 +14,10 @@ samples each, seed 1):
   shadow, the objects over it: colour (alpha is 1);
 each as test_brightness.compare (means within 2%, 8x8 blocks within 3% or 5 standard errors);
 the pass is registered with Blender (the compositor's Render Layers node lists it);
-- (PATH run) Metropolis (PSSMLT) renders the catcher as an ordinary object and warns naming it.
+- (PATH run) path-space Metropolis (MLT) renders the catcher as an ordinary object and warns
+  naming it.
 
-    run_blender.py --script test_shadow_catcher.py -- [--samples N] [--integrator PATH|BDPT]
+    run_blender.py --script test_shadow_catcher.py -- [--samples N] [--integrator PATH|BDPT|PSSMLT|MMLT]
 """
 
 import os
@@ -81,23 +82,23 @@ def check_all(a, odir, failures):
                                 % rs.max())
             check("%s Shadow Catcher" % tag, rs, ts, failures)
 
-    # Metropolis: the catcher as an ordinary object, and a warning naming it.
+    # Path-space Metropolis: the catcher as an ordinary object, and a warning naming it.
     if a.integrator != "PATH":
         return
     from rendezvous.engine import final
     layer.cycles.use_pass_shadow_catcher = False
     lamp.is_shadow_catcher = True
     scene.render.film_transparent = True
-    q = render(scene, "RENDEZVOUS", 8, os.path.join(odir, "shadow_catcher_pssmlt.exr"), "PSSMLT")
+    q = render(scene, "RENDEZVOUS", 8, os.path.join(odir, "shadow_catcher_mlt.exr"), "MLT")
     warned = [line for line in final.last_render.get("messages", [])
               if "shadow catcher" in line and "Floor" in line]
-    print("PSSMLT: Combined alpha mean %.4f, warning: %s" % (q["Combined"][:, :, 3].mean(), warned))
+    print("MLT: Combined alpha mean %.4f, warning: %s" % (q["Combined"][:, :, 3].mean(), warned))
     if not warned:
-        failures.append("PSSMLT with a shadow catcher did not warn naming the object")
+        failures.append("MLT with a shadow catcher did not warn naming the object")
 
 
 def add_arguments(parser):
-    parser.add_argument("--integrator", default="PATH", choices=("PATH", "BDPT"))
+    parser.add_argument("--integrator", default="PATH", choices=("PATH", "BDPT", "PSSMLT", "MMLT"))
 
 
 run_test("SHADOW CATCHER", check_all, samples=256, add_arguments=add_arguments, needs_oiiotool=True)

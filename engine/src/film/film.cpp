@@ -140,10 +140,13 @@ void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_
   const SplatPixels pixels = splat_pixels(raster, filter, region_, y0, y1);
   if (pixels.empty()) return;
   // BDPT in a scene with a shadow catcher (shadow_catcher_passes.h): a copy's splat is the
-  // catcher pass's alone; the others are Combined's, some the matte's too.
-  if (catcher == CatcherSplat::Pass) {
+  // catcher pass's alone (pssmlt's camera-sample matte the matte's alone); the others are
+  // Combined's, some the matte's too.
+  if (catcher == CatcherSplat::Pass || catcher == CatcherSplat::Matte) {
     if (has_shadow_catcher())
-      splat_footprint(raster, pixels, filter, width_, [&](size_t i, float w) { add_to(catcher_[i].catcher_splats, L * w); });
+      splat_footprint(raster, pixels, filter, width_, [&](size_t i, float w) {
+        add_to(catcher == CatcherSplat::Pass ? catcher_[i].catcher_splats : catcher_[i].matte_splats, L * w);
+      });
     return;
   }
   const bool to_matte = catcher == CatcherSplat::CombinedAndMatte && has_shadow_catcher();

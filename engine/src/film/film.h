@@ -68,7 +68,7 @@ class Film {
   bool writes_data_passes() const { return data_passes_; }
   bool has_denoising_passes() const { return !denoising_.empty(); }
   // Shadow catchers (film/shadow_catcher_passes.h): from now on the film keeps their sums
-  // (the path tracer's and BDPT's samples in a scene with a catcher), and Combined reads as `display`
+  // (the path tracer's, BDPT's, pssmlt's and mmlt's in a scene with a catcher), and Combined reads as `display`
   // says. Call before rendering.
   void keep_shadow_catcher(const CatcherDisplay &display);
   bool has_shadow_catcher() const { return !catcher_.empty(); }

@@ -14,7 +14,9 @@
 //   catcher (Cycles' background pass behind the catcher, for the opaque film);
 // - the number of samples that split;
 // - BDPT: the light-tracing splats of the matte (t = 1 paths that do not reach the camera
-//   straight from a catcher) and of the catcher pass (its copies' light tracing), kept as
+//   straight from a catcher) and of the catcher pass (its copies' light tracing); pssmlt:
+//   all of M and S (its samples are splats; the first-hit pass's rays count n and add
+//   T_C, T_M, B and the splits, integrators/mlt/metropolis.cpp); kept as
 //   raw splat sums like the film's own and read with the frame's splat scale; Combined's
 //   sums are then the film's samples plus its splats (with_splats).
 // The pixels read as Cycles computes them:
@@ -69,9 +71,10 @@ struct CatcherSums {
 };
 
 // Which sums a splat (BDPT's light tracing) adds to in a scene with a shadow catcher:
-// Combined's only (a path past the split), Combined's and the matte's, or the catcher
-// pass's only (a copy's). Without catcher sums every splat is Combined's.
-enum class CatcherSplat : uint8_t { Combined, CombinedAndMatte, Pass };
+// Combined's only (a path past the split), Combined's and the matte's, the catcher pass's
+// only (a copy's), or the matte's only (pssmlt's camera sample, whose Combined is a splat
+// of its own). Without catcher sums every splat is Combined's and Matte's are dropped.
+enum class CatcherSplat : uint8_t { Combined, CombinedAndMatte, Pass, Matte };
 
 // How Combined reads in a scene with a shadow catcher (session settings).
 struct CatcherDisplay {

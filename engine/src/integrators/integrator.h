@@ -139,7 +139,8 @@ struct FirstHit {
   // their own (Splat::light_pass).
   LightPassSample *passes = nullptr;
   // The sample's shadow catcher values when the film keeps them (the path tracer and BDPT
-  // in a scene with a catcher; film/shadow_catcher_passes.h), else null.
+  // in a scene with a catcher, and BDPT's samples in pssmlt; film/shadow_catcher_passes.h),
+  // else null.
   CatcherSample *catcher = nullptr;
   // BDPT's strategy passes of the sample, when the film keeps them (else null): each
   // strategy's contribution goes to strategies[layout.index(s, t)], a t = 1 strategy's

@@ -15,10 +15,12 @@ Session::Session(std::shared_ptr<Scene> scene, const RenderSettings &settings)
   scene_->commit();
   scene_->camera().set_resolution(settings.width, settings.height);
   // Shadow catchers (integrators/path/shadow_catcher.h, integrators/bdpt/shadow_catcher.cpp):
-  // the path tracer and BDPT split their paths at them; the other integrators render them as
-  // ordinary objects, and say so.
+  // the path tracer, BDPT, pssmlt and mmlt (BDPT's samples and strategies as their states)
+  // split their paths at them; path-space mlt renders them as ordinary objects, and says so.
   if (scene_->has_shadow_catchers()) {
-    auto renders_catchers = [](const std::string &name) { return name == "path" || name == "bdpt"; };
+    auto renders_catchers = [](const std::string &name) {
+      return name == "path" || name == "bdpt" || name == "pssmlt" || name == "mmlt";
+    };
     // Integrator auto picks among those that render a catcher, when it may (auto_candidates).
     std::vector<std::string> &candidates = settings_.auto_candidates;
     if (settings_.integrator == "auto" && !std::all_of(candidates.begin(), candidates.end(), renders_catchers) &&
@@ -28,8 +30,8 @@ Session::Session(std::shared_ptr<Scene> scene, const RenderSettings &settings)
                        candidates.end());
       std::string names;
       for (const std::string &name : candidates) names += (names.empty() ? "" : " or ") + name;
-      scene_->warn(scene_->shadow_catcher_object() + " is a shadow catcher, which only the path tracer and BDPT "
-                   "render as one: integrator auto renders with " + names);
+      scene_->warn(scene_->shadow_catcher_object() + " is a shadow catcher, which only the path tracer, BDPT, "
+                   "pssmlt and mmlt render as one: integrator auto renders with " + names);
     }
     const bool catchers = settings_.integrator == "auto"
                               ? std::all_of(candidates.begin(), candidates.end(), renders_catchers)
@@ -37,8 +39,8 @@ Session::Session(std::shared_ptr<Scene> scene, const RenderSettings &settings)
     if (catchers)
       film_.keep_shadow_catcher({settings_.shadow_catcher_pass, settings_.alpha.film_transparent});
     else
-      scene_->warn(scene_->shadow_catcher_object() + " is a shadow catcher, which only the path tracer and BDPT "
-                   "render as one: " + settings_.integrator + " renders it as an ordinary object (Combined shows "
+      scene_->warn(scene_->shadow_catcher_object() + " is a shadow catcher, which only the path tracer, BDPT, "
+                   "pssmlt and mmlt render as one: " + settings_.integrator + " renders it as an ordinary object (Combined shows "
                    "it shaded, the Shadow Catcher pass is 1)");
     if (catchers && scene_->has_media())
       scene_->warn(scene_->shadow_catcher_object() + " is a shadow catcher in a scene with participating media: "

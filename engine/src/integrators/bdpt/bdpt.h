@@ -140,6 +140,23 @@ class Bdpt final : public TileIntegrator {
   // A scattering vertex's split by kind between the directions toward the camera and the
   // light (delta: it scatters by a delta lobe; surfaces by their lobes' shares of f).
   static KindSplit split_at(const PathVertex &v, Vec3 toward_camera, Vec3 toward_light, bool delta);
+  // Shadow catchers (shadow_catcher.cpp): the camera side of a sample's catcher values from
+  // its camera subpath of n vertices: whether it split, the matte's transparency and the
+  // world behind the catcher (film/shadow_catcher_passes.h); BDPT's samples and the
+  // Metropolis integrators' first-hit rays (their see-through chain is all it reads).
+  void camera_catcher_values(const PathVertex *camera_path, int n, CatcherSample &catcher) const;
+  // The camera vertex where a camera subpath of n vertices splits (its see-through chain's
+  // first catcher), -1 for none.
+  int split_vertex(const PathVertex *camera_path, int n) const;
+  // Multiplexed MLT's one strategy (s, t) of a sample's catcher-pass copy (catcher_pass's
+  // term of that strategy), after the main strategy was evaluated with the same numbers:
+  // its camera subpath (t vertices) split at `split` (-1: none) and its camera vertex are
+  // in camera_path; the storage given is overwritten (emitted: `capacity` entries).
+  // t == 1: light tracing, raster receives the pixel.
+  template <bool kMedia>
+  Color catcher_strategy(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, int s, int t, int split,
+                         PathVertex *camera_path, PathVertex *light_path, Color *emitted, size_t capacity,
+                         Vec2 *raster) const;
 
  private:
   // One camera sample; kCatcher: in a scene with a shadow catcher whose sums the film keeps
@@ -148,13 +165,13 @@ class Bdpt final : public TileIntegrator {
   template <bool kMedia, bool kCatcher>
   Color li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
            std::vector<Splat> &splats) const;
-  // Shadow catchers (shadow_catcher.cpp): the camera vertex where a camera subpath of n
-  // vertices splits (its see-through chain's first catcher), -1 for none; a sample's copy,
+  // Shadow catchers (shadow_catcher.cpp): a sample's copy,
   // in the subpath storage given (emitted: `capacity` entries): its light tracing into
   // `splats` (every sample) and, when the sample split at camera vertex `split`, the
   // catcher pass of its camera subpath traced again (returned); the world seen along dir by
   // a ray of the kinds in mask (Cycles' background pass).
-  int split_vertex(const PathVertex *camera_path, int n) const;
+  // camera_catcher_values with the split known (split_vertex's).
+  void camera_catcher_values(const PathVertex *camera_path, int n, int split, CatcherSample &catcher) const;
   template <bool kMedia>
   Color catcher_pass(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, int split,
                      PathVertex *camera_path, PathVertex *light_path, Color *emitted, size_t capacity,

@@ -93,24 +93,9 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
     }
   }
   if constexpr (kCatcher) {
-    // The matte: what the sample added before its split, or all of it; at the split the
-    // throughput joins the matte's transparency (the catcher is a hole in it).
-    catcher->split = split >= 0;
+    // The matte: what the sample added before its split, or all of it; its camera side.
     catcher->matte = matte;
-    catcher->matte_transparency = split >= 0
-                                      ? transparency(camera_path.data(), split) + average(camera_path[split].beta)
-                                      : transparency(camera_path.data(), nc);
-    // Cycles' background pass, with an opaque film: the world behind the catcher along the
-    // ray that met it, or the world the camera sees through to.
-    if (!settings_.alpha.film_transparent) {
-      if (split >= 0) {
-        const PathVertex &v = camera_path[split];
-        catcher->background = v.beta * background_along(-v.wo, camera_path[split - 1].out_mask);
-      } else if (nc >= 2 && camera_path[nc - 1].infinite && camera_path[nc - 1].see_through) {
-        const PathVertex &v = camera_path[nc - 1];
-        catcher->background = v.beta * background_along(v.dir, camera_path[nc - 2].out_mask);
-      }
-    }
+    camera_catcher_values(camera_path.data(), nc, split, *catcher);
     // The catcher pass: the sample's copy (the subpaths' storage is free again).
     catcher->catcher = catcher_pass<kMedia>(camera_ray, sampler, stats, split, camera_path.data(), light_path.data(),
                                             emitted.data(), capacity, splats);

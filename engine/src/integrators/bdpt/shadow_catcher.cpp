@@ -44,6 +44,28 @@ int Bdpt::split_vertex(const PathVertex *camera_path, int n) const {
   return -1;
 }
 
+void Bdpt::camera_catcher_values(const PathVertex *camera_path, int n, int split, CatcherSample &catcher) const {
+  // At the split the throughput joins the matte's transparency (the catcher is a hole in it).
+  catcher.split = split >= 0;
+  catcher.matte_transparency =
+      split >= 0 ? transparency(camera_path, split) + average(camera_path[split].beta) : transparency(camera_path, n);
+  // Cycles' background pass, with an opaque film: the world behind the catcher along the
+  // ray that met it, or the world the camera sees through to.
+  if (!settings_.alpha.film_transparent) {
+    if (split >= 0) {
+      const PathVertex &v = camera_path[split];
+      catcher.background = v.beta * background_along(-v.wo, camera_path[split - 1].out_mask);
+    } else if (n >= 2 && camera_path[n - 1].infinite && camera_path[n - 1].see_through) {
+      const PathVertex &v = camera_path[n - 1];
+      catcher.background = v.beta * background_along(v.dir, camera_path[n - 2].out_mask);
+    }
+  }
+}
+
+void Bdpt::camera_catcher_values(const PathVertex *camera_path, int n, CatcherSample &catcher) const {
+  camera_catcher_values(camera_path, n, split_vertex(camera_path, n), catcher);
+}
+
 Color Bdpt::background_along(Vec3 dir, uint32_t mask) const {
   Color L(0.0f);
   for (uint32_t li : scene_.infinite_lights()) {
@@ -90,6 +112,36 @@ Color Bdpt::catcher_pass(const CameraRay &camera_ray, Sampler &sampler, RayStats
   }
   return S;
 }
+
+template <bool kMedia>
+Color Bdpt::catcher_strategy(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, int s, int t, int split,
+                             PathVertex *camera_path, PathVertex *light_path, Color *emitted, size_t capacity,
+                             Vec2 *raster) const {
+  // The copy's light subpath, drawn where the main one's was (the same numbers).
+  auto copy_light_subpath = [&] {
+    return s < 2 || (!camera_side_only_ && light_subpath<kMedia>(sampler, stats, light_path, s, true) == s);
+  };
+  if (t == 1) {  // light tracing from a catcher, every sample (catcher_pass)
+    if (s < 2 || !copy_light_subpath()) return Color(0.0f);
+    return connect<kMedia>(light_path, camera_path, s, 1, sampler, stats, raster, nullptr, nullptr, true);
+  }
+  if (split < 0 || t - 1 < split) return Color(0.0f);  // a strategy of the copy's only from the split on
+  std::fill_n(emitted, capacity, Color(0.0f));
+  const int nc = camera_subpath<kMedia>(camera_ray, sampler, stats, camera_path, emitted, t, nullptr, false, true);
+  if (split_vertex(camera_path, nc) != split) return Color(0.0f);  // (never: its prefix is the main one's)
+  if (s == 0) {
+    Color c = t - 2 >= split ? emitted[t - 2] : Color(0.0f);  // a lamp passed past the split
+    if (nc == t) c += connect<kMedia>(light_path, camera_path, 0, t, sampler, stats, raster, nullptr, nullptr, true);
+    return c;
+  }
+  if (nc != t || !copy_light_subpath()) return Color(0.0f);
+  return connect<kMedia>(light_path, camera_path, s, t, sampler, stats, raster, nullptr, nullptr, true);
+}
+
+template Color Bdpt::catcher_strategy<false>(const CameraRay &, Sampler &, RayStats &, int, int, int, PathVertex *,
+                                             PathVertex *, Color *, size_t, Vec2 *) const;
+template Color Bdpt::catcher_strategy<true>(const CameraRay &, Sampler &, RayStats &, int, int, int, PathVertex *,
+                                            PathVertex *, Color *, size_t, Vec2 *) const;
 
 template Color Bdpt::li<false, true>(const CameraRay &, Sampler &, RayStats &, FirstHit *, std::vector<Splat> &) const;
 template Color Bdpt::li<true, true>(const CameraRay &, Sampler &, RayStats &, FirstHit *, std::vector<Splat> &) const;

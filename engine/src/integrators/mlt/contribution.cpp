@@ -21,9 +21,11 @@ CameraRay Metropolis::camera_sample(Sampler &sampler, Vec2 *raster) const {
 float Metropolis::target_of(const std::vector<Splat> &splats) const {
   double sum = 0;
   if (importance_.empty()) {
-    for (const Splat &sp : splats) sum += luminance(sp.L);
+    for (const Splat &sp : splats)
+      if (sp.catcher != CatcherSplat::Matte) sum += luminance(sp.L);
   } else {
-    for (const Splat &sp : splats) sum += double(luminance(sp.L)) * importance_.weight(sp.raster);
+    for (const Splat &sp : splats)
+      if (sp.catcher != CatcherSplat::Matte) sum += double(luminance(sp.L)) * importance_.weight(sp.raster);
   }
   return float(sum);
 }
@@ -42,9 +44,13 @@ void Metropolis::evaluate_kelemen(PssSampler &sampler, RayStats &stats, State &s
     passes.clear();
     first_hit.passes = &passes;
   }
-  Color L = bdpt_.Li(cr, sampler, stats, light_passes_ ? &first_hit : nullptr, state.splats);
+  // Shadow catchers: BDPT's sample makes its matte and its copy's catcher pass too, and
+  // tags its light-tracing splats (CatcherSplat).
+  CatcherSample catcher;
+  if (catchers_) first_hit.catcher = &catcher;
+  Color L = bdpt_.Li(cr, sampler, stats, light_passes_ || catchers_ ? &first_hit : nullptr, state.splats);
   // Never NaN / Inf or a negative value into the film or the acceptance ratio.
-  const bool valid = is_finite(L) && L.x >= 0 && L.y >= 0 && L.z >= 0;
+  const bool valid = is_finite(L) && L.x >= 0 && L.y >= 0 && L.z >= 0 && (!catchers_ || catcher.valid());
   // The sample clamp caps the camera sample as BDPT's tile loop does (its light-tracing
   // splats are not capped there either): the chains then target BDPT's clamped image.
   const float clamp = settings_.clamp;
@@ -52,10 +58,19 @@ void Metropolis::evaluate_kelemen(PssSampler &sampler, RayStats &stats, State &s
     const float scale = clamp / max_component(L);
     L *= scale;
     if (light_passes_) passes.scale(scale);
+    catcher.matte *= scale;  // a part of L: scaled with it
   }
   state.splats[first_light_splat].L = valid ? L * region_area_ : Color(0.0f);
   if (valid && light_passes_) add_shares(state, first_light_splat, passes, region_area_);
   for (size_t i = first_light_splat + 1; i < state.splats.size(); ++i) state.splats[i].L *= image_area_;
+  if (valid && catchers_) {
+    // The camera sample's matte and catcher pass as splats of their own where its Combined
+    // lands (film/shadow_catcher_passes.h; the first-hit pass adds the camera side). The
+    // pass is clamped as a Combined of its own, as BDPT's tile loop does.
+    if (clamp > 0 && max_component(catcher.catcher) > clamp) catcher.catcher *= clamp / max_component(catcher.catcher);
+    state.splats.push_back({raster, catcher.matte * region_area_, Splat::kNoStrategy, {}, CatcherSplat::Matte});
+    state.splats.push_back({raster, catcher.catcher * region_area_, Splat::kNoStrategy, {}, CatcherSplat::Pass});
+  }
 }
 
 template <bool kMedia>
@@ -104,10 +119,8 @@ void Metropolis::evaluate_multiplexed(PssSampler &sampler, RayStats &stats, Stat
       passes.add(emitted[size_t(t - 2)], pc.scatterings, pc.first);
       if (nc == t) bdpt_.add_light_pass(camera_path.data(), 0, t, pc, hit, passes);
     }
-  } else {
-    if (nc != t) return;
-    // s = 1 samples a light point of its own (next-event estimation): no light subpath.
-    if (s >= 2 && bdpt_.light_subpath<kMedia>(sampler, stats, light_path.data(), s) != s) return;
+  } else if (nc == t &&  // s = 1 samples a light point of its own (next-event estimation): no light subpath
+             (s < 2 || bdpt_.light_subpath<kMedia>(sampler, stats, light_path.data(), s) == s)) {
     c = bdpt_.connect<kMedia>(light_path.data(), camera_path.data(), s, t, sampler, stats, &light_raster, nullptr,
                               light_passes ? &connection_dir : nullptr);
     if (light_passes) {
@@ -116,17 +129,39 @@ void Metropolis::evaluate_multiplexed(PssSampler &sampler, RayStats &stats, Stat
       if (t >= 2) bdpt_.add_light_pass(camera_path.data(), s, t, pc, c, passes);
     }
   }
-  if (!is_finite(c) || is_black(c) || c.x < 0 || c.y < 0 || c.z < 0) return;
   // One strategy of `strategies`, at a depth chosen with probability depth_pmf.
   const float per_strategy = float(strategies) / depth_pmf;
-  c *= per_strategy;
-  if (t == 1) {
-    state.splats.push_back({light_raster, c * image_area_, Splat::kNoStrategy,
-                            {pc.first, light_passes, pc.scatterings > 1}, CatcherSplat::Combined});
-  } else {
-    state.splats.push_back({raster, c * region_area_, Splat::kNoStrategy, {}, CatcherSplat::Combined});
-    if (light_passes) add_shares(state, state.splats.size() - 1, passes, per_strategy * region_area_);
+  // Shadow catchers: the strategy's path sorted by the split as BDPT's sample loop sorts
+  // it (the matte's unless past the split; no light passes past it), then the same
+  // strategy of the sample's copy (the storage is free again), which may carry light where
+  // the main path carries none: the target counts both.
+  const int split = catchers_ ? bdpt_.split_vertex(camera_path.data(), nc) : -1;
+  auto past_split = [split](int vertex) { return split >= 0 && vertex >= split; };
+  const bool caught = catchers_ && (t == 1 ? light_path[size_t(s - 1)].catcher : past_split(t - 1));
+  // s = 0 split at its last vertex: the lamp it passed before is the matte's (a splat of its own).
+  const Color passed_matte = catchers_ && s == 0 && caught && !past_split(t - 2) ? emitted[size_t(t - 2)] : Color(0.0f);
+  const CatcherSplat tag = catchers_ && !caught ? CatcherSplat::CombinedAndMatte : CatcherSplat::Combined;
+  if (is_finite(c) && !is_black(c) && c.x >= 0 && c.y >= 0 && c.z >= 0) {
+    c *= per_strategy;
+    if (t == 1) {
+      state.splats.push_back({light_raster, c * image_area_, Splat::kNoStrategy,
+                              {pc.first, light_passes && !caught, pc.scatterings > 1}, tag});
+    } else {
+      state.splats.push_back({raster, c * region_area_, Splat::kNoStrategy, {}, tag});
+      if (light_passes && !caught) add_shares(state, state.splats.size() - 1, passes, per_strategy * region_area_);
+      if (!is_black(passed_matte))
+        state.splats.push_back({raster, passed_matte * (per_strategy * region_area_), Splat::kNoStrategy, {},
+                                CatcherSplat::Matte});
+    }
   }
+  if (!catchers_) return;
+  Vec2 copy_raster;
+  Color copy = bdpt_.catcher_strategy<kMedia>(cr, sampler, stats, s, t, split, camera_path.data(), light_path.data(),
+                                              emitted.data(), capacity, &copy_raster);
+  if (!is_finite(copy) || is_black(copy) || copy.x < 0 || copy.y < 0 || copy.z < 0) return;
+  copy *= per_strategy;
+  state.splats.push_back({t == 1 ? copy_raster : raster, copy * (t == 1 ? image_area_ : region_area_),
+                          Splat::kNoStrategy, {}, CatcherSplat::Pass});
 }
 
 void Metropolis::evaluate(PssSampler &sampler, RayStats &stats, State &state, int depth_override) const {

@@ -56,7 +56,7 @@ void record_splats(const State &state, float w, std::vector<Splat> &splats, std:
   const SlotShare *share = state.shares.data();
   for (const Splat &sp : state.splats) {
     if (!is_black(sp.L)) {
-      splats.push_back({sp.raster, sp.L * w, Splat::kNoStrategy, sp.light_pass, CatcherSplat::Combined});
+      splats.push_back({sp.raster, sp.L * w, Splat::kNoStrategy, sp.light_pass, sp.catcher});
       for (int k = 0; k < sp.light_pass.shares; ++k) shares.push_back({share[k].L * w, share[k].slot});
     }
     share += sp.light_pass.shares;
@@ -147,6 +147,7 @@ void Metropolis::first_hit_pass(RenderContext &ctx) const {
   const bool alpha = bdpt_.settings().alpha.tracked();
   const bool light_passes = ctx.film.has_light_passes();
   const bool denoising_passes = ctx.film.has_denoising_passes();
+  const bool catchers = catchers_;
   const uint32_t samples = first_hit_samples(light_passes, settings_.samples);
   ctx.arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<int>(region.y0, region.y1, 1), [&](const tbb::blocked_range<int> &rows) {
@@ -185,6 +186,14 @@ void Metropolis::first_hit_pass(RenderContext &ctx) const {
               colors.clear();
               bdpt_.add_color_passes(path.data(), n, colors);
               rows_tile.add_light_passes(x, y, colors);
+            }
+            if (catchers) {  // the camera side of the shadow catcher's sums (pssmlt; contribution.cpp)
+              CatcherSample catcher;
+              bdpt_.camera_catcher_values(path.data(), n, catcher);
+              const float clamp = settings_.clamp;  // as BDPT's tile loop clamps the world behind
+              if (clamp > 0 && max_component(catcher.background) > clamp)
+                catcher.background *= clamp / max_component(catcher.background);
+              if (catcher.valid()) rows_tile.add_shadow_catcher(x, y, catcher);
             }
             if (hit.valid) rows_tile.add_first_hit(x, y, hit.depth, hit.normal, hit.albedo);
             else rows_tile.add_first_hit(x, y, 1e10f, Vec3(0.0f), Color(0.0f));
@@ -227,6 +236,7 @@ ImportanceMap Metropolis::pilot(RenderContext &ctx, int depths) {
             sampler.start_iteration();
             evaluate(sampler, stats, state, mlt_.multiplexed ? int(i / per_depth) : -1);
             for (const Splat &sp : state.splats) {
+              if (sp.catcher == CatcherSplat::Matte) continue;  // as target_of
               const float y = luminance(sp.L);
               if (!(y > 0)) continue;
               const size_t at = ImportanceMap::block_of(sp.raster, sample_origin_, blocks_x, blocks_y);
@@ -255,6 +265,8 @@ ImportanceMap Metropolis::pilot(RenderContext &ctx, int depths) {
 }
 
 void Metropolis::render(RenderContext &ctx) {
+  // Shadow catchers change the target (target_of): known before the pilot and bootstrap.
+  catchers_ = ctx.film.has_shadow_catcher() && !path_space_;
   if (direct_) direct_pass(ctx);
   else first_hit_pass(ctx);
   const Rect &region = settings_.border;
@@ -533,7 +545,7 @@ void Metropolis::render(RenderContext &ctx) {
           for (size_t c = 0; c < chains.size(); ++c) {
             const SlotShare *share = chains[c].shares.data();
             for (const Splat &sp : chains[c].splats) {
-              visit(sp.raster, sp.L, halves && (c & 1), sp.strategy, sp.light_pass, share);
+              visit(sp.raster, sp.L, halves && (c & 1), sp.strategy, sp.light_pass, share, sp.catcher);
               share += sp.light_pass.shares;
             }
           }

@@ -113,6 +113,8 @@ class Metropolis final : public Integrator {
   void evaluate_multiplexed(PssSampler &sampler, RayStats &stats, State &state, int depth_override) const;
   CameraRay camera_sample(Sampler &sampler, Vec2 *raster) const;
   // The scalar a chain follows for a state's splats (luminance, or relative luminance).
+  // With a shadow catcher, Combined's and the catcher pass's splats: each sum the film
+  // keeps is then estimated without bias (the matte's are a part of Combined's).
   float target_of(const std::vector<Splat> &splats) const;
   // Relative target: the coarse image from independent samples that the target divides by.
   ImportanceMap pilot(RenderContext &ctx, int depths);
@@ -137,6 +139,9 @@ class Metropolis final : public Integrator {
   Distribution1D depth_distribution_;  // multiplexed: path depth by b
   ImportanceMap importance_;  // empty: the luminance target
   bool light_passes_ = false;  // the film keeps Cycles' light passes: states carry their split
+  // pssmlt and mmlt in a scene with a shadow catcher whose sums the film keeps: states carry
+  // the matte and catcher pass (contribution.cpp), the first-hit pass their camera side.
+  bool catchers_ = false;
   std::unique_ptr<PathSpace> path_space_;  // mlt only
   std::unique_ptr<PathTracer> direct_;     // mlt with direct_samples: paths of one and two edges
 
