@@ -107,6 +107,11 @@ struct RenderSettings {
   uint32_t mlt_direct_samples = 0;
 
   static RenderSettings from_params(Params &p);
+  // Whether a Metropolis integrator's chains follow the relative target: mlt_target's value,
+  // or when not given each integrator's own (relative; path space, mlt: luminance).
+  bool relative_mlt_target(bool path_space) const {
+    return path_space ? mlt_target == "relative" : mlt_target != "luminance";
+  }
   // Whether the render estimates its noise: half images from independent replicates
   // (path, bdpt; a different image than without), and the frame's estimate after each
   // pass (O(pixels)).

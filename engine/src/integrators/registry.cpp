@@ -55,7 +55,7 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
     m.bootstrap_per_pixel = settings.mlt_bootstrap;
     m.chains = settings.mlt_chains;
     m.step_size = settings.mlt_step_size;
-    m.relative_target = settings.mlt_target != "luminance";
+    m.relative_target = settings.relative_mlt_target(false);
     return std::make_unique<mlt::Metropolis>(scene, settings, bdpt_settings(settings, scene), m);
   }
   if (settings.integrator == "mlt") {
@@ -66,7 +66,7 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
     m.large_step_probability = settings.mlt_large_step;
     m.bootstrap_per_pixel = settings.mlt_bootstrap;
     m.chains = settings.mlt_chains;
-    m.relative_target = settings.mlt_target == "relative";
+    m.relative_target = settings.relative_mlt_target(true);
     static_assert(sizeof(settings.mlt_mutations) / sizeof(float) == mlt::kWeightedMutations);
     for (int i = 0; i < mlt::kWeightedMutations; ++i) m.mutations.weights[i] = settings.mlt_mutations[i];
     // Veach's lens perturbation: 0.1 pixel to a tenth of the image.
@@ -352,7 +352,7 @@ std::string RenderSettings::image_settings_json() const {
     j["mlt_bootstrap"] = mlt_bootstrap;
     j["mlt_chains"] = mlt_chains;
     j["mlt_step_size"] = mlt_step_size;
-    j["mlt_target"] = !mlt_target.empty() ? mlt_target : integrator == "mlt" ? "luminance" : "relative";
+    j["mlt_target"] = relative_mlt_target(integrator == "mlt") ? "relative" : "luminance";
     if (integrator == "mlt") {
       nlohmann::json weights = nlohmann::json::object();
       for (int i = 0; i < mlt::kWeightedMutations; ++i)

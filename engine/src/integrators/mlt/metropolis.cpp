@@ -101,8 +101,7 @@ double Metropolis::memory_estimate(const RenderSettings &settings, bool multiple
   const double r = PixelFilter(settings.filter_width).radius();
   const double blocks = std::ceil((settings.border.width() + 2 * r) / ImportanceMap::kBlock + 1) *
                         std::ceil((settings.border.height() + 2 * r) / ImportanceMap::kBlock + 1);
-  const bool relative = path_space ? settings.mlt_target == "relative" : settings.mlt_target != "luminance";
-  const double pilot = relative ? double(2 * kPilotLeaves + 6) * blocks * sizeof(float) : 0.0;
+  const double pilot = settings.relative_mlt_target(path_space) ? double(2 * kPilotLeaves + 6) * blocks * sizeof(float) : 0.0;
   return bootstrap * per_sample + double(settings.mlt_chains) * per_chain + pilot;
 }
 
