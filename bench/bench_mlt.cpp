@@ -11,8 +11,10 @@
 //             [--study] [--study-large 0.1,0.5] [--study-chains 32,2048] [--study-step 0.003,0.03]
 //             [--point-lamps] [scene.json ...]
 // --point-lamps: the scenes' lamps get radius 0 (mlt samples no lamp with a radius). The
-// "mean" column is the image's mean over the reference's, "blocks" the relMSE of the 8 x 8
-// pixel block means (noise averages out there, a bias in a region does not).
+// "mean" column is the image's mean over the reference's, "scaled" the relMSE of the image
+// scaled to the reference's mean (without the global brightness error), "blocks" the relMSE
+// of the 8 x 8 pixel block means (noise averages out there, a bias in a region does not),
+// "b err" the Metropolis normalisation's relative standard error.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -80,8 +82,9 @@ int main(int argc, char **argv) {
       scenes.push_back(dir + s);
 
   std::printf("Equal-time relMSE against a reference of 2 x %.0f s BDPT; %d px wide\n", reference_seconds, width);
-  std::printf("%-14s %6s %-22s | %11s | %8s | %8s | %6s | %9s | %9s | %12s | %s\n", "scene", "budget", "integrator",
-              "relMSE", "vs BDPT", "net", "mean", "blocks", "spp/mpp", "mutations/s", "acceptance small / large");
+  std::printf("%-14s %6s %-22s | %11s | %8s | %8s | %6s | %9s | %9s | %9s | %12s | %6s | %s\n", "scene", "budget",
+              "integrator", "relMSE", "vs BDPT", "net", "mean", "scaled", "blocks", "spp/mpp", "mutations/s", "b err",
+              "acceptance small / large");
   for (const std::string &path : scenes) {
     BenchScene scene = load_bench_scene(path, width);
     if (point_lamps) {
@@ -129,22 +132,28 @@ int main(int argc, char **argv) {
               }
             }
         const double e_blocks = rel_mse(blocks, ref_blocks);
+        // The error left at the reference's brightness: what a global scale error (b's,
+        // or the chains' share of high- and low-weight regions) adds is the difference.
+        std::vector<float> scaled(r.rgb);
+        for (float &v : scaled) v *= sum > 0 ? float(ref_sum / sum) : 1.0f;
+        const double e_scaled = rel_mse(scaled, ref);
         if (s["integrator"] == "bdpt") e_bdpt = e;
         std::string extra;
         char buf[160];
         if (r.stats.contains("mutations")) {
-          std::snprintf(buf, sizeof buf, "%12.3g | %.3f / %.3f (found %.3f)",
-                        r.stats["mutations"].get<double>() / r.progress.elapsed_seconds,
+          const double b = r.stats.value("b", 0.0), b_error = r.stats.value("b_standard_error", 0.0);
+          std::snprintf(buf, sizeof buf, "%12.3g | %6.4f | %.3f / %.3f (found %.3f)",
+                        r.stats["mutations"].get<double>() / r.progress.elapsed_seconds, b > 0 ? b_error / b : 0.0,
                         r.stats["small_step_acceptance"].get<double>(), r.stats["large_step_acceptance"].get<double>(),
                         r.stats.value("large_step_found", 0.0));
           extra = buf;
         } else {
-          extra = std::string(12, ' ') + " |";
+          extra = std::string(12, ' ') + " |        |";
         }
-        std::printf("%-14s %5.0fs %-22s | %11.3e | %8.3f | %8.3f | %6.4f | %9.2e | %9u | %s\n", name.c_str(), budget,
-                    label.c_str(), e, e_bdpt > 0 ? e / e_bdpt : 1.0,
+        std::printf("%-14s %5.0fs %-22s | %11.3e | %8.3f | %8.3f | %6.4f | %9.2e | %9.2e | %9u | %s\n", name.c_str(),
+                    budget, label.c_str(), e, e_bdpt > 0 ? e / e_bdpt : 1.0,
                     e_bdpt > ref_noise ? (e - ref_noise) / (e_bdpt - ref_noise) : 1.0, ref_sum > 0 ? sum / ref_sum : 0.0,
-                    e_blocks, r.progress.samples_done, extra.c_str());
+                    e_scaled, e_blocks, r.progress.samples_done, extra.c_str());
         std::fflush(stdout);
       };
       for (const std::string &integrator : integrators)  // bdpt first: the other rows' ratios are to it

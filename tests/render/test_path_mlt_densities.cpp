@@ -65,6 +65,9 @@ struct BruteForce {
   // Or a box of homogeneous medium (axis-aligned, medium 0) in a scene without a world one.
   bool box = false;
   Vec3 box_lo{0.0f}, box_hi{0.0f};
+  // The large steps' vertex counts 2 .. max_vertices by these weights (PathSpace::
+  // set_length_weights: a quarter uniform, the rest in proportion), or uniform if empty.
+  std::vector<double> length_weights;
 
   // The length of the line a + t d, t in [0, tmax], inside the box (slabs).
   double inside_box(Vec3 a, Vec3 d, double tmax) const {
@@ -451,7 +454,13 @@ struct BruteForce {
     return (1 - kLargeStep) * w / z;
   }
   double addition(int nv, int l, int m, int na) const {
-    if (l == -1 && m == nv) return 1.0 / (max_vertices - 1);
+    if (l == -1 && m == nv) {
+      const double uniform = 1.0 / (max_vertices - 1);
+      if (length_weights.empty()) return uniform;
+      double sum = 0;
+      for (double w : length_weights) sum += w;
+      return 0.25 * uniform + 0.75 * length_weights[size_t(na - 2)] / sum;
+    }
     const int nd = m - l - 1, kept = nv - nd;
     double z = 0, w = 0;
     for (int k = 0; kept + k <= max_vertices; ++k) {
@@ -531,7 +540,7 @@ int specular_vertices(const ExplicitPath &p) {
 // in the path it came from.
 int check_scene(const std::string &name, const nlohmann::json &json, int starts, int mutations_per_start,
                 int min_specular = 0, const Vec3 *box_lo = nullptr, const Vec3 *box_hi = nullptr,
-                float filter_glossy = 0, bool grid = false) {
+                float filter_glossy = 0, bool grid = false, const std::vector<double> &length_weights = {}) {
   LoadedScene loaded;
   load(loaded, json);
   const Scene &scene = loaded.scene();
@@ -539,6 +548,10 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
   limits.filter_glossy = filter_glossy;
   PathSpace space(scene, kMaxBounces, kOrigin, kSize, float(kWidth * kHeight), kLargeStep, MutationSettings{}, limits);
   BruteForce brute{scene};
+  if (!length_weights.empty()) {
+    space.set_length_weights(length_weights);
+    brute.length_weights = length_weights;
+  }
   brute.filter = FilterGlossy(filter_glossy);
   if (box_lo) {
     brute.box = true;
@@ -821,6 +834,17 @@ TEST(PathMltDensities, OrthographicRatiosMatchBruteForce) {
 }
 
 TEST(PathMltDensities, FogDoorRatiosMatchBruteForce) { check_scene("fog_door.json", 4000, 20); }
+
+// The large steps' path lengths as the bootstrap sets them (metropolis.cpp): far from
+// uniform (the second length 40 times the last), the large step's ratio q(x) / q(y) by them.
+TEST(PathMltDensities, LengthWeightsRatiosMatchBruteForce) {
+  std::vector<double> weights(size_t(kMaxBounces + 1));
+  for (size_t k = 0; k < weights.size(); ++k) weights[k] = k == 0 ? 0.0 : 40.0 / double(k * k);
+  check_scene("fog_door.json (length weights)", test::load_scene("fog_door.json"), 5000, 20, 0, nullptr, nullptr, 0,
+              false, weights);
+  check_scene("cornell_box.json (length weights)", test::load_scene("cornell_box.json"), 300, 20, 0, nullptr, nullptr,
+              0, false, weights);
+}
 
 // Filter Glossy (path_space.h, filter_glossy.h): each BSDF in f blurred by its camera-side
 // prefix, the camera side sampling the blurred BSDF, the light side the unblurred one with

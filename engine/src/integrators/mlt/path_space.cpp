@@ -976,7 +976,7 @@ double addition_weight(int na, int nd) { return na == 0 && nd == 0 ? 0.0 : std::
 }  // namespace
 
 double PathSpace::addition_probability(int nv, int l, int m, int na) const {
-  if (l == -1 && m == nv) return na >= min_vertices_ && na <= max_vertices_ ? 1.0 / path_lengths() : 0.0;
+  if (l == -1 && m == nv) return length_probability(na);
   int lo, hi;
   addition_range(nv, l, m, min_vertices_, max_vertices_, lo, hi);
   if (na < lo || na > hi) return 0;
@@ -993,7 +993,35 @@ double PathSpace::transition_density(int nv_x, int l, int m, const ExplicitPath 
 }
 
 double PathSpace::independent_density(const ExplicitPath &y) const {
-  return split_sum(y, 0, y.n) / double(y.n + 1) / double(path_lengths());
+  return split_sum(y, 0, y.n) / double(y.n + 1) * length_probability(y.n);
+}
+
+void PathSpace::set_length_weights(const std::vector<double> &weights) {
+  // A quarter of the large steps stay uniform over the lengths: a length whose few
+  // bootstrap samples missed its light keeps its share of proposals (and b its samples).
+  constexpr double kUniformShare = 0.25;
+  double sum = 0;
+  for (int k = 0; k < path_lengths() && size_t(k) < weights.size(); ++k)
+    if (std::isfinite(weights[size_t(k)])) sum += std::max(0.0, weights[size_t(k)]);
+  if (!(sum > 0)) {
+    length_pmf_.clear();
+    return;
+  }
+  length_pmf_.assign(size_t(path_lengths()), kUniformShare / path_lengths());
+  for (int k = 0; k < path_lengths() && size_t(k) < weights.size(); ++k)
+    if (std::isfinite(weights[size_t(k)]))
+      length_pmf_[size_t(k)] += (1 - kUniformShare) * std::max(0.0, weights[size_t(k)]) / sum;
+}
+
+int PathSpace::random_path_length(Pcg32 &rng) const {
+  const float u = rng.next_float();
+  if (length_pmf_.empty()) return min_vertices_ + std::min(int(u * float(path_lengths())), path_lengths() - 1);
+  double below = 0;
+  for (int k = 0; k + 1 < path_lengths(); ++k) {
+    below += length_pmf_[size_t(k)];
+    if (double(u) < below) return min_vertices_ + k;
+  }
+  return max_vertices_;
 }
 
 double PathSpace::sample_independent(Pcg32 &rng, RayStats &stats, ExplicitPath &y) const {

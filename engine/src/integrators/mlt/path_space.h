@@ -141,8 +141,20 @@ class PathSpace {
   // f, the image position and both densities of every vertex of y (y.n and the vertices set).
   void evaluate(ExplicitPath &y, RayStats &stats) const;
   // A path with every vertex sampled afresh (a large step); returns its density q(y)
-  // (0: no path). The path length is uniform over min_vertices .. max_vertices vertices.
+  // (0: no path). The path length is drawn over min_vertices .. max_vertices vertices,
+  // uniformly until set_length_weights.
   double sample_independent(Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
+  // The large steps' path lengths in proportion to weights[n - min_vertices] (a bootstrap's
+  // root mean square of target / q per vertex count n: the share of samples that minimises
+  // the variance of b), mixed with the uniform choice so no length is left out. All zero:
+  // uniform. Set between the bootstrap and the first mutation (the bootstrap's paths are
+  // replayed with the uniform choice they were drawn with).
+  void set_length_weights(const std::vector<double> &weights);
+  double length_probability(int n) const {
+    if (n < min_vertices_ || n > max_vertices_) return 0;
+    return length_pmf_.empty() ? 1.0 / path_lengths() : length_pmf_[size_t(n - min_vertices_)];
+  }
+  int min_vertices() const { return min_vertices_; }
   // q(y) of a path whose densities are evaluated.
   double independent_density(const ExplicitPath &y) const;
   // One mutation of x (evaluated) into y, its type chosen by the settings' weights among the
@@ -321,17 +333,16 @@ class PathSpace {
   // A large step's shutter time: uniform over the shutter (density 1) in scenes that move;
   // none drawn in static ones (their paths trace as before, bit for bit).
   float shutter_time(Pcg32 &rng) const { return motion_ ? rng.next_float() : 0.5f; }
-  // A large step's vertex count: uniform over min_vertices_ .. max_vertices_.
+  // A large step's vertex count over min_vertices_ .. max_vertices_ (length_probability).
   int path_lengths() const { return max_vertices_ - min_vertices_ + 1; }
-  int random_path_length(Pcg32 &rng) const {
-    return min_vertices_ + std::min(int(rng.next_float() * float(path_lengths())), path_lengths() - 1);
-  }
+  int random_path_length(Pcg32 &rng) const;
 
   const Scene &scene_;
   int max_vertices_, min_vertices_;
   Vec2 sample_origin_, sample_size_;
   float image_area_, region_area_;
   float large_step_probability_;
+  std::vector<double> length_pmf_;  // large steps' vertex counts from min_vertices_ (empty: uniform)
   MutationSettings mutations_;
   LightPathLimits limits_;  // per-kind bounces and caustics switches (clamps are refused)
   FilterGlossy filter_;     // Filter Glossy (off: 0)
