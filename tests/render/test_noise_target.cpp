@@ -77,16 +77,24 @@ TEST(NoiseTarget, BdptCaustic) {
 }
 
 // Metropolis: 64 chains, 32 per half image; the reference is BDPT's.
-void expect_honest_metropolis_halt(const char *integrator) {
+void expect_honest_metropolis_halt(const char *integrator, const json &more = json::object()) {
   json s = small(32, 32, integrator);
   s["mlt_chains"] = 64;
   s["mlt_bootstrap"] = 4;
-  expect_honest_halt(std::string("cornell ") + integrator, load_scene("cornell_box.json"), s,
-                     {{"integrator", "bdpt"}, {"samples", 2048}}, 3e-3, {1, 2, 3, 4});
+  s.update(more);
+  expect_honest_halt(std::string("cornell ") + integrator + (more.empty() ? "" : " " + more.dump()),
+                     load_scene("cornell_box.json"), s, {{"integrator", "bdpt"}, {"samples", 2048}}, 3e-3,
+                     {1, 2, 3, 4});
 }
 
 TEST(NoiseTarget, PssmltCornellBox) { expect_honest_metropolis_halt("pssmlt"); }
 TEST(NoiseTarget, MmltCornellBox) { expect_honest_metropolis_halt("mmlt"); }
+TEST(NoiseTarget, PathSpaceMltCornellBox) { expect_honest_metropolis_halt("mlt"); }
+// Direct light by path tracing (mlt_direct_samples): its N samples are taken first and do
+// not refine, so the estimate must count their noise (the camera halves') with the chains'.
+TEST(NoiseTarget, PathSpaceMltDirectSamplesCornellBox) {
+  expect_honest_metropolis_halt("mlt", {{"mlt_direct_samples", 256}});
+}
 
 // Where a render halts depends on the seed only: passes follow a fixed schedule while
 // the noise is estimated, so 1 and 2 threads stop at the same sample with the same image.
