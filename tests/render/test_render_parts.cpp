@@ -301,3 +301,80 @@ TEST(RenderParts, MetropolisPartsMergeToBdptBrightness) {
                 mlt.error, bdpt.merged, bdpt.error, mlt.merged / bdpt.merged);
   }
 }
+
+// Metropolis parts of a scene with a shadow catcher (a black ball over a floor that is a
+// catcher, a sun, a black world; Shadow Catcher pass on): each part has its own b, and the
+// merge rescales the catcher's splat sums as Combined's. Exact where the design says so:
+// the merged matte (Combined, RGBA) is the parts' average (equal mutations each, 4
+// first-hit rays a pixel each) to float rounding, and where every part's pass is exactly 1
+// (sun-lit floor: each state's Combined past the split equals its copy's) the merged pass
+// is 1 too. Without the rescale the merged pass there was off by the parts' spread of b
+// and the matte by its ratio to the first part's. Deterministic (fixed seeds).
+TEST(RenderParts, MetropolisPartsWithShadowCatcherMergeTheirSums) {
+  const json floor = {{"name", "floor"}, {"shape", {{"type", "quad"}, {"size", 6}}}, {"materials", {"floor"}},
+                      {"shadow_catcher", true}};
+  const json ball = {{"name", "ball"}, {"shape", {{"type", "sphere"}, {"radius", 0.5}, {"segments", 24}}},
+                     {"materials", {"ball"}}, {"transform", {{"translate", {-0.3, 0.2, 0.8}}}}};
+  json scene = {
+      {"camera", {{"focal_length", 30}, {"transform", {{"look_at", {{"from", {0, -4.0, 3.2}}, {"to", {0, 0, 0.3}}}}}}}},
+      {"world", {{"color", {0, 0, 0}}}},
+      {"materials",
+       {{{"name", "floor"}, {"type", "diffuse"}, {"color", {0.7, 0.65, 0.6}}},
+        {{"name", "ball"}, {"type", "diffuse"}, {"color", {0, 0, 0}}}}},
+      {"meshes", {floor, ball}},
+      {"lights", {{{"type", "sun"}, {"strength", 3}, {"angle", 0}, {"direction", {0.7, -0.5, -1}}}}}};
+  constexpr int kParts = 4;
+  // The black ball for the lit floor's pass, a red one for the matte's colour.
+  for (const char *integrator : {"pssmlt", "mmlt", "pssmlt red", "mmlt red"}) {
+    const bool red = std::string(integrator).find("red") != std::string::npos;
+    scene["materials"][1]["color"] = red ? json{0.8, 0.3, 0.2} : json{0, 0, 0};
+    json s = {{"width", 32},     {"height", 32},      {"integrator", red ? std::string(integrator).substr(0, std::string(integrator).find(' ')) : integrator}, {"max_bounces", 4},
+              {"samples", 16},   {"seed", 5},         {"mlt_chains", 32},         {"mlt_bootstrap", 4},
+              {"film_transparent", true}, {"shadow_catcher_pass", true}};
+    std::vector<std::string> parts;
+    std::vector<Channels> images;
+    for (int k = 0; k < kParts; ++k) {
+      s["sample_offset"] = 16 * k;
+      parts.push_back(temp_path(s["integrator"].get<std::string>() + (red ? "_red" : "") + "_cpart" + std::to_string(k) + ".exr"));
+      render_part(scene, s, parts.back());
+      images.push_back(read_channels(parts.back()));
+    }
+    const std::string merged = temp_path(s["integrator"].get<std::string>() + (red ? "_red" : "") + "_cmerged.exr");
+    rdv_status status;
+    std::string error = merge(parts, merged, "{}", &status);
+    ASSERT_EQ(status, RDV_OK) << error;
+    const Channels m = read_channels(merged);
+    auto channel = [](const Channels &c, const std::string &name) {
+      const auto it = std::find(c.names.begin(), c.names.end(), name);
+      EXPECT_NE(it, c.names.end()) << name;
+      return size_t(it - c.names.begin());
+    };
+    size_t lit = 0, matte_values = 0;
+    double worst_matte = 0, worst_lit = 0;
+    const size_t pass_r = channel(m, "Shadow Catcher.R");
+    for (size_t i = 0; i < size_t(m.width) * m.height; ++i) {
+      for (const char *name : {"R", "G", "B", "A"}) {  // the matte: the parts' average
+        const size_t c = channel(m, name);
+        double mean = 0;
+        for (const Channels &part : images) mean += part.value(i, channel(part, name)) / kParts;
+        worst_matte = std::max(worst_matte, std::fabs(m.value(i, c) - mean) / std::max(std::fabs(mean), 1e-3));
+        matte_values += mean > 0;
+      }
+      bool every_part_lit = true;  // the pass exactly 1 in every part (and no ball seen)
+      for (const Channels &part : images)
+        for (int c = 0; c < 3; ++c)
+          every_part_lit = every_part_lit && part.value(i, channel(part, "Shadow Catcher.R") + size_t(c)) == 1.0f &&
+                           part.value(i, channel(part, "A")) == 0.0f;
+      if (!every_part_lit) continue;
+      ++lit;
+      for (int c = 0; c < 3; ++c) worst_lit = std::max(worst_lit, std::fabs(double(m.value(i, pass_r + size_t(c))) - 1.0));
+    }
+    EXPECT_LT(worst_matte, 1e-5) << integrator;
+    EXPECT_LT(worst_lit, 1e-4) << integrator;
+    if (red) EXPECT_GT(matte_values, 100u) << integrator << ": the matte compares nothing";
+    else EXPECT_GT(lit, 100u) << integrator << ": no sun-lit floor";
+    std::printf("[ merge %-6s ] shadow catcher, 4 parts: matte values %zu, worst relative difference from the parts' "
+                "average %.2g; lit floor pixels %zu, worst |pass - 1| %.2g\n",
+                integrator, matte_values, worst_matte, lit, worst_lit);
+  }
+}
