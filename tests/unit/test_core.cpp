@@ -188,6 +188,7 @@ TEST(Film, MetropolisCatcherSplatsCountTheirSplits) {
     float f[4 * 4 * 3];
     film.read(RDV_PASS_SHADOW_CATCHER, 0, 0, 4, 4, true, f);
     const bool counted = tag == rdv::CatcherSplat::SplitPass;
-    for (int i = 0; i < 16; ++i) EXPECT_NEAR(f[3 * i], counted ? 0.25f : 1.0f, 1e-6f) << "pixel " << i << " tag " << int(tag);
+    for (int i = 0; i < 16; ++i)
+      EXPECT_NEAR(f[3 * i], counted ? 0.25f : 1.0f, 1e-6f) << "pixel " << i << " tag " << int(tag);
   }
 }
