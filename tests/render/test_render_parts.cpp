@@ -75,6 +75,26 @@ std::string merge(const std::vector<std::string> &parts, const std::string &out,
   return *status == RDV_OK ? "" : rdv_last_error();
 }
 
+// `count` parts of `samples` each (sample offsets 0, samples, ...) rendered and merged.
+struct MergedParts {
+  std::vector<std::string> parts;
+  std::string merged;
+};
+MergedParts render_and_merge(const json &scene, json settings, int count, int samples, const std::string &prefix) {
+  MergedParts out;
+  settings["samples"] = samples;
+  for (int k = 0; k < count; ++k) {
+    settings["sample_offset"] = k * samples;
+    out.parts.push_back(temp_path(prefix + "_part" + std::to_string(k) + ".exr"));
+    render_part(scene, settings, out.parts.back());
+  }
+  out.merged = temp_path(prefix + "_merged.exr");
+  rdv_status status;
+  std::string error = merge(out.parts, out.merged, "{}", &status);
+  EXPECT_EQ(status, RDV_OK) << error;
+  return out;
+}
+
 // 4 ranges of 4 samples merged (named out of order) vs one render of 16: the image
 // channels bit for bit, the raw double sums within the rounding of re-associated sums.
 // With the Noise pass (`halves`), the parts keep their half images and the merge has
@@ -267,20 +287,12 @@ TEST(RenderParts, MetropolisPartsMergeToBdptBrightness) {
   };
   struct Estimate { double merged, part_mean, error; };
   auto run = [&](const std::string &integrator, int samples) {
-    json s = {{"width", 32}, {"height", 32}, {"integrator", integrator}, {"max_bounces", 6}, {"samples", samples},
+    json s = {{"width", 32}, {"height", 32}, {"integrator", integrator}, {"max_bounces", 6},
               {"seed", 3}, {"mlt_chains", 32}, {"mlt_bootstrap", 16}};
-    std::vector<std::string> parts;
+    const MergedParts run = render_and_merge(scene, s, kParts, samples, integrator + "_m");
     std::vector<double> means;
-    for (int k = 0; k < kParts; ++k) {
-      s["sample_offset"] = k * samples;
-      parts.push_back(temp_path(integrator + "_mpart" + std::to_string(k) + ".exr"));
-      render_part(scene, s, parts.back());
-      means.push_back(luminance_mean(parts.back()));
-    }
-    const std::string merged = temp_path(integrator + "_mmerged.exr");
-    rdv_status status;
-    std::string error = merge(parts, merged, "{}", &status);
-    EXPECT_EQ(status, RDV_OK) << error;
+    for (const std::string &part : run.parts) means.push_back(luminance_mean(part));
+    const std::string &merged = run.merged;
     double m = 0, m2 = 0;
     for (double v : means) { m += v; m2 += v * v; }
     m /= kParts;
@@ -329,22 +341,13 @@ TEST(RenderParts, MetropolisPartsWithShadowCatcherMergeTheirSums) {
   for (const bool red : {false, true}) {
     scene["materials"][1]["color"] = red ? json{0.8, 0.3, 0.2} : json{0, 0, 0};
     const std::string name = integrator + (red ? "_red" : "");
-    json s = {{"width", 32},     {"height", 32},      {"integrator", integrator}, {"max_bounces", 4},
-              {"samples", 16},   {"seed", 5},         {"mlt_chains", 32},         {"mlt_bootstrap", 4},
-              {"film_transparent", true}, {"shadow_catcher_pass", true}};
-    std::vector<std::string> parts;
+    const json s = {{"width", 32},      {"height", 32},          {"integrator", integrator},
+                    {"max_bounces", 4}, {"seed", 5},             {"mlt_chains", 32},
+                    {"mlt_bootstrap", 4}, {"film_transparent", true}, {"shadow_catcher_pass", true}};
+    const MergedParts run = render_and_merge(scene, s, kParts, 16, name + "_c");
     std::vector<Channels> images;
-    for (int k = 0; k < kParts; ++k) {
-      s["sample_offset"] = 16 * k;
-      parts.push_back(temp_path(name + "_cpart" + std::to_string(k) + ".exr"));
-      render_part(scene, s, parts.back());
-      images.push_back(read_channels(parts.back()));
-    }
-    const std::string merged = temp_path(name + "_cmerged.exr");
-    rdv_status status;
-    std::string error = merge(parts, merged, "{}", &status);
-    ASSERT_EQ(status, RDV_OK) << error;
-    const Channels m = read_channels(merged);
+    for (const std::string &part : run.parts) images.push_back(read_channels(part));
+    const Channels m = read_channels(run.merged);
     auto channel = [](const Channels &c, const std::string &name) {
       const auto it = std::find(c.names.begin(), c.names.end(), name);
       EXPECT_NE(it, c.names.end()) << name;
