@@ -75,6 +75,26 @@ std::string merge(const std::vector<std::string> &parts, const std::string &out,
   return *status == RDV_OK ? "" : rdv_last_error();
 }
 
+// `count` parts of `samples` each (sample offsets 0, samples, ...) rendered and merged.
+struct MergedParts {
+  std::vector<std::string> parts;
+  std::string merged;
+};
+MergedParts render_and_merge(const json &scene, json settings, int count, int samples, const std::string &prefix) {
+  MergedParts out;
+  settings["samples"] = samples;
+  for (int k = 0; k < count; ++k) {
+    settings["sample_offset"] = k * samples;
+    out.parts.push_back(temp_path(prefix + "_part" + std::to_string(k) + ".exr"));
+    render_part(scene, settings, out.parts.back());
+  }
+  out.merged = temp_path(prefix + "_merged.exr");
+  rdv_status status;
+  std::string error = merge(out.parts, out.merged, "{}", &status);
+  EXPECT_EQ(status, RDV_OK) << error;
+  return out;
+}
+
 // 4 ranges of 4 samples merged (named out of order) vs one render of 16: the image
 // channels bit for bit, the raw double sums within the rounding of re-associated sums.
 // With the Noise pass (`halves`), the parts keep their half images and the merge has
@@ -267,20 +287,12 @@ TEST(RenderParts, MetropolisPartsMergeToBdptBrightness) {
   };
   struct Estimate { double merged, part_mean, error; };
   auto run = [&](const std::string &integrator, int samples) {
-    json s = {{"width", 32}, {"height", 32}, {"integrator", integrator}, {"max_bounces", 6}, {"samples", samples},
+    json s = {{"width", 32}, {"height", 32}, {"integrator", integrator}, {"max_bounces", 6},
               {"seed", 3}, {"mlt_chains", 32}, {"mlt_bootstrap", 16}};
-    std::vector<std::string> parts;
+    const MergedParts run = render_and_merge(scene, s, kParts, samples, integrator + "_m");
     std::vector<double> means;
-    for (int k = 0; k < kParts; ++k) {
-      s["sample_offset"] = k * samples;
-      parts.push_back(temp_path(integrator + "_mpart" + std::to_string(k) + ".exr"));
-      render_part(scene, s, parts.back());
-      means.push_back(luminance_mean(parts.back()));
-    }
-    const std::string merged = temp_path(integrator + "_mmerged.exr");
-    rdv_status status;
-    std::string error = merge(parts, merged, "{}", &status);
-    EXPECT_EQ(status, RDV_OK) << error;
+    for (const std::string &part : run.parts) means.push_back(luminance_mean(part));
+    const std::string &merged = run.merged;
     double m = 0, m2 = 0;
     for (double v : means) { m += v; m2 += v * v; }
     m /= kParts;
@@ -299,5 +311,75 @@ TEST(RenderParts, MetropolisPartsMergeToBdptBrightness) {
                                  << bdpt.merged << " +- " << bdpt.error;
     std::printf("[ merge %-6s ] 8 parts: mean %.5f +- %.5f, bdpt %.5f +- %.5f, ratio %.4f\n", integrator, mlt.merged,
                 mlt.error, bdpt.merged, bdpt.error, mlt.merged / bdpt.merged);
+  }
+}
+
+// Metropolis parts of a scene with a shadow catcher (a black ball over a floor that is a
+// catcher, a sun, a black world; Shadow Catcher pass on): each part has its own b, and the
+// merge rescales the catcher's splat sums as Combined's. Exact where the design says so:
+// the merged matte (Combined, RGBA) is the parts' average (equal mutations each, 4
+// first-hit rays a pixel each) to float rounding, and where every part's pass is exactly 1
+// (sun-lit floor: each state's Combined past the split equals its copy's) the merged pass
+// is 1 too. Without the rescale the merged pass there was off by the parts' spread of b
+// and the matte by its ratio to the first part's. Deterministic (fixed seeds).
+TEST(RenderParts, MetropolisPartsWithShadowCatcherMergeTheirSums) {
+  const json floor = {{"name", "floor"}, {"shape", {{"type", "quad"}, {"size", 6}}}, {"materials", {"floor"}},
+                      {"shadow_catcher", true}};
+  const json ball = {{"name", "ball"}, {"shape", {{"type", "sphere"}, {"radius", 0.5}, {"segments", 24}}},
+                     {"materials", {"ball"}}, {"transform", {{"translate", {-0.3, 0.2, 0.8}}}}};
+  json scene = {
+      {"camera", {{"focal_length", 30}, {"transform", {{"look_at", {{"from", {0, -4.0, 3.2}}, {"to", {0, 0, 0.3}}}}}}}},
+      {"world", {{"color", {0, 0, 0}}}},
+      {"materials",
+       {{{"name", "floor"}, {"type", "diffuse"}, {"color", {0.7, 0.65, 0.6}}},
+        {{"name", "ball"}, {"type", "diffuse"}, {"color", {0, 0, 0}}}}},
+      {"meshes", {floor, ball}},
+      {"lights", {{{"type", "sun"}, {"strength", 3}, {"angle", 0}, {"direction", {0.7, -0.5, -1}}}}}};
+  constexpr int kParts = 4;
+  // The black ball for the lit floor's pass, a red one for the matte's colour.
+  for (const std::string integrator : {"pssmlt", "mmlt"})
+  for (const bool red : {false, true}) {
+    scene["materials"][1]["color"] = red ? json{0.8, 0.3, 0.2} : json{0, 0, 0};
+    const std::string name = integrator + (red ? "_red" : "");
+    const json s = {{"width", 32},      {"height", 32},          {"integrator", integrator},
+                    {"max_bounces", 4}, {"seed", 5},             {"mlt_chains", 32},
+                    {"mlt_bootstrap", 4}, {"film_transparent", true}, {"shadow_catcher_pass", true}};
+    const MergedParts run = render_and_merge(scene, s, kParts, 16, name + "_c");
+    std::vector<Channels> images;
+    for (const std::string &part : run.parts) images.push_back(read_channels(part));
+    const Channels m = read_channels(run.merged);
+    auto channel = [](const Channels &c, const std::string &name) {
+      const auto it = std::find(c.names.begin(), c.names.end(), name);
+      EXPECT_NE(it, c.names.end()) << name;
+      return size_t(it - c.names.begin());
+    };
+    size_t lit = 0, matte_values = 0;
+    double worst_matte = 0, worst_lit = 0;
+    const size_t pass_r = channel(m, "Shadow Catcher.R");
+    for (size_t i = 0; i < size_t(m.width) * m.height; ++i) {
+      for (const char *name : {"R", "G", "B", "A"}) {  // the matte: the parts' average
+        const size_t c = channel(m, name);
+        double mean = 0;
+        for (const Channels &part : images) mean += part.value(i, channel(part, name)) / kParts;
+        worst_matte = std::max(worst_matte, std::fabs(m.value(i, c) - mean) / std::max(std::fabs(mean), 1e-3));
+        matte_values += mean > 0;
+      }
+      bool every_part_lit = true;  // the pass exactly 1 in every part (and no ball seen)
+      for (const Channels &part : images)
+        for (int c = 0; c < 3; ++c)
+          every_part_lit = every_part_lit && part.value(i, channel(part, "Shadow Catcher.R") + size_t(c)) == 1.0f &&
+                           part.value(i, channel(part, "A")) == 0.0f;
+      if (!every_part_lit) continue;
+      ++lit;
+      for (int c = 0; c < 3; ++c)
+        worst_lit = std::max(worst_lit, std::fabs(double(m.value(i, pass_r + size_t(c))) - 1.0));
+    }
+    EXPECT_LT(worst_matte, 1e-5) << name;
+    EXPECT_LT(worst_lit, 1e-4) << name;
+    if (red) EXPECT_GT(matte_values, 100u) << name << ": the matte compares nothing";
+    else EXPECT_GT(lit, 100u) << name << ": no sun-lit floor";
+    std::printf("[ merge %-6s ] shadow catcher, 4 parts: matte values %zu, worst relative difference from the parts' "
+                "average %.2g; lit floor pixels %zu, worst |pass - 1| %.2g\n",
+                name.c_str(), matte_values, worst_matte, lit, worst_lit);
   }
 }

@@ -158,3 +158,37 @@ TEST(Film, HalvesOnlyWhenTheNoiseIsEstimated) {
   EXPECT_LT(plain.relative_mse_estimate(), 0);  // no estimate without halves
   EXPECT_GE(halves.relative_mse_estimate(), 0);
 }
+
+// A Metropolis camera sample's catcher-pass splat (CatcherSplat::SplitPass) counts its
+// split in every pixel it reaches, as the samples of a tile integrator's pixel whose
+// filter reaches a catcher split given enough of them: those pixels read the catcher's
+// ratio (C - M) / S, not 1, though no first-hit ray of theirs split (the Blender shadow
+// catcher scene read BDPT's 4-spp pass at the ball's edge over its shadow at any mutation
+// count: block means 6% above BDPT's 2048 spp and Cycles' 4096). A copy's light-tracing
+// splat (CatcherSplat::Pass) counts none. Deterministic.
+TEST(Film, MetropolisCatcherSplatsCountTheirSplits) {
+  for (rdv::CatcherSplat tag : {rdv::CatcherSplat::SplitPass, rdv::CatcherSplat::Pass}) {
+    rdv::Film film(4, 4, rdv::Rect{0, 0, 4, 4});
+    film.keep_shadow_catcher({true, true});
+    rdv::PixelFilter filter(1.5f);
+    rdv::FilmTile tile;  // the first-hit pass: an opaque sample a pixel, no split
+    film.take_tile(rdv::Rect{0, 0, 4, 4}, tile);
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 4; ++x) {
+        tile.add_sample(x, y, rdv::Color(0.0f), false, 0.0f);
+        tile.add_shadow_catcher(x, y, rdv::CatcherSample{});
+      }
+    film.put_tile(tile);
+    {
+      rdv::Film::PassPublisher pass(film);
+      pass.add_splat({2.0f, 2.0f}, rdv::Color(0.25f), filter, false, 0xff, {}, nullptr, rdv::CatcherSplat::Combined);
+      pass.add_splat({2.0f, 2.0f}, rdv::Color(1.0f), filter, false, 0xff, {}, nullptr, tag);
+      pass.publish(1, {1.0, 1.0});
+    }
+    float f[4 * 4 * 3];
+    film.read(RDV_PASS_SHADOW_CATCHER, 0, 0, 4, 4, true, f);
+    const bool counted = tag == rdv::CatcherSplat::SplitPass;
+    for (int i = 0; i < 16; ++i)
+      EXPECT_NEAR(f[3 * i], counted ? 0.25f : 1.0f, 1e-6f) << "pixel " << i << " tag " << int(tag);
+  }
+}

@@ -140,12 +140,14 @@ void Film::add_splat(Vec2 raster, Color L, const PixelFilter &filter, bool half_
   const SplatPixels pixels = splat_pixels(raster, filter, region_, y0, y1);
   if (pixels.empty()) return;
   // BDPT in a scene with a shadow catcher (shadow_catcher_passes.h): a copy's splat is the
-  // catcher pass's alone (pssmlt's camera-sample matte the matte's alone); the others are
-  // Combined's, some the matte's too.
-  if (catcher == CatcherSplat::Pass || catcher == CatcherSplat::Matte) {
+  // catcher pass's alone (pssmlt's camera-sample matte the matte's alone; a split camera
+  // sample's copy also counts a split where it lands); the others are Combined's, some the
+  // matte's too.
+  if (catcher == CatcherSplat::Pass || catcher == CatcherSplat::Matte || catcher == CatcherSplat::SplitPass) {
     if (has_shadow_catcher())
       splat_footprint(raster, pixels, filter, width_, [&](size_t i, float w) {
-        add_to(catcher == CatcherSplat::Pass ? catcher_[i].catcher_splats : catcher_[i].matte_splats, L * w);
+        add_to(catcher == CatcherSplat::Matte ? catcher_[i].matte_splats : catcher_[i].catcher_splats, L * w);
+        if (catcher == CatcherSplat::SplitPass) catcher_[i].add_split();
       });
     return;
   }

@@ -560,10 +560,13 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
           if (d[10] < 0 || d[10] > UINT32_MAX || uint64_t(sum.splits) + uint64_t(d[10]) > UINT32_MAX)
             fail("part '" + part.path + "': shadow catcher split counts out of range");
           sum.splits += uint32_t(d[10]);
-          for (int c = 0; c < 3; ++c) {
-            sum.matte_splats[c] += d[11 + c];
-            sum.catcher_splats[c] += d[14 + c];
-          }
+          // Splat sums rescaled as the image's (Metropolis parts: each its own b); without
+          // that a merge of pssmlt parts read the matte and the pass off by the parts' b.
+          if (splats)
+            for (int c = 0; c < 3; ++c) {
+              sum.matte_splats[c] += same_numerator ? d[11 + c] : d[11 + c] * rescale;
+              sum.catcher_splats[c] += same_numerator ? d[14 + c] : d[14 + c] * rescale;
+            }
         }
       }
     }

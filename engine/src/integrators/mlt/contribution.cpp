@@ -65,11 +65,12 @@ void Metropolis::evaluate_kelemen(PssSampler &sampler, RayStats &stats, State &s
   for (size_t i = first_light_splat + 1; i < state.splats.size(); ++i) state.splats[i].L *= image_area_;
   if (valid && catchers_) {
     // The camera sample's matte and catcher pass as splats of their own where its Combined
-    // lands (film/shadow_catcher_passes.h; the first-hit pass adds the camera side). The
-    // pass is clamped as a Combined of its own, as BDPT's tile loop does.
+    // lands (film/shadow_catcher_passes.h; the first-hit pass adds the camera side; the
+    // pass's splat counts the split). The pass is clamped as a Combined of its own, as
+    // BDPT's tile loop does.
     if (clamp > 0 && max_component(catcher.catcher) > clamp) catcher.catcher *= clamp / max_component(catcher.catcher);
     state.splats.push_back({raster, catcher.matte * region_area_, Splat::kNoStrategy, {}, CatcherSplat::Matte});
-    state.splats.push_back({raster, catcher.catcher * region_area_, Splat::kNoStrategy, {}, CatcherSplat::Pass});
+    state.splats.push_back({raster, catcher.catcher * region_area_, Splat::kNoStrategy, {}, CatcherSplat::SplitPass});
   }
 }
 
@@ -160,8 +161,9 @@ void Metropolis::evaluate_multiplexed(PssSampler &sampler, RayStats &stats, Stat
                                               emitted.data(), capacity, &copy_raster);
   if (!is_finite(copy) || is_black(copy) || copy.x < 0 || copy.y < 0 || copy.z < 0) return;
   copy *= per_strategy;
+  // A camera sample's copy counts its split where it lands (CatcherSplat::SplitPass).
   state.splats.push_back({t == 1 ? copy_raster : raster, copy * (t == 1 ? image_area_ : region_area_),
-                          Splat::kNoStrategy, {}, CatcherSplat::Pass});
+                          Splat::kNoStrategy, {}, t == 1 ? CatcherSplat::Pass : CatcherSplat::SplitPass});
 }
 
 void Metropolis::evaluate(PssSampler &sampler, RayStats &stats, State &state, int depth_override) const {
