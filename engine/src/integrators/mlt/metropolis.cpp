@@ -56,7 +56,7 @@ uint64_t samples_per_depth(uint64_t per_pixel, uint64_t region_pixels, int depth
 // counts uniformly, so this is in proportion to their root mean square: the share of
 // samples that minimises the variance of b (measured over 16 seeds, docs/mlt.md: b's
 // spread 1.9% -> 1.4% on the volume caustic, 1.1% -> 1.0% on the fog door).
-std::vector<double> length_weights(const std::vector<float> &weights, const std::vector<uint8_t> &vertices) {
+std::vector<double> length_weights(const std::vector<float> &weights, const std::vector<uint16_t> &vertices) {
   std::vector<double> sum2;
   for (size_t i = 0; i < weights.size(); ++i) {
     if (vertices[i] >= sum2.size()) sum2.resize(size_t(vertices[i]) + 1, 0.0);
@@ -299,7 +299,7 @@ void Metropolis::render(RenderContext &ctx) {
   const uint64_t n_bootstrap = per_depth * uint64_t(depths);
   std::vector<float> weights(n_bootstrap);
   std::vector<uint8_t> strategy(mlt_.multiplexed ? n_bootstrap : 0);  // s of each (multiplexed)
-  std::vector<uint8_t> vertices(path_space_ ? n_bootstrap : 0);        // path space: each path's length
+  std::vector<uint16_t> vertices(path_space_ ? n_bootstrap : 0);       // path space: each path's length
   const uint64_t seed0 = bootstrap_seed(settings_.seed_for_chains());
   std::atomic<bool> specular_paths{false};  // path space: a bootstrap path with a specular vertex
   ctx.arena.execute([&] {
@@ -316,7 +316,7 @@ void Metropolis::render(RenderContext &ctx) {
           double q = path_space_->sample_independent(rng, stats, path);
           double w = q > 0 ? double(path_target(path)) / q : 0.0;
           weights[i] = std::isfinite(w) ? float(w) : 0.0f;
-          vertices[i] = uint8_t(path.n);
+          vertices[i] = uint16_t(path.n);
           if (q > 0 && !specular_paths.load(std::memory_order_relaxed))
             for (int k = 1; k + 1 < path.n; ++k)
               if (path.x[size_t(k)].v.delta) specular_paths.store(true, std::memory_order_relaxed);
