@@ -51,17 +51,16 @@ uint64_t samples_per_depth(uint64_t per_pixel, uint64_t region_pixels, int depth
   return uint64_t(std::ceil(std::max(4096.0, double(per_pixel) * double(region_pixels)) * share));
 }
 
-// Path space: the large steps' weight of each vertex count n (the index), the root of the
-// sum of the bootstrap's (target / q)^2 over its paths of n vertices. The bootstrap drew the
+// Path space: the large steps' weight of each vertex count n in first .. last (index
+// n - first), the root of the sum of the bootstrap's (target / q)^2 over its paths of n vertices. The bootstrap drew the
 // counts uniformly, so this is in proportion to their root mean square: the share of
 // samples that minimises the variance of b (measured over 16 seeds, docs/mlt.md: b's
 // spread 1.9% -> 1.4% on the volume caustic, 1.1% -> 1.0% on the fog door).
-std::vector<double> length_weights(const std::vector<float> &weights, const std::vector<uint16_t> &vertices) {
-  std::vector<double> sum2;
-  for (size_t i = 0; i < weights.size(); ++i) {
-    if (vertices[i] >= sum2.size()) sum2.resize(size_t(vertices[i]) + 1, 0.0);
-    sum2[vertices[i]] += double(weights[i]) * weights[i];
-  }
+std::vector<double> length_weights(const std::vector<float> &weights, const std::vector<uint16_t> &vertices, int first,
+                                   int last) {
+  std::vector<double> sum2(size_t(last - first + 1), 0.0);
+  for (size_t i = 0; i < weights.size(); ++i)
+    if (vertices[i] >= first && vertices[i] <= last) sum2[size_t(vertices[i] - first)] += double(weights[i]) * weights[i];
   for (double &v : sum2) v = std::sqrt(v);
   return sum2;
 }
@@ -441,12 +440,9 @@ void Metropolis::render(RenderContext &ctx) {
       ctx.control.add_rays(stats.rays);
     });
   });
-  if (path_space_) {
-    std::vector<double> by_count = length_weights(weights, vertices);  // index: vertex count
-    const size_t first = size_t(path_space_->min_vertices());
+  if (path_space_)
     path_space_->set_length_weights(
-        std::vector<double>(by_count.begin() + std::ptrdiff_t(std::min(first, by_count.size())), by_count.end()));
-  }
+        length_weights(weights, vertices, path_space_->min_vertices(), path_space_->max_vertices()));
 
   // Passes: a deterministic schedule (each chain's share of the mutations, growing
   // passes up to a memory cap), so the splats are summed in the same order on any

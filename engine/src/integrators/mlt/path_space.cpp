@@ -1000,17 +1000,15 @@ void PathSpace::set_length_weights(const std::vector<double> &weights) {
   // A quarter of the large steps stay uniform over the lengths: a length whose few
   // bootstrap samples missed its light keeps its share of proposals (and b its samples).
   constexpr double kUniformShare = 0.25;
+  std::vector<double> w(size_t(path_lengths()), 0.0);
   double sum = 0;
-  for (int k = 0; k < path_lengths() && size_t(k) < weights.size(); ++k)
-    if (std::isfinite(weights[size_t(k)])) sum += std::max(0.0, weights[size_t(k)]);
-  if (!(sum > 0)) {
-    length_pmf_.clear();
-    return;
+  for (size_t k = 0; k < w.size() && k < weights.size(); ++k) {
+    if (std::isfinite(weights[k])) w[k] = std::max(0.0, weights[k]);
+    sum += w[k];
   }
-  length_pmf_.assign(size_t(path_lengths()), kUniformShare / path_lengths());
-  for (int k = 0; k < path_lengths() && size_t(k) < weights.size(); ++k)
-    if (std::isfinite(weights[size_t(k)]))
-      length_pmf_[size_t(k)] += (1 - kUniformShare) * std::max(0.0, weights[size_t(k)]) / sum;
+  length_pmf_.clear();
+  if (!(sum > 0)) return;  // uniform
+  for (double wk : w) length_pmf_.push_back(kUniformShare / path_lengths() + (1 - kUniformShare) * wk / sum);
 }
 
 int PathSpace::random_path_length(Pcg32 &rng) const {
