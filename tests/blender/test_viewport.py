@@ -289,34 +289,18 @@ def mode_preview():
     yield 0.3
     win, area, region, _ = view3d()
     for mat in mats:
-        # The previous material's preview job may still be handing its result to Blender; an
-        # operator called meanwhile is refused ("can't modify blend data ... (drawing/rendering)").
-        # Blender's allow-writes switch is one global that the job thread's property reads flip
-        # and restore; a restore that lands after a main-thread draw leaves writes refused until
-        # the next draw resets it, so a refusal asks for a redraw before trying again.
+        # Ask through ID.asset_generate_preview (what ed.lib_id_generate_preview runs), not the
+        # operator: Python refuses every bpy.ops call while Blender's global allow-writes switch
+        # is off, and a preview job thread that flips and restores it around a main-thread draw
+        # can leave it off for many seconds under CI load (CI failed on that more than once; the
+        # forced redraw tried before is an operator too).  An RNA function call is not checked.
         t0 = time.time()
         while bpy.app.is_job_running("RENDER_PREVIEW") and time.time() - t0 < 20:
             yield 0.05
         preview.last_preview.clear()
-        for attempt in range(100):
-            try:
-                with bpy.context.temp_override(window=win, area=area, region=region, id=mat):
-                    bpy.ops.ed.lib_id_generate_preview()
-                break
-            except RuntimeError as exc:
-                if "can't modify blend data" not in str(exc) or attempt == 99:
-                    raise
-                print("PREVIEW operator refused (attempt %d): redrawing" % (attempt + 1))
-                for a in win.screen.areas:
-                    a.tag_redraw()
-                # A tagged redraw may never come while the machine is loaded (CI at -j2 saw
-                # 100 refusals in a row): draw the window now, which resets the switch.
-                try:
-                    with bpy.context.temp_override(window=win, area=area, region=region):
-                        bpy.ops.wm.redraw_timer(type='DRAW_WIN_SWAP', iterations=1)
-                except RuntimeError as draw_exc:
-                    print("PREVIEW forced redraw refused: %s" % draw_exc)
-            yield 0.1
+        with bpy.context.temp_override(window=win, area=area, region=region):
+            mat.asset_generate_preview()
+        yield 0.1
         t0 = time.time()
         while "samples" not in preview.last_preview and "error" not in preview.last_preview \
                 and time.time() - t0 < 20:
