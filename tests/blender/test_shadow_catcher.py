@@ -82,23 +82,9 @@ def check_all(a, odir, failures):
                                 % rs.max())
             check("%s Shadow Catcher" % tag, rs, ts, failures)
 
-    # Path-space Metropolis: the catcher as an ordinary object, and a warning naming it.
-    if a.integrator != "PATH":
-        return
-    from rendezvous.engine import final
-    layer.cycles.use_pass_shadow_catcher = False
-    lamp.is_shadow_catcher = True
-    scene.render.film_transparent = True
-    q = render(scene, "RENDEZVOUS", 8, os.path.join(odir, "shadow_catcher_mlt.exr"), "MLT")
-    warned = [line for line in final.last_render.get("messages", [])
-              if "shadow catcher" in line and "Floor" in line]
-    print("MLT: Combined alpha mean %.4f, warning: %s" % (q["Combined"][:, :, 3].mean(), warned))
-    if not warned:
-        failures.append("MLT with a shadow catcher did not warn naming the object")
-
 
 def add_arguments(parser):
-    parser.add_argument("--integrator", default="PATH", choices=("PATH", "BDPT", "PSSMLT", "MMLT"))
+    parser.add_argument("--integrator", default="PATH", choices=("PATH", "BDPT", "PSSMLT", "MMLT", "MLT"))
 
 
 run_test("SHADOW CATCHER", check_all, samples=256, add_arguments=add_arguments, needs_oiiotool=True)

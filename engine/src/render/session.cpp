@@ -15,34 +15,11 @@ Session::Session(std::shared_ptr<Scene> scene, const RenderSettings &settings)
   scene_->commit();
   scene_->camera().set_resolution(settings.width, settings.height);
   // Shadow catchers (integrators/path/shadow_catcher.h, integrators/bdpt/shadow_catcher.cpp):
-  // the path tracer, BDPT, pssmlt and mmlt (BDPT's samples and strategies as their states)
-  // split their paths at them; path-space mlt renders them as ordinary objects, and says so.
+  // every integrator splits its paths at them (pssmlt and mmlt through BDPT's samples and
+  // strategies, path-space mlt by each path's second contribution, mlt/path_space.h).
   if (scene_->has_shadow_catchers()) {
-    auto renders_catchers = [](const std::string &name) {
-      return name == "path" || name == "bdpt" || name == "pssmlt" || name == "mmlt";
-    };
-    // Integrator auto picks among those that render a catcher, when it may (auto_candidates).
-    std::vector<std::string> &candidates = settings_.auto_candidates;
-    if (settings_.integrator == "auto" && !std::all_of(candidates.begin(), candidates.end(), renders_catchers) &&
-        std::any_of(candidates.begin(), candidates.end(), renders_catchers)) {
-      candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
-                                       [&](const std::string &name) { return !renders_catchers(name); }),
-                       candidates.end());
-      std::string names;
-      for (const std::string &name : candidates) names += (names.empty() ? "" : " or ") + name;
-      scene_->warn(scene_->shadow_catcher_object() + " is a shadow catcher, which only the path tracer, BDPT, "
-                   "pssmlt and mmlt render as one: integrator auto renders with " + names);
-    }
-    const bool catchers = settings_.integrator == "auto"
-                              ? std::all_of(candidates.begin(), candidates.end(), renders_catchers)
-                              : renders_catchers(settings_.integrator);
-    if (catchers)
-      film_.keep_shadow_catcher({settings_.shadow_catcher_pass, settings_.alpha.film_transparent});
-    else
-      scene_->warn(scene_->shadow_catcher_object() + " is a shadow catcher, which only the path tracer, BDPT, "
-                   "pssmlt and mmlt render as one: " + settings_.integrator + " renders it as an ordinary object (Combined shows "
-                   "it shaded, the Shadow Catcher pass is 1)");
-    if (catchers && scene_->has_media())
+    film_.keep_shadow_catcher({settings_.shadow_catcher_pass, settings_.alpha.film_transparent});
+    if (scene_->has_media())
       scene_->warn(scene_->shadow_catcher_object() + " is a shadow catcher in a scene with participating media: "
                    "its Shadow Catcher pass sees the media of every object (Cycles leaves out those of objects "
                    "that are not shadow catchers)");

@@ -193,15 +193,21 @@ void Metropolis::path_state(const ExplicitPath &path, State &state) const {
   state.independent = 0;
   state.target = path_target(path);
   if (state.target > 0 && std::isfinite(state.target)) {
-    state.splats.push_back({path.raster, path.f, Splat::kNoStrategy, {}, CatcherSplat::Combined});
-    if (light_passes_) classify_path(path, state);
+    // Shadow catchers: a path past its split adds to Combined only (and, without a light
+    // pass, as after BDPT's split), one that does not split to the matte too; the split path's
+    // f_catcher to the catcher pass, with the same weight (path_space.h).
+    const bool split = catchers_ && path.split >= 0;
+    state.splats.push_back({path.raster, path.f, Splat::kNoStrategy, {},
+                            split || !catchers_ ? CatcherSplat::Combined : CatcherSplat::CombinedAndMatte});
+    if (light_passes_ && !split) classify_path(path, state);
+    if (split) state.splats.push_back({path.raster, path.f_catcher, Splat::kNoStrategy, {}, CatcherSplat::SplitPass});
   } else {
     state.target = 0;
   }
 }
 
 float Metropolis::path_target(const ExplicitPath &path) const {
-  const float y = luminance(path.f);
+  const float y = path.carried();
   return importance_.empty() || !(y > 0) ? y : y * importance_.weight(path.raster);
 }
 

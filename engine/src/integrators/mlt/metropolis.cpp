@@ -200,7 +200,7 @@ void Metropolis::first_hit_pass(RenderContext &ctx) const {
               bdpt_.add_color_passes(path.data(), n, colors);
               rows_tile.add_light_passes(x, y, colors);
             }
-            if (catchers) {  // the camera side of the shadow catcher's sums (pssmlt; contribution.cpp)
+            if (catchers) {  // the camera side of the shadow catcher's sums (contribution.cpp)
               CatcherSample catcher;
               bdpt_.camera_catcher_values(path.data(), n, catcher);
               const float clamp = settings_.clamp;  // as BDPT's tile loop clamps the world behind
@@ -279,7 +279,8 @@ ImportanceMap Metropolis::pilot(RenderContext &ctx, int depths) {
 
 void Metropolis::render(RenderContext &ctx) {
   // Shadow catchers change the target (target_of): known before the pilot and bootstrap.
-  catchers_ = ctx.film.has_shadow_catcher() && !path_space_;
+  catchers_ = ctx.film.has_shadow_catcher();
+  if (path_space_) path_space_->set_shadow_catchers(catchers_, bdpt_.settings().alpha.transparent_glass);
   if (direct_) direct_pass(ctx);
   else first_hit_pass(ctx);
   const Rect &region = settings_.border;

@@ -139,8 +139,9 @@ class Metropolis final : public Integrator {
   Distribution1D depth_distribution_;  // multiplexed: path depth by b
   ImportanceMap importance_;  // empty: the luminance target
   bool light_passes_ = false;  // the film keeps Cycles' light passes: states carry their split
-  // pssmlt and mmlt in a scene with a shadow catcher whose sums the film keeps: states carry
-  // the matte and catcher pass (contribution.cpp), the first-hit pass their camera side.
+  // A scene with a shadow catcher whose sums the film keeps: states carry the matte and
+  // catcher pass (contribution.cpp; mlt: each path's f_catcher), the first-hit pass their
+  // camera side.
   bool catchers_ = false;
   std::unique_ptr<PathSpace> path_space_;  // mlt only
   std::unique_ptr<PathTracer> direct_;     // mlt with direct_samples: paths of one and two edges

@@ -625,6 +625,21 @@ double PathSpace::light_position_density(const ExplicitVertex &light_vertex) con
   return double(choice.pmf(size_t(light_vertex.v.light))) * area_pdf;
 }
 
+bool PathSpace::sees_through(const ExplicitVertex &v, Vec3 w) const {
+  if (v.v.type != VertexType::Surface || !v.v.delta) return false;
+  if (v.v.bsdf.passes_straight_through(v.v.wo, w)) return true;
+  return transparent_glass_ && dot(v.v.wo, v.v.ng) * dot(w, v.v.ng) < 0;  // a smooth refraction
+}
+
+bool PathSpace::on_catcher(const ExplicitVertex &v) const {
+  if (v.v.type == VertexType::Surface)
+    return scene_.is_shadow_catcher(v.hit.instance) && !scene_.is_holdout_instance(v.hit.instance);
+  // An emitting triangle of a catcher (Light::shadow_catcher), where the path ends on it.
+  if (v.v.type != VertexType::Light || v.v.infinite || v.v.light < 0) return false;
+  const Light &light = scene_.lights()[size_t(v.v.light)];
+  return light.type == LightType::Triangle && light.shadow_catcher;
+}
+
 bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec3 w, const EdgeMasks &masks,
                            EdgeTrace &e, RayStats &stats) const {
   e = EdgeTrace();
@@ -725,7 +740,8 @@ void PathSpace::walks_along(const ShadowRay &s, const EdgeMasks &masks, EdgeTrac
 void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   shutter::SampleTime at(y.time);  // every ray, the camera and the lights at the path's time
   const int n = y.n;
-  y.f = Color(0.0f);
+  y.f = y.f_catcher = Color(0.0f);
+  y.split = -1;
   std::fill(y.fwd.begin(), y.fwd.begin() + n, 0.0);
   std::fill(y.rev.begin(), y.rev.begin() + n, 0.0);
   std::fill(y.rev_area.begin(), y.rev_area.begin() + n, 0.0);
@@ -791,6 +807,10 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   // Filter Glossy: the smallest camera-side scattering density so far (filter_glossy.h).
   float filter_min = kInf;
 
+  // Shadow catchers: f and f_catcher share every factor but the visibility of the edges past
+  // the split, which vertices past it may be, and the light's emission; whether each lives.
+  bool see_through = catchers_, image = true, copy = catchers_;
+
   // Edge by edge: transmittance, geometry, the scattering at its camera-side end, and
   // the densities of its two ends as the other end's walk would reach them.
   for (int i = 0; i + 1 < n; ++i) {
@@ -808,6 +828,19 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
       if (!(d2 > 0)) return;
       w = i == 0 ? w0 : d / std::sqrt(d2);
       if (too_short_at_specular(a.v, b.v, std::sqrt(d2))) return;
+    }
+    if (see_through && i >= 1) {  // the split: the first catcher the camera sees through to
+      if (on_catcher(a)) {
+        y.split = i;
+        see_through = false;
+      } else if (!sees_through(a, w)) {
+        see_through = copy = false;
+      }
+    }
+    const bool past_split = y.split >= 0 && i >= y.split;
+    if (past_split && b.v.type == VertexType::Surface && !on_catcher(b)) {
+      copy = false;  // the catcher pass's rays meet catchers only
+      if (!image) return;
     }
     if (i >= 1 && (limits_.classify || visibility_)) {
       // The kind of scattering at a toward b, as the path tracer labels it (its BSDF built
@@ -845,7 +878,14 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
       }
     }
     EdgeTrace e;
-    if (!trace_edge(a, b, w, masks, e, stats)) return;
+    if (!trace_edge(a, b, w, masks, e, stats)) {
+      // Blocked in the image. Past the split the catcher pass's copy sees through what is not
+      // a catcher; the walks do not (e keeps the scene's walk densities: 0 on this edge).
+      if (!copy || !past_split || !masks.f) return;
+      const EdgeMasks copy_masks{visibility::catcher_rays(masks.f), masks.camera_walk, masks.light_walk};
+      if (!trace_edge(a, b, w, copy_masks, e, stats)) return;
+      image = false;
+    }
     if (visibility_ && i >= 1 && a.v.on_surface() &&
         !(scene_.instance_visibility(a.hit.instance) & visibility::kNonCamera))
       e.rev = 0;  // light walks pass what only the camera sees
@@ -921,7 +961,10 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   // The kind of ray that meets the light (without ray visibility: the camera's for the camera
   // ray alone, lamps' default visibility, else any other kind).
   const uint32_t kind_at_light = visibility_ ? ray_kind : n == 2 ? visibility::kCamera : visibility::kNonCamera;
+  if (see_through && on_catcher(last)) y.split = n - 1;  // an emitting catcher seen through to
   f *= emitted(last, -toward(y.x[size_t(n - 2)], last), kind_at_light);
+  Color f_catcher = copy && y.split >= 0 && light.shadow_catcher ? f : Color(0.0f);
+  if (!image) f = Color(0.0f);
   y.fwd[0] = 1.0 / camera.aperture_area();  // a point uniform on the aperture (pinhole, orthographic: 1)
   // The camera side reaches the light where its last ray meets it first: a lamp's sphere
   // where the ray enters it (emitted() is 0 from inside), an area lamp from its emitting
@@ -949,8 +992,11 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   }
   y.rev[size_t(n - 1)] = light_position_density(last);
   f *= image_area_;
+  f_catcher *= image_area_;
   if (!is_finite(f) || f.x < 0 || f.y < 0 || f.z < 0) f = Color(0.0f);
+  if (!is_finite(f_catcher) || f_catcher.x < 0 || f_catcher.y < 0 || f_catcher.z < 0) f_catcher = Color(0.0f);
   y.f = f;
+  y.f_catcher = f_catcher;
   y.raster = raster;
 }
 
@@ -1032,7 +1078,7 @@ double PathSpace::sample_independent(Pcg32 &rng, RayStats &stats, ExplicitPath &
   y.n = nv;
   if (!regenerate(y, -1, nv, j, rng, stats)) return 0;
   evaluate(y, stats);
-  if (!(luminance(y.f) > 0)) return 0;
+  if (!(y.carried() > 0)) return 0;
   if (filter_.on() && !light_walk_made(y, j, nv - 1)) return 0;  // scattered where f blurs
   return independent_density(y);
 }
@@ -1185,7 +1231,7 @@ Proposal PathSpace::bidirectional(const ExplicitPath &x, bool large, Pcg32 &rng,
   for (int i = m; i < nv; ++i) y.x[size_t(i - m + l + na + 1)] = x.x[size_t(i)];
   if (!regenerate(y, l, na, j, rng, stats)) return proposal;
   evaluate(y, stats);
-  const float fy = luminance(y.f);
+  const float fy = y.carried();
   if (!(fy > 0)) return proposal;
   if (filter_.on() && !light_walk_made(y, l + j + 1, l + na)) return proposal;  // scattered where f blurs
   const double t_xy = transition_density(nv, l, m, y, na);
@@ -1246,7 +1292,7 @@ Proposal PathSpace::perturb_medium_vertex(const ExplicitPath &x, MutationType ty
       proposal.m = j + 2;
     }
     evaluate(y, stats);
-    if (!(luminance(y.f) > 0)) return proposal;
+    if (!(y.carried() > 0)) return proposal;
     proposal.ratio = 1;
     proposal.na = 1;
     return proposal;
@@ -1279,7 +1325,7 @@ Proposal PathSpace::perturb_medium_vertex(const ExplicitPath &x, MutationType ty
   settle(y.x[size_t(j)], y.x[size_t(j - 1)]);
   settle(y.x[size_t(j + 1)], y.x[size_t(j)]);  // its camera-side neighbour moved
   evaluate(y, stats);
-  if (!(luminance(y.f) > 0)) return proposal;
+  if (!(y.carried() > 0)) return proposal;
   proposal.ratio = jacobian;
   proposal.l = j - 1;
   proposal.m = j + 1;
@@ -1325,7 +1371,7 @@ Proposal PathSpace::lens_move(const ExplicitPath &x, Vec2 raster, bool keep, Mut
   if (retrace_lens(x, raster, keep, rng, stats, y) != c) return proposal;
   settle(y.x[size_t(c + 1)], y.x[size_t(c)]);
   evaluate(y, stats);
-  if (!(luminance(y.f) > 0)) return proposal;
+  if (!(y.carried() > 0)) return proposal;
   // The raster point's density is the same both ways (a symmetric offset, or uniform); the
   // rest is the camera walk's density of x_1 .. x_c (fwd[1] holds the uniform raster
   // density times the raster-to-area Jacobian), event probabilities included.
@@ -1442,7 +1488,7 @@ Proposal PathSpace::lens_subpath(const ExplicitPath &x, Vec2 raster, Pcg32 &rng,
     settle(y.x[size_t(cy + 1)], y.x[size_t(cy)]);
   }
   evaluate(y, stats);
-  if (!(luminance(y.f) > 0)) return proposal;
+  if (!(y.carried() > 0)) return proposal;
   const double px = lens_subpath_density(x, c, short_path), py = lens_subpath_density(y, cy, short_path);
   if (!(py > 0) || !std::isfinite(px)) return proposal;
   proposal.ratio = px / py;
@@ -1498,7 +1544,7 @@ Proposal PathSpace::perturb_multi_chain(const ExplicitPath &x, Pcg32 &rng, RaySt
   }
   if (kept < x.n) settle(y.x[size_t(kept)], y.x[size_t(kept - 1)]);
   evaluate(y, stats);
-  if (!(luminance(y.f) > 0)) return proposal;
+  if (!(y.carried() > 0)) return proposal;
   // The raster offset's and the turns' densities are symmetric: what is left is the camera
   // walk's density of the moved vertices, each turned direction's vertex without its
   // directional part, and with Pauly's retrace each medium end of a chain (x_c, the x_b)
@@ -1572,7 +1618,7 @@ Proposal PathSpace::perturb_caustic(const ExplicitPath &x, Pcg32 &rng, RayStats 
   if (keep && y.x[1].v.type != x.x[1].v.type) return proposal;  // the path's kinds are kept
   for (int i = 1; i <= k; ++i) settle(y.x[size_t(i)], y.x[size_t(i - 1)]);
   evaluate(y, stats);
-  if (!(luminance(y.f) > 0)) return proposal;
+  if (!(y.carried() > 0)) return proposal;
   double px = x.rev_area[size_t(k - 1)], py = y.rev_area[size_t(k - 1)];
   for (int i = 1; i <= k - 2; ++i) {
     px *= x.rev[size_t(i)];

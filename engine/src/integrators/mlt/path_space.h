@@ -34,6 +34,16 @@
 // Cycles' Light Paths limits (per-kind bounces, caustics switches) are a property of the
 // vertices: f is 0 for a path outside them (integrators/light_path_limits.h), every vertex
 // classified as the path tracer classifies it, so every mutation sees the same f.
+// Shadow catchers (set_shadow_catchers; film/shadow_catcher_passes.h): a path also carries
+// f_catcher, what the same vertices carry to the Shadow Catcher pass. The path splits at the
+// first catcher on the camera's see-through chain (x_1 on, through Transparent BSDFs and,
+// with Transparent Glass, smooth refractions); f_catcher is 0 for a path that does not split,
+// else f with each edge past the split blocked only by catchers, each vertex past it on a
+// catcher (or in a medium) and the light one that lights catchers (Light::shadow_catcher).
+// A chain targets both (as pssmlt targets a sample and its copy), so a path in a catcher's
+// shadow, f = 0, is a state the chains visit; its blocked edge has no walk density (only a
+// connection across it makes it), and the mutations trace the scene as it is. Where nothing
+// but catchers lies past the split, f_catcher = f: the lit floor's pass is 1 up to rounding.
 #pragma once
 #include <algorithm>
 #include <string>
@@ -66,9 +76,14 @@ struct ExplicitPath {
   // perturbation picks the direction itself).
   std::vector<double> fwd_area;
   Color f{0.0f};                 // image_area x the measurement contribution (splat value)
+  Color f_catcher{0.0f};         // shadow catchers: the Shadow Catcher pass's (set_shadow_catchers)
+  int split = -1;                // shadow catchers: the vertex on the first catcher the camera sees through to (-1: none)
   Vec2 raster{0, 0};
   float time = 0.5f;  // the shutter time in [0, 1) of every vertex (scenes that move; else unused)
   void reserve(int max_vertices);
+  // What a chain targets (before the relative target's weight): the image's luminance and the
+  // catcher pass's.
+  float carried() const { return luminance(f) + luminance(f_catcher); }
 };
 
 // Large: the whole path regenerated. Bidirectional: Veach's, on a subpath. Lens: Veach's
@@ -221,6 +236,13 @@ class PathSpace {
   // (the raster density, uniform on the region, in fwd[1]), exact when the raster point is
   // uniform.
   Proposal lens_subpath(const ExplicitPath &x, Vec2 raster, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
+  // The film keeps a shadow catcher's sums: evaluate() computes f_catcher and split (before the
+  // first path). transparent_glass: Film > Transparent Glass (smooth refractions keep the
+  // camera seeing through; rough ones below its roughness do not here, unlike BDPT's).
+  void set_shadow_catchers(bool on, bool transparent_glass) {
+    catchers_ = on;
+    transparent_glass_ = transparent_glass;
+  }
   // After the bootstrap: whether any of its paths had a specular vertex. Without, the caustic
   // and multi-chain perturbations could only fail and get weight 0 (fixed before the chains run).
   void set_specular_paths(bool found);
@@ -323,6 +345,11 @@ class PathSpace {
   // it (lights at infinity that kind does not see give nothing).
   Color emitted(const ExplicitVertex &light, Vec3 w, uint32_t ray_kind) const;
   double light_position_density(const ExplicitVertex &light) const;
+  // Shadow catchers: whether the camera still sees through surface vertex v toward w (a
+  // Transparent BSDF, or a smooth refraction with Transparent Glass), and whether v is on a
+  // catcher (a holdout never is).
+  bool sees_through(const ExplicitVertex &v, Vec3 w) const;
+  bool on_catcher(const ExplicitVertex &v) const;
 
   // The settings' weight of each small step's type (MutationSettings::weights order), 0 for
   // the types that cannot apply to x's vertex kinds (they would propose nothing).
@@ -351,6 +378,7 @@ class PathSpace {
   bool media_;
   bool motion_;  // Scene::has_motion
   bool visibility_, mixed_visibility_;  // Scene::has_ray_visibility / has_mixed_visibility
+  bool catchers_ = false, transparent_glass_ = false;  // set_shadow_catchers
   std::vector<uint32_t> hittable_lamps_;  // lamps with a radius (spheres) and area lamps: camera walks reach them
   // The lights at infinity but suns without an angle: one vertex (a direction) for all of
   // them, labelled with the first; f sums their radiance, the light side their densities.
