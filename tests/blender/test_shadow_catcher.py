@@ -1,8 +1,8 @@
 """Shadow catcher (Object > Visibility > Shadow Catcher) against Cycles 3.4: build_scenes.
 shadow_catcher (48x48: a floor that is a shadow catcher under a red ball and a green card, a
 point lamp, a blue world seen past the floor's edge), Film > Transparent on. Cycles renders
-it, then Rendezvous with --integrator (PATH, the default, BDPT, PSSMLT or MMLT: mutations per
-pixel) in this process (256 samples each unless --samples, seed 1):
+it, then Rendezvous with --integrator (PATH, the default, BDPT, PSSMLT, MMLT or MLT: mutations
+per pixel) in this process (256 samples each unless --samples, seed 1):
 - View Layer > Passes > Shadow Catcher on (`view_layer.cycles.use_pass_shadow_catcher`): the
   Shadow Catcher pass (the floor's light with the objects over its light without them) and
   Combined, which is then the matte (the objects over a transparent floor): colour and alpha;
@@ -13,11 +13,9 @@ pixel) in this process (256 samples each unless --samples, seed 1):
 - Film > Transparent off, the pass off: Combined is the world behind the floor darkened by the
   shadow, the objects over it: colour (alpha is 1);
 each as test_brightness.compare (means within 2%, 8x8 blocks within 3% or 5 standard errors);
-the pass is registered with Blender (the compositor's Render Layers node lists it);
-- (PATH run) path-space Metropolis (MLT) renders the catcher as an ordinary object and warns
-  naming it.
+the pass is registered with Blender (the compositor's Render Layers node lists it).
 
-    run_blender.py --script test_shadow_catcher.py -- [--samples N] [--integrator PATH|BDPT|PSSMLT|MMLT]
+    run_blender.py --script test_shadow_catcher.py -- [--samples N] [--integrator PATH|BDPT|PSSMLT|MMLT|MLT]
 """
 
 import os

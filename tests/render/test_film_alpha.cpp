@@ -68,6 +68,21 @@ TEST(FilmAlpha, WorldSeenDirectlyIsTransparentAndBlack) {
   }
 }
 
+// Path-space mlt (mlt/path_space.h): a path whose camera sees through to the world carries
+// none of its colour (a perspective view: mlt refuses an orthographic camera that sees the
+// world); alpha from the first-hit pass.
+TEST(FilmAlpha, PathSpaceMltLeavesTheWorldSeenDirectlyOut) {
+  json scene = card_scene({{"type", "diffuse"}}, {{"integrator", "mlt"}, {"mlt_chains", 64}});
+  scene["camera"] = {{"focal_length", 50}, {"transform", {{"look_at", {{"from", {0, 0.001, 3}}, {"to", {0, 0, 0}}}}}}};
+  Image img = render_json(scene.dump());
+  ASSERT_TRUE(img.all_finite());
+  for (int y : {0, 1, 14, 15})
+    for (int x : {0, 1, 14, 15})
+      for (int c = 0; c < 4; ++c) EXPECT_EQ(img.rgba[(size_t(y) * 16 + x) * 4 + c], 0.0f) << "pixel " << x << "," << y;
+  EXPECT_EQ(card_mean(img, 3).mean, 1.0);
+  EXPECT_GT(card_mean(img, 0).mean, 0.1);  // the sun lights the card
+}
+
 TEST(FilmAlpha, TransparentBsdfLeavesItsShareOfAlpha) {
   json card = {{"type", "mix"}, {"fac", 0.3}, {"shader1", {{"type", "diffuse"}}}, {"shader2", {{"type", "transparent"}}}};
   Image path = render_json(card_scene(card, {{"integrator", "path"}, {"samples", 256}}).dump());

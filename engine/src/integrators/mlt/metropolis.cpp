@@ -280,7 +280,7 @@ ImportanceMap Metropolis::pilot(RenderContext &ctx, int depths) {
 void Metropolis::render(RenderContext &ctx) {
   // Shadow catchers change the target (target_of): known before the pilot and bootstrap.
   catchers_ = ctx.film.has_shadow_catcher();
-  if (path_space_) path_space_->set_shadow_catchers(catchers_, bdpt_.settings().alpha.transparent_glass);
+  if (path_space_) path_space_->set_film(catchers_, bdpt_.settings().alpha);
   if (direct_) direct_pass(ctx);
   else first_hit_pass(ctx);
   const Rect &region = settings_.border;

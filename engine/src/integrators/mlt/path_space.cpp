@@ -574,7 +574,7 @@ bool PathSpace::regenerate(ExplicitPath &y, int l, int na, int j, Pcg32 &rng, Ra
 
 // ---- f and the densities ----
 
-Color PathSpace::emitted(const ExplicitVertex &light_vertex, Vec3 w, uint32_t ray_kind) const {
+Color PathSpace::emitted(const ExplicitVertex &light_vertex, Vec3 w, uint32_t ray_kind, bool background) const {
   Light moved;
   const Light &l = scene_.light_now(uint32_t(light_vertex.v.light), moved);
   if (light_vertex.v.infinite) {
@@ -586,6 +586,7 @@ Color PathSpace::emitted(const ExplicitVertex &light_vertex, Vec3 w, uint32_t ra
     Color L(0.0f);
     for (uint32_t index : infinite_lights_) {
       const Light &light = scene_.lights()[index];
+      if (!background && light.type == LightType::Background) continue;
       if (light.visibility & ray_kind) L += infinite_light_radiance(light, light_vertex.v.dir);
     }
     return L;
@@ -807,9 +808,12 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   // Filter Glossy: the smallest camera-side scattering density so far (filter_glossy.h).
   float filter_min = kInf;
 
+  // Whether the camera still sees through (Film > Transparent, shadow catchers: x_1 on, past
+  // Transparent BSDFs and, with Transparent Glass, smooth refractions).
+  bool see_through = catchers_ || film_transparent_;
   // Shadow catchers: f and f_catcher share every factor but the visibility of the edges past
   // the split, which vertices past it may be, and the light's emission; whether each lives.
-  bool see_through = catchers_, image = true, copy = catchers_;
+  bool image = true, copy = catchers_;
 
   // Edge by edge: transmittance, geometry, the scattering at its camera-side end, and
   // the densities of its two ends as the other end's walk would reach them.
@@ -830,7 +834,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
       if (too_short_at_specular(a.v, b.v, std::sqrt(d2))) return;
     }
     if (see_through && i >= 1) {  // the split: the first catcher the camera sees through to
-      if (on_catcher(a)) {
+      if (catchers_ && on_catcher(a)) {
         y.split = i;
         see_through = false;
       } else if (!sees_through(a, w)) {
@@ -961,8 +965,10 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   // The kind of ray that meets the light (without ray visibility: the camera's for the camera
   // ray alone, lamps' default visibility, else any other kind).
   const uint32_t kind_at_light = visibility_ ? ray_kind : n == 2 ? visibility::kCamera : visibility::kNonCamera;
-  if (see_through && on_catcher(last)) y.split = n - 1;  // an emitting catcher seen through to
-  f *= emitted(last, -toward(y.x[size_t(n - 2)], last), kind_at_light);
+  if (see_through && catchers_ && on_catcher(last)) y.split = n - 1;  // an emitting catcher seen through to
+  // The world seen through a transparent film is not in the image (its alpha: the first-hit pass).
+  const bool background = !(film_transparent_ && see_through && last.v.infinite);
+  f *= emitted(last, -toward(y.x[size_t(n - 2)], last), kind_at_light, background);
   Color f_catcher = copy && y.split >= 0 && light.shadow_catcher ? f : Color(0.0f);
   if (!image) f = Color(0.0f);
   y.fwd[0] = 1.0 / camera.aperture_area();  // a point uniform on the aperture (pinhole, orthographic: 1)

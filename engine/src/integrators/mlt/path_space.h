@@ -34,7 +34,9 @@
 // Cycles' Light Paths limits (per-kind bounces, caustics switches) are a property of the
 // vertices: f is 0 for a path outside them (integrators/light_path_limits.h), every vertex
 // classified as the path tracer classifies it, so every mutation sees the same f.
-// Shadow catchers (set_shadow_catchers; film/shadow_catcher_passes.h): a path also carries
+// Film > Transparent (set_film; integrators/film_alpha.h): a path whose camera sees through
+// (x_1 on, as below) to the world carries none of its colour; suns still light it.
+// Shadow catchers (set_film; film/shadow_catcher_passes.h): a path also carries
 // f_catcher, what the same vertices carry to the Shadow Catcher pass. The path splits at the
 // first catcher on the camera's see-through chain (x_1 on, through Transparent BSDFs and,
 // with Transparent Glass, smooth refractions); f_catcher is 0 for a path that does not split,
@@ -236,12 +238,14 @@ class PathSpace {
   // (the raster density, uniform on the region, in fwd[1]), exact when the raster point is
   // uniform.
   Proposal lens_subpath(const ExplicitPath &x, Vec2 raster, Pcg32 &rng, RayStats &stats, ExplicitPath &y) const;
-  // The film keeps a shadow catcher's sums: evaluate() computes f_catcher and split (before the
-  // first path). transparent_glass: Film > Transparent Glass (smooth refractions keep the
-  // camera seeing through; rough ones below its roughness do not here, unlike BDPT's).
-  void set_shadow_catchers(bool on, bool transparent_glass) {
-    catchers_ = on;
-    transparent_glass_ = transparent_glass;
+  // What the film keeps, set before the first path: catchers, a shadow catcher's sums
+  // (evaluate() computes f_catcher and split); alpha, Film > Transparent (the world seen
+  // through to is not in f) and Transparent Glass (smooth refractions keep the camera seeing
+  // through; rough ones below its roughness do not here, unlike BDPT's).
+  void set_film(bool catchers, const FilmAlpha &alpha) {
+    catchers_ = catchers;
+    film_transparent_ = alpha.film_transparent;
+    transparent_glass_ = alpha.transparent_glass;
   }
   // After the bootstrap: whether any of its paths had a specular vertex. Without, the caustic
   // and multi-chain perturbations could only fail and get weight 0 (fixed before the chains run).
@@ -342,8 +346,9 @@ class PathSpace {
   // E S* D L with D a light), and E S* D L times the light vertex's density rev[n - 1].
   double lens_subpath_density(const ExplicitPath &p, int c, bool short_path) const;
   // w: from the light toward its camera-side neighbour; ray_kind: the kind of ray that meets
-  // it (lights at infinity that kind does not see give nothing).
-  Color emitted(const ExplicitVertex &light, Vec3 w, uint32_t ray_kind) const;
+  // it (lights at infinity that kind does not see give nothing); background false: the world
+  // (HDRI or colour) gives nothing (seen through a transparent film), suns still do.
+  Color emitted(const ExplicitVertex &light, Vec3 w, uint32_t ray_kind, bool background = true) const;
   double light_position_density(const ExplicitVertex &light) const;
   // Shadow catchers: whether the camera still sees through surface vertex v toward w (a
   // Transparent BSDF, or a smooth refraction with Transparent Glass), and whether v is on a
@@ -378,7 +383,7 @@ class PathSpace {
   bool media_;
   bool motion_;  // Scene::has_motion
   bool visibility_, mixed_visibility_;  // Scene::has_ray_visibility / has_mixed_visibility
-  bool catchers_ = false, transparent_glass_ = false;  // set_shadow_catchers
+  bool catchers_ = false, film_transparent_ = false, transparent_glass_ = false;  // set_film
   std::vector<uint32_t> hittable_lamps_;  // lamps with a radius (spheres) and area lamps: camera walks reach them
   // The lights at infinity but suns without an angle: one vertex (a direction) for all of
   // them, labelled with the first; f sums their radiance, the light side their densities.
