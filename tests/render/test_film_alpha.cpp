@@ -83,6 +83,20 @@ TEST(FilmAlpha, PathSpaceMltLeavesTheWorldSeenDirectlyOut) {
   EXPECT_GT(card_mean(img, 0).mean, 0.1);  // the sun lights the card
 }
 
+// A holdout object where the camera sees it shows nothing: the card a holdout under a
+// transparent film, so every pixel is transparent black, exactly (mlt kept the card shaded
+// before 2026-11-25; BDPT the same, deterministic).
+TEST(FilmAlpha, HoldoutCardShowsNothingWithPathSpaceMlt) {
+  for (const char *integrator : {"bdpt", "mlt"}) {
+    json scene = card_scene({{"type", "diffuse"}}, {{"integrator", integrator}, {"mlt_chains", 64}});
+    scene["camera"] = {{"focal_length", 50}, {"transform", {{"look_at", {{"from", {0, 0.001, 3}}, {"to", {0, 0, 0}}}}}}};
+    scene["meshes"][0]["holdout"] = true;
+    Image img = render_json(scene.dump());
+    ASSERT_TRUE(img.all_finite()) << integrator;
+    for (size_t i = 0; i < img.rgba.size(); ++i) ASSERT_EQ(img.rgba[i], 0.0f) << integrator << " value " << i;
+  }
+}
+
 TEST(FilmAlpha, TransparentBsdfLeavesItsShareOfAlpha) {
   json card = {{"type", "mix"}, {"fac", 0.3}, {"shader1", {{"type", "diffuse"}}}, {"shader2", {{"type", "transparent"}}}};
   Image path = render_json(card_scene(card, {{"integrator", "path"}, {"samples", 256}}).dump());

@@ -810,7 +810,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
 
   // Whether the camera still sees through (Film > Transparent, shadow catchers: x_1 on, past
   // Transparent BSDFs and, with Transparent Glass, smooth refractions).
-  bool see_through = catchers_ || film_transparent_;
+  bool see_through = catchers_ || film_transparent_ || holdouts_;
   // Shadow catchers: f and f_catcher share every factor but the visibility of the edges past
   // the split, which vertices past it may be, and the light's emission; whether each lives.
   bool image = true, copy = catchers_;
@@ -834,6 +834,8 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
       if (too_short_at_specular(a.v, b.v, std::sqrt(d2))) return;
     }
     if (see_through && i >= 1) {  // the split: the first catcher the camera sees through to
+      // A holdout object where the camera sees it shows nothing (its alpha: the first-hit pass).
+      if (holdouts_ && a.v.type == VertexType::Surface && scene_.is_holdout_instance(a.hit.instance)) return;
       if (catchers_ && on_catcher(a)) {
         y.split = i;
         see_through = false;

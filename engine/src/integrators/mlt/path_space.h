@@ -35,7 +35,8 @@
 // vertices: f is 0 for a path outside them (integrators/light_path_limits.h), every vertex
 // classified as the path tracer classifies it, so every mutation sees the same f.
 // Film > Transparent (set_film; integrators/film_alpha.h): a path whose camera sees through
-// (x_1 on, as below) to the world carries none of its colour; suns still light it.
+// (x_1 on, as below) to the world carries none of its colour; suns still light it. A holdout
+// object the camera sees through to ends the path's f there (shown as nothing, as BDPT).
 // Shadow catchers (set_film; film/shadow_catcher_passes.h): a path also carries
 // f_catcher, what the same vertices carry to the Shadow Catcher pass. The path splits at the
 // first catcher on the camera's see-through chain (x_1 on, through Transparent BSDFs and,
@@ -245,6 +246,7 @@ class PathSpace {
   void set_film(bool catchers, const FilmAlpha &alpha) {
     catchers_ = catchers;
     film_transparent_ = alpha.film_transparent;
+    holdouts_ = alpha.holdouts;
     transparent_glass_ = alpha.transparent_glass;
   }
   // After the bootstrap: whether any of its paths had a specular vertex. Without, the caustic
@@ -383,7 +385,7 @@ class PathSpace {
   bool media_;
   bool motion_;  // Scene::has_motion
   bool visibility_, mixed_visibility_;  // Scene::has_ray_visibility / has_mixed_visibility
-  bool catchers_ = false, film_transparent_ = false, transparent_glass_ = false;  // set_film
+  bool catchers_ = false, film_transparent_ = false, holdouts_ = false, transparent_glass_ = false;  // set_film
   std::vector<uint32_t> hittable_lamps_;  // lamps with a radius (spheres) and area lamps: camera walks reach them
   // The lights at infinity but suns without an angle: one vertex (a direction) for all of
   // them, labelled with the first; f sums their radiance, the light side their densities.
