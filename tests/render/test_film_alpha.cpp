@@ -92,6 +92,11 @@ TEST(FilmAlpha, HoldoutCardShowsNothingWithPathSpaceMlt) {
     scene["camera"] = {{"focal_length", 50}, {"transform", {{"look_at", {{"from", {0, 0.001, 3}}, {"to", {0, 0, 0}}}}}}};
     scene["meshes"][0]["holdout"] = true;
     Image img = render_json(scene.dump());
+    // The card glowing: its emission seen directly is held out too.
+    scene["materials"][0] = {{"name", "card"}, {"type", "emission"}, {"color", {1, 1, 1}}, {"strength", 2}};
+    Image glowing = render_json(scene.dump());
+    ASSERT_TRUE(glowing.all_finite()) << integrator;
+    for (size_t i = 0; i < glowing.rgba.size(); ++i) ASSERT_EQ(glowing.rgba[i], 0.0f) << integrator << " glowing, value " << i;
     ASSERT_TRUE(img.all_finite()) << integrator;
     for (size_t i = 0; i < img.rgba.size(); ++i) ASSERT_EQ(img.rgba[i], 0.0f) << integrator << " value " << i;
   }

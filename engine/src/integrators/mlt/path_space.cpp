@@ -967,6 +967,8 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   // The kind of ray that meets the light (without ray visibility: the camera's for the camera
   // ray alone, lamps' default visibility, else any other kind).
   const uint32_t kind_at_light = visibility_ ? ray_kind : n == 2 ? visibility::kCamera : visibility::kNonCamera;
+  // An emitting holdout object seen through to shows nothing either.
+  if (see_through && holdouts_ && light.type == LightType::Triangle && scene_.is_holdout_instance(light.instance)) return;
   if (see_through && catchers_ && on_catcher(last)) y.split = n - 1;  // an emitting catcher seen through to
   // The world seen through a transparent film is not in the image (its alpha: the first-hit pass).
   const bool background = !(film_transparent_ && see_through && last.v.infinite);
