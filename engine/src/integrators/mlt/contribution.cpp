@@ -193,12 +193,12 @@ void Metropolis::path_state(const ExplicitPath &path, State &state) const {
   state.independent = 0;
   state.target = path_target(path);
   if (state.target > 0 && std::isfinite(state.target)) {
-    // Shadow catchers: a path past its split adds to Combined only (and, without a light
-    // pass, as after BDPT's split), one that does not split to the matte too; the split path's
-    // f_catcher to the catcher pass, with the same weight (path_space.h).
+    // Shadow catchers: a path past its split adds to Combined only, and to no light pass (as
+    // after BDPT's split); one that does not split, to the matte too. A split path's
+    // f_catcher goes to the catcher pass with the same weight (path_space.h).
     const bool split = catchers_ && path.split >= 0;
     state.splats.push_back({path.raster, path.f, Splat::kNoStrategy, {},
-                            split || !catchers_ ? CatcherSplat::Combined : CatcherSplat::CombinedAndMatte});
+                            catchers_ && !split ? CatcherSplat::CombinedAndMatte : CatcherSplat::Combined});
     if (light_passes_ && !split) classify_path(path, state);
     if (split) state.splats.push_back({path.raster, path.f_catcher, Splat::kNoStrategy, {}, CatcherSplat::SplitPass});
   } else {
