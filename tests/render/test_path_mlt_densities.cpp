@@ -430,6 +430,7 @@ struct BruteForce {
       if (i == 0) a = a + w * float(scene.camera_now().clip_start / dot(w, scene.camera_now().forward()));
       const float d = length(p.x[size_t(i + 1)].v.p - a);
       for (const Light &light : scene.lights()) {
+        if (i == 0 && !light.visible_camera()) continue;  // camera rays pass the lamps the camera does not see
         float t;
         Color radiance;
         if (light.type == LightType::Area && intersect_light(light, Ray{a, w, d}, d, t, radiance)) return 0;
@@ -912,6 +913,39 @@ TEST(PathMltDensities, RadiusLampRatiosMatchBruteForce) {
                                           {"direction", {-0.3, 0, -1}}, {"power", 2000}, {"radius", 0.05},
                                           {"spot_size", 1.2}, {"spot_blend", 0.2}}});
   check_scene("fog_door.json (5 cm spot)", fog, 16000, 20);
+}
+
+// Lamps are hidden from camera rays (Cycles), so a camera ray passes a lamp in view: the
+// world behind a 0.5 m sphere lamp in the middle of the view (nothing else in the scene) is
+// reached from the camera side too. Before 2026-11-25 the camera walk ended on the lamp there
+// without ray visibility settings, leaving those E W paths to the light side alone (camera-side
+// density 0; weights up to 186 times the others' on the Blender shadow-catcher scene).
+TEST(PathMltDensities, WorldBehindALampInViewHasACameraSideDensity) {
+  const nlohmann::json j = {
+      {"camera", {{"focal_length", 35}, {"transform", {{"look_at", {{"from", {0, -5, 0}}, {"to", {0, 0, 0}}}}}}}},
+      {"world", {{"color", {0.2, 0.3, 0.5}}}},
+      {"materials", nlohmann::json::array()},
+      {"meshes", nlohmann::json::array()},
+      {"lights", {{{"type", "point"}, {"position", {0, 0, 0}}, {"power", 100}, {"radius", 0.5}}}}};
+  LoadedScene loaded;
+  load(loaded, j);
+  const Scene &scene = loaded.scene();
+  PathSpace space(scene, kMaxBounces, kOrigin, kSize, float(kWidth * kHeight), kLargeStep);
+  const Light &lamp = scene.lights()[0];
+  ASSERT_TRUE(is_sphere_lamp(lamp) && !lamp.visible_camera());
+  Pcg32 rng(3, 5);
+  RayStats stats;
+  ExplicitPath x;
+  int behind = 0, reached = 0;
+  for (int k = 0; k < 200000 && behind < 50; ++k) {
+    if (!(space.sample_independent(rng, stats, x) > 0) || x.n != 2 || !x.x[1].v.infinite) continue;
+    float t;
+    if (!intersect_sphere_lamp(lamp, x.x[0].v.p, x.x[1].v.dir, kInf, t)) continue;
+    ++behind;
+    reached += x.fwd[1] > 0;
+  }
+  EXPECT_GE(behind, 20) << "too few world paths behind the lamp";
+  EXPECT_EQ(reached, behind) << "world paths behind the lamp the camera side cannot reach";
 }
 
 // An area lamp seen through the glass ball and in the mirror (E S+ L: the camera walk's
