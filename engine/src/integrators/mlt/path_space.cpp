@@ -82,6 +82,9 @@ float kept_distance(const ExplicitPath &x, int i, int from, bool keep) {
   return keep && v.v.type == VertexType::Medium ? length(v.v.p - x.x[size_t(from)].v.p) : -1.0f;
 }
 
+// Never NaN, Inf or a negative value into a splat or the acceptance ratio.
+Color finite_or_black(Color c) { return is_finite(c) && c.x >= 0 && c.y >= 0 && c.z >= 0 ? c : Color(0.0f); }
+
 int first_non_specular(const ExplicitPath &x) {
   int c = 1;
   while (c < x.n - 1 && x.x[size_t(c)].v.delta) ++c;
@@ -320,8 +323,10 @@ bool PathSpace::camera_vertex(Pcg32 &rng, ExplicitVertex &z) const {
 
 Ray PathSpace::camera_ray(const ExplicitVertex &camera_vertex, Vec2 raster) const {
   const Camera &camera = scene_.camera_now();
-  if (camera.aperture_radius > 0) return camera.generate_ray_from_lens(raster, camera.lens_of_point(camera_vertex.v.p));
-  return camera.generate_ray(raster, Vec2(0.5f, 0.5f));
+  Ray ray = camera.aperture_radius > 0 ? camera.generate_ray_from_lens(raster, camera.lens_of_point(camera_vertex.v.p))
+                                       : camera.generate_ray(raster, Vec2(0.5f, 0.5f));
+  ray.mask = visibility::kCamera;  // it passes the lamps the camera does not see (ray_mask)
+  return ray;
 }
 
 bool PathSpace::light_vertex(Pcg32 &rng, ExplicitVertex &z, Vec3 &dir) const {
@@ -439,7 +444,6 @@ bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, Ray
     Vec2 raster{sample_origin_.x + rng.next_float() * sample_size_.x, sample_origin_.y + rng.next_float() * sample_size_.y};
     ray = camera_ray(prev, raster);
     media = prev.v.media;
-    ray.mask = visibility::kCamera;  // camera rays pass the lamps the camera does not see (ray_mask)
   } else {
     Vec3 wi;
     if (prev.v.type == VertexType::Medium) {
@@ -1008,10 +1012,8 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   y.rev[size_t(n - 1)] = light_position_density(last);
   f *= image_area_;
   f_catcher *= image_area_;
-  if (!is_finite(f) || f.x < 0 || f.y < 0 || f.z < 0) f = Color(0.0f);
-  if (!is_finite(f_catcher) || f_catcher.x < 0 || f_catcher.y < 0 || f_catcher.z < 0) f_catcher = Color(0.0f);
-  y.f = f;
-  y.f_catcher = f_catcher;
+  y.f = finite_or_black(f);
+  y.f_catcher = finite_or_black(f_catcher);
   y.raster = raster;
 }
 
@@ -1361,7 +1363,6 @@ int PathSpace::retrace_lens(const ExplicitPath &x, Vec2 raster, bool keep, Pcg32
   // Pauly's retrace: a medium x_c keeps its distance from x_(c-1).
   const float kept = kept_distance(x, c, c - 1, keep);
   Ray ray = camera_ray(y.x[0], raster);
-  ray.mask = visibility::kCamera;
   // (a thin lens's ray leaves its lens point, x_0)
   const float t = c == 1 && kept >= 0 ? kept - dot(ray.o - y.x[0].v.p, ray.d) : -1.0f;
   if (!trace_step(ray, y.x[0].v.media, rng, stats, y.x[1], y.n == 2, t)) return 0;
@@ -1424,7 +1425,6 @@ int PathSpace::walk_lens_subpath(const ExplicitPath &x, Vec2 raster, bool to_lig
   y.time = x.time;  // the caller's shutter::SampleTime is at it
   y.x[0] = x.x[0];
   Ray ray = camera_ray(y.x[0], raster);
-  ray.mask = visibility::kCamera;
   if (!trace_step(ray, y.x[0].v.media, rng, stats, y.x[1], to_light)) return 0;
   settle(y.x[1], y.x[0]);
   for (int k = 1; k < max_vertices_; ++k) {

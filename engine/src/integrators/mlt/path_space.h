@@ -294,7 +294,8 @@ class PathSpace {
   // x_0: the pinhole, a point uniform on a thin lens's aperture, or (orthographic) a
   // stand-in that evaluate() moves to x_1's foot on the image plane.
   bool camera_vertex(Pcg32 &rng, ExplicitVertex &z) const;
-  // The camera ray from x_0 through a raster point (a thin lens: from x_0's lens point).
+  // The camera ray from x_0 through a raster point (a thin lens: from x_0's lens point), of
+  // the camera's kind (ray_mask).
   Ray camera_ray(const ExplicitVertex &camera_vertex, Vec2 raster) const;
   bool light_vertex(Pcg32 &rng, ExplicitVertex &z, Vec3 &dir) const;
   // to_light (trace_step's): 1 or 0; -1: whether y_at is y's last vertex. kept_flight >= 0:
