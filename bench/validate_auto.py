@@ -6,9 +6,14 @@ line per scene and the share of scenes where the pick is within 1.5x of the best
 issue's goal: 80%). Renders only the pilots (--samples 1 ends the render after them).
 
     python3 bench/validate_auto.py docs/images/trade/study.csv --total 20 [--rendezvous build/engine/rendezvous]
+                                   [--candidates path,bdpt,pssmlt,mmlt,mlt]
+
+--candidates: the pilots' integrators instead of the engine's default (the scene's settings
+get "auto_candidates"; a copy of the scene next to it, removed after).
 """
 import argparse
 import csv
+import json
 import os
 import re
 import subprocess
@@ -23,6 +28,7 @@ def main():
     ap.add_argument("--total", type=float, default=20)
     ap.add_argument("--rendezvous", default=os.path.join(ROOT, "build", "engine", "rendezvous"))
     ap.add_argument("--scenes", default=os.path.join(ROOT, "scenes"))
+    ap.add_argument("--candidates", help="comma-separated integrators for the pilots")
     a = ap.parse_args()
     rows = list(csv.DictReader(open(a.csv)))
     good = 0
@@ -32,9 +38,20 @@ def main():
         budget = min({float(r["budget_s"]) for r in mine}, key=lambda b: abs(b - a.total))
         errors = {r["integrator"]: float(r["rel_mse"]) for r in mine if float(r["budget_s"]) == budget}
         size = "%sx%s" % (mine[0]["width"], mine[0]["height"])
-        out = subprocess.run([a.rendezvous, os.path.join(a.scenes, scene + ".json"), "--integrator", "auto", "--time",
-                              str(a.total), "--samples", "1", "--resolution", size, "--quiet", "-o",
-                              "/tmp/rdv_validate_auto.png"], capture_output=True, text=True)
+        path = os.path.join(a.scenes, scene + ".json")
+        if a.candidates:  # a copy beside the scene, so its relative file names still resolve
+            doc = json.load(open(path))
+            doc.setdefault("settings", {})["auto_candidates"] = a.candidates.split(",")
+            path = os.path.join(a.scenes, ".validate_auto_" + scene + ".json")
+            with open(path, "w") as f:
+                json.dump(doc, f)
+        try:
+            out = subprocess.run([a.rendezvous, path, "--integrator", "auto", "--time", str(a.total), "--samples", "1",
+                                  "--resolution", size, "--quiet", "-o", "/tmp/rdv_validate_auto.png"],
+                                 capture_output=True, text=True)
+        finally:
+            if a.candidates:
+                os.remove(path)
         m = re.search(r"auto: chose (\w+); pilots took ([\d.]+) s", out.stderr)
         if not m:
             print("%-18s failed: %s" % (scene, out.stderr.strip()[-300:]))

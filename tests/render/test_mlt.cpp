@@ -176,7 +176,8 @@ TEST(MltVsBdpt, PathSpaceFogSpot) {
   expect_same_image(load_scene("fog_spot.json"), "fog spot", 16, 32, "luminance", {"mlt"});
 }
 // Cameras (path_space.h): a thin lens with a hexagonal aperture focused on the back wall
-// (the front of the boxes blurred), and an orthographic camera.
+// (the front of the boxes blurred), and an orthographic camera that sees the world around
+// the box (E W along its axis: paths only the camera side makes).
 TEST(MltVsBdpt, PathSpaceThinLens) {
   json scene = load_scene("cornell_box.json");
   scene["camera"].update({{"fstop", 0.5}, {"focus_distance", 4.9}, {"blades", 6}});
@@ -184,8 +185,9 @@ TEST(MltVsBdpt, PathSpaceThinLens) {
 }
 TEST(MltVsBdpt, PathSpaceOrthographic) {
   json scene = load_scene("cornell_box.json");
-  scene["camera"].update({{"type", "orthographic"}, {"ortho_scale", 2.4}});
-  expect_same_image(scene, "cornell (orthographic)", 32, 64, "luminance", {"mlt"});
+  scene["camera"].update({{"type", "orthographic"}, {"ortho_scale", 2.8}});
+  scene["world"] = {{"color", {0.2, 0.25, 0.3}}};
+  expect_same_image(scene, "cornell (orthographic, world)", 32, 64, "luminance", {"mlt"});
 }
 
 // Lights at infinity and textured emission: the Cornell box with its lamp taken out of the

@@ -261,7 +261,12 @@ struct BruteForce {
       const Light &light = scene.lights()[size_t(v.light)];
       if (light.type == LightType::Sun && light.radius == 0) return 0;
       double pdf;
-      if (i == 1) {
+      if (i == 1 && scene.camera_now().type == Camera::Type::Orthographic) {
+        // The world along the view axis: a raster point uniform, per unit of plane area.
+        const Camera &camera = scene.camera_now();
+        pdf = (double(kWidth) * kHeight / (double(kSize.x) * kSize.y)) /
+              (double(camera.right - camera.left) * (camera.top - camera.bottom));
+      } else if (i == 1) {
         const double cos0 = dot(v.dir, scene.camera_now().forward());
         pdf = (double(kWidth) * kHeight / (double(kSize.x) * kSize.y)) /
               (scene.camera_now().viewplane_area() * cos0 * cos0 * cos0);
@@ -359,6 +364,8 @@ struct BruteForce {
       // its delta, 1), summed over the lights at infinity it stands for; then a point
       // uniform on the disk of the bounding radius perpendicular to it, at the cosine.
       if (i == n - 1) {
+        // Seen by an orthographic camera: only along its axis, a direction no light samples.
+        if (n == 2 && scene.camera_now().type == Camera::Type::Orthographic) return 0;
         if (light.type == LightType::Sun && light.radius == 0)
           return double(scene.light_distribution().pmf(size_t(light_vertex.light)));
         double pdf = 0;
@@ -819,6 +826,7 @@ nlohmann::json with_camera(nlohmann::json scene, const nlohmann::json &camera) {
 }
 const nlohmann::json kThinLens = {{"fstop", 0.5}, {"focus_distance", 3.0}, {"blades", 6}};
 const nlohmann::json kOrthographic = {{"type", "orthographic"}, {"ortho_scale", 2.4}};
+nlohmann::json cornell_window();  // below: the lamp taken out of the ceiling, sky and sun
 
 TEST(PathMltDensities, ThinLensRatiosMatchBruteForce) {
   check_scene("cornell_box.json (thin lens)", with_camera(test::load_scene("cornell_box.json"), kThinLens), 300, 20);
@@ -829,6 +837,10 @@ TEST(PathMltDensities, ThinLensRatiosMatchBruteForce) {
 TEST(PathMltDensities, OrthographicRatiosMatchBruteForce) {
   check_scene("cornell_box.json (orthographic)", with_camera(test::load_scene("cornell_box.json"), kOrthographic),
               2000, 20);
+  // The world seen along the view axis (E W, x_1 at infinity) around the box and through
+  // the window in its ceiling (the sky HDRI and a sun 0.1 rad wide: one vertex at infinity).
+  check_scene("cornell_box.json (window, orthographic, the sky around it)",
+              with_camera(cornell_window(), {{"type", "orthographic"}, {"ortho_scale", 3.4}}), 3000, 20);
   check_scene("fog_door.json (orthographic)",
               with_camera(test::load_scene("fog_door.json"), {{"type", "orthographic"}, {"ortho_scale", 3.0}}), 8000,
               20);

@@ -61,7 +61,7 @@ const AlbedoTable &table() {
 }
 
 void coords(float x, int n, int &i, float &f) {
-  x = clampf(x, 0.0f, 1.0f) * (n - 1);
+  x = clamp_unit(x) * (n - 1);
   i = std::min(int(x), n - 2);
   f = x - i;
 }

@@ -8,6 +8,9 @@
 #pragma once
 
 namespace rdv {
+// A table coordinate: v clamped to [0, 1], NaN to 0, so an index made from it stays inside
+// the table whatever a degenerate direction upstream gave (clampf keeps a NaN).
+inline float clamp_unit(float v) { return v > 0 ? (v < 1 ? v : 1.0f) : 0.0f; }
 // mu = cos(theta_o) in [0,1]; alpha = GGX alpha (isotropic; sqrt(ax ay) for anisotropic).
 float ggx_albedo(float mu, float alpha);
 float ggx_average_albedo(float alpha);

@@ -35,7 +35,7 @@ struct SheenTable {
     avg = float(2 * s);
   }
   float at(float mu) const {
-    float x = clampf(mu, 0, 1) * (kN - 1);
+    float x = clamp_unit(mu) * (kN - 1);
     int i = std::min(int(x), kN - 2);
     float f = x - i;
     return e[i] * (1 - f) + e[i + 1] * f;

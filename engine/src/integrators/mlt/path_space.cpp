@@ -177,11 +177,6 @@ std::string PathSpace::unsupported(const Scene &scene, const RenderSettings &set
     if (l.type == LightType::Volume && scene.has_ray_visibility())
       return which + " is an emissive volume in a scene with ray visibility settings; mlt does not apply those to "
                      "volume emission yet (use bdpt or pssmlt)";
-    // An orthographic camera's ray alone reaching the world would be a path whose only
-    // coordinate is its point on the image plane, which the state (x_1) does not have.
-    if (camera.type == Camera::Type::Orthographic && l.is_infinite() && l.visible_camera())
-      return which + " is a sun or world light the orthographic camera sees; mlt does not sample that yet (use bdpt "
-                     "or pssmlt, or hide the world from the camera: World > Ray Visibility > Camera)";
   }
   for (int m = 0; m < scene.num_media(); ++m) {
     const Medium &medium = scene.medium(m);
@@ -760,6 +755,11 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   if (y.x[0].v.type != VertexType::Camera || last.v.light < 0) return;
   for (int i = 1; i < n - 1; ++i)
     if (y.x[size_t(i)].v.type == VertexType::Camera || y.x[size_t(i)].v.type == VertexType::Light) return;
+  // Two neighbours at one point (a walk that met the surface it left, at float precision)
+  // have no direction between them: such a path has measure 0. Checked up front, as the
+  // edge loop reads the light-side direction at b toward the vertex after it.
+  for (int i = 1; i + 1 < n; ++i)
+    if (!y.x[size_t(i + 1)].v.infinite && !(length_squared(y.x[size_t(i + 1)].v.p - y.x[size_t(i)].v.p) > 0)) return;
   Light moved_light;
   const Light &light = scene_.light_now(uint32_t(last.v.light), moved_light);
   // Lamps: not in the BVH, no walk reaches them (a volume light is a medium the walks enter).
@@ -783,8 +783,12 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   double pdf_x1_dir;  // camera side: x_1's density per unit solid angle (ortho: per plane area)
   Color f;
   if (ortho) {
-    if (y.x[1].v.infinite) return;  // refused (unsupported()): the world seen along the view axis
-    if (!camera.raster_of_point(y.x[1].v.p, raster, y.x[0].v.p)) return;
+    // The world seen along the view axis (x_1 at infinity): the camera walk keeps its ray's
+    // origin in the vertex, a point of the line whose foot is x_0. Only the camera's own ray
+    // has the axis' direction (bit for bit); a direction from the light side never does.
+    const ExplicitVertex &x1 = y.x[1];
+    if (!camera.raster_of_point(x1.v.infinite ? x1.v.p + x1.v.dir : x1.v.p, raster, y.x[0].v.p)) return;
+    if (x1.v.infinite && !(x1.v.dir == normalize(camera_ray(y.x[0], raster).d))) return;
     w0 = camera.forward();
     f = Color(float(1.0 / camera.image_plane_area()));
     pdf_x1_dir = (double(image_area_) / region_area_) / camera.image_plane_area();
@@ -1009,7 +1013,9 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     const int first = first_lamp(from, w_last, length_d * (1 - 1e-4f), t, kind);
     if (first >= 0 && (last.v.infinite || first != last.v.light)) y.fwd[size_t(n - 1)] = 0;
   }
-  y.rev[size_t(n - 1)] = light_position_density(last);
+  // The light side samples a direction in solid angle; an orthographic camera sees the world
+  // along its axis only (a delta), so E W has no light-side way there.
+  y.rev[size_t(n - 1)] = ortho && n == 2 && last.v.infinite ? 0.0 : light_position_density(last);
   f *= image_area_;
   f_catcher *= image_area_;
   y.f = finite_or_black(f);
