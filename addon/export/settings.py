@@ -26,6 +26,9 @@ def auto_choice_text(stats):
         INTEGRATOR_LABELS.get(choice["integrator"], choice["integrator"]), choice["pilot_seconds"], pilots)
     if choice.get("time_limit_extended"):
         text += " (the pilots overran: the time limit grew to give the pick 5% of it)"
+    for why in choice.get("left_out", []):  # "mlt: the reason" (a candidate the scene rules out)
+        name, _, reason = why.partition(": ")
+        text += "; %s left out: %s" % (INTEGRATOR_LABELS.get(name, name), reason)
     return text
 
 

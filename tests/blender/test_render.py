@@ -593,7 +593,10 @@ def test_auto(args):
     check(np.isfinite(px).all() and float(px[:, :, :3].mean()) > 0.0, "non-finite or black image")
     choice = final.last_render.get("integrator_stats", {}).get("auto", {})
     pilots = [p["integrator"] for p in choice.get("pilots", [])]
-    check(pilots == ["path", "bdpt", "pssmlt", "mmlt"], "pilots %r" % choice)
+    # mlt, the fifth default, is left out (the choice says why) where the scene has Cycles'
+    # default Clamp Indirect 10, which a path-space chain cannot apply.
+    mlt_out = any(s.startswith("mlt: ") for s in choice.get("left_out", []))
+    check(pilots == ["path", "bdpt", "pssmlt", "mmlt"] + ([] if mlt_out else ["mlt"]), "pilots %r" % choice)
     check(choice.get("integrator") in pilots, "no pick: %r" % choice)
     check(final.last_render["progress"]["samples_done"] > 0, "the pick rendered nothing")
     print("AUTO picked %s after %.2f s of pilots; render %.2f s; %s" % (

@@ -239,6 +239,10 @@ class TestCameraSettings(unittest.TestCase):
             {"integrator": "bdpt", "efficiency": 66.6, "rel_mse": 0.2, "spp": 7}]}})
         self.assertIn("Automatic chose Bidirectional after 0.6 s of pilots", text)
         self.assertIn("Path Tracing 24/s (relMSE 0.56, 15 spp)", text)
+        text = auto_choice_text({"auto": {"integrator": "path", "pilot_seconds": 0.2, "pilots": [
+            {"integrator": "path", "efficiency": 24.0, "rel_mse": 0.555, "spp": 15}],
+            "left_out": ["mlt: Light Paths clamps cap one sample's estimate"]}})
+        self.assertIn("; Metropolis (Path Space) left out: Light Paths clamps cap one sample's estimate", text)
 
     def test_noise_target_settings(self):
         from rendezvous.export.settings import session_settings, SettingsError

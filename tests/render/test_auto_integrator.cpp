@@ -93,11 +93,11 @@ TEST(AutoIntegrator, ThePickRendersTheRestAndACancelStopsThePilots) {
   EXPECT_EQ(cancelled.progress.cancelled, 1);
 }
 
-// Path-space mlt is a candidate when asked for (not by default: the study behind the
-// default candidates, docs/trade.md, has no mlt rows): its pilot makes mutations and
-// estimates its own error from its odd and even chains, as pssmlt's. A scene mlt refuses
-// (an orthographic camera with depth of field) leaves it out with the reason, and the
-// others choose.
+// Path-space mlt is a candidate (a default one since the study measured it, docs/trade.md):
+// its pilot makes mutations and estimates its own error from its odd and even chains, as
+// pssmlt's. A scene mlt refuses (an orthographic camera with depth of field) leaves it out
+// with the reason (a warning when the user named it, else in the choice's "left_out"), and
+// the others choose.
 TEST(AutoIntegrator, PathSpaceMltIsACandidateWhereItCanRender) {
   rdv_tools::EqualTimeScene scene = rdv_tools::load_equal_time_scene(kScenes + "door_gap.json", 32);
   rdv_tools::EngineScene loaded(scene);
@@ -122,6 +122,13 @@ TEST(AutoIntegrator, PathSpaceMltIsACandidateWhereItCanRender) {
   const json d = run_auto(refused.get(), both, true).choice;
   ASSERT_EQ(d["pilots"].size(), 1u) << d.dump();
   EXPECT_EQ(d["integrator"], "path");
+  const json defaults = rdv_tools::render_settings(ortho, {{"integrator", "auto"}, {"time_limit", 0.5}});
+  const json e = run_auto(refused.get(), defaults, true).choice;
+  EXPECT_EQ(e["pilots"].size(), 4u) << e.dump();
+  ASSERT_TRUE(e.contains("left_out") && e["left_out"].size() == 1u) << e.dump();
+  EXPECT_NE(e["left_out"][0].get<std::string>().find("mlt: the camera is orthographic with depth of field"),
+            std::string::npos)
+      << e.dump();
   const json only_mlt = rdv_tools::render_settings(
       ortho, {{"integrator", "auto"}, {"auto_candidates", {"mlt"}}, {"time_limit", 0.5}});
   rdv_session *session = nullptr;

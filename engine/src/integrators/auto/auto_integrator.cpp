@@ -55,6 +55,7 @@ std::string AutoChoice::json() const {
   nlohmann::json j = {{"pilot_seconds", pilot_seconds}, {"pilots", p}};
   j["integrator"] = integrator.empty() ? nlohmann::json(nullptr) : nlohmann::json(integrator);
   if (extended) j["time_limit_extended"] = true;
+  if (!left_out.empty()) j["left_out"] = left_out;
   return j.dump();
 }
 
@@ -64,15 +65,19 @@ AutoIntegrator::AutoIntegrator(const Scene &scene, const RenderSettings &setting
     fail("render settings: integrator 'auto' picks by error x time: it needs a time limit ('time_limit')");
   if (settings.auto_candidates.empty()) fail("render settings: integrator 'auto' has no candidates");
   // Path-space mlt does not render every scene (PathSpace::unsupported): a candidate
-  // that would refuse it is left out, with the reason, instead of failing the render.
+  // that would refuse it is left out, with the reason, instead of failing the render. A
+  // warning when the user named the candidates; among the defaults (a Blender scene's
+  // Clamp Indirect 10 leaves mlt out) the choice's stats say why.
   std::vector<std::string> &candidates = settings_.auto_candidates;
+  const bool named = candidates != RenderSettings().auto_candidates;
   for (auto it = candidates.begin(); it != candidates.end();) {
     const std::string why = *it == "mlt" ? mlt::PathSpace::unsupported(scene, settings) : "";
     if (why.empty()) {
       ++it;
       continue;
     }
-    scene.warn("integrator auto: candidate mlt left out: " + why);
+    if (named) scene.warn("integrator auto: candidate mlt left out: " + why);
+    left_out_.push_back(*it + ": " + why);
     it = candidates.erase(it);
   }
   if (candidates.empty())
@@ -85,6 +90,7 @@ AutoChoice AutoIntegrator::choose(RenderContext &ctx) {
   const Rect &region = settings_.border;
   const size_t values = size_t(region.width()) * size_t(region.height()) * 3;
   AutoChoice choice;
+  choice.left_out = left_out_;
   std::vector<std::vector<float>> images;    // each candidate's pilot
   std::vector<double> pooled(values, 0.0);  // the mean of every pilot image
   std::vector<double> own;                   // each pilot's estimate of its own error; < 0: none

@@ -30,6 +30,7 @@ struct AutoChoice {
   std::vector<AutoPilot> pilots;
   double pilot_seconds = 0;  // all pilots together
   bool extended = false;     // the pilots overran: the time limit grew to give the pick its share
+  std::vector<std::string> left_out;  // candidates that cannot render the scene: "name: why"
   std::string json() const;
 };
 
@@ -62,6 +63,7 @@ class AutoIntegrator final : public Integrator {
   const Scene &scene_;
   RenderSettings settings_;
   RenderSettings pick_settings_;  // settings_ with the chosen integrator
+  std::vector<std::string> left_out_;  // candidates the scene rules out ("name: why")
   mutable std::mutex mutex_;      // guards choice_ and pick_ for stats_json()
   AutoChoice choice_;
   std::unique_ptr<Integrator> pick_;
