@@ -1,5 +1,7 @@
 // Camera framing (Blender's sensor fit and shift), parameter parsing, the sampler.
 #include <gtest/gtest.h>
+#include <cmath>
+#include "bsdfs/ggx_albedo.h"
 #include "core/params.h"
 #include "film/film.h"
 #include "samplers/sampler.h"
@@ -191,4 +193,22 @@ TEST(Film, MetropolisCatcherSplatsCountTheirSplits) {
     for (int i = 0; i < 16; ++i)
       EXPECT_NEAR(f[3 * i], counted ? 0.25f : 1.0f, 1e-6f) << "pixel " << i << " tag " << int(tag);
   }
+}
+
+// The GGX albedo tables (bsdfs/ggx_albedo.h) are read at a coordinate from a direction; a
+// degenerate direction upstream (NaN) read far outside them before clamp_unit (mlt on
+// materials.json crashed, docs/reliability.md). Now NaN reads the table's first entry.
+TEST(GgxAlbedo, NanCoordinatesStayInsideTheTable) {
+  const float nan = std::nanf("");
+  for (float e : {rdv::ggx_albedo(nan, 0.3f), rdv::ggx_albedo(0.5f, nan), rdv::ggx_albedo(nan, nan),
+                  rdv::ggx_average_albedo(nan), rdv::ggx_schlick_albedo(nan, 0.3f)}) {
+    EXPECT_TRUE(std::isfinite(e) && e >= 0 && e <= 1) << e;
+  }
+  float e_mu = -1, e1_mu = -1;
+  rdv::ggx_albedo_rows(nan).at(nan, e_mu, e1_mu);
+  EXPECT_TRUE(std::isfinite(e_mu) && std::isfinite(e1_mu)) << e_mu << " " << e1_mu;
+  EXPECT_EQ(rdv::clamp_unit(nan), 0.0f);
+  EXPECT_EQ(rdv::clamp_unit(-2.0f), 0.0f);
+  EXPECT_EQ(rdv::clamp_unit(2.0f), 1.0f);
+  EXPECT_EQ(rdv::clamp_unit(0.25f), 0.25f);
 }
