@@ -117,3 +117,27 @@ TEST(FuzzFindings, RaysBeyondEmbreesRangeMissInsteadOfAborting) {
         << img.warnings;
   }
 }
+
+// fuzz_abi_calls (2026-11-25, CI): a Checker texture at a coordinate of 9e37 converted
+// floor(x) to int (UBSan: undefined behaviour). Its parity is now taken in float; UDIM tiles
+// and image texels are found without converting huge or NaN coordinates either. Under the
+// ASan + UBSan build (.ci/setup sanitize) this shows the conversion gone; in any build the
+// image is finite and the checker shows one of its two colours.
+TEST(FuzzFindings, HugeTextureCoordinatesAreNotConvertedToInt) {
+  const std::string scene = R"({
+    "settings": {"width": 4, "height": 4, "samples": 2, "max_bounces": 2},
+    "camera": {"transform": {"look_at": {"from": [0, -3, 1], "to": [0, 0, 0]}}},
+    "world": {"color": [0.5, 0.5, 0.5]},
+    "materials": [{"name": "checker", "type": "diffuse",
+                   "color": {"node": "checker", "scale": 9e37, "color1": [1, 0, 0], "color2": [0, 0, 1]}},
+                  {"name": "tiles", "type": "diffuse",
+                   "color": {"node": "image", "file": ")" + rdv::test::source_path("scenes/textures/tiles.png") + R"(",
+                             "vector": {"node": "mapping", "vector": {"node": "uv"}, "scale": [3e38, 3e38, 1]}}}],
+    "meshes": [{"name": "floor", "shape": {"type": "quad", "size": 2}, "materials": ["checker"]},
+               {"name": "card", "shape": {"type": "quad", "size": 1}, "materials": ["tiles"],
+                "transform": {"translate": [0, 0, 0.5], "rotate": [90, 0, 0]}}]
+  })";
+  Image img = render_json(scene, R"({"integrator": "path"})");
+  EXPECT_TRUE(img.all_finite());
+  EXPECT_FALSE(has(img.warnings, "tiles.png")) << img.warnings;  // the image was read
+}

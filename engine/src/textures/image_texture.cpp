@@ -518,7 +518,8 @@ void filter_level(int w, int h, float u, float v, bool closest, TexExtension ext
   };
   // OIIO's t runs down from the top row; Blender's v runs up from the bottom.
   float s = u * w, t = (1.0f - v) * h;
-  if (!std::isfinite(s) || !std::isfinite(t)) s = t = 0;
+  // Texel indices are ints: a coordinate beyond their range (or NaN) reads texel 0.
+  if (!(std::fabs(s) < 1e9f && std::fabs(t) < 1e9f)) s = t = 0;
   if (closest) {
     add(wrap_index(int(std::floor(s)), w, ext), wrap_index(int(std::floor(t)), h, ext), 1.0f);
     return;
@@ -577,7 +578,8 @@ Color lookup_level(const Image &img, int l, float u, float v, bool closest, TexE
 template <int NC>
 Color bicubic_level0(const Image &img, float u, float v, TexExtension ext, float *alpha) {
   float s = u * img.w - 0.5f, t = (1.0f - v) * img.h - 0.5f;
-  if (!std::isfinite(s) || !std::isfinite(t)) s = t = 0;
+  // Texel indices are ints: a coordinate beyond their range (or NaN) reads texel 0.
+  if (!(std::fabs(s) < 1e9f && std::fabs(t) < 1e9f)) s = t = 0;
   float fs = std::floor(s), ft = std::floor(t);
   auto weights = [](float f, float w[4]) {
     float f2 = f * f, f3 = f2 * f;

@@ -581,7 +581,8 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
       if (!n.udim.empty()) {
         // The tile under (u, v), then (u, v) within it; outside every tile: magenta,
         // as Cycles (which truncates, so (-1, 0) counts as the first column).
-        int tx = int(uv.x), ty = int(uv.y);
+        int tx = -1, ty = -1;  // outside every tile; huge or NaN (u, v) are never converted
+        if (uv.x > -1 && uv.x < 10 && uv.y > -1 && uv.y < 1000) tx = int(uv.x), ty = int(uv.y);
         image = -1;
         if (tx >= 0 && ty >= 0 && tx < 10)
           for (const auto &[tile, id] : n.udim)
@@ -596,7 +597,9 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
     }
     case TexNodeType::Checker: {
       Vec3 p = in(0) * inf(3);
-      auto cell = [](float x) { return std::abs(int(std::floor((x + 0.000001f) * 0.999999f))) % 2; };
+      // The cell's parity in float: a coordinate beyond int's range (a huge Scale) has no
+      // int to convert to (every float beyond 2^24 is an even whole number); NaN gives 0.
+      auto cell = [](float x) { return std::fmod(std::fabs(std::floor((x + 0.000001f) * 0.999999f)), 2.0f) >= 1.0f; };
       bool first = ((cell(p.x) == cell(p.y)) == bool(cell(p.z)));
       if (n.output == 1) return Color(first ? 1.0f : 0.0f);
       return first ? in(1) : in(2);
