@@ -9,7 +9,9 @@
 //   bench_mlt [--budgets 10,30,120] [--reference 300] [--reference-cache DIR] [--width 128]
 //             [--integrators bdpt,path,pssmlt,mmlt] [--mlt '{"mlt_chains": 64}'] [--seed 17]
 //             [--study] [--study-large 0.1,0.5] [--study-chains 32,2048] [--study-step 0.003,0.03]
-//             [--point-lamps] [scene.json ...]
+//             [--point-lamps] [--without-equiangular] [scene.json ...]
+// --without-equiangular: after the mlt row, one with mlt_equiangular 0 (camera-side
+// distances in fog by free flights alone, mlt/equiangular.h).
 // --point-lamps: the scenes' lamps get radius 0 (mlt samples no lamp with a radius). The
 // "mean" column is the image's mean over the reference's, "scaled" the relMSE of the image
 // scaled to the reference's mean (without the global brightness error), "blocks" the relMSE
@@ -58,7 +60,7 @@ int main(int argc, char **argv) {
   std::string reference_cache;
   json mlt_settings = json::object();  // for the Metropolis rows
   int seed = 17;
-  bool point_lamps = false;
+  bool point_lamps = false, without_equiangular = false;
   std::vector<std::string> scenes;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--budgets") && i + 1 < argc) budgets = parse_list(argv[++i]);
@@ -73,6 +75,7 @@ int main(int argc, char **argv) {
     else if (!std::strcmp(argv[i], "--width") && i + 1 < argc) width = std::stoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--study")) study = true;
     else if (!std::strcmp(argv[i], "--point-lamps")) point_lamps = true;
+    else if (!std::strcmp(argv[i], "--without-equiangular")) without_equiangular = true;
     else scenes.push_back(argv[i]);
   }
   std::string dir = std::string(RDV_SOURCE_DIR) + "/scenes/";
@@ -156,8 +159,11 @@ int main(int argc, char **argv) {
                     e_scaled, e_blocks, r.progress.samples_done, extra.c_str());
         std::fflush(stdout);
       };
-      for (const std::string &integrator : integrators)  // bdpt first: the other rows' ratios are to it
+      for (const std::string &integrator : integrators) {  // bdpt first: the other rows' ratios are to it
         row(integrator, {{"integrator", integrator}});
+        if (integrator == "mlt" && without_equiangular)
+          row("mlt without equiangular", {{"integrator", "mlt"}, {"mlt_equiangular", 0.0}});
+      }
       if (study && bi == 0) {
         for (const char *integrator : {"pssmlt", "mmlt"}) {
           if (std::find(integrators.begin(), integrators.end(), integrator) == integrators.end()) continue;

@@ -93,6 +93,12 @@ class RendezvousRenderSettings(bpy.types.PropertyGroup):
                     "perturbations keep a scattering point's distance along the ray they retrace (Pauly et al.), "
                     "so it moves a little with the caustic or the image position instead of jumping along the "
                     "ray: higher follows volume caustics and shafts longer, lower explores depth more")
+    mlt_equiangular: FloatProperty(
+        name="Toward Lamps", default=0.5, min=0.0, max=1.0, subtype="FACTOR",
+        description="Metropolis (Path Space), scenes with volumes lit by point or spot lamps: how often a "
+                    "distance in the volume seen from the camera side is drawn toward a lamp (equiangular "
+                    "sampling) instead of by the volume's density. Fog close to a small lamp converges instead "
+                    "of leaving fireflies and brightness flicker; 0 spends every draw on the fog's depth")
     mlt_direct_samples: IntProperty(
         name="Direct Samples", default=0, min=0, max=65536,
         description="Metropolis (Path Space): path-traced samples per pixel for direct light (lamps and the world "

@@ -115,6 +115,7 @@ class RENDEZVOUS_PT_sampling_metropolis(RendezvousSubpanel, bpy.types.Panel):
             col.prop(props, "mlt_mutation_multi_chain")
             col.prop(props, "mlt_mutation_lens_subpath")
             layout.prop(props, "mlt_keep_distances")
+            layout.prop(props, "mlt_equiangular")
             layout.prop(props, "mlt_direct_samples")
 
 

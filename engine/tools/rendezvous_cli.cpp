@@ -47,6 +47,8 @@ void usage() {
                "                         mutation (default 1 each; those a shorter list leaves out: 1)\n"
                "  --mlt-direct N         mlt: direct light (paths of one and two edges) by N path-traced samples\n"
                "                         per pixel, the chains take the rest (0: the chains take every path)\n"
+               "  --mlt-equiangular P    mlt: probability that a camera-side distance in fog is drawn toward a point\n"
+               "                         or spot lamp (equiangular) instead of by free flight (default 0.5; 0: off)\n"
                "  --mlt-step-size S      pssmlt / mmlt: small-step size in primary sample space\n"
                "  --mlt-target T         pssmlt / mmlt / mlt: luminance or relative (even relative error)\n"
                "  --strategy S,T         bdpt: render only strategy (s, t), MIS-weighted\n"
@@ -239,6 +241,7 @@ int main(int argc, char **argv) {
       }
       else if (a == "--mlt-direct") overrides["mlt_direct_samples"] = std::stoi(next());
       else if (a == "--mlt-step-size") overrides["mlt_step_size"] = std::stod(next());
+      else if (a == "--mlt-equiangular") overrides["mlt_equiangular"] = std::stod(next());
       else if (a == "--mlt-target") overrides["mlt_target"] = next();
       else if (a == "--strategy") {
         std::string v = next();

@@ -185,9 +185,10 @@ class TestCameraSettings(unittest.TestCase):
                                               "caustic": 1.0, "multi_chain": 1.0, "lens_subpath": 1.0})
         s = session_settings(scene, self.props(integrator="MLT", mlt_large_step=0.2, mlt_bootstrap=1, mlt_chains=128,
                                                mlt_step_size=0.01, mlt_target="LUMINANCE", mlt_mutation_propagation=3.0,
-                                               mlt_keep_distances=0.8, mlt_direct_samples=0))
+                                               mlt_keep_distances=0.8, mlt_equiangular=0.25, mlt_direct_samples=0))
         self.assertEqual(s["mlt_mutations"]["propagation"], 3.0)
         self.assertAlmostEqual(s["mlt_keep_distances"], 0.8)
+        self.assertAlmostEqual(s["mlt_equiangular"], 0.25)
         self.assertEqual(s["mlt_direct_samples"], 0)
         # Target "Automatic": none sent, each integrator's own (relative; mlt luminance).
         s = session_settings(scene, self.props(integrator="MLT", mlt_large_step=0.2, mlt_bootstrap=1, mlt_chains=128,

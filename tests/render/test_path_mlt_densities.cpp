@@ -152,6 +152,49 @@ struct BruteForce {
     }
     return s / 3;
   }
+  // Camera-side walks in a scattering medium draw each distance from the mixture (1 -
+  // share) x free flight + share x an equiangular distance toward a point or spot lamp
+  // chosen by power (mlt/equiangular.h), over [0, inf) from where the ray enters the medium:
+  // here in Kulla and Fajardo's angles theta in [atan(-delta / h), pi / 2), in double.
+  double equiangular_share = 0;
+  std::vector<std::pair<Vec3, double>> lamps;  // centre, probability
+  double equiangular(Vec3 o, Vec3 d, double t, bool stops) const {
+    double sum = 0;
+    for (const auto &[c, weight] : lamps) {
+      const double x[3] = {double(c.x) - o.x, double(c.y) - o.y, double(c.z) - o.z}, e[3] = {d.x, d.y, d.z};
+      const double delta = x[0] * e[0] + x[1] * e[1] + x[2] * e[2];
+      double h2 = 0;  // |x - delta e|^2
+      for (int k = 0; k < 3; ++k) h2 += (x[k] - delta * e[k]) * (x[k] - delta * e[k]);
+      const double h = std::sqrt(h2);
+      const double theta_a = std::atan(-delta / h), theta_b = kPi / 2.0;
+      sum += weight * (stops ? h / ((theta_b - theta_a) * (h * h + (t - delta) * (t - delta)))
+                             : (theta_b - std::atan((t - delta) / h)) / (theta_b - theta_a));
+    }
+    return sum;
+  }
+  // The camera side's flight over a -> b: the free flight mixed with the equiangular one
+  // over the part of the segment inside the medium.
+  double camera_flight(Vec3 a, Vec3 b, bool stops) const {
+    const double free = free_flight(a, b, stops);
+    const Medium *m = box ? &scene.medium(0) : scene.world_medium() >= 0 ? &scene.medium(scene.world_medium()) : nullptr;
+    if (equiangular_share == 0 || !m || max_component(m->sigma_s) == 0) return free;
+    const Vec3 d = normalize(b - a);
+    const double length_ab = length(b - a);
+    double t0 = 0, t1 = length_ab;
+    if (box) {
+      for (int k = 0; k < 3; ++k) {
+        const double o = (&a.x)[k], dk = (&d.x)[k], lo = (&box_lo.x)[k], hi = (&box_hi.x)[k];
+        if (dk == 0) continue;
+        double ta = (lo - o) / dk, tb = (hi - o) / dk;
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+      }
+      if (!(t1 > t0)) return free;  // the segment misses the medium
+    }
+    const Vec3 o = a + d * float(t0);
+    return (1 - equiangular_share) * free + equiangular_share * equiangular(o, d, stops ? length_ab - t0 : t1 - t0, stops);
+  }
   // Lights at infinity: their vertex is the direction toward the light.
   static Vec3 dir(const ExplicitPath &p, int from, int to) {
     if (p.x[size_t(to)].v.infinite) return p.x[size_t(to)].v.dir;
@@ -167,6 +210,12 @@ struct BruteForce {
     }
     if (va.infinite || vb.infinite) return scene.world_medium() < 0 ? 1.0 : 0.0;
     return free_flight(p.x[size_t(a)].v.p, p.x[size_t(b)].v.p, stops);
+  }
+  // The camera side's flight over the edge a -> b (b may be a light at infinity).
+  double camera_flight(const ExplicitPath &p, int a, int b, bool stops) const {
+    const bdpt::PathVertex &va = p.x[size_t(a)].v, &vb = p.x[size_t(b)].v;
+    if (vb.infinite) return box ? camera_flight(va.p, va.p + vb.dir * 1e4f, stops) : free_flight(p, a, b, stops);
+    return camera_flight(va.p, vb.p, stops);
   }
   // A specular vertex's event from wo to wi (smooth glass of IOR 1.5, or a mirror): its
   // probability and d omega_wi / d omega_wo; 0 when wi is not where the event sends wo.
@@ -273,7 +322,7 @@ struct BruteForce {
       } else {
         pdf = scatter_pdf(p.x[size_t(i - 1)], dir(p, i - 1, i - 2), v.dir, false, blur_alpha(p, i - 1));
       }
-      return pdf * free_flight(p, i - 1, i, false);
+      return pdf * camera_flight(p, i - 1, i, false);
     }
     const LightType end_type = scene.lights()[size_t(p.x[size_t(n - 1)].v.light)].type;
     if (i == n - 1 && end_type != LightType::Triangle && end_type != LightType::Volume) {
@@ -288,7 +337,7 @@ struct BruteForce {
       if (!(cos_lamp > 0)) return 0;
       const Vec3 from = p.x[size_t(i - 1)].v.p;
       return scatter_pdf(p.x[size_t(i - 1)], dir(p, i - 1, i - 2), w, false, blur_alpha(p, i - 1)) * cos_lamp / double(length_squared(v.p - from)) *
-             free_flight(from, v.p, false);
+             camera_flight(from, v.p, false);
     }
     Vec3 w = dir(p, i - 1, i);
     double pdf;
@@ -302,7 +351,7 @@ struct BruteForce {
       const double cos1 = v.on_surface() ? std::fabs(dot(v.ng, camera.forward())) : 1.0;
       const Vec3 foot = v.p - camera.forward() * dot(v.p - camera.position(), camera.forward());
       return raster_density / plane_area * cos1 *
-             free_flight(foot + camera.forward() * camera.clip_start, v.p, v.type == VertexType::Medium);
+             camera_flight(foot + camera.forward() * camera.clip_start, v.p, v.type == VertexType::Medium);
     }
     if (i == 1) {
       const Camera &camera = scene.camera_now();
@@ -314,7 +363,7 @@ struct BruteForce {
     }
     // A volume light's point: where the last step's free flight stops in its medium.
     const bool stops = v.type == VertexType::Medium || (i == n - 1 && end_type == LightType::Volume);
-    return pdf * to_area(p, i - 1, i) * free_flight(from, v.p, stops);  // finite: as before
+    return pdf * to_area(p, i - 1, i) * camera_flight(from, v.p, stops);  // finite: as before
   }
   // The free flight that stops at medium vertex i from the camera side: from x_(i-1), the
   // camera's rays from the clip start (camera_side's).
@@ -330,7 +379,7 @@ struct BruteForce {
         from = from + w * float(camera.clip_start / dot(w, camera.forward()));
       }
     }
-    return free_flight(from, to, true);
+    return camera_flight(from, to, true);
   }
   // A lamp with a radius is a sphere (lights/sphere_lamp.h): its point uniform over the
   // sphere (a point lamp) or over the cap of points whose normal is within pi/2 + the
@@ -556,6 +605,17 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
   limits.filter_glossy = filter_glossy;
   PathSpace space(scene, kMaxBounces, kOrigin, kSize, float(kWidth * kHeight), kLargeStep, MutationSettings{}, limits);
   BruteForce brute{scene};
+  bool scattering = false;  // a medium that scatters: camera-side distances toward point and spot lamps
+  for (int m = 0; m < scene.num_media(); ++m) scattering |= max_component(scene.medium(m).sigma_s) > 0;
+  double lamp_power = 0;
+  for (size_t k = 0; scattering && k < scene.lights().size(); ++k) {
+    const Light &light = scene.lights()[k];
+    if (light.type != LightType::Point && light.type != LightType::Spot) continue;
+    brute.lamps.push_back({light.position, double(scene.light_distribution().pmf(k))});
+    lamp_power += brute.lamps.back().second;
+  }
+  for (auto &lamp : brute.lamps) lamp.second /= lamp_power;
+  if (!brute.lamps.empty()) brute.equiangular_share = MutationSettings{}.equiangular;
   if (!length_weights.empty()) {
     space.set_length_weights(length_weights);
     brute.length_weights = length_weights;
@@ -697,7 +757,7 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
       if (!(p.ratio > 0)) continue;
       auto area = [&](const ExplicitPath &q, int i) {
         const bdpt::PathVertex &v = q.x[size_t(i)].v;
-        return brute.to_area(q, i - 1, i) * brute.free_flight(q, i - 1, i, v.type == VertexType::Medium);
+        return brute.to_area(q, i - 1, i) * brute.camera_flight(q, i - 1, i, v.type == VertexType::Medium);
       };
       double brute_ratio = 1;
       int chains = 0;
@@ -797,8 +857,7 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
   EXPECT_GT(lens_subpaths, 50) << name;  // a raster point anywhere: fewer reach x_(c+1) than the lens perturbation's
   EXPECT_GE(multi_chain, min_specular / 10) << name;
   EXPECT_GE(lens_subpath_new_shape, min_specular / 100) << name;
-  bool scattering = false;  // a medium that never scatters has no medium vertices
-  for (int m = 0; m < scene.num_media(); ++m) scattering |= max_component(scene.medium(m).sigma_s) > 0;
+  // scattering: a medium that never scatters has no medium vertices
   if ((scene.world_medium() >= 0 || box_lo) && scattering) {
     EXPECT_GT(medium_paths, 0) << name;
     EXPECT_GT(kept_medium, 0) << name;
@@ -925,6 +984,32 @@ TEST(PathMltDensities, RadiusLampRatiosMatchBruteForce) {
                                           {"direction", {-0.3, 0, -1}}, {"power", 2000}, {"radius", 0.05},
                                           {"spot_size", 1.2}, {"spot_blend", 0.2}}});
   check_scene("fog_door.json (5 cm spot)", fog, 16000, 20);
+}
+
+// Equiangular distances toward point and spot lamps (mlt/equiangular.h; the 5 cm spot above
+// is a sphere lamp): the fog through the door lit by two point lamps without a radius, one
+// outside the door and a dim one in the room (the lamp chosen by power), and the Cornell box
+// with a fog box under its ceiling and a point lamp beside its mesh lamp (the distance drawn
+// from where the ray enters the box; the mesh lamp is no target).
+TEST(PathMltDensities, EquiangularRatiosMatchBruteForce) {
+  nlohmann::json fog = test::load_scene("fog_door.json");
+  fog["lights"] = nlohmann::json::array(
+      {{{"name", "outside"}, {"type", "point"}, {"position", {3.5, 1.2, 2.4}}, {"power", 800}},
+       {{"name", "inside"}, {"type", "point"}, {"position", {0.3, -0.4, 1.9}}, {"power", 60}}});
+  check_scene("fog_door.json (two point lamps)", fog, 8000, 20);
+  nlohmann::json box = test::load_scene("cornell_box.json");
+  box["materials"].push_back(
+      {{"name", "fog"}, {"type", "volume"}, {"volume", {{"density", 0.8}, {"color", {0.9, 0.9, 0.9}}, {"anisotropy", 0.3}}}});
+  box["meshes"].push_back({{"name", "fog_box"}, {"shape", {{"type", "box"}, {"size", {1.6, 1.6, 0.5}}}},
+                           {"materials", {"fog"}}, {"transform", {{"translate", {0, 0, 1.6}}}}});
+  nlohmann::json meshes = nlohmann::json::array();
+  for (auto &m : box["meshes"])
+    if (m["name"] != "lamp") meshes.push_back(m);
+  box["meshes"] = meshes;
+  box["lights"] = nlohmann::json::array(
+      {{{"name", "bulb"}, {"type", "point"}, {"position", {0.4, 0.3, 1.2}}, {"power", 30}}});
+  const Vec3 lo(-0.8f, -0.8f, 1.35f), hi(0.8f, 0.8f, 1.85f);
+  check_scene("cornell_box.json (fog box, point lamp)", box, 3000, 20, 0, &lo, &hi);
 }
 
 // Lamps are hidden from camera rays (Cycles), so a camera ray passes a lamp in view: the

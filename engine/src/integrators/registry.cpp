@@ -78,6 +78,7 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
       m.mutations.caustic[i] = settings.mlt_caustic_angle[i];
     }
     m.mutations.keep_distances = settings.mlt_keep_distances;
+    m.mutations.equiangular = settings.mlt_equiangular;
     m.direct_samples = settings.mlt_direct_samples;
     return std::make_unique<mlt::Metropolis>(scene, settings, bdpt_settings(settings, scene), m);
   }
@@ -235,6 +236,9 @@ RenderSettings RenderSettings::from_params(Params &p) {
   s.mlt_keep_distances = p.get_float("mlt_keep_distances", s.mlt_keep_distances);
   if (!(s.mlt_keep_distances >= 0 && s.mlt_keep_distances <= 1))
     fail(p.what() + ": 'mlt_keep_distances' must be a probability in [0, 1]");
+  s.mlt_equiangular = p.get_float("mlt_equiangular", s.mlt_equiangular);
+  if (!(s.mlt_equiangular >= 0 && s.mlt_equiangular <= 1))
+    fail(p.what() + ": 'mlt_equiangular' must be a probability in [0, 1]");
   const int direct = p.get_int("mlt_direct_samples", int(s.mlt_direct_samples));
   if (direct < 0 || direct > 65536)
     fail(p.what() + ": 'mlt_direct_samples' must be in 0..65536 (path-traced samples per pixel for direct light)");
@@ -362,6 +366,7 @@ std::string RenderSettings::image_settings_json() const {
       j["mlt_scattering_angle"] = {mlt_scattering_angle[0], mlt_scattering_angle[1]};
       j["mlt_caustic_angle"] = {mlt_caustic_angle[0], mlt_caustic_angle[1]};
       j["mlt_keep_distances"] = mlt_keep_distances;
+      j["mlt_equiangular"] = mlt_equiangular;
       j["mlt_direct_samples"] = mlt_direct_samples;
     }
   }

@@ -146,6 +146,16 @@ PathSpace::PathSpace(const Scene &scene, int max_bounces, Vec2 sample_origin, Ve
   // Without media the medium perturbations could only fail (a property of the scene, not
   // of a state: the mutation probabilities stay fixed).
   if (!media_) mutations_.weights[2] = mutations_.weights[3] = 0;
+  if (media_ && mutations_.equiangular > 0) {
+    bool scattering = false;
+    for (int m = 0; m < scene.num_media(); ++m) scattering |= medium_scatters(scene.medium(m));
+    for (uint32_t i = 0; scattering && i < uint32_t(scene.lights().size()); ++i) {
+      const Light &light = scene.lights()[i];
+      if (light.type == LightType::Point || light.type == LightType::Spot)
+        equiangular_.add(light.position, double(scene.light_distribution().pmf(i)));
+    }
+    equiangular_.finish(mutations_.equiangular);
+  }
   caustic_weight_ = mutations_.weights[4];
   multi_chain_weight_ = mutations_.weights[5];
   set_specular_paths(true);
@@ -208,7 +218,16 @@ int PathSpace::first_lamp(Vec3 o, Vec3 d, float tmax, float &t, uint32_t mask) c
   return first;
 }
 
-bool PathSpace::trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &stats, ExplicitVertex &z,
+float PathSpace::sample_distance(const Medium &medium, const Ray &ray, float segment, Side side, Pcg32 &rng) const {
+  if (side == Side::Light || !equiangular_.on() || !medium_scatters(medium))
+    return sample_free_flight(medium, ray.o, ray.d, segment, rng);
+  if (rng.next_float() >= float(equiangular_.share())) return sample_free_flight(medium, ray.o, ray.d, segment, rng);
+  const float u_lamp = rng.next_float(), u = rng.next_float();
+  const float t = equiangular_.sample(ray.o, ray.d, u_lamp, u);
+  return t < segment ? t : -1.0f;
+}
+
+bool PathSpace::trace_step(Ray ray, MediumStack media, Side side, Pcg32 &rng, RayStats &stats, ExplicitVertex &z,
                            bool to_light, float kept_flight) const {
   if (!is_finite(ray.o) || !is_finite(ray.d) || !(length_squared(ray.d) > 0)) return false;
   if (kept_flight >= 0 && !media_) return false;
@@ -237,7 +256,7 @@ bool PathSpace::trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &sta
         }
       } else if (m >= 0) {
         const Medium &medium = scene_.medium(m);
-        float t = sample_free_flight(medium, ray.o, ray.d, segment, rng);
+        float t = sample_distance(medium, ray, segment, side, rng);
         if (t == 0) return false;  // on the vertex it left (probability 0): no new vertex
         if (t > 0) {
           PathVertex &v = bdpt::fresh_vertex(z.v);
@@ -462,7 +481,7 @@ bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, Ray
   }
   ExplicitVertex &z = y.x[size_t(at)];
   if (kept_flight >= 0) kept_flight -= dot(ray.o - prev.v.p, ray.d);  // a thin lens's ray starts at its lens point
-  if (!trace_step(ray, media, rng, stats, z, to_light < 0 ? at == y.n - 1 : to_light > 0, kept_flight)) return false;
+  if (!trace_step(ray, media, Side::Camera, rng, stats, z, to_light < 0 ? at == y.n - 1 : to_light > 0, kept_flight)) return false;
   settle(z, prev);
   if (filter_.on()) z.v.filter_pdf = std::min(prev.v.filter_pdf, scattered_pdf);  // x_1: none before it
   return true;
@@ -475,7 +494,7 @@ bool PathSpace::trace_from(ExplicitPath &y, int at, Vec3 wi, float scattered_pdf
                 ray_mask(y, at, wi)};
   const bool last = to_light < 0 ? at + 1 == y.n - 1 : to_light > 0;
   if (kept_flight >= 0) kept_flight -= dot(ray.o - prev.v.p, wi);  // measured from prev, not the spawn offset
-  if (!trace_step(ray, stack_toward(prev, wi), rng, stats, z, last, kept_flight)) return false;
+  if (!trace_step(ray, stack_toward(prev, wi), Side::Camera, rng, stats, z, last, kept_flight)) return false;
   settle(z, prev);
   if (filter_.on()) z.v.filter_pdf = std::min(prev.v.filter_pdf, scattered_pdf);
   return true;
@@ -495,7 +514,7 @@ bool PathSpace::extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayS
     const Vec2 q = concentric_disk(u_pos) * radius;
     const Vec3 o = scene_.bounding_center() + next.v.dir * radius + frame.s * q.x + frame.t * q.y;
     const MediumStack media = media_ ? MediumStack::from(scene_.media_along(o, -next.v.dir)) : MediumStack();
-    return trace_step(Ray{o, -next.v.dir, kInf, light_walk_mask()}, media, rng, stats, y.x[size_t(at)]);
+    return trace_step(Ray{o, -next.v.dir, kInf, light_walk_mask()}, media, Side::Light, rng, stats, y.x[size_t(at)]);
   }
   if (at + 1 == y.n - 1) {
     // Leaving the light: its emission direction (sample_emission's, whatever point it
@@ -533,7 +552,7 @@ bool PathSpace::extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayS
   Ray ray{next.v.on_surface() ? spawn_origin(next.v.p, next.v.ng, next.v.error, wi) : next.v.p, wi, kInf,
           light_walk_mask()};
   if (kept_flight >= 0) kept_flight -= dot(ray.o - next.v.p, wi);
-  return trace_step(ray, media, rng, stats, y.x[size_t(at)], false, kept_flight);
+  return trace_step(ray, media, Side::Light, rng, stats, y.x[size_t(at)], false, kept_flight);
 }
 
 double PathSpace::camera_side_flight(const ExplicitPath &p, int i) const {
@@ -670,9 +689,18 @@ bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec
   // medium end, where the flight stops instead.
   // A segment's column (free_flights.h): its length in homogeneous media, the integral of
   // the density in grid media.
+  // The camera side's walk draws from the equiangular mixture: its passes and its stop at b
+  // by equiangular_, along the edge's own line from + t w (a segment starts at its start's
+  // foot on it): the spawn offsets move a ray sideways, and the equiangular density at a
+  // point varies at the scale of its distance h from the lamp's centre, so f's densities
+  // read it from the vertices alone (a walk samples along its offset ray: a relative
+  // difference of about offset / h, 1e-3 where a ray passes within a millimetre).
   int first_medium = -2, last_medium = -1;
   double first_column = 0, last_column = 0;
   double pass_all = 1, pass_but_first = 1, pass_but_last = 1;
+  double camera_pass_all = 1, camera_pass_but_last = 1;
+  float last_start = 0;  // along w from `from'
+  auto on_line = [&](Vec3 p) { return from + w * dot(p - from, w); };
   for (int guard = 0;; ++guard) {
     if (guard == 64) return false;
     SurfaceHit hit;
@@ -684,15 +712,20 @@ bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec
     // of it (core/ray_offset.h), which would be an error of that order in the column.
     if (!found && !b.v.infinite) segment = length(b.v.p - o);
     int m = stack.current(scene_);
-    double pass = 1, column = 0;
+    double pass = 1, camera_pass = 1, column = 0;
     if (m >= 0 && !(segment < kInf)) return false;  // no light comes through an unbounded medium
     if (m >= 0) {
       const Medium &medium = scene_.medium(m);
       column = medium_column(medium, o, s.d, segment);
       e.tr *= column_transmittance(medium, column);
-      pass = pass_probability(medium, column);
+      pass = camera_pass = pass_probability(medium, column);
+      if (equiangular_.on() && medium_scatters(medium))
+        camera_pass = equiangular_.pass_probability(on_line(o), w, segment, pass);
     }
     pass_but_last = pass_all;
+    camera_pass_but_last = camera_pass_all;
+    camera_pass_all *= camera_pass;
+    last_start = dot(o - from, w);
     if (first_medium == -2) {
       first_medium = m;
       first_column = column;
@@ -712,11 +745,16 @@ bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec
     remaining -= hit.t;
     if (remaining <= 0) break;
   }
-  e.fwd = e.rev = pass_all;
+  e.fwd = camera_pass_all;
+  e.rev = pass_all;
   if (in_medium(b.v)) {
     if (last_medium != b.v.medium) return false;  // not inside its own medium
     const Medium &medium = scene_.medium(last_medium);
-    e.fwd = pass_but_last * stop_density(medium, last_column, medium_density(medium, b.v.p));
+    const double stop = stop_density(medium, last_column, medium_density(medium, b.v.p));
+    e.fwd = camera_pass_but_last * (equiangular_.on() && medium_scatters(medium)
+                                        ? equiangular_.stop_density(from + w * last_start, w,
+                                                                    dot(b.v.p - from, w) - last_start, stop)
+                                        : stop);
   }
   if (a.v.type == VertexType::Medium) {
     if (first_medium != a.v.medium) return false;
@@ -1371,7 +1409,7 @@ int PathSpace::retrace_lens(const ExplicitPath &x, Vec2 raster, bool keep, Pcg32
   Ray ray = camera_ray(y.x[0], raster);
   // (a thin lens's ray leaves its lens point, x_0)
   const float t = c == 1 && kept >= 0 ? kept - dot(ray.o - y.x[0].v.p, ray.d) : -1.0f;
-  if (!trace_step(ray, y.x[0].v.media, rng, stats, y.x[1], y.n == 2, t)) return 0;
+  if (!trace_step(ray, y.x[0].v.media, Side::Camera, rng, stats, y.x[1], y.n == 2, t)) return 0;
   settle(y.x[1], y.x[0]);
   // Through the specular chain as the camera walk samples it: each of y_1 .. y_(c-1) must
   // scatter by a delta lobe (y's chain then has x's shape, so the move can be undone).
@@ -1431,7 +1469,7 @@ int PathSpace::walk_lens_subpath(const ExplicitPath &x, Vec2 raster, bool to_lig
   y.time = x.time;  // the caller's shutter::SampleTime is at it
   y.x[0] = x.x[0];
   Ray ray = camera_ray(y.x[0], raster);
-  if (!trace_step(ray, y.x[0].v.media, rng, stats, y.x[1], to_light)) return 0;
+  if (!trace_step(ray, y.x[0].v.media, Side::Camera, rng, stats, y.x[1], to_light)) return 0;
   settle(y.x[1], y.x[0]);
   for (int k = 1; k < max_vertices_; ++k) {
     const PathVertex &z = y.x[size_t(k)].v;
@@ -1631,7 +1669,7 @@ Proposal PathSpace::perturb_caustic(const ExplicitPath &x, Pcg32 &rng, RayStats 
               light_walk_mask()};
     media = stack_toward(end, w);
   }
-  if (!trace_step(ray, media, rng, stats, y.x[size_t(k - 1)])) return proposal;
+  if (!trace_step(ray, media, Side::Light, rng, stats, y.x[size_t(k - 1)])) return proposal;
   const float kept = kept_distance(x, 1, 2, keep);
   for (int at = k - 2; at >= 1; --at)
     if (!extend_from_light_side(y, at, rng, stats, at == 1 ? kept : -1.0f) || !y.x[size_t(at + 1)].v.delta)

@@ -56,6 +56,7 @@
 #include "integrators/bdpt/path_vertex.h"
 #include "integrators/filter_glossy.h"
 #include "integrators/integrator.h"
+#include "integrators/mlt/equiangular.h"
 #include "integrators/mlt/image_strata.h"
 
 namespace rdv::mlt {
@@ -130,6 +131,10 @@ struct MutationSettings {
   // medium vertex its distance from the vertex before it); else each medium vertex's distance
   // is a new free flight, as the walks draw it.
   float keep_distances = 0.5f;
+  // Scenes with scattering media and point or spot lamps (with or without a radius): the
+  // probability that a camera-side walk draws a distance in a medium equiangularly toward a
+  // lamp instead of by free flight (equiangular.h); 0: free flights only.
+  float equiangular = 0.5f;
   // The fewest vertices of a chain's path: 2 (every path), or 4 where the paths of one and
   // two edges (a light seen, direct lighting) are left to the path tracer, as Veach left
   // direct lighting to standard methods (Metropolis: MltSettings::direct_samples). Shorter
@@ -286,8 +291,14 @@ class PathSpace {
   // kept_flight >= 0 (Pauly's retrace): no free flight is drawn; z is the medium point at that
   // distance along the ray, and there is none if a surface or a lamp comes first or the point
   // is in no medium.
-  bool trace_step(Ray ray, MediumStack media, Pcg32 &rng, RayStats &stats, ExplicitVertex &z,
+  // side: which end the walk comes from (the camera side draws its distances in media from
+  // the equiangular mixture, the light side by free flights).
+  enum class Side { Camera, Light };
+  bool trace_step(Ray ray, MediumStack media, Side side, Pcg32 &rng, RayStats &stats, ExplicitVertex &z,
                   bool to_light = false, float kept_flight = -1) const;
+  // A distance drawn in medium m along the ray from its segment's start (-1: the segment of
+  // that length is passed).
+  float sample_distance(const Medium &medium, const Ray &ray, float segment, Side side, Pcg32 &rng) const;
   // The lamp the ray o + t d meets first for t < tmax (its index, t), or -1: a sphere lamp
   // (lights/sphere_lamp.h) where the ray enters it, an area lamp from its emitting side.
   int first_lamp(Vec3 o, Vec3 d, float tmax, float &t, uint32_t mask) const;
@@ -387,6 +398,9 @@ class PathSpace {
   bool motion_;  // Scene::has_motion
   bool visibility_, mixed_visibility_;  // Scene::has_ray_visibility / has_mixed_visibility
   bool catchers_ = false, film_transparent_ = false, holdouts_ = false, transparent_glass_ = false;  // set_film
+  // Camera-side distances in media: free flights mixed with equiangular ones toward the
+  // point and spot lamps (equiangular.h; off without both).
+  EquiangularTargets equiangular_;
   std::vector<uint32_t> hittable_lamps_;  // lamps with a radius (spheres) and area lamps: camera walks reach them
   // The lights at infinity but suns without an angle: one vertex (a direction) for all of
   // them, labelled with the first; f sums their radiance, the light side their densities.
