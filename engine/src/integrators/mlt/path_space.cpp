@@ -73,6 +73,17 @@ double deletion_weight(int kd) { return kd == 1 ? 0.5 : std::ldexp(1.0, -(kd - 2
 // but never the edge before the camera or after the light alone (kd = 1 at the ends).
 int deletion_positions(int nv, int kd) { return nv - kd + 2 - (kd == 1 ? 2 : 0); }
 
+// A kept distance (Pauly's retrace) measured from a vertex, re-measured from its ray's
+// origin `offset` further along (a spawn offset, a lens point, a medium boundary crossed).
+// One shorter than that offset (a vertex within it of the one before, which equiangular
+// distances toward a lamp next to a scattering point make often) cannot be kept: the
+// proposal fails rather than draw a new distance, which its ratio would not account for.
+constexpr float kNotKeepable = -2.0f;
+float kept_past(float kept_flight, float offset) {
+  if (kept_flight < 0) return kept_flight;
+  return kept_flight >= offset ? kept_flight - offset : kNotKeepable;
+}
+
 // Veach's E S* D: the index of x's first vertex after the camera that is not specular.
 // Pauly's retrace (PathSpace: keep_distances): the distance a retraced medium vertex x_i keeps
 // from its neighbour on the side the retrace comes from; -1 (a free flight is drawn) when the
@@ -230,7 +241,7 @@ float PathSpace::sample_distance(const Medium &medium, const Ray &ray, float seg
 bool PathSpace::trace_step(Ray ray, MediumStack media, Side side, Pcg32 &rng, RayStats &stats, ExplicitVertex &z,
                            bool to_light, float kept_flight) const {
   if (!is_finite(ray.o) || !is_finite(ray.d) || !(length_squared(ray.d) > 0)) return false;
-  if (kept_flight >= 0 && !media_) return false;
+  if (kept_flight == kNotKeepable || (kept_flight >= 0 && !media_)) return false;
   for (int guard = 0; guard < 256; ++guard) {
     SurfaceHit hit;
     CoincidentBoundary boundary;
@@ -278,7 +289,8 @@ bool PathSpace::trace_step(Ray ray, MediumStack media, Side side, Pcg32 &rng, Ra
         media.cross(scene_, hit, boundary, ray.d);
         float tmax = std::isinf(ray.tmax) ? kInf : ray.tmax - hit.t;
         const Vec3 o = spawn_origin(hit.p, hit.ng, hit.error, ray.d);
-        if (kept_flight >= 0) kept_flight -= dot(o - ray.o, ray.d);
+        kept_flight = kept_past(kept_flight, dot(o - ray.o, ray.d));
+        if (kept_flight == kNotKeepable) return false;
         ray = Ray{o, ray.d, tmax, ray.mask};
         continue;
       }
@@ -480,7 +492,7 @@ bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, Ray
     return trace_from(y, at - 1, wi, scattered_pdf, rng, stats, to_light, kept_flight);
   }
   ExplicitVertex &z = y.x[size_t(at)];
-  if (kept_flight >= 0) kept_flight -= dot(ray.o - prev.v.p, ray.d);  // a thin lens's ray starts at its lens point
+  kept_flight = kept_past(kept_flight, dot(ray.o - prev.v.p, ray.d));  // a thin lens's ray starts at its lens point
   if (!trace_step(ray, media, Side::Camera, rng, stats, z, to_light < 0 ? at == y.n - 1 : to_light > 0, kept_flight)) return false;
   settle(z, prev);
   if (filter_.on()) z.v.filter_pdf = std::min(prev.v.filter_pdf, scattered_pdf);  // x_1: none before it
@@ -493,7 +505,7 @@ bool PathSpace::trace_from(ExplicitPath &y, int at, Vec3 wi, float scattered_pdf
   const Ray ray{prev.v.on_surface() ? spawn_origin(prev.v.p, prev.v.ng, prev.v.error, wi) : prev.v.p, wi, kInf,
                 ray_mask(y, at, wi)};
   const bool last = to_light < 0 ? at + 1 == y.n - 1 : to_light > 0;
-  if (kept_flight >= 0) kept_flight -= dot(ray.o - prev.v.p, wi);  // measured from prev, not the spawn offset
+  kept_flight = kept_past(kept_flight, dot(ray.o - prev.v.p, wi));  // measured from prev, not the spawn offset
   if (!trace_step(ray, stack_toward(prev, wi), Side::Camera, rng, stats, z, last, kept_flight)) return false;
   settle(z, prev);
   if (filter_.on()) z.v.filter_pdf = std::min(prev.v.filter_pdf, scattered_pdf);
@@ -551,7 +563,7 @@ bool PathSpace::extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayS
   MediumStack media = stack_toward(next, wi);
   Ray ray{next.v.on_surface() ? spawn_origin(next.v.p, next.v.ng, next.v.error, wi) : next.v.p, wi, kInf,
           light_walk_mask()};
-  if (kept_flight >= 0) kept_flight -= dot(ray.o - next.v.p, wi);
+  kept_flight = kept_past(kept_flight, dot(ray.o - next.v.p, wi));
   return trace_step(ray, media, Side::Light, rng, stats, y.x[size_t(at)], false, kept_flight);
 }
 
@@ -697,7 +709,7 @@ bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec
   // difference of about offset / h, 1e-3 where a ray passes within a millimetre).
   int first_medium = -2, last_medium = -1;
   double first_column = 0, last_column = 0;
-  double pass_all = 1, pass_but_first = 1, pass_but_last = 1;
+  double pass_all = 1, pass_but_first = 1;
   double camera_pass_all = 1, camera_pass_but_last = 1;
   float last_start = 0;  // along w from `from'
   auto on_line = [&](Vec3 p) { return from + w * dot(p - from, w); };
@@ -719,10 +731,10 @@ bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec
       column = medium_column(medium, o, s.d, segment);
       e.tr *= column_transmittance(medium, column);
       pass = camera_pass = pass_probability(medium, column);
-      if (equiangular_.on() && medium_scatters(medium))
+      // (Not where the segment ends at b inside the medium: its stop density replaces it.)
+      if (equiangular_.on() && medium_scatters(medium) && (found || !in_medium(b.v)))
         camera_pass = equiangular_.pass_probability(on_line(o), w, segment, pass);
     }
-    pass_but_last = pass_all;
     camera_pass_but_last = camera_pass_all;
     camera_pass_all *= camera_pass;
     last_start = dot(o - from, w);
@@ -1408,7 +1420,7 @@ int PathSpace::retrace_lens(const ExplicitPath &x, Vec2 raster, bool keep, Pcg32
   const float kept = kept_distance(x, c, c - 1, keep);
   Ray ray = camera_ray(y.x[0], raster);
   // (a thin lens's ray leaves its lens point, x_0)
-  const float t = c == 1 && kept >= 0 ? kept - dot(ray.o - y.x[0].v.p, ray.d) : -1.0f;
+  const float t = c == 1 ? kept_past(kept, dot(ray.o - y.x[0].v.p, ray.d)) : -1.0f;
   if (!trace_step(ray, y.x[0].v.media, Side::Camera, rng, stats, y.x[1], y.n == 2, t)) return 0;
   settle(y.x[1], y.x[0]);
   // Through the specular chain as the camera walk samples it: each of y_1 .. y_(c-1) must

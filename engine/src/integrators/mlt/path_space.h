@@ -134,7 +134,7 @@ struct MutationSettings {
   // Scenes with scattering media and point or spot lamps (with or without a radius): the
   // probability that a camera-side walk draws a distance in a medium equiangularly toward a
   // lamp instead of by free flight (equiangular.h); 0: free flights only.
-  float equiangular = 0.5f;
+  float equiangular = 0.25f;
   // The fewest vertices of a chain's path: 2 (every path), or 4 where the paths of one and
   // two edges (a light seen, direct lighting) are left to the path tracer, as Veach left
   // direct lighting to standard methods (Metropolis: MltSettings::direct_samples). Shorter
