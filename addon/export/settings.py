@@ -41,7 +41,7 @@ def metropolis_settings(props):
                            for name in ("bidirectional", "lens", "propagation", "scattering", "caustic",
                                         "multi_chain", "lens_subpath")},
          "mlt_keep_distances": float(getattr(props, "mlt_keep_distances", 0.5)),
-         "mlt_equiangular": float(getattr(props, "mlt_equiangular", 0.25)),
+         "mlt_equiangular": float(getattr(props, "mlt_equiangular", 0.0)),
          "mlt_direct_samples": int(getattr(props, "mlt_direct_samples", 0))}
     target = getattr(props, "mlt_target", "DEFAULT")
     if target != "DEFAULT":  # else each integrator's own (the engine's default)

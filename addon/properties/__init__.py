@@ -94,7 +94,7 @@ class RendezvousRenderSettings(bpy.types.PropertyGroup):
                     "so it moves a little with the caustic or the image position instead of jumping along the "
                     "ray: higher follows volume caustics and shafts longer, lower explores depth more")
     mlt_equiangular: FloatProperty(
-        name="Toward Lamps", default=0.25, min=0.0, max=1.0, subtype="FACTOR",
+        name="Toward Lamps", default=0.0, min=0.0, max=1.0, subtype="FACTOR",
         description="Metropolis (Path Space), scenes with volumes lit by point or spot lamps: how often a "
                     "distance in the volume seen from the camera side is drawn toward a lamp (equiangular "
                     "sampling) instead of by the volume's density. Fog close to a small lamp converges instead "

@@ -48,7 +48,7 @@ void usage() {
                "  --mlt-direct N         mlt: direct light (paths of one and two edges) by N path-traced samples\n"
                "                         per pixel, the chains take the rest (0: the chains take every path)\n"
                "  --mlt-equiangular P    mlt: probability that a camera-side distance in fog is drawn toward a point\n"
-               "                         or spot lamp (equiangular) instead of by free flight (default 0.25; 0: off)\n"
+               "                         or spot lamp (equiangular) instead of by free flight (default 0: off)\n"
                "  --mlt-step-size S      pssmlt / mmlt: small-step size in primary sample space\n"
                "  --mlt-target T         pssmlt / mmlt / mlt: luminance or relative (even relative error)\n"
                "  --strategy S,T         bdpt: render only strategy (s, t), MIS-weighted\n"

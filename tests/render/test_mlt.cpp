@@ -63,7 +63,8 @@ void mean_and_error(const std::vector<double> &x, double &mean, double &error) {
 // Both Metropolis integrators against BDPT on one scene.
 void expect_same_image(const json &scene, const std::string &what, int bdpt_samples, int mutations,
                        const char *target = "relative",
-                       std::initializer_list<const char *> integrators = {"pssmlt", "mmlt"}) {
+                       std::initializer_list<const char *> integrators = {"pssmlt", "mmlt"},
+                       const json &metropolis_settings = json::object()) {
   json s = {{"width", 48}, {"height", 48}, {"max_bounces", 8}, {"integrator", "bdpt"}, {"samples", bdpt_samples}};
   Runs bdpt = render_runs(scene, s, 1);
   double bdpt_mean, bdpt_error;
@@ -74,6 +75,7 @@ void expect_same_image(const json &scene, const std::string &what, int bdpt_samp
     s["mlt_bootstrap"] = 4;
     s["mlt_chains"] = 64;
     s["mlt_target"] = target;
+    s.update(metropolis_settings);
     Runs mlt = render_runs(scene, s, 2001);
     BlockComparison c = compare_blocks(mlt.images, bdpt.images, 48, 48, 8, kAlphaPerBlock);
     EXPECT_EQ(c.failed, 0) << what << " " << integrator << ": " << c.detail;
@@ -170,6 +172,13 @@ TEST(MltVsBdpt, PathSpaceVolumeCausticPointSpot) {
   json scene = load_scene("volume_caustic.json");
   for (auto &light : scene["lights"]) light["radius"] = 0;
   expect_same_image(scene, "volume caustic (point spot)", 128, 256, "luminance", {"mlt"});
+}
+// The same with equiangular distances toward the lamp (mlt/equiangular.h, off by default).
+TEST(MltVsBdpt, PathSpaceVolumeCausticPointSpotEquiangular) {
+  json scene = load_scene("volume_caustic.json");
+  for (auto &light : scene["lights"]) light["radius"] = 0;
+  expect_same_image(scene, "volume caustic (point spot, equiangular)", 128, 256, "luminance", {"mlt"},
+                    {{"mlt_equiangular", 0.25}});
 }
 // Fog lit by a spot with a radius (fog_spot.json's 5 cm spot: a sphere lamp in a medium).
 TEST(MltVsBdpt, PathSpaceFogSpot) {

@@ -40,6 +40,13 @@ namespace {
 
 constexpr int kWidth = 32, kHeight = 32, kMaxBounces = 6;
 constexpr float kLargeStep = 0.3f;
+// Equiangular distances toward point and spot lamps (off by default) are on in these
+// checks, at the share whose random sequence found the kept-distance defect (kept_past).
+MutationSettings checked_mutations() {
+  MutationSettings m;
+  m.equiangular = 0.25f;
+  return m;
+}
 
 struct LoadedScene {
   rdv_scene *handle = nullptr;
@@ -628,7 +635,7 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
   const Scene &scene = loaded.scene();
   LightPathLimits limits;
   limits.filter_glossy = filter_glossy;
-  PathSpace space(scene, kMaxBounces, kOrigin, kSize, float(kWidth * kHeight), kLargeStep, MutationSettings{}, limits);
+  PathSpace space(scene, kMaxBounces, kOrigin, kSize, float(kWidth * kHeight), kLargeStep, checked_mutations(), limits);
   BruteForce brute{scene};
   bool scattering = false;  // a medium that scatters: camera-side distances toward point and spot lamps
   for (int m = 0; m < scene.num_media(); ++m) scattering |= max_component(scene.medium(m).sigma_s) > 0;
@@ -640,7 +647,7 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
     lamp_power += brute.lamps.back().second;
   }
   for (auto &lamp : brute.lamps) lamp.second /= lamp_power;
-  if (!brute.lamps.empty()) brute.equiangular_share = MutationSettings{}.equiangular;
+  if (!brute.lamps.empty()) brute.equiangular_share = checked_mutations().equiangular;
   if (!length_weights.empty()) {
     space.set_length_weights(length_weights);
     brute.length_weights = length_weights;

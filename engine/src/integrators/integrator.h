@@ -107,7 +107,7 @@ struct RenderSettings {
   // mlt in scenes with scattering media and point or spot lamps: the probability that a
   // camera-side walk draws a distance in a medium equiangularly toward a lamp (Kulla and
   // Fajardo) instead of by free flight (mlt/equiangular.h; 0: free flights only).
-  float mlt_equiangular = 0.25f;
+  float mlt_equiangular = 0.0f;
   // mlt: path-traced camera samples per pixel for direct light (paths of one and two
   // edges), which the chains then leave out (0: the chains take every path).
   uint32_t mlt_direct_samples = 0;

@@ -133,8 +133,9 @@ struct MutationSettings {
   float keep_distances = 0.5f;
   // Scenes with scattering media and point or spot lamps (with or without a radius): the
   // probability that a camera-side walk draws a distance in a medium equiangularly toward a
-  // lamp instead of by free flight (equiangular.h); 0: free flights only.
-  float equiangular = 0.25f;
+  // lamp instead of by free flight (equiangular.h); 0 (the default, docs/mlt.md): free
+  // flights only.
+  float equiangular = 0.0f;
   // The fewest vertices of a chain's path: 2 (every path), or 4 where the paths of one and
   // two edges (a light seen, direct lighting) are left to the path tracer, as Veach left
   // direct lighting to standard methods (Metropolis: MltSettings::direct_samples). Shorter
