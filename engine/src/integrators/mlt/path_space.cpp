@@ -334,6 +334,11 @@ bool PathSpace::trace_step(Ray ray, MediumStack media, Side side, Pcg32 &rng, Ra
   return false;
 }
 
+bool PathSpace::first_camera_step(Vec2 raster, Pcg32 &rng, RayStats &stats, ExplicitVertex &x0,
+                                  ExplicitVertex &x1) const {
+  return camera_vertex(rng, x0) && trace_step(camera_ray(x0, raster), x0.v.media, Side::Camera, rng, stats, x1);
+}
+
 bool PathSpace::camera_vertex(Pcg32 &rng, ExplicitVertex &z) const {
   const Camera &camera = scene_.camera_now();
   PathVertex &v = bdpt::fresh_vertex(z.v);

@@ -265,6 +265,9 @@ class PathSpace {
   // T(x -> y) of a partial bidirectional mutation: x's vertices l+1 .. m-1 replaced by y's
   // l+1 .. l+na, read from y's densities.
   double transition_density(int nv_x, int l, int m, const ExplicitPath &y, int na) const;
+  // The camera walk's first step through a raster point: x_0 as a path's, x_1 traced as every
+  // camera-side walk traces it (tests: the distribution of its distances in media).
+  bool first_camera_step(Vec2 raster, Pcg32 &rng, RayStats &stats, ExplicitVertex &x0, ExplicitVertex &x1) const;
 
  private:
   struct EdgeTrace {
