@@ -339,6 +339,22 @@ float Bsdf::pdf(Vec3 wo_w, Vec3 wi_w) const {
   return p;
 }
 
+float Bsdf::share_refracted_below(Vec3 wo_w, Vec3 wi_w, float alpha2_max) const {
+  if (lambert_) return 0;
+  Vec3 wo, wi;
+  bool flipped;
+  if (!local_pair(wo_w, wi_w, wo, wi, flipped) || !(wo.z * wi.z < 0)) return 0;
+  float all = 0, below = 0;
+  LobeScratch scratch;
+  for (int i = 0; i < n_; ++i) {
+    const Lobe &lobe = lobe_from_side(lobes_[i], flipped, scratch);
+    const float p = pick_[i] * lobe_pdf(lobe, wo, wi);
+    all += p;
+    if (lobe.type == LobeType::GgxDielectric && lobe.ggx.ax * lobe.ggx.ay <= alpha2_max) below += p;
+  }
+  return all > 0 ? std::min(1.0f, below / all) : 0.0f;
+}
+
 bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSample &out) const {
   if (n_ == 0 || dot(wo_w, ng_) <= 0) return false;
   int chosen = 0;

@@ -201,6 +201,11 @@ class Bsdf {
   // Whether wo -> wi is a straight pass through a Transparent lobe (no scattering for the
   // light passes), for paths that know only their directions (path-space MLT).
   bool passes_straight_through(Vec3 wo, Vec3 wi) const;
+  // Of the density of sampling wi (the non-delta lobes' mixture), the share that dielectric
+  // lobes refracting toward it with alpha_x alpha_y <= alpha2_max carry: how often a camera
+  // path that samples wi keeps seeing through with Transparent Glass (integrators/film_alpha.h
+  // decides by the lobe sampled). 0 where wi is not a refraction.
+  float share_refracted_below(Vec3 wo, Vec3 wi, float alpha2_max) const;
   // Cycles' Filter Glossy (integrators/filter_glossy.h): every microfacet lobe made at
   // least `alpha` rough (alpha_x, alpha_y); perfect mirrors and smooth glass become GGX
   // lobes of that roughness, as Cycles renders Sharp closures as GGX with the filter on.

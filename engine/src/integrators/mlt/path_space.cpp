@@ -665,10 +665,24 @@ double PathSpace::light_position_density(const ExplicitVertex &light_vertex) con
   return double(choice.pmf(size_t(light_vertex.v.light))) * area_pdf;
 }
 
-bool PathSpace::sees_through(const ExplicitVertex &v, Vec3 w) const {
-  if (v.v.type != VertexType::Surface || !v.v.delta) return false;
-  if (v.v.bsdf.passes_straight_through(v.v.wo, w)) return true;
-  return transparent_glass_ && dot(v.v.wo, v.v.ng) * dot(w, v.v.ng) < 0;  // a smooth refraction
+double PathSpace::see_through_share(const ExplicitVertex &v, Vec3 w) const {
+  if (v.v.type != VertexType::Surface) return 0;
+  if (v.v.delta) {
+    if (v.v.bsdf.passes_straight_through(v.v.wo, w)) return 1;
+    return transparent_glass_ && dot(v.v.wo, v.v.ng) * dot(w, v.v.ng) < 0 ? 1 : 0;  // a smooth refraction
+  }
+  if (!transparent_glass_ || catchers_) return 0;
+  return v.v.bsdf.share_refracted_below(v.v.wo, w, glass_alpha2_);
+}
+
+double PathSpace::escape_weight(const ExplicitVertex &v, Vec3 w) const {
+  const Distribution1D &dist = scene_.light_distribution();
+  for (uint32_t index : infinite_lights_) {
+    const Light &light = scene_.lights()[index];
+    if (light.type == LightType::Background)
+      return power_heuristic(v.v.bsdf.pdf(v.v.wo, w), dist.pmf(index) * light_pdf(light, v.v.p, w, kInf));
+  }
+  return 1;
 }
 
 bool PathSpace::on_catcher(const ExplicitVertex &v) const {
@@ -875,9 +889,10 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   // Filter Glossy: the smallest camera-side scattering density so far (filter_glossy.h).
   float filter_min = kInf;
 
-  // Whether the camera still sees through (Film > Transparent, shadow catchers: x_1 on, past
-  // Transparent BSDFs and, with Transparent Glass, smooth refractions).
-  bool see_through = catchers_ || film_transparent_ || holdouts_;
+  // How much the camera still sees through (Film > Transparent, holdouts, shadow catchers):
+  // from x_1 on, past Transparent BSDFs and, with Transparent Glass, refractions
+  // (see_through_share: 1, 0 or a share in between after a rough one).
+  double seen_through = catchers_ || film_transparent_ || holdouts_ ? 1.0 : 0.0;
   // Shadow catchers: f and f_catcher share every factor but the visibility of the edges past
   // the split, which vertices past it may be, and the light's emission; whether each lives.
   bool image = true, copy = catchers_;
@@ -900,14 +915,19 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
       w = i == 0 ? w0 : d / std::sqrt(d2);
       if (too_short_at_specular(a.v, b.v, std::sqrt(d2))) return;
     }
-    if (see_through && i >= 1) {  // the split: the first catcher the camera sees through to
-      // A holdout object where the camera sees it shows nothing (its alpha: the first-hit pass).
-      if (holdouts_ && a.v.type == VertexType::Surface && scene_.is_holdout_instance(a.hit.instance)) return;
-      if (catchers_ && on_catcher(a)) {
+    if (seen_through > 0 && i >= 1) {  // the split: the first catcher the camera sees through to
+      // A holdout object where the camera sees it shows nothing (its alpha: the first-hit
+      // pass); the share of f that does not see through to it goes on.
+      if (holdouts_ && a.v.type == VertexType::Surface && scene_.is_holdout_instance(a.hit.instance)) {
+        if (seen_through >= 1) return;
+        f = f * float(1 - seen_through);
+        seen_through = 0;
+      } else if (catchers_ && on_catcher(a)) {
         y.split = i;
-        see_through = false;
-      } else if (!sees_through(a, w)) {
-        see_through = copy = false;
+        seen_through = 0;
+      } else {
+        seen_through *= see_through_share(a, w);
+        if (!(seen_through > 0)) copy = false;
       }
     }
     const bool past_split = y.split >= 0 && i >= y.split;
@@ -1035,11 +1055,31 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   // ray alone, lamps' default visibility, else any other kind).
   const uint32_t kind_at_light = visibility_ ? ray_kind : n == 2 ? visibility::kCamera : visibility::kNonCamera;
   // An emitting holdout object seen through to shows nothing either.
-  if (see_through && holdouts_ && light.type == LightType::Triangle && scene_.is_holdout_instance(light.instance)) return;
-  if (see_through && catchers_ && on_catcher(last)) y.split = n - 1;  // an emitting catcher seen through to
-  // The world seen through a transparent film is not in the image (its alpha: the first-hit pass).
-  const bool background = !(film_transparent_ && see_through && last.v.infinite);
-  f *= emitted(last, -toward(y.x[size_t(n - 2)], last), kind_at_light, background);
+  if (seen_through > 0 && holdouts_ && light.type == LightType::Triangle &&
+      scene_.is_holdout_instance(light.instance)) {
+    if (seen_through >= 1) return;
+    f = f * float(1 - seen_through);
+    seen_through = 0;
+  }
+  if (seen_through > 0 && catchers_ && on_catcher(last)) y.split = n - 1;  // an emitting catcher seen through to
+  // The world seen through a transparent film is not in the image (its alpha: the first-hit
+  // pass). Past a rough refraction the camera sees through by a share (see_through_share),
+  // and the path tracer's rule (Cycles') depends on sampling there: the ray that escapes
+  // leaves the world out, next-event estimation adds it whatever the camera sees; f takes
+  // the expectation, the world less seen_through x the escape's MIS weight.
+  double world_left_out = 0;
+  if (film_transparent_ && seen_through > 0 && last.v.infinite) {
+    world_left_out = seen_through;
+    const ExplicitVertex &v = y.x[size_t(n - 2)];
+    if (n > 2 && v.v.type == VertexType::Surface && !v.v.delta) world_left_out *= escape_weight(v, last.v.dir);
+  }
+  const Vec3 w_light = -toward(y.x[size_t(n - 2)], last);
+  Color emission = emitted(last, w_light, kind_at_light, world_left_out < 1);
+  if (world_left_out > 0 && world_left_out < 1) {
+    const Color without_world = emitted(last, w_light, kind_at_light, false);
+    emission = emission - (emission - without_world) * float(world_left_out);
+  }
+  f *= emission;
   Color f_catcher = copy && y.split >= 0 && light.shadow_catcher ? f : Color(0.0f);
   if (!image) f = Color(0.0f);
   y.fwd[0] = 1.0 / camera.aperture_area();  // a point uniform on the aperture (pinhole, orthographic: 1)

@@ -248,12 +248,13 @@ class PathSpace {
   // What the film keeps, set before the first path: catchers, a shadow catcher's sums
   // (evaluate() computes f_catcher and split); alpha, Film > Transparent (the world seen
   // through to is not in f) and Transparent Glass (smooth refractions keep the camera seeing
-  // through; rough ones below its roughness do not here, unlike BDPT's).
+  // through, and rough ones below its roughness by their share: see_through_share).
   void set_film(bool catchers, const FilmAlpha &alpha) {
     catchers_ = catchers;
     film_transparent_ = alpha.film_transparent;
     holdouts_ = alpha.holdouts;
     transparent_glass_ = alpha.transparent_glass;
+    glass_alpha2_ = alpha.glass_roughness * alpha.glass_roughness;
   }
   // After the bootstrap: whether any of its paths had a specular vertex. Without, the caustic
   // and multi-chain perturbations could only fail and get weight 0 (fixed before the chains run).
@@ -368,10 +369,18 @@ class PathSpace {
   // (HDRI or colour) gives nothing (seen through a transparent film), suns still do.
   Color emitted(const ExplicitVertex &light, Vec3 w, uint32_t ray_kind, bool background = true) const;
   double light_position_density(const ExplicitVertex &light) const;
-  // Shadow catchers: whether the camera still sees through surface vertex v toward w (a
-  // Transparent BSDF, or a smooth refraction with Transparent Glass), and whether v is on a
-  // catcher (a holdout never is).
-  bool sees_through(const ExplicitVertex &v, Vec3 w) const;
+  // Film alpha, holdouts and shadow catchers: how much of the camera's seeing through goes on
+  // past surface vertex v toward w. 1 through a Transparent BSDF or, with Transparent Glass, a
+  // smooth refraction; with Transparent Glass, a rough refraction no rougher than its
+  // roughness by the share of v's sampling density toward w that such lobes carry (BDPT's
+  // camera walk keeps seeing through by the lobe it sampled; so f is the expectation of its
+  // rule over that choice); 0 otherwise. (With shadow catchers, 0 or 1: a path has one split.)
+  double see_through_share(const ExplicitVertex &v, Vec3 w) const;
+  // The path tracer's MIS weight of a ray that surface vertex v scattered toward w and that
+  // escapes to the world: the power heuristic against next-event estimation of the world
+  // (integrators/path; 1 without a world light).
+  double escape_weight(const ExplicitVertex &v, Vec3 w) const;
+  // Whether v is on a catcher (a holdout never is).
   bool on_catcher(const ExplicitVertex &v) const;
 
   // The settings' weight of each small step's type (MutationSettings::weights order), 0 for
@@ -402,6 +411,7 @@ class PathSpace {
   bool motion_;  // Scene::has_motion
   bool visibility_, mixed_visibility_;  // Scene::has_ray_visibility / has_mixed_visibility
   bool catchers_ = false, film_transparent_ = false, holdouts_ = false, transparent_glass_ = false;  // set_film
+  float glass_alpha2_ = 0;
   // Camera-side distances in media: free flights mixed with equiangular ones toward the
   // point and spot lamps (equiangular.h; off without both).
   EquiangularTargets equiangular_;
