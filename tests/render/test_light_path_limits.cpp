@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 #include <cmath>
 #include <cstring>
+#include <map>
+#include <string>
 #include <stdexcept>
 #include <nlohmann/json.hpp>
 #include "render_helpers.h"
@@ -32,6 +34,8 @@ json small(json settings) {
 }
 
 // K seeded renders of `integrator` with the limits (Metropolis: a small bootstrap, 64 chains).
+// Deterministic, so a reference several comparisons of one test ask for (the same scene,
+// settings and seeds) is rendered once per process.
 std::vector<std::vector<double>> runs_of(const json &scene, const json &limits, const char *integrator, int samples,
                                          uint32_t first_seed) {
   json s = small(limits);
@@ -41,7 +45,11 @@ std::vector<std::vector<double>> runs_of(const json &scene, const json &limits, 
     s["mlt_bootstrap"] = 4;
     s["mlt_chains"] = 64;
   }
-  return seeded_renders(scene.dump(), s.dump(), kRuns, first_seed);
+  static std::map<std::string, std::vector<std::vector<double>>> rendered;
+  const std::string key = scene.dump() + '\n' + s.dump() + '\n' + std::to_string(first_seed);
+  auto it = rendered.find(key);
+  if (it == rendered.end()) it = rendered.emplace(key, seeded_renders(scene.dump(), s.dump(), kRuns, first_seed)).first;
+  return it->second;
 }
 
 // `test` (integrator, samples) against `reference` on every 8x8 block; with `brightness`
