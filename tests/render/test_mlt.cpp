@@ -23,10 +23,10 @@ namespace {
 
 constexpr int kRuns = 8;
 // 4 scenes x 2 integrators with the default (relative) target, the door gap with the
-// luminance target, mlt on 15 scenes (luminance target) and the fog door twice more
+// luminance target, mlt on 16 scenes (luminance target) and the fog door twice more
 // (relative target; direct light left to the path tracer), and pssmlt with a sample
 // clamp; 36 blocks each.
-constexpr int kBlockTestsInFile = 28 * 36;
+constexpr int kBlockTestsInFile = 29 * 36;
 const double kAlphaPerBlock = 1.0 - std::pow(1.0 - 0.01, 1.0 / kBlockTestsInFile);
 
 struct Runs {
@@ -250,6 +250,25 @@ TEST(MltVsBdpt, PathSpaceEmissiveGridFog) {
                          {"emission_strength", 1.5},
                          {"emission_grid", varied_grid(5, 4, 6, {{-0.9, -0.9, 1.3}, {0.9, 0.9, 1.9}})}};
   expect_same_image(cornell_grid_fog(j, 2.0, emission), "emissive grid fog", 32, 64, "luminance", {"mlt"});
+}
+// The same with ray visibility elsewhere in the scene (the tall block hidden from the
+// camera: the fog's emission and the walls behind the block seen through it): mlt refused
+// any emissive volume in a scene with ray visibility before 2026-11-29; now only one whose
+// own object has visibility settings.
+TEST(MltVsBdpt, PathSpaceEmissiveGridFogWithRayVisibility) {
+  json j = load_scene("cornell_box.json");
+  json meshes = json::array();
+  for (auto &m : j["meshes"]) {
+    if (m["name"] == "lamp") continue;
+    if (m["name"] == "tall_block") m["visibility"] = {{"camera", false}};
+    meshes.push_back(m);
+  }
+  j["meshes"] = meshes;
+  const json emission = {{"emission_color", {1.0, 0.6, 0.3}},
+                         {"emission_strength", 1.5},
+                         {"emission_grid", varied_grid(5, 4, 6, {{-0.9, -0.9, 1.3}, {0.9, 0.9, 1.9}})}};
+  expect_same_image(cornell_grid_fog(j, 2.0, emission), "emissive grid fog, block hidden from the camera", 32, 64,
+                    "luminance", {"mlt"});
 }
 TEST(MltVsBdpt, PathSpaceTexturedLamp) {
   json j = load_scene("cornell_box.json");

@@ -11,6 +11,7 @@
 #include <set>
 #include <stdexcept>
 #include "integrators/mlt/image_strata.h"
+#include "media_grids.h"
 #include "render_helpers.h"
 #include "statistics.h"
 
@@ -35,6 +36,28 @@ TEST(PathMltRobustness, UnsupportedSceneIsRefusedNamingTheProblem) {
   }
   EXPECT_NE(r, RDV_OK);
   EXPECT_NE(std::string(rdv_last_error()).find("emits light outside any mesh"), std::string::npos) << rdv_last_error();
+}
+
+// An emissive volume whose own object has ray visibility settings (the fog box hidden from
+// the camera) is refused naming its medium; ray visibility on other objects renders
+// (MltVsBdpt.PathSpaceEmissiveGridFogWithRayVisibility).
+TEST(PathMltRobustness, EmissiveVolumeWithItsOwnRayVisibilityIsRefused) {
+  json cornell = load_scene("cornell_box.json");
+  const json emission = {{"emission_color", {1.0, 0.6, 0.3}}, {"emission_strength", 1.5}};
+  json j = cornell_grid_fog(cornell, 2.0, emission);
+  for (auto &m : j["meshes"])
+    if (m["name"] == "grid_fog_box") m["visibility"] = {{"camera", false}};
+  SceneHandle scene;
+  rdv_tools::load_scene_json(j.dump(), source_path("scenes"), scene.s);
+  ASSERT_EQ(rdv_scene_commit(scene.s), RDV_OK);
+  rdv_session *session = nullptr;
+  rdv_status r = rdv_session_create(scene.s, R"({"integrator": "mlt", "width": 8, "height": 8})", &session);
+  if (r == RDV_OK) {
+    r = rdv_session_start(session);
+    rdv_session_destroy(session);
+  }
+  EXPECT_NE(r, RDV_OK);
+  EXPECT_NE(std::string(rdv_last_error()).find("medium 'grid_fog'"), std::string::npos) << rdv_last_error();
 }
 
 // An orthographic camera with depth of field (its x_0 would be a lens offset from x_1's

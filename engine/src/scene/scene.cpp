@@ -620,6 +620,9 @@ void Scene::build_volume_lights() {
     medium.emission_step = 0;
     if (mi == world_medium_ || !medium.is_emissive()) continue;
     std::vector<VolumeEmitter::Region> regions;
+    // The kinds of ray that see the light: those that see every object holding the medium
+    // (a ray enters the medium only through a boundary it sees).
+    uint32_t visibility = visibility::kAll;
     for (const Instance &inst : instances_) {
       const Mesh &mesh = meshes_[inst.mesh];
       if (!inst.enabled) continue;
@@ -640,6 +643,7 @@ void Scene::build_volume_lights() {
       float box = size.x * size.y * size.z;
       float enclosed = float(std::fabs(volume));
       regions.push_back({lo, hi, enclosed > 0 && enclosed <= box * 1.001f ? enclosed : box});
+      visibility &= inst.visibility;
     }
     if (regions.empty()) continue;
     auto emitter = std::make_unique<VolumeEmitter>(medium, mi, regions);
@@ -657,6 +661,7 @@ void Scene::build_volume_lights() {
     }
     medium.emission_step = std::max(step, extent / 4096);
     lights_.push_back(make_volume_light(emitter.get()));
+    lights_.back().visibility = visibility;
     volume_emitters_.push_back(std::move(emitter));
   }
 }

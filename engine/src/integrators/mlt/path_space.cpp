@@ -195,9 +195,12 @@ std::string PathSpace::unsupported(const Scene &scene, const RenderSettings &set
   for (size_t i = 0; i < scene.lights().size(); ++i) {
     const Light &l = scene.lights()[i];
     const std::string which = "light " + std::to_string(i);
-    if (l.type == LightType::Volume && scene.has_ray_visibility())
-      return which + " is an emissive volume in a scene with ray visibility settings; mlt does not apply those to "
-                     "volume emission yet (use bdpt or pssmlt)";
+    // Ray visibility elsewhere in the scene is f's and the walks' (each edge by its kind of
+    // ray); an emissive volume's own object hidden from some kinds is not modelled.
+    if (l.type == LightType::Volume && scene.has_ray_visibility() && l.visibility != visibility::kAll)
+      return which + " (medium '" + l.volume->medium().name +
+             "') is an emissive volume whose object has ray visibility settings; mlt does not apply those to volume "
+             "emission (use bdpt or pssmlt, or make the object visible to every kind of ray)";
   }
   for (int m = 0; m < scene.num_media(); ++m) {
     const Medium &medium = scene.medium(m);
