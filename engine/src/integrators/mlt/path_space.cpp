@@ -896,6 +896,13 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   // from x_1 on, past Transparent BSDFs and, with Transparent Glass, refractions
   // (see_through_share: 1, 0 or a share in between after a rough one).
   double seen_through = catchers_ || film_transparent_ || holdouts_ ? 1.0 : 0.0;
+  // A holdout object the camera sees through to shows nothing there: f keeps the share that
+  // does not see through (false: nothing is left).
+  auto hold_out = [&]() {
+    f = f * float(1 - seen_through);
+    seen_through = 0;
+    return !is_black(f);
+  };
   // Shadow catchers: f and f_catcher share every factor but the visibility of the edges past
   // the split, which vertices past it may be, and the light's emission; whether each lives.
   bool image = true, copy = catchers_;
@@ -922,9 +929,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
       // A holdout object where the camera sees it shows nothing (its alpha: the first-hit
       // pass); the share of f that does not see through to it goes on.
       if (holdouts_ && a.v.type == VertexType::Surface && scene_.is_holdout_instance(a.hit.instance)) {
-        if (seen_through >= 1) return;
-        f = f * float(1 - seen_through);
-        seen_through = 0;
+        if (!hold_out()) return;
       } else if (catchers_ && on_catcher(a)) {
         y.split = i;
         seen_through = 0;
@@ -1059,11 +1064,8 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   const uint32_t kind_at_light = visibility_ ? ray_kind : n == 2 ? visibility::kCamera : visibility::kNonCamera;
   // An emitting holdout object seen through to shows nothing either.
   if (seen_through > 0 && holdouts_ && light.type == LightType::Triangle &&
-      scene_.is_holdout_instance(light.instance)) {
-    if (seen_through >= 1) return;
-    f = f * float(1 - seen_through);
-    seen_through = 0;
-  }
+      scene_.is_holdout_instance(light.instance) && !hold_out())
+    return;
   if (seen_through > 0 && catchers_ && on_catcher(last)) y.split = n - 1;  // an emitting catcher seen through to
   // The world seen through a transparent film is not in the image (its alpha: the first-hit
   // pass). Past a rough refraction the camera sees through by a share (see_through_share),
