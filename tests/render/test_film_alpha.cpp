@@ -33,6 +33,10 @@ json card_scene(const json &card_material, const json &settings,
           {"lights", {{{"type", "sun"}, {"strength", 2}, {"angle", 0}, {"direction", {-0.3, 0.2, -1}}}}}};
 }
 
+// The same view as a perspective camera (mlt refuses an orthographic camera that sees the world).
+const json kPerspectiveOverCard = {{"focal_length", 50},
+                                   {"transform", {{"look_at", {{"from", {0, 0.001, 3}}, {"to", {0, 0, 0}}}}}}};
+
 // Mean and standard error of channel c over the pixels of rows / columns [4, 12) (the card).
 MeanEstimate card_mean(const Image &img, int c) {
   double s = 0, s2 = 0;
@@ -74,7 +78,7 @@ TEST(FilmAlpha, WorldSeenDirectlyIsTransparentAndBlack) {
 // world); alpha from the first-hit pass.
 TEST(FilmAlpha, PathSpaceMltLeavesTheWorldSeenDirectlyOut) {
   json scene = card_scene({{"type", "diffuse"}}, {{"integrator", "mlt"}, {"mlt_chains", 64}});
-  scene["camera"] = {{"focal_length", 50}, {"transform", {{"look_at", {{"from", {0, 0.001, 3}}, {"to", {0, 0, 0}}}}}}};
+  scene["camera"] = kPerspectiveOverCard;
   Image img = render_json(scene.dump());
   ASSERT_TRUE(img.all_finite());
   for (int y : {0, 1, 14, 15})
@@ -90,7 +94,7 @@ TEST(FilmAlpha, PathSpaceMltLeavesTheWorldSeenDirectlyOut) {
 TEST(FilmAlpha, HoldoutCardShowsNothingWithPathSpaceMlt) {
   for (const char *integrator : {"bdpt", "mlt"}) {
     json scene = card_scene({{"type", "diffuse"}}, {{"integrator", integrator}, {"mlt_chains", 64}});
-    scene["camera"] = {{"focal_length", 50}, {"transform", {{"look_at", {{"from", {0, 0.001, 3}}, {"to", {0, 0, 0}}}}}}};
+    scene["camera"] = kPerspectiveOverCard;
     scene["meshes"][0]["holdout"] = true;
     Image img = render_json(scene.dump());
     // The card glowing: its emission seen directly is held out too.
@@ -156,8 +160,7 @@ TEST(FilmAlpha, PathSpaceMltRoughGlassUnderTheThresholdSeesThrough) {
                                 {{"integrator", k ? "mlt" : "path"}, {"film_transparent_glass", true},
                                  {"mlt_chains", 64}, {"samples", 256}, {"seed", seed}},
                                 slab);
-        scene["camera"] = {{"focal_length", 50},
-                           {"transform", {{"look_at", {{"from", {0, 0.001, 3}}, {"to", {0, 0, 0}}}}}}};
+        scene["camera"] = kPerspectiveOverCard;
         scene["lights"] = json::array();
         Image img = render_json(scene.dump());
         ASSERT_TRUE(img.all_finite());
