@@ -91,7 +91,7 @@ ENGINE_MAX_BOUNCES = 1024
 
 # Cycles' defaults, which scene.rendezvous mirrors (for a settings owner without a field).
 LIGHT_PATH_DEFAULTS = {"max_bounces": 12, "diffuse_bounces": 4, "glossy_bounces": 4, "transmission_bounces": 12,
-                       "volume_bounces": 0, "caustics_reflective": True, "caustics_refractive": True,
+                       "volume_bounces": 0, "transparent_max_bounces": 8, "caustics_reflective": True, "caustics_refractive": True,
                        "sample_clamp_direct": 0.0, "sample_clamp_indirect": 10.0, "blur_glossy": 1.0}
 
 
@@ -104,7 +104,7 @@ def light_path_source(scene, props=None):
 
 
 def light_path_settings(scene, props=None):
-    """The engine's light-path keys: max_bounces always; a per-kind limit only where it can
+    """The engine's light-path keys: max_bounces and transparent_max_bounces always; a per-kind limit only where it can
     bind (below the total), clamps and caustics only where they differ from off / on, so a
     scene that uses none of them renders exactly as before."""
     src = light_path_source(scene, props)
@@ -118,6 +118,8 @@ def light_path_settings(scene, props=None):
         n = int(get(key))
         if n < total:
             s[key] = max(n, 0)
+    # Transparent passes are not bounces (the total does not bound them): always Cycles'.
+    s["transparent_max_bounces"] = min(max(int(get("transparent_max_bounces")), 0), ENGINE_MAX_BOUNCES)
     if not get("caustics_reflective"):
         s["caustics_reflective"] = False
     if not get("caustics_refractive"):

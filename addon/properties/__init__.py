@@ -168,6 +168,10 @@ class RendezvousRenderSettings(bpy.types.PropertyGroup):
     volume_bounces: IntProperty(name="Volume Bounces", default=0, min=0, max=1024,
                                 description="Scatterings in a volume a path may make (0 = single scattering): "
                                             "more give denser, brighter fog and smoke at a higher cost")
+    transparent_max_bounces: IntProperty(name="Transparent Max Bounces", default=8, min=0, max=1024,
+                                         description="Transparent surfaces (alpha, Transparent BSDF) a path may "
+                                                     "pass straight through: more are slower, fewer turn what "
+                                                     "lies behind stacked leaves or cards black")
     caustics_reflective: BoolProperty(name="Reflective Caustics", default=True,
                                       description="Light reflected by glossy surfaces onto diffuse ones: off "
                                                   "removes that noise, and the light (biased)")

@@ -167,6 +167,7 @@ class RENDEZVOUS_PT_light_paths_max_bounces(RendezvousSubpanel, bpy.types.Panel)
         col.prop(src, "glossy_bounces", text="Glossy")
         col.prop(src, "transmission_bounces", text="Transmission")
         col.prop(src, "volume_bounces", text="Volume")
+        layout.prop(src, "transparent_max_bounces", text="Transparent")
 
 
 class RENDEZVOUS_PT_light_paths_clamping(RendezvousSubpanel, bpy.types.Panel):

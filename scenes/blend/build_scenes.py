@@ -712,6 +712,24 @@ def light_paths_clamp():
     return scene
 
 
+def light_paths_transparent():
+    """Transparent max bounces 3: a floor seen through a staircase of Transparent BSDF cards
+    (behind 0 .. 5 of them across the image), lit by an area lamp that shines under the cards,
+    with an emitting strip on it. Behind 3 cards or more the floor is black (Cycles ends the
+    path there); the strip still shows behind 3 (its emission counts), not behind 4 or 5."""
+    scene = reset(48)
+    plane("Floor", 4.0, diffuse_material("FloorMat", (0.8, 0.8, 0.8)))
+    glow = emission_material("Glow", (1.0, 0.6, 0.3), 2.0)
+    quad_object("Strip", 3.0, 0.15, (0, 0.5, 0.001), (0, 0, 0), glow)
+    clear = node_material("Clear", "ShaderNodeBsdfTransparent", {"Color": (0.9, 0.95, 1.0, 1.0)})
+    for i in range(1, 6):  # card i covers x <= 0.6 - 0.2 i
+        quad_object("Card%d" % i, 4.0, 4.0, (-1.4 - 0.2 * i, 0, 1.0 + 0.15 * i), (0, 0, 0), clear)
+    light("AREA", "Lamp", 150.0, (1.2, 0, 0.8), (0, math.radians(50), 0), size=0.4)
+    camera_looking_at((0, -0.4, 3), (0, 0, 0), 40)
+    scene.cycles.transparent_max_bounces = 3
+    return scene
+
+
 def mix_material(name, first, second, fac):
     """Mix Shader of two stock shader nodes ((node type, inputs) each), fac toward the second."""
     m, nt, out = empty_material(name)
@@ -892,7 +910,7 @@ def shadow_catcher():
 
 
 LIGHT_PATH_SCENES = ["light_paths_diffuse", "light_paths_mirror", "light_paths_caustics", "light_paths_clamp",
-                     "light_paths_filter_glossy"]
+                     "light_paths_filter_glossy", "light_paths_transparent"]
 
 
 # ---- motion blur (tests/blender/test_motion_blur.py) ----------------------------------------
@@ -1054,6 +1072,7 @@ SCENES = {
     "light_paths_caustics": light_paths_caustics,
     "light_paths_clamp": light_paths_clamp,
     "light_paths_filter_glossy": light_paths_filter_glossy,
+    "light_paths_transparent": light_paths_transparent,
     "film_transparent": film_transparent,
     "light_passes": light_passes,
     "data_passes": data_passes,

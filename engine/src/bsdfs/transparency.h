@@ -6,12 +6,15 @@
 
 namespace rdv {
 
+// Layers a shadow ray passes where no Transparent max bounces is set.
+constexpr int kShadowLayers = 16;
+
 // Transmittance along o + t d, t < tmax (o already offset off its surface). Returns
 // black at the first opaque surface. At most max_layers transparent surfaces are
 // crossed (Cycles' transparent max bounces); beyond that the ray counts as blocked.
 // rays is incremented per traced ray.
 // mask: the kinds of ray it stands for (scene/ray_visibility.h).
 Color transparent_shadow(const Scene &scene, Vec3 o, Vec3 d, float tmax, uint64_t &rays, uint32_t mask,
-                         int max_layers = 16);
+                         int max_layers = kShadowLayers);
 
 }  // namespace rdv

@@ -47,6 +47,16 @@ struct LightPathLimits {
   // Cap on the RGB sum of one contribution (0 = off): direct = at most one scattering
   // vertex on the path, indirect = the rest.
   float clamp_direct = 0, clamp_indirect = 0;
+  // Cycles' Transparent max bounces M: straight passes through Transparent BSDFs (and
+  // alpha) a path may make. Cycles 3.4 (with the +1 of scene/integrator.cpp) lets a vertex
+  // with c <= M passes behind it scatter, stops a path on the surface after its (M+1)-th
+  // pass (its emission still counts) and blocks a shadow ray from a vertex with c passes
+  // through k more when c + k > M. As a function of the whole path: at most M passes if
+  // anything on it scatters, else M + 1 (an emitter or the world seen straight through
+  // M + 1 layers still shows). Where Cycles finds an emitter by scattering through M + 1
+  // passes it keeps the BSDF sample's MIS share, which no function of the path can: we
+  // drop it, as its next-event estimation does (small lamps: all of it; the world: a part).
+  int transparent = kNoLimit;
   // Filter Glossy (scene.cycles.blur_glossy; 0 = off): glossy lobes after unlikely
   // bounces are roughened (filter_glossy.h): every integrator, one image for all their
   // strategies (path-space mlt: a function of each path's camera-side prefix).
@@ -60,6 +70,9 @@ struct LightPathLimits {
                !caustics_reflective || !caustics_refractive;
     clamps = clamp_direct > 0 || clamp_indirect > 0;
   }
+  // Whether a path that passes through `passes` transparent layers in all, and has a
+  // scattering vertex or not, is within Transparent max bounces.
+  bool transparent_within(int passes, bool scatters) const { return passes <= transparent + (scatters ? 0 : 1); }
   bool within(const BounceCounts &c) const {
     return c.n[0] <= diffuse && c.n[1] <= glossy && c.n[2] <= transmission && c.n[3] <= volume;
   }

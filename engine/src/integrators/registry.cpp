@@ -102,6 +102,7 @@ static LightPathLimits light_path_limits(Params &p) {
   bounces("glossy_bounces", l.glossy);
   bounces("transmission_bounces", l.transmission);
   bounces("volume_bounces", l.volume);
+  bounces("transparent_max_bounces", l.transparent);
   l.caustics_reflective = p.get_bool("caustics_reflective", true);
   l.caustics_refractive = p.get_bool("caustics_refractive", true);
   l.clamp_direct = p.get_float("clamp_direct", 0);
@@ -333,6 +334,7 @@ std::string RenderSettings::image_settings_json() const {
     j["clamp_indirect"] = limits.clamp_indirect;
   }
   if (limits.filter_glossy > 0) j["filter_glossy"] = limits.filter_glossy;  // (older parts: off)
+  if (limits.transparent < LightPathLimits::kNoLimit) j["transparent_max_bounces"] = limits.transparent;  // (older: none)
   if (alpha.pass_alpha_threshold != FilmAlpha{}.pass_alpha_threshold)  // the index passes' (older parts: default)
     j["pass_alpha_threshold"] = alpha.pass_alpha_threshold;
   if (alpha.film_transparent) {  // written only when used: older parts stay comparable

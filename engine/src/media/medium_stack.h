@@ -34,14 +34,15 @@ class MediumStack {
 // Transmittance from p along unit d over `distance` (infinite: to the world), through
 // index-matched boundaries and the media between them; 0 if any real surface blocks.
 // ng: geometric normal at p (zero for points in a medium), to leave the surface.
-// see_through_transparent: partly transparent surfaces tint instead of blocking (the
-// path tracer's transparent shadows; BDPT makes such surfaces path vertices instead).
+// transparent_layers: up to this many partly transparent surfaces tint instead of
+// blocking (the path tracer's transparent shadows, within Transparent max bounces; 0:
+// every surface blocks, as in BDPT, which makes such surfaces path vertices instead).
 // rng: the random numbers of grid media's transmittance estimators (the connection's
 // own dimensions, samplers/dimension_layout.h). end, if given, receives the media at
 // the far end (a volume light's point emits only inside its medium). mask: the kinds of
 // ray it stands for (scene/ray_visibility.h): surfaces invisible to them do not block.
 Color medium_transmittance(const Scene &scene, const ShadowRay &ray, MediumStack stack, uint64_t &rays, SampleRun &rng,
-                           bool see_through_transparent = false, MediumStack *end = nullptr,
+                           int transparent_layers = 0, MediumStack *end = nullptr,
                            uint32_t mask = 0xffffffffu);
 
 }  // namespace rdv

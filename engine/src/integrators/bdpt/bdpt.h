@@ -207,6 +207,9 @@ class Bdpt final : public TileIntegrator {
   // (kc: camera_path[t - 1]'s, kl: light_path[s - 1]'s; unused where there is none).
   ScatterKind kind_toward(const PathVertex &v, Vec3 wi) const;
   bool record_kind(PathVertex *path, int n, Vec3 wi, bool camera) const;
+  // The vertices the path of strategy (s, t) passes straight through (Transparent max
+  // bounces; of its s + t - 2 inner vertices, the rest scatter).
+  static int path_passes(const PathVertex *light_path, const PathVertex *camera_path, int s, int t);
   bool limits_keep(const PathVertex *light_path, const PathVertex *camera_path, int s, int t, ScatterKind kc,
                    ScatterKind kl) const;
   // Vertex helpers (connect.cpp).

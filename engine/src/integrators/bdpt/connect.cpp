@@ -90,7 +90,7 @@ Color Bdpt::transmittance(const PathVertex &a, const PathVertex &b, Sampler &sam
   ShadowRay shadow = shadow_ray(a.p, a.ng, a.error, b.p, b.ng, b.error);
   if constexpr (kMedia) {
     SampleRun run(sampler, stream, position, dims::kMediumRun);
-    return medium_transmittance(scene_, shadow, a.media_toward(scene_, d), stats.rays, run, false, nullptr, mask);
+    return medium_transmittance(scene_, shadow, a.media_toward(scene_, d), stats.rays, run, 0, nullptr, mask);
   } else {
     ++stats.rays;
     return scene_.occluded(shadow.o, shadow.d, shadow.tmax, mask) ? Color(0.0f) : Color(1.0f);
@@ -102,6 +102,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
                     RayStats &stats, Vec2 *raster, float *mis_weight_out, Vec3 *connection_dir,
                     bool catcher_copy) const {
   Color L(0.0f);
+  const LightPathLimits &limits = settings_.limits;
   // A catcher copy's connections meet shadow catchers only (shadow_catcher.cpp).
   auto rays = [catcher_copy](uint32_t mask) { return catcher_copy ? visibility::catcher_rays(mask) : mask; };
   PathVertex &pt = camera_path[t - 1];
@@ -109,9 +110,11 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
   // the world) counts only as s = 0.
   if (s == 0 ? !pt.is_light() : t > 1 && pt.type == VertexType::Light) return L;
   if (camera_side_only_ && s >= 2) return L;  // light subpaths cannot follow mixed visibility
+  // Transparent max bounces; the clamps count scattering vertices, not the passes.
+  const int passes = path_passes(light_path, camera_path, s, t);
+  if (!limits.transparent_within(passes, s + t - 2 > passes)) return L;
   PathVertex sampled;
   ConnectionDensities densities;
-  const LightPathLimits &limits = settings_.limits;
   constexpr ScatterKind kNone = ScatterKind::Transparent;
   if (s == 0) {
     if (limits.classify && !limits_keep(light_path, camera_path, 0, t, kNone, kNone)) return L;
@@ -206,7 +209,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
       if constexpr (kMedia) {
         MediumStack end;
         SampleRun run(sampler, SampleStream::LightPoint, dims::next_event(vertex, dims::kNeeMedia), dims::kMediumRun);
-        L *= medium_transmittance(scene_, shadow, pt.media_toward(scene_, ls.wi), stats.rays, run, false, &end,
+        L *= medium_transmittance(scene_, shadow, pt.media_toward(scene_, ls.wi), stats.rays, run, 0, &end,
                                   rays(light.occluders()));
         if (ls.medium >= 0 && !is_black(L) && end.current(scene_) != ls.medium) L = Color(0.0f);  // outside its medium
       } else if (const uint32_t occluders = rays(light.occluders())) {
@@ -277,7 +280,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
   }
   float w = is_black(L) ? 0.0f : mis_weight(light_path, camera_path, sampled, s, t, densities);
   if (mis_weight_out) *mis_weight_out = w;
-  return limits.clamps ? limits.clamp(L * w, s + t - 2) : L * w;
+  return limits.clamps ? limits.clamp(L * w, s + t - 2 - passes) : L * w;
 }
 
 template Color Bdpt::connect<false>(PathVertex *, PathVertex *, int, int, Sampler &, RayStats &, Vec2 *, float *,

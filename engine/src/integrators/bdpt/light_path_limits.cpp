@@ -28,6 +28,11 @@ bool Bdpt::record_kind(PathVertex *path, int n, Vec3 wi, bool camera) const {
   return v.caustics_ok && limits.within(v.counts);
 }
 
+int Bdpt::path_passes(const PathVertex *light_path, const PathVertex *camera_path, int s, int t) {
+  // A connection passes nothing (transparent surfaces block it: the walks make them vertices).
+  return camera_path[t - 1].passes + (s >= 2 ? light_path[s - 1].passes : 0);
+}
+
 bool Bdpt::limits_keep(const PathVertex *light_path, const PathVertex *camera_path, int s, int t, ScatterKind kc,
                        ScatterKind kl) const {
   const LightPathLimits &limits = settings_.limits;

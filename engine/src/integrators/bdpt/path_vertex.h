@@ -25,6 +25,7 @@ struct PathVertex {
   float pdf_fwd = 0, pdf_rev = 0;
   bool delta = false;   // scattered by a delta lobe: cannot be connected to
   bool passed_through = false;  // went straight through (Transparent BSDF, alpha): no scattering for the light passes
+  uint16_t passes = 0;  // vertices its walk passed straight through before it (Transparent max bounces)
   int light = -1;       // light index: light vertices, and surfaces on emitters
   bool infinite = false;  // an infinite light (escaped ray or light-subpath start); p unused, dir set
   Vec3 dir{0.0f};       // infinite lights: direction from the scene toward the light
@@ -82,6 +83,8 @@ struct PathVertex {
     return s;
   }
 
+  // Passes straight through on its walk up to and including this vertex.
+  int passes_after() const { return passes + (passed_through ? 1 : 0); }
   bool on_surface() const { return ng.x != 0 || ng.y != 0 || ng.z != 0; }
   bool is_light() const { return type == VertexType::Light || (type == VertexType::Surface && light >= 0); }
   bool connectible(const Scene &scene) const;

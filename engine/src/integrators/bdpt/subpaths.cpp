@@ -95,6 +95,10 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
   auto ray_kind = [&](ScatterKind kind) {
     return !camera ? visibility::kNonCamera : classify_rays ? visibility::after(kind) : visibility::kAnyRay;
   };
+  // Transparent max bounces (light_path_limits.h): a walk stops where no path through its
+  // passes could count; a camera walk that has only passed through, one past the limit,
+  // goes on for one more vertex, an emitter the camera may see.
+  const bool limited_passes = settings_.limits.transparent < LightPathLimits::kNoLimit;
   auto limits_end_walk = [&](Vec3 wi) {
     if (record_kind(path, n, wi, camera)) return false;
     if (camera) max_vertices = std::min(max_vertices, n + 1);
@@ -156,6 +160,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
         if (ms.scattered) {
           fresh_vertex(v);
           v.type = VertexType::Medium;
+          v.passes = uint16_t(prev.passes_after());
           v.p = ray.o + ray.d * ms.t;
           v.wo = -ray.d;
           v.beta = beta;
@@ -207,6 +212,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
         fresh_vertex(v);
         v.type = VertexType::Light;
         v.infinite = true;
+        v.passes = uint16_t(prev.passes_after());
         v.see_through = see_through;
         v.dir = ray.d;
         v.wo = -ray.d;
@@ -229,6 +235,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     }
     const Material &material = scene_.material(hit.material);
     fresh_surface_vertex(v, hit, ray.d, boundary, media);  // boundary: none without media
+    v.passes = uint16_t(prev.passes_after());
     v.beta = beta;
     v.see_through = see_through;
     if (settings_.alpha.holdouts) v.holdout = scene_.holdout_weight(hit);
@@ -275,6 +282,11 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     Vec2 u = sampler.get_2d();
     if (!v.bsdf.sample(v.wo, u_lobe, u, mode, bs)) return n;
     if (classify && limits_end_walk(bs.wi)) return n;
+    if (limited_passes && bs.pass_through) {
+      const int passes = v.passes + 1;  // path[1 .. n]: n vertices, `passes` of them passed through
+      if (!settings_.limits.transparent_within(passes, !camera || n > passes)) return n;
+      if (passes > settings_.limits.transparent) max_vertices = std::min(max_vertices, n + 1);
+    }
     beta *= bs.weight;
     if (see_through) see_through = settings_.alpha.keeps_seeing_through(bs);
     // The first-hit pass (see_through_only) goes on while the denoising data look for
@@ -346,13 +358,15 @@ Color Bdpt::lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathV
   const LightPathLimits &limits = settings_.limits;
   if (limits.classify && !limits_keep(path, path, 0, n + 2, ScatterKind::Transparent, ScatterKind::Transparent))
     return Color(0.0f);
+  const int passes = path[n].passes_after();  // of path[1 .. n]; the rest scatter
+  if (!limits.transparent_within(passes, n > passes)) return Color(0.0f);
   bool one_strategy = settings_.strategy_s >= 0;
   if (one_strategy && (settings_.strategy_s != 0 || settings_.strategy_t != n + 2)) return Color(0.0f);
   ConnectionDensities d;
   light_densities(point, prev, d.pt_rev, d.pt_minus_rev);
   float w = mis_weight(path, path, point, 0, n + 2, d);  // s = 0 reads no light vertex
   if (one_strategy && settings_.strategy_unweighted) return c;
-  return limits.clamps ? limits.clamp(c * w, n) : c * w;
+  return limits.clamps ? limits.clamp(c * w, n - passes) : c * w;
 }
 
 // Emission of the medium along a camera path's segment (s = 0 strategies ending inside
@@ -366,6 +380,8 @@ void Bdpt::gather_volume_emission(const Medium &medium, const Ray &ray, float tm
   const LightPathLimits &limits = settings_.limits;
   if (limits.classify && n > 0 && !limits_keep(path, path, 0, n + 2, ScatterKind::Transparent, ScatterKind::Transparent))
     return;
+  const int passes = path[n].passes_after();  // of path[1 .. n]; the rest scatter
+  if (!limits.transparent_within(passes, n > passes)) return;
   const bool one_strategy = settings_.strategy_s >= 0;  // the debug view of one strategy (s, t)
   if (one_strategy && (settings_.strategy_s != 0 || settings_.strategy_t != n + 2)) return;
   gather_emission(medium, ray.o, ray.d, tmax, rng, [&](Vec3 x, Color c, float rate) {
@@ -383,7 +399,7 @@ void Bdpt::gather_volume_emission(const Medium &medium, const Ray &ray, float tm
       w = mis_weight(path, path, point, 0, n + 2, d);  // s = 0 reads no light vertex
       if (one_strategy && settings_.strategy_unweighted) w = 1;
     }
-    emitted += limits.clamps ? limits.clamp(beta * c * w, n) : beta * c * w;
+    emitted += limits.clamps ? limits.clamp(beta * c * w, n - passes) : beta * c * w;
   });
 }
 

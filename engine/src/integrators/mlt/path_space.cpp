@@ -891,6 +891,9 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
 
   // Filter Glossy: the smallest camera-side scattering density so far (filter_glossy.h).
   float filter_min = kInf;
+  // Transparent max bounces (light_path_limits.h): the vertices passed straight through.
+  const bool limited_passes = limits_.transparent < LightPathLimits::kNoLimit;
+  int passes = 0;
 
   // How much the camera still sees through (Film > Transparent, holdouts, shadow catchers):
   // from x_1 on, past Transparent BSDFs and, with Transparent Glass, refractions
@@ -1006,6 +1009,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
       }
     }
     if (is_black(f)) return;
+    if (limited_passes && i >= 1 && a.v.delta && a.v.bsdf.passes_straight_through(a.v.wo, w)) ++passes;
     // Density of b from the camera side (a scattered toward it) and of a from the light
     // side (b scattered toward it): area measure, times the free flight.
     double pdf_b = 0;
@@ -1059,6 +1063,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     y.rev_area[size_t(i)] = cos_a / d2 * e.rev;
     y.rev[size_t(i)] = pdf_a * y.rev_area[size_t(i)];
   }
+  if (!limits_.transparent_within(passes, n - 2 > passes)) return;  // n - 2: the inner vertices
   // The kind of ray that meets the light (without ray visibility: the camera's for the camera
   // ray alone, lamps' default visibility, else any other kind).
   const uint32_t kind_at_light = visibility_ ? ray_kind : n == 2 ? visibility::kCamera : visibility::kNonCamera;

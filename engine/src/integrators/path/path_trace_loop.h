@@ -33,11 +33,13 @@ namespace rdv {
 // catcher_only: the catcher pass's copy of a path (shadow_catcher.h): shadow rays meet
 // shadow catchers only, and emitting objects that are not catchers give no light; only
 // in the loop compiled for scenes with a catcher (kCatcher).
+// shadow_layers: the transparent layers the shadow ray may pass (Transparent max bounces
+// less the path's passes so far, light_path_limits.h).
 template <bool kMedia, bool kCatcher, class Scatter, class MediaToward, class KindToward>
 static Color sample_direct_light(const Scene &scene, uint32_t vertex, Vec3 p, Vec3 ng, Vec3 p_error,
                                  const Scatter &scatter, const MediaToward &media_toward,
                                  const KindToward &kind_toward, Sampler &sampler, RayStats &stats,
-                                 bool catcher_only) {
+                                 bool catcher_only, int shadow_layers) {
   catcher_only = kCatcher && catcher_only;
   sampler.start_stream(SampleStream::LightPoint, dims::next_event(vertex, dims::kNeeLightChoice));
   float u_light = sampler.get_1d();
@@ -70,7 +72,7 @@ static Color sample_direct_light(const Scene &scene, uint32_t vertex, Vec3 p, Ve
   if constexpr (kMedia) {
     SampleRun run(sampler, SampleStream::LightPoint, dims::next_event(vertex, dims::kNeeMedia), dims::kMediumRun);
     MediumStack end;
-    tr = medium_transmittance(scene, shadow, media_toward(ls.wi), stats.rays, run, true, &end, occluders);
+    tr = medium_transmittance(scene, shadow, media_toward(ls.wi), stats.rays, run, shadow_layers, &end, occluders);
     if (is_black(tr)) return Color(0.0f);
     if (ls.medium >= 0 && end.current(scene) != ls.medium) return Color(0.0f);  // outside the emitting medium
   } else if (occluders) {
@@ -78,7 +80,7 @@ static Color sample_direct_light(const Scene &scene, uint32_t vertex, Vec3 p, Ve
     if (scene.occluded(shadow.o, shadow.d, shadow.tmax, occluders)) {
       // Transparent shadows (alpha, Transparent BSDF): look through what blocked the ray.
       if (!scene.has_transparency()) return Color(0.0f);
-      tr = transparent_shadow(scene, shadow.o, shadow.d, shadow.tmax, stats.rays, occluders);
+      tr = transparent_shadow(scene, shadow.o, shadow.d, shadow.tmax, stats.rays, occluders, shadow_layers);
       if (is_black(tr)) return Color(0.0f);
     }
   }
@@ -159,6 +161,14 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
   // (stop_after). last_kind: the last scattering's kind, for the caustics switches.
   BounceCounts counts;
   FilterGlossy filter(limits_.filter_glossy);  // Filter Glossy (filter_glossy.h)
+  // Transparent max bounces (light_path_limits.h): the path's passes through transparent
+  // layers so far. A scattering vertex needs at most the limit behind it, shadow rays pass only
+  // what is left of it, and the path stops where nothing it finds could count any more.
+  const int max_passes = limits_.transparent;
+  int transparent_passes = 0;
+  auto shadow_layers = [&]() {
+    return max_passes < LightPathLimits::kNoLimit ? std::max(0, max_passes - transparent_passes) : kShadowLayers;
+  };
   bool stop_after = false;
   ScatterKind last_kind = ScatterKind::Transparent;
   auto count_bounce = [&](ScatterKind kind) {
@@ -259,7 +269,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           Vec3 p = ray.o + ray.d * ms.t;
           Vec3 wo = -ray.d;
           if (denoising && denoising->active) denoising->end_at_volume_scatter();
-          if (depth >= max_bounces_ || stop_after) break;
+          if (depth >= max_bounces_ || stop_after || transparent_passes > max_passes) break;
           auto phase = [&](Vec3 wi, float *pdf) {
             *pdf = medium.phase.pdf(wo, wi);
             return Color(medium.phase.eval(wo, wi));
@@ -268,7 +278,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           if (passes && depth == 0) first_split = KindSplit::only(3);  // a volume scattering
           auto scatter_kind = [](Vec3) { return visibility::after(ScatterKind::Volume); };
           add(beta * sample_direct_light<true, kCatcher>(scene_, uint32_t(depth) + 1, p, Vec3(0.0f), Vec3(0.0f), phase,
-                                               same_medium, scatter_kind, sampler, stats, catcher_only),
+                                               same_medium, scatter_kind, sampler, stats, catcher_only, shadow_layers()),
               depth + 1);
           start_scatter(dims::kScatterDirection);
           Vec3 wi = medium.phase.sample(wo, sampler.get_2d());
@@ -391,7 +401,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       first_hit->normal = dot(hit.ns, wo) < 0 ? -hit.ns : hit.ns;
       first_hit->albedo = bsdf.albedo();
     }
-    if (depth >= max_bounces_ || !bsdf.has_lobes() || stop_after) break;
+    if (depth >= max_bounces_ || !bsdf.has_lobes() || stop_after || transparent_passes > max_passes) break;
 
     if (!bsdf.is_delta()) {
       // With a caustics switch off, a glossy reflection or refraction right after a
@@ -416,12 +426,12 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           return s;
         };
         add(beta * sample_direct_light<true, kCatcher>(scene_, uint32_t(depth) + 1, hit.p, hit.ng, hit.error, surface,
-                                             media_toward, scatter_kind, sampler, stats, catcher_only),
+                                             media_toward, scatter_kind, sampler, stats, catcher_only, shadow_layers()),
             depth + 1);
       } else {
         auto unused = [](Vec3) { return 0; };
         add(beta * sample_direct_light<false, kCatcher>(scene_, uint32_t(depth) + 1, hit.p, hit.ng, hit.error, surface, unused,
-                                              scatter_kind, sampler, stats, catcher_only),
+                                              scatter_kind, sampler, stats, catcher_only, shadow_layers()),
             depth + 1);
       }
     }
@@ -439,6 +449,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       if constexpr (kMedia) stack.cross(scene_, hit, boundary, ray.d);
       new_ray(Ray{spawn_origin(hit.p, hit.ng, hit.error, ray.d), ray.d, kInf, ray.mask});
       if (++boundary_crossings > 256 || is_black(beta)) break;
+      if (!limits_.transparent_within(++transparent_passes, depth > 0)) break;  // nothing further counts
       ++crossings;
       layer_passed = true;
       --depth;
