@@ -13,12 +13,12 @@ using nlohmann::json;
 
 namespace {
 
-Image floor_under(const json &occluder) {
+Image floor_under(const json &occluder, const char *integrator = "path") {
   json mats = json::array({{{"name", "floor"}, {"type", "diffuse"}, {"color", {1, 1, 1}}}});
   json occ = occluder;
   occ["name"] = "occluder";
   mats.push_back(occ);
-  json j = {{"settings", {{"width", 8}, {"height", 8}, {"samples", 16}, {"max_bounces", 1}}},
+  json j = {{"settings", {{"width", 8}, {"height", 8}, {"samples", 16}, {"max_bounces", 1}, {"integrator", integrator}}},
             {"camera", {{"type", "orthographic"}, {"ortho_scale", 0.2}, {"clip_start", 0.01},
                         {"transform", {{"look_at", {{"from", {0, 0.001, 3}}, {"to", {0, 0, 0}}}}}}}},
             {"world", {{"color", {0, 0, 0}}}},
@@ -53,4 +53,23 @@ TEST(TransparentShadows, AlphaAndTransparentBsdfTintTheSun) {
               mix, "60% transparent BSDF");
   const double full[3] = {lit, lit, lit};
   expect_mean(floor_under({{"type", "transparent"}}), full, "fully transparent card");
+}
+
+// BDPT passes plain transparent layers without making them path vertices and its
+// connections see through them (bdpt/subpaths.cpp), so next-event estimation reaches the
+// sun behind the card as the path tracer's does: with an orthographic camera no other
+// strategy can (light tracing cannot reach it), and before, BDPT left the floor black.
+TEST(TransparentShadows, BdptSeesTheSunThroughCardsAsThePathTracerDoes) {
+  const double lit = 3.0 * std::cos(M_PI / 4) / M_PI;
+  const double none[3] = {0, 0, 0};
+  expect_mean(floor_under({{"type", "diffuse"}}, "bdpt"), none, "bdpt, opaque card");
+  const double alpha[3] = {0.75 * lit, 0.75 * lit, 0.75 * lit};
+  expect_mean(floor_under({{"type", "principled"}, {"alpha", 0.25}}, "bdpt"), alpha, "bdpt, principled alpha 0.25");
+  const double mix[3] = {0.6 * lit, 0.3 * lit, 0.15 * lit};
+  expect_mean(floor_under({{"type", "mix"}, {"fac", 0.6}, {"shader1", {{"type", "diffuse"}}},
+                           {"shader2", {{"type", "transparent"}, {"color", {1, 0.5, 0.25}}}}},
+                          "bdpt"),
+              mix, "bdpt, 60% transparent BSDF");
+  const double full[3] = {lit, lit, lit};
+  expect_mean(floor_under({{"type", "transparent"}}, "bdpt"), full, "bdpt, fully transparent card");
 }

@@ -553,6 +553,14 @@ KindSplit Bsdf::kind_split(Vec3 wo_w, Vec3 wi_w, bool delta) const {
                                                                                          : 2);
 }
 
+float Bsdf::pass_probability(Vec3 wo) const {
+  if (n_ == 0 || dot(wo, ng_) <= 0) return 0;  // sample() fails
+  float q = 0;
+  for (int i = 0; i < n_; ++i)
+    if (lobes_[i].type == LobeType::Transparent) q += pick_[i];
+  return q;
+}
+
 bool Bsdf::passes_straight_through(Vec3 wo, Vec3 wi) const {
   constexpr float kSameDirection = 1.0f - 1e-5f;  // as delta_eval's events
   if (dot(-wo, wi) < kSameDirection) return false;

@@ -198,6 +198,9 @@ class Bsdf {
   // (diffuse, glossy, transmission; a dielectric's colour split by its Fresnel at wo,
   // as Cycles 3.4's Glass BSDF weights its reflection and refraction closures).
   KindSplit kind_split(Vec3 wo, Vec3 wi, bool delta) const;
+  // The probability that sample() from wo passes straight through (its Transparent lobes'
+  // selection): BDPT's walks keep a plain transparent layer as a vertex only otherwise.
+  float pass_probability(Vec3 wo) const;
   // Whether wo -> wi is a straight pass through a Transparent lobe (no scattering for the
   // light passes), for paths that know only their directions (path-space MLT).
   bool passes_straight_through(Vec3 wo, Vec3 wi) const;

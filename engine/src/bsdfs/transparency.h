@@ -14,7 +14,9 @@ constexpr int kShadowLayers = 16;
 // crossed (Cycles' transparent max bounces); beyond that the ray counts as blocked.
 // rays is incremented per traced ray.
 // mask: the kinds of ray it stands for (scene/ray_visibility.h).
+// plain_layers_only: only the layers BDPT's walks pass without making them path vertices
+// let the ray through (Scene::is_plain_layer); any other surface blocks.
 Color transparent_shadow(const Scene &scene, Vec3 o, Vec3 d, float tmax, uint64_t &rays, uint32_t mask,
-                         int max_layers = kShadowLayers);
+                         int max_layers = kShadowLayers, bool plain_layers_only = false);
 
 }  // namespace rdv

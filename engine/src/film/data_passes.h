@@ -22,6 +22,7 @@
 #include "core/math.h"
 #include "core/params.h"
 #include "film/denoising_passes.h"
+#include "film/light_passes.h"
 
 namespace rdv {
 
@@ -52,6 +53,10 @@ struct DataPassSample {
   // Cycles' denoising data (film/denoising_passes.h), along the camera's path through
   // near-specular surfaces (active only when the film keeps them).
   DenoisingSample denoising;
+  // The colour passes (film/light_passes.h): the closures of every layer a BDPT camera walk
+  // sees up to its first scattering, by what reaches them (bdpt/subpaths.cpp).
+  static_assert(kColorKinds == 3);
+  Color colors[kColorKinds] = {Color(0.0f), Color(0.0f), Color(0.0f)};
 
   // A surface of the see-through chain: its distance from the camera (MistSettings), the
   // throughput reaching it times its alpha, its alpha's average and its pass indices.

@@ -14,14 +14,15 @@ namespace rdv {
 
 // Whether nothing that rays of the kinds in `mask` meet lies along s (mask 0: nothing
 // does). see_through_transparent: partly transparent surfaces let the rays through,
-// as the path tracer's transparent shadows and pass-throughs do.
+// as the path tracer's transparent shadows and pass-throughs do (plain_layers_only: only
+// those BDPT's walks pass without making them vertices, Scene::is_plain_layer).
 inline bool visibility_clear(const Scene &scene, const ShadowRay &s, uint32_t mask, bool see_through_transparent,
-                             uint64_t &rays) {
+                             uint64_t &rays, bool plain_layers_only = false) {
   if (!mask) return true;
   ++rays;
   if (!scene.occluded(s.o, s.d, s.tmax, mask)) return true;
   return see_through_transparent && scene.has_transparency() &&
-         !is_black(transparent_shadow(scene, s.o, s.d, s.tmax, rays, mask));
+         !is_black(transparent_shadow(scene, s.o, s.d, s.tmax, rays, mask, kShadowLayers, plain_layers_only));
 }
 
 }  // namespace rdv

@@ -27,7 +27,7 @@ void MediumStack::cross(const Scene &scene, uint32_t material, Vec3 ng, Vec3 d) 
 }
 
 Color medium_transmittance(const Scene &scene, const ShadowRay &ray, MediumStack stack, uint64_t &rays, SampleRun &rng,
-                           int transparent_layers, MediumStack *end, uint32_t mask) {
+                           int transparent_layers, MediumStack *end, uint32_t mask, bool plain_layers_only) {
   Color tr(1.0f);
   const Vec3 d = ray.d;
   Vec3 o = ray.o;
@@ -50,7 +50,8 @@ Color medium_transmittance(const Scene &scene, const ShadowRay &ray, MediumStack
     if (!scene.is_boundary_only(hit.material)) {
       // A real surface blocks, unless it is partly transparent (transparent shadows).
       const Material &mat = scene.material(hit.material);
-      if (transparent_layers-- <= 0 || !mat.transparent) return Color(0.0f);
+      if (transparent_layers-- <= 0 || !mat.transparent || (plain_layers_only && !scene.is_plain_layer(hit)))
+        return Color(0.0f);
       tr *= mat.shadow_transmission(scene.shading_point(hit));
       if (is_black(tr)) return tr;
     }

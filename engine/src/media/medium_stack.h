@@ -41,8 +41,10 @@ class MediumStack {
 // own dimensions, samplers/dimension_layout.h). end, if given, receives the media at
 // the far end (a volume light's point emits only inside its medium). mask: the kinds of
 // ray it stands for (scene/ray_visibility.h): surfaces invisible to them do not block.
+// plain_layers_only: of the transparent surfaces, only those BDPT's walks pass without
+// making them vertices let the ray through (Scene::is_plain_layer).
 Color medium_transmittance(const Scene &scene, const ShadowRay &ray, MediumStack stack, uint64_t &rays, SampleRun &rng,
                            int transparent_layers = 0, MediumStack *end = nullptr,
-                           uint32_t mask = 0xffffffffu);
+                           uint32_t mask = 0xffffffffu, bool plain_layers_only = false);
 
 }  // namespace rdv

@@ -180,6 +180,16 @@ class Scene {
   std::string shadow_catcher_object() const;
   bool has_shadow_catchers() const { return !shadow_catcher_object().empty(); }
   bool is_shadow_catcher(uint32_t instance) const { return instances_[instance].shadow_catcher; }
+  // A transparent layer BDPT's walks pass straight through without making it a path vertex,
+  // and its connections see through (bdpt/subpaths.cpp), as the path tracer's paths and
+  // shadow rays do: a material that may let rays through and neither emits nor holds out,
+  // on an instance that is neither a holdout nor a shadow catcher (those stay vertices: the
+  // camera's see-through chain and the emission found there read them).
+  bool is_plain_layer(const SurfaceHit &hit) const {
+    const Material &m = materials_[hit.material];
+    const Instance &inst = instances_[hit.instance];
+    return m.transparent && !m.emits() && !m.holdout && !inst.holdout && !inst.shadow_catcher;
+  }
   bool is_holdout_instance(uint32_t instance) const { return instances_[instance].holdout; }
   // ---- Data passes (film/data_passes.h): the world's mist settings, and the surface at
   // hit as a camera path's see-through chain meets it with throughput beta (its distance

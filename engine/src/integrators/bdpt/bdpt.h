@@ -131,7 +131,8 @@ class Bdpt final : public TileIntegrator {
   inline PassCache pass_cache(const PathVertex *camera_path, int n) const;
   inline PassClass pass_class(const PathVertex *light_path, const PathVertex *camera_path, int s, int t,
                               Vec3 connection_dir, const PassCache &cache) const;
-  void add_color_passes(const PathVertex *camera_path, int n, LightPassSample &passes) const;
+  // The colour passes the camera walk gathered into data.
+  static void add_color_passes(const DataPassSample &data, LightPassSample &passes);
   Color background_share(const PathVertex &v) const;
   // A contribution c of strategy (s, t >= 2), classified as pc, into a camera sample's
   // passes: the world seen directly goes to Environment by its background share.
@@ -184,10 +185,11 @@ class Bdpt final : public TileIntegrator {
                   TransportMode mode, PathVertex *path, Color *emitted, RayCone cone = {},
                   DataPassSample *data = nullptr, bool see_through_only = false, bool catcher_copy = false) const;
   // catcher_only: the walk of a catcher copy past its split (its shadow rays meet catchers only).
-  Color lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathVertex *path, int n, float pdf_dir,
-                      RayStats &stats, bool catcher_only) const;
+  // layers: the plain layers the walk passed since path[n].
+  Color lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathVertex *path, int n, int layers,
+                      float pdf_dir, RayStats &stats, bool catcher_only) const;
   void gather_volume_emission(const Medium &medium, const Ray &ray, float tmax, SampleRun &rng, Color beta,
-                              PathVertex *path, int n, float pdf_dir, Color &emitted) const;
+                              PathVertex *path, int n, int layers, float pdf_dir, Color &emitted) const;
   // Densities (mis.cpp), area measure at the receiving vertex.
   void light_densities(const PathVertex &light_vertex, const PathVertex &v, float &origin, float &toward) const;
   void split_sphere_lamp_density(const Light &lamp, const PathVertex &light_vertex, Vec3 v, float &origin,
@@ -207,9 +209,12 @@ class Bdpt final : public TileIntegrator {
   // (kc: camera_path[t - 1]'s, kl: light_path[s - 1]'s; unused where there is none).
   ScatterKind kind_toward(const PathVertex &v, Vec3 wi) const;
   bool record_kind(PathVertex *path, int n, Vec3 wi, bool camera) const;
-  // The vertices the path of strategy (s, t) passes straight through (Transparent max
-  // bounces; of its s + t - 2 inner vertices, the rest scatter).
+  // The straight passes of the path of strategy (s, t) on its two subpaths (Transparent
+  // max bounces; a connection adds those it passes) and its scattering vertices (the clamps).
   static int path_passes(const PathVertex *light_path, const PathVertex *camera_path, int s, int t);
+  static int path_scatterings(const PathVertex *light_path, const PathVertex *camera_path, int s, int t);
+  // The plain layers a connection or shadow ray of a path with `passes` may pass.
+  int connection_layers(int passes) const;
   bool limits_keep(const PathVertex *light_path, const PathVertex *camera_path, int s, int t, ScatterKind kc,
                    ScatterKind kl) const;
   // Vertex helpers (connect.cpp).
@@ -229,11 +234,12 @@ class Bdpt final : public TileIntegrator {
   // when s == 2 (else toward light_path[2]).
   bool light_start_visible(const PathVertex *light_path, int s, Vec3 wi) const;
   // Visibility (0 or 1) or, with media, transmittance from a to b, its estimators
-  // drawing at `position` of `stream` (the connection's own dimensions).
+  // drawing at `position` of `stream` (the connection's own dimensions), through up to
+  // `layers` plain layers (Scene::is_plain_layer), which the walks do not make vertices.
   // mask: the kinds of ray the connection stands for (scene/ray_visibility.h).
   template <bool kMedia>
   Color transmittance(const PathVertex &a, const PathVertex &b, Sampler &sampler, SampleStream stream,
-                      uint32_t position, RayStats &stats, uint32_t mask) const;
+                      uint32_t position, RayStats &stats, uint32_t mask, int layers) const;
 
   const Scene &scene_;
   BdptSettings settings_;

@@ -1,5 +1,6 @@
 // Connecting a light subpath prefix of s vertices to a camera subpath prefix of t
 // vertices (pbrt-v3's ConnectBDPT), with the vertex quantities the connection needs.
+#include "bsdfs/transparency.h"
 #include "core/ray_offset.h"
 #include "lights/sphere_lamp.h"
 #include "lights/volume_light.h"
@@ -47,7 +48,7 @@ Color Bdpt::Le(const PathVertex &v, const PathVertex &toward, RayStats &stats, b
       if (!(light.visibility & toward.out_mask)) continue;  // camera rays: suns are not seen
       if (transparent_world && light.type == LightType::Background) continue;
       if (catcher_only && !light.shadow_catcher) continue;
-      if (test_shadows && !visibility_clear(scene_, s, occluders(light), false, stats.rays)) continue;
+      if (test_shadows && !visibility_clear(scene_, s, occluders(light), true, stats.rays, true)) continue;
       L += infinite_light_radiance(light, v.dir);
     }
     return L;
@@ -55,7 +56,7 @@ Color Bdpt::Le(const PathVertex &v, const PathVertex &toward, RayStats &stats, b
   if (catcher_only && v.light >= 0 && !scene_.lights()[v.light].shadow_catcher) return Color(0.0f);
   if (test_shadows && v.light >= 0 &&
       !visibility_clear(scene_, shadow_ray(toward.p, toward.ng, toward.error, v.p, v.ng, v.error),
-                        occluders(scene_.lights()[v.light]), false, stats.rays))
+                        occluders(scene_.lights()[v.light]), true, stats.rays, true))
     return Color(0.0f);
   return v.emitted;  // lamps, and emissive surfaces (both sides; textures evaluated at the hit)
 }
@@ -81,7 +82,7 @@ bool Bdpt::light_start_visible(const PathVertex *light_path, int s, Vec3 wi) con
 
 template <bool kMedia>
 Color Bdpt::transmittance(const PathVertex &a, const PathVertex &b, Sampler &sampler, SampleStream stream,
-                          uint32_t position, RayStats &stats, uint32_t mask) const {
+                          uint32_t position, RayStats &stats, uint32_t mask, int layers) const {
   Vec3 d = b.p - a.p;
   float dist = length(d);
   if (!(dist > 0)) return Color(0.0f);
@@ -90,10 +91,12 @@ Color Bdpt::transmittance(const PathVertex &a, const PathVertex &b, Sampler &sam
   ShadowRay shadow = shadow_ray(a.p, a.ng, a.error, b.p, b.ng, b.error);
   if constexpr (kMedia) {
     SampleRun run(sampler, stream, position, dims::kMediumRun);
-    return medium_transmittance(scene_, shadow, a.media_toward(scene_, d), stats.rays, run, 0, nullptr, mask);
+    return medium_transmittance(scene_, shadow, a.media_toward(scene_, d), stats.rays, run, layers, nullptr, mask, true);
   } else {
     ++stats.rays;
-    return scene_.occluded(shadow.o, shadow.d, shadow.tmax, mask) ? Color(0.0f) : Color(1.0f);
+    if (!scene_.occluded(shadow.o, shadow.d, shadow.tmax, mask)) return Color(1.0f);
+    if (!scene_.has_transparency()) return Color(0.0f);
+    return transparent_shadow(scene_, shadow.o, shadow.d, shadow.tmax, stats.rays, mask, layers, true);
   }
 }
 
@@ -110,9 +113,12 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
   // the world) counts only as s = 0.
   if (s == 0 ? !pt.is_light() : t > 1 && pt.type == VertexType::Light) return L;
   if (camera_side_only_ && s >= 2) return L;  // light subpaths cannot follow mixed visibility
-  // Transparent max bounces; the clamps count scattering vertices, not the passes.
+  // Transparent max bounces: the subpaths' passes, and what is left for the connection to
+  // pass (plain layers; a connection's path always scatters). The clamps count scatterings.
   const int passes = path_passes(light_path, camera_path, s, t);
-  if (!limits.transparent_within(passes, s + t - 2 > passes)) return L;
+  const int scatterings = path_scatterings(light_path, camera_path, s, t);
+  if (!limits.transparent_within(passes, scatterings > 0)) return L;
+  const int layers = connection_layers(passes);
   PathVertex sampled;
   ConnectionDensities densities;
   constexpr ScatterKind kNone = ScatterKind::Transparent;
@@ -152,7 +158,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     if (qs.on_surface()) L *= absdot(is.wi, qs.ns);
     if (!is_black(L))
       L *= transmittance<kMedia>(qs, sampled, sampler, SampleStream::Lens, dims::lens(uint32_t(s) - 1, dims::kLensMedia),
-                                 stats, visibility::kCamera);
+                                 stats, visibility::kCamera, layers);
     *raster = is.raster;
     densities.pt_rev = qs.convert_density(sq.pdf_fwd, sampled);
     densities.qs_rev = sampled.convert_density(is.pdf_dir, qs);
@@ -209,16 +215,19 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
       if constexpr (kMedia) {
         MediumStack end;
         SampleRun run(sampler, SampleStream::LightPoint, dims::next_event(vertex, dims::kNeeMedia), dims::kMediumRun);
-        L *= medium_transmittance(scene_, shadow, pt.media_toward(scene_, ls.wi), stats.rays, run, 0, &end,
-                                  rays(light.occluders()));
+        L *= medium_transmittance(scene_, shadow, pt.media_toward(scene_, ls.wi), stats.rays, run, layers, &end,
+                                  rays(light.occluders()), true);
         if (ls.medium >= 0 && !is_black(L) && end.current(scene_) != ls.medium) L = Color(0.0f);  // outside its medium
       } else if (const uint32_t occluders = rays(light.occluders())) {
         ++stats.rays;
-        if (scene_.occluded(shadow.o, shadow.d, shadow.tmax, occluders)) L = Color(0.0f);
+        if (scene_.occluded(shadow.o, shadow.d, shadow.tmax, occluders))
+          L = scene_.has_transparency()
+                  ? L * transparent_shadow(scene_, shadow.o, shadow.d, shadow.tmax, stats.rays, occluders, layers, true)
+                  : Color(0.0f);
       }
       // Mixed visibility: could the camera path have found the light along this segment?
       if (camera_side_only_ && !is_black(L))
-        densities.s0_impossible = !visibility_clear(scene_, shadow, rays(kind), false, stats.rays);
+        densities.s0_impossible = !visibility_clear(scene_, shadow, rays(kind), true, stats.rays, true);
     }
   } else {
     // Both ends are surface or medium vertices (finite points).
@@ -271,7 +280,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     // Without mixed visibility every instance is seen by all kinds after a scattering or
     // by none: one mask stands for them.
     L *= transmittance<kMedia>(qs, pt, sampler, SampleStream::Connection, dims::connection(uint32_t(s), uint32_t(t)),
-                               stats, rays(visibility::kNonCamera)) * g;
+                               stats, rays(visibility::kNonCamera), layers) * g;
     if (is_black(L)) return L;
     densities.pt_rev = sq.pdf_fwd * cos_pt * inv_d2;  // qs.convert_density(sq.pdf_fwd, pt)
     densities.pt_minus_rev = pt.to_prev_density(sp.pdf_rev);
@@ -280,7 +289,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
   }
   float w = is_black(L) ? 0.0f : mis_weight(light_path, camera_path, sampled, s, t, densities);
   if (mis_weight_out) *mis_weight_out = w;
-  return limits.clamps ? limits.clamp(L * w, s + t - 2 - passes) : L * w;
+  return limits.clamps ? limits.clamp(L * w, scatterings) : L * w;
 }
 
 template Color Bdpt::connect<false>(PathVertex *, PathVertex *, int, int, Sampler &, RayStats &, Vec2 *, float *,

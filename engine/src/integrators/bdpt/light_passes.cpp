@@ -11,16 +11,10 @@ KindSplit Bdpt::split_at(const PathVertex &v, Vec3 toward_camera, Vec3 toward_li
   return v.bsdf.kind_split(toward_camera, toward_light, delta);
 }
 
-void Bdpt::add_color_passes(const PathVertex *camera_path, int n, LightPassSample &passes) const {
-  // Every layer the camera sees up to the first that scatters, by what reaches it.
-  for (int i = 1; i < n; ++i) {
-    const PathVertex &v = camera_path[i];
-    if (v.type != VertexType::Surface) break;
-    Color colors[kColorKinds];
-    v.bsdf.kind_colors(v.wo, colors);
-    for (int k = 0; k < kColorKinds; ++k) passes.color[k] += v.beta * colors[k];
-    if (!v.passed_through) break;
-  }
+void Bdpt::add_color_passes(const DataPassSample &data, LightPassSample &passes) {
+  // Every layer the camera sees up to the first that scatters, by what reaches it (the
+  // camera walk gathers them: the plain layers it passes are no vertices).
+  for (int k = 0; k < kColorKinds; ++k) passes.color[k] += data.colors[k];
 }
 
 Color Bdpt::background_share(const PathVertex &v) const {

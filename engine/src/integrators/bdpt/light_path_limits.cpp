@@ -4,6 +4,7 @@
 // the path tracer. The walks record each vertex's kind, the running bounce counts and
 // the caustics check of their own pairs; a connection adds its two vertices.
 #include "integrators/bdpt/bdpt.h"
+#include "bsdfs/transparency.h"
 
 namespace rdv::bdpt {
 
@@ -29,8 +30,19 @@ bool Bdpt::record_kind(PathVertex *path, int n, Vec3 wi, bool camera) const {
 }
 
 int Bdpt::path_passes(const PathVertex *light_path, const PathVertex *camera_path, int s, int t) {
-  // A connection passes nothing (transparent surfaces block it: the walks make them vertices).
   return camera_path[t - 1].passes + (s >= 2 ? light_path[s - 1].passes : 0);
+}
+
+int Bdpt::path_scatterings(const PathVertex *light_path, const PathVertex *camera_path, int s, int t) {
+  if (s == 0) return camera_path[t - 1].scatterings;  // camera_path[t - 1] is the emitter
+  // The connection's ends scatter: camera_path[t - 1] (not the camera itself) and light_path[s - 1]
+  // (not the light itself).
+  return camera_path[t - 1].scatterings + (t >= 2 ? 1 : 0) + (s >= 2 ? light_path[s - 1].scatterings + 1 : 0);
+}
+
+int Bdpt::connection_layers(int passes) const {
+  const int limit = settings_.limits.transparent;
+  return limit < LightPathLimits::kNoLimit ? std::max(0, limit - passes) : kShadowLayers;
 }
 
 bool Bdpt::limits_keep(const PathVertex *light_path, const PathVertex *camera_path, int s, int t, ScatterKind kc,

@@ -24,8 +24,13 @@ struct PathVertex {
   Vec3 wo{0.0f};        // toward the vertex this one was reached from
   float pdf_fwd = 0, pdf_rev = 0;
   bool delta = false;   // scattered by a delta lobe: cannot be connected to
-  bool passed_through = false;  // went straight through (Transparent BSDF, alpha): no scattering for the light passes
-  uint16_t passes = 0;  // vertices its walk passed straight through before it (Transparent max bounces)
+  // Went straight through (Transparent BSDF, alpha): no scattering for the light passes.
+  // Only a surface that is no plain layer (Scene::is_plain_layer) is such a vertex: the
+  // walks pass plain layers without making them vertices.
+  bool passed_through = false;
+  // On its walk before it (after the walk's start): the straight passes (plain layers and
+  // vertices passed through; Transparent max bounces) and the vertices that scattered.
+  uint16_t passes = 0, scatterings = 0;
   int light = -1;       // light index: light vertices, and surfaces on emitters
   bool infinite = false;  // an infinite light (escaped ray or light-subpath start); p unused, dir set
   Vec3 dir{0.0f};       // infinite lights: direction from the scene toward the light
@@ -83,8 +88,11 @@ struct PathVertex {
     return s;
   }
 
-  // Passes straight through on its walk up to and including this vertex.
+  // The same up to and including this vertex.
   int passes_after() const { return passes + (passed_through ? 1 : 0); }
+  int scatterings_after() const {
+    return scatterings + ((type == VertexType::Surface || type == VertexType::Medium) && !passed_through ? 1 : 0);
+  }
   bool on_surface() const { return ng.x != 0 || ng.y != 0 || ng.z != 0; }
   bool is_light() const { return type == VertexType::Light || (type == VertexType::Surface && light >= 0); }
   bool connectible(const Scene &scene) const;

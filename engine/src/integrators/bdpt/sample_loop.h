@@ -47,7 +47,7 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
   PassCache first_split;
   if (passes) {  // light passes (light_passes.cpp): the colours, and the emission passed
     first_split = pass_cache(camera_path.data(), nc);
-    if (aovs) add_color_passes(camera_path.data(), nc, *passes);
+    if (aovs) add_color_passes(data, *passes);
     for (int n = 0; n < int(emitted.size()); ++n) {
       if (is_black(emitted[n]) || past_split(n)) continue;  // none past a split, as Cycles
       PassClass pc = pass_class(light_path.data(), camera_path.data(), 0, n + 2, Vec3(0.0f), first_split);

@@ -67,11 +67,26 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
   int lamp_passed = -1;
   // Where each decision draws (samplers/dimension_layout.h): bounce k (the segment
   // leaving vertex k and the vertex k + 1 it reaches) draws from its block of the walk's
-  // stream; its segments after `crossings` boundaries or lamps from crossing blocks.
+  // stream; its segments after `crossings` boundaries, lamps or plain layers from crossing
+  // blocks, and once a layer has passed (layer_passed) its scattering decisions do too.
   const bool camera = mode == TransportMode::Radiance;
   const SampleStream stream = camera ? SampleStream::Camera : SampleStream::Light;
   const uint32_t layout_vertices = uint32_t(settings_.max_bounces) + 2;
   uint32_t k = 0, crossings = 0;
+  bool layer_passed = false;
+  auto start_scatter = [&](uint32_t offset) {
+    const dims::SegmentDims d = layer_passed ? dims::segment(camera, k, crossings, layout_vertices, offset)
+                                             : dims::SegmentDims{stream, dims::bounce(k, offset)};
+    sampler.start_stream(d.stream, d.position);
+  };
+  // Plain transparent layers (Scene::is_plain_layer) are no path vertices: the walk passes
+  // them as the path tracer does (a pass is no bounce) and connections see through them, so
+  // every strategy makes the same paths, next-event estimation and connections included
+  // (a point lamp or the sun behind an alpha-mapped leaf). `layers`: those passed since
+  // path[n]. `colors_open`: the camera has not scattered yet; the colour passes take every
+  // surface it meets until then (vertex or not), as the path tracer's camera ray does.
+  int layers = 0;
+  bool colors_open = camera && data;
   // Cycles' Light Paths: once a vertex's subpath is over a bounce limit (or breaks a
   // caustics switch), no longer subpath makes a path the limits keep, except, on camera
   // paths, the one more vertex where an emitter may be found (light_path_limits.cpp).
@@ -99,6 +114,11 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
   // passes could count; a camera walk that has only passed through, one past the limit,
   // goes on for one more vertex, an emitter the camera may see.
   const bool limited_passes = settings_.limits.transparent < LightPathLimits::kNoLimit;
+  // A new vertex's counts: the passes and scatterings on the walk before it.
+  auto count_before = [&](PathVertex &v, const PathVertex &before) {
+    v.passes = uint16_t(before.passes_after() + layers);
+    v.scatterings = uint16_t(before.scatterings_after());
+  };
   auto limits_end_walk = [&](Vec3 wi) {
     if (record_kind(path, n, wi, camera)) return false;
     if (camera) max_vertices = std::min(max_vertices, n + 1);
@@ -113,9 +133,11 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     return true;
   };
   while (true) {
-    if (uint32_t(n) != k) {  // a new bounce (not a segment after a boundary)
+    if (uint32_t(n) != k) {  // a new bounce (not a segment after a boundary or layer)
       k = uint32_t(n);
       crossings = 0;
+      layer_passed = false;
+      layers = 0;
     }
     PathVertex &prev = path[n];
     PathVertex &v = path[n + 1];
@@ -148,7 +170,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
         if (emitted && medium.is_emissive()) {
           dims::SegmentDims g = dims::segment(camera, k, crossings, layout_vertices, dims::kGather);
           SampleRun gather_run(sampler, g.stream, g.position, dims::kGatherRun);
-          gather_volume_emission(medium, ray, tmax, gather_run, beta, path, n, pdf_fwd, emitted[n]);
+          gather_volume_emission(medium, ray, tmax, gather_run, beta, path, n, layers, pdf_fwd, emitted[n]);
         }
         // The denoising albedo takes the segment's share before the path flies through it.
         if (denoising) scene_.add_denoising_volume(medium, ray.o, ray.d, tmax, beta, *denoising);
@@ -160,7 +182,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
         if (ms.scattered) {
           fresh_vertex(v);
           v.type = VertexType::Medium;
-          v.passes = uint16_t(prev.passes_after());
+          count_before(v, prev);
           v.p = ray.o + ray.d * ms.t;
           v.wo = -ray.d;
           v.beta = beta;
@@ -170,10 +192,11 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
           v.link_to_prev(prev, pdf_fwd);
           if (camera) v.filter_pdf = filter.min_pdf;
           see_through = false;
+          colors_open = false;
           if (denoising) denoising->end_at_volume_scatter();
           ++n;
           if (n >= max_vertices || see_through_only) return n;
-          sampler.start_stream(stream, dims::bounce(k, dims::kScatterDirection));
+          start_scatter(dims::kScatterDirection);
           Vec3 wi = medium.phase.sample(v.wo, sampler.get_2d());
           pdf_fwd = medium.phase.pdf(v.wo, wi);  // the phase function is symmetric
           if (filter.on()) {
@@ -195,7 +218,8 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     if (lamp >= 0) {
       // The path that ends on the lamp (s = 0), weighted here; the walk goes on past it.
       Vec3 q = ray.o + ray.d * tmax;
-      if (emitted) emitted[n] += lamp_emission(lamp, q, -ray.d, lamp_L, beta, path, n, pdf_fwd, stats, catcher_only);
+      if (emitted)
+        emitted[n] += lamp_emission(lamp, q, -ray.d, lamp_L, beta, path, n, layers, pdf_fwd, stats, catcher_only);
       if (denoising) denoising->add_emission(beta * lamp_L);
       if (++boundary_crossings > 256) return n;
       ++crossings;
@@ -212,7 +236,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
         fresh_vertex(v);
         v.type = VertexType::Light;
         v.infinite = true;
-        v.passes = uint16_t(prev.passes_after());
+        count_before(v, prev);
         v.see_through = see_through;
         v.dir = ray.d;
         v.wo = -ray.d;
@@ -235,7 +259,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     }
     const Material &material = scene_.material(hit.material);
     fresh_surface_vertex(v, hit, ray.d, boundary, media);  // boundary: none without media
-    v.passes = uint16_t(prev.passes_after());
+    count_before(v, prev);
     v.beta = beta;
     v.see_through = see_through;
     if (settings_.alpha.holdouts) v.holdout = scene_.holdout_weight(hit);
@@ -266,9 +290,43 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
         v.blur_threshold = v.bsdf.blur_threshold();
       }
     }
+    if (colors_open) {
+      Color colors[kColorKinds];
+      v.bsdf.kind_colors(v.wo, colors);
+      for (int c = 0; c < kColorKinds; ++c) data->colors[c] += beta * colors[c];
+    }
     if (denoising) {
       if (v.light >= 0) denoising->add_emission(beta * Le(v, prev, stats));
       scene_.add_denoising_surface(v.bsdf, v.wo, hit.t, *denoising);
+    }
+    // A plain layer decides first whether the walk passes it (even where a vertex would
+    // be the walk's last: the path tracer passes it there too).
+    BsdfSample bs;
+    bool sampled = false;
+    if (scene_.is_plain_layer(hit) && v.bsdf.has_lobes()) {
+      start_scatter(dims::kScatterLobe);
+      const float u_lobe = sampler.get_1d();
+      sampled = v.bsdf.sample(v.wo, u_lobe, sampler.get_2d(), mode, bs);
+      if (sampled && bs.pass_through) {
+        beta *= bs.weight;
+        if constexpr (kMedia) media.cross(scene_, hit, boundary, ray.d);
+        ray = Ray{spawn_origin(hit.p, hit.ng, hit.error, ray.d), ray.d, kInf, ray.mask};
+        lamp_passed = -1;
+        if (++boundary_crossings > 256 || is_black(beta)) return n;
+        ++crossings;
+        ++layers;
+        layer_passed = true;
+        if (limited_passes) {
+          const int passes = prev.passes_after() + layers;
+          if (!settings_.limits.transparent_within(passes, !camera || prev.scatterings_after() > 0)) return n;
+          if (passes > settings_.limits.transparent) max_vertices = std::min(max_vertices, n + 1);  // an emitter next
+        }
+        continue;
+      }
+      // Kept as a vertex only when the walk does not pass: what the vertex itself adds
+      // (its connections) is divided by that probability.
+      const float pass = v.bsdf.pass_probability(v.wo);
+      if (pass > 0 && pass < 1) v.beta = v.beta / (1 - pass);
     }
     v.link_to_prev(prev, pdf_fwd);
     v.surface_connectible = v.bsdf.has_lobes() && !v.bsdf.is_delta();
@@ -276,17 +334,18 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     ++n;
     if (n >= max_vertices || !v.bsdf.has_lobes()) return n;
 
-    BsdfSample bs;
-    sampler.start_stream(stream, dims::bounce(k, dims::kScatterLobe));
-    float u_lobe = sampler.get_1d();
-    Vec2 u = sampler.get_2d();
-    if (!v.bsdf.sample(v.wo, u_lobe, u, mode, bs)) return n;
+    if (!sampled) {
+      start_scatter(dims::kScatterLobe);
+      const float u_lobe = sampler.get_1d();
+      if (!v.bsdf.sample(v.wo, u_lobe, sampler.get_2d(), mode, bs)) return n;
+    }
     if (classify && limits_end_walk(bs.wi)) return n;
-    if (limited_passes && bs.pass_through) {
-      const int passes = v.passes + 1;  // path[1 .. n]: n vertices, `passes` of them passed through
-      if (!settings_.limits.transparent_within(passes, !camera || n > passes)) return n;
+    if (limited_passes && bs.pass_through) {  // a vertex passed through (not a plain layer)
+      const int passes = v.passes + 1;
+      if (!settings_.limits.transparent_within(passes, !camera || v.scatterings > 0)) return n;
       if (passes > settings_.limits.transparent) max_vertices = std::min(max_vertices, n + 1);
     }
+    if (!bs.pass_through) colors_open = false;
     beta *= bs.weight;
     if (see_through) see_through = settings_.alpha.keeps_seeing_through(bs);
     // The first-hit pass (see_through_only) goes on while the denoising data look for
@@ -333,7 +392,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
 // t = n + 2), MIS-weighted against the strategies that start a light subpath there. The
 // lamp point stands in for the next vertex while its weight is computed; the walk then
 // goes on through the lamp, so the vertex is overwritten.
-Color Bdpt::lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathVertex *path, int n,
+Color Bdpt::lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathVertex *path, int n, int layers,
                           float pdf_dir, RayStats &stats, bool catcher_only) const {
   const Light &light = scene_.lights()[lamp];
   const PathVertex &prev = path[n];
@@ -358,15 +417,15 @@ Color Bdpt::lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathV
   const LightPathLimits &limits = settings_.limits;
   if (limits.classify && !limits_keep(path, path, 0, n + 2, ScatterKind::Transparent, ScatterKind::Transparent))
     return Color(0.0f);
-  const int passes = path[n].passes_after();  // of path[1 .. n]; the rest scatter
-  if (!limits.transparent_within(passes, n > passes)) return Color(0.0f);
+  const int scatterings = path[n].scatterings_after();
+  if (!limits.transparent_within(path[n].passes_after() + layers, scatterings > 0)) return Color(0.0f);
   bool one_strategy = settings_.strategy_s >= 0;
   if (one_strategy && (settings_.strategy_s != 0 || settings_.strategy_t != n + 2)) return Color(0.0f);
   ConnectionDensities d;
   light_densities(point, prev, d.pt_rev, d.pt_minus_rev);
   float w = mis_weight(path, path, point, 0, n + 2, d);  // s = 0 reads no light vertex
   if (one_strategy && settings_.strategy_unweighted) return c;
-  return limits.clamps ? limits.clamp(c * w, n - passes) : c * w;
+  return limits.clamps ? limits.clamp(c * w, scatterings) : c * w;
 }
 
 // Emission of the medium along a camera path's segment (s = 0 strategies ending inside
@@ -374,14 +433,14 @@ Color Bdpt::lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathV
 // against the strategies that sample that point from the light. The point stands in
 // for the next vertex while its weight is computed.
 void Bdpt::gather_volume_emission(const Medium &medium, const Ray &ray, float tmax, SampleRun &rng, Color beta,
-                                  PathVertex *path, int n, float pdf_dir, Color &emitted) const {
+                                  PathVertex *path, int n, int layers, float pdf_dir, Color &emitted) const {
   const PathVertex &prev = path[n];
   PathVertex &point = path[n + 1];
   const LightPathLimits &limits = settings_.limits;
   if (limits.classify && n > 0 && !limits_keep(path, path, 0, n + 2, ScatterKind::Transparent, ScatterKind::Transparent))
     return;
-  const int passes = path[n].passes_after();  // of path[1 .. n]; the rest scatter
-  if (!limits.transparent_within(passes, n > passes)) return;
+  const int scatterings = path[n].scatterings_after();
+  if (!limits.transparent_within(path[n].passes_after() + layers, scatterings > 0)) return;
   const bool one_strategy = settings_.strategy_s >= 0;  // the debug view of one strategy (s, t)
   if (one_strategy && (settings_.strategy_s != 0 || settings_.strategy_t != n + 2)) return;
   gather_emission(medium, ray.o, ray.d, tmax, rng, [&](Vec3 x, Color c, float rate) {
@@ -399,7 +458,7 @@ void Bdpt::gather_volume_emission(const Medium &medium, const Ray &ray, float tm
       w = mis_weight(path, path, point, 0, n + 2, d);  // s = 0 reads no light vertex
       if (one_strategy && settings_.strategy_unweighted) w = 1;
     }
-    emitted += limits.clamps ? limits.clamp(beta * c * w, n - passes) : beta * c * w;
+    emitted += limits.clamps ? limits.clamp(beta * c * w, scatterings) : beta * c * w;
   });
 }
 

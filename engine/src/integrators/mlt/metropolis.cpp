@@ -197,7 +197,7 @@ void Metropolis::first_hit_pass(RenderContext &ctx) const {
             if (light_passes) {  // the colour passes: the closures the camera sees first (light_passes.cpp)
               LightPassSample colors;
               colors.clear();
-              bdpt_.add_color_passes(path.data(), n, colors);
+              bdpt::Bdpt::add_color_passes(data, colors);
               rows_tile.add_light_passes(x, y, colors);
             }
             if (catchers) {  // the camera side of the shadow catcher's sums (contribution.cpp)

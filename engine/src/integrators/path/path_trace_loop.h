@@ -401,9 +401,12 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       first_hit->normal = dot(hit.ns, wo) < 0 ? -hit.ns : hit.ns;
       first_hit->albedo = bsdf.albedo();
     }
-    if (depth >= max_bounces_ || !bsdf.has_lobes() || stop_after || transparent_passes > max_passes) break;
+    // Where the path may not scatter any more (a bounce limit), a plain transparent layer
+    // (Scene::is_plain_layer) may still be passed: the lobe decides, as in BDPT's walks.
+    const bool last = depth >= max_bounces_ || stop_after || transparent_passes > max_passes;
+    if (!bsdf.has_lobes() || (last && !scene_.is_plain_layer(hit))) break;
 
-    if (!bsdf.is_delta()) {
+    if (!last && !bsdf.is_delta()) {
       // With a caustics switch off, a glossy reflection or refraction right after a
       // diffuse bounce scatters nothing.
       const bool caustic_filter = limits_.classify && (!limits_.caustic_allowed(last_kind, ScatterKind::Glossy) ||
@@ -440,7 +443,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     start_scatter(dims::kScatterLobe);
     float u_lobe = sampler.get_1d();
     Vec2 u = sampler.get_2d();
-    if (!bsdf.sample(wo, u_lobe, u, TransportMode::Radiance, bs)) break;
+    if (!bsdf.sample(wo, u_lobe, u, TransportMode::Radiance, bs) || (last && !bs.pass_through)) break;
     beta *= bs.weight;
     if (see_through) see_through = alpha_.keeps_seeing_through(bs);
     if (bs.pass_through) {
