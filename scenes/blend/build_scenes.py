@@ -730,6 +730,37 @@ def light_paths_transparent():
     return scene
 
 
+def alpha_leaves():
+    """Alpha-mapped cards over a floor, seen from above by an orthographic camera: a card cut
+    out by a checker texture into Principled Alpha, and a half-transparent one over it, lit by
+    a sun and by a point lamp without a radius (both delta lights: the shadows through the
+    cards come from next-event estimation alone, and light tracing cannot reach the camera)."""
+    scene = reset(48)
+    plane("Floor", 6.0, diffuse_material("FloorMat", (0.8, 0.8, 0.8)))
+    m, nt, out = empty_material("Leaf")
+    bsdf = nt.nodes.new("ShaderNodeBsdfPrincipled")
+    bsdf.inputs["Base Color"].default_value = (0.2, 0.6, 0.1, 1.0)
+    checker = nt.nodes.new("ShaderNodeTexChecker")
+    checker.inputs["Scale"].default_value = 4.0
+    checker.inputs["Color1"].default_value = (1.0, 1.0, 1.0, 1.0)
+    checker.inputs["Color2"].default_value = (0.0, 0.0, 0.0, 1.0)
+    nt.links.new(checker.outputs["Fac"], bsdf.inputs["Alpha"])
+    nt.links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
+    quad_object("CutOut", 1.6, 1.6, (-0.3, 0.2, 0.7), (0, 0, 20), m)
+    half = mix_material("Half", ("ShaderNodeBsdfDiffuse", {"Color": (0.6, 0.3, 0.1, 1.0)}),
+                        ("ShaderNodeBsdfTransparent", {"Color": (1.0, 1.0, 1.0, 1.0)}), 0.5)
+    quad_object("Half", 1.2, 1.2, (0.4, -0.3, 1.1), (0, 0, -10), half)
+    light("SUN", "Sun", 2.0, (0, 0, 5), (math.radians(25), math.radians(-15), 0), angle=0.0)
+    light("POINT", "Point", 150.0, (0.6, 0.5, 2.4), shadow_soft_size=0.0)
+    cam = bpy.data.cameras.new("Camera")
+    cam.type = "ORTHO"
+    cam.ortho_scale = 3.0
+    ob = link(bpy.data.objects.new("Camera", cam))
+    ob.location = (0, 0, 4)
+    scene.camera = ob
+    return scene
+
+
 def mix_material(name, first, second, fac):
     """Mix Shader of two stock shader nodes ((node type, inputs) each), fac toward the second."""
     m, nt, out = empty_material(name)
@@ -1073,6 +1104,7 @@ SCENES = {
     "light_paths_clamp": light_paths_clamp,
     "light_paths_filter_glossy": light_paths_filter_glossy,
     "light_paths_transparent": light_paths_transparent,
+    "alpha_leaves": alpha_leaves,
     "film_transparent": film_transparent,
     "light_passes": light_passes,
     "data_passes": data_passes,
