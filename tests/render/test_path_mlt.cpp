@@ -115,6 +115,32 @@ TEST(PathMltStats, ReportedThroughTheCAbi) {
   EXPECT_EQ(proposals, stats["mutations"].get<uint64_t>());
 }
 
+// Light from a point lamp through a transparent card onto a floor the camera sees through it
+// is a path no mlt strategy makes (docs/mlt.md: layers are path vertices here): mlt says so
+// in its warning and renders the rest; an area lamp there raises no warning.
+TEST(PathMltRobustness, LampsWithoutSizeThroughTransparentLayersAreNamedInAWarning) {
+  const json card = {
+      {"camera", {{"focal_length", 35}, {"transform", {{"look_at", {{"from", {0, -1.5, 3}}, {"to", {0, 0, 0}}}}}}}},
+      {"world", {{"color", {0, 0, 0}}}},
+      {"materials", {{{"name", "floor"}, {"type", "diffuse"}}, {{"name", "clear"}, {"type", "transparent"}}}},
+      {"meshes", {{{"name", "floor"}, {"shape", {{"type", "quad"}, {"size", 4}}}, {"materials", {"floor"}}},
+                  {{"name", "card"}, {"shape", {{"type", "quad"}, {"size", 3}}}, {"materials", {"clear"}},
+                   {"transform", {{"translate", {0, 0, 1.5}}}}}}},
+      {"lights", {{{"type", "point"}, {"power", 300}, {"radius", 0}, {"position", {0, 0, 2.5}}}}}};
+  const json s = {{"width", 16}, {"height", 16}, {"integrator", "mlt"}, {"samples", 2}, {"mlt_chains", 16}};
+  Image img = render_json(card.dump(), s.dump());
+  EXPECT_TRUE(img.all_finite());
+  json stats = json::parse(img.stats);
+  ASSERT_TRUE(stats.contains("warning")) << img.stats;
+  EXPECT_NE(stats["warning"].get<std::string>().find("lamps without a size"), std::string::npos) << img.stats;
+  json sized = card;
+  sized["lights"][0]["radius"] = 0.1;
+  json sized_stats = json::parse(render_json(sized.dump(), s.dump()).stats);
+  EXPECT_TRUE(!sized_stats.contains("warning") ||
+              sized_stats["warning"].get<std::string>().find("lamps without a size") == std::string::npos)
+      << sized_stats.dump();
+}
+
 // The lens subpath mutation's image positions (integrators/mlt/image_strata.h): every cell
 // of the region once per cycle, in another order each cycle, each point inside its cell.
 TEST(PathMltImageStrata, EveryPixelOncePerCycle) {

@@ -73,6 +73,11 @@ struct LightPathLimits {
   // Whether a path that passes through `passes` transparent layers in all, and has a
   // scattering vertex or not, is within Transparent max bounces.
   bool transparent_within(int passes, bool scatters) const { return passes <= transparent + (scatters ? 0 : 1); }
+  // The layers a shadow ray or connection from a path with `passes` behind it may pass:
+  // what the limit leaves, or `unlimited` without one.
+  int layers_left(int passes, int unlimited) const {
+    return transparent < kNoLimit ? (passes < transparent ? transparent - passes : 0) : unlimited;
+  }
   bool within(const BounceCounts &c) const {
     return c.n[0] <= diffuse && c.n[1] <= glossy && c.n[2] <= transmission && c.n[3] <= volume;
   }

@@ -213,8 +213,6 @@ class Bdpt final : public TileIntegrator {
   // max bounces; a connection adds those it passes) and its scattering vertices (the clamps).
   static int path_passes(const PathVertex *light_path, const PathVertex *camera_path, int s, int t);
   static int path_scatterings(const PathVertex *light_path, const PathVertex *camera_path, int s, int t);
-  // The plain layers a connection or shadow ray of a path with `passes` may pass.
-  int connection_layers(int passes) const;
   bool limits_keep(const PathVertex *light_path, const PathVertex *camera_path, int s, int t, ScatterKind kc,
                    ScatterKind kl) const;
   // Vertex helpers (connect.cpp).

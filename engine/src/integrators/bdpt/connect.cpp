@@ -118,7 +118,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
   const int passes = path_passes(light_path, camera_path, s, t);
   const int scatterings = path_scatterings(light_path, camera_path, s, t);
   if (!limits.transparent_within(passes, scatterings > 0)) return L;
-  const int layers = connection_layers(passes);
+  const int layers = limits.layers_left(passes, kShadowLayers);
   PathVertex sampled;
   ConnectionDensities densities;
   constexpr ScatterKind kNone = ScatterKind::Transparent;

@@ -4,7 +4,6 @@
 // the path tracer. The walks record each vertex's kind, the running bounce counts and
 // the caustics check of their own pairs; a connection adds its two vertices.
 #include "integrators/bdpt/bdpt.h"
-#include "bsdfs/transparency.h"
 
 namespace rdv::bdpt {
 
@@ -38,11 +37,6 @@ int Bdpt::path_scatterings(const PathVertex *light_path, const PathVertex *camer
   // The connection's ends scatter: camera_path[t - 1] (not the camera itself) and light_path[s - 1]
   // (not the light itself).
   return camera_path[t - 1].scatterings + (t >= 2 ? 1 : 0) + (s >= 2 ? light_path[s - 1].scatterings + 1 : 0);
-}
-
-int Bdpt::connection_layers(int passes) const {
-  const int limit = settings_.limits.transparent;
-  return limit < LightPathLimits::kNoLimit ? std::max(0, limit - passes) : kShadowLayers;
 }
 
 bool Bdpt::limits_keep(const PathVertex *light_path, const PathVertex *camera_path, int s, int t, ScatterKind kc,

@@ -114,6 +114,11 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
   // passes could count; a camera walk that has only passed through, one past the limit,
   // goes on for one more vertex, an emitter the camera may see.
   const bool limited_passes = settings_.limits.transparent < LightPathLimits::kNoLimit;
+  auto passes_end_walk = [&](int passes, bool scattered) {
+    if (!settings_.limits.transparent_within(passes, !camera || scattered)) return true;
+    if (passes > settings_.limits.transparent) max_vertices = std::min(max_vertices, n + 1);  // an emitter next
+    return false;
+  };
   // A new vertex's counts: the passes and scatterings on the walk before it.
   auto count_before = [&](PathVertex &v, const PathVertex &before) {
     v.passes = uint16_t(before.passes_after() + layers);
@@ -316,11 +321,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
         ++crossings;
         ++layers;
         layer_passed = true;
-        if (limited_passes) {
-          const int passes = prev.passes_after() + layers;
-          if (!settings_.limits.transparent_within(passes, !camera || prev.scatterings_after() > 0)) return n;
-          if (passes > settings_.limits.transparent) max_vertices = std::min(max_vertices, n + 1);  // an emitter next
-        }
+        if (limited_passes && passes_end_walk(prev.passes_after() + layers, prev.scatterings_after() > 0)) return n;
         continue;
       }
       // Kept as a vertex only when the walk does not pass: what the vertex itself adds
@@ -340,11 +341,8 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       if (!v.bsdf.sample(v.wo, u_lobe, sampler.get_2d(), mode, bs)) return n;
     }
     if (classify && limits_end_walk(bs.wi)) return n;
-    if (limited_passes && bs.pass_through) {  // a vertex passed through (not a plain layer)
-      const int passes = v.passes + 1;
-      if (!settings_.limits.transparent_within(passes, !camera || v.scatterings > 0)) return n;
-      if (passes > settings_.limits.transparent) max_vertices = std::min(max_vertices, n + 1);
-    }
+    // A vertex passed through (not a plain layer).
+    if (limited_passes && bs.pass_through && passes_end_walk(v.passes + 1, v.scatterings > 0)) return n;
     if (!bs.pass_through) colors_open = false;
     beta *= bs.weight;
     if (see_through) see_through = settings_.alpha.keeps_seeing_through(bs);

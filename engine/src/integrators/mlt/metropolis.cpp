@@ -136,6 +136,21 @@ Metropolis::Metropolis(const Scene &scene, const RenderSettings &settings, const
     }
     path_space_ = std::make_unique<PathSpace>(scene, bdpt_settings.max_bounces, sample_origin_, sample_size_, image_area_,
                                               mlt.large_step_probability, mutations, bdpt_settings.limits);
+    // Transparent layers are path vertices here (docs/mlt.md): light from a lamp without a
+    // size reaches a surface through one only by the light side, which cannot join the camera
+    // through a layer either, so where the camera sees that surface through a layer (or with
+    // an orthographic camera) the light is missing. Said, not hidden.
+    const bool delta_light = std::any_of(scene.lights().begin(), scene.lights().end(),
+                                         [](const Light &l) { return l.is_delta(); });
+    if (delta_light && scene.has_transparency()) {
+      stats_.warning = std::string(name()) +
+                       ": light from lamps without a size (point or spot radius 0, sun angle 0) that passes a "
+                       "transparent surface (alpha, Transparent BSDF) is missing" +
+                       (direct_ ? " after a bounce (the path tracer takes direct light)" : "") +
+                       " where the camera sees its surface through one too, or through an orthographic camera "
+                       "(docs/mlt.md); use bdpt, or give the lamps a size";
+      log_warning(stats_.warning);
+    }
   }
 }
 
@@ -375,8 +390,9 @@ void Metropolis::render(RenderContext &ctx) {
                                      "or facing away, or max_bounces too small): the image is black"
                                : "the bootstrap's light estimate overflowed: the image is black";
     std::lock_guard<std::mutex> lock(stats_mutex_);
-    stats_.warning = std::string(name()) + ": " + why;
-    log_warning(stats_.warning);
+    const std::string warning = std::string(name()) + ": " + why;
+    stats_.warning = stats_.warning.empty() ? warning : stats_.warning + "; " + warning;  // after the scene's own
+    log_warning(warning);
     return;  // no pass is published: the frame stays black
   }
   if (mlt_.multiplexed) {

@@ -891,8 +891,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
 
   // Filter Glossy: the smallest camera-side scattering density so far (filter_glossy.h).
   float filter_min = kInf;
-  // Transparent max bounces (light_path_limits.h): the vertices passed straight through.
-  const bool limited_passes = limits_.transparent < LightPathLimits::kNoLimit;
+  // The vertices passed straight through (Transparent BSDF, alpha): no scattering.
   int passes = 0;
 
   // How much the camera still sees through (Film > Transparent, holdouts, shadow catchers):
@@ -1009,7 +1008,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
       }
     }
     if (is_black(f)) return;
-    if (limited_passes && i >= 1 && a.v.delta && a.v.bsdf.passes_straight_through(a.v.wo, w)) ++passes;
+    if (i >= 1 && a.v.delta && a.v.bsdf.passes_straight_through(a.v.wo, w)) ++passes;
     // Density of b from the camera side (a scattered toward it) and of a from the light
     // side (b scattered toward it): area measure, times the free flight.
     double pdf_b = 0;
@@ -1063,7 +1062,11 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     y.rev_area[size_t(i)] = cos_a / d2 * e.rev;
     y.rev[size_t(i)] = pdf_a * y.rev_area[size_t(i)];
   }
-  if (!limits_.transparent_within(passes, n - 2 > passes)) return;  // n - 2: the inner vertices
+  // Of the n - 2 inner vertices, those not passed through scatter: the chains' paths have at
+  // least min_vertices_ - 2 of them (the direct light left to the path tracer is every path
+  // of at most one, however many layers it passes, as the path tracer counts), and Transparent
+  // max bounces (light_path_limits.h) bounds the passes.
+  if (n - passes < min_vertices_ || !limits_.transparent_within(passes, n - 2 > passes)) return;
   // The kind of ray that meets the light (without ray visibility: the camera's for the camera
   // ray alone, lamps' default visibility, else any other kind).
   const uint32_t kind_at_light = visibility_ ? ray_kind : n == 2 ? visibility::kCamera : visibility::kNonCamera;

@@ -139,7 +139,8 @@ struct MutationSettings {
   // The fewest vertices of a chain's path: 2 (every path), or 4 where the paths of one and
   // two edges (a light seen, direct lighting) are left to the path tracer, as Veach left
   // direct lighting to standard methods (Metropolis: MltSettings::direct_samples). Shorter
-  // paths have f = 0, and large steps and bidirectional mutations make none.
+  // paths have f = 0, and large steps and bidirectional mutations make none; vertices passed
+  // straight through (alpha) do not count, as the path tracer does not count them.
   int min_vertices = 2;
 };
 

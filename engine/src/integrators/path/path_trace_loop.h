@@ -166,9 +166,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
   // what is left of it, and the path stops where nothing it finds could count any more.
   const int max_passes = limits_.transparent;
   int transparent_passes = 0;
-  auto shadow_layers = [&]() {
-    return max_passes < LightPathLimits::kNoLimit ? std::max(0, max_passes - transparent_passes) : kShadowLayers;
-  };
+  auto shadow_layers = [&]() { return limits_.layers_left(transparent_passes, kShadowLayers); };
   bool stop_after = false;
   ScatterKind last_kind = ScatterKind::Transparent;
   auto count_bounce = [&](ScatterKind kind) {
