@@ -6,7 +6,10 @@ of Cycles', every bright 16x16 block (mean above half the image mean) within 5%
 (test_lamp_reflections.compare).
 
     run_blender.py --script test_cornell_accuracy.py -- [SCENE] [--cycles-samples N]
-                   [--path-samples N] [--bdpt-samples N]
+                   [--path-samples N] [--bdpt-samples N] [--write-reference]
+
+Cycles' halves come from tests/blender/references/SCENE.npz while its key matches, as in
+test_lamp_reflections.py.
 
 Cycles bounces every path type up to 12 here, as Rendezvous does (its default of 4
 diffuse bounces leaves the box 1.5% darker). Measured (128x128) at 2048 / 1024 / 512 spp
@@ -37,8 +40,11 @@ def main():
     ap.add_argument("--cycles-samples", type=int, default=1024)
     ap.add_argument("--path-samples", type=int, default=512)
     ap.add_argument("--bdpt-samples", type=int, default=256)
+    ap.add_argument("--write-reference", action="store_true",
+                    help="render Cycles and write its images into tests/blender/references (to commit)")
     a = ap.parse_args(argv)
-    failures = check_against_cycles(a.scene, a.cycles_samples, a.path_samples, a.bdpt_samples, bounce_like_rendezvous)
+    failures = check_against_cycles(a.scene, a.cycles_samples, a.path_samples, a.bdpt_samples, bounce_like_rendezvous,
+                                    a.write_reference)
     if failures:
         print("CORNELL ACCURACY TEST FAILED (images in %s):\n  %s" % (out_dir(), "\n  ".join(failures)))
         sys.exit(1)

@@ -5,7 +5,7 @@ Rendezvous' path tracer and BDPT in this Blender process. Per integrator: the im
 within 1% of Cycles', and every bright 16x16 block (mean above half the image mean) within 5%.
 
     run_blender.py --script test_lamp_reflections.py -- SCENE [--cycles-samples N]
-                   [--path-samples N] [--bdpt-samples N]
+                   [--path-samples N] [--bdpt-samples N] [--write-reference]
 
 Every image is rendered as two halves of its samples with seeds 1 and 2; the halves' pixel
 differences give each block's and the image's standard error, and a ratio may stray by the
@@ -20,6 +20,11 @@ a fixed 5% / 1% would be a 2-2.5 sigma test there. Path tracing and BDPT with th
 seed share their camera samples, so their ratios are close to each other, not to 1.
 Before the fixes (pixel filter half Cycles' width, opaque lamps) veach_point failed:
 mean 0.976 (PT) / 0.976 (BDPT), worst block 0.85.
+
+Cycles' halves come from tests/blender/references/SCENE.npz when its key still matches
+(cycles_reference.py: Blender's build, the samples, the source that builds and renders the
+scene); otherwise Cycles renders them here and the test fails naming the new file to commit.
+`--write-reference` renders Cycles and writes the file into the source tree.
 """
 
 import argparse
@@ -29,6 +34,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import cycles_reference  # noqa: E402
 from test_brightness import build_scenes, out_dir, render_cycles, render_rendezvous  # noqa: E402
 
 MEAN_TOLERANCE = 0.01
@@ -101,29 +107,41 @@ def compare(name, ref, test):
 
 
 def render_halves(render, samples, path):
-    """render(samples, path, seed) twice, half the samples each, seeds 1 and 2 -> Estimate, s."""
+    """render(samples, path, seed) twice, half the samples each, seeds 1 and 2 -> ([a, b], s)."""
     half = max(1, samples // 2)
     root, ext = os.path.splitext(path)
     a, ta = render(half, root + "_seed1" + ext, 1)
     b, tb = render(half, root + "_seed2" + ext, 2)
-    return Estimate(a, b), ta + tb
+    return [a, b], ta + tb
 
 
-def check_against_cycles(scene_name, cycles_samples, path_samples, bdpt_samples, prepare=None):
-    """Renders the scene with Cycles, then with Rendezvous' path tracer and BDPT, each as two
-    halves of its samples (the noise estimate), and returns compare()'s failures.
-    prepare(scene), if given, adjusts the built scene first."""
+def render_cycles_halves(scene, samples, path):
+    return render_halves(lambda n, p, s: render_cycles(scene, n, p, seed=s), samples, path)
+
+
+def check_against_cycles(scene_name, cycles_samples, path_samples, bdpt_samples, prepare=None,
+                         write_reference=False):
+    """Renders the scene with Cycles (or takes its committed reference: cycles_reference.py),
+    then with Rendezvous' path tracer and BDPT, each as two halves of its samples (the noise
+    estimate), and returns compare()'s failures. prepare(scene), if given, adjusts the built
+    scene first."""
     odir = out_dir()
     scene = build_scenes.build(scene_name)
     if prepare:
         prepare(scene)
-    ref, tc = render_halves(lambda n, p, s: render_cycles(scene, n, p, seed=s), cycles_samples,
-                            os.path.join(odir, scene_name + "_cycles.exr"))
-    print("  Cycles %d spp: %.1f s" % (cycles_samples, tc))
-    failures = []
+    builders = [build_scenes.build, build_scenes.SCENES[scene_name], render_cycles_halves] + ([prepare] if prepare else [])
+    cycles = cycles_reference.Reference(
+        scene_name, builders, {"samples": cycles_samples},
+        lambda: render_cycles_halves(scene, cycles_samples, os.path.join(odir, scene_name + "_cycles.exr")),
+        odir, write_reference)
+    ref = Estimate(*cycles.images)
+    print("  Cycles %d spp: %s" % (cycles_samples, "%.1f s" % cycles.seconds if cycles.source == "rendered"
+                                   else "reference " + cycles.source))
+    failures = [cycles.stale] if cycles.stale else []
     for integrator, samples in (("PATH", path_samples), ("BDPT", bdpt_samples)):
-        test, tr = render_halves(lambda n, p, s: render_rendezvous(scene, n, p, integrator, seed=s), samples,
-                                 os.path.join(odir, "%s_%s.exr" % (scene_name, integrator.lower())))
+        halves, tr = render_halves(lambda n, p, s: render_rendezvous(scene, n, p, integrator, seed=s), samples,
+                                   os.path.join(odir, "%s_%s.exr" % (scene_name, integrator.lower())))
+        test = Estimate(*halves)
         print("  Rendezvous %s %d spp: %.1f s" % (integrator, samples, tr))
         failures += compare("%s %s" % (scene_name, integrator), ref, test)
     return failures
@@ -136,8 +154,11 @@ def main():
     ap.add_argument("--cycles-samples", type=int, default=8192)
     ap.add_argument("--path-samples", type=int, default=2048)
     ap.add_argument("--bdpt-samples", type=int, default=2048)
+    ap.add_argument("--write-reference", action="store_true",
+                    help="render Cycles and write its images into tests/blender/references (to commit)")
     a = ap.parse_args(argv)
-    failures = check_against_cycles(a.scene, a.cycles_samples, a.path_samples, a.bdpt_samples)
+    failures = check_against_cycles(a.scene, a.cycles_samples, a.path_samples, a.bdpt_samples,
+                                    write_reference=a.write_reference)
     if failures:
         print("LAMP REFLECTIONS TEST FAILED (images in %s):\n  %s" % (out_dir(), "\n  ".join(failures)))
         sys.exit(1)
