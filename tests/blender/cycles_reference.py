@@ -10,6 +10,10 @@ Cycles itself, compares as usual, writes the new reference next to its images an
 the file to commit (a stale reference would make every later run render Cycles again).
 `--write-reference` (in the tests that use this) writes it into the source tree directly.
 RDV_CYCLES_LIVE=1 ignores the references (always renders, never fails for them).
+
+The key covers code, not files: use references only for scenes built by code alone (no image
+textures, .vdb or .blend files read). A test taking a reference must still leave the scene as
+rendering Cycles would have (the add-on reads Light Paths from scene.cycles).
 """
 
 import hashlib

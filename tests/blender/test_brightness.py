@@ -60,13 +60,20 @@ def cycles_sampling(scene, samples, seed):
     return c
 
 
-def render_cycles(scene, samples, path, seed=1):
+def use_cycles_settings(scene, samples, seed=1):
+    """The scene set up as render_cycles renders it: its sampling, no clamps, 12 bounces. The
+    add-on reads Light Paths from scene.cycles, so Rendezvous renders after this with the
+    same limits (a test whose Cycles image comes from a reference calls it itself)."""
     c = cycles_sampling(scene, samples, seed)
     c.sample_clamp_direct = 0.0
     c.sample_clamp_indirect = 0.0
     c.max_bounces = 12
     c.volume_bounces = 12  # as Rendezvous (Cycles' default is 0: no scattered volume emission)
     scene.render.threads_mode = "AUTO"
+
+
+def render_cycles(scene, samples, path, seed=1):
+    use_cycles_settings(scene, samples, seed)
     t = time.time()
     bpy.ops.render.render()
     dt = time.time() - t

@@ -35,7 +35,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import cycles_reference  # noqa: E402
-from test_brightness import build_scenes, out_dir, render_cycles, render_rendezvous  # noqa: E402
+from test_brightness import build_scenes, out_dir, render_cycles, render_rendezvous, use_cycles_settings  # noqa: E402
 
 MEAN_TOLERANCE = 0.01
 BLOCK = 16
@@ -129,6 +129,9 @@ def check_against_cycles(scene_name, cycles_samples, path_samples, bdpt_samples,
     scene = build_scenes.build(scene_name)
     if prepare:
         prepare(scene)
+    # Rendezvous reads the Light Paths Cycles renders with from scene.cycles: set them whether
+    # or not Cycles renders here (as its second half leaves them).
+    use_cycles_settings(scene, max(1, cycles_samples // 2), seed=2)
     builders = [build_scenes.build, build_scenes.SCENES[scene_name], render_cycles_halves] + ([prepare] if prepare else [])
     cycles = cycles_reference.Reference(
         scene_name, builders, {"samples": cycles_samples},
