@@ -83,6 +83,12 @@ def source_closure(functions):
     return "\n".join("%s\n%s" % kv for kv in sorted(parts.items()))
 
 
+def add_argument(parser):
+    """--write-reference, for the test scripts that take Cycles' images from a reference."""
+    parser.add_argument("--write-reference", action="store_true",
+                        help="render Cycles and write its images into tests/blender/references (to commit)")
+
+
 def reference_key(functions, settings):
     """The key a reference is valid for (hex digest)."""
     h = hashlib.sha256()

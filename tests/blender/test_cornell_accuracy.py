@@ -25,6 +25,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import cycles_reference  # noqa: E402
 from test_lamp_reflections import check_against_cycles, out_dir  # noqa: E402
 
 
@@ -40,8 +41,7 @@ def main():
     ap.add_argument("--cycles-samples", type=int, default=1024)
     ap.add_argument("--path-samples", type=int, default=512)
     ap.add_argument("--bdpt-samples", type=int, default=256)
-    ap.add_argument("--write-reference", action="store_true",
-                    help="render Cycles and write its images into tests/blender/references (to commit)")
+    cycles_reference.add_argument(ap)
     a = ap.parse_args(argv)
     failures = check_against_cycles(a.scene, a.cycles_samples, a.path_samples, a.bdpt_samples, bounce_like_rendezvous,
                                     a.write_reference)

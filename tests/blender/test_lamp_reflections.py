@@ -157,8 +157,7 @@ def main():
     ap.add_argument("--cycles-samples", type=int, default=8192)
     ap.add_argument("--path-samples", type=int, default=2048)
     ap.add_argument("--bdpt-samples", type=int, default=2048)
-    ap.add_argument("--write-reference", action="store_true",
-                    help="render Cycles and write its images into tests/blender/references (to commit)")
+    cycles_reference.add_argument(ap)
     a = ap.parse_args(argv)
     failures = check_against_cycles(a.scene, a.cycles_samples, a.path_samples, a.bdpt_samples,
                                     write_reference=a.write_reference)
