@@ -115,10 +115,12 @@ TEST(PathMltStats, ReportedThroughTheCAbi) {
   EXPECT_EQ(proposals, stats["mutations"].get<uint64_t>());
 }
 
-// Light from a point lamp through a transparent card onto a floor the camera sees through it
-// is a path no mlt strategy makes (docs/mlt.md: layers are path vertices here): mlt says so
-// in its warning and renders the rest; an area lamp there raises no warning.
-TEST(PathMltRobustness, LampsWithoutSizeThroughTransparentLayersAreNamedInAWarning) {
+// Light from a point lamp through a transparent card onto a floor the camera sees through it:
+// a plain layer is part of the edges (path_space.h), so mlt renders it (MltVsBdpt.
+// PathSpacePointLampThroughCards) without a warning. A transparent card that emits is a path
+// vertex, which such light cannot pass: mlt says so in its warning and renders the rest; a
+// lamp with a size there raises no warning.
+TEST(PathMltRobustness, LampsWithoutSizeThroughEmittingCardsAreNamedInAWarning) {
   const json card = {
       {"camera", {{"focal_length", 35}, {"transform", {{"look_at", {{"from", {0, -1.5, 3}}, {"to", {0, 0, 0}}}}}}}},
       {"world", {{"color", {0, 0, 0}}}},
@@ -128,12 +130,18 @@ TEST(PathMltRobustness, LampsWithoutSizeThroughTransparentLayersAreNamedInAWarni
                    {"transform", {{"translate", {0, 0, 1.5}}}}}}},
       {"lights", {{{"type", "point"}, {"power", 300}, {"radius", 0}, {"position", {0, 0, 2.5}}}}}};
   const json s = {{"width", 16}, {"height", 16}, {"integrator", "mlt"}, {"samples", 2}, {"mlt_chains", 16}};
-  Image img = render_json(card.dump(), s.dump());
+  const json plain_stats = json::parse(render_json(card.dump(), s.dump()).stats);
+  EXPECT_FALSE(plain_stats.contains("warning")) << plain_stats.dump();
+  json emitting = card;
+  emitting["materials"][1] = {{"name", "clear"}, {"type", "mix"}, {"fac", 0.5},
+                              {"shader1", {{"type", "emission"}, {"color", {1, 1, 1}}, {"strength", 0.1}}},
+                              {"shader2", {{"type", "transparent"}}}};
+  Image img = render_json(emitting.dump(), s.dump());
   EXPECT_TRUE(img.all_finite());
   json stats = json::parse(img.stats);
   ASSERT_TRUE(stats.contains("warning")) << img.stats;
   EXPECT_NE(stats["warning"].get<std::string>().find("lamps without a size"), std::string::npos) << img.stats;
-  json sized = card;
+  json sized = emitting;
   sized["lights"][0]["radius"] = 0.1;
   json sized_stats = json::parse(render_json(sized.dump(), s.dump()).stats);
   EXPECT_TRUE(!sized_stats.contains("warning") ||

@@ -181,7 +181,23 @@ struct BruteForce {
   }
   // The camera side's flight over a -> b: the free flight mixed with the equiangular one
   // over the part of the segment inside the medium.
+  // A walk draws its distances afresh after each plain layer it passes, as after a medium
+  // boundary: the mixture is taken piece by piece between the layers on the segment.
   double camera_flight(Vec3 a, Vec3 b, bool stops) const {
+    if (!layers) return camera_flight_piece(a, b, stops);
+    const Vec3 d = normalize(b - a);
+    double product = 1;
+    Vec3 start = a;
+    for (;;) {
+      const float left = length(b - start);
+      SurfaceHit hit;
+      if (!(left > 2e-4f) || !scene.intersect(Ray{start + d * 1e-4f, d, left - 2e-4f}, hit)) break;
+      product *= camera_flight_piece(start, hit.p, false);
+      start = hit.p;
+    }
+    return product * camera_flight_piece(start, b, stops);
+  }
+  double camera_flight_piece(Vec3 a, Vec3 b, bool stops) const {
     const double free = free_flight(a, b, stops);
     const Medium *m = box ? &scene.medium(0) : scene.world_medium() >= 0 ? &scene.medium(scene.world_medium()) : nullptr;
     if (equiangular_share == 0 || !m || max_component(m->sigma_s) == 0) return free;
@@ -262,7 +278,9 @@ struct BruteForce {
     if (material.type != MaterialType::Glass) {
       if (!reflection) return 0;
       Vec3 r = n * float(2 * ci) - wo;
-      return dot(r, wi) > 1 - 1e-5 ? 1.0 : 0.0;
+      // A mirror on a plain layer (alpha): the event is the mirror's pick, the rest passes.
+      const double pick = layers && scene.is_plain_layer(v.hit) ? 1 - pass_probability(v.hit, wo) : 1.0;
+      return dot(r, wi) > 1 - 1e-5 ? pick : 0.0;
     }
     const double eta = front ? 1.5 : 1 / 1.5;  // the far side's IOR over the near side's
     const double sin2_t = (1 - ci * ci) / (eta * eta);
@@ -330,7 +348,73 @@ struct BruteForce {
     return camera.blades >= 3 ? 0.5 * camera.blades * std::sin(2 * kPi / camera.blades) * r * r : kPi * r * r;
   }
   // Motion blur: the camera, the lights and the hits of a path at its shutter time.
+  // Plain transparent layers (Scene::is_plain_layer: alpha, Transparent BSDF) are no path
+  // vertices: an edge crosses them. A walk along an edge passes each by the probability that
+  // its lobe choice there passes (the BSDF rebuilt toward the side the walk comes from); a
+  // walk that reached a vertex on a layer did not pass it, and scatters there by the rest.
+  // Each layer found here by intersecting the edge anew.
+  bool layers = false;
+  double pass_probability(const SurfaceHit &hit, Vec3 wo) const {
+    return scene.bsdf(hit, wo, 0).pass_probability(wo);
+  }
+  // The layers on the segment from o along d (unit) for `distance`, passed by a walk
+  // travelling along `travel` (d or -d); 0 where something else lies on it.
+  double layer_passes(Vec3 o, Vec3 d, double distance, Vec3 travel) const {
+    double product = 1;
+    constexpr float kGap = 1e-4f;  // the layers here are centimetres from any vertex
+    double left = distance - kGap;
+    o = o + d * kGap;
+    while (layers && left > kGap) {
+      SurfaceHit hit;
+      if (!scene.intersect(Ray{o, d, float(left)}, hit) || !(hit.t < left - kGap)) break;
+      if (!scene.is_plain_layer(hit)) return 0;
+      product *= pass_probability(hit, -travel);
+      o = hit.p + d * kGap;
+      left -= hit.t + kGap;
+    }
+    return product;
+  }
+  // Whether p's vertex i lies on a plain layer, and then the probability that a walk from
+  // its camera (or light) side neighbour did not pass it.
+  double keeps(const ExplicitPath &p, int i, bool from_camera) const {
+    const ExplicitVertex &v = p.x[size_t(i)];
+    if (!layers || i == 0 || i == p.n - 1 || v.v.type != VertexType::Surface || !scene.is_plain_layer(v.hit)) return 1;
+    return 1 - pass_probability(v.hit, dir(p, i, from_camera ? i - 1 : i + 1));
+  }
+  // The layers on the edge x_(i-1) -> x_i (camera side; from_camera false: x_(i+1) -> x_i)
+  // as the walk toward x_i passes them.
+  double edge_layers(const ExplicitPath &p, int i, bool from_camera) const {
+    const int j = from_camera ? i - 1 : i + 1;
+    const bdpt::PathVertex &a = p.x[size_t(j)].v, &b = p.x[size_t(i)].v;
+    if (b.infinite) return layer_passes(a.p, b.dir, 1e30, b.dir);
+    if (a.infinite) return layer_passes(b.p, a.dir, 1e30, -a.dir);  // from the light's disk, along -dir
+    Vec3 from = a.p;
+    if (from_camera && i == 1 && scene.camera_now().type == Camera::Type::Orthographic) {
+      const Camera &camera = scene.camera_now();
+      from = b.p - camera.forward() * dot(b.p - camera.position(), camera.forward());
+    }
+    const Vec3 d = normalize(b.p - from);
+    return layer_passes(from, d, length(b.p - from), d);
+  }
+  // What a walk's density of x_i takes from the layers: the edge's passes, not passing x_i,
+  // and the scattering at the neighbour it came from out of the rest of its sampling.
+  double layer_walk(const ExplicitPath &p, int i, bool from_camera) const {
+    if (!layers) return 1;
+    const int j = from_camera ? i - 1 : i + 1;
+    return edge_layers(p, i, from_camera) * keeps(p, i, from_camera) / keeps(p, j, from_camera);
+  }
   double camera_side(const ExplicitPath &p, int i) const {
+    if (i == 0) return camera_walk(p, i);
+    shutter::SampleTime at(p.time);
+    return camera_walk(p, i) * layer_walk(p, i, true);
+  }
+  double light_side(const ExplicitPath &p, int i) const {
+    if (i == p.n - 1) return light_walk(p, i);
+    shutter::SampleTime at(p.time);
+    return light_walk(p, i) * layer_walk(p, i, false);
+  }
+  // The camera side's density of x_i without the layers.
+  double camera_walk(const ExplicitPath &p, int i) const {
     shutter::SampleTime at(p.time);
     const int n = p.n;
     if (i == 0) return 1 / aperture_area();  // a point uniform on the aperture (a pinhole: 1)
@@ -411,7 +495,7 @@ struct BruteForce {
         from = from + w * float(camera.clip_start / dot(w, camera.forward()));
       }
     }
-    return camera_flight(from, to, true);
+    return camera_flight(from, to, true) * edge_layers(p, i, true);  // a kept distance's retrace draws neither
   }
   // A lamp with a radius is a sphere (lights/sphere_lamp.h): its point uniform over the
   // sphere (a point lamp) or over the cap of points whose normal is within pi/2 + the
@@ -433,7 +517,8 @@ struct BruteForce {
     const double cos_cone = light.cos_half_spot;
     return dot(light.axis, d) > cos_cone ? 1 / (2 * kPi * (1 - cos_cone)) : 0.0;
   }
-  double light_side(const ExplicitPath &p, int i) const {
+  // The light side's density of x_i without the layers.
+  double light_walk(const ExplicitPath &p, int i) const {
     shutter::SampleTime at(p.time);
     const int n = p.n;
     const bdpt::PathVertex &light_vertex = p.x[size_t(n - 1)].v;
@@ -653,6 +738,7 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
     brute.length_weights = length_weights;
   }
   brute.filter = FilterGlossy(filter_glossy);
+  brute.layers = scene.has_transparency();
   if (box_lo) {
     brute.box = true;
     brute.box_lo = *box_lo;
@@ -669,6 +755,7 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
   int off_sphere = 0, infinite = 0, delta_sun = 0, volume_light = 0, volume_light_camera_side = 0;
   int time_moved = 0, time_lost = 0;
   int kept_medium = 0;  // perturbations that kept a medium vertex's distance (Pauly's retrace)
+  int layered = 0;  // bidirectional proposals whose y crosses a plain layer or scatters on one
   int blurred = 0;  // Filter Glossy: proposals with a vertex the blur changed  // motion blur: large steps that drew a new time; others that changed it
   double worst = 0, worst_f = 0;
   for (int s = 0; s < starts; ++s) {
@@ -710,6 +797,11 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
           ++blurred;
           break;
         }
+      if (brute.layers) {
+        bool crosses = false;
+        for (int i = 1; i < y.n && !crosses; ++i) crosses = brute.edge_layers(y, i, true) != 1 || brute.keeps(y, i, true) != 1;
+        layered += crosses;
+      }
       if (p.type == MutationType::Large) time_moved += y.time != x.time;
       else time_lost += y.time != x.time;
       specular += specular_vertices(x) + specular_vertices(y) > 0;
@@ -789,7 +881,8 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
       if (!(p.ratio > 0)) continue;
       auto area = [&](const ExplicitPath &q, int i) {
         const bdpt::PathVertex &v = q.x[size_t(i)].v;
-        return brute.to_area(q, i - 1, i) * brute.camera_flight(q, i - 1, i, v.type == VertexType::Medium);
+        return brute.to_area(q, i - 1, i) * brute.camera_flight(q, i - 1, i, v.type == VertexType::Medium) *
+               brute.edge_layers(q, i, true) * brute.keeps(q, i, true);
       };
       double brute_ratio = 1;
       int chains = 0;
@@ -829,13 +922,15 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
       if (!(p.ratio > 0)) continue;
       auto area = [&](const ExplicitPath &q) {
         const bdpt::PathVertex &v = q.x[size_t(kc - 1)].v;
-        return brute.to_area(q, kc, kc - 1) * brute.free_flight(q, kc, kc - 1, v.type == VertexType::Medium);
+        return brute.to_area(q, kc, kc - 1) * brute.free_flight(q, kc, kc - 1, v.type == VertexType::Medium) *
+               brute.edge_layers(q, kc - 1, false) * brute.keeps(q, kc - 1, false);
       };
       double brute_ratio = area(x) / area(y);
       for (int i = 1; i <= kc - 2; ++i) brute_ratio *= brute.light_side(x, i) / brute.light_side(y, i);
       if (kept_flight(p, x, y, 1)) {
         ++kept_medium;
-        brute_ratio *= brute.free_flight(y, 2, 1, true) / brute.free_flight(x, 2, 1, true);
+        brute_ratio *= brute.free_flight(y, 2, 1, true) * brute.edge_layers(y, 1, false) /
+                       (brute.free_flight(x, 2, 1, true) * brute.edge_layers(x, 1, false));
       }
       double error = std::fabs(std::log(p.ratio / brute_ratio));
       bool same_rest = y.n == x.n && p.m == kc && kc >= 3;
@@ -865,6 +960,11 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
               "vertex's distance\n",
               name.c_str(), lens_subpath_new_shape, lens_subpath_to_light, lens_subpath_to_light_specular,
               lens_subpath_short, kept_medium);
+  if (brute.layers) {
+    std::printf("[ mlt densities ] %-12s %d bidirectional proposals across or on plain transparent layers\n",
+                name.c_str(), layered);
+    EXPECT_GT(layered, checked / 10) << name;
+  }
   if (scene.has_motion())
     std::printf("[ mlt densities ] %-12s motion: %d of %d large steps at a new shutter time\n", name.c_str(), time_moved,
                 large);
@@ -1099,6 +1199,44 @@ TEST(PathMltDensities, MeshLampThroughGlassRatiosMatchBruteForce) {
     }
   const int to_light = check_scene("glass_ball_mesh_lamp.json (lamp behind)", j, 12000, 20);
   EXPECT_GT(to_light, 40);
+}
+
+// Plain transparent layers (Scene::is_plain_layer) are parts of edges, not vertices
+// (path_space.h): f takes their straight-through coefficient, each walk along an edge the
+// probability of passing them, a walk that stops on one the probability of not passing it
+// (and its scattering there the rest of the layer's sampling). The Cornell box with a
+// half-alpha card between the camera and the blocks, a Transparent BSDF sheet under the
+// ceiling with a point lamp without a radius above it (its light reaches the room only
+// through the sheet: connections across it, which paths with layers as vertices could not
+// make), and an alpha'd mirror (a specular vertex on a layer); then with a fog box under the
+// ceiling around the sheet (layers inside a medium, kept distances across them).
+nlohmann::json cornell_with_layers() {
+  nlohmann::json j = test::load_scene("cornell_box.json");
+  j["materials"].push_back({{"name", "leaf"}, {"type", "principled"}, {"base_color", {0.3, 0.6, 0.2}}, {"alpha", 0.45}});
+  j["materials"].push_back({{"name", "sheet"}, {"type", "transparent"}, {"color", {0.6, 0.8, 0.9}}});
+  j["materials"].push_back({{"name", "faded_mirror"}, {"type", "principled"}, {"base_color", {0.9, 0.9, 0.9}},
+                            {"metallic", 1.0}, {"roughness", 0.0}, {"alpha", 0.6}});
+  j["meshes"].push_back({{"name", "leaf"}, {"shape", {{"type", "quad"}, {"size", 0.8}}}, {"materials", {"leaf"}},
+                         {"transform", {{"translate", {-0.2, -0.6, 1.0}}, {"rotate", {90, 0, 0}}}}});
+  j["meshes"].push_back({{"name", "sheet"}, {"shape", {{"type", "quad"}, {"size", 1.2}}}, {"materials", {"sheet"}},
+                         {"transform", {{"translate", {0.2, 0.1, 1.7}}}}});
+  j["meshes"].push_back({{"name", "faded_mirror"}, {"shape", {{"type", "quad"}, {"size", 0.5}}},
+                         {"materials", {"faded_mirror"}},
+                         {"transform", {{"translate", {0.65, 0.3, 1.0}}, {"rotate", {90, 0, 60}}}}});
+  j["lights"] = nlohmann::json::array(
+      {{{"name", "bulb"}, {"type", "point"}, {"position", {0.3, 0.2, 1.9}}, {"power", 20}, {"radius", 0}}});
+  return j;
+}
+
+TEST(PathMltDensities, TransparentLayersRatiosMatchBruteForce) {
+  check_scene("cornell_box.json (layers)", cornell_with_layers(), 1500, 20);
+  nlohmann::json fog = cornell_with_layers();
+  fog["materials"].push_back(
+      {{"name", "fog"}, {"type", "volume"}, {"volume", {{"density", 0.8}, {"color", {0.9, 0.9, 0.9}}, {"anisotropy", 0.3}}}});
+  fog["meshes"].push_back({{"name", "fog_box"}, {"shape", {{"type", "box"}, {"size", {1.6, 1.6, 0.5}}}},
+                           {"materials", {"fog"}}, {"transform", {{"translate", {0, 0, 1.6}}}}});
+  const Vec3 lo(-0.8f, -0.8f, 1.35f), hi(0.8f, 0.8f, 1.85f);
+  check_scene("cornell_box.json (layers, fog box)", fog, 3000, 20, 0, &lo, &hi);
 }
 
 // Lights at infinity (path_space.h): the Cornell box with its lamp taken out of the ceiling

@@ -9,6 +9,7 @@
 #include "bsdfs/sheen.h"
 #include "bsdfs/translucent.h"
 #include "bsdfs/transparent.h"
+#include <cmath>
 #include <cstring>
 #include <new>
 #include "core/hash.h"
@@ -559,6 +560,27 @@ float Bsdf::pass_probability(Vec3 wo) const {
   for (int i = 0; i < n_; ++i)
     if (lobes_[i].type == LobeType::Transparent) q += pick_[i];
   return q;
+}
+
+float Bsdf::scattering_lobe_u(float u) const {
+  float pass = 0;
+  for (int i = 0; i < n_; ++i)
+    if (lobes_[i].type == LobeType::Transparent) pass += pick_[i];
+  if (!(pass < 1)) return u;  // nothing else to pick: sample() passes (the caller fails)
+  float left = u * (1 - pass), cdf = 0;  // how far into the other lobes' picks
+  int last = -1;
+  for (int i = 0; i < n_; ++i) {
+    if (lobes_[i].type != LobeType::Transparent) {
+      if (left < pick_[i]) return cdf + left;
+      left -= pick_[i];
+      last = i;
+    }
+    cdf += pick_[i];
+  }
+  // Rounding left a sliver past the last one: its end.
+  float end = 0;
+  for (int i = 0; i <= last; ++i) end += pick_[i];
+  return std::nextafter(end, 0.0f);
 }
 
 bool Bsdf::passes_straight_through(Vec3 wo, Vec3 wi) const {

@@ -201,6 +201,11 @@ class Bsdf {
   // The probability that sample() from wo passes straight through (its Transparent lobes'
   // selection): BDPT's walks keep a plain transparent layer as a vertex only otherwise.
   float pass_probability(Vec3 wo) const;
+  // sample()'s lobe choice conditioned on not passing straight through: u uniform in [0, 1)
+  // mapped onto the part of sample()'s u_lobe that picks the other lobes (each keeps its own
+  // remainder for the choices inside it). Path-space MLT's walks, which decide a plain
+  // layer's pass before its scattering (integrators/mlt/path_space.cpp).
+  float scattering_lobe_u(float u) const;
   // Whether wo -> wi is a straight pass through a Transparent lobe (no scattering for the
   // light passes), for paths that know only their directions (path-space MLT).
   bool passes_straight_through(Vec3 wo, Vec3 wi) const;

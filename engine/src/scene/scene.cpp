@@ -474,12 +474,18 @@ void Scene::commit() {
     bounding_radius_ = std::max(length(hi - lo) * 0.5f, 1e-6f);
   }
   build_lights();
-  has_transparency_ = has_holdouts_ = false;
+  has_transparency_ = has_holdouts_ = has_transparent_non_layers_ = false;
   for (const Material &m : materials_) {
     has_transparency_ = has_transparency_ || m.transparent;
     has_holdouts_ = has_holdouts_ || m.holdout;
+    has_transparent_non_layers_ = has_transparent_non_layers_ || (m.transparent && (m.emits() || m.holdout));
   }
-  for (const Instance &inst : instances_) has_holdouts_ = has_holdouts_ || (inst.enabled && inst.holdout);
+  bool special_objects = false;
+  for (const Instance &inst : instances_) {
+    has_holdouts_ = has_holdouts_ || (inst.enabled && inst.holdout);
+    special_objects = special_objects || (inst.enabled && (inst.holdout || inst.shadow_catcher));
+  }
+  has_transparent_non_layers_ = has_transparent_non_layers_ || (has_transparency_ && special_objects);
   find_ray_visibility();
   has_heterogeneous_media_ = false;
   for (const Medium &m : media_) has_heterogeneous_media_ = has_heterogeneous_media_ || m.is_heterogeneous();

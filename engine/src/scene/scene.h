@@ -169,6 +169,10 @@ class Scene {
   }
   // Some material lets shadow rays through (Transparent BSDF, Principled alpha).
   bool has_transparency() const { return has_transparency_; }
+  // Whether a transparent surface may be no plain layer (is_plain_layer): a transparent
+  // material that emits or holds out, or any transparent material in a scene with holdout or
+  // shadow-catcher objects (which may wear it).
+  bool has_transparent_non_layers() const { return has_transparent_non_layers_; }
   // Some instance or material is a holdout (integrators/film_alpha.h).
   bool has_holdouts() const { return has_holdouts_; }
   // What of the surface at hit is held out: 1 on a holdout instance, else its material's
@@ -338,6 +342,7 @@ class Scene {
   Color world_radiance_{0.05f};
   std::shared_ptr<EnvironmentMap> environment_;  // world HDRI, or null
   bool has_transparency_ = false;
+  bool has_transparent_non_layers_ = false;
   bool has_holdouts_ = false;
   uint32_t world_visibility_ = visibility::kAll;
   MistSettings mist_;

@@ -136,16 +136,18 @@ Metropolis::Metropolis(const Scene &scene, const RenderSettings &settings, const
     }
     path_space_ = std::make_unique<PathSpace>(scene, bdpt_settings.max_bounces, sample_origin_, sample_size_, image_area_,
                                               mlt.large_step_probability, mutations, bdpt_settings.limits);
-    // Transparent layers are path vertices here (docs/mlt.md): light from a lamp without a
-    // size reaches a surface through one only by the light side, which cannot join the camera
-    // through a layer either, so where the camera sees that surface through a layer (or with
-    // an orthographic camera) the light is missing. Said, not hidden.
+    // Plain transparent layers are parts of edges (path_space.h); transparent surfaces that
+    // emit, hold out or catch shadows stay path vertices (docs/mlt.md): light from a lamp
+    // without a size reaches a surface through one only by the light side, which cannot join
+    // the camera through one either, so where the camera sees that surface through one too
+    // (or with an orthographic camera) the light is missing. Said, not hidden.
     const bool delta_light = std::any_of(scene.lights().begin(), scene.lights().end(),
                                          [](const Light &l) { return l.is_delta(); });
-    if (delta_light && scene.has_transparency()) {
+    if (delta_light && scene.has_transparent_non_layers()) {
       stats_.warning = std::string(name()) +
                        ": light from lamps without a size (point or spot radius 0, sun angle 0) that passes a "
-                       "transparent surface (alpha, Transparent BSDF) is missing" +
+                       "transparent surface (alpha, Transparent BSDF) that emits, holds out or catches shadows is "
+                       "missing" +
                        (direct_ ? " after a bounce (the path tracer takes direct light)" : "") +
                        " where the camera sees its surface through one too, or through an orthographic camera "
                        "(docs/mlt.md); use bdpt, or give the lamps a size";

@@ -143,6 +143,7 @@ PathSpace::PathSpace(const Scene &scene, int max_bounces, Vec2 sample_origin, Ve
       limits_(limits),
       filter_(limits.filter_glossy),
       media_(scene.has_media()),
+      layers_(scene.has_transparency()),
       motion_(scene.has_motion()),
       visibility_(scene.has_ray_visibility()),
       mixed_visibility_(scene.has_mixed_visibility()) {
@@ -290,6 +291,23 @@ bool PathSpace::trace_step(Ray ray, MediumStack media, Side side, Pcg32 &rng, Ra
       }
       if (found && lamp < 0 && scene_.is_boundary_only(hit.material)) {  // an index-matched boundary: no vertex
         media.cross(scene_, hit, boundary, ray.d);
+        float tmax = std::isinf(ray.tmax) ? kInf : ray.tmax - hit.t;
+        const Vec3 o = spawn_origin(hit.p, hit.ng, hit.error, ray.d);
+        kept_flight = kept_past(kept_flight, dot(o - ray.o, ray.d));
+        if (kept_flight == kNotKeepable) return false;
+        ray = Ray{o, ray.d, tmax, ray.mask};
+        continue;
+      }
+    }
+    if (found && lamp < 0 && layers_ && scene_.is_plain_layer(hit)) {
+      // A plain layer: the walk's lobe choice there decides first whether it passes (BDPT's
+      // walks); a pass is no vertex, the edge crosses the layer (trace_edge). Pauly's
+      // retrace passes without a choice: its ratio takes the edge's passes out with the
+      // kept vertex's free flight (camera_side_flight, light_side_flight).
+      bool pass = kept_flight >= 0;
+      if (!pass) pass = rng.next_float() < scene_.bsdf(hit, -ray.d).pass_probability(-ray.d);
+      if (pass) {
+        if (media_) media.cross(scene_, hit, boundary, ray.d);
         float tmax = std::isinf(ray.tmax) ? kInf : ray.tmax - hit.t;
         const Vec3 o = spawn_origin(hit.p, hit.ng, hit.error, ray.d);
         kept_flight = kept_past(kept_flight, dot(o - ray.o, ray.d));
@@ -489,8 +507,13 @@ bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, Ray
       float u_lobe = rng.next_float();
       Vec2 u{rng.next_float(), rng.next_float()};
       if (filter_.on()) blur_by_prefix(prev);  // the camera side samples f's (blurred) BSDF
+      // On a plain layer the walk has chosen not to pass (trace_step): it scatters.
+      const bool layer = on_plain_layer(prev);
+      if (layer) u_lobe = prev.v.bsdf.scattering_lobe_u(u_lobe);
       BsdfSample bs;
-      if (!prev.v.bsdf.has_lobes() || !prev.v.bsdf.sample(prev.v.wo, u_lobe, u, TransportMode::Radiance, bs)) return false;
+      if (!prev.v.bsdf.has_lobes() || !prev.v.bsdf.sample(prev.v.wo, u_lobe, u, TransportMode::Radiance, bs) ||
+          (layer && bs.pass_through))
+        return false;
       prev.v.delta = bs.is_delta;  // the path's specular vertices are part of its state
       if (!bs.is_delta) scattered_pdf = bs.pdf;
       wi = bs.wi;
@@ -560,8 +583,12 @@ bool PathSpace::extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayS
       float u_lobe = rng.next_float();
       Vec2 u{rng.next_float(), rng.next_float()};
       Bsdf bsdf = scene_.bsdf(next.hit, w_light, 0);
+      const bool layer = on_plain_layer(next);  // chosen not to pass: it scatters (as above)
+      if (layer) u_lobe = bsdf.scattering_lobe_u(u_lobe);
       BsdfSample bs;
-      if (!bsdf.has_lobes() || !bsdf.sample(w_light, u_lobe, u, TransportMode::Importance, bs)) return false;
+      if (!bsdf.has_lobes() || !bsdf.sample(w_light, u_lobe, u, TransportMode::Importance, bs) ||
+          (layer && bs.pass_through))
+        return false;
       next.v.delta = bs.is_delta;
       wi = bs.wi;
     } else {
@@ -708,9 +735,13 @@ bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec
   ShadowRay s = b.v.infinite ? shadow_ray_to_infinity(from, a.v.ng, a.v.error, w)
                              : shadow_ray(from, a.v.ng, a.v.error, b.v.p, b.v.ng, b.v.error);
   if (!media_) {
-    ++stats.rays;
-    e.visible = !masks.f || !scene_.occluded(s.o, s.d, s.tmax, masks.f);
-    if (e.visible) walks_along(s, masks, e, stats);
+    if (layers_ && masks.f) {
+      e.visible = layers_along(s, w, masks.f, e.layers, stats);
+    } else {
+      ++stats.rays;
+      e.visible = !masks.f || !scene_.occluded(s.o, s.d, s.tmax, masks.f);
+    }
+    if (e.visible) walks_along(s, w, masks, e, stats);
     return e.visible;
   }
   // Mask 0 (the last edge to a lamp that casts no shadows): nothing blocks, the medium
@@ -770,7 +801,10 @@ bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec
     last_medium = m;
     last_column = column;
     if (!found) break;
-    if (!scene_.is_boundary_only(hit.material)) {
+    if (layers_ && masks.f && scene_.is_plain_layer(hit)) {
+      add_layer(hit, w, e.layers);
+      stack.cross(scene_, hit, boundary, s.d);
+    } else if (!scene_.is_boundary_only(hit.material)) {
       if (masks.f) return false;  // blocked
     } else {
       stack.cross(scene_, hit, boundary, s.d);
@@ -796,21 +830,56 @@ bool PathSpace::trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec
     e.rev = pass_but_first * stop_density(medium, first_column, medium_density(medium, a.v.p));
   }
   e.visible = true;
-  walks_along(s, masks, e, stats);
+  walks_along(s, w, masks, e, stats);
   return true;
 }
 
-void PathSpace::walks_along(const ShadowRay &s, const EdgeMasks &masks, EdgeTrace &e, RayStats &stats) const {
+void PathSpace::walks_along(const ShadowRay &s, Vec3 w, const EdgeMasks &masks, EdgeTrace &e, RayStats &stats) const {
   // Ray visibility where the walks' kinds of ray differ from f's: a walk stops at what its
-  // own kind meets (real surfaces; medium boundaries are crossed as f crosses them).
-  if (masks.camera_walk != masks.f) {
+  // own kind meets (real surfaces; medium boundaries are crossed as f crosses them) and
+  // passes the plain layers its kind meets.
+  double layers_fwd = e.layers.fwd, layers_rev = e.layers.rev;
+  auto walk = [&](uint32_t mask, bool camera) {
+    if (!layers_) {
+      ++stats.rays;
+      return scene_.occluded(s.o, s.d, s.tmax, mask) ? 0.0 : 1.0;
+    }
+    LayerPasses l;
+    if (!layers_along(s, w, mask, l, stats)) return 0.0;
+    return camera ? l.fwd : l.rev;
+  };
+  if (masks.camera_walk != masks.f) layers_fwd = walk(masks.camera_walk, true);
+  if (masks.light_walk != masks.f && e.rev > 0) layers_rev = walk(masks.light_walk, false);
+  e.fwd *= layers_fwd;
+  e.rev *= layers_rev;
+}
+
+void PathSpace::add_layer(const SurfaceHit &hit, Vec3 w, LayerPasses &l) const {
+  // f: the coefficient of the layer's straight-through delta, seen from the camera side (the
+  // BSDF built toward it, as at a vertex); the walks: their lobe choice's pass from each side.
+  const Bsdf camera_side = scene_.bsdf(hit, -w), light_side = scene_.bsdf(hit, w);
+  float pdf, jacobian;
+  l.tr *= camera_side.delta_eval(-w, w, TransportMode::Radiance, pdf, jacobian);
+  l.fwd *= double(camera_side.pass_probability(-w));
+  l.rev *= double(light_side.pass_probability(w));
+  ++l.count;
+}
+
+bool PathSpace::layers_along(const ShadowRay &s, Vec3 w, uint32_t mask, LayerPasses &l, RayStats &stats) const {
+  Vec3 o = s.o;
+  float remaining = s.tmax;
+  for (int guard = 0; guard < 256; ++guard) {
+    SurfaceHit hit;
     ++stats.rays;
-    if (scene_.occluded(s.o, s.d, s.tmax, masks.camera_walk)) e.fwd = 0;
+    if (!scene_.intersect(Ray{o, s.d, remaining, mask}, hit) || !(hit.t < remaining)) return true;
+    if (!scene_.is_plain_layer(hit)) return false;
+    add_layer(hit, w, l);
+    if (is_black(l.tr) && !(l.fwd > 0) && !(l.rev > 0)) return false;  // an opaque part of a layer
+    o = spawn_origin(hit.p, hit.ng, hit.error, s.d);
+    remaining -= hit.t;
+    if (!(remaining > 0)) return true;
   }
-  if (masks.light_walk != masks.f && e.rev > 0) {
-    ++stats.rays;
-    if (scene_.occluded(s.o, s.d, s.tmax, masks.light_walk)) e.rev = 0;
-  }
+  return false;
 }
 
 void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
@@ -891,8 +960,14 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
 
   // Filter Glossy: the smallest camera-side scattering density so far (filter_glossy.h).
   float filter_min = kInf;
-  // The vertices passed straight through (Transparent BSDF, alpha): no scattering.
-  int passes = 0;
+  // The passes straight through (Transparent BSDF, alpha): no scattering. Plain layers are
+  // on edges (trace_edge); the transparent surfaces that emit, hold out or catch shadows are
+  // vertices passed through (vertex_passes).
+  int passes = 0, vertex_passes = 0;
+  // Plain layers (on_plain_layer) as vertices: the probability that the walk that reached
+  // one did not pass it, from the camera side (keep_camera, a's) and the light side
+  // (keep_light, a's: found when a was b).
+  double keep_camera = 1, keep_light = 1;
 
   // How much the camera still sees through (Film > Transparent, holdouts, shadow catchers):
   // from x_1 on, past Transparent BSDFs and, with Transparent Glass, refractions
@@ -908,6 +983,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   // Shadow catchers: f and f_catcher share every factor but the visibility of the edges past
   // the split, which vertices past it may be, and the light's emission; whether each lives.
   bool image = true, copy = catchers_;
+  Color layers_past_split(1.0f);  // in f, not in f_catcher
 
   // Edge by edge: transmittance, geometry, the scattering at its camera-side end, and
   // the densities of its two ends as the other end's walk would reach them.
@@ -995,6 +1071,9 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     const float cos_b = cosine_at(b.v, w), cos_a = cosine_at(a.v, w);
     const float geometry = i == 0 && ortho ? cos_b : cos_b / d2;
     f *= e.tr * geometry;
+    // The layers on the edge: the catcher pass's rays past the split meet catchers only.
+    if (past_split) layers_past_split *= e.layers.tr;
+    else f *= e.layers.tr;
     // Scattering at a (interior vertices), toward b. A specular vertex: the coefficient
     // of its Dirac delta (about the direction toward b), which its densities share.
     float pdf_delta = 0, jacobian = 1;
@@ -1008,7 +1087,11 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
       }
     }
     if (is_black(f)) return;
-    if (i >= 1 && a.v.delta && a.v.bsdf.passes_straight_through(a.v.wo, w)) ++passes;
+    if (i >= 1 && a.v.delta && a.v.bsdf.passes_straight_through(a.v.wo, w)) {
+      if (on_plain_layer(a)) return;  // a pass there is part of an edge, no vertex
+      ++vertex_passes;
+    }
+    passes += e.layers.count;
     // Density of b from the camera side (a scattered toward it) and of a from the light
     // side (b scattered toward it): area measure, times the free flight.
     double pdf_b = 0;
@@ -1019,12 +1102,20 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     } else {
       pdf_b = scene_.medium(a.v.medium).phase.pdf(a.v.wo, w);
     }
-    y.fwd_area[size_t(i + 1)] = i == 0 && ortho ? cos_b * e.fwd : cos_b / d2 * e.fwd;
-    y.fwd[size_t(i + 1)] = pdf_b * y.fwd_area[size_t(i + 1)];
     if (i >= 1 && !a.v.delta) filter_min = std::min(filter_min, float(pdf_b));
-    double pdf_a = 0;
+    // A walk scatters from a plain layer only where it did not pass it: its density there
+    // is the rest of the layer's sampling.
+    if (i >= 1 && keep_camera < 1) pdf_b = keep_camera > 0 ? pdf_b / keep_camera : 0.0;
+    keep_camera = i + 1 < n - 1 ? keeps(b, b.v.bsdf, b.v.wo) : 1.0;
+    y.fwd_area[size_t(i + 1)] = (i == 0 && ortho ? cos_b * e.fwd : cos_b / d2 * e.fwd) * keep_camera;
+    y.fwd[size_t(i + 1)] = pdf_b * y.fwd_area[size_t(i + 1)];
+    double pdf_a = 0, b_keep_light = 1;
     if (i == 0) {
       pdf_a = 0;  // the camera vertex is always sampled from the camera side
+      if (n > 2 && on_plain_layer(b)) {  // (below: where b scatters toward a)
+        const Vec3 w_light = toward(b, y.x[2]);
+        b_keep_light = keeps(b, scene_.bsdf(b.hit, w_light, 0), w_light);
+      }
     } else if (b.v.infinite) {
       // From a light at infinity: a point uniform on the disk of the scene's bounding
       // radius perpendicular to the direction (BDPT's light tracing), the ray along it
@@ -1044,6 +1135,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     } else if (b.v.type == VertexType::Surface) {
       Vec3 w_light = toward(b, y.x[size_t(i + 2)]);
       Bsdf light_side = scene_.bsdf(b.hit, w_light, 0);
+      b_keep_light = keeps(b, light_side, w_light);
       if (filter_.on() && light_side.blur_changes(filter_.alpha_after(filter_min))) {
         pdf_a = 0;  // the light walk samples b unblurred: it cannot make f's blurred b
       } else if (b.v.delta) {
@@ -1059,14 +1151,16 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     } else {
       pdf_a = scene_.medium(b.v.medium).phase.pdf(toward(b, y.x[size_t(i + 2)]), -w);
     }
-    y.rev_area[size_t(i)] = cos_a / d2 * e.rev;
+    if (b_keep_light < 1) pdf_a = b_keep_light > 0 ? pdf_a / b_keep_light : 0.0;
+    y.rev_area[size_t(i)] = cos_a / d2 * e.rev * keep_light;
     y.rev[size_t(i)] = pdf_a * y.rev_area[size_t(i)];
+    keep_light = b_keep_light;
   }
   // Of the n - 2 inner vertices, those not passed through scatter: the chains' paths have at
   // least min_vertices_ - 2 of them (the direct light left to the path tracer is every path
   // of at most one, however many layers it passes, as the path tracer counts), and Transparent
   // max bounces (light_path_limits.h) bounds the passes.
-  if (n - passes < min_vertices_ || !limits_.transparent_within(passes, n - 2 > passes)) return;
+  if (n - vertex_passes < min_vertices_ || !limits_.transparent_within(passes, n - 2 > vertex_passes)) return;
   // The kind of ray that meets the light (without ray visibility: the camera's for the camera
   // ray alone, lamps' default visibility, else any other kind).
   const uint32_t kind_at_light = visibility_ ? ray_kind : n == 2 ? visibility::kCamera : visibility::kNonCamera;
@@ -1094,6 +1188,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   }
   f *= emission;
   Color f_catcher = copy && y.split >= 0 && light.shadow_catcher ? f : Color(0.0f);
+  f *= layers_past_split;
   if (!image) f = Color(0.0f);
   y.fwd[0] = 1.0 / camera.aperture_area();  // a point uniform on the aperture (pinhole, orthographic: 1)
   // The camera side reaches the light where its last ray meets it first: a lamp's sphere

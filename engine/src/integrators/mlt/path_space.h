@@ -272,10 +272,20 @@ class PathSpace {
   bool first_camera_step(Vec2 raster, Pcg32 &rng, RayStats &stats, ExplicitVertex &x0, ExplicitVertex &x1) const;
 
  private:
+  // The plain transparent layers (Scene::is_plain_layer) on an edge: no path vertices, as
+  // in BDPT's walks. f carries their straight-through coefficient; a walk along the edge
+  // passes each by the probability that its lobe choice there passes (Bsdf::pass_probability
+  // with the BSDF built toward the side the walk comes from).
+  struct LayerPasses {
+    Color tr{1.0f};
+    double fwd = 1, rev = 1;  // the camera walk's (along the edge) and the light walk's
+    int count = 0;
+  };
   struct EdgeTrace {
     bool visible = false;
-    Color tr{1.0f};
-    double fwd = 1, rev = 1;  // free-flight densities of reaching b from a / a from b
+    Color tr{1.0f};           // the media's transmittance (the layers': layers.tr)
+    double fwd = 1, rev = 1;  // densities of reaching b from a / a from b past the edge's media and layers
+    LayerPasses layers;       // the layers f's kind of ray meets (the walks': walks_along)
   };
   // The kinds of ray (scene/ray_visibility.h) an edge stands for: f's (what blocks the
   // edge), and those of the walks that would sample its two ends (what stops them); all
@@ -285,8 +295,22 @@ class PathSpace {
   };
   bool trace_edge(const ExplicitVertex &a, const ExplicitVertex &b, Vec3 w, const EdgeMasks &masks, EdgeTrace &e,
                   RayStats &stats) const;
-  // A walk's density of an end is 0 where something its kind of ray meets lies on the edge.
-  void walks_along(const ShadowRay &s, const EdgeMasks &masks, EdgeTrace &e, RayStats &stats) const;
+  // A walk's density of an end is 0 where something its kind of ray meets lies on the edge,
+  // and takes the passes of the layers that kind meets.
+  void walks_along(const ShadowRay &s, Vec3 w, const EdgeMasks &masks, EdgeTrace &e, RayStats &stats) const;
+  // The layers the ray s (along the edge's direction w) meets for this mask: false where a
+  // surface that is no plain layer blocks it.
+  bool layers_along(const ShadowRay &s, Vec3 w, uint32_t mask, LayerPasses &l, RayStats &stats) const;
+  void add_layer(const SurfaceHit &hit, Vec3 w, LayerPasses &l) const;
+  bool on_plain_layer(const ExplicitVertex &v) const {
+    return layers_ && v.v.type == bdpt::VertexType::Surface && scene_.is_plain_layer(v.hit);
+  }
+  // The probability that a walk arriving at v from the side wo faces does not pass it (1 off
+  // plain layers): the walk stops there, and its scattering from v is the rest of v's
+  // sampling (Bsdf::scattering_lobe_u), so its density there is divided by it.
+  double keeps(const ExplicitVertex &v, const Bsdf &bsdf, Vec3 wo) const {
+    return on_plain_layer(v) ? 1.0 - double(bsdf.pass_probability(wo)) : 1.0;
+  }
   // The kind of ray leaving y's vertex i toward w (camera rays from x_0; after a
   // scattering its kind's; a pass-through keeps the kind that reached it).
   uint32_t ray_mask(const ExplicitPath &y, int i, Vec3 w) const;
@@ -409,6 +433,7 @@ class PathSpace {
   // The caustic and multi-chain perturbations' weights when paths have specular vertices.
   float caustic_weight_ = 0, multi_chain_weight_ = 0;
   bool media_;
+  bool layers_;  // Scene::has_transparency: plain layers may lie on edges
   bool motion_;  // Scene::has_motion
   bool visibility_, mixed_visibility_;  // Scene::has_ray_visibility / has_mixed_visibility
   bool catchers_ = false, film_transparent_ = false, holdouts_ = false, transparent_glass_ = false;  // set_film
