@@ -5,7 +5,11 @@
 //  - a surface's BSDF is built from the direction toward its camera-side neighbour,
 //    with unfiltered texture lookups (no ray cone: a mutation can reproduce it from
 //    either side); transport is evaluated in the radiance direction;
-//  - transmittance is closed form (homogeneous media), visibility exact.
+//  - transmittance is closed form (homogeneous media), visibility exact;
+//  - plain transparent layers (Scene::is_plain_layer: alpha, Transparent BSDF) are no
+//    vertices but parts of the edges that cross them, as in BDPT: f takes their
+//    straight-through coefficient, a walk's density the probability of passing each and, at
+//    a vertex on one, of not passing it (docs/mlt.md).
 // Each vertex also has the two area (volume) densities of sampling it, from the camera
 // side (fwd) and from the light side (rev), with the same rules the walks here use:
 // BSDF / phase sampling (from the light side with a BSDF built toward the light-side
@@ -140,7 +144,8 @@ struct MutationSettings {
   // two edges (a light seen, direct lighting) are left to the path tracer, as Veach left
   // direct lighting to standard methods (Metropolis: MltSettings::direct_samples). Shorter
   // paths have f = 0, and large steps and bidirectional mutations make none; vertices passed
-  // straight through (alpha) do not count, as the path tracer does not count them.
+  // straight through (a transparent surface that emits, holds out or catches shadows) do not
+  // count, as the path tracer does not count them.
   int min_vertices = 2;
 };
 
