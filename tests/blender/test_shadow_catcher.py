@@ -13,7 +13,9 @@ per pixel) in this process (256 samples each unless --samples, seed 1):
 - Film > Transparent off, the pass off: Combined is the world behind the floor darkened by the
   shadow, the objects over it: colour (alpha is 1);
 each as test_brightness.compare (means within 2%, 8x8 blocks within 3% or 5 standard errors);
-the pass is registered with Blender (the compositor's Render Layers node lists it).
+the pass is registered with Blender (the compositor's Render Layers node lists it). Cycles'
+images come from the committed references (tests/blender/references/shadow_catcher_*.npz,
+cycles_reference.py) while what Cycles would render is unchanged.
 
 The matte (the ball and the card) is lit mostly by the lamp (radius 0.3 at ~2 m), and there
 the lamp models differ: ours is a sphere (lights/sphere_lamp.h, Cycles 4's), Cycles 3.4's a
@@ -25,21 +27,27 @@ in both), its mean within 0.5% (4 seeds: path 0.9995 +- 0.0011, BDPT 0.9993 +- 0
 - point_lamp: as "pass" with a point lamp: the matte (colour and alpha).
 
     run_blender.py --script test_shadow_catcher.py -- [--samples N] [--integrator PATH|BDPT|PSSMLT|MMLT|MLT]
+                                                     [--write-reference]
 """
 
 import os
 import sys
+import time
 
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_brightness import brightness_failures, build_scenes, run_test  # noqa: E402
+from test_brightness import brightness_failures, build_scenes, cycles_sampling, run_test  # noqa: E402
 from pass_test import render_passes  # noqa: E402
+import cycles_reference  # noqa: E402
 import numpy as np  # noqa: E402
 
 # The point-lamp matte's mean against Cycles (path tracing and BDPT at 256 spp: sd 0.0011 and
 # 0.0009 over 4 seeds; pssmlt's sd is 0.0096 at 1024 mutations, too noisy to tell).
 POINT_LAMP_MATTE_TOLERANCE = {"PATH": 0.005, "BDPT": 0.005}
+
+
+PASSES = ("Combined", "Shadow Catcher")  # a reference's images, in this order
 
 
 def render(scene, engine, samples, path, integrator="PATH"):
@@ -78,7 +86,20 @@ def check_all(a, odir, failures):
             if "Shadow Catcher" not in registered:
                 failures.append("the Shadow Catcher pass is not registered")
         # (File names by integrator: ctest may run the two variants at once.)
-        ref = render(scene, "CYCLES", a.samples, os.path.join(odir, "shadow_catcher_%s_cycles_%s.exr" % (tag, name)))
+        cycles_path = os.path.join(odir, "shadow_catcher_%s_cycles_%s.exr" % (tag, name))
+
+        def render_cycles():
+            t = time.time()
+            images = render(scene, "CYCLES", a.samples, cycles_path)
+            return [images[p] for p in PASSES if p in images], time.time() - t
+        cycles = cycles_reference.Reference(
+            "shadow_catcher_%s_%d" % (tag, a.samples),
+            [build_scenes.build, build_scenes.SCENES["shadow_catcher"], check_all, render],
+            {"samples": a.samples, "tag": tag}, render_cycles, odir, a.write_reference)
+        if cycles.stale:
+            failures.append(cycles.stale)
+        ref = dict(zip(PASSES, cycles.images))
+        cycles_sampling(scene, a.samples, 1)  # the scene as Cycles' render leaves it (for the add-on)
         test = render(scene, "RENDEZVOUS", a.samples, os.path.join(odir, "shadow_catcher_%s_%s.exr" % (tag, name)),
                       a.integrator)
         rc, tc = ref["Combined"], test["Combined"]
@@ -108,6 +129,7 @@ def check_all(a, odir, failures):
 
 def add_arguments(parser):
     parser.add_argument("--integrator", default="PATH", choices=("PATH", "BDPT", "PSSMLT", "MMLT", "MLT"))
+    cycles_reference.add_argument(parser)
 
 
 run_test("SHADOW CATCHER", check_all, samples=256, add_arguments=add_arguments, needs_oiiotool=True)
