@@ -449,7 +449,17 @@ uint32_t PathSpace::ray_mask(const ExplicitPath &y, int i, Vec3 w) const {
 }
 
 MediumStack PathSpace::stack_toward(const ExplicitVertex &z, Vec3 w) const {
-  return media_ ? z.v.media_toward(scene_, w) : MediumStack();
+  if (!media_) return MediumStack();
+  // A lamp that a medium boundary passes through (Scene::light_media has no one stack for
+  // it): its media depend on the direction a ray leaves by, not on the one light_vertex()
+  // found them along (a point lamp on a fog box's face counted the fog twice on rays into
+  // the box, and saw fog outside it).
+  if (z.v.type == VertexType::Light && !z.v.infinite && z.v.light >= 0) {
+    const Light &light = scene_.lights()[size_t(z.v.light)];
+    const bool lamp = light.type == LightType::Point || light.type == LightType::Spot || light.type == LightType::Area;
+    if (lamp && !scene_.light_media(uint32_t(z.v.light))) return MediumStack::from(scene_.media_along(z.v.p, w));
+  }
+  return z.v.media_toward(scene_, w);
 }
 
 // z's camera-side neighbour is now `camera_side`: its wo, its media on that side and
