@@ -187,6 +187,8 @@ class SceneExporter:
         hidden = visibility.world_visibility(self.scene.world)
         if hidden:  # World > Ray Visibility
             params["visibility"] = hidden
+        # (World > Settings > Max Bounces changes nothing in Cycles 3.4's image, measured: not
+        # exported. A lamp's does: light_settings.)
         self.sink.set_world(params)
 
     def export_objects(self):
@@ -233,6 +235,12 @@ class SceneExporter:
             # the synthetic objects' own and lights only the image (Cycles 3.4).
             if not getattr(ob, "is_shadow_catcher", True):
                 params["shadow_catcher"] = False
+            # Light > Max Bounces (Cycles' light.cycles.max_bounces, default 1024: no limit
+            # in practice): the light lights paths of at most that many bounces.
+            cycles = getattr(ob.data, "cycles", None)
+            max_bounces = int(getattr(cycles, "max_bounces", 1024)) if cycles is not None else 1024
+            if max_bounces < 1024:
+                params["max_bounces"] = max(0, max_bounces)
         return params
 
     # ---- geometry -------------------------------------------------------------------

@@ -712,6 +712,19 @@ def light_paths_clamp():
     return scene
 
 
+def light_paths_lamp_bounces():
+    """The Cornell box lit by two point lamps instead of its emitting quad, one of them with
+    Light > Max Bounces 0 (direct light only). Dim enough that Cycles' default indirect clamp
+    (10) does not bind: where it does, the path tracer's clamped image differs from Cycles',
+    which picks lamps with another probability (test_light_paths.py)."""
+    scene = cornell_box(res=48)
+    bpy.data.objects.remove(bpy.data.objects["Lamp"])
+    limited = light("POINT", "Limited", 6.0, (0.3, 0.0, 1.6), shadow_soft_size=0.0)
+    limited.data.cycles.max_bounces = 0
+    light("POINT", "Free", 3.0, (-0.4, 0.2, 1.5), shadow_soft_size=0.0)
+    return scene
+
+
 def light_paths_transparent():
     """Transparent max bounces 3: a floor seen through a staircase of Transparent BSDF cards
     (behind 0 .. 5 of them across the image), lit by an area lamp that shines under the cards,
@@ -941,7 +954,7 @@ def shadow_catcher():
 
 
 LIGHT_PATH_SCENES = ["light_paths_diffuse", "light_paths_mirror", "light_paths_caustics", "light_paths_clamp",
-                     "light_paths_filter_glossy", "light_paths_transparent"]
+                     "light_paths_filter_glossy", "light_paths_transparent", "light_paths_lamp_bounces"]
 
 
 # ---- motion blur (tests/blender/test_motion_blur.py) ----------------------------------------
@@ -1104,6 +1117,7 @@ SCENES = {
     "light_paths_clamp": light_paths_clamp,
     "light_paths_filter_glossy": light_paths_filter_glossy,
     "light_paths_transparent": light_paths_transparent,
+    "light_paths_lamp_bounces": light_paths_lamp_bounces,
     "alpha_leaves": alpha_leaves,
     "film_transparent": film_transparent,
     "light_passes": light_passes,

@@ -3,8 +3,9 @@ sets scene.cycles as a user would (diffuse or glossy bounces, caustics switches,
 clamp, volume bounces), Cycles renders it, then Rendezvous' path tracer and BDPT read the
 same settings (shared with Cycles, as Cycles shares them) and render it in this process.
 Per integrator: image mean within 2% of Cycles', 8x8 blocks within 3% or 5 standard errors
-(test_brightness.compare). The scene is also rendered by the path tracer with the settings
-back at Cycles' defaults, to show they change the image (some 8x8 block brighter than a tenth
+(test_brightness.compare). A lamp's Light > Max Bounces (light.cycles.max_bounces) is read
+too. The scene is also rendered by the path tracer with the settings (and the lamps' Max
+Bounces) back at Cycles' defaults, to show they change the image (some 8x8 block brighter than a tenth
 of the image mean changes by at least 5%).
 
 A clamp acts on each contribution, so a clamped image depends on the estimator: BDPT's
@@ -56,7 +57,8 @@ def check(a, odir, failures):
     scene = build_scenes.build(a.scene)
     changed = {prop: getattr(scene.cycles, prop) for prop in LIGHT_PATH_PROPS
                if getattr(scene.cycles, prop) != defaults[prop]}
-    print("LIGHT PATHS %s: scene.cycles %s" % (a.scene, changed))
+    lamp_bounces = {l.name: l.cycles.max_bounces for l in bpy.data.lights if l.cycles.is_property_set("max_bounces")}
+    print("LIGHT PATHS %s: scene.cycles %s, Light > Max Bounces %s" % (a.scene, changed, lamp_bounces))
     ref, tc = render(scene, "CYCLES", a.samples, os.path.join(odir, a.scene + "_cycles.exr"))
     print("  Cycles %d spp: %.1f s" % (a.samples, tc))
     # BDPT's clamp is per strategy (README): path tracing only. Filter Glossy: both.
@@ -75,6 +77,8 @@ def check(a, odir, failures):
             failures.append("%s %s: block means differ beyond noise" % (a.scene, integrator))
     for prop, value in changed.items():
         setattr(scene.cycles, prop, defaults[prop])
+    for light in bpy.data.lights:  # Light > Max Bounces back at its default (1024) too
+        light.cycles.property_unset("max_bounces")
     if "blur_glossy" in changed:  # Cycles' default filters too: compare with it off
         scene.cycles.blur_glossy = 0.0
     plain, _ = render(scene, "RENDEZVOUS", a.samples, os.path.join(odir, a.scene + "_default.exr"))

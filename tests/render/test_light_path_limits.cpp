@@ -400,3 +400,51 @@ TEST(LightPathLimits, BadValuesAreRefusedWithTheirName) {
     }
   }
 }
+
+// Cycles' Light > Max Bounces (Light::lights_path): a lamp lights only the paths of at most
+// that many bounces, as the scene's Max Bounces would for it alone (Blender 3.4 measured:
+// a lamp's max bounces 0 and 1 render bit for bit as the scene's 0 and 1). The Cornell box
+// lit by lamps with a radius (so every strategy meets them) instead of its mesh lamp.
+json cornell_lamps(int limited_bounces) {
+  json scene = load_scene("cornell_box.json");
+  json meshes = json::array();
+  for (const auto &m : scene["meshes"])
+    if (m["name"] != "lamp") meshes.push_back(m);
+  scene["meshes"] = meshes;
+  scene["lights"] = json::array({{{"type", "point"}, {"position", {0.3, 0.0, 1.8}}, {"power", 60}, {"radius", 0.1}},
+                                 {{"type", "point"}, {"position", {-0.4, 0.2, 1.7}}, {"power", 30}, {"radius", 0.1}}});
+  if (limited_bounces >= 0) scene["lights"][0]["max_bounces"] = limited_bounces;
+  return scene;
+}
+
+// The path tracer: one lamp with max bounces 0 (1) is the scene's max bounces 1 (2 scattering
+// vertices) sample for sample: every decision draws from a fixed dimension, and the longer
+// paths add nothing.
+TEST(LightPathLimits, LampMaxBouncesIsTheScenesForItsLightInThePathTracer) {
+  for (int bounces : {0, 1}) {
+    json one = cornell_lamps(bounces);
+    one["lights"].erase(1);
+    json s = small({{"integrator", "path"}, {"samples", 16}, {"seed", 3}, {"max_bounces", 12}});
+    Image limited = render_json(one.dump(), s.dump());
+    one["lights"][0].erase("max_bounces");
+    s["max_bounces"] = bounces + 1;
+    Image scene_wide = render_json(one.dump(), s.dump());
+    EXPECT_EQ(std::memcmp(limited.rgba.data(), scene_wide.rgba.data(), limited.rgba.size() * sizeof(float)), 0)
+        << "lamp max bounces " << bounces;
+    s["max_bounces"] = 12;
+    EXPECT_GT(mean_of(render_json(cornell_lamps(-1).dump(), s.dump())), 1.2 * mean_of(limited)) << "the limit binds";
+  }
+}
+
+// Every strategy keeps the same paths: BDPT against the path tracer, mlt against BDPT, with
+// a lamp at max bounces 0 and 1 beside an unlimited one.
+TEST(LightPathLimits, LampMaxBouncesInBdptAndMetropolis) {
+  const json limits = {{"max_bounces", 8}};
+  for (int bounces : {0, 1}) {
+    const json scene = cornell_lamps(bounces);
+    const std::string what = "lamp max bounces " + std::to_string(bounces);
+    expect_same_image(scene, limits, what, {"path", 128}, {"bdpt", 32}, true);
+    expect_mlt_matches_bdpt(scene, limits, what, 32, 64);
+  }
+}
+

@@ -1,4 +1,5 @@
 #include "lights/light.h"
+#include <algorithm>
 #include "core/sampling.h"
 #include "lights/environment.h"
 #include "lights/sphere_lamp.h"
@@ -86,6 +87,8 @@ Light make_light(Params &p) {
   const bool camera = p.get_bool("visible_camera", false);
   l.visibility = visibility::from_params(p, visibility::kNonCamera | (camera ? visibility::kCamera : 0));
   l.shadow_catcher = p.get_bool("shadow_catcher", true);
+  // Blender's default, 1024, is no limit in practice.
+  l.max_bounces = std::max(-1, p.get_int("max_bounces", -1));
   p.check_all_used();
   return l;
 }

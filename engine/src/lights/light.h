@@ -58,6 +58,14 @@ struct Light {
   // triangles: their instance's; the world: its own.
   uint32_t visibility = visibility::kNonCamera;
   bool visible_camera() const { return visibility & visibility::kCamera; }
+  // Cycles' Light > Max Bounces (lamps: light.cycles.max_bounces): the light lights only
+  // the paths of at most this many bounces, as the scene's Max Bounces would for it alone
+  // (0: direct light only); -1: no limit. A function of the path, so every strategy of
+  // every integrator keeps the same paths.
+  int max_bounces = -1;
+  // Whether it lights a path with `scatterings` scattering vertices (passes through
+  // transparent layers not counted): scatterings - 1 bounces.
+  bool lights_path(int scatterings) const { return max_bounces < 0 || scatterings - 1 <= max_bounces; }
   // What blocks the last segment of a path from a scattering vertex to this light: the
   // instances visible to shadow rays, or nothing for a lamp that casts no shadows (an
   // emissive object hidden from shadow rays only casts no shadow itself).

@@ -226,7 +226,9 @@ class Bdpt final : public TileIntegrator {
   // Scenes with mixed visibility: the last segment of the path is tested against what
   // casts each light's shadows (integrators/visibility_clear.h), counting rays in stats.
   // catcher_only: a catcher copy's (only the catcher pass's lights; shadow rays meet catchers only).
-  Color Le(const PathVertex &v, const PathVertex &toward, RayStats &stats, bool catcher_only = false) const;
+  // scatterings: the path's scattering vertices, for the lights' Max Bounces (-1: none checked).
+  Color Le(const PathVertex &v, const PathVertex &toward, RayStats &stats, bool catcher_only = false,
+           int scatterings = -1) const;
   // Ray visibility: whether the light a light subpath of s >= 2 vertices starts at is
   // visible to the kind of scattering at light_path[1], whose next direction is `wi`
   // when s == 2 (else toward light_path[2]).

@@ -30,7 +30,8 @@ Scattering Bdpt::scatter(const PathVertex &v, Vec3 wi, TransportMode mode, const
 
 // Radiance a light vertex (or an emissive surface) sends toward `toward`, a camera-path
 // vertex (its out_mask: the kind of ray that found v).
-Color Bdpt::Le(const PathVertex &v, const PathVertex &toward, RayStats &stats, bool catcher_only) const {
+Color Bdpt::Le(const PathVertex &v, const PathVertex &toward, RayStats &stats, bool catcher_only,
+              int scatterings) const {
   if (!v.is_light()) return Color(0.0f);
   // A catcher copy's shadow rays meet shadow catchers only.
   auto occluders = [catcher_only](const Light &light) {
@@ -48,12 +49,14 @@ Color Bdpt::Le(const PathVertex &v, const PathVertex &toward, RayStats &stats, b
       if (!(light.visibility & toward.out_mask)) continue;  // camera rays: suns are not seen
       if (transparent_world && light.type == LightType::Background) continue;
       if (catcher_only && !light.shadow_catcher) continue;
+      if (scatterings >= 0 && !light.lights_path(scatterings)) continue;
       if (test_shadows && !visibility_clear(scene_, s, occluders(light), true, stats.rays, true)) continue;
       L += infinite_light_radiance(light, v.dir);
     }
     return L;
   }
   if (catcher_only && v.light >= 0 && !scene_.lights()[v.light].shadow_catcher) return Color(0.0f);
+  if (scatterings >= 0 && v.light >= 0 && !scene_.lights()[v.light].lights_path(scatterings)) return Color(0.0f);
   if (test_shadows && v.light >= 0 &&
       !visibility_clear(scene_, shadow_ray(toward.p, toward.ng, toward.error, v.p, v.ng, v.error),
                         occluders(scene_.lights()[v.light]), true, stats.rays, true))
@@ -119,12 +122,15 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
   const int scatterings = path_scatterings(light_path, camera_path, s, t);
   if (!limits.transparent_within(passes, scatterings > 0)) return L;
   const int layers = limits.layers_left(passes, kShadowLayers);
+  // A light subpath's light, by its Max Bounces (next-event estimation checks its own
+  // light below, the camera path's emitter in Le).
+  if (s >= 2 && light_path[0].light >= 0 && !scene_.lights()[light_path[0].light].lights_path(scatterings)) return L;
   PathVertex sampled;
   ConnectionDensities densities;
   constexpr ScatterKind kNone = ScatterKind::Transparent;
   if (s == 0) {
     if (limits.classify && !limits_keep(light_path, camera_path, 0, t, kNone, kNone)) return L;
-    L = Le(pt, camera_path[t - 2], stats, catcher_copy) * pt.beta;
+    L = Le(pt, camera_path[t - 2], stats, catcher_copy, scatterings) * pt.beta;
     if (!is_black(L) && t > 2) {
       light_densities(pt, camera_path[t - 2], densities.pt_rev, densities.pt_minus_rev);
     }
@@ -176,6 +182,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     uint32_t index = uint32_t(dist.sample_discrete(u_light, &pmf));
     const Light &light = scene_.lights()[index];
     if (catcher_copy && !light.shadow_catcher) return L;  // the synthetic objects' light
+    if (!light.lights_path(scatterings)) return L;  // its Max Bounces
     Vec3 u_volume(0.0f);
     if (light.type == LightType::Volume)
       u_volume = dims::volume_point(sampler, SampleStream::LightPoint, dims::next_event(vertex, dims::kNeeVolumePoint));

@@ -653,9 +653,12 @@ bool PathSpace::regenerate(ExplicitPath &y, int l, int na, int j, Pcg32 &rng, Ra
 
 // ---- f and the densities ----
 
-Color PathSpace::emitted(const ExplicitVertex &light_vertex, Vec3 w, uint32_t ray_kind, bool background) const {
+Color PathSpace::emitted(const ExplicitVertex &light_vertex, Vec3 w, uint32_t ray_kind, bool background,
+                         int scatterings) const {
   Light moved;
   const Light &l = scene_.light_now(uint32_t(light_vertex.v.light), moved);
+  if (!l.lights_path(scatterings) && !(light_vertex.v.infinite && !light_is_delta_direction(l)))
+    return Color(0.0f);  // its Max Bounces (lights at infinity: each below)
   if (light_vertex.v.infinite) {
     // A sun without an angle: its irradiance (a delta in direction, as a point lamp's
     // intensity is one in position; no camera ray meets it). The others: the sum of the
@@ -666,6 +669,7 @@ Color PathSpace::emitted(const ExplicitVertex &light_vertex, Vec3 w, uint32_t ra
     for (uint32_t index : infinite_lights_) {
       const Light &light = scene_.lights()[index];
       if (!background && light.type == LightType::Background) continue;
+      if (!light.lights_path(scatterings)) continue;
       if (light.visibility & ray_kind) L += infinite_light_radiance(light, light_vertex.v.dir);
     }
     return L;
@@ -1191,9 +1195,10 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     if (n > 2 && v.v.type == VertexType::Surface && !v.v.delta) world_left_out *= escape_weight(v, last.v.dir);
   }
   const Vec3 w_light = -toward(y.x[size_t(n - 2)], last);
-  Color emission = emitted(last, w_light, kind_at_light, world_left_out < 1);
+  const int scatterings = n - 2 - vertex_passes;
+  Color emission = emitted(last, w_light, kind_at_light, world_left_out < 1, scatterings);
   if (world_left_out > 0 && world_left_out < 1) {
-    const Color without_world = emitted(last, w_light, kind_at_light, false);
+    const Color without_world = emitted(last, w_light, kind_at_light, false, scatterings);
     emission = emission - (emission - without_world) * float(world_left_out);
   }
   f *= emission;

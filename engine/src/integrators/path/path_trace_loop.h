@@ -50,6 +50,7 @@ static Color sample_direct_light(const Scene &scene, uint32_t vertex, Vec3 p, Ve
   uint32_t index = uint32_t(dist.sample_discrete(u_light, &pmf));
   const Light &light = scene.lights()[index];
   if (catcher_only && !light.shadow_catcher) return Color(0.0f);  // a synthetic object's light
+  if (!light.lights_path(int(vertex))) return Color(0.0f);  // its Max Bounces (vertex: the path's scatterings)
   Vec3 u_volume(0.0f);
   if (light.type == LightType::Volume)
     u_volume = dims::volume_point(sampler, SampleStream::LightPoint, dims::next_event(vertex, dims::kNeeVolumePoint));
@@ -299,7 +300,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       Vec3 q = ray.o + ray.d * tmax;
       const Light &lamp = scene_.lights()[hit_light];
       float pdf = light_pdf(lamp, prev_p, ray.d, length(q - prev_p));
-      if (shadows_allow(lamp, shadow_ray(prev_p, prev_ng, prev_error, q, Vec3(0.0f), Vec3(0.0f))))
+      if (lamp.lights_path(depth) && shadows_allow(lamp, shadow_ray(prev_p, prev_ng, prev_error, q, Vec3(0.0f), Vec3(0.0f))))
         add_found(beta * light_L * emission_weight(hit_light, pdf), depth);
       // Not a bounce: on from the lamp's point to what lies behind it.
       if (++boundary_crossings > 256) break;
@@ -320,6 +321,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
         if (!(light.visibility & ray.mask)) continue;  // camera rays: suns are not seen, the world is unless hidden
         if (transparent_world && light.type == LightType::Background) continue;
         if (kCatcher && catcher_only && !light.shadow_catcher) continue;
+        if (!light.lights_path(depth)) continue;  // its Max Bounces
         if (!shadows_allow(light, shadow_ray_to_infinity(prev_p, prev_ng, prev_error, ray.d))) continue;
         Color Le = infinite_light_radiance(light, ray.d);
         if (!is_black(Le)) {
