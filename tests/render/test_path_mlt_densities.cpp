@@ -1118,6 +1118,15 @@ TEST(PathMltDensities, RadiusLampRatiosMatchBruteForce) {
   check_scene("fog_door.json (5 cm spot)", fog, 16000, 20);
 }
 
+// A box of homogeneous fog (medium 0, BruteForce::box) under the Cornell box's ceiling.
+const Vec3 kFogBoxLo(-0.8f, -0.8f, 1.35f), kFogBoxHi(0.8f, 0.8f, 1.85f);
+void add_fog_box(nlohmann::json &scene) {
+  scene["materials"].push_back(
+      {{"name", "fog"}, {"type", "volume"}, {"volume", {{"density", 0.8}, {"color", {0.9, 0.9, 0.9}}, {"anisotropy", 0.3}}}});
+  scene["meshes"].push_back({{"name", "fog_box"}, {"shape", {{"type", "box"}, {"size", {1.6, 1.6, 0.5}}}},
+                             {"materials", {"fog"}}, {"transform", {{"translate", {0, 0, 1.6}}}}});
+}
+
 // Equiangular distances toward point and spot lamps (mlt/equiangular.h; the 5 cm spot above
 // is a sphere lamp): the fog through the door lit by two point lamps without a radius, one
 // outside the door and a dim one in the room (the lamp chosen by power), and the Cornell box
@@ -1131,14 +1140,10 @@ TEST(PathMltDensities, EquiangularRatiosMatchBruteForce) {
        {{"name", "inside"}, {"type", "point"}, {"position", {0.3, -0.4, 1.9}}, {"power", 60}, {"radius", 0}}});
   check_scene("fog_door.json (two point lamps)", fog, 8000, 20);
   nlohmann::json box = test::load_scene("cornell_box.json");
-  box["materials"].push_back(
-      {{"name", "fog"}, {"type", "volume"}, {"volume", {{"density", 0.8}, {"color", {0.9, 0.9, 0.9}}, {"anisotropy", 0.3}}}});
-  box["meshes"].push_back({{"name", "fog_box"}, {"shape", {{"type", "box"}, {"size", {1.6, 1.6, 0.5}}}},
-                           {"materials", {"fog"}}, {"transform", {{"translate", {0, 0, 1.6}}}}});
+  add_fog_box(box);
   box["lights"] = nlohmann::json::array(
       {{{"name", "bulb"}, {"type", "point"}, {"position", {0.4, 0.3, 1.2}}, {"power", 30}, {"radius", 0.1}}});
-  const Vec3 lo(-0.8f, -0.8f, 1.35f), hi(0.8f, 0.8f, 1.85f);
-  check_scene("cornell_box.json (fog box, point lamp)", box, 3000, 20, 0, &lo, &hi);
+  check_scene("cornell_box.json (fog box, point lamp)", box, 3000, 20, 0, &kFogBoxLo, &kFogBoxHi);
 }
 
 // Lamps are hidden from camera rays (Cycles), so a camera ray passes a lamp in view: the
@@ -1231,18 +1236,14 @@ nlohmann::json cornell_with_layers() {
 TEST(PathMltDensities, TransparentLayersRatiosMatchBruteForce) {
   check_scene("cornell_box.json (layers)", cornell_with_layers(), 1500, 20);
   nlohmann::json fog = cornell_with_layers();
-  fog["materials"].push_back(
-      {{"name", "fog"}, {"type", "volume"}, {"volume", {{"density", 0.8}, {"color", {0.9, 0.9, 0.9}}, {"anisotropy", 0.3}}}});
-  fog["meshes"].push_back({{"name", "fog_box"}, {"shape", {{"type", "box"}, {"size", {1.6, 1.6, 0.5}}}},
-                           {"materials", {"fog"}}, {"transform", {{"translate", {0, 0, 1.6}}}}});
-  const Vec3 lo(-0.8f, -0.8f, 1.35f), hi(0.8f, 0.8f, 1.85f);
-  check_scene("cornell_box.json (layers, fog box)", fog, 3000, 20, 0, &lo, &hi);
+  add_fog_box(fog);
+  check_scene("cornell_box.json (layers, fog box)", fog, 3000, 20, 0, &kFogBoxLo, &kFogBoxHi);
   // The lamp on the fog box's top face: its media depend on the direction a ray leaves it by
   // (PathSpace::stack_toward; with the ones found along the emission direction, paths into
   // the box counted the fog twice and saw fog above it: 2,241 ratios failed here, and a
   // 64 px render of the box without layers was 0.9864 of BDPT's mean, now 1.0031).
   fog["lights"][0]["position"] = {0.3, 0.2, 1.85};
-  check_scene("cornell_box.json (layers, fog box, lamp on its face)", fog, 3000, 20, 0, &lo, &hi);
+  check_scene("cornell_box.json (layers, fog box, lamp on its face)", fog, 3000, 20, 0, &kFogBoxLo, &kFogBoxHi);
 }
 
 // Lights at infinity (path_space.h): the Cornell box with its lamp taken out of the ceiling
@@ -1271,12 +1272,8 @@ TEST(PathMltDensities, InfiniteLightsRatiosMatchBruteForce) {
   j["world"] = {{"color", {0.05, 0.06, 0.08}}};
   check_scene("mirror_caustic.json (sun, world)", j, 20000, 20, 100);
   nlohmann::json fog = cornell_window();
-  fog["materials"].push_back(
-      {{"name", "fog"}, {"type", "volume"}, {"volume", {{"density", 0.8}, {"color", {0.9, 0.9, 0.9}}, {"anisotropy", 0.3}}}});
-  fog["meshes"].push_back({{"name", "fog_box"}, {"shape", {{"type", "box"}, {"size", {1.6, 1.6, 0.5}}}},
-                           {"materials", {"fog"}}, {"transform", {{"translate", {0, 0, 1.6}}}}});
-  const Vec3 lo(-0.8f, -0.8f, 1.35f), hi(0.8f, 0.8f, 1.85f);
-  check_scene("cornell_box.json (window, fog box)", fog, 3000, 20, 0, &lo, &hi);
+  add_fog_box(fog);
+  check_scene("cornell_box.json (window, fog box)", fog, 3000, 20, 0, &kFogBoxLo, &kFogBoxHi);
 }
 
 // Textured emission (the lamp's colour an image): f reads the texture at the vertex; the

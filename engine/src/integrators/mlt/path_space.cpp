@@ -246,6 +246,17 @@ bool PathSpace::trace_step(Ray ray, MediumStack media, Side side, Pcg32 &rng, Ra
                            bool to_light, float kept_flight) const {
   if (!is_finite(ray.o) || !is_finite(ray.d) || !(length_squared(ray.d) > 0)) return false;
   if (kept_flight == kNotKeepable || (kept_flight >= 0 && !media_)) return false;
+  // On past a surface that makes no vertex (an index-matched boundary, a plain layer
+  // passed): the ray goes on from it, a kept distance measured from its new origin (false:
+  // that distance lies before it).
+  auto go_past = [&](const SurfaceHit &hit, const CoincidentBoundary &boundary) {
+    if (media_) media.cross(scene_, hit, boundary, ray.d);
+    const float tmax = std::isinf(ray.tmax) ? kInf : ray.tmax - hit.t;
+    const Vec3 o = spawn_origin(hit.p, hit.ng, hit.error, ray.d);
+    kept_flight = kept_past(kept_flight, dot(o - ray.o, ray.d));
+    ray = Ray{o, ray.d, tmax, ray.mask};
+    return kept_flight != kNotKeepable;
+  };
   for (int guard = 0; guard < 256; ++guard) {
     SurfaceHit hit;
     CoincidentBoundary boundary;
@@ -290,12 +301,7 @@ bool PathSpace::trace_step(Ray ray, MediumStack media, Side side, Pcg32 &rng, Ra
         }
       }
       if (found && lamp < 0 && scene_.is_boundary_only(hit.material)) {  // an index-matched boundary: no vertex
-        media.cross(scene_, hit, boundary, ray.d);
-        float tmax = std::isinf(ray.tmax) ? kInf : ray.tmax - hit.t;
-        const Vec3 o = spawn_origin(hit.p, hit.ng, hit.error, ray.d);
-        kept_flight = kept_past(kept_flight, dot(o - ray.o, ray.d));
-        if (kept_flight == kNotKeepable) return false;
-        ray = Ray{o, ray.d, tmax, ray.mask};
+        if (!go_past(hit, boundary)) return false;
         continue;
       }
     }
@@ -307,12 +313,7 @@ bool PathSpace::trace_step(Ray ray, MediumStack media, Side side, Pcg32 &rng, Ra
       bool pass = kept_flight >= 0;
       if (!pass) pass = rng.next_float() < scene_.bsdf(hit, -ray.d).pass_probability(-ray.d);
       if (pass) {
-        if (media_) media.cross(scene_, hit, boundary, ray.d);
-        float tmax = std::isinf(ray.tmax) ? kInf : ray.tmax - hit.t;
-        const Vec3 o = spawn_origin(hit.p, hit.ng, hit.error, ray.d);
-        kept_flight = kept_past(kept_flight, dot(o - ray.o, ray.d));
-        if (kept_flight == kNotKeepable) return false;
-        ray = Ray{o, ray.d, tmax, ray.mask};
+        if (!go_past(hit, boundary)) return false;
         continue;
       }
     }
