@@ -554,33 +554,31 @@ KindSplit Bsdf::kind_split(Vec3 wo_w, Vec3 wi_w, bool delta) const {
                                                                                          : 2);
 }
 
-float Bsdf::pass_probability(Vec3 wo) const {
-  if (n_ == 0 || dot(wo, ng_) <= 0) return 0;  // sample() fails
+float Bsdf::transparent_pick() const {
   float q = 0;
   for (int i = 0; i < n_; ++i)
     if (lobes_[i].type == LobeType::Transparent) q += pick_[i];
   return q;
 }
 
+float Bsdf::pass_probability(Vec3 wo) const {
+  if (n_ == 0 || dot(wo, ng_) <= 0) return 0;  // sample() fails
+  return transparent_pick();
+}
+
 float Bsdf::scattering_lobe_u(float u) const {
-  float pass = 0;
-  for (int i = 0; i < n_; ++i)
-    if (lobes_[i].type == LobeType::Transparent) pass += pick_[i];
+  const float pass = transparent_pick();
   if (!(pass < 1)) return u;  // nothing else to pick: sample() passes (the caller fails)
-  float left = u * (1 - pass), cdf = 0;  // how far into the other lobes' picks
-  int last = -1;
+  float left = u * (1 - pass), cdf = 0, last_end = 0;  // left: how far into the other lobes' picks
   for (int i = 0; i < n_; ++i) {
     if (lobes_[i].type != LobeType::Transparent) {
       if (left < pick_[i]) return cdf + left;
       left -= pick_[i];
-      last = i;
+      last_end = cdf + pick_[i];
     }
     cdf += pick_[i];
   }
-  // Rounding left a sliver past the last one: its end.
-  float end = 0;
-  for (int i = 0; i <= last; ++i) end += pick_[i];
-  return std::nextafter(end, 0.0f);
+  return std::nextafter(last_end, 0.0f);  // rounding left a sliver past the last one: its end
 }
 
 bool Bsdf::passes_straight_through(Vec3 wo, Vec3 wi) const {

@@ -235,6 +235,8 @@ class Bsdf {
   Vec3 geometric_normal() const { return ng_; }
 
  private:
+  // The selection probability of the Transparent lobes (pass_probability, scattering_lobe_u).
+  float transparent_pick() const;
   float shading_correction(Vec3 wo, Vec3 wi, TransportMode mode) const;
   void copy_from(const Bsdf &o) {
     frame_ = o.frame_;

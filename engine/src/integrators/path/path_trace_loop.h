@@ -300,7 +300,8 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       Vec3 q = ray.o + ray.d * tmax;
       const Light &lamp = scene_.lights()[hit_light];
       float pdf = light_pdf(lamp, prev_p, ray.d, length(q - prev_p));
-      if (lamp.lights_path(depth) && shadows_allow(lamp, shadow_ray(prev_p, prev_ng, prev_error, q, Vec3(0.0f), Vec3(0.0f))))
+      if (lamp.lights_path(depth) &&
+          shadows_allow(lamp, shadow_ray(prev_p, prev_ng, prev_error, q, Vec3(0.0f), Vec3(0.0f))))
         add_found(beta * light_L * emission_weight(hit_light, pdf), depth);
       // Not a bounce: on from the lamp's point to what lies behind it.
       if (++boundary_crossings > 256) break;
