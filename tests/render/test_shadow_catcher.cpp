@@ -352,8 +352,9 @@ TEST(ShadowCatcher, BdptMatchesThePathTracer) {
 // ball seen, no splat of it) the pass is that ratio up to rounding but where light tracing
 // reached the floor behind the ball (the copy's splats from points the camera cannot see
 // are dropped, the render without the ball keeps them): a few pixels by the ball. The lamp
-// hidden from the render without the ball still casts shadows: a lamp that casts none makes
-// BDPT trace camera subpaths only (Bdpt::camera_side_only), other strategies than the copy's.
+// hidden from the render without the ball still casts shadows: a lamp that casts none is
+// mixed visibility, which takes strategies from some paths (integrators/bdpt/bdpt.h): other
+// MIS weights than the copy's.
 void expect_bdpt_lit_ratio(const json &lamp, bool lamp_in_pass) {
   json lamp_hidden = kHidden;
   lamp_hidden["shadow"] = true;

@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include "api/handles.h"
+#include "core/ray_offset.h"
 #include "integrators/bdpt/bdpt.h"
 #include "integrators/filter_glossy.h"
 #include "lights/light.h"
@@ -69,6 +70,11 @@ double to_area(double pdf_solid_angle, const PathVertex &a, const PathVertex &b)
 // vertices are blurred here), the camera walk samples with it and the light walk with the
 // unblurred one, and a strategy whose light walk sampled at a vertex the blur changed has
 // density 0.
+// Mixed ray visibility (Scene::has_mixed_visibility; integrators/bdpt/bdpt.h): a light walk
+// meets what any kind of ray but the camera's sees and passes no surface of mixed
+// visibility, so a strategy whose light walk would have to make a segment with one on it
+// (or, from a lamp that casts no shadows, any surface seen after a scattering) has density
+// 0; here each segment is asked afresh, between the path's two points.
 double brute_force_weight(const Scene &scene, const std::vector<const PathVertex *> &y, int s,
                           float filter_glossy = 0) {
   const int n = int(y.size());
@@ -120,9 +126,20 @@ double brute_force_weight(const Scene &scene, const std::vector<const PathVertex
   from_camera[n - 2] = to_area(cam_dir, *y[n - 1], *y[n - 2]);
   for (int i = n - 3; i >= 0; --i)
     from_camera[i] = to_area(path_bsdf[i + 1].pdf(dir(i + 1, i + 2), dir(i + 1, i)), *y[i + 1], *y[i]);
+  // Which segments y[i] -> y[i + 1] a light walk can make.
+  std::vector<bool> light_walk_makes(n, true);
+  if (scene.has_mixed_visibility()) {
+    for (int i = 0; i + 2 < n; ++i) {
+      const ShadowRay segment = shadow_ray(y[i]->p, y[i]->ng, y[i]->error, y[i + 1]->p, y[i + 1]->ng, y[i + 1]->error);
+      const uint32_t passed = i == 0 && !light.occluders() ? visibility::kNonCamera : visibility::kMixed;
+      light_walk_makes[i] = !scene.occluded(segment.o, segment.d, segment.tmax, passed);
+    }
+  }
   // Strategies with 0 .. n-1 light vertices (at least the camera vertex comes from
   // the camera; t = 1 connects to the lens, which the pinhole camera allows).
   auto density = [&](int k) {
+    for (int i = 0; i <= k - 2; ++i)
+      if (!light_walk_makes[i]) return 0.0;  // the light walk would pass a surface it cannot
     for (int i = 1; i <= k - 2; ++i)
       if (changed[i]) return 0.0;  // the light walk sampled at a vertex the blur changed
     double p = k == 1 ? nee_origin : 1.0;
@@ -317,5 +334,22 @@ TEST(BdptMisWeights, SphereLampCornellBoxMatchesBruteForce) {
   auto &meshes = doc["meshes"];
   meshes.erase(meshes.end() - 1);  // the lamp quad
   doc["lights"] = {{{"name", "bulb"}, {"type", "point"}, {"position", {0.1, -0.2, 1.5}}, {"power", 100}, {"radius", 0.3}}};
+  expect_weights_match_brute_force(doc, 2000);
+}
+
+// Mixed ray visibility (integrators/bdpt/bdpt.h): glossy walls (so scatterings are of both
+// kinds), the tall block hidden from diffuse rays and the short one from glossy rays. Paths
+// pass through a block where the kind of their ray does not see it; no light walk can make
+// such a segment, so the strategies that would need one must have no share, whichever
+// strategy made the path (the camera walk's segments, a connection's).
+TEST(BdptMisWeights, MixedVisibilityCornellBoxMatchesBruteForce) {
+  nlohmann::json doc = cornell_box();
+  for (auto &m : doc["materials"])
+    if (m["name"] == "white")
+      m = {{"name", "white"}, {"type", "principled"}, {"base_color", {0.8, 0.8, 0.8}}, {"roughness", 0.3}};
+  for (auto &mesh : doc["meshes"]) {
+    if (mesh["name"] == "tall_block") mesh["visibility"] = {{"diffuse", false}};
+    if (mesh["name"] == "short_block") mesh["visibility"] = {{"glossy", false}};
+  }
   expect_weights_match_brute_force(doc, 2000);
 }

@@ -34,6 +34,12 @@ static bdpt::BdptSettings bdpt_settings(const RenderSettings &settings, const Sc
                 "power heuristic");
     b.mis = bdpt::MisHeuristic::Power;
   }
+  if (b.mis == bdpt::MisHeuristic::LafortuneWillems && scene.has_mixed_visibility()) {
+    // Likewise mixed ray visibility takes the light-walk strategies from some paths (bdpt.h).
+    scene.warn(scene.mixed_visibility_object() + " is seen by some kinds of ray but not by others (ray visibility): "
+               "mis 'lafortune_willems' cannot tell which strategies that rules out, so BDPT uses the power heuristic");
+    b.mis = bdpt::MisHeuristic::Power;
+  }
   return b;
 }
 
@@ -43,10 +49,6 @@ std::unique_ptr<Integrator> make_integrator(const RenderSettings &settings, cons
     scene.warn("'clamp' (the sample clamp) is not applied by " + settings.integrator +
                 ": it caps a camera sample's value, which " + settings.integrator +
                 "'s states (one strategy, or one path) do not have; path, bdpt and pssmlt apply it");
-  if (scene.has_mixed_visibility() && settings.integrator != "path")
-    scene.warn(scene.mixed_visibility_object() + " is seen by some kinds of ray but not by others (ray visibility): " +
-                "light subpaths cannot follow that, so " + settings.integrator +
-                " uses only its camera-path strategies (path tracing with next-event estimation) for this scene");
   if (settings.integrator == "bdpt") return std::make_unique<bdpt::Bdpt>(scene, bdpt_settings(settings, scene));
   if (settings.integrator == "pssmlt" || settings.integrator == "mmlt") {
     mlt::MltSettings m;

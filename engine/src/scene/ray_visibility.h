@@ -30,12 +30,23 @@ constexpr uint32_t kAnyRay = 0xffffffffu;
 // that kind and nothing else. The bits no kind uses stay set on every instance, so rays of
 // every kind (kAnyRay) meet them all, and masks of kinds below the shift are as before.
 constexpr int kCatcherShift = 8;
-inline uint32_t instance_mask(uint32_t visibility, bool shadow_catcher) {
-  const uint32_t unused_bits = ~(kAll | (kAll << kCatcherShift));
-  return visibility | unused_bits | (shadow_catcher ? visibility << kCatcherShift : 0u);
+// Mixed visibility: an instance seen by some kinds of ray after a scattering and not by
+// others (or by shadow rays alone) carries kMixed too, so one query with that mask finds
+// the nearest such surface (BDPT's test of what light subpaths can follow,
+// integrators/bdpt/bdpt.h). It is no kind: no ray of the kinds above asks for it.
+constexpr uint32_t kMixed = 64;
+inline bool is_mixed(uint32_t visibility) {
+  const uint32_t rest = visibility & kNonCamera;
+  return rest != 0 && rest != kNonCamera;
 }
-// The mask of a catcher pass's ray of the kinds in `mask` (kAnyRay: every kind).
-inline uint32_t catcher_rays(uint32_t mask) { return (mask & kAll) << kCatcherShift; }
+inline uint32_t instance_mask(uint32_t visibility, bool shadow_catcher) {
+  const uint32_t own = visibility | (is_mixed(visibility) ? kMixed : 0u);
+  const uint32_t used = kAll | kMixed;
+  return own | ~(used | (used << kCatcherShift)) | (shadow_catcher ? own << kCatcherShift : 0u);
+}
+// The mask of a catcher pass's ray of the kinds in `mask` (kAnyRay: every kind; kMixed:
+// the catchers of mixed visibility).
+inline uint32_t catcher_rays(uint32_t mask) { return (mask & (kAll | kMixed)) << kCatcherShift; }
 
 // The kind of the ray leaving a scattering of kind k.
 inline uint32_t after(ScatterKind k) {

@@ -513,8 +513,7 @@ void Scene::find_ray_visibility() {
     const Instance &inst = instances_[i];
     if (!inst.enabled || inst.visibility == kAll) continue;
     const std::string what = "object '" + meshes_[inst.mesh].name + "' (instance " + std::to_string(i) + ")";
-    const uint32_t rest = inst.visibility & kNonCamera;
-    if (rest != 0 && rest != kNonCamera) mixed(what);
+    if (is_mixed(inst.visibility)) mixed(what);
     else hidden(what);
   }
   for (uint32_t i = 0; i < user_lights_.size(); ++i) {

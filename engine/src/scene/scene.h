@@ -110,6 +110,16 @@ class Scene {
   bool occluded(Vec3 o, Vec3 d, float tmax, uint32_t mask = visibility::kAnyRay) const {
     return accel_.occluded(o, d, tmax, mask);
   }
+  // The nearest surface along ray (its mask: visibility::kMixed, or catcher_rays of it) of
+  // an instance of mixed visibility: its distance, instance and triangle; false if none.
+  bool nearest_mixed(const Ray &ray, float &t, uint32_t &instance, uint32_t &prim) const {
+    RawHit raw;
+    if (!accel_.intersect(ray, raw)) return false;
+    t = raw.t;
+    instance = raw.instance;
+    prim = raw.prim;
+    return true;
+  }
   // What textures need at a hit: object / generated coordinates, named attributes, UV
   // tangents, and the footprint of a ray along dir that is `width` wide there.
   ShadingPoint shading_point(const SurfaceHit &hit, Vec3 dir = Vec3(0.0f), float width = 0) const;

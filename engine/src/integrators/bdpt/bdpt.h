@@ -46,6 +46,9 @@ struct ConnectionDensities {
   // camera path could not have found the light (something visible to its kind lies
   // between), so s = 0 is no strategy for this path.
   bool s0_impossible = false;
+  // Mixed visibility: no light walk could have made the connection's segment (see
+  // Bdpt), so no strategy with fewer camera vertices makes the path.
+  bool light_cut = false;
   // Filter Glossy: the connection's light vertex q_s has a BSDF the blur changed (by the
   // path's camera-side densities), so no light walk could have sampled past it.
   bool qs_blurred = false;
@@ -63,15 +66,27 @@ void set_mis_sum(PathVertex *path, int k, bool delta_before, bool balance);
 class Bdpt final : public TileIntegrator {
  public:
   Bdpt(const Scene &scene, const BdptSettings &settings)
-      : scene_(scene), settings_(settings), camera_side_only_(scene.has_mixed_visibility()),
+      : scene_(scene), settings_(settings), mixed_(scene.has_mixed_visibility()),
         catchers_(scene.has_shadow_catchers()) {}
-  // Ray visibility that some kinds of ray after a scattering see and others do not
-  // (Scene::has_mixed_visibility): a ray traced from a light cannot know which kind of
-  // scattering will take up the path it reaches, so light subpaths cannot follow such
-  // visibility. Then only the strategies of the camera subpath run (s = 0 and s = 1: path
-  // tracing with next-event estimation), MIS-weighted between the two alone, in BDPT and
-  // in the Metropolis integrators built on it.
-  bool camera_side_only() const { return camera_side_only_; }
+  // Mixed visibility (Scene::has_mixed_visibility): objects that some kinds of ray after a
+  // scattering see and others do not, or lamps that cast no shadows. A path's contribution
+  // is the path tracer's: each segment traced as the kind of the scattering at its camera
+  // end, which must see the vertex it reaches, and the last one blocked by the light's
+  // shadow casters. A light walk cannot know the kind of a segment until the vertex it
+  // reaches scatters on, so:
+  // - light walks meet what any kind but the camera's sees and end where they would pass a
+  //   surface of mixed visibility without a vertex (a plain layer);
+  // - a light vertex's segment is checked once the scattering at its camera end is known
+  //   (the walk's next direction, or a connection): the vertex before must be visible to
+  //   that kind, else the walk ends there (a path the camera side does not have);
+  // - a connection traces the kind of its camera vertex's scattering;
+  // - the strategies that would need a light walk to make a segment with a surface of
+  //   mixed visibility on it (or, toward a lamp that casts no shadows, any surface seen by
+  //   rays after a scattering) cannot make the path: camera walks test each segment they
+  //   make (one more ray: Scene::nearest_mixed) and mark the vertex they reach
+  //   (PathVertex::light_cut), connections theirs (ConnectionDensities::light_cut), and the
+  //   MIS weights leave those strategies out.
+  // Every other segment a light walk makes, a camera walk can make too.
   Color Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
            std::vector<Splat> &splats) const override;
 
@@ -185,11 +200,14 @@ class Bdpt final : public TileIntegrator {
                   TransportMode mode, PathVertex *path, Color *emitted, RayCone cone = {},
                   DataPassSample *data = nullptr, bool see_through_only = false, bool catcher_copy = false) const;
   // catcher_only: the walk of a catcher copy past its split (its shadow rays meet catchers only).
-  // layers: the plain layers the walk passed since path[n].
+  // layers: the plain layers the walk passed since path[n]. light_cut: no light walk makes
+  // the segment to the lamp point (PathVertex::light_cut); cut_from: nor to the gathered
+  // points this far along the ray or further.
   Color lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathVertex *path, int n, int layers,
-                      float pdf_dir, RayStats &stats, bool catcher_only) const;
+                      float pdf_dir, bool light_cut, RayStats &stats, bool catcher_only) const;
   void gather_volume_emission(const Medium &medium, const Ray &ray, float tmax, SampleRun &rng, Color beta,
-                              PathVertex *path, int n, int layers, float pdf_dir, Color &emitted) const;
+                              PathVertex *path, int n, int layers, float pdf_dir, float cut_from,
+                              Color &emitted) const;
   // Densities (mis.cpp), area measure at the receiving vertex.
   void light_densities(const PathVertex &light_vertex, const PathVertex &v, float &origin, float &toward) const;
   void split_sphere_lamp_density(const Light &lamp, const PathVertex &light_vertex, Vec3 v, float &origin,
@@ -231,8 +249,14 @@ class Bdpt final : public TileIntegrator {
            int scatterings = -1) const;
   // Ray visibility: whether the light a light subpath of s >= 2 vertices starts at is
   // visible to the kind of scattering at light_path[1], whose next direction is `wi`
-  // when s == 2 (else toward light_path[2]).
+  // when s == 2 (else toward light_path[2]); with mixed visibility, also whether
+  // light_path[s - 2] is visible to the kind of scattering at light_path[s - 1] toward wi
+  // (the walk checked the segments before: light_walk_seen).
   bool light_start_visible(const PathVertex *light_path, int s, Vec3 wi) const;
+  // Mixed visibility: whether the light walk's vertices before light_path[last] (back to its
+  // scattering before, past the vertices it passed through; not the light) are visible to
+  // the kind of light_path[last]'s scattering toward wi (its camera side).
+  bool light_walk_seen(const PathVertex *light_path, int last, Vec3 wi) const;
   // Visibility (0 or 1) or, with media, transmittance from a to b, its estimators
   // drawing at `position` of `stream` (the connection's own dimensions), through up to
   // `layers` plain layers (Scene::is_plain_layer), which the walks do not make vertices.
@@ -243,7 +267,7 @@ class Bdpt final : public TileIntegrator {
 
   const Scene &scene_;
   BdptSettings settings_;
-  bool camera_side_only_ = false;
+  bool mixed_ = false;  // Scene::has_mixed_visibility
   bool catchers_ = false;  // the scene has a shadow catcher: walks mark its vertices (PathVertex::catcher)
 };
 

@@ -38,7 +38,7 @@ Color Bdpt::Le(const PathVertex &v, const PathVertex &toward, RayStats &stats, b
     return catcher_only ? visibility::catcher_rays(light.occluders()) : light.occluders();
   };
   // Mixed visibility: the segment from a scattering vertex is blocked by shadow casters.
-  const bool test_shadows = camera_side_only_ && toward.type != VertexType::Camera;
+  const bool test_shadows = mixed_ && toward.type != VertexType::Camera;
   if (v.infinite) {
     // The world seen through a transparent film is not there (film_alpha.h).
     const bool transparent_world = v.see_through && settings_.alpha.film_transparent;
@@ -75,8 +75,24 @@ bool Bdpt::light_walk_unblurred(const PathVertex *light_path, int s, float min_p
   return true;
 }
 
+bool Bdpt::light_walk_seen(const PathVertex *light_path, int last, Vec3 wi) const {
+  const ScatterKind kind = kind_toward(light_path[last], wi);
+  if (kind == ScatterKind::Transparent) return true;  // a pass keeps the kind: the next scattering checks
+  const uint32_t ray = visibility::after(kind);
+  // Back to the light walk's scattering before (a pass lets the same ray on); the light
+  // itself is light_start_visible's.
+  for (int m = last - 1; m >= 1; --m) {
+    const PathVertex &before = light_path[m];
+    if (before.on_surface() && !(before.visibility & ray)) return false;
+    if (!before.passed_through) break;
+  }
+  return true;
+}
+
 bool Bdpt::light_start_visible(const PathVertex *light_path, int s, Vec3 wi) const {
-  if (!scene_.has_ray_visibility() || s < 2 || light_path[0].light < 0) return true;
+  if (!scene_.has_ray_visibility() || s < 2) return true;
+  if (mixed_ && s >= 3 && !light_walk_seen(light_path, s - 1, wi)) return false;
+  if (light_path[0].light < 0) return true;
   const uint32_t v = scene_.lights()[light_path[0].light].visibility;
   if ((v & visibility::kNonCamera) == visibility::kNonCamera) return true;
   if (s >= 3) wi = -light_path[2].wo;
@@ -115,7 +131,6 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
   // s = 0 needs a camera path that ended on an emitter; one that ended on a lamp (or
   // the world) counts only as s = 0.
   if (s == 0 ? !pt.is_light() : t > 1 && pt.type == VertexType::Light) return L;
-  if (camera_side_only_ && s >= 2) return L;  // light subpaths cannot follow mixed visibility
   // Transparent max bounces: the subpaths' passes, and what is left for the connection to
   // pass (plain layers; a connection's path always scatters). The clamps count scatterings.
   const int passes = path_passes(light_path, camera_path, s, t);
@@ -233,8 +248,14 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
                   : Color(0.0f);
       }
       // Mixed visibility: could the camera path have found the light along this segment?
-      if (camera_side_only_ && !is_black(L))
+      // Could a light walk have made it? It passes no surface of mixed visibility, and
+      // from a lamp that casts no shadows (nothing blocks this segment) no surface at all.
+      if (mixed_ && !is_black(L)) {
         densities.s0_impossible = !visibility_clear(scene_, shadow, rays(kind), true, stats.rays, true);
+        ++stats.rays;
+        const uint32_t passed = light.occluders() ? visibility::kMixed : visibility::kNonCamera;
+        densities.light_cut = scene_.occluded(shadow.o, shadow.d, shadow.tmax, rays(passed));
+      }
     }
   } else {
     // Both ends are surface or medium vertices (finite points).
@@ -285,10 +306,22 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     if (pt.on_surface()) { g *= absdot(pt.ns, d); cos_pt = absdot(pt.ng, d); }
     if (!(g > 0)) return Color(0.0f);
     // Without mixed visibility every instance is seen by all kinds after a scattering or
-    // by none: one mask stands for them.
+    // by none: one mask stands for them. With it, the segment is the kind of pt's
+    // scattering, which must see qs, and no light walk makes it past a surface of mixed
+    // visibility.
+    uint32_t kind = visibility::kNonCamera;
+    if (mixed_) {
+      kind = visibility::after(kind_toward(pt, -dir));
+      if (qs.on_surface() && !(qs.visibility & kind)) return Color(0.0f);
+    }
     L *= transmittance<kMedia>(qs, pt, sampler, SampleStream::Connection, dims::connection(uint32_t(s), uint32_t(t)),
-                               stats, rays(visibility::kNonCamera), layers) * g;
+                               stats, rays(kind), layers) * g;
     if (is_black(L)) return L;
+    if (mixed_) {
+      const ShadowRay segment = shadow_ray(qs.p, qs.ng, qs.error, pt.p, pt.ng, pt.error);
+      ++stats.rays;
+      densities.light_cut = scene_.occluded(segment.o, segment.d, segment.tmax, rays(visibility::kMixed));
+    }
     densities.pt_rev = sq.pdf_fwd * cos_pt * inv_d2;  // qs.convert_density(sq.pdf_fwd, pt)
     densities.pt_minus_rev = pt.to_prev_density(sp.pdf_rev);
     densities.qs_rev = sp.pdf_fwd * cos_qs * inv_d2;  // pt.convert_density(sp.pdf_fwd, qs)

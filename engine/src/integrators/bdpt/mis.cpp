@@ -85,8 +85,9 @@ static double ratio(float rev, const PathVertex &v) { return double(remap0(rev))
 void set_mis_sum(PathVertex *path, int k, bool delta_before, bool balance) {
   double r = ratio(path[k].pdf_rev, path[k]);
   // Filter Glossy: the strategies below would have a light walk sample at a vertex the
-  // blur changed (filter_glossy.h): they cannot make the path.
-  double below = k > 0 && !path[k].blurred ? path[k - 1].mis_sum : 0.0;
+  // blur changed (filter_glossy.h); mixed visibility: their light walk would have to make
+  // the segment reaching path[k] (PathVertex::light_cut). They cannot make the path.
+  double below = k > 0 && !path[k].blurred && !path[k].light_cut ? path[k - 1].mis_sum : 0.0;
   path[k].mis_sum = (balance ? r : r * r) * ((!path[k].delta && !delta_before ? 1.0 : 0.0) + below);
 }
 
@@ -130,15 +131,6 @@ float Bdpt::mis_weight(const PathVertex *light_path, const PathVertex *camera_pa
   if (s + t == 2) return 1.0f;
   const bool balance = this->balance();
   auto power = [balance](double r) { return balance ? r : r * r; };
-  if (camera_side_only_) {
-    // Only s = 0 and s = 1 run (camera_side_only): each is the other's one rival, when
-    // it can make the path (not past a delta vertex or from a delta light, nor, for s =
-    // 1, where the camera path could not have found the light).
-    double sum = 0;
-    if (s == 0 && !camera_path[t - 2].delta) sum = power(ratio(c.pt_rev, camera_path[t - 1]));
-    if (s == 1 && !c.s0_impossible && !light_start_is_delta(sampled)) sum = power(ratio(c.qs_rev, sampled));
-    return sum < HUGE_VAL ? float(1.0 / (1.0 + sum)) : 0.0f;
-  }
   if (settings_.mis == MisHeuristic::LafortuneWillems)
     return lafortune_willems_weight(light_path, camera_path, s == 1 ? sampled : light_path[0], s, t);
   // Nothing is copied or modified: the densities this strategy changes are overrides
@@ -150,25 +142,31 @@ float Bdpt::mis_weight(const PathVertex *light_path, const PathVertex *camera_pa
   // Glossy: each has its light walk sample at the vertices from its connection up to this
   // strategy's light vertex (qs), so it cannot make the path once one of them was blurred
   // (filter_glossy.h; set_mis_sum stops the running sums there). An emitter the camera
-  // path found (s = 0) is no scattering vertex.
-  if (t >= 2 && !c.qs_blurred) {
+  // path found (s = 0) is no scattering vertex. Mixed visibility: each needs a light walk
+  // to make the segments from its connection up to this strategy's, the connection's own
+  // included (c.light_cut, PathVertex::light_cut).
+  if (t >= 2 && !c.qs_blurred && !c.light_cut) {
     const PathVertex &pt_minus = camera_path[t - 2];
     const PathVertex &pt = camera_path[t - 1];
     double r = ratio(c.pt_rev, pt);
     if (!pt_minus.delta) sum += power(r);
-    if (t >= 3 && !(s > 0 && pt.blurred)) {
+    if (t >= 3 && !(s > 0 && pt.blurred) && !pt.light_cut) {
       const PathVertex &below = camera_path[t - 3];
       r *= ratio(c.pt_minus_rev, pt_minus);
-      sum += power(r) * ((!pt_minus.delta && !below.delta ? 1.0 : 0.0) + (pt_minus.blurred ? 0.0 : below.mis_sum));
+      const bool cut = pt_minus.blurred || pt_minus.light_cut;
+      sum += power(r) * ((!pt_minus.delta && !below.delta ? 1.0 : 0.0) + (cut ? 0.0 : below.mis_sum));
     }
   }
   // Light side: strategies with fewer light vertices (i = s - 1 down to 0). The light
   // point an s = 1 strategy sampled afresh stands in for the subpath's first vertex.
+  // Camera walks follow every segment a light walk made (mixed visibility: they meet what
+  // their kind sees, the light walk what any kind but the camera's sees); the segment
+  // next-event estimation made may have blocked one (c.s0_impossible).
   if (s >= 1) {
     const PathVertex &qs = s == 1 ? sampled : light_path[s - 1];
     double r = ratio(c.qs_rev, qs);
     bool delta_before = s >= 2 ? light_path[s - 2].delta : light_start_is_delta(qs);
-    if (!delta_before) sum += power(r);
+    if (!delta_before && !(s == 1 && c.s0_impossible)) sum += power(r);
     if (s >= 2) {
       const PathVertex &qs_minus = light_path[s - 2];
       r *= ratio(c.qs_minus_rev, qs_minus);

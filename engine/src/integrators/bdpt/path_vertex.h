@@ -75,6 +75,10 @@ struct PathVertex {
   float filter_pdf = kInf;
   float blur_threshold = kInf;
   bool blurred = false;
+  // Mixed visibility (camera subpaths; bdpt.h): no light walk could have made the segment
+  // that reaches this vertex, so no strategy with fewer camera vertices than this one's
+  // index + 1 makes the path (set_mis_sum stops the running sums here, as for `blurred`).
+  bool light_cut = false;
   // Ray visibility (scene/ray_visibility.h): a surface's instance's bits (scenes with ray
   // visibility), and on camera subpaths the kind of the ray that left the vertex.
   uint32_t visibility = visibility::kAll;

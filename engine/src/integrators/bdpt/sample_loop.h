@@ -59,7 +59,7 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
     first_hit->data = data;
     if (settings_.alpha.tracked()) first_hit->transparency = transparency(camera_path.data(), nc);
   }
-  int nl = camera_side_only_ ? 0 : light_subpath<kMedia>(sampler, stats, light_path.data());
+  int nl = light_subpath<kMedia>(sampler, stats, light_path.data());
 
   const bool one_strategy = settings_.strategy_s >= 0;
   // s = 1 samples its own light point: it runs even when the light subpath failed

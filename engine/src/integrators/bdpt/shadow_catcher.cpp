@@ -81,7 +81,7 @@ Color Bdpt::catcher_pass(const CameraRay &camera_ray, Sampler &sampler, RayStats
                          std::vector<Splat> &splats) const {
   // The copy's light subpath, for every sample (one per camera sample, as the main one's):
   // its light tracing lands where the camera sees the catcher.
-  const int nl = camera_side_only_ ? 0 : light_subpath<kMedia>(sampler, stats, light_path, -1, true);
+  const int nl = light_subpath<kMedia>(sampler, stats, light_path, -1, true);
   const bool one_strategy = settings_.strategy_s >= 0;
   for (int s = 2; s <= nl && s - 1 <= settings_.max_bounces; ++s) {
     if (one_strategy && (s != settings_.strategy_s || settings_.strategy_t != 1)) continue;
@@ -119,7 +119,7 @@ Color Bdpt::catcher_strategy(const CameraRay &camera_ray, Sampler &sampler, RayS
                              Vec2 *raster) const {
   // The copy's light subpath, drawn where the main one's was (the same numbers).
   auto copy_light_subpath = [&] {
-    return s < 2 || (!camera_side_only_ && light_subpath<kMedia>(sampler, stats, light_path, s, true) == s);
+    return s < 2 || light_subpath<kMedia>(sampler, stats, light_path, s, true) == s;
   };
   if (t == 1) {  // light tracing from a catcher, every sample (catcher_pass)
     if (s < 2 || !copy_light_subpath()) return Color(0.0f);

@@ -110,6 +110,14 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
   auto ray_kind = [&](ScatterKind kind) {
     return !camera ? visibility::kNonCamera : classify_rays ? visibility::after(kind) : visibility::kAnyRay;
   };
+  // Mixed visibility (bdpt.h): a camera walk tests each segment after its first for a
+  // surface of mixed visibility, which no light walk passes (segment_cut: on an earlier
+  // piece of it; the vertex it reaches takes it as light_cut); a light walk ends where it
+  // would pass one, or where the vertex before is hidden from the kind of scattering found
+  // at the new one.
+  const bool test_cuts = mixed_ && camera;
+  bool segment_cut = false;
+  auto light_segment_hidden = [&](Vec3 wi) { return !camera && mixed_ && !light_walk_seen(path, n, wi); };
   // Transparent max bounces (light_path_limits.h): a walk stops where no path through its
   // passes could count; a camera walk that has only passed through, one past the limit,
   // goes on for one more vertex, an emitter the camera may see.
@@ -143,6 +151,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       crossings = 0;
       layer_passed = false;
       layers = 0;
+      segment_cut = false;
     }
     PathVertex &prev = path[n];
     PathVertex &v = path[n + 1];
@@ -158,6 +167,23 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       found = kMedia ? scene_.intersect_media(ray, hit, boundary) : scene_.intersect(ray, hit);
     }
     float tmax = found ? hit.t : ray.tmax;
+    // The nearest surface of mixed visibility on this piece before the surface met
+    // (mixed_t), and whether that surface is one (hit_mixed: the segment ends there unless
+    // the walk passes it). cut_before(t): the segment so far, up to distance t on this
+    // piece, has one.
+    float mixed_t = kInf;
+    bool hit_mixed = false;
+    if (test_cuts && n >= 1) {
+      uint32_t instance = 0, prim = 0;
+      float t = kInf;
+      ++stats.rays;
+      const uint32_t mixed_mask = catcher_only ? visibility::catcher_rays(visibility::kMixed) : visibility::kMixed;
+      if (scene_.nearest_mixed(Ray{ray.o, ray.d, tmax, mixed_mask}, t, instance, prim)) {
+        if (found && instance == hit.instance && prim == hit.prim) hit_mixed = true;
+        else mixed_t = t;
+      }
+    }
+    auto cut_before = [&](float t) { return segment_cut || mixed_t < t; };
     // Lamps a camera path passes (they are not in the BVH; light paths ignore them, as
     // lamps neither reflect nor block).
     // The denoising data (film/denoising_passes.h) take the emission the camera path finds
@@ -175,7 +201,8 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
         if (emitted && medium.is_emissive()) {
           dims::SegmentDims g = dims::segment(camera, k, crossings, layout_vertices, dims::kGather);
           SampleRun gather_run(sampler, g.stream, g.position, dims::kGatherRun);
-          gather_volume_emission(medium, ray, tmax, gather_run, beta, path, n, layers, pdf_fwd, emitted[n]);
+          gather_volume_emission(medium, ray, tmax, gather_run, beta, path, n, layers, pdf_fwd,
+                                 segment_cut ? 0.0f : mixed_t, emitted[n]);
         }
         // The denoising albedo takes the segment's share before the path flies through it.
         if (denoising) scene_.add_denoising_volume(medium, ray.o, ray.d, tmax, beta, *denoising);
@@ -192,6 +219,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
           v.wo = -ray.d;
           v.beta = beta;
           v.medium = m;
+          v.light_cut = cut_before(ms.t);
           v.specularity = std::fabs(medium.phase.g);  // forward (or back) scattering: specular-like
           v.media = media;
           v.link_to_prev(prev, pdf_fwd);
@@ -209,6 +237,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
             else v.filter_pdf = pdf_fwd;
           }
           if (classify && limits_end_walk(wi)) return n;
+          if (light_segment_hidden(wi)) return n;
           prev.pdf_rev = v.to_prev_density(pdf_fwd);
           if (mode == TransportMode::Radiance && n >= 2) set_mis_sum(path, n - 1, path[n - 2].delta, balance());
           ray = Ray{v.p, wi, kInf, ray_kind(ScatterKind::Volume)};
@@ -224,7 +253,9 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       // The path that ends on the lamp (s = 0), weighted here; the walk goes on past it.
       Vec3 q = ray.o + ray.d * tmax;
       if (emitted)
-        emitted[n] += lamp_emission(lamp, q, -ray.d, lamp_L, beta, path, n, layers, pdf_fwd, stats, catcher_only);
+        emitted[n] += lamp_emission(lamp, q, -ray.d, lamp_L, beta, path, n, layers, pdf_fwd, cut_before(tmax), stats,
+                                    catcher_only);
+      segment_cut = cut_before(tmax);
       if (denoising) denoising->add_emission(beta * lamp_L);
       if (++boundary_crossings > 256) return n;
       ++crossings;
@@ -241,6 +272,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
         fresh_vertex(v);
         v.type = VertexType::Light;
         v.infinite = true;
+        v.light_cut = cut_before(kInf);
         count_before(v, prev);
         v.see_through = see_through;
         v.dir = ray.d;
@@ -255,6 +287,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     if constexpr (kMedia) {
       if (scene_.is_boundary_only(hit.material)) {  // an index-matched boundary: no vertex
         media.cross(scene_, hit, boundary, ray.d);
+        segment_cut = cut_before(kInf);
         ray = Ray{spawn_origin(hit.p, hit.ng, hit.error, ray.d), ray.d, kInf, ray.mask};
         lamp_passed = -1;
         if (++boundary_crossings > 256) return n;
@@ -266,6 +299,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     fresh_surface_vertex(v, hit, ray.d, boundary, media);  // boundary: none without media
     count_before(v, prev);
     v.beta = beta;
+    v.light_cut = cut_before(kInf);
     v.see_through = see_through;
     if (settings_.alpha.holdouts) v.holdout = scene_.holdout_weight(hit);
     if (instance_bits) v.visibility = scene_.instance_visibility(hit.instance);
@@ -313,6 +347,8 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       const float u_lobe = sampler.get_1d();
       sampled = v.bsdf.sample(v.wo, u_lobe, sampler.get_2d(), mode, bs);
       if (sampled && bs.pass_through) {
+        if (mixed_ && !camera && visibility::is_mixed(scene_.instance_visibility(hit.instance))) return n;
+        segment_cut = cut_before(kInf) || hit_mixed;
         beta *= bs.weight;
         if constexpr (kMedia) media.cross(scene_, hit, boundary, ray.d);
         ray = Ray{spawn_origin(hit.p, hit.ng, hit.error, ray.d), ray.d, kInf, ray.mask};
@@ -341,6 +377,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       if (!v.bsdf.sample(v.wo, u_lobe, sampler.get_2d(), mode, bs)) return n;
     }
     if (classify && limits_end_walk(bs.wi)) return n;
+    if (light_segment_hidden(bs.wi)) return n;
     // A vertex passed through (not a plain layer).
     if (limited_passes && bs.pass_through && passes_end_walk(v.passes + 1, v.scatterings > 0)) return n;
     if (!bs.pass_through) colors_open = false;
@@ -391,7 +428,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
 // lamp point stands in for the next vertex while its weight is computed; the walk then
 // goes on through the lamp, so the vertex is overwritten.
 Color Bdpt::lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathVertex *path, int n, int layers,
-                          float pdf_dir, RayStats &stats, bool catcher_only) const {
+                          float pdf_dir, bool light_cut, RayStats &stats, bool catcher_only) const {
   const Light &light = scene_.lights()[lamp];
   const PathVertex &prev = path[n];
   PathVertex &point = fresh_vertex(path[n + 1]);
@@ -405,11 +442,12 @@ Color Bdpt::lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathV
   point.beta = beta;
   point.emitted = Le;
   point.pdf_fwd = prev.convert_density(pdf_dir, point);
+  point.light_cut = light_cut;
   Color c = beta * Le;
   if (n == 0) return c;  // seen straight from the camera: s = 0, t = 2 is the only strategy
   // Mixed visibility: the segment from the scattering vertex is blocked by shadow casters.
   const uint32_t occluders = catcher_only ? visibility::catcher_rays(light.occluders()) : light.occluders();
-  if (camera_side_only_ && !visibility_clear(scene_, shadow_ray(prev.p, prev.ng, prev.error, q, Vec3(0.0f), Vec3(0.0f)),
+  if (mixed_ && !visibility_clear(scene_, shadow_ray(prev.p, prev.ng, prev.error, q, Vec3(0.0f), Vec3(0.0f)),
                                              occluders, false, stats.rays))
     return Color(0.0f);
   const LightPathLimits &limits = settings_.limits;
@@ -431,7 +469,8 @@ Color Bdpt::lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathV
 // against the strategies that sample that point from the light. The point stands in
 // for the next vertex while its weight is computed.
 void Bdpt::gather_volume_emission(const Medium &medium, const Ray &ray, float tmax, SampleRun &rng, Color beta,
-                                  PathVertex *path, int n, int layers, float pdf_dir, Color &emitted) const {
+                                  PathVertex *path, int n, int layers, float pdf_dir, float cut_from,
+                                  Color &emitted) const {
   const PathVertex &prev = path[n];
   PathVertex &point = path[n + 1];
   const LightPathLimits &limits = settings_.limits;
@@ -451,6 +490,7 @@ void Bdpt::gather_volume_emission(const Medium &medium, const Ray &ray, float tm
       point.ng = point.ns = Vec3(0.0f);
       point.gather_rate = rate;
       point.pdf_fwd = prev.convert_density(pdf_dir, point);
+      point.light_cut = !(length(x - ray.o) < cut_from);
       ConnectionDensities d;
       light_densities(point, prev, d.pt_rev, d.pt_minus_rev);
       w = mis_weight(path, path, point, 0, n + 2, d);  // s = 0 reads no light vertex
