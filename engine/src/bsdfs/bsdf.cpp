@@ -123,19 +123,29 @@ Bsdf::Bsdf(Vec3 ng, Vec3 ns, Vec3 wo) {
   if (backfacing_) ng = -ng;
   if (dot(ns, ng) < 0) ns = -ns;
   // A shading normal that faces away from the viewer would make the surface black
-  // (the "shadow terminator"): fall back to the geometric normal there.
-  if (dot(ns, wo) <= 1e-4f) ns = ng;
+  // (the "shadow terminator"): the geometric normal's frame there (frame_toward).
   ng_ = ng;
   frame_ = Frame(ns);
+  smooth_ = ns.x != ng.x || ns.y != ng.y || ns.z != ng.z;
+  if (smooth_) flat_ = Frame(ng);
+  built_flat_ = smooth_ && !(dot(ns, wo) > kTerminatorCos);
+}
+
+// A frame about n with its first axis along the tangent (projected into n's plane).
+static bool tangent_frame(Vec3 n, Vec3 tangent, Frame &out) {
+  Vec3 t = tangent - n * dot(n, tangent);
+  float len2 = length_squared(t);
+  if (!(len2 > 1e-12f)) return false;
+  t = t / std::sqrt(len2);
+  out = Frame(t, cross(n, t), n);
+  return true;
 }
 
 Bsdf::Bsdf(Vec3 ng, Vec3 ns, Vec3 wo, Vec3 tangent) : Bsdf(ng, ns, wo) {
-  Vec3 n = frame_.n;
-  Vec3 t = tangent - n * dot(n, tangent);
-  float len2 = length_squared(t);
-  if (!(len2 > 1e-12f)) return;
-  t = t / std::sqrt(len2);
-  frame_ = Frame(t, cross(n, t), n);
+  Frame shading, flat;
+  if (!tangent_frame(frame_.n, tangent, shading) || (smooth_ && !tangent_frame(ng_, tangent, flat))) return;
+  frame_ = shading;
+  if (smooth_) flat_ = flat;
 }
 
 uint16_t Bsdf::add_layer(const LayerAbove &layer) {
@@ -185,10 +195,10 @@ bool Bsdf::has_transmission() const {
 // pbrt-v3's CorrectShadingNormal): |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|), with wo toward
 // the light-side vertex and wi the sampled direction. It keeps light tracing and BDPT
 // consistent with path tracing on smooth-shaded meshes.
-float Bsdf::shading_correction(Vec3 wo, Vec3 wi, TransportMode mode) const {
+float Bsdf::shading_correction(Vec3 wo, Vec3 wi, TransportMode mode, const Frame &frame) const {
   if (mode == TransportMode::Radiance) return 1.0f;
-  float num = absdot(wo, frame_.n) * absdot(wi, ng_);
-  float den = absdot(wo, ng_) * absdot(wi, frame_.n);
+  float num = absdot(wo, frame.n) * absdot(wi, ng_);
+  float den = absdot(wo, ng_) * absdot(wi, frame.n);
   return den > 0 ? num / den : 0.0f;
 }
 
@@ -204,12 +214,12 @@ static bool consistent_side(Vec3 wi_world, Vec3 ng, float wi_local_z) {
 // reached from, but BDPT's MIS also needs densities for scattering the other way (a
 // light path leaving through a refraction that a camera path entered by). Seen from
 // behind, the surface is its mirror image: local z flips and dielectrics invert IOR.
-bool Bsdf::local_pair(Vec3 wo_w, Vec3 wi_w, Vec3 &wo, Vec3 &wi, bool &flipped) const {
+bool Bsdf::local_pair(const Frame &frame, Vec3 wo_w, Vec3 wi_w, Vec3 &wo, Vec3 &wi, bool &flipped) const {
   float side = dot(wo_w, ng_);
   if (side == 0) return false;
   flipped = side < 0;
-  wo = frame_.to_local(wo_w);
-  wi = frame_.to_local(wi_w);
+  wo = frame.to_local(wo_w);
+  wi = frame.to_local(wi_w);
   if (flipped) { wo.z = -wo.z; wi.z = -wi.z; }
   return consistent_side(wi_w, flipped ? -ng_ : ng_, wi.z);
 }
@@ -231,8 +241,8 @@ static const Lobe &lobe_from_side(const Lobe &lobe, bool flipped, LobeScratch &s
 // What local_pair and the Lambert lobe decide, on the normal components alone: seen
 // from wo's side of the geometry, both directions must be above both normals. On
 // success the cosines are those of that side (all positive).
-inline bool Bsdf::lambert_cosines(Vec3 wo_w, Vec3 wi_w, LambertCosines &c) const {
-  c = {dot(wo_w, frame_.n), dot(wi_w, frame_.n), dot(wo_w, ng_), dot(wi_w, ng_)};
+inline bool Bsdf::lambert_cosines(Vec3 n, Vec3 wo_w, Vec3 wi_w, LambertCosines &c) const {
+  c = {dot(wo_w, n), dot(wi_w, n), dot(wo_w, ng_), dot(wi_w, ng_)};
   if (c.g_wo < 0) c = {-c.wo, -c.wi, -c.g_wo, -c.g_wi};
   return c.g_wo > 0 && c.g_wi > 0 && c.wo > 0 && c.wi > 0;
 }
@@ -243,15 +253,19 @@ inline Color Bsdf::lambert_f(const LambertCosines &c, TransportMode mode) const 
   return mode == TransportMode::Radiance ? f : f * ((c.wo * c.g_wi) / (c.g_wo * c.wi));
 }
 
-Color Bsdf::f(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
+Color Bsdf::f_in(const Frame &frame, Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
   if (lambert_) {
     LambertCosines c;
-    return lambert_cosines(wo_w, wi_w, c) ? lambert_f(c, mode) : Color(0.0f);
+    return lambert_cosines(frame.n, wo_w, wi_w, c) ? lambert_f(c, mode) : Color(0.0f);
   }
   Vec3 wo, wi;
   bool flipped;
-  if (!local_pair(wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
-  return local_f(wo, wi, flipped, mode, nullptr) * shading_correction(wo_w, wi_w, mode);
+  if (!local_pair(frame, wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
+  return local_f(wo, wi, flipped, mode, nullptr) * shading_correction(wo_w, wi_w, mode, frame);
+}
+
+Color Bsdf::f(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
+  return f_in(camera_side_frame(wo_w, wi_w, mode), wo_w, wi_w, mode);
 }
 
 Color Bsdf::local_f(Vec3 wo, Vec3 wi, bool flipped, TransportMode mode, float *pdf) const {
@@ -275,35 +289,51 @@ Color Bsdf::local_f(Vec3 wo, Vec3 wi, bool flipped, TransportMode mode, float *p
 }
 
 Color Bsdf::eval(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
-  return f(wo_w, wi_w, mode) * absdot(wi_w, frame_.n);
+  const Frame &frame = camera_side_frame(wo_w, wi_w, mode);
+  return f_in(frame, wo_w, wi_w, mode) * absdot(wi_w, frame.n);
 }
 
 Color Bsdf::eval_and_pdf(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf) const {
   pdf = 0;
+  const Frame &frame = frame_toward(wo_w);  // the sampler's
+  const Frame &seen = camera_side_frame(wo_w, wi_w, mode);
+  if (&seen != &frame) {  // across the terminator fallback: the two apart
+    const Color f = f_in(seen, wo_w, wi_w, mode);
+    if (!is_black(f)) pdf = pdf_in(frame, wo_w, wi_w);
+    return f * absdot(wi_w, seen.n);
+  }
   if (lambert_) {
     LambertCosines c;
-    if (!lambert_cosines(wo_w, wi_w, c)) return Color(0.0f);
+    if (!lambert_cosines(frame.n, wo_w, wi_w, c)) return Color(0.0f);
     pdf = c.wi * kInvPi;  // cosine_hemisphere_pdf, as the lobe samples
     return lambert_f(c, mode) * c.wi;
   }
   Vec3 wo, wi;
   bool flipped;
-  if (!local_pair(wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
-  return local_f(wo, wi, flipped, mode, &pdf) * shading_correction(wo_w, wi_w, mode) * absdot(wi_w, frame_.n);
+  if (!local_pair(frame, wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
+  return local_f(wo, wi, flipped, mode, &pdf) * shading_correction(wo_w, wi_w, mode, frame) * absdot(wi_w, frame.n);
 }
 
 Color Bsdf::f_and_pdfs(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_fwd, float &pdf_rev) const {
   pdf_fwd = pdf_rev = 0;
+  const Frame &frame = frame_toward(wo_w), &frame_rev = frame_toward(wi_w);
+  if (&frame != &frame_rev) {  // across the terminator fallback: each as its own
+    const Color f = f_in(camera_side_frame(wo_w, wi_w, mode), wo_w, wi_w, mode);
+    if (is_black(f)) return f;
+    pdf_fwd = pdf_in(frame, wo_w, wi_w);
+    pdf_rev = pdf_in(frame_rev, wi_w, wo_w);
+    return f;
+  }
   if (lambert_) {
     LambertCosines c;
-    if (!lambert_cosines(wo_w, wi_w, c)) return Color(0.0f);
+    if (!lambert_cosines(frame.n, wo_w, wi_w, c)) return Color(0.0f);
     pdf_fwd = c.wi * kInvPi;
     pdf_rev = c.wo * kInvPi;
     return lambert_f(c, mode);
   }
   Vec3 wo, wi;
   bool flipped;
-  if (!local_pair(wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
+  if (!local_pair(frame, wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
   // The reverse pair as local_pair(wi_w, wo_w) would set it up: flipped by wi's side.
   float side_rev = dot(wi_w, ng_);
   bool flipped_rev = side_rev < 0;
@@ -323,28 +353,30 @@ Color Bsdf::f_and_pdfs(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_fwd,
     pdf_fwd += pick_[i] * p;
     if (rev_ok) pdf_rev += pick_[i] * lobe_pdf(lobe_from_side(lobes_[i], flipped_rev, scratch_rev), wi_rev, wo_rev);
   }
-  return f * shading_correction(wo_w, wi_w, mode);
+  return f * shading_correction(wo_w, wi_w, mode, frame);
 }
 
-float Bsdf::pdf(Vec3 wo_w, Vec3 wi_w) const {
+float Bsdf::pdf_in(const Frame &frame, Vec3 wo_w, Vec3 wi_w) const {
   if (lambert_) {
     LambertCosines c;
-    return lambert_cosines(wo_w, wi_w, c) ? c.wi * kInvPi : 0.0f;
+    return lambert_cosines(frame.n, wo_w, wi_w, c) ? c.wi * kInvPi : 0.0f;
   }
   Vec3 wo, wi;
   bool flipped;
-  if (!local_pair(wo_w, wi_w, wo, wi, flipped)) return 0;
+  if (!local_pair(frame, wo_w, wi_w, wo, wi, flipped)) return 0;
   float p = 0;
   LobeScratch scratch;
   for (int i = 0; i < n_; ++i) p += pick_[i] * lobe_pdf(lobe_from_side(lobes_[i], flipped, scratch), wo, wi);
   return p;
 }
 
+float Bsdf::pdf(Vec3 wo_w, Vec3 wi_w) const { return pdf_in(frame_toward(wo_w), wo_w, wi_w); }
+
 float Bsdf::share_refracted_below(Vec3 wo_w, Vec3 wi_w, float alpha2_max) const {
   if (lambert_) return 0;
   Vec3 wo, wi;
   bool flipped;
-  if (!local_pair(wo_w, wi_w, wo, wi, flipped) || !(wo.z * wi.z < 0)) return 0;
+  if (!local_pair(frame_toward(wo_w), wo_w, wi_w, wo, wi, flipped) || !(wo.z * wi.z < 0)) return 0;
   float all = 0, below = 0;
   LobeScratch scratch;
   for (int i = 0; i < n_; ++i) {
@@ -367,7 +399,8 @@ bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSampl
   // The remainder of u_lobe drives choices inside the lobe (reflect or refract).
   float uc = clampf((u_lobe - cdf) / pick_[chosen], 0.0f, 0.99999994f);
   const Lobe &lobe = lobes_[chosen];
-  Vec3 wo = frame_.to_local(wo_w), wi;
+  const Frame &frame = frame_toward(wo_w);
+  Vec3 wo = frame.to_local(wo_w), wi;
   Color weight;
   float pdf;
   if (!lobe_sample(lobe, wo, u, wi, weight, pdf, mode, uc)) return false;
@@ -379,8 +412,20 @@ bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSampl
     layer_scales(wo, wi, layers);
     weight *= layers.of(lobe.layers_above);
   }
-  out.wi = frame_.to_world(wi);
+  out.wi = frame.to_world(wi);
   if (!consistent_side(out.wi, ng_, wi.z)) return false;
+  // Light paths: f is the surface as a camera path from wi sees it (frame_toward). Where
+  // that frame is the other one, a delta lobe sends wi elsewhere (no such path), and the
+  // weight of any other is that f over the density sampled here.
+  if (mode == TransportMode::Importance && &frame_toward(out.wi) != &frame) {
+    if (lobe.is_delta()) return false;
+    out.is_delta = false;
+    out.cone_spread = lobe_cone_spread(lobe);
+    out.pdf = pdf_in(frame, wo_w, out.wi);
+    if (!(out.pdf > 0)) return false;
+    out.weight = eval(wo_w, out.wi, mode) / out.pdf;
+    return true;
+  }
   out.cone_spread = lobe_cone_spread(lobe);
   if (lobe.is_dielectric() && wi.z * wo.z < 0)
     out.refraction_alpha2 = lobe.type == LobeType::SmoothDielectric ? 0.0f : lobe.ggx.ax * lobe.ggx.ay;
@@ -388,13 +433,13 @@ bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSampl
     out.is_delta = true;
     out.pass_through = lobe.type == LobeType::Transparent;
     out.pdf = pick_[chosen] * pdf;
-    out.weight = weight * (shading_correction(wo_w, out.wi, mode) / pick_[chosen]);
+    out.weight = weight * (shading_correction(wo_w, out.wi, mode, frame) / pick_[chosen]);
     return true;
   }
   out.is_delta = false;
   if (n_ == 1) {
     out.pdf = pdf;
-    out.weight = weight * shading_correction(wo_w, out.wi, mode);
+    out.weight = weight * shading_correction(wo_w, out.wi, mode, frame);
   } else {  // mixture: the weight must use the full f and the mixture pdf
     Color f = eval_and_pdf(wo_w, out.wi, mode, out.pdf);
     if (!(out.pdf > 0)) return false;
@@ -408,7 +453,11 @@ Color Bsdf::delta_eval(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_out,
   jacobian = 1;
   Color f(0.0f);
   if (n_ == 0 || dot(wo_w, ng_) <= 0) return f;
-  const Vec3 wo = frame_.to_local(wo_w);
+  // The events of sample() from wo; light paths: none where a camera path from wi has the
+  // other frame (sample() makes no such path).
+  const Frame &frame = frame_toward(wo_w);
+  if (mode == TransportMode::Importance && &frame_toward(wi_w) != &frame) return f;
+  const Vec3 wo = frame.to_local(wo_w);
   constexpr float kSameDirection = 1.0f - 1e-5f;  // cos of about 4.5e-3 rad
   for (int i = 0; i < n_; ++i) {
     const Lobe &lobe = lobes_[i];
@@ -424,7 +473,7 @@ Color Bsdf::delta_eval(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_out,
       if (!lobe_sample(lobe, wo, Vec2(e == 0 ? 0.0f : 0.99999994f, 0.5f), wi, weight, pdf, mode, 0.5f)) continue;
       if (e == 1 && wi == first_wi) continue;  // total internal reflection: one event
       if (e == 0) first_wi = wi;
-      const Vec3 wi_event = frame_.to_world(wi);
+      const Vec3 wi_event = frame.to_world(wi);
       if (dot(wi_event, wi_w) < kSameDirection || !consistent_side(wi_event, ng_, wi.z)) continue;
       if (lobe.layers_above) {
         LayerScales layers;
@@ -432,7 +481,7 @@ Color Bsdf::delta_eval(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_out,
         weight *= layers.of(lobe.layers_above);
       }
       const float p = pick_[i] * pdf;
-      f += weight * (pdf * shading_correction(wo_w, wi_event, mode));  // weight x p / pick
+      f += weight * (pdf * shading_correction(wo_w, wi_event, mode, frame));  // weight x p / pick
       pdf_out += p;
       if (wi.z < 0 && lobe.type == LobeType::SmoothDielectric && std::fabs(wi.z) > 0)
         jacobian = wo.z / (lobe.ior * lobe.ior * std::fabs(wi.z));
@@ -520,13 +569,13 @@ KindSplit Bsdf::kind_split(Vec3 wo_w, Vec3 wi_w, bool delta) const {
       }
     if (single >= 0) {
       const float side = dot(wo_w, ng_);
-      const float wi_z = dot(wi_w, frame_.n);
+      const float wi_z = dot(wi_w, frame_toward(wo_w).n);
       if (side != 0 && consistent_side(wi_w, side < 0 ? -ng_ : ng_, side < 0 ? -wi_z : wi_z))
         return KindSplit::only(single);
     } else {
       Vec3 wo, wi;
       bool flipped;
-      if (local_pair(wo_w, wi_w, wo, wi, flipped)) {
+      if (local_pair(frame_toward(wo_w), wo_w, wi_w, wo, wi, flipped)) {
         LobeScratch scratch;
         LayerScales layers;
         if (num_layers_) layer_scales(wo, wi, layers);
@@ -592,7 +641,7 @@ bool Bsdf::passes_straight_through(Vec3 wo, Vec3 wi) const {
 void Bsdf::kind_colors(Vec3 wo_w, Color out[kColorKinds]) const {
   for (int k = 0; k < kColorKinds; ++k) out[k] = Color(0.0f);
   const float side = dot(wo_w, ng_);
-  const float cos_o = absdot(wo_w, frame_.n);
+  const float cos_o = absdot(wo_w, frame_toward(wo_w).n);
   for (int i = 0; i < n_; ++i) {
     const Lobe &lobe = lobes_[i];
     const Color c = lobe.color * lobe.scale;
@@ -611,7 +660,8 @@ void Bsdf::kind_colors(Vec3 wo_w, Color out[kColorKinds]) const {
 
 DenoisingClosures Bsdf::denoising_closures(Vec3 wo_w) const {
   DenoisingClosures out;
-  const float cos_o = absdot(wo_w, frame_.n);
+  const Frame &frame = frame_toward(wo_w);
+  const float cos_o = absdot(wo_w, frame.n);
   for (int i = 0; i < n_; ++i) {
     const Lobe &lobe = lobes_[i];
     Color albedo = lobe.color * lobe.scale;
@@ -638,7 +688,7 @@ DenoisingClosures Bsdf::denoising_closures(Vec3 wo_w) const {
       out.specular_albedo += albedo;
     }
   }
-  if (out.weight > 0) out.normal = frame_.n;
+  if (out.weight > 0) out.normal = frame.n;
   return out;
 }
 

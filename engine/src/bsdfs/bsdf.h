@@ -231,15 +231,38 @@ class Bsdf {
   // reflection times its Fresnel at wo), rough (alpha_x alpha_y > 0.075^2, or diffuse-like)
   // or near-specular, and its selection weight.
   DenoisingClosures denoising_closures(Vec3 wo) const;
-  const Frame &frame() const { return frame_; }
+  // The shading frame as built (toward the constructor's wo).
+  const Frame &frame() const { return built_flat_ ? flat_ : frame_; }
+  // The shading normal a scattering whose camera-side direction is w sees (a normal map's,
+  // or the geometric normal past the terminator): the cosine that goes with f there.
+  Vec3 shading_normal(Vec3 w) const { return frame_toward(w).n; }
   Vec3 geometric_normal() const { return ng_; }
 
  private:
+  // The shading frame a Bsdf built toward w would have: the shading normal's, or the
+  // geometric normal's where the shading normal faces away from w (the "shadow
+  // terminator" fallback). Evaluations pick it by the pair's camera-side direction
+  // (Radiance: wo; Importance: wi) and sampling and densities by the direction sampled
+  // from, so f of a pair does not depend on the direction the Bsdf was built toward: a
+  // light path sees a smooth-shaded surface as the camera path that meets it does (BDPT's
+  // light tracing at silhouettes). Built toward wo, a camera path's evaluations are as they were.
+  const Frame &frame_toward(Vec3 w) const {
+    if (!smooth_) return frame_;
+    const float side = dot(w, ng_) < 0 ? -1.0f : 1.0f;
+    return side * dot(w, frame_.n) > kTerminatorCos ? frame_ : flat_;
+  }
+  const Frame &camera_side_frame(Vec3 wo, Vec3 wi, TransportMode mode) const {
+    return frame_toward(mode == TransportMode::Radiance ? wo : wi);
+  }
+  static constexpr float kTerminatorCos = 1e-4f;
   // The selection probability of the Transparent lobes (pass_probability, scattering_lobe_u).
   float transparent_pick() const;
-  float shading_correction(Vec3 wo, Vec3 wi, TransportMode mode) const;
+  float shading_correction(Vec3 wo, Vec3 wi, TransportMode mode, const Frame &frame) const;
   void copy_from(const Bsdf &o) {
     frame_ = o.frame_;
+    flat_ = o.flat_;
+    smooth_ = o.smooth_;
+    built_flat_ = o.built_flat_;
     ng_ = o.ng_;
     backfacing_ = o.backfacing_;
     lambert_ = o.lambert_;
@@ -266,17 +289,24 @@ class Bsdf {
   // The lobes' f summed for a local pair (seen from the side local_pair found), with the
   // layers applied; with pdf, their mixture density added into *pdf as well.
   Color local_f(Vec3 wo, Vec3 wi, bool flipped, TransportMode mode, float *pdf) const;
-  bool local_pair(Vec3 wo_w, Vec3 wi_w, Vec3 &wo, Vec3 &wi, bool &flipped) const;
+  bool local_pair(const Frame &frame, Vec3 wo_w, Vec3 wi_w, Vec3 &wo, Vec3 &wi, bool &flipped) const;
   // One plain Lambert lobe (lambert_): f and its densities depend only on the cosines
   // with the two normals, so evaluation skips the frame change and the lobe loop.
   // wo, wi: with the shading normal; g_wo, g_wi: with the geometric normal.
   struct LambertCosines {
     float wo, wi, g_wo, g_wi;
   };
-  // False where f is 0 (where the general code gives 0 too).
-  bool lambert_cosines(Vec3 wo_w, Vec3 wi_w, LambertCosines &c) const;
+  // False where f is 0 (where the general code gives 0 too). n: the shading normal.
+  bool lambert_cosines(Vec3 n, Vec3 wo_w, Vec3 wi_w, LambertCosines &c) const;
   Color lambert_f(const LambertCosines &c, TransportMode mode) const;
-  Frame frame_;
+  // The Bsdf's whole f, densities (pdf of sampling wi from wo, and the reverse) with the
+  // frames frame_toward gives when they differ (a pair across the terminator fallback).
+  Color f_in(const Frame &frame, Vec3 wo_w, Vec3 wi_w, TransportMode mode) const;
+  float pdf_in(const Frame &frame, Vec3 wo_w, Vec3 wi_w) const;
+  Frame frame_;  // the shading normal's (and tangent's)
+  Frame flat_;   // the geometric normal's (the tangent projected onto it)
+  bool smooth_ = false;      // the two differ
+  bool built_flat_ = false;  // frame_toward(the constructor's wo) is flat_
   Vec3 ng_;
   bool backfacing_ = false;
   bool lambert_ = false;

@@ -176,7 +176,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     // vertices before it must not be (filter_glossy.h).
     if (limits.filter_glossy > 0 && s >= 3 && !light_walk_unblurred(light_path, s, sq.pdf_rev)) return L;
     L = qs.beta * sq.f * sampled.beta;
-    if (qs.on_surface()) L *= absdot(is.wi, qs.ns);
+    if (qs.on_surface()) L *= absdot(is.wi, qs.bsdf.shading_normal(is.wi));
     if (!is_black(L))
       L *= transmittance<kMedia>(qs, sampled, sampler, SampleStream::Lens, dims::lens(uint32_t(s) - 1, dims::kLensMedia),
                                  stats, visibility::kCamera, layers);
@@ -230,7 +230,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     L = pt.beta * sp.f * sampled.beta;
     densities.pt_minus_rev = pt.to_prev_density(sp.pdf_rev);
     densities.qs_rev = pt.convert_density(sp.pdf_fwd, sampled);
-    if (pt.on_surface()) L *= absdot(ls.wi, pt.ns);
+    if (pt.on_surface()) L *= absdot(ls.wi, pt.bsdf.shading_normal(pt.wo));
     if (!is_black(L)) {
       ShadowRay shadow = std::isinf(ls.dist) ? shadow_ray_to_infinity(pt.p, pt.ng, pt.error, ls.wi)
                                              : shadow_ray(pt.p, pt.ng, pt.error, ls.p, ls.n, ls.error);
@@ -302,8 +302,9 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     float inv_d2 = 1.0f / d2;
     Vec3 d = w * std::sqrt(inv_d2);
     float g = inv_d2, cos_qs = 1, cos_pt = 1;  // geometric cosines, for the densities
-    if (qs.on_surface()) { g *= absdot(qs.ns, d); cos_qs = absdot(qs.ng, d); }
-    if (pt.on_surface()) { g *= absdot(pt.ns, d); cos_pt = absdot(pt.ng, d); }
+    // The shading cosines of f's frames (Bsdf::shading_normal: normal maps, the terminator).
+    if (qs.on_surface()) { g *= absdot(qs.bsdf.shading_normal(dir), d); cos_qs = absdot(qs.ng, d); }
+    if (pt.on_surface()) { g *= absdot(pt.bsdf.shading_normal(pt.wo), d); cos_pt = absdot(pt.ng, d); }
     if (!(g > 0)) return Color(0.0f);
     // Without mixed visibility every instance is seen by all kinds after a scattering or
     // by none: one mask stands for them. With it, the segment is the kind of pt's
