@@ -242,10 +242,14 @@ TEST(RayVisibility, PathSpaceMltMatchesPath) {
 // kind (through the ball, between floor and wall). A rough glass ball that casts no shadow
 // under a small lamp: its caustic is mostly the light walks', the light straight through it
 // next-event estimation's alone. A point lamp that casts no shadows: only next-event
-// estimation lights the floor through the ball. Power: without the check of the vertex
-// before a light vertex (the walks' and connections'), the first case's mean is 1.0xx
-// (z xx); with every connection traced as any kind after a scattering, ...; without the
-// cut of strategies no light walk can make, the other two fail (0.9xx, z xx; 0.9883, z -17).
+// estimation lights the floor through the ball. Power (each part of bdpt.h's scheme
+// switched off alone, 2026-11-29): without the check of the vertex before a light vertex,
+// the first case's mean is 1.0063 (z 10.2); without the check that a connection's light
+// vertex is seen by its kind, 1.0049 (z 7.8); with connections traced as any kind after a
+// scattering, 0.9880 (z -17.7, 7/16 blocks); without leaving out the strategies no light
+// walk can make a connection's segment for, the other two fail (0.9234, z -10.8; 0.9877,
+// z -9.5). The cut of camera segments shows in
+// BdptMisWeights.MixedVisibilityCornellBoxMatchesBruteForce (373 weights wrong without it).
 TEST(RayVisibility, MixedVisibilityInBdptLightStrategies) {
   const json white = {{"type", "diffuse"}, {"color", {0.9, 0.9, 0.9}}}, dark = {{"color", {0, 0, 0}}};
   const json glass = {{"type", "glass"}, {"ior", 1.45}, {"roughness", 0.3}};
