@@ -128,7 +128,7 @@ Bsdf::Bsdf(Vec3 ng, Vec3 ns, Vec3 wo) {
   frame_ = Frame(ns);
   smooth_ = ns.x != ng.x || ns.y != ng.y || ns.z != ng.z;
   if (smooth_) flat_ = Frame(ng);
-  built_flat_ = smooth_ && !(dot(ns, wo) > kTerminatorCos);
+  built_flat_ = &frame_toward(wo) == &flat_;
 }
 
 // A frame about n with its first axis along the tangent (projected into n's plane).

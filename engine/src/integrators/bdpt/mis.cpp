@@ -87,7 +87,7 @@ void set_mis_sum(PathVertex *path, int k, bool delta_before, bool balance) {
   // Filter Glossy: the strategies below would have a light walk sample at a vertex the
   // blur changed (filter_glossy.h); mixed visibility: their light walk would have to make
   // the segment reaching path[k] (PathVertex::light_cut). They cannot make the path.
-  double below = k > 0 && !path[k].blurred && !path[k].light_cut ? path[k - 1].mis_sum : 0.0;
+  double below = k > 0 && !path[k].ends_light_side() ? path[k - 1].mis_sum : 0.0;
   path[k].mis_sum = (balance ? r : r * r) * ((!path[k].delta && !delta_before ? 1.0 : 0.0) + below);
 }
 
@@ -153,8 +153,8 @@ float Bdpt::mis_weight(const PathVertex *light_path, const PathVertex *camera_pa
     if (t >= 3 && !(s > 0 && pt.blurred) && !pt.light_cut) {
       const PathVertex &below = camera_path[t - 3];
       r *= ratio(c.pt_minus_rev, pt_minus);
-      const bool cut = pt_minus.blurred || pt_minus.light_cut;
-      sum += power(r) * ((!pt_minus.delta && !below.delta ? 1.0 : 0.0) + (cut ? 0.0 : below.mis_sum));
+      const double further = pt_minus.ends_light_side() ? 0.0 : below.mis_sum;
+      sum += power(r) * ((!pt_minus.delta && !below.delta ? 1.0 : 0.0) + further);
     }
   }
   // Light side: strategies with fewer light vertices (i = s - 1 down to 0). The light

@@ -79,6 +79,8 @@ struct PathVertex {
   // that reaches this vertex, so no strategy with fewer camera vertices than this one's
   // index + 1 makes the path (set_mis_sum stops the running sums here, as for `blurred`).
   bool light_cut = false;
+  // Either: the strategies below this camera vertex cannot make the path.
+  bool ends_light_side() const { return blurred || light_cut; }
   // Ray visibility (scene/ray_visibility.h): a surface's instance's bits (scenes with ray
   // visibility), and on camera subpaths the kind of the ray that left the vertex.
   uint32_t visibility = visibility::kAll;
