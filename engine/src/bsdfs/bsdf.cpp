@@ -6,6 +6,7 @@
 #include "bsdfs/diffuse.h"
 #include "bsdfs/oren_nayar.h"
 #include "bsdfs/principled_diffuse.h"
+#include "bsdfs/shading_normal.h"
 #include "bsdfs/sheen.h"
 #include "bsdfs/translucent.h"
 #include "bsdfs/transparent.h"
@@ -128,7 +129,6 @@ Bsdf::Bsdf(Vec3 ng, Vec3 ns, Vec3 wo) {
   frame_ = Frame(ns);
   smooth_ = ns.x != ng.x || ns.y != ng.y || ns.z != ng.z;
   if (smooth_) flat_ = Frame(ng);
-  built_flat_ = &frame_toward(wo) == &flat_;
 }
 
 // A frame about n with its first axis along the tangent (projected into n's plane).
@@ -141,11 +141,25 @@ static bool tangent_frame(Vec3 n, Vec3 tangent, Frame &out) {
   return true;
 }
 
+void Bsdf::bend_for_each_viewer() { bend_ = smooth_; }
+
+const Frame &Bsdf::bent_frame(Vec3 w, float side, Frame &scratch) const {
+  // ensure_valid_reflection works on w's side of the surface; the result comes back to
+  // frame_'s side. A normal it leaves alone is frame_ itself (the same floats).
+  const Vec3 n = ensure_valid_reflection(ng_ * side, w, frame_.n * side) * side;
+  if (n.x == frame_.n.x && n.y == frame_.n.y && n.z == frame_.n.z)
+    return side * dot(w, frame_.n) > kTerminatorCos ? frame_ : flat_;
+  if (!(oriented_ && tangent_frame(n, frame_.s, scratch)))  // anisotropy's axis turned with the normal
+    scratch = Frame(n);
+  return side * dot(w, n) > kTerminatorCos ? scratch : flat_;
+}
+
 Bsdf::Bsdf(Vec3 ng, Vec3 ns, Vec3 wo, Vec3 tangent) : Bsdf(ng, ns, wo) {
   Frame shading, flat;
   if (!tangent_frame(frame_.n, tangent, shading) || (smooth_ && !tangent_frame(ng_, tangent, flat))) return;
   frame_ = shading;
   if (smooth_) flat_ = flat;
+  oriented_ = true;
 }
 
 uint16_t Bsdf::add_layer(const LayerAbove &layer) {
@@ -265,7 +279,8 @@ Color Bsdf::f_in(const Frame &frame, Vec3 wo_w, Vec3 wi_w, TransportMode mode) c
 }
 
 Color Bsdf::f(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
-  return f_in(camera_side_frame(wo_w, wi_w, mode), wo_w, wi_w, mode);
+  Frame bent;
+  return f_in(camera_side_frame(wo_w, wi_w, mode, bent), wo_w, wi_w, mode);
 }
 
 Color Bsdf::local_f(Vec3 wo, Vec3 wi, bool flipped, TransportMode mode, float *pdf) const {
@@ -289,15 +304,17 @@ Color Bsdf::local_f(Vec3 wo, Vec3 wi, bool flipped, TransportMode mode, float *p
 }
 
 Color Bsdf::eval(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
-  const Frame &frame = camera_side_frame(wo_w, wi_w, mode);
+  Frame bent;
+  const Frame &frame = camera_side_frame(wo_w, wi_w, mode, bent);
   return f_in(frame, wo_w, wi_w, mode) * absdot(wi_w, frame.n);
 }
 
 Color Bsdf::eval_and_pdf(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf) const {
   pdf = 0;
-  const Frame &frame = frame_toward(wo_w);  // the sampler's
-  const Frame &seen = camera_side_frame(wo_w, wi_w, mode);
-  if (&seen != &frame) {  // across the terminator fallback: the two apart
+  Frame bent, bent_seen;
+  const Frame &frame = frame_toward(wo_w, bent);  // the sampler's
+  const Frame &seen = camera_side_frame(wo_w, wi_w, mode, bent_seen);
+  if (!same_frame(seen, frame)) {  // across the terminator fallback: the two apart
     const Color f = f_in(seen, wo_w, wi_w, mode);
     if (!is_black(f)) pdf = pdf_in(frame, wo_w, wi_w);
     return f * absdot(wi_w, seen.n);
@@ -316,9 +333,10 @@ Color Bsdf::eval_and_pdf(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf) c
 
 Color Bsdf::f_and_pdfs(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_fwd, float &pdf_rev) const {
   pdf_fwd = pdf_rev = 0;
-  const Frame &frame = frame_toward(wo_w), &frame_rev = frame_toward(wi_w);
-  if (&frame != &frame_rev) {  // across the terminator fallback: each as its own
-    const Color f = f_in(camera_side_frame(wo_w, wi_w, mode), wo_w, wi_w, mode);
+  Frame bent, bent_rev;
+  const Frame &frame = frame_toward(wo_w, bent), &frame_rev = frame_toward(wi_w, bent_rev);
+  if (!same_frame(frame, frame_rev)) {  // across the terminator fallback or a bend: each as its own
+    const Color f = f_in(mode == TransportMode::Radiance ? frame : frame_rev, wo_w, wi_w, mode);
     if (is_black(f)) return f;
     pdf_fwd = pdf_in(frame, wo_w, wi_w);
     pdf_rev = pdf_in(frame_rev, wi_w, wo_w);
@@ -370,13 +388,17 @@ float Bsdf::pdf_in(const Frame &frame, Vec3 wo_w, Vec3 wi_w) const {
   return p;
 }
 
-float Bsdf::pdf(Vec3 wo_w, Vec3 wi_w) const { return pdf_in(frame_toward(wo_w), wo_w, wi_w); }
+float Bsdf::pdf(Vec3 wo_w, Vec3 wi_w) const {
+  Frame bent;
+  return pdf_in(frame_toward(wo_w, bent), wo_w, wi_w);
+}
 
 float Bsdf::share_refracted_below(Vec3 wo_w, Vec3 wi_w, float alpha2_max) const {
   if (lambert_) return 0;
   Vec3 wo, wi;
   bool flipped;
-  if (!local_pair(frame_toward(wo_w), wo_w, wi_w, wo, wi, flipped) || !(wo.z * wi.z < 0)) return 0;
+  Frame bent;
+  if (!local_pair(frame_toward(wo_w, bent), wo_w, wi_w, wo, wi, flipped) || !(wo.z * wi.z < 0)) return 0;
   float all = 0, below = 0;
   LobeScratch scratch;
   for (int i = 0; i < n_; ++i) {
@@ -399,7 +421,8 @@ bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSampl
   // The remainder of u_lobe drives choices inside the lobe (reflect or refract).
   float uc = clampf((u_lobe - cdf) / pick_[chosen], 0.0f, 0.99999994f);
   const Lobe &lobe = lobes_[chosen];
-  const Frame &frame = frame_toward(wo_w);
+  Frame bent, bent_wi;
+  const Frame &frame = frame_toward(wo_w, bent);
   Vec3 wo = frame.to_local(wo_w), wi;
   Color weight;
   float pdf;
@@ -417,7 +440,7 @@ bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSampl
   // Light paths: f is the surface as a camera path from wi sees it (frame_toward). Where
   // that frame is the other one, a delta lobe sends wi elsewhere (no such path), and the
   // weight of any other is that f over the density sampled here.
-  if (mode == TransportMode::Importance && &frame_toward(out.wi) != &frame) {
+  if (mode == TransportMode::Importance && !same_frame(frame_toward(out.wi, bent_wi), frame)) {
     if (lobe.is_delta()) return false;
     out.is_delta = false;
     out.cone_spread = lobe_cone_spread(lobe);
@@ -455,8 +478,9 @@ Color Bsdf::delta_eval(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_out,
   if (n_ == 0 || dot(wo_w, ng_) <= 0) return f;
   // The events of sample() from wo; light paths: none where a camera path from wi has the
   // other frame (sample() makes no such path).
-  const Frame &frame = frame_toward(wo_w);
-  if (mode == TransportMode::Importance && &frame_toward(wi_w) != &frame) return f;
+  Frame bent, bent_wi;
+  const Frame &frame = frame_toward(wo_w, bent);
+  if (mode == TransportMode::Importance && !same_frame(frame_toward(wi_w, bent_wi), frame)) return f;
   const Vec3 wo = frame.to_local(wo_w);
   constexpr float kSameDirection = 1.0f - 1e-5f;  // cos of about 4.5e-3 rad
   for (int i = 0; i < n_; ++i) {
@@ -569,13 +593,15 @@ KindSplit Bsdf::kind_split(Vec3 wo_w, Vec3 wi_w, bool delta) const {
       }
     if (single >= 0) {
       const float side = dot(wo_w, ng_);
-      const float wi_z = dot(wi_w, frame_toward(wo_w).n);
+      Frame bent;
+      const float wi_z = dot(wi_w, frame_toward(wo_w, bent).n);
       if (side != 0 && consistent_side(wi_w, side < 0 ? -ng_ : ng_, side < 0 ? -wi_z : wi_z))
         return KindSplit::only(single);
     } else {
       Vec3 wo, wi;
       bool flipped;
-      if (local_pair(frame_toward(wo_w), wo_w, wi_w, wo, wi, flipped)) {
+      Frame bent;
+      if (local_pair(frame_toward(wo_w, bent), wo_w, wi_w, wo, wi, flipped)) {
         LobeScratch scratch;
         LayerScales layers;
         if (num_layers_) layer_scales(wo, wi, layers);
@@ -641,7 +667,7 @@ bool Bsdf::passes_straight_through(Vec3 wo, Vec3 wi) const {
 void Bsdf::kind_colors(Vec3 wo_w, Color out[kColorKinds]) const {
   for (int k = 0; k < kColorKinds; ++k) out[k] = Color(0.0f);
   const float side = dot(wo_w, ng_);
-  const float cos_o = absdot(wo_w, frame_toward(wo_w).n);
+  const float cos_o = absdot(wo_w, shading_normal(wo_w));
   for (int i = 0; i < n_; ++i) {
     const Lobe &lobe = lobes_[i];
     const Color c = lobe.color * lobe.scale;
@@ -660,7 +686,8 @@ void Bsdf::kind_colors(Vec3 wo_w, Color out[kColorKinds]) const {
 
 DenoisingClosures Bsdf::denoising_closures(Vec3 wo_w) const {
   DenoisingClosures out;
-  const Frame &frame = frame_toward(wo_w);
+  Frame bent;
+  const Frame &frame = frame_toward(wo_w, bent);
   const float cos_o = absdot(wo_w, frame.n);
   for (int i = 0; i < n_; ++i) {
     const Lobe &lobe = lobes_[i];

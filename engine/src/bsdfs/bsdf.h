@@ -146,6 +146,11 @@ class Bsdf {
   Bsdf(Vec3 ng, Vec3 ns, Vec3 wo);
   // With a tangent (anisotropy direction; zero = any): the frame's x axis follows it.
   Bsdf(Vec3 ng, Vec3 ns, Vec3 wo, Vec3 tangent);
+  // ns is a normal map's (or bump's): bent for each direction that sees it as Cycles bends
+  // it toward the viewer, just enough that the viewer's mirror direction stays above the
+  // surface (shading_normal.h). Per direction, by frame_toward's rule, so light paths see
+  // the surface as the camera paths that meet them do.
+  void bend_for_each_viewer();
 
   // Past kMaxLobes the lobe is merged with one of its kind (lobe_merge.h).
   void add_lobe(const Lobe &lobe, float sample_weight);
@@ -231,11 +236,12 @@ class Bsdf {
   // reflection times its Fresnel at wo), rough (alpha_x alpha_y > 0.075^2, or diffuse-like)
   // or near-specular, and its selection weight.
   DenoisingClosures denoising_closures(Vec3 wo) const;
-  // The shading frame as built (toward the constructor's wo).
-  const Frame &frame() const { return built_flat_ ? flat_ : frame_; }
   // The shading normal a scattering whose camera-side direction is w sees (a normal map's,
   // or the geometric normal past the terminator): the cosine that goes with f there.
-  Vec3 shading_normal(Vec3 w) const { return frame_toward(w).n; }
+  Vec3 shading_normal(Vec3 w) const {
+    Frame bent;
+    return frame_toward(w, bent).n;
+  }
   Vec3 geometric_normal() const { return ng_; }
 
  private:
@@ -246,13 +252,21 @@ class Bsdf {
   // from, so f of a pair does not depend on the direction the Bsdf was built toward: a
   // light path sees a smooth-shaded surface as the camera path that meets it does (BDPT's
   // light tracing at silhouettes). Built toward wo, a camera path's evaluations are as they were.
-  const Frame &frame_toward(Vec3 w) const {
+  // A mapped normal (bend_) is first bent for w (bent_frame), into scratch when it moves.
+  const Frame &frame_toward(Vec3 w, Frame &scratch) const {
     if (!smooth_) return frame_;
     const float side = dot(w, ng_) < 0 ? -1.0f : 1.0f;
+    if (bend_) return bent_frame(w, side, scratch);
     return side * dot(w, frame_.n) > kTerminatorCos ? frame_ : flat_;
   }
-  const Frame &camera_side_frame(Vec3 wo, Vec3 wi, TransportMode mode) const {
-    return frame_toward(mode == TransportMode::Radiance ? wo : wi);
+  const Frame &bent_frame(Vec3 w, float side, Frame &scratch) const;
+  const Frame &camera_side_frame(Vec3 wo, Vec3 wi, TransportMode mode, Frame &scratch) const {
+    return frame_toward(mode == TransportMode::Radiance ? wo : wi, scratch);
+  }
+  // Two frames from frame_toward are the same one (the same normal and tangent).
+  static bool same_frame(const Frame &a, const Frame &b) {
+    return &a == &b || (a.n.x == b.n.x && a.n.y == b.n.y && a.n.z == b.n.z && a.s.x == b.s.x && a.s.y == b.s.y &&
+                        a.s.z == b.s.z);
   }
   static constexpr float kTerminatorCos = 1e-4f;
   // The selection probability of the Transparent lobes (pass_probability, scattering_lobe_u).
@@ -262,7 +276,8 @@ class Bsdf {
     frame_ = o.frame_;
     flat_ = o.flat_;
     smooth_ = o.smooth_;
-    built_flat_ = o.built_flat_;
+    bend_ = o.bend_;
+    oriented_ = o.oriented_;
     ng_ = o.ng_;
     backfacing_ = o.backfacing_;
     lambert_ = o.lambert_;
@@ -300,13 +315,15 @@ class Bsdf {
   bool lambert_cosines(Vec3 n, Vec3 wo_w, Vec3 wi_w, LambertCosines &c) const;
   Color lambert_f(const LambertCosines &c, TransportMode mode) const;
   // The Bsdf's whole f, densities (pdf of sampling wi from wo, and the reverse) with the
-  // frames frame_toward gives when they differ (a pair across the terminator fallback).
+  // frames frame_toward gives when they differ (a pair across the terminator fallback, or
+  // a mapped normal bent for one of them).
   Color f_in(const Frame &frame, Vec3 wo_w, Vec3 wi_w, TransportMode mode) const;
   float pdf_in(const Frame &frame, Vec3 wo_w, Vec3 wi_w) const;
   Frame frame_;  // the shading normal's (and tangent's)
   Frame flat_;   // the geometric normal's (the tangent projected onto it)
   bool smooth_ = false;      // the two differ
-  bool built_flat_ = false;  // frame_toward(the constructor's wo) is flat_
+  bool bend_ = false;         // frame_ is a mapped normal's, bent per direction (bend_for_each_viewer)
+  bool oriented_ = false;     // frame_'s tangent is anisotropy's axis
   Vec3 ng_;
   bool backfacing_ = false;
   bool lambert_ = false;

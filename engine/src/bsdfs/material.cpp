@@ -2,7 +2,6 @@
 #include "film/data_passes.h"
 #include "bsdfs/layering.h"
 #include "bsdfs/lobe_merge.h"
-#include "bsdfs/shading_normal.h"
 #include "core/limits.h"
 
 namespace rdv {
@@ -640,11 +639,6 @@ Bsdf Material::shaded_bsdf(const ShadingPoint &sp, Vec3 wo) const {
   bool mapped = false;
   for (const Closure &c : closures)
     if (c.normal >= 0) { ns = graph.eval_normal(c.normal, sp); mapped = true; break; }
-  if (mapped) {  // bend a mapped normal that would reflect below the surface (as Cycles)
-    Vec3 ngf = dot(sp.ng, wo) < 0 ? -sp.ng : sp.ng;
-    if (dot(ns, ngf) < 0) ns = -ns;
-    ns = ensure_valid_reflection(ngf, wo, ns);
-  }
   // Anisotropy follows the default UV map's u direction, rotated about the normal.
   Vec3 tangent(0.0f);
   for (const Closure &c : closures) {
@@ -660,6 +654,9 @@ Bsdf Material::shaded_bsdf(const ShadingPoint &sp, Vec3 wo) const {
     break;
   }
   Bsdf bsdf(sp.ng, ns, wo, tangent);
+  // A mapped normal that would reflect a viewer below the surface is bent (as Cycles),
+  // for each direction that sees it: not only toward wo (light paths build toward the light).
+  if (mapped) bsdf.bend_for_each_viewer();
   add_closure_lobes(*this, sp, bsdf);
   return bsdf;
 }
