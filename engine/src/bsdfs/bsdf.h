@@ -243,6 +243,14 @@ class Bsdf {
     return frame_toward(w, bent).n;
   }
   Vec3 geometric_normal() const { return ng_; }
+  // Whether a and b see the same shading frame (frame_toward). Where they do not, a delta
+  // lobe sampled from one (light walks sample from the light side) does not reach the other's
+  // event: BDPT's strategies whose light walk would scatter there cannot make the path.
+  bool same_frame_both_ways(Vec3 a, Vec3 b) const {
+    if (!smooth_) return true;
+    Frame bent_a, bent_b;
+    return same_frame(frame_toward(a, bent_a), frame_toward(b, bent_b));
+  }
 
  private:
   // The shading frame a Bsdf built toward w would have: the shading normal's, or the

@@ -79,8 +79,13 @@ struct PathVertex {
   // that reaches this vertex, so no strategy with fewer camera vertices than this one's
   // index + 1 makes the path (set_mis_sum stops the running sums here, as for `blurred`).
   bool light_cut = false;
-  // Either: the strategies below this camera vertex cannot make the path.
-  bool ends_light_side() const { return blurred || light_cut; }
+  // A delta scattering whose two directions see different shading frames (a mapped normal
+  // bent for one of them, the terminator fallback: Bsdf::same_frame_both_ways): a light
+  // walk's delta lobe, sampled in the other frame, does not send the light to the camera
+  // side here, so no light walk passes this camera vertex.
+  bool one_way = false;
+  // Any: the strategies below this camera vertex cannot make the path.
+  bool ends_light_side() const { return blurred || light_cut || one_way; }
   // Ray visibility (scene/ray_visibility.h): a surface's instance's bits (scenes with ray
   // visibility), and on camera subpaths the kind of the ray that left the vertex.
   uint32_t visibility = visibility::kAll;

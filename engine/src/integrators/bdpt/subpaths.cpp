@@ -390,6 +390,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     if (bs.is_delta) {
       v.delta = true;
       v.passed_through = bs.pass_through;
+      if (camera) v.one_way = !v.bsdf.same_frame_both_ways(v.wo, bs.wi);
       pdf_fwd = pdf_rev = 0;
     } else {
       pdf_fwd = bs.pdf;
