@@ -23,10 +23,10 @@ namespace {
 
 constexpr int kRuns = 8;
 // 4 scenes x 2 integrators with the default (relative) target, the door gap with the
-// luminance target, mlt on 16 scenes (luminance target) and the fog door twice more
+// luminance target, mlt on 17 scenes (luminance target) and the fog door twice more
 // (relative target; direct light left to the path tracer), an alpha card with direct light
 // left to the path tracer, and pssmlt with a sample clamp; 36 blocks each.
-constexpr int kBlockTestsInFile = 30 * 36;
+constexpr int kBlockTestsInFile = 31 * 36;
 const double kAlphaPerBlock = 1.0 - std::pow(1.0 - 0.01, 1.0 / kBlockTestsInFile);
 
 struct Runs {
@@ -240,6 +240,15 @@ TEST(MltVsBdpt, PathSpaceOrthographic) {
   scene["camera"].update({{"type", "orthographic"}, {"ortho_scale", 2.8}});
   scene["world"] = {{"color", {0.2, 0.25, 0.3}}};
   expect_same_image(scene, "cornell (orthographic, world)", 32, 64, "luminance", {"mlt"});
+}
+// Orthographic with depth of field: x_0 a point of the image plane (path_space.h), the
+// aperture 0.5 m wide (Blender's 1 / (2 fstop) at f/1), a pentagon, focused on the back wall.
+TEST(MltVsBdpt, PathSpaceOrthographicLens) {
+  json scene = load_scene("cornell_box.json");
+  scene["camera"].update(
+      {{"type", "orthographic"}, {"ortho_scale", 2.8}, {"fstop", 1.0}, {"focus_distance", 4.9}, {"blades", 5}});
+  scene["world"] = {{"color", {0.2, 0.25, 0.3}}};
+  expect_same_image(scene, "cornell (orthographic lens, world)", 32, 64, "luminance", {"mlt"});
 }
 
 // Lights at infinity and textured emission: the Cornell box with its lamp taken out of the

@@ -340,6 +340,29 @@ struct BruteForce {
     double cos = v.on_surface() ? std::fabs(dot(v.ng, normalize(d))) : 1.0;
     return cos / double(length_squared(d));
   }
+  // An orthographic camera without depth of field: x_0 is x_1's foot, the direction a delta.
+  bool orthographic_pinhole() const {
+    return scene.camera_now().type == Camera::Type::Orthographic && !(scene.camera_now().aperture_radius > 0);
+  }
+  bool orthographic_lens() const {
+    return scene.camera_now().type == Camera::Type::Orthographic && scene.camera_now().aperture_radius > 0;
+  }
+  // Orthographic with depth of field: x_0 uniform over the plane under the sample region
+  // (kOrigin, kSize in pixels) widened by the aperture's radius on every side; x_1 by an
+  // offset uniform on the aperture, the ray from x_0 aimed at the focal-plane point of the
+  // raster point x_0 less that offset: per solid angle d^2 / (A_lens cos^3), d the focus
+  // distance (the focal-plane point moves d / cos^2 per radian across, d / cos along).
+  double orthographic_lens_region() const {
+    const Camera &camera = scene.camera_now();
+    const double px = double(camera.right - camera.left) / kWidth, py = double(camera.top - camera.bottom) / kHeight;
+    const double r = camera.aperture_radius;
+    return (kSize.x * px + 2 * r) * (kSize.y * py + 2 * r);
+  }
+  double orthographic_lens_direction(Vec3 w) const {
+    const Camera &camera = scene.camera_now();
+    const double c = dot(w, camera.forward()), d = camera.focus_distance;
+    return d * d / (aperture_area() * c * c * c);
+  }
   // The aperture's area: a disk, or a regular polygon of `blades` corners on its circle.
   double aperture_area() const {
     const Camera &camera = scene.camera_now();
@@ -389,7 +412,7 @@ struct BruteForce {
     if (b.infinite) return layer_passes(a.p, b.dir, 1e30, b.dir);
     if (a.infinite) return layer_passes(b.p, a.dir, 1e30, -a.dir);  // from the light's disk, along -dir
     Vec3 from = a.p;
-    if (from_camera && i == 1 && scene.camera_now().type == Camera::Type::Orthographic) {
+    if (from_camera && i == 1 && orthographic_pinhole()) {
       const Camera &camera = scene.camera_now();
       from = b.p - camera.forward() * dot(b.p - camera.position(), camera.forward());
     }
@@ -417,18 +440,20 @@ struct BruteForce {
   double camera_walk(const ExplicitPath &p, int i) const {
     shutter::SampleTime at(p.time);
     const int n = p.n;
-    if (i == 0) return 1 / aperture_area();  // a point uniform on the aperture (a pinhole: 1)
+    if (i == 0) return orthographic_lens() ? 1 / orthographic_lens_region() : 1 / aperture_area();  // (a pinhole: 1)
     const bdpt::PathVertex &v = p.x[size_t(i)].v;
     if (v.infinite) {
       // Escaped: the density of the direction at x_(n-2) (a sun without an angle: never).
       const Light &light = scene.lights()[size_t(v.light)];
       if (light.type == LightType::Sun && light.radius == 0) return 0;
       double pdf;
-      if (i == 1 && scene.camera_now().type == Camera::Type::Orthographic) {
+      if (i == 1 && orthographic_pinhole()) {
         // The world along the view axis: a raster point uniform, per unit of plane area.
         const Camera &camera = scene.camera_now();
         pdf = (double(kWidth) * kHeight / (double(kSize.x) * kSize.y)) /
               (double(camera.right - camera.left) * (camera.top - camera.bottom));
+      } else if (i == 1 && orthographic_lens()) {
+        pdf = orthographic_lens_direction(v.dir);
       } else if (i == 1) {
         const double cos0 = dot(v.dir, scene.camera_now().forward());
         pdf = (double(kWidth) * kHeight / (double(kSize.x) * kSize.y)) /
@@ -458,7 +483,7 @@ struct BruteForce {
     double pdf;
     Vec3 from = p.x[size_t(i - 1)].v.p;
     const double raster_density = double(kWidth) * kHeight / (double(kSize.x) * kSize.y);
-    if (i == 1 && scene.camera_now().type == Camera::Type::Orthographic) {
+    if (i == 1 && orthographic_pinhole()) {
       // A raster point uniform, its ray along the view axis from the image plane (scene
       // units, the camera unscaled): density per plane area, dA_plane = |cos| dA at x_1.
       const Camera &camera = scene.camera_now();
@@ -471,7 +496,8 @@ struct BruteForce {
     if (i == 1) {
       const Camera &camera = scene.camera_now();
       double cos0 = dot(w, camera.forward());
-      pdf = raster_density / (camera.viewplane_area() * cos0 * cos0 * cos0);
+      pdf = orthographic_lens() ? orthographic_lens_direction(w)
+                                : raster_density / (camera.viewplane_area() * cos0 * cos0 * cos0);
       from = from + w * float(camera.clip_start / cos0);
     } else {
       pdf = scatter_pdf(p.x[size_t(i - 1)], dir(p, i - 1, i - 2), w, false, blur_alpha(p, i - 1));
@@ -488,7 +514,7 @@ struct BruteForce {
     const Vec3 to = p.x[size_t(i)].v.p;
     if (i == 1) {
       const Camera &camera = scene.camera_now();
-      if (camera.type == Camera::Type::Orthographic) {
+      if (orthographic_pinhole()) {
         from = to - camera.forward() * (dot(to - camera.position(), camera.forward()) - camera.clip_start);
       } else {
         const Vec3 w = normalize(to - from);
@@ -531,7 +557,7 @@ struct BruteForce {
       // uniform on the disk of the bounding radius perpendicular to it, at the cosine.
       if (i == n - 1) {
         // Seen by an orthographic camera: only along its axis, a direction no light samples.
-        if (n == 2 && scene.camera_now().type == Camera::Type::Orthographic) return 0;
+        if (n == 2 && orthographic_pinhole()) return 0;
         if (light.type == LightType::Sun && light.radius == 0)
           return double(scene.light_distribution().pmf(size_t(light_vertex.light)));
         double pdf = 0;
@@ -1017,6 +1043,9 @@ nlohmann::json with_camera(nlohmann::json scene, const nlohmann::json &camera) {
 }
 const nlohmann::json kThinLens = {{"fstop", 0.5}, {"focus_distance", 3.0}, {"blades", 6}};
 const nlohmann::json kOrthographic = {{"type", "orthographic"}, {"ortho_scale", 2.4}};
+// Blender's orthographic aperture: radius 1 / (2 fstop) scene units (camera.cpp): 0.25 m.
+const nlohmann::json kOrthographicLens = {
+    {"type", "orthographic"}, {"ortho_scale", 2.4}, {"fstop", 2.0}, {"focus_distance", 3.0}, {"blades", 5}};
 nlohmann::json cornell_window();  // below: the lamp taken out of the ceiling, sky and sun
 
 TEST(PathMltDensities, ThinLensRatiosMatchBruteForce) {
@@ -1035,6 +1064,21 @@ TEST(PathMltDensities, OrthographicRatiosMatchBruteForce) {
   check_scene("fog_door.json (orthographic)",
               with_camera(test::load_scene("fog_door.json"), {{"type", "orthographic"}, {"ortho_scale", 3.0}}), 8000,
               20);
+}
+
+// Orthographic with depth of field (path_space.h): x_0 a point of the image plane, its own
+// vertex as a lens point is (the light side never makes it). The lens subpath mutation's
+// raster point anywhere in the image is rarely within the aperture of the x_0 it keeps: many
+// starts for 50 of them.
+TEST(PathMltDensities, OrthographicLensRatiosMatchBruteForce) {
+  check_scene("cornell_box.json (orthographic, depth of field)",
+              with_camera(test::load_scene("cornell_box.json"), kOrthographicLens), 6000, 20);
+  check_scene("fog_door.json (orthographic, depth of field)",
+              with_camera(test::load_scene("fog_door.json"), {{"type", "orthographic"},
+                                                              {"ortho_scale", 3.0},
+                                                              {"fstop", 1.0},
+                                                              {"focus_distance", 2.5}}),
+              40000, 20);
 }
 
 TEST(PathMltDensities, FogDoorRatiosMatchBruteForce) { check_scene("fog_door.json", 4000, 20); }

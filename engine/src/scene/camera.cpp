@@ -117,6 +117,14 @@ Ray Camera::generate_ray_from_lens(Vec2 raster, Vec2 lens) const {
   return ray_from(raster, aperture_radius > 0 ? &lens : nullptr, nullptr, nullptr);
 }
 
+Vec2 Camera::plane_of_raster(Vec2 raster) const {
+  return {left + raster.x / float(width_) * (right - left), top - raster.y / float(height_) * (top - bottom)};
+}
+
+Vec2 Camera::raster_of_plane(Vec2 plane) const {
+  return {(plane.x - left) / (right - left) * float(width_), (top - plane.y) / (top - bottom) * float(height_)};
+}
+
 Ray Camera::ray_from(Vec2 raster, const Vec2 *lens_offset, Vec3 *lens_point, RayCone *cone) const {
   float fx = raster.x / width_, fy = raster.y / height_;
   Vec3 plane{left + fx * (right - left), top - fy * (top - bottom), 0};
@@ -193,7 +201,13 @@ bool Camera::raster_of_direction(Vec3 d, Vec2 &raster, float &cos_theta) const {
 bool Camera::raster_through_lens(Vec3 lens_point, Vec3 d, Vec2 &raster, float &cos_theta) const {
   if (!(aperture_radius > 0)) return raster_of_direction(d, raster, cos_theta);
   cos_theta = dot(d, forward_);
-  if (type != Type::Perspective || cos_theta <= 0) return false;
+  if (cos_theta <= 0) return false;
+  if (type == Type::Orthographic) {
+    const Vec3 lens = to_camera_.point(lens_point);
+    const Vec3 pc = lens + to_camera_.vector(d) * (focus_distance / cos_theta);
+    raster = {(pc.x - left) / (right - left) * width_, (top - pc.y) / (top - bottom) * height_};
+    return aperture_covers(Vec2(lens.x - pc.x, lens.y - pc.y));
+  }
   // As importance(): in camera space, through the ray's point on the focal plane.
   Vec3 pc = to_camera_.vector(lens_point - position()) + to_camera_.vector(d) * (focus_distance / cos_theta);
   if (pc.z >= 0) return false;
@@ -217,6 +231,20 @@ float Camera::image_plane_area() const {
 Vec2 Camera::lens_of_point(Vec3 p) const {
   Vec3 pc = to_camera_.point(p);
   return {pc.x, pc.y};
+}
+
+bool Camera::aperture_covers(Vec2 offset) const {
+  // A hair of slack: an offset lens_sample made, carried through a world point and back.
+  const float r = aperture_radius * (1 + 1e-4f);
+  if (blades < 3) return offset.x * offset.x + offset.y * offset.y <= r * r;
+  // Inside every edge: the polygon's corners are at rotation + k corner, its edges at
+  // r cos(corner / 2) from the centre, their normals half a corner further round.
+  const float corner = 2.0f * kPi / float(blades), inner = r * std::cos(0.5f * corner);
+  for (int k = 0; k < blades; ++k) {
+    const float a = blade_rotation + corner * (float(k) + 0.5f);
+    if (offset.x * std::cos(a) + offset.y * std::sin(a) > inner) return false;
+  }
+  return true;
 }
 
 float Camera::aperture_area() const {

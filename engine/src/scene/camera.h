@@ -50,6 +50,9 @@ struct Camera {
   Vec2 lens_sample(Vec2 u) const;
   Vec3 lens_to_world(Vec2 lens) const { return to_world.point(Vec3(lens.x, lens.y, 0)); }
   Vec2 lens_of_point(Vec3 p) const;
+  // Orthographic cameras: a raster point's foot on the image plane (camera space x, y), and back.
+  Vec2 plane_of_raster(Vec2 raster) const;
+  Vec2 raster_of_plane(Vec2 plane) const;
   // The aperture's true area (pi r^2, or the polygon's); 1 for a pinhole. lens_area() is
   // pi r^2 for every aperture: BDPT's strategies use it on both sides, where it cancels.
   float aperture_area() const;
@@ -76,8 +79,12 @@ struct Camera {
   bool raster_of_direction(Vec3 d, Vec2 &raster, float &cos_theta) const;
   // Perspective cameras with a thin lens: where the ray from lens_point (on the aperture)
   // along unit d lands on the image (through its point on the focal plane); a pinhole:
-  // raster_of_direction.
+  // raster_of_direction. Orthographic cameras with depth of field: lens_point is on the
+  // image plane, the raster point the foot of the ray's point on the focal plane, and false
+  // unless lens_point is on the aperture around that foot (as generate_ray makes its rays).
   bool raster_through_lens(Vec3 lens_point, Vec3 d, Vec2 &raster, float &cos_theta) const;
+  // Whether a camera-space offset lies on the aperture (disk or polygon, as lens_sample).
+  bool aperture_covers(Vec2 offset) const;
   // Orthographic cameras: the raster position of the world point p (not limited to the
   // image) and its foot on the image plane (where its camera ray starts); false behind.
   bool raster_of_point(Vec3 p, Vec2 &raster, Vec3 &plane_point) const;

@@ -31,6 +31,12 @@ namespace {
 
 float cosine_at(const PathVertex &v, Vec3 w) { return v.on_surface() ? absdot(v.ng, w) : 1.0f; }
 
+// An orthographic camera without depth of field: its direction is a delta along the view
+// axis and x_0 is x_1's foot (with depth of field x_0 is a point of its own, as a lens's).
+bool orthographic_pinhole(const Camera &camera) {
+  return camera.type == Camera::Type::Orthographic && !(camera.aperture_radius > 0);
+}
+
 // A point inside a medium: a scattering vertex, or a point of an emissive medium that is
 // a volume light (its light vertex, medium set).
 bool in_medium(const PathVertex &v) {
@@ -182,11 +188,6 @@ void PathSpace::set_specular_paths(bool found) {
 }
 
 std::string PathSpace::unsupported(const Scene &scene, const RenderSettings &settings) {
-  const Camera &camera = scene.camera();
-  if (camera.type == Camera::Type::Orthographic && camera.aperture_radius > 0)
-    return "the camera is orthographic with depth of field (aperture radius " + std::to_string(camera.aperture_radius) +
-           "); mlt samples orthographic cameras without it and perspective ones with or without (use bdpt or pssmlt, "
-           "or set the aperture to 0)";
   // A clamp caps one sample's estimate (f / p of one strategy, MIS-weighted), which depends
   // on how the path was sampled; a Metropolis chain's f is a function of the path alone,
   // with no estimate to cap (docs/mlt.md). pssmlt / mmlt clamp BDPT's estimates.
@@ -368,16 +369,35 @@ bool PathSpace::camera_vertex(Pcg32 &rng, ExplicitVertex &z) const {
   v.p = camera.position();  // orthographic: moved to x_1's foot on the image plane by evaluate()
   if (camera.aperture_radius > 0) {
     Vec2 u{rng.next_float(), rng.next_float()};
-    v.p = camera.lens_to_world(camera.lens_sample(u));
+    if (camera.type == Camera::Type::Orthographic) {
+      // Every point of the plane some ray into the sample region can start from.
+      const float r = camera.aperture_radius;
+      const Vec2 lo = camera.plane_of_raster(sample_origin_), hi = camera.plane_of_raster(sample_origin_ + sample_size_);
+      const Vec2 a{std::min(lo.x, hi.x) - r, std::min(lo.y, hi.y) - r}, b{std::max(lo.x, hi.x) + r, std::max(lo.y, hi.y) + r};
+      v.p = camera.lens_to_world(Vec2(a.x + u.x * (b.x - a.x), a.y + u.y * (b.y - a.y)));
+    } else {
+      v.p = camera.lens_to_world(camera.lens_sample(u));
+    }
   }
   if (media_) v.media = MediumStack::for_camera(scene_);
   return true;
 }
 
+double PathSpace::lens_region_area(const Camera &camera) const {
+  const Vec2 lo = camera.plane_of_raster(sample_origin_), hi = camera.plane_of_raster(sample_origin_ + sample_size_);
+  const double r = camera.aperture_radius;
+  return (std::fabs(double(hi.x) - lo.x) + 2 * r) * (std::fabs(double(hi.y) - lo.y) + 2 * r);
+}
+
 Ray PathSpace::camera_ray(const ExplicitVertex &camera_vertex, Vec2 raster) const {
   const Camera &camera = scene_.camera_now();
-  Ray ray = camera.aperture_radius > 0 ? camera.generate_ray_from_lens(raster, camera.lens_of_point(camera_vertex.v.p))
-                                       : camera.generate_ray(raster, Vec2(0.5f, 0.5f));
+  Ray ray;
+  if (!(camera.aperture_radius > 0))
+    ray = camera.generate_ray(raster, Vec2(0.5f, 0.5f));
+  else if (camera.type == Camera::Type::Orthographic)  // the lens offset: x_0 from the raster point's foot
+    ray = camera.generate_ray_from_lens(raster, camera.lens_of_point(camera_vertex.v.p) - camera.plane_of_raster(raster));
+  else
+    ray = camera.generate_ray_from_lens(raster, camera.lens_of_point(camera_vertex.v.p));
   ray.mask = visibility::kCamera;  // it passes the lamps the camera does not see (ray_mask)
   return ray;
 }
@@ -468,8 +488,8 @@ MediumStack PathSpace::stack_toward(const ExplicitVertex &z, Vec3 w) const {
 void PathSpace::settle(ExplicitVertex &z, const ExplicitVertex &camera_side) const {
   if (z.v.infinite) return;  // a direction: it stays whatever its neighbour does
   const Camera &camera = scene_.camera_now();
-  // An orthographic camera sees x_1 along its view axis, wherever x_1 is.
-  Vec3 w = camera_side.v.type == VertexType::Camera && camera.type == Camera::Type::Orthographic
+  // An orthographic camera sees x_1 along its view axis, wherever x_1 is (without depth of field).
+  Vec3 w = camera_side.v.type == VertexType::Camera && orthographic_pinhole(camera)
                ? -camera.forward()
                : normalize(camera_side.v.p - z.v.p);
   if (z.v.type == VertexType::Surface) {
@@ -503,8 +523,18 @@ bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, Ray
   MediumStack media;
   float scattered_pdf = kInf;  // Filter Glossy: the density prev sampled the direction with
   if (prev.v.type == VertexType::Camera) {
-    // A raster point uniform over the sample region, through the pinhole.
-    Vec2 raster{sample_origin_.x + rng.next_float() * sample_size_.x, sample_origin_.y + rng.next_float() * sample_size_.y};
+    // A raster point uniform over the sample region, through the pinhole. Orthographic with
+    // depth of field: the raster point whose foot is x_0 less an offset uniform on the
+    // aperture (its rays into the region start anywhere on the plane: camera_vertex).
+    const Vec2 u{rng.next_float(), rng.next_float()};
+    Vec2 raster{sample_origin_.x + u.x * sample_size_.x, sample_origin_.y + u.y * sample_size_.y};
+    const Camera &camera = scene_.camera_now();
+    if (camera.type == Camera::Type::Orthographic && camera.aperture_radius > 0) {
+      raster = camera.raster_of_plane(camera.lens_of_point(prev.v.p) - camera.lens_sample(u));
+      if (!(raster.x >= sample_origin_.x && raster.x < sample_origin_.x + sample_size_.x &&
+            raster.y >= sample_origin_.y && raster.y < sample_origin_.y + sample_size_.y))
+        return false;
+    }
     ray = camera_ray(prev, raster);
     media = prev.v.media;
   } else {
@@ -616,7 +646,7 @@ bool PathSpace::extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayS
 double PathSpace::camera_side_flight(const ExplicitPath &p, int i) const {
   // fwd_area[i] = cos / d^2 x the free flight; a medium vertex has no cosine, and an
   // orthographic camera's x_1 no d^2 (evaluate()).
-  if (i == 1 && scene_.camera_now().type == Camera::Type::Orthographic) return p.fwd_area[1];
+  if (i == 1 && orthographic_pinhole(scene_.camera_now())) return p.fwd_area[1];
   return p.fwd_area[size_t(i)] * double(length_squared(p.x[size_t(i)].v.p - p.x[size_t(i - 1)].v.p));
 }
 
@@ -930,9 +960,16 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   // aperture (a pinhole: A_lens = 1), the raster point where the ray from x_0 to x_1
   // crosses the focal plane. Orthographic: x_0 is x_1's foot on the image plane (the
   // direction is a delta along the view axis), We = 1 / A_plane per unit of plane area,
-  // and the first edge has no 1 / d^2 (dA_plane = cos_1 dA_1).
+  // and the first edge has no 1 / d^2 (dA_plane = cos_1 dA_1). Orthographic with depth of
+  // field: the camera's rays start at a raster point's foot plus a lens offset (uniform on
+  // the aperture) and aim at the foot's point on the focal plane, at distance d along the
+  // axis, so We cos_0 = d^2 / (A_plane A_lens cos^3), a thin lens's with A = A_plane / d^2
+  // (the image's area seen from x_0 at unit distance), where x_0 lies on the aperture around
+  // the foot of the ray's focal-plane point (Camera::raster_through_lens). Its walk: x_0
+  // uniform on the plane around the sample region (camera_vertex), then an offset uniform on
+  // the aperture: x_1 per solid angle d^2 / (A_lens cos^3).
   const Camera &camera = scene_.camera_now();
-  const bool ortho = camera.type == Camera::Type::Orthographic;
+  const bool ortho = orthographic_pinhole(camera);
   Vec2 raster;
   Vec3 w0;
   float cos0 = 1;
@@ -951,9 +988,14 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   } else {
     w0 = toward(y.x[0], y.x[1]);
     if (!camera.raster_through_lens(y.x[0].v.p, w0, raster, cos0)) return;
-    const double area = camera.viewplane_area(), c2 = double(cos0) * cos0;
+    const double d = camera.focus_distance, c2 = double(cos0) * cos0;
+    const bool perspective = camera.type == Camera::Type::Perspective;
+    const double area = perspective ? camera.viewplane_area() : camera.viewplane_area() / (d * d);
     f = Color(float(1.0 / (area * camera.aperture_area() * c2 * c2) * cos0));
-    pdf_x1_dir = (double(image_area_) / region_area_) / (area * c2 * cos0);
+    // Orthographic with depth of field: the direction from x_0 by a lens offset uniform on
+    // the aperture, whose focal-plane point moves d^2 / cos^3 per unit solid angle.
+    pdf_x1_dir = perspective ? (double(image_area_) / region_area_) / (area * c2 * cos0)
+                             : d * d / (camera.aperture_area() * c2 * cos0);
   }
   if (!(raster.x >= sample_origin_.x && raster.x < sample_origin_.x + sample_size_.x &&
         raster.y >= sample_origin_.y && raster.y < sample_origin_.y + sample_size_.y))
@@ -1206,7 +1248,10 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   Color f_catcher = copy && y.split >= 0 && light.shadow_catcher ? f : Color(0.0f);
   f *= layers_past_split;
   if (!image) f = Color(0.0f);
-  y.fwd[0] = 1.0 / camera.aperture_area();  // a point uniform on the aperture (pinhole, orthographic: 1)
+  // A point uniform on the aperture (pinhole, orthographic: 1), or with an orthographic
+  // camera's depth of field on the plane around the sample region (camera_vertex).
+  y.fwd[0] = orthographic_pinhole(camera) || camera.type == Camera::Type::Perspective ? 1.0 / camera.aperture_area()
+                                                                                       : 1.0 / lens_region_area(camera);
   // The camera side reaches the light where its last ray meets it first: a lamp's sphere
   // where the ray enters it (emitted() is 0 from inside), an area lamp from its emitting
   // side (E S+ L through a mirror or glass has no other strategy), another lamp on the way

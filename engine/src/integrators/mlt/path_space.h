@@ -337,11 +337,15 @@ class PathSpace {
   // The lamp the ray o + t d meets first for t < tmax (its index, t), or -1: a sphere lamp
   // (lights/sphere_lamp.h) where the ray enters it, an area lamp from its emitting side.
   int first_lamp(Vec3 o, Vec3 d, float tmax, float &t, uint32_t mask) const;
-  // x_0: the pinhole, a point uniform on a thin lens's aperture, or (orthographic) a
-  // stand-in that evaluate() moves to x_1's foot on the image plane.
+  // x_0: the pinhole, a point uniform on a thin lens's aperture, (orthographic) a stand-in
+  // that evaluate() moves to x_1's foot on the image plane, or (orthographic with depth of
+  // field) a point uniform on the image plane over the sample region widened by the
+  // aperture's radius (lens_region_area).
   bool camera_vertex(Pcg32 &rng, ExplicitVertex &z) const;
+  double lens_region_area(const Camera &camera) const;
   // The camera ray from x_0 through a raster point (a thin lens: from x_0's lens point), of
-  // the camera's kind (ray_mask).
+  // the camera's kind (ray_mask). Orthographic with depth of field: from x_0 toward the
+  // raster point's focal-plane point (evaluate() checks that x_0 is on the aperture there).
   Ray camera_ray(const ExplicitVertex &camera_vertex, Vec2 raster) const;
   bool light_vertex(Pcg32 &rng, ExplicitVertex &z, Vec3 &dir) const;
   // to_light (trace_step's): 1 or 0; -1: whether y_at is y's last vertex. kept_flight >= 0:
