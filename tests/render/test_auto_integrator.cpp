@@ -95,7 +95,7 @@ TEST(AutoIntegrator, ThePickRendersTheRestAndACancelStopsThePilots) {
 
 // Path-space mlt is a candidate (a default one since the study measured it, docs/trade.md):
 // its pilot makes mutations and estimates its own error from its odd and even chains, as
-// pssmlt's. A scene mlt refuses (an orthographic camera with depth of field) leaves it out
+// pssmlt's. A render mlt refuses (Light Paths clamps, which cap one sample's estimate) leaves it out
 // with the reason (a warning when the user named it, else in the choice's "left_out"), and
 // the others choose.
 TEST(AutoIntegrator, PathSpaceMltIsACandidateWhereItCanRender) {
@@ -112,25 +112,24 @@ TEST(AutoIntegrator, PathSpaceMltIsACandidateWhereItCanRender) {
   std::printf("[ auto ] bdpt and mlt pilots: rel_mse %.3g / %.3g, pick %s\n", c["pilots"][0]["rel_mse"].get<double>(),
               mlt["rel_mse"].get<double>(), c["integrator"].dump().c_str());
 
-  rdv_tools::EqualTimeScene ortho = rdv_tools::load_equal_time_scene(kScenes + "cornell_box.json", 16);
-  json doc = json::parse(ortho.text);
-  doc["camera"].update({{"type", "orthographic"}, {"ortho_scale", 2.4}, {"aperture_radius", 0.05}, {"focus_distance", 3.9}});
-  ortho.text = doc.dump();
-  rdv_tools::EngineScene refused(ortho);
+  rdv_tools::EqualTimeScene clamped = rdv_tools::load_equal_time_scene(kScenes + "cornell_box.json", 16);
+  rdv_tools::EngineScene refused(clamped);
   const json both = rdv_tools::render_settings(
-      ortho, {{"integrator", "auto"}, {"auto_candidates", {"path", "mlt"}}, {"time_limit", 0.5}});
+      clamped,
+      {{"integrator", "auto"}, {"auto_candidates", {"path", "mlt"}}, {"time_limit", 0.5}, {"clamp_indirect", 10.0}});
   const json d = run_auto(refused.get(), both, true).choice;
   ASSERT_EQ(d["pilots"].size(), 1u) << d.dump();
   EXPECT_EQ(d["integrator"], "path");
-  const json defaults = rdv_tools::render_settings(ortho, {{"integrator", "auto"}, {"time_limit", 0.5}});
+  const json defaults =
+      rdv_tools::render_settings(clamped, {{"integrator", "auto"}, {"time_limit", 0.5}, {"clamp_indirect", 10.0}});
   const json e = run_auto(refused.get(), defaults, true).choice;
   EXPECT_EQ(e["pilots"].size(), 4u) << e.dump();
   ASSERT_TRUE(e.contains("left_out") && e["left_out"].size() == 1u) << e.dump();
-  EXPECT_NE(e["left_out"][0].get<std::string>().find("mlt: the camera is orthographic with depth of field"),
+  EXPECT_NE(e["left_out"][0].get<std::string>().find("mlt: Light Paths clamps"),
             std::string::npos)
       << e.dump();
   const json only_mlt = rdv_tools::render_settings(
-      ortho, {{"integrator", "auto"}, {"auto_candidates", {"mlt"}}, {"time_limit", 0.5}});
+      clamped, {{"integrator", "auto"}, {"auto_candidates", {"mlt"}}, {"time_limit", 0.5}, {"clamp_indirect", 10.0}});
   rdv_session *session = nullptr;
   EXPECT_NE(rdv_session_create(refused.get(), only_mlt.dump().c_str(), &session), RDV_OK);
   EXPECT_NE(std::string(rdv_last_error()).find("no candidate can render this scene"), std::string::npos)
