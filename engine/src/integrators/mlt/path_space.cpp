@@ -370,10 +370,8 @@ bool PathSpace::camera_vertex(Pcg32 &rng, ExplicitVertex &z) const {
   if (camera.aperture_radius > 0) {
     Vec2 u{rng.next_float(), rng.next_float()};
     if (camera.type == Camera::Type::Orthographic) {
-      // Every point of the plane some ray into the sample region can start from.
-      const float r = camera.aperture_radius;
-      const Vec2 lo = camera.plane_of_raster(sample_origin_), hi = camera.plane_of_raster(sample_origin_ + sample_size_);
-      const Vec2 a{std::min(lo.x, hi.x) - r, std::min(lo.y, hi.y) - r}, b{std::max(lo.x, hi.x) + r, std::max(lo.y, hi.y) + r};
+      Vec2 a, b;
+      lens_region(camera, a, b);
       v.p = camera.lens_to_world(Vec2(a.x + u.x * (b.x - a.x), a.y + u.y * (b.y - a.y)));
     } else {
       v.p = camera.lens_to_world(camera.lens_sample(u));
@@ -383,10 +381,18 @@ bool PathSpace::camera_vertex(Pcg32 &rng, ExplicitVertex &z) const {
   return true;
 }
 
+void PathSpace::lens_region(const Camera &camera, Vec2 &lo, Vec2 &hi) const {
+  // Every point of the plane some ray into the sample region can start from.
+  const Vec2 a = camera.plane_of_raster(sample_origin_), b = camera.plane_of_raster(sample_origin_ + sample_size_);
+  const float r = camera.aperture_radius;
+  lo = Vec2(std::min(a.x, b.x) - r, std::min(a.y, b.y) - r);
+  hi = Vec2(std::max(a.x, b.x) + r, std::max(a.y, b.y) + r);
+}
+
 double PathSpace::lens_region_area(const Camera &camera) const {
-  const Vec2 lo = camera.plane_of_raster(sample_origin_), hi = camera.plane_of_raster(sample_origin_ + sample_size_);
-  const double r = camera.aperture_radius;
-  return (std::fabs(double(hi.x) - lo.x) + 2 * r) * (std::fabs(double(hi.y) - lo.y) + 2 * r);
+  Vec2 lo, hi;
+  lens_region(camera, lo, hi);
+  return (double(hi.x) - lo.x) * (double(hi.y) - lo.y);
 }
 
 Ray PathSpace::camera_ray(const ExplicitVertex &camera_vertex, Vec2 raster) const {
@@ -531,9 +537,7 @@ bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, Ray
     const Camera &camera = scene_.camera_now();
     if (camera.type == Camera::Type::Orthographic && camera.aperture_radius > 0) {
       raster = camera.raster_of_plane(camera.lens_of_point(prev.v.p) - camera.lens_sample(u));
-      if (!(raster.x >= sample_origin_.x && raster.x < sample_origin_.x + sample_size_.x &&
-            raster.y >= sample_origin_.y && raster.y < sample_origin_.y + sample_size_.y))
-        return false;
+      if (!in_sample_region(raster)) return false;
     }
     ray = camera_ray(prev, raster);
     media = prev.v.media;
@@ -997,9 +1001,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     pdf_x1_dir = perspective ? (double(image_area_) / region_area_) / (area * c2 * cos0)
                              : d * d / (camera.aperture_area() * c2 * cos0);
   }
-  if (!(raster.x >= sample_origin_.x && raster.x < sample_origin_.x + sample_size_.x &&
-        raster.y >= sample_origin_.y && raster.y < sample_origin_.y + sample_size_.y))
-    return;
+  if (!in_sample_region(raster)) return;
   if (!y.x[1].v.infinite) {  // the world beyond the clip end is seen: Cycles' camera rays end there
     float depth = dot(y.x[1].v.p - camera.position(), camera.forward());
     if (depth < camera.clip_start || depth > camera.clip_end) return;
@@ -1623,9 +1625,7 @@ Proposal PathSpace::perturb_medium_vertex(const ExplicitPath &x, MutationType ty
 int PathSpace::retrace_lens(const ExplicitPath &x, Vec2 raster, bool keep, Pcg32 &rng, RayStats &stats,
                             ExplicitPath &y) const {
   const int c = first_non_specular(x);
-  if (!(raster.x >= sample_origin_.x && raster.x < sample_origin_.x + sample_size_.x &&
-        raster.y >= sample_origin_.y && raster.y < sample_origin_.y + sample_size_.y))
-    return 0;
+  if (!in_sample_region(raster)) return 0;
   y.reserve(max_vertices_);
   y.n = x.n;
   y.time = x.time;  // the caller's shutter::SampleTime is at it
@@ -1688,9 +1688,7 @@ Proposal PathSpace::perturb_lens(const ExplicitPath &x, Pcg32 &rng, RayStats &st
 
 int PathSpace::walk_lens_subpath(const ExplicitPath &x, Vec2 raster, bool to_light, int after, Pcg32 &rng,
                                  RayStats &stats, ExplicitPath &y) const {
-  if (!(raster.x >= sample_origin_.x && raster.x < sample_origin_.x + sample_size_.x &&
-        raster.y >= sample_origin_.y && raster.y < sample_origin_.y + sample_size_.y))
-    return 0;
+  if (!in_sample_region(raster)) return 0;
   y.reserve(max_vertices_);
   y.time = x.time;  // the caller's shutter::SampleTime is at it
   y.x[0] = x.x[0];

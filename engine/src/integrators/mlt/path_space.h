@@ -342,7 +342,13 @@ class PathSpace {
   // field) a point uniform on the image plane over the sample region widened by the
   // aperture's radius (lens_region_area).
   bool camera_vertex(Pcg32 &rng, ExplicitVertex &z) const;
+  void lens_region(const Camera &camera, Vec2 &lo, Vec2 &hi) const;  // camera space, on the image plane
   double lens_region_area(const Camera &camera) const;
+  // The raster point lies in the region this PathSpace samples (a tile, a farm part's image).
+  bool in_sample_region(Vec2 raster) const {
+    return raster.x >= sample_origin_.x && raster.x < sample_origin_.x + sample_size_.x &&
+           raster.y >= sample_origin_.y && raster.y < sample_origin_.y + sample_size_.y;
+  }
   // The camera ray from x_0 through a raster point (a thin lens: from x_0's lens point), of
   // the camera's kind (ray_mask). Orthographic with depth of field: from x_0 toward the
   // raster point's focal-plane point (evaluate() checks that x_0 is on the aperture there).
