@@ -38,7 +38,10 @@ enum class FresnelMode : uint8_t {
   Tint,       // F = color (Glossy BSDF)
   Conductor,  // F = color * conductor Fresnel from complex IOR eta + i k
   Schlick,    // F = color * (f0 + (1 - f0) (1 - cos)^5) (Principled specular, clearcoat)
-  Dielectric  // F = color * dielectric Fresnel of the real IOR `ior`
+  Dielectric,  // F = color * dielectric Fresnel of the real IOR `ior`
+  // F = color * (f0 + (1 - f0) FH), FH the dielectric Fresnel of `ior` taken from its normal-
+  // incidence value (0) to 1: Cycles 3.4's Principled specular (interpolate_fresnel_color).
+  Interpolated
 };
 
 // A reflecting layer above some lobes (Principled specular, sheen, clearcoat). A lobe
@@ -89,6 +92,11 @@ struct Lobe {
         return color * (f0 + (Color(1.0f) - f0) * (m2 * m2 * m));
       }
       case FresnelMode::Dielectric: return color * fresnel_dielectric(cos_i, ior);
+      case FresnelMode::Interpolated: {
+        const float r0 = fresnel_dielectric(1.0f, ior);
+        const float fh = r0 < 1 ? (fresnel_dielectric(cos_i, ior) - r0) / (1 - r0) : 0.0f;
+        return color * (f0 + (Color(1.0f) - f0) * fh);
+      }
     }
     return color;
   }

@@ -44,7 +44,9 @@ float pdf_single(const Lobe &lobe, Vec3 wo, Vec3 wi) {
 Color average_fresnel(const Lobe &lobe) {
   switch (lobe.fresnel_mode) {
     case FresnelMode::Tint: return lobe.color;
-    case FresnelMode::Schlick: return lobe.color * (lobe.f0 + (Color(1.0f) - lobe.f0) * (1.0f / 21.0f));
+    case FresnelMode::Schlick:
+    case FresnelMode::Interpolated:  // FH's average as Schlick's factor's (1 / 21)
+      return lobe.color * (lobe.f0 + (Color(1.0f) - lobe.f0) * (1.0f / 21.0f));
     case FresnelMode::Conductor: {  // Schlick's average around the normal-incidence value
       Color f0 = fresnel_conductor(1.0f, lobe.eta, lobe.k);
       return lobe.color * (f0 + (Color(1.0f) - f0) * (1.0f / 21.0f));

@@ -30,8 +30,8 @@ void merge_into(Lobe &a, const Lobe &b) {
   float ea = luminance(amp_a), eb = luminance(amp_b);
   float t = ea + eb > 0 ? eb / (ea + eb) : 0.5f;  // b's share of the energy
   auto blend = [t](float x, float y) { return x + (y - x) * t; };
-  if (a.fresnel_mode == FresnelMode::Schlick) {
-    // F = c (f0 (1 - m^5) + m^5) is linear in c f0 and in c: sum both.
+  if (a.fresnel_mode == FresnelMode::Schlick || a.fresnel_mode == FresnelMode::Interpolated) {
+    // F = c (f0 (1 - m^5) + m^5) is linear in c f0 and in c: sum both (Interpolated: FH for m^5).
     Color cf0 = amp_a * a.f0 + amp_b * b.f0;
     for (int k = 0; k < 3; ++k) a.f0[k] = amp[k] > 0 ? cf0[k] / amp[k] : 0.04f;
   }

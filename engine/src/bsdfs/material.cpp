@@ -534,10 +534,15 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
             bsdf.add_lobe(sh, 0.2f * sample_weight(sh.color));
           }
         }
-        if (spec_w > 0) {
-          Color f0 = f0_dielectric * (1 - metallic) + base * metallic;
-          s.fresnel_mode = FresnelMode::Schlick;
-          s.f0 = vmin(f0, Color(1.0f));
+        // Additive (Cycles 3.4): the specular's Fresnel runs from f0 to white as a dielectric's
+        // of the IOR Specular stands for (2 / (1 - sqrt(0.08 specular)) - 1: 1.5 at 0.5, and 1
+        // at 0, where nothing but the metallic part reflects); energy-conserving: Schlick's.
+        const float spec_ior = 2.0f / (1.0f - std::sqrt(0.08f * clampf(num(kSpecular), 0.0f, 12.0f))) - 1.0f;
+        Color f0 = vmin(f0_dielectric * (1 - metallic) + base * metallic, Color(1.0f));
+        if (spec_w > 0 && (layered || max_component(f0) > 0 || spec_ior > 1)) {
+          s.fresnel_mode = layered ? FresnelMode::Schlick : FresnelMode::Interpolated;
+          s.ior = spec_ior;
+          s.f0 = f0;
           s.color = Color(1.0f);
           s.scale = spec_w * ww;
           s.multiscatter = c.multiscatter;
@@ -553,7 +558,9 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
         }
         if (clearcoat > 0) {
           Lobe cc = ggx_lobe(coat_rough, 0.0f);
-          cc.fresnel_mode = FresnelMode::Schlick;
+          // Additive (Cycles 3.4): the dielectric Fresnel of IOR 1.5 (f0 0.04, interpolated).
+          cc.fresnel_mode = layered ? FresnelMode::Schlick : FresnelMode::Dielectric;
+          cc.ior = 1.5f;
           cc.f0 = Color(0.04f);
           cc.scale = 0.25f * clearcoat * ww;
           bsdf.add_lobe(cc, sample_weight(Color(cc.scale * 0.2f)));
