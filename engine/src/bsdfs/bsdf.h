@@ -93,7 +93,7 @@ struct Lobe {
       }
       case FresnelMode::Dielectric: return color * fresnel_dielectric(cos_i, ior);
       case FresnelMode::Interpolated: {
-        const float r0 = fresnel_dielectric(1.0f, ior);
+        const float a = (ior - 1) / (ior + 1), r0 = a * a;  // fresnel_dielectric(1, ior), in closed form
         const float fh = r0 < 1 ? (fresnel_dielectric(cos_i, ior) - r0) / (1 - r0) : 0.0f;
         return color * (f0 + (Color(1.0f) - f0) * fh);
       }
