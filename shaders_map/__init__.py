@@ -93,14 +93,19 @@ def _rgb(v, default):
         return list(default)
 
 
-def convert_material(material, image_average=None, image_file=None, volume_grids=False):
+def convert_material(material, image_average=None, image_file=None, volume_grids=False, blender_version=None):
     """A bpy Material (or stand-in) -> (engine params, warning or None).  volume_grids: for a
     Volume object (grid references {"name": ...} in the medium, completed by the exporter).
-    Material > Settings > Pass Index goes along as "pass_index" (the Material Index pass)."""
+    Material > Settings > Pass Index goes along as "pass_index" (the Material Index pass).
+    blender_version (bpy.app.version): the Cycles the material is rendered as; before 3.5
+    every GGX closure's shadowing is the separable G1 G1 ("ggx_shadowing"), from 3.5 on the
+    height-correlated form (the engine's default)."""
     params, warning = _convert_material(material, image_average, image_file, volume_grids)
     index = int(getattr(material, "pass_index", 0) or 0) if material is not None else 0
     if index:
         params = dict(params, pass_index=index)
+    if blender_version is not None and tuple(blender_version) < (3, 5, 0):
+        params = dict(params, ggx_shadowing="separable")
     return params, warning
 
 

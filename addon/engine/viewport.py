@@ -48,7 +48,7 @@ from ..export import volumes
 from ..export import images as export_images
 from ..export.settings import (INTEGRATORS, INTEGRATOR_LABELS, METROPOLIS, light_path_settings, light_paths_for,
                                metropolis_settings)
-from ..utils import Messages, normalize_frame, is_finite_matrix, determinant3
+from ..utils import Messages, blender_version, normalize_frame, is_finite_matrix, determinant3
 from ..utils.images import image_average
 
 # (resolution divisor, samples): None = the viewport samples setting.  The first divisor
@@ -355,7 +355,8 @@ class ViewportExporter(SceneExporter):
         self._uv_cache.pop(material.name_full, None)
         try:
             params, warning = shaders_map.convert_material(material, image_average=self.image_average,
-                                                           image_file=self.image_file)
+                                                           image_file=self.image_file,
+                                                           blender_version=blender_version())
         except Exception as exc:  # a node handler bug must not break the viewport
             params, warning = dict(shaders_map.DEFAULT_SURFACE), "Material '%s': translation failed (%s: %s)" % (
                 material.name_full, type(exc).__name__, exc)

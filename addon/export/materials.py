@@ -1,6 +1,7 @@
 """Materials actually used by exported meshes -> engine materials, once each."""
 
 from .. import shaders_map
+from ..utils import blender_version
 
 DEFAULT_NAME = "__rendezvous_default"
 
@@ -29,7 +30,8 @@ class MaterialCache:
             return mid
         try:
             params, warning = shaders_map.convert_material(material, image_average=self.image_average,
-                                                           image_file=self.image_file)
+                                                           image_file=self.image_file,
+                                                           blender_version=blender_version())
         except Exception as exc:  # a bug in a node handler must not stop the render
             params, warning = dict(shaders_map.DEFAULT_SURFACE), "Material '%s': translation failed (%s: %s)" % (
                 key, type(exc).__name__, exc)

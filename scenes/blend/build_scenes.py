@@ -224,6 +224,25 @@ def principled_plane():
     plane_area(principled_floor)
 
 
+def grazing_gloss():
+    """Rough gloss lit and seen at about 9 degrees of elevation by a point lamp: a Principled
+    strip (roughness 0.8, black base: its specular alone) beside a Glossy strip (roughness 0.8).
+    There Cycles 3.4's separable GGX shadowing G1 G1 is 0.6 of the height-correlated form's
+    (our image was 1.50x Cycles' before the materials used it)."""
+    reset()
+    scene = bpy.context.scene
+    scene.render.resolution_x, scene.render.resolution_y = 64, 48
+    m = bpy.data.materials.new("GrazingPrincipled")
+    m.use_nodes = True
+    p = m.node_tree.nodes["Principled BSDF"]
+    p.inputs["Base Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+    p.inputs["Roughness"].default_value = 0.8
+    quad_object("PrincipledStrip", 2.0, 4.0, (-1.0, 0.0, 0.0), (0, 0, 0), m)
+    quad_object("GlossyStrip", 2.0, 4.0, (1.0, 0.0, 0.0), (0, 0, 0), glossy_material("GrazingGlossy", 0.8))
+    camera_looking_at((0.0, -4.0, 0.6), (0.0, 0.0, 0.0), 35.0)
+    light("POINT", "Lamp", 400.0, (0.0, 3.0, 0.5), shadow_soft_size=0.0)
+
+
 def checker_glow():
     m = emission_material("CheckerGlow", strength=5.0)
     nt = m.node_tree
@@ -1100,6 +1119,7 @@ SCENES = {
     "emissive_mesh": emissive_mesh,
     "hdri": hdri,
     "principled_plane": principled_plane,
+    "grazing_gloss": grazing_gloss,
     "emissive_textured": emissive_textured,
     "volume_blackbody": volume_blackbody,
     "volume_tinted": volume_tinted,
@@ -1135,7 +1155,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "emissive_textured",
                      "volume_blackbody"]
 
 

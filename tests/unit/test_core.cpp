@@ -200,12 +200,12 @@ TEST(Film, MetropolisCatcherSplatsCountTheirSplits) {
 // materials.json crashed, docs/reliability.md). Now NaN reads the table's first entry.
 TEST(GgxAlbedo, NanCoordinatesStayInsideTheTable) {
   const float nan = std::nanf("");
-  for (float e : {rdv::ggx_albedo(nan, 0.3f), rdv::ggx_albedo(0.5f, nan), rdv::ggx_albedo(nan, nan),
-                  rdv::ggx_average_albedo(nan), rdv::ggx_schlick_albedo(nan, 0.3f)}) {
+  for (float e : {rdv::ggx_albedo(nan, 0.3f, false), rdv::ggx_albedo(0.5f, nan, false), rdv::ggx_albedo(nan, nan, true),
+                  rdv::ggx_average_albedo(nan, false), rdv::ggx_schlick_albedo(nan, 0.3f, true)}) {
     EXPECT_TRUE(std::isfinite(e) && e >= 0 && e <= 1) << e;
   }
   float e_mu = -1, e1_mu = -1;
-  rdv::ggx_albedo_rows(nan).at(nan, e_mu, e1_mu);
+  rdv::ggx_albedo_rows(nan, false).at(nan, e_mu, e1_mu);
   EXPECT_TRUE(std::isfinite(e_mu) && std::isfinite(e1_mu)) << e_mu << " " << e1_mu;
   EXPECT_EQ(rdv::clamp_unit(nan), 0.0f);
   EXPECT_EQ(rdv::clamp_unit(-2.0f), 0.0f);

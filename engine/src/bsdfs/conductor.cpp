@@ -11,7 +11,7 @@ float ms_alpha(const Lobe &lobe) { return std::sqrt(lobe.ggx.ax * lobe.ggx.ay); 
 // Probability of sampling the compensation lobe instead of the microfacet one.
 float ms_probability(const Lobe &lobe, Vec3 wo) {
   if (!lobe.multiscatter) return 0;
-  return clampf(1.0f - ggx_albedo(wo.z, ms_alpha(lobe)), 0.0f, 0.9f);
+  return clampf(1.0f - ggx_albedo(wo.z, ms_alpha(lobe), lobe.ggx.separable), 0.0f, 0.9f);
 }
 
 Color eval_single(const Lobe &lobe, Vec3 wo, Vec3 wi) {
@@ -24,11 +24,13 @@ Color eval_single(const Lobe &lobe, Vec3 wo, Vec3 wi) {
 
 Color eval_multi(const Lobe &lobe, Vec3 wo, Vec3 wi) {
   float alpha = ms_alpha(lobe);
-  float eavg = ggx_average_albedo(alpha);
+  const bool separable = lobe.ggx.separable;
+  float eavg = ggx_average_albedo(alpha, separable);
   if (eavg >= 0.9999f) return Color(0.0f);
   Color favg = average_fresnel(lobe);
   Color fms = favg * favg * eavg / (Color(1.0f) - favg * (1.0f - eavg));
-  float k = (1.0f - ggx_albedo(wo.z, alpha)) * (1.0f - ggx_albedo(wi.z, alpha)) / (kPi * (1.0f - eavg));
+  float k = (1.0f - ggx_albedo(wo.z, alpha, separable)) * (1.0f - ggx_albedo(wi.z, alpha, separable)) /
+            (kPi * (1.0f - eavg));
   return fms * k;
 }
 
@@ -83,7 +85,7 @@ Color eval_and_pdf(const Lobe &lobe, Vec3 wo, Vec3 wi, float &pdf_out) {
   Color f(0.0f);
   float p_single = 0;
   if (d != 0) {
-    float g = 1.0f / (1.0f + lambda_o + lobe.ggx.lambda(wi));
+    float g = lobe.ggx.G2_of_lambdas(lambda_o, lobe.ggx.lambda(wi));
     f = lobe.fresnel(dot(wi, h)) * (d * g / (4.0f * wo.z * wi.z));
   }
   if (woh > 0) p_single = 1.0f / (1.0f + lambda_o) * woh * d / wo.z / (4.0f * woh);

@@ -13,11 +13,11 @@ struct AlbedoTable {
   static float average(const std::vector<float> &t, int r);
   std::vector<float> e, eavg;  // e[r * kMu + m]; table axes: mu = m / (kMu - 1), sqrt(alpha) = r / (kRough - 1)
   std::vector<float> e1, e1avg;  // the Schlick (1 - wo.h)^5 part
-  AlbedoTable() : e(kMu * kRough), eavg(kRough), e1(kMu * kRough), e1avg(kRough) {
+  explicit AlbedoTable(bool separable) : e(kMu * kRough), eavg(kRough), e1(kMu * kRough), e1avg(kRough) {
     for (int r = 0; r < kRough; ++r) {
       float rough = float(r) / (kRough - 1);
       float alpha = std::max(rough * rough, 1e-4f);
-      GgxDistribution ggx{alpha, alpha};
+      GgxDistribution ggx{alpha, alpha, separable};
       for (int m = 0; m < kMu; ++m) {
         float mu = std::max(float(m) / (kMu - 1), 1e-3f);
         Vec3 wo(safe_sqrt(1 - mu * mu), 0, mu);
@@ -55,8 +55,13 @@ float AlbedoTable::average(const std::vector<float> &t, int r) {
   return float(std::min(1.0, 2 * avg));
 }
 
-const AlbedoTable &table() {
-  static const AlbedoTable t;
+// One table per shadowing term (microfacet.h), each built on first use.
+const AlbedoTable &table(bool separable) {
+  if (separable) {
+    static const AlbedoTable t(true);
+    return t;
+  }
+  static const AlbedoTable t(false);
   return t;
 }
 
@@ -87,8 +92,8 @@ float lookup_average(const std::vector<float> &avg, float alpha) {
 
 }  // namespace
 
-GgxAlbedoRows ggx_albedo_rows(float alpha) {
-  const AlbedoTable &t = table();
+GgxAlbedoRows ggx_albedo_rows(float alpha, bool separable) {
+  const AlbedoTable &t = table(separable);
   int r;
   GgxAlbedoRows rows;
   coords(std::sqrt(std::max(alpha, 0.0f)), kRough, r, rows.fr);
@@ -112,28 +117,11 @@ void GgxAlbedoRows::at(float mu, float &e_mu, float &e1_mu) const {
   e1_mu = interp(e1);
 }
 
-float ggx_schlick_albedo(float mu, float alpha) { return lookup(table().e1, mu, alpha); }
-float ggx_schlick_average_albedo(float alpha) { return lookup_average(table().e1avg, alpha); }
-
-
-float ggx_albedo(float mu, float alpha) {
-  const AlbedoTable &t = table();
-  int m, r;
-  float fm, fr;
-  coords(mu, kMu, m, fm);
-  coords(std::sqrt(std::max(alpha, 0.0f)), kRough, r, fr);
-  auto at = [&](int rr, int mm) { return t.e[rr * kMu + mm]; };
-  float e0 = at(r, m) * (1 - fm) + at(r, m + 1) * fm;
-  float e1 = at(r + 1, m) * (1 - fm) + at(r + 1, m + 1) * fm;
-  return e0 * (1 - fr) + e1 * fr;
+float ggx_schlick_albedo(float mu, float alpha, bool separable) { return lookup(table(separable).e1, mu, alpha); }
+float ggx_schlick_average_albedo(float alpha, bool separable) {
+  return lookup_average(table(separable).e1avg, alpha);
 }
-
-float ggx_average_albedo(float alpha) {
-  const AlbedoTable &t = table();
-  int r;
-  float fr;
-  coords(std::sqrt(std::max(alpha, 0.0f)), kRough, r, fr);
-  return t.eavg[r] * (1 - fr) + t.eavg[r + 1] * fr;
-}
+float ggx_albedo(float mu, float alpha, bool separable) { return lookup(table(separable).e, mu, alpha); }
+float ggx_average_albedo(float alpha, bool separable) { return lookup_average(table(separable).eavg, alpha); }
 
 }  // namespace rdv

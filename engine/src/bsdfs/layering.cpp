@@ -51,12 +51,12 @@ Color schlick_avg(Color f0) { return f0 + (Color(1.0f) - f0) * (1.0f / 21.0f); }
 
 }  // namespace
 
-LayerAbove schlick_ggx_layer(Color f0, float alpha, bool multiscatter, Color weight) {
+LayerAbove schlick_ggx_layer(Color f0, float alpha, bool separable, bool multiscatter, Color weight) {
   LayerAbove l;
   l.kind = LayerAbove::SchlickGgx;
   l.f0 = f0;
   l.weight = weight;
-  l.rows = ggx_albedo_rows(alpha);
+  l.rows = ggx_albedo_rows(alpha, separable);
   if (multiscatter) {  // Kulla-Conty adds F_ms (1 - E(mu)) (conductor.cpp)
     float eavg = l.rows.eavg;
     Color favg = schlick_avg(f0);

@@ -5,9 +5,10 @@
 
 namespace rdv {
 
-// A dielectric GGX layer with Schlick Fresnel f0 and GGX alpha (isotropic equivalent),
-// and a Cycles 3.4 sheen layer; weight: the layer lobe's colour.
-LayerAbove schlick_ggx_layer(Color f0, float alpha, bool multiscatter, Color weight);
+// A dielectric GGX layer with Schlick Fresnel f0 and GGX alpha (isotropic equivalent) and
+// shadowing (GgxDistribution::separable), and a Cycles 3.4 sheen layer; weight: the layer
+// lobe's colour.
+LayerAbove schlick_ggx_layer(Color f0, float alpha, bool separable, bool multiscatter, Color weight);
 LayerAbove sheen_layer(Color weight);
 // Directional albedo of a layer at cos(theta) = mu, and its cosine-weighted average.
 Color layer_albedo(const LayerAbove &layer, float mu);

@@ -37,7 +37,8 @@ void merge_into(Lobe &a, const Lobe &b) {
   }
   a.color = amp;
   a.scale = 1;
-  a.ggx = {blend(a.ggx.ax, b.ggx.ax), blend(a.ggx.ay, b.ggx.ay)};
+  a.ggx.ax = blend(a.ggx.ax, b.ggx.ax);  // the shadowing rule is the material's: a's and b's
+  a.ggx.ay = blend(a.ggx.ay, b.ggx.ay);
   a.ior = blend(a.ior, b.ior);
   a.sigma = blend(a.sigma, b.sigma);
   a.eta = a.eta + (b.eta - a.eta) * t;

@@ -194,6 +194,10 @@ Material Material::from_params(Params &p, const std::string &name, const ImageBu
   m.graph.image_buffers = images;
   std::string type = p.get_string("type", "diffuse");
   m.pass_index = float(pass_index_of(p, "material '" + name + "'"));
+  const std::string shadowing = p.get_string("ggx_shadowing", "height_correlated");
+  if (shadowing == "separable") m.separable_shadowing = true;
+  else if (shadowing != "height_correlated")
+    fail("material '" + name + "': 'ggx_shadowing' must be height_correlated or separable, got '" + shadowing + "'");
   static const std::pair<const char *, MaterialType> kTypes[] = {
       {"diffuse", MaterialType::Diffuse}, {"emission", MaterialType::Emission}, {"glossy", MaterialType::Glossy},
       {"glass", MaterialType::Glass}, {"refraction", MaterialType::Refraction}, {"principled", MaterialType::Principled},
@@ -335,25 +339,27 @@ const char *Material::type_name() const {
 
 namespace {
 
-Lobe ggx_lobe(float roughness, float anisotropic) {
+Lobe ggx_lobe(float roughness, float anisotropic, bool separable) {
   Lobe l;
+  l.ggx.separable = separable;
   float a = sqr(clampf(roughness, 0.0f, 1.0f));
   float aniso = clampf(anisotropic, -1.0f, 1.0f);
   if (aniso != 0) {  // Cycles 3.4: aspect = sqrt(1 - 0.9 anisotropic)
     float aspect = std::sqrt(1.0f - std::max(aniso, 0.0f) * 0.9f);
     if (aniso < 0) aspect = 1.0f / std::sqrt(1.0f + aniso * 0.9f);
-    l.ggx = {std::min(a / aspect, 1.0f), a * aspect};
+    l.ggx.ax = std::min(a / aspect, 1.0f);
+    l.ggx.ay = a * aspect;
   } else {
-    l.ggx = {a, a};
+    l.ggx.ax = l.ggx.ay = a;
   }
   l.type = l.ggx.is_smooth() ? LobeType::SpecularConductor : LobeType::GgxConductor;
   return l;
 }
 
-Lobe dielectric_lobe(float roughness, float ior, Color color) {
+Lobe dielectric_lobe(float roughness, float ior, Color color, bool separable) {
   Lobe l;
   float a = sqr(clampf(roughness, 0.0f, 1.0f));
-  l.ggx = {a, a};
+  l.ggx = {a, a, separable};
   l.type = l.ggx.is_smooth() ? LobeType::SmoothDielectric : LobeType::GgxDielectric;
   l.ior = clampf(ior, 1.0001f, 4.0f);
   l.color = color;
@@ -386,11 +392,12 @@ Color principled_specular_f0(const Closure &c, Color tint, const Col &col, const
 }
 // The dielectric specular as a layer above the diffuse and sheen lobes.
 LayerAbove principled_specular_layer(Color f0, const GgxDistribution &ggx, bool multiscatter) {
-  return schlick_ggx_layer(f0, std::max(std::sqrt(ggx.ax * ggx.ay), 1e-4f), multiscatter, Color(1.0f));
+  return schlick_ggx_layer(f0, std::max(std::sqrt(ggx.ax * ggx.ay), 1e-4f), ggx.separable, multiscatter, Color(1.0f));
 }
 // The clearcoat (f0 0.04) as a layer above every other lobe.
-LayerAbove principled_coat_layer(float clearcoat, float coat_roughness) {
-  return schlick_ggx_layer(Color(0.04f), std::max(sqr(coat_roughness), 1e-4f), false, Color(0.25f * clearcoat));
+LayerAbove principled_coat_layer(float clearcoat, float coat_roughness, bool separable) {
+  return schlick_ggx_layer(Color(0.04f), std::max(sqr(coat_roughness), 1e-4f), separable, false,
+                           Color(0.25f * clearcoat));
 }
 
 }  // namespace
@@ -432,6 +439,7 @@ namespace {
 template <class Sink>
 void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
   const TextureGraph &graph = m.graph;
+  const bool separable = m.separable_shadowing;
   for (const Closure &c : m.closures) {
     float w = 1;
     for (const Closure::Factor &f : c.weight) {
@@ -452,7 +460,7 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
         break;
       }
       case MaterialType::Glossy: {
-        Lobe l = ggx_lobe(num(kRoughness), num(kAnisotropic));
+        Lobe l = ggx_lobe(num(kRoughness), num(kAnisotropic), separable);
         l.color = vmax(col(kBaseColor), Color(0.0f));
         l.scale = w;
         l.fresnel_mode = c.fresnel;
@@ -464,7 +472,7 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
       }
       case MaterialType::Glass:
       case MaterialType::Refraction: {
-        Lobe l = dielectric_lobe(num(kRoughness), num(kIor), vmax(col(kBaseColor), Color(0.0f)) * w);
+        Lobe l = dielectric_lobe(num(kRoughness), num(kIor), vmax(col(kBaseColor), Color(0.0f)) * w, separable);
         l.refraction_only = c.type == MaterialType::Refraction;
         bsdf.add_lobe(l, sample_weight(l.color));
         break;
@@ -507,7 +515,7 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
         float coat_rough = clampf(num(kClearcoatRoughness), 0.0f, 1.0f);
         const bool coated = layered && clearcoat > 0;
         Color f0_dielectric = principled_specular_f0(c, tint, col, num);
-        Lobe s = ggx_lobe(roughness, num(kAnisotropic));
+        Lobe s = ggx_lobe(roughness, num(kAnisotropic), separable);
         float sheen = std::max(num(kSheen), 0.0f);
         Color sheen_color = (c.sheen_tint_is_color ? vmax(col(kSheenTint), Color(0.0f))
                                                    : Color(1.0f) * (1 - num(kSheenTint)) + tint * num(kSheenTint)) * sheen;
@@ -518,7 +526,9 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
           spec_bit = bsdf.add_layer(c.fixed_specular_layer ? c.specular_layer
                                                            : principled_specular_layer(f0_dielectric, s.ggx, c.multiscatter));
         }
-        if (coated) coat_bit = bsdf.add_layer(c.fixed_coat_layer ? c.coat_layer : principled_coat_layer(clearcoat, coat_rough));
+        if (coated)
+          coat_bit = bsdf.add_layer(c.fixed_coat_layer ? c.coat_layer
+                                                       : principled_coat_layer(clearcoat, coat_rough, separable));
         if (diffuse_w > 0) {
           Lobe d;
           d.type = layered ? LobeType::Lambert : LobeType::PrincipledDiffuse;  // Cycles 3.4's Disney diffuse
@@ -552,12 +562,12 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
         if (trans_w > 0) {
           float tr = clampf(num(kTransmissionRoughness), 0.0f, 1.0f);
           float r = 1 - (1 - roughness) * (1 - tr);
-          Lobe g = dielectric_lobe(r, num(kIor), base * (trans_w * ww));
+          Lobe g = dielectric_lobe(r, num(kIor), base * (trans_w * ww), separable);
           g.layers_above = coat_bit;
           bsdf.add_lobe(g, sample_weight(g.color));
         }
         if (clearcoat > 0) {
-          Lobe cc = ggx_lobe(coat_rough, 0.0f);
+          Lobe cc = ggx_lobe(coat_rough, 0.0f, separable);
           // Additive (Cycles 3.4): the dielectric Fresnel of IOR 1.5 (f0 0.04, interpolated).
           cc.fresnel_mode = layered ? FresnelMode::Schlick : FresnelMode::Dielectric;
           cc.ior = 1.5f;
@@ -586,7 +596,7 @@ Bsdf Material::resolved_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const {
 }
 
 // Principled layers whose every input is constant are made here, once.
-static void fix_constant_layers(Closure &c) {
+static void fix_constant_layers(Closure &c, bool separable) {
   auto col = [&](ClosureInput i) { return c.value[i]; };
   auto num = [&](ClosureInput i) { return c.scalar[i]; };
   auto constant = [&](std::initializer_list<ClosureInput> inputs) {
@@ -600,12 +610,13 @@ static void fix_constant_layers(Closure &c) {
                            (!tint_from_base || constant({kBaseColor, kSubsurface, kSubsurfaceColor}));
   if (c.fixed_specular_layer) {
     Color f0 = principled_specular_f0(c, hue_of(principled_base(col, num)), col, num);
-    c.specular_layer = principled_specular_layer(f0, ggx_lobe(clampf(num(kRoughness), 0.0f, 1.0f), num(kAnisotropic)).ggx,
-                                                 c.multiscatter);
+    c.specular_layer = principled_specular_layer(
+        f0, ggx_lobe(clampf(num(kRoughness), 0.0f, 1.0f), num(kAnisotropic), separable).ggx, c.multiscatter);
   }
   c.fixed_coat_layer = constant({kClearcoat, kClearcoatRoughness});
   if (c.fixed_coat_layer)
-    c.coat_layer = principled_coat_layer(std::max(num(kClearcoat), 0.0f), clampf(num(kClearcoatRoughness), 0.0f, 1.0f));
+    c.coat_layer = principled_coat_layer(std::max(num(kClearcoat), 0.0f), clampf(num(kClearcoatRoughness), 0.0f, 1.0f),
+                                         separable);
 }
 
 void Material::resolve_constants() {
@@ -616,7 +627,7 @@ void Material::resolve_constants() {
       if (!graph.is_constant(c.in[i])) c.textured |= 1u << i;
       else c.scalar[i] = luminance(c.value[i] = graph.node(c.in[i]).value);
     }
-    if (c.type == MaterialType::Principled && !c.additive_layers) fix_constant_layers(c);
+    if (c.type == MaterialType::Principled && !c.additive_layers) fix_constant_layers(c, separable_shadowing);
   }
   resolved.n = -1;
   if (has_textures()) return;  // normal maps and bump are texture nodes too

@@ -54,6 +54,12 @@ static Lobe refraction(float roughness, float ior) {
   return l;
 }
 
+// Cycles 3.4's separable shadowing (Blender 3.x materials, microfacet.h).
+static Lobe separable(Lobe l) {
+  l.ggx.separable = true;
+  return l;
+}
+
 static Lobe simple(LobeType type, Color c, float sigma = 0) {
   Lobe l;
   l.type = type;
@@ -80,6 +86,11 @@ const std::vector<LobeTestCase> &lobe_test_cases() {
       {"multi_ggx_r1", multi_ggx(1.0f, 1.0f), true},
       {"multi_ggx_aniso_0.2x0.8", multi_ggx(0.2f, 0.8f), false},
       {"multi_ggx_tinted_r0.7", multi_ggx(0.7f, 0.7f, Color(0.9f, 0.6f, 0.3f)), false},
+      // Separable shadowing: Multiscatter's compensation from its own albedo table (furnace 1).
+      {"ggx_r0.6_separable", separable(ggx(0.6f, 0.6f)), false},
+      {"ggx_aniso_0.1x0.5_separable", separable(ggx(0.1f, 0.5f)), false},
+      {"multi_ggx_r0.6_separable", separable(multi_ggx(0.6f, 0.6f)), true},
+      {"multi_ggx_r1_separable", separable(multi_ggx(1.0f, 1.0f)), true},
       {"principled_specular_r0.4", schlick_ggx(0.4f, Color(0.04f)), false},
       {"clearcoat_r0.1", schlick_ggx(0.1f, Color(0.04f), 0.25f), false},
       // Dielectrics: smooth (delta) and rough, entering (ior > 1) and leaving (ior < 1).
@@ -99,6 +110,8 @@ const std::vector<LobeTestCase> &lobe_test_cases() {
       {"glass_r0.5_4", dielectric(0.5f, 4.0f), false},
       {"glass_r0.5_inside_4", dielectric(0.5f, 0.25f), false},
       {"glass_r0.5_1.1", dielectric(0.5f, 1.1f), false},
+      {"glass_r0.5_1.5_separable", separable(dielectric(0.5f, 1.5f)), false},
+      {"glass_r0.5_inside_1.5_separable", separable(dielectric(0.5f, 1.0f / 1.5f)), false},
       // Refraction BSDF (transmission only, no Fresnel): lossless except total internal reflection.
       {"refraction_smooth_1.5", refraction(0.0f, 1.5f), true},
       {"refraction_r0.4_1.5", refraction(0.4f, 1.5f), false},
