@@ -104,7 +104,7 @@ def convert_material(material, image_average=None, image_file=None, volume_grids
     index = int(getattr(material, "pass_index", 0) or 0) if material is not None else 0
     if index:
         params = dict(params, pass_index=index)
-    if blender_version is not None and tuple(blender_version) < (3, 5, 0):
+    if blender_version is not None and tuple(blender_version) < (3, 5, 0) and params.get("type") != "volume":
         params = dict(params, ggx_shadowing="separable")
     return params, warning
 

@@ -1,4 +1,5 @@
 #include "bsdfs/bsdf.h"
+#include "bsdfs/clearcoat.h"
 #include "bsdfs/conductor.h"
 #include "bsdfs/dielectric.h"
 #include "bsdfs/layering.h"
@@ -27,6 +28,7 @@ static Color lobe_eval_base(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mo
     case LobeType::Translucent: return translucent::eval(lobe, wo, wi);
     case LobeType::Sheen: return sheen::eval(lobe, wo, wi);
     case LobeType::PrincipledDiffuse: return principled_diffuse::eval(lobe, wo, wi);
+    case LobeType::Clearcoat: return clearcoat::eval(lobe, wo, wi);
     case LobeType::SpecularConductor:
     case LobeType::SmoothDielectric:
     case LobeType::Transparent: return Color(0.0f);  // delta lobes have no density
@@ -43,6 +45,7 @@ float lobe_pdf(const Lobe &lobe, Vec3 wo, Vec3 wi) {
     case LobeType::Translucent: return translucent::pdf(lobe, wo, wi);
     case LobeType::Sheen: return sheen::pdf(lobe, wo, wi);
     case LobeType::PrincipledDiffuse: return principled_diffuse::pdf(lobe, wo, wi);
+    case LobeType::Clearcoat: return clearcoat::pdf(lobe, wo, wi);
     case LobeType::SpecularConductor:
     case LobeType::SmoothDielectric:
     case LobeType::Transparent: return 0;
@@ -94,6 +97,7 @@ static bool lobe_sample_base(const Lobe &lobe, Vec3 wo, Vec2 u, Vec3 &wi, Color 
     case LobeType::Translucent: return translucent::sample(lobe, wo, u, wi, weight, pdf);
     case LobeType::Sheen: return sheen::sample(lobe, wo, u, wi, weight, pdf);
     case LobeType::PrincipledDiffuse: return principled_diffuse::sample(lobe, wo, u, wi, weight, pdf);
+    case LobeType::Clearcoat: return clearcoat::sample(lobe, wo, u, wi, weight, pdf);
   }
   return false;
 }
@@ -107,7 +111,8 @@ static float lobe_cone_spread(const Lobe &lobe) {
     case LobeType::SmoothDielectric:
     case LobeType::Transparent: return 0;
     case LobeType::GgxConductor:
-    case LobeType::GgxDielectric: return std::min(2.0f * std::sqrt(lobe.ggx.ax * lobe.ggx.ay), kRoughConeSpread);
+    case LobeType::GgxDielectric:
+    case LobeType::Clearcoat: return std::min(2.0f * std::sqrt(lobe.ggx.ax * lobe.ggx.ay), kRoughConeSpread);
     case LobeType::Lambert:
     case LobeType::OrenNayar:
     case LobeType::Translucent:
@@ -519,7 +524,7 @@ float Bsdf::specularity() const {
   for (int i = 0; i < n_; ++i) {
     const Lobe &lobe = lobes_[i];
     if (lobe.is_delta()) return 1;  // connections cannot make the paths that scatter there
-    if (lobe.type == LobeType::GgxConductor || lobe.type == LobeType::GgxDielectric)
+    if (lobe.type == LobeType::GgxConductor || lobe.type == LobeType::GgxDielectric || lobe.type == LobeType::Clearcoat)
       w += pick_[i] * (1.0f - std::min(1.0f, std::sqrt(std::sqrt(lobe.ggx.ax * lobe.ggx.ay))));  // roughness
   }
   return std::min(w, 1.0f);
@@ -536,6 +541,7 @@ ScatterKind Bsdf::scatter_kind(Vec3 wo, Vec3 wi) const {
       case LobeType::PrincipledDiffuse:
       case LobeType::Sheen: diffuse += w; break;
       case LobeType::GgxConductor:
+      case LobeType::Clearcoat:
       case LobeType::SpecularConductor: glossy += w; break;
       case LobeType::SmoothDielectric:
       case LobeType::GgxDielectric:
@@ -571,6 +577,7 @@ static int pass_kind(LobeType type, bool reflection) {
     case LobeType::Sheen:
     case LobeType::Translucent: return 0;
     case LobeType::GgxConductor:
+    case LobeType::Clearcoat:
     case LobeType::SpecularConductor: return 1;
     case LobeType::SmoothDielectric:
     case LobeType::GgxDielectric:
@@ -695,6 +702,7 @@ DenoisingClosures Bsdf::denoising_closures(Vec3 wo_w) const {
     bool rough = true;
     switch (lobe.type) {
       case LobeType::GgxConductor:
+      case LobeType::Clearcoat:
         if (lobe.fresnel_mode != FresnelMode::Tint) albedo = lobe.fresnel(cos_o) * lobe.scale;
         rough = lobe.ggx.ax * lobe.ggx.ay > kDenoisingRoughness2;
         break;
@@ -724,7 +732,7 @@ float Bsdf::blur_threshold() const {
   for (int i = 0; i < n_; ++i) {
     const Lobe &l = lobes_[i];
     if (l.type == LobeType::SpecularConductor || l.type == LobeType::SmoothDielectric) return -1;
-    if (l.type == LobeType::GgxConductor || l.type == LobeType::GgxDielectric)
+    if (l.type == LobeType::GgxConductor || l.type == LobeType::GgxDielectric || l.type == LobeType::Clearcoat)
       threshold = std::min(threshold, std::min(l.ggx.ax, l.ggx.ay));
   }
   return threshold;
@@ -738,7 +746,8 @@ void Bsdf::blur(float alpha) {
       case LobeType::SpecularConductor: l.type = LobeType::GgxConductor; break;
       case LobeType::SmoothDielectric: l.type = LobeType::GgxDielectric; break;
       case LobeType::GgxConductor:
-      case LobeType::GgxDielectric: break;
+      case LobeType::GgxDielectric:
+      case LobeType::Clearcoat: break;
       default: continue;  // not a microfacet lobe: Cycles blurs none of these
     }
     l.ggx.ax = std::max(l.ggx.ax, alpha);

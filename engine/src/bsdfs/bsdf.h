@@ -30,7 +30,8 @@ enum class LobeType : uint8_t {
   Transparent,        // straight pass-through (Transparent BSDF, alpha)     (transparent.cpp)
   Translucent,        // Lambertian transmission                            (translucent.cpp)
   Sheen,              // Cycles 3.4 Principled sheen: (1 - |wi.h|)^5          (sheen.cpp)
-  PrincipledDiffuse   // Cycles 3.4 Principled diffuse (Disney), roughness in sigma (principled_diffuse.cpp)
+  PrincipledDiffuse,  // Cycles 3.4 Principled diffuse (Disney), roughness in sigma (principled_diffuse.cpp)
+  Clearcoat           // Cycles 3.4 Principled clearcoat: GTR1, alpha in ggx.ax  (clearcoat.cpp)
 };
 
 // How a microfacet reflection lobe colours its Fresnel term.

@@ -568,7 +568,9 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
         }
         if (clearcoat > 0) {
           Lobe cc = ggx_lobe(coat_rough, 0.0f, separable);
-          // Additive (Cycles 3.4): the dielectric Fresnel of IOR 1.5 (f0 0.04, interpolated).
+          // Additive (Cycles 3.4): Cycles 3.4's own lobe (GTR1, clearcoat.h) where it is not a
+          // mirror, with the dielectric Fresnel of IOR 1.5 (f0 0.04, interpolated).
+          if (!layered && cc.type == LobeType::GgxConductor) cc.type = LobeType::Clearcoat;
           cc.fresnel_mode = layered ? FresnelMode::Schlick : FresnelMode::Dielectric;
           cc.ior = 1.5f;
           cc.f0 = Color(0.04f);

@@ -38,6 +38,15 @@ static Lobe schlick_ggx(float roughness, Color f0, float scale = 1.0f) {
   return l;
 }
 
+// Cycles 3.4's Principled clearcoat (GTR1; alpha = roughness^2), IOR 1.5's Fresnel.
+static Lobe gtr1_clearcoat(float roughness) {
+  Lobe l = ggx(roughness, roughness);
+  l.type = LobeType::Clearcoat;
+  l.fresnel_mode = FresnelMode::Dielectric;
+  l.ior = 1.5f;
+  return l;
+}
+
 // Glass: ior is relative (inside / outside); < 1 is the view from inside.
 static Lobe dielectric(float roughness, float ior) {
   Lobe l;
@@ -93,6 +102,9 @@ const std::vector<LobeTestCase> &lobe_test_cases() {
       {"multi_ggx_r1_separable", separable(multi_ggx(1.0f, 1.0f)), true},
       {"principled_specular_r0.4", schlick_ggx(0.4f, Color(0.04f)), false},
       {"clearcoat_r0.1", schlick_ggx(0.1f, Color(0.04f), 0.25f), false},
+      {"clearcoat_gtr1_r0.05", gtr1_clearcoat(0.05f), false},
+      {"clearcoat_gtr1_r0.3", gtr1_clearcoat(0.3f), false},
+      {"clearcoat_gtr1_r1", gtr1_clearcoat(1.0f), false},
       // Dielectrics: smooth (delta) and rough, entering (ior > 1) and leaving (ior < 1).
       {"glass_smooth_1.5", dielectric(0.0f, 1.5f), true},
       {"glass_smooth_inside_1.5", dielectric(0.0f, 1.0f / 1.5f), false},
