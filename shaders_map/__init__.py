@@ -98,14 +98,14 @@ def convert_material(material, image_average=None, image_file=None, volume_grids
     Volume object (grid references {"name": ...} in the medium, completed by the exporter).
     Material > Settings > Pass Index goes along as "pass_index" (the Material Index pass).
     blender_version (bpy.app.version): the Cycles the material is rendered as; before 3.5
-    every GGX closure's shadowing is the separable G1 G1 ("ggx_shadowing"), from 3.5 on the
-    height-correlated form (the engine's default)."""
+    its microfacet closures are Cycles 3.4's ("microfacets": "cycles_3.4": separable GGX
+    shadowing, glass split by the shading normal's Fresnel), from 3.5 on the engine's default."""
     params, warning = _convert_material(material, image_average, image_file, volume_grids)
     index = int(getattr(material, "pass_index", 0) or 0) if material is not None else 0
     if index:
         params = dict(params, pass_index=index)
     if blender_version is not None and tuple(blender_version) < (3, 5, 0) and params.get("type") != "volume":
-        params = dict(params, ggx_shadowing="separable")
+        params = dict(params, microfacets="cycles_3.4")
     return params, warning
 
 

@@ -52,16 +52,16 @@ class TestBsdfs(unittest.TestCase):
         self.assertTrue(close(p["color"], (0.2, 0.4, 0.6)))
         self.assertIsNone(w)
 
-    def test_ggx_shadowing_follows_blender_version(self):
-        # Cycles before 3.5 shadows every GGX closure by the separable G1 G1 (README).
+    def test_microfacets_follow_blender_version(self):
+        # Cycles before 3.5: separable GGX shadowing, glass split at the shading normal (README).
         def tree():
             t = Tree("M")
             g = t.new("ShaderNodeBsdfGlossy", "Shiny", distribution="GGX")
             t.link(g.out(), t.output().inp("Surface"))
             return Material("M", t)
-        for version, expected in (((3, 4, 1), "separable"), ((3, 5, 0), None), ((4, 2, 0), None), (None, None)):
+        for version, expected in (((3, 4, 1), "cycles_3.4"), ((3, 5, 0), None), ((4, 2, 0), None), (None, None)):
             p, _ = sm.convert_material(tree(), blender_version=version)
-            self.assertEqual(p.get("ggx_shadowing"), expected, version)
+            self.assertEqual(p.get("microfacets"), expected, version)
 
     def test_diffuse_roughness_is_oren_nayar(self):
         def b(t):

@@ -78,6 +78,9 @@ struct Lobe {
   float ior = 1.5f;
   float sigma = 0;            // Oren-Nayar roughness in [0, 1]
   bool refraction_only = false;  // dielectrics: Cycles' Refraction BSDF (no reflection, no Fresnel)
+  // Rough dielectrics as Cycles 3.4's Glass BSDF: reflection and refraction weighted by the
+  // Fresnel at the shading normal (dielectric.cpp), not per facet.
+  bool macro_fresnel = false;
   // Closure weight (Mix Shader factors, Principled layer weights): multiplies f. Kept
   // apart from `color`, which multiscatter compensation compounds like a Fresnel tint.
   float scale = 1.0f;

@@ -27,6 +27,23 @@ bool refraction_half_vector(Vec3 wo, Vec3 wi, float eta, Vec3 &h) {
   return dot(wo, h) > 0 && dot(wi, h) < 0;
 }
 
+// Cycles 3.4's rough glass (Lobe::macro_fresnel) weights reflection by F and refraction by
+// max(1e-4, 1 - F), F the Fresnel of the camera-side direction at the shading normal (its
+// sd->I). That is wo in Radiance mode, wi in Importance mode (a light path evaluates the
+// adjoint), on its own side of the surface: so camera and light paths see one f.
+float camera_side_fresnel(float eta, Vec3 wo, Vec3 wi, TransportMode mode) {
+  if (mode == TransportMode::Radiance) return fresnel_dielectric(wo.z, eta);
+  return wi.z > 0 ? fresnel_dielectric(wi.z, eta) : fresnel_dielectric(-wi.z, 1.0f / eta);
+}
+constexpr float kMinRefractionWeight = 1e-4f;  // Cycles 3.4's floor on 1 - F
+
+// The chance a sample reflects: the facet's Fresnel, or with macro_fresnel wo's at the
+// shading normal (kept below 1, so every direction the refraction weight reaches is sampled).
+float reflect_probability(const Lobe &lobe, Vec3 wo, float woh) {
+  if (lobe.macro_fresnel) return std::min(fresnel_dielectric(wo.z, lobe.ior), 1.0f - kMinRefractionWeight);
+  return fresnel_dielectric(woh, lobe.ior);
+}
+
 }  // namespace
 
 Color eval(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode) {
@@ -37,7 +54,7 @@ Color eval(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode) {
     Vec3 h = normalize(wo + wi);
     float d = lobe.ggx.D(h);
     if (d == 0) return Color(0.0f);
-    float F = fresnel_dielectric(dot(wo, h), eta);
+    float F = lobe.macro_fresnel ? camera_side_fresnel(eta, wo, wi, mode) : fresnel_dielectric(dot(wo, h), eta);
     return lobe.color * (F * d * lobe.ggx.G2(wo, wi) / (4.0f * wo.z * wi.z));
   }
   Vec3 h;
@@ -47,6 +64,7 @@ Color eval(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode) {
   float woh = dot(wo, h), wih = dot(wi, h);
   float F = lobe.refraction_only ? 0.0f : fresnel_dielectric(woh, eta);
   if (F >= 1.0f) return Color(0.0f);  // total internal reflection
+  if (lobe.macro_fresnel) F = std::min(camera_side_fresnel(eta, wo, wi, mode), 1.0f - kMinRefractionWeight);
   float denom = sqr(wih * eta + woh);
   float f = (1.0f - F) * d * lobe.ggx.G2(wo, wi) * eta * eta * std::fabs(wih * woh) / (denom * wo.z * std::fabs(wi.z));
   return lobe.color * (f * refraction_scale(eta, mode));
@@ -60,13 +78,12 @@ float pdf(const Lobe &lobe, Vec3 wo, Vec3 wi) {
     Vec3 h = normalize(wo + wi);
     float woh = dot(wo, h);
     if (woh <= 0) return 0;
-    float F = fresnel_dielectric(woh, eta);
-    return F * lobe.ggx.D_visible(wo, h) / (4.0f * woh);
+    return reflect_probability(lobe, wo, woh) * lobe.ggx.D_visible(wo, h) / (4.0f * woh);
   }
   Vec3 h;
   if (!refraction_half_vector(wo, wi, eta, h)) return 0;
   float woh = dot(wo, h), wih = dot(wi, h);
-  float F = lobe.refraction_only ? (fresnel_dielectric(woh, eta) >= 1.0f ? 1.0f : 0.0f) : fresnel_dielectric(woh, eta);
+  float F = lobe.refraction_only ? (fresnel_dielectric(woh, eta) >= 1.0f ? 1.0f : 0.0f) : reflect_probability(lobe, wo, woh);
   float jacobian = eta * eta * std::fabs(wih) / sqr(wih * eta + woh);
   return (1.0f - F) * lobe.ggx.D_visible(wo, h) * jacobian;
 }
@@ -77,7 +94,7 @@ bool sample(const Lobe &lobe, Vec3 wo, Vec2 u, float uc, Vec3 &wi, Color &weight
   Vec3 h = lobe.ggx.sample_visible_normal(wo, u);
   float woh = dot(wo, h);
   if (woh <= 0) return false;
-  float F = fresnel_dielectric(woh, eta);  // uc chooses reflection with probability F
+  float F = reflect_probability(lobe, wo, woh);  // uc chooses reflection with probability F
   if (lobe.refraction_only) {
     if (F >= 1.0f) return false;  // total internal reflection: the Refraction BSDF is black
     F = 0.0f;
@@ -87,13 +104,17 @@ bool sample(const Lobe &lobe, Vec3 wo, Vec2 u, float uc, Vec3 &wi, Color &weight
     wi = h * (2.0f * woh) - wo;
     if (wi.z <= 0) return false;
     pdf_out = F * dvis / (4.0f * woh);
-    weight = lobe.color * (lobe.ggx.G2(wo, wi) / lobe.ggx.G1(wo));
+    weight = lobe.macro_fresnel ? eval(lobe, wo, wi, mode) * (wi.z / pdf_out)
+                                : lobe.color * (lobe.ggx.G2(wo, wi) / lobe.ggx.G1(wo));
   } else {
-    if (!refract(wo, h, eta, wi)) return false;  // cannot happen when F < 1
+    // Fails only where the facet reflects totally: never when F is the facet's and below 1;
+    // with macro_fresnel, such a sample is lost (f there is reflection, sampled above).
+    if (!refract(wo, h, eta, wi)) return false;
     if (wi.z >= 0) return false;
     float wih = dot(wi, h);
     pdf_out = (1.0f - F) * dvis * eta * eta * std::fabs(wih) / sqr(wih * eta + woh);
-    weight = lobe.color * (lobe.ggx.G2(wo, wi) / lobe.ggx.G1(wo) * refraction_scale(eta, mode));
+    weight = lobe.macro_fresnel ? eval(lobe, wo, wi, mode) * (-wi.z / pdf_out)
+                                : lobe.color * (lobe.ggx.G2(wo, wi) / lobe.ggx.G1(wo) * refraction_scale(eta, mode));
   }
   return pdf_out > 0 && std::isfinite(pdf_out);
 }

@@ -194,10 +194,10 @@ Material Material::from_params(Params &p, const std::string &name, const ImageBu
   m.graph.image_buffers = images;
   std::string type = p.get_string("type", "diffuse");
   m.pass_index = float(pass_index_of(p, "material '" + name + "'"));
-  const std::string shadowing = p.get_string("ggx_shadowing", "height_correlated");
-  if (shadowing == "separable") m.separable_shadowing = true;
-  else if (shadowing != "height_correlated")
-    fail("material '" + name + "': 'ggx_shadowing' must be height_correlated or separable, got '" + shadowing + "'");
+  const std::string microfacets = p.get_string("microfacets", "physical");
+  if (microfacets == "cycles_3.4") m.cycles34_microfacets = true;
+  else if (microfacets != "physical")
+    fail("material '" + name + "': 'microfacets' must be physical or cycles_3.4, got '" + microfacets + "'");
   static const std::pair<const char *, MaterialType> kTypes[] = {
       {"diffuse", MaterialType::Diffuse}, {"emission", MaterialType::Emission}, {"glossy", MaterialType::Glossy},
       {"glass", MaterialType::Glass}, {"refraction", MaterialType::Refraction}, {"principled", MaterialType::Principled},
@@ -439,7 +439,7 @@ namespace {
 template <class Sink>
 void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
   const TextureGraph &graph = m.graph;
-  const bool separable = m.separable_shadowing;
+  const bool separable = m.cycles34_microfacets;
   for (const Closure &c : m.closures) {
     float w = 1;
     for (const Closure::Factor &f : c.weight) {
@@ -474,6 +474,7 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
       case MaterialType::Refraction: {
         Lobe l = dielectric_lobe(num(kRoughness), num(kIor), vmax(col(kBaseColor), Color(0.0f)) * w, separable);
         l.refraction_only = c.type == MaterialType::Refraction;
+        l.macro_fresnel = separable && !l.refraction_only;  // Cycles 3.4's glass
         bsdf.add_lobe(l, sample_weight(l.color));
         break;
       }
@@ -629,7 +630,7 @@ void Material::resolve_constants() {
       if (!graph.is_constant(c.in[i])) c.textured |= 1u << i;
       else c.scalar[i] = luminance(c.value[i] = graph.node(c.in[i]).value);
     }
-    if (c.type == MaterialType::Principled && !c.additive_layers) fix_constant_layers(c, separable_shadowing);
+    if (c.type == MaterialType::Principled && !c.additive_layers) fix_constant_layers(c, cycles34_microfacets);
   }
   resolved.n = -1;
   if (has_textures()) return;  // normal maps and bump are texture nodes too

@@ -70,9 +70,10 @@ struct Material {
   bool transparent = false;  // may let shadow rays through (Transparent BSDF, Principled alpha)
   bool holdout = false;      // has a Holdout closure (integrators/film_alpha.h)
   float pass_index = 0;      // Material > Settings > Pass Index (film/data_passes.h)
-  // "ggx_shadowing": "separable" (Cycles 3.4's G1 G1, for Blender 3.x scenes) or
-  // "height_correlated" (default; Cycles 3.5 on) for every GGX lobe (microfacet.h).
-  bool separable_shadowing = false;
+  // "microfacets": "cycles_3.4" (Blender 3.x scenes): every GGX lobe shadowed by the separable
+  // G1 G1 (microfacet.h) and rough glass split by the Fresnel at the shading normal
+  // (dielectric.h), as Cycles 3.4; "physical" (default): height-correlated, Fresnel per facet.
+  bool cycles34_microfacets = false;
   // A constant material (no texture, normal map or anisotropy) has its lobes resolved
   // once, when parsed: shading a hit then copies them, and needs no ShadingPoint.
   struct ResolvedLobes {

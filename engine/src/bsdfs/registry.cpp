@@ -69,6 +69,13 @@ static Lobe separable(Lobe l) {
   return l;
 }
 
+// Cycles 3.4's rough glass: separable shadowing and the split at the shading normal's Fresnel.
+static Lobe cycles34(Lobe l) {
+  l.ggx.separable = true;
+  l.macro_fresnel = true;
+  return l;
+}
+
 static Lobe simple(LobeType type, Color c, float sigma = 0) {
   Lobe l;
   l.type = type;
@@ -122,8 +129,9 @@ const std::vector<LobeTestCase> &lobe_test_cases() {
       {"glass_r0.5_4", dielectric(0.5f, 4.0f), false},
       {"glass_r0.5_inside_4", dielectric(0.5f, 0.25f), false},
       {"glass_r0.5_1.1", dielectric(0.5f, 1.1f), false},
-      {"glass_r0.5_1.5_separable", separable(dielectric(0.5f, 1.5f)), false},
-      {"glass_r0.5_inside_1.5_separable", separable(dielectric(0.5f, 1.0f / 1.5f)), false},
+      {"glass_r0.5_1.5_cycles34", cycles34(dielectric(0.5f, 1.5f)), false},
+      {"glass_r0.5_inside_1.5_cycles34", cycles34(dielectric(0.5f, 1.0f / 1.5f)), false},
+      {"glass_r0.2_1.5_cycles34", cycles34(dielectric(0.2f, 1.5f)), false},
       // Refraction BSDF (transmission only, no Fresnel): lossless except total internal reflection.
       {"refraction_smooth_1.5", refraction(0.0f, 1.5f), true},
       {"refraction_r0.4_1.5", refraction(0.4f, 1.5f), false},
