@@ -347,30 +347,41 @@ TEST(MaterialMicrofacets, Cycles34LobesAreCycles34s) {
       }
     // Rough glass: Cycles 3.4's two closures, reflection weighted by the Fresnel of wo at the
     // shading normal (F = 1 per facet), refraction by 1 - that (bsdf_microfacet_ggx_eval_transmit:
-    // G |cos_hi cos_ho| D eta^2 / (cos_o |eta wi + wo|^2), no Fresnel per facet).
+    // G |cos_hi cos_ho| D eta^2 / (cos_o |eta wi + wo|^2), no Fresnel per facet). And the
+    // Principled BSDF's glass: the same two closures, the refraction tinted by the base colour
+    // and as rough as 1 - (1 - roughness)(1 - transmission roughness).
+    const double eta = 1.45;
+    auto reflect = [&](double a2r, Vec3 wo, Vec3 wi) {
+      const Vec3 h = normalize(wo + wi);
+      const double cos_m2 = double(h.z) * h.z;
+      return a2r / (kPi * cos_m2 * cos_m2 * sqr(a2r + tan2(h.z))) * g1(a2r, wo.z) * g1(a2r, wi.z) / (4 * wo.z);
+    };
+    auto transmit = [&](double a2t, Vec3 wo, Vec3 wi) {
+      const Vec3 ht = -(wi * float(eta) + wo), h = normalize(ht);
+      const double cos_m2 = double(h.z) * h.z;
+      const double d = a2t / (kPi * cos_m2 * cos_m2 * sqr(a2t + tan2(h.z)));
+      return g1(a2t, wo.z) * g1(a2t, -wi.z) * std::fabs(dot(h, wi) * dot(h, wo)) * d * eta * eta / (wo.z * length_squared(ht));
+    };
     const std::string glass = R"({"type":"glass","ior":1.45,"microfacets":"cycles_3.4","roughness":)" +
                               std::to_string(r) + "}";
-    const double eta = 1.45;
+    const std::string principled =
+        R"({"type":"principled","layering":"additive","microfacets":"cycles_3.4","transmission":1,"ior":1.45,)"
+        R"("base_color":[0.9,0.6,0.3],"transmission_roughness":0.3,"roughness":)" + std::to_string(r) + "}";
+    const double rt = 1 - (1 - r) * 0.7, a2t = rt * rt * rt * rt;
     const Vec3 wo = wos[1], t = Vec3(-wo.x, -wo.y, 0) / 1.45f;
     const Vec3 refracted = t - Vec3(0, 0, std::sqrt(1 - length_squared(t)));
     const Bsdf bsdf_glass = material(glass.c_str()).make_bsdf(point(), wo);
+    const Bsdf bsdf_principled = material(principled.c_str()).make_bsdf(point(), wo);
     const double f_macro = dielectric_fresnel(wo.z, eta);
     for (Vec3 wi : {wis[0], wis[1], refracted, normalize(refracted + Vec3(0.15f, -0.1f, 0)),
                     normalize(refracted + Vec3(-0.2f, 0.1f, 0.1f))}) {
-      double cycles;
-      if (wi.z > 0) {
-        const Vec3 h = normalize(wo + wi);
-        const double cos_m2 = double(h.z) * h.z;
-        cycles = f_macro * a2 / (kPi * cos_m2 * cos_m2 * sqr(a2 + tan2(h.z))) * g1(a2, wo.z) * g1(a2, wi.z) / (4 * wo.z);
-      } else {
-        const Vec3 ht = -(wi * float(eta) + wo), h = normalize(ht);
-        const double cos_m2 = double(h.z) * h.z;
-        const double d = a2 / (kPi * cos_m2 * cos_m2 * sqr(a2 + tan2(h.z)));
-        cycles = (1 - f_macro) * g1(a2, wo.z) * g1(a2, -wi.z) * std::fabs(dot(h, wi) * dot(h, wo)) * d * eta * eta /
-                 (wo.z * length_squared(ht));
-      }
+      const bool up = wi.z > 0;
+      const double cycles = up ? f_macro * reflect(a2, wo, wi) : (1 - f_macro) * transmit(a2, wo, wi);
       const double ours = bsdf_glass.eval(wo, wi, TransportMode::Radiance).x;
       EXPECT_NEAR(ours, cycles, 2e-4 * cycles) << "glass, roughness " << r << " wi.z " << wi.z;
+      const double cycles_p = up ? f_macro * reflect(a2, wo, wi) : 0.6 * (1 - f_macro) * transmit(a2t, wo, wi);
+      const double ours_p = bsdf_principled.eval(wo, wi, TransportMode::Radiance).y;
+      EXPECT_NEAR(ours_p, cycles_p, 2e-4 * cycles_p) << "Principled glass, roughness " << r << " wi.z " << wi.z;
     }
   }
 }

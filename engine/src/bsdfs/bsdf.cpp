@@ -681,12 +681,12 @@ void Bsdf::kind_colors(Vec3 wo_w, Color out[kColorKinds]) const {
     if (lobe.type == LobeType::Transparent) continue;
     if (!lobe.is_dielectric()) {
       out[pass_kind(lobe.type, true)] += c;
-    } else if (lobe.refraction_only) {
+    } else if (lobe.refraction_only && !lobe.macro_fresnel) {
       out[2] += c;
     } else {
       const float F = fresnel_dielectric(cos_o, side < 0 ? 1.0f / lobe.ior : lobe.ior);
-      out[1] += c * F;
-      out[2] += c * (1.0f - F);
+      if (!lobe.refraction_only) out[1] += c * F;
+      if (!lobe.reflection_only) out[2] += c * (1.0f - F);
     }
   }
 }

@@ -79,8 +79,10 @@ struct Lobe {
   float sigma = 0;            // Oren-Nayar roughness in [0, 1]
   bool refraction_only = false;  // dielectrics: Cycles' Refraction BSDF (no reflection, no Fresnel)
   // Rough dielectrics as Cycles 3.4's Glass BSDF: reflection and refraction weighted by the
-  // Fresnel at the shading normal (dielectric.cpp), not per facet.
+  // Fresnel at the shading normal (dielectric.cpp), not per facet. With it, refraction_only
+  // and reflection_only are its two parts alone (Cycles 3.4's Principled glass: a roughness each).
   bool macro_fresnel = false;
+  bool reflection_only = false;
   // Closure weight (Mix Shader factors, Principled layer weights): multiplies f. Kept
   // apart from `color`, which multiscatter compensation compounds like a Fresnel tint.
   float scale = 1.0f;

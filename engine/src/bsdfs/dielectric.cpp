@@ -40,6 +40,7 @@ constexpr float kMinRefractionWeight = 1e-4f;  // Cycles 3.4's floor on 1 - F
 // The chance a sample reflects: the facet's Fresnel, or with macro_fresnel wo's at the
 // shading normal (kept below 1, so every direction the refraction weight reaches is sampled).
 float reflect_probability(const Lobe &lobe, Vec3 wo, float woh) {
+  if (lobe.reflection_only) return 1.0f;
   if (lobe.macro_fresnel) return std::min(fresnel_dielectric(wo.z, lobe.ior), 1.0f - kMinRefractionWeight);
   return fresnel_dielectric(woh, lobe.ior);
 }
@@ -58,7 +59,7 @@ Color eval(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode) {
     return lobe.color * (F * d * lobe.ggx.G2(wo, wi) / (4.0f * wo.z * wi.z));
   }
   Vec3 h;
-  if (!refraction_half_vector(wo, wi, eta, h)) return Color(0.0f);
+  if (lobe.reflection_only || !refraction_half_vector(wo, wi, eta, h)) return Color(0.0f);
   float d = lobe.ggx.D(h);
   if (d == 0) return Color(0.0f);
   float woh = dot(wo, h), wih = dot(wi, h);
@@ -81,7 +82,7 @@ float pdf(const Lobe &lobe, Vec3 wo, Vec3 wi) {
     return reflect_probability(lobe, wo, woh) * lobe.ggx.D_visible(wo, h) / (4.0f * woh);
   }
   Vec3 h;
-  if (!refraction_half_vector(wo, wi, eta, h)) return 0;
+  if (lobe.reflection_only || !refraction_half_vector(wo, wi, eta, h)) return 0;
   float woh = dot(wo, h), wih = dot(wi, h);
   float F = lobe.refraction_only ? (fresnel_dielectric(woh, eta) >= 1.0f ? 1.0f : 0.0f) : reflect_probability(lobe, wo, woh);
   float jacobian = eta * eta * std::fabs(wih) / sqr(wih * eta + woh);
@@ -122,20 +123,27 @@ bool sample(const Lobe &lobe, Vec3 wo, Vec2 u, float uc, Vec3 &wi, Color &weight
 bool sample_smooth(const Lobe &lobe, Vec3 wo, Vec2 u, Vec3 &wi, Color &weight, float &pdf_out, TransportMode mode) {
   if (wo.z <= 0) return false;
   const float eta = lobe.ior;
-  float F = fresnel_dielectric(wo.z, eta);
+  // What reflection and refraction carry (for a smooth surface the shading normal's Fresnel
+  // is the facet's, so macro_fresnel changes nothing), and the chance of each.
+  const float F = fresnel_dielectric(wo.z, eta);
+  float reflected = F, refracted = 1.0f - F;
+  if (F == 0 && lobe.reflection_only) return false;  // nothing reflects (an IOR of 1)
   if (lobe.refraction_only) {
     if (F >= 1.0f) return false;
-    F = 0.0f;
+    reflected = 0;
+    if (!lobe.macro_fresnel) refracted = 1;  // the Refraction BSDF: no Fresnel
   }
-  if (u.x < F) {
+  if (lobe.reflection_only) refracted = 0;
+  const float p_reflect = lobe.reflection_only ? 1.0f : lobe.refraction_only ? 0.0f : F;
+  if (u.x < p_reflect) {
     wi = Vec3(-wo.x, -wo.y, wo.z);
-    pdf_out = F;
-    weight = lobe.color;  // F / F
+    pdf_out = p_reflect;
+    weight = lobe.color * (reflected / p_reflect);
     return true;
   }
   if (!refract(wo, Vec3(0, 0, 1), eta, wi)) return false;
-  pdf_out = 1.0f - F;
-  weight = lobe.color * refraction_scale(eta, mode);  // (1 - F) / (1 - F)
+  pdf_out = 1.0f - p_reflect;
+  weight = lobe.color * (refracted / pdf_out * refraction_scale(eta, mode));
   return true;
 }
 

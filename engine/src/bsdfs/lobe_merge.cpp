@@ -19,7 +19,9 @@ float merge_cost(const Lobe &a, const Lobe &b) {
                std::fabs(a.sigma - b.sigma);
   if (a.fresnel_mode != b.fresnel_mode) cost += 4;
   if (a.layers_above != b.layers_above) cost += 2;
-  if (a.multiscatter != b.multiscatter || a.refraction_only != b.refraction_only) cost += 2;
+  if (a.multiscatter != b.multiscatter || a.refraction_only != b.refraction_only ||
+      a.reflection_only != b.reflection_only || a.macro_fresnel != b.macro_fresnel)
+    cost += 2;
   if (a.fresnel_mode == FresnelMode::Conductor) cost += max_component(abs_diff(a.eta, b.eta) + abs_diff(a.k, b.k));
   return cost;
 }
@@ -48,6 +50,8 @@ void merge_into(Lobe &a, const Lobe &b) {
     a.layers_above = b.layers_above;
     a.multiscatter = b.multiscatter;
     a.refraction_only = b.refraction_only;
+    a.reflection_only = b.reflection_only;
+    a.macro_fresnel = b.macro_fresnel;
   }
 }
 

@@ -228,8 +228,9 @@ Material Material::from_params(Params &p, const std::string &name, const ImageBu
 
 // The most lobes and layers a closure can add at one point (Principled: pass-through,
 // diffuse, sheen, specular, transmission, clearcoat; layers: sheen, specular, coat),
-// leaving out those a constant input turns off.
-static void closure_capacity(const Closure &c, const TextureGraph &graph, int &lobes, int &layers) {
+// leaving out those a constant input turns off; Cycles 3.4's microfacets: transmission is
+// two lobes.
+static void closure_capacity(const Closure &c, const TextureGraph &graph, bool cycles34, int &lobes, int &layers) {
   if (c.type != MaterialType::Principled) {
     lobes += 1;
     return;
@@ -239,13 +240,14 @@ static void closure_capacity(const Closure &c, const TextureGraph &graph, int &l
   };
   auto positive = [](float v) { return v > 0; };
   bool sheen = may_be(kSheen, positive), coat = may_be(kClearcoat, positive);
-  lobes += 2 + may_be(kAlpha, [](float v) { return v < 1; }) + sheen + may_be(kTransmission, positive) + coat;
+  lobes += 2 + may_be(kAlpha, [](float v) { return v < 1; }) + sheen + may_be(kTransmission, positive) * (cycles34 ? 2 : 1) +
+           coat;
   if (!c.additive_layers) layers += 1 + sheen + coat;
 }
 
 void Material::warn_if_lobes_merge() {
   int lobes = 0, layers = 0;
-  for (const Closure &c : closures) closure_capacity(c, graph, lobes, layers);
+  for (const Closure &c : closures) closure_capacity(c, graph, cycles34_microfacets, lobes, layers);
   if (lobes <= Bsdf::kMaxLobes && layers <= Bsdf::kMaxLayers) return;
   warnings.push_back("up to " + std::to_string(lobes) + " BSDF lobes and " + std::to_string(layers) +
                      " layers at a point, more than the " + std::to_string(Bsdf::kMaxLobes) + " and " +
@@ -565,6 +567,16 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
           float r = 1 - (1 - roughness) * (1 - tr);
           Lobe g = dielectric_lobe(r, num(kIor), base * (trans_w * ww), separable);
           g.layers_above = coat_bit;
+          if (separable) {
+            // Cycles 3.4: two closures split by the Fresnel at the shading normal, the reflection
+            // untinted at the surface's roughness, the refraction tinted at the combined one
+            // (Specular Tint's tint of the reflection is left out: white, as at tint 0).
+            Lobe reflection = dielectric_lobe(roughness, num(kIor), Color(trans_w * ww), true);
+            reflection.macro_fresnel = reflection.reflection_only = true;
+            reflection.layers_above = coat_bit;
+            bsdf.add_lobe(reflection, 0.1f * sample_weight(reflection.color));
+            g.macro_fresnel = g.refraction_only = true;
+          }
           bsdf.add_lobe(g, sample_weight(g.color));
         }
         if (clearcoat > 0) {

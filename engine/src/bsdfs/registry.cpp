@@ -76,6 +76,11 @@ static Lobe cycles34(Lobe l) {
   return l;
 }
 
+static Lobe part(Lobe l, bool reflection) {
+  (reflection ? l.reflection_only : l.refraction_only) = true;
+  return l;
+}
+
 static Lobe simple(LobeType type, Color c, float sigma = 0) {
   Lobe l;
   l.type = type;
@@ -132,6 +137,12 @@ const std::vector<LobeTestCase> &lobe_test_cases() {
       {"glass_r0.5_1.5_cycles34", cycles34(dielectric(0.5f, 1.5f)), false},
       {"glass_r0.5_inside_1.5_cycles34", cycles34(dielectric(0.5f, 1.0f / 1.5f)), false},
       {"glass_r0.2_1.5_cycles34", cycles34(dielectric(0.2f, 1.5f)), false},
+      // Cycles 3.4's Principled glass: its reflection and its refraction as lobes of their own.
+      {"glass_reflection_r0.3_1.5_cycles34", part(cycles34(dielectric(0.3f, 1.5f)), true), false},
+      {"glass_refraction_r0.6_1.5_cycles34", part(cycles34(dielectric(0.6f, 1.5f)), false), false},
+      {"glass_refraction_r1_inside_1.3_cycles34", part(cycles34(dielectric(1.0f, 1.0f / 1.3f)), false), false},
+      {"glass_smooth_reflection_1.5_cycles34", part(cycles34(dielectric(0.0f, 1.5f)), true), false},
+      {"glass_smooth_refraction_1.5_cycles34", part(cycles34(dielectric(0.0f, 1.5f)), false), false},
       // Refraction BSDF (transmission only, no Fresnel): lossless except total internal reflection.
       {"refraction_smooth_1.5", refraction(0.0f, 1.5f), true},
       {"refraction_r0.4_1.5", refraction(0.4f, 1.5f), false},
