@@ -206,12 +206,14 @@ class _Lowerer:
         for k in ("scale", "detail", "roughness"):
             d[k] = self.value(e.args[k])
         self._vector(d, e)
-        self.approx(e.node, "Perlin noise, not Blender's exact pattern")
         if e.props.get("dimensions", "3D") != "3D":
             self.approx(e.node, "%s noise approximated as 3D" % e.props.get("dimensions"))
-        dist = self.fold(e.args.get("distortion"))
-        if dist is None or (isinstance(dist, float) and dist != 0.0):
-            self.approx(e.node, "distortion ignored")
+        dist_ir = e.args.get("distortion")
+        dist = self.fold(dist_ir)
+        if dist_ir is not None and not isinstance(dist, (int, float)):
+            self.approx(e.node, "textured distortion ignored")
+        elif dist:
+            d["distortion"] = float(dist)
         d["output"] = "color" if e.props.get("output") == "Color" else "fac"
         return d
 

@@ -253,6 +253,21 @@ def grazing_gloss():
     light("POINT", "Lamp", 400.0, (0.0, 3.0, 0.5), shadow_soft_size=0.0)
 
 
+def noise_texture():
+    """A plane whose emission is a Noise Texture's Color (Scale 1.5, Detail 2, Distortion 0.5),
+    seen from above, the plane filling the view: Blender's pattern, block for block (a Perlin
+    noise of its own, as we had before 2026-11-29, has the statistics but not the pattern)."""
+    reset()
+    m = emission_material("NoiseGlow", strength=1.0)
+    nt = m.node_tree
+    tex = nt.nodes.new("ShaderNodeTexNoise")
+    tex.inputs["Scale"].default_value = 1.5
+    tex.inputs["Distortion"].default_value = 0.5
+    nt.links.new(tex.outputs["Color"], nt.nodes["Emission"].inputs["Color"])
+    plane(size=4.0, material=m)
+    camera_down(4.0)
+
+
 def checker_glow():
     m = emission_material("CheckerGlow", strength=5.0)
     nt = m.node_tree
@@ -1130,6 +1145,7 @@ SCENES = {
     "hdri": hdri,
     "principled_plane": principled_plane,
     "grazing_gloss": grazing_gloss,
+    "noise_texture": noise_texture,
     "emissive_textured": emissive_textured,
     "volume_blackbody": volume_blackbody,
     "volume_tinted": volume_tinted,
@@ -1165,7 +1181,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "emissive_textured",
                      "volume_blackbody"]
 
 

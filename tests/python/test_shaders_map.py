@@ -461,10 +461,22 @@ class TestValues(unittest.TestCase):
             with self.subTest(idname):
                 p, w = self._color_into_diffuse(lambda t: t.new(idname, "Tex").out("Color"))
                 self.assertEqual(p["color"]["node"], node)
-                if node == "noise":
-                    self.assertIn("'Tex'", w)  # Perlin noise, not Blender's pattern
-                else:
-                    self.assertIsNone(w)
+                self.assertIsNone(w)  # the noise is Blender's (3D) pattern
+
+    def test_noise_distortion_and_dimensions(self):
+        def noise(dims, distortion):
+            def b(t):
+                n = t.new("ShaderNodeTexNoise", "N", noise_dimensions=dims)
+                n.inp("Distortion").default_value = distortion
+                return n.out("Fac")
+            return self._color_into_diffuse(b)
+        p, w = noise("3D", 0.7)
+        self.assertAlmostEqual(p["color"]["distortion"], 0.7, places=6)
+        self.assertIsNone(w)
+        p, w = noise("3D", 0.0)
+        self.assertNotIn("distortion", p["color"])
+        p, w = noise("2D", 0.0)
+        self.assertIn("2D noise approximated as 3D", w)
 
     def test_normal_map_and_bump_named(self):
         def b(t):

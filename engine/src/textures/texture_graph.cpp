@@ -5,6 +5,7 @@
 #include <set>
 #include "core/error.h"
 #include "core/limits.h"
+#include "textures/noise.h"
 
 namespace rdv {
 
@@ -293,6 +294,7 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.in[1] = input("scale", 5.0);
     n.detail = std::clamp(r.num("detail", 2.0f), 0.0f, 15.0f);
     n.roughness = std::clamp(r.num("roughness", 0.5f), 0.0f, 1.0f);
+    n.distortion = r.num("distortion", 0.0f);
     n.output = outputs({"fac", "color"});
   } else if (type == "gradient") {
     n.type = TexNodeType::Gradient;
@@ -605,10 +607,7 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
       return first ? in(1) : in(2);
     }
     case TexNodeType::Noise: {
-      Vec3 p = in(0) * inf(1);
-      if (n.output == 0) return Color(fbm_noise(p, n.detail, n.roughness));
-      return {fbm_noise(p, n.detail, n.roughness), fbm_noise(p + Vec3(97.13f, 11.7f, 43.1f), n.detail, n.roughness),
-              fbm_noise(p + Vec3(-31.9f, 71.3f, 5.77f), n.detail, n.roughness)};
+      return noise_texture(in(0) * inf(1), n.detail, n.roughness, n.distortion, n.output == 1);
     }
     case TexNodeType::Gradient: return Color(clampf(gradient(n.mode, in(0)), 0, 1));
     case TexNodeType::MixRgb: {
@@ -757,62 +756,6 @@ Vec3 TextureGraph::eval_normal(int idx, const ShadingPoint &sp) const {
     return len > 0 ? out / len : N;
   }
   return N;
-}
-
-// ---- Perlin noise ------------------------------------------------------------------------
-namespace {
-const uint8_t kPerm[256] = {
-    151, 160, 137, 91,  90,  15,  131, 13,  201, 95,  96,  53,  194, 233, 7,   225, 140, 36,  103, 30,  69,  142,
-    8,   99,  37,  240, 21,  10,  23,  190, 6,   148, 247, 120, 234, 75,  0,   26,  197, 62,  94,  252, 219, 203,
-    117, 35,  11,  32,  57,  177, 33,  88,  237, 149, 56,  87,  174, 20,  125, 136, 171, 168, 68,  175, 74,  165,
-    71,  134, 139, 48,  27,  166, 77,  146, 158, 231, 83,  111, 229, 122, 60,  211, 133, 230, 220, 105, 92,  41,
-    55,  46,  245, 40,  244, 102, 143, 54,  65,  25,  63,  161, 1,   216, 80,  73,  209, 76,  132, 187, 208, 89,
-    18,  169, 200, 196, 135, 130, 116, 188, 159, 86,  164, 100, 109, 198, 173, 186, 3,   64,  52,  217, 226, 250,
-    124, 123, 5,   202, 38,  147, 118, 126, 255, 82,  85,  212, 207, 206, 59,  227, 47,  16,  58,  17,  182, 189,
-    28,  42,  223, 183, 170, 213, 119, 248, 152, 2,   44,  154, 163, 70,  221, 153, 101, 155, 167, 43,  172, 9,
-    129, 22,  39,  253, 19,  98,  108, 110, 79,  113, 224, 232, 178, 185, 112, 104, 218, 246, 97,  228, 251, 34,
-    242, 193, 238, 210, 144, 12,  191, 179, 162, 241, 81,  51,  145, 235, 249, 14,  239, 107, 49,  192, 214, 31,
-    181, 199, 106, 157, 184, 84,  204, 176, 115, 121, 50,  45,  127, 4,   150, 254, 138, 236, 205, 93,  222, 114,
-    67,  29,  24,  72,  243, 141, 128, 195, 78,  66,  215, 61,  156, 180};
-inline int perm(int i) { return kPerm[i & 255]; }
-inline float fade(float t) { return t * t * t * (t * (t * 6 - 15) + 10); }
-inline float grad(int h, float x, float y, float z) {
-  h &= 15;
-  float u = h < 8 ? x : y, v = h < 4 ? y : (h == 12 || h == 14 ? x : z);
-  return ((h & 1) ? -u : u) + ((h & 2) ? -v : v);
-}
-inline float mixf(float a, float b, float t) { return a + t * (b - a); }
-}  // namespace
-
-float perlin_noise(Vec3 p) {
-  float fx = std::floor(p.x), fy = std::floor(p.y), fz = std::floor(p.z);
-  int X = int(fx) & 255, Y = int(fy) & 255, Z = int(fz) & 255;
-  float x = p.x - fx, y = p.y - fy, z = p.z - fz;
-  float u = fade(x), v = fade(y), w = fade(z);
-  int A = perm(X) + Y, AA = perm(A) + Z, AB = perm(A + 1) + Z, B = perm(X + 1) + Y, BA = perm(B) + Z, BB = perm(B + 1) + Z;
-  return mixf(mixf(mixf(grad(perm(AA), x, y, z), grad(perm(BA), x - 1, y, z), u),
-                   mixf(grad(perm(AB), x, y - 1, z), grad(perm(BB), x - 1, y - 1, z), u), v),
-              mixf(mixf(grad(perm(AA + 1), x, y, z - 1), grad(perm(BA + 1), x - 1, y, z - 1), u),
-                   mixf(grad(perm(AB + 1), x, y - 1, z - 1), grad(perm(BB + 1), x - 1, y - 1, z - 1), u), v),
-              w);
-}
-
-float fbm_noise(Vec3 p, float detail, float roughness) {
-  float fscale = 1, amp = 1, maxamp = 0, sum = 0;
-  int octaves = int(detail);
-  for (int i = 0; i <= octaves; ++i) {
-    sum += perlin_noise(p * fscale) * amp;
-    maxamp += amp;
-    amp *= roughness;
-    fscale *= 2;
-  }
-  float rmd = detail - std::floor(detail);
-  if (rmd != 0) {
-    float t = perlin_noise(p * fscale) * amp;
-    float s1 = sum / maxamp, s2 = (sum + t) / (maxamp + amp);
-    return clampf(0.5f * ((1 - rmd) * s1 + rmd * s2) + 0.5f, 0, 1);
-  }
-  return clampf(0.5f * sum / maxamp + 0.5f, 0, 1);
 }
 
 }  // namespace rdv

@@ -44,7 +44,7 @@ struct TexNode {
   // Mapping: location, rotation (radians, XYZ Euler), scale
   Vec3 loc{0.0f}, rot{0.0f}, scale{1.0f};
   // Noise
-  float detail = 2, roughness = 0.5f;
+  float detail = 2, roughness = 0.5f, distortion = 0;  // Noise (noise.h)
   std::vector<RampStop> ramp;  // ColorRamp
 };
 
@@ -78,9 +78,5 @@ class TextureGraph {
   int parse_depth_ = 0;     // texture nodes above the one being parsed (kMaxTextureDepth)
   std::string parse_root_;  // the material input being parsed, for the limit's message
 };
-
-// Perlin noise (improved, Perlin 2002) in [-1, 1], and Blender-style fBm in [0, 1].
-float perlin_noise(Vec3 p);
-float fbm_noise(Vec3 p, float detail, float roughness);
 
 }  // namespace rdv
