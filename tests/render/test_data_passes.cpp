@@ -4,7 +4,8 @@
 // a 30%-transparent card mixes in the mist behind it (z-test, |z| < 4.5); Object and
 // Material Index exact on every pixel fully covered by one of two objects, 0 on the world,
 // for every integrator; the alpha threshold picks the surface behind a thin card; bad pass
-// indices and mist settings are refused naming the object. Fixed seeds, 16x16 images.
+// indices and mist settings are refused naming the object; the Normal pass is a normal map's.
+// Fixed seeds, 16x16 images.
 #include <gtest/gtest.h>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -44,6 +45,14 @@ json ortho_camera(double scale = 2.0) {
 json perspective_camera(double distance = 3) {
   return {{"type", "perspective"}, {"focal_length", 50}, {"sensor_width", 36}, {"clip_start", 0.01},
           {"transform", {{"look_at", {{"from", {0, 0.001, distance}}, {"to", {0, 0, 0}}}}}}};
+}
+
+struct Vec3d {
+  double x, y, z;
+};
+Vec3d normalized(Vec3d v) {
+  const double l = std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
+  return {v.x / l, v.y / l, v.z / l};
 }
 
 double falloff(const std::string &name, double x) {
@@ -173,6 +182,29 @@ TEST(DataPasses, IndicesExactOnCoveredPixelsEveryIntegrator) {
       }
     EXPECT_GE(covered, 20) << integrator;
     EXPECT_GE(world, 20) << integrator;
+  }
+}
+
+// The Normal pass is the normal the surface shades with, a normal map's (as Cycles' pass,
+// the closures' normal): a world-space normal map of one tilted normal over the whole plane
+// (before 2026-11-29 the pass showed the mesh's normal, +z, under any map).
+TEST(DataPasses, NormalIsTheMappedNormalEveryIntegrator) {
+  const Vec3d n = normalized({0.3, -0.2, 0.9});
+  json floor = {{"name", "mapped"}, {"type", "diffuse"}, {"color", {0.5, 0.5, 0.5}},
+                {"normal", {{"node", "normal_map"}, {"space", "WORLD"},
+                            {"color", {0.5 + 0.5 * n.x, 0.5 + 0.5 * n.y, 0.5 + 0.5 * n.z}}}}};
+  for (const char *integrator : {"path", "bdpt", "pssmlt", "mmlt", "mlt"}) {
+    json scene = plane_scene(perspective_camera(3), json::object(), {{"integrator", integrator}}, json::array(),
+                             json::array({floor}));
+    scene["meshes"][0]["materials"] = {"mapped"};
+    Image img = render_json(scene.dump());
+    ASSERT_TRUE(img.all_finite()) << integrator;
+    for (int i = 0; i < kSize * kSize; ++i) {
+      const float *p = &img.normal[size_t(i) * 3];
+      EXPECT_NEAR(p[0], n.x, 1e-4) << integrator << " pixel " << i;
+      EXPECT_NEAR(p[1], n.y, 1e-4) << integrator << " pixel " << i;
+      EXPECT_NEAR(p[2], n.z, 1e-4) << integrator << " pixel " << i;
+    }
   }
 }
 

@@ -44,6 +44,9 @@ static Image render_scene(rdv_scene *scene, const rdv_tools::LoadedScene &loaded
     if (rdv_session_read_film(session, pass, 0, 0, img.width, img.height, 1, out->data()) != RDV_OK)
       throw std::runtime_error(std::string("read_film: ") + rdv_last_error());
   }
+  img.normal.resize(size_t(img.width) * img.height * 3);
+  if (rdv_session_read_film(session, RDV_PASS_NORMAL, 0, 0, img.width, img.height, 1, img.normal.data()) != RDV_OK)
+    throw std::runtime_error(std::string("read_film: ") + rdv_last_error());
   if (settings.value("denoising_passes", false))
     for (auto [pass, out] : {std::pair{RDV_PASS_DENOISING_NORMAL, &img.denoising_normal},
                              std::pair{RDV_PASS_DENOISING_ALBEDO, &img.denoising_albedo},

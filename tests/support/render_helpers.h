@@ -36,8 +36,9 @@ struct Image {
   const float *strategy_pass(int k, int x, int y) const {
     return &strategy_passes[size_t(k)][(size_t(y) * width + x) * 3];
   }
-  // Data passes (film/data_passes.h): Mist, Object Index, Material Index, top-down.
-  std::vector<float> mist, object_index, material_index;
+  // Data passes (film/data_passes.h): Mist, Object Index, Material Index, top-down; the
+  // Normal pass, 3 floats per pixel.
+  std::vector<float> mist, object_index, material_index, normal;
   // Denoising data (settings "denoising_passes"; film/denoising_passes.h), top-down: Normal
   // and Albedo 3 floats per pixel, Depth 1; empty without them.
   std::vector<float> denoising_normal, denoising_albedo, denoising_depth;

@@ -27,7 +27,7 @@ FirstHit Bdpt::first_surface(const PathVertex *camera_path, int n) const {
     const PathVertex &v = camera_path[1];
     first_hit.valid = true;
     first_hit.depth = dot(v.p - cam.position(), cam.forward());
-    first_hit.normal = dot(v.ns, v.wo) < 0 ? -v.ns : v.ns;
+    first_hit.normal = v.bsdf.shading_normal(v.wo);  // a normal map's or bump's, as Cycles' Normal pass
     first_hit.albedo = v.bsdf.albedo();
   }
   return first_hit;

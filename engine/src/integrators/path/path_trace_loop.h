@@ -399,7 +399,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       const Camera &cam = scene_.camera_now();
       first_hit->valid = true;
       first_hit->depth = dot(hit.p - cam.position(), cam.forward());
-      first_hit->normal = dot(hit.ns, wo) < 0 ? -hit.ns : hit.ns;
+      first_hit->normal = bsdf.shading_normal(wo);  // a normal map's or bump's, as Cycles' Normal pass
       first_hit->albedo = bsdf.albedo();
     }
     // Where the path may not scatter any more (a bounce limit), a plain transparent layer
