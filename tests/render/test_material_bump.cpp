@@ -1,7 +1,10 @@
 // Bump and normal maps on a white diffuse sphere under a uniform world: the sphere
-// stays close to the world's radiance (a furnace; strong bump loses a little energy at
-// directions where the geometric and shading normals disagree, which are dropped to
-// prevent light leaks) and no pixel turns black (no shadow-terminator artefact).
+// stays close to the world's radiance (a furnace; strong bump loses energy at directions
+// where the geometric and shading normals disagree, which are dropped to prevent light
+// leaks, and to Cycles' bump shadowing of diffuse lobes, Bsdf::bump_shadowing, by design:
+// Cycles 3.4 renders this sphere in Blender at 0.709, 0.886 of the world (48 px, 256 spp),
+// we at 0.697 there and here; the bound was 0.93 of the world before we shadowed so)
+// and no pixel turns black (no shadow-terminator artefact).
 // Mean checks use stated tolerances; fixed seeds.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -21,7 +24,7 @@ TEST(BumpFurnace, BumpedSphereUnderUniformWorld) {
   Image img = render_json(j.dump());
   ASSERT_TRUE(img.all_finite());
   MeanEstimate m = pixel_mean(img, 1);
-  EXPECT_GT(m.mean, 0.8 * 0.93) << "energy lost to bump";
+  EXPECT_GT(m.mean, 0.8 * 0.85) << "energy lost to bump";
   EXPECT_LT(m.mean, 0.8 + 4.5 * m.standard_error + 1e-3) << "energy created by bump";
   float darkest = 1e9f;
   for (int y = 0; y < img.height; ++y)

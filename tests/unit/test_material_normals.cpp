@@ -154,3 +154,39 @@ TEST(ShadingNormals, EvaluationDoesNotDependOnTheDirectionBuiltToward) {
     EXPECT_GT(bent, 10) << material << ": the directions see different frames";
   }
 }
+
+// Cycles darkens diffuse closures whose normal a map moved (kernel/closure/bsdf.h,
+// bump_shadowing_term): f x s(g), g = cos(N0, I) / (cos(N, I) cos(N0, N)), s(g) = g + g^2 (1 - g)
+// on [0, 1], N0 the mesh's normal, N the map's, I the light side (wi on camera paths, wo on
+// light paths, so both evaluate one f). Written out here against a Diffuse BSDF under a world
+// normal map, both modes (Importance with the shading normal's adjoint correction). Without it
+// a noise-bumped diffuse floor (sun at 30 degrees) had 1.26x the contrast of Cycles' image,
+// now 1.00x (README). Deterministic.
+TEST(ShadingNormals, DiffuseUnderAMapIsShadowedAsCycles) {
+  const Vec3 n = normalize(Vec3(0.35f, -0.2f, 0.9f)), n0(0, 0, 1);
+  const std::string map = R"({"node":"normal_map","space":"WORLD","color":[)" + std::to_string(0.5f + 0.5f * n.x) + "," +
+                          std::to_string(0.5f + 0.5f * n.y) + "," + std::to_string(0.5f + 0.5f * n.z) + "]}";
+  Params p(R"({"type":"diffuse","color":[1,1,1],"normal":)" + map + "}", "material 'm'");
+  const Material m = Material::from_params(p, "m");
+  auto shadowing = [&](Vec3 light) {
+    const double g = double(dot(n0, light)) / (double(dot(n, light)) * dot(n0, n));
+    return g >= 1 ? 1.0 : g <= 0 ? 0.0 : g + g * g * (1 - g);
+  };
+  const Vec3 wo = normalize(Vec3(-0.2f, 0.3f, 1.0f));
+  const Bsdf camera_side = m.make_bsdf(plane_point(), wo);
+  int shadowed = 0;
+  for (Vec3 wi : {normalize(Vec3(0.6f, -0.3f, 0.5f)), normalize(Vec3(-0.7f, 0.4f, 0.3f)), normalize(Vec3(0.1f, 0.9f, 0.4f)),
+                  normalize(Vec3(-0.9f, -0.1f, 0.15f))}) {
+    const double s = shadowing(wi);
+    if (s < 0.999) ++shadowed;
+    const double radiance = std::max(0.0, double(dot(n, wi))) / kPi * s;
+    EXPECT_NEAR(camera_side.eval(wo, wi, TransportMode::Radiance).x, radiance, 1e-5 * std::max(1.0, radiance))
+        << "wi.z " << wi.z;
+    // A light path arriving from wi: f times the shading normal's correction, times cos(wo).
+    const Bsdf light_side = m.make_bsdf(plane_point(), wi);
+    const double importance = std::max(0.0, double(dot(n, wi))) / kPi * s * dot(wo, n0) / dot(wi, n0);
+    EXPECT_NEAR(light_side.eval(wi, wo, TransportMode::Importance).x, importance, 1e-5 * std::max(1.0, importance))
+        << "light path, wi.z " << wi.z;
+  }
+  EXPECT_GE(shadowed, 2);
+}

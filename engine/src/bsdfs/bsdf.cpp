@@ -146,7 +146,22 @@ static bool tangent_frame(Vec3 n, Vec3 tangent, Frame &out) {
   return true;
 }
 
-void Bsdf::bend_for_each_viewer() { bend_ = smooth_; }
+void Bsdf::bend_for_each_viewer(Vec3 mesh_normal) {
+  bend_ = smooth_;
+  mesh_normal_ = dot(mesh_normal, ng_) < 0 ? -mesh_normal : mesh_normal;
+}
+
+float Bsdf::bump_shadowing(Vec3 n, Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
+  if (!bend_) return 1.0f;
+  const Vec3 light = mode == TransportMode::Radiance ? wi_w : wo_w;
+  const float cos_ni = dot(n, light);
+  const Vec3 n0 = cos_ni < 0 ? -mesh_normal_ : mesh_normal_;  // transmission: the far side's
+  const float denom = cos_ni * dot(n0, n);
+  const float g = denom != 0 ? dot(n0, light) / denom : 0.0f;
+  if (!(g < 1.0f)) return 1.0f;  // lit from the unshadowed side
+  if (!(g > 0.0f)) return 0.0f;  // the light is behind the mesh's surface
+  return g + g * g * (1.0f - g);  // smooth at g = 1
+}
 
 const Frame &Bsdf::bent_frame(Vec3 w, float side, Frame &scratch) const {
   // ensure_valid_reflection works on w's side of the surface; the result comes back to
@@ -275,12 +290,14 @@ inline Color Bsdf::lambert_f(const LambertCosines &c, TransportMode mode) const 
 Color Bsdf::f_in(const Frame &frame, Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
   if (lambert_) {
     LambertCosines c;
-    return lambert_cosines(frame.n, wo_w, wi_w, c) ? lambert_f(c, mode) : Color(0.0f);
+    return lambert_cosines(frame.n, wo_w, wi_w, c) ? lambert_f(c, mode) * bump_shadowing(frame.n, wo_w, wi_w, mode)
+                                                   : Color(0.0f);
   }
   Vec3 wo, wi;
   bool flipped;
   if (!local_pair(frame, wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
-  return local_f(wo, wi, flipped, mode, nullptr) * shading_correction(wo_w, wi_w, mode, frame);
+  return local_f(wo, wi, flipped, mode, nullptr, bump_shadowing(frame.n, wo_w, wi_w, mode)) *
+         shading_correction(wo_w, wi_w, mode, frame);
 }
 
 Color Bsdf::f(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
@@ -288,7 +305,7 @@ Color Bsdf::f(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
   return f_in(camera_side_frame(wo_w, wi_w, mode, bent), wo_w, wi_w, mode);
 }
 
-Color Bsdf::local_f(Vec3 wo, Vec3 wi, bool flipped, TransportMode mode, float *pdf) const {
+Color Bsdf::local_f(Vec3 wo, Vec3 wi, bool flipped, TransportMode mode, float *pdf, float diffuse_scale) const {
   Color f(0.0f);
   LobeScratch scratch;
   LayerScales layers;
@@ -303,6 +320,7 @@ Color Bsdf::local_f(Vec3 wo, Vec3 wi, bool flipped, TransportMode mode, float *p
     } else {
       fi = lobe_eval(lobe, wo, wi, mode);
     }
+    if (diffuse_scale != 1.0f && lobe.is_diffuse_like()) fi *= diffuse_scale;
     f += lobe.layers_above ? fi * layers.of(lobe.layers_above) : fi;
   }
   return f;
@@ -328,12 +346,13 @@ Color Bsdf::eval_and_pdf(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf) c
     LambertCosines c;
     if (!lambert_cosines(frame.n, wo_w, wi_w, c)) return Color(0.0f);
     pdf = c.wi * kInvPi;  // cosine_hemisphere_pdf, as the lobe samples
-    return lambert_f(c, mode) * c.wi;
+    return lambert_f(c, mode) * (c.wi * bump_shadowing(frame.n, wo_w, wi_w, mode));
   }
   Vec3 wo, wi;
   bool flipped;
   if (!local_pair(frame, wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
-  return local_f(wo, wi, flipped, mode, &pdf) * shading_correction(wo_w, wi_w, mode, frame) * absdot(wi_w, frame.n);
+  return local_f(wo, wi, flipped, mode, &pdf, bump_shadowing(frame.n, wo_w, wi_w, mode)) *
+         shading_correction(wo_w, wi_w, mode, frame) * absdot(wi_w, frame.n);
 }
 
 Color Bsdf::f_and_pdfs(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_fwd, float &pdf_rev) const {
@@ -352,7 +371,7 @@ Color Bsdf::f_and_pdfs(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_fwd,
     if (!lambert_cosines(frame.n, wo_w, wi_w, c)) return Color(0.0f);
     pdf_fwd = c.wi * kInvPi;
     pdf_rev = c.wo * kInvPi;
-    return lambert_f(c, mode);
+    return lambert_f(c, mode) * bump_shadowing(frame.n, wo_w, wi_w, mode);
   }
   Vec3 wo, wi;
   bool flipped;
@@ -368,10 +387,12 @@ Color Bsdf::f_and_pdfs(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_fwd,
   LobeScratch scratch, scratch_rev;
   LayerScales layers;
   if (num_layers_) layer_scales(wo, wi, layers);
+  const float diffuse_scale = bump_shadowing(frame.n, wo_w, wi_w, mode);
   for (int i = 0; i < n_; ++i) {
     const Lobe &lobe = lobe_from_side(lobes_[i], flipped, scratch);
     float p;
     Color fi = lobe_eval_and_pdf(lobe, wo, wi, mode, p);
+    if (diffuse_scale != 1.0f && lobe.is_diffuse_like()) fi *= diffuse_scale;
     f += lobe.layers_above ? fi * layers.of(lobe.layers_above) : fi;
     pdf_fwd += pick_[i] * p;
     if (rev_ok) pdf_rev += pick_[i] * lobe_pdf(lobe_from_side(lobes_[i], flipped_rev, scratch_rev), wi_rev, wo_rev);
@@ -468,6 +489,7 @@ bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSampl
   if (n_ == 1) {
     out.pdf = pdf;
     out.weight = weight * shading_correction(wo_w, out.wi, mode, frame);
+    if (lobe.is_diffuse_like()) out.weight *= bump_shadowing(frame.n, wo_w, out.wi, mode);
   } else {  // mixture: the weight must use the full f and the mixture pdf
     Color f = eval_and_pdf(wo_w, out.wi, mode, out.pdf);
     if (!(out.pdf > 0)) return false;
@@ -608,15 +630,18 @@ KindSplit Bsdf::kind_split(Vec3 wo_w, Vec3 wi_w, bool delta) const {
       Vec3 wo, wi;
       bool flipped;
       Frame bent;
-      if (local_pair(frame_toward(wo_w, bent), wo_w, wi_w, wo, wi, flipped)) {
+      const Frame &frame = frame_toward(wo_w, bent);
+      if (local_pair(frame, wo_w, wi_w, wo, wi, flipped)) {
         LobeScratch scratch;
         LayerScales layers;
         if (num_layers_) layer_scales(wo, wi, layers);
+        const float diffuse_scale = bump_shadowing(frame.n, wo_w, wi_w, TransportMode::Radiance);
         float w[3] = {0, 0, 0};
         for (int i = 0; i < n_; ++i) {
           const Lobe &lobe = lobe_from_side(lobes_[i], flipped, scratch);
           if (lobe.is_delta()) continue;
           Color fi = lobe_eval(lobe, wo, wi, TransportMode::Radiance);
+          if (lobe.is_diffuse_like()) fi *= diffuse_scale;
           if (lobe.layers_above) fi *= layers.of(lobe.layers_above);
           w[pass_kind(lobe.type, reflection)] += std::max(average(fi), 0.0f);
         }

@@ -110,6 +110,11 @@ struct Lobe {
     return type == LobeType::SpecularConductor || type == LobeType::SmoothDielectric ||
            type == LobeType::Transparent;
   }
+  // Cycles' diffuse closures (CLOSURE_IS_BSDF_DIFFUSE): those bump shadowing darkens.
+  bool is_diffuse_like() const {
+    return type == LobeType::Lambert || type == LobeType::OrenNayar || type == LobeType::PrincipledDiffuse ||
+           type == LobeType::Sheen || type == LobeType::Translucent;
+  }
   // Scatters to the other side of the surface (needs the refraction rules of the Bsdf).
   bool is_transmissive() const {
     return type == LobeType::SmoothDielectric || type == LobeType::GgxDielectric ||
@@ -163,8 +168,9 @@ class Bsdf {
   // ns is a normal map's (or bump's): bent for each direction that sees it as Cycles bends
   // it toward the viewer, just enough that the viewer's mirror direction stays above the
   // surface (shading_normal.h). Per direction, by frame_toward's rule, so light paths see
-  // the surface as the camera paths that meet them do.
-  void bend_for_each_viewer();
+  // the surface as the camera paths that meet them do. mesh_normal: the normal before the
+  // map (for Cycles' bump shadowing of diffuse lobes, bump_shadowing).
+  void bend_for_each_viewer(Vec3 mesh_normal);
 
   // Past kMaxLobes the lobe is merged with one of its kind (lobe_merge.h).
   void add_lobe(const Lobe &lobe, float sample_weight);
@@ -299,6 +305,7 @@ class Bsdf {
     flat_ = o.flat_;
     smooth_ = o.smooth_;
     bend_ = o.bend_;
+    mesh_normal_ = o.mesh_normal_;
     oriented_ = o.oriented_;
     ng_ = o.ng_;
     backfacing_ = o.backfacing_;
@@ -325,7 +332,13 @@ class Bsdf {
   void layer_scales(Vec3 wo, Vec3 wi, LayerScales &out) const;
   // The lobes' f summed for a local pair (seen from the side local_pair found), with the
   // layers applied; with pdf, their mixture density added into *pdf as well.
-  Color local_f(Vec3 wo, Vec3 wi, bool flipped, TransportMode mode, float *pdf) const;
+  // diffuse_scale: what the diffuse-like lobes' f is multiplied by (bump_shadowing).
+  Color local_f(Vec3 wo, Vec3 wi, bool flipped, TransportMode mode, float *pdf, float diffuse_scale) const;
+  // Cycles darkens diffuse closures whose normal a normal map or bump moved (its
+  // bump_shadowing_term, after Chiang et al. 2019): by a smooth step of g = cos(N0, I) /
+  // (cos(N, I) cos(N0, N)), N0 the mesh's normal, N the mapped one (n, as the frame f uses),
+  // I the light side's direction (wi on camera paths, wo on light paths). 1 unmapped.
+  float bump_shadowing(Vec3 n, Vec3 wo_w, Vec3 wi_w, TransportMode mode) const;
   bool local_pair(const Frame &frame, Vec3 wo_w, Vec3 wi_w, Vec3 &wo, Vec3 &wi, bool &flipped) const;
   // One plain Lambert lobe (lambert_): f and its densities depend only on the cosines
   // with the two normals, so evaluation skips the frame change and the lobe loop.
@@ -345,6 +358,7 @@ class Bsdf {
   Frame flat_;   // the geometric normal's (the tangent projected onto it)
   bool smooth_ = false;      // the two differ
   bool bend_ = false;         // frame_ is a mapped normal's, bent per direction (bend_for_each_viewer)
+  Vec3 mesh_normal_{0.0f};    // with bend_: the normal before the map, on ng_'s side
   bool oriented_ = false;     // frame_'s tangent is anisotropy's axis
   Vec3 ng_;
   bool backfacing_ = false;

@@ -689,7 +689,7 @@ Bsdf Material::shaded_bsdf(const ShadingPoint &sp, Vec3 wo) const {
   Bsdf bsdf(sp.ng, ns, wo, tangent);
   // A mapped normal that would reflect a viewer below the surface is bent (as Cycles),
   // for each direction that sees it: not only toward wo (light paths build toward the light).
-  if (mapped) bsdf.bend_for_each_viewer();
+  if (mapped) bsdf.bend_for_each_viewer(sp.ns);
   add_closure_lobes(*this, sp, bsdf);
   return bsdf;
 }
