@@ -441,7 +441,7 @@ namespace {
 template <class Sink>
 void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
   const TextureGraph &graph = m.graph;
-  const bool separable = m.cycles34_microfacets;
+  const bool cycles34 = m.cycles34_microfacets;  // Cycles 3.4's microfacets (material.h)
   for (const Closure &c : m.closures) {
     float w = 1;
     for (const Closure::Factor &f : c.weight) {
@@ -462,7 +462,7 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
         break;
       }
       case MaterialType::Glossy: {
-        Lobe l = ggx_lobe(num(kRoughness), num(kAnisotropic), separable);
+        Lobe l = ggx_lobe(num(kRoughness), num(kAnisotropic), cycles34);
         l.color = vmax(col(kBaseColor), Color(0.0f));
         l.scale = w;
         l.fresnel_mode = c.fresnel;
@@ -474,9 +474,9 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
       }
       case MaterialType::Glass:
       case MaterialType::Refraction: {
-        Lobe l = dielectric_lobe(num(kRoughness), num(kIor), vmax(col(kBaseColor), Color(0.0f)) * w, separable);
+        Lobe l = dielectric_lobe(num(kRoughness), num(kIor), vmax(col(kBaseColor), Color(0.0f)) * w, cycles34);
         l.refraction_only = c.type == MaterialType::Refraction;
-        l.macro_fresnel = separable && !l.refraction_only;  // Cycles 3.4's glass
+        l.macro_fresnel = cycles34 && !l.refraction_only;  // Cycles 3.4's glass
         bsdf.add_lobe(l, sample_weight(l.color));
         break;
       }
@@ -518,7 +518,7 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
         float coat_rough = clampf(num(kClearcoatRoughness), 0.0f, 1.0f);
         const bool coated = layered && clearcoat > 0;
         Color f0_dielectric = principled_specular_f0(c, tint, col, num);
-        Lobe s = ggx_lobe(roughness, num(kAnisotropic), separable);
+        Lobe s = ggx_lobe(roughness, num(kAnisotropic), cycles34);
         float sheen = std::max(num(kSheen), 0.0f);
         Color sheen_color = (c.sheen_tint_is_color ? vmax(col(kSheenTint), Color(0.0f))
                                                    : Color(1.0f) * (1 - num(kSheenTint)) + tint * num(kSheenTint)) * sheen;
@@ -531,7 +531,7 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
         }
         if (coated)
           coat_bit = bsdf.add_layer(c.fixed_coat_layer ? c.coat_layer
-                                                       : principled_coat_layer(clearcoat, coat_rough, separable));
+                                                       : principled_coat_layer(clearcoat, coat_rough, cycles34));
         if (diffuse_w > 0) {
           Lobe d;
           d.type = layered ? LobeType::Lambert : LobeType::PrincipledDiffuse;  // Cycles 3.4's Disney diffuse
@@ -565,9 +565,9 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
         if (trans_w > 0) {
           float tr = clampf(num(kTransmissionRoughness), 0.0f, 1.0f);
           float r = 1 - (1 - roughness) * (1 - tr);
-          Lobe g = dielectric_lobe(r, num(kIor), base * (trans_w * ww), separable);
+          Lobe g = dielectric_lobe(r, num(kIor), base * (trans_w * ww), cycles34);
           g.layers_above = coat_bit;
-          if (separable) {
+          if (cycles34) {
             // Cycles 3.4: two closures split by the Fresnel at the shading normal, the reflection
             // untinted at the surface's roughness, the refraction tinted at the combined one
             // (Specular Tint's tint of the reflection is left out: white, as at tint 0).
@@ -580,7 +580,7 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
           bsdf.add_lobe(g, sample_weight(g.color));
         }
         if (clearcoat > 0) {
-          Lobe cc = ggx_lobe(coat_rough, 0.0f, separable);
+          Lobe cc = ggx_lobe(coat_rough, 0.0f, cycles34);
           // Additive (Cycles 3.4): Cycles 3.4's own lobe (GTR1, clearcoat.h) where it is not a
           // mirror, with the dielectric Fresnel of IOR 1.5 (f0 0.04, interpolated).
           if (!layered && cc.type == LobeType::GgxConductor) cc.type = LobeType::Clearcoat;
