@@ -206,8 +206,11 @@ class _Lowerer:
         for k in ("scale", "detail", "roughness"):
             d[k] = self.value(e.args[k])
         self._vector(d, e)
-        if e.props.get("dimensions", "3D") != "3D":
-            self.approx(e.node, "%s noise approximated as 3D" % e.props.get("dimensions"))
+        dims = e.props.get("dimensions", "3D")
+        if dims != "3D":
+            d["dimensions"] = dims
+        if dims in ("1D", "4D"):
+            d["w"] = self.value(e.args["w"])
         dist_ir = e.args.get("distortion")
         dist = self.fold(dist_ir)
         if dist_ir is not None and not isinstance(dist, (int, float)):

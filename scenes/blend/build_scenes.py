@@ -254,17 +254,21 @@ def grazing_gloss():
 
 
 def noise_texture():
-    """A plane whose emission is a Noise Texture's Color (Scale 1.5, Detail 2, Distortion 0.5),
-    seen from above, the plane filling the view: Blender's pattern, block for block (a Perlin
-    noise of its own, as we had before 2026-11-29, has the statistics but not the pattern)."""
+    """Three strips emitting a Noise Texture's Color (Scale 1.5, Detail 2, Distortion 0.5), 2D, 3D
+    and 4D (W 0.37), seen from above, the strips filling the view: Blender's pattern, block for
+    block (a Perlin noise of our own, as we had before 2026-11-29, has the statistics but not
+    the pattern)."""
     reset()
-    m = emission_material("NoiseGlow", strength=1.0)
-    nt = m.node_tree
-    tex = nt.nodes.new("ShaderNodeTexNoise")
-    tex.inputs["Scale"].default_value = 1.5
-    tex.inputs["Distortion"].default_value = 0.5
-    nt.links.new(tex.outputs["Color"], nt.nodes["Emission"].inputs["Color"])
-    plane(size=4.0, material=m)
+    for i, dims in enumerate(("2D", "3D", "4D")):
+        m = emission_material("NoiseGlow" + dims, strength=1.0)
+        nt = m.node_tree
+        tex = nt.nodes.new("ShaderNodeTexNoise")
+        tex.noise_dimensions = dims
+        tex.inputs["Scale"].default_value = 1.5
+        tex.inputs["Distortion"].default_value = 0.5
+        tex.inputs["W"].default_value = 0.37
+        nt.links.new(tex.outputs["Color"], nt.nodes["Emission"].inputs["Color"])
+        quad_object("Noise" + dims, 1.0, 4.0, (-1.0 + i, 0.0, 0.0), (0, 0, 0), m)
     camera_down(4.0)
 
 

@@ -475,8 +475,11 @@ class TestValues(unittest.TestCase):
         self.assertIsNone(w)
         p, w = noise("3D", 0.0)
         self.assertNotIn("distortion", p["color"])
-        p, w = noise("2D", 0.0)
-        self.assertIn("2D noise approximated as 3D", w)
+        for dims in ("1D", "2D", "4D"):
+            p, w = noise(dims, 0.0)
+            self.assertIsNone(w)
+            self.assertEqual(p["color"]["dimensions"], dims)
+            self.assertEqual("w" in p["color"], dims != "2D")
 
     def test_normal_map_and_bump_named(self):
         def b(t):

@@ -78,6 +78,7 @@ const std::vector<std::string> kMathOps = {"ADD", "SUBTRACT", "MULTIPLY", "DIVID
                                            "TRUNC", "FRACT", "MODULO", "WRAP", "SNAP", "PINGPONG", "SINE", "COSINE",
                                            "TANGENT", "ARCSINE", "ARCCOSINE", "ARCTANGENT", "ARCTAN2", "SINH", "COSH",
                                            "TANH", "RADIANS", "DEGREES", "SMOOTH_MIN", "SMOOTH_MAX"};
+const std::vector<std::string> kNoiseDimensions = {"1D", "2D", "3D", "4D"};
 const std::vector<std::string> kGradients = {"LINEAR", "QUADRATIC", "EASING", "DIAGONAL", "SPHERICAL",
                                              "QUADRATIC_SPHERE", "RADIAL"};
 enum Coord : uint8_t { kUv, kGenerated, kObject, kPosition, kNormal };
@@ -292,6 +293,8 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.type = TexNodeType::Noise;
     n.in[0] = vector_input("vector", kGenerated);
     n.in[1] = input("scale", 5.0);
+    n.in[2] = input("w", 0.0);
+    n.mode = r.choice("dimensions", kNoiseDimensions, "3D");
     n.detail = std::clamp(r.num("detail", 2.0f), 0.0f, 15.0f);
     n.roughness = std::clamp(r.num("roughness", 0.5f), 0.0f, 1.0f);
     n.distortion = r.num("distortion", 0.0f);
@@ -607,7 +610,8 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
       return first ? in(1) : in(2);
     }
     case TexNodeType::Noise: {
-      return noise_texture(in(0) * inf(1), n.detail, n.roughness, n.distortion, n.output == 1);
+      return noise_texture(in(0) * inf(1), inf(2) * inf(1), n.mode + 1, n.detail, n.roughness, n.distortion,
+                           n.output == 1);
     }
     case TexNodeType::Gradient: return Color(clampf(gradient(n.mode, in(0)), 0, 1));
     case TexNodeType::MixRgb: {
