@@ -78,6 +78,9 @@ TEST(BadInput, BadTextureNodeValuesNameTheNodeAndField) {
       {R"({"type":"diffuse","color":[1e39,0,0]})", "material 'M'", "'color'"},
       {R"({"type":"diffuse","roughness":1e39})", "material 'M'", "'roughness'"},
       {R"({"type":"glossy","eta":[1e39,1,1]})", "material 'M'", "'eta'"},
+      // The Cycles 3.4 switch and the noise's dimensions take only their names.
+      {R"({"type":"glossy","microfacets":"cycles"})", "material 'M'", "'microfacets'"},
+      {R"({"type":"diffuse","color":{"node":"noise","dimensions":"5D"}})", "noise node", "'dimensions'"},
   };
   for (const Case &c : cases) {
     EXPECT_EQ(RDV_ERROR_INVALID_ARGUMENT, rdv_scene_add_material(sc.s, "M", c.json, &id)) << c.json << "\n" << error();
