@@ -75,7 +75,12 @@ def is_constant(ir):
     return True
 
 
+# Blender's procedural textures the engine computes as Blender does, beyond Checker, Noise
+# and Gradient.
+PROCEDURAL_TEXTURES = ("tex_voronoi", "tex_musgrave", "tex_wave", "tex_magic", "tex_brick", "tex_white_noise")
+
 VARYING_OPS = {
+    *PROCEDURAL_TEXTURES,
     "tex_image", "tex_environment", "tex_checker", "tex_noise", "tex_gradient",
     "texcoord", "uvmap", "normal_map", "bump", "vertex_color", "attribute", "geometry",
 }

@@ -16,7 +16,7 @@ material naming those nodes.
 import math
 from .ir import Const, Expr, Closure
 from .issues import Issues
-from .evaluate import Evaluator, is_constant
+from .evaluate import Evaluator, is_constant, PROCEDURAL_TEXTURES
 from .graph import LUMINANCE
 
 ENGINE_TYPES = ("diffuse", "emission", "glossy", "glass", "refraction", "principled", "transparent",
@@ -120,7 +120,7 @@ class _Lowerer:
         if op in ("tex_image", "tex_environment"):
             return op == "tex_image" and self._image_file(ir) is not None
         if op in ("texcoord", "uvmap", "tex_checker", "tex_noise", "tex_gradient", "vertex_color",
-                  "normal_map", "bump"):
+                  "normal_map", "bump") + PROCEDURAL_TEXTURES:
             return True
         if op == "attribute":
             return ir.props.get("attribute_type", "GEOMETRY") == "GEOMETRY" and bool(ir.props.get("attribute_name"))
@@ -201,23 +201,63 @@ class _Lowerer:
             d["output"] = "fac"
         return d
 
-    def _n_tex_noise(self, e):
-        d = {"node": "noise"}
-        for k in ("scale", "detail", "roughness"):
-            d[k] = self.value(e.args[k])
+    def _texture(self, e, node, keys, colors=(), props=()):
+        """A procedural texture node: its inputs (numbers or nodes), its Vector when linked,
+        and the named properties."""
+        d = {"node": node}
+        for k in keys:
+            d[k] = self.value(e.args[k], k in colors)
         self._vector(d, e)
+        for k in props:
+            d[k] = e.props[k]
+        return d
+
+    def _n_tex_noise(self, e):
+        d = self._texture(e, "noise", ("scale", "detail", "roughness", "distortion"))
         dims = e.props.get("dimensions", "3D")
         if dims != "3D":
             d["dimensions"] = dims
         if dims in ("1D", "4D"):
             d["w"] = self.value(e.args["w"])
-        dist_ir = e.args.get("distortion")
-        dist = self.fold(dist_ir)
-        if dist_ir is not None and not isinstance(dist, (int, float)):
-            self.approx(e.node, "textured distortion ignored")
-        elif dist:
-            d["distortion"] = float(dist)
+        if d["distortion"] == 0.0:
+            del d["distortion"]
         d["output"] = "color" if e.props.get("output") == "Color" else "fac"
+        return d
+
+    def _n_tex_voronoi(self, e):
+        d = self._texture(e, "voronoi", ("w", "scale", "smoothness", "exponent", "randomness"),
+                          props=("dimensions", "feature", "distance"))
+        d["output"] = e.props.get("output", "Distance").lower()
+        return d
+
+    def _n_tex_musgrave(self, e):
+        return self._texture(e, "musgrave", ("w", "scale", "detail", "dimension", "lacunarity", "offset", "gain"),
+                             props=("dimensions", "musgrave_type"))
+
+    def _n_tex_wave(self, e):
+        d = self._texture(e, "wave", ("scale", "distortion", "detail", "detail_scale", "detail_roughness", "phase"),
+                          props=("wave_type", "direction", "profile"))
+        d["output"] = "color" if e.props.get("output") == "Color" else "fac"
+        return d
+
+    def _n_tex_magic(self, e):
+        d = self._texture(e, "magic", ("scale", "distortion"), props=("depth",))
+        d["output"] = "fac" if e.props.get("output") == "Fac" else "color"
+        return d
+
+    def _n_tex_brick(self, e):
+        d = self._texture(e, "brick", ("color1", "color2", "mortar", "scale", "mortar_size", "mortar_smooth", "bias",
+                                       "brick_width", "row_height"), colors=("color1", "color2", "mortar"),
+                          props=("offset", "offset_frequency", "squash", "squash_frequency"))
+        d["output"] = "fac" if e.props.get("output") == "Fac" else "color"
+        return d
+
+    def _n_tex_white_noise(self, e):
+        d = self._texture(e, "white_noise", ("w",), props=("dimensions",))
+        v = e.args.get("vector")
+        if isinstance(v, Const):  # unlinked: Blender hashes the socket's own vector, not a coordinate
+            d["vector"] = _num(v.value)
+        d["output"] = "color" if e.props.get("output") == "Color" else "value"
         return d
 
     def _n_tex_gradient(self, e):

@@ -272,6 +272,70 @@ def noise_texture():
     camera_down(4.0)
 
 
+def procedural_textures():
+    """Twelve tiles, each emitting one of Blender's procedural textures (Voronoi's features,
+    dimensions and metrics, Musgrave's types, Wave, Magic, Brick, White Noise per Voronoi cell),
+    seen from above: Blender's patterns block for block. Each tile's emission is kept positive
+    (Musgrave's heights through a Map Range)."""
+    reset(128)
+    scene = bpy.context.scene
+    scene.render.resolution_y = 96
+
+    def tile(i, name, idname, output, props=(), inputs=(), chain=None):
+        m = emission_material(name + "Glow", strength=1.0)
+        nt = m.node_tree
+        tex = nt.nodes.new(idname)
+        for k, v in props:
+            setattr(tex, k, v)
+        for k, v in inputs:
+            tex.inputs[k].default_value = v
+        out = tex.outputs[output]
+        if chain:
+            out = chain(nt, tex, out)
+        nt.links.new(out, nt.nodes["Emission"].inputs["Color"])
+        quad_object(name, 1.0, 1.0, (-1.5 + i % 4, 1.0 - i // 4, 0.0), (0, 0, 0), m)
+
+    def map_range(lo, hi):
+        def chain(nt, tex, out):
+            r = nt.nodes.new("ShaderNodeMapRange")
+            r.inputs["From Min"].default_value, r.inputs["From Max"].default_value = lo, hi
+            nt.links.new(out, r.inputs["Value"])
+            return r.outputs["Result"]
+        return chain
+
+    def per_cell_white_noise(nt, tex, out):
+        w = nt.nodes.new("ShaderNodeTexWhiteNoise")
+        nt.links.new(out, w.inputs["Vector"])
+        return w.outputs["Color"]
+
+    tile(0, "VoronoiF1", "ShaderNodeTexVoronoi", "Color", inputs=(("Scale", 4.0),))
+    tile(1, "VoronoiSmooth2D", "ShaderNodeTexVoronoi", "Distance",
+         (("voronoi_dimensions", "2D"), ("feature", "SMOOTH_F1"), ("distance", "CHEBYCHEV")),
+         (("Scale", 5.0), ("Smoothness", 0.6)))
+    tile(2, "VoronoiEdge4D", "ShaderNodeTexVoronoi", "Distance",
+         (("voronoi_dimensions", "4D"), ("feature", "DISTANCE_TO_EDGE")), (("Scale", 4.0), ("W", 0.3)))
+    tile(3, "VoronoiF2Minkowski", "ShaderNodeTexVoronoi", "Distance",
+         (("feature", "F2"), ("distance", "MINKOWSKI")), (("Scale", 3.0), ("Exponent", 1.5), ("Randomness", 0.8)))
+    tile(4, "MusgraveRidged", "ShaderNodeTexMusgrave", "Fac", (("musgrave_type", "RIDGED_MULTIFRACTAL"),),
+         (("Scale", 3.0), ("Detail", 4.0), ("Offset", 1.0), ("Gain", 2.0)), map_range(0.0, 3.0))
+    tile(5, "MusgraveFbm4D", "ShaderNodeTexMusgrave", "Fac", (("musgrave_dimensions", "4D"),),
+         (("Scale", 3.0), ("Detail", 3.5), ("W", 0.6)), map_range(-1.5, 1.5))
+    tile(6, "MusgraveHybrid2D", "ShaderNodeTexMusgrave", "Fac",
+         (("musgrave_dimensions", "2D"), ("musgrave_type", "HYBRID_MULTIFRACTAL")),
+         (("Scale", 3.0), ("Detail", 2.5), ("Offset", 0.8), ("Gain", 1.5)), map_range(0.0, 3.0))
+    tile(7, "WaveRings", "ShaderNodeTexWave", "Color",
+         (("wave_type", "RINGS"), ("rings_direction", "SPHERICAL"), ("wave_profile", "SAW")),
+         (("Scale", 1.5), ("Distortion", 4.0), ("Detail", 3.0), ("Detail Scale", 2.0)))
+    tile(8, "WaveBands", "ShaderNodeTexWave", "Fac", (("bands_direction", "DIAGONAL"), ("wave_profile", "TRI")),
+         (("Scale", 2.0), ("Phase Offset", 1.0)))
+    tile(9, "Magic", "ShaderNodeTexMagic", "Color", (("turbulence_depth", 4),), (("Scale", 2.0), ("Distortion", 2.0)))
+    tile(10, "Brick", "ShaderNodeTexBrick", "Color", (("offset", 0.4), ("squash", 0.7), ("squash_frequency", 3)),
+         (("Color1", (0.9, 0.3, 0.2, 1.0)), ("Color2", (0.2, 0.6, 0.9, 1.0)), ("Mortar", (0.9, 0.9, 0.8, 1.0)),
+          ("Scale", 3.0), ("Mortar Size", 0.05), ("Mortar Smooth", 0.4), ("Bias", -0.2)))
+    tile(11, "CellColors", "ShaderNodeTexVoronoi", "Position", inputs=(("Scale", 3.0),), chain=per_cell_white_noise)
+    camera_down(4.0 * 50.0 / 36.0)
+
+
 def checker_glow():
     m = emission_material("CheckerGlow", strength=5.0)
     nt = m.node_tree
@@ -536,11 +600,11 @@ def bad_input():
     # zero scale
     ob = link(bpy.data.objects.new("ZeroScaleObject", quad_mesh("ZeroMesh", 0.5)))
     ob.scale = (0.0, 0.0, 0.0)
-    # unsupported node (Wave texture)
+    # unsupported node (Wireframe)
     m = diffuse_material("WavyMaterial")
-    wave = m.node_tree.nodes.new("ShaderNodeTexWave")
-    wave.name = "UnsupportedWave"
-    m.node_tree.links.new(wave.outputs["Color"], m.node_tree.nodes["Diffuse BSDF"].inputs["Color"])
+    wire = m.node_tree.nodes.new("ShaderNodeWireframe")
+    wire.name = "UnsupportedWireframe"
+    m.node_tree.links.new(wire.outputs["Fac"], m.node_tree.nodes["Diffuse BSDF"].inputs["Color"])
     ob = link(bpy.data.objects.new("WavyObject", quad_mesh("WavyMesh", 0.6)))
     ob.location = (1, -1, 0.3)
     ob.data.materials.append(m)
@@ -1150,6 +1214,7 @@ SCENES = {
     "principled_plane": principled_plane,
     "grazing_gloss": grazing_gloss,
     "noise_texture": noise_texture,
+    "procedural_textures": procedural_textures,
     "emissive_textured": emissive_textured,
     "volume_blackbody": volume_blackbody,
     "volume_tinted": volume_tinted,
@@ -1185,7 +1250,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "emissive_textured",
                      "volume_blackbody"]
 
 

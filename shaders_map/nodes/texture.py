@@ -1,7 +1,8 @@
-"""Texture nodes: Image, Environment, Checker, Noise, Gradient.
+"""Texture nodes: Image, Environment, Checker, Noise, Gradient, Voronoi, Musgrave, Wave,
+Magic, Brick, White Noise.
 
-Lowering to today's engine replaces each texture by its average colour (with a warning);
-the IR keeps everything a textured engine material will need.
+Lowering makes each an engine texture node (the procedural ones Blender's own patterns);
+constant evaluation replaces a texture by its average colour (with a warning).
 """
 
 from ..ir import Expr
@@ -116,3 +117,99 @@ def tex_gradient(ctx, node, socket):
 def eval_gradient(ev, e):
     ev.approx(e, "gradient texture approximated by its average")
     return 0.5 if e.props.get("output") == "Fac" else (0.5, 0.5, 0.5)
+
+
+# ---- Blender's other procedural textures: the engine computes each as Cycles 3.4 does
+# (engine/src/textures/voronoi.h, musgrave.h, pattern_textures.h). Without the engine
+# (constant evaluation) each is its average, recorded as approximated.
+
+def _inputs(ctx, node, names):
+    return {key: ctx.input(node, name, default=d) for key, name, d in names}
+
+
+@maps("ShaderNodeTexVoronoi")
+def tex_voronoi(ctx, node, socket):
+    args = _inputs(ctx, node, (("vector", "Vector", (0, 0, 0)), ("w", "W", 0.0), ("scale", "Scale", 5.0),
+                               ("smoothness", "Smoothness", 1.0), ("exponent", "Exponent", 0.5),
+                               ("randomness", "Randomness", 1.0)))
+    detail = ctx.input_const(node, "Detail", default=0.0)  # Blender 4's fractal Voronoi
+    if detail is None or float(detail) != 0.0:
+        ctx.warn(node, "fractal Voronoi (Blender 4 Detail above 0) approximated by its first octave")
+    return Expr("tex_voronoi", ctx.label(node), args, {
+        "output": getattr(socket, "identifier", "Distance"),
+        "dimensions": getattr(node, "voronoi_dimensions", "3D"),
+        "feature": getattr(node, "feature", "F1"),
+        "distance": getattr(node, "distance", "EUCLIDEAN")})
+
+
+@maps("ShaderNodeTexMusgrave")
+def tex_musgrave(ctx, node, socket):
+    args = _inputs(ctx, node, (("vector", "Vector", (0, 0, 0)), ("w", "W", 0.0), ("scale", "Scale", 5.0),
+                               ("detail", "Detail", 2.0), ("dimension", "Dimension", 2.0),
+                               ("lacunarity", "Lacunarity", 2.0), ("offset", "Offset", 0.0), ("gain", "Gain", 1.0)))
+    return Expr("tex_musgrave", ctx.label(node), args, {
+        "output": "Fac", "dimensions": getattr(node, "musgrave_dimensions", "3D"),
+        "musgrave_type": getattr(node, "musgrave_type", "FBM")})
+
+
+@maps("ShaderNodeTexWave")
+def tex_wave(ctx, node, socket):
+    args = _inputs(ctx, node, (("vector", "Vector", (0, 0, 0)), ("scale", "Scale", 5.0),
+                               ("distortion", "Distortion", 0.0), ("detail", "Detail", 2.0),
+                               ("detail_scale", "Detail Scale", 1.0), ("detail_roughness", "Detail Roughness", 0.5),
+                               ("phase", "Phase Offset", 0.0)))
+    wave_type = getattr(node, "wave_type", "BANDS")
+    direction = getattr(node, "bands_direction" if wave_type == "BANDS" else "rings_direction", "X")
+    return Expr("tex_wave", ctx.label(node), args, {
+        "output": getattr(socket, "identifier", "Color"), "wave_type": wave_type, "direction": direction,
+        "profile": getattr(node, "wave_profile", "SIN")})
+
+
+@maps("ShaderNodeTexMagic")
+def tex_magic(ctx, node, socket):
+    args = _inputs(ctx, node, (("vector", "Vector", (0, 0, 0)), ("scale", "Scale", 5.0),
+                               ("distortion", "Distortion", 1.0)))
+    return Expr("tex_magic", ctx.label(node), args, {
+        "output": getattr(socket, "identifier", "Color"), "depth": int(getattr(node, "turbulence_depth", 2))})
+
+
+@maps("ShaderNodeTexBrick")
+def tex_brick(ctx, node, socket):
+    args = _inputs(ctx, node, (("vector", "Vector", (0, 0, 0)), ("color1", "Color1", (0.8, 0.8, 0.8)),
+                               ("color2", "Color2", (0.2, 0.2, 0.2)), ("mortar", "Mortar", (0.0, 0.0, 0.0)),
+                               ("scale", "Scale", 5.0), ("mortar_size", "Mortar Size", 0.02),
+                               ("mortar_smooth", "Mortar Smooth", 0.1), ("bias", "Bias", 0.0),
+                               ("brick_width", "Brick Width", 0.5), ("row_height", "Row Height", 0.25)))
+    return Expr("tex_brick", ctx.label(node), args, {
+        "output": getattr(socket, "identifier", "Color"),
+        "offset": float(getattr(node, "offset", 0.5)), "offset_frequency": int(getattr(node, "offset_frequency", 2)),
+        "squash": float(getattr(node, "squash", 1.0)), "squash_frequency": int(getattr(node, "squash_frequency", 2))})
+
+
+@maps("ShaderNodeTexWhiteNoise")
+def tex_white_noise(ctx, node, socket):
+    args = _inputs(ctx, node, (("vector", "Vector", (0, 0, 0)), ("w", "W", 0.0)))
+    return Expr("tex_white_noise", ctx.label(node), args, {
+        "output": getattr(socket, "identifier", "Value"), "dimensions": getattr(node, "noise_dimensions", "3D")})
+
+
+# Each output's average over the plane, for constant evaluation (fac / value outputs
+# by their typical level; colours grey).
+_AVERAGES = {
+    "tex_voronoi": {"Distance": 0.4, "W": 0.0, "Radius": 0.3, "Position": (0.0, 0.0, 0.0)},
+    "tex_musgrave": {"Fac": 0.0},
+}
+
+
+@evaluates("tex_voronoi", "tex_musgrave", "tex_wave", "tex_magic", "tex_brick", "tex_white_noise")
+def eval_procedural(ev, e):
+    name = e.op[len("tex_"):].replace("_", " ")
+    ev.approx(e, "%s texture approximated by its average" % name)
+    out = e.props.get("output")
+    if e.op == "tex_brick" and out == "Color":
+        c1, c2 = ev.color(e.args["color1"]), ev.color(e.args["color2"])
+        return tuple(0.5 * (a + b) for a, b in zip(c1, c2))
+    v = _AVERAGES.get(e.op, {}).get(out, 0.5)
+    if isinstance(v, tuple) or out in ("Color",):
+        return v if isinstance(v, tuple) else (v, v, v)
+    return float(v)

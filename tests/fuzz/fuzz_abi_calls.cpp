@@ -70,7 +70,7 @@ const char *kColorSpaces[] = {"", "Non-Color", "sRGB", "Linear", "no such space"
 // numbers from the input, or (choice 0) raw input text.
 std::string material_params(Reader &in) {
   auto x = [&] { return in.json_number(); };
-  switch (in.small(14)) {
+  switch (in.small(15)) {
     case 0: return in.text(64);
     case 1: return R"({"type":"diffuse","color":[)" + x() + "," + x() + "," + x() + R"(],"roughness":)" + x() + "}";
     case 2: return R"({"type":"glossy","roughness":)" + x() + R"(,"anisotropy":)" + x() + "}";
@@ -89,6 +89,20 @@ std::string material_params(Reader &in) {
     case 11: return R"({"type":"diffuse","color":{"node":"math","operation":"DIVIDE","value1":)" + x() +
                     R"(,"value2":)" + x() + "}}";
     case 12: return R"({"type":"transparent","color":[)" + x() + ",1,1]}";
+    case 13: {  // Blender's procedural textures, each of its numeric inputs from the input
+      struct Texture { const char *node; std::vector<const char *> keys; };
+      static const Texture kTextures[] = {
+          {"voronoi", {"scale", "w", "smoothness", "exponent", "randomness"}},
+          {"musgrave", {"scale", "w", "detail", "dimension", "lacunarity", "offset", "gain"}},
+          {"wave", {"scale", "distortion", "detail", "detail_scale", "detail_roughness", "phase"}},
+          {"magic", {"scale", "distortion"}},
+          {"brick", {"scale", "mortar_size", "mortar_smooth", "bias", "brick_width", "row_height", "squash"}},
+          {"white_noise", {"w"}}};
+      const Texture &t = kTextures[in.small(6)];
+      std::string s = std::string(R"({"type":"diffuse","color":{"node":")") + t.node + R"(")";
+      for (const char *key : t.keys) s += std::string(",\"") + key + "\":" + x();
+      return s + "}}";
+    }
     default: return R"({"type":"volume","volume":{"grid":{"buffer":")" + std::string(kNames[in.small(4)]) +
                     R"(","bounds":[[-1,-1,-1],[1,1,1]]},"density":)" + x() + "}}";
   }

@@ -481,6 +481,51 @@ class TestValues(unittest.TestCase):
             self.assertEqual(p["color"]["dimensions"], dims)
             self.assertEqual("w" in p["color"], dims != "2D")
 
+    def test_blenders_procedural_textures_are_engine_nodes(self):
+        # Each becomes the engine's node of Blender's pattern (no warning), with its inputs,
+        # properties and the socket used.
+        cases = (
+            ("ShaderNodeTexVoronoi", "Color", {"voronoi_dimensions": "4D", "feature": "SMOOTH_F1", "distance": "MINKOWSKI"},
+             "voronoi", {"dimensions": "4D", "feature": "SMOOTH_F1", "distance": "MINKOWSKI", "output": "color",
+                         "scale": 5.0, "smoothness": 1.0, "exponent": 0.5, "randomness": 1.0, "w": 0.0}),
+            ("ShaderNodeTexMusgrave", "Fac", {"musgrave_dimensions": "2D", "musgrave_type": "RIDGED_MULTIFRACTAL"},
+             "musgrave", {"dimensions": "2D", "musgrave_type": "RIDGED_MULTIFRACTAL", "detail": 2.0, "dimension": 2.0,
+                          "lacunarity": 2.0, "offset": 0.0, "gain": 1.0}),
+            ("ShaderNodeTexWave", "Fac", {"wave_type": "RINGS", "bands_direction": "Y", "rings_direction": "SPHERICAL",
+                                          "wave_profile": "TRI"},
+             "wave", {"wave_type": "RINGS", "direction": "SPHERICAL", "profile": "TRI", "output": "fac",
+                      "detail_scale": 1.0, "phase": 0.0}),
+            ("ShaderNodeTexMagic", "Color", {"turbulence_depth": 5}, "magic", {"depth": 5, "output": "color",
+                                                                           "distortion": 1.0}),
+            ("ShaderNodeTexBrick", "Color", {"offset": 0.25, "offset_frequency": 3, "squash": 0.5, "squash_frequency": 2},
+             "brick", {"offset": 0.25, "offset_frequency": 3, "squash": 0.5, "squash_frequency": 2, "output": "color",
+                       "mortar_smooth": 0.1, "row_height": 0.25}),
+            ("ShaderNodeTexWhiteNoise", "Color", {"noise_dimensions": "1D"}, "white_noise",
+             {"dimensions": "1D", "output": "color", "vector": [0.0, 0.0, 0.0]}),
+        )
+        for idname, out, props, node, expect in cases:
+            with self.subTest(idname):
+                p, w = self._color_into_diffuse(lambda t: t.new(idname, "Tex", **props).out(out))
+                c = p["color"] if p["color"]["node"] != "rgb_to_bw" else p["color"]["color"]
+                self.assertEqual(c["node"], node)
+                for k, v in expect.items():
+                    self.assertEqual(c[k], v, k) if not isinstance(v, float) else self.assertAlmostEqual(c[k], v, 6)
+                self.assertIsNone(w)
+
+    def test_texture_inputs_may_be_textures(self):
+        # A linked Distortion or Detail is a node input, not a constant (a textured Noise
+        # Distortion was ignored before).
+        def b(t):
+            n = t.new("ShaderNodeTexNoise", "N")
+            v = t.new("ShaderNodeTexVoronoi", "V")
+            t.link(v.out("Distance"), n.inp("Distortion"))
+            t.link(v.out("Distance"), n.inp("Detail"))
+            return n.out("Fac")
+        p, w = self._color_into_diffuse(b)
+        self.assertEqual(p["color"]["distortion"]["node"], "voronoi")
+        self.assertEqual(p["color"]["detail"]["node"], "voronoi")
+        self.assertIsNone(w)
+
     def test_normal_map_and_bump_named(self):
         def b(t):
             d = t.new("ShaderNodeBsdfDiffuse", "D")
@@ -583,9 +628,9 @@ class TestGraph(unittest.TestCase):
 
     def test_nested_groups_and_warning_path(self):
         inner, gin, gout = group_tree("Inner", [], [("Output_0", "Shader", "SHADER", None)])
-        wave = inner.new("ShaderNodeTexWave", "Waves")
+        wire = inner.new("ShaderNodeWireframe", "Wires")
         d = inner.new("ShaderNodeBsdfDiffuse", "D")
-        inner.link(wave.out("Color"), d.inp("Color"))
+        inner.link(wire.out("Fac"), d.inp("Color"))
         inner.link(d.out(), gout.inp("Output_0"))
         outer, ogin, ogout = group_tree("Outer", [], [("Output_0", "Shader", "SHADER", None)])
         gi = outer.group_node(inner, "InnerGroup")
@@ -595,8 +640,8 @@ class TestGraph(unittest.TestCase):
             return t.group_node(outer, "OuterGroup").out()
         p, w = material_with(b)
         self.assertTrue(close(p["color"], (0.5, 0.5, 0.5)))
-        self.assertIn("OuterGroup/InnerGroup/Waves", w)
-        self.assertIn("unsupported node ShaderNodeTexWave", w)
+        self.assertIn("OuterGroup/InnerGroup/Wires", w)
+        self.assertIn("unsupported node ShaderNodeWireframe", w)
 
     def test_unsupported_shader_node_falls_back_to_its_colour(self):
         p, w = material_with(lambda t: t.new("ShaderNodeFancyUnknownBsdf", "Fancy").out())
@@ -615,14 +660,14 @@ class TestGraph(unittest.TestCase):
             m = t.new("ShaderNodeMixShader", "Mix")
             t.link(t.new("ShaderNodeBsdfVelvet", "VelvetA").out(), m.inp("Shader"))
             d = t.new("ShaderNodeBsdfDiffuse", "D")
-            t.link(t.new("ShaderNodeTexWave", "WaveB").out("Color"), d.inp("Color"))
+            t.link(t.new("ShaderNodeWireframe", "WireB").out("Fac"), d.inp("Color"))
             t.link(d.out(), m.inp("Shader_001"))
             return m.out()
         p, w = material_with(b, name="Combo")
         self.assertIsInstance(w, str)
         self.assertEqual(w.count("Material 'Combo'"), 1)
         self.assertIn("VelvetA", w)
-        self.assertIn("WaveB", w)
+        self.assertIn("WireB", w)
         self.assertNotIn("\n", w)
 
     def test_cycle_does_not_hang(self):

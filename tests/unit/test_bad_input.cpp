@@ -81,6 +81,17 @@ TEST(BadInput, BadTextureNodeValuesNameTheNodeAndField) {
       // The Cycles 3.4 switch and the noise's dimensions take only their names.
       {R"({"type":"glossy","microfacets":"cycles"})", "material 'M'", "'microfacets'"},
       {R"({"type":"diffuse","color":{"node":"noise","dimensions":"5D"}})", "noise node", "'dimensions'"},
+      // Blender's procedural textures: their enums, Magic's depth and Brick's frequencies.
+      {R"({"type":"diffuse","color":{"node":"voronoi","feature":"F3"}})", "voronoi node", "'feature'"},
+      {R"({"type":"diffuse","color":{"node":"voronoi","distance":"EUCLID"}})", "voronoi node", "'distance'"},
+      {R"({"type":"diffuse","color":{"node":"musgrave","musgrave_type":"PERLIN"}})", "musgrave node", "'musgrave_type'"},
+      {R"({"type":"diffuse","color":{"node":"wave","direction":"SPHERICAL"}})", "wave node", "'direction'"},
+      {R"({"type":"diffuse","color":{"node":"magic","depth":11}})", "magic node", "'depth'"},
+      {R"({"type":"diffuse","color":{"node":"magic","depth":1.5}})", "magic node", "'depth'"},
+      {R"({"type":"diffuse","color":{"node":"brick","offset_frequency":0}})", "brick node", "'offset_frequency'"},
+      {R"({"type":"diffuse","color":{"node":"brick","squash":"x"}})", "brick node", "'squash'"},
+      {R"({"type":"diffuse","color":{"node":"white_noise","dimensions":"5D"}})", "white_noise node", "'dimensions'"},
+      {R"({"type":"diffuse","color":{"node":"voronoi","randomness":1e39}})", "voronoi node", "'randomness'"},
   };
   for (const Case &c : cases) {
     EXPECT_EQ(RDV_ERROR_INVALID_ARGUMENT, rdv_scene_add_material(sc.s, "M", c.json, &id)) << c.json << "\n" << error();

@@ -217,6 +217,73 @@ TEST(TextureGraphs, ProceduralAndUtilityNodes) {
   EXPECT_THROW(graph_of(R"({"node":"wood"})", n, w), Error);
 }
 
+// Blender's procedural textures (Voronoi, Musgrave, Wave, Magic, Brick, White Noise) in
+// every dimension, feature and output: finite everywhere, including coordinates far beyond
+// any cell (1e30) and a zero or huge scale; varying over an ordinary patch. Their patterns
+// against Blender's own are in blender.brightness.procedural_textures.
+TEST(TextureGraphs, ProceduralTexturesAreFiniteAndVary) {
+  struct Spec { std::string json; bool varies; };  // varies: an output the node's settings fill
+  std::vector<Spec> nodes;
+  const json w_varies = {{"node", "texture_coordinate"}, {"output", "generated"}};  // 1D textures follow w alone
+  for (const char *dims : {"1D", "2D", "3D", "4D"}) {
+    const bool has_w = dims[0] == '1' || dims[0] == '4', has_position = dims[0] != '1';
+    for (const std::string feature : {"F1", "F2", "SMOOTH_F1", "DISTANCE_TO_EDGE", "N_SPHERE_RADIUS"})
+      for (const char *metric : {"EUCLIDEAN", "MANHATTAN", "CHEBYCHEV", "MINKOWSKI"})
+        for (const std::string out : {"distance", "color", "position", "w", "radius"}) {
+          const bool cells = feature == "F1" || feature == "F2" || feature == "SMOOTH_F1";
+          const bool varies = out == "distance" ? feature != "N_SPHERE_RADIUS"
+                              : out == "radius" ? feature == "N_SPHERE_RADIUS"
+                              : out == "w"      ? cells && has_w
+                              : out == "position" ? cells && has_position
+                                                  : cells;
+          nodes.push_back({json{{"node", "voronoi"}, {"dimensions", dims}, {"feature", feature}, {"distance", metric},
+                                {"output", out}, {"w", w_varies}, {"exponent", 1.5}, {"smoothness", 0.7}}.dump(),
+                           varies});
+        }
+    for (const char *type : {"MULTIFRACTAL", "RIDGED_MULTIFRACTAL", "HYBRID_MULTIFRACTAL", "FBM", "HETERO_TERRAIN"})
+      nodes.push_back({json{{"node", "musgrave"}, {"dimensions", dims}, {"musgrave_type", type}, {"detail", 3.5},
+                            {"offset", 0.7}, {"gain", 1.3}, {"w", w_varies}}.dump(),
+                       true});
+    for (const char *out : {"value", "color"})
+      nodes.push_back({json{{"node", "white_noise"}, {"dimensions", dims}, {"output", out},
+                            {"vector", w_varies}, {"w", w_varies}}.dump(),
+                       true});
+  }
+  for (const char *type : {"BANDS", "RINGS"})
+    for (const char *direction : {"X", "Y", "Z"})
+      for (const char *profile : {"SIN", "SAW", "TRI"})
+        nodes.push_back({json{{"node", "wave"}, {"wave_type", type}, {"direction", direction}, {"profile", profile},
+                              {"distortion", 3.0}, {"detail", 2.5}}.dump(), true});
+  nodes.push_back({R"({"node":"wave","direction":"DIAGONAL"})", true});
+  nodes.push_back({R"({"node":"wave","wave_type":"RINGS","direction":"SPHERICAL"})", true});
+  for (int depth = 0; depth <= 10; ++depth)
+    nodes.push_back({json{{"node", "magic"}, {"depth", depth}, {"distortion", 0.5 + depth * 0.4}}.dump(), true});
+  nodes.push_back({R"({"node":"brick","offset":0.3,"squash":0.6,"squash_frequency":3,"mortar_smooth":0.4,"bias":-0.3})", true});
+  nodes.push_back({R"({"node":"brick","output":"fac","mortar_smooth":0})", true});
+  ShadingPoint sp;
+  for (const Spec &spec : nodes) {
+    for (float scale : {0.0f, 5.0f, 1e30f}) {
+      json j = json::parse(spec.json);
+      if (j["node"] != "white_noise") j["scale"] = scale;
+      std::vector<std::string> w;
+      int n;
+      TextureGraph g = graph_of(j.dump(), n, w);
+      EXPECT_TRUE(w.empty()) << spec.json;
+      float lo = 1e30f, hi = -1e30f;
+      for (int i = 0; i < 64; ++i) {
+        sp.generated = {0.37f + i * 0.0139f, 0.61f - i * 0.0083f, 0.29f + i * 0.0047f};
+        if (i == 61) sp.generated = Vec3(1e30f);
+        if (i == 62) sp.generated = Vec3(-3e38f, 1e-38f, 0.0f);
+        if (i == 63) sp.generated = Vec3(0.0f);
+        const Color c = g.eval(n, sp);
+        ASSERT_TRUE(is_finite(c)) << j.dump() << " at point " << i;
+        if (i < 61) lo = std::min(lo, c.x), hi = std::max(hi, c.x);
+      }
+      if (scale == 5.0f) EXPECT_EQ(spec.varies, hi - lo > 1e-3f) << j.dump() << ": " << lo << " .. " << hi;
+    }
+  }
+}
+
 TEST(TextureGraphs, NamedUvMapsAndVertexColours) {
   Mesh mesh;
   MeshAttribute uv2{attribute_id("UVMap.001"), "UVMap.001", 2, {0, 0, 1, 0, 0, 1}};

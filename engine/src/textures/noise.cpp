@@ -1,58 +1,16 @@
 #include "textures/noise.h"
 #include <cmath>
 #include <cstdint>
-#include <cstring>
+#include "textures/hash.h"
 
 namespace rdv {
 
 namespace {
 
-uint32_t rotate(uint32_t x, int k) { return (x << k) | (x >> (32 - k)); }
-
-// lookup3's final mixing of (a, b, c), returning c: the hash Cycles picks gradients and
-// offsets with (its hash_uint2 / hash_uint3, seeded by the key length).
-uint32_t lookup3_final(uint32_t a, uint32_t b, uint32_t c) {
-  c ^= b; c -= rotate(b, 14);
-  a ^= c; a -= rotate(c, 11);
-  b ^= a; b -= rotate(a, 25);
-  c ^= b; c -= rotate(b, 16);
-  a ^= c; a -= rotate(c, 4);
-  b ^= a; b -= rotate(a, 14);
-  c ^= b; c -= rotate(b, 24);
-  return c;
-}
-// lookup3's mixing of (a, b, c), for keys of more than three words (hash4).
-void lookup3_mix(uint32_t &a, uint32_t &b, uint32_t &c) {
-  a -= c; a ^= rotate(c, 4); c += b;
-  b -= a; b ^= rotate(a, 6); a += c;
-  c -= b; c ^= rotate(b, 8); b += a;
-  a -= c; a ^= rotate(c, 16); c += b;
-  b -= a; b ^= rotate(a, 19); a += c;
-  c -= b; c ^= rotate(b, 4); b += a;
-}
-uint32_t hash1(uint32_t x) {
-  const uint32_t seed = 0xdeadbeefu + (1u << 2) + 13u;
-  return lookup3_final(seed + x, seed, seed);
-}
-uint32_t hash2(uint32_t x, uint32_t y) {
-  const uint32_t seed = 0xdeadbeefu + (2u << 2) + 13u;
-  return lookup3_final(seed + x, seed + y, seed);
-}
-uint32_t hash3(uint32_t x, uint32_t y, uint32_t z) {
-  const uint32_t seed = 0xdeadbeefu + (3u << 2) + 13u;
-  return lookup3_final(seed + x, seed + y, seed + z);
-}
-uint32_t hash4(uint32_t x, uint32_t y, uint32_t z, uint32_t w) {
-  const uint32_t seed = 0xdeadbeefu + (4u << 2) + 13u;
-  uint32_t a = seed + x, b = seed + y, c = seed + z;
-  lookup3_mix(a, b, c);
-  return lookup3_final(a + w, b, c);
-}
-uint32_t bits(float f) {
-  uint32_t u;
-  std::memcpy(&u, &f, 4);
-  return u;
-}
+using hash::uint1;
+using hash::uint2;
+using hash::uint3;
+using hash::uint4;
 
 float fade(float t) { return t * t * t * (t * (t * 6.0f - 15.0f) + 10.0f); }
 
@@ -92,7 +50,7 @@ float lerp(float a, float b, float t) { return a + t * (b - a); }
 float perlin1(float x) {
   int X;
   const float fx = floor_frac(x, X);
-  return lerp(gradient1(hash1(uint32_t(X)), fx), gradient1(hash1(uint32_t(X + 1)), fx - 1.0f), fade(fx));
+  return lerp(gradient1(uint1(uint32_t(X)), fx), gradient1(uint1(uint32_t(X + 1)), fx - 1.0f), fade(fx));
 }
 
 float perlin2(float x, float y) {
@@ -100,7 +58,7 @@ float perlin2(float x, float y) {
   const float fx = floor_frac(x, X), fy = floor_frac(y, Y);
   const float u = fade(fx), v = fade(fy), x1 = 1.0f - u, y1 = 1.0f - v;
   auto corner = [&](int dx, int dy) {
-    return gradient2(hash2(uint32_t(X + dx), uint32_t(Y + dy)), fx - float(dx), fy - float(dy));
+    return gradient2(uint2(uint32_t(X + dx), uint32_t(Y + dy)), fx - float(dx), fy - float(dy));
   };
   return y1 * (corner(0, 0) * x1 + corner(1, 0) * u) + v * (corner(0, 1) * x1 + corner(1, 1) * u);
 }
@@ -112,7 +70,7 @@ float perlin4(Vec3 p, float w4) {
   const float x1 = 1.0f - u, y1 = 1.0f - v, z1 = 1.0f - t;
   auto cube = [&](int dw) {
     auto corner = [&](int dx, int dy, int dz) {
-      return gradient4(hash4(uint32_t(X + dx), uint32_t(Y + dy), uint32_t(Z + dz), uint32_t(W + dw)), fx - float(dx),
+      return gradient4(uint4(uint32_t(X + dx), uint32_t(Y + dy), uint32_t(Z + dz), uint32_t(W + dw)), fx - float(dx),
                        fy - float(dy), fz - float(dz), fw - float(dw));
     };
     return z1 * (y1 * (corner(0, 0, 0) * x1 + corner(1, 0, 0) * u) + v * (corner(0, 1, 0) * x1 + corner(1, 1, 0) * u)) +
@@ -126,7 +84,7 @@ float perlin(Vec3 p) {
   const float fx = floor_frac(p.x, X), fy = floor_frac(p.y, Y), fz = floor_frac(p.z, Z);
   const float u = fade(fx), v = fade(fy), w = fade(fz);
   auto corner = [&](int dx, int dy, int dz) {
-    return gradient(hash3(uint32_t(X + dx), uint32_t(Y + dy), uint32_t(Z + dz)), fx - float(dx), fy - float(dy),
+    return gradient(uint3(uint32_t(X + dx), uint32_t(Y + dy), uint32_t(Z + dz)), fx - float(dx), fy - float(dy),
                     fz - float(dz));
   };
   const float x1 = 1.0f - u, y1 = 1.0f - v, z1 = 1.0f - w;
@@ -134,29 +92,21 @@ float perlin(Vec3 p) {
          w * (y1 * (corner(0, 0, 1) * x1 + corner(1, 0, 1) * u) + v * (corner(0, 1, 1) * x1 + corner(1, 1, 1) * u));
 }
 
-// A point of up to four coordinates (x, y, z and w), for the node's 1D, 2D, 3D and 4D noise.
-struct Point {
-  Vec3 p;
-  float w;
-  Point operator+(const Point &o) const { return {p + o.p, w + o.w}; }
-  Point operator*(float k) const { return {p * k, w * k}; }
-};
-
 // Cycles' random_float{,2,3,4}_offset(seed): 100..200 along each axis the noise has, from the
 // hash of the seed (and the axis), as floats' bits. 1D keeps its one coordinate in w.
-Point offset(int dims, float seed) {
-  auto unit = [](uint32_t h) { return float(h) * (1.0f / float(0xFFFFFFFFu)); };
-  auto axis = [&](float a) { return 100.0f + unit(hash2(bits(seed), bits(a))) * 100.0f; };
+NoisePoint offset(int dims, float seed) {
+  auto axis = [&](float a) { return 100.0f + hash::to_float(seed, a) * 100.0f; };
   switch (dims) {
-    case 1: return {Vec3(0.0f), 100.0f + unit(hash1(bits(seed))) * 100.0f};
+    case 1: return {Vec3(0.0f), 100.0f + hash::to_float(seed) * 100.0f};
     case 2: return {Vec3(axis(0.0f), axis(1.0f), 0.0f), 0.0f};
     case 4: return {Vec3(axis(0.0f), axis(1.0f), axis(2.0f)), axis(3.0f)};
     default: return {Vec3(axis(0.0f), axis(1.0f), axis(2.0f)), 0.0f};
   }
 }
 
-// Signed noise of each dimension, scaled to about [-1, 1] by Cycles' factors.
-float signed_noise(int dims, const Point &q) {
+}  // namespace
+
+float signed_noise(int dims, const NoisePoint &q) {
   float n, k;
   switch (dims) {
     case 1: n = perlin1(q.w), k = 0.2500f; break;
@@ -167,7 +117,9 @@ float signed_noise(int dims, const Point &q) {
   return k * (std::isfinite(n) ? n : 0.0f);
 }
 
-float fractal(int dims, const Point &q, float detail, float roughness) {
+namespace {
+
+float fractal(int dims, const NoisePoint &q, float detail, float roughness) {
   float fscale = 1.0f, amp = 1.0f, maxamp = 0.0f, sum = 0.0f;
   const float octaves = clampf(detail, 0.0f, 15.0f), gain = clampf(roughness, 0.0f, 1.0f);
   const int n = int(octaves);
@@ -185,7 +137,7 @@ float fractal(int dims, const Point &q, float detail, float roughness) {
 
 // The offsets a node of each dimension uses (distortion's, then the Color output's two).
 struct Offsets {
-  Point of[6];
+  NoisePoint of[6];
   explicit Offsets(int dims) {
     for (int i = 0; i < 6; ++i) of[i] = offset(dims, float(i));
   }
@@ -193,17 +145,17 @@ struct Offsets {
 
 }  // namespace
 
-float signed_noise(Vec3 p) { return signed_noise(3, Point{p, 0.0f}); }
+float signed_noise(Vec3 p) { return signed_noise(3, NoisePoint{p, 0.0f}); }
 
-float fractal_noise(Vec3 p, float detail, float roughness) { return fractal(3, Point{p, 0.0f}, detail, roughness); }
+float fractal_noise(Vec3 p, float detail, float roughness) { return fractal(3, NoisePoint{p, 0.0f}, detail, roughness); }
 
 Color noise_texture(Vec3 p, float w, int dims, float detail, float roughness, float distortion, bool color) {
   static const Offsets offsets[4] = {Offsets(1), Offsets(2), Offsets(3), Offsets(4)};
   dims = dims >= 1 && dims <= 4 ? dims : 3;
-  const Point *o = offsets[dims - 1].of;
-  Point q{dims == 1 ? Vec3(0.0f) : dims == 2 ? Vec3(p.x, p.y, 0.0f) : p, dims == 1 || dims == 4 ? w : 0.0f};
+  const NoisePoint *o = offsets[dims - 1].of;
+  NoisePoint q = noise_point(p, w, dims);
   if (distortion != 0.0f) {  // each coordinate moved by the noise at an offset of its own
-    Point d{Vec3(0.0f), 0.0f};
+    NoisePoint d{Vec3(0.0f), 0.0f};
     if (dims == 1) d.w = signed_noise(1, q + o[0]);
     if (dims >= 2) d.p = Vec3(signed_noise(dims, q + o[0]), signed_noise(dims, q + o[1]), 0.0f);
     if (dims >= 3) d.p.z = signed_noise(dims, q + o[2]);

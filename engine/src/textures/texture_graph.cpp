@@ -5,7 +5,10 @@
 #include <set>
 #include "core/error.h"
 #include "core/limits.h"
+#include "textures/musgrave.h"
 #include "textures/noise.h"
+#include "textures/pattern_textures.h"
+#include "textures/voronoi.h"
 
 namespace rdv {
 
@@ -78,7 +81,7 @@ const std::vector<std::string> kMathOps = {"ADD", "SUBTRACT", "MULTIPLY", "DIVID
                                            "TRUNC", "FRACT", "MODULO", "WRAP", "SNAP", "PINGPONG", "SINE", "COSINE",
                                            "TANGENT", "ARCSINE", "ARCCOSINE", "ARCTANGENT", "ARCTAN2", "SINH", "COSH",
                                            "TANH", "RADIANS", "DEGREES", "SMOOTH_MIN", "SMOOTH_MAX"};
-const std::vector<std::string> kNoiseDimensions = {"1D", "2D", "3D", "4D"};
+const std::vector<std::string> kDimensions = {"1D", "2D", "3D", "4D"};
 const std::vector<std::string> kGradients = {"LINEAR", "QUADRATIC", "EASING", "DIAGONAL", "SPHERICAL",
                                              "QUADRATIC_SPHERE", "RADIAL"};
 enum Coord : uint8_t { kUv, kGenerated, kObject, kPosition, kNormal };
@@ -138,7 +141,7 @@ struct NodeReader {
 
 int TextureGraph::add(const TexNode &n) {
   double evaluations = 1;
-  for (int k = 0; k < 6; ++k) {
+  for (int k = 0; k < kTexNodeInputs; ++k) {
     if (n.in[k] < 0) continue;
     bool thrice = k == 0 && ((n.type == TexNodeType::Image && n.interp != TexInterp::Closest) ||
                              n.type == TexNodeType::Bump);  // footprint / finite differences
@@ -294,11 +297,88 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.in[0] = vector_input("vector", kGenerated);
     n.in[1] = input("scale", 5.0);
     n.in[2] = input("w", 0.0);
-    n.mode = r.choice("dimensions", kNoiseDimensions, "3D");
-    n.detail = std::clamp(r.num("detail", 2.0f), 0.0f, 15.0f);
-    n.roughness = std::clamp(r.num("roughness", 0.5f), 0.0f, 1.0f);
-    n.distortion = r.num("distortion", 0.0f);
+    n.in[3] = input("detail", 2.0);
+    n.in[4] = input("roughness", 0.5);
+    n.in[5] = input("distortion", 0.0);
+    n.dims = uint8_t(r.choice("dimensions", kDimensions, "3D") + 1);
     n.output = outputs({"fac", "color"});
+  } else if (type == "voronoi") {
+    n.type = TexNodeType::Voronoi;
+    n.in[0] = vector_input("vector", kGenerated);
+    n.in[1] = input("w", 0.0);
+    n.in[2] = input("scale", 5.0);
+    n.in[3] = input("smoothness", 1.0);
+    n.in[4] = input("exponent", 0.5);
+    n.in[5] = input("randomness", 1.0);
+    n.dims = uint8_t(r.choice("dimensions", kDimensions, "3D") + 1);
+    n.mode = r.choice("feature", {"F1", "F2", "SMOOTH_F1", "DISTANCE_TO_EDGE", "N_SPHERE_RADIUS"}, "F1");
+    n.mode2 = r.choice("distance", {"EUCLIDEAN", "MANHATTAN", "CHEBYCHEV", "MINKOWSKI"}, "EUCLIDEAN");
+    n.output = outputs({"distance", "color", "position", "w", "radius"});
+  } else if (type == "musgrave") {
+    n.type = TexNodeType::Musgrave;
+    n.in[0] = vector_input("vector", kGenerated);
+    n.in[1] = input("w", 0.0);
+    n.in[2] = input("scale", 5.0);
+    n.in[3] = input("detail", 2.0);
+    n.in[4] = input("dimension", 2.0);
+    n.in[5] = input("lacunarity", 2.0);
+    n.in[6] = input("offset", 0.0);
+    n.in[7] = input("gain", 1.0);
+    n.dims = uint8_t(r.choice("dimensions", kDimensions, "3D") + 1);
+    n.mode = r.choice("musgrave_type", {"MULTIFRACTAL", "RIDGED_MULTIFRACTAL", "HYBRID_MULTIFRACTAL", "FBM",
+                                        "HETERO_TERRAIN"}, "FBM");
+    n.output = outputs({"fac"});
+  } else if (type == "wave") {
+    n.type = TexNodeType::Wave;
+    n.in[0] = vector_input("vector", kGenerated);
+    n.in[1] = input("scale", 5.0);
+    n.in[2] = input("distortion", 0.0);
+    n.in[3] = input("detail", 2.0);
+    n.in[4] = input("detail_scale", 1.0);
+    n.in[5] = input("detail_roughness", 0.5);
+    n.in[6] = input("phase", 0.0);
+    n.mode = r.choice("wave_type", {"BANDS", "RINGS"}, "BANDS");
+    n.mode2 = n.mode == 0 ? r.choice("direction", {"X", "Y", "Z", "DIAGONAL"}, "X")
+                          : r.choice("direction", {"X", "Y", "Z", "SPHERICAL"}, "X");
+    n.mode3 = r.choice("profile", {"SIN", "SAW", "TRI"}, "SIN");
+    n.output = outputs({"fac", "color"});
+  } else if (type == "magic") {
+    n.type = TexNodeType::Magic;
+    n.in[0] = vector_input("vector", kGenerated);
+    n.in[1] = input("scale", 5.0);
+    n.in[2] = input("distortion", 1.0);
+    float depth = r.num("depth", 2.0f);
+    if (!(depth >= 0 && depth <= 10) || depth != std::floor(depth)) fail(what + ": 'depth' must be a whole number from 0 to 10");
+    n.depth = int(depth);
+    n.output = outputs({"color", "fac"});
+  } else if (type == "brick") {
+    n.type = TexNodeType::Brick;
+    n.in[0] = vector_input("vector", kGenerated);
+    n.in[1] = input("color1", json::array({0.8, 0.8, 0.8}));
+    n.in[2] = input("color2", json::array({0.2, 0.2, 0.2}));
+    n.in[3] = input("mortar", json::array({0.0, 0.0, 0.0}));
+    n.in[4] = input("scale", 5.0);
+    n.in[5] = input("mortar_size", 0.02);
+    n.in[6] = input("mortar_smooth", 0.1);
+    n.in[7] = input("bias", 0.0);
+    n.in[8] = input("brick_width", 0.5);
+    n.in[9] = input("row_height", 0.25);
+    n.offset = r.num("offset", 0.5f);
+    n.squash = r.num("squash", 1.0f);
+    auto frequency = [&](const char *key) {
+      float f = r.num(key, 2.0f);
+      if (!(f >= 1 && f <= 99) || f != std::floor(f)) fail(what + ": '" + key + "' must be a whole number from 1 to 99");
+      return int(f);
+    };
+    n.offset_frequency = frequency("offset_frequency");
+    n.squash_frequency = frequency("squash_frequency");
+    n.output = outputs({"color", "fac"});
+  } else if (type == "white_noise") {
+    n.type = TexNodeType::WhiteNoise;
+    n.in[0] = input("vector", json::array({0.0, 0.0, 0.0}));  // unlinked in Blender: the origin, not Generated
+    n.in[1] = input("w", 0.0);
+    n.dims = uint8_t(r.choice("dimensions", kDimensions, "3D") + 1);
+    n.output = outputs({"value", "color"});
   } else if (type == "gradient") {
     n.type = TexNodeType::Gradient;
     n.in[0] = vector_input("vector", kGenerated);
@@ -413,7 +493,7 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.in[1] = input("gamma", 1.0);
   } else {
     fail(what_in + ": unknown texture node '" + type +
-         "' (image, checker, noise, gradient, mix, math, color_ramp, invert, hue_saturation, attribute, vertex_color, "
+         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, invert, hue_saturation, attribute, vertex_color, "
          "uv, texture_coordinate, mapping, normal_map, bump, separate_rgb, combine_rgb, rgb_to_bw, bright_contrast, gamma)");
   }
   r.used.insert("output");
@@ -610,9 +690,41 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
       return first ? in(1) : in(2);
     }
     case TexNodeType::Noise: {
-      return noise_texture(in(0) * inf(1), inf(2) * inf(1), n.mode + 1, n.detail, n.roughness, n.distortion,
-                           n.output == 1);
+      const float scale = inf(1);
+      return noise_texture(in(0) * scale, inf(2) * scale, n.dims, inf(3), inf(4), inf(5), n.output == 1);
     }
+    case TexNodeType::Voronoi: {
+      VoronoiParams v{VoronoiFeature(n.mode), VoronoiMetric(n.mode2), inf(2), inf(3), inf(4), inf(5)};
+      const VoronoiResult r = voronoi_texture(in(0), inf(1), n.dims, v);
+      switch (n.output) {
+        case 0: return Color(r.distance);
+        case 1: return r.color;
+        case 2: return r.position;
+        case 3: return Color(r.w);
+        default: return Color(r.radius);
+      }
+    }
+    case TexNodeType::Musgrave: {
+      const float scale = inf(2);
+      MusgraveParams m{MusgraveType(n.mode), inf(3), inf(4), inf(5), inf(6), inf(7)};
+      return Color(musgrave_texture(noise_point(in(0) * scale, inf(1) * scale, n.dims), n.dims, m));
+    }
+    case TexNodeType::Wave: {
+      WaveParams w{WaveType(n.mode), n.mode2, WaveProfile(n.mode3), inf(2), inf(3), inf(4), inf(5), inf(6)};
+      return Color(wave_texture(in(0) * inf(1), w));
+    }
+    case TexNodeType::Magic: {
+      const Color c = magic_texture(in(0), inf(1), n.depth, inf(2));
+      return n.output == 1 ? Color(average(c)) : c;
+    }
+    case TexNodeType::Brick: {
+      BrickParams b{inf(5), inf(6), inf(7), inf(8), inf(9), n.offset, n.squash, n.offset_frequency, n.squash_frequency};
+      const BrickSample s = brick_texture(in(0) * inf(4), b);
+      if (n.output == 1) return Color(s.mortar);
+      const Color brick = s.mortar != 1.0f ? lerp(in(1), in(2), s.tint) : in(1);
+      return brick * (1.0f - s.mortar) + in(3) * s.mortar;
+    }
+    case TexNodeType::WhiteNoise: return white_noise_texture(in(0), inf(1), n.dims, n.output == 1);
     case TexNodeType::Gradient: return Color(clampf(gradient(n.mode, in(0)), 0, 1));
     case TexNodeType::MixRgb: {
       Color c = blend(n.mode, clampf(inf(0), 0, 1), in(1), in(2));

@@ -20,18 +20,21 @@ enum class TexNodeType : uint8_t {
   Constant, Image, Checker, Noise, Gradient, MixRgb, Math, ColorRamp, Invert, HueSat,
   Attribute,  // named UV map or vertex colour
   TexCoord,   // uv / generated / object / world position / normal
-  Mapping, NormalMap, Bump, SeparateRgb, CombineRgb, RgbToBw, BrightContrast, Gamma
+  Mapping, NormalMap, Bump, SeparateRgb, CombineRgb, RgbToBw, BrightContrast, Gamma,
+  Voronoi, Musgrave, Wave, Magic, Brick, WhiteNoise  // Blender's procedural textures, as Cycles 3.4
 };
+
+constexpr int kTexNodeInputs = 10;  // the most any node has (Brick)
 
 struct RampStop { float position; Color color; float alpha; };
 
 struct TexNode {
   TexNodeType type = TexNodeType::Constant;
-  uint8_t mode = 0;     // node-specific enum (blend type, math op, gradient type, ...)
+  uint8_t mode = 0;     // node-specific enum (blend type, math op, gradient type, Voronoi feature, ...)
   uint8_t output = 0;   // which output: 0 = color / value / vector, 1 = alpha / fac, 2.. per node
   bool clamp = false;
   Color value{0.0f};    // Constant
-  int in[6] = {-1, -1, -1, -1, -1, -1};  // input nodes (-1: unused)
+  int in[kTexNodeInputs] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1};  // input nodes (-1: unused)
   // Image
   int image = -1;       // ImageTextures id; -1: missing (magenta)
   std::shared_ptr<const MemoryImage> memory;  // keeps an image from memory alive
@@ -43,8 +46,13 @@ struct TexNode {
   bool default_uv = false;
   // Mapping: location, rotation (radians, XYZ Euler), scale
   Vec3 loc{0.0f}, rot{0.0f}, scale{1.0f};
-  // Noise
-  float detail = 2, roughness = 0.5f, distortion = 0;  // Noise (noise.h)
+  // Procedural textures (noise.h, voronoi.h, musgrave.h, pattern_textures.h)
+  uint8_t dims = 3;   // Noise, Voronoi, Musgrave, White Noise: 1 to 4 dimensions
+  uint8_t mode2 = 0;  // Voronoi: distance metric; Wave: bands / rings direction
+  uint8_t mode3 = 0;  // Wave: profile
+  int depth = 2;      // Magic: nested turns
+  float offset = 0.5f, squash = 1.0f;           // Brick
+  int offset_frequency = 2, squash_frequency = 2;
   std::vector<RampStop> ramp;  // ColorRamp
 };
 
