@@ -83,6 +83,34 @@ def emission_material(name, color=(1.0, 1.0, 1.0), strength=1.0):
     return node_material(name, "ShaderNodeEmission", {"Color": (*color, 1.0), "Strength": strength}, "Emission")
 
 
+def canonical_face_order(ob):
+    """Sorts the mesh's faces by their vertices. Blender's mesh primitives (the UV sphere, the
+    cylinder) list their faces in an order that changes from one Blender process to the next
+    (their bmesh operators hash pointers). The triangles' order picks which triangle a random
+    number lands on (an emissive sphere's lamp samples, BVH ties), so without this, a test's
+    Monte Carlo outcome changed from run to run with nothing else changed."""
+    import bmesh
+    bm = bmesh.new()
+    bm.from_mesh(ob.data)
+    nv = len(bm.verts) + 1
+
+    def key(face):  # the face's vertex indices, sorted, as one number (bmesh sorts by a number)
+        k = 0.0
+        for i in sorted(v.index for v in face.verts) + [-1] * max(0, 4 - len(face.verts)):
+            k = k * nv + i + 1
+        return k
+    bm.faces.sort(key=key)
+    bm.to_mesh(ob.data)
+    bm.free()
+    return ob
+
+
+def uv_sphere(**op_args):
+    """bpy.ops.mesh.primitive_uv_sphere_add(**op_args), its faces in a fixed order; the object."""
+    bpy.ops.mesh.primitive_uv_sphere_add(**op_args)
+    return canonical_face_order(bpy.context.active_object)
+
+
 def quad_mesh(name, size_x, size_y=None):
     size_y = size_x if size_y is None else size_y
     me = bpy.data.meshes.new(name)
@@ -632,8 +660,7 @@ def materials_instances():
     cam.rotation_euler = (math.radians(55), 0, 0)
     light("AREA", "Key", 300.0, (2, -2, 4), rotation=(math.radians(30), math.radians(20), 0), size=2.0)
     bpy.context.scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.05, 0.06, 0.08, 1)
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.6, location=(-1.2, 0, 0.6))
-    sphere = bpy.context.active_object
+    sphere = uv_sphere(radius=0.6, location=(-1.2, 0, 0.6))
     bpy.ops.object.shade_smooth()
     m = bpy.data.materials.new("Principled")
     m.use_nodes = True
@@ -650,7 +677,7 @@ def materials_instances():
     # a collection instanced three times
     coll = bpy.data.collections.new("Pillars")
     bpy.ops.mesh.primitive_cylinder_add(radius=0.15, depth=1.0, location=(0, 0, 0.5))
-    pillar = bpy.context.active_object
+    pillar = canonical_face_order(bpy.context.active_object)
     for c in pillar.users_collection:
         c.objects.unlink(pillar)
     coll.objects.link(pillar)
@@ -777,8 +804,7 @@ def light_paths_mirror():
 
 def smooth_glass_ball():
     """A smooth glass ball (IOR 1.5, sharp) of radius 0.6 resting on the floor at the origin."""
-    bpy.ops.mesh.primitive_uv_sphere_add(segments=48, ring_count=24, radius=0.6, location=(0, 0, 0.6))
-    ball = bpy.context.active_object
+    ball = uv_sphere(segments=48, ring_count=24, radius=0.6, location=(0, 0, 0.6))
     bpy.ops.object.shade_smooth()
     ball.data.materials.append(node_material("Glass", "ShaderNodeBsdfGlass",
                                              {"Color": (1, 1, 1, 1), "Roughness": 0.0, "IOR": 1.5},
@@ -913,8 +939,7 @@ def camera_looking_at(location, target, lens):
 
 def smooth_ball(name, location, radius, material):
     """A smooth-shaded UV sphere (32 x 16) with one material."""
-    bpy.ops.mesh.primitive_uv_sphere_add(segments=32, ring_count=16, radius=radius, location=location)
-    ob = bpy.context.active_object
+    ob = uv_sphere(segments=32, ring_count=16, radius=radius, location=location)
     ob.name = name
     bpy.ops.object.shade_smooth()
     ob.data.materials.append(material)
@@ -961,8 +986,7 @@ def light_passes():
                                               distribution="SHARP")))
     for name, x, material in balls:
         smooth_ball(name, (x, 0, 0.45), 0.45, material)
-    bpy.ops.mesh.primitive_uv_sphere_add(segments=16, ring_count=8, radius=0.15, location=(0.5, 0.9, 1.3))
-    lamp = bpy.context.active_object
+    lamp = uv_sphere(segments=16, ring_count=8, radius=0.15, location=(0.5, 0.9, 1.3))
     lamp.name = "LampBall"
     lamp.data.materials.append(emission_material("Lamp", (1.0, 0.9, 0.7), 5.0))
     fog = link(bpy.data.objects.new("Fog", box_mesh("FogMesh", 0.7)))
@@ -1158,7 +1182,7 @@ def motion_blur(variant):
         # Deformation blur with smooth normals: a smooth ball a shape key squashes to 40% of its
         # height, widens by 60% and slides 3.6 m between frames 1 and 3, so its vertex normals
         # turn over the shutter.
-        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=(-1.2, 0, 0.5), segments=32, ring_count=16)
+        uv_sphere(radius=0.5, location=(-1.2, 0, 0.5), segments=32, ring_count=16)
         bpy.ops.object.shade_smooth()
         ball = bpy.context.object
         ball.data.materials.append(matte_material("Red", (0.8, 0.15, 0.1)))
@@ -1188,7 +1212,7 @@ def motion_blur(variant):
         scene.render.motion_blur_shutter = 1.0
         scene.cycles.motion_blur_position = "CENTER"
     elif variant == "camera":
-        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=(0, 0, 0.5), segments=48, ring_count=24)
+        uv_sphere(radius=0.5, location=(0, 0, 0.5), segments=48, ring_count=24)
         bpy.ops.object.shade_smooth()
         bpy.context.object.data.materials.append(matte_material("Red", (0.8, 0.15, 0.1)))
         keyframe_linear(cam, "location", [(MOTION_FRAME - 1, (-0.8, -4.5, 2.6)), (MOTION_FRAME + 1, (0.8, -4.5, 2.6))])

@@ -62,8 +62,7 @@ def build(variant):
     bpy.ops.mesh.primitive_plane_add(size=5, location=(0, 0, 0))
     floor = bpy.context.object
     floor.data.materials.append(floor_mat)
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.6, location=(0, 0, 0.7), segments=48, ring_count=24)
-    ball = bpy.context.object
+    ball = build_scenes.uv_sphere(radius=0.6, location=(0, 0, 0.7), segments=48, ring_count=24)
     bpy.ops.object.shade_smooth()
     ball.data.materials.append(material("Ball", "ShaderNodeBsdfDiffuse", (0.8, 0.2, 0.2)))
 
