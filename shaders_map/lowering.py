@@ -328,6 +328,13 @@ class _Lowerer:
         els = [{"position": p, "color": list(c) + [a]} for p, c, a in (e.props.get("elements") or [])]
         if not els:
             return self._const_node(e)
+        if e.props.get("table"):  # Blender's own evaluation, baked as Cycles bakes it
+            d = {"node": "color_ramp", "fac": self.value(e.args["fac"]),
+                 "table": [list(c) for c in e.props["table"]],
+                 "interpolation": "CONSTANT" if e.props.get("interpolation") == "CONSTANT" else "LINEAR"}
+            if e.props.get("output") == "Alpha":
+                d["output"] = "alpha"
+            return d
         if e.props.get("color_mode", "RGB") != "RGB":
             self.approx(e.node, "%s colour mode approximated as RGB" % e.props.get("color_mode"))
         interp = e.props.get("interpolation", "LINEAR")
@@ -337,6 +344,14 @@ class _Lowerer:
         d = {"node": "color_ramp", "fac": self.value(e.args["fac"]), "interpolation": interp, "elements": els}
         if e.props.get("output") == "Alpha":
             d["output"] = "alpha"
+        return d
+
+    def _n_curves(self, e):
+        kind = e.props["kind"]
+        d = {"node": "float_curve" if kind == "float" else "rgb_curves", "fac": self.value(e.args["fac"]),
+             "table": [float(v) if kind == "float" else list(v) for v in e.props["table"]],
+             "min_x": e.props["min_x"], "max_x": e.props["max_x"], "extrapolate": bool(e.props["extrapolate"])}
+        d["value" if kind == "float" else "color"] = self.value(e.args["value"], kind == "rgb")
         return d
 
     def _n_gamma(self, e):

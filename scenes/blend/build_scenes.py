@@ -364,6 +364,82 @@ def procedural_textures():
     camera_down(4.0 * 50.0 / 36.0)
 
 
+def curves_and_ramps():
+    """Eight tiles: Color Ramps in each interpolation Blender has (B-Spline, Cardinal, Ease,
+    Constant) and in HSV, RGB / Vector / Float Curves with bent, auto-handled points, each on a
+    Noise or Wave texture, emitted and seen from above. Cycles bakes ramps and curves from
+    Blender's own evaluation; so do we (B-Spline, Cardinal and HSV were linear RGB before)."""
+    reset(128)
+    scene = bpy.context.scene
+    scene.render.resolution_y = 64
+
+    def tile(i, name, build):
+        m = emission_material(name + "Glow", strength=1.0)
+        nt = m.node_tree
+        noise = nt.nodes.new("ShaderNodeTexNoise")
+        noise.inputs["Scale"].default_value = 3.0
+        nt.links.new(build(nt, noise), nt.nodes["Emission"].inputs["Color"])
+        quad_object(name, 1.0, 1.0, (-1.5 + i % 4, 0.5 - i // 4, 0.0), (0, 0, 0), m)
+
+    def ramp(interpolation, mode="RGB", hue="NEAR"):
+        def build(nt, noise):
+            r = nt.nodes.new("ShaderNodeValToRGB")
+            cr = r.color_ramp
+            cr.interpolation, cr.color_mode, cr.hue_interpolation = interpolation, mode, hue
+            cr.elements[0].position, cr.elements[0].color = 0.3, (0.9, 0.1, 0.1, 1.0)
+            cr.elements[1].position, cr.elements[1].color = 0.7, (0.1, 0.3, 0.9, 1.0)
+            e = cr.elements.new(0.5)
+            e.color = (0.2, 0.9, 0.2, 1.0)
+            nt.links.new(noise.outputs["Fac"], r.inputs["Fac"])
+            return r.outputs["Color"]
+        return build
+
+    def curve_points(curve, points, handle="AUTO"):
+        for p, (x, y) in zip(curve.points, points[:2]):
+            p.location = (x, y)
+        for x, y in points[2:]:
+            curve.points.new(x, y)
+        for p in curve.points:
+            p.handle_type = handle
+
+    def rgb_curves(nt, noise):
+        c = nt.nodes.new("ShaderNodeRGBCurve")
+        m = c.mapping
+        curve_points(m.curves[3], [(0.0, 0.1), (1.0, 0.9), (0.5, 0.7)])
+        curve_points(m.curves[0], [(0.0, 0.0), (1.0, 1.0), (0.4, 0.1)], "AUTO_CLAMPED")
+        curve_points(m.curves[2], [(0.0, 0.2), (1.0, 0.6), (0.6, 0.9)], "VECTOR")
+        m.update()
+        nt.links.new(noise.outputs["Color"], c.inputs["Color"])
+        c.inputs["Fac"].default_value = 0.9
+        return c.outputs["Color"]
+
+    def vector_curves(nt, noise):
+        c = nt.nodes.new("ShaderNodeVectorCurve")
+        m = c.mapping
+        for k in range(3):
+            curve_points(m.curves[k], [(-1.0, 0.0), (1.0, 1.0), (0.0, 0.2 + 0.3 * k)])
+        m.extend = "HORIZONTAL"
+        m.update()
+        nt.links.new(noise.outputs["Color"], c.inputs["Vector"])
+        return c.outputs["Vector"]
+
+    def float_curve(nt, noise):
+        wave = nt.nodes.new("ShaderNodeTexWave")
+        wave.inputs["Scale"].default_value = 2.0
+        c = nt.nodes.new("ShaderNodeFloatCurve")
+        curve_points(c.mapping.curves[0], [(0.0, 0.0), (1.0, 1.0), (0.3, 0.8), (0.6, 0.1)])
+        c.mapping.update()
+        nt.links.new(wave.outputs["Fac"], c.inputs["Value"])
+        return c.outputs["Value"]
+
+    for i, (name, build) in enumerate((("RampBSpline", ramp("B_SPLINE")), ("RampCardinal", ramp("CARDINAL")),
+                                       ("RampEase", ramp("EASE")), ("RampConstant", ramp("CONSTANT")),
+                                       ("RampHsv", ramp("LINEAR", "HSV", "FAR")), ("RgbCurves", rgb_curves),
+                                       ("VectorCurves", vector_curves), ("FloatCurve", float_curve))):
+        tile(i, name, build)
+    camera_down(4.0 * 50.0 / 36.0)
+
+
 def checker_glow():
     m = emission_material("CheckerGlow", strength=5.0)
     nt = m.node_tree
@@ -1239,6 +1315,7 @@ SCENES = {
     "grazing_gloss": grazing_gloss,
     "noise_texture": noise_texture,
     "procedural_textures": procedural_textures,
+    "curves_and_ramps": curves_and_ramps,
     "emissive_textured": emissive_textured,
     "volume_blackbody": volume_blackbody,
     "volume_tinted": volume_tinted,
@@ -1274,7 +1351,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "emissive_textured",
                      "volume_blackbody"]
 
 

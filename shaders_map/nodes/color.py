@@ -149,11 +149,14 @@ def color_ramp(ctx, node, socket):
         col = tuple(float(x) for x in el.color)
         elements.append((float(el.position), col[:3], col[3] if len(col) > 3 else 1.0))
     elements.sort(key=lambda x: x[0])
-    return Expr("color_ramp", ctx.label(node), {"fac": ctx.input(node, "Fac", default=0.5)}, {
-        "elements": elements,
-        "interpolation": getattr(ramp, "interpolation", "LINEAR"),
-        "color_mode": getattr(ramp, "color_mode", "RGB"),
-        "output": getattr(socket, "identifier", "Color")})
+    props = {"elements": elements,
+             "interpolation": getattr(ramp, "interpolation", "LINEAR"),
+             "color_mode": getattr(ramp, "color_mode", "RGB"),
+             "output": getattr(socket, "identifier", "Color")}
+    if elements and hasattr(ramp, "evaluate"):
+        # Blender's own evaluation, as Cycles bakes it: every interpolation and colour mode.
+        props["table"] = [tuple(float(x) for x in ramp.evaluate(i / (TABLE_SIZE - 1))) for i in range(TABLE_SIZE)]
+    return Expr("color_ramp", ctx.label(node), {"fac": ctx.input(node, "Fac", default=0.5)}, props)
 
 
 @evaluates("color_ramp")
@@ -164,6 +167,9 @@ def eval_color_ramp(ev, e):
         return 0.0 if alpha_out else (0.0, 0.0, 0.0)
     t = ev.float(e.args["fac"])
     interp = e.props.get("interpolation", "LINEAR")
+    if e.props.get("table"):
+        rgba = table_lookup(e.props["table"], t, interp != "CONSTANT")
+        return float(rgba[3]) if alpha_out else tuple(rgba[:3])
     if interp not in ("LINEAR", "CONSTANT", "EASE"):
         ev.approx(e, "%s interpolation approximated as linear" % interp)
     if e.props.get("color_mode", "RGB") != "RGB":
@@ -280,3 +286,90 @@ def rgb_to_bw(ctx, node, socket):
 
 
 __all__ = ["Const"]
+
+
+# ---- Lookup tables as Cycles bakes them (its blender/util.h): RGB / Vector / Float Curves and
+# Color Ramps become 256 values of Blender's own evaluation (CurveMapping.evaluate,
+# ColorRamp.evaluate), looked up with linear interpolation (the ramp's Constant mode without),
+# so every handle type, interpolation and colour mode is Blender's.
+TABLE_SIZE = 256  # Cycles' RAMP_TABLE_SIZE
+
+
+def _curve_range(mapping, n):
+    """The x range of the first n curves' points (Cycles' curvemapping_minmax)."""
+    lo, hi = float("inf"), float("-inf")
+    for curve in list(mapping.curves)[:n]:
+        points = list(curve.points)
+        if points:
+            lo, hi = min(lo, float(points[0].location[0])), max(hi, float(points[-1].location[0]))
+    return (lo, hi) if lo < hi else (0.0, 1.0)
+
+
+def curve_table(mapping, kind):
+    """kind 'rgb' (R, G, B of the combined C curve), 'vector' (X, Y, Z) or 'float': (table,
+    min_x, max_x, extrapolate); None when the mapping cannot be evaluated (no Blender)."""
+    if mapping is None or not hasattr(mapping, "evaluate"):
+        return None
+    if hasattr(mapping, "initialize"):
+        mapping.initialize()  # the curves' evaluation tables (evaluate needs them)
+    mapping.update()
+    curves = list(mapping.curves)
+    n = {"rgb": 4, "vector": 3, "float": 1}[kind]
+    lo, hi = _curve_range(mapping, n)
+    ev = mapping.evaluate
+    table = []
+    for i in range(TABLE_SIZE):
+        t = lo + i / (TABLE_SIZE - 1) * (hi - lo)
+        if kind == "rgb":
+            c = ev(curves[3], t)
+            table.append((ev(curves[0], c), ev(curves[1], c), ev(curves[2], c)))
+        elif kind == "vector":
+            table.append((ev(curves[0], t), ev(curves[1], t), ev(curves[2], t)))
+        else:
+            table.append(ev(curves[0], t))
+    return table, lo, hi, getattr(mapping, "extend", "EXTRAPOLATED") == "EXTRAPOLATED"
+
+
+def table_lookup(table, f, interpolate=True, extrapolate=False):
+    """Cycles' rgb_ramp_lookup / float_ramp_lookup: entry i at f = i / (size - 1)."""
+    n = len(table)
+    if extrapolate and (f < 0.0 or f > 1.0):
+        t0, t1, d = (table[0], table[1], -f) if f < 0.0 else (table[-1], table[-2], f - 1.0)
+        if isinstance(t0, float):
+            return t0 + (t0 - t1) * d * (n - 1)
+        return tuple(a + (a - b) * d * (n - 1) for a, b in zip(t0, t1))
+    f = min(max(f, 0.0), 1.0) * (n - 1) if f == f else 0.0
+    i = min(max(int(f), 0), n - 1)
+    t = f - i
+    a = table[i]
+    if interpolate and t > 0.0:
+        b = table[i + 1]
+        return (1.0 - t) * a + t * b if isinstance(a, float) else tuple((1.0 - t) * x + t * y for x, y in zip(a, b))
+    return a
+
+
+@maps("ShaderNodeRGBCurve", "ShaderNodeVectorCurve", "ShaderNodeFloatCurve")
+def curves(ctx, node, socket):
+    idname = getattr(node, "bl_idname", "")
+    kind = {"ShaderNodeRGBCurve": "rgb", "ShaderNodeVectorCurve": "vector"}.get(idname, "float")
+    value = {"rgb": ("Color", (0.5, 0.5, 0.5)), "vector": ("Vector", (0.0, 0.0, 0.0)), "float": ("Value", 1.0)}[kind]
+    baked = curve_table(getattr(node, "mapping", None), kind)
+    if baked is None:
+        ctx.warn(node, "its curve could not be read: passed through unchanged")
+        return ctx.input(node, value[0], default=value[1])
+    table, lo, hi, extrapolate = baked
+    return Expr("curves", ctx.label(node), {"fac": ctx.input(node, "Fac", "Factor", default=1.0),
+                                            "value": ctx.input(node, value[0], default=value[1])},
+                {"kind": kind, "table": table, "min_x": lo, "max_x": hi, "extrapolate": extrapolate})
+
+
+@evaluates("curves")
+def eval_curves(ev, e):
+    fac, table = ev.float(e.args["fac"]), e.props["table"]
+    lo, hi, extrapolate = e.props["min_x"], e.props["max_x"], e.props["extrapolate"]
+    if e.props["kind"] == "float":
+        v = ev.float(e.args["value"])
+        return (1.0 - fac) * v + fac * table_lookup(table, (v - lo) / (hi - lo), True, extrapolate)
+    c = ev.color(e.args["value"])
+    mapped = [table_lookup(table, (x - lo) / (hi - lo), True, extrapolate)[k] for k, x in enumerate(c)]
+    return tuple((1.0 - fac) * x + fac * m for x, m in zip(c, mapped))

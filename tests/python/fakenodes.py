@@ -85,6 +85,48 @@ class Ramp:
         self.color_mode = "RGB"
 
 
+class EvaluatingRamp(Ramp):
+    """A ramp with Blender's ColorRamp.evaluate (here: fn(position) -> (r, g, b, a))."""
+
+    def __init__(self, elements, fn, interpolation="B_SPLINE"):
+        super().__init__(elements, interpolation)
+        self._fn = fn
+
+    def evaluate(self, position):
+        return self._fn(position)
+
+
+class CurvePoint:
+    def __init__(self, x, y):
+        self.location = (x, y)
+
+
+class Curve:
+    def __init__(self, points, fn):
+        self.points = [CurvePoint(x, y) for x, y in points]
+        self.fn = fn
+
+
+class CurveMapping:
+    """Blender's CurveMapping as the exporter reads it: curves (their points' x range) and
+    evaluate(curve, x), here each curve's fn(x)."""
+
+    def __init__(self, curves, extend="EXTRAPOLATED"):
+        self.curves = curves
+        self.extend = extend
+        self.initialized = False
+
+    def initialize(self):
+        self.initialized = True
+
+    def update(self):
+        pass
+
+    def evaluate(self, curve, x):
+        assert self.initialized, "Blender needs initialize() before evaluate()"
+        return curve.fn(x)
+
+
 class Node:
     def __init__(self, tree, bl_idname, name, inputs, outputs):
         self.tree = tree

@@ -216,4 +216,10 @@ SPECS = {'NodeReroute': ([('Input', 'Input', 'RGBA', (0.0, 0.0, 0.0, 1.0))],
                        [('Color', 'Color', 'RGBA', (0.0, 0.0, 0.0, 0.0)), ('Fac', 'Fac', 'VALUE', 0.0)]),
  'ShaderNodeTexWhiteNoise': ([('Vector', 'Vector', 'VECTOR', (0.0, 0.0, 0.0)), ('W', 'W', 'VALUE', 0.0)],
                              [('Value', 'Value', 'VALUE', 0.0),
-                              ('Color', 'Color', 'RGBA', (0.0, 0.0, 0.0, 0.0))])}
+                              ('Color', 'Color', 'RGBA', (0.0, 0.0, 0.0, 0.0))]),
+ 'ShaderNodeFloatCurve': ([('Factor', 'Factor', 'VALUE', 1.0), ('Value', 'Value', 'VALUE', 1.0)],
+                          [('Value', 'Value', 'VALUE', 0.0)]),
+ 'ShaderNodeRGBCurve': ([('Fac', 'Fac', 'VALUE', 1.0), ('Color', 'Color', 'RGBA', (1.0, 1.0, 1.0, 1.0))],
+                        [('Color', 'Color', 'RGBA', (0.0, 0.0, 0.0, 0.0))]),
+ 'ShaderNodeVectorCurve': ([('Fac', 'Fac', 'VALUE', 1.0), ('Vector', 'Vector', 'VECTOR', (0.0, 0.0, 0.0))],
+                           [('Vector', 'Vector', 'VECTOR', (0.0, 0.0, 0.0))])}

@@ -12,7 +12,8 @@ sys.path.insert(0, HERE)
 sys.path.insert(0, ROOT)
 
 import shaders_map as sm  # noqa: E402
-from fakenodes import Tree, Material, World, Image, Ramp, Socket, group_tree, image_average  # noqa: E402
+from fakenodes import (Tree, Material, World, Image, Ramp, EvaluatingRamp, Curve, CurveMapping, Socket,  # noqa: E402
+                       group_tree, image_average)
 
 
 def material_with(build, name="M", image_average_fn=image_average):
@@ -399,6 +400,55 @@ class TestValues(unittest.TestCase):
             return r.out("Color")
         p, w = self._color_into_diffuse(b)
         self.assertTrue(close(p["color"], (0.1, 0.1, 0.1)))
+
+    def test_color_ramp_baked_as_cycles(self):
+        # With Blender's ColorRamp.evaluate the ramp is baked to 256 entries as Cycles bakes
+        # it: B-spline (or any mode) without a warning, and a constant input folds to the
+        # table's linear lookup.
+        fn = lambda x: (x * x, 1.0 - x, 0.5, 1.0)
+        def b(t):
+            r = t.new("ShaderNodeValToRGB", "Ramp", color_ramp=EvaluatingRamp([(0.0, (0, 0, 0, 1)), (1.0, (1, 1, 1, 1))], fn))
+            r.inp("Fac").default_value = 0.3
+            return r.out("Color")
+        p, w = self._color_into_diffuse(b)
+        f = 0.3 * 255
+        i = int(f)
+        lo, hi = fn(i / 255), fn((i + 1) / 255)
+        expect = tuple((1 - (f - i)) * a + (f - i) * c for a, c in zip(lo[:3], hi[:3]))
+        self.assertTrue(close(p["color"], expect), (p["color"], expect))
+        self.assertIsNone(w)
+
+    def test_curves_are_baked_tables(self):
+        square = lambda x: x * x
+        rgb = CurveMapping([Curve([(0, 0), (1, 1)], square), Curve([(0, 0), (1, 1)], lambda x: x),
+                            Curve([(0, 0), (1, 1)], lambda x: 1 - x), Curve([(0, 0), (2, 1)], lambda x: x / 2)])
+        vec = CurveMapping([Curve([(-1, -1), (1, 1)], square)] * 3, extend="HORIZONTAL")
+        flt = CurveMapping([Curve([(0, 0), (1, 1)], square)])
+        cases = (("ShaderNodeRGBCurve", rgb, "Color", "rgb_curves", "color"),
+                 ("ShaderNodeVectorCurve", vec, "Vector", "rgb_curves", "color"),
+                 ("ShaderNodeFloatCurve", flt, "Value", "float_curve", "value"))
+        for idname, mapping, out, node, value_key in cases:
+            with self.subTest(idname):
+                def b(t):
+                    c = t.new(idname, "Curves", mapping=mapping)
+                    t.link(t.new("ShaderNodeTexNoise", "N").out("Color" if out != "Value" else "Fac"), c.inputs[1])
+                    return c.out(out)
+                p, w = self._color_into_diffuse(b)
+                c = p["color"] if p["color"]["node"] != "rgb_to_bw" else p["color"]["color"]
+                self.assertEqual(c["node"], node)
+                self.assertEqual(len(c["table"]), 256)
+                self.assertEqual(c[value_key]["node"], "noise")
+                self.assertIsNone(w)
+        # The RGB table is the colour curve of the combined (C) curve over the widest range, 0..2.
+        p, _ = self._color_into_diffuse(lambda t: t.new("ShaderNodeRGBCurve", "C", mapping=rgb).out("Color"))
+        # (a constant input folds: white through C (x / 2) then R (x^2), G (x), B (1 - x))
+        self.assertTrue(close(p["color"], (0.25, 0.5, 0.5)), p["color"])
+        def b(t):
+            c = t.new("ShaderNodeVectorCurve", "V", mapping=vec)
+            t.link(t.new("ShaderNodeTexNoise", "N").out("Color"), c.inp("Vector"))
+            return c.out("Vector")
+        p, _ = self._color_into_diffuse(b)
+        self.assertEqual((p["color"]["min_x"], p["color"]["max_x"], p["color"]["extrapolate"]), (-1.0, 1.0, False))
 
     def test_invert(self):
         def b(t):

@@ -92,6 +92,13 @@ TEST(BadInput, BadTextureNodeValuesNameTheNodeAndField) {
       {R"({"type":"diffuse","color":{"node":"brick","squash":"x"}})", "brick node", "'squash'"},
       {R"({"type":"diffuse","color":{"node":"white_noise","dimensions":"5D"}})", "white_noise node", "'dimensions'"},
       {R"({"type":"diffuse","color":{"node":"voronoi","randomness":1e39}})", "voronoi node", "'randomness'"},
+      // Baked curves and ramps: a table of the right shape, an x range that is one.
+      {R"({"type":"diffuse","color":{"node":"rgb_curves"}})", "rgb_curves node", "'table'"},
+      {R"({"type":"diffuse","color":{"node":"rgb_curves","table":[[0,0,0]]}})", "rgb_curves node", "'table'"},
+      {R"({"type":"diffuse","color":{"node":"rgb_curves","table":[[0,0,0],[1,1]]}})", "rgb_curves node", "'table'"},
+      {R"({"type":"diffuse","color":{"node":"float_curve","table":[0,1],"min_x":1,"max_x":1}})", "float_curve node", "'max_x'"},
+      {R"({"type":"diffuse","color":{"node":"float_curve","table":[0,1e39]}})", "float_curve node", "'table'"},
+      {R"({"type":"diffuse","color":{"node":"color_ramp","table":[[0,0,0,1],[1,1,1,1]],"interpolation":"EASE"}})", "color_ramp node", "'table'"},
   };
   for (const Case &c : cases) {
     EXPECT_EQ(RDV_ERROR_INVALID_ARGUMENT, rdv_scene_add_material(sc.s, "M", c.json, &id)) << c.json << "\n" << error();

@@ -284,6 +284,45 @@ TEST(TextureGraphs, ProceduralTexturesAreFiniteAndVary) {
   }
 }
 
+// Baked tables as Cycles looks them up (its rgb_ramp_lookup): a Color Ramp from Blender's
+// evaluation, linear or constant; RGB / Vector Curves per channel over [min_x, max_x] with the
+// end segments extrapolated (or held); Float Curve; the factor mixing input and curve.
+TEST(TextureGraphs, CurveAndRampTablesLookUpAsCycles) {
+  std::vector<std::string> w;
+  int n;
+  ShadingPoint sp;
+  // A ramp table of 3 entries: 0 at 0, 1 at 0.5, 4 at 1 (red), alpha 1 - f.
+  TextureGraph g = graph_of(R"({"node":"color_ramp","fac":0.75,"table":[[0,0,0,1],[1,0,0,0.5],[4,0,0,0]]})", n, w);
+  EXPECT_NEAR(g.eval(n, sp).x, 2.5f, 1e-6f);
+  g = graph_of(R"({"node":"color_ramp","fac":0.75,"output":"alpha","table":[[0,0,0,1],[1,0,0,0.5],[4,0,0,0]]})", n, w);
+  EXPECT_NEAR(g.eval(n, sp).x, 0.25f, 1e-6f);
+  g = graph_of(R"({"node":"color_ramp","fac":0.75,"interpolation":"CONSTANT","table":[[0,0,0,1],[1,0,0,0.5],[4,0,0,0]]})", n, w);
+  EXPECT_NEAR(g.eval(n, sp).x, 1.0f, 1e-6f);
+  g = graph_of(R"({"node":"color_ramp","fac":7,"table":[[0,0,0,1],[1,0,0,0.5],[4,0,0,0]]})", n, w);
+  EXPECT_NEAR(g.eval(n, sp).x, 4.0f, 1e-6f);  // a ramp clamps its factor
+  // RGB Curves over x in [0, 2]: entries at x = 0, 1, 2; red 0, 1, 3, green 1 - x/2, blue x.
+  const std::string table = R"("table":[[0,1,0],[1,0.5,1],[3,0,2]],"min_x":0,"max_x":2)";
+  g = graph_of(R"({"node":"rgb_curves","color":[0.5,1,3],)" + table + "}", n, w);
+  Color c = g.eval(n, sp);
+  EXPECT_NEAR(c.x, 0.5f, 1e-6f);   // between 0 and 1
+  EXPECT_NEAR(c.y, 0.5f, 1e-6f);   // at x = 1
+  EXPECT_NEAR(c.z, 3.0f, 1e-6f);   // beyond the range: the last segment extended (2 + 1 x 1)
+  g = graph_of(R"({"node":"rgb_curves","extrapolate":false,"color":[0.5,1,3],)" + table + "}", n, w);
+  EXPECT_NEAR(g.eval(n, sp).z, 2.0f, 1e-6f);  // held at the end
+  g = graph_of(R"({"node":"rgb_curves","fac":0.25,"color":[0.5,1,3],)" + table + "}", n, w);
+  EXPECT_NEAR(g.eval(n, sp).x, 0.5f, 1e-6f);
+  EXPECT_NEAR(g.eval(n, sp).z, 3.0f, 1e-6f);
+  EXPECT_NEAR(g.eval(n, sp).y, 0.875f, 1e-6f);  // 0.75 x 1 + 0.25 x 0.5
+  g = graph_of(R"({"node":"float_curve","value":-0.5,"table":[1,2,4],"min_x":0,"max_x":1})", n, w);
+  EXPECT_NEAR(g.eval(n, sp).x, 0.0f, 1e-6f);  // the first segment extended: 1 - 1 x 1
+  g = graph_of(R"({"node":"float_curve","value":{"node":"math","value1":0.25,"value2":0,"operation":"ADD"},"table":[1,2,4],"min_x":0,"max_x":1})", n, w);
+  EXPECT_NEAR(g.eval(n, sp).x, 1.5f, 1e-6f);
+  // NaN in: finite out.
+  g = graph_of(R"({"node":"rgb_curves","color":{"node":"math","value1":-1,"operation":"SQRT"},)" + table + "}", n, w);
+  EXPECT_TRUE(is_finite(g.eval(n, sp)));
+  EXPECT_TRUE(w.empty());
+}
+
 TEST(TextureGraphs, NamedUvMapsAndVertexColours) {
   Mesh mesh;
   MeshAttribute uv2{attribute_id("UVMap.001"), "UVMap.001", 2, {0, 0, 1, 0, 0, 1}};

@@ -95,6 +95,48 @@ float finite_float(const json &v, const std::string &what) {
   return f;
 }
 
+// A baked lookup table: 2 to 4096 entries, each a number (width 1) or `width` numbers (3:
+// a colour, 4: a colour and alpha), as ramp stops evenly spaced over [0, 1].
+std::vector<RampStop> parse_table(const json &t, const std::string &what, int width) {
+  if (!t.is_array() || t.size() < 2 || t.size() > 4096) fail(what + " must be a list of 2 to 4096 entries");
+  std::vector<RampStop> out;
+  for (size_t i = 0; i < t.size(); ++i) {
+    const json &e = t[i];
+    RampStop s{float(i) / float(t.size() - 1), Color(0.0f), 1.0f};
+    if (width == 1) {
+      s.color = Color(finite_float(e, what));
+    } else {
+      if (!e.is_array() || int(e.size()) != width) fail(what + ": each entry must be " + std::to_string(width) + " numbers");
+      s.color = {finite_float(e[0], what), finite_float(e[1], what), finite_float(e[2], what)};
+      if (width == 4) s.alpha = finite_float(e[3], what);
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
+// Cycles' rgb_ramp_lookup: entry i at f = i / (n - 1), linear between entries (or the
+// entry below), clamped to [0, 1] or extrapolated along the end segments.
+RampStop ramp_lookup(const std::vector<RampStop> &table, float f, bool interpolate, bool extrapolate) {
+  const int n = int(table.size());
+  if (extrapolate && (f < 0.0f || f > 1.0f)) {
+    const RampStop &t0 = f < 0.0f ? table[0] : table[size_t(n - 1)];
+    const RampStop &t1 = f < 0.0f ? table[1] : table[size_t(n - 2)];
+    const float d = (f < 0.0f ? -f : f - 1.0f) * float(n - 1);
+    return {f, t0.color + (t0.color - t1.color) * d, t0.alpha + (t0.alpha - t1.alpha) * d};
+  }
+  f = clampf(f, 0.0f, 1.0f) * float(n - 1);
+  const int i = std::isnan(f) ? 0 : std::clamp(int(f), 0, n - 1);
+  const float t = f - float(i);
+  RampStop a = table[size_t(i)];
+  if (interpolate && t > 0.0f) {
+    const RampStop &b = table[size_t(i + 1)];
+    a.color = a.color * (1.0f - t) + b.color * t;
+    a.alpha = (1.0f - t) * a.alpha + t * b.alpha;
+  }
+  return a;
+}
+
 // Tracks the keys a node object uses, so unknown keys are reported.
 struct NodeReader {
   const json &j;
@@ -406,6 +448,11 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
       warnings.push_back(what + ": B-spline / cardinal interpolation is approximated as linear");
       n.mode = 0;
     }
+    if (r.has("table")) {
+      // Blender's ramp evaluated as Cycles bakes it: interpolation LINEAR or CONSTANT only.
+      n.table = parse_table(j["table"], what + ": 'table'", 4);
+      if (n.mode == 2) fail(what + ": a 'table' is looked up LINEAR or CONSTANT");
+    }
     if (r.has("elements")) {
       if (!j["elements"].is_array()) fail(what + ": 'elements' must be a list of {position, color}");
       for (const json &e : j["elements"]) {
@@ -422,6 +469,19 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     if (n.ramp.empty()) n.ramp = {{0, Color(0.0f), 1}, {1, Color(1.0f), 1}};
     std::stable_sort(n.ramp.begin(), n.ramp.end(), [](const RampStop &a, const RampStop &b) { return a.position < b.position; });
     n.output = outputs({"color", "alpha"});
+  } else if (type == "rgb_curves" || type == "float_curve") {
+    // RGB / Vector Curves and Float Curve: Blender's curves baked into a table over
+    // [min_x, max_x] (docs/scene-format.md), looked up per channel as Cycles does.
+    n.type = TexNodeType::Curves;
+    n.mode = type == "float_curve" ? 1 : 0;
+    n.in[0] = input("fac", 1.0);
+    n.in[1] = n.mode ? input("value", 0.0) : input("color", json::array({0.5, 0.5, 0.5}));
+    if (!r.has("table")) fail(what + ": needs its 'table'");
+    n.table = parse_table(j["table"], what + ": 'table'", n.mode ? 1 : 3);
+    n.min_x = r.num("min_x", 0.0f);
+    n.max_x = r.num("max_x", 1.0f);
+    if (!(n.max_x > n.min_x)) fail(what + ": 'max_x' must be above 'min_x'");
+    n.clamp = !r.flag("extrapolate", true);  // clamp doubles as "no extrapolation" here
   } else if (type == "invert") {
     n.type = TexNodeType::Invert;
     n.in[0] = input("fac", 1.0);
@@ -493,7 +553,7 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.in[1] = input("gamma", 1.0);
   } else {
     fail(what_in + ": unknown texture node '" + type +
-         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, invert, hue_saturation, attribute, vertex_color, "
+         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, invert, hue_saturation, attribute, vertex_color, "
          "uv, texture_coordinate, mapping, normal_map, bump, separate_rgb, combine_rgb, rgb_to_bw, bright_contrast, gamma)");
   }
   r.used.insert("output");
@@ -737,6 +797,10 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
     }
     case TexNodeType::ColorRamp: {
       float f = inf(0);
+      if (!n.table.empty()) {
+        const RampStop out = ramp_lookup(n.table, f, n.mode != 1, false);
+        return n.output == 1 ? Color(out.alpha) : out.color;
+      }
       const auto &s = n.ramp;
       RampStop out = s.front();
       if (f >= s.back().position) out = s.back();
@@ -752,6 +816,19 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
         }
       }
       return n.output == 1 ? Color(out.alpha) : out.color;
+    }
+    case TexNodeType::Curves: {
+      const float fac = inf(0), range = n.max_x - n.min_x;
+      const bool extrapolate = !n.clamp;
+      if (n.mode == 1) {
+        const float v = inf(1);
+        return Color((1.0f - fac) * v + fac * ramp_lookup(n.table, (v - n.min_x) / range, true, extrapolate).color.x);
+      }
+      const Color c = in(1);
+      Color mapped;
+      for (int k = 0; k < 3; ++k) mapped[k] = ramp_lookup(n.table, (c[k] - n.min_x) / range, true, extrapolate).color[k];
+      const Color out = c * (1.0f - fac) + mapped * fac;
+      return is_finite(out) ? out : Color(0.0f);
     }
     case TexNodeType::Invert: {
       Color c = in(1);

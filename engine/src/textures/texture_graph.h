@@ -21,7 +21,8 @@ enum class TexNodeType : uint8_t {
   Attribute,  // named UV map or vertex colour
   TexCoord,   // uv / generated / object / world position / normal
   Mapping, NormalMap, Bump, SeparateRgb, CombineRgb, RgbToBw, BrightContrast, Gamma,
-  Voronoi, Musgrave, Wave, Magic, Brick, WhiteNoise  // Blender's procedural textures, as Cycles 3.4
+  Voronoi, Musgrave, Wave, Magic, Brick, WhiteNoise,  // Blender's procedural textures, as Cycles 3.4
+  Curves  // RGB / Vector Curves (mode 0) and Float Curve (mode 1): a baked table, as Cycles
 };
 
 constexpr int kTexNodeInputs = 10;  // the most any node has (Brick)
@@ -54,6 +55,10 @@ struct TexNode {
   float offset = 0.5f, squash = 1.0f;           // Brick
   int offset_frequency = 2, squash_frequency = 2;
   std::vector<RampStop> ramp;  // ColorRamp
+  // ColorRamp baked as Cycles bakes it (Blender's evaluation at i / (n - 1), alpha in the
+  // stop's alpha), and Curves (x from min_x to max_x): looked up by ramp_lookup.
+  std::vector<RampStop> table;
+  float min_x = 0, max_x = 1;
 };
 
 class TextureGraph {
