@@ -298,28 +298,24 @@ class _Lowerer:
                 "value1": {"node": "math", "operation": "MAXIMUM", "value1": v, "value2": lo}}
 
     def _n_map_range(self, e):
-        if e.props.get("interpolation_type", "LINEAR") != "LINEAR":
-            self.approx(e.node, "%s interpolation approximated as linear" % e.props.get("interpolation_type"))
-        v, a, b, c, d_ = (self.value(e.args[k]) for k in ("value", "from_min", "from_max", "to_min", "to_max"))
-
-        def m(op, x, y):
-            return {"node": "math", "operation": op, "value1": x, "value2": y}
-        f = m("DIVIDE", m("SUBTRACT", v, a), m("SUBTRACT", b, a))
-        r = m("ADD", c, m("MULTIPLY", f, m("SUBTRACT", d_, c)))
-        if e.props.get("clamp", True):
-            r = m("MINIMUM", m("MAXIMUM", r, m("MINIMUM", c, d_)), m("MAXIMUM", c, d_))
-        return r
+        d = {"node": "map_range", "interpolation_type": e.props.get("interpolation_type", "LINEAR"),
+             "clamp": bool(e.props.get("clamp", True))}
+        if e.props.get("vector"):
+            d["data_type"] = "FLOAT_VECTOR"
+        for k in ("value", "from_min", "from_max", "to_min", "to_max", "steps"):
+            d[k] = self.value(e.args[k])
+        return d
 
     def _n_vector_math(self, e):
-        op = e.props.get("operation", "ADD")
-        blend = {"ADD": "ADD", "SUBTRACT": "SUBTRACT", "MULTIPLY": "MULTIPLY", "DIVIDE": "DIVIDE",
-                 "SCALE": "MULTIPLY"}.get(op)
-        if blend is None or e.props.get("output") == "Value":
-            self.approx(e.node, "vector math %s evaluated as a constant" % op)
-            return self._const_node(e)
-        b = self.value(e.args["scale"]) if op == "SCALE" else self.value(e.args.get("b", Const((0, 0, 0))))
-        return {"node": "mix", "blend_type": blend, "fac": 1.0, "color1": self.value(e.args.get("a")),
-                "color2": b, "clamp": False}
+        d = {"node": "vector_math", "operation": e.props.get("operation", "ADD")}
+        for k, key in (("a", "vector1"), ("b", "vector2"), ("c", "vector3")):
+            if k in e.args:
+                d[key] = self.value(e.args[k])
+        if "scale" in e.args:
+            d["scale"] = self.value(e.args["scale"])
+        if e.props.get("output") == "Value":
+            d["output"] = "value"
+        return d
 
     def _n_invert(self, e):
         return {"node": "invert", "fac": self.value(e.args["fac"]), "color": self.value(e.args["color"], True)}

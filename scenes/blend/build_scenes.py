@@ -440,6 +440,77 @@ def curves_and_ramps():
     camera_down(4.0 * 50.0 / 36.0)
 
 
+def math_nodes():
+    """Twelve tiles of Vector Math and Map Range on a tile's Generated coordinate (or a Noise):
+    Map Range stepped, smooth-step, smoother-step and on vectors; Vector Math's length,
+    distance, cross product, reflect, snap, wrap, sine and dot product, emitted and seen from
+    above (a Vector Math other than add / subtract / multiply / divide / scale was a constant,
+    a Map Range other than linear was linear, before 2026-11-30)."""
+    reset(128)
+    scene = bpy.context.scene
+    scene.render.resolution_y = 96
+
+    def tile(i, name, build):
+        m = emission_material(name + "Glow", strength=1.0)
+        nt = m.node_tree
+        coord = nt.nodes.new("ShaderNodeTexCoord").outputs["Generated"]
+        out = build(nt, coord)
+        nt.links.new(out, nt.nodes["Emission"].inputs["Color"])
+        quad_object(name, 1.0, 1.0, (-1.5 + i % 4, 1.0 - i // 4, 0.0), (0, 0, 0), m)
+
+    def map_range(kind, lo=0.2, hi=0.8, vector=False):
+        def build(nt, coord):
+            r = nt.nodes.new("ShaderNodeMapRange")
+            r.data_type, r.interpolation_type = ("FLOAT_VECTOR" if vector else "FLOAT"), kind
+            if vector:  # the vector sockets share the float ones' names: by identifier
+                socket = {s.identifier: s for s in r.inputs}
+                socket["From_Min_FLOAT3"].default_value = (lo, 0.1, 0.0)
+                socket["From_Max_FLOAT3"].default_value = (hi, 0.9, 1.0)
+                socket["Steps_FLOAT3"].default_value = (3.0, 5.0, 2.0)
+                nt.links.new(coord, socket["Vector"])
+                return r.outputs["Vector"]
+            r.inputs["From Min"].default_value, r.inputs["From Max"].default_value = lo, hi
+            r.inputs["Steps"].default_value = 5.0
+            sep = nt.nodes.new("ShaderNodeSeparateXYZ")
+            nt.links.new(coord, sep.inputs["Vector"])
+            nt.links.new(sep.outputs["X"], r.inputs["Value"])
+            return r.outputs["Result"]
+        return build
+
+    def vmath(op, b=(0.5, 0.5, 0.0), c=(0.0, 0.0, 0.0), scale=1.0, value=False, gain=1.0, absolute=False):
+        def build(nt, coord):
+            m = nt.nodes.new("ShaderNodeVectorMath")
+            m.operation = op
+            nt.links.new(coord, m.inputs[0])
+            m.inputs[1].default_value, m.inputs[2].default_value = b, c
+            m.inputs["Scale"].default_value = scale
+            out = m.outputs["Value" if value else "Vector"]
+            if absolute:  # emission stays positive (we clamp a negative colour; Cycles emits it)
+                a = nt.nodes.new("ShaderNodeVectorMath")
+                a.operation = "ABSOLUTE"
+                nt.links.new(out, a.inputs[0])
+                out = a.outputs["Vector"]
+            if gain != 1.0:  # into the visible range
+                g = nt.nodes.new("ShaderNodeVectorMath")
+                g.operation = "SCALE"
+                g.inputs["Scale"].default_value = gain
+                nt.links.new(out, g.inputs[0])
+                out = g.outputs["Vector"]
+            return out
+        return build
+
+    tiles = (("MapStepped", map_range("STEPPED")), ("MapSmooth", map_range("SMOOTHSTEP", 0.8, 0.2)),
+             ("MapSmoother", map_range("SMOOTHERSTEP")), ("MapVector", map_range("STEPPED", vector=True)),
+             ("Length", vmath("LENGTH", value=True)), ("Distance", vmath("DISTANCE", value=True, gain=1.4)),
+             ("Cross", vmath("CROSS_PRODUCT", b=(0.3, -0.6, 0.9), gain=1.5, absolute=True)),
+             ("Reflect", vmath("REFLECT", b=(0.3, 0.8, 0.5), absolute=True)),
+             ("Snap", vmath("SNAP", b=(0.2, 0.3, 0.3))), ("Wrap", vmath("WRAP", b=(0.35, 0.6, 0.8), c=(0.1, 0.0, 0.2))),
+             ("Sine", vmath("SINE", gain=0.5)), ("Dot", vmath("DOT_PRODUCT", b=(1.0, 0.6, 0.0), value=True, gain=0.7)))
+    for i, (name, build) in enumerate(tiles):
+        tile(i, name, build)
+    camera_down(4.0 * 50.0 / 36.0)
+
+
 def checker_glow():
     m = emission_material("CheckerGlow", strength=5.0)
     nt = m.node_tree
@@ -1316,6 +1387,7 @@ SCENES = {
     "noise_texture": noise_texture,
     "procedural_textures": procedural_textures,
     "curves_and_ramps": curves_and_ramps,
+    "math_nodes": math_nodes,
     "emissive_textured": emissive_textured,
     "volume_blackbody": volume_blackbody,
     "volume_tinted": volume_tinted,
@@ -1351,7 +1423,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "emissive_textured",
                      "volume_blackbody"]
 
 

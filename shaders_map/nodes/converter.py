@@ -135,53 +135,129 @@ def eval_clamp(ev, e):
 
 @maps("ShaderNodeMapRange")
 def map_range(ctx, node, socket):
-    dtype = getattr(node, "data_type", "FLOAT")
-    if dtype != "FLOAT":
-        ctx.warn(node, "vector map range approximated")
-    return Expr("map_range", ctx.label(node), {
-        "value": ctx.input(node, "Value", default=1.0),
-        "from_min": ctx.input(node, "From Min", "From_Min", default=0.0),
-        "from_max": ctx.input(node, "From Max", "From_Max", default=1.0),
-        "to_min": ctx.input(node, "To Min", "To_Min", default=0.0),
-        "to_max": ctx.input(node, "To Max", "To_Max", default=1.0),
-    }, {"interpolation_type": getattr(node, "interpolation_type", "LINEAR"),
-        "clamp": getattr(node, "clamp", True)})
+    vector = getattr(node, "data_type", "FLOAT") == "FLOAT_VECTOR"
+    if vector:  # the vector sockets (Blender names them as the float ones; identifiers differ)
+        names = (("value", "Vector", (0.0, 0.0, 0.0)), ("from_min", "From_Min_FLOAT3", (0.0, 0.0, 0.0)),
+                 ("from_max", "From_Max_FLOAT3", (1.0, 1.0, 1.0)), ("to_min", "To_Min_FLOAT3", (0.0, 0.0, 0.0)),
+                 ("to_max", "To_Max_FLOAT3", (1.0, 1.0, 1.0)), ("steps", "Steps_FLOAT3", (4.0, 4.0, 4.0)))
+        args = {k: ctx.input(node, n, default=d) for k, n, d in names}
+    else:
+        args = {"value": ctx.input(node, "Value", default=1.0),
+                "from_min": ctx.input(node, "From Min", "From_Min", default=0.0),
+                "from_max": ctx.input(node, "From Max", "From_Max", default=1.0),
+                "to_min": ctx.input(node, "To Min", "To_Min", default=0.0),
+                "to_max": ctx.input(node, "To Max", "To_Max", default=1.0),
+                "steps": ctx.input(node, "Steps", default=4.0)}
+    return Expr("map_range", ctx.label(node), args, {
+        "interpolation_type": getattr(node, "interpolation_type", "LINEAR"),
+        "clamp": bool(getattr(node, "clamp", True)), "vector": vector})
+
+
+def _smoothstep(e0, e1, x):
+    if x < e0:
+        return 0.0
+    if x >= e1:
+        return 1.0
+    t = (x - e0) / (e1 - e0)
+    return (3.0 - 2.0 * t) * t * t
+
+
+def _smootherstep(e0, e1, x):
+    x = min(max(_safe_div(x - e0, e1 - e0), 0.0), 1.0)
+    return x * x * x * (x * (x * 6.0 - 15.0) + 10.0)
+
+
+def _clamp_between(v, a, b):
+    return min(max(v, b), a) if a > b else min(max(v, a), b)
+
+
+def _map_range_float(v, a, b, c, d, steps, kind, clamp):
+    """Cycles' svm_node_map_range (and the Clamp it adds for linear and stepped)."""
+    if a == b:
+        return 0.0
+    f = (v - a) / (b - a)
+    if kind == "STEPPED":
+        f = math.floor(f * (steps + 1.0)) / steps if steps > 0.0 else 0.0
+    elif kind == "SMOOTHSTEP":
+        f = 1.0 - _smoothstep(b, a, v) if a > b else _smoothstep(a, b, v)
+    elif kind == "SMOOTHERSTEP":
+        f = 1.0 - _smootherstep(b, a, v) if a > b else _smootherstep(a, b, v)
+    r = c + f * (d - c)
+    return _clamp_between(r, c, d) if clamp and kind in ("LINEAR", "STEPPED") else r
+
+
+def _map_range_component(v, a, b, c, d, steps, kind, clamp):
+    """One component of Cycles' svm_node_vector_map_range."""
+    f = _safe_div(v - a, b - a)
+    if kind == "STEPPED":
+        f = math.floor(f * (steps + 1.0)) / steps if steps > 0.0 else 0.0
+    elif kind in ("SMOOTHSTEP", "SMOOTHERSTEP"):
+        t = min(max(f, 0.0), 1.0)
+        f = (3.0 - 2.0 * t) * t * t if kind == "SMOOTHSTEP" else t * t * t * (t * (t * 6.0 - 15.0) + 10.0)
+    r = c + f * (d - c)
+    return _clamp_between(r, c, d) if clamp and kind in ("LINEAR", "STEPPED") else r
 
 
 @evaluates("map_range")
 def eval_map_range(ev, e):
-    v = ev.float(e.args["value"])
-    a, b = ev.float(e.args["from_min"]), ev.float(e.args["from_max"])
-    c, d = ev.float(e.args["to_min"]), ev.float(e.args["to_max"])
-    f = (v - a) / (b - a) if b != a else 0.0
-    it = e.props.get("interpolation_type", "LINEAR")
-    if it == "STEPPED":
-        ev.approx(e, "stepped interpolation approximated as linear")
-    elif it == "SMOOTHSTEP":
-        f = min(max(f, 0.0), 1.0)
-        f = f * f * (3.0 - 2.0 * f)
-    elif it == "SMOOTHERSTEP":
-        f = min(max(f, 0.0), 1.0)
-        f = f * f * f * (f * (f * 6.0 - 15.0) + 10.0)
-    r = c + f * (d - c)
-    if e.props.get("clamp", True) and it == "LINEAR":
-        r = min(max(r, min(c, d)), max(c, d))
-    return r
+    kind, clamp = e.props.get("interpolation_type", "LINEAR"), e.props.get("clamp", True)
+    keys = ("value", "from_min", "from_max", "to_min", "to_max", "steps")
+    if e.props.get("vector"):
+        vs = [ev.color(e.args[k]) for k in keys]
+        return tuple(_map_range_component(*(v[i] for v in vs), kind, clamp) for i in range(3))
+    return _map_range_float(*(ev.float(e.args[k]) for k in keys), kind, clamp)
 
 
+def _dot(a, b):
+    return sum(x * y for x, y in zip(a, b))
+
+
+def _normalize(a, safe=True):
+    n = math.sqrt(_dot(a, a))
+    return tuple(x / n for x in a) if n != 0.0 else (tuple(a) if safe else (float("nan"),) * 3)
+
+
+def _refract(a, b, eta):
+    n = _normalize(b)
+    d = _dot(n, a)
+    k = 1.0 - eta * eta * (1.0 - d * d)
+    return (0.0, 0.0, 0.0) if k < 0.0 else tuple(eta * x - (eta * d + math.sqrt(k)) * y for x, y in zip(a, n))
+
+
+def _per(fn):
+    return lambda a, b, c, s: tuple(fn(x) for x in a)
+
+
+# Cycles' svm_vector_math, operation by operation (a, b, c the three vectors, s the scale).
 VMATH = {
-    "ADD": lambda a, b, s: tuple(x + y for x, y in zip(a, b)),
-    "SUBTRACT": lambda a, b, s: tuple(x - y for x, y in zip(a, b)),
-    "MULTIPLY": lambda a, b, s: tuple(x * y for x, y in zip(a, b)),
-    "DIVIDE": lambda a, b, s: tuple(_safe_div(x, y) for x, y in zip(a, b)),
-    "SCALE": lambda a, b, s: tuple(x * s for x in a),
-    "DOT_PRODUCT": lambda a, b, s: sum(x * y for x, y in zip(a, b)),
-    "LENGTH": lambda a, b, s: math.sqrt(sum(x * x for x in a)),
-    "ABSOLUTE": lambda a, b, s: tuple(abs(x) for x in a),
-    "MINIMUM": lambda a, b, s: tuple(min(x, y) for x, y in zip(a, b)),
-    "MAXIMUM": lambda a, b, s: tuple(max(x, y) for x, y in zip(a, b)),
-    "NORMALIZE": lambda a, b, s: (lambda l: tuple(x / l for x in a) if l > 0 else (0.0, 0.0, 0.0))(
-        math.sqrt(sum(x * x for x in a))),
+    "ADD": lambda a, b, c, s: tuple(x + y for x, y in zip(a, b)),
+    "SUBTRACT": lambda a, b, c, s: tuple(x - y for x, y in zip(a, b)),
+    "MULTIPLY": lambda a, b, c, s: tuple(x * y for x, y in zip(a, b)),
+    "DIVIDE": lambda a, b, c, s: tuple(_safe_div(x, y) for x, y in zip(a, b)),
+    "MULTIPLY_ADD": lambda a, b, c, s: tuple(x * y + z for x, y, z in zip(a, b, c)),
+    "CROSS_PRODUCT": lambda a, b, c, s: (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]),
+    "PROJECT": lambda a, b, c, s: (lambda l2: tuple(_dot(a, b) / l2 * y for y in b) if l2 != 0.0 else (0.0, 0.0, 0.0))(
+        _dot(b, b)),
+    "REFLECT": lambda a, b, c, s: (lambda n: tuple(x - 2.0 * y * _dot(a, n) for x, y in zip(a, n)))(_normalize(b, False)),
+    "REFRACT": lambda a, b, c, s: _refract(a, b, s),
+    "FACEFORWARD": lambda a, b, c, s: tuple(a) if _dot(c, b) < 0.0 else tuple(-x for x in a),
+    "DOT_PRODUCT": lambda a, b, c, s: _dot(a, b),
+    "DISTANCE": lambda a, b, c, s: math.sqrt(sum((x - y) ** 2 for x, y in zip(a, b))),
+    "LENGTH": lambda a, b, c, s: math.sqrt(_dot(a, a)),
+    "SCALE": lambda a, b, c, s: tuple(x * s for x in a),
+    "NORMALIZE": lambda a, b, c, s: _normalize(a),
+    "SNAP": lambda a, b, c, s: tuple(math.floor(_safe_div(x, y)) * y for x, y in zip(a, b)),
+    "FLOOR": _per(math.floor),
+    "CEIL": _per(math.ceil),
+    "MODULO": lambda a, b, c, s: tuple(math.fmod(x, y) if y != 0.0 else 0.0 for x, y in zip(a, b)),
+    "WRAP": lambda a, b, c, s: tuple(_wrap(x, y, z) for x, y, z in zip(a, b, c)),
+    "FRACTION": _per(lambda x: x - math.floor(x)),
+    "ABSOLUTE": _per(abs),
+    "MINIMUM": lambda a, b, c, s: tuple(min(x, y) for x, y in zip(a, b)),
+    "MAXIMUM": lambda a, b, c, s: tuple(max(x, y) for x, y in zip(a, b)),
+    "SINE": _per(math.sin),
+    "COSINE": _per(math.cos),
+    "TANGENT": _per(math.tan),
 }
 
 
@@ -189,10 +265,10 @@ VMATH = {
 def vector_math(ctx, node, socket):
     ins = list(getattr(node, "inputs", ()))
     vecs = [s for s in ins if getattr(s, "type", "") == "VECTOR"]
-    scale = ctx.input(node, "Scale", default=1.0)
     args = {"a": ctx.eval_input(node, vecs[0]) if vecs else None,
             "b": ctx.eval_input(node, vecs[1]) if len(vecs) > 1 else None,
-            "scale": scale}
+            "c": ctx.eval_input(node, vecs[2]) if len(vecs) > 2 else None,
+            "scale": ctx.input(node, "Scale", default=1.0)}
     return Expr("vector_math", ctx.label(node), {k: v for k, v in args.items() if v is not None}, {
         "operation": getattr(node, "operation", "ADD"),
         "output": getattr(socket, "identifier", "Vector")})
@@ -201,15 +277,19 @@ def vector_math(ctx, node, socket):
 @evaluates("vector_math")
 def eval_vector_math(ev, e):
     op = e.props.get("operation", "ADD")
-    a = ev.color(e.args["a"]) if "a" in e.args else (0.0, 0.0, 0.0)
-    b = ev.color(e.args["b"]) if "b" in e.args else (0.0, 0.0, 0.0)
+    a, b, c = (ev.color(e.args[k]) if k in e.args else (0.0, 0.0, 0.0) for k in ("a", "b", "c"))
     s = ev.float(e.args["scale"]) if "scale" in e.args else 1.0
     fn = VMATH.get(op)
     if fn is None:
         ev.approx(e, "vector math %s not evaluated" % op)
         r = (0.0, 0.0, 0.0)
     else:
-        r = fn(a, b, s)
+        try:
+            r = fn(a, b, c, s)
+        except (ValueError, OverflowError):
+            r = (0.0, 0.0, 0.0)
+    if isinstance(r, tuple) and not all(math.isfinite(x) for x in r):
+        r = (0.0, 0.0, 0.0)
     if e.props.get("output") == "Value":
         return r if isinstance(r, float) else 0.0
     return r if not isinstance(r, float) else (r, r, r)

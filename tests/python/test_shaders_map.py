@@ -450,6 +450,64 @@ class TestValues(unittest.TestCase):
         p, _ = self._color_into_diffuse(b)
         self.assertEqual((p["color"]["min_x"], p["color"]["max_x"], p["color"]["extrapolate"]), (-1.0, 1.0, False))
 
+    def test_map_range_every_interpolation_folds_as_cycles(self):
+        # (value, from, to, steps, type, clamp) -> Cycles' result (svm_node_map_range, and the
+        # Clamp it adds to linear and stepped).
+        cases = ((0.3, (0, 1), (0, 10), 4, "LINEAR", True, 3.0),
+                 (1.5, (0, 1), (0, 10), 4, "LINEAR", True, 10.0),
+                 (1.5, (0, 1), (0, 10), 4, "LINEAR", False, 15.0),
+                 (0.3, (0, 1), (0, 1), 4, "STEPPED", True, 0.25),
+                 (0.3, (0, 1), (0, 1), 4, "SMOOTHSTEP", True, 0.216),
+                 (0.3, (1, 0), (0, 1), 4, "SMOOTHSTEP", True, 0.784),
+                 (0.3, (0, 1), (0, 1), 4, "SMOOTHERSTEP", True, 0.16308),
+                 (0.3, (0.5, 0.5), (0, 1), 4, "LINEAR", True, 0.0))
+        for v, (a, b), (c, d), steps, kind, clamp, expect in cases:
+            with self.subTest(kind=kind, v=v, a=a, b=b, clamp=clamp):
+                def build(t):
+                    n = t.new("ShaderNodeMapRange", "R", data_type="FLOAT", interpolation_type=kind, clamp=clamp)
+                    for name, x in (("Value", v), ("From Min", a), ("From Max", b), ("To Min", c), ("To Max", d),
+                                    ("Steps", steps)):
+                        n.inp(name).default_value = x
+                    return n.out("Result")
+                p, w = self._color_into_diffuse(build)
+                self.assertAlmostEqual(p["color"][0], expect, places=5)
+                self.assertIsNone(w)
+
+    def test_map_range_and_vector_math_become_engine_nodes(self):
+        def build(t):
+            noise = t.new("ShaderNodeTexNoise", "N")
+            r = t.new("ShaderNodeMapRange", "R", data_type="FLOAT_VECTOR", interpolation_type="STEPPED", clamp=True)
+            t.link(noise.out("Color"), r.inp("Vector"))
+            r.inp("Steps_FLOAT3").default_value = (2.0, 3.0, 4.0)
+            m = t.new("ShaderNodeVectorMath", "L", operation="LENGTH")
+            t.link(r.out("Vector"), m.inputs[0])
+            return m.out("Value")
+        p, w = self._color_into_diffuse(build)
+        c = p["color"] if p["color"]["node"] != "rgb_to_bw" else p["color"]["color"]
+        self.assertEqual((c["node"], c["operation"], c["output"]), ("vector_math", "LENGTH", "value"))
+        r = c["vector1"]
+        self.assertEqual((r["node"], r["data_type"], r["interpolation_type"]), ("map_range", "FLOAT_VECTOR", "STEPPED"))
+        self.assertEqual(r["steps"], [2.0, 3.0, 4.0])
+        self.assertEqual(r["value"]["node"], "noise")
+        self.assertIsNone(w)
+
+    def test_vector_math_folds_every_operation(self):
+        a, b, c = (0.6, -0.8, 2.5), (0.0, 2.0, 0.5), (1.0, 1.0, -1.0)
+        expect = {"CROSS_PRODUCT": (-5.4, -0.3, 1.2), "PROJECT": (0.0, -0.1647, -0.0412),
+                  "REFLECT": (0.6, -0.4706, 2.5824), "FACEFORWARD": (-0.6, 0.8, -2.5), "DOT_PRODUCT": (-0.35,) * 3,
+                  "DISTANCE": (3.4928,) * 3, "LENGTH": (2.6926,) * 3, "SNAP": (0.0, -2.0, 2.5),
+                  "WRAP": (0.6, 1.2, -0.5), "MULTIPLY_ADD": (1.0, -0.6, 0.25), "MODULO": (0.0, -0.8, 0.0)}
+        for op, value in expect.items():
+            with self.subTest(op):
+                def build(t):
+                    n = t.new("ShaderNodeVectorMath", "V", operation=op)
+                    for s, x in zip(n.inputs[:3], (a, b, c)):
+                        s.default_value = x
+                    return n.out("Value" if op in ("DOT_PRODUCT", "DISTANCE", "LENGTH") else "Vector")
+                p, w = self._color_into_diffuse(build)
+                # (a colour input holds no negative part: Cycles clamps those, and so does the export)
+                self.assertTrue(all(abs(max(y, 0.0) - x) < 1e-4 for x, y in zip(p["color"], value)), (op, p["color"]))
+
     def test_invert(self):
         def b(t):
             n = t.new("ShaderNodeInvert", "Inv")

@@ -99,6 +99,9 @@ TEST(BadInput, BadTextureNodeValuesNameTheNodeAndField) {
       {R"({"type":"diffuse","color":{"node":"float_curve","table":[0,1],"min_x":1,"max_x":1}})", "float_curve node", "'max_x'"},
       {R"({"type":"diffuse","color":{"node":"float_curve","table":[0,1e39]}})", "float_curve node", "'table'"},
       {R"({"type":"diffuse","color":{"node":"color_ramp","table":[[0,0,0,1],[1,1,1,1]],"interpolation":"EASE"}})", "color_ramp node", "'table'"},
+      {R"({"type":"diffuse","color":{"node":"vector_math","operation":"CURL"}})", "vector_math node", "'operation'"},
+      {R"({"type":"diffuse","color":{"node":"map_range","interpolation_type":"CUBIC"}})", "map_range node", "'interpolation_type'"},
+      {R"({"type":"diffuse","color":{"node":"map_range","data_type":"INT"}})", "map_range node", "'data_type'"},
   };
   for (const Case &c : cases) {
     EXPECT_EQ(RDV_ERROR_INVALID_ARGUMENT, rdv_scene_add_material(sc.s, "M", c.json, &id)) << c.json << "\n" << error();

@@ -13,6 +13,7 @@
 #include "scene/mesh.h"
 #include "textures/image_texture.h"
 #include "render_helpers.h"
+#include "textures/math_nodes.h"
 #include "textures/texture_graph.h"
 
 using namespace rdv;
@@ -320,6 +321,56 @@ TEST(TextureGraphs, CurveAndRampTablesLookUpAsCycles) {
   // NaN in: finite out.
   g = graph_of(R"({"node":"rgb_curves","color":{"node":"math","value1":-1,"operation":"SQRT"},)" + table + "}", n, w);
   EXPECT_TRUE(is_finite(g.eval(n, sp)));
+  EXPECT_TRUE(w.empty());
+}
+
+// Vector Math and Map Range as Cycles' svm_vector_math / svm_node_map_range, values worked
+// by hand; every operation finite on degenerate input (zero vectors, zero ranges, NaN).
+TEST(TextureGraphs, VectorMathAndMapRangeAsCycles) {
+  std::vector<std::string> w;
+  int n;
+  ShadingPoint sp;
+  auto eval = [&](const std::string &j) {
+    TextureGraph g = graph_of(j, n, w);
+    return g.eval(n, sp);
+  };
+  const std::string ab = R"("vector1":[0.6,-0.8,2.5],"vector2":[0,2,0.5],"vector3":[1,1,-1])";
+  auto op = [&](const char *o, const char *out = "vector") {
+    return eval(std::string(R"({"node":"vector_math","operation":")") + o + R"(","output":")" + out + "\"," + ab + "}");
+  };
+  Color c = op("CROSS_PRODUCT");
+  EXPECT_NEAR(c.x, -5.4f, 1e-5f); EXPECT_NEAR(c.y, -0.3f, 1e-5f); EXPECT_NEAR(c.z, 1.2f, 1e-5f);
+  c = op("REFLECT");
+  EXPECT_NEAR(c.y, -0.470588f, 1e-5f); EXPECT_NEAR(c.z, 2.582353f, 1e-5f);
+  c = op("WRAP");
+  EXPECT_NEAR(c.x, 0.6f, 1e-5f); EXPECT_NEAR(c.y, 1.2f, 1e-5f); EXPECT_NEAR(c.z, -0.5f, 1e-5f);
+  c = op("SNAP");
+  EXPECT_NEAR(c.x, 0.0f, 1e-6f); EXPECT_NEAR(c.y, -2.0f, 1e-6f); EXPECT_NEAR(c.z, 2.5f, 1e-6f);
+  EXPECT_NEAR(op("DISTANCE", "value").x, std::sqrt(12.2f), 1e-5f);
+  EXPECT_NEAR(op("DOT_PRODUCT", "value").x, -0.35f, 1e-6f);
+  EXPECT_NEAR(op("LENGTH").z, std::sqrt(7.25f), 1e-5f);  // a value on the vector output: (v, v, v)
+  EXPECT_EQ(op("ADD", "value").x, 0.0f);                  // a vector operation's value output: 0
+  c = op("FACEFORWARD");
+  EXPECT_NEAR(c.x, -0.6f, 1e-6f);
+  for (const std::string &o : kVectorMathOps) {  // zero vectors: finite (NORMALIZE, REFLECT, PROJECT, ...)
+    Color z = eval(R"({"node":"vector_math","operation":")" + o + R"(","scale":0})");
+    EXPECT_TRUE(is_finite(z)) << o;
+  }
+  // Map Range, float: linear with its clamp, stepped, smooth-step on a reversed range, a zero range.
+  auto range = [&](const std::string &extra) {
+    return eval(R"({"node":"map_range","from_min":0,"from_max":1,"to_min":0,"to_max":10,)" + extra + "}").x;
+  };
+  EXPECT_NEAR(range(R"("value":0.3)"), 3.0f, 1e-5f);
+  EXPECT_NEAR(range(R"("value":1.5)"), 10.0f, 1e-5f);
+  EXPECT_NEAR(range(R"("value":1.5,"clamp":false)"), 15.0f, 1e-5f);
+  EXPECT_NEAR(range(R"("value":0.3,"interpolation_type":"STEPPED","steps":4)"), 2.5f, 1e-5f);
+  EXPECT_NEAR(eval(R"({"node":"map_range","value":0.3,"from_min":1,"from_max":0,"interpolation_type":"SMOOTHSTEP"})").x,
+              0.784f, 1e-5f);
+  EXPECT_NEAR(range(R"("value":0.3,"interpolation_type":"SMOOTHERSTEP")"), 1.6308f, 1e-4f);
+  EXPECT_EQ(eval(R"({"node":"map_range","value":0.3,"from_min":0.5,"from_max":0.5})").x, 0.0f);
+  // Vector: per component; a zero-width component maps to to_min.
+  c = eval(R"({"node":"map_range","data_type":"FLOAT_VECTOR","value":[0.3,0.5,2],"from_max":[1,0,1],"to_max":[10,10,10]})");
+  EXPECT_NEAR(c.x, 3.0f, 1e-5f); EXPECT_EQ(c.y, 0.0f); EXPECT_NEAR(c.z, 10.0f, 1e-5f);
   EXPECT_TRUE(w.empty());
 }
 

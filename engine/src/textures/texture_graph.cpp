@@ -5,6 +5,7 @@
 #include <set>
 #include "core/error.h"
 #include "core/limits.h"
+#include "textures/math_nodes.h"
 #include "textures/musgrave.h"
 #include "textures/noise.h"
 #include "textures/pattern_textures.h"
@@ -440,6 +441,26 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.in[1] = input("value2", 0.5);
     n.in[2] = input("value3", 0.0);
     n.clamp = r.flag("clamp", false);
+  } else if (type == "vector_math") {
+    n.type = TexNodeType::VectorMath;
+    n.mode = r.choice("operation", kVectorMathOps, "ADD");
+    n.in[0] = input("vector1", json::array({0, 0, 0}));
+    n.in[1] = input("vector2", json::array({0, 0, 0}));
+    n.in[2] = input("vector3", json::array({0, 0, 0}));
+    n.in[3] = input("scale", 1.0);
+    n.output = outputs({"vector", "value"});
+  } else if (type == "map_range") {
+    n.type = TexNodeType::MapRange;
+    n.mode = r.choice("interpolation_type", {"LINEAR", "STEPPED", "SMOOTHSTEP", "SMOOTHERSTEP"}, "LINEAR");
+    n.mode2 = r.choice("data_type", {"FLOAT", "FLOAT_VECTOR"}, "FLOAT");
+    const bool vec = n.mode2 == 1;
+    n.in[0] = input("value", vec ? json::array({0, 0, 0}) : json(1.0));
+    n.in[1] = input("from_min", vec ? json::array({0, 0, 0}) : json(0.0));
+    n.in[2] = input("from_max", vec ? json::array({1, 1, 1}) : json(1.0));
+    n.in[3] = input("to_min", vec ? json::array({0, 0, 0}) : json(0.0));
+    n.in[4] = input("to_max", vec ? json::array({1, 1, 1}) : json(1.0));
+    n.in[5] = input("steps", vec ? json::array({4, 4, 4}) : json(4.0));
+    n.clamp = r.flag("clamp", true);
   } else if (type == "color_ramp") {
     n.type = TexNodeType::ColorRamp;
     n.in[0] = input("fac", 0.5);
@@ -553,7 +574,7 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.in[1] = input("gamma", 1.0);
   } else {
     fail(what_in + ": unknown texture node '" + type +
-         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, invert, hue_saturation, attribute, vertex_color, "
+         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, invert, hue_saturation, attribute, vertex_color, "
          "uv, texture_coordinate, mapping, normal_map, bump, separate_rgb, combine_rgb, rgb_to_bw, bright_contrast, gamma)");
   }
   r.used.insert("output");
@@ -829,6 +850,21 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
       for (int k = 0; k < 3; ++k) mapped[k] = ramp_lookup(n.table, (c[k] - n.min_x) / range, true, extrapolate).color[k];
       const Color out = c * (1.0f - fac) + mapped * fac;
       return is_finite(out) ? out : Color(0.0f);
+    }
+    case TexNodeType::VectorMath: {
+      bool value;
+      const Vec3 v = vector_math(n.mode, in(0), in(1), in(2), inf(3), value);
+      if (!is_finite(v)) return Color(0.0f);
+      return n.output == 1 ? Color(value ? v.x : 0.0f) : value ? Vec3(v.x) : v;
+    }
+    case TexNodeType::MapRange: {
+      const MapRangeType type = MapRangeType(n.mode);
+      if (n.mode2 == 1) {
+        const Vec3 v = map_range(in(0), in(1), in(2), in(3), in(4), in(5), type, n.clamp);
+        return is_finite(v) ? v : Vec3(0.0f);
+      }
+      const float v = map_range(inf(0), inf(1), inf(2), inf(3), inf(4), inf(5), type, n.clamp);
+      return Color(std::isfinite(v) ? v : 0.0f);
     }
     case TexNodeType::Invert: {
       Color c = in(1);

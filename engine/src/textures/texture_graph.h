@@ -22,7 +22,8 @@ enum class TexNodeType : uint8_t {
   TexCoord,   // uv / generated / object / world position / normal
   Mapping, NormalMap, Bump, SeparateRgb, CombineRgb, RgbToBw, BrightContrast, Gamma,
   Voronoi, Musgrave, Wave, Magic, Brick, WhiteNoise,  // Blender's procedural textures, as Cycles 3.4
-  Curves  // RGB / Vector Curves (mode 0) and Float Curve (mode 1): a baked table, as Cycles
+  Curves,  // RGB / Vector Curves (mode 0) and Float Curve (mode 1): a baked table, as Cycles
+  VectorMath, MapRange  // math_nodes.h
 };
 
 constexpr int kTexNodeInputs = 10;  // the most any node has (Brick)
@@ -49,7 +50,7 @@ struct TexNode {
   Vec3 loc{0.0f}, rot{0.0f}, scale{1.0f};
   // Procedural textures (noise.h, voronoi.h, musgrave.h, pattern_textures.h)
   uint8_t dims = 3;   // Noise, Voronoi, Musgrave, White Noise: 1 to 4 dimensions
-  uint8_t mode2 = 0;  // Voronoi: distance metric; Wave: bands / rings direction
+  uint8_t mode2 = 0;  // Voronoi: distance metric; Wave: bands / rings direction; Map Range: vector
   uint8_t mode3 = 0;  // Wave: profile
   int depth = 2;      // Magic: nested turns
   float offset = 0.5f, squash = 1.0f;           // Brick
