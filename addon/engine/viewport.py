@@ -229,7 +229,7 @@ class ViewportExporter(SceneExporter):
                     rec.m16 = m16
                     self.edits += 1
                     stats["transform_updates"] += 1
-                settings = self.object_settings(ob)
+                settings = self.object_settings(ob, inst)
                 if settings != rec.settings:  # holdout or ray visibility toggled
                     rscene.set_instance_params(rec.engine_id, settings)
                     rec.settings = settings

@@ -76,6 +76,27 @@ def gas_domain(ob):
     return None
 
 
+def _lookup3_final(a, b, c):
+    def rot(x, k):
+        return ((x << k) | (x >> (32 - k))) & 0xFFFFFFFF
+    for x, y, k in (("c", "b", 14), ("a", "c", 11), ("b", "a", 25), ("c", "b", 16), ("a", "c", 4), ("b", "a", 14),
+                    ("c", "b", 24)):
+        v = {"a": a, "b": b, "c": c}
+        v[x] = ((v[x] ^ v[y]) - rot(v[y], k)) & 0xFFFFFFFF
+        a, b, c = v["a"], v["b"], v["c"]
+    return c
+
+
+def name_random_id(name):
+    """Cycles' random id of an object that is not an instance: hash_uint2(hash_string(name), 0)
+    (Bob Jenkins' lookup3 of the name's 37-polynomial hash), what Object Info > Random reads."""
+    h = 0
+    for ch in name.encode("utf-8"):
+        h = (h * 37 + ch) & 0xFFFFFFFF
+    seed = (0xDEADBEEF + (2 << 2) + 13) & 0xFFFFFFFF
+    return _lookup3_final((seed + h) & 0xFFFFFFFF, seed, seed)
+
+
 class SceneExporter:
     def __init__(self, depsgraph, sink, image_average=None, messages=None, is_viewport=False, image_file=None,
                  frame_set=None):
@@ -245,12 +266,24 @@ class SceneExporter:
 
     # ---- geometry -------------------------------------------------------------------
     @staticmethod
-    def object_settings(ob):
-        """rdv_scene_set_instance_params of a mesh object: holdout, shadow catcher, ray visibility
-        and pass index ({}: defaults)."""
+    def object_settings(ob, inst=None):
+        """rdv_scene_set_instance_params of a mesh object: holdout, shadow catcher, ray visibility,
+        pass index, and what an Object Info node reads: the depsgraph instance's random_id (inst)
+        and the object's colour ({}: defaults)."""
         settings = {}
         if getattr(ob, "pass_index", 0):  # Object > Relations > Pass Index (the Object Index pass)
             settings["pass_index"] = int(ob.pass_index)
+        # Object Info > Random, as Cycles takes it: an instance's random_id from the depsgraph
+        # (Blender's signed 32-bit int, Cycles' unsigned), an object's from a hash of its name.
+        if inst is not None and getattr(inst, "is_instance", False):
+            random_id = int(getattr(inst, "random_id", 0)) & 0xFFFFFFFF
+        else:
+            random_id = name_random_id(ob.name)
+        if random_id:
+            settings["random_id"] = random_id
+        color = tuple(float(c) for c in getattr(ob, "color", (1.0, 1.0, 1.0, 1.0)))
+        if color != (1.0, 1.0, 1.0, 1.0) and len(color) == 4:  # Object > Viewport Display > Color
+            settings["color"] = list(color)
         if getattr(ob, "is_holdout", False):  # Object > Visibility > Holdout
             settings["holdout"] = True
         if getattr(ob, "is_shadow_catcher", False):  # Object > Visibility > Shadow Catcher
@@ -304,7 +337,7 @@ class SceneExporter:
         if mesh_id is None:
             return
         instance = self.sink.add_instance(mesh_id, m16)
-        settings = self.object_settings(ob)
+        settings = self.object_settings(ob, inst)
         if settings:
             self.sink.set_instance_params(instance, settings)
         if self.motion is not None and inst is not None:

@@ -174,7 +174,9 @@ RDV_API rdv_status rdv_scene_set_mesh_motion(rdv_scene *scene, uint32_t mesh, co
  * (Object > Visibility > Shadow Catcher, as Cycles 3.4: with the path tracer, RDV_PASS_COMBINED
  * shows the other objects over the catcher, which holds only the shadows and light they
  * add to it, and RDV_PASS_SHADOW_CATCHER that change as a factor; docs/scene-format.md,
- * Shadow catcher). Absent keys take their defaults. */
+ * Shadow catcher), "pass_index": 0, "random_id": 0 and "color": [1,1,1,1] (what an
+ * "object_info" texture node reads: Blender's random id, Object > Viewport Display > Color).
+ * Absent keys take their defaults. */
 RDV_API rdv_status rdv_scene_set_instance_params(rdv_scene *scene, uint32_t instance, const char *params_json);
 
 /* Lights: {"type":"point"|"spot"|"sun"|"area", "transform":[16], ...}. Units are

@@ -341,13 +341,15 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
   };
 
   // An instance's object settings (rdv_scene_set_instance_params): "holdout", "shadow_catcher", "visibility",
-  // "pass_index"; and its "motion" (rdv_scene_set_instance_motion), unless motion blur is off.
+  // "pass_index", "random_id", "color"; and its "motion" (rdv_scene_set_instance_motion), unless motion blur is off.
   auto object_params = [&options](const json &j, const std::string &what) {
     json p = json::object();
     if (flag_of(j, "holdout", false, what)) p["holdout"] = true;
     if (flag_of(j, "shadow_catcher", false, what)) p["shadow_catcher"] = true;
     if (j.contains("visibility")) p["visibility"] = j["visibility"];  // the engine checks it
-    if (j.contains("pass_index")) p["pass_index"] = j["pass_index"];  // and this
+    if (j.contains("pass_index")) p["pass_index"] = j["pass_index"];  // and these
+    if (j.contains("random_id")) p["random_id"] = j["random_id"];
+    if (j.contains("color")) p["color"] = j["color"];
     if (j.contains("motion") && options.motion_blur) p["motion"] = j["motion"];
     return p;
   };

@@ -511,6 +511,50 @@ def math_nodes():
     camera_down(4.0 * 50.0 / 36.0)
 
 
+def object_info():
+    """Object Info per instance: twelve tiles, eight separate objects and four instances of a
+    tile on a mesh's vertices (Instancing > Vertices), each emitting its Random (through a Color
+    Ramp), its Viewport Display colour, its Object Index and its material's index. Random is
+    Blender's per-instance number (the depsgraph's random_id, as Cycles maps it)."""
+    reset(128)
+    scene = bpy.context.scene
+    scene.render.resolution_y = 96
+    m, nt, out = empty_material("InfoGlow")
+    info = nt.nodes.new("ShaderNodeObjectInfo")
+    ramp = nt.nodes.new("ShaderNodeValToRGB")
+    ramp.color_ramp.elements[0].color = (1.0, 0.2, 0.1, 1.0)
+    ramp.color_ramp.elements[1].color = (0.1, 0.4, 1.0, 1.0)
+    nt.links.new(info.outputs["Random"], ramp.inputs["Fac"])
+    mix = nt.nodes.new("ShaderNodeMixRGB")
+    mix.blend_type = "MULTIPLY"
+    mix.inputs["Fac"].default_value = 1.0
+    nt.links.new(ramp.outputs["Color"], mix.inputs["Color1"])
+    nt.links.new(info.outputs["Color"], mix.inputs["Color2"])
+    index = nt.nodes.new("ShaderNodeMath")
+    index.operation = "MULTIPLY_ADD"
+    nt.links.new(info.outputs["Object Index"], index.inputs[0])
+    index.inputs[1].default_value, index.inputs[2].default_value = 0.1, 0.5
+    glow = nt.nodes.new("ShaderNodeEmission")
+    nt.links.new(mix.outputs["Color"], glow.inputs["Color"])
+    nt.links.new(index.outputs["Value"], glow.inputs["Strength"])
+    nt.links.new(glow.outputs["Emission"], out.inputs["Surface"])
+    m.pass_index = 2
+    for i in range(8):
+        ob = quad_object("Tile%d" % i, 0.9, 0.9, (-1.5 + i % 4, 1.0 - i // 4, 0.0), (0, 0, 0), m)
+        ob.pass_index = i
+        ob.color = (1.0, 1.0 - 0.1 * i, 0.6 + 0.05 * i, 1.0)
+    # Four instances of one tile on the vertices of a hidden mesh (their random_ids from the
+    # instance's persistent id).
+    dots = bpy.data.meshes.new("InstanceDots")
+    dots.from_pydata([(-1.5 + k, -1.0, 0.0) for k in range(4)], [], [])
+    parent = link(bpy.data.objects.new("InstanceParent", dots))
+    parent.instance_type = "VERTS"
+    child = quad_object("InstancedTile", 0.9, 0.9, (0.0, 0.0, 0.0), (0, 0, 0), m)
+    child.parent = parent
+    child.pass_index = 3
+    camera_down(4.0 * 50.0 / 36.0)
+
+
 def checker_glow():
     m = emission_material("CheckerGlow", strength=5.0)
     nt = m.node_tree
@@ -1388,6 +1432,7 @@ SCENES = {
     "procedural_textures": procedural_textures,
     "curves_and_ramps": curves_and_ramps,
     "math_nodes": math_nodes,
+    "object_info": object_info,
     "emissive_textured": emissive_textured,
     "volume_blackbody": volume_blackbody,
     "volume_tinted": volume_tinted,
@@ -1423,7 +1468,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "emissive_textured",
                      "volume_blackbody"]
 
 

@@ -38,3 +38,26 @@ def eval_attribute(ev, e):
     if out in ("Fac", "Alpha"):
         return 1.0
     return (1.0, 1.0, 1.0)
+
+
+# Object Info: the engine reads the instance's Blender random number, colour, alpha and
+# pass index and the material's pass index (the add-on exports them with each instance).
+OBJECT_INFO_OUTPUTS = {"Location": "location", "Color": "color", "Alpha": "alpha", "Object Index": "object_index",
+                       "Material Index": "material_index", "Random": "random"}
+
+
+@maps("ShaderNodeObjectInfo")
+def object_info(ctx, node, socket):
+    return Expr("object_info", ctx.label(node), {},
+                {"output": OBJECT_INFO_OUTPUTS.get(getattr(socket, "identifier", "Random"), "random")})
+
+
+@evaluates("object_info")
+def eval_object_info(ev, e):
+    ev.approx(e, "object info approximated by a typical object's (random 0.5, white)")
+    out = e.props.get("output")
+    if out in ("color",):
+        return (1.0, 1.0, 1.0)
+    if out == "location":
+        return (0.0, 0.0, 0.0)
+    return {"alpha": 1.0, "random": 0.5}.get(out, 0.0)

@@ -119,6 +119,33 @@ class TestRayVisibility(unittest.TestCase):
         self.assertEqual(self.v.world_visibility(w), {"camera": False, "volume_scatter": False})
 
 
+@unittest.skipIf(np is None, "numpy not available")
+class TestObjectInfo(unittest.TestCase):
+    """What an Object Info node reads, exported with each instance as Cycles takes it."""
+
+    def setUp(self):
+        load_addon()
+        import rendezvous.export as export
+        self.export = export
+
+    def test_random_ids(self):
+        # An object's: lookup3 of its name's hash (Cycles: hash_uint2(hash_string(name), 0)); the
+        # Random Cycles rendered for 'Tile0' in blender.brightness.object_info was 0.986.
+        self.assertAlmostEqual(self.export.name_random_id("Tile0") / 0xFFFFFFFF, 0.9862349, places=6)
+        self.assertAlmostEqual(self.export.name_random_id("Tile1") / 0xFFFFFFFF, 0.7699500, places=6)
+        ob = ns(name="Tile0", pass_index=3, color=(1.0, 0.5, 0.25, 1.0), is_holdout=False, is_shadow_catcher=False,
+                visible_camera=True, visible_diffuse=True, visible_glossy=True, visible_transmission=True,
+                visible_volume_scatter=True, visible_shadow=True)
+        s = self.export.SceneExporter.object_settings(ob)
+        self.assertEqual(s["random_id"], self.export.name_random_id("Tile0"))
+        self.assertEqual((s["pass_index"], s["color"]), (3, [1.0, 0.5, 0.25, 1.0]))
+        # An instance's: the depsgraph's random_id, a signed int made unsigned.
+        s = self.export.SceneExporter.object_settings(ob, ns(is_instance=True, random_id=-2))
+        self.assertEqual(s["random_id"], 0xFFFFFFFE)
+        ob.color = (1.0, 1.0, 1.0, 1.0)
+        self.assertNotIn("color", self.export.SceneExporter.object_settings(ob))
+
+
 class TestCameraSettings(unittest.TestCase):
     @classmethod
     def setUpClass(cls):

@@ -185,6 +185,53 @@ TEST(DataPasses, IndicesExactOnCoveredPixelsEveryIntegrator) {
   }
 }
 
+// Object Info: each instance emits its own values (the same material on both quads): its
+// colour, its Blender random number (random_id / (2^32 - 1), as Cycles), its pass index, its
+// location; read on the pixels the quads cover alone. Blender's values against Cycles':
+// blender.brightness.object_info.
+TEST(ObjectInfo, EachInstanceEmitsItsOwnValues) {
+  struct Case { const char *output; Vec3d left, right; };
+  const double r_left = 123456789.0 / 4294967295.0, r_right = 4000000000.0 / 4294967295.0;
+  const Case cases[] = {{"color", {0.2, 0.4, 0.6}, {0.9, 0.1, 0.3}},
+                        {"random", {r_left, r_left, r_left}, {r_right, r_right, r_right}},
+                        {"object_index", {3, 3, 3}, {5, 5, 5}},
+                        {"location", {0, 0, 0}, {1.5, 0, 0}}};  // clamped: -1.5 emits 0
+  for (const Case &c : cases) {
+    json glow = {{"name", "glow"}, {"type", "emission"}, {"strength", 1},
+                 {"color", {{"node", "object_info"}, {"output", c.output}}}};
+    auto quad = [](const char *name, double x, int index, uint32_t random, json color) {
+      return json{{"name", name},
+                  {"shape", {{"type", "quad"}, {"size", 1}}},
+                  {"transform", {{"translate", {x, 0, 0}}, {"scale", {1.4, 2, 1}}}},
+                  {"materials", {"glow"}},
+                  {"pass_index", index},
+                  {"random_id", random},
+                  {"color", color}};
+    };
+    json scene = plane_scene(perspective_camera(6), json::object(), {{"integrator", "path"}},
+                             json::array({quad("left", -1.5, 3, 123456789u, {0.2, 0.4, 0.6, 1}),
+                                          quad("right", 1.5, 5, 4000000000u, {0.9, 0.1, 0.3, 1})}),
+                             json::array({glow}));
+    scene["meshes"].erase(0);
+    Image img = render_json(scene.dump());
+    ASSERT_TRUE(img.all_finite()) << c.output;
+    // The view as in IndicesExactOnCoveredPixelsEveryIntegrator: 0.27 units a pixel, +x to the left.
+    int checked = 0;
+    for (int y = 5; y < 11; ++y)
+      for (int x = 0; x < kSize; ++x) {
+        const double cx = -(x + 0.5 - 8) * 0.27;
+        const bool left = cx - 0.41 > -2.2 && cx + 0.41 < -0.8, right = cx - 0.41 > 0.8 && cx + 0.41 < 2.2;
+        if (!left && !right) continue;
+        const Vec3d w = left ? c.left : c.right;
+        const double want[3] = {w.x, w.y, w.z};
+        const float *px = &img.rgba[(size_t(y) * kSize + size_t(x)) * 4];
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(px[k], want[k], 1e-5 * std::max(1.0, want[k])) << c.output << " " << x;
+        ++checked;
+      }
+    EXPECT_GE(checked, 12) << c.output;
+  }
+}
+
 // The Normal pass is the normal the surface shades with, a normal map's (as Cycles' pass,
 // the closures' normal): a world-space normal map of one tilted normal over the whole plane
 // (before 2026-11-29 the pass showed the mesh's normal, +z, under any map).

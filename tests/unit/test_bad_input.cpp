@@ -142,6 +142,27 @@ TEST(BadInput, OutOfRangeIndicesRejectTheMesh) {
   EXPECT_NE(error().find("material 5"), std::string::npos) << error();
 }
 
+// Object Info's instance values: a random_id outside 0 .. 2^32 - 1, a colour without its
+// four numbers: an invalid-argument error naming the object and the key.
+TEST(BadInput, InstanceObjectInfoValuesNameTheKey) {
+  SceneHandle sc;
+  uint32_t mat, mesh, inst;
+  ASSERT_EQ(RDV_OK, rdv_scene_add_material(sc.s, "grey", R"({"type":"diffuse"})", &mat));
+  float p[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  uint32_t idx[3] = {0, 1, 2};
+  ASSERT_EQ(RDV_OK, rdv_scene_add_mesh(sc.s, "Tile", p, 3, nullptr, nullptr, idx, 1, nullptr, mat, &mesh));
+  const float m[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  ASSERT_EQ(RDV_OK, rdv_scene_add_instance(sc.s, mesh, m, &inst));
+  for (const char *bad : {R"({"random_id":-1})", R"({"random_id":4294967296})", R"({"random_id":0.5})",
+                          R"({"color":[1,1,1]})", R"({"color":[1,1,1,1e39]})"}) {
+    EXPECT_EQ(RDV_ERROR_INVALID_ARGUMENT, rdv_scene_set_instance_params(sc.s, inst, bad)) << bad;
+    EXPECT_NE(error().find("object 'Tile'"), std::string::npos) << bad << ": " << error();
+    EXPECT_TRUE(error().find("random_id") != std::string::npos || error().find("color") != std::string::npos) << error();
+  }
+  EXPECT_EQ(RDV_OK, rdv_scene_set_instance_params(sc.s, inst, R"({"random_id":4294967295,"color":[0.5,0.5,0.5,1]})"))
+      << error();
+}
+
 // NaN / Inf vertices and zero-area triangles: those triangles are dropped with a
 // warning naming the mesh; the render goes on and stays finite.
 TEST(BadInput, NanAndDegenerateGeometryRendersFinite) {

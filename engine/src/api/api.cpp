@@ -188,8 +188,9 @@ rdv_status rdv_scene_set_mesh_motion(rdv_scene *s, uint32_t mesh, const float *p
 
 rdv_status rdv_scene_set_instance_params(rdv_scene *s, uint32_t instance, const char *params) {
   return guarded([&] {
-    rdv::Params p(params ? params : "", "instance " + std::to_string(instance));
-    editable(s).set_instance_params(instance, p);
+    rdv::Scene &scene = editable(s);
+    rdv::Params p(params ? params : "", scene.instance_description(instance));
+    scene.set_instance_params(instance, p);
   });
 }
 

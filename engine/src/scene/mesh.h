@@ -87,6 +87,11 @@ struct Instance : InstancePlacement {
   bool moving = false;
   // Object > Relations > Pass Index (the Object Index pass, film/data_passes.h).
   float pass_index = 0;
+  // What an Object Info node reads: Blender's per-instance random number (the depsgraph's
+  // random_id / (2^32 - 1), as Cycles) and the object's Viewport Display colour and alpha.
+  float random = 0;
+  Color color{1.0f};
+  float alpha = 1;
 };
 
 }  // namespace rdv

@@ -838,6 +838,11 @@ ShadingPoint Scene::shading_point(const SurfaceHit &hit, Vec3 dir, float width) 
   const InstancePlacement &at = inst.moving ? (moved = placement_now(inst)) : placement(inst);
   std::copy(&at.to_world.m[0][0], &at.to_world.m[0][0] + 12, sp.object_to_world);
   sp.has_object_to_world = true;
+  sp.object_random = inst.random;
+  sp.object_color = inst.color;
+  sp.object_alpha = inst.alpha;
+  sp.object_index = inst.pass_index;
+  sp.material_index = materials_[hit.material].pass_index;
   // dp/du, dp/dv from the triangle's UVs (pbrt's triangle derivatives).
   Vec3 e1 = p1 - p0, e2 = p2 - p0;
   bool frame = false;
@@ -891,17 +896,33 @@ float Scene::holdout_weight(const SurfaceHit &hit) const {
   return m.holdout ? m.holdout_at(shading_point(hit)) : 0.0f;
 }
 
+std::string Scene::instance_description(uint32_t id) const {
+  if (id >= instances_.size()) return "instance " + std::to_string(id);
+  return "object '" + meshes_[instances_[id].mesh].name + "' (instance " + std::to_string(id) + ")";
+}
+
 void Scene::set_instance_params(uint32_t id, Params &params) {
   if (id >= instances_.size()) fail("instance " + std::to_string(id) + ": no such instance");
   Instance &inst = instances_[id];
   const bool holdout = params.get_bool("holdout", false);
   const bool shadow_catcher = params.get_bool("shadow_catcher", false);
-  const std::string object = "object '" + meshes_[inst.mesh].name + "' (instance " + std::to_string(id) + ")";
+  const std::string object = instance_description(id);
   const uint32_t v = visibility::parse(params.get_json("visibility"), object);
   const int pass_index = pass_index_of(params, object);
+  // Object Info's Random: Blender's random_id (an unsigned 32-bit number) as Cycles maps it.
+  uint32_t random_id = 0;
+  if (const nlohmann::json *r = params.get_json("random_id")) {
+    if (!r->is_number_integer() || r->get<int64_t>() < 0 || r->get<int64_t>() > int64_t(0xFFFFFFFFu))
+      fail(object + ": 'random_id' must be a whole number from 0 to 4294967295", RDV_ERROR_INVALID_ARGUMENT);
+    random_id = uint32_t(r->get<int64_t>());
+  }
+  const std::vector<float> color = params.get_floats("color", 4, {1, 1, 1, 1});
   params.check_all_used();
   inst.holdout = holdout;
   inst.pass_index = float(pass_index);
+  inst.random = float(random_id) * (1.0f / float(0xFFFFFFFFu));
+  inst.color = Color(color[0], color[1], color[2]);
+  inst.alpha = color[3];
   // Instance masks (visibility, shadow catchers) live in the top BVH.
   if (v != inst.visibility || shadow_catcher != inst.shadow_catcher) accel_.mark_instances_dirty();
   inst.visibility = v;

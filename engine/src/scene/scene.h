@@ -83,8 +83,11 @@ class Scene {
   // non-finite value is an error naming the mesh, which keeps what it had.
   void set_mesh_motion(uint32_t mesh, const float *positions, const float *normals, uint32_t num_vertices,
                        uint32_t num_steps);
-  // {"holdout": bool, "shadow_catcher": bool, "visibility": {...}, "pass_index": n}
-  // (rdv_scene_set_instance_params; scene/ray_visibility.h).
+  // "object 'Name' (instance 3)": the instance in messages.
+  std::string instance_description(uint32_t id) const;
+  // {"holdout": bool, "shadow_catcher": bool, "visibility": {...}, "pass_index": n,
+  //  "random_id": n, "color": [r, g, b, a]} (rdv_scene_set_instance_params;
+  // scene/ray_visibility.h; the last two for Object Info).
   void set_instance_params(uint32_t instance, Params &params);
   uint32_t add_light(const std::string &name, Params &params);
   void set_world(Params &params);

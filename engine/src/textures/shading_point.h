@@ -25,6 +25,10 @@ struct ShadingPoint {
   // The ray's footprint on the surface: its two axes as steps in (u, v) along dpdu /
   // dpdv (one pixel apart for camera rays; zero: a point, unfiltered lookups).
   Vec2 dx{0.0f, 0.0f}, dy{0.0f, 0.0f};
+  // Object Info: the instance's random number, colour, alpha and pass index, the material's
+  // pass index (scene/mesh.h Instance); location from object_to_world.
+  float object_random = 0, object_alpha = 1, object_index = 0, material_index = 0;
+  Color object_color{1.0f};
   const Mesh *mesh = nullptr;          // for named attributes
   uint32_t v[3] = {0, 0, 0};           // triangle vertex indices
   float b[3] = {1, 0, 0};              // barycentrics

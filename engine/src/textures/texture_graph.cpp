@@ -449,6 +449,9 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.in[2] = input("vector3", json::array({0, 0, 0}));
     n.in[3] = input("scale", 1.0);
     n.output = outputs({"vector", "value"});
+  } else if (type == "object_info") {
+    n.type = TexNodeType::ObjectInfo;
+    n.output = outputs({"location", "color", "alpha", "object_index", "material_index", "random"});
   } else if (type == "map_range") {
     n.type = TexNodeType::MapRange;
     n.mode = r.choice("interpolation_type", {"LINEAR", "STEPPED", "SMOOTHSTEP", "SMOOTHERSTEP"}, "LINEAR");
@@ -574,7 +577,7 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.in[1] = input("gamma", 1.0);
   } else {
     fail(what_in + ": unknown texture node '" + type +
-         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, invert, hue_saturation, attribute, vertex_color, "
+         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, object_info, invert, hue_saturation, attribute, vertex_color, "
          "uv, texture_coordinate, mapping, normal_map, bump, separate_rgb, combine_rgb, rgb_to_bw, bright_contrast, gamma)");
   }
   r.used.insert("output");
@@ -866,6 +869,16 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
       const float v = map_range(inf(0), inf(1), inf(2), inf(3), inf(4), inf(5), type, n.clamp);
       return Color(std::isfinite(v) ? v : 0.0f);
     }
+    case TexNodeType::ObjectInfo:
+      switch (n.output) {
+        case 0: return sp.has_object_to_world ? Vec3(sp.object_to_world[3], sp.object_to_world[7], sp.object_to_world[11])
+                                              : Vec3(0.0f);
+        case 1: return sp.object_color;
+        case 2: return Color(sp.object_alpha);
+        case 3: return Color(sp.object_index);
+        case 4: return Color(sp.material_index);
+        default: return Color(sp.object_random);
+      }
     case TexNodeType::Invert: {
       Color c = in(1);
       return lerp(c, Color(1.0f) - c, inf(0));

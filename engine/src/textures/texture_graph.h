@@ -23,7 +23,8 @@ enum class TexNodeType : uint8_t {
   Mapping, NormalMap, Bump, SeparateRgb, CombineRgb, RgbToBw, BrightContrast, Gamma,
   Voronoi, Musgrave, Wave, Magic, Brick, WhiteNoise,  // Blender's procedural textures, as Cycles 3.4
   Curves,  // RGB / Vector Curves (mode 0) and Float Curve (mode 1): a baked table, as Cycles
-  VectorMath, MapRange  // math_nodes.h
+  VectorMath, MapRange,  // math_nodes.h
+  ObjectInfo  // the instance's location, colour, alpha, pass index, random; the material's index
 };
 
 constexpr int kTexNodeInputs = 10;  // the most any node has (Brick)
