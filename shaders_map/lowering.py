@@ -120,7 +120,7 @@ class _Lowerer:
         if op in ("tex_image", "tex_environment"):
             return op == "tex_image" and self._image_file(ir) is not None
         if op in ("texcoord", "uvmap", "tex_checker", "tex_noise", "tex_gradient", "vertex_color",
-                  "normal_map", "bump", "object_info") + PROCEDURAL_TEXTURES:
+                  "normal_map", "bump", "object_info", "blackbody") + PROCEDURAL_TEXTURES:
             return True
         if op == "attribute":
             return ir.props.get("attribute_type", "GEOMETRY") == "GEOMETRY" and bool(ir.props.get("attribute_name"))
@@ -381,6 +381,12 @@ class _Lowerer:
         if o == "object" and e.props.get("object"):
             self.approx(e.node, "object '%s' ignored, own object space used" % e.props["object"])
         return {"node": "texture_coordinate", "output": o}
+
+    def _n_blackbody(self, e):
+        return {"node": "blackbody", "temperature": self.value(e.args["temperature"])}
+
+    def _n_color_space(self, e):
+        return {"node": "color_space", "convert": e.props["convert"], "color": self.value(e.args["color"])}
 
     def _n_object_info(self, e):
         return {"node": "object_info", "output": e.props.get("output", "random")}

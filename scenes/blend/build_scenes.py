@@ -555,6 +555,68 @@ def object_info():
     camera_down(4.0 * 50.0 / 36.0)
 
 
+def color_nodes():
+    """Eight tiles: Separate / Combine Color in HSV and HSL on a Noise's colour (hue rotated,
+    saturation raised), and Blackbody colours at 1200, 2500, 4000, 6500 and 10000 K and driven
+    by a Noise over 1000-8000 K (Separate / Combine HSV and HSL were RGB, Blackbody a constant,
+    before 2026-11-30)."""
+    reset(128)
+    scene = bpy.context.scene
+    scene.render.resolution_y = 64
+
+    def tile(i, name, build):
+        m = emission_material(name + "Glow", strength=1.0)
+        nt = m.node_tree
+        noise = nt.nodes.new("ShaderNodeTexNoise")
+        noise.inputs["Scale"].default_value = 3.0
+        nt.links.new(build(nt, noise), nt.nodes["Emission"].inputs["Color"])
+        quad_object(name, 1.0, 1.0, (-1.5 + i % 4, 0.5 - i // 4, 0.0), (0, 0, 0), m)
+
+    def hue_shift(mode):
+        def build(nt, noise):
+            sep = nt.nodes.new("ShaderNodeSeparateColor")
+            com = nt.nodes.new("ShaderNodeCombineColor")
+            sep.mode = com.mode = mode
+            nt.links.new(noise.outputs["Color"], sep.inputs["Color"])
+            add = nt.nodes.new("ShaderNodeMath")
+            add.operation, add.inputs[1].default_value = "WRAP", 1.0
+            shift = nt.nodes.new("ShaderNodeMath")
+            shift.inputs[1].default_value = 0.4
+            nt.links.new(sep.outputs[0], shift.inputs[0])
+            nt.links.new(shift.outputs[0], add.inputs[0])
+            add.inputs[2].default_value = 0.0
+            nt.links.new(add.outputs[0], com.inputs[0])
+            sat = nt.nodes.new("ShaderNodeMath")
+            sat.operation, sat.inputs[1].default_value = "MULTIPLY", 3.0
+            sat.use_clamp = True  # saturation above 1 makes negative colours (Cycles emits them; we clamp)
+            nt.links.new(sep.outputs[1], sat.inputs[0])
+            nt.links.new(sat.outputs[0], com.inputs[1])
+            nt.links.new(sep.outputs[2], com.inputs[2])
+            return com.outputs["Color"]
+        return build
+
+    def blackbody(kelvin=None):
+        def build(nt, noise):
+            b = nt.nodes.new("ShaderNodeBlackbody")
+            if kelvin is None:
+                r = nt.nodes.new("ShaderNodeMapRange")
+                r.inputs["From Min"].default_value, r.inputs["From Max"].default_value = 0.3, 0.7
+                r.inputs["To Min"].default_value, r.inputs["To Max"].default_value = 1000.0, 8000.0
+                nt.links.new(noise.outputs["Fac"], r.inputs["Value"])
+                nt.links.new(r.outputs["Result"], b.inputs["Temperature"])
+            else:
+                b.inputs["Temperature"].default_value = kelvin
+            return b.outputs["Color"]
+        return build
+
+    tiles = (("HueShiftHsv", hue_shift("HSV")), ("HueShiftHsl", hue_shift("HSL")), ("Blackbody1200", blackbody(1200)),
+             ("Blackbody2500", blackbody(2500)), ("Blackbody4000", blackbody(4000)), ("Blackbody6500", blackbody(6500)),
+             ("Blackbody10000", blackbody(10000)), ("BlackbodyNoise", blackbody()))
+    for i, (name, build) in enumerate(tiles):
+        tile(i, name, build)
+    camera_down(4.0 * 50.0 / 36.0)
+
+
 def checker_glow():
     m = emission_material("CheckerGlow", strength=5.0)
     nt = m.node_tree
@@ -1433,6 +1495,7 @@ SCENES = {
     "curves_and_ramps": curves_and_ramps,
     "math_nodes": math_nodes,
     "object_info": object_info,
+    "color_nodes": color_nodes,
     "emissive_textured": emissive_textured,
     "volume_blackbody": volume_blackbody,
     "volume_tinted": volume_tinted,
@@ -1468,7 +1531,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "emissive_textured",
                      "volume_blackbody"]
 
 

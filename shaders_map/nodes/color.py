@@ -1,6 +1,8 @@
 """Colour nodes: Mix RGB (legacy and 3.4+ Mix), Invert, Color Ramp, Gamma,
 Bright/Contrast, Hue/Saturation, Separate/Combine colour, RGB to BW."""
 
+import math
+
 from ..ir import Expr, Const
 from ..registry import maps, evaluates
 from ..graph import to_float
@@ -247,14 +249,82 @@ def eval_hue_saturation(ev, e):
     return tuple(max((1 - f) * a + f * b, 0.0) for a, b in zip(c, out))
 
 
-@maps("ShaderNodeSeparateColor", "ShaderNodeSeparateRGB", "ShaderNodeSeparateXYZ")
+def _rgb_to_hsl(c):
+    """Cycles' rgb_to_hsl."""
+    hi, lo = max(c), min(c)
+    lum = min(1.0, (hi + lo) / 2.0)
+    if hi == lo:
+        return (0.0, 0.0, lum)
+    d = hi - lo
+    s = d / (2.0 - hi - lo) if lum > 0.5 else d / (hi + lo)
+    r, g, b = c
+    if hi == r:
+        h = (g - b) / d + (6.0 if g < b else 0.0)
+    elif hi == g:
+        h = (b - r) / d + 2.0
+    else:
+        h = (r - g) / d + 4.0
+    return (h / 6.0, s, lum)
+
+
+def _hsl_to_rgb(c):
+    """Cycles' hsl_to_rgb."""
+    h, s, lum = c
+    rgb = (_clamp01(abs(h * 6.0 - 3.0) - 1.0), _clamp01(2.0 - abs(h * 6.0 - 2.0)), _clamp01(2.0 - abs(h * 6.0 - 4.0)))
+    chroma = (1.0 - abs(2.0 * lum - 1.0)) * s
+    return tuple((x - 0.5) * chroma + lum for x in rgb)
+
+
+def _rgb_to_hsv(c):
+    """Cycles' rgb_to_hsv (hue in [0, 1))."""
+    hi, lo = max(c), min(c)
+    d = hi - lo
+    s = d / hi if hi != 0.0 else 0.0
+    h = 0.0
+    if s != 0.0:
+        cc = tuple((hi - x) / d for x in c)
+        h = cc[2] - cc[1] if c[0] == hi else (2.0 + cc[0] - cc[2] if c[1] == hi else 4.0 + cc[1] - cc[0])
+        h /= 6.0
+        if h < 0.0:
+            h += 1.0
+    return (h, s, hi)
+
+
+def _hsv_to_rgb(c):
+    """Cycles' hsv_to_rgb."""
+    h, s, v = c
+    if s == 0.0:
+        return (v, v, v)
+    h = 0.0 if h == 1.0 else h
+    h *= 6.0
+    i = math.floor(h)
+    f = h - i
+    p, q, t = v * (1.0 - s), v * (1.0 - s * f), v * (1.0 - s * (1.0 - f))
+    return {0: (v, t, p), 1: (q, v, p), 2: (p, v, t), 3: (p, q, v), 4: (t, p, v)}.get(int(i), (v, p, q))
+
+
+COLOR_SPACES = {"RGB_TO_HSV": _rgb_to_hsv, "HSV_TO_RGB": _hsv_to_rgb, "RGB_TO_HSL": _rgb_to_hsl,
+                "HSL_TO_RGB": _hsl_to_rgb}
+
+
+@evaluates("color_space")
+def eval_color_space(ev, e):
+    try:
+        out = COLOR_SPACES[e.props["convert"]](ev.color(e.args["color"]))
+    except (ZeroDivisionError, ValueError, OverflowError):
+        return (0.0, 0.0, 0.0)
+    return out if all(math.isfinite(x) for x in out) else (0.0, 0.0, 0.0)
+
+
+@maps("ShaderNodeSeparateColor", "ShaderNodeSeparateRGB", "ShaderNodeSeparateXYZ", "ShaderNodeSeparateHSV")
 def separate(ctx, node, socket):
     ident = getattr(socket, "identifier", "Red")
-    index = {"Red": 0, "R": 0, "X": 0, "Green": 1, "G": 1, "Y": 1, "Blue": 2, "B": 2, "Z": 2}.get(ident, 0)
-    mode = getattr(node, "mode", "RGB")
+    index = {"Red": 0, "R": 0, "X": 0, "H": 0, "Green": 1, "G": 1, "Y": 1, "S": 1, "Blue": 2, "B": 2, "Z": 2,
+             "V": 2}.get(ident, 0)
+    mode = "HSV" if getattr(node, "bl_idname", "") == "ShaderNodeSeparateHSV" else getattr(node, "mode", "RGB")
     src = ctx.input(node, "Color", "Image", "Vector", default=(0, 0, 0))
-    if mode != "RGB":
-        ctx.warn(node, "%s mode approximated as RGB" % mode)
+    if mode in ("HSV", "HSL"):  # the colour converted first, as Cycles' svm_separate_color
+        src = Expr("color_space", ctx.label(node), {"color": src}, {"convert": "RGB_TO_" + mode})
     return Expr("separate", ctx.label(node), {"value": src}, {"index": index})
 
 
@@ -263,15 +333,16 @@ def eval_separate(ev, e):
     return float(ev.color(e.args["value"])[e.props["index"]])
 
 
-@maps("ShaderNodeCombineColor", "ShaderNodeCombineRGB", "ShaderNodeCombineXYZ")
+@maps("ShaderNodeCombineColor", "ShaderNodeCombineRGB", "ShaderNodeCombineXYZ", "ShaderNodeCombineHSV")
 def combine(ctx, node, socket):
-    mode = getattr(node, "mode", "RGB")
-    if mode != "RGB":
-        ctx.warn(node, "%s mode approximated as RGB" % mode)
-    return Expr("combine", ctx.label(node), {
-        "x": ctx.input(node, "Red", "R", "X", default=0.0),
-        "y": ctx.input(node, "Green", "G", "Y", default=0.0),
-        "z": ctx.input(node, "Blue", "B", "Z", default=0.0)})
+    mode = "HSV" if getattr(node, "bl_idname", "") == "ShaderNodeCombineHSV" else getattr(node, "mode", "RGB")
+    out = Expr("combine", ctx.label(node), {
+        "x": ctx.input(node, "Red", "R", "X", "H", default=0.0),
+        "y": ctx.input(node, "Green", "G", "Y", "S", default=0.0),
+        "z": ctx.input(node, "Blue", "B", "Z", "V", default=0.0)})
+    if mode in ("HSV", "HSL"):
+        out = Expr("color_space", ctx.label(node), {"color": out}, {"convert": mode + "_TO_RGB"})
+    return out
 
 
 @evaluates("combine")
@@ -373,3 +444,15 @@ def eval_curves(ev, e):
     c = ev.color(e.args["value"])
     mapped = [table_lookup(table, (x - lo) / (hi - lo), True, extrapolate)[k] for k, x in enumerate(c)]
     return tuple((1.0 - fac) * x + fac * m for x, m in zip(c, mapped))
+
+
+@maps("ShaderNodeBlackbody")
+def blackbody(ctx, node, socket):
+    return Expr("blackbody", ctx.label(node), {"temperature": ctx.input(node, "Temperature", default=1500.0)})
+
+
+@evaluates("blackbody")
+def eval_blackbody(ev, e):
+    # Folds only with the engine's table (a constant temperature is exported as a node).
+    ev.approx(e, "blackbody colour approximated as white without the engine")
+    return (1.0, 1.0, 1.0)

@@ -508,6 +508,43 @@ class TestValues(unittest.TestCase):
                 # (a colour input holds no negative part: Cycles clamps those, and so does the export)
                 self.assertTrue(all(abs(max(y, 0.0) - x) < 1e-4 for x, y in zip(p["color"], value)), (op, p["color"]))
 
+    def test_separate_and_combine_in_hsv_and_hsl(self):
+        # Converted as Cycles' rgb_to_hsv / rgb_to_hsl (and back): no warning, exact folds.
+        cases = (("HSV", 0, 1.0 / 6.0 * (0.6 / 0.8)), ("HSV", 1, 0.8), ("HSV", 2, 1.0),
+                 ("HSL", 1, 0.8 / (2.0 - 1.2)), ("HSL", 2, 0.6))
+        for mode, index, expect in cases:
+            with self.subTest(mode=mode, index=index):
+                def b(t):
+                    rgb = t.new("ShaderNodeRGB", "RGB")
+                    rgb.out().default_value = [1.0, 0.8, 0.2, 1.0]
+                    sep = t.new("ShaderNodeSeparateColor", "Sep", mode=mode)
+                    t.link(rgb.out(), sep.inp("Color"))
+                    return sep.outputs[index]
+                p, w = self._color_into_diffuse(b)
+                self.assertAlmostEqual(p["color"][0], expect, places=5)
+                self.assertIsNone(w)
+        for mode in ("HSV", "HSL"):
+            with self.subTest(round_trip=mode):
+                def b(t):
+                    rgb = t.new("ShaderNodeRGB", "RGB")
+                    rgb.out().default_value = [0.3, 0.9, 0.5, 1.0]
+                    sep = t.new("ShaderNodeSeparateColor", "Sep", mode=mode)
+                    com = t.new("ShaderNodeCombineColor", "Com", mode=mode)
+                    t.link(rgb.out(), sep.inp("Color"))
+                    for k in range(3):
+                        t.link(sep.outputs[k], com.inputs[k])
+                    return com.out()
+                p, w = self._color_into_diffuse(b)
+                self.assertTrue(close(p["color"], (0.3, 0.9, 0.5)), p["color"])
+        def b(t):  # a varying colour: the engine's color_space node
+            sep = t.new("ShaderNodeSeparateColor", "Sep", mode="HSL")
+            t.link(t.new("ShaderNodeTexNoise", "N").out("Color"), sep.inp("Color"))
+            return sep.outputs[0]
+        p, w = self._color_into_diffuse(b)
+        c = p["color"]["color"] if p["color"]["node"] == "rgb_to_bw" else p["color"]
+        self.assertEqual(c["node"], "separate_rgb")
+        self.assertEqual((c["color"]["node"], c["color"]["convert"]), ("color_space", "RGB_TO_HSL"))
+
     def test_invert(self):
         def b(t):
             n = t.new("ShaderNodeInvert", "Inv")

@@ -374,6 +374,36 @@ TEST(TextureGraphs, VectorMathAndMapRangeAsCycles) {
   EXPECT_TRUE(w.empty());
 }
 
+// HSV / HSL conversions as Cycles' (values by hand), their round trips, and Blackbody's
+// luminance-1 colour (its values against Cycles': blender.brightness.color_nodes).
+TEST(TextureGraphs, ColorSpacesAndBlackbody) {
+  std::vector<std::string> w;
+  int n;
+  ShadingPoint sp;
+  auto eval = [&](const std::string &j) {
+    TextureGraph g = graph_of(j, n, w);
+    return g.eval(n, sp);
+  };
+  Color c = eval(R"({"node":"color_space","convert":"RGB_TO_HSV","color":[1,0.8,0.2]})");
+  EXPECT_NEAR(c.x, 0.125f, 1e-6f); EXPECT_NEAR(c.y, 0.8f, 1e-6f); EXPECT_NEAR(c.z, 1.0f, 1e-6f);
+  c = eval(R"({"node":"color_space","convert":"RGB_TO_HSL","color":[1,0.8,0.2]})");
+  EXPECT_NEAR(c.x, 0.125f, 1e-6f); EXPECT_NEAR(c.y, 1.0f, 1e-6f); EXPECT_NEAR(c.z, 0.6f, 1e-6f);
+  for (const char *mode : {"HSV", "HSL"}) {
+    c = eval(std::string(R"({"node":"color_space","convert":")") + mode + R"(_TO_RGB","color":{"node":"color_space","convert":"RGB_TO_)" +
+             mode + R"(","color":[0.3,0.9,0.5]}})");
+    EXPECT_NEAR(c.x, 0.3f, 1e-6f) << mode; EXPECT_NEAR(c.y, 0.9f, 1e-6f) << mode; EXPECT_NEAR(c.z, 0.5f, 1e-6f) << mode;
+  }
+  for (float kelvin : {500.0f, 1200.0f, 6500.0f, 20000.0f}) {
+    c = eval(R"({"node":"blackbody","temperature":)" + std::to_string(kelvin) + "}");
+    EXPECT_TRUE(is_finite(c)) << kelvin;
+    EXPECT_GE(min_component(c), 0.0f) << kelvin;
+    EXPECT_NEAR(luminance(c), 1.0f, kelvin < 1000 ? 0.2f : 0.01f) << kelvin;  // negatives clipped at the red end
+  }
+  EXPECT_GT(eval(R"({"node":"blackbody","temperature":1200})").x, eval(R"({"node":"blackbody","temperature":1200})").z);
+  EXPECT_THROW(eval(R"({"node":"color_space","convert":"RGB_TO_LAB"})"), Error);
+  EXPECT_TRUE(w.empty());
+}
+
 TEST(TextureGraphs, NamedUvMapsAndVertexColours) {
   Mesh mesh;
   MeshAttribute uv2{attribute_id("UVMap.001"), "UVMap.001", 2, {0, 0, 1, 0, 0, 1}};

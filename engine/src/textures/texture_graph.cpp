@@ -5,6 +5,7 @@
 #include <set>
 #include "core/error.h"
 #include "core/limits.h"
+#include "media/blackbody.h"
 #include "textures/math_nodes.h"
 #include "textures/musgrave.h"
 #include "textures/noise.h"
@@ -32,10 +33,35 @@ Color rgb_to_hsv(Color c) {
   return {h, s, cmax};
 }
 
+// Cycles' rgb_to_hsl / hsl_to_rgb (util/color.h), for Separate / Combine Color in HSL.
+Color rgb_to_hsl(Color c) {
+  const float cmax = max_component(c), cmin = std::min(c.x, std::min(c.y, c.z));
+  const float l = std::min(1.0f, (cmax + cmin) / 2.0f);
+  float h = 0, s = 0;
+  if (cmax != cmin) {
+    const float d = cmax - cmin;
+    s = l > 0.5f ? d / (2.0f - cmax - cmin) : d / (cmax + cmin);
+    if (cmax == c.x) h = (c.y - c.z) / d + (c.y < c.z ? 6.0f : 0.0f);
+    else if (cmax == c.y) h = (c.z - c.x) / d + 2.0f;
+    else h = (c.x - c.y) / d + 4.0f;
+  }
+  return {h / 6.0f, s, l};
+}
+
+Color hsl_to_rgb(Color hsl) {
+  const float h = hsl.x, s = hsl.y, l = hsl.z;
+  const float r = clampf(std::fabs(h * 6.0f - 3.0f) - 1.0f, 0.0f, 1.0f);
+  const float g = clampf(2.0f - std::fabs(h * 6.0f - 2.0f), 0.0f, 1.0f);
+  const float b = clampf(2.0f - std::fabs(h * 6.0f - 4.0f), 0.0f, 1.0f);
+  const float chroma = (1.0f - std::fabs(2.0f * l - 1.0f)) * s;
+  return {(r - 0.5f) * chroma + l, (g - 0.5f) * chroma + l, (b - 0.5f) * chroma + l};
+}
+
 Color hsv_to_rgb(Color hsv) {
   float h = hsv.x, s = hsv.y, v = hsv.z;
   if (s == 0) return Color(v);
   if (h == 1.0f) h = 0;
+  if (!std::isfinite(h)) return Color(0.0f);
   h *= 6.0f;
   float i = std::floor(h), f = h - i, p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
   switch (int(i)) {
@@ -449,6 +475,15 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.in[2] = input("vector3", json::array({0, 0, 0}));
     n.in[3] = input("scale", 1.0);
     n.output = outputs({"vector", "value"});
+  } else if (type == "color_space") {
+    // Separate / Combine Color in HSV or HSL: the colour converted as Cycles converts it.
+    n.type = TexNodeType::ColorSpace;
+    n.mode = r.choice("convert", {"RGB_TO_HSV", "HSV_TO_RGB", "RGB_TO_HSL", "HSL_TO_RGB"}, "RGB_TO_HSV");
+    n.in[0] = input("color", json::array({0.8, 0.8, 0.8}));
+  } else if (type == "blackbody") {
+    // Blender's Blackbody node: Planck's colour at the temperature, luminance 1 (media/blackbody.h).
+    n.type = TexNodeType::Blackbody;
+    n.in[0] = input("temperature", 1500.0);
   } else if (type == "object_info") {
     n.type = TexNodeType::ObjectInfo;
     n.output = outputs({"location", "color", "alpha", "object_index", "material_index", "random"});
@@ -577,7 +612,7 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.in[1] = input("gamma", 1.0);
   } else {
     fail(what_in + ": unknown texture node '" + type +
-         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, object_info, invert, hue_saturation, attribute, vertex_color, "
+         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, object_info, color_space, blackbody, invert, hue_saturation, attribute, vertex_color, "
          "uv, texture_coordinate, mapping, normal_map, bump, separate_rgb, combine_rgb, rgb_to_bw, bright_contrast, gamma)");
   }
   r.used.insert("output");
@@ -869,6 +904,13 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
       const float v = map_range(inf(0), inf(1), inf(2), inf(3), inf(4), inf(5), type, n.clamp);
       return Color(std::isfinite(v) ? v : 0.0f);
     }
+    case TexNodeType::ColorSpace: {
+      const Color c = in(0);
+      const Color out = n.mode == 0 ? rgb_to_hsv(c) : n.mode == 1 ? hsv_to_rgb(c) : n.mode == 2 ? rgb_to_hsl(c)
+                                                                                                  : hsl_to_rgb(c);
+      return is_finite(out) ? out : Color(0.0f);
+    }
+    case TexNodeType::Blackbody: return blackbody_color(inf(0));
     case TexNodeType::ObjectInfo:
       switch (n.output) {
         case 0: return sp.has_object_to_world ? Vec3(sp.object_to_world[3], sp.object_to_world[7], sp.object_to_world[11])

@@ -24,7 +24,9 @@ enum class TexNodeType : uint8_t {
   Voronoi, Musgrave, Wave, Magic, Brick, WhiteNoise,  // Blender's procedural textures, as Cycles 3.4
   Curves,  // RGB / Vector Curves (mode 0) and Float Curve (mode 1): a baked table, as Cycles
   VectorMath, MapRange,  // math_nodes.h
-  ObjectInfo  // the instance's location, colour, alpha, pass index, random; the material's index
+  ObjectInfo,  // the instance's location, colour, alpha, pass index, random; the material's index
+  ColorSpace,  // RGB <-> HSV / HSL (Separate and Combine Color)
+  Blackbody    // Planck's colour at a temperature (media/blackbody.h)
 };
 
 constexpr int kTexNodeInputs = 10;  // the most any node has (Brick)
