@@ -300,28 +300,44 @@ def noise_texture():
     camera_down(4.0)
 
 
+def emission_tiles(tiles, source=None, rows=2):
+    """Tiles of emission planes (1 unit, 32 px, four to a row) seen from above, for the tests
+    of shader nodes against Cycles: tiles lists (name, build); build(nt, src) returns the
+    socket the tile emits as its colour, src the socket source(nt) made (None without)."""
+    scene = reset(128)
+    scene.render.resolution_y = 32 * rows
+    for i, (name, build) in enumerate(tiles):
+        m = emission_material(name + "Glow", strength=1.0)
+        nt = m.node_tree
+        nt.links.new(build(nt, source(nt) if source else None), nt.nodes["Emission"].inputs["Color"])
+        quad_object(name, 1.0, 1.0, (-1.5 + i % 4, (rows - 1) / 2 - i // 4, 0.0), (0, 0, 0), m)
+    camera_down(4.0 * 50.0 / 36.0)
+
+
+def noise_source(nt):
+    """A Noise Texture (Scale 3) for a tile to build on."""
+    noise = nt.nodes.new("ShaderNodeTexNoise")
+    noise.inputs["Scale"].default_value = 3.0
+    return noise
+
+
 def procedural_textures():
     """Twelve tiles, each emitting one of Blender's procedural textures (Voronoi's features,
     dimensions and metrics, Musgrave's types, Wave, Magic, Brick, White Noise per Voronoi cell),
     seen from above: Blender's patterns block for block. Each tile's emission is kept positive
     (Musgrave's heights through a Map Range)."""
-    reset(128)
-    scene = bpy.context.scene
-    scene.render.resolution_y = 96
+    tiles = []
 
-    def tile(i, name, idname, output, props=(), inputs=(), chain=None):
-        m = emission_material(name + "Glow", strength=1.0)
-        nt = m.node_tree
-        tex = nt.nodes.new(idname)
-        for k, v in props:
-            setattr(tex, k, v)
-        for k, v in inputs:
-            tex.inputs[k].default_value = v
-        out = tex.outputs[output]
-        if chain:
-            out = chain(nt, tex, out)
-        nt.links.new(out, nt.nodes["Emission"].inputs["Color"])
-        quad_object(name, 1.0, 1.0, (-1.5 + i % 4, 1.0 - i // 4, 0.0), (0, 0, 0), m)
+    def tile(name, idname, output, props=(), inputs=(), chain=None):
+        def build(nt, _):
+            tex = nt.nodes.new(idname)
+            for k, v in props:
+                setattr(tex, k, v)
+            for k, v in inputs:
+                tex.inputs[k].default_value = v
+            out = tex.outputs[output]
+            return chain(nt, tex, out) if chain else out
+        tiles.append((name, build))
 
     def map_range(lo, hi):
         def chain(nt, tex, out):
@@ -336,32 +352,32 @@ def procedural_textures():
         nt.links.new(out, w.inputs["Vector"])
         return w.outputs["Color"]
 
-    tile(0, "VoronoiF1", "ShaderNodeTexVoronoi", "Color", inputs=(("Scale", 4.0),))
-    tile(1, "VoronoiSmooth2D", "ShaderNodeTexVoronoi", "Distance",
+    tile("VoronoiF1", "ShaderNodeTexVoronoi", "Color", inputs=(("Scale", 4.0),))
+    tile("VoronoiSmooth2D", "ShaderNodeTexVoronoi", "Distance",
          (("voronoi_dimensions", "2D"), ("feature", "SMOOTH_F1"), ("distance", "CHEBYCHEV")),
          (("Scale", 5.0), ("Smoothness", 0.6)))
-    tile(2, "VoronoiEdge4D", "ShaderNodeTexVoronoi", "Distance",
+    tile("VoronoiEdge4D", "ShaderNodeTexVoronoi", "Distance",
          (("voronoi_dimensions", "4D"), ("feature", "DISTANCE_TO_EDGE")), (("Scale", 4.0), ("W", 0.3)))
-    tile(3, "VoronoiF2Minkowski", "ShaderNodeTexVoronoi", "Distance",
+    tile("VoronoiF2Minkowski", "ShaderNodeTexVoronoi", "Distance",
          (("feature", "F2"), ("distance", "MINKOWSKI")), (("Scale", 3.0), ("Exponent", 1.5), ("Randomness", 0.8)))
-    tile(4, "MusgraveRidged", "ShaderNodeTexMusgrave", "Fac", (("musgrave_type", "RIDGED_MULTIFRACTAL"),),
+    tile("MusgraveRidged", "ShaderNodeTexMusgrave", "Fac", (("musgrave_type", "RIDGED_MULTIFRACTAL"),),
          (("Scale", 3.0), ("Detail", 4.0), ("Offset", 1.0), ("Gain", 2.0)), map_range(0.0, 3.0))
-    tile(5, "MusgraveFbm4D", "ShaderNodeTexMusgrave", "Fac", (("musgrave_dimensions", "4D"),),
+    tile("MusgraveFbm4D", "ShaderNodeTexMusgrave", "Fac", (("musgrave_dimensions", "4D"),),
          (("Scale", 3.0), ("Detail", 3.5), ("W", 0.6)), map_range(-1.5, 1.5))
-    tile(6, "MusgraveHybrid2D", "ShaderNodeTexMusgrave", "Fac",
+    tile("MusgraveHybrid2D", "ShaderNodeTexMusgrave", "Fac",
          (("musgrave_dimensions", "2D"), ("musgrave_type", "HYBRID_MULTIFRACTAL")),
          (("Scale", 3.0), ("Detail", 2.5), ("Offset", 0.8), ("Gain", 1.5)), map_range(0.0, 3.0))
-    tile(7, "WaveRings", "ShaderNodeTexWave", "Color",
+    tile("WaveRings", "ShaderNodeTexWave", "Color",
          (("wave_type", "RINGS"), ("rings_direction", "SPHERICAL"), ("wave_profile", "SAW")),
          (("Scale", 1.5), ("Distortion", 4.0), ("Detail", 3.0), ("Detail Scale", 2.0)))
-    tile(8, "WaveBands", "ShaderNodeTexWave", "Fac", (("bands_direction", "DIAGONAL"), ("wave_profile", "TRI")),
+    tile("WaveBands", "ShaderNodeTexWave", "Fac", (("bands_direction", "DIAGONAL"), ("wave_profile", "TRI")),
          (("Scale", 2.0), ("Phase Offset", 1.0)))
-    tile(9, "Magic", "ShaderNodeTexMagic", "Color", (("turbulence_depth", 4),), (("Scale", 2.0), ("Distortion", 2.0)))
-    tile(10, "Brick", "ShaderNodeTexBrick", "Color", (("offset", 0.4), ("squash", 0.7), ("squash_frequency", 3)),
+    tile("Magic", "ShaderNodeTexMagic", "Color", (("turbulence_depth", 4),), (("Scale", 2.0), ("Distortion", 2.0)))
+    tile("Brick", "ShaderNodeTexBrick", "Color", (("offset", 0.4), ("squash", 0.7), ("squash_frequency", 3)),
          (("Color1", (0.9, 0.3, 0.2, 1.0)), ("Color2", (0.2, 0.6, 0.9, 1.0)), ("Mortar", (0.9, 0.9, 0.8, 1.0)),
           ("Scale", 3.0), ("Mortar Size", 0.05), ("Mortar Smooth", 0.4), ("Bias", -0.2)))
-    tile(11, "CellColors", "ShaderNodeTexVoronoi", "Position", inputs=(("Scale", 3.0),), chain=per_cell_white_noise)
-    camera_down(4.0 * 50.0 / 36.0)
+    tile("CellColors", "ShaderNodeTexVoronoi", "Position", inputs=(("Scale", 3.0),), chain=per_cell_white_noise)
+    emission_tiles(tiles, rows=3)
 
 
 def curves_and_ramps():
@@ -369,18 +385,6 @@ def curves_and_ramps():
     Constant) and in HSV, RGB / Vector / Float Curves with bent, auto-handled points, each on a
     Noise or Wave texture, emitted and seen from above. Cycles bakes ramps and curves from
     Blender's own evaluation; so do we (B-Spline, Cardinal and HSV were linear RGB before)."""
-    reset(128)
-    scene = bpy.context.scene
-    scene.render.resolution_y = 64
-
-    def tile(i, name, build):
-        m = emission_material(name + "Glow", strength=1.0)
-        nt = m.node_tree
-        noise = nt.nodes.new("ShaderNodeTexNoise")
-        noise.inputs["Scale"].default_value = 3.0
-        nt.links.new(build(nt, noise), nt.nodes["Emission"].inputs["Color"])
-        quad_object(name, 1.0, 1.0, (-1.5 + i % 4, 0.5 - i // 4, 0.0), (0, 0, 0), m)
-
     def ramp(interpolation, mode="RGB", hue="NEAR"):
         def build(nt, noise):
             r = nt.nodes.new("ShaderNodeValToRGB")
@@ -432,12 +436,10 @@ def curves_and_ramps():
         nt.links.new(wave.outputs["Fac"], c.inputs["Value"])
         return c.outputs["Value"]
 
-    for i, (name, build) in enumerate((("RampBSpline", ramp("B_SPLINE")), ("RampCardinal", ramp("CARDINAL")),
-                                       ("RampEase", ramp("EASE")), ("RampConstant", ramp("CONSTANT")),
-                                       ("RampHsv", ramp("LINEAR", "HSV", "FAR")), ("RgbCurves", rgb_curves),
-                                       ("VectorCurves", vector_curves), ("FloatCurve", float_curve))):
-        tile(i, name, build)
-    camera_down(4.0 * 50.0 / 36.0)
+    emission_tiles((("RampBSpline", ramp("B_SPLINE")), ("RampCardinal", ramp("CARDINAL")), ("RampEase", ramp("EASE")),
+                    ("RampConstant", ramp("CONSTANT")), ("RampHsv", ramp("LINEAR", "HSV", "FAR")),
+                    ("RgbCurves", rgb_curves), ("VectorCurves", vector_curves), ("FloatCurve", float_curve)),
+                   noise_source)
 
 
 def math_nodes():
@@ -446,18 +448,6 @@ def math_nodes():
     distance, cross product, reflect, snap, wrap, sine and dot product, emitted and seen from
     above (a Vector Math other than add / subtract / multiply / divide / scale was a constant,
     a Map Range other than linear was linear, before 2026-11-30)."""
-    reset(128)
-    scene = bpy.context.scene
-    scene.render.resolution_y = 96
-
-    def tile(i, name, build):
-        m = emission_material(name + "Glow", strength=1.0)
-        nt = m.node_tree
-        coord = nt.nodes.new("ShaderNodeTexCoord").outputs["Generated"]
-        out = build(nt, coord)
-        nt.links.new(out, nt.nodes["Emission"].inputs["Color"])
-        quad_object(name, 1.0, 1.0, (-1.5 + i % 4, 1.0 - i // 4, 0.0), (0, 0, 0), m)
-
     def map_range(kind, lo=0.2, hi=0.8, vector=False):
         def build(nt, coord):
             r = nt.nodes.new("ShaderNodeMapRange")
@@ -506,9 +496,7 @@ def math_nodes():
              ("Reflect", vmath("REFLECT", b=(0.3, 0.8, 0.5), absolute=True)),
              ("Snap", vmath("SNAP", b=(0.2, 0.3, 0.3))), ("Wrap", vmath("WRAP", b=(0.35, 0.6, 0.8), c=(0.1, 0.0, 0.2))),
              ("Sine", vmath("SINE", gain=0.5)), ("Dot", vmath("DOT_PRODUCT", b=(1.0, 0.6, 0.0), value=True, gain=0.7)))
-    for i, (name, build) in enumerate(tiles):
-        tile(i, name, build)
-    camera_down(4.0 * 50.0 / 36.0)
+    emission_tiles(tiles, lambda nt: nt.nodes.new("ShaderNodeTexCoord").outputs["Generated"], rows=3)
 
 
 def object_info():
@@ -560,18 +548,6 @@ def color_nodes():
     saturation raised), and Blackbody colours at 1200, 2500, 4000, 6500 and 10000 K and driven
     by a Noise over 1000-8000 K (Separate / Combine HSV and HSL were RGB, Blackbody a constant,
     before 2026-11-30)."""
-    reset(128)
-    scene = bpy.context.scene
-    scene.render.resolution_y = 64
-
-    def tile(i, name, build):
-        m = emission_material(name + "Glow", strength=1.0)
-        nt = m.node_tree
-        noise = nt.nodes.new("ShaderNodeTexNoise")
-        noise.inputs["Scale"].default_value = 3.0
-        nt.links.new(build(nt, noise), nt.nodes["Emission"].inputs["Color"])
-        quad_object(name, 1.0, 1.0, (-1.5 + i % 4, 0.5 - i // 4, 0.0), (0, 0, 0), m)
-
     def hue_shift(mode):
         def build(nt, noise):
             sep = nt.nodes.new("ShaderNodeSeparateColor")
@@ -609,12 +585,10 @@ def color_nodes():
             return b.outputs["Color"]
         return build
 
-    tiles = (("HueShiftHsv", hue_shift("HSV")), ("HueShiftHsl", hue_shift("HSL")), ("Blackbody1200", blackbody(1200)),
-             ("Blackbody2500", blackbody(2500)), ("Blackbody4000", blackbody(4000)), ("Blackbody6500", blackbody(6500)),
-             ("Blackbody10000", blackbody(10000)), ("BlackbodyNoise", blackbody()))
-    for i, (name, build) in enumerate(tiles):
-        tile(i, name, build)
-    camera_down(4.0 * 50.0 / 36.0)
+    emission_tiles((("HueShiftHsv", hue_shift("HSV")), ("HueShiftHsl", hue_shift("HSL")),
+                    ("Blackbody1200", blackbody(1200)), ("Blackbody2500", blackbody(2500)),
+                    ("Blackbody4000", blackbody(4000)), ("Blackbody6500", blackbody(6500)),
+                    ("Blackbody10000", blackbody(10000)), ("BlackbodyNoise", blackbody())), noise_source)
 
 
 def checker_glow():

@@ -67,6 +67,13 @@ TextureGraph graph_of(const std::string &node_json, int &node, std::vector<std::
   return g;
 }
 
+// A node graph's value at a default shading point (warnings appended to w).
+Color eval_at_default_point(const std::string &node_json, std::vector<std::string> &w) {
+  int n;
+  TextureGraph g = graph_of(node_json, n, w);
+  return g.eval(n, ShadingPoint{});
+}
+
 }  // namespace
 
 TEST(TextureImages, KnownValuesInEachFormatLinearAndNonColor) {
@@ -328,12 +335,7 @@ TEST(TextureGraphs, CurveAndRampTablesLookUpAsCycles) {
 // by hand; every operation finite on degenerate input (zero vectors, zero ranges, NaN).
 TEST(TextureGraphs, VectorMathAndMapRangeAsCycles) {
   std::vector<std::string> w;
-  int n;
-  ShadingPoint sp;
-  auto eval = [&](const std::string &j) {
-    TextureGraph g = graph_of(j, n, w);
-    return g.eval(n, sp);
-  };
+  auto eval = [&](const std::string &j) { return eval_at_default_point(j, w); };
   const std::string ab = R"("vector1":[0.6,-0.8,2.5],"vector2":[0,2,0.5],"vector3":[1,1,-1])";
   auto op = [&](const char *o, const char *out = "vector") {
     return eval(std::string(R"({"node":"vector_math","operation":")") + o + R"(","output":")" + out + "\"," + ab + "}");
@@ -378,12 +380,7 @@ TEST(TextureGraphs, VectorMathAndMapRangeAsCycles) {
 // luminance-1 colour (its values against Cycles': blender.brightness.color_nodes).
 TEST(TextureGraphs, ColorSpacesAndBlackbody) {
   std::vector<std::string> w;
-  int n;
-  ShadingPoint sp;
-  auto eval = [&](const std::string &j) {
-    TextureGraph g = graph_of(j, n, w);
-    return g.eval(n, sp);
-  };
+  auto eval = [&](const std::string &j) { return eval_at_default_point(j, w); };
   Color c = eval(R"({"node":"color_space","convert":"RGB_TO_HSV","color":[1,0.8,0.2]})");
   EXPECT_NEAR(c.x, 0.125f, 1e-6f); EXPECT_NEAR(c.y, 0.8f, 1e-6f); EXPECT_NEAR(c.z, 1.0f, 1e-6f);
   c = eval(R"({"node":"color_space","convert":"RGB_TO_HSL","color":[1,0.8,0.2]})");
