@@ -33,7 +33,10 @@ PRINCIPLED_KEYS = ("base_color", "subsurface", "subsurface_radius", "subsurface_
                    "clearcoat", "clearcoat_roughness", "ior", "transmission", "transmission_roughness", "alpha")
 COLOR_KEYS = {"base_color", "subsurface_color", "color", "subsurface_radius"}
 
-TEXCOORD_OUTPUTS = {"Generated": "generated", "UV": "uv", "Object": "object", "Normal": "normal"}
+# Texture Coordinate's Normal is the object-space normal (Cycles' object_inverse_normal_transform);
+# Geometry's Position, Normal and True Normal are world space.
+TEXCOORD_OUTPUTS = {"Generated": "generated", "UV": "uv", "Object": "object", "Normal": "object_normal"}
+GEOMETRY_OUTPUTS = {"Position": "position", "Normal": "normal", "True Normal": "true_normal"}
 
 
 def luminance(c):
@@ -120,7 +123,7 @@ class _Lowerer:
         if op in ("tex_image", "tex_environment"):
             return op == "tex_image" and self._image_file(ir) is not None
         if op in ("texcoord", "uvmap", "tex_checker", "tex_noise", "tex_gradient", "vertex_color",
-                  "normal_map", "bump", "object_info", "blackbody") + PROCEDURAL_TEXTURES:
+                  "normal_map", "bump", "object_info", "blackbody", "geometry") + PROCEDURAL_TEXTURES:
             return True
         if op == "attribute":
             return ir.props.get("attribute_type", "GEOMETRY") == "GEOMETRY" and bool(ir.props.get("attribute_name"))
@@ -387,6 +390,12 @@ class _Lowerer:
 
     def _n_color_space(self, e):
         return {"node": "color_space", "convert": e.props["convert"], "color": self.value(e.args["color"])}
+
+    def _n_geometry(self, e):
+        out = GEOMETRY_OUTPUTS.get(e.props.get("output"))
+        if out is None:
+            return self._const_node(e)  # the evaluator records the approximation
+        return {"node": "texture_coordinate", "output": out}
 
     def _n_object_info(self, e):
         return {"node": "object_info", "output": e.props.get("output", "random")}

@@ -499,6 +499,25 @@ def math_nodes():
     emission_tiles(tiles, lambda nt: nt.nodes.new("ShaderNodeTexCoord").outputs["Generated"], rows=3)
 
 
+def geometry_coordinates():
+    """Geometry > Position / Normal / True Normal and Texture Coordinate > Normal (object space)
+    on tilted, rotated tiles (their object and world normals differ), each through Vector Math
+    ABSOLUTE so the emission stays positive; seen from above."""
+    def coordinate(node, output):
+        def build(nt, _):
+            a = nt.nodes.new("ShaderNodeVectorMath")
+            a.operation = "ABSOLUTE"
+            nt.links.new(nt.nodes.new(node).outputs[output], a.inputs[0])
+            return a.outputs["Vector"]
+        return build
+    emission_tiles((("Position", coordinate("ShaderNodeNewGeometry", "Position")),
+                    ("Normal", coordinate("ShaderNodeNewGeometry", "Normal")),
+                    ("TrueNormal", coordinate("ShaderNodeNewGeometry", "True Normal")),
+                    ("ObjectNormal", coordinate("ShaderNodeTexCoord", "Normal"))), rows=1)
+    for i, ob in enumerate(o for o in bpy.data.objects if o.type == "MESH"):
+        ob.rotation_euler = (math.radians(25), math.radians(-20 + 10 * i), math.radians(30 * i))
+
+
 def object_info():
     """Object Info per instance: twelve tiles, eight separate objects and four instances of a
     tile on a mesh's vertices (Instancing > Vertices), each emitting its Random (through a Color
@@ -1469,6 +1488,7 @@ SCENES = {
     "curves_and_ramps": curves_and_ramps,
     "math_nodes": math_nodes,
     "object_info": object_info,
+    "geometry_coordinates": geometry_coordinates,
     "color_nodes": color_nodes,
     "emissive_textured": emissive_textured,
     "volume_blackbody": volume_blackbody,
@@ -1505,7 +1525,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "emissive_textured",
                      "volume_blackbody"]
 
 

@@ -61,3 +61,18 @@ def eval_object_info(ev, e):
     if out == "location":
         return (0.0, 0.0, 0.0)
     return {"alpha": 1.0, "random": 0.5}.get(out, 0.0)
+
+
+@maps("ShaderNodeNewGeometry")
+def geometry(ctx, node, socket):
+    return Expr("geometry", ctx.label(node), {}, {"output": getattr(socket, "identifier", "Position")})
+
+
+@evaluates("geometry")
+def eval_geometry(ev, e):
+    out = e.props.get("output")
+    if out in ("Position", "Normal", "True Normal"):
+        ev.approx(e, "geometry %s approximated by a constant without the engine" % out)
+    else:  # Incoming, Backfacing (the viewer's side), Tangent, Parametric, Pointiness, Random per Island
+        ev.approx(e, "geometry %s not supported, a constant" % out)
+    return 0.0 if out in ("Backfacing", "Pointiness", "Random Per Island") else (0.0, 0.0, 1.0)

@@ -545,6 +545,19 @@ class TestValues(unittest.TestCase):
         self.assertEqual(c["node"], "separate_rgb")
         self.assertEqual((c["color"]["node"], c["color"]["convert"]), ("color_space", "RGB_TO_HSL"))
 
+    def test_geometry_and_coordinate_normals(self):
+        # Geometry's Position / Normal / True Normal are world-space engine coordinates; Texture
+        # Coordinate's Normal the object-space normal; the view-dependent outputs a constant, named.
+        for out, engine_out in (("Position", "position"), ("Normal", "normal"), ("True Normal", "true_normal")):
+            with self.subTest(out):
+                p, w = self._color_into_diffuse(lambda t: t.new("ShaderNodeNewGeometry", "G").out(out))
+                self.assertEqual((p["color"]["node"], p["color"]["output"]), ("texture_coordinate", engine_out))
+                self.assertIsNone(w)
+        p, w = self._color_into_diffuse(lambda t: t.new("ShaderNodeTexCoord", "T").out("Normal"))
+        self.assertEqual(p["color"]["output"], "object_normal")
+        p, w = self._color_into_diffuse(lambda t: t.new("ShaderNodeNewGeometry", "G").out("Incoming"))
+        self.assertIn("Incoming", w)
+
     def test_invert(self):
         def b(t):
             n = t.new("ShaderNodeInvert", "Inv")

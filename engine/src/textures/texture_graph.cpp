@@ -111,7 +111,10 @@ const std::vector<std::string> kMathOps = {"ADD", "SUBTRACT", "MULTIPLY", "DIVID
 const std::vector<std::string> kDimensions = {"1D", "2D", "3D", "4D"};
 const std::vector<std::string> kGradients = {"LINEAR", "QUADRATIC", "EASING", "DIAGONAL", "SPHERICAL",
                                              "QUADRATIC_SPHERE", "RADIAL"};
-enum Coord : uint8_t { kUv, kGenerated, kObject, kPosition, kNormal };
+// Texture Coordinate's and Geometry's outputs: normal is the world shading normal (Geometry >
+// Normal), object_normal the same in object space (Texture Coordinate > Normal), true_normal
+// the triangle's (Geometry > True Normal).
+enum Coord : uint8_t { kUv, kGenerated, kObject, kPosition, kNormal, kObjectNormal, kTrueNormal };
 
 // A JSON number as the engine's float: anything else, or a value float cannot hold
 // (1e39), is an error naming `what` (the node and its field).
@@ -564,9 +567,10 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.type = TexNodeType::TexCoord;
     std::string o = r.str("output", "generated");
     static const std::map<std::string, Coord> outs = {{"uv", kUv}, {"generated", kGenerated}, {"object", kObject},
-                                                      {"position", kPosition}, {"normal", kNormal}};
+                                                      {"position", kPosition}, {"normal", kNormal},
+                                                      {"object_normal", kObjectNormal}, {"true_normal", kTrueNormal}};
     auto it = outs.find(o);
-    if (it == outs.end()) fail(what + ": 'output' must be uv, generated, object, position or normal");
+    if (it == outs.end()) fail(what + ": 'output' must be uv, generated, object, position, normal, object_normal or true_normal");
     n.mode = it->second;
   } else if (type == "mapping") {
     n.type = TexNodeType::Mapping;
@@ -950,6 +954,15 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
         case kGenerated: return sp.generated;
         case kObject: return sp.p_object;
         case kPosition: return sp.p;
+        case kTrueNormal: return sp.ng;
+        case kObjectNormal: {  // the world normal through the transposed object-to-world (Cycles')
+          if (!sp.has_object_to_world) return sp.ns;
+          const float *M = sp.object_to_world;
+          const Vec3 n(M[0] * sp.ns.x + M[4] * sp.ns.y + M[8] * sp.ns.z, M[1] * sp.ns.x + M[5] * sp.ns.y + M[9] * sp.ns.z,
+                       M[2] * sp.ns.x + M[6] * sp.ns.y + M[10] * sp.ns.z);
+          const float l = length(n);
+          return l > 0 ? n / l : sp.ns;
+        }
         default: return sp.ns;
       }
     case TexNodeType::Mapping: {
