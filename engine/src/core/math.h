@@ -64,6 +64,13 @@ inline bool is_black(Color c) { return c.x == 0 && c.y == 0 && c.z == 0; }
 inline bool is_finite(Vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 inline float clampf(float v, float lo, float hi) { return std::min(std::max(v, lo), hi); }
 inline float sqr(float v) { return v * v; }
+// Hermite step from 0 at e0 to 1 at e1 (Cycles' smoothstep, which Blender's nodes use).
+inline float smoothstep(float e0, float e1, float x) {
+  if (x < e0) return 0.0f;
+  if (x >= e1) return 1.0f;
+  const float t = (x - e0) / (e1 - e0);
+  return (3.0f - 2.0f * t) * (t * t);
+}
 inline float safe_sqrt(float v) { return std::sqrt(std::max(v, 0.0f)); }
 inline Vec3 face_forward(Vec3 n, Vec3 v) { return dot(n, v) < 0 ? -n : n; }
 

@@ -7,11 +7,6 @@
 
 namespace rdv {
 
-static float smoothstep(float e0, float e1, float x) {
-  float t = clampf((x - e0) / (e1 - e0), 0.0f, 1.0f);
-  return t * t * (3.0f - 2.0f * t);
-}
-
 // Cycles 3.4's spot_attenuation: cos(theta) x smoothstep over the blend region.
 float spot_attenuation(const Light &l, Vec3 dir_from_light) {
   float c = dot(l.axis, dir_from_light);

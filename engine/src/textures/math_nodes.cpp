@@ -72,12 +72,6 @@ Vec3 vector_math(int op, Vec3 a, Vec3 b, Vec3 c, float scale, bool &value) {
 }
 
 namespace {
-float smoothstep(float e0, float e1, float x) {
-  if (x < e0) return 0.0f;
-  if (x >= e1) return 1.0f;
-  const float t = (x - e0) / (e1 - e0);
-  return (3.0f - 2.0f * t) * (t * t);
-}
 float smootherstep(float e0, float e1, float x) {
   x = clampf(safe_divide(x - e0, e1 - e0), 0.0f, 1.0f);
   return x * x * x * (x * (x * 6.0f - 15.0f) + 10.0f);
@@ -112,11 +106,7 @@ Vec3 map_range(Vec3 value, Vec3 from_min, Vec3 from_max, Vec3 to_min, Vec3 to_ma
     switch (type) {
       case MapRangeType::Linear: break;
       case MapRangeType::Stepped: f[k] = steps[k] > 0.0f ? std::floor(f[k] * (steps[k] + 1.0f)) / steps[k] : 0.0f; break;
-      case MapRangeType::SmoothStep: {
-        const float t = clampf(f[k], 0.0f, 1.0f);
-        f[k] = (3.0f - 2.0f * t) * (t * t);
-        break;
-      }
+      case MapRangeType::SmoothStep: f[k] = smoothstep(0.0f, 1.0f, f[k]); break;
       case MapRangeType::SmootherStep: {
         const float t = clampf(f[k], 0.0f, 1.0f);
         f[k] = t * t * t * (t * (t * 6.0f - 15.0f) + 10.0f);

@@ -31,12 +31,6 @@ Point<D> mix(const Point<D> &a, const Point<D> &b, float t) { return a + (b - a)
 Color mix(Color a, Color b, float t) { return a + (b - a) * t; }
 float mix(float a, float b, float t) { return a + t * (b - a); }
 
-float smoothstep01(float x) {
-  if (x < 0.0f) return 0.0f;
-  if (x >= 1.0f) return 1.0f;
-  return (3.0f - 2.0f * x) * (x * x);
-}
-
 // The cell's feature point within it, in [0, 1]^D before the randomness scales it.
 Point<1> cell_jitter(const Point<1> &c) { return {{hash::to_float(c.v[0])}}; }
 Point<2> cell_jitter(const Point<2> &c) {
@@ -154,7 +148,7 @@ Feature<D> smooth_f1(const Cell<D> &cell, const VoronoiParams &v, float smoothne
   for (int n = 0; n < around.count(); ++n) {
     const Point<D> o = around[n], point = cell.feature(o, v.randomness);
     const float d = distance(point, cell.local, v.metric, v.exponent);
-    const float h = smoothstep01(0.5f + 0.5f * (smooth_distance - d) / smoothness);
+    const float h = smoothstep(0.0f, 1.0f, 0.5f + 0.5f * (smooth_distance - d) / smoothness);
     float correction = smoothness * h * (1.0f - h);
     smooth_distance = mix(smooth_distance, d, h) - correction;
     correction /= 1.0f + 3.0f * smoothness;
