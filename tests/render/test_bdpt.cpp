@@ -16,7 +16,7 @@ using nlohmann::json;
 namespace {
 
 constexpr int kRuns = 8;
-constexpr int kBlockTestsInFile = 12 * 36 + 4 * 4;  // consistency scenes + strategy images
+constexpr int kBlockTestsInFile = 13 * 36 + 4 * 4;  // consistency scenes + strategy images
 const double kAlphaPerBlock = 1.0 - std::pow(1.0 - 0.01, 1.0 / kBlockTestsInFile);
 
 std::vector<double> luminance_sum(const Image &img) {
@@ -84,6 +84,36 @@ TEST(BdptVsPath, GlassCaustic) {
 
 // A room lit only through a door gap.
 TEST(BdptVsPath, DoorGap) { expect_same_image(load_scene("door_gap.json"), "door gap", 256, 32); }
+
+// Mix Shaders by the viewing direction (Fresnel, Layer Weight: bsdfs/view_factor.h) on the
+// Cornell box's blocks and back wall and on a ball (a Fresnel over a mirror: a delta lobe whose
+// weight follows the camera side). Light subpaths reach these surfaces from the lamp's side; the
+// factors are taken at each pair's camera-side direction, so BDPT's strategies sum to the path
+// tracer's image (with the factor at the direction a Bsdf was built toward they would not).
+TEST(BdptVsPath, ViewDependentMixes) {
+  json scene = load_scene("cornell_box.json");
+  auto mix = [](json fac, json a, json b) { return json{{"type", "mix"}, {"fac", fac}, {"shader1", a}, {"shader2", b}}; };
+  const json white = {{"type", "diffuse"}, {"color", {0.73, 0.73, 0.73}}};
+  auto glossy = [](double roughness) { return json{{"type", "glossy"}, {"color", {0.9, 0.9, 0.9}}, {"roughness", roughness}}; };
+  json fresnel_gloss = mix({{"node", "fresnel"}, {"ior", 1.5}}, white, glossy(0.15));
+  json facing = mix({{"node", "layer_weight"}, {"output", "facing"}, {"blend", 0.3}}, white, glossy(0.4));
+  json layer_fresnel = mix({{"node", "layer_weight"}, {"blend", 0.5}}, white, glossy(0.25));
+  json mirror_ball = mix({{"node", "fresnel"}, {"ior", 1.45}}, json{{"type", "diffuse"}, {"color", {0.63, 0.065, 0.05}}},
+                         json{{"type", "glossy"}, {"roughness", 0}, {"distribution", "SHARP"}});
+  fresnel_gloss["name"] = "fresnel_gloss";
+  facing["name"] = "facing";
+  layer_fresnel["name"] = "layer_fresnel";
+  mirror_ball["name"] = "mirror_ball";
+  for (json *m : {&fresnel_gloss, &facing, &layer_fresnel, &mirror_ball}) scene["materials"].push_back(*m);
+  for (json &mesh : scene["meshes"]) {
+    if (mesh["name"] == "short_block") mesh["materials"] = {"fresnel_gloss"};
+    if (mesh["name"] == "tall_block") mesh["materials"] = {"facing"};
+    if (mesh["name"] == "back") mesh["materials"] = {"layer_fresnel"};
+  }
+  scene["meshes"].push_back({{"name", "ball"}, {"shape", {{"type", "sphere"}, {"radius", 0.3}, {"segments", 32}}},
+                             {"materials", {"mirror_ball"}}, {"transform", {{"translate", {-0.45, -0.45, 0.3}}}}});
+  expect_same_image(scene, "view mixes", 128, 32);
+}
 
 // The other weightings share each path among the strategies too (sum one), so they
 // converge to the same image: the balance heuristic, and Lafortune & Willems' weights by

@@ -36,6 +36,11 @@ const std::vector<Case> &cases() {
       {"mix_translucent_glossy", R"({"type":"mix","fac":0.5,"shader1":{"type":"translucent","color":[1,1,1]},"shader2":{"type":"glossy","color":[1,1,1],"roughness":0.3,"distribution":"MULTI_GGX"}})", true},
       {"add_halves", R"({"type":"add","shader1":{"type":"diffuse","color":[0.5,0.5,0.5]},"shader2":{"type":"glossy","color":[0.5,0.5,0.5],"roughness":0.5}})", false},
       {"mix_textured_fac", R"({"type":"mix","fac":{"node":"checker","scale":3},"shader1":{"type":"diffuse"},"shader2":{"type":"glossy","roughness":0.2}})", false},
+      // Mix Shader factors by the viewing direction (Fresnel, Layer Weight: view_factor.h).
+      {"mix_fresnel", R"({"type":"mix","fac":{"node":"fresnel","ior":1.45},"shader1":{"type":"diffuse","color":[0.8,0.3,0.2]},"shader2":{"type":"glossy","roughness":0.2}})", false},
+      {"mix_facing_rough_glass", R"({"type":"mix","fac":{"node":"layer_weight","output":"facing","blend":0.3},"shader1":{"type":"diffuse"},"shader2":{"type":"glass","roughness":0.3,"ior":1.5}})", false},
+      {"mix_layer_fresnel_lossless", R"({"type":"mix","fac":{"node":"layer_weight","blend":0.4},"shader1":{"type":"translucent","color":[1,1,1]},"shader2":{"type":"glossy","color":[1,1,1],"roughness":0.3,"distribution":"MULTI_GGX"}})", true},
+      {"nested_view_factors", R"({"type":"mix","fac":{"node":"layer_weight","output":"facing","blend":0.7},"shader1":{"type":"mix","fac":{"node":"fresnel","ior":1.3},"shader1":{"type":"diffuse"},"shader2":{"type":"principled","roughness":0.4}},"shader2":{"type":"glossy","roughness":0.05}})", false},
   };
   return c;
 }

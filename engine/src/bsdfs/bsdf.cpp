@@ -192,6 +192,32 @@ void Bsdf::layer_scales(Vec3 wo, Vec3 wi, LayerScales &out) const {
   for (int j = 0; j < num_layers_; ++j) out.of_layer[j] = layer_scale(layers_[j], std::fabs(wo.z), std::fabs(wi.z));
 }
 
+uint8_t Bsdf::add_view_factor(const ViewFactor &factor, Vec3 n) {
+  view_normal_ = n;
+  if (num_views_ == kMaxViewFactors) return 0;  // Material keeps within: not reached
+  new (&views_[num_views_]) ViewFactor(factor);
+  lambert_ = false;
+  return uint8_t(1u << num_views_++);
+}
+
+const Bsdf::ViewScales *Bsdf::view_scales(Vec3 w, ViewScales &scratch) const {
+  if (!num_views_) return nullptr;
+  const Vec3 front = backfacing_ ? -ng_ : ng_;
+  for (int j = 0; j < num_views_; ++j) scratch.of_view[j] = views_[j].at(w, view_normal_, front);
+  return &scratch;
+}
+
+const float *Bsdf::picks_from(Vec3 w, Picks &scratch) const {
+  if (!num_views_) return pick_.data();
+  ViewScales views;
+  view_scales(w, views);
+  float total = 0;
+  for (int i = 0; i < n_; ++i) total += scratch[size_t(i)] = raw_weight_[size_t(i)] * views.of(lobes_[i]);
+  for (int i = 0; i < n_; ++i)
+    scratch[size_t(i)] = 0.5f * pick_[size_t(i)] + (total > 0 ? 0.5f * scratch[size_t(i)] / total : 0.5f * pick_[size_t(i)]);
+  return scratch.data();
+}
+
 void Bsdf::add_lobe(const Lobe &lobe, float sample_weight) {
   if (!(sample_weight > 0)) return;
   int slot = n_;
@@ -207,7 +233,7 @@ void Bsdf::add_lobe(const Lobe &lobe, float sample_weight) {
     if (lobe.is_dielectric() && backfacing_) lobes_[slot].ior = 1.0f / lobe.ior;
     raw_weight_[slot] = sample_weight;
   }
-  lambert_ = n_ == 1 && lobe.type == LobeType::Lambert && lobe.layers_above == 0;
+  lambert_ = n_ == 1 && lobe.type == LobeType::Lambert && lobe.layers_above == 0 && num_views_ == 0;
   float total = 0;
   for (int i = 0; i < n_; ++i) total += raw_weight_[i];
   for (int i = 0; i < n_; ++i) pick_[i] = raw_weight_[i] / total;
@@ -296,7 +322,9 @@ Color Bsdf::f_in(const Frame &frame, Vec3 wo_w, Vec3 wi_w, TransportMode mode) c
   Vec3 wo, wi;
   bool flipped;
   if (!local_pair(frame, wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
-  return local_f(wo, wi, flipped, mode, nullptr, bump_shadowing(frame.n, wo_w, wi_w, mode)) *
+  ViewScales views;
+  return local_f(wo, wi, flipped, mode, nullptr, nullptr, bump_shadowing(frame.n, wo_w, wi_w, mode),
+                 view_scales(mode == TransportMode::Radiance ? wo_w : wi_w, views)) *
          shading_correction(wo_w, wi_w, mode, frame);
 }
 
@@ -305,7 +333,8 @@ Color Bsdf::f(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
   return f_in(camera_side_frame(wo_w, wi_w, mode, bent), wo_w, wi_w, mode);
 }
 
-Color Bsdf::local_f(Vec3 wo, Vec3 wi, bool flipped, TransportMode mode, float *pdf, float diffuse_scale) const {
+Color Bsdf::local_f(Vec3 wo, Vec3 wi, bool flipped, TransportMode mode, float *pdf, const float *pick,
+                    float diffuse_scale, const ViewScales *views) const {
   Color f(0.0f);
   LobeScratch scratch;
   LayerScales layers;
@@ -316,10 +345,11 @@ Color Bsdf::local_f(Vec3 wo, Vec3 wi, bool flipped, TransportMode mode, float *p
     if (pdf) {
       float p;
       fi = lobe_eval_and_pdf(lobe, wo, wi, mode, p);
-      *pdf += pick_[i] * p;
+      *pdf += pick[i] * p;
     } else {
       fi = lobe_eval(lobe, wo, wi, mode);
     }
+    if (views && lobe.view_factors) fi *= views->of(lobe);
     if (diffuse_scale != 1.0f && lobe.is_diffuse_like()) fi *= diffuse_scale;
     f += lobe.layers_above ? fi * layers.of(lobe.layers_above) : fi;
   }
@@ -351,7 +381,10 @@ Color Bsdf::eval_and_pdf(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf) c
   Vec3 wo, wi;
   bool flipped;
   if (!local_pair(frame, wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
-  return local_f(wo, wi, flipped, mode, &pdf, bump_shadowing(frame.n, wo_w, wi_w, mode)) *
+  Picks picks;
+  ViewScales views;
+  return local_f(wo, wi, flipped, mode, &pdf, picks_from(wo_w, picks), bump_shadowing(frame.n, wo_w, wi_w, mode),
+                 view_scales(mode == TransportMode::Radiance ? wo_w : wi_w, views)) *
          shading_correction(wo_w, wi_w, mode, frame) * absdot(wi_w, frame.n);
 }
 
@@ -388,14 +421,19 @@ Color Bsdf::f_and_pdfs(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_fwd,
   LayerScales layers;
   if (num_layers_) layer_scales(wo, wi, layers);
   const float diffuse_scale = bump_shadowing(frame.n, wo_w, wi_w, mode);
+  Picks picks, picks_rev_scratch;
+  const float *pick = picks_from(wo_w, picks), *pick_rev = picks_from(wi_w, picks_rev_scratch);
+  ViewScales view_scratch;
+  const ViewScales *views = view_scales(mode == TransportMode::Radiance ? wo_w : wi_w, view_scratch);
   for (int i = 0; i < n_; ++i) {
     const Lobe &lobe = lobe_from_side(lobes_[i], flipped, scratch);
     float p;
     Color fi = lobe_eval_and_pdf(lobe, wo, wi, mode, p);
+    if (views && lobe.view_factors) fi *= views->of(lobe);
     if (diffuse_scale != 1.0f && lobe.is_diffuse_like()) fi *= diffuse_scale;
     f += lobe.layers_above ? fi * layers.of(lobe.layers_above) : fi;
-    pdf_fwd += pick_[i] * p;
-    if (rev_ok) pdf_rev += pick_[i] * lobe_pdf(lobe_from_side(lobes_[i], flipped_rev, scratch_rev), wi_rev, wo_rev);
+    pdf_fwd += pick[i] * p;
+    if (rev_ok) pdf_rev += pick_rev[i] * lobe_pdf(lobe_from_side(lobes_[i], flipped_rev, scratch_rev), wi_rev, wo_rev);
   }
   return f * shading_correction(wo_w, wi_w, mode, frame);
 }
@@ -410,7 +448,9 @@ float Bsdf::pdf_in(const Frame &frame, Vec3 wo_w, Vec3 wi_w) const {
   if (!local_pair(frame, wo_w, wi_w, wo, wi, flipped)) return 0;
   float p = 0;
   LobeScratch scratch;
-  for (int i = 0; i < n_; ++i) p += pick_[i] * lobe_pdf(lobe_from_side(lobes_[i], flipped, scratch), wo, wi);
+  Picks picks;
+  const float *pick = picks_from(wo_w, picks);
+  for (int i = 0; i < n_; ++i) p += pick[i] * lobe_pdf(lobe_from_side(lobes_[i], flipped, scratch), wo, wi);
   return p;
 }
 
@@ -427,9 +467,11 @@ float Bsdf::share_refracted_below(Vec3 wo_w, Vec3 wi_w, float alpha2_max) const 
   if (!local_pair(frame_toward(wo_w, bent), wo_w, wi_w, wo, wi, flipped) || !(wo.z * wi.z < 0)) return 0;
   float all = 0, below = 0;
   LobeScratch scratch;
+  Picks picks;
+  const float *pick = picks_from(wo_w, picks);
   for (int i = 0; i < n_; ++i) {
     const Lobe &lobe = lobe_from_side(lobes_[i], flipped, scratch);
-    const float p = pick_[i] * lobe_pdf(lobe, wo, wi);
+    const float p = pick[i] * lobe_pdf(lobe, wo, wi);
     all += p;
     if (lobe.type == LobeType::GgxDielectric && lobe.ggx.ax * lobe.ggx.ay <= alpha2_max) below += p;
   }
@@ -438,14 +480,16 @@ float Bsdf::share_refracted_below(Vec3 wo_w, Vec3 wi_w, float alpha2_max) const 
 
 bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSample &out) const {
   if (n_ == 0 || dot(wo_w, ng_) <= 0) return false;
+  Picks picks;
+  const float *pick = picks_from(wo_w, picks);
   int chosen = 0;
   float cdf = 0;
   for (; chosen < n_ - 1; ++chosen) {
-    if (u_lobe < cdf + pick_[chosen]) break;
-    cdf += pick_[chosen];
+    if (u_lobe < cdf + pick[chosen]) break;
+    cdf += pick[chosen];
   }
   // The remainder of u_lobe drives choices inside the lobe (reflect or refract).
-  float uc = clampf((u_lobe - cdf) / pick_[chosen], 0.0f, 0.99999994f);
+  float uc = clampf((u_lobe - cdf) / pick[chosen], 0.0f, 0.99999994f);
   const Lobe &lobe = lobes_[chosen];
   Frame bent, bent_wi;
   const Frame &frame = frame_toward(wo_w, bent);
@@ -478,11 +522,15 @@ bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSampl
   out.cone_spread = lobe_cone_spread(lobe);
   if (lobe.is_dielectric() && wi.z * wo.z < 0)
     out.refraction_alpha2 = lobe.type == LobeType::SmoothDielectric ? 0.0f : lobe.ggx.ax * lobe.ggx.ay;
+  if (lobe.view_factors && (lobe.is_delta() || n_ == 1)) {  // the mixture's weight below has them
+    ViewScales views;
+    weight *= view_scales(mode == TransportMode::Radiance ? wo_w : out.wi, views)->of(lobe);
+  }
   if (lobe.is_delta()) {
     out.is_delta = true;
     out.pass_through = lobe.type == LobeType::Transparent;
-    out.pdf = pick_[chosen] * pdf;
-    out.weight = weight * (shading_correction(wo_w, out.wi, mode, frame) / pick_[chosen]);
+    out.pdf = pick[chosen] * pdf;
+    out.weight = weight * (shading_correction(wo_w, out.wi, mode, frame) / pick[chosen]);
     return true;
   }
   out.is_delta = false;
@@ -510,6 +558,10 @@ Color Bsdf::delta_eval(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_out,
   if (mode == TransportMode::Importance && !same_frame(frame_toward(wi_w, bent_wi), frame)) return f;
   const Vec3 wo = frame.to_local(wo_w);
   constexpr float kSameDirection = 1.0f - 1e-5f;  // cos of about 4.5e-3 rad
+  Picks picks;
+  const float *pick = picks_from(wo_w, picks);
+  ViewScales view_scratch;
+  const ViewScales *views = view_scales(mode == TransportMode::Radiance ? wo_w : wi_w, view_scratch);
   for (int i = 0; i < n_; ++i) {
     const Lobe &lobe = lobes_[i];
     if (!lobe.is_delta()) continue;
@@ -531,7 +583,8 @@ Color Bsdf::delta_eval(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_out,
         layer_scales(wo, wi, layers);
         weight *= layers.of(lobe.layers_above);
       }
-      const float p = pick_[i] * pdf;
+      if (views && lobe.view_factors) weight *= views->of(lobe);
+      const float p = pick[i] * pdf;
       f += weight * (pdf * shading_correction(wo_w, wi_event, mode, frame));  // weight x p / pick
       pdf_out += p;
       if (wi.z < 0 && lobe.type == LobeType::SmoothDielectric && std::fabs(wi.z) > 0)
@@ -579,9 +632,11 @@ ScatterKind Bsdf::scatter_kind(Vec3 wo, Vec3 wi) const {
   return translucent > refracting ? ScatterKind::Translucent : ScatterKind::Transmission;
 }
 
-Color Bsdf::albedo() const {
+Color Bsdf::albedo(Vec3 wo) const {
+  ViewScales view_scratch;
+  const ViewScales *views = view_scales(wo, view_scratch);
   Color a(0.0f);
-  for (int i = 0; i < n_; ++i) a += lobes_[i].color * lobes_[i].scale;
+  for (int i = 0; i < n_; ++i) a += lobes_[i].color * (lobes_[i].scale * (views ? views->of(lobes_[i]) : 1.0f));
   return vmin(a, Color(1.0f));
 }
 
@@ -636,11 +691,14 @@ KindSplit Bsdf::kind_split(Vec3 wo_w, Vec3 wi_w, bool delta) const {
         LayerScales layers;
         if (num_layers_) layer_scales(wo, wi, layers);
         const float diffuse_scale = bump_shadowing(frame.n, wo_w, wi_w, TransportMode::Radiance);
+        ViewScales view_scratch;
+        const ViewScales *views = view_scales(wo_w, view_scratch);
         float w[3] = {0, 0, 0};
         for (int i = 0; i < n_; ++i) {
           const Lobe &lobe = lobe_from_side(lobes_[i], flipped, scratch);
           if (lobe.is_delta()) continue;
           Color fi = lobe_eval(lobe, wo, wi, TransportMode::Radiance);
+          if (views && lobe.view_factors) fi *= views->of(lobe);
           if (lobe.is_diffuse_like()) fi *= diffuse_scale;
           if (lobe.layers_above) fi *= layers.of(lobe.layers_above);
           w[pass_kind(lobe.type, reflection)] += std::max(average(fi), 0.0f);
@@ -700,9 +758,11 @@ void Bsdf::kind_colors(Vec3 wo_w, Color out[kColorKinds]) const {
   for (int k = 0; k < kColorKinds; ++k) out[k] = Color(0.0f);
   const float side = dot(wo_w, ng_);
   const float cos_o = absdot(wo_w, shading_normal(wo_w));
+  ViewScales view_scratch;
+  const ViewScales *views = view_scales(wo_w, view_scratch);
   for (int i = 0; i < n_; ++i) {
     const Lobe &lobe = lobes_[i];
-    const Color c = lobe.color * lobe.scale;
+    const Color c = lobe.color * (lobe.scale * (views ? views->of(lobe) : 1.0f));
     if (lobe.type == LobeType::Transparent) continue;
     if (!lobe.is_dielectric()) {
       out[pass_kind(lobe.type, true)] += c;
@@ -721,29 +781,34 @@ DenoisingClosures Bsdf::denoising_closures(Vec3 wo_w) const {
   Frame bent;
   const Frame &frame = frame_toward(wo_w, bent);
   const float cos_o = absdot(wo_w, frame.n);
+  Picks picks;
+  const float *pick = picks_from(wo_w, picks);
+  ViewScales view_scratch;
+  const ViewScales *views = view_scales(wo_w, view_scratch);
   for (int i = 0; i < n_; ++i) {
     const Lobe &lobe = lobes_[i];
-    Color albedo = lobe.color * lobe.scale;
+    const float scale = lobe.scale * (views ? views->of(lobe) : 1.0f);
+    Color albedo = lobe.color * scale;
     bool rough = true;
     switch (lobe.type) {
       case LobeType::GgxConductor:
       case LobeType::Clearcoat:
-        if (lobe.fresnel_mode != FresnelMode::Tint) albedo = lobe.fresnel(cos_o) * lobe.scale;
+        if (lobe.fresnel_mode != FresnelMode::Tint) albedo = lobe.fresnel(cos_o) * scale;
         rough = lobe.ggx.ax * lobe.ggx.ay > kDenoisingRoughness2;
         break;
       case LobeType::GgxDielectric: rough = lobe.ggx.ax * lobe.ggx.ay > kDenoisingRoughness2; break;
       case LobeType::SpecularConductor:
-        if (lobe.fresnel_mode != FresnelMode::Tint) albedo = lobe.fresnel(cos_o) * lobe.scale;
+        if (lobe.fresnel_mode != FresnelMode::Tint) albedo = lobe.fresnel(cos_o) * scale;
         rough = false;
         break;
       case LobeType::SmoothDielectric:
       case LobeType::Transparent: rough = false; break;
       default: break;  // diffuse-like lobes
     }
-    out.weight += pick_[i];
+    out.weight += pick[i];
     if (rough) {
       out.rough_albedo += albedo;
-      out.rough_weight += pick_[i];
+      out.rough_weight += pick[i];
     } else {
       out.specular_albedo += albedo;
     }

@@ -12,6 +12,7 @@
 #include "bsdfs/ggx_albedo.h"
 #include "bsdfs/microfacet.h"
 #include "bsdfs/scatter_kind.h"
+#include "bsdfs/view_factor.h"
 #include "core/math.h"
 #include "film/denoising_passes.h"
 #include "film/light_passes.h"
@@ -88,6 +89,10 @@ struct Lobe {
   float scale = 1.0f;
   // The Bsdf's layers above this lobe (energy-conserving Principled), one bit each.
   uint16_t layers_above = 0;
+  // The Bsdf's view factors (Mix Shaders by a Fresnel / Layer Weight node) this lobe is
+  // weighted by, one bit each, and of those the ones it takes as 1 - factor (the mix's
+  // first shader): f is multiplied by them at the pair's camera-side direction.
+  uint8_t view_factors = 0, view_inverted = 0;
 
   Color fresnel(float cos_i) const {
     switch (fresnel_mode) {
@@ -147,6 +152,7 @@ class Bsdf {
   // Beyond that lobes of one kind are merged (lobe_merge.h) and the material warns.
   static constexpr int kMaxLobes = 16;
   static constexpr int kMaxLayers = 12;  // bits of Lobe::layers_above
+  static constexpr int kMaxViewFactors = 4;  // bits of Lobe::view_factors
 
   // User-provided, so `Bsdf{}` / `PathVertex{}` do not zero the 2 KB of lobe storage.
   Bsdf() {}
@@ -177,6 +183,10 @@ class Bsdf {
   // Adds a layer; returns its bit for Lobe::layers_above (past kMaxLayers: the bit of
   // the existing layer most like it).
   uint16_t add_layer(const LayerAbove &layer);
+  // Adds a view factor; returns its bit for Lobe::view_factors. n: the interpolated normal
+  // the factors see (Cycles' N, before any normal map). A material holds at most
+  // kMaxViewFactors (two Mix Shaders by one node are two: a lobe under both takes it twice).
+  uint8_t add_view_factor(const ViewFactor &factor, Vec3 n);
   int num_lobes() const { return n_; }
   bool is_delta() const;  // every lobe is delta: no point connecting to lights
   bool has_lobes() const { return n_ > 0; }
@@ -205,8 +215,8 @@ class Bsdf {
   // wi into one about wo (path-space MLT samples specular vertices from either side).
   // Black with pdf 0 where no delta event sends wo to wi.
   Color delta_eval(Vec3 wo, Vec3 wi, TransportMode mode, float &pdf, float &jacobian) const;
-  // Directional albedo-like colour for the Diffuse Color AOV.
-  Color albedo() const;
+  // Directional albedo-like colour for the Diffuse Color AOV, seen from wo.
+  Color albedo(Vec3 wo) const;
   // Lafortune & Willems' "degree of specularity" in [0, 1] (BDPT's "lafortune_willems"
   // weights): 1 if any lobe is delta, else the lobes' selection weights times 1 - roughness
   // for GGX lobes and 0 for diffuse ones.
@@ -318,6 +328,9 @@ class Bsdf {
     }
     num_layers_ = o.num_layers_;
     for (int i = 0; i < num_layers_; ++i) new (&layers_[i]) LayerAbove(o.layers_[i]);
+    num_views_ = o.num_views_;
+    if (num_views_) view_normal_ = o.view_normal_;
+    for (int i = 0; i < num_views_; ++i) new (&views_[i]) ViewFactor(o.views_[i]);
   }
   // What the layers above a lobe scale it by, for one (wo, wi) pair (local frame).
   struct LayerScales {
@@ -330,10 +343,30 @@ class Bsdf {
     }
   };
   void layer_scales(Vec3 wo, Vec3 wi, LayerScales &out) const;
+  // What the view factors scale the lobes by for one camera-side direction (view_factor.h).
+  struct ViewScales {
+    float of_view[kMaxViewFactors];
+    float of(const Lobe &l) const {
+      float s = 1;
+      for (int j = 0; j < kMaxViewFactors; ++j)
+        if (l.view_factors >> j & 1) s *= (l.view_inverted >> j & 1) ? 1 - of_view[j] : of_view[j];
+      return s;
+    }
+  };
+  // The scales at camera-side direction w into scratch, or nullptr without view factors.
+  const ViewScales *view_scales(Vec3 w, ViewScales &scratch) const;
+  // The lobe selection probabilities of sampling from w: pick_, or with view factors half
+  // pick_ and half the raw weights times the factors at w, so the lobes a view favours are
+  // sampled more and none is left out (its f may be > 0 where a light path's camera side
+  // differs). A function of w alone, as BDPT's densities must be.
+  using Picks = std::array<float, kMaxLobes>;
+  const float *picks_from(Vec3 w, Picks &scratch) const;
   // The lobes' f summed for a local pair (seen from the side local_pair found), with the
-  // layers applied; with pdf, their mixture density added into *pdf as well.
+  // layers and view factors (views, may be nullptr) applied; with pdf, their mixture density
+  // by `pick` added into *pdf as well.
   // diffuse_scale: what the diffuse-like lobes' f is multiplied by (bump_shadowing).
-  Color local_f(Vec3 wo, Vec3 wi, bool flipped, TransportMode mode, float *pdf, float diffuse_scale) const;
+  Color local_f(Vec3 wo, Vec3 wi, bool flipped, TransportMode mode, float *pdf, const float *pick,
+                float diffuse_scale, const ViewScales *views) const;
   // Cycles darkens diffuse closures whose normal a normal map or bump moved (its
   // bump_shadowing_term, after Chiang et al. 2019): by a smooth step of g = cos(N0, I) /
   // (cos(N, I) cos(N0, N)), N0 the mesh's normal, N the mapped one (n, as the frame f uses),
@@ -376,9 +409,16 @@ class Bsdf {
   RawArray<Lobe, kMaxLobes> lobes_;
   int num_layers_ = 0;
   RawArray<LayerAbove, kMaxLayers> layers_;
+  int num_views_ = 0;
+  RawArray<ViewFactor, kMaxViewFactors> views_;
+  Vec3 view_normal_;  // with view factors: the normal they see, toward the front face
   // Entries [0, n_) are valid, as in lobes_.
   std::array<float, kMaxLobes> raw_weight_;  // as given to add_lobe
-  std::array<float, kMaxLobes> pick_;        // normalised lobe selection probabilities
+  // Normalised lobe selection probabilities (raw_weight_, in which view factors are left
+  // out: picks_from adds them per direction). scatter_kind and specularity weigh lobes by
+  // them too: a function of the hit alone. Materials with view factors have no Transparent
+  // lobe (material.cpp), so transparent_pick needs no direction.
+  std::array<float, kMaxLobes> pick_;
 };
 
 // Per-lobe routines in the local frame (wo.z > 0), exposed for the statistical tests.

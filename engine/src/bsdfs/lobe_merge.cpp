@@ -14,7 +14,9 @@ Color amplitude(const Lobe &l) { return l.color * l.scale; }
 // How unlike two lobes are: infinite for different types (never merged), 0 when their
 // sum is exactly one lobe, else a distance in their shape parameters.
 float merge_cost(const Lobe &a, const Lobe &b) {
-  if (a.type != b.type) return std::numeric_limits<float>::infinity();
+  // Lobes weighted by different view factors differ in f by direction: never one lobe.
+  if (a.type != b.type || a.view_factors != b.view_factors || a.view_inverted != b.view_inverted)
+    return std::numeric_limits<float>::infinity();
   float cost = std::fabs(a.ggx.ax - b.ggx.ax) + std::fabs(a.ggx.ay - b.ggx.ay) + std::fabs(a.ior - b.ior) +
                std::fabs(a.sigma - b.sigma);
   if (a.fresnel_mode != b.fresnel_mode) cost += 4;

@@ -54,8 +54,14 @@ struct Parser {
     e.color = aliases.size() ? value_any(p, aliases, color_default) : value(p, color_key, color_default);
     e.strength = value(p, strength_key, Color(strength_default));
     e.weight = w;
+    auto zero = [&](int node) { return m.graph.is_constant(node) && is_black(m.graph.node(node).value); };
+    if (zero(e.color) || zero(e.strength)) return;
+    // Emitted radiance by the direction it leaves in is not modelled: a view factor over an
+    // emission is its mean (the closures beside it keep theirs exact).
+    for (Factor &f : e.weight)
+      if (f.view >= 0) f = constant_view_factor(f, p.what() + ": emission under a Fresnel / Layer Weight factor");
     bool constant = m.graph.is_constant(e.color) && m.graph.is_constant(e.strength);
-    for (const Factor &f : w) constant = constant && m.graph.is_constant(f.node);
+    for (const Factor &f : e.weight) constant = constant && m.graph.is_constant(f.node);
     if (constant) m.emission += m.emission_of(e, ShadingPoint{});
     else m.textured_emission.push_back(e);
   }
@@ -68,7 +74,7 @@ struct Parser {
         fail("material '" + m.name + "': Mix / Add shaders nest more than " + std::to_string(kMaxShaderNesting) +
                  " deep (a limit: docs/scene-format.md)",
              RDV_ERROR_LIMIT);
-      int fac = type == "mix" ? value(p, "fac", Color(0.5f)) : -1;
+      const Factor fac = type == "mix" ? mix_factor(p) : Factor{-1, false};
       const char *keys[2] = {"shader1", "shader2"};
       for (int i = 0; i < 2; ++i) {
         const json *j = p.get_json(keys[i]);
@@ -76,7 +82,7 @@ struct Parser {
         if (!j->is_object()) fail(p.what() + ": '" + keys[i] + "' must be a material object");
         Params child(j->dump(), p.what() + " " + keys[i]);
         std::vector<Factor> cw = w;
-        if (fac >= 0) cw.push_back({fac, i == 0});
+        if (fac.node >= 0 || fac.view >= 0) cw.push_back({fac.node, i == 0, fac.view});
         shader(child, child.get_string("type", "diffuse"), cw, depth + 1);
         child.check_all_used();
       }
@@ -135,6 +141,47 @@ struct Parser {
     }
     c.normal = normal(p, "normal");
     m.closures.push_back(c);
+  }
+
+  // A Mix Shader's factor: a texture-graph value, or a Fresnel / Layer Weight node (a view
+  // factor: {"node": "fresnel", "ior": ...} or {"node": "layer_weight", "blend": ...,
+  // "output": "fresnel" | "facing"}).
+  Factor mix_factor(Params &p) {
+    const json *j = p.get_json("fac");
+    const std::string node = j && j->is_object() ? j->value("node", std::string()) : std::string();
+    if (node != "fresnel" && node != "layer_weight") return {value(p, "fac", Color(0.5f)), false};
+    Params f(j->dump(), p.what() + " 'fac'");
+    (void)f.get_json("node");
+    Material::ViewFactorSpec spec;
+    if (node == "fresnel") {
+      spec.kind = ViewFactorKind::Fresnel;
+      spec.param = value(f, "ior", Color(1.45f));
+    } else {
+      const std::string output = f.get_string("output", "fresnel");
+      if (output != "fresnel" && output != "facing")
+        fail(f.what() + ": 'output' must be fresnel or facing, got '" + output + "'");
+      spec.kind = output == "fresnel" ? ViewFactorKind::LayerFresnel : ViewFactorKind::LayerFacing;
+      spec.param = value(f, "blend", Color(0.5f), false);
+    }
+    if (f.get_json("normal"))
+      m.warnings.push_back(f.what() + ": its Normal input is approximated by the interpolated normal");
+    f.check_all_used();
+    m.view_factors.push_back(spec);
+    const Factor factor{-1, false, int(m.view_factors.size()) - 1};
+    if (m.view_factors.size() <= size_t(Bsdf::kMaxViewFactors)) return factor;
+    return constant_view_factor(factor, f.what() + ": more than " + std::to_string(Bsdf::kMaxViewFactors) +
+                                            " Fresnel / Layer Weight factors in one material");
+  }
+  // A view factor replaced by its cosine-weighted mean (a textured IOR or blend: the mean at
+  // the graph's default for it), with a warning saying why.
+  Factor constant_view_factor(const Factor &f, const std::string &why) {
+    const Material::ViewFactorSpec &spec = m.view_factors[size_t(f.view)];
+    const TexNode &param = m.graph.node(spec.param);
+    const float fallback = spec.kind == ViewFactorKind::Fresnel ? 1.45f : 0.5f;
+    const float mean = ViewFactor{spec.kind, param.type == TexNodeType::Constant ? param.value.x : fallback}
+                           .cosine_weighted_mean();
+    if (!why.empty()) m.warnings.push_back(why + ": the factor is its mean over directions, " + std::to_string(mean));
+    return {m.graph.constant(Color(mean)), f.invert};
   }
 
   void distribution(Params &p, Closure &c, const char *fallback) {
@@ -216,6 +263,19 @@ Material Material::from_params(Params &p, const std::string &name, const ImageBu
         (!m.graph.is_constant(c.in[kAlpha]) || m.graph.node(c.in[kAlpha]).value.x < 1.0f))
       m.transparent = true;
   }
+  // A view factor over any transparency or holdout would make shadow rays and alpha depend on
+  // the direction too (not modelled): such a material takes the factors' means.
+  if (m.transparent || m.holdout) {
+    Parser parser{m};
+    bool warned = false;
+    for (Closure &c : m.closures)
+      for (Factor &f : c.weight)
+        if (f.view >= 0) {
+          f = parser.constant_view_factor(
+              f, warned ? "" : "a Fresnel / Layer Weight factor in a material with transparency or a holdout");
+          warned = true;
+        }
+  }
   m.warn_if_lobes_merge();
   for (std::string &w : m.warnings)
     if (w.rfind("material", 0) != 0 && w.rfind("image", 0) != 0) w = "material '" + name + "': " + w;
@@ -282,12 +342,18 @@ Material Material::error_material(const std::string &name) {
   return m;
 }
 
-Color Material::emission_of(const EmissionTerm &e, const ShadingPoint &sp) const {
+float Material::mix_weight(const std::vector<Closure::Factor> &factors, const ShadingPoint &sp) const {
   float w = 1;
-  for (const Closure::Factor &f : e.weight) {
-    float v = clampf(graph.eval_float(f.node, sp), 0.0f, 1.0f);
+  for (const Closure::Factor &f : factors) {
+    if (f.view >= 0) continue;
+    const float v = clampf(graph.eval_float(f.node, sp), 0.0f, 1.0f);
     w *= f.invert ? 1 - v : v;
   }
+  return w;
+}
+
+Color Material::emission_of(const EmissionTerm &e, const ShadingPoint &sp) const {
+  const float w = mix_weight(e.weight, sp);
   if (!(w > 0)) return Color(0.0f);
   return vmax(graph.eval(e.color, sp), Color(0.0f)) * (std::max(graph.eval_float(e.strength, sp), 0.0f) * w);
 }
@@ -408,11 +474,7 @@ Color Material::shadow_transmission(const ShadingPoint &sp) const {
   Color t(0.0f);
   for (const Closure &c : closures) {
     if (c.type != MaterialType::Transparent && c.type != MaterialType::Principled) continue;
-    float w = 1;
-    for (const Closure::Factor &f : c.weight) {
-      float v = clampf(graph.eval_float(f.node, sp), 0.0f, 1.0f);
-      w *= f.invert ? 1 - v : v;
-    }
+    const float w = mix_weight(c.weight, sp);
     if (!(w > 0)) continue;
     if (c.type == MaterialType::Transparent) t += vmax(graph.eval(c.in[kBaseColor], sp), Color(0.0f)) * w;
     else t += Color(w * (1.0f - clampf(graph.eval_float(c.in[kAlpha], sp), 0.0f, 1.0f)));
@@ -424,31 +486,33 @@ float Material::holdout_at(const ShadingPoint &sp) const {
   float h = 0;
   for (const Closure &c : closures) {
     if (c.type != MaterialType::Holdout) continue;
-    float w = 1;
-    for (const Closure::Factor &f : c.weight) {
-      float v = clampf(graph.eval_float(f.node, sp), 0.0f, 1.0f);
-      w *= f.invert ? 1 - v : v;
-    }
-    h += w;
+    h += mix_weight(c.weight, sp);
   }
   return std::min(h, 1.0f);
 }
 
 namespace {
 
-// The lobes of every closure at sp, handed to sink.add_lobe(lobe, sample_weight): a
-// Bsdf, or a Material's ResolvedLobes.
+// A sink that marks each lobe with the view factors of the closure it comes from.
 template <class Sink>
-void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
+struct ViewWeightedLobes {
+  Sink &sink;
+  uint8_t factors, inverted;
+  void add_lobe(Lobe l, float sample_weight) {
+    l.view_factors = factors;
+    l.view_inverted = inverted;
+    sink.add_lobe(l, sample_weight);
+  }
+  uint16_t add_layer(const LayerAbove &layer) { return sink.add_layer(layer); }
+};
+
+// The lobes of closure c at sp (w: its mix weight), handed to sink.add_lobe(lobe,
+// sample_weight): a Bsdf, or a Material's ResolvedLobes.
+template <class Sink>
+void add_lobes_of(const Material &m, const Closure &c, float w, const ShadingPoint &sp, Sink &bsdf) {
   const TextureGraph &graph = m.graph;
   const bool cycles34 = m.cycles34_microfacets;  // Cycles 3.4's microfacets (material.h)
-  for (const Closure &c : m.closures) {
-    float w = 1;
-    for (const Closure::Factor &f : c.weight) {
-      float v = clampf(graph.eval_float(f.node, sp), 0.0f, 1.0f);
-      w *= f.invert ? 1 - v : v;
-    }
-    if (!(w > 0)) continue;
+  {
     auto col = [&](ClosureInput i) { return c.textured >> i & 1 ? graph.eval(c.in[i], sp) : c.value[i]; };
     auto num = [&](ClosureInput i) { return c.textured >> i & 1 ? graph.eval_float(c.in[i], sp) : c.scalar[i]; };
     switch (c.type) {
@@ -600,6 +664,33 @@ void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
   }
 }
 
+// The lobes of every closure at sp. A Bsdf first gets the material's view factors at sp
+// (their bits are their indices); a closure under some has its lobes marked with them.
+template <class Sink>
+void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
+  if constexpr (std::is_same_v<Sink, Bsdf>)
+    for (const Material::ViewFactorSpec &v : m.view_factors)
+      bsdf.add_view_factor(ViewFactor{v.kind, m.graph.eval_float(v.param, sp)}, sp.ns);
+  for (const Closure &c : m.closures) {
+    const float w = m.mix_weight(c.weight, sp);
+    if (!(w > 0)) continue;
+    uint8_t factors = 0, inverted = 0;
+    for (const Closure::Factor &f : c.weight)
+      if (f.view >= 0) {
+        factors |= uint8_t(1u << f.view);
+        if (f.invert) inverted |= uint8_t(1u << f.view);
+      }
+    if constexpr (std::is_same_v<Sink, Bsdf>) {
+      if (factors) {
+        ViewWeightedLobes<Bsdf> marked{bsdf, factors, inverted};
+        add_lobes_of(m, c, w, sp, marked);
+        continue;
+      }
+    }
+    add_lobes_of(m, c, w, sp, bsdf);  // ResolvedLobes: a material with view factors is never resolved
+  }
+}
+
 }  // namespace
 
 // One named result and one return: the Bsdf (kilobytes) is built in place, not copied.
@@ -645,7 +736,7 @@ void Material::resolve_constants() {
     if (c.type == MaterialType::Principled && !c.additive_layers) fix_constant_layers(c, cycles34_microfacets);
   }
   resolved.n = -1;
-  if (has_textures()) return;  // normal maps and bump are texture nodes too
+  if (has_textures() || !view_factors.empty()) return;  // normal maps and bump are texture nodes too
   for (const Closure &c : closures)
     if (c.in[kAnisotropic] >= 0 && graph.node(c.in[kAnisotropic]).value.x != 0) return;  // needs the UV tangent
   resolved.n = 0;

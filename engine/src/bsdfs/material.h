@@ -32,7 +32,9 @@ struct Closure {
   int in[kNumClosureInputs];  // texture-graph node per input (-1: unused)
   int normal = -1;            // normal_map / bump node, or -1 (the interpolated normal)
   // Mix Shader factors along the path from the root: weight = prod (invert ? 1 - f : f).
-  struct Factor { int node; bool invert; };
+  // view >= 0: the factor is Material::view_factors[view] (node unused), which depends on
+  // the direction and is applied by the Bsdf per pair of directions (view_factor.h).
+  struct Factor { int node; bool invert; int view = -1; };
   std::vector<Factor> weight;
   // Glossy: conductor Fresnel from a complex IOR (constant), multiscatter flag.
   FresnelMode fresnel = FresnelMode::Tint;
@@ -65,6 +67,11 @@ struct Material {
   std::vector<EmissionTerm> textured_emission;
   Color emission_average{0.0f};  // emission + the textured terms' mean over the UV square
   std::vector<Closure> closures;
+  // The Fresnel / Layer Weight nodes that are Mix Shader factors (at most
+  // Bsdf::kMaxViewFactors; others are their cosine-weighted mean, with a warning): kind and
+  // the graph node of its IOR or blend. A material with any is shaded per hit (not resolved).
+  struct ViewFactorSpec { ViewFactorKind kind; int param; };
+  std::vector<ViewFactorSpec> view_factors;
   TextureGraph graph;
   std::vector<std::string> warnings;  // for Scene::warn (missing images, approximations)
   bool transparent = false;  // may let shadow rays through (Transparent BSDF, Principled alpha)
@@ -96,6 +103,9 @@ struct Material {
   // Radiance emitted at sp (textures evaluated there).
   Color emission_at(const ShadingPoint &sp) const;
   Color emission_of(const EmissionTerm &e, const ShadingPoint &sp) const;
+  // The product of the Mix Shader factors on a closure's path at sp, but for view factors
+  // (which the Bsdf applies per direction).
+  float mix_weight(const std::vector<Closure::Factor> &factors, const ShadingPoint &sp) const;
   bool has_textures() const;
   bool is_constant() const { return resolved.n >= 0; }
   const char *type_name() const;

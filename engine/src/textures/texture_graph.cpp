@@ -614,6 +614,9 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.type = TexNodeType::Gamma;
     n.in[0] = input("color", json::array({1, 1, 1}));
     n.in[1] = input("gamma", 1.0);
+  } else if (type == "fresnel" || type == "layer_weight") {
+    fail(what_in + ": a '" + type + "' node depends on the viewing direction: it is supported as a mix's 'fac' "
+                   "only (docs/scene-format.md)");
   } else {
     fail(what_in + ": unknown texture node '" + type +
          "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, object_info, color_space, blackbody, invert, hue_saturation, attribute, vertex_color, "

@@ -28,7 +28,7 @@ FirstHit Bdpt::first_surface(const PathVertex *camera_path, int n) const {
     first_hit.valid = true;
     first_hit.depth = dot(v.p - cam.position(), cam.forward());
     first_hit.normal = v.bsdf.shading_normal(v.wo);  // a normal map's or bump's, as Cycles' Normal pass
-    first_hit.albedo = v.bsdf.albedo();
+    first_hit.albedo = v.bsdf.albedo(v.wo);
   }
   return first_hit;
 }

@@ -400,7 +400,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       first_hit->valid = true;
       first_hit->depth = dot(hit.p - cam.position(), cam.forward());
       first_hit->normal = bsdf.shading_normal(wo);  // a normal map's or bump's, as Cycles' Normal pass
-      first_hit->albedo = bsdf.albedo();
+      first_hit->albedo = bsdf.albedo(wo);
     }
     // Where the path may not scatter any more (a bounce limit), a plain transparent layer
     // (Scene::is_plain_layer) may still be passed: the lobe decides, as in BDPT's walks.
