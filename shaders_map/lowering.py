@@ -491,7 +491,11 @@ class _Lowerer:
         if k == "mix":
             a, b = (c.children + [None, None])[:2]
             fac = p.get("fac", Const(0.5))
-            f = self.value(fac)  # textured factors above an emission too: the engine evaluates them per point
+            # Fresnel / Layer Weight straight into the factor: evaluated per pair of directions.
+            # Textured factors above an emission too: the engine evaluates them per point.
+            f = self._view_factor(fac) if self.context == "surface" else None
+            if f is None:
+                f = self.value(fac)
             if isinstance(f, float):
                 f = _clamp01(f)
             s1, s2 = self.shader(a, depth + 1), self.shader(b, depth + 1)
@@ -585,6 +589,18 @@ class _Lowerer:
             return None
         self.approx(c.node, "unknown closure '%s' ignored" % k)
         return None
+
+    def _view_factor(self, fac):
+        """The engine's view factor for a Fresnel / Layer Weight node that is a Mix Shader's
+        factor (scene-format.md), or None."""
+        if not isinstance(fac, Expr) or fac.op not in ("fresnel", "layer_weight"):
+            return None
+        if fac.props.get("normal_linked"):
+            self.approx(fac.node, "Normal input approximated by the interpolated normal")
+        if fac.op == "fresnel":
+            return {"node": "fresnel", "ior": self.value(fac.args.get("ior", Const(1.45)))}
+        return {"node": "layer_weight", "output": fac.props.get("output", "fresnel"),
+                "blend": self.value(fac.args.get("blend", Const(0.5)))}
 
     def _principled(self, c):
         p = c.params

@@ -1192,6 +1192,47 @@ def smooth_ball(name, location, radius, material):
     return ob
 
 
+def view_mix_material(name, color, roughness, fac_node, fac_output, glossy_color=(0.9, 0.9, 0.9), **fac_inputs):
+    """Mix Shader of a Diffuse BSDF (color) and a GGX Glossy (roughness; 0: Sharp), its Fac a
+    Fresnel or Layer Weight node (fac_node) output with fac_inputs."""
+    m = mix_material(name, ("ShaderNodeBsdfDiffuse", {"Color": color + (1.0,)}),
+                     ("ShaderNodeBsdfGlossy", {"Color": glossy_color + (1.0,), "Roughness": roughness}), 0.5)
+    nt = m.node_tree
+    if roughness == 0.0:
+        next(n for n in nt.nodes if n.bl_idname == "ShaderNodeBsdfGlossy").distribution = "SHARP"
+    fac = nt.nodes.new(fac_node)
+    for k, v in fac_inputs.items():
+        fac.inputs[k].default_value = v
+    mix = next(n for n in nt.nodes if n.bl_idname == "ShaderNodeMixShader")
+    nt.links.new(fac.outputs[fac_output], mix.inputs["Fac"])
+    return m
+
+
+def view_dependent_mixes():
+    """Mix Shaders by Fresnel and Layer Weight (their factor follows the viewing direction): four
+    smooth balls (Fresnel of IOR 1.45 over a GGX 0.2 gloss; Layer Weight's Fresnel, blend 0.3;
+    its Facing, blend 0.6; a Fresnel of IOR 1.8 over a mirror) on a floor mixed by Layer Weight's
+    Fresnel, seen from 13 degrees above, under a blue world and a sun."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+    bg = scene.world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (0.3, 0.4, 0.6, 1.0)
+    plane("Floor", 6.0, view_mix_material("FloorMat", (0.5, 0.45, 0.4), 0.15, "ShaderNodeLayerWeight", "Fresnel",
+                                          Blend=0.2))
+    balls = (("FresnelBall", -1.2, view_mix_material("Fresnel", (0.8, 0.2, 0.1), 0.2, "ShaderNodeFresnel", "Fac", IOR=1.45)),
+             ("LayerFresnelBall", -0.4, view_mix_material("LayerFresnel", (0.1, 0.3, 0.8), 0.1, "ShaderNodeLayerWeight",
+                                                          "Fresnel", Blend=0.3)),
+             ("FacingBall", 0.4, view_mix_material("Facing", (0.2, 0.7, 0.2), 0.3, "ShaderNodeLayerWeight", "Facing",
+                                                   Blend=0.6)),
+             ("MirrorRimBall", 1.2, view_mix_material("MirrorRim", (0.8, 0.7, 0.2), 0.0, "ShaderNodeFresnel", "Fac",
+                                                      IOR=1.8)))
+    for name, x, material in balls:
+        smooth_ball(name, (x, 0, 0.35), 0.35, material)
+    light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(40), 0, math.radians(-30)), angle=math.radians(5))
+    camera_looking_at((0, -3.0, 1.0), (0, 0, 0.3), 32)
+    return scene
+
+
 def film_transparent():
     """Film > Transparent: a diffuse ball, a smooth glass ball and a card half Transparent
     BSDF on a floor small enough that the world shows all around them (a blue sky, lit
@@ -1473,6 +1514,7 @@ def motion_blur(variant):
 
 SCENES = {
     "cornell_lamp_near_ceiling": cornell_lamp_near_ceiling,
+    "view_dependent_mixes": view_dependent_mixes,
     "plane_point": plane_point,
     "plane_spot": plane_spot,
     "plane_sun": plane_sun,
@@ -1525,7 +1567,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "emissive_textured",
                      "volume_blackbody"]
 
 

@@ -1,4 +1,7 @@
-"""Input nodes: RGB, Value, Vertex Color (Color Attribute), Attribute."""
+"""Input nodes: RGB, Value, Vertex Color (Color Attribute), Attribute, Object Info, Geometry,
+Fresnel, Layer Weight."""
+
+import math
 
 from ..ir import Const, Expr
 from ..registry import maps, evaluates
@@ -76,3 +79,57 @@ def eval_geometry(ev, e):
     else:  # Incoming, Backfacing (the viewer's side), Tangent, Parametric, Pointiness, Random per Island
         ev.approx(e, "geometry %s not supported, a constant" % out)
     return 0.0 if out in ("Backfacing", "Pointiness", "Random Per Island") else (0.0, 0.0, 1.0)
+
+
+# Fresnel and Layer Weight depend on the viewing direction. As a Mix Shader's factor the engine
+# evaluates them per pair of directions (lowering: "view factors"); anywhere else they are their
+# cosine-weighted mean over the directions of a hemisphere, with a warning.
+@maps("ShaderNodeFresnel")
+def fresnel(ctx, node, socket):
+    return Expr("fresnel", ctx.label(node), {"ior": ctx.input(node, "IOR", default=1.45)},
+                {"normal_linked": ctx.is_linked(node, "Normal")})
+
+
+@maps("ShaderNodeLayerWeight")
+def layer_weight(ctx, node, socket):
+    output = "facing" if getattr(socket, "identifier", "Fresnel") == "Facing" else "fresnel"
+    return Expr("layer_weight", ctx.label(node), {"blend": ctx.input(node, "Blend", default=0.5)},
+                {"output": output, "normal_linked": ctx.is_linked(node, "Normal")})
+
+
+def _fresnel_dielectric_cos(c, eta):
+    """Cycles' fresnel_dielectric_cos: reflectance at |cos| c of relative IOR eta."""
+    g = eta * eta - 1 + c * c
+    if g <= 0:
+        return 1.0
+    g = math.sqrt(g)
+    a, b = (g - c) / (g + c), (c * (g + c) - 1) / (c * (g - c) + 1)
+    return 0.5 * a * a * (1 + b * b)
+
+
+def view_factor_value(op, param, output, cos):
+    """The factor seen at |cos| from the front (Cycles' svm_node_fresnel / layer_weight)."""
+    if op == "fresnel":
+        return _fresnel_dielectric_cos(cos, min(max(param, 1e-5), 1e5))
+    if output == "fresnel":
+        return _fresnel_dielectric_cos(cos, 1.0 / min(max(1.0 - param, 1e-5), 1e5))
+    f = cos
+    if param != 0.5:
+        b = min(max(param, 0.0), 1.0 - 1e-5)
+        f = f ** (2.0 * b if b < 0.5 else 0.5 / (1.0 - b))
+    return 1.0 - f
+
+
+def view_factor_mean(op, param, output="fresnel"):
+    """Cosine-weighted mean over the hemisphere (256 midpoints in cos^2, as the engine's)."""
+    n = 256
+    return sum(view_factor_value(op, param, output, math.sqrt((i + 0.5) / n)) for i in range(n)) / n
+
+
+@evaluates("fresnel", "layer_weight")
+def eval_view_factor(ev, e):
+    param = ev.float(e.args.get("ior" if e.op == "fresnel" else "blend", Const(1.45 if e.op == "fresnel" else 0.5)))
+    mean = view_factor_mean(e.op, param, e.props.get("output", "fresnel"))
+    ev.approx(e, "depends on the viewing direction: exact only as a Mix Shader's Fac; here its mean "
+                 "over directions, %.3f" % mean)
+    return mean

@@ -224,6 +224,69 @@ class TestCombinators(unittest.TestCase):
         self.assertTrue(close(p["color"], (0.75, 0.0, 0.25)))
         self.assertIsNone(w)
 
+    def _mix_by(self, build_fac):
+        def b(t):
+            m = t.new("ShaderNodeMixShader", "Mix")
+            t.link(build_fac(t), m.inp("Fac"))
+            t.link(_diffuse(t, (0.8, 0.2, 0.1), "D").out(), m.inp("Shader"))
+            t.link(t.new("ShaderNodeBsdfGlossy", "G", distribution="GGX").out(), m.inp("Shader_001"))
+            return m.out()
+        return material_with(b)
+
+    def test_fresnel_and_layer_weight_factors_go_to_the_engine(self):
+        # Straight into a Mix Shader's Fac: the engine evaluates them per pair of directions.
+        def fresnel(t):
+            f = t.new("ShaderNodeFresnel", "F")
+            f.inp("IOR").default_value = 1.6
+            return f.out()
+        p, w = self._mix_by(fresnel)
+        self.assertEqual(p["fac"], {"node": "fresnel", "ior": 1.6})
+        self.assertEqual((p["shader1"]["type"], p["shader2"]["type"]), ("diffuse", "glossy"))
+        self.assertIsNone(w)
+        for out, engine_out in (("Fresnel", "fresnel"), ("Facing", "facing")):
+            with self.subTest(out):
+                def layer(t, out=out):
+                    n = t.new("ShaderNodeLayerWeight", "LW")
+                    n.inp("Blend").default_value = 0.3
+                    return n.out(out)
+                p, w = self._mix_by(layer)
+                self.assertEqual(p["fac"]["node"], "layer_weight")
+                self.assertEqual(p["fac"]["output"], engine_out)
+                self.assertAlmostEqual(p["fac"]["blend"], 0.3, places=6)
+                self.assertIsNone(w)
+        # A textured IOR goes along as a texture node.
+        def textured(t):
+            f = t.new("ShaderNodeFresnel", "F")
+            t.link(t.new("ShaderNodeTexChecker", "Chk").out("Fac"), f.inp("IOR"))
+            return f.out()
+        p, w = self._mix_by(textured)
+        self.assertEqual(p["fac"]["ior"]["node"], "checker")
+        # A linked Normal is approximated by the interpolated normal, named.
+        def with_normal(t):
+            f = t.new("ShaderNodeFresnel", "F")
+            t.link(t.new("ShaderNodeNewGeometry", "G").out("Normal"), f.inp("Normal"))
+            return f.out()
+        p, w = self._mix_by(with_normal)
+        self.assertEqual(p["fac"]["node"], "fresnel")
+        self.assertIn("Normal input", w)
+
+    def test_view_factors_elsewhere_are_their_mean(self):
+        # Through a Math node, or into a colour: the cosine-weighted mean, with a warning naming it.
+        def through_math(t):
+            m = t.new("ShaderNodeMath", "Pow", operation="POWER", use_clamp=False)
+            t.link(t.new("ShaderNodeFresnel", "F").out(), m.inputs[0])
+            m.inputs[1].default_value = 1.0
+            return m.out()
+        p, w = self._mix_by(through_math)
+        self.assertIn("Fresnel 'F'", w)
+        self.assertIn("viewing direction", w)
+        mean = sm.nodes.inputs.view_factor_mean("fresnel", 1.45)
+        self.assertTrue(0.05 < mean < 0.15, mean)
+        glossy_share = p["fac"] if isinstance(p.get("fac"), float) else None
+        self.assertTrue(glossy_share is None or abs(glossy_share - mean) < 1e-6, p)
+        # Layer Weight's Facing at blend 0.5: 1 - cos, whose cosine-weighted mean is 1/3.
+        self.assertAlmostEqual(sm.nodes.inputs.view_factor_mean("layer_weight", 0.5, "facing"), 1.0 / 3.0, places=4)
+
     def test_add_two_diffuse_sums(self):
         def b(t):
             a = t.new("ShaderNodeAddShader", "Add")
