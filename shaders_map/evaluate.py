@@ -42,6 +42,11 @@ class Evaluator:
         self._memo[key] = (ir, v)  # keep ir alive so id() stays unique
         return v
 
+    def assume(self, ir, value):
+        """Evaluate as if ir's value were value (a node's output held fixed, e.g. to tabulate
+        what the nodes after it make of it)."""
+        self._memo[id(ir)] = (ir, value)
+
     def float(self, ir):
         v = self.value(ir)
         return v if isinstance(v, float) else to_float(v)

@@ -16,7 +16,7 @@ material naming those nodes.
 import math
 from .ir import Const, Expr, Closure
 from .issues import Issues
-from .evaluate import Evaluator, is_constant, PROCEDURAL_TEXTURES
+from .evaluate import Evaluator, is_constant, PROCEDURAL_TEXTURES, VARYING_OPS
 from .graph import LUMINANCE
 
 ENGINE_TYPES = ("diffuse", "emission", "glossy", "glass", "refraction", "principled", "transparent",
@@ -591,16 +591,60 @@ class _Lowerer:
         return None
 
     def _view_factor(self, fac):
-        """The engine's view factor for a Fresnel / Layer Weight node that is a Mix Shader's
-        factor (scene-format.md), or None."""
-        if not isinstance(fac, Expr) or fac.op not in ("fresnel", "layer_weight"):
+        """The engine's view factor for a Mix Shader's factor that is a Fresnel / Layer Weight
+        node, or such a node through nodes of constant settings (a Color Ramp, Math, a curve:
+        baked into a table over the node's [0, 1]; scene-format.md); else None."""
+        view = self._view_leaf(fac)
+        if view is None:
             return None
-        if fac.props.get("normal_linked"):
-            self.approx(fac.node, "Normal input approximated by the interpolated normal")
-        if fac.op == "fresnel":
-            return {"node": "fresnel", "ior": self.value(fac.args.get("ior", Const(1.45)))}
-        return {"node": "layer_weight", "output": fac.props.get("output", "fresnel"),
-                "blend": self.value(fac.args.get("blend", Const(0.5)))}
+        table = None
+        if view is not fac:
+            table = self._view_table(fac, view)
+            if table is None:
+                return None
+        if view.props.get("normal_linked"):
+            self.approx(view.node, "Normal input approximated by the interpolated normal")
+        if view.op == "fresnel":
+            d = {"node": "fresnel", "ior": self.value(view.args.get("ior", Const(1.45)))}
+        else:
+            d = {"node": "layer_weight", "output": view.props.get("output", "fresnel"),
+                 "blend": self.value(view.args.get("blend", Const(0.5)))}
+        if table is not None:
+            d["table"] = table
+        return d
+
+    @staticmethod
+    def _view_leaf(fac):
+        """The one Fresnel / Layer Weight node fac depends on, if nothing else in it varies."""
+        views, seen, stack = [], set(), [fac]
+        while stack:
+            x = stack.pop()
+            if not isinstance(x, Expr) or id(x) in seen:
+                if isinstance(x, Closure):
+                    return None
+                continue
+            seen.add(id(x))
+            if x.op in ("fresnel", "layer_weight"):
+                views.append(x)  # its own inputs (IOR, Blend) may vary: the engine evaluates them
+                continue
+            if x.op in VARYING_OPS:
+                return None
+            stack.extend(x.args.values())
+        return views[0] if len(views) == 1 else None
+
+    def _view_table(self, fac, view, n=256):
+        """fac as a function of view's output x in [0, 1], at n points (None if some node on
+        the way cannot be evaluated exactly)."""
+        table = []
+        for i in range(n):
+            issues = Issues()
+            ev = Evaluator(issues, self.image_average)
+            ev.assume(view, i / (n - 1.0))
+            v = ev.float(fac)
+            if issues or not math.isfinite(v):
+                return None
+            table.append(round(min(max(v, 0.0), 1.0), 6))
+        return table
 
     def _principled(self, c):
         p = c.params

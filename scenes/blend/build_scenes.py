@@ -1192,9 +1192,11 @@ def smooth_ball(name, location, radius, material):
     return ob
 
 
-def view_mix_material(name, color, roughness, fac_node, fac_output, glossy_color=(0.9, 0.9, 0.9), **fac_inputs):
+def view_mix_material(name, color, roughness, fac_node, fac_output, glossy_color=(0.9, 0.9, 0.9), ramp=None,
+                      **fac_inputs):
     """Mix Shader of a Diffuse BSDF (color) and a GGX Glossy (roughness; 0: Sharp), its Fac a
-    Fresnel or Layer Weight node (fac_node) output with fac_inputs."""
+    Fresnel or Layer Weight node (fac_node) output with fac_inputs; ramp: (position of black,
+    position of white) of a Color Ramp (Ease) between the two."""
     m = mix_material(name, ("ShaderNodeBsdfDiffuse", {"Color": color + (1.0,)}),
                      ("ShaderNodeBsdfGlossy", {"Color": glossy_color + (1.0,), "Roughness": roughness}), 0.5)
     nt = m.node_tree
@@ -1204,14 +1206,21 @@ def view_mix_material(name, color, roughness, fac_node, fac_output, glossy_color
     for k, v in fac_inputs.items():
         fac.inputs[k].default_value = v
     mix = next(n for n in nt.nodes if n.bl_idname == "ShaderNodeMixShader")
-    nt.links.new(fac.outputs[fac_output], mix.inputs["Fac"])
+    out = fac.outputs[fac_output]
+    if ramp is not None:
+        r = nt.nodes.new("ShaderNodeValToRGB")
+        r.color_ramp.interpolation = "EASE"
+        r.color_ramp.elements[0].position, r.color_ramp.elements[1].position = ramp
+        nt.links.new(out, r.inputs["Fac"])
+        out = r.outputs["Color"]
+    nt.links.new(out, mix.inputs["Fac"])
     return m
 
 
 def view_dependent_mixes():
     """Mix Shaders by Fresnel and Layer Weight (their factor follows the viewing direction): four
     smooth balls (Fresnel of IOR 1.45 over a GGX 0.2 gloss; Layer Weight's Fresnel, blend 0.3;
-    its Facing, blend 0.6; a Fresnel of IOR 1.8 over a mirror) on a floor mixed by Layer Weight's
+    its Facing, blend 0.6, through a Color Ramp (Ease, 0.2 to 0.7); a Fresnel of IOR 1.8 over a mirror) on a floor mixed by Layer Weight's
     Fresnel, seen from 13 degrees above, under a blue world and a sun."""
     scene = reset(64)
     scene.render.resolution_x = 128
@@ -1223,7 +1232,7 @@ def view_dependent_mixes():
              ("LayerFresnelBall", -0.4, view_mix_material("LayerFresnel", (0.1, 0.3, 0.8), 0.1, "ShaderNodeLayerWeight",
                                                           "Fresnel", Blend=0.3)),
              ("FacingBall", 0.4, view_mix_material("Facing", (0.2, 0.7, 0.2), 0.3, "ShaderNodeLayerWeight", "Facing",
-                                                   Blend=0.6)),
+                                                   ramp=(0.2, 0.7), Blend=0.6)),
              ("MirrorRimBall", 1.2, view_mix_material("MirrorRim", (0.8, 0.7, 0.2), 0.0, "ShaderNodeFresnel", "Fac",
                                                       IOR=1.8)))
     for name, x, material in balls:

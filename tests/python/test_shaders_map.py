@@ -270,20 +270,43 @@ class TestCombinators(unittest.TestCase):
         self.assertEqual(p["fac"]["node"], "fresnel")
         self.assertIn("Normal input", w)
 
-    def test_view_factors_elsewhere_are_their_mean(self):
-        # Through a Math node, or into a colour: the cosine-weighted mean, with a warning naming it.
+    def test_view_factor_through_constant_nodes_is_baked(self):
+        # Fresnel through a Math node of constant settings: the node's function of the
+        # factor, baked over [0, 1] for the engine.
         def through_math(t):
             m = t.new("ShaderNodeMath", "Pow", operation="POWER", use_clamp=False)
             t.link(t.new("ShaderNodeFresnel", "F").out(), m.inputs[0])
-            m.inputs[1].default_value = 1.0
+            m.inputs[1].default_value = 2.0
             return m.out()
         p, w = self._mix_by(through_math)
-        self.assertIn("Fresnel 'F'", w)
-        self.assertIn("viewing direction", w)
+        self.assertIsNone(w)
+        self.assertEqual(p["fac"]["node"], "fresnel")
+        table = p["fac"]["table"]
+        self.assertEqual(len(table), 256)
+        for i in (0, 17, 128, 255):
+            self.assertAlmostEqual(table[i], (i / 255.0) ** 2, places=5)
+
+    def test_view_factors_elsewhere_are_their_mean(self):
+        # Into a colour, or mixed with a texture on the way to the Fac: the cosine-weighted mean,
+        # with a warning naming the node.
+        def into_color(t):
+            d = t.new("ShaderNodeBsdfDiffuse", "D")
+            t.link(t.new("ShaderNodeFresnel", "F").out(), d.inp("Color"))
+            return d.out()
+        p, w = material_with(into_color)
         mean = sm.nodes.inputs.view_factor_mean("fresnel", 1.45)
         self.assertTrue(0.05 < mean < 0.15, mean)
-        glossy_share = p["fac"] if isinstance(p.get("fac"), float) else None
-        self.assertTrue(glossy_share is None or abs(glossy_share - mean) < 1e-6, p)
+        self.assertTrue(close(p["color"], (mean,) * 3), p)
+        self.assertIn("Fresnel 'F'", w)
+        self.assertIn("viewing direction", w)
+        def with_texture(t):
+            m = t.new("ShaderNodeMath", "Mul", operation="MULTIPLY", use_clamp=False)
+            t.link(t.new("ShaderNodeFresnel", "F").out(), m.inputs[0])
+            t.link(t.new("ShaderNodeTexChecker", "Chk").out("Fac"), m.inputs[1])
+            return m.out()
+        p, w = self._mix_by(with_texture)
+        self.assertIn("Fresnel 'F'", w)
+        self.assertNotIn("table", str(p["fac"]))
         # Layer Weight's Facing at blend 0.5: 1 - cos, whose cosine-weighted mean is 1/3.
         self.assertAlmostEqual(sm.nodes.inputs.view_factor_mean("layer_weight", 0.5, "facing"), 1.0 / 3.0, places=4)
 

@@ -111,6 +111,25 @@ TEST(ViewFactors, WeightIsTakenAtTheCameraSideDirection) {
   EXPECT_NEAR(back.f(normalize(wo), normalize(wi), TransportMode::Radiance).x, (1 - fresnel(0.8, 1 / 1.6)) / kPi, 2e-6);
 }
 
+// Nodes between the factor and the Mix Shader, baked by the exporter into a table over the
+// factor's [0, 1]: read linearly. Facing at blend 0.5 is 1 - cos; the table [1, 0] makes it cos,
+// so a white diffuse as the mix's second shader reflects cos / pi; a three-entry table bends it.
+TEST(ViewFactors, TableMapsTheFactor) {
+  Material inverted = material(
+      R"({"type":"mix","fac":{"node":"layer_weight","output":"facing","table":[1,0]},"shader2":{"type":"diffuse","color":[1,1,1]}})");
+  Material bent = material(
+      R"({"type":"mix","fac":{"node":"layer_weight","output":"facing","table":[0,0.8,1]},"shader2":{"type":"diffuse","color":[1,1,1]}})");
+  const Vec3 wi = normalize(Vec3(-0.2f, 0.1f, 0.9f));
+  for (float c : {0.95f, 0.6f, 0.3f, 0.1f}) {
+    const Vec3 wo(std::sqrt(1 - c * c), 0, c);
+    EXPECT_NEAR(inverted.make_bsdf(point(), wo).f(wo, wi, TransportMode::Radiance).x, c / kPi, 2e-6) << c;
+    const float x = 1 - c, g = x < 0.5f ? 1.6f * x : 0.8f + 0.4f * (x - 0.5f);
+    EXPECT_NEAR(bent.make_bsdf(point(), wo).f(wo, wi, TransportMode::Radiance).x, g / kPi, 2e-6) << c;
+  }
+  EXPECT_THROW(material(R"({"type":"mix","fac":{"node":"fresnel","table":[0.5]},"shader1":{"type":"diffuse"}})"), Error);
+  EXPECT_THROW(material(R"({"type":"mix","fac":{"node":"fresnel","table":[0,"a"]},"shader1":{"type":"diffuse"}})"), Error);
+}
+
 // The same pair of directions gives one f and one pair of densities whichever direction the
 // Bsdf was built toward: a camera path reaching the surface from c and a light path reaching it
 // from l (BDPT's connections and its MIS, light tracing, path-space MLT). With the factors taken

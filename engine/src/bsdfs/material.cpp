@@ -165,12 +165,24 @@ struct Parser {
     }
     if (f.get_json("normal"))
       m.warnings.push_back(f.what() + ": its Normal input is approximated by the interpolated normal");
+    if (const json *t = f.get_json("table")) {
+      const size_t kMaxTable = 4096;
+      if (!t->is_array() || t->size() < 2 || t->size() > kMaxTable)
+        fail(f.what() + ": 'table' must be an array of 2 to " + std::to_string(kMaxTable) + " numbers");
+      for (const json &v : *t) {
+        if (!v.is_number() || !std::isfinite(v.get<double>()))
+          fail(f.what() + ": 'table' must hold finite numbers");
+        spec.table.push_back(v.get<float>());
+      }
+    }
     f.check_all_used();
     m.view_factors.push_back(spec);
     const Factor factor{-1, false, int(m.view_factors.size()) - 1};
     if (m.view_factors.size() <= size_t(Bsdf::kMaxViewFactors)) return factor;
-    return constant_view_factor(factor, f.what() + ": more than " + std::to_string(Bsdf::kMaxViewFactors) +
-                                            " Fresnel / Layer Weight factors in one material");
+    const Factor mean = constant_view_factor(factor, f.what() + ": more than " + std::to_string(Bsdf::kMaxViewFactors) +
+                                                         " Fresnel / Layer Weight factors in one material");
+    m.view_factors.pop_back();
+    return mean;
   }
   // A view factor replaced by its cosine-weighted mean (a textured IOR or blend: the mean at
   // the graph's default for it), with a warning saying why.
@@ -178,8 +190,7 @@ struct Parser {
     const Material::ViewFactorSpec &spec = m.view_factors[size_t(f.view)];
     const TexNode &param = m.graph.node(spec.param);
     const float fallback = spec.kind == ViewFactorKind::Fresnel ? 1.45f : 0.5f;
-    const float mean = ViewFactor{spec.kind, param.type == TexNodeType::Constant ? param.value.x : fallback}
-                           .cosine_weighted_mean();
+    const float mean = spec.at(param.type == TexNodeType::Constant ? param.value.x : fallback).cosine_weighted_mean();
     if (!why.empty()) m.warnings.push_back(why + ": the factor is its mean over directions, " + std::to_string(mean));
     return {m.graph.constant(Color(mean)), f.invert};
   }
@@ -275,6 +286,7 @@ Material Material::from_params(Params &p, const std::string &name, const ImageBu
               f, warned ? "" : "a Fresnel / Layer Weight factor in a material with transparency or a holdout");
           warned = true;
         }
+    m.view_factors.clear();  // none left: the material may be resolved once
   }
   m.warn_if_lobes_merge();
   for (std::string &w : m.warnings)
@@ -670,7 +682,7 @@ template <class Sink>
 void add_closure_lobes(const Material &m, const ShadingPoint &sp, Sink &bsdf) {
   if constexpr (std::is_same_v<Sink, Bsdf>)
     for (const Material::ViewFactorSpec &v : m.view_factors)
-      bsdf.add_view_factor(ViewFactor{v.kind, m.graph.eval_float(v.param, sp)}, sp.ns);
+      bsdf.add_view_factor(v.at(m.graph.eval_float(v.param, sp)), sp.ns);
   for (const Closure &c : m.closures) {
     const float w = m.mix_weight(c.weight, sp);
     if (!(w > 0)) continue;

@@ -70,7 +70,14 @@ struct Material {
   // The Fresnel / Layer Weight nodes that are Mix Shader factors (at most
   // Bsdf::kMaxViewFactors; others are their cosine-weighted mean, with a warning): kind and
   // the graph node of its IOR or blend. A material with any is shaded per hit (not resolved).
-  struct ViewFactorSpec { ViewFactorKind kind; int param; };
+  struct ViewFactorSpec {
+    ViewFactorKind kind;
+    int param;
+    std::vector<float> table;  // ViewFactor::table (empty: none)
+    ViewFactor at(float param_value) const {
+      return {kind, param_value, table.empty() ? nullptr : table.data(), int(table.size())};
+    }
+  };
   std::vector<ViewFactorSpec> view_factors;
   TextureGraph graph;
   std::vector<std::string> warnings;  // for Scene::warn (missing images, approximations)

@@ -9,6 +9,7 @@
 // direction (Radiance: wo; Importance: wi), as it picks its shading frame: f(wo, wi) is then
 // one value however the path was sampled.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include "bsdfs/fresnel.h"
 #include "core/math.h"
@@ -24,16 +25,30 @@ enum class ViewFactorKind : uint8_t {
 struct ViewFactor {
   ViewFactorKind kind = ViewFactorKind::Fresnel;
   float param = 1.45f;
+  // The nodes between the factor and the Mix Shader (a Color Ramp, Math, a curve with
+  // constant settings), baked by the exporter into `table_size` values over the factor's
+  // [0, 1] and read linearly; nullptr: none. Held by the Material.
+  const float *table = nullptr;
+  int table_size = 0;
 
-  bool operator==(const ViewFactor &o) const { return kind == o.kind && param == o.param; }
+  bool operator==(const ViewFactor &o) const {
+    return kind == o.kind && param == o.param && table == o.table && table_size == o.table_size;
+  }
 
   // The factor seen from direction w (unit), n the surface's interpolated normal and front
   // its geometric normal, both toward the front face. Cycles' back-facing flag (w behind
   // the front face) inverts the relative IOR of the Fresnel outputs; |cos| with the normal
   // as Cycles' fresnel_dielectric_cos takes it.
   float at(Vec3 w, Vec3 n, Vec3 front) const {
-    const float c = std::fabs(dot(w, n));
-    const bool backfacing = dot(w, front) < 0;
+    const float f = raw(std::fabs(dot(w, n)), dot(w, front) < 0);
+    if (!table) return f;
+    const float x = clampf(f, 0.0f, 1.0f) * float(table_size - 1);
+    const int i = std::min(int(x), table_size - 2);
+    return clampf(table[i] + (table[i + 1] - table[i]) * (x - float(i)), 0.0f, 1.0f);
+  }
+
+  // The node's own output at |cos| c (before the table).
+  float raw(float c, bool backfacing) const {
     switch (kind) {
       case ViewFactorKind::Fresnel: {
         const float eta = clamp_ior(param);
