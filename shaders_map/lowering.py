@@ -894,11 +894,54 @@ def _unwrap(x):
     return x
 
 
+def _mapping_rotation(low, col):
+    """The constant rotation of a Mapping node on an environment's Vector input (None: none),
+    with warnings for what else the vector does."""
+    vec = _unwrap(col.args.get("vector"))
+    rotation = None
+    if isinstance(vec, Expr) and vec.op == "mapping":
+        rot = low.fold(vec.args.get("rotation"))
+        loc, scale = low.fold(vec.args.get("location")), low.fold(vec.args.get("scale"))
+        if rot is None or vec.props.get("vector_type", "POINT") not in ("POINT", "VECTOR"):
+            low.approx(vec.node, "only a constant rotation is supported here")
+        else:
+            rotation = list(rot) if not isinstance(rot, float) else [rot] * 3
+        if (loc is not None and any(abs(x) > 1e-9 for x in _num(loc))) or \
+                (scale is not None and any(abs(x - 1.0) > 1e-9 for x in _num(scale))):
+            low.approx(vec.node, "location/scale ignored (rotation only)")
+        inner = _unwrap(vec.args.get("vector"))
+        if inner is not None and not isinstance(inner, Const) and \
+                not (isinstance(inner, Expr) and inner.op == "texcoord" and inner.props.get("output") == "Generated"):
+            low.approx(vec.node, "input vector ignored (view direction used)")
+    elif vec is not None and not isinstance(vec, Const) and \
+            not (isinstance(vec, Expr) and vec.op == "texcoord" and vec.props.get("output") == "Generated"):
+        low.approx(col.node, "vector input ignored (view direction used)")
+    return rotation
+
+
+def _sky(low, c, col):
+    """Background(color = Sky Texture, Nishita [via Mapping]) -> world params, or None."""
+    if col.props.get("sky_type", "NISHITA") != "NISHITA":
+        return None  # Preetham, Hosek-Wilkie: the constant, with the evaluator's warning
+    sky = {"type": "nishita"}
+    for k in ("sun_disc", "sun_size", "sun_intensity", "sun_elevation", "sun_rotation", "altitude",
+              "air_density", "dust_density", "ozone_density"):
+        if k in col.props:
+            sky[k] = bool(col.props[k]) if k == "sun_disc" else float(col.props[k])
+    # Its Vector input is not read: Cycles 3.4 renders a Nishita sky by the view direction whatever
+    # is linked there (measured: a Mapping's rotation changes nothing in its image).
+    s = low._const_float(c.params.get("strength", Const(1.0)), c.node, "background strength")
+    return {"sky": sky, "color": [1.0, 1.0, 1.0], "strength": s}
+
+
 def _environment(low, c):
-    """Background(color = Environment Texture [via Mapping]) -> world params, or None."""
+    """Background(color = Environment Texture or Nishita Sky Texture [via Mapping]) -> world
+    params, or None."""
     if c is None or c.kind != "background":
         return None
     col = _unwrap(c.params.get("color"))
+    if isinstance(col, Expr) and col.op == "tex_sky":
+        return _sky(low, c, col)
     if not isinstance(col, Expr) or col.op != "tex_environment" or col.props.get("output") == "Alpha":
         return None
     path = low._image_file(col)
@@ -911,24 +954,9 @@ def _environment(low, c):
         env["colorspace"] = col.props["colorspace"]
     if col.props.get("projection", "EQUIRECTANGULAR") != "EQUIRECTANGULAR":
         low.approx(col.node, "%s projection approximated as equirectangular" % col.props.get("projection"))
-    vec = _unwrap(col.args.get("vector"))
-    if isinstance(vec, Expr) and vec.op == "mapping":
-        rot = low.fold(vec.args.get("rotation"))
-        loc, scale = low.fold(vec.args.get("location")), low.fold(vec.args.get("scale"))
-        if rot is None or vec.props.get("vector_type", "POINT") not in ("POINT", "VECTOR"):
-            low.approx(vec.node, "only a constant rotation is supported here")
-        else:
-            env["rotation"] = list(rot) if not isinstance(rot, float) else [rot] * 3
-        if (loc is not None and any(abs(x) > 1e-9 for x in _num(loc))) or \
-                (scale is not None and any(abs(x - 1.0) > 1e-9 for x in _num(scale))):
-            low.approx(vec.node, "location/scale ignored (rotation only)")
-        inner = _unwrap(vec.args.get("vector"))
-        if inner is not None and not isinstance(inner, Const) and \
-                not (isinstance(inner, Expr) and inner.op == "texcoord" and inner.props.get("output") == "Generated"):
-            low.approx(vec.node, "input vector ignored (view direction used)")
-    elif vec is not None and not isinstance(vec, Const) and \
-            not (isinstance(vec, Expr) and vec.op == "texcoord" and vec.props.get("output") == "Generated"):
-        low.approx(col.node, "vector input ignored (view direction used)")
+    rotation = _mapping_rotation(low, col)
+    if rotation is not None:
+        env["rotation"] = rotation
     s = low._const_float(c.params.get("strength", Const(1.0)), c.node, "background strength")
     return {"environment": env, "color": [1.0, 1.0, 1.0], "strength": s}
 

@@ -1242,6 +1242,32 @@ def view_dependent_mixes():
     return scene
 
 
+def nishita_sky():
+    """Blender's default sky (Sky Texture, Nishita: sun 15 degrees up, its disc on), the sun turned
+    by its rotation (70 degrees): a diffuse and a glossy ball on a grey floor, the horizon and the
+    glow around the sun in view (its disc out of the frame, its light and shadows in it). A Mapping
+    node (Z 40 degrees) on the sky's Vector, which Cycles 3.4 ignores for a Nishita sky (measured:
+    the image is bit-identical with Z 0 or 90, X 90, or the Mapping's input unlinked)."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+    nt = scene.world.node_tree
+    bg = nt.nodes["Background"]
+    sky = nt.nodes.new("ShaderNodeTexSky")
+    sky.sky_type = "NISHITA"
+    sky.sun_rotation = math.radians(70)
+    mapping = nt.nodes.new("ShaderNodeMapping")
+    mapping.inputs["Rotation"].default_value = (0.0, 0.0, math.radians(40))
+    nt.links.new(nt.nodes.new("ShaderNodeTexCoord").outputs["Generated"], mapping.inputs["Vector"])
+    nt.links.new(mapping.outputs["Vector"], sky.inputs["Vector"])
+    nt.links.new(sky.outputs["Color"], bg.inputs["Color"])
+    bg.inputs["Strength"].default_value = 0.05  # the sky is bright: W / m^2 in Blender's units
+    plane("Floor", 8.0, diffuse_material("FloorMat", (0.5, 0.5, 0.5)))
+    smooth_ball("DiffuseBall", (-0.6, 0, 0.5), 0.5, diffuse_material("BallMat", (0.8, 0.3, 0.2)))
+    smooth_ball("GlossyBall", (0.6, 0, 0.5), 0.5, glossy_material("Gloss", 0.2, (0.9, 0.9, 0.9)))
+    camera_looking_at((0, -4.0, 1.2), (0, 0, 0.6), 35)
+    return scene
+
+
 def film_transparent():
     """Film > Transparent: a diffuse ball, a smooth glass ball and a card half Transparent
     BSDF on a floor small enough that the world shows all around them (a blue sky, lit
@@ -1524,6 +1550,7 @@ def motion_blur(variant):
 SCENES = {
     "cornell_lamp_near_ceiling": cornell_lamp_near_ceiling,
     "view_dependent_mixes": view_dependent_mixes,
+    "nishita_sky": nishita_sky,
     "plane_point": plane_point,
     "plane_spot": plane_spot,
     "plane_sun": plane_sun,
@@ -1576,7 +1603,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "emissive_textured",
                      "volume_blackbody"]
 
 

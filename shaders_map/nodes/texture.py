@@ -1,4 +1,4 @@
-"""Texture nodes: Image, Environment, Checker, Noise, Gradient, Voronoi, Musgrave, Wave,
+"""Texture nodes: Image, Environment, Sky, Checker, Noise, Gradient, Voronoi, Musgrave, Wave,
 Magic, Brick, White Noise.
 
 Lowering makes each an engine texture node (the procedural ones Blender's own patterns);
@@ -39,6 +39,26 @@ def tex_environment(ctx, node, socket):
     return Expr("tex_environment", ctx.label(node),
                 {"vector": ctx.input(node, "Vector", default=(0, 0, 0))},
                 _image_props(node, socket, "EQUIRECTANGULAR"))
+
+
+# Blender's Sky Texture: the world lowering hands a Nishita sky in the Background to the engine
+# (lights/sky_nishita.h); anywhere else it is a constant.
+SKY_SETTINGS = ("sun_disc", "sun_size", "sun_intensity", "sun_elevation", "sun_rotation", "altitude",
+                "air_density", "dust_density", "ozone_density")
+
+
+@maps("ShaderNodeTexSky")
+def tex_sky(ctx, node, socket):
+    props = {k: getattr(node, k) for k in SKY_SETTINGS if hasattr(node, k)}
+    props["sky_type"] = getattr(node, "sky_type", "NISHITA")
+    return Expr("tex_sky", ctx.label(node), {"vector": ctx.input(node, "Vector", default=(0, 0, 0))}, props)
+
+
+@evaluates("tex_sky")
+def eval_sky(ev, e):
+    ev.approx(e, "a %s sky is supported as the World's Background colour only (Nishita); here a constant"
+              % e.props.get("sky_type", "NISHITA").title())
+    return (0.3, 0.4, 0.6)
 
 
 @evaluates("tex_image", "tex_environment")

@@ -1053,6 +1053,29 @@ class TestWorld(unittest.TestCase):
         self.assertTrue(close([c * p["strength"] for c in p["color"]], (2.0, 1.0, 0.5)))
         self.assertIn("Environment Texture 'Sky'", w)
 
+    def test_nishita_sky_goes_to_the_engine(self):
+        def b(t, sky_type="NISHITA"):
+            bg = t.new("ShaderNodeBackground", "Background")
+            bg.inp("Strength").default_value = 0.5
+            sky = t.new("ShaderNodeTexSky", "Sky", sky_type=sky_type, sun_disc=True, sun_size=0.02,
+                        sun_intensity=0.7, sun_elevation=0.3, sun_rotation=1.2, altitude=100.0, air_density=1.5,
+                        dust_density=0.5, ozone_density=2.0)
+            mapping = t.new("ShaderNodeMapping", "Mapping", vector_type="POINT")
+            mapping.inp("Rotation").default_value = [0.0, 0.0, 0.25]
+            t.link(mapping.out(), sky.inp("Vector"))
+            t.link(sky.out("Color"), bg.inp("Color"))
+            return bg.out()
+        p, w = self._world(b)
+        self.assertIsNone(w)
+        self.assertEqual(p["strength"], 0.5)
+        self.assertEqual(p["sky"], {"type": "nishita", "sun_disc": True, "sun_size": 0.02, "sun_intensity": 0.7,
+                                    "sun_elevation": 0.3, "sun_rotation": 1.2, "altitude": 100.0, "air_density": 1.5,
+                                    "dust_density": 0.5, "ozone_density": 2.0})  # Cycles 3.4 ignores the Mapping
+        # The other sky types: a constant, named.
+        p, w = self._world(lambda t: b(t, "HOSEK_WILKIE"))
+        self.assertNotIn("sky", p)
+        self.assertIn("Sky Texture 'Sky'", w)
+
     def test_world_without_nodes_and_none(self):
         p, w = sm.convert_world(World("W", None, use_nodes=False, color=(0.1, 0.2, 0.3)))
         self.assertEqual(p, {"color": [0.1, 0.2, 0.3], "strength": 1.0})

@@ -4,6 +4,7 @@
 #include "core/limits.h"
 #include "core/log.h"
 #include "core/ray_offset.h"
+#include "lights/sky_nishita.h"
 #include "textures/image_texture.h"
 
 namespace rdv {
@@ -389,9 +390,12 @@ void Scene::set_world(Params &params) {
     drop_medium(world_medium_);
     world_medium_ = -1;
   }
-  // With an "environment" HDRI, "color" tints it (default white); radiance = image x color x strength.
+  // With an "environment" HDRI or a "sky", "color" tints it (default white); radiance = image x
+  // color x strength.
   const nlohmann::json *env = params.get_json("environment");
-  Color c = params.get_vec3("color", env ? Color(1.0f) : Color(0.05f));
+  const nlohmann::json *sky = params.get_json("sky");
+  if (env && sky) fail(params.what() + ": give 'environment' or 'sky', not both");
+  Color c = params.get_vec3("color", env || sky ? Color(1.0f) : Color(0.05f));
   float s = params.get_float("strength", 1.0f);
   if (c.x < 0 || c.y < 0 || c.z < 0 || s < 0) fail(params.what() + ": colour and strength must not be negative");
   std::shared_ptr<EnvironmentMap> map;
@@ -410,6 +414,13 @@ void Scene::set_world(Params &params) {
       map.reset();
       c = Color(1, 0, 1);
     }
+  } else if (sky) {  // Blender's Nishita sky, baked into an environment map (lights/sky_nishita.h)
+    Params k(sky->dump(), params.what() + " sky");
+    const NishitaSky::Settings settings = NishitaSky::from_params(k);
+    const Vec3 rotation = k.get_vec3("rotation", Vec3(0.0f));
+    k.check_all_used();
+    const int width = 2048;
+    map = std::make_shared<EnvironmentMap>(width, width / 2, NishitaSky(settings).bake(width), rotation, c * s);
   }
   const uint32_t world_visibility = visibility::from_params(params);
   if (!(world_visibility & visibility::kShadow))
