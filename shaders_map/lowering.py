@@ -591,8 +591,8 @@ class _Lowerer:
         return None
 
     def _view_factor(self, fac):
-        """The engine's view factor for a Mix Shader's factor that is a Fresnel / Layer Weight
-        node, or such a node through nodes of constant settings (a Color Ramp, Math, a curve:
+        """The engine's view factor for a Mix Shader's factor that is a Fresnel / Layer Weight /
+        Geometry > Backfacing node, or one through nodes of constant settings (Color Ramp, Math, curves:
         baked into a table over the node's [0, 1]; scene-format.md); else None."""
         view = self._view_leaf(fac)
         if view is None:
@@ -604,7 +604,9 @@ class _Lowerer:
                 return None
         if view.props.get("normal_linked"):
             self.approx(view.node, "Normal input approximated by the interpolated normal")
-        if view.op == "fresnel":
+        if view.op == "geometry":
+            d = {"node": "backfacing"}
+        elif view.op == "fresnel":
             d = {"node": "fresnel", "ior": self.value(view.args.get("ior", Const(1.45)))}
         else:
             d = {"node": "layer_weight", "output": view.props.get("output", "fresnel"),
@@ -614,8 +616,13 @@ class _Lowerer:
         return d
 
     @staticmethod
-    def _view_leaf(fac):
-        """The one Fresnel / Layer Weight node fac depends on, if nothing else in it varies."""
+    def _is_view_node(x):
+        return x.op in ("fresnel", "layer_weight") or (x.op == "geometry" and x.props.get("output") == "Backfacing")
+
+    @classmethod
+    def _view_leaf(cls, fac):
+        """The one Fresnel / Layer Weight / Geometry > Backfacing node fac depends on, if nothing
+        else in it varies."""
         views, seen, stack = [], set(), [fac]
         while stack:
             x = stack.pop()
@@ -624,7 +631,7 @@ class _Lowerer:
                     return None
                 continue
             seen.add(id(x))
-            if x.op in ("fresnel", "layer_weight"):
+            if cls._is_view_node(x):
                 views.append(x)  # its own inputs (IOR, Blend) may vary: the engine evaluates them
                 continue
             if x.op in VARYING_OPS:

@@ -1218,10 +1218,11 @@ def view_mix_material(name, color, roughness, fac_node, fac_output, glossy_color
 
 
 def view_dependent_mixes():
-    """Mix Shaders by Fresnel and Layer Weight (their factor follows the viewing direction): four
-    smooth balls (Fresnel of IOR 1.45 over a GGX 0.2 gloss; Layer Weight's Fresnel, blend 0.3;
-    its Facing, blend 0.6, through a Color Ramp (Ease, 0.2 to 0.7); a Fresnel of IOR 1.8 over a mirror) on a floor mixed by Layer Weight's
-    Fresnel, seen from 13 degrees above, under a blue world and a sun."""
+    """Mix Shaders by the viewing direction: four smooth balls (a Fresnel of IOR 1.45 over a GGX
+    0.2 gloss; Layer Weight's Fresnel, blend 0.3; its Facing, blend 0.6, through a Color Ramp
+    (Ease, 0.2 to 0.7); a Fresnel of IOR 1.8 over a mirror) on a floor mixed by Layer Weight's
+    Fresnel, and two two-sided cards behind them (Geometry > Backfacing), seen from 13 degrees
+    above, under a blue world and a sun."""
     scene = reset(64)
     scene.render.resolution_x = 128
     bg = scene.world.node_tree.nodes["Background"]
@@ -1237,6 +1238,15 @@ def view_dependent_mixes():
                                                       IOR=1.8)))
     for name, x, material in balls:
         smooth_ball(name, (x, 0, 0.35), 0.35, material)
+    # Two-sided cards (Geometry > Backfacing: green in front, red behind) behind the balls, one
+    # facing the camera and one turned away.
+    two_sided = mix_material("TwoSided", ("ShaderNodeBsdfDiffuse", {"Color": (0.2, 0.7, 0.2, 1.0)}),
+                             ("ShaderNodeBsdfDiffuse", {"Color": (0.8, 0.15, 0.1, 1.0)}), 0.5)
+    nt = two_sided.node_tree
+    mix = next(n for n in nt.nodes if n.bl_idname == "ShaderNodeMixShader")
+    nt.links.new(nt.nodes.new("ShaderNodeNewGeometry").outputs["Backfacing"], mix.inputs["Fac"])
+    for name, x, turn in (("CardFront", -0.8, 90), ("CardBack", 0.8, -90)):
+        quad_object(name, 0.7, 0.5, (x, 1.0, 0.75), (turn, 0, 0), two_sided)
     light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(40), 0, math.radians(-30)), angle=math.radians(5))
     camera_looking_at((0, -3.0, 1.0), (0, 0, 0.3), 32)
     return scene

@@ -76,7 +76,10 @@ def eval_geometry(ev, e):
     out = e.props.get("output")
     if out in ("Position", "Normal", "True Normal"):
         ev.approx(e, "geometry %s approximated by a constant without the engine" % out)
-    else:  # Incoming, Backfacing (the viewer's side), Tangent, Parametric, Pointiness, Random per Island
+    elif out == "Backfacing":  # the viewer's side: exact as a Mix Shader's Fac (lowering's view factors)
+        ev.approx(e, "geometry Backfacing depends on the viewing direction: exact only as a Mix Shader's Fac; "
+                     "here 0 (the front)")
+    else:  # Incoming, Tangent, Parametric, Pointiness, Random per Island
         ev.approx(e, "geometry %s not supported, a constant" % out)
     return 0.0 if out in ("Backfacing", "Pointiness", "Random Per Island") else (0.0, 0.0, 1.0)
 

@@ -270,6 +270,18 @@ class TestCombinators(unittest.TestCase):
         self.assertEqual(p["fac"]["node"], "fresnel")
         self.assertIn("Normal input", w)
 
+    def test_backfacing_factor_makes_a_two_sided_material(self):
+        p, w = self._mix_by(lambda t: t.new("ShaderNodeNewGeometry", "G").out("Backfacing"))
+        self.assertEqual(p["fac"], {"node": "backfacing"})
+        self.assertIsNone(w)
+        # Into a colour: the front's 0, named.
+        def into_color(t):
+            d = t.new("ShaderNodeBsdfDiffuse", "D")
+            t.link(t.new("ShaderNodeNewGeometry", "G").out("Backfacing"), d.inp("Color"))
+            return d.out()
+        p, w = material_with(into_color)
+        self.assertIn("Backfacing", w)
+
     def test_view_factor_through_constant_nodes_is_baked(self):
         # Fresnel through a Math node of constant settings: the node's function of the
         # factor, baked over [0, 1] for the engine.

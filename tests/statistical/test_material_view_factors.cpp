@@ -130,6 +130,29 @@ TEST(ViewFactors, TableMapsTheFactor) {
   EXPECT_THROW(material(R"({"type":"mix","fac":{"node":"fresnel","table":[0,"a"]},"shader1":{"type":"diffuse"}})"), Error);
 }
 
+// Geometry > Backfacing as a Mix Shader's factor: a two-sided surface (green in front, red
+// behind), the side taken from the camera-side direction, so a light path reaching the back
+// from the front's side of a pair still sees what the camera sees.
+TEST(ViewFactors, BackfacingMakesTwoSidedSurfaces) {
+  Material two_sided = material(
+      R"({"type":"mix","fac":{"node":"backfacing"},"shader1":{"type":"diffuse","color":[0,1,0]},"shader2":{"type":"diffuse","color":[1,0,0]}})");
+  Pcg32 rng(5);
+  for (int i = 0; i < 200; ++i) {
+    const bool back = (i & 1) != 0;
+    const Vec3 c = direction(rng, !back), l = direction(rng, !back);
+    const Bsdf from_camera = two_sided.make_bsdf(point(), c), from_light = two_sided.make_bsdf(point(), l);
+    const Color f = from_camera.f(c, l, TransportMode::Radiance);
+    EXPECT_NEAR(f.x, back ? kInvPi : 0.0f, 1e-6f);
+    EXPECT_NEAR(f.y, back ? 0.0f : kInvPi, 1e-6f);
+    const Color f_light = from_light.f(l, c, TransportMode::Importance);
+    EXPECT_NEAR(f_light.x, f.x, 1e-6f);
+    EXPECT_NEAR(f_light.y, f.y, 1e-6f);
+  }
+  const ViewFactor backfacing{ViewFactorKind::Backfacing, 0};
+  EXPECT_EQ(backfacing.at(Vec3(0, 0, -1), Vec3(0, 0, 1), Vec3(0, 0, 1)), 1.0f);
+  EXPECT_EQ(backfacing.at(Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(0, 0, 1)), 0.0f);
+}
+
 // The same pair of directions gives one f and one pair of densities whichever direction the
 // Bsdf was built toward: a camera path reaching the surface from c and a light path reaching it
 // from l (BDPT's connections and its MIS, light tracing, path-space MLT). With the factors taken
@@ -178,16 +201,21 @@ TEST(ViewFactors, FallbacksAndBadInput) {
   EXPECT_GT(mean, 0.05f);
   EXPECT_LT(mean, 0.15f);
   EXPECT_NEAR(e.emission.x, 2 * (1 - mean), 1e-5f);
-  EXPECT_NE(all_warnings(e).find("emission under a Fresnel / Layer Weight factor"), std::string::npos) << all_warnings(e);
+  EXPECT_NE(all_warnings(e).find("emission under a view-dependent factor"), std::string::npos) << all_warnings(e);
   EXPECT_NE(all_warnings(e).find("material 'test'"), std::string::npos) << all_warnings(e);
-  // With transparency (a Transparent closure, Principled alpha) or a holdout: the mean.
+  // Over transparency (a Transparent closure, Principled alpha) or a holdout: the mean.
   for (const char *json :
        {R"({"type":"mix","fac":{"node":"layer_weight","output":"facing"},"shader1":{"type":"transparent"},"shader2":{"type":"diffuse"}})",
         R"({"type":"mix","fac":{"node":"fresnel"},"shader1":{"type":"principled","alpha":0.5},"shader2":{"type":"glossy"}})",
-        R"({"type":"add","shader1":{"type":"holdout"},"shader2":{"type":"mix","fac":{"node":"fresnel"},"shader1":{"type":"diffuse"},"shader2":{"type":"glossy"}}})"}) {
+        R"({"type":"mix","fac":{"node":"backfacing"},"shader1":{"type":"holdout"},"shader2":{"type":"diffuse"}})"}) {
     Material m = material(json);
     EXPECT_NE(all_warnings(m).find("transparency or a holdout"), std::string::npos) << json << "\n" << all_warnings(m);
   }
+  // Beside them (a leaf: alpha around a two-sided mix) the factor stays exact: no warning.
+  Material leaf = material(
+      R"({"type":"mix","fac":0.3,"shader1":{"type":"transparent"},"shader2":{"type":"mix","fac":{"node":"backfacing"},"shader1":{"type":"diffuse","color":[0,1,0]},"shader2":{"type":"diffuse","color":[1,0,0]}}})");
+  EXPECT_EQ(all_warnings(leaf).find("transparency or a holdout"), std::string::npos) << all_warnings(leaf);
+  EXPECT_FALSE(leaf.is_constant());
   // More than four in one material: the fifth is its mean.
   std::string nested = R"({"type":"diffuse"})";
   for (int i = 0; i < 5; ++i)

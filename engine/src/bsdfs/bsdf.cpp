@@ -719,29 +719,32 @@ KindSplit Bsdf::kind_split(Vec3 wo_w, Vec3 wi_w, bool delta) const {
                                                                                          : 2);
 }
 
-float Bsdf::transparent_pick() const {
+float Bsdf::transparent_pick(const float *pick) const {
   float q = 0;
   for (int i = 0; i < n_; ++i)
-    if (lobes_[i].type == LobeType::Transparent) q += pick_[i];
+    if (lobes_[i].type == LobeType::Transparent) q += pick[i];
   return q;
 }
 
 float Bsdf::pass_probability(Vec3 wo) const {
   if (n_ == 0 || dot(wo, ng_) <= 0) return 0;  // sample() fails
-  return transparent_pick();
+  Picks picks;
+  return transparent_pick(picks_from(wo, picks));
 }
 
-float Bsdf::scattering_lobe_u(float u) const {
-  const float pass = transparent_pick();
+float Bsdf::scattering_lobe_u(Vec3 wo, float u) const {
+  Picks picks;
+  const float *pick = picks_from(wo, picks);
+  const float pass = transparent_pick(pick);
   if (!(pass < 1)) return u;  // nothing else to pick: sample() passes (the caller fails)
   float left = u * (1 - pass), cdf = 0, last_end = 0;  // left: how far into the other lobes' picks
   for (int i = 0; i < n_; ++i) {
     if (lobes_[i].type != LobeType::Transparent) {
-      if (left < pick_[i]) return cdf + left;
-      left -= pick_[i];
-      last_end = cdf + pick_[i];
+      if (left < pick[i]) return cdf + left;
+      left -= pick[i];
+      last_end = cdf + pick[i];
     }
-    cdf += pick_[i];
+    cdf += pick[i];
   }
   return std::nextafter(last_end, 0.0f);  // rounding left a sliver past the last one: its end
 }

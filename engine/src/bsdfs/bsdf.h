@@ -240,7 +240,7 @@ class Bsdf {
   // mapped onto the part of sample()'s u_lobe that picks the other lobes (each keeps its own
   // remainder for the choices inside it). Path-space MLT's walks, which decide a plain
   // layer's pass before its scattering (integrators/mlt/path_space.cpp).
-  float scattering_lobe_u(float u) const;
+  float scattering_lobe_u(Vec3 wo, float u) const;
   // Whether wo -> wi is a straight pass through a Transparent lobe (no scattering for the
   // light passes), for paths that know only their directions (path-space MLT).
   bool passes_straight_through(Vec3 wo, Vec3 wi) const;
@@ -307,8 +307,9 @@ class Bsdf {
                         a.s.z == b.s.z);
   }
   static constexpr float kTerminatorCos = 1e-4f;
-  // The selection probability of the Transparent lobes (pass_probability, scattering_lobe_u).
-  float transparent_pick() const;
+  // The selection probability of the Transparent lobes (pass_probability, scattering_lobe_u)
+  // among the picks of sampling from some direction (picks_from).
+  float transparent_pick(const float *pick) const;
   float shading_correction(Vec3 wo, Vec3 wi, TransportMode mode, const Frame &frame) const;
   void copy_from(const Bsdf &o) {
     frame_ = o.frame_;
@@ -416,8 +417,8 @@ class Bsdf {
   std::array<float, kMaxLobes> raw_weight_;  // as given to add_lobe
   // Normalised lobe selection probabilities (raw_weight_, in which view factors are left
   // out: picks_from adds them per direction). scatter_kind and specularity weigh lobes by
-  // them too: a function of the hit alone. Materials with view factors have no Transparent
-  // lobe (material.cpp), so transparent_pick needs no direction.
+  // them too: a function of the hit alone. A Transparent lobe is never under a view factor
+  // (material.cpp), but the others' may make its pick depend on the direction sampled from.
   std::array<float, kMaxLobes> pick_;
 };
 

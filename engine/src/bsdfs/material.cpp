@@ -59,7 +59,7 @@ struct Parser {
     // Emitted radiance by the direction it leaves in is not modelled: a view factor over an
     // emission is its mean (the closures beside it keep theirs exact).
     for (Factor &f : e.weight)
-      if (f.view >= 0) f = constant_view_factor(f, p.what() + ": emission under a Fresnel / Layer Weight factor");
+      if (f.view >= 0) f = constant_view_factor(f, p.what() + ": emission under a view-dependent factor (Fresnel, Layer Weight, Backfacing)");
     bool constant = m.graph.is_constant(e.color) && m.graph.is_constant(e.strength);
     for (const Factor &f : e.weight) constant = constant && m.graph.is_constant(f.node);
     if (constant) m.emission += m.emission_of(e, ShadingPoint{});
@@ -143,19 +143,22 @@ struct Parser {
     m.closures.push_back(c);
   }
 
-  // A Mix Shader's factor: a texture-graph value, or a Fresnel / Layer Weight node (a view
-  // factor: {"node": "fresnel", "ior": ...} or {"node": "layer_weight", "blend": ...,
-  // "output": "fresnel" | "facing"}).
+  // A Mix Shader's factor: a texture-graph value, or a view factor (view_factor.h):
+  // {"node": "fresnel", "ior": ...}, {"node": "layer_weight", "blend": ..., "output": "fresnel" |
+  // "facing"} or {"node": "backfacing"}.
   Factor mix_factor(Params &p) {
     const json *j = p.get_json("fac");
     const std::string node = j && j->is_object() ? j->value("node", std::string()) : std::string();
-    if (node != "fresnel" && node != "layer_weight") return {value(p, "fac", Color(0.5f)), false};
+    if (node != "fresnel" && node != "layer_weight" && node != "backfacing") return {value(p, "fac", Color(0.5f)), false};
     Params f(j->dump(), p.what() + " 'fac'");
     (void)f.get_json("node");
     Material::ViewFactorSpec spec;
     if (node == "fresnel") {
       spec.kind = ViewFactorKind::Fresnel;
       spec.param = value(f, "ior", Color(1.45f));
+    } else if (node == "backfacing") {
+      spec.kind = ViewFactorKind::Backfacing;
+      spec.param = m.graph.constant(Color(0.0f));
     } else {
       const std::string output = f.get_string("output", "fresnel");
       if (output != "fresnel" && output != "facing")
@@ -180,7 +183,7 @@ struct Parser {
     const Factor factor{-1, false, int(m.view_factors.size()) - 1};
     if (m.view_factors.size() <= size_t(Bsdf::kMaxViewFactors)) return factor;
     const Factor mean = constant_view_factor(factor, f.what() + ": more than " + std::to_string(Bsdf::kMaxViewFactors) +
-                                                         " Fresnel / Layer Weight factors in one material");
+                                                         " view-dependent factors (Fresnel, Layer Weight, Backfacing) in one material");
     m.view_factors.pop_back();
     return mean;
   }
@@ -189,7 +192,7 @@ struct Parser {
   Factor constant_view_factor(const Factor &f, const std::string &why) {
     const Material::ViewFactorSpec &spec = m.view_factors[size_t(f.view)];
     const TexNode &param = m.graph.node(spec.param);
-    const float fallback = spec.kind == ViewFactorKind::Fresnel ? 1.45f : 0.5f;
+    const float fallback = spec.kind == ViewFactorKind::Fresnel ? 1.45f : spec.kind == ViewFactorKind::Backfacing ? 0.0f : 0.5f;
     const float mean = spec.at(param.type == TexNodeType::Constant ? param.value.x : fallback).cosine_weighted_mean();
     if (!why.empty()) m.warnings.push_back(why + ": the factor is its mean over directions, " + std::to_string(mean));
     return {m.graph.constant(Color(mean)), f.invert};
@@ -274,19 +277,25 @@ Material Material::from_params(Params &p, const std::string &name, const ImageBu
         (!m.graph.is_constant(c.in[kAlpha]) || m.graph.node(c.in[kAlpha]).value.x < 1.0f))
       m.transparent = true;
   }
-  // A view factor over any transparency or holdout would make shadow rays and alpha depend on
-  // the direction too (not modelled): such a material takes the factors' means.
-  if (m.transparent || m.holdout) {
+  // A view factor over a transparency or a holdout would make shadow rays and alpha depend on
+  // the direction too (not modelled): those closures take the factors' means. (Transparency
+  // beside a view factor, as a leaf's alpha around a two-sided mix, stays exact.)
+  {
     Parser parser{m};
-    bool warned = false;
-    for (Closure &c : m.closures)
-      for (Factor &f : c.weight)
-        if (f.view >= 0) {
-          f = parser.constant_view_factor(
-              f, warned ? "" : "a Fresnel / Layer Weight factor in a material with transparency or a holdout");
-          warned = true;
-        }
-    m.view_factors.clear();  // none left: the material may be resolved once
+    bool warned = false, any_left = false;
+    for (Closure &c : m.closures) {
+      const bool passes = c.type == MaterialType::Transparent || c.type == MaterialType::Holdout ||
+                          (c.type == MaterialType::Principled &&
+                           (!m.graph.is_constant(c.in[kAlpha]) || m.graph.node(c.in[kAlpha]).value.x < 1.0f));
+      for (Factor &f : c.weight) {
+        if (f.view < 0) continue;
+        if (!passes) { any_left = true; continue; }
+        f = parser.constant_view_factor(f, warned ? "" : "a view-dependent factor (Fresnel, Layer Weight, "
+                                                         "Backfacing) over transparency or a holdout");
+        warned = true;
+      }
+    }
+    if (!any_left) m.view_factors.clear();  // none left: the material may be resolved once
   }
   m.warn_if_lobes_merge();
   for (std::string &w : m.warnings)

@@ -1,6 +1,7 @@
-// A Mix Shader factor that depends on the viewing direction: Cycles' Fresnel node and its
-// Layer Weight node (Fresnel and Facing outputs), as svm_node_fresnel / svm_node_layer_weight
-// compute them from the direction toward the viewer I and the surface's interpolated normal.
+// A Mix Shader factor that depends on the viewing direction: Cycles' Fresnel node, its Layer
+// Weight node (Fresnel and Facing outputs), as svm_node_fresnel / svm_node_layer_weight compute
+// them from the direction toward the viewer I and the surface's interpolated normal, and the
+// Geometry node's Backfacing output (1 where I is behind the front face: two-sided materials).
 //
 // Cycles shades a hit once, from the ray that reached it. Our light paths reach a surface from
 // the light's side, so a factor taken at the direction a Bsdf was built toward would differ
@@ -19,7 +20,8 @@ namespace rdv {
 enum class ViewFactorKind : uint8_t {
   Fresnel,       // Fresnel node: the dielectric Fresnel reflectance of IOR `param`
   LayerFresnel,  // Layer Weight > Fresnel: the same of IOR 1 / (1 - blend), blend = `param`
-  LayerFacing    // Layer Weight > Facing: 1 - |cos|^b, b from blend = `param`
+  LayerFacing,   // Layer Weight > Facing: 1 - |cos|^b, b from blend = `param`
+  Backfacing     // Geometry > Backfacing: 1 seen from behind the front face, else 0
 };
 
 struct ViewFactor {
@@ -58,6 +60,7 @@ struct ViewFactor {
         const float eta = clamp_ior(1.0f - param);
         return fresnel_dielectric_cos(c, backfacing ? eta : 1.0f / eta);
       }
+      case ViewFactorKind::Backfacing: return backfacing ? 1.0f : 0.0f;
       case ViewFactorKind::LayerFacing: {
         float blend = param, f = c;
         if (blend != 0.5f) {

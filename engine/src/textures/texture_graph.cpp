@@ -614,7 +614,7 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.type = TexNodeType::Gamma;
     n.in[0] = input("color", json::array({1, 1, 1}));
     n.in[1] = input("gamma", 1.0);
-  } else if (type == "fresnel" || type == "layer_weight") {
+  } else if (type == "fresnel" || type == "layer_weight" || type == "backfacing") {
     fail(what_in + ": a '" + type + "' node depends on the viewing direction: it is supported as a mix's 'fac' "
                    "only (docs/scene-format.md)");
   } else {

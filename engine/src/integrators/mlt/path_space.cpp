@@ -554,7 +554,7 @@ bool PathSpace::extend_from_camera_side(ExplicitPath &y, int at, Pcg32 &rng, Ray
       if (filter_.on()) blur_by_prefix(prev);  // the camera side samples f's (blurred) BSDF
       // On a plain layer the walk has chosen not to pass (trace_step): it scatters.
       const bool layer = on_plain_layer(prev);
-      if (layer) u_lobe = prev.v.bsdf.scattering_lobe_u(u_lobe);
+      if (layer) u_lobe = prev.v.bsdf.scattering_lobe_u(prev.v.wo, u_lobe);
       BsdfSample bs;
       if (!prev.v.bsdf.has_lobes() || !prev.v.bsdf.sample(prev.v.wo, u_lobe, u, TransportMode::Radiance, bs) ||
           (layer && bs.pass_through))
@@ -629,7 +629,7 @@ bool PathSpace::extend_from_light_side(ExplicitPath &y, int at, Pcg32 &rng, RayS
       Vec2 u{rng.next_float(), rng.next_float()};
       Bsdf bsdf = scene_.bsdf(next.hit, w_light, 0);
       const bool layer = on_plain_layer(next);  // chosen not to pass: it scatters (as above)
-      if (layer) u_lobe = bsdf.scattering_lobe_u(u_lobe);
+      if (layer) u_lobe = bsdf.scattering_lobe_u(w_light, u_lobe);
       BsdfSample bs;
       if (!bsdf.has_lobes() || !bsdf.sample(w_light, u_lobe, u, TransportMode::Importance, bs) ||
           (layer && bs.pass_through))
