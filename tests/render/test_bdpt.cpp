@@ -85,9 +85,9 @@ TEST(BdptVsPath, GlassCaustic) {
 // A room lit only through a door gap.
 TEST(BdptVsPath, DoorGap) { expect_same_image(load_scene("door_gap.json"), "door gap", 256, 32); }
 
-// Mix Shaders by the viewing direction (Fresnel, Layer Weight: bsdfs/view_factor.h) on the
-// Cornell box's blocks and back wall and on a ball (a Fresnel over a mirror: a delta lobe whose
-// weight follows the camera side). Light subpaths reach these surfaces from the lamp's side; the
+// Mix Shaders by the viewing direction (Fresnel, Layer Weight, Backfacing: bsdfs/view_factor.h)
+// on the Cornell box's blocks and back wall, on a ball (a Fresnel over a mirror: a delta lobe
+// whose weight follows the camera side) and on a half-transparent two-sided card. Light subpaths reach these surfaces from the lamp's side; the
 // factors are taken at each pair's camera-side direction, so BDPT's strategies sum to the path
 // tracer's image (with the factor at the direction a Bsdf was built toward they would not).
 TEST(BdptVsPath, ViewDependentMixes) {
@@ -112,6 +112,14 @@ TEST(BdptVsPath, ViewDependentMixes) {
   }
   scene["meshes"].push_back({{"name", "ball"}, {"shape", {{"type", "sphere"}, {"radius", 0.3}, {"segments", 32}}},
                              {"materials", {"mirror_ball"}}, {"transform", {{"translate", {-0.45, -0.45, 0.3}}}}});
+  // A half-transparent two-sided card (Geometry > Backfacing beside a Transparent BSDF), tilted
+  // so that the camera sees its back and the lamp its front.
+  json leaf = mix(0.4, json{{"type", "transparent"}},
+                  mix({{"node", "backfacing"}}, json{{"type", "diffuse"}, {"color", {0.2, 0.7, 0.2}}}, glossy(0.3)));
+  leaf["name"] = "leaf";
+  scene["materials"].push_back(leaf);
+  scene["meshes"].push_back({{"name", "card"}, {"shape", {{"type", "quad"}, {"size", 0.5}}}, {"materials", {"leaf"}},
+                             {"transform", {{"translate", {0.5, -0.6, 1.2}}, {"rotate", {-60, 0, 0}}}}});
   expect_same_image(scene, "view mixes", 128, 32);
 }
 

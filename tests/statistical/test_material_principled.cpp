@@ -40,6 +40,7 @@ const std::vector<Case> &cases() {
       {"mix_fresnel", R"({"type":"mix","fac":{"node":"fresnel","ior":1.45},"shader1":{"type":"diffuse","color":[0.8,0.3,0.2]},"shader2":{"type":"glossy","roughness":0.2}})", false},
       {"mix_facing_rough_glass", R"({"type":"mix","fac":{"node":"layer_weight","output":"facing","blend":0.3},"shader1":{"type":"diffuse"},"shader2":{"type":"glass","roughness":0.3,"ior":1.5}})", false},
       {"mix_layer_fresnel_lossless", R"({"type":"mix","fac":{"node":"layer_weight","blend":0.4},"shader1":{"type":"translucent","color":[1,1,1]},"shader2":{"type":"glossy","color":[1,1,1],"roughness":0.3,"distribution":"MULTI_GGX"}})", true},
+      {"leaf_two_sided_with_alpha", R"({"type":"mix","fac":0.4,"shader1":{"type":"transparent"},"shader2":{"type":"mix","fac":{"node":"backfacing"},"shader1":{"type":"diffuse","color":[0.2,0.7,0.2]},"shader2":{"type":"glossy","roughness":0.3}}})", false},
       {"nested_view_factors", R"({"type":"mix","fac":{"node":"layer_weight","output":"facing","blend":0.7},"shader1":{"type":"mix","fac":{"node":"fresnel","ior":1.3},"shader1":{"type":"diffuse"},"shader2":{"type":"principled","roughness":0.4}},"shader2":{"type":"glossy","roughness":0.05}})", false},
   };
   return c;
