@@ -123,7 +123,7 @@ class _Lowerer:
         if op in ("tex_image", "tex_environment"):
             return op == "tex_image" and self._image_file(ir) is not None
         if op in ("texcoord", "uvmap", "tex_checker", "tex_noise", "tex_gradient", "vertex_color",
-                  "normal_map", "bump", "object_info", "blackbody", "geometry") + PROCEDURAL_TEXTURES:
+                  "normal_map", "bump", "object_info", "blackbody", "wavelength", "geometry") + PROCEDURAL_TEXTURES:
             return True
         if op == "attribute":
             return ir.props.get("attribute_type", "GEOMETRY") == "GEOMETRY" and bool(ir.props.get("attribute_name"))
@@ -387,6 +387,9 @@ class _Lowerer:
 
     def _n_blackbody(self, e):
         return {"node": "blackbody", "temperature": self.value(e.args["temperature"])}
+
+    def _n_wavelength(self, e):
+        return {"node": "wavelength", "wavelength": self.value(e.args["wavelength"])}
 
     def _n_color_space(self, e):
         return {"node": "color_space", "convert": e.props["convert"], "color": self.value(e.args["color"])}

@@ -563,9 +563,10 @@ def object_info():
 
 
 def color_nodes():
-    """Eight tiles: Separate / Combine Color in HSV and HSL on a Noise's colour (hue rotated,
-    saturation raised), and Blackbody colours at 1200, 2500, 4000, 6500 and 10000 K and driven
-    by a Noise over 1000-8000 K (Separate / Combine HSV and HSL were RGB, Blackbody a constant,
+    """Twelve tiles: Separate / Combine Color in HSV and HSL on a Noise's colour (hue rotated,
+    saturation raised), Blackbody colours at 1200, 2500, 4000, 6500 and 10000 K and driven by a
+    Noise over 1000-8000 K, and Wavelength colours at 455, 532 and 607 nm and driven by a Noise
+    over 400-700 nm (Separate / Combine HSV and HSL were RGB, Blackbody and Wavelength constants,
     before 2026-11-30)."""
     def hue_shift(mode):
         def build(nt, noise):
@@ -604,10 +605,26 @@ def color_nodes():
             return b.outputs["Color"]
         return build
 
+    def wavelength(nm=None):
+        def build(nt, noise):
+            w = nt.nodes.new("ShaderNodeWavelength")
+            if nm is None:  # 400-700 nm by the Noise
+                r = nt.nodes.new("ShaderNodeMapRange")
+                r.inputs["From Min"].default_value, r.inputs["From Max"].default_value = 0.3, 0.7
+                r.inputs["To Min"].default_value, r.inputs["To Max"].default_value = 400.0, 700.0
+                nt.links.new(noise.outputs["Fac"], r.inputs["Value"])
+                nt.links.new(r.outputs["Result"], w.inputs[0])
+            else:
+                w.inputs[0].default_value = nm
+            return w.outputs["Color"]
+        return build
+
     emission_tiles((("HueShiftHsv", hue_shift("HSV")), ("HueShiftHsl", hue_shift("HSL")),
                     ("Blackbody1200", blackbody(1200)), ("Blackbody2500", blackbody(2500)),
                     ("Blackbody4000", blackbody(4000)), ("Blackbody6500", blackbody(6500)),
-                    ("Blackbody10000", blackbody(10000)), ("BlackbodyNoise", blackbody())), noise_source)
+                    ("Blackbody10000", blackbody(10000)), ("BlackbodyNoise", blackbody()),
+                    ("Wavelength455", wavelength(455)), ("Wavelength532", wavelength(532)),
+                    ("Wavelength607", wavelength(607)), ("WavelengthNoise", wavelength())), noise_source, rows=3)
 
 
 def checker_glow():

@@ -451,6 +451,18 @@ def blackbody(ctx, node, socket):
     return Expr("blackbody", ctx.label(node), {"temperature": ctx.input(node, "Temperature", default=1500.0)})
 
 
+@maps("ShaderNodeWavelength")
+def wavelength(ctx, node, socket):
+    return Expr("wavelength", ctx.label(node), {"wavelength": ctx.input(node, "Wavelength", default=500.0)})
+
+
+@evaluates("wavelength")
+def eval_wavelength(ev, e):
+    # Exported as an engine node (Cycles' CIE table and scale live there).
+    ev.approx(e, "wavelength colour approximated as grey without the engine")
+    return (0.5, 0.5, 0.5)
+
+
 @evaluates("blackbody")
 def eval_blackbody(ev, e):
     # Folds only with the engine's table (a constant temperature is exported as a node).

@@ -270,6 +270,17 @@ class TestCombinators(unittest.TestCase):
         self.assertEqual(p["fac"]["node"], "fresnel")
         self.assertIn("Normal input", w)
 
+    def test_wavelength_goes_to_the_engine(self):
+        def b(t):
+            d = t.new("ShaderNodeBsdfDiffuse", "D")
+            w = t.new("ShaderNodeWavelength", "W")
+            w.inp("Wavelength").default_value = 532.0
+            t.link(w.out(), d.inp("Color"))
+            return d.out()
+        p, w = material_with(b)
+        self.assertEqual(p["color"], {"node": "wavelength", "wavelength": 532.0})
+        self.assertIsNone(w)
+
     def test_backfacing_factor_makes_a_two_sided_material(self):
         p, w = self._mix_by(lambda t: t.new("ShaderNodeNewGeometry", "G").out("Backfacing"))
         self.assertEqual(p["fac"], {"node": "backfacing"})

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <map>
 #include <set>
+#include "core/cie_1931.h"
 #include "core/error.h"
 #include "core/limits.h"
 #include "media/blackbody.h"
@@ -19,6 +20,21 @@ using nlohmann::json;
 namespace {
 
 // ---- small colour helpers ----------------------------------------------------------
+// Cycles' Wavelength node: the CIE 1931 colour matching functions at nm (linear between their
+// 5 nm samples from 380 nm, black from 780 nm on and below 375 nm: Cycles truncates toward zero,
+// so 375-380 nm extrapolates the first interval) in scene-linear Rec.709, scaled by 1 / 2.52
+// (Cycles' scale, which keeps every component at most 1), negative components clipped.
+Color wavelength_color(float nm) {
+  const float x = (nm - 380.0f) / float(cie::kStepNm);
+  if (!(x > -1.0f && x < 80.0f)) return Color(0.0f);
+  const int i = int(x), c = cie::index_of(380.0) + i;
+  const double t = x - float(i);
+  auto at = [&](const double *f) { return f[c] + (f[c + 1] - f[c]) * t; };
+  double r, g, b;
+  cie::xyz_to_rec709(at(cie::kX), at(cie::kY), at(cie::kZ), r, g, b);
+  return Color(float(std::max(r, 0.0) / 2.52), float(std::max(g, 0.0) / 2.52), float(std::max(b, 0.0) / 2.52));
+}
+
 Color rgb_to_hsv(Color c) {
   float cmax = max_component(c), cmin = std::min(c.x, std::min(c.y, c.z)), d = cmax - cmin;
   float h = 0, s = cmax != 0 ? d / cmax : 0;
@@ -487,6 +503,9 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     // Blender's Blackbody node: Planck's colour at the temperature, luminance 1 (media/blackbody.h).
     n.type = TexNodeType::Blackbody;
     n.in[0] = input("temperature", 1500.0);
+  } else if (type == "wavelength") {
+    n.type = TexNodeType::Wavelength;
+    n.in[0] = input("wavelength", 500.0);
   } else if (type == "object_info") {
     n.type = TexNodeType::ObjectInfo;
     n.output = outputs({"location", "color", "alpha", "object_index", "material_index", "random"});
@@ -619,7 +638,7 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
                    "only (docs/scene-format.md)");
   } else {
     fail(what_in + ": unknown texture node '" + type +
-         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, object_info, color_space, blackbody, invert, hue_saturation, attribute, vertex_color, "
+         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, object_info, color_space, blackbody, wavelength, invert, hue_saturation, attribute, vertex_color, "
          "uv, texture_coordinate, mapping, normal_map, bump, separate_rgb, combine_rgb, rgb_to_bw, bright_contrast, gamma)");
   }
   r.used.insert("output");
@@ -918,6 +937,7 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
       return is_finite(out) ? out : Color(0.0f);
     }
     case TexNodeType::Blackbody: return blackbody_color(inf(0));
+    case TexNodeType::Wavelength: return wavelength_color(inf(0));
     case TexNodeType::ObjectInfo:
       switch (n.output) {
         case 0: return sp.has_object_to_world ? Vec3(sp.object_to_world[3], sp.object_to_world[7], sp.object_to_world[11])

@@ -26,7 +26,8 @@ enum class TexNodeType : uint8_t {
   VectorMath, MapRange,  // math_nodes.h
   ObjectInfo,  // the instance's location, colour, alpha, pass index, random; the material's index
   ColorSpace,  // RGB <-> HSV / HSL (Separate and Combine Color)
-  Blackbody    // Planck's colour at a temperature (media/blackbody.h)
+  Blackbody,   // Planck's colour at a temperature (media/blackbody.h)
+  Wavelength   // a spectral colour (Cycles' Wavelength node)
 };
 
 constexpr int kTexNodeInputs = 10;  // the most any node has (Brick)
