@@ -70,7 +70,7 @@ const char *kColorSpaces[] = {"", "Non-Color", "sRGB", "Linear", "no such space"
 // numbers from the input, or (choice 0) raw input text.
 std::string material_params(Reader &in) {
   auto x = [&] { return in.json_number(); };
-  switch (in.small(15)) {
+  switch (in.small(17)) {
     case 0: return in.text(64);
     case 1: return R"({"type":"diffuse","color":[)" + x() + "," + x() + "," + x() + R"(],"roughness":)" + x() + "}";
     case 2: return R"({"type":"glossy","roughness":)" + x() + R"(,"anisotropy":)" + x() + "}";
@@ -103,6 +103,15 @@ std::string material_params(Reader &in) {
       for (const char *key : t.keys) s += std::string(",\"") + key + "\":" + x();
       return s + "}}";
     }
+    case 14: {  // a Mix Shader by the viewing direction, its parameter and table from the input
+      static const char *kViews[] = {R"({"node":"fresnel","ior":)", R"({"node":"layer_weight","blend":)",
+                                     R"({"node":"layer_weight","output":"facing","blend":)", R"({"node":"backfacing","table":[0,)"};
+      const int v = in.small(4);
+      std::string fac = std::string(kViews[v]) + x() + (v == 3 ? "]}" : R"(,"table":[)" + x() + "," + x() + "]}");
+      return R"({"type":"mix","fac":)" + fac + R"(,"shader1":{"type":"transparent"},"shader2":{"type":"mix","fac":)" + fac +
+             R"(,"shader1":{"type":"diffuse"},"shader2":{"type":"glossy","roughness":)" + x() + "}}}";
+    }
+    case 15: return R"({"type":"emission","color":{"node":"wavelength","wavelength":)" + x() + R"(},"strength":1})";
     default: return R"({"type":"volume","volume":{"grid":{"buffer":")" + std::string(kNames[in.small(4)]) +
                     R"(","bounds":[[-1,-1,-1],[1,1,1]]},"density":)" + x() + "}}";
   }
@@ -125,10 +134,12 @@ std::string light_params(Reader &in) {
 
 std::string world_params(Reader &in) {
   auto x = [&] { return in.json_number(); };
-  switch (in.small(4)) {
+  switch (in.small(5)) {
     case 0: return in.text(64);
     case 1: return R"({"color":[)" + x() + ",0.1,0.1],\"strength\":" + x() + "}";
     case 2: return R"({"color":[0,0,0],"volume":{"density":)" + x() + R"(,"anisotropy":)" + x() + "}}";
+    case 3: return R"({"sky":{"sun_elevation":)" + x() + R"(,"altitude":)" + x() + R"(,"air_density":)" + x() +
+                   R"(,"sun_size":)" + x() + R"(},"strength":)" + x() + "}";
     default: return R"({"environment":{"file":"textures/does_not_exist.exr"},"strength":)" + x() + "}";
   }
 }
