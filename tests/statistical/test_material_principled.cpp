@@ -6,6 +6,7 @@
 // checks are deterministic with fixed seeds and 4-sigma margins.
 #include <gtest/gtest.h>
 #include "bsdfs/material.h"
+#include "fresnel_reference.h"
 #include "chi_square.h"
 #include "core/hash.h"
 
@@ -66,15 +67,6 @@ ShadingPoint point() {
   sp.uv = {0.3f, 0.6f};
   sp.generated = {0.3f, 0.6f, 0.5f};
   return sp;
-}
-
-// The Fresnel equations for unpolarised light (double), cos c on the side of relative IOR 1.
-double dielectric_fresnel(double c, double eta) {
-  const double s2 = (1 - c * c) / (eta * eta);
-  if (s2 >= 1) return 1.0;
-  const double t = std::sqrt(1 - s2);
-  const double a = (eta * c - t) / (eta * c + t), b = (c - eta * t) / (c + eta * t);
-  return 0.5 * (a * a + b * b);
 }
 
 }  // namespace
@@ -300,7 +292,7 @@ TEST(MaterialEnergy, MixOfTwoFullPrincipledKeepsEveryLobe) {
 // a glossy Principled floor lit and seen at 9 degrees of elevation was 10.6 times Cycles' then,
 // 1.20 now; with Specular 0.5, 1.083 then and 1.032 now). Deterministic.
 TEST(MaterialFresnel, AdditiveSpecularIsCycles34s) {
-  const auto dielectric = dielectric_fresnel;
+  const auto dielectric = test::dielectric_fresnel;
   for (double specular : {0.2, 0.5, 1.0})
     for (double tint : {0.0, 0.5}) {
       const double ior = 2 / (1 - std::sqrt(0.08 * specular)) - 1, r0 = dielectric(1, ior);
@@ -378,7 +370,7 @@ TEST(MaterialMicrofacets, Cycles34LobesAreCycles34s) {
     const Vec3 refracted = t - Vec3(0, 0, std::sqrt(1 - length_squared(t)));
     const Bsdf bsdf_glass = material(glass.c_str()).make_bsdf(point(), wo);
     const Bsdf bsdf_principled = material(principled.c_str()).make_bsdf(point(), wo);
-    const double f_macro = dielectric_fresnel(wo.z, eta);
+    const double f_macro = test::dielectric_fresnel(wo.z, eta);
     for (Vec3 wi : {wis[0], wis[1], refracted, normalize(refracted + Vec3(0.15f, -0.1f, 0)),
                     normalize(refracted + Vec3(-0.2f, 0.1f, 0.1f))}) {
       const bool up = wi.z > 0;

@@ -7,6 +7,7 @@
 // Deterministic: fixed seeds, tolerances of float rounding.
 #include <gtest/gtest.h>
 #include "bsdfs/material.h"
+#include "fresnel_reference.h"
 #include "core/hash.h"
 
 using namespace rdv;
@@ -26,15 +27,6 @@ ShadingPoint point(Vec3 ns = Vec3(0, 0, 1)) {
   sp.dpdv = {0, 1, 0};
   sp.has_uv_frame = true;
   return sp;
-}
-
-// Unpolarised dielectric Fresnel reflectance (double), |cos| c, relative IOR eta.
-double fresnel(double c, double eta) {
-  const double s2 = (1 - c * c) / (eta * eta);
-  if (s2 >= 1) return 1.0;
-  const double t = std::sqrt(1 - s2);
-  const double a = (eta * c - t) / (eta * c + t), b = (c - eta * t) / (c + eta * t);
-  return 0.5 * (a * a + b * b);
 }
 
 Vec3 direction(Pcg32 &rng, bool upper) {
@@ -63,11 +55,11 @@ TEST(ViewFactors, AreCyclesFormulas) {
       auto at = [&](ViewFactorKind kind, float param) { return ViewFactor{kind, param}.at(w, n, front); };
       for (float ior : {1.1f, 1.45f, 2.4f}) {
         const double eta = side > 0 ? ior : 1.0 / ior;
-        EXPECT_NEAR(at(ViewFactorKind::Fresnel, ior), fresnel(c, eta), 2e-6) << c << " " << ior;
+        EXPECT_NEAR(at(ViewFactorKind::Fresnel, ior), test::dielectric_fresnel(c, eta), 2e-6) << c << " " << ior;
       }
       for (float blend : {0.1f, 0.3f, 0.5f, 0.7f, 0.95f}) {
         const double eta = side > 0 ? 1.0 / (1.0 - blend) : 1.0 - blend;
-        EXPECT_NEAR(at(ViewFactorKind::LayerFresnel, blend), fresnel(c, eta), 2e-6)
+        EXPECT_NEAR(at(ViewFactorKind::LayerFresnel, blend), test::dielectric_fresnel(c, eta), 2e-6)
             << c << " " << blend;
         const double b = blend < 0.5 ? 2.0 * blend : 0.5 / (1.0 - blend);
         EXPECT_NEAR(at(ViewFactorKind::LayerFacing, blend), 1.0 - std::pow(c, b), 2e-6)
@@ -97,10 +89,10 @@ TEST(ViewFactors, WeightIsTakenAtTheCameraSideDirection) {
     const Vec3 wo = direction(rng, true), wi = direction(rng, true);
     if (dot(wo, ns) <= 0.05f || dot(wi, ns) <= 0.05f) continue;
     const Bsdf bsdf = m.make_bsdf(point(ns), wo);
-    const double expect_r = (1 - fresnel(std::fabs(dot(wo, ns)), 1.6)) / kPi;
+    const double expect_r = (1 - test::dielectric_fresnel(std::fabs(dot(wo, ns)), 1.6)) / kPi;
     EXPECT_NEAR(bsdf.f(wo, wi, TransportMode::Radiance).x, expect_r, 2e-6);
     const double correction = std::fabs(dot(wo, ns)) * wi.z / (wo.z * std::fabs(dot(wi, ns)));
-    const double expect_i = (1 - fresnel(std::fabs(dot(wi, ns)), 1.6)) / kPi * correction;
+    const double expect_i = (1 - test::dielectric_fresnel(std::fabs(dot(wi, ns)), 1.6)) / kPi * correction;
     EXPECT_NEAR(bsdf.f(wo, wi, TransportMode::Importance).x, expect_i, 2e-6 * std::max(1.0, expect_i));
     ++checked;
   }
@@ -108,7 +100,7 @@ TEST(ViewFactors, WeightIsTakenAtTheCameraSideDirection) {
   // From behind the front face the IOR is inverted (Cycles' back-facing flag).
   const Vec3 wo(0.6f, 0, -0.8f), wi(-0.3f, 0.1f, -0.9f);
   const Bsdf back = m.make_bsdf(point(), normalize(wo));
-  EXPECT_NEAR(back.f(normalize(wo), normalize(wi), TransportMode::Radiance).x, (1 - fresnel(0.8, 1 / 1.6)) / kPi, 2e-6);
+  EXPECT_NEAR(back.f(normalize(wo), normalize(wi), TransportMode::Radiance).x, (1 - test::dielectric_fresnel(0.8, 1 / 1.6)) / kPi, 2e-6);
 }
 
 // Nodes between the factor and the Mix Shader, baked by the exporter into a table over the

@@ -55,38 +55,32 @@ const Spectra &spectra() {
   return s;
 }
 
-struct D3 {
-  double x, y, z;
-  D3 operator+(D3 o) const { return {x + o.x, y + o.y, z + o.z}; }
-  D3 operator*(double s) const { return {x * s, y * s, z * s}; }
-  double dot(D3 o) const { return x * o.x + y * o.y + z * o.z; }
-  double length() const { return std::sqrt(dot(*this)); }
-};
-
-D3 geographic(double latitude, double longitude) {
-  return {std::cos(latitude) * std::cos(longitude), std::cos(latitude) * std::sin(longitude), std::sin(latitude)};
+// Positions and directions in float, as Blender computes them (a double version differs by
+// under 1e-4 relative); each Vec3 of densities holds (air, dust, ozone).
+Vec3 geographic(float latitude, float longitude) {
+  return Vec3(std::cos(latitude) * std::cos(longitude), std::cos(latitude) * std::sin(longitude), std::sin(latitude));
 }
 
 // Densities relative to sea level: air and dust fall off exponentially; ozone is a layer
 // rising from 10 km to its peak at 25 km and gone at 40 km.
-D3 densities(double height) {
-  double ozone = 0;
-  if (height >= 10000 && height < 25000) ozone = height / 15000 - 2.0 / 3.0;
-  else if (height >= 25000 && height < 40000) ozone = 8.0 / 3.0 - height / 15000;
-  return {std::exp(-height / kRayleighScale), std::exp(-height / kMieScale), ozone};
+Vec3 densities(float height) {
+  float ozone = 0;
+  if (height >= 10000 && height < 25000) ozone = height / 15000 - 2.0f / 3.0f;
+  else if (height >= 25000 && height < 40000) ozone = 8.0f / 3.0f - height / 15000;
+  return Vec3(std::exp(-height / float(kRayleighScale)), std::exp(-height / float(kMieScale)), ozone);
 }
 
 // Whether the ray from p (inside the atmosphere) toward d (pointing down) meets the ground.
-bool meets_ground(D3 p, D3 d) {
+bool meets_ground(Vec3 p, Vec3 d) {
   if (d.z >= 0) return false;
-  const double b = 2 * d.dot(p), c = p.dot(p) - kEarthRadius * kEarthRadius;
+  const float b = 2 * dot(d, p), c = dot(p, p) - float(kEarthRadius * kEarthRadius);
   return b * b - 4 * c >= 0;
 }
 
 // How far the ray from p toward d runs before it leaves the atmosphere.
-double to_top(D3 p, D3 d) {
-  const double b = 2 * d.dot(p), c = p.dot(p) - kAtmosphereRadius * kAtmosphereRadius;
-  return (-b + std::sqrt(std::max(0.0, b * b - 4 * c))) / 2;
+float to_top(Vec3 p, Vec3 d) {
+  const float b = 2 * dot(d, p), c = dot(p, p) - float(kAtmosphereRadius * kAtmosphereRadius);
+  return (-b + std::sqrt(std::max(0.0f, b * b - 4 * c))) / 2;
 }
 
 // Gauss-Laguerre quadrature of order 8: the integral of g(x) e^-x over [0, inf) as the sum of
@@ -131,14 +125,14 @@ const GaussLaguerre &gauss_laguerre() {
 // so Blender's sky integrates them by Gauss-Laguerre quadrature: the ray's length mapped onto
 // x in [0, 25] (the last node inside the atmosphere), each node's weight times e^x undoing the
 // quadrature's own e^-x.
-D3 column(D3 p, D3 d) {
+Vec3 column(Vec3 p, Vec3 d) {
   const GaussLaguerre &q = gauss_laguerre();
   constexpr double kEnd = 25;
-  const double length = to_top(p, d);
-  D3 sum{0, 0, 0};
+  const float length = to_top(p, d);
+  Vec3 sum(0.0f);
   for (int i = 0; i < GaussLaguerre::kOrder; ++i)
-    sum = sum + densities((p + d * (q.node[i] / kEnd * length)).length() - kEarthRadius) *
-                    (q.weight[i] * std::exp(q.node[i]) / kEnd);
+    sum += densities(rdv::length(p + d * float(q.node[i] / kEnd * length)) - float(kEarthRadius)) *
+           float(q.weight[i] * std::exp(q.node[i]) / kEnd);
   return sum * length;
 }
 
@@ -162,19 +156,17 @@ Color spectrum_to_xyz(const double *spectrum) {
 // Radiance scattered once toward the viewer at `eye` looking along `view`: along the view
 // ray to the top of the atmosphere, each segment's in-scattering of sunlight (where the
 // ground does not shadow it) attenuated on its way in and out.
-void single_scattering(D3 view, D3 sun, D3 eye, D3 density_scale, double *spectrum) {
+void single_scattering(Vec3 view, Vec3 sun, Vec3 eye, Vec3 density_scale, double *spectrum) {
   const Spectra &sp = spectra();
-  const double segment = to_top(eye, view) / kViewSteps;
-  const double mu = view.dot(sun), phase_r = phase_rayleigh(mu), phase_m = phase_mie(mu);
+  const float segment = to_top(eye, view) / kViewSteps;
+  const double mu = dot(view, sun), phase_r = phase_rayleigh(mu), phase_m = phase_mie(mu);
   for (int i = 0; i < kWavelengths; ++i) spectrum[i] = 0;
-  D3 depth{0, 0, 0}, p = eye + view * (0.5 * segment);
-  for (int s = 0; s < kViewSteps; ++s, p = p + view * segment) {
-    const D3 rho = densities(p.length() - kEarthRadius);
-    const D3 d{rho.x * density_scale.x, rho.y * density_scale.y, rho.z * density_scale.z};
-    depth = depth + d * segment;
+  Vec3 depth(0.0f), p = eye + view * (0.5f * segment);
+  for (int s = 0; s < kViewSteps; ++s, p += view * segment) {
+    const Vec3 d = densities(length(p) - float(kEarthRadius)) * density_scale;
+    depth += d * segment;
     if (meets_ground(p, sun)) continue;
-    const D3 c = column(p, sun);
-    const D3 total{depth.x + c.x * density_scale.x, depth.y + c.y * density_scale.y, depth.z + c.z * density_scale.z};
+    const Vec3 total = depth + column(p, sun) * density_scale;
     for (int i = 0; i < kWavelengths; ++i) {
       const double attenuation =
           std::exp(-(total.x * sp.rayleigh[i] + total.y * kMieExtinction + total.z * kOzoneAbsorption[i]));
@@ -186,9 +178,9 @@ void single_scattering(D3 view, D3 sun, D3 eye, D3 density_scale, double *spectr
 
 // The sun's disc seen along d: its irradiance through the air and dust (no ozone, as
 // Cycles) spread over the disc's solid angle.
-Color sun_xyz(D3 eye, D3 d, double air, double dust, double solid_angle) {
+Color sun_xyz(Vec3 eye, Vec3 d, double air, double dust, double solid_angle) {
   const Spectra &sp = spectra();
-  const D3 c = column(eye, d);
+  const Vec3 c = column(eye, d);
   double spectrum[kWavelengths];
   for (int i = 0; i < kWavelengths; ++i)
     spectrum[i] = sp.irradiance[i] * std::exp(-(sp.rayleigh[i] * c.x * air + kMieExtinction * c.y * dust)) / solid_angle;
@@ -228,13 +220,12 @@ NishitaSky::NishitaSky(const Settings &s) : s_(s) {
   rotation_ = std::fmod(s.sun_rotation, 2 * kPi);
   if (rotation_ < 0) rotation_ += 2 * kPi;
   rotation_ = 2 * kPi - rotation_;
-  const D3 sun = geographic(s_.sun_elevation, rotation_ + kPi / 2);
-  sun_dir_ = Vec3(float(sun.x), float(sun.y), float(sun.z));
+  sun_dir_ = geographic(s_.sun_elevation, rotation_ + kPi / 2);
 
   // The texels: longitudes over the full circle (the sky is symmetric about the sun's
   // meridian: one half is computed and mirrored), latitudes packed toward the horizon.
-  const D3 eye{0, 0, kEarthRadius + s_.altitude}, sun_at_zero = geographic(s_.sun_elevation, 0);
-  const D3 scale{s_.air_density, s_.dust_density, s_.ozone_density};
+  const Vec3 eye(0, 0, float(kEarthRadius) + s_.altitude), sun_at_zero = geographic(s_.sun_elevation, 0);
+  const Vec3 scale(s_.air_density, s_.dust_density, s_.ozone_density);
   const double lat_step = kPi / 2 / kHeight, lon_step = 2 * kPi / kWidth;
   xyz_.assign(size_t(kWidth) * kHeight, Color(0.0f));
   tbb::parallel_for(0, kHeight, [&](int y) {  // rows apart: each writes its own
