@@ -6,6 +6,7 @@
 // checks of these materials are the whole-material cases of test_material_principled.cpp.
 // Deterministic: fixed seeds, tolerances of float rounding.
 #include <gtest/gtest.h>
+#include <limits>
 #include "bsdfs/material.h"
 #include "fresnel_reference.h"
 #include "core/hash.h"
@@ -67,7 +68,7 @@ TEST(ViewFactors, AreCyclesFormulas) {
       }
     }
   // Degenerate inputs stay in [0, 1].
-  for (float p : {0.0f, -1.0f, 1.0f, 1e30f}) {
+  for (float p : {0.0f, -1.0f, 1.0f, 1e30f, std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
     for (ViewFactorKind k : {ViewFactorKind::Fresnel, ViewFactorKind::LayerFresnel, ViewFactorKind::LayerFacing}) {
       const float v = ViewFactor{k, p}.at(normalize(Vec3(0.3f, 0, 0.7f)), n, front);
       EXPECT_TRUE(v >= 0 && v <= 1) << int(k) << " " << p << " -> " << v;

@@ -42,7 +42,8 @@ struct ViewFactor {
   // the front face) inverts the relative IOR of the Fresnel outputs; |cos| with the normal
   // as Cycles' fresnel_dielectric_cos takes it.
   float at(Vec3 w, Vec3 n, Vec3 front) const {
-    const float f = raw(std::fabs(dot(w, n)), dot(w, front) < 0);
+    float f = raw(std::fabs(dot(w, n)), dot(w, front) < 0);
+    f = f >= 0.0f ? std::min(f, 1.0f) : 0.0f;  // a NaN parameter (a texture's 0 / 0) gives 0
     if (!table) return f;
     const float x = clampf(f, 0.0f, 1.0f) * float(table_size - 1);
     const int i = std::min(int(x), table_size - 2);
