@@ -207,10 +207,10 @@ const Bsdf::ViewScales *Bsdf::view_scales(Vec3 w, ViewScales &scratch) const {
   return &scratch;
 }
 
-const float *Bsdf::picks_from(Vec3 w, Picks &scratch) const {
+const float *Bsdf::picks_from(Vec3 w, Picks &scratch, const ViewScales *scales_at_w) const {
   if (!num_views_) return pick_.data();
-  ViewScales views;
-  view_scales(w, views);
+  ViewScales computed;
+  const ViewScales &views = scales_at_w ? *scales_at_w : *view_scales(w, computed);
   float total = 0;
   for (int i = 0; i < n_; ++i) total += scratch[size_t(i)] = raw_weight_[size_t(i)] * views.of(lobes_[i]);
   for (int i = 0; i < n_; ++i)
@@ -382,9 +382,10 @@ Color Bsdf::eval_and_pdf(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf) c
   bool flipped;
   if (!local_pair(frame, wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
   Picks picks;
-  ViewScales views;
-  return local_f(wo, wi, flipped, mode, &pdf, picks_from(wo_w, picks), bump_shadowing(frame.n, wo_w, wi_w, mode),
-                 view_scales(mode == TransportMode::Radiance ? wo_w : wi_w, views)) *
+  ViewScales view_scratch;
+  const ViewScales *views = view_scales(mode == TransportMode::Radiance ? wo_w : wi_w, view_scratch);
+  const float *pick = picks_from(wo_w, picks, mode == TransportMode::Radiance ? views : nullptr);
+  return local_f(wo, wi, flipped, mode, &pdf, pick, bump_shadowing(frame.n, wo_w, wi_w, mode), views) *
          shading_correction(wo_w, wi_w, mode, frame) * absdot(wi_w, frame.n);
 }
 
@@ -421,10 +422,12 @@ Color Bsdf::f_and_pdfs(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_fwd,
   LayerScales layers;
   if (num_layers_) layer_scales(wo, wi, layers);
   const float diffuse_scale = bump_shadowing(frame.n, wo_w, wi_w, mode);
-  Picks picks, picks_rev_scratch;
-  const float *pick = picks_from(wo_w, picks), *pick_rev = picks_from(wi_w, picks_rev_scratch);
   ViewScales view_scratch;
   const ViewScales *views = view_scales(mode == TransportMode::Radiance ? wo_w : wi_w, view_scratch);
+  const bool radiance = mode == TransportMode::Radiance;  // the camera side's scales serve its picks
+  Picks picks, picks_rev_scratch;
+  const float *pick = picks_from(wo_w, picks, radiance ? views : nullptr);
+  const float *pick_rev = picks_from(wi_w, picks_rev_scratch, radiance ? nullptr : views);
   for (int i = 0; i < n_; ++i) {
     const Lobe &lobe = lobe_from_side(lobes_[i], flipped, scratch);
     float p;
@@ -558,10 +561,10 @@ Color Bsdf::delta_eval(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_out,
   if (mode == TransportMode::Importance && !same_frame(frame_toward(wi_w, bent_wi), frame)) return f;
   const Vec3 wo = frame.to_local(wo_w);
   constexpr float kSameDirection = 1.0f - 1e-5f;  // cos of about 4.5e-3 rad
-  Picks picks;
-  const float *pick = picks_from(wo_w, picks);
   ViewScales view_scratch;
   const ViewScales *views = view_scales(mode == TransportMode::Radiance ? wo_w : wi_w, view_scratch);
+  Picks picks;
+  const float *pick = picks_from(wo_w, picks, mode == TransportMode::Radiance ? views : nullptr);
   for (int i = 0; i < n_; ++i) {
     const Lobe &lobe = lobes_[i];
     if (!lobe.is_delta()) continue;
@@ -784,10 +787,10 @@ DenoisingClosures Bsdf::denoising_closures(Vec3 wo_w) const {
   Frame bent;
   const Frame &frame = frame_toward(wo_w, bent);
   const float cos_o = absdot(wo_w, frame.n);
-  Picks picks;
-  const float *pick = picks_from(wo_w, picks);
   ViewScales view_scratch;
   const ViewScales *views = view_scales(wo_w, view_scratch);
+  Picks picks;
+  const float *pick = picks_from(wo_w, picks, views);
   for (int i = 0; i < n_; ++i) {
     const Lobe &lobe = lobes_[i];
     const float scale = lobe.scale * (views ? views->of(lobe) : 1.0f);

@@ -361,7 +361,8 @@ class Bsdf {
   // sampled more and none is left out (its f may be > 0 where a light path's camera side
   // differs). A function of w alone, as BDPT's densities must be.
   using Picks = std::array<float, kMaxLobes>;
-  const float *picks_from(Vec3 w, Picks &scratch) const;
+  // scales_at_w: the view scales at w when the caller has them (else computed here).
+  const float *picks_from(Vec3 w, Picks &scratch, const ViewScales *scales_at_w = nullptr) const;
   // The lobes' f summed for a local pair (seen from the side local_pair found), with the
   // layers and view factors (views, may be nullptr) applied; with pdf, their mixture density
   // by `pick` added into *pdf as well.
