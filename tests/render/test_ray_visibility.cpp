@@ -19,8 +19,8 @@ namespace {
 
 constexpr int kRuns = 6;
 constexpr int kSize = 32;
-// Eleven BDPT-vs-path and seven mlt-vs-path comparisons of 4x4 blocks.
-constexpr int kBlockTestsInFile = 18 * 16;
+// Twelve BDPT-vs-path and eight mlt-vs-path comparisons of 4x4 blocks.
+constexpr int kBlockTestsInFile = 20 * 16;
 const double kAlphaPerBlock = 1.0 - std::pow(1.0 - 0.01, 1.0 / kBlockTestsInFile);
 
 // The ball's material and visibility, the lamp's extra parameters, the world's.
@@ -178,6 +178,41 @@ TEST(RayVisibility, LampAndWorld) {
   Image w = render_json(scene.dump());
   EXPECT_EQ(sum_of(w, 0, 0, kSize, 2), 0.0);  // the top rows (the image is top-down) see only the world
   expect_bdpt_matches_path(scene, "world hidden from the camera");
+}
+
+// A world of its own for camera rays (Light Path > Is Camera Ray in the World's nodes):
+// camera rays that escape see the "camera" look, every other ray the world that lights.
+// Against the world hidden from the camera, every sample of the path tracer takes the same
+// random numbers (the camera look is a light no sampling chooses), so the difference of
+// the two images is, in each pixel, the camera look times the share of its camera rays
+// that escaped: a multiple of that colour between 0 and 1, 0 where the camera sees no sky.
+TEST(RayVisibility, CameraWorldIsWhatCameraRaysSee) {
+  const json red = {{"type", "diffuse"}, {"color", {0.8, 0.2, 0.2}}};
+  const double look[3] = {0.1, 0.2, 0.9};
+  json camera_world = {{"color", {0.5, 0.6, 0.8}}, {"camera", {{"color", {look[0], look[1], look[2]}}}}};
+  json hidden_world = {{"color", {0.5, 0.6, 0.8}}, {"visibility", {{"camera", false}}}};
+  json scene = ball_scene(nullptr, red, json::object(), camera_world);
+  Image a = render_json(scene.dump()), b = render_json(ball_scene(nullptr, red, json::object(), hidden_world).dump());
+  ASSERT_TRUE(a.all_finite());
+  int sky = 0, ground = 0;
+  for (int i = 0; i < kSize * kSize; ++i) {
+    const double share = (a.rgba[4 * i + 2] - b.rgba[4 * i + 2]) / look[2];
+    ASSERT_GE(share, -1e-5) << "pixel " << i;
+    ASSERT_LE(share, 1 + 1e-5) << "pixel " << i;
+    for (int c = 0; c < 3; ++c)
+      ASSERT_NEAR(a.rgba[4 * i + c] - b.rgba[4 * i + c], share * look[c], 1e-5) << "pixel " << i << " channel " << c;
+    sky += share > 1 - 1e-5;
+    ground += share == 0;
+  }
+  EXPECT_GE(sky, 2 * kSize);  // the top rows see only the world
+  EXPECT_GE(ground, kSize * kSize / 2);
+  expect_bdpt_matches_path(scene, "world with a camera look");
+  expect_matches_path(with(scene, {{"max_bounces", 4}}), "world with a camera look", "mlt", 64, 128, true);
+  // Bad input names the world.
+  SceneHandle s;
+  EXPECT_NE(rdv_scene_set_world(s.s, R"({"camera": {"color": [1, -1, 0]}})"), RDV_OK);
+  EXPECT_NE(std::string(rdv_last_error()).find("world camera"), std::string::npos) << rdv_last_error();
+  EXPECT_NE(rdv_scene_set_world(s.s, R"({"camera": {"colour": [1, 1, 0]}})"), RDV_OK);
 }
 
 // Bad input is an error naming the object; the scene file reports it and renders on.

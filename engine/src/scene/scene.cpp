@@ -390,37 +390,14 @@ void Scene::set_world(Params &params) {
     drop_medium(world_medium_);
     world_medium_ = -1;
   }
-  // With an "environment" HDRI or a "sky", "color" tints it (default white); radiance = image x
-  // color x strength.
-  const nlohmann::json *env = params.get_json("environment");
-  const nlohmann::json *sky = params.get_json("sky");
-  if (env && sky) fail(params.what() + ": give 'environment' or 'sky', not both");
-  Color c = params.get_vec3("color", env || sky ? Color(1.0f) : Color(0.05f));
-  float s = params.get_float("strength", 1.0f);
-  if (c.x < 0 || c.y < 0 || c.z < 0 || s < 0) fail(params.what() + ": colour and strength must not be negative");
-  std::shared_ptr<EnvironmentMap> map;
-  if (env) {
-    Params e(env->dump(), params.what() + " environment");
-    std::string file = e.get_string("file", "");
-    std::string colorspace = e.get_string("colorspace", "");
-    Vec3 rotation = e.get_vec3("rotation", Vec3(0.0f));
-    e.check_all_used();
-    params.check_all_used();
-    try {
-      if (file.empty()) fail(params.what() + ": 'environment' needs a 'file'");
-      map = EnvironmentMap::load(file, colorspace, rotation, c * s);
-    } catch (const Error &err) {  // as Blender: a missing image renders magenta
-      warn("world: environment image '" + file + "' cannot be used (" + err.what() + "); rendering it magenta");
-      map.reset();
-      c = Color(1, 0, 1);
-    }
-  } else if (sky) {  // Blender's Nishita sky, baked into an environment map (lights/sky_nishita.h)
-    Params k(sky->dump(), params.what() + " sky");
-    const NishitaSky::Settings settings = NishitaSky::from_params(k);
-    const Vec3 rotation = k.get_vec3("rotation", Vec3(0.0f));
-    k.check_all_used();
-    const int width = 2048;
-    map = std::make_shared<EnvironmentMap>(width, width / 2, NishitaSky(settings).bake(width), rotation, c * s);
+  WorldLook look = parse_world_look(params);
+  // Light Path > Is Camera Ray in the World's nodes (the add-on evaluates them for camera
+  // rays and for the rest): "camera" is what camera rays see, the rest is what lights.
+  std::optional<WorldLook> camera_look;
+  if (const nlohmann::json *camera = params.get_json("camera")) {
+    Params c(camera->dump(), params.what() + " camera");
+    camera_look = parse_world_look(c);
+    c.check_all_used();
   }
   const uint32_t world_visibility = visibility::from_params(params);
   if (!(world_visibility & visibility::kShadow))
@@ -429,9 +406,47 @@ void Scene::set_world(Params &params) {
   params.check_all_used();
   world_visibility_ = world_visibility;
   mist_ = mist;
-  environment_ = map;
-  world_radiance_ = c * s;
+  world_ = std::move(look);
+  camera_world_ = std::move(camera_look);
   dirty_ = true;
+}
+
+// {"color", "strength", "environment" | "sky"}: the world's look (set_world's keys).
+Scene::WorldLook Scene::parse_world_look(Params &params) const {
+  // With an "environment" HDRI or a "sky", "color" tints it (default white); radiance = image x
+  // color x strength.
+  const nlohmann::json *env = params.get_json("environment");
+  const nlohmann::json *sky = params.get_json("sky");
+  if (env && sky) fail(params.what() + ": give 'environment' or 'sky', not both");
+  Color c = params.get_vec3("color", env || sky ? Color(1.0f) : Color(0.05f));
+  float s = params.get_float("strength", 1.0f);
+  if (c.x < 0 || c.y < 0 || c.z < 0 || s < 0) fail(params.what() + ": colour and strength must not be negative");
+  WorldLook look;
+  if (env) {
+    Params e(env->dump(), params.what() + " environment");
+    std::string file = e.get_string("file", "");
+    std::string colorspace = e.get_string("colorspace", "");
+    Vec3 rotation = e.get_vec3("rotation", Vec3(0.0f));
+    e.check_all_used();
+    try {
+      if (file.empty()) fail(params.what() + ": 'environment' needs a 'file'");
+      look.map = EnvironmentMap::load(file, colorspace, rotation, c * s);
+    } catch (const Error &err) {  // as Blender: a missing image renders magenta
+      warn(params.what() + ": environment image '" + file + "' cannot be used (" + err.what() +
+           "); rendering it magenta");
+      look.map.reset();
+      c = Color(1, 0, 1);
+    }
+  } else if (sky) {  // Blender's Nishita sky, baked into an environment map (lights/sky_nishita.h)
+    Params k(sky->dump(), params.what() + " sky");
+    const NishitaSky::Settings settings = NishitaSky::from_params(k);
+    const Vec3 rotation = k.get_vec3("rotation", Vec3(0.0f));
+    k.check_all_used();
+    const int width = 2048;
+    look.map = std::make_shared<EnvironmentMap>(width, width / 2, NishitaSky(settings).bake(width), rotation, c * s);
+  }
+  look.radiance = c * s;
+  return look;
 }
 
 void Scene::set_camera(Params &params) {
@@ -534,6 +549,7 @@ void Scene::find_ray_visibility() {
     else if ((v & kNonCamera) != kNonCamera) hidden(what);
   }
   if (world_visibility_ != kAll) hidden("the world");
+  if (camera_world_) hidden("the world (a look of its own for camera rays: Light Path > Is Camera Ray)");
 }
 
 // Which media the camera starts in.
@@ -601,13 +617,12 @@ void Scene::build_lights() {
     }
   }
   build_volume_lights();
-  if (environment_) {
-    if (!is_black(environment_->mean())) lights_.push_back(make_environment_light(environment_.get()));
-  } else if (!is_black(world_radiance_)) {
-    lights_.push_back(make_background_light(world_radiance_));
-  }
+  // The world (as Cycles: no world shadow setting); with a camera look, camera rays see that
+  // one and every other ray this one.
+  const uint32_t world_rays = world_visibility_ | visibility::kShadow;
+  add_world_light(world_, camera_world_ ? world_rays & ~visibility::kCamera : world_rays);
+  if (camera_world_) add_world_light(*camera_world_, world_rays & visibility::kCamera);
   for (Light &l : lights_) {
-    if (l.type == LightType::Background) l.visibility = world_visibility_ | visibility::kShadow;  // as Cycles: no world shadow setting
     // The world lights a shadow catcher's pass; so does emission in media, which the
     // catcher pass's paths meet anyway (Session warns).
     if (l.type == LightType::Background || l.type == LightType::Volume) l.shadow_catcher = true;
@@ -618,12 +633,22 @@ void Scene::build_lights() {
   for (uint32_t i = 0; i < lights_.size(); ++i) {
     Light &l = lights_[i];
     compute_light_power(l, bounding_radius_);
-    power.push_back(l.power);
+    // A light only camera rays see lights nothing: next-event estimation and light
+    // subpaths never choose it (its hits keep their full weight).
+    power.push_back(l.visibility & visibility::kNonCamera ? l.power : 0.0f);
     if (l.is_infinite()) infinite_lights_.push_back(i);
     else if (l.type != LightType::Triangle && l.type != LightType::Volume && !l.is_delta()) hittable_lights_.push_back(i);
   }
   light_distribution_ = Distribution1D(power);
   if (lights_.empty()) warn("scene: there are no lights and no emissive materials; the image will be black");
+}
+
+// The world as a light seen by the given kinds of ray (none, or black: no light).
+void Scene::add_world_light(const WorldLook &look, uint32_t rays) {
+  if (!rays || look.is_black()) return;
+  Light l = look.map ? make_environment_light(look.map.get()) : make_background_light(look.radiance);
+  l.visibility = rays;
+  lights_.push_back(l);
 }
 
 // Every emissive medium inside meshes becomes a volume light over the instances that
@@ -984,7 +1009,8 @@ std::string Scene::summary_json() const {
                         {"deforming_meshes", deforming},
                         {"camera_moves", camera_.moves()}};
   }
-  j["world"] = environment_ ? "environment" : is_black(world_radiance_) ? "none" : "constant";
+  j["world"] = world_.map ? "environment" : world_.is_black() ? "none" : "constant";
+  if (camera_world_) j["camera_world"] = camera_world_->map ? "environment" : camera_world_->is_black() ? "none" : "constant";
   j["materials"] = material_types;
   int textures = 0;
   for (const Material &mat : materials_) textures += mat.graph.num_images();
@@ -1002,7 +1028,8 @@ std::string Scene::summary_json() const {
   }
   j["memory_bytes"] = {{"meshes", mesh_bytes}, {"embree", accel_.memory_bytes()},
                        {"lights", lights_.size() * sizeof(Light)},
-                       {"environment", environment_ ? environment_->memory_bytes() : 0},
+                       {"environment", (world_.map ? world_.map->memory_bytes() : 0) +
+                                          (camera_world_ && camera_world_->map ? camera_world_->map->memory_bytes() : 0)},
                        {"texture_cache_limit", size_t(ImageTextures::instance().cache_megabytes() * 1048576.0)}};
   return j.dump();
 }

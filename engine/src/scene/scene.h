@@ -5,6 +5,7 @@
 #include <bit>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 #include "bsdfs/material.h"
@@ -290,12 +291,20 @@ class Scene {
   // the scene's content does not change).
   void warn(const std::string &message) const;
   std::string messages() const;
-  const EnvironmentMap *environment() const { return environment_.get(); }
+  const EnvironmentMap *environment() const { return world_.map.get(); }
   std::string summary_json() const;
 
  private:
+  // What the world looks like: a constant radiance, or an HDRI / baked sky (map) times it.
+  struct WorldLook {
+    Color radiance{0.05f};
+    std::shared_ptr<EnvironmentMap> map;  // null: the constant
+    bool is_black() const { return map ? rdv::is_black(map->mean()) : rdv::is_black(radiance); }
+  };
+  WorldLook parse_world_look(Params &params) const;
   void build_lights();
   void build_volume_lights();
+  void add_world_light(const WorldLook &look, uint32_t rays);
   // ---- Motion blur (scene/motion.cpp).
   // Which instances move (Instance::moving), before the BVHs are built.
   void find_motion();
@@ -352,8 +361,10 @@ class Scene {
   std::vector<Instance> instances_;
   std::vector<Light> user_lights_;
   std::vector<std::string> user_light_names_;
-  Color world_radiance_{0.05f};
-  std::shared_ptr<EnvironmentMap> environment_;  // world HDRI, or null
+  WorldLook world_;
+  // Light Path > Is Camera Ray in the World's nodes: what camera rays see, when it differs
+  // from what every other ray sees (then the world above lights and this one is the backdrop).
+  std::optional<WorldLook> camera_world_;
   bool has_transparency_ = false;
   bool has_transparent_non_layers_ = false;
   bool has_holdouts_ = false;
