@@ -19,9 +19,10 @@ from .issues import Issues
 from .limits import LimitError, written_size, MAX_WRITTEN_NODES
 from .lowering import lower_surface, lower_world, DEFAULT_SURFACE, ENGINE_TYPES, DEFAULT_COLOR_ATTRIBUTE
 from .registry import maps, evaluates, supported_nodes, HANDLERS
+from . import ray_kinds
 
 __all__ = [
-    "translate_material", "translate_world", "convert_material", "convert_world",
+    "translate_material", "translate_world", "convert_material", "convert_material_variants", "convert_world",
     "MaterialDescription", "WorldDescription", "maps", "evaluates", "supported_nodes",
     "Const", "Expr", "Closure", "Issues", "DEFAULT_SURFACE", "ENGINE_TYPES", "DEFAULT_COLOR_ATTRIBUTE",
     "LimitError", "ERROR_SURFACE",
@@ -99,32 +100,77 @@ def convert_material(material, image_average=None, image_file=None, volume_grids
     Material > Settings > Pass Index goes along as "pass_index" (the Material Index pass).
     blender_version (bpy.app.version): the Cycles the material is rendered as; before 3.5
     its microfacet closures are Cycles 3.4's ("microfacets": "cycles_3.4": separable GGX
-    shadowing, glass split by the shading normal's Fresnel), from 3.5 on the engine's default."""
-    params, warning = _convert_material(material, image_average, image_file, volume_grids)
+    shadowing, glass split by the shading normal's Fresnel), from 3.5 on the engine's default.
+    A material that looks different to different kinds of ray (Light Path's ray types) is
+    here the one diffuse rays see, with a warning: convert_material_variants gives them all."""
+    variants, warning = convert_material_variants(material, image_average, image_file, volume_grids, blender_version)
+    if len(variants) == 1:
+        return variants[0][1], warning
+    note = "Material '%s': its look for each kind of ray (Light Path) needs one object copy per look; here " \
+           "the one diffuse rays see" % getattr(material, "name", "?")
+    params = next(p for kinds, p in variants if "diffuse" in kinds)
+    return params, "%s; %s" % (warning, note) if warning else note
+
+
+def convert_material_variants(material, image_average=None, image_file=None, volume_grids=False,
+                              blender_version=None):
+    """A bpy Material -> ([(kinds, params)], warning or None): the material as convert_material
+    gives it, once per group of the engine's ray kinds (ray_kinds.KINDS) that see it alike. One
+    entry (kinds None) unless its surface reads Light Path's ray types (ray_kinds.py); the
+    exporter then sends the object once per entry, visible to those kinds alone."""
+    variants, warning = _convert_material(material, image_average, image_file, volume_grids)
     index = int(getattr(material, "pass_index", 0) or 0) if material is not None else 0
-    if index:
-        params = dict(params, pass_index=index)
-    if blender_version is not None and tuple(blender_version) < (3, 5, 0) and params.get("type") != "volume":
-        params = dict(params, microfacets="cycles_3.4")
-    return params, warning
+    out = []
+    for kinds, params in variants:
+        if index:
+            params = dict(params, pass_index=index)
+        if blender_version is not None and tuple(blender_version) < (3, 5, 0) and params.get("type") != "volume":
+            params = dict(params, microfacets="cycles_3.4")
+        out.append((kinds, params))
+    return out, warning
 
 
 def _convert_material(material, image_average, image_file, volume_grids):
     name = getattr(material, "name", "?")
     if material is None:
-        return dict(DEFAULT_SURFACE), None
+        return [(None, dict(DEFAULT_SURFACE))], None
     tree = getattr(material, "node_tree", None)
     if not getattr(material, "use_nodes", False) or tree is None:
         # Cycles: a material without nodes is a diffuse BSDF of its viewport colour.
-        return {"type": "diffuse", "color": _rgb(getattr(material, "diffuse_color", None),
-                                                 (0.8, 0.8, 0.8))}, None
+        return [(None, {"type": "diffuse", "color": _rgb(getattr(material, "diffuse_color", None),
+                                                         (0.8, 0.8, 0.8))})], None
     try:
         desc = translate_material(tree, name)
-        params, issues = lower_surface(desc, image_average, image_file, volume_grids)
-        _check_written_size(params)
+        variants = _lower_by_ray_kind(desc, image_average, image_file, volume_grids)
+        for _, params in variants:
+            _check_written_size(params)
     except LimitError as exc:
-        return dict(ERROR_SURFACE), "Material '%s': %s; rendered magenta" % (name, exc)
-    return params, issues.format("Material", name)
+        return [(None, dict(ERROR_SURFACE))], "Material '%s': %s; rendered magenta" % (name, exc)
+    return variants, desc.issues.format("Material", name)
+
+
+def _lower_by_ray_kind(desc, image_average, image_file, volume_grids):
+    """[(kinds or None, params)] of a translated material (ray_kinds.py)."""
+    if not ray_kinds.flag_outputs(desc.surface, desc.volume):
+        params, _ = lower_surface(desc, image_average, image_file, volume_grids)
+        return [(None, params)]
+
+    def lower(flags):
+        variant = MaterialDescription(desc.name)
+        variant.issues, variant.output_label = desc.issues, desc.output_label
+        variant.displacement_linked = desc.displacement_linked
+        memo = {}
+        variant.surface = ray_kinds.substitute(desc.surface, flags, memo)
+        variant.volume = ray_kinds.substitute(desc.volume, flags, memo)
+        return lower_surface(variant, image_average, image_file, volume_grids)[0]
+
+    if desc.volume is not None or volume_grids:
+        # Copies of a medium's boundary would each be crossed: one material, as diffuse rays see it.
+        desc.issues.add(desc.output_label, "Light Path's ray types in a material with a volume: shaded as diffuse "
+                                           "rays see it, for every ray")
+        return [(None, lower(ray_kinds.KIND_FLAGS["diffuse"][0]))]
+    variants = ray_kinds.kind_variants(lower, desc.issues, desc.output_label)
+    return [(None, variants[0][1])] if len(variants) == 1 else variants
 
 
 def _check_written_size(params):
@@ -155,8 +201,34 @@ def _convert_world(world, image_average, image_file):
         return {"color": _rgb(getattr(world, "color", None), (0.05, 0.05, 0.05)), "strength": 1.0}, None
     try:
         desc = translate_world(tree, name)
-        params, issues = lower_world(desc, image_average, image_file)
+        params, issues = _lower_world_by_ray_kind(desc, image_average, image_file)
         _check_written_size(params)
     except LimitError as exc:
         return dict(DEFAULT_WORLD), "World '%s': %s; rendered black" % (name, exc)
     return params, issues.format("World", name)
+
+
+def _lower_world_by_ray_kind(desc, image_average, image_file):
+    """lower_world, with a look of its own for camera rays ("camera") when the World's nodes
+    read Light Path > Is Camera Ray (ray_kinds.py)."""
+    used = ray_kinds.flag_outputs(desc.surface, desc.volume)
+    if not used:
+        return lower_world(desc, image_average, image_file)
+
+    def lower(flags):
+        variant = WorldDescription(desc.name)
+        variant.issues, variant.output_label = desc.issues, desc.output_label
+        memo = {}
+        variant.surface = ray_kinds.substitute(desc.surface, flags, memo)
+        variant.volume = ray_kinds.substitute(desc.volume, flags, memo)
+        return lower_world(variant, image_average, image_file)[0]
+
+    for output in sorted(used - {"Is Camera Ray", "Is Shadow Ray"}):
+        desc.issues.add(desc.output_label, "%s in the World is 0 here, as next-event estimation sees it (Cycles "
+                                           "shows 1 to such rays that escape, weighed against that)" % output)
+    # Next-event estimation and every ray but the camera's: no flag Cycles' world reads is set.
+    params = lower(set())
+    camera = {k: v for k, v in lower({"camera"}).items() if k != "volume"}
+    if camera != {k: v for k, v in params.items() if k != "volume"}:
+        params["camera"] = camera
+    return params, desc.issues

@@ -90,13 +90,18 @@ class _Record:
     """What one depsgraph instance became: kind "mesh" (an instance of mesh_id), "light"
     (params) or "medium" (a grid medium: material_id over its grids in the box mesh_id, made
     from the object's materials)."""
-    __slots__ = ("kind", "engine_id", "m16", "ob_name", "mesh_id", "params", "material_id", "box", "materials", "settings")
+    __slots__ = ("kind", "engine_id", "m16", "ob_name", "mesh_id", "params", "material_id", "box", "materials", "settings",
+                 "copies", "kinds")
 
     def __init__(self, kind, engine_id, m16, ob_name, mesh_id=None, params=None):
         self.kind, self.engine_id, self.m16, self.ob_name = kind, engine_id, m16, ob_name
         self.mesh_id, self.params = mesh_id, params
         self.material_id = self.box = self.materials = None
         self.settings = {}  # meshes: rdv_scene_set_instance_params (holdout, ray visibility)
+        # A mesh whose materials look different to different kinds of ray: its other copies
+        # (export/materials.py), each a record of its own, and the kinds each copy is seen by.
+        self.copies = []
+        self.kinds = None
 
 
 class _Sink:
@@ -127,12 +132,18 @@ class _Sink:
     def add_instance(self, mesh_id, m16):
         iid = self.rscene.add_instance(mesh_id, m16)
         e = self.exp
-        e.records[e.current_key] = _Record("mesh", iid, list(m16), e.current_name, mesh_id=mesh_id)
+        rec = _Record("mesh", iid, list(m16), e.current_name, mesh_id=mesh_id)
+        rec.kinds = e.copy_kinds
+        if e.current_first is None:
+            e.records[e.current_key] = e.current_first = rec
+        else:  # another copy of the same object (another look of its materials)
+            e.current_first.copies.append(rec)
+        e.current_record = rec
         return iid
 
     def set_instance_params(self, instance, params):
         self.rscene.set_instance_params(instance, params)
-        self.exp.records[self.exp.current_key].settings = params
+        self.exp.current_record.settings = params
 
     def add_light(self, name, params):
         lid = self.rscene.add_light(name, params)
@@ -155,6 +166,7 @@ class ViewportExporter(SceneExporter):
         self.visited = set()   # keys of every geometry/light instance seen (exported or skipped)
         self.current_key = None
         self.current_name = None
+        self.current_first = self.current_record = None  # the object's first record, the last one made
         self.replace_mesh = None
         self.material_digests = {}  # engine material id -> digest of the params it was given
         self.grid_digests = {}  # grid buffer name -> digest of the voxels it was given
@@ -170,6 +182,7 @@ class ViewportExporter(SceneExporter):
         for inst, ob in self._instances(self.depsgraph):
             self.current_key = _key(inst, ob)
             self.current_name = ob.name_full
+            self.current_first = None
             self.visited.add(self.current_key)
             if ob.type == "LIGHT":
                 self._light(ob, inst.matrix_world)
@@ -225,12 +238,15 @@ class ViewportExporter(SceneExporter):
                 if m16 != rec.m16:
                     if not is_finite_matrix(m16) or abs(determinant3(m16)) < 1e-24:
                         return False
-                    rscene.set_instance_transform(rec.engine_id, m16)
-                    rec.m16 = m16
+                    for r in [rec] + rec.copies:
+                        rscene.set_instance_transform(r.engine_id, m16)
+                        r.m16 = m16
                     self.edits += 1
                     stats["transform_updates"] += 1
-                settings = self.object_settings(ob, inst)
+                settings = self.object_settings(ob, inst, rec.kinds)
                 if settings != rec.settings:  # holdout or ray visibility toggled
+                    if rec.kinds is not None:
+                        return False  # copies per look of its materials: which of them any ray sees may change
                     rscene.set_instance_params(rec.engine_id, settings)
                     rec.settings = settings
                     self.edits += 1
@@ -253,7 +269,10 @@ class ViewportExporter(SceneExporter):
             # A grid medium (a new file or frame, a simulation step): re-export its medium.
             recs = [rec for rec in self.records.values() if rec.kind == "medium" and rec.ob_name == ob.name_full]
             return bool(recs) and all(self.update_grid(rec, ob, rec.m16) for rec in recs)
-        mesh_ids = {rec.mesh_id for rec in self.records.values() if rec.kind == "mesh" and rec.ob_name == ob.name_full}
+        recs = [rec for rec in self.records.values() if rec.kind == "mesh" and rec.ob_name == ob.name_full]
+        if any(rec.copies for rec in recs):
+            return False  # copies per look of its materials: re-export the scene
+        mesh_ids = {rec.mesh_id for rec in recs}
         for mesh_id in mesh_ids:
             self.replace_mesh = mesh_id
             try:
@@ -354,12 +373,15 @@ class ViewportExporter(SceneExporter):
             return True  # no mesh uses it
         self._uv_cache.pop(material.name_full, None)
         try:
-            params, warning = shaders_map.convert_material(material, image_average=self.image_average,
-                                                           image_file=self.image_file,
-                                                           blender_version=blender_version())
+            variants, warning = shaders_map.convert_material_variants(material, image_average=self.image_average,
+                                                                      image_file=self.image_file,
+                                                                      blender_version=blender_version())
         except Exception as exc:  # a node handler bug must not break the viewport
-            params, warning = dict(shaders_map.DEFAULT_SURFACE), "Material '%s': translation failed (%s: %s)" % (
-                material.name_full, type(exc).__name__, exc)
+            variants, warning = [(None, dict(shaders_map.DEFAULT_SURFACE))], \
+                "Material '%s': translation failed (%s: %s)" % (material.name_full, type(exc).__name__, exc)
+        if len(variants) > 1 or len(self.materials._looks.get(name, ())) > 1:
+            return False  # a look per kind of ray, before or now: the objects' copies change
+        params = variants[0][1]
         if warning:
             self.warn(warning)
         text = binding.params_json(params)

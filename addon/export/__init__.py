@@ -11,7 +11,7 @@ from .. import shaders_map
 from ..utils import Messages, determinant3, is_finite_matrix, normalize_frame
 from .camera import camera_params
 from .lights import light_params
-from .materials import MaterialCache
+from .materials import MaterialCache, ray_kind_cells
 from . import images
 from . import motion
 from .mesh import mesh_arrays
@@ -115,12 +115,13 @@ class SceneExporter:
         self.materials = MaterialCache(sink, self.messages, image_average, image_file)
         self.image_average = image_average
         self.stats = ExportStats()
-        self._meshes = {}  # (data pointer, materials) -> engine mesh id or None
+        self._meshes = {}  # ((data pointer, materials), ray kinds of the copy or None) -> engine mesh id or None
         self._mesh_names = set()
         self._light_names = set()
         self._uv_cache = {}
         self.is_viewport = is_viewport
         self.motion = None  # motion.MotionSampler while exporting a frame with motion blur
+        self.copy_kinds = None  # the ray kinds of the object copy being sent (None: the whole object)
         self._camera_params = None
 
     def warn(self, text):
@@ -266,10 +267,11 @@ class SceneExporter:
 
     # ---- geometry -------------------------------------------------------------------
     @staticmethod
-    def object_settings(ob, inst=None):
+    def object_settings(ob, inst=None, kinds=None):
         """rdv_scene_set_instance_params of a mesh object: holdout, shadow catcher, ray visibility,
         pass index, and what an Object Info node reads: the depsgraph instance's random_id (inst)
-        and the object's colour ({}: defaults)."""
+        and the object's colour ({}: defaults). kinds: the ray kinds one copy of it is seen by
+        (ray_kind_cells), None for all."""
         settings = {}
         if getattr(ob, "pass_index", 0):  # Object > Relations > Pass Index (the Object Index pass)
             settings["pass_index"] = int(ob.pass_index)
@@ -288,7 +290,7 @@ class SceneExporter:
             settings["holdout"] = True
         if getattr(ob, "is_shadow_catcher", False):  # Object > Visibility > Shadow Catcher
             settings["shadow_catcher"] = True
-        rays = visibility.object_visibility(ob)
+        rays = visibility.object_visibility(ob, kinds)
         if rays:  # Object > Visibility > Ray Visibility
             settings["visibility"] = rays
         return settings
@@ -328,23 +330,32 @@ class SceneExporter:
         data = ob.data
         key = (data.as_pointer() if data is not None else ob.as_pointer(),
                tuple(m.name_full if m is not None else None for m in mats))
-        frame = None
-        if key in self._meshes:
-            mesh_id = self._meshes[key]
-        else:
-            frame = []  # the mesh's arrays at the frame, for deformation blur
-            mesh_id = self._meshes[key] = self._add_mesh(ob, mats, frame)
-        if mesh_id is None:
-            return
-        instance = self.sink.add_instance(mesh_id, m16)
-        settings = self.object_settings(ob, inst)
-        if settings:
-            self.sink.set_instance_params(instance, settings)
-        if self.motion is not None and inst is not None:
-            self.motion.track(motion.instance_key(inst, ob), motion.object_steps(ob), instance, m16)
-            if frame and motion.may_deform(ob):
-                self.motion.track_deform(motion.instance_key(inst, ob), motion.object_steps(ob), mesh_id, *frame[0])
-        self.stats.instances += 1
+        # One copy of the object per group of ray kinds that see its materials alike (Light
+        # Path's ray types, materials.py), each seen by its group alone; usually one.
+        cells = ray_kind_cells([self.materials.looks(m) for m in mats]) if mats else [(None, None)]
+        for kinds, slot_ids in cells:
+            settings = self.object_settings(ob, inst, kinds)
+            if kinds is not None and visibility.hidden_from_all(settings.get("visibility", {})):
+                continue  # a look no ray of the object's own visibility sees
+            frame = None
+            copy = (key, tuple(kinds) if kinds else None)
+            if copy in self._meshes:
+                mesh_id = self._meshes[copy]
+            else:
+                frame = []  # the mesh's arrays at the frame, for deformation blur
+                mesh_id = self._meshes[copy] = self._add_mesh(ob, mats, frame, slot_ids)
+            if mesh_id is None:
+                return
+            self.copy_kinds = kinds  # which copy the sink is given (the viewport keeps it)
+            instance = self.sink.add_instance(mesh_id, m16)
+            if settings:
+                self.sink.set_instance_params(instance, settings)
+            if self.motion is not None and inst is not None:
+                self.motion.track(motion.instance_key(inst, ob), motion.object_steps(ob), instance, m16)
+                if frame and motion.may_deform(ob):
+                    self.motion.track_deform(motion.instance_key(inst, ob), motion.object_steps(ob), mesh_id,
+                                             *frame[0])
+            self.stats.instances += 1
 
     # ---- grid media: Volume objects and fluid domains ---------------------------------------
     def _volume(self, ob, matrix):
@@ -451,10 +462,11 @@ class SceneExporter:
         self.stats.instances += 1
         return material, mesh_id
 
-    def _add_mesh(self, ob, mats, frame=None):
+    def _add_mesh(self, ob, mats, frame=None, slot_ids=None):
         """The object's evaluated mesh to the sink: its mesh id, or None (warned). frame: a
         list that receives (arrays, need_uvs, attribute names), the layout its deformation
-        steps must repeat (motion.MotionSampler.track_deform)."""
+        steps must repeat (motion.MotionSampler.track_deform). slot_ids: the engine material
+        of each slot (one look of each, ray_kind_cells), else the materials' own."""
         need_uvs, attr_names = self._uv_needs(mats)
         owned = False
         me = None
@@ -482,7 +494,8 @@ class SceneExporter:
                       % (ob.name, arrays.num_nonfinite))
         if mats:
             import numpy as np
-            slot_ids = np.array([self.materials.get(m) for m in mats], dtype=np.uint32)
+            slot_ids = np.array(slot_ids if slot_ids is not None else [self.materials.get(m) for m in mats],
+                                dtype=np.uint32)
             idx = np.minimum(arrays.slot_indices, len(slot_ids) - 1)
             material_ids = slot_ids[idx]
             default = int(slot_ids[0])

@@ -1,4 +1,8 @@
-"""Materials actually used by exported meshes -> engine materials, once each."""
+"""Materials actually used by exported meshes -> engine materials, once each.
+
+A material whose look depends on the kind of ray (Light Path's ray types, shaders_map/
+ray_kinds.py) becomes one engine material per look, each with the kinds of ray that see it
+(`looks`); the exporter sends the objects using it once per look (export/__init__.py)."""
 
 from .. import shaders_map
 from ..utils import blender_version
@@ -12,7 +16,8 @@ class MaterialCache:
         self.messages = messages
         self.image_average = image_average
         self.image_file = image_file
-        self._ids = {}
+        self._ids = {}  # material name -> engine id (of the look diffuse rays see)
+        self._looks = {}  # material name -> [(kinds or None, engine id)]
         self._names = set()
         self._default = None
 
@@ -22,27 +27,57 @@ class MaterialCache:
         return self._default
 
     def get(self, material):
+        """The engine material (of a material with several looks: the one diffuse rays see)."""
         if material is None:
             return self.default()
         key = getattr(material, "name_full", material.name)
-        mid = self._ids.get(key)
-        if mid is not None:
-            return mid
+        if key not in self._ids:
+            self.looks(material)
+        return self._ids[key]
+
+    def looks(self, material):
+        """[(kinds, engine id)]: kinds None for a material every ray sees alike."""
+        if material is None:
+            return [(None, self.default())]
+        key = getattr(material, "name_full", material.name)
+        if key in self._looks:
+            return self._looks[key]
         try:
-            params, warning = shaders_map.convert_material(material, image_average=self.image_average,
-                                                           image_file=self.image_file,
-                                                           blender_version=blender_version())
+            variants, warning = shaders_map.convert_material_variants(material, image_average=self.image_average,
+                                                                      image_file=self.image_file,
+                                                                      blender_version=blender_version())
         except Exception as exc:  # a bug in a node handler must not stop the render
-            params, warning = dict(shaders_map.DEFAULT_SURFACE), "Material '%s': translation failed (%s: %s)" % (
-                key, type(exc).__name__, exc)
+            variants, warning = [(None, dict(shaders_map.DEFAULT_SURFACE))], \
+                "Material '%s': translation failed (%s: %s)" % (key, type(exc).__name__, exc)
         if warning:
             self.messages.warn(warning)
-        name = key
-        n = 1
-        while name in self._names:
-            n += 1
-            name = "%s#%d" % (key, n)
-        self._names.add(name)
-        mid = self.sink.add_material(name, params)
-        self._ids[key] = mid
-        return mid
+        looks = []
+        for kinds, params in variants:
+            base = key if kinds is None else "%s [%s]" % (key, ", ".join(kinds))
+            name, n = base, 1
+            while name in self._names:
+                n += 1
+                name = "%s#%d" % (base, n)
+            self._names.add(name)
+            looks.append((kinds, self.sink.add_material(name, params)))
+        self._looks[key] = looks
+        self._ids[key] = next(mid for kinds, mid in looks if kinds is None or "diffuse" in kinds)
+        return looks
+
+
+def ray_kind_cells(looks_per_slot):
+    """The groups of ray kinds an object's copies are seen by, from its slots' looks
+    (MaterialCache.looks each): [(kinds or None, engine material id per slot)]. One entry
+    with kinds None when every slot looks alike to every ray."""
+    if all(len(looks) == 1 for looks in looks_per_slot):
+        return [(None, [looks[0][1] for looks in looks_per_slot])]
+    cells = []
+    for kind in shaders_map.ray_kinds.KINDS:
+        ids = [next(mid for kinds, mid in looks if kinds is None or kind in kinds) for looks in looks_per_slot]
+        for cell_kinds, cell_ids in cells:
+            if cell_ids == ids:
+                cell_kinds.append(kind)
+                break
+        else:
+            cells.append(([kind], ids))
+    return cells

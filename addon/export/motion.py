@@ -111,7 +111,8 @@ class MotionSampler:
         self.camera_key = None
         self.seconds = 0.0
         self.evaluations = 0
-        # Deformation blur: key -> (steps, mesh id, name, frame arrays, need_uvs, attribute names).
+        # Deformation blur: key -> (steps, [mesh ids], name, frame arrays, need_uvs, attribute names)
+        # (several meshes: the object's copies per look, export/__init__.py).
         self._deforming = {}
         self.deformed = []  # (mesh id, [positions per step], [normals per step] or None), by sample()
         self.warnings = []  # for the user, by sample()
@@ -123,9 +124,11 @@ class MotionSampler:
         entry[1].append(instance)
 
     def track_deform(self, key, steps, mesh, name, arrays, need_uvs, attributes):
-        """An object whose evaluated mesh (exported as `mesh` in `arrays`' layout) may deform."""
+        """An object whose evaluated mesh (exported as `mesh` in `arrays`' layout, and as any
+        mesh tracked under the same key since) may deform."""
         if steps >= 2:
-            self._deforming[key] = (steps, mesh, name, arrays, need_uvs, attributes)
+            meshes = self._deforming[key][1] if key in self._deforming else []
+            self._deforming[key] = (steps, meshes + [mesh], name, arrays, need_uvs, attributes)
 
     def _sample_deform(self, ob, key, u, shapes):
         """The evaluated mesh of a tracked object at step time u, in its frame layout."""
@@ -138,7 +141,7 @@ class MotionSampler:
 
     def _deformations(self, shapes):
         import numpy as np
-        for key, (steps, mesh, name, frame, _, _) in self._deforming.items():
+        for key, (steps, meshes, name, frame, _, _) in self._deforming.items():
             by_u = shapes.get(key, {})
             positions, normals = [], []
             changes = False
@@ -158,7 +161,8 @@ class MotionSampler:
                 normals.append(arrays.normals)
             else:
                 if changes:
-                    self.deformed.append((mesh, positions, None if frame.normals is None else normals))
+                    for mesh in meshes:
+                        self.deformed.append((mesh, positions, None if frame.normals is None else normals))
 
     def track_camera(self, key, steps, m16):
         self.camera_key = key

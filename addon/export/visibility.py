@@ -20,12 +20,24 @@ def _hidden(owner, keys):
     return {key: False for key, prop in keys if not bool(getattr(owner, prop, True))}
 
 
-def object_visibility(ob):
-    """{"diffuse": False, ...}: the kinds of ray a mesh object is hidden from ({} if none)."""
+KINDS = ("camera", "diffuse", "glossy", "transmission", "shadow", "volume_scatter")
+
+
+def object_visibility(ob, kinds=None):
+    """{"diffuse": False, ...}: the kinds of ray a mesh object is hidden from ({} if none);
+    kinds: of one copy of it, seen by those kinds only (a look of its materials, materials.py)."""
     v = _hidden(ob, _OBJECT)
     if not bool(getattr(ob, "visible_shadow", True)):
         v["shadow"] = False
+    if kinds is not None:
+        v.update({k: False for k in KINDS if k not in kinds})
+        v = {k: False for k in KINDS if k in v}  # one order, whatever the object hides
     return v
+
+
+def hidden_from_all(v):
+    """True when a visibility dict (object_visibility) hides every kind of ray."""
+    return all(v.get(k, True) is False for k in KINDS)
 
 
 def light_visibility(ob, light):

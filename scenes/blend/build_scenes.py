@@ -1295,6 +1295,78 @@ def nishita_sky():
     return scene
 
 
+def ray_type_material(name, output, first, second):
+    """Mix Shader (Fac = Light Path's `output`) of two stock shader nodes ((node type, inputs)
+    each): rays of that type see the second."""
+    m = mix_material(name, first, second, 0.5)
+    nt = m.node_tree
+    mix = next(n for n in nt.nodes if n.bl_idname == "ShaderNodeMixShader")
+    nt.links.new(nt.nodes.new("ShaderNodeLightPath").outputs[output], mix.inputs["Fac"])
+    return m
+
+
+def camera_backdrop(scene, lit_color, lit_strength, backdrop_color):
+    """The World: Mix Shader (Fac = Light Path > Is Camera Ray) of a Background that lights the
+    scene and one the camera sees."""
+    nt = scene.world.node_tree
+    out = next(n for n in nt.nodes if n.bl_idname == "ShaderNodeOutputWorld")
+    lit, backdrop = nt.nodes["Background"], nt.nodes.new("ShaderNodeBackground")
+    lit.inputs["Color"].default_value = lit_color + (1.0,)
+    lit.inputs["Strength"].default_value = lit_strength
+    backdrop.inputs["Color"].default_value = backdrop_color + (1.0,)
+    mix = nt.nodes.new("ShaderNodeMixShader")
+    nt.links.new(nt.nodes.new("ShaderNodeLightPath").outputs["Is Camera Ray"], mix.inputs["Fac"])
+    nt.links.new(lit.outputs[0], mix.inputs[1])
+    nt.links.new(backdrop.outputs[0], mix.inputs[2])
+    nt.links.new(mix.outputs[0], out.inputs["Surface"])
+
+
+def light_path_rays():
+    """Light Path > Is Camera Ray, as artists use it: the World lights warm and shows the camera
+    a dark blue backdrop; a ball green to the camera and red to every other ray (its
+    reflection in the glossy floor, its bounce light); a glowing card the camera sees through
+    (Emission, Transparent to camera rays) lighting the scene from the frame's top left."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+    camera_backdrop(scene, (1.0, 0.9, 0.8), 0.6, (0.05, 0.1, 0.3))
+    floor = node_material("FloorMat", "ShaderNodeBsdfPrincipled", {"Base Color": (0.5, 0.5, 0.5, 1.0),
+                                                                   "Roughness": 0.3}, output="BSDF")
+    plane("Floor", 6.0, floor)
+    smooth_ball("CameraGreenBall", (-0.3, 0, 0.4), 0.4, ray_type_material(
+        "GreenToCamera", "Is Camera Ray", ("ShaderNodeBsdfDiffuse", {"Color": (0.8, 0.15, 0.1, 1.0)}),
+        ("ShaderNodeBsdfDiffuse", {"Color": (0.15, 0.7, 0.15, 1.0)})))
+    card = ray_type_material("HiddenGlow", "Is Camera Ray", ("ShaderNodeEmission", {"Color": (1, 1, 1, 1),
+                                                                                    "Strength": 6.0}),
+                             ("ShaderNodeBsdfTransparent", {"Color": (1, 1, 1, 1)}))
+    quad_object("GlowCard", 0.8, 0.5, (0.7, 0.2, 1.1), (60, 0, 20), card)
+    camera_looking_at((0, -3.2, 1.1), (0, 0, 0.45), 30)
+    return scene
+
+
+def light_path_shadow_rays():
+    """Light Path > Is Shadow Ray: a smooth glass ball whose shadow rays pass (Mix Shader of
+    Glass and, for shadow rays, Transparent) and a diffuse ball beside it, under a point lamp
+    (radius 0) on a floor; the World lights nothing and shows the camera a blue backdrop.
+    Refractive caustics off: Cycles' path tracer cannot find a point lamp through glass, which
+    BDPT can. A light that rays can hit, shining through the glass, would be a case where
+    Cycles weighs the unblocked shadow ray and the refracted ray by their MIS weights, which
+    the engine does not (docs/scene-format.md, Ray visibility)."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+    scene.cycles.caustics_refractive = False
+    camera_backdrop(scene, (0.0, 0.0, 0.0), 1.0, (0.1, 0.15, 0.35))
+    plane("Floor", 6.0, diffuse_material("FloorMat", (0.6, 0.6, 0.6)))
+    glass = ray_type_material("ShadowlessGlass", "Is Shadow Ray",
+                              ("ShaderNodeBsdfGlass", {"Color": (1, 1, 1, 1), "Roughness": 0.0, "IOR": 1.45}),
+                              ("ShaderNodeBsdfTransparent", {"Color": (1, 1, 1, 1)}))
+    next(n for n in glass.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfGlass").distribution = "SHARP"
+    smooth_ball("ShadowlessGlassBall", (0.5, 0, 0.4), 0.4, glass)
+    smooth_ball("DiffuseBall", (-0.6, 0, 0.4), 0.4, diffuse_material("BallMat", (0.7, 0.4, 0.2)))
+    light("POINT", "Key", 150.0, (0.9, -0.6, 2.4), shadow_soft_size=0.0)
+    camera_looking_at((0, -3.2, 1.1), (0, 0, 0.45), 30)
+    return scene
+
+
 def film_transparent():
     """Film > Transparent: a diffuse ball, a smooth glass ball and a card half Transparent
     BSDF on a floor small enough that the world shows all around them (a blue sky, lit
@@ -1578,6 +1650,8 @@ SCENES = {
     "cornell_lamp_near_ceiling": cornell_lamp_near_ceiling,
     "view_dependent_mixes": view_dependent_mixes,
     "nishita_sky": nishita_sky,
+    "light_path_rays": light_path_rays,
+    "light_path_shadow_rays": light_path_shadow_rays,
     "plane_point": plane_point,
     "plane_spot": plane_spot,
     "plane_sun": plane_sun,
@@ -1630,7 +1704,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "emissive_textured",
                      "volume_blackbody"]
 
 

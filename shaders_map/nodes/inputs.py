@@ -1,5 +1,5 @@
 """Input nodes: RGB, Value, Vertex Color (Color Attribute), Attribute, Object Info, Geometry,
-Fresnel, Layer Weight."""
+Fresnel, Layer Weight, Light Path."""
 
 import math
 
@@ -136,3 +136,25 @@ def eval_view_factor(ev, e):
     ev.approx(e, "depends on the viewing direction: exact only as a Mix Shader's Fac; here its mean "
                  "over directions, %.3f" % mean)
     return mean
+
+
+# Light Path: its ray-type outputs are constants per kind of ray; a material or world that reads
+# them is lowered once per kind (ray_kinds.py), which replaces them before evaluation. What is
+# left here is what that cannot make exact: the depths and the ray's length, and a ray type read
+# where no split applies (a volume shader).
+@maps("ShaderNodeLightPath")
+def light_path(ctx, node, socket):
+    return Expr("light_path", ctx.label(node), {}, {"output": getattr(socket, "identifier", "Is Camera Ray")})
+
+
+@evaluates("light_path")
+def eval_light_path(ev, e):
+    out = e.props.get("output", "")
+    if out == "Ray Length":
+        ev.approx(e, "Ray Length is not supported, a constant 1")
+        return 1.0
+    if out.endswith("Depth"):
+        ev.approx(e, "%s is not supported, 0 (as on a camera ray)" % out)
+        return 0.0
+    ev.approx(e, "%s here is 0 (the ray types are told apart only in a material's or world's surface)" % out)
+    return 0.0

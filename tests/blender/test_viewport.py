@@ -232,6 +232,41 @@ def mode_view():
     check(viewport.stats["mesh_exports"] == before["mesh_exports"], "a material edit re-exported a mesh")
     check(not viewport.stats["errors"], "viewport errors: %s" % viewport.stats["errors"])
 
+    # Light Path > Is Camera Ray: the sphere's material glows green to the camera and stays the
+    # blue Principled to every other ray. Its objects (the sphere, its twin) go to the engine
+    # once per look, so the edit re-exports the scene; a move then moves both copies in place.
+    before = dict(viewport.stats)
+    nt = m.node_tree
+    mix, glow = nt.nodes.new("ShaderNodeMixShader"), nt.nodes.new("ShaderNodeEmission")
+    glow.inputs["Color"].default_value = (0.1, 0.9, 0.1, 1.0)
+    nt.links.new(nt.nodes.new("ShaderNodeLightPath").outputs["Is Camera Ray"], mix.inputs["Fac"])
+    nt.links.new(nt.nodes["Principled BSDF"].outputs[0], mix.inputs[1])
+    nt.links.new(glow.outputs[0], mix.inputs[2])
+    nt.links.new(mix.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    yield 0.1
+    yield from wait_converged()
+    d = screenshot("rendered_d")
+    dc = d[y0:y1, x0:x1]
+    green_gain = float((dc[..., 1] - dc[..., 2]).mean() - (cb[..., 1] - cb[..., 2]).mean())
+    print("LIGHT PATH green-minus-blue gain %.4f, full exports %d -> %d" % (
+        green_gain, before["full_exports"], viewport.stats["full_exports"]))
+    check(green_gain > 0.005, "the camera's look of the sphere did not show in the viewport")
+    check(viewport.stats["full_exports"] > before["full_exports"], "a look per kind of ray without a re-export")
+    before = dict(viewport.stats)
+    bpy.data.objects["Sphere"].location.x += 0.6
+    yield 0.1
+    yield from wait_converged()
+    e = screenshot("rendered_e")
+    diff = float(np.abs(e[y0:y1, x0:x1] - dc).mean())
+    check(diff > 0.005, "moving the sphere with two looks did not change the viewport image")
+    check(viewport.stats["full_exports"] == before["full_exports"], "moving an object with two looks re-exported")
+    check(viewport.stats["transform_updates"] > before["transform_updates"], "no instance transform update")
+    final = final_render_display()
+    corr = float(np.corrcoef(blocks(e[y0:y1, x0:x1]).ravel(), blocks(final).ravel())[0, 1])
+    print("LIGHT PATH moved: image change %.4f, correlation with the final render %.3f" % (diff, corr))
+    check(corr > 0.8, "the viewport with two looks does not correlate with the final render (r = %.3f)" % corr)
+    check(not viewport.stats["errors"], "viewport errors: %s" % viewport.stats["errors"])
+
 
 def rss_mb():
     with open("/proc/self/statm") as f:

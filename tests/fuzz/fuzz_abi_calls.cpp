@@ -134,9 +134,11 @@ std::string light_params(Reader &in) {
 
 std::string world_params(Reader &in) {
   auto x = [&] { return in.json_number(); };
-  switch (in.small(5)) {
+  switch (in.small(6)) {
     case 0: return in.text(64);
     case 1: return R"({"color":[)" + x() + ",0.1,0.1],\"strength\":" + x() + "}";
+    case 5: return R"({"color":[0.5,0.5,0.5],"camera":{"color":[)" + x() + R"(,0.2,0.9],"strength":)" + x() +
+                   R"(},"visibility":{"camera":)" + (in.small(2) ? "true" : "false") + "}}";
     case 2: return R"({"color":[0,0,0],"volume":{"density":)" + x() + R"(,"anisotropy":)" + x() + "}}";
     case 3: return R"({"sky":{"sun_elevation":)" + x() + R"(,"altitude":)" + x() + R"(,"air_density":)" + x() +
                    R"(,"sun_size":)" + x() + R"(},"strength":)" + x() + "}";

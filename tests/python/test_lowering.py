@@ -535,6 +535,135 @@ class TestWorld(unittest.TestCase):
         self.assertIsNone(w)
 
 
+def _mix_by(t, output, a, b, invert=False, name="Mix"):
+    """Mix Shader (Fac = Light Path's output [1 - it]) of shader sockets a and b."""
+    fac = t.new("ShaderNodeLightPath", "Light Path").out(output)
+    if invert:
+        m = t.new("ShaderNodeMath", "One minus", operation="SUBTRACT")
+        m.inp("Value").default_value = 1.0
+        t.link(fac, m.inp("Value_001"))
+        fac = m.out()
+    mix = t.new("ShaderNodeMixShader", name)
+    t.link(fac, mix.inp("Fac"))
+    t.link(a, mix.inp("Shader"))
+    t.link(b, mix.inp("Shader_001"))
+    return mix.out()
+
+
+def _diffuse(t, color, name="Diffuse"):
+    n = t.new("ShaderNodeBsdfDiffuse", name)
+    n.inp("Color").default_value = list(color) + [1.0]
+    return n.out()
+
+
+def variants(build, name="M", volume=None):
+    t = Tree(name)
+    out = t.output()
+    t.link(build(t), out.inp("Surface"))
+    if volume is not None:
+        t.link(volume(t), out.inp("Volume"))
+    return sm.convert_material_variants(Material(name, t), image_average=image_average, image_file=image_file)
+
+
+class TestRayKinds(unittest.TestCase):
+    """Light Path's ray types (shaders_map/ray_kinds.py): one material per group of the engine's
+    ray kinds that see it alike."""
+    REST = ["diffuse", "glossy", "transmission", "shadow", "volume_scatter"]
+
+    def test_camera_ray_splits_camera_from_the_rest(self):
+        for invert in (False, True):
+            with self.subTest(invert=invert):
+                v, w = variants(lambda t: _mix_by(t, "Is Camera Ray", _diffuse(t, (0.8, 0.1, 0.1)),
+                                                  t.new("ShaderNodeEmission", "Glow").out(), invert))
+                self.assertIsNone(w)
+                self.assertEqual([kinds for kinds, _ in v], [["camera"], self.REST])
+                seen_by_camera, seen_by_rest = v[0][1], v[1][1]
+                if invert:
+                    seen_by_camera, seen_by_rest = seen_by_rest, seen_by_camera
+                # The mix is gone: each kind sees one shader (a plain diffuse runs no mix code).
+                self.assertEqual(seen_by_camera["type"], "emission")
+                self.assertEqual(seen_by_rest, {"type": "diffuse", "color": [0.8, 0.1, 0.1]})
+        keep("ray_kind_rest", (v[0][1], None))
+
+    def test_shadow_ray_makes_glass_cast_no_shadow(self):
+        v, w = variants(lambda t: _mix_by(t, "Is Shadow Ray", t.new("ShaderNodeBsdfGlass", "Glass").out(),
+                                          t.new("ShaderNodeBsdfTransparent", "Clear").out()))
+        self.assertIsNone(w)
+        self.assertEqual([kinds for kinds, _ in v], [["camera", "diffuse", "glossy", "transmission", "volume_scatter"],
+                                                     ["shadow"]])
+        self.assertEqual(v[0][1]["type"], "glass")
+        self.assertEqual(v[1][1]["type"], "transparent")
+
+    def test_one_material_when_the_kinds_see_it_alike(self):
+        # Is Camera Ray times 0: every kind sees the diffuse; a depth output is a constant, warned.
+        def b(t):
+            m = t.new("ShaderNodeMath", "Zero", operation="MULTIPLY")
+            t.link(t.new("ShaderNodeLightPath", "LP").out("Is Camera Ray"), m.inp("Value"))
+            m.inp("Value_001").default_value = 0.0
+            mix = t.new("ShaderNodeMixShader", "Mix")
+            t.link(m.out(), mix.inp("Fac"))
+            t.link(_diffuse(t, (0.2, 0.3, 0.4)), mix.inp("Shader"))
+            t.link(t.new("ShaderNodeEmission", "E").out(), mix.inp("Shader_001"))
+            return mix.out()
+        v, w = variants(b)
+        self.assertEqual(v, [(None, {"type": "diffuse", "color": [0.2, 0.3, 0.4]})])
+        self.assertIsNone(w)
+        p, w = convert(lambda t: _mix_by(t, "Ray Depth", _diffuse(t, (0.2, 0.3, 0.4)),
+                                         t.new("ShaderNodeEmission", "E").out()))
+        self.assertIn("Ray Depth is not supported", w)
+
+    def test_kinds_the_engine_cannot_tell_apart_are_named(self):
+        # Is Glossy Ray: a refraction is glossy, a translucency diffuse; both are transmission rays.
+        v, w = variants(lambda t: _mix_by(t, "Is Glossy Ray", _diffuse(t, (0.5, 0.5, 0.5)),
+                                          t.new("ShaderNodeEmission", "E").out()))
+        self.assertIn("transmission rays are refractions, translucency or singular reflections alike", w)
+        self.assertEqual([kinds for kinds, _ in v], [["camera", "diffuse", "shadow", "volume_scatter"],
+                                                     ["glossy", "transmission"]])
+        # Is Volume Scatter Ray (Blender 4): scattering rays meet the diffuse rays' copy.
+        # A volume inside: no copies (each would be a boundary), the diffuse rays' look, warned.
+        v, w = variants(lambda t: _mix_by(t, "Is Camera Ray", _diffuse(t, (0.5, 0.5, 0.5)),
+                                          t.new("ShaderNodeEmission", "E").out()),
+                        volume=lambda t: t.new("ShaderNodeVolumeAbsorption", "Ink").out())
+        self.assertEqual(len(v), 1)
+        self.assertEqual(v[0][1]["type"], "diffuse")
+        self.assertIn("with a volume: shaded as diffuse rays see it", w)
+
+    def test_convert_material_gives_the_diffuse_rays_look(self):
+        p, w = convert(lambda t: _mix_by(t, "Is Camera Ray", _diffuse(t, (0.8, 0.1, 0.1)),
+                                         t.new("ShaderNodeEmission", "Glow").out()))
+        self.assertEqual(p["type"], "diffuse")
+        self.assertIn("one object copy per look", w)
+
+    def test_world_camera_ray(self):
+        img = Image("sky.exr")
+
+        def b(t):
+            lit = t.new("ShaderNodeBackground", "Lighting")
+            env = t.new("ShaderNodeTexEnvironment", "HDRI", image=img)
+            t.link(env.out("Color"), lit.inp("Color"))
+            backdrop = t.new("ShaderNodeBackground", "Backdrop")
+            backdrop.inp("Color").default_value = [0.1, 0.2, 0.9, 1.0]
+            backdrop.inp("Strength").default_value = 2.0
+            return _mix_by(t, "Is Camera Ray", lit.out(), backdrop.out())
+        p, w = TestWorld._world(None, b)
+        self.assertIsNone(w)
+        self.assertEqual(p["environment"], {"file": IMG_PATH})
+        cam = p["camera"]
+        self.assertEqual(sorted(cam), ["color", "strength"])
+        for got, want in zip(cam["color"], (0.2, 0.4, 1.8)):
+            self.assertAlmostEqual(got * cam["strength"], want)
+        keep("world_camera", ({"type": "diffuse"}, None))[0]["__world"] = p
+        # Is Diffuse Ray: 0, as next-event estimation sees the world, warned; Is Shadow Ray: 0.
+        p, w = TestWorld._world(None, lambda t: _mix_by(t, "Is Diffuse Ray", b(t), t.new("ShaderNodeBackground",
+                                                                                         "Black").out()))
+        self.assertIn("Is Diffuse Ray in the World is 0 here", w)
+        self.assertIn("camera", p)
+        p, w = TestWorld._world(None, lambda t: _mix_by(t, "Is Shadow Ray", t.new("ShaderNodeBackground", "G").out(),
+                                                        t.new("ShaderNodeBackground", "Black").out()))
+        self.assertIsNone(w)
+        self.assertNotIn("camera", p)
+
+
 @unittest.skipIf(CLI is None, "the rendezvous command-line renderer is not built")
 class TestZEngineAcceptsLowering(unittest.TestCase):
     """Runs last (class name order): every material kept above, on one quad each."""
