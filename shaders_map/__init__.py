@@ -20,12 +20,13 @@ from .limits import LimitError, written_size, MAX_WRITTEN_NODES
 from .lowering import lower_surface, lower_world, DEFAULT_SURFACE, ENGINE_TYPES, DEFAULT_COLOR_ATTRIBUTE
 from .registry import maps, evaluates, supported_nodes, HANDLERS
 from . import ray_kinds
+from .nodes.inputs import MESH_DERIVED_ATTRIBUTES
 
 __all__ = [
     "translate_material", "translate_world", "convert_material", "convert_material_variants", "convert_world",
     "MaterialDescription", "WorldDescription", "maps", "evaluates", "supported_nodes",
     "Const", "Expr", "Closure", "Issues", "DEFAULT_SURFACE", "ENGINE_TYPES", "DEFAULT_COLOR_ATTRIBUTE",
-    "LimitError", "ERROR_SURFACE",
+    "LimitError", "ERROR_SURFACE", "MESH_DERIVED_ATTRIBUTES",
 ]
 
 # What a material beyond a limit renders as: Blender's magenta for a material it cannot use.

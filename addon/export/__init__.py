@@ -60,6 +60,10 @@ def _tree_uses_uvs(tree, depth=0):
         elif idname == "ShaderNodeAttribute":
             if getattr(node, "attribute_type", "GEOMETRY") == "GEOMETRY" and node.attribute_name:
                 names.add(node.attribute_name)
+        elif idname == "ShaderNodeNewGeometry":  # Pointiness, Random Per Island: attributes the exporter derives
+            for output, name in shaders_map.MESH_DERIVED_ATTRIBUTES.items():
+                if node.outputs[output].is_linked:
+                    names.add(name)
         elif idname == "ShaderNodeGroup" and node.node_tree is not None:
             u, n = _tree_uses_uvs(node.node_tree, depth + 1)
             uses = uses or u

@@ -13,8 +13,14 @@ Vertex layout:
 
 import numpy as np
 
+from .. import shaders_map
+
 
 DEFAULT_COLOR_ATTRIBUTE = "__rdv_default_color"  # = shaders_map.DEFAULT_COLOR_ATTRIBUTE
+# Geometry > Pointiness and Random Per Island, which Cycles derives from the mesh: computed here
+# (geometry_attribute) and sent as per-vertex attributes under these names (= shaders_map's).
+POINTINESS_ATTRIBUTE = shaders_map.MESH_DERIVED_ATTRIBUTES["Pointiness"]
+RANDOM_PER_ISLAND_ATTRIBUTE = shaders_map.MESH_DERIVED_ATTRIBUTES["Random Per Island"]
 
 
 class MeshArrays:
@@ -99,11 +105,114 @@ def _default_color_name(me):
     return active.name if active is not None else cas[0].name
 
 
+def _sum_by(index, values, n):
+    """Rows of values summed by index into n rows (np.add.at, by bincount: many times faster)."""
+    return np.stack([np.bincount(index, weights=values[:, c], minlength=n) for c in range(values.shape[1])], axis=1)
+
+
+def pointiness(co, vertex_normals, edges):
+    """Cycles' Pointiness per vertex (its Blender sync, attr_create_pointiness, written from
+    the algorithm): vertices at the same position are welded (their normals summed); at each,
+    the angle between the normal and the mean direction of its edges, over pi (0.5 on a flat
+    surface, more at a ridge, less in a valley), then averaged with its edge neighbours' (a
+    blur over the two-ring). co, vertex_normals: (n, 3); edges: (m, 2) vertex indices
+    (Blender's edges, not the triangulation's). Cycles welds vertices closer than about 3e-4
+    whose coordinate sums agree to 3 float epsilons; here positions equal bit for bit."""
+    n = len(co)
+    if n == 0:
+        return np.zeros(0, np.float32)
+    rows = np.ascontiguousarray(co, dtype=np.float32) + np.float32(0.0)  # -0 is 0, as Cycles compares
+    _, first, inverse = np.unique(rows.view(np.dtype((np.void, 12))).reshape(-1), return_index=True,
+                                  return_inverse=True)
+    rep = first[inverse.reshape(-1)]  # each vertex's welded representative
+    co = co.astype(np.float64)
+    normal = _sum_by(rep, vertex_normals.astype(np.float64), n)
+    length = np.linalg.norm(normal, axis=1, keepdims=True)
+    normal = np.divide(normal, length, out=np.zeros_like(normal), where=length > 0)
+    e = np.sort(rep[edges.reshape(-1, 2).astype(np.int64)], axis=1)
+    key = np.unique(e[:, 0] * n + e[:, 1])
+    e = np.stack([key // n, key % n], axis=1)
+    d = co[e[:, 1]] - co[e[:, 0]]
+    dl = np.linalg.norm(d, axis=1)
+    e, d = e[dl > 0], d[dl > 0] / dl[dl > 0, None]  # an edge between welded vertices has no direction
+    accum = _sum_by(e[:, 0], d, n) - _sum_by(e[:, 1], d, n)
+    count = np.bincount(e.reshape(-1), minlength=n).astype(np.float64)
+    mean = np.divide(accum, count[:, None], out=np.zeros_like(accum), where=count[:, None] > 0)
+    raw = np.where(count > 0, np.arccos(np.clip((normal * mean).sum(axis=1), -1.0, 1.0)) / np.pi, 0.0)
+    blurred = raw + np.bincount(e[:, 0], weights=raw[e[:, 1]], minlength=n) + \
+        np.bincount(e[:, 1], weights=raw[e[:, 0]], minlength=n)
+    blurred /= count + 1
+    return blurred[rep].astype(np.float32)
+
+
+def _hash_uint_to_float(k):
+    """Cycles' hash_uint_to_float (Jenkins' lookup3 final mix of one word, then n / (2^32 - 1)
+    in float), vectorised over uint32 k."""
+    k = np.asarray(k, dtype=np.uint32)
+    with np.errstate(over="ignore"):
+        seed = np.uint32(0xDEADBEEF + (1 << 2) + 13)
+        a, b, c = k + seed, np.full_like(k, seed), np.full_like(k, seed)
+
+        def rot(x, r):
+            return (x << np.uint32(r)) | (x >> np.uint32(32 - r))
+        c ^= b; c -= rot(b, 14)  # noqa: E702
+        a ^= c; a -= rot(c, 11)  # noqa: E702
+        b ^= a; b -= rot(a, 25)  # noqa: E702
+        c ^= b; c -= rot(b, 16)  # noqa: E702
+        a ^= c; a -= rot(c, 4)  # noqa: E702
+        b ^= a; b -= rot(a, 14)  # noqa: E702
+        c ^= b; c -= rot(b, 24)  # noqa: E702
+    return c.astype(np.float32) * np.float32(1.0 / np.float32(4294967295.0))
+
+
+def random_per_island(num_vertices, edges):
+    """Cycles' Random Per Island per vertex: the islands are the mesh's edge-connected vertex
+    sets, joined edge by edge in Blender's order as Cycles' disjoint set joins them (union by
+    rank, the first root kept on a tie), so each island's representative, and the hash of its
+    index, is the vertex Cycles hashes. Every vertex of a face is in one island: the value is
+    the face's."""
+    parent = list(range(num_vertices))
+    rank = [0] * num_vertices
+
+    def find(x):
+        root = x
+        while parent[root] != root:
+            root = parent[root]
+        while parent[x] != root:
+            parent[x], x = root, parent[x]
+        return root
+    for a, b in edges.reshape(-1, 2).tolist():
+        ra, rb = find(a), find(b)
+        if ra == rb:
+            continue
+        if rank[ra] < rank[rb]:
+            ra, rb = rb, ra
+        parent[rb] = ra
+        if rank[ra] == rank[rb]:
+            rank[ra] += 1
+    roots = np.array([find(v) for v in range(num_vertices)], dtype=np.uint32)
+    return _hash_uint_to_float(roots)
+
+
+def geometry_attribute(me, name):
+    """Pointiness or Random Per Island of an evaluated mesh, per Blender vertex (float32)."""
+    nv, ne = len(me.vertices), len(me.edges)
+    edges = _get(me.edges, "vertices", ne, np.uint32, 2).reshape(-1, 2)
+    if name == POINTINESS_ATTRIBUTE:
+        return pointiness(_get(me.vertices, "co", nv, np.float32, 3).reshape(-1, 3),
+                          _vertex_normals(me, nv).reshape(-1, 3), edges)
+    return random_per_island(nv, edges)
+
+
 def _corner_attributes(me, names, n_loops, loop_vi, npoly):
     """Named UV maps / colour / generic attributes as per-corner float32 arrays."""
     out = []
     loop_poly = None
     for name in names:
+        if name in (POINTINESS_ATTRIBUTE, RANDOM_PER_ISLAND_ATTRIBUTE):
+            data = np.repeat(geometry_attribute(me, name)[loop_vi].reshape(-1, 1), 3, axis=1)
+            out.append((name, "color", np.ascontiguousarray(data, dtype=np.float32).reshape(-1), 3))
+            continue
         real = _default_color_name(me) if name == DEFAULT_COLOR_ATTRIBUTE else name
         if not real:
             continue

@@ -1367,6 +1367,55 @@ def light_path_shadow_rays():
     return scene
 
 
+def mesh_derived_attributes():
+    """Geometry > Pointiness and Random Per Island, which Cycles derives from the evaluated mesh:
+    a subdivided Suzanne and a torus glowing by their Pointiness through a Color Ramp (0.47 to
+    0.53: ridges white, hollows black), and one mesh of twelve separate cubes (twelve islands,
+    two of them sharing a vertex position but no edge: still two) glowing by Random Per Island
+    through a three-colour ramp; emission only, so the values are what the image shows."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+
+    def glow(name, output, stops):
+        m = emission_material(name, strength=1.0)
+        nt = m.node_tree
+        ramp = nt.nodes.new("ShaderNodeValToRGB")
+        els = ramp.color_ramp.elements
+        for i, (pos, color) in enumerate(stops):
+            el = els[i] if i < len(els) else els.new(pos)
+            el.position, el.color = pos, color + (1.0,)
+        nt.links.new(nt.nodes.new("ShaderNodeNewGeometry").outputs[output], ramp.inputs["Fac"])
+        nt.links.new(ramp.outputs["Color"], nt.nodes["Emission"].inputs["Color"])
+        return m
+    edges = glow("Edges", "Pointiness", ((0.47, (0.0, 0.0, 0.0)), (0.53, (1.0, 0.9, 0.7))))
+    bpy.ops.mesh.primitive_monkey_add(size=1.0, location=(-1.3, 0, 0.5), rotation=(0, 0, math.radians(20)))
+    monkey = bpy.context.active_object
+    monkey.modifiers.new("Subdivision", "SUBSURF").levels = 1
+    bpy.ops.object.shade_smooth()
+    monkey.data.materials.append(edges)
+    bpy.ops.mesh.primitive_torus_add(major_radius=0.45, minor_radius=0.15, location=(0, 0, 0.5),
+                                     rotation=(math.radians(60), 0, 0))
+    bpy.context.active_object.data.materials.append(edges)
+    islands = glow("Islands", "Random Per Island", ((0.0, (0.9, 0.1, 0.1)), (0.5, (0.1, 0.8, 0.2)),
+                                                    (1.0, (0.1, 0.2, 0.9))))
+    verts, faces = [], []
+    for i in range(12):
+        x, y = 0.9 + 0.3 * (i % 4), 0.25 - 0.3 * (i // 4)
+        if i == 5:  # shares a corner position with cube 4, no edge: Cycles welds neither for islands
+            x -= 0.05
+        base = len(verts)
+        verts += [(x + dx * 0.25, y + dy * 0.25, 0.3 + dz * 0.25) for dz in (0, 1) for dy in (0, 1) for dx in (0, 1)]
+        faces += [tuple(base + k for k in f) for f in ((0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6),
+                                                        (0, 2, 6, 4), (1, 5, 7, 3))]
+    me = bpy.data.meshes.new("CubesMesh")
+    me.from_pydata(verts, [], faces)
+    me.update()
+    cubes = link(bpy.data.objects.new("Cubes", me))
+    cubes.data.materials.append(islands)
+    camera_looking_at((0, -4.0, 2.0), (0, 0, 0.45), 40)
+    return scene
+
+
 def film_transparent():
     """Film > Transparent: a diffuse ball, a smooth glass ball and a card half Transparent
     BSDF on a floor small enough that the world shows all around them (a blue sky, lit
@@ -1652,6 +1701,7 @@ SCENES = {
     "nishita_sky": nishita_sky,
     "light_path_rays": light_path_rays,
     "light_path_shadow_rays": light_path_shadow_rays,
+    "mesh_derived_attributes": mesh_derived_attributes,
     "plane_point": plane_point,
     "plane_spot": plane_spot,
     "plane_sun": plane_sun,
@@ -1704,7 +1754,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "emissive_textured",
                      "volume_blackbody"]
 
 

@@ -66,9 +66,19 @@ def eval_object_info(ev, e):
     return {"alpha": 1.0, "random": 0.5}.get(out, 0.0)
 
 
+# Geometry > Pointiness and Random Per Island are values Cycles derives from the mesh; the
+# exporter computes them the same way (export/mesh.py) and sends them as per-vertex attributes
+# under these names, which the material reads as an Attribute node's Fac.
+MESH_DERIVED_ATTRIBUTES = {"Pointiness": "__rdv_pointiness", "Random Per Island": "__rdv_random_per_island"}
+
+
 @maps("ShaderNodeNewGeometry")
 def geometry(ctx, node, socket):
-    return Expr("geometry", ctx.label(node), {}, {"output": getattr(socket, "identifier", "Position")})
+    output = getattr(socket, "identifier", "Position")
+    if output in MESH_DERIVED_ATTRIBUTES:
+        return Expr("attribute", ctx.label(node), {}, {"attribute_name": MESH_DERIVED_ATTRIBUTES[output],
+                                                       "attribute_type": "GEOMETRY", "output": "Fac"})
+    return Expr("geometry", ctx.label(node), {}, {"output": output})
 
 
 @evaluates("geometry")
@@ -79,9 +89,9 @@ def eval_geometry(ev, e):
     elif out == "Backfacing":  # the viewer's side: exact as a Mix Shader's Fac (lowering's view factors)
         ev.approx(e, "geometry Backfacing depends on the viewing direction: exact only as a Mix Shader's Fac; "
                      "here 0 (the front)")
-    else:  # Incoming, Tangent, Parametric, Pointiness, Random per Island
+    else:  # Incoming, Tangent, Parametric
         ev.approx(e, "geometry %s not supported, a constant" % out)
-    return 0.0 if out in ("Backfacing", "Pointiness", "Random Per Island") else (0.0, 0.0, 1.0)
+    return 0.0 if out == "Backfacing" else (0.0, 0.0, 1.0)
 
 
 # Fresnel and Layer Weight depend on the viewing direction. As a Mix Shader's factor the engine

@@ -112,6 +112,26 @@ class TestRayVisibility(unittest.TestCase):
         self.assertEqual(self.v.light_visibility(lamp, ns(cycles=ns(cast_shadow=False))),
                          {"glossy": False, "camera": True, "shadow": False})
 
+    def test_copies_per_look(self):
+        # An object whose materials look different to camera rays: the copy the camera sees, and
+        # the rest, each hidden from the other's kinds and from what the object hides.
+        ob = ns(visible_camera=True, visible_diffuse=True, visible_glossy=False, visible_transmission=True,
+                visible_volume_scatter=True, visible_shadow=True)
+        self.assertEqual(self.v.object_visibility(ob, ["camera"]),
+                         {"diffuse": False, "glossy": False, "transmission": False, "shadow": False,
+                          "volume_scatter": False})
+        rest = self.v.object_visibility(ob, ["diffuse", "glossy", "transmission", "shadow", "volume_scatter"])
+        self.assertEqual(rest, {"camera": False, "glossy": False})
+        self.assertFalse(self.v.hidden_from_all(rest))
+        self.assertTrue(self.v.hidden_from_all(self.v.object_visibility(ob, ["glossy"])))
+        from rendezvous.export.materials import ray_kind_cells
+        camera_split = [(["camera"], 7), (["diffuse", "glossy", "transmission", "shadow", "volume_scatter"], 8)]
+        shadow_split = [(["camera", "diffuse", "glossy", "transmission", "volume_scatter"], 3), (["shadow"], 4)]
+        self.assertEqual(ray_kind_cells([[(None, 1)], [(None, 2)]]), [(None, [1, 2])])
+        self.assertEqual(ray_kind_cells([camera_split, [(None, 2)], shadow_split]),
+                         [(["camera"], [7, 2, 3]), (["diffuse", "glossy", "transmission", "volume_scatter"], [8, 2, 3]),
+                          (["shadow"], [8, 2, 4])])
+
     def test_world(self):
         self.assertEqual(self.v.world_visibility(None), {})
         w = ns(cycles_visibility=ns(camera=False, diffuse=True, glossy=True, transmission=True, scatter=False,
@@ -426,6 +446,52 @@ class TestDumpSink(unittest.TestCase):
             self.assertEqual(pos[3], 1.0)
             self.assertEqual(list(idx), [0, 1, 2, 0, 2, 3])
             self.assertEqual((b["num_vertices"], b["num_triangles"]), (4, 2))
+
+
+@unittest.skipIf(np is None, "needs numpy")
+class TestMeshDerivedAttributes(unittest.TestCase):
+    """Geometry > Pointiness and Random Per Island as Cycles derives them (export/mesh.py); the
+    Blender test blender.brightness.mesh_derived_attributes compares the images with Cycles'."""
+
+    def setUp(self):
+        load_addon()
+        from rendezvous.export import mesh
+        self.mesh = mesh
+
+    def test_pointiness_of_a_flat_grid_a_cube_and_welded_corners(self):
+        # A 3 x 3 vertex grid, normals up: its centre's edges are balanced (0.5 exactly), a
+        # border vertex's edges lean inward, still perpendicular to the normal: 0.5 too.
+        co = np.array([[x, y, 0.0] for y in range(3) for x in range(3)], np.float32)
+        edges = np.array([[i, i + 1] for i in range(9) if i % 3 < 2] + [[i, i + 3] for i in range(6)], np.uint32)
+        up = np.tile([0.0, 0.0, 1.0], (9, 1)).astype(np.float32)
+        self.assertTrue(np.allclose(self.mesh.pointiness(co, up, edges), 0.5))
+        # A cube's corner: the mean of its three edges points away from its outward normal, at
+        # acos(-1 / sqrt(3)) / pi (0.696), and every corner alike after the blur.
+        corners = np.array([[x, y, z] for z in (0, 1) for y in (0, 1) for x in (0, 1)], np.float32)
+        normals = (corners - 0.5) / np.linalg.norm(corners - 0.5, axis=1, keepdims=True)
+        cube_edges = np.array([[a, b] for a in range(8) for b in range(a + 1, 8)
+                               if np.abs(corners[a] - corners[b]).sum() == 1], np.uint32)
+        p = self.mesh.pointiness(corners, normals, cube_edges)
+        self.assertTrue(np.allclose(p, math.acos(-1.0 / math.sqrt(3.0)) / math.pi, atol=1e-6), p)
+        # The same cube with each face's corners its own vertices (split normals): welded by
+        # position, the corners get the cube's value, not a face's.
+        faces = [[0, 1, 3, 2], [4, 5, 7, 6], [0, 1, 5, 4], [2, 3, 7, 6], [0, 2, 6, 4], [1, 3, 7, 5]]
+        split = np.array([corners[v] for f in faces for v in f], np.float32)
+        split_normals = np.array([normals[v] for f in faces for v in f], np.float32)
+        split_edges = np.array([[4 * k + i, 4 * k + (i + 1) % 4] for k in range(6) for i in range(4)], np.uint32)
+        self.assertTrue(np.allclose(self.mesh.pointiness(split, split_normals, split_edges), p[0], atol=1e-6))
+
+    def test_random_per_island_roots_as_cycles_joins_them(self):
+        # Two islands: 0-1-2 and 3-4. Union by rank keeps the first root on a tie: 0 (edge 0-1,
+        # then 2 joins 0's set of rank 1) and 3 (edge 3-4).
+        values = self.mesh.random_per_island(5, np.array([[0, 1], [2, 1], [3, 4]], np.uint32))
+        root = self.mesh._hash_uint_to_float(np.array([0, 3], np.uint32))
+        self.assertEqual(list(values), [root[0]] * 3 + [root[1]] * 2)
+        self.assertNotEqual(root[0], root[1])
+        self.assertTrue(0.0 <= root.min() and root.max() <= 1.0)
+        # Edge 1-0 first: 1 is the root (the first argument's root wins the tie).
+        self.assertEqual(self.mesh.random_per_island(2, np.array([[1, 0]], np.uint32))[0],
+                         self.mesh._hash_uint_to_float(np.array([1], np.uint32))[0])
 
 
 @unittest.skipIf(np is None, "needs numpy")
