@@ -1416,6 +1416,26 @@ def mesh_derived_attributes():
     return scene
 
 
+def principled_glass_tint():
+    """Cycles 3.4's Principled glass with Specular Tint: its reflection runs from the base colour
+    (tint 1) at normal incidence to white at grazing. Two orange glass balls (Transmission 1,
+    Specular Tint 1; roughness 0.25 and 0) and one with tint 0 on a dark floor under a large
+    area lamp that the balls reflect toward the camera, in a dim world."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.05, 0.05, 0.06, 1.0)
+    plane("Floor", 8.0, diffuse_material("FloorMat", (0.1, 0.1, 0.1)))
+    for name, x, roughness, tint in (("TintedRough", -1.1, 0.25, 1.0), ("TintedSmooth", 0.0, 0.0, 1.0),
+                                     ("UntintedRough", 1.1, 0.25, 0.0)):
+        m = node_material(name, "ShaderNodeBsdfPrincipled", {"Base Color": (0.9, 0.35, 0.1, 1.0), "Transmission": 1.0,
+                                                             "Roughness": roughness, "Specular Tint": tint},
+                          output="BSDF")
+        smooth_ball(name + "Ball", (x, 0, 0.5), 0.5, m)
+    light("AREA", "Softbox", 300.0, (0.0, -2.5, 3.0), rotation=(math.radians(40), 0, 0), size=2.0)
+    camera_looking_at((0, -4.0, 1.3), (0, 0, 0.45), 35)
+    return scene
+
+
 def film_transparent():
     """Film > Transparent: a diffuse ball, a smooth glass ball and a card half Transparent
     BSDF on a floor small enough that the world shows all around them (a blue sky, lit
@@ -1702,6 +1722,7 @@ SCENES = {
     "light_path_rays": light_path_rays,
     "light_path_shadow_rays": light_path_shadow_rays,
     "mesh_derived_attributes": mesh_derived_attributes,
+    "principled_glass_tint": principled_glass_tint,
     "plane_point": plane_point,
     "plane_spot": plane_spot,
     "plane_sun": plane_sun,
@@ -1754,7 +1775,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "emissive_textured",
                      "volume_blackbody"]
 
 

@@ -370,6 +370,17 @@ TEST(MaterialMicrofacets, Cycles34LobesAreCycles34s) {
     const Vec3 refracted = t - Vec3(0, 0, std::sqrt(1 - length_squared(t)));
     const Bsdf bsdf_glass = material(glass.c_str()).make_bsdf(point(), wo);
     const Bsdf bsdf_principled = material(principled.c_str()).make_bsdf(point(), wo);
+    // Specular Tint 0.5: the reflection's colour from base x 0.5 + 0.5 (green 0.8) at normal
+    // incidence to white, by the facet's Fresnel normalised from its normal-incidence value
+    // (interpolate_fresnel_color); the refraction as before.
+    std::string tinted_json = principled;
+    tinted_json.insert(tinted_json.size() - 1, R"(,"specular_tint":0.5)");
+    const Bsdf bsdf_tinted = material(tinted_json.c_str()).make_bsdf(point(), wo);
+    const double f0 = sqr((eta - 1) / (eta + 1));
+    auto tint = [&](Vec3 wi) {
+      const double fh = (test::dielectric_fresnel(dot(wo, normalize(wo + wi)), eta) - f0) / (1 - f0);
+      return 0.8 * (1 - fh) + fh;
+    };
     const double f_macro = test::dielectric_fresnel(wo.z, eta);
     for (Vec3 wi : {wis[0], wis[1], refracted, normalize(refracted + Vec3(0.15f, -0.1f, 0)),
                     normalize(refracted + Vec3(-0.2f, 0.1f, 0.1f))}) {
@@ -380,6 +391,9 @@ TEST(MaterialMicrofacets, Cycles34LobesAreCycles34s) {
       const double cycles_p = up ? f_macro * reflect(a2, wo, wi) : 0.6 * (1 - f_macro) * transmit(a2t, wo, wi);
       const double ours_p = bsdf_principled.eval(wo, wi, TransportMode::Radiance).y;
       EXPECT_NEAR(ours_p, cycles_p, 2e-4 * cycles_p) << "Principled glass, roughness " << r << " wi.z " << wi.z;
+      const double cycles_t = up ? cycles_p * tint(wi) : cycles_p;
+      const double ours_t = bsdf_tinted.eval(wo, wi, TransportMode::Radiance).y;
+      EXPECT_NEAR(ours_t, cycles_t, 2e-4 * cycles_t) << "tinted Principled glass, roughness " << r << " wi.z " << wi.z;
     }
   }
 }

@@ -45,6 +45,13 @@ float reflect_probability(const Lobe &lobe, Vec3 wo, float woh) {
   return fresnel_dielectric(woh, lobe.ior);
 }
 
+// The reflection's colour: the lobe's, or with FresnelMode::Interpolated (Cycles 3.4's
+// Principled glass with Specular Tint) from f0 = the tint at normal incidence to white at
+// grazing, by the facet's Fresnel (Lobe::fresnel at the half-vector).
+Color reflection_color(const Lobe &lobe, float cos_h) {
+  return lobe.fresnel_mode == FresnelMode::Interpolated ? lobe.fresnel(cos_h) : lobe.color;
+}
+
 }  // namespace
 
 Color eval(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode) {
@@ -56,7 +63,7 @@ Color eval(const Lobe &lobe, Vec3 wo, Vec3 wi, TransportMode mode) {
     float d = lobe.ggx.D(h);
     if (d == 0) return Color(0.0f);
     float F = lobe.macro_fresnel ? camera_side_fresnel(eta, wo, wi, mode) : fresnel_dielectric(dot(wo, h), eta);
-    return lobe.color * (F * d * lobe.ggx.G2(wo, wi) / (4.0f * wo.z * wi.z));
+    return reflection_color(lobe, dot(wo, h)) * (F * d * lobe.ggx.G2(wo, wi) / (4.0f * wo.z * wi.z));
   }
   Vec3 h;
   if (lobe.reflection_only || !refraction_half_vector(wo, wi, eta, h)) return Color(0.0f);
@@ -106,7 +113,7 @@ bool sample(const Lobe &lobe, Vec3 wo, Vec2 u, float uc, Vec3 &wi, Color &weight
     if (wi.z <= 0) return false;
     pdf_out = F * dvis / (4.0f * woh);
     weight = lobe.macro_fresnel ? eval(lobe, wo, wi, mode) * (wi.z / pdf_out)
-                                : lobe.color * (lobe.ggx.G2(wo, wi) / lobe.ggx.G1(wo));
+                                : reflection_color(lobe, woh) * (lobe.ggx.G2(wo, wi) / lobe.ggx.G1(wo));
   } else {
     // Fails only where the facet reflects totally: never when F is the facet's and below 1;
     // with macro_fresnel, such a sample is lost (f there is reflection, sampled above).
@@ -138,7 +145,7 @@ bool sample_smooth(const Lobe &lobe, Vec3 wo, Vec2 u, Vec3 &wi, Color &weight, f
   if (u.x < p_reflect) {
     wi = Vec3(-wo.x, -wo.y, wo.z);
     pdf_out = p_reflect;
-    weight = lobe.color * (reflected / p_reflect);
+    weight = reflection_color(lobe, wo.z) * (reflected / p_reflect);
     return true;
   }
   if (!refract(wo, Vec3(0, 0, 1), eta, wi)) return false;

@@ -654,10 +654,16 @@ void add_lobes_of(const Material &m, const Closure &c, float w, const ShadingPoi
           g.layers_above = coat_bit;
           if (cycles34) {
             // Cycles 3.4: two closures split by the Fresnel at the shading normal, the reflection
-            // untinted at the surface's roughness, the refraction tinted at the combined one
-            // (Specular Tint's tint of the reflection is left out: white, as at tint 0).
+            // at the surface's roughness, the refraction tinted at the combined one. The
+            // reflection's colour runs from base x Specular Tint + (1 - Specular Tint) at normal
+            // incidence to white at grazing (its interpolate_fresnel_color; white at tint 0).
             Lobe reflection = dielectric_lobe(roughness, num(kIor), Color(trans_w * ww), true);
             reflection.macro_fresnel = reflection.reflection_only = true;
+            const float glass_tint = clampf(num(kSpecularTint), 0.0f, 1.0f);
+            if (glass_tint > 0 && !c.specular_tint_is_color) {
+              reflection.fresnel_mode = FresnelMode::Interpolated;
+              reflection.f0 = vmin(vmax(base * glass_tint + Color(1.0f - glass_tint), Color(0.0f)), Color(1.0f));
+            }
             reflection.layers_above = coat_bit;
             bsdf.add_lobe(reflection, 0.1f * sample_weight(reflection.color));
             g.macro_fresnel = g.refraction_only = true;

@@ -81,6 +81,13 @@ static Lobe part(Lobe l, bool reflection) {
   return l;
 }
 
+// Cycles 3.4's Principled glass reflection with Specular Tint: tinted f0 toward white by FH.
+static Lobe tinted(Lobe l, Color f0) {
+  l.fresnel_mode = FresnelMode::Interpolated;
+  l.f0 = f0;
+  return l;
+}
+
 static Lobe simple(LobeType type, Color c, float sigma = 0) {
   Lobe l;
   l.type = type;
@@ -142,6 +149,10 @@ const std::vector<LobeTestCase> &lobe_test_cases() {
       {"glass_refraction_r0.6_1.5_cycles34", part(cycles34(dielectric(0.6f, 1.5f)), false), false},
       {"glass_refraction_r1_inside_1.3_cycles34", part(cycles34(dielectric(1.0f, 1.0f / 1.3f)), false), false},
       {"glass_smooth_reflection_1.5_cycles34", part(cycles34(dielectric(0.0f, 1.5f)), true), false},
+      {"glass_tinted_reflection_r0.3_1.5_cycles34",
+       tinted(part(cycles34(dielectric(0.3f, 1.5f)), true), Color(0.9f, 0.6f, 0.3f)), false},
+      {"glass_tinted_smooth_reflection_1.5_cycles34",
+       tinted(part(cycles34(dielectric(0.0f, 1.5f)), true), Color(0.9f, 0.6f, 0.3f)), false},
       {"glass_smooth_refraction_1.5_cycles34", part(cycles34(dielectric(0.0f, 1.5f)), false), false},
       // Refraction BSDF (transmission only, no Fresnel): lossless except total internal reflection.
       {"refraction_smooth_1.5", refraction(0.0f, 1.5f), true},
