@@ -36,7 +36,7 @@ COLOR_KEYS = {"base_color", "subsurface_color", "color", "subsurface_radius"}
 # Texture Coordinate's Normal is the object-space normal (Cycles' object_inverse_normal_transform);
 # Geometry's Position, Normal and True Normal are world space.
 TEXCOORD_OUTPUTS = {"Generated": "generated", "UV": "uv", "Object": "object", "Normal": "object_normal"}
-GEOMETRY_OUTPUTS = {"Position": "position", "Normal": "normal", "True Normal": "true_normal"}
+GEOMETRY_OUTPUTS = {"Position": "position", "Normal": "normal", "True Normal": "true_normal", "Parametric": "parametric"}
 
 
 def luminance(c):
@@ -123,7 +123,7 @@ class _Lowerer:
         if op in ("tex_image", "tex_environment"):
             return op == "tex_image" and self._image_file(ir) is not None
         if op in ("texcoord", "uvmap", "tex_checker", "tex_noise", "tex_gradient", "vertex_color",
-                  "normal_map", "bump", "object_info", "blackbody", "wavelength", "geometry") + PROCEDURAL_TEXTURES:
+                  "normal_map", "bump", "object_info", "blackbody", "wavelength", "geometry", "wireframe") + PROCEDURAL_TEXTURES:
             return True
         if op == "attribute":
             return ir.props.get("attribute_type", "GEOMETRY") == "GEOMETRY" and bool(ir.props.get("attribute_name"))
@@ -390,6 +390,11 @@ class _Lowerer:
 
     def _n_wavelength(self, e):
         return {"node": "wavelength", "wavelength": self.value(e.args["wavelength"])}
+
+    def _n_wireframe(self, e):
+        if e.props.get("pixel_size"):
+            self.approx(e.node, "Pixel Size widths from the ray's footprint along the surface (Cycles' faces the viewer)")
+        return {"node": "wireframe", "size": self.value(e.args["size"]), "pixel_size": bool(e.props.get("pixel_size"))}
 
     def _n_color_space(self, e):
         return {"node": "color_space", "convert": e.props["convert"], "color": self.value(e.args["color"])}

@@ -337,6 +337,7 @@ class SceneExporter:
         # One copy of the object per group of ray kinds that see its materials alike (Light
         # Path's ray types, materials.py), each seen by its group alone; usually one.
         cells = ray_kind_cells([self.materials.looks(m) for m in mats]) if mats else [(None, None)]
+        first_frame = None  # the first copy's arrays, which the other looks' copies send again
         for kinds, slot_ids in cells:
             settings = self.object_settings(ob, inst, kinds)
             if kinds is not None and visibility.hidden_from_all(settings.get("visibility", {})):
@@ -347,7 +348,8 @@ class SceneExporter:
                 mesh_id = self._meshes[copy]
             else:
                 frame = []  # the mesh's arrays at the frame, for deformation blur
-                mesh_id = self._meshes[copy] = self._add_mesh(ob, mats, frame, slot_ids)
+                mesh_id = self._meshes[copy] = self._add_mesh(ob, mats, frame, slot_ids, copy_of=first_frame)
+                first_frame = first_frame or frame
             if mesh_id is None:
                 return
             self.copy_kinds = kinds  # which copy the sink is given (the viewport keeps it)
@@ -466,12 +468,41 @@ class SceneExporter:
         self.stats.instances += 1
         return material, mesh_id
 
-    def _add_mesh(self, ob, mats, frame=None, slot_ids=None):
+    def _add_mesh(self, ob, mats, frame=None, slot_ids=None, copy_of=None):
         """The object's evaluated mesh to the sink: its mesh id, or None (warned). frame: a
         list that receives (arrays, need_uvs, attribute names), the layout its deformation
         steps must repeat (motion.MotionSampler.track_deform). slot_ids: the engine material
-        of each slot (one look of each, ray_kind_cells), else the materials' own."""
-        need_uvs, attr_names = self._uv_needs(mats)
+        of each slot (one look of each, ray_kind_cells), else the materials' own. copy_of:
+        the frame list of another look's copy of this mesh, whose arrays are sent again."""
+        if copy_of:
+            _, arrays, need_uvs, attr_names = copy_of[0]
+        else:
+            need_uvs, attr_names = self._uv_needs(mats)
+            arrays = self._mesh_arrays(ob, need_uvs, attr_names)
+            if arrays is None:
+                return None
+        if mats:
+            import numpy as np
+            slot_ids = np.array(slot_ids if slot_ids is not None else [self.materials.get(m) for m in mats],
+                                dtype=np.uint32)
+            idx = np.minimum(arrays.slot_indices, len(slot_ids) - 1)
+            material_ids = slot_ids[idx]
+            default = int(slot_ids[0])
+        else:
+            material_ids = None
+            default = self.materials.default()
+        name = self._unique(ob.name, self._mesh_names)
+        kw = {"attributes": arrays.attributes} if arrays.attributes else {}
+        mesh_id = self.sink.add_mesh(name, arrays.positions, arrays.indices, normals=arrays.normals,
+                                     uvs=arrays.uvs, material_ids=material_ids, default_material=default, **kw)
+        self.stats.meshes += 1
+        self.stats.triangles += arrays.num_triangles
+        if frame is not None and mesh_id is not None:
+            frame.append((ob.name, arrays, need_uvs, attr_names))
+        return mesh_id
+
+    def _mesh_arrays(self, ob, need_uvs, attr_names):
+        """The object's evaluated mesh as MeshArrays, or None (warned)."""
         owned = False
         me = None
         if ob.type == "MESH" and ob.mode != "EDIT":
@@ -496,25 +527,7 @@ class SceneExporter:
         if arrays.num_nonfinite:
             self.warn("Object '%s': %d vertices with non-finite (NaN/Inf) positions; their triangles are dropped"
                       % (ob.name, arrays.num_nonfinite))
-        if mats:
-            import numpy as np
-            slot_ids = np.array(slot_ids if slot_ids is not None else [self.materials.get(m) for m in mats],
-                                dtype=np.uint32)
-            idx = np.minimum(arrays.slot_indices, len(slot_ids) - 1)
-            material_ids = slot_ids[idx]
-            default = int(slot_ids[0])
-        else:
-            material_ids = None
-            default = self.materials.default()
-        name = self._unique(ob.name, self._mesh_names)
-        kw = {"attributes": arrays.attributes} if arrays.attributes else {}
-        mesh_id = self.sink.add_mesh(name, arrays.positions, arrays.indices, normals=arrays.normals,
-                                     uvs=arrays.uvs, material_ids=material_ids, default_material=default, **kw)
-        self.stats.meshes += 1
-        self.stats.triangles += arrays.num_triangles
-        if frame is not None and mesh_id is not None:
-            frame.append((ob.name, arrays, need_uvs, attr_names))
-        return mesh_id
+        return arrays
 
     @staticmethod
     def _unique(name, used):

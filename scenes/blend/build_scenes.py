@@ -891,11 +891,11 @@ def bad_input():
     # zero scale
     ob = link(bpy.data.objects.new("ZeroScaleObject", quad_mesh("ZeroMesh", 0.5)))
     ob.scale = (0.0, 0.0, 0.0)
-    # unsupported node (Wireframe)
+    # unsupported node (Ambient Occlusion)
     m = diffuse_material("WavyMaterial")
-    wire = m.node_tree.nodes.new("ShaderNodeWireframe")
-    wire.name = "UnsupportedWireframe"
-    m.node_tree.links.new(wire.outputs["Fac"], m.node_tree.nodes["Diffuse BSDF"].inputs["Color"])
+    occlusion = m.node_tree.nodes.new("ShaderNodeAmbientOcclusion")
+    occlusion.name = "UnsupportedOcclusion"
+    m.node_tree.links.new(occlusion.outputs["AO"], m.node_tree.nodes["Diffuse BSDF"].inputs["Color"])
     ob = link(bpy.data.objects.new("WavyObject", quad_mesh("WavyMesh", 0.6)))
     ob.location = (1, -1, 0.3)
     ob.data.materials.append(m)
@@ -1416,6 +1416,46 @@ def mesh_derived_attributes():
     return scene
 
 
+def wireframe_parametric():
+    """Wireframe and Geometry > Parametric, computed from the hit's triangle (Blender's
+    triangulation: quads show their diagonals): emission tiles seen from above, a subdivided
+    tile (wires 0.03 wide), a rotated and scaled ico sphere (wires 0.05, in world units after
+    the object's scale), Parametric as the colour of a triangulated tile, and wires over it."""
+    def wires(size):
+        def build(nt, _):
+            w = nt.nodes.new("ShaderNodeWireframe")
+            w.inputs["Size"].default_value = size
+            return w.outputs["Fac"]
+        return build
+
+    def parametric(nt, _):
+        return nt.nodes.new("ShaderNodeNewGeometry").outputs["Parametric"]
+
+    def parametric_wires(nt, _):
+        mix = nt.nodes.new("ShaderNodeMixRGB")
+        mix.blend_type = "ADD"
+        mix.inputs["Fac"].default_value = 1.0
+        nt.links.new(nt.nodes.new("ShaderNodeNewGeometry").outputs["Parametric"], mix.inputs["Color1"])
+        nt.links.new(wires(0.04)(nt, None), mix.inputs["Color2"])
+        return mix.outputs["Color"]
+    emission_tiles((("Wires", wires(0.03)), ("Parametric", parametric), ("ParametricWires", parametric_wires),
+                    ("SphereWires", wires(0.05))), rows=1)
+    for name, cuts in (("Wires", 3), ("Parametric", 1), ("ParametricWires", 2)):
+        ob = bpy.data.objects[name]
+        bpy.context.view_layer.objects.active = ob
+        bpy.ops.object.mode_set(mode="EDIT")
+        bpy.ops.mesh.select_all(action="SELECT")
+        bpy.ops.mesh.subdivide(number_cuts=cuts)
+        bpy.ops.object.mode_set(mode="OBJECT")
+    sphere_tile = bpy.data.objects["SphereWires"]
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=2, radius=0.4, location=sphere_tile.location)
+    sphere = bpy.context.active_object
+    sphere.data.materials.append(sphere_tile.active_material)
+    sphere.rotation_euler = (0.4, 0.3, 0.2)
+    sphere.scale = (1.0, 1.2, 0.8)
+    bpy.data.objects.remove(sphere_tile, do_unlink=True)
+
+
 def principled_glass_tint():
     """Cycles 3.4's Principled glass with Specular Tint: its reflection runs from the base colour
     (tint 1) at normal incidence to white at grazing. Two orange glass balls (Transmission 1,
@@ -1723,6 +1763,7 @@ SCENES = {
     "light_path_shadow_rays": light_path_shadow_rays,
     "mesh_derived_attributes": mesh_derived_attributes,
     "principled_glass_tint": principled_glass_tint,
+    "wireframe_parametric": wireframe_parametric,
     "plane_point": plane_point,
     "plane_spot": plane_spot,
     "plane_sun": plane_sun,
@@ -1775,7 +1816,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "emissive_textured",
                      "volume_blackbody"]
 
 

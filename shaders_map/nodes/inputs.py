@@ -84,12 +84,12 @@ def geometry(ctx, node, socket):
 @evaluates("geometry")
 def eval_geometry(ev, e):
     out = e.props.get("output")
-    if out in ("Position", "Normal", "True Normal"):
+    if out in ("Position", "Normal", "True Normal", "Parametric"):
         ev.approx(e, "geometry %s approximated by a constant without the engine" % out)
     elif out == "Backfacing":  # the viewer's side: exact as a Mix Shader's Fac (lowering's view factors)
         ev.approx(e, "geometry Backfacing depends on the viewing direction: exact only as a Mix Shader's Fac; "
                      "here 0 (the front)")
-    else:  # Incoming, Tangent, Parametric
+    else:  # Incoming, Tangent
         ev.approx(e, "geometry %s not supported, a constant" % out)
     return 0.0 if out == "Backfacing" else (0.0, 0.0, 1.0)
 
@@ -167,4 +167,18 @@ def eval_light_path(ev, e):
         ev.approx(e, "%s is not supported, 0 (as on a camera ray)" % out)
         return 0.0
     ev.approx(e, "%s here is 0 (the ray types are told apart only in a material's or world's surface)" % out)
+    return 0.0
+
+
+# Wireframe: 1 within half of Size of the triangle's edges (world units, or pixels with Pixel
+# Size), computed by the engine from the hit's triangle (Blender's triangulation, as Cycles').
+@maps("ShaderNodeWireframe")
+def wireframe(ctx, node, socket):
+    return Expr("wireframe", ctx.label(node), {"size": ctx.input(node, "Size", default=0.01)},
+                {"pixel_size": bool(getattr(node, "use_pixel_size", False))})
+
+
+@evaluates("wireframe")
+def eval_wireframe(ev, e):
+    ev.approx(e, "wireframe approximated by 0 (its faces) without the engine")
     return 0.0

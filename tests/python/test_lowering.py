@@ -535,6 +535,33 @@ class TestWorld(unittest.TestCase):
         self.assertIsNone(w)
 
 
+class TestMeshNodes(unittest.TestCase):
+    """Nodes the engine computes from the hit's triangle: Wireframe, Geometry > Parametric."""
+
+    def test_wireframe_and_parametric(self):
+        def b(t):
+            wf = t.new("ShaderNodeWireframe", "Wire")
+            wf.inp("Size").default_value = 0.05
+            em = t.new("ShaderNodeEmission", "Glow")
+            t.link(wf.out("Fac"), em.inp("Strength"))
+            t.link(t.new("ShaderNodeNewGeometry", "Geo").out("Parametric"), em.inp("Color"))
+            return em.out()
+        p, w = keep("wireframe_parametric", convert(b))
+        self.assertIsNone(w)
+        self.assertEqual(p["strength"], {"node": "wireframe", "size": 0.05, "pixel_size": False})
+        self.assertEqual(p["color"], {"node": "texture_coordinate", "output": "parametric"})
+        p, w = convert(_wire_pixels)
+        self.assertEqual(p["color"]["pixel_size"], True)
+        self.assertIn("Pixel Size widths from the ray's footprint", w)
+
+
+def _wire_pixels(t):
+    wf = t.new("ShaderNodeWireframe", "Wire", use_pixel_size=True)
+    d = t.new("ShaderNodeBsdfDiffuse", "D")
+    t.link(wf.out("Fac"), d.inp("Color"))
+    return d.out()
+
+
 def _mix_by(t, output, a, b, invert=False, name="Mix"):
     """Mix Shader (Fac = Light Path's output [1 - it]) of shader sockets a and b."""
     fac = t.new("ShaderNodeLightPath", "Light Path").out(output)
@@ -691,6 +718,8 @@ class TestZEngineAcceptsLowering(unittest.TestCase):
                 r = subprocess.run([CLI, path, "-o", os.path.join(TMP, name + ".png"), "--quiet", "--threads", "1"],
                                    capture_output=True, text=True, timeout=60)
                 self.assertEqual(r.returncode, 0, "%s\n%s\n%s" % (json.dumps(mat), r.stdout, r.stderr))
+                # A material the engine cannot read renders magenta with a warning, exit 0.
+                self.assertNotIn("magenta", r.stdout + r.stderr, json.dumps(mat))
 
 
 def tearDownModule():

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/limits.h"
 #include "media/blackbody.h"
+#include "scene/mesh.h"
 #include "textures/math_nodes.h"
 #include "textures/musgrave.h"
 #include "textures/noise.h"
@@ -18,6 +19,35 @@ namespace rdv {
 using nlohmann::json;
 
 namespace {
+
+// Cycles' Wireframe node (svm_wireframe): 1 where the point lies within half of `size` of
+// one of its triangle's edges (the lines through them), in world units, or in pixel widths
+// with pixel_size (the ray's footprint on the surface; Cycles projects it onto the plane
+// facing the viewer, which a footprint along the surface only approximates). Each edge is
+// shared, so its neighbour draws the other half. Blender's triangulation, as Cycles sees it.
+float wireframe(const ShadingPoint &sp, float size, bool pixel_size) {
+  if (!sp.mesh) return 0.0f;
+  Vec3 co[3];
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 p = sp.mesh->positions[sp.v[i]];
+    const float *M = sp.object_to_world;
+    co[i] = sp.has_object_to_world ? Vec3(M[0] * p.x + M[1] * p.y + M[2] * p.z + M[3],
+                                          M[4] * p.x + M[5] * p.y + M[6] * p.z + M[7],
+                                          M[8] * p.x + M[9] * p.y + M[10] * p.z + M[11])
+                                   : p;
+  }
+  float width = 1.0f;
+  if (pixel_size) {
+    const Vec3 dx = sp.dpdu * sp.dx.x + sp.dpdv * sp.dx.y, dy = sp.dpdu * sp.dy.x + sp.dpdv * sp.dy.y;
+    width = 0.5f * (length(dx) + length(dy));
+  }
+  const float half = 0.5f * size * width, half2 = half * half;
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 to_point = sp.p - co[i], edge = co[i ? i - 1 : 2] - co[i];
+    if (length_squared(cross(to_point, edge)) <= half2 * length_squared(edge)) return 1.0f;
+  }
+  return 0.0f;
+}
 
 // ---- small colour helpers ----------------------------------------------------------
 // Cycles' Wavelength node: the CIE 1931 colour matching functions at nm (linear between their
@@ -130,7 +160,7 @@ const std::vector<std::string> kGradients = {"LINEAR", "QUADRATIC", "EASING", "D
 // Texture Coordinate's and Geometry's outputs: normal is the world shading normal (Geometry >
 // Normal), object_normal the same in object space (Texture Coordinate > Normal), true_normal
 // the triangle's (Geometry > True Normal).
-enum Coord : uint8_t { kUv, kGenerated, kObject, kPosition, kNormal, kObjectNormal, kTrueNormal };
+enum Coord : uint8_t { kUv, kGenerated, kObject, kPosition, kNormal, kObjectNormal, kTrueNormal, kParametric };
 
 // A JSON number as the engine's float: anything else, or a value float cannot hold
 // (1e39), is an error naming `what` (the node and its field).
@@ -506,6 +536,10 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
   } else if (type == "wavelength") {
     n.type = TexNodeType::Wavelength;
     n.in[0] = input("wavelength", 500.0);
+  } else if (type == "wireframe") {
+    n.type = TexNodeType::Wireframe;
+    n.in[0] = input("size", 0.01);
+    n.mode = r.flag("pixel_size", false);
   } else if (type == "object_info") {
     n.type = TexNodeType::ObjectInfo;
     n.output = outputs({"location", "color", "alpha", "object_index", "material_index", "random"});
@@ -587,9 +621,11 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     std::string o = r.str("output", "generated");
     static const std::map<std::string, Coord> outs = {{"uv", kUv}, {"generated", kGenerated}, {"object", kObject},
                                                       {"position", kPosition}, {"normal", kNormal},
-                                                      {"object_normal", kObjectNormal}, {"true_normal", kTrueNormal}};
+                                                      {"object_normal", kObjectNormal}, {"true_normal", kTrueNormal},
+                                                      {"parametric", kParametric}};
     auto it = outs.find(o);
-    if (it == outs.end()) fail(what + ": 'output' must be uv, generated, object, position, normal, object_normal or true_normal");
+    if (it == outs.end())
+      fail(what + ": 'output' must be uv, generated, object, position, normal, object_normal, true_normal or parametric");
     n.mode = it->second;
   } else if (type == "mapping") {
     n.type = TexNodeType::Mapping;
@@ -638,7 +674,7 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
                    "only (docs/scene-format.md)");
   } else {
     fail(what_in + ": unknown texture node '" + type +
-         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, object_info, color_space, blackbody, wavelength, invert, hue_saturation, attribute, vertex_color, "
+         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, object_info, color_space, blackbody, wavelength, wireframe, invert, hue_saturation, attribute, vertex_color, "
          "uv, texture_coordinate, mapping, normal_map, bump, separate_rgb, combine_rgb, rgb_to_bw, bright_contrast, gamma)");
   }
   r.used.insert("output");
@@ -938,6 +974,7 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
     }
     case TexNodeType::Blackbody: return blackbody_color(inf(0));
     case TexNodeType::Wavelength: return wavelength_color(inf(0));
+    case TexNodeType::Wireframe: return Color(wireframe(sp, inf(0), n.mode != 0));
     case TexNodeType::ObjectInfo:
       switch (n.output) {
         case 0: return sp.has_object_to_world ? Vec3(sp.object_to_world[3], sp.object_to_world[7], sp.object_to_world[11])
@@ -978,6 +1015,7 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
         case kObject: return sp.p_object;
         case kPosition: return sp.p;
         case kTrueNormal: return sp.ng;
+        case kParametric: return {sp.b[0], sp.b[1], 0};  // Cycles': (1 - u - v, u, 0)
         case kObjectNormal: {  // the world normal through the transposed object-to-world (Cycles')
           if (!sp.has_object_to_world) return sp.ns;
           const float *M = sp.object_to_world;

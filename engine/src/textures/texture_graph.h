@@ -27,7 +27,8 @@ enum class TexNodeType : uint8_t {
   ObjectInfo,  // the instance's location, colour, alpha, pass index, random; the material's index
   ColorSpace,  // RGB <-> HSV / HSL (Separate and Combine Color)
   Blackbody,   // Planck's colour at a temperature (media/blackbody.h)
-  Wavelength   // a spectral colour (Cycles' Wavelength node)
+  Wavelength,  // a spectral colour (Cycles' Wavelength node)
+  Wireframe    // 1 within half a width of the triangle's edges (Cycles' Wireframe node)
 };
 
 constexpr int kTexNodeInputs = 10;  // the most any node has (Brick)
