@@ -88,7 +88,7 @@ VARYING_OPS = {
     *PROCEDURAL_TEXTURES,
     "tex_image", "tex_environment", "tex_checker", "tex_noise", "tex_gradient",
     "texcoord", "uvmap", "normal_map", "bump", "vertex_color", "attribute", "geometry", "object_info", "blackbody",
-    "wavelength", "wireframe",
+    "wavelength", "wireframe", "ao",
     "fresnel", "layer_weight",
 }
 

@@ -123,7 +123,7 @@ class _Lowerer:
         if op in ("tex_image", "tex_environment"):
             return op == "tex_image" and self._image_file(ir) is not None
         if op in ("texcoord", "uvmap", "tex_checker", "tex_noise", "tex_gradient", "vertex_color",
-                  "normal_map", "bump", "object_info", "blackbody", "wavelength", "geometry", "wireframe") + PROCEDURAL_TEXTURES:
+                  "normal_map", "bump", "object_info", "blackbody", "wavelength", "geometry", "wireframe", "ao") + PROCEDURAL_TEXTURES:
             return True
         if op == "attribute":
             return ir.props.get("attribute_type", "GEOMETRY") == "GEOMETRY" and bool(ir.props.get("attribute_name"))
@@ -390,6 +390,17 @@ class _Lowerer:
 
     def _n_wavelength(self, e):
         return {"node": "wavelength", "wavelength": self.value(e.args["wavelength"])}
+
+    def _n_ao(self, e):
+        if e.props.get("normal_linked"):
+            self.approx(e.node, "its Normal input ignored (the shading normal used)")
+        samples = min(max(int(e.props.get("samples", 16)), 1), 128)
+        if samples != e.props.get("samples", 16):
+            self.approx(e.node, "Samples kept to 1..128")
+        return {"node": "ambient_occlusion", "color": self.value(e.args["color"]),
+                "distance": self.value(e.args["distance"]), "samples": samples,
+                "inside": bool(e.props.get("inside")), "only_local": bool(e.props.get("only_local")),
+                "output": e.props.get("output", "color")}
 
     def _n_wireframe(self, e):
         if e.props.get("pixel_size"):

@@ -891,11 +891,11 @@ def bad_input():
     # zero scale
     ob = link(bpy.data.objects.new("ZeroScaleObject", quad_mesh("ZeroMesh", 0.5)))
     ob.scale = (0.0, 0.0, 0.0)
-    # unsupported node (Ambient Occlusion)
+    # unsupported node (Particle Info)
     m = diffuse_material("WavyMaterial")
-    occlusion = m.node_tree.nodes.new("ShaderNodeAmbientOcclusion")
-    occlusion.name = "UnsupportedOcclusion"
-    m.node_tree.links.new(occlusion.outputs["AO"], m.node_tree.nodes["Diffuse BSDF"].inputs["Color"])
+    particles = m.node_tree.nodes.new("ShaderNodeParticleInfo")
+    particles.name = "UnsupportedParticleInfo"
+    m.node_tree.links.new(particles.outputs["Random"], m.node_tree.nodes["Diffuse BSDF"].inputs["Color"])
     ob = link(bpy.data.objects.new("WavyObject", quad_mesh("WavyMesh", 0.6)))
     ob.location = (1, -1, 0.3)
     ob.data.materials.append(m)
@@ -1456,6 +1456,68 @@ def wireframe_parametric():
     bpy.data.objects.remove(sphere_tile, do_unlink=True)
 
 
+def ambient_occlusion():
+    """The Ambient Occlusion node, emission only (no light): a floor, a cube, an inner corner of
+    two walls and an open box glowing by AO's Color (white, Distance 0.5: darker near where they
+    meet; the box's insides are the backs of its faces); a
+    torus through a Color Ramp of AO (0.3 black to 0.9 orange, the dirt masks artists build);
+    a cube with Only Local (the floor under it does not darken it, Distance 1) and a ball with
+    Inside (8 samples, Distance 0.3)."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+
+    def glow(name, build):
+        m = emission_material(name, strength=1.0)
+        nt = m.node_tree
+        ao = nt.nodes.new("ShaderNodeAmbientOcclusion")
+        nt.links.new(build(nt, ao), nt.nodes["Emission"].inputs["Color"])
+        return m, ao
+
+    def ao_color(distance):
+        def build(nt, ao):
+            ao.inputs["Distance"].default_value = distance
+            return ao.outputs["Color"]
+        return build
+
+    def dirt(nt, ao):
+        ao.inputs["Distance"].default_value = 0.4
+        ramp = nt.nodes.new("ShaderNodeValToRGB")
+        els = ramp.color_ramp.elements
+        els[0].position, els[0].color = 0.3, (0.0, 0.0, 0.0, 1.0)
+        els[1].position, els[1].color = 0.9, (1.0, 0.6, 0.2, 1.0)
+        nt.links.new(ao.outputs["AO"], ramp.inputs["Fac"])
+        return ramp.outputs["Color"]
+    plain, _ = glow("AoColor", ao_color(0.5))
+    plane("Floor", 6.0, plain)
+    bpy.ops.mesh.primitive_cube_add(size=0.6, location=(-1.2, 0.2, 0.3))
+    bpy.context.active_object.data.materials.append(plain)
+    for name, size, location, rotation in (("WallA", (1.2, 0.8), (0.2, 0.9, 0.4), (90, 0, 0)),
+                                           ("WallB", (1.2, 0.8), (-0.4, 0.3, 0.4), (90, 0, 90))):
+        quad_object(name, size[0], size[1], location, rotation, plain)
+    dirty, _ = glow("AoDirt", dirt)
+    bpy.ops.mesh.primitive_torus_add(major_radius=0.35, minor_radius=0.12, location=(0.3, -0.3, 0.13))
+    bpy.context.active_object.data.materials.append(dirty)
+    local, ao = glow("AoLocal", ao_color(1.0))
+    ao.only_local = True
+    bpy.ops.mesh.primitive_cube_add(size=0.5, location=(1.3, 0.3, 0.25))
+    bpy.context.active_object.data.materials.append(local)
+    # An open box seen from above: the camera sees the backs of its walls and floor (their
+    # normals point out), and Cycles turns the normal toward the camera's ray: dark inner corners.
+    verts = [(x, y, z) for z in (0.0, 0.4) for y in (-1.25, -0.75) for x in (-0.55, -0.05)]
+    faces = [(0, 2, 3, 1), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]  # no top
+    me = bpy.data.meshes.new("OpenBoxMesh")
+    me.from_pydata(verts, [], faces)
+    me.update()
+    open_box = link(bpy.data.objects.new("OpenBox", me))
+    open_box.data.materials.append(plain)
+    inside, ao = glow("AoInside", ao_color(0.3))
+    ao.inside, ao.samples = True, 8
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.3, location=(1.0, -0.7, 0.3))
+    bpy.context.active_object.data.materials.append(inside)
+    camera_looking_at((0, -4.0, 2.4), (0, 0, 0.3), 35)
+    return scene
+
+
 def principled_glass_tint():
     """Cycles 3.4's Principled glass with Specular Tint: its reflection runs from the base colour
     (tint 1) at normal incidence to white at grazing. Two orange glass balls (Transmission 1,
@@ -1764,6 +1826,7 @@ SCENES = {
     "mesh_derived_attributes": mesh_derived_attributes,
     "principled_glass_tint": principled_glass_tint,
     "wireframe_parametric": wireframe_parametric,
+    "ambient_occlusion": ambient_occlusion,
     "plane_point": plane_point,
     "plane_spot": plane_spot,
     "plane_sun": plane_sun,
@@ -1816,7 +1879,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "emissive_textured",
                      "volume_blackbody"]
 
 

@@ -182,3 +182,21 @@ def wireframe(ctx, node, socket):
 def eval_wireframe(ev, e):
     ev.approx(e, "wireframe approximated by 0 (its faces) without the engine")
     return 0.0
+
+
+# Ambient Occlusion: the engine traces its rays from the hit (textures/ambient_occlusion.h):
+# Samples, Inside, Only Local as Cycles; the directions a fixed set per point, not drawn anew.
+@maps("ShaderNodeAmbientOcclusion")
+def ambient_occlusion(ctx, node, socket):
+    return Expr("ao", ctx.label(node), {"color": ctx.input(node, "Color", default=(1.0, 1.0, 1.0)),
+                                        "distance": ctx.input(node, "Distance", default=1.0)},
+                {"samples": int(getattr(node, "samples", 16)), "inside": bool(getattr(node, "inside", False)),
+                 "only_local": bool(getattr(node, "only_local", False)),
+                 "output": "ao" if getattr(socket, "identifier", "Color") == "AO" else "color",
+                 "normal_linked": ctx.is_linked(node, "Normal")})
+
+
+@evaluates("ao")
+def eval_ambient_occlusion(ev, e):
+    ev.approx(e, "ambient occlusion approximated by 1 (nothing near) without the engine")
+    return 1.0 if e.props.get("output") == "ao" else ev.color(e.args.get("color"))

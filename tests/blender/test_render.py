@@ -104,7 +104,7 @@ def test_bad_input(args):
         print("WARNING SEEN:", m)
     text = "\n".join(msgs)
     for obj, what in (("NaNObject", "non-finite"), ("NoFacesObject", "no faces"), ("ZeroScaleObject", "zero scale"),
-                      ("UnsupportedOcclusion", "unsupported"), ("missing.png", "not found")):
+                      ("UnsupportedParticleInfo", "unsupported"), ("missing.png", "not found")):
         check(any(obj in m and what in m for m in msgs), "no warning naming %s (%s) in:\n%s" % (obj, what, text))
     px = render_pixels(scene, "bad_input")
     check(np.isfinite(px).all() and px[:, :, :3].mean() > 0, "bad_input image is not usable")

@@ -555,6 +555,35 @@ class TestMeshNodes(unittest.TestCase):
         self.assertIn("Pixel Size widths from the ray's footprint", w)
 
 
+class TestAmbientOcclusion(unittest.TestCase):
+    def test_ao_outputs_and_settings(self):
+        def b(t):
+            ao = t.new("ShaderNodeAmbientOcclusion", "Occlusion", samples=8, inside=True, only_local=True)
+            ao.inp("Distance").default_value = 0.3
+            ao.inp("Color").default_value = [0.9, 0.5, 0.1, 1.0]
+            em = t.new("ShaderNodeEmission", "Glow")
+            t.link(ao.out("Color"), em.inp("Color"))
+            t.link(ao.out("AO"), em.inp("Strength"))
+            return em.out()
+        p, w = keep("ambient_occlusion", convert(b))
+        self.assertIsNone(w)
+        common = {"node": "ambient_occlusion", "color": [0.9, 0.5, 0.1], "distance": 0.3, "samples": 8, "inside": True,
+                  "only_local": True}
+        self.assertEqual(p["color"], dict(common, output="color"))
+        self.assertEqual(p["strength"], dict(common, output="ao"))
+
+    def test_linked_normal_is_named(self):
+        def b(t):
+            ao = t.new("ShaderNodeAmbientOcclusion", "Occlusion")
+            t.link(t.new("ShaderNodeNewGeometry", "Geo").out("Normal"), ao.inp("Normal"))
+            d = t.new("ShaderNodeBsdfDiffuse", "D")
+            t.link(ao.out("Color"), d.inp("Color"))
+            return d.out()
+        p, w = convert(b)
+        self.assertEqual(p["color"]["node"], "ambient_occlusion")
+        self.assertIn("its Normal input ignored", w)
+
+
 def _wire_pixels(t):
     wf = t.new("ShaderNodeWireframe", "Wire", use_pixel_size=True)
     d = t.new("ShaderNodeBsdfDiffuse", "D")

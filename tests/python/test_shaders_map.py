@@ -895,9 +895,9 @@ class TestGraph(unittest.TestCase):
 
     def test_nested_groups_and_warning_path(self):
         inner, gin, gout = group_tree("Inner", [], [("Output_0", "Shader", "SHADER", None)])
-        ao = inner.new("ShaderNodeAmbientOcclusion", "Occlusion")
+        particles = inner.new("ShaderNodeParticleInfo", "Particles")
         d = inner.new("ShaderNodeBsdfDiffuse", "D")
-        inner.link(ao.out("AO"), d.inp("Color"))
+        inner.link(particles.out("Random"), d.inp("Color"))
         inner.link(d.out(), gout.inp("Output_0"))
         outer, ogin, ogout = group_tree("Outer", [], [("Output_0", "Shader", "SHADER", None)])
         gi = outer.group_node(inner, "InnerGroup")
@@ -907,8 +907,8 @@ class TestGraph(unittest.TestCase):
             return t.group_node(outer, "OuterGroup").out()
         p, w = material_with(b)
         self.assertTrue(close(p["color"], (0.5, 0.5, 0.5)))
-        self.assertIn("OuterGroup/InnerGroup/Occlusion", w)
-        self.assertIn("unsupported node ShaderNodeAmbientOcclusion", w)
+        self.assertIn("OuterGroup/InnerGroup/Particles", w)
+        self.assertIn("unsupported node ShaderNodeParticleInfo", w)
 
     def test_unsupported_shader_node_falls_back_to_its_colour(self):
         p, w = material_with(lambda t: t.new("ShaderNodeFancyUnknownBsdf", "Fancy").out())
@@ -927,14 +927,14 @@ class TestGraph(unittest.TestCase):
             m = t.new("ShaderNodeMixShader", "Mix")
             t.link(t.new("ShaderNodeBsdfVelvet", "VelvetA").out(), m.inp("Shader"))
             d = t.new("ShaderNodeBsdfDiffuse", "D")
-            t.link(t.new("ShaderNodeAmbientOcclusion", "OcclusionB").out("AO"), d.inp("Color"))
+            t.link(t.new("ShaderNodeParticleInfo", "ParticlesB").out("Random"), d.inp("Color"))
             t.link(d.out(), m.inp("Shader_001"))
             return m.out()
         p, w = material_with(b, name="Combo")
         self.assertIsInstance(w, str)
         self.assertEqual(w.count("Material 'Combo'"), 1)
         self.assertIn("VelvetA", w)
-        self.assertIn("OcclusionB", w)
+        self.assertIn("ParticlesB", w)
         self.assertNotIn("\n", w)
 
     def test_cycle_does_not_hang(self):

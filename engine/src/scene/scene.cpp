@@ -633,9 +633,11 @@ void Scene::build_lights() {
   for (uint32_t i = 0; i < lights_.size(); ++i) {
     Light &l = lights_[i];
     compute_light_power(l, bounding_radius_);
-    // A light only camera rays see lights nothing: next-event estimation and light
-    // subpaths never choose it (its hits keep their full weight).
-    power.push_back(l.visibility & visibility::kNonCamera ? l.power : 0.0f);
+    // A light only camera rays see (a world's or an object's look for the camera, Light Path)
+    // lights nothing: next-event estimation and light subpaths never choose it (its hits keep
+    // their full weight). A light no ray sees keeps its power: it is chosen and gives nothing,
+    // as before (tests compare renders with a lamp hidden so, sample for sample).
+    power.push_back(l.visibility == visibility::kCamera ? 0.0f : l.power);
     if (l.is_infinite()) infinite_lights_.push_back(i);
     else if (l.type != LightType::Triangle && l.type != LightType::Volume && !l.is_delta()) hittable_lights_.push_back(i);
   }
@@ -847,6 +849,24 @@ static void set_footprint(ShadingPoint &sp, Vec3 dir, float width) {
   sp.dy = to_uv(b * width);
 }
 
+bool Scene::texture_ray_occluded(const ShadingPoint &sp, Vec3 d, float tmax, bool only_local) const {
+  Ray ray{spawn_origin(sp.p, sp.ng, sp.error, d), d, tmax, visibility::kShadow};  // what casts shadows
+  if (!only_local) return accel_.occluded(ray.o, ray.d, ray.tmax, ray.mask);
+  // Only Local: the point's own object. Other objects are passed (a few at most, then
+  // taken as clear: a local query in a thicket of other objects is rare).
+  for (int passed = 0; passed < 16; ++passed) {
+    RawHit raw;
+    if (!accel_.intersect(ray, raw)) return false;
+    if (raw.instance == sp.instance) return true;
+    const Vec3 p = ray.o + ray.d * raw.t;
+    const float step = std::max(raw.t * 1e-4f, (std::fabs(p.x) + std::fabs(p.y) + std::fabs(p.z)) * 1e-6f);
+    ray.o = p + ray.d * step;
+    ray.tmax -= raw.t + step;
+    if (!(ray.tmax > 0)) return false;
+  }
+  return false;
+}
+
 ShadingPoint Scene::shading_point(const SurfaceHit &hit, Vec3 dir, float width) const {
   ShadingPoint sp;
   const Instance &inst = instances_[hit.instance];
@@ -857,6 +877,10 @@ ShadingPoint Scene::shading_point(const SurfaceHit &hit, Vec3 dir, float width) 
   sp.ns = hit.ns;
   sp.uv = hit.uv;
   sp.mesh = &m;
+  sp.occlusion = this;
+  sp.error = hit.error;
+  sp.instance = hit.instance;
+  sp.backfacing = dot(dir, hit.ng) > 0;
   sp.v[0] = tri[0]; sp.v[1] = tri[1]; sp.v[2] = tri[2];
   sp.b[0] = 1.0f - hit.b1 - hit.b2; sp.b[1] = hit.b1; sp.b[2] = hit.b2;
   Vec3 p[3];

@@ -12,6 +12,7 @@
 #include "core/distribution.h"
 #include "film/data_passes.h"
 #include "lights/environment.h"
+#include "textures/ambient_occlusion.h"
 #include "lights/light.h"
 #include "lights/volume_light.h"
 #include "media/medium.h"
@@ -41,7 +42,7 @@ struct SurfaceHit {
   float b1 = 0, b2 = 0;  // barycentrics of vertices 1 and 2 (for textures: Scene::shading_point)
 };
 
-class Scene {
+class Scene : private OcclusionQuery {
  public:
   Scene();
 
@@ -295,6 +296,8 @@ class Scene {
   std::string summary_json() const;
 
  private:
+  // The Ambient Occlusion node's rays (OcclusionQuery): from the shading point along d.
+  bool texture_ray_occluded(const ShadingPoint &sp, Vec3 d, float tmax, bool only_local) const override;
   // What the world looks like: a constant radiance, or an HDRI / baked sky (map) times it.
   struct WorldLook {
     Color radiance{0.05f};

@@ -10,6 +10,7 @@
 namespace rdv {
 
 struct Mesh;
+class OcclusionQuery;
 
 struct ShadingPoint {
   Vec3 p{0.0f};          // world position
@@ -30,6 +31,14 @@ struct ShadingPoint {
   float object_random = 0, object_alpha = 1, object_index = 0, material_index = 0;
   Color object_color{1.0f};
   const Mesh *mesh = nullptr;          // for named attributes
+  // The Ambient Occlusion node's rays (textures/ambient_occlusion.h): the scene that traces
+  // them (null: none, AO 1), the point's rounding error (for their origin) and its instance.
+  const OcclusionQuery *occlusion = nullptr;
+  Vec3 error{0.0f};
+  uint32_t instance = 0;
+  // The ray that reached the point came from behind the surface (against ng): Cycles turns
+  // its normal toward that ray (a room's walls seen from inside), which the AO node follows.
+  bool backfacing = false;
   uint32_t v[3] = {0, 0, 0};           // triangle vertex indices
   float b[3] = {1, 0, 0};              // barycentrics
   // Row-major 3x4 object-to-world transform (at the sample's shutter time for a moving

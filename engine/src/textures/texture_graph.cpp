@@ -8,6 +8,7 @@
 #include "core/limits.h"
 #include "media/blackbody.h"
 #include "scene/mesh.h"
+#include "textures/ambient_occlusion.h"
 #include "textures/math_nodes.h"
 #include "textures/musgrave.h"
 #include "textures/noise.h"
@@ -536,6 +537,18 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
   } else if (type == "wavelength") {
     n.type = TexNodeType::Wavelength;
     n.in[0] = input("wavelength", 500.0);
+  } else if (type == "ambient_occlusion") {
+    // Blender's Ambient Occlusion node: `color` x AO ("color") or AO ("ao"); samples 1..128,
+    // "inside" (toward the inside: the normal flipped), "only_local" (the own object only).
+    n.type = TexNodeType::AmbientOcclusion;
+    n.in[0] = input("color", json::array({1.0, 1.0, 1.0}));
+    n.in[1] = input("distance", 1.0);
+    if (r.has("normal")) n.in[2] = input("normal", json::array({0.0, 0.0, 1.0}));
+    const float samples = r.num("samples", 16.0f);
+    if (!(samples >= 1 && samples <= 128)) fail(what + ": 'samples' must be 1 to 128");
+    n.depth = int(samples);
+    n.mode = uint8_t((r.flag("inside", false) ? 1 : 0) | (r.flag("only_local", false) ? 2 : 0));
+    n.output = outputs({"color", "ao"});
   } else if (type == "wireframe") {
     n.type = TexNodeType::Wireframe;
     n.in[0] = input("size", 0.01);
@@ -674,7 +687,7 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
                    "only (docs/scene-format.md)");
   } else {
     fail(what_in + ": unknown texture node '" + type +
-         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, object_info, color_space, blackbody, wavelength, wireframe, invert, hue_saturation, attribute, vertex_color, "
+         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, object_info, color_space, blackbody, wavelength, wireframe, ambient_occlusion, invert, hue_saturation, attribute, vertex_color, "
          "uv, texture_coordinate, mapping, normal_map, bump, separate_rgb, combine_rgb, rgb_to_bw, bright_contrast, gamma)");
   }
   r.used.insert("output");
@@ -975,6 +988,12 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
     case TexNodeType::Blackbody: return blackbody_color(inf(0));
     case TexNodeType::Wavelength: return wavelength_color(inf(0));
     case TexNodeType::Wireframe: return Color(wireframe(sp, inf(0), n.mode != 0));
+    case TexNodeType::AmbientOcclusion: {
+      Vec3 normal = n.in[2] >= 0 ? Vec3(in(2)) : sp.backfacing ? -sp.ns : sp.ns;
+      if (n.mode & 1) normal = -normal;
+      const float ao = ambient_occlusion(sp, normal, inf(1), n.depth, (n.mode & 2) != 0);
+      return n.output == 1 ? Color(ao) : in(0) * ao;
+    }
     case TexNodeType::ObjectInfo:
       switch (n.output) {
         case 0: return sp.has_object_to_world ? Vec3(sp.object_to_world[3], sp.object_to_world[7], sp.object_to_world[11])

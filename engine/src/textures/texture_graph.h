@@ -28,7 +28,8 @@ enum class TexNodeType : uint8_t {
   ColorSpace,  // RGB <-> HSV / HSL (Separate and Combine Color)
   Blackbody,   // Planck's colour at a temperature (media/blackbody.h)
   Wavelength,  // a spectral colour (Cycles' Wavelength node)
-  Wireframe    // 1 within half a width of the triangle's edges (Cycles' Wireframe node)
+  Wireframe,   // 1 within half a width of the triangle's edges (Cycles' Wireframe node)
+  AmbientOcclusion  // the unoccluded share of directions around the normal (textures/ambient_occlusion.h)
 };
 
 constexpr int kTexNodeInputs = 10;  // the most any node has (Brick)
