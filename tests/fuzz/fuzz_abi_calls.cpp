@@ -70,7 +70,7 @@ const char *kColorSpaces[] = {"", "Non-Color", "sRGB", "Linear", "no such space"
 // numbers from the input, or (choice 0) raw input text.
 std::string material_params(Reader &in) {
   auto x = [&] { return in.json_number(); };
-  switch (in.small(18)) {
+  switch (in.small(19)) {
     case 0: return in.text(64);
     case 1: return R"({"type":"diffuse","color":[)" + x() + "," + x() + "," + x() + R"(],"roughness":)" + x() + "}";
     case 2: return R"({"type":"glossy","roughness":)" + x() + R"(,"anisotropy":)" + x() + "}";
@@ -112,6 +112,9 @@ std::string material_params(Reader &in) {
              R"(,"shader1":{"type":"diffuse"},"shader2":{"type":"glossy","roughness":)" + x() + "}}}";
     }
     case 15: return R"({"type":"emission","color":{"node":"wavelength","wavelength":)" + x() + R"(},"strength":1})";
+    case 17: return R"({"type":"diffuse","color":{"node":"ambient_occlusion","distance":)" + x() + R"(,"samples":)" + x() +
+                    R"(,"only_local":)" + (in.small(2) ? "true" : "false") + R"(,"inside":)" +
+                    (in.small(2) ? "true" : "false") + "}}";
     case 16: return R"({"type":"emission","color":{"node":"texture_coordinate","output":"parametric"},"strength":)"
                     R"({"node":"wireframe","size":)" + x() + R"(,"pixel_size":)" + (in.small(2) ? "true" : "false") + "}}";
     default: return R"({"type":"volume","volume":{"grid":{"buffer":")" + std::string(kNames[in.small(4)]) +
