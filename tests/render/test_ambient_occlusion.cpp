@@ -1,7 +1,8 @@
 // The Ambient Occlusion node (textures/ambient_occlusion.h) where its value is known exactly:
 // an emission of AO's colour on a floor with nothing above it is 1 in every pixel (no ray of
 // the point's own surface occludes it: the origins are offset by the point's rounding error),
-// the inside of a closed box is 0 (every ray meets a wall), whatever the scene's scale; Only
+// the inside of a closed box is 0 (every ray meets a wall), whatever the scene's scale and
+// however far from the origin the floor lies; Only
 // Local ignores another object; Inside looks the other way. Deterministic (the images are
 // exact; the directions are a fixed set per point). Its agreement with Cycles is
 // blender.brightness.ambient_occlusion.
@@ -19,15 +20,18 @@ json ao(bool only_local = false, bool inside = false, double distance = 1e9) {
           {"inside", inside}};
 }
 
-// Seen from above at `scale` (the view 10 units wide on the floor): a floor and, unless left
-// out, a 2-unit box floating 0.2 above it (or around the camera).
-json scene(double scale, const json &floor_ao, const json &box_ao, bool box, bool camera_in_box = false) {
-  json meshes = {{{"name", "floor"}, {"shape", {{"type", "quad"}, {"size", 40 * scale}}}, {"materials", {"floor"}}}};
+// Seen from above at `scale` (the view 10 units wide on the floor), `far` units from the
+// origin: a floor and, unless left out, a 2-unit box floating 0.2 above it (or around the camera).
+json scene(double scale, const json &floor_ao, const json &box_ao, bool box, bool camera_in_box = false,
+           double far = 0) {
+  const double c = far * scale;
+  json meshes = {{{"name", "floor"}, {"shape", {{"type", "quad"}, {"size", 40 * scale}}}, {"materials", {"floor"}},
+                  {"transform", {{"translate", {c, c, 0}}}}}};
   if (box)
     meshes.push_back({{"name", "box"}, {"shape", {{"type", "box"}, {"size", {2 * scale, 2 * scale, 2 * scale}}}},
-                      {"materials", {"box"}}, {"transform", {{"translate", {0, 0, camera_in_box ? 0.0 : 1.2 * scale}}}}});
-  const json from = camera_in_box ? json{0, -0.5 * scale, 0.2 * scale} : json{0, 0, 10 * scale};
-  const json to = camera_in_box ? json{0, 1 * scale, 0} : json{0, 0, 0};
+                      {"materials", {"box"}}, {"transform", {{"translate", {c, c, camera_in_box ? 0.0 : 1.2 * scale}}}}});
+  const json from = camera_in_box ? json{c, c - 0.5 * scale, 0.2 * scale} : json{c, c, 10 * scale};
+  const json to = camera_in_box ? json{c, c + 1 * scale, 0} : json{c, c, 0};
   return {{"settings", {{"width", 16}, {"height", 16}, {"samples", 2}}},
           {"camera", {{"focal_length", 35}, {"clip_start", 0.01 * scale}, {"clip_end", 100 * scale},
                       {"transform", {{"look_at", {{"from", from}, {"to", to}, {"up", {0, 1, 0}}}}}}}},
@@ -42,10 +46,13 @@ json scene(double scale, const json &floor_ao, const json &box_ao, bool box, boo
 TEST(AmbientOcclusion, ExactWhereTheAnswerIsKnown) {
   for (double scale : {1e-3, 1.0, 1e3}) {
     SCOPED_TRACE("scale " + std::to_string(scale));
-    // A floor alone: nothing occludes it.
-    Image open = render_json(scene(scale, ao(), ao(), false).dump());
-    ASSERT_TRUE(open.all_finite());
-    for (size_t i = 0; i < open.rgba.size(); i += 4) ASSERT_FLOAT_EQ(open.rgba[i], 1.0f) << "pixel " << i / 4;
+    // A floor alone: nothing occludes it; and 10,000 units from the origin (its rounding
+    // error there is 2^-10 of a unit: the rays must still leave the floor).
+    for (double far : {0.0, 1e4}) {
+      Image open = render_json(scene(scale, ao(), ao(), false, false, far).dump());
+      ASSERT_TRUE(open.all_finite());
+      for (size_t i = 0; i < open.rgba.size(); i += 4) ASSERT_FLOAT_EQ(open.rgba[i], 1.0f) << "pixel " << i / 4 << " far " << far;
+    }
     // Inside a closed box (the camera in it): every ray from a wall meets another.
     Image closed = render_json(scene(scale, ao(), ao(), true, true).dump());
     for (size_t i = 0; i < closed.rgba.size(); i += 4) ASSERT_EQ(closed.rgba[i], 0.0f) << "pixel " << i / 4;
