@@ -36,7 +36,8 @@ COLOR_KEYS = {"base_color", "subsurface_color", "color", "subsurface_radius"}
 # Texture Coordinate's Normal is the object-space normal (Cycles' object_inverse_normal_transform);
 # Geometry's Position, Normal and True Normal are world space.
 TEXCOORD_OUTPUTS = {"Generated": "generated", "UV": "uv", "Object": "object", "Normal": "object_normal"}
-GEOMETRY_OUTPUTS = {"Position": "position", "Normal": "normal", "True Normal": "true_normal", "Parametric": "parametric"}
+GEOMETRY_OUTPUTS = {"Position": "position", "Normal": "normal", "True Normal": "true_normal", "Parametric": "parametric",
+                    "Tangent": "tangent"}
 
 
 def luminance(c):

@@ -500,9 +500,10 @@ def math_nodes():
 
 
 def geometry_coordinates():
-    """Geometry > Position / Normal / True Normal and Texture Coordinate > Normal (object space)
-    on tilted, rotated tiles (their object and world normals differ), each through Vector Math
-    ABSOLUTE so the emission stays positive; seen from above."""
+    """Geometry > Position / Normal / True Normal / Tangent and Texture Coordinate > Normal
+    (object space) on tilted, rotated tiles (their object and world normals differ; one tangent
+    tile scaled), each through Vector Math ABSOLUTE so the emission stays positive; seen from
+    above."""
     def coordinate(node, output):
         def build(nt, _):
             a = nt.nodes.new("ShaderNodeVectorMath")
@@ -513,9 +514,14 @@ def geometry_coordinates():
     emission_tiles((("Position", coordinate("ShaderNodeNewGeometry", "Position")),
                     ("Normal", coordinate("ShaderNodeNewGeometry", "Normal")),
                     ("TrueNormal", coordinate("ShaderNodeNewGeometry", "True Normal")),
-                    ("ObjectNormal", coordinate("ShaderNodeTexCoord", "Normal"))), rows=1)
+                    ("ObjectNormal", coordinate("ShaderNodeTexCoord", "Normal")),
+                    ("Tangent", coordinate("ShaderNodeNewGeometry", "Tangent")),
+                    ("TangentScaled", coordinate("ShaderNodeNewGeometry", "Tangent"))), rows=2)
     for i, ob in enumerate(o for o in bpy.data.objects if o.type == "MESH"):
         ob.rotation_euler = (math.radians(25), math.radians(-20 + 10 * i), math.radians(30 * i))
+    # Tangent: the direction around the object's Z axis through its Generated centre, carried
+    # as a normal: a scaled object's differs from its direction carried as a vector.
+    bpy.data.objects["TangentScaled"].scale = (1.0, 0.4, 1.0)
 
 
 def object_info():

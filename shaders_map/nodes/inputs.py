@@ -84,12 +84,12 @@ def geometry(ctx, node, socket):
 @evaluates("geometry")
 def eval_geometry(ev, e):
     out = e.props.get("output")
-    if out in ("Position", "Normal", "True Normal", "Parametric"):
+    if out in ("Position", "Normal", "True Normal", "Parametric", "Tangent"):
         ev.approx(e, "geometry %s approximated by a constant without the engine" % out)
     elif out == "Backfacing":  # the viewer's side: exact as a Mix Shader's Fac (lowering's view factors)
         ev.approx(e, "geometry Backfacing depends on the viewing direction: exact only as a Mix Shader's Fac; "
                      "here 0 (the front)")
-    else:  # Incoming, Tangent
+    else:  # Incoming
         ev.approx(e, "geometry %s not supported, a constant" % out)
     return 0.0 if out == "Backfacing" else (0.0, 0.0, 1.0)
 

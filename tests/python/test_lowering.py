@@ -550,6 +550,9 @@ class TestMeshNodes(unittest.TestCase):
         self.assertIsNone(w)
         self.assertEqual(p["strength"], {"node": "wireframe", "size": 0.05, "pixel_size": False})
         self.assertEqual(p["color"], {"node": "texture_coordinate", "output": "parametric"})
+        p, w = convert(lambda t: _emit(t, t.new("ShaderNodeNewGeometry", "Geo").out("Tangent")))
+        self.assertEqual(p["color"], {"node": "texture_coordinate", "output": "tangent"})
+        self.assertIsNone(w)
         p, w = convert(_wire_pixels)
         self.assertEqual(p["color"]["pixel_size"], True)
         self.assertIn("Pixel Size widths from the ray's footprint", w)
@@ -582,6 +585,12 @@ class TestAmbientOcclusion(unittest.TestCase):
         p, w = convert(b)
         self.assertEqual(p["color"]["node"], "ambient_occlusion")
         self.assertIn("its Normal input ignored", w)
+
+
+def _emit(t, socket):
+    em = t.new("ShaderNodeEmission", "Glow")
+    t.link(socket, em.inp("Color"))
+    return em.out()
 
 
 def _wire_pixels(t):

@@ -21,6 +21,30 @@ using nlohmann::json;
 
 namespace {
 
+// Geometry > Tangent as Cycles makes it for a mesh (primitive_tangent): the direction around
+// the object's Z axis through the Generated coordinates' centre, (-(g.y - 0.5), g.x - 0.5, 0)
+// carried to the world as a normal is (the inverse transpose), then made perpendicular to the
+// shading normal on the side of the reaching ray. On the axis itself: along dp/du.
+Vec3 radial_tangent(const ShadingPoint &sp) {
+  const Vec3 n = sp.backfacing ? -sp.ns : sp.ns;
+  Vec3 around(-(sp.generated.y - 0.5f), sp.generated.x - 0.5f, 0.0f);
+  if (sp.has_object_to_world) {
+    const float *M = sp.object_to_world;  // rows of the 3x3 part: M[0..2], M[4..6], M[8..10]
+    const Vec3 r0(M[0], M[1], M[2]), r1(M[4], M[5], M[6]), r2(M[8], M[9], M[10]);
+    // The inverse transpose is the cofactor matrix over the determinant, whose rows are the
+    // cross products of the matrix's rows (only the direction matters: the sign of det).
+    const Vec3 c0 = cross(r1, r2), c1 = cross(r2, r0), c2 = cross(r0, r1);
+    const float sign = dot(r0, c0) < 0 ? -1.0f : 1.0f;
+    around = Vec3(dot(c0, around), dot(c1, around), dot(c2, around)) * sign;
+  }
+  const Vec3 side = cross(around, n);
+  if (!(length_squared(side) > 0)) {
+    const float l = length(sp.dpdu);
+    return l > 0 ? sp.dpdu / l : Vec3(0.0f);
+  }
+  return cross(n, normalize(side));
+}
+
 // Cycles' Wireframe node (svm_wireframe): 1 where the point lies within half of `size` of
 // one of its triangle's edges (the lines through them), in world units, or in pixel widths
 // with pixel_size (the ray's footprint on the surface; Cycles projects it onto the plane
@@ -161,7 +185,7 @@ const std::vector<std::string> kGradients = {"LINEAR", "QUADRATIC", "EASING", "D
 // Texture Coordinate's and Geometry's outputs: normal is the world shading normal (Geometry >
 // Normal), object_normal the same in object space (Texture Coordinate > Normal), true_normal
 // the triangle's (Geometry > True Normal).
-enum Coord : uint8_t { kUv, kGenerated, kObject, kPosition, kNormal, kObjectNormal, kTrueNormal, kParametric };
+enum Coord : uint8_t { kUv, kGenerated, kObject, kPosition, kNormal, kObjectNormal, kTrueNormal, kParametric, kTangent };
 
 // A JSON number as the engine's float: anything else, or a value float cannot hold
 // (1e39), is an error naming `what` (the node and its field).
@@ -635,10 +659,11 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     static const std::map<std::string, Coord> outs = {{"uv", kUv}, {"generated", kGenerated}, {"object", kObject},
                                                       {"position", kPosition}, {"normal", kNormal},
                                                       {"object_normal", kObjectNormal}, {"true_normal", kTrueNormal},
-                                                      {"parametric", kParametric}};
+                                                      {"parametric", kParametric}, {"tangent", kTangent}};
     auto it = outs.find(o);
     if (it == outs.end())
-      fail(what + ": 'output' must be uv, generated, object, position, normal, object_normal, true_normal or parametric");
+      fail(what + ": 'output' must be uv, generated, object, position, normal, object_normal, true_normal, parametric "
+                  "or tangent");
     n.mode = it->second;
   } else if (type == "mapping") {
     n.type = TexNodeType::Mapping;
@@ -1035,6 +1060,7 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
         case kPosition: return sp.p;
         case kTrueNormal: return sp.ng;
         case kParametric: return {sp.b[0], sp.b[1], 0};  // Cycles': (1 - u - v, u, 0)
+        case kTangent: return radial_tangent(sp);
         case kObjectNormal: {  // the world normal through the transposed object-to-world (Cycles')
           if (!sp.has_object_to_world) return sp.ns;
           const float *M = sp.object_to_world;
