@@ -14,7 +14,7 @@ from .lights import light_params
 from .materials import MaterialCache, ray_kind_cells
 from . import images
 from . import motion
-from .mesh import mesh_arrays
+from .mesh import mesh_arrays, TANGENT_ATTRIBUTE
 from . import volumes
 from . import visibility
 from .settings import session_settings, resolution, border_rect, SettingsError  # noqa: F401
@@ -50,6 +50,8 @@ def _tree_uses_uvs(tree, depth=0):
         idname = node.bl_idname
         if idname in UV_NODES:
             uses = True
+            if idname == "ShaderNodeNormalMap" and getattr(node, "space", "TANGENT") == "TANGENT":
+                names.add(TANGENT_ATTRIBUTE)  # Blender's tangents, as Cycles maps with them
         elif idname == "ShaderNodeUVMap":
             if node.uv_map:
                 names.add(node.uv_map)

@@ -19,6 +19,9 @@ from .. import shaders_map
 DEFAULT_COLOR_ATTRIBUTE = "__rdv_default_color"  # = shaders_map.DEFAULT_COLOR_ATTRIBUTE
 # Geometry > Pointiness and Random Per Island, which Cycles derives from the mesh: computed here
 # (geometry_attribute) and sent as per-vertex attributes under these names (= shaders_map's).
+# Blender's MikkTSpace tangents of the default UV map and their bitangent signs, per corner
+# (x, y, z, sign), for tangent-space Normal Maps as Cycles applies them (the engine's name).
+TANGENT_ATTRIBUTE = "__rdv_tangent"
 POINTINESS_ATTRIBUTE = shaders_map.MESH_DERIVED_ATTRIBUTES["Pointiness"]
 RANDOM_PER_ISLAND_ATTRIBUTE = shaders_map.MESH_DERIVED_ATTRIBUTES["Random Per Island"]
 
@@ -204,11 +207,32 @@ def geometry_attribute(me, name):
     return random_per_island(nv, edges)
 
 
+def _tangents(me, n_loops):
+    """Per-corner (tangent x, y, z, bitangent sign) of the default UV map, from Blender's
+    MikkTSpace (Mesh.calc_tangents), or None where Blender cannot make them (no UV map, faces
+    of more than four corners): the engine then frames the map by the UVs' dp/du."""
+    layer = _uv_layer(me, None)
+    if layer is None:
+        return None
+    try:
+        me.calc_tangents(uvmap=layer.name)
+    except RuntimeError:
+        return None
+    t = _get(me.loops, "tangent", n_loops, np.float32, 3).reshape(-1, 3)
+    sign = _get(me.loops, "bitangent_sign", n_loops, np.float32).reshape(-1, 1)
+    return np.ascontiguousarray(np.hstack([t, sign]), dtype=np.float32).reshape(-1)
+
+
 def _corner_attributes(me, names, n_loops, loop_vi, npoly):
     """Named UV maps / colour / generic attributes as per-corner float32 arrays."""
     out = []
     loop_poly = None
     for name in names:
+        if name == TANGENT_ATTRIBUTE:
+            tangents = _tangents(me, n_loops)
+            if tangents is not None:
+                out.append((name, "color", tangents, 4))
+            continue
         if name in (POINTINESS_ATTRIBUTE, RANDOM_PER_ISLAND_ATTRIBUTE):
             data = np.repeat(geometry_attribute(me, name)[loop_vi].reshape(-1, 1), 3, axis=1)
             out.append((name, "color", np.ascontiguousarray(data, dtype=np.float32).reshape(-1), 3))

@@ -1524,6 +1524,65 @@ def ambient_occlusion():
     return scene
 
 
+def mapped_normals():
+    """Shading normals moved by Bump and Normal Map nodes, lit by a sun and a dim sky: a diffuse
+    ball bumped by a Noise texture (strength 0.6), a glossy floor bumped by a finer Noise
+    (roughness 0.35, strength 0.4) and a glossy ball whose Normal Map (tangent space, strength
+    0.7, Blender's MikkTSpace tangents) reads a Noise texture's colour mixed halfway toward a
+    flat normal map's (0.5, 0.5, 1), as normal maps' colours are. (With the Noise's colour
+    itself, blue near 0.5, the normals lie near the surface, where Cycles lets light through
+    a mapped normal that the engine does not: README.) Cycles shadows diffuse closures under a moved normal and
+    bends normals that would reflect below the surface; both engines must agree for path
+    tracing and BDPT (whose light paths see the surface as camera paths do)."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.1, 0.12, 0.16, 1.0)
+
+    def bumped(name, shader, inputs, noise_scale, strength, distance=0.1):
+        m, nt, out = empty_material(name)
+        bsdf = nt.nodes.new(shader)
+        for k, v in inputs.items():
+            bsdf.inputs[k].default_value = v
+        noise = nt.nodes.new("ShaderNodeTexNoise")
+        noise.inputs["Scale"].default_value = noise_scale
+        bump = nt.nodes.new("ShaderNodeBump")
+        bump.inputs["Strength"].default_value = strength
+        bump.inputs["Distance"].default_value = distance
+        nt.links.new(noise.outputs["Fac"], bump.inputs["Height"])
+        nt.links.new(bump.outputs["Normal"], bsdf.inputs["Normal"])
+        nt.links.new(bsdf.outputs[0], out.inputs["Surface"])
+        return m
+    plane("Floor", 8.0, bumped("BumpedGloss", "ShaderNodeBsdfGlossy", {"Color": (0.6, 0.6, 0.6, 1.0), "Roughness": 0.35},
+                               12.0, 0.4))
+    smooth_ball("BumpedBall", (-0.7, 0, 0.5), 0.5, bumped("BumpedDiffuse", "ShaderNodeBsdfDiffuse",
+                                                         {"Color": (0.8, 0.4, 0.2, 1.0)}, 6.0, 0.6))
+    m, nt, out = empty_material("NormalMapped")
+    bsdf = nt.nodes.new("ShaderNodeBsdfGlossy")
+    bsdf.inputs["Color"].default_value = (0.7, 0.8, 0.9, 1.0)
+    bsdf.inputs["Roughness"].default_value = 0.25
+    noise = nt.nodes.new("ShaderNodeTexNoise")
+    noise.inputs["Scale"].default_value = 4.0
+    nmap = nt.nodes.new("ShaderNodeNormalMap")
+    nmap.inputs["Strength"].default_value = 0.7
+    # A normal map's colours: blue near 1 (the normal mostly kept), red and green around 0.5.
+    flat = nt.nodes.new("ShaderNodeMixRGB")
+    flat.inputs["Fac"].default_value = 0.5
+    flat.inputs["Color2"].default_value = (0.5, 0.5, 1.0, 1.0)
+    nt.links.new(noise.outputs["Color"], flat.inputs["Color1"])
+    nt.links.new(flat.outputs["Color"], nmap.inputs["Color"])
+    nt.links.new(nmap.outputs["Normal"], bsdf.inputs["Normal"])
+    nt.links.new(bsdf.outputs[0], out.inputs["Surface"])
+    # Low-poly (12 x 8), smooth shaded: its tangents vary across each face, as MikkTSpace
+    # interpolates them, where one face's UV derivatives would be constant.
+    ball = uv_sphere(segments=12, ring_count=8, radius=0.5, location=(0.7, 0, 0.5))
+    ball.name = "NormalMappedBall"
+    bpy.ops.object.shade_smooth()
+    ball.data.materials.append(m)
+    light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(45), 0, math.radians(30)), angle=math.radians(3))
+    camera_looking_at((0, -3.6, 1.4), (0, 0, 0.4), 35)
+    return scene
+
+
 def principled_glass_tint():
     """Cycles 3.4's Principled glass with Specular Tint: its reflection runs from the base colour
     (tint 1) at normal incidence to white at grazing. Two orange glass balls (Transmission 1,
@@ -1833,6 +1892,7 @@ SCENES = {
     "principled_glass_tint": principled_glass_tint,
     "wireframe_parametric": wireframe_parametric,
     "ambient_occlusion": ambient_occlusion,
+    "mapped_normals": mapped_normals,
     "plane_point": plane_point,
     "plane_spot": plane_spot,
     "plane_sun": plane_sun,
@@ -1885,7 +1945,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "mapped_normals", "emissive_textured",
                      "volume_blackbody"]
 
 

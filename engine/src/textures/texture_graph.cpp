@@ -21,22 +21,49 @@ using nlohmann::json;
 
 namespace {
 
+// Normals between object space and the world: to the world by the inverse transpose of the
+// object-to-world matrix (the cofactors' rows, by the sign of the determinant: a direction, its
+// length not kept), back by the transpose (the same up to a positive scale).
+Vec3 normal_to_world(const ShadingPoint &sp, Vec3 n) {
+  if (!sp.has_object_to_world) return n;
+  const float *M = sp.object_to_world;
+  const Vec3 r0(M[0], M[1], M[2]), r1(M[4], M[5], M[6]), r2(M[8], M[9], M[10]);
+  const Vec3 c0 = cross(r1, r2), c1 = cross(r2, r0), c2 = cross(r0, r1);
+  return Vec3(dot(c0, n), dot(c1, n), dot(c2, n)) * (dot(r0, c0) < 0 ? -1.0f : 1.0f);
+}
+Vec3 normal_to_object(const ShadingPoint &sp, Vec3 n) {
+  if (!sp.has_object_to_world) return n;
+  const float *M = sp.object_to_world;
+  return {M[0] * n.x + M[4] * n.y + M[8] * n.z, M[1] * n.x + M[5] * n.y + M[9] * n.z, M[2] * n.x + M[6] * n.y + M[10] * n.z};
+}
+
+// A tangent-space normal map as Cycles applies it (svm_node_normal_map) with the mesh's
+// per-corner tangents and bitangent signs from Blender's MikkTSpace (the exporter sends them
+// as the attribute kTangentAttribute: x, y, z, sign), all in object space: the interpolated,
+// unnormalised tangent T and vertex normal n (the geometric normal on a flat mesh), B = sign
+// n x T, the map's m over (T, B, n), normalised, then carried to the world as a normal.
+// False without the attribute (the caller frames the map by dp/du instead).
+bool tangent_space_normal(const ShadingPoint &sp, Vec3 m, Vec3 &out) {
+  static const uint32_t kTangent = attribute_id("__rdv_tangent");
+  float a[4];
+  int components = 0;
+  if (!sp.mesh || !sp.attribute(kTangent, a, components) || components != 4) return false;
+  const Vec3 n = sp.mesh->normals.empty() ? normal_to_object(sp, sp.ng)
+                                          : sp.mesh->normals[sp.v[0]] * sp.b[0] + sp.mesh->normals[sp.v[1]] * sp.b[1] +
+                                                sp.mesh->normals[sp.v[2]] * sp.b[2];
+  const Vec3 t(a[0], a[1], a[2]);
+  const Vec3 b = cross(n, t) * a[3];
+  out = normal_to_world(sp, t * m.x + b * m.y + n * m.z);
+  return length_squared(out) > 0;
+}
+
 // Geometry > Tangent as Cycles makes it for a mesh (primitive_tangent): the direction around
 // the object's Z axis through the Generated coordinates' centre, (-(g.y - 0.5), g.x - 0.5, 0)
 // carried to the world as a normal is (the inverse transpose), then made perpendicular to the
 // shading normal on the side of the reaching ray. On the axis itself: along dp/du.
 Vec3 radial_tangent(const ShadingPoint &sp) {
   const Vec3 n = sp.backfacing ? -sp.ns : sp.ns;
-  Vec3 around(-(sp.generated.y - 0.5f), sp.generated.x - 0.5f, 0.0f);
-  if (sp.has_object_to_world) {
-    const float *M = sp.object_to_world;  // rows of the 3x3 part: M[0..2], M[4..6], M[8..10]
-    const Vec3 r0(M[0], M[1], M[2]), r1(M[4], M[5], M[6]), r2(M[8], M[9], M[10]);
-    // The inverse transpose is the cofactor matrix over the determinant, whose rows are the
-    // cross products of the matrix's rows (only the direction matters: the sign of det).
-    const Vec3 c0 = cross(r1, r2), c1 = cross(r2, r0), c2 = cross(r0, r1);
-    const float sign = dot(r0, c0) < 0 ? -1.0f : 1.0f;
-    around = Vec3(dot(c0, around), dot(c1, around), dot(c2, around)) * sign;
-  }
+  const Vec3 around = normal_to_world(sp, Vec3(-(sp.generated.y - 0.5f), sp.generated.x - 0.5f, 0.0f));
   const Vec3 side = cross(around, n);
   if (!(length_squared(side) > 0)) {
     const float l = length(sp.dpdu);
@@ -1062,10 +1089,7 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
         case kParametric: return {sp.b[0], sp.b[1], 0};  // Cycles': (1 - u - v, u, 0)
         case kTangent: return radial_tangent(sp);
         case kObjectNormal: {  // the world normal through the transposed object-to-world (Cycles')
-          if (!sp.has_object_to_world) return sp.ns;
-          const float *M = sp.object_to_world;
-          const Vec3 n(M[0] * sp.ns.x + M[4] * sp.ns.y + M[8] * sp.ns.z, M[1] * sp.ns.x + M[5] * sp.ns.y + M[9] * sp.ns.z,
-                       M[2] * sp.ns.x + M[6] * sp.ns.y + M[10] * sp.ns.z);
+          const Vec3 n = normal_to_object(sp, sp.ns);
           const float l = length(n);
           return l > 0 ? n / l : sp.ns;
         }
@@ -1111,7 +1135,9 @@ Vec3 TextureGraph::eval_normal(int idx, const ShadingPoint &sp) const {
     Color c = eval(n.in[0], sp);
     Vec3 m = c * 2.0f - Vec3(1.0f);
     Vec3 out;
-    if (n.mode == 0) {  // tangent space, tangents from the default UV map
+    if (n.mode == 0 && tangent_space_normal(sp, m, out)) {
+      // Blender's tangents (MikkTSpace, the exporter's attribute), as Cycles maps with them.
+    } else if (n.mode == 0) {  // tangent space, tangents from the default UV map's dp/du
       Vec3 t = sp.dpdu - N * dot(N, sp.dpdu);
       if (!sp.has_uv_frame || !(length_squared(t) > 0)) return N;
       t = normalize(t);
