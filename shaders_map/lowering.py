@@ -947,9 +947,19 @@ def _mapping_rotation(low, col):
 
 
 def _sky(low, c, col):
-    """Background(color = Sky Texture, Nishita [via Mapping]) -> world params, or None."""
+    """Background(color = Sky Texture, Nishita or Preetham [via Mapping]) -> world params, or None."""
+    s = low._const_float(c.params.get("strength", Const(1.0)), c.node, "background strength")
+    if col.props.get("sky_type", "NISHITA") == "PREETHAM":
+        # Preetham reads its Vector (the view direction unless linked): a linked one is ignored.
+        vec = _unwrap(col.args.get("vector"))
+        if vec is not None and not isinstance(vec, Const) and \
+                not (isinstance(vec, Expr) and vec.op == "texcoord" and vec.props.get("output") == "Generated"):
+            low.approx(col.node, "vector input ignored (view direction used)")
+        sky = {"type": "preetham", "sun_direction": list(col.props.get("sun_direction", [0.0, 0.0, 1.0])),
+               "turbidity": float(col.props.get("turbidity", 2.2))}
+        return {"sky": sky, "color": [1.0, 1.0, 1.0], "strength": s}
     if col.props.get("sky_type", "NISHITA") != "NISHITA":
-        return None  # Preetham, Hosek-Wilkie: the constant, with the evaluator's warning
+        return None  # Hosek-Wilkie: the constant, with the evaluator's warning
     sky = {"type": "nishita"}
     for k in ("sun_disc", "sun_size", "sun_intensity", "sun_elevation", "sun_rotation", "altitude",
               "air_density", "dust_density", "ozone_density"):
@@ -957,7 +967,6 @@ def _sky(low, c, col):
             sky[k] = bool(col.props[k]) if k == "sun_disc" else float(col.props[k])
     # Its Vector input is not read: Cycles 3.4 renders a Nishita sky by the view direction whatever
     # is linked there (measured: a Mapping's rotation changes nothing in its image).
-    s = low._const_float(c.params.get("strength", Const(1.0)), c.node, "background strength")
     return {"sky": sky, "color": [1.0, 1.0, 1.0], "strength": s}
 
 

@@ -1603,6 +1603,28 @@ def principled_glass_tint():
     return scene
 
 
+def preetham_sky():
+    """Blender's Sky Texture of type Preetham (turbidity 3, the sun 30 degrees up, to the back
+    left): a diffuse and a glossy ball on a grey floor, the horizon in view."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+    nt = scene.world.node_tree
+    bg = nt.nodes["Background"]
+    sky = nt.nodes.new("ShaderNodeTexSky")
+    sky.sky_type = "PREETHAM"
+    sky.turbidity = 3.0
+    elevation, azimuth = math.radians(30), math.radians(130)
+    sky.sun_direction = (math.cos(elevation) * math.sin(azimuth), math.cos(elevation) * math.cos(azimuth),
+                         math.sin(elevation))
+    nt.links.new(sky.outputs["Color"], bg.inputs["Color"])
+    bg.inputs["Strength"].default_value = 0.5
+    plane("Floor", 8.0, diffuse_material("FloorMat", (0.5, 0.5, 0.5)))
+    smooth_ball("DiffuseBall", (-0.6, 0, 0.5), 0.5, diffuse_material("BallMat", (0.8, 0.3, 0.2)))
+    smooth_ball("GlossyBall", (0.6, 0, 0.5), 0.5, glossy_material("Gloss", 0.2, (0.9, 0.9, 0.9)))
+    camera_looking_at((0, -4.0, 1.2), (0, 0, 0.6), 35)
+    return scene
+
+
 def film_transparent():
     """Film > Transparent: a diffuse ball, a smooth glass ball and a card half Transparent
     BSDF on a floor small enough that the world shows all around them (a blue sky, lit
@@ -1893,6 +1915,7 @@ SCENES = {
     "wireframe_parametric": wireframe_parametric,
     "ambient_occlusion": ambient_occlusion,
     "mapped_normals": mapped_normals,
+    "preetham_sky": preetham_sky,
     "plane_point": plane_point,
     "plane_spot": plane_spot,
     "plane_sun": plane_sun,
@@ -1945,7 +1968,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "mapped_normals", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "mapped_normals", "preetham_sky", "emissive_textured",
                      "volume_blackbody"]
 
 

@@ -41,8 +41,8 @@ def tex_environment(ctx, node, socket):
                 _image_props(node, socket, "EQUIRECTANGULAR"))
 
 
-# Blender's Sky Texture: the world lowering hands a Nishita sky in the Background to the engine
-# (lights/sky_nishita.h); anywhere else it is a constant.
+# Blender's Sky Texture: the world lowering hands a Nishita or Preetham sky in the Background to
+# the engine (lights/sky_nishita.h, sky_preetham.h); anywhere else it is a constant.
 SKY_SETTINGS = ("sun_disc", "sun_size", "sun_intensity", "sun_elevation", "sun_rotation", "altitude",
                 "air_density", "dust_density", "ozone_density")
 
@@ -51,12 +51,15 @@ SKY_SETTINGS = ("sun_disc", "sun_size", "sun_intensity", "sun_elevation", "sun_r
 def tex_sky(ctx, node, socket):
     props = {k: getattr(node, k) for k in SKY_SETTINGS if hasattr(node, k)}
     props["sky_type"] = getattr(node, "sky_type", "NISHITA")
+    if props["sky_type"] == "PREETHAM":
+        props["sun_direction"] = [float(x) for x in getattr(node, "sun_direction", (0.0, 0.0, 1.0))]
+        props["turbidity"] = float(getattr(node, "turbidity", 2.2))
     return Expr("tex_sky", ctx.label(node), {"vector": ctx.input(node, "Vector", default=(0, 0, 0))}, props)
 
 
 @evaluates("tex_sky")
 def eval_sky(ev, e):
-    ev.approx(e, "a %s sky is supported as the World's Background colour only (Nishita); here a constant"
+    ev.approx(e, "a %s sky is supported as the World's Background colour only (Nishita, Preetham); here a constant"
               % e.props.get("sky_type", "NISHITA").title())
     return (0.3, 0.4, 0.6)
 

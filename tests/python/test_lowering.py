@@ -527,6 +527,17 @@ class TestWorld(unittest.TestCase):
         self.assertIsNone(w)
         keep("world_env", ({"type": "diffuse"}, None))[0]["__world"] = p
 
+    def test_preetham_sky(self):
+        def b(t):
+            bg = t.new("ShaderNodeBackground", "Background")
+            sky = t.new("ShaderNodeTexSky", "Sky", sky_type="PREETHAM", sun_direction=(0.0, 0.6, 0.8), turbidity=3.0)
+            t.link(sky.out("Color"), bg.inp("Color"))
+            return bg.out()
+        p, w = self._world(b)
+        self.assertIsNone(w)
+        self.assertEqual(p["sky"], {"type": "preetham", "sun_direction": [0.0, 0.6, 0.8], "turbidity": 3.0})
+        keep("world_preetham", ({"type": "diffuse"}, None))[0]["__world"] = p
+
     def test_world_volume(self):
         def b(t):
             return t.new("ShaderNodeBackground", "Background").out()

@@ -200,7 +200,8 @@ float finite_setting(Params &p, const char *key, float fallback, float lo, float
 NishitaSky::Settings NishitaSky::from_params(Params &p) {
   Settings s;
   const std::string type = p.get_string("type", "nishita");
-  if (type != "nishita") fail(p.what() + ": 'type' must be nishita (Preetham and Hosek-Wilkie are not supported)");
+  if (type != "nishita")
+    fail(p.what() + ": 'type' must be nishita or preetham (Hosek-Wilkie is not supported), got '" + type + "'");
   s.sun_elevation = finite_setting(p, "sun_elevation", s.sun_elevation, -kPi / 2, kPi / 2);
   s.sun_rotation = finite_setting(p, "sun_rotation", s.sun_rotation, -1e6f, 1e6f);
   s.altitude = finite_setting(p, "altitude", s.altitude, -1e9f, 1e9f);

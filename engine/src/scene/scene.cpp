@@ -5,6 +5,7 @@
 #include "core/log.h"
 #include "core/ray_offset.h"
 #include "lights/sky_nishita.h"
+#include "lights/sky_preetham.h"
 #include "textures/image_texture.h"
 
 namespace rdv {
@@ -437,13 +438,19 @@ Scene::WorldLook Scene::parse_world_look(Params &params) const {
       look.map.reset();
       c = Color(1, 0, 1);
     }
-  } else if (sky) {  // Blender's Nishita sky, baked into an environment map (lights/sky_nishita.h)
+  } else if (sky) {  // Blender's Nishita or Preetham sky, baked into an environment map (lights/sky_*.h)
     Params k(sky->dump(), params.what() + " sky");
-    const NishitaSky::Settings settings = NishitaSky::from_params(k);
+    const int width = 2048;
+    std::vector<float> pixels;
+    if (k.get_string("type", "nishita") == "preetham") {
+      pixels = PreethamSky(PreethamSky::from_params(k)).bake(width);
+    } else {
+      const NishitaSky::Settings settings = NishitaSky::from_params(k);
+      pixels = NishitaSky(settings).bake(width);
+    }
     const Vec3 rotation = k.get_vec3("rotation", Vec3(0.0f));
     k.check_all_used();
-    const int width = 2048;
-    look.map = std::make_shared<EnvironmentMap>(width, width / 2, NishitaSky(settings).bake(width), rotation, c * s);
+    look.map = std::make_shared<EnvironmentMap>(width, width / 2, std::move(pixels), rotation, c * s);
   }
   look.radiance = c * s;
   return look;
