@@ -1275,18 +1275,24 @@ def view_dependent_mixes():
     return scene
 
 
+def sky_world(sky_type):
+    """A 128 x 64 scene whose World's Background takes a Sky Texture of sky_type (linked by the
+    caller): (scene, world node tree, Background node, Sky Texture node)."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+    nt = scene.world.node_tree
+    sky = nt.nodes.new("ShaderNodeTexSky")
+    sky.sky_type = sky_type
+    return scene, nt, nt.nodes["Background"], sky
+
+
 def nishita_sky():
     """Blender's default sky (Sky Texture, Nishita: sun 15 degrees up, its disc on), the sun turned
     by its rotation (70 degrees): a diffuse and a glossy ball on a grey floor, the horizon and the
     glow around the sun in view (its disc out of the frame, its light and shadows in it). A Mapping
     node (Z 40 degrees) on the sky's Vector, which Cycles 3.4 ignores for a Nishita sky (measured:
     the image is bit-identical with Z 0 or 90, X 90, or the Mapping's input unlinked)."""
-    scene = reset(64)
-    scene.render.resolution_x = 128
-    nt = scene.world.node_tree
-    bg = nt.nodes["Background"]
-    sky = nt.nodes.new("ShaderNodeTexSky")
-    sky.sky_type = "NISHITA"
+    scene, nt, bg, sky = sky_world("NISHITA")
     sky.sun_rotation = math.radians(70)
     mapping = nt.nodes.new("ShaderNodeMapping")
     mapping.inputs["Rotation"].default_value = (0.0, 0.0, math.radians(40))
@@ -1606,12 +1612,7 @@ def principled_glass_tint():
 def preetham_sky():
     """Blender's Sky Texture of type Preetham (turbidity 3, the sun 30 degrees up, to the back
     left): a diffuse and a glossy ball on a grey floor, the horizon in view."""
-    scene = reset(64)
-    scene.render.resolution_x = 128
-    nt = scene.world.node_tree
-    bg = nt.nodes["Background"]
-    sky = nt.nodes.new("ShaderNodeTexSky")
-    sky.sky_type = "PREETHAM"
+    scene, nt, bg, sky = sky_world("PREETHAM")
     sky.turbidity = 3.0
     elevation, azimuth = math.radians(30), math.radians(130)
     sky.sun_direction = (math.cos(elevation) * math.sin(azimuth), math.cos(elevation) * math.cos(azimuth),

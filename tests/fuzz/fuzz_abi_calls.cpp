@@ -145,8 +145,12 @@ std::string world_params(Reader &in) {
     case 5: return R"({"color":[0.5,0.5,0.5],"camera":{"color":[)" + x() + R"(,0.2,0.9],"strength":)" + x() +
                    R"(},"visibility":{"camera":)" + (in.small(2) ? "true" : "false") + "}}";
     case 2: return R"({"color":[0,0,0],"volume":{"density":)" + x() + R"(,"anisotropy":)" + x() + "}}";
-    case 3: return R"({"sky":{"sun_elevation":)" + x() + R"(,"altitude":)" + x() + R"(,"air_density":)" + x() +
-                   R"(,"sun_size":)" + x() + R"(},"strength":)" + x() + "}";
+    case 3:
+      if (in.small(2))
+        return R"({"sky":{"type":"preetham","sun_direction":[)" + x() + "," + x() + R"(,1],"turbidity":)" + x() +
+               R"(},"strength":)" + x() + "}";
+      return R"({"sky":{"sun_elevation":)" + x() + R"(,"altitude":)" + x() + R"(,"air_density":)" + x() +
+             R"(,"sun_size":)" + x() + R"(},"strength":)" + x() + "}";
     default: return R"({"environment":{"file":"textures/does_not_exist.exr"},"strength":)" + x() + "}";
   }
 }

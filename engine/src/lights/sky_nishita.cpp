@@ -1,4 +1,5 @@
 #include "lights/sky_nishita.h"
+#include "lights/sky_bake.h"
 #include <tbb/parallel_for.h>
 #include <algorithm>
 #include <cmath>
@@ -294,33 +295,18 @@ Color NishitaSky::radiance(Vec3 d) const {
 
 std::vector<float> NishitaSky::bake(int width) const {
   const int height = width / 2;
-  std::vector<float> rgb(size_t(width) * height * 3);
-  auto direction = [&](double u, double v) {  // u, v in pixels from the left and the top
-    const double theta = v / height * kPi, phi = (0.5 - u / width) * 2 * kPi;
-    return Vec3(float(std::sin(theta) * std::cos(phi)), float(std::sin(theta) * std::sin(phi)), float(std::cos(theta)));
-  };
   // A pixel spans at most this angle (a column at the equator, plus a row).
   const float pixel = float(2 * kPi / width + kPi / height);
   const float disc = s_.sun_disc ? s_.sun_size / 2 + pixel : -1.0f;
-  tbb::parallel_for(0, height, [&](int j) {
-    for (int i = 0; i < width; ++i) {
-      const Vec3 centre = direction(i + 0.5, j + 0.5);
-      Color c(0.0f);
-      if (std::acos(clampf(dot(centre, sun_dir_), -1.0f, 1.0f)) < disc) {
-        const int n = 16;
-        for (int b = 0; b < n; ++b)
-          for (int a = 0; a < n; ++a) c += radiance(direction(i + (a + 0.5) / n, j + (b + 0.5) / n));
-        c = c / float(n * n);
-      } else {
-        c = radiance(centre);
-      }
-      float *px = &rgb[(size_t(j) * width + size_t(i)) * 3];
-      px[0] = c.x;
-      px[1] = c.y;
-      px[2] = c.z;
-    }
+  return bake_sky(width, [&](int i, int j) {
+    const Vec3 centre = sky_direction(width, i + 0.5, j + 0.5);
+    if (std::acos(clampf(dot(centre, sun_dir_), -1.0f, 1.0f)) >= disc) return radiance(centre);
+    Color c(0.0f);
+    const int n = 16;
+    for (int b = 0; b < n; ++b)
+      for (int a = 0; a < n; ++a) c += radiance(sky_direction(width, i + (a + 0.5) / n, j + (b + 0.5) / n));
+    return c / float(n * n);
   });
-  return rgb;
 }
 
 }  // namespace rdv

@@ -1,8 +1,8 @@
 #include "lights/sky_preetham.h"
 #include <cmath>
-#include <tbb/parallel_for.h>
 #include "core/cie_1931.h"
 #include "core/error.h"
+#include "lights/sky_bake.h"
 
 namespace rdv {
 
@@ -82,21 +82,7 @@ Color PreethamSky::radiance(Vec3 d) const {
 }
 
 std::vector<float> PreethamSky::bake(int width) const {
-  const int height = width / 2;
-  std::vector<float> rgb(size_t(width) * height * 3);
-  tbb::parallel_for(0, height, [&](int j) {
-    const double theta = (j + 0.5) / height * kPi;
-    for (int i = 0; i < width; ++i) {
-      const double phi = (0.5 - (i + 0.5) / width) * 2 * kPi;  // EnvironmentMap's (Blender's) mapping
-      const Color c = radiance(Vec3(float(std::sin(theta) * std::cos(phi)), float(std::sin(theta) * std::sin(phi)),
-                                    float(std::cos(theta))));
-      float *px = &rgb[(size_t(j) * width + size_t(i)) * 3];
-      px[0] = c.x;
-      px[1] = c.y;
-      px[2] = c.z;
-    }
-  });
-  return rgb;
+  return bake_sky(width, [&](int i, int j) { return radiance(sky_direction(width, i + 0.5, j + 0.5)); });
 }
 
 }  // namespace rdv
