@@ -109,7 +109,7 @@ def convert_material(material, image_average=None, image_file=None, volume_grids
         return variants[0][1], warning
     note = "Material '%s': its look for each kind of ray (Light Path) needs one object copy per look; here " \
            "the one diffuse rays see" % getattr(material, "name", "?")
-    params = next(p for kinds, p in variants if "diffuse" in kinds)
+    params = ray_kinds.lighting_look(variants)
     return params, "%s; %s" % (warning, note) if warning else note
 
 

@@ -121,3 +121,9 @@ def kind_variants(lower, issues, label):
         else:
             groups.append((text, [kind], params))
     return [(kinds, params) for _, kinds, params in groups]
+
+
+def lighting_look(variants):
+    """Of kind_variants-style [(kinds or None, x)], the x diffuse rays see (the look that stands
+    for the material where one look must do)."""
+    return next(x for kinds, x in variants if kinds is None or "diffuse" in kinds)

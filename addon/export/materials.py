@@ -61,7 +61,7 @@ class MaterialCache:
             self._names.add(name)
             looks.append((kinds, self.sink.add_material(name, params)))
         self._looks[key] = looks
-        self._ids[key] = next(mid for kinds, mid in looks if kinds is None or "diffuse" in kinds)
+        self._ids[key] = shaders_map.ray_kinds.lighting_look(looks)
         return looks
 
 

@@ -93,13 +93,6 @@ class SobolSampler final : public Sampler {
     return {to_float(x), to_float(y)};
   }
 
-  static uint32_t reverse_bits(uint32_t v) {
-    v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
-    v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
-    v = ((v >> 4) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4);
-    v = ((v >> 8) & 0x00ff00ffu) | ((v & 0x00ff00ffu) << 8);
-    return (v >> 16) | (v << 16);
-  }
   static uint32_t reversed_sobol_dimension1(uint32_t index) {
     static const ReversedSobolTables tables;
     return tables.t[0][index & 0xff] ^ tables.t[1][(index >> 8) & 0xff] ^ tables.t[2][(index >> 16) & 0xff] ^
