@@ -124,7 +124,8 @@ class _Lowerer:
         if op in ("tex_image", "tex_environment"):
             return op == "tex_image" and self._image_file(ir) is not None
         if op in ("texcoord", "uvmap", "tex_checker", "tex_noise", "tex_gradient", "vertex_color",
-                  "normal_map", "bump", "object_info", "blackbody", "wavelength", "geometry", "wireframe", "ao") + PROCEDURAL_TEXTURES:
+                  "normal_map", "bump", "bevel", "object_info", "blackbody", "wavelength", "geometry", "wireframe",
+                  "ao") + PROCEDURAL_TEXTURES:
             return True
         if op == "attribute":
             return ir.props.get("attribute_type", "GEOMETRY") == "GEOMETRY" and bool(ir.props.get("attribute_name"))
@@ -452,6 +453,16 @@ class _Lowerer:
             d["normal"] = n
         return d
 
+    def _n_bevel(self, e):
+        samples = min(max(int(e.props.get("samples", 4)), 0), 128)
+        if samples != e.props.get("samples", 4):
+            self.approx(e.node, "Samples kept to 0..128")
+        d = {"node": "bevel", "radius": self.value(e.args["radius"]), "samples": samples}
+        n = self.normal(e.args.get("normal"), e.node)
+        if n is not None:
+            d["normal"] = n
+        return d
+
     def _n_vertex_color(self, e):
         d = {"node": "vertex_color", "layer": e.props.get("layer_name") or DEFAULT_COLOR_ATTRIBUTE}
         if e.props.get("output") == "Alpha":
@@ -466,13 +477,13 @@ class _Lowerer:
         return {"node": "attribute", "name": e.props["attribute_name"], "output": out}
 
     def normal(self, ir, owner):
-        """A Normal input -> a normal_map/bump node, or None (the shading normal)."""
+        """A Normal input -> a normal_map/bump/bevel node, or None (the shading normal)."""
         if ir is None or isinstance(ir, Const):
             return None
         x = ir
         while isinstance(x, Expr) and x.op == "to_vec3":
             x = x.args.get("value")
-        if isinstance(x, Expr) and x.op in ("normal_map", "bump"):
+        if isinstance(x, Expr) and x.op in ("normal_map", "bump", "bevel"):
             return self.value(x)
         if isinstance(x, Expr):
             self.approx(owner, "normal input from %s ignored" % x.node)

@@ -1,4 +1,4 @@
-"""Vector nodes: Texture Coordinate, UV Map, Mapping, Normal Map, Bump."""
+"""Vector nodes: Texture Coordinate, UV Map, Mapping, Normal Map, Bump, Bevel."""
 
 import math
 
@@ -96,7 +96,17 @@ def bump(ctx, node, socket):
     }, {"invert": getattr(node, "invert", False)})
 
 
-@evaluates("normal_map", "bump")
+# Bevel: the engine averages the object's normals within Radius (textures/bevel.h); Normal,
+# when linked, is offset by the bevel's turn. Dropped on blurry rays (ray_kinds.py).
+@maps("ShaderNodeBevel")
+def bevel(ctx, node, socket):
+    return Expr("bevel", ctx.label(node), {
+        "radius": ctx.input(node, "Radius", default=0.05),
+        "normal": ctx.input(node, "Normal", default=(0, 0, 0)),
+    }, {"samples": int(getattr(node, "samples", 4))})
+
+
+@evaluates("normal_map", "bump", "bevel")
 def eval_normal(ev, e):
     ev.approx(e, "normal perturbation ignored")
     return (0.0, 0.0, 0.0)

@@ -42,8 +42,8 @@ struct Parser {
     if (!j) return -1;
     int node = m.graph.parse(*j, p.what() + " '" + key + "'", m.warnings);
     TexNodeType t = m.graph.node(node).type;
-    if (t != TexNodeType::NormalMap && t != TexNodeType::Bump)
-      fail(p.what() + ": '" + key + "' must be a normal_map or bump node");
+    if (t != TexNodeType::NormalMap && t != TexNodeType::Bump && t != TexNodeType::Bevel)
+      fail(p.what() + ": '" + key + "' must be a normal_map, bump or bevel node");
     return node;
   }
   // Emission: colour x strength x the Mix Shader factors. Constant terms fold into

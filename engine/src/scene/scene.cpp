@@ -856,6 +856,16 @@ static void set_footprint(ShadingPoint &sp, Vec3 dir, float width) {
   sp.dy = to_uv(b * width);
 }
 
+// The ray moved just past a hit at distance t, to look for what lies beyond it; false when
+// nothing of its segment is left.
+static bool step_past(Ray &ray, float t) {
+  const Vec3 p = ray.o + ray.d * t;
+  const float step = std::max(t * 1e-4f, (std::fabs(p.x) + std::fabs(p.y) + std::fabs(p.z)) * 1e-6f);
+  ray.o = p + ray.d * step;
+  ray.tmax -= t + step;
+  return ray.tmax > 0;
+}
+
 bool Scene::texture_ray_occluded(const ShadingPoint &sp, Vec3 d, float tmax, bool only_local) const {
   Ray ray{spawn_origin(sp.p, sp.ng, sp.error, d), d, tmax, visibility::kShadow};  // what casts shadows
   if (!only_local) return accel_.occluded(ray.o, ray.d, ray.tmax, ray.mask);
@@ -865,13 +875,34 @@ bool Scene::texture_ray_occluded(const ShadingPoint &sp, Vec3 d, float tmax, boo
     RawHit raw;
     if (!accel_.intersect(ray, raw)) return false;
     if (raw.instance == sp.instance) return true;
-    const Vec3 p = ray.o + ray.d * raw.t;
-    const float step = std::max(raw.t * 1e-4f, (std::fabs(p.x) + std::fabs(p.y) + std::fabs(p.z)) * 1e-6f);
-    ray.o = p + ray.d * step;
-    ray.tmax -= raw.t + step;
-    if (!(ray.tmax > 0)) return false;
+    if (!step_past(ray, raw.t)) return false;
   }
   return false;
+}
+
+int Scene::texture_ray_local_hits(const ShadingPoint &sp, Vec3 o, Vec3 d, float tmax, LocalHit *hits, int max_hits,
+                                  uint32_t seed) const {
+  // Every surface along the segment, whichever kinds of ray see it (Cycles' local
+  // intersection reads the object's own BVH); those of other objects passed, up to a bound.
+  Ray ray{o, d, tmax, visibility::kAnyRay};
+  Pcg32 rng(seed);
+  int found = 0;
+  for (int steps = 0; steps < 64; ++steps) {
+    RawHit raw;
+    if (!accel_.intersect(ray, raw)) break;
+    if (raw.instance == sp.instance) {
+      // Reservoir sampling: each of the `found` hits is kept with probability max_hits / found.
+      const int slot = found < max_hits ? found : int(rng.next_u32() % uint32_t(found + 1));
+      if (slot < max_hits) {
+        SurfaceHit hit;
+        surface_at(raw, hit);
+        hits[slot] = {hit.p, hit.ng, hit.ns};
+      }
+      ++found;
+    }
+    if (!step_past(ray, raw.t)) break;
+  }
+  return found;
 }
 
 ShadingPoint Scene::shading_point(const SurfaceHit &hit, Vec3 dir, float width) const {
@@ -884,7 +915,7 @@ ShadingPoint Scene::shading_point(const SurfaceHit &hit, Vec3 dir, float width) 
   sp.ns = hit.ns;
   sp.uv = hit.uv;
   sp.mesh = &m;
-  sp.occlusion = this;
+  sp.rays = this;
   sp.error = hit.error;
   sp.instance = hit.instance;
   sp.backfacing = dot(dir, hit.ng) > 0;

@@ -12,12 +12,12 @@
 #include "core/distribution.h"
 #include "film/data_passes.h"
 #include "lights/environment.h"
-#include "textures/ambient_occlusion.h"
 #include "lights/light.h"
 #include "lights/volume_light.h"
 #include "media/medium.h"
 #include "scene/camera.h"
 #include "scene/embree_accel.h"
+#include "textures/texture_rays.h"
 #include "scene/mesh.h"
 #include "scene/ray_visibility.h"
 
@@ -42,7 +42,7 @@ struct SurfaceHit {
   float b1 = 0, b2 = 0;  // barycentrics of vertices 1 and 2 (for textures: Scene::shading_point)
 };
 
-class Scene : private OcclusionQuery {
+class Scene : private TextureRays {
  public:
   Scene();
 
@@ -296,8 +296,10 @@ class Scene : private OcclusionQuery {
   std::string summary_json() const;
 
  private:
-  // The Ambient Occlusion node's rays (OcclusionQuery): from the shading point along d.
+  // The Ambient Occlusion and Bevel nodes' rays (TextureRays).
   bool texture_ray_occluded(const ShadingPoint &sp, Vec3 d, float tmax, bool only_local) const override;
+  int texture_ray_local_hits(const ShadingPoint &sp, Vec3 o, Vec3 d, float tmax, LocalHit *hits, int max_hits,
+                             uint32_t seed) const override;
   // What the world looks like: a constant radiance, or an HDRI / baked sky (map) times it.
   struct WorldLook {
     Color radiance{0.05f};

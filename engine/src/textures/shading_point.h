@@ -10,7 +10,7 @@
 namespace rdv {
 
 struct Mesh;
-class OcclusionQuery;
+class TextureRays;
 
 struct ShadingPoint {
   Vec3 p{0.0f};          // world position
@@ -31,9 +31,10 @@ struct ShadingPoint {
   float object_random = 0, object_alpha = 1, object_index = 0, material_index = 0;
   Color object_color{1.0f};
   const Mesh *mesh = nullptr;          // for named attributes
-  // The Ambient Occlusion node's rays (textures/ambient_occlusion.h): the scene that traces
-  // them (null: none, AO 1), the point's rounding error (for their origin) and its instance.
-  const OcclusionQuery *occlusion = nullptr;
+  // The Ambient Occlusion and Bevel nodes' rays (textures/texture_rays.h): the scene that
+  // traces them (null: none; AO 1, Bevel the shading normal), the point's rounding error (for
+  // their origin) and its instance.
+  const TextureRays *rays = nullptr;
   Vec3 error{0.0f};
   uint32_t instance = 0;
   // The ray that reached the point came from behind the surface (against ng): Cycles turns

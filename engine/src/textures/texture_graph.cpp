@@ -9,6 +9,7 @@
 #include "media/blackbody.h"
 #include "scene/mesh.h"
 #include "textures/ambient_occlusion.h"
+#include "textures/bevel.h"
 #include "textures/math_nodes.h"
 #include "textures/musgrave.h"
 #include "textures/noise.h"
@@ -600,6 +601,15 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.depth = int(samples);
     n.mode = uint8_t((r.flag("inside", false) ? 1 : 0) | (r.flag("only_local", false) ? 2 : 0));
     n.output = outputs({"color", "ao"});
+  } else if (type == "bevel") {
+    // Blender's Bevel node: the normal averaged over the object's surfaces within `radius`
+    // from `samples` (0..128) local rays; `normal` (a normal node) offset by the bevel's turn.
+    n.type = TexNodeType::Bevel;
+    n.in[0] = input("radius", 0.05);
+    if (r.has("normal")) n.in[1] = parse(j["normal"], what + " 'normal'", warnings);
+    const float samples = r.num("samples", 4.0f);  // Blender's default
+    if (!(samples >= 0 && samples <= 128)) fail(what + ": 'samples' must be 0 to 128");
+    n.depth = int(samples);
   } else if (type == "wireframe") {
     n.type = TexNodeType::Wireframe;
     n.in[0] = input("size", 0.01);
@@ -739,7 +749,7 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
                    "only (docs/scene-format.md)");
   } else {
     fail(what_in + ": unknown texture node '" + type +
-         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, object_info, color_space, blackbody, wavelength, wireframe, ambient_occlusion, invert, hue_saturation, attribute, vertex_color, "
+         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, object_info, color_space, blackbody, wavelength, wireframe, ambient_occlusion, bevel, invert, hue_saturation, attribute, vertex_color, "
          "uv, texture_coordinate, mapping, normal_map, bump, separate_rgb, combine_rgb, rgb_to_bw, bright_contrast, gamma)");
   }
   r.used.insert("output");
@@ -1109,7 +1119,8 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
       }
     }
     case TexNodeType::NormalMap:
-    case TexNodeType::Bump: return eval_normal(idx, sp);
+    case TexNodeType::Bump:
+    case TexNodeType::Bevel: return eval_normal(idx, sp);
     case TexNodeType::SeparateRgb: return Color(in(0)[n.output]);
     case TexNodeType::CombineRgb: return {inf(0), inf(1), inf(2)};
     case TexNodeType::RgbToBw: return Color(luminance(in(0)));
@@ -1161,6 +1172,14 @@ Vec3 TextureGraph::eval_normal(int idx, const ShadingPoint &sp) const {
       out = l > 0 ? out / l : N;
     }
     return out;
+  }
+  if (n.type == TexNodeType::Bevel) {
+    const Vec3 bevel = bevel_normal(sp, eval_float(n.in[0], sp), n.depth);
+    if (n.in[1] < 0) return bevel;
+    // Cycles keeps the input's normal and adds the bevel's turn away from the shading normal.
+    const Vec3 input = eval_normal(n.in[1], sp), out = input + (bevel - sp.ns);
+    const float len = length(out);
+    return len > 0 && std::isfinite(len) ? out / len : input;
   }
   if (n.type == TexNodeType::Bump) {
     if (n.in[3] >= 0) N = eval_normal(n.in[3], sp);

@@ -29,7 +29,8 @@ enum class TexNodeType : uint8_t {
   Blackbody,   // Planck's colour at a temperature (media/blackbody.h)
   Wavelength,  // a spectral colour (Cycles' Wavelength node)
   Wireframe,   // 1 within half a width of the triangle's edges (Cycles' Wireframe node)
-  AmbientOcclusion  // the unoccluded share of directions around the normal (textures/ambient_occlusion.h)
+  AmbientOcclusion,  // the unoccluded share of directions around the normal (textures/ambient_occlusion.h)
+  Bevel              // a normal averaged over the object's nearby surfaces (textures/bevel.h)
 };
 
 constexpr int kTexNodeInputs = 10;  // the most any node has (Brick)
@@ -86,7 +87,7 @@ class TextureGraph {
   const TexNode &node(int i) const { return nodes_[size_t(i)]; }
   size_t size() const { return nodes_.size(); }
   int num_images() const;
-  // A normal-perturbing node (normal_map / bump) evaluated to a world-space unit normal.
+  // A normal-perturbing node (normal_map / bump / bevel) evaluated to a world-space unit normal.
   Vec3 eval_normal(int node, const ShadingPoint &sp) const;
 
  private:
