@@ -152,7 +152,7 @@ def _convert_material(material, image_average, image_file, volume_grids):
 
 def _lower_by_ray_kind(desc, image_average, image_file, volume_grids):
     """[(kinds or None, params)] of a translated material (ray_kinds.py)."""
-    if not ray_kinds.reads_ray_kind(desc.surface, desc.volume):
+    if not ray_kinds.flag_outputs(desc.surface, desc.volume):
         params, _ = lower_surface(desc, image_average, image_file, volume_grids)
         return [(None, params)]
 
@@ -166,12 +166,7 @@ def _lower_by_ray_kind(desc, image_average, image_file, volume_grids):
         return lower_surface(variant, image_average, image_file, volume_grids)[0]
 
     if desc.volume is not None or volume_grids:
-        # Copies of a medium's boundary would each be crossed: one material, as diffuse rays
-        # see it; with no Light Path in it, as the camera sees it (a Bevel on every ray).
-        if not ray_kinds.flag_outputs(desc.surface, desc.volume):
-            desc.issues.add(desc.output_label, "Bevel in a material with a volume: kept for every ray (Cycles skips "
-                                               "it after diffuse bounces)")
-            return [(None, lower(ray_kinds.KIND_FLAGS["camera"][0]))]
+        # Copies of a medium's boundary would each be crossed: one material, as diffuse rays see it.
         desc.issues.add(desc.output_label, "Light Path's ray types in a material with a volume: shaded as diffuse "
                                            "rays see it, for every ray")
         return [(None, lower(ray_kinds.KIND_FLAGS["diffuse"][0]))]

@@ -20,13 +20,6 @@ escapes with the ray's, so only Is Camera Ray (camera rays see it, no other ray 
 Shadow Ray (0: shadow rays never see the world) have one value per kind; the engine's world
 takes a look of its own for camera rays (world "camera").
 
-The Bevel node reads the ray too: Cycles skips it ("blurry indirect rays") once the path's
-smallest bounce density falls below 8, i.e. after a diffuse bounce or a rough glossy one,
-keeping it for camera rays and sharp reflections and refractions. Here it is kept for the
-camera, glossy and transmission kinds and dropped (its Normal input, or the shading normal)
-for diffuse, volume-scattering and shadow rays: the kind of the last bounce stands for the
-path's history (a rough reflection keeps it; translucency, a transmission kind, keeps it).
-Those looks skip its rays, as Cycles does for speed.
 """
 
 from .evaluate import Evaluator, is_constant
@@ -76,23 +69,10 @@ def flag_outputs(*roots):
             if isinstance(x, Expr) and x.op == "light_path" and x.props.get("output") in FLAG_OUTPUTS}
 
 
-def reads_ray_kind(*roots):
-    """Whether these IR trees look different to different kinds of ray: Light Path's ray
-    types, or a Bevel (skipped on blurry rays)."""
-    return any(isinstance(x, Expr) and (x.op == "bevel" or x.op == "light_path" and x.props.get("output") in FLAG_OUTPUTS)
-               for x in _walk(roots))
-
-
-# Rays after which Cycles skips the Bevel node (its min_ray_pdf below 8), as the engine's kinds
-# tell them (see the module's note): those carrying these flags.
-BLURRY_FLAGS = ({"diffuse", "reflect"}, {"shadow"}, {"volume_scatter"})
-
-
 def substitute(ir, flags, memo=None):
     """A copy of ir with each Light Path flag output the constant it has on a ray carrying
-    `flags`, each Bevel on a blurry ray its Normal input, and each Mix Shader whose factor
-    became a constant 0 or 1 replaced by the shader it picks (Cycles clamps the factor to
-    [0, 1])."""
+    `flags`, and each Mix Shader whose factor became a constant 0 or 1 replaced by the shader
+    it picks (Cycles clamps the factor to [0, 1])."""
     memo = {} if memo is None else memo
     if ir is None or isinstance(ir, Const):
         return ir
@@ -102,8 +82,6 @@ def substitute(ir, flags, memo=None):
     if isinstance(ir, Expr):
         if ir.op == "light_path" and ir.props.get("output") in FLAG_OUTPUTS:
             out = Const(1.0 if FLAG_OUTPUTS[ir.props["output"]] in flags else 0.0)
-        elif ir.op == "bevel" and any(b <= set(flags) for b in BLURRY_FLAGS):
-            out = substitute(ir.args["normal"], flags, memo)
         else:
             out = Expr(ir.op, ir.node, {k: substitute(v, flags, memo) for k, v in ir.args.items()}, ir.props)
     elif isinstance(ir, Closure):

@@ -1589,6 +1589,60 @@ def mapped_normals():
     return scene
 
 
+def bevel():
+    """Bevel nodes rounding hard edges in the shading, lit by a sun and a dim sky: a rotated
+    cube, Principled (roughness 0.35), its Normal from a Bevel (radius 0.1, 8 samples); a cube
+    whose Bump (a fine Noise) takes its Normal from a Bevel (radius 0.06); a faceted (flat-shaded,
+    12-sided) glossy cylinder whose facets' edges a Bevel (radius 0.05) rounds; all on a near-mirror
+    floor (roughness 0.05) that shows the bevelled edges. Cycles skips the Bevel after diffuse
+    and rough bounces (a bounce density below 8); the engine keeps it for every ray, so on a
+    floor of roughness 0.15 the cylinder's reflection differs (README)."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.1, 0.12, 0.16, 1.0)
+
+    def bevelled(name, shader, inputs, radius, samples=8, noise_scale=None):
+        m, nt, out = empty_material(name)
+        bsdf = nt.nodes.new(shader)
+        for k, v in inputs.items():
+            bsdf.inputs[k].default_value = v
+        bev = nt.nodes.new("ShaderNodeBevel")
+        bev.samples = samples
+        bev.inputs["Radius"].default_value = radius
+        normal = bev.outputs["Normal"]
+        if noise_scale is not None:
+            noise = nt.nodes.new("ShaderNodeTexNoise")
+            noise.inputs["Scale"].default_value = noise_scale
+            bump = nt.nodes.new("ShaderNodeBump")
+            bump.inputs["Strength"].default_value = 0.3
+            bump.inputs["Distance"].default_value = 0.05
+            nt.links.new(noise.outputs["Fac"], bump.inputs["Height"])
+            nt.links.new(normal, bump.inputs["Normal"])
+            normal = bump.outputs["Normal"]
+        nt.links.new(normal, bsdf.inputs["Normal"])
+        nt.links.new(bsdf.outputs[0], out.inputs["Surface"])
+        return m
+    m, nt, out = empty_material("FloorGloss")
+    gloss = nt.nodes.new("ShaderNodeBsdfGlossy")
+    gloss.inputs["Color"].default_value = (0.6, 0.6, 0.6, 1.0)
+    gloss.inputs["Roughness"].default_value = 0.05
+    nt.links.new(gloss.outputs[0], out.inputs["Surface"])
+    plane("Floor", 8.0, m)
+    bpy.ops.mesh.primitive_cube_add(size=0.8, location=(-0.95, 0.1, 0.4), rotation=(0, 0, math.radians(30)))
+    bpy.context.active_object.data.materials.append(
+        bevelled("BevelPrincipled", "ShaderNodeBsdfPrincipled", {"Base Color": (0.8, 0.3, 0.2, 1.0), "Roughness": 0.35},
+                 0.1))
+    bpy.ops.mesh.primitive_cube_add(size=0.6, location=(0.05, 0.5, 0.3), rotation=(0, 0, math.radians(-20)))
+    bpy.context.active_object.data.materials.append(
+        bevelled("BevelBump", "ShaderNodeBsdfDiffuse", {"Color": (0.3, 0.6, 0.8, 1.0)}, 0.06, noise_scale=20.0))
+    bpy.ops.mesh.primitive_cylinder_add(vertices=12, radius=0.35, depth=0.7, location=(0.9, -0.1, 0.35))
+    bpy.context.active_object.data.materials.append(
+        bevelled("BevelGlossy", "ShaderNodeBsdfGlossy", {"Color": (0.9, 0.8, 0.5, 1.0), "Roughness": 0.2}, 0.05))
+    light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(50), 0, math.radians(-35)), angle=math.radians(3))
+    camera_looking_at((0.3, -3.4, 1.6), (0, 0, 0.35), 35)
+    return scene
+
+
 def principled_glass_tint():
     """Cycles 3.4's Principled glass with Specular Tint: its reflection runs from the base colour
     (tint 1) at normal incidence to white at grazing. Two orange glass balls (Transmission 1,
@@ -1915,6 +1969,7 @@ SCENES = {
     "principled_glass_tint": principled_glass_tint,
     "wireframe_parametric": wireframe_parametric,
     "ambient_occlusion": ambient_occlusion,
+    "bevel": bevel,
     "mapped_normals": mapped_normals,
     "preetham_sky": preetham_sky,
     "plane_point": plane_point,
@@ -1969,7 +2024,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "mapped_normals", "preetham_sky", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "mapped_normals", "preetham_sky", "emissive_textured",
                      "volume_blackbody"]
 
 

@@ -704,10 +704,10 @@ class TestRayKinds(unittest.TestCase):
         self.assertEqual(v[0][1]["type"], "diffuse")
         self.assertIn("with a volume: shaded as diffuse rays see it", w)
 
-    def test_bevel_is_skipped_on_blurry_rays(self):
-        # Bevel into a Principled BSDF's Normal, a Bump chained on it: camera, glossy and
-        # transmission rays see it; diffuse, shadow and volume rays the plain normal (Cycles
-        # skips it after blurry bounces), so no bevel rays where no one would see them.
+    def test_bevel_is_one_look_for_every_ray(self):
+        # Bevel into a Principled BSDF's Normal, a Bump chained on it, a normal map into its
+        # own Normal: one material (no copies per ray kind: Cycles skips the Bevel after blurry
+        # bounces, the engine keeps it, README), the bevel a normal node.
         for bump in (False, True):
             with self.subTest(bump=bump):
                 def b(t):
@@ -724,34 +724,25 @@ class TestRayKinds(unittest.TestCase):
                     return bsdf.out()
                 v, w = variants(b)
                 self.assertIsNone(w)
-                self.assertEqual([kinds for kinds, _ in v], [["camera", "glossy", "transmission"],
-                                                             ["diffuse", "shadow", "volume_scatter"]])
-                sharp, blurry = v[0][1]["normal"], v[1][1].get("normal")
-                bevel = sharp["normal"] if bump else sharp
-                self.assertEqual(bevel, {"node": "bevel", "radius": 0.02, "samples": 8})
-                if bump:
-                    self.assertEqual(blurry["node"], "bump")
-                    self.assertNotIn("normal", blurry)
-                else:
-                    self.assertIsNone(blurry)
-        # Its own Normal input (a normal map) stays on blurry rays; in a material with a volume
-        # the bevel is kept for every ray, warned.
+                self.assertEqual(len(v), 1)
+                self.assertIsNone(v[0][0])
+                normal = v[0][1]["normal"]
+                self.assertEqual(normal["normal"] if bump else normal, {"node": "bevel", "radius": 0.02, "samples": 8})
+                keep("bevel_bump" if bump else "bevel", (v[0][1], None))
+
         def mapped(t):
-            bevel = t.new("ShaderNodeBevel", "Bevel")
+            bevel = t.new("ShaderNodeBevel", "Bevel", samples=200)
             nm = t.new("ShaderNodeNormalMap", "Map")
             t.link(nm.out(), bevel.inp("Normal"))
             d = t.new("ShaderNodeBsdfDiffuse", "D")
             t.link(bevel.out(), d.inp("Normal"))
             return d.out()
-        v, w = variants(mapped)
-        self.assertEqual(v[0][1]["normal"]["node"], "bevel")
-        self.assertEqual(v[0][1]["normal"]["normal"]["node"], "normal_map")
-        self.assertEqual(v[1][1]["normal"]["node"], "normal_map")
-        v, w = variants(mapped, volume=lambda t: t.new("ShaderNodeVolumeAbsorption", "Ink").out())
-        self.assertEqual(len(v), 1)
-        self.assertEqual(v[0][1]["normal"]["node"], "bevel")
-        self.assertIn("Bevel in a material with a volume: kept for every ray", w)
-        keep("bevel_sharp_rays", (v[0][1], None))
+        p, w = convert(mapped)
+        self.assertEqual(p["normal"]["node"], "bevel")
+        self.assertEqual(p["normal"]["samples"], 128)
+        self.assertIn("Samples kept to 0..128", w)
+        self.assertEqual(p["normal"]["normal"]["node"], "normal_map")
+        keep("bevel_mapped", (p, w))
 
     def test_convert_material_gives_the_diffuse_rays_look(self):
         p, w = convert(lambda t: _mix_by(t, "Is Camera Ray", _diffuse(t, (0.8, 0.1, 0.1)),

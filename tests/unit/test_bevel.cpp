@@ -7,7 +7,8 @@
 // - beside a box's edge, I from quadrature over the two faces (the mean over points along
 //   the edge, 128 samples each, within 5 standard errors of that mean and 0.5 degrees);
 // - on the edge, 45 degrees by symmetry;
-// at 1 mm, 1 m and 1 km. Deterministic (each point's sample set is a fixed function of its
+// at 1 mm, 1 m and 1 km, and with another object lying on the box's side face (its own
+// surfaces only: Cycles' local intersection). Deterministic (each point's sample set is a fixed function of its
 // position), so the outcome is reproducible; were the points' sets independent draws, the
 // 5-standard-error bound would fail by chance about once in 1.7 million runs.
 // Its agreement with Cycles in an image is blender.brightness.bevel.
@@ -31,14 +32,20 @@ struct LoadedScene {
   const Scene &scene() const { return *handle->scene; }
 };
 
-// A flat-shaded box 2 s wide around the origin, seen from above.
-void load_box(LoadedScene &s, double scale) {
-  const json doc = {
+// A flat-shaded box 2 s wide around the origin, seen from above; with `lid`, another
+// object's quad lying on its side x = s (the local rays must still find the box's face).
+void load_box(LoadedScene &s, double scale, bool lid = false) {
+  json doc = {
       {"camera", {{"transform", {{"look_at", {{"from", {0, 0, 10 * scale}}, {"to", {0, 0, 0}}, {"up", {0, 1, 0}}}}}}}},
       {"world", {{"color", {1, 1, 1}}}},
       {"materials", {{{"name", "grey"}, {"type", "diffuse"}, {"color", {0.5, 0.5, 0.5}}}}},
       {"meshes", {{{"name", "box"}, {"shape", {{"type", "box"}, {"size", {2 * scale, 2 * scale, 2 * scale}}, {"smooth", false}}},
                    {"materials", {"grey"}}}}}};
+  if (lid)
+    doc["meshes"].push_back({{"name", "lid"}, {"materials", {"grey"}},
+                             {"positions", {scale, -2 * scale, -2 * scale, scale, 2 * scale, -2 * scale,
+                                            scale, 2 * scale, 2 * scale, scale, -2 * scale, 2 * scale}},
+                             {"indices", {0, 1, 2, 0, 2, 3}}});
   rdv_scene_create(&s.handle);
   rdv_tools::load_scene_json(doc.dump(), test::source_path("scenes"), s.handle);
   ASSERT_EQ(rdv_scene_commit(s.handle), RDV_OK);
@@ -87,10 +94,10 @@ TEST(Bevel, FalloffRadiiInvertItsDistribution) {
 }
 
 TEST(Bevel, NormalIsTheFalloffWeightedMeanOfTheObjectsNormals) {
-  for (double scale : {1e-3, 1.0, 1e3}) {
-    SCOPED_TRACE("scale " + std::to_string(scale));
+  for (auto [scale, lid] : {std::pair{1e-3, false}, {1.0, false}, {1e3, false}, {1.0, true}}) {
+    SCOPED_TRACE("scale " + std::to_string(scale) + (lid ? ", a lid on the side" : ""));
     LoadedScene box;
-    load_box(box, scale);
+    load_box(box, scale, lid);
     const Scene &scene = box.scene();
     const float s = float(scale), radius = 0.1f * s;
 

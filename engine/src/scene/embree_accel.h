@@ -41,6 +41,12 @@ class EmbreeAccel {
   bool intersect(const Ray &ray, RawHit &hit) const { return intersect(top_, ray, hit); }
   // mask: the kinds of ray (scene/ray_visibility.h) the query stands for.
   bool occluded(Vec3 o, Vec3 d, float tmax, uint32_t mask) const;
+  // One mesh's real surfaces alone, the ray in its object space (Cycles' local intersection:
+  // what else lies there, even on the same spot, neither hides them nor is met).
+  bool intersect_mesh(uint32_t mesh, const Ray &object_ray, RawHit &hit) const {
+    const RTCScene surfaces = mesh < mesh_scenes_.size() ? mesh_scenes_[mesh].surfaces : nullptr;
+    return surfaces && intersect(surfaces, object_ray, hit);
+  }
   // Medium boundaries only.
   bool has_boundaries() const { return boundary_top_ != nullptr; }
   // Medium boundaries only, met by rays of every kind (a ray that passes a volume's

@@ -856,53 +856,51 @@ static void set_footprint(ShadingPoint &sp, Vec3 dir, float width) {
   sp.dy = to_uv(b * width);
 }
 
-// The ray moved just past a hit at distance t, to look for what lies beyond it; false when
-// nothing of its segment is left.
-static bool step_past(Ray &ray, float t) {
-  const Vec3 p = ray.o + ray.d * t;
-  const float step = std::max(t * 1e-4f, (std::fabs(p.x) + std::fabs(p.y) + std::fabs(p.z)) * 1e-6f);
-  ray.o = p + ray.d * step;
-  ray.tmax -= t + step;
-  return ray.tmax > 0;
-}
-
 bool Scene::texture_ray_occluded(const ShadingPoint &sp, Vec3 d, float tmax, bool only_local) const {
   Ray ray{spawn_origin(sp.p, sp.ng, sp.error, d), d, tmax, visibility::kShadow};  // what casts shadows
   if (!only_local) return accel_.occluded(ray.o, ray.d, ray.tmax, ray.mask);
-  // Only Local: the point's own object. Other objects are passed (a few at most, then
-  // taken as clear: a local query in a thicket of other objects is rare).
-  for (int passed = 0; passed < 16; ++passed) {
-    RawHit raw;
-    if (!accel_.intersect(ray, raw)) return false;
-    if (raw.instance == sp.instance) return true;
-    if (!step_past(ray, raw.t)) return false;
-  }
-  return false;
+  RawHit raw;  // Only Local: the point's own object
+  return accel_.intersect_mesh(instances_[sp.instance].mesh, to_object_now(sp.instance, ray), raw);
 }
 
 int Scene::texture_ray_local_hits(const ShadingPoint &sp, Vec3 o, Vec3 d, float tmax, LocalHit *hits, int max_hits,
                                   uint32_t seed) const {
-  // Every surface along the segment, whichever kinds of ray see it (Cycles' local
-  // intersection reads the object's own BVH); those of other objects passed, up to a bound.
-  Ray ray{o, d, tmax, visibility::kAnyRay};
+  // Every surface of the object along the segment, one after another: its own BVH, as
+  // Cycles' local intersection reads it (a copy of the object for other kinds of ray, or
+  // another object's face on the same spot, must not hide one).
+  const uint32_t mesh = instances_[sp.instance].mesh;
+  Ray ray = to_object_now(sp.instance, Ray{o, d, tmax});
   Pcg32 rng(seed);
   int found = 0;
   for (int steps = 0; steps < 64; ++steps) {
     RawHit raw;
-    if (!accel_.intersect(ray, raw)) break;
-    if (raw.instance == sp.instance) {
-      // Reservoir sampling: each of the `found` hits is kept with probability max_hits / found.
-      const int slot = found < max_hits ? found : int(rng.next_u32() % uint32_t(found + 1));
-      if (slot < max_hits) {
-        SurfaceHit hit;
-        surface_at(raw, hit);
-        hits[slot] = {hit.p, hit.ng, hit.ns};
-      }
-      ++found;
+    if (!accel_.intersect_mesh(mesh, ray, raw)) break;
+    // Reservoir sampling: each of the `found` hits is kept with probability max_hits / found.
+    const int slot = found < max_hits ? found : int(rng.next_u32() % uint32_t(found + 1));
+    if (slot < max_hits) {
+      raw.instance = sp.instance;
+      SurfaceHit hit;
+      surface_at(raw, hit);
+      hits[slot] = {hit.p, hit.ng, hit.ns};
     }
-    if (!step_past(ray, raw.t)) break;
+    ++found;
+    // Just past the hit, to look for what lies beyond it.
+    const Vec3 p = ray.o + ray.d * raw.t;
+    const float step = std::max(raw.t * 1e-4f, (std::fabs(p.x) + std::fabs(p.y) + std::fabs(p.z)) * 1e-6f);
+    ray.o = p + ray.d * step;
+    ray.tmax -= raw.t + step;
+    if (!(ray.tmax > 0)) break;
   }
   return found;
+}
+
+// A world-space ray in an instance's object space at the sample's shutter time; its t
+// parameters are the world ray's (the direction is carried, not normalised).
+Ray Scene::to_object_now(uint32_t instance, const Ray &world) const {
+  const Instance &inst = instances_[instance];
+  InstancePlacement moved;
+  const InstancePlacement &at = inst.moving ? (moved = placement_now(inst)) : placement(inst);
+  return Ray{at.to_object.point(world.o), at.to_object.vector(world.d), world.tmax, world.mask};
 }
 
 ShadingPoint Scene::shading_point(const SurfaceHit &hit, Vec3 dir, float width) const {

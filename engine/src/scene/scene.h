@@ -300,6 +300,7 @@ class Scene : private TextureRays {
   bool texture_ray_occluded(const ShadingPoint &sp, Vec3 d, float tmax, bool only_local) const override;
   int texture_ray_local_hits(const ShadingPoint &sp, Vec3 o, Vec3 d, float tmax, LocalHit *hits, int max_hits,
                              uint32_t seed) const override;
+  Ray to_object_now(uint32_t instance, const Ray &world) const;
   // What the world looks like: a constant radiance, or an HDRI / baked sky (map) times it.
   struct WorldLook {
     Color radiance{0.05f};
