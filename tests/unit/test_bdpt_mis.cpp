@@ -71,10 +71,11 @@ double to_area(double pdf_solid_angle, const PathVertex &a, const PathVertex &b)
 // unblurred one, and a strategy whose light walk sampled at a vertex the blur changed has
 // density 0.
 // Mixed ray visibility (Scene::has_mixed_visibility; integrators/bdpt/bdpt.h): a light walk
-// meets what any kind of ray but the camera's sees and passes no surface of mixed
-// visibility, so a strategy whose light walk would have to make a segment with one on it
-// (or, from a lamp that casts no shadows, any surface seen after a scattering) has density
-// 0; here each segment is asked afresh, between the path's two points.
+// meets what any kind of ray but the camera's sees and neither passes nor makes a vertex on a
+// surface of mixed visibility, so a strategy whose light walk would have to make a segment
+// with one on it (or, from a lamp that casts no shadows, any surface seen after a
+// scattering), or a vertex on one, has density 0; here each segment is asked afresh, between
+// the path's two points.
 double brute_force_weight(const Scene &scene, const std::vector<const PathVertex *> &y, int s,
                           float filter_glossy = 0) {
   const int n = int(y.size());
@@ -140,6 +141,8 @@ double brute_force_weight(const Scene &scene, const std::vector<const PathVertex
   auto density = [&](int k) {
     for (int i = 0; i <= k - 2; ++i)
       if (!light_walk_makes[i]) return 0.0;  // the light walk would pass a surface it cannot
+    for (int i = 1; i <= k - 1; ++i)
+      if (y[i]->on_surface() && visibility::is_mixed(y[i]->visibility)) return 0.0;  // nor stop on one
     for (int i = 1; i <= k - 2; ++i)
       if (changed[i]) return 0.0;  // the light walk sampled at a vertex the blur changed
     double p = k == 1 ? nee_origin : 1.0;

@@ -254,7 +254,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
         densities.s0_impossible = !visibility_clear(scene_, shadow, rays(kind), true, stats.rays, true);
         ++stats.rays;
         const uint32_t passed = light.occluders() ? visibility::kMixed : visibility::kNonCamera;
-        densities.light_cut = scene_.occluded(shadow.o, shadow.d, shadow.tmax, rays(passed));
+        densities.light_cut = ends_light_walks(pt) || scene_.occluded(shadow.o, shadow.d, shadow.tmax, rays(passed));
       }
     }
   } else {
@@ -321,7 +321,8 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     if (mixed_) {
       const ShadowRay segment = shadow_ray(qs.p, qs.ng, qs.error, pt.p, pt.ng, pt.error);
       ++stats.rays;
-      densities.light_cut = scene_.occluded(segment.o, segment.d, segment.tmax, rays(visibility::kMixed));
+      densities.light_cut =
+          ends_light_walks(pt) || scene_.occluded(segment.o, segment.d, segment.tmax, rays(visibility::kMixed));
     }
     densities.pt_rev = sq.pdf_fwd * cos_pt * inv_d2;  // qs.convert_density(sq.pdf_fwd, pt)
     densities.pt_minus_rev = pt.to_prev_density(sp.pdf_rev);
