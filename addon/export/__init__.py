@@ -299,6 +299,8 @@ class SceneExporter:
         rays = visibility.object_visibility(ob, kinds)
         if rays:  # Object > Visibility > Ray Visibility
             settings["visibility"] = rays
+        if kinds is not None:  # one of the object's copies on one spot, a look per ray kind
+            settings["look_copy"] = True
         return settings
 
     def _object_materials(self, ob):

@@ -340,12 +340,13 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
     return default_material;
   };
 
-  // An instance's object settings (rdv_scene_set_instance_params): "holdout", "shadow_catcher", "visibility",
+  // An instance's object settings (rdv_scene_set_instance_params): "holdout", "shadow_catcher", "look_copy", "visibility",
   // "pass_index", "random_id", "color"; and its "motion" (rdv_scene_set_instance_motion), unless motion blur is off.
   auto object_params = [&options](const json &j, const std::string &what) {
     json p = json::object();
     if (flag_of(j, "holdout", false, what)) p["holdout"] = true;
     if (flag_of(j, "shadow_catcher", false, what)) p["shadow_catcher"] = true;
+    if (flag_of(j, "look_copy", false, what)) p["look_copy"] = true;
     if (j.contains("visibility")) p["visibility"] = j["visibility"];  // the engine checks it
     if (j.contains("pass_index")) p["pass_index"] = j["pass_index"];  // and these
     if (j.contains("random_id")) p["random_id"] = j["random_id"];

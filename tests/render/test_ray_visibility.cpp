@@ -319,6 +319,7 @@ TEST(RayVisibility, LookCopiesOnOneSpot) {
   const json glossy_floor = {{"type", "glossy"}, {"color", {0.8, 0.8, 0.8}}, {"roughness", 0.2}};
   json scene = ball_scene({{"diffuse", false}, {"shadow", false}, {"volume_scatter", false}}, white, json::object(),
                           {{"color", {0, 0, 0}}}, glossy_floor);
+  scene["meshes"][0]["look_copy"] = true;
   json copy = scene["meshes"][0];
   copy["name"] = "ball_for_other_rays";
   copy["visibility"] = {{"camera", false}, {"glossy", false}, {"transmission", false}};

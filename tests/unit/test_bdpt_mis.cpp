@@ -71,11 +71,11 @@ double to_area(double pdf_solid_angle, const PathVertex &a, const PathVertex &b)
 // unblurred one, and a strategy whose light walk sampled at a vertex the blur changed has
 // density 0.
 // Mixed ray visibility (Scene::has_mixed_visibility; integrators/bdpt/bdpt.h): a light walk
-// meets what any kind of ray but the camera's sees and neither passes nor makes a vertex on a
-// surface of mixed visibility, so a strategy whose light walk would have to make a segment
-// with one on it (or, from a lamp that casts no shadows, any surface seen after a
-// scattering), or a vertex on one, has density 0; here each segment is asked afresh, between
-// the path's two points.
+// meets what any kind of ray but the camera's sees and passes no surface of mixed visibility
+// nor makes a vertex on a look copy of it (Instance::look_copy), so a strategy whose light
+// walk would have to make a segment with one on it (or, from a lamp that casts no shadows,
+// any surface seen after a scattering), or such a vertex, has density 0; here each segment
+// is asked afresh, between the path's two points.
 double brute_force_weight(const Scene &scene, const std::vector<const PathVertex *> &y, int s,
                           float filter_glossy = 0) {
   const int n = int(y.size());
@@ -142,7 +142,7 @@ double brute_force_weight(const Scene &scene, const std::vector<const PathVertex
     for (int i = 0; i <= k - 2; ++i)
       if (!light_walk_makes[i]) return 0.0;  // the light walk would pass a surface it cannot
     for (int i = 1; i <= k - 1; ++i)
-      if (y[i]->on_surface() && visibility::is_mixed(y[i]->visibility)) return 0.0;  // nor stop on one
+      if (y[i]->look_copy) return 0.0;  // nor make a vertex on a look copy of mixed visibility
     for (int i = 1; i <= k - 2; ++i)
       if (changed[i]) return 0.0;  // the light walk sampled at a vertex the blur changed
     double p = k == 1 ? nee_origin : 1.0;
@@ -354,5 +354,18 @@ TEST(BdptMisWeights, MixedVisibilityCornellBoxMatchesBruteForce) {
     if (mesh["name"] == "tall_block") mesh["visibility"] = {{"diffuse", false}};
     if (mesh["name"] == "short_block") mesh["visibility"] = {{"glossy", false}};
   }
+  expect_weights_match_brute_force(doc, 2000);
+  // The tall block as two look copies on one spot (Light Path's ray types), which light
+  // walks do not make vertices on.
+  for (auto &mesh : doc["meshes"])
+    if (mesh["name"] == "tall_block") {
+      mesh["visibility"] = {{"camera", false}, {"glossy", false}};
+      mesh["look_copy"] = true;
+      nlohmann::json copy = mesh;
+      copy["name"] = "tall_block_other_rays";
+      copy["visibility"] = {{"diffuse", false}, {"transmission", false}, {"shadow", false}, {"volume_scatter", false}};
+      doc["meshes"].push_back(copy);
+      break;
+    }
   expect_weights_match_brute_force(doc, 2000);
 }

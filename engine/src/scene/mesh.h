@@ -80,6 +80,10 @@ struct Instance : InstancePlacement {
   bool shadow_catcher = false;
   // Object > Visibility > Ray Visibility: the kinds of ray that see it (scene/ray_visibility.h).
   uint32_t visibility = 63;
+  // One of an object's copies on the same spot, each a look of its material for some kinds
+  // of ray (Light Path's ray types: the exporter's "look_copy"). BDPT's light walks end on
+  // one of mixed visibility (integrators/bdpt/bdpt.h).
+  bool look_copy = false;
   // Motion blur (scene/motion.h): to_world at n >= 2 evenly spaced times over the open
   // shutter, or empty. `moving` (derived by Scene::commit) says whether the instance is
   // rendered moving: steps given, the shutter open, and not a light or medium boundary.

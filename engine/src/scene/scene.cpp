@@ -1002,6 +1002,7 @@ void Scene::set_instance_params(uint32_t id, Params &params) {
   Instance &inst = instances_[id];
   const bool holdout = params.get_bool("holdout", false);
   const bool shadow_catcher = params.get_bool("shadow_catcher", false);
+  const bool look_copy = params.get_bool("look_copy", false);
   const std::string object = instance_description(id);
   const uint32_t v = visibility::parse(params.get_json("visibility"), object);
   const int pass_index = pass_index_of(params, object);
@@ -1023,6 +1024,7 @@ void Scene::set_instance_params(uint32_t id, Params &params) {
   if (v != inst.visibility || shadow_catcher != inst.shadow_catcher) accel_.mark_instances_dirty();
   inst.visibility = v;
   inst.shadow_catcher = shadow_catcher;
+  inst.look_copy = look_copy;
   dirty_ = true;
 }
 

@@ -252,6 +252,12 @@ class Scene : private TextureRays {
   // lamp casts no shadows: then a ray of one kind passes what another meets, which paths
   // traced from the lights cannot follow (integrators/path, bdpt say what they do).
   bool has_ray_visibility() const { return has_ray_visibility_; }
+  // A look copy of mixed visibility (Instance::look_copy): which of the object's copies a
+  // ray that any kind but the camera's may be meets there is the BVH's choice.
+  bool ends_light_walks(uint32_t instance) const {
+    const Instance &inst = instances_[instance];
+    return inst.look_copy && visibility::is_mixed(inst.visibility);
+  }
   bool has_mixed_visibility() const { return has_mixed_visibility_; }
   uint32_t instance_visibility(uint32_t instance) const { return instances_[instance].visibility; }
   // The first object (or light, or the world) hidden from some kind of ray, and the first

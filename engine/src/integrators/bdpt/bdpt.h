@@ -74,11 +74,12 @@ class Bdpt final : public TileIntegrator {
   // end, which must see the vertex it reaches, and the last one blocked by the light's
   // shadow casters. A light walk cannot know the kind of a segment until the vertex it
   // reaches scatters on, so:
-  // - light walks meet what any kind but the camera's sees and end where they meet a
-  //   surface of mixed visibility (with a vertex or passing a plain layer): the kind of the
-  //   segment reaching it, and so whether this instance or another lies there for it (a
-  //   material's look per ray kind is a copy of its object on the same spot,
-  //   shaders_map/ray_kinds.py), is known only once the walk scatters on;
+  // - light walks meet what any kind but the camera's sees and end where they would pass a
+  //   surface of mixed visibility without a vertex (a plain layer), or meet a look copy of
+  //   mixed visibility (Instance::look_copy: a material's look per kind of ray is a copy of
+  //   its object on the same spot, shaders_map/ray_kinds.py; which copy the walk's ray meets
+  //   is the BVH's choice, while the kind of that segment is known only once the walk
+  //   scatters on);
   // - a light vertex's segment is checked once the scattering at its camera end is known
   //   (the walk's next direction, or a connection): the vertex before must be visible to
   //   that kind, else the walk ends there (a path the camera side does not have);
@@ -89,7 +90,7 @@ class Bdpt final : public TileIntegrator {
   //   make (one more ray: Scene::nearest_mixed) and mark the vertex they reach
   //   (PathVertex::light_cut), connections theirs (ConnectionDensities::light_cut), and the
   //   MIS weights leave those strategies out; so do the segments leaving a camera vertex on
-  //   a surface of mixed visibility (a light walk would have had to make a vertex there).
+  //   a look copy of mixed visibility (a light walk would have had to make a vertex there).
   // Every other segment a light walk makes, a camera walk can make too.
   Color Li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, FirstHit *first_hit,
            std::vector<Splat> &splats) const override;
@@ -257,11 +258,9 @@ class Bdpt final : public TileIntegrator {
   // light_path[s - 2] is visible to the kind of scattering at light_path[s - 1] toward wi
   // (the walk checked the segments before: light_walk_seen).
   bool light_start_visible(const PathVertex *light_path, int s, Vec3 wi) const;
-  // A camera vertex no light walk makes (one on a surface of mixed visibility): a
-  // connection there cannot be a light walk's segment.
-  bool ends_light_walks(const PathVertex &pt) const {
-    return mixed_ && pt.on_surface() && visibility::is_mixed(pt.visibility);
-  }
+  // A camera vertex no light walk makes (on a look copy of mixed visibility): a connection
+  // there cannot be a light walk's segment.
+  bool ends_light_walks(const PathVertex &pt) const { return mixed_ && pt.look_copy; }
   // Mixed visibility: whether the light walk's vertices before light_path[last] (back to its
   // scattering before, past the vertices it passed through; not the light) are visible to
   // the kind of light_path[last]'s scattering toward wi (its camera side).

@@ -86,6 +86,9 @@ struct PathVertex {
   bool one_way = false;
   // Any: the strategies below this camera vertex cannot make the path.
   bool ends_light_side() const { return blurred || light_cut || one_way; }
+  // On a look copy of mixed visibility (Scene::ends_light_walks): no light walk makes a
+  // vertex here (camera subpaths; bdpt.h).
+  bool look_copy = false;
   // Ray visibility (scene/ray_visibility.h): a surface's instance's bits (scenes with ray
   // visibility), and on camera subpaths the kind of the ray that left the vertex.
   uint32_t visibility = visibility::kAll;

@@ -183,10 +183,10 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
         else mixed_t = t;
       }
     }
-    // A camera walk's segment leaving a surface of mixed visibility: no light walk makes it
+    // A camera walk's segment leaving a look copy of mixed visibility: no light walk makes it
     // (it would have to make a vertex there, which light walks never do: below).
-    const bool leaves_mixed = test_cuts && prev.on_surface() && visibility::is_mixed(prev.visibility);
-    auto cut_before = [&](float t) { return segment_cut || leaves_mixed || mixed_t < t; };
+    const bool leaves_copy = test_cuts && prev.look_copy;
+    auto cut_before = [&](float t) { return segment_cut || leaves_copy || mixed_t < t; };
     // Lamps a camera path passes (they are not in the BVH; light paths ignore them, as
     // lamps neither reflect nor block).
     // The denoising data (film/denoising_passes.h) take the emission the camera path finds
@@ -298,13 +298,14 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
         continue;
       }
     }
-    // A light walk ends at a surface of mixed visibility: which kind of ray the segment
-    // reaching it is, and so whether it sees this instance or (a look per ray kind, on the
-    // same spot) another, is known only once the walk has scattered on; a vertex here would
-    // be on the copy the BVH happened to report.
-    if (mixed_ && !camera && visibility::is_mixed(scene_.instance_visibility(hit.instance))) return n;
+    // A light walk ends at a look copy of mixed visibility: which kind of ray the segment
+    // reaching it is, and so whether it meets this copy or another of the object's on the
+    // same spot, is known only once the walk has scattered on; a vertex here would be on the
+    // copy the BVH happened to report.
+    if (mixed_ && scene_.ends_light_walks(hit.instance) && !camera) return n;
     const Material &material = scene_.material(hit.material);
     fresh_surface_vertex(v, hit, ray.d, boundary, media);  // boundary: none without media
+    if (mixed_) v.look_copy = scene_.ends_light_walks(hit.instance);
     count_before(v, prev);
     v.beta = beta;
     v.light_cut = cut_before(kInf);
@@ -355,6 +356,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       const float u_lobe = sampler.get_1d();
       sampled = v.bsdf.sample(v.wo, u_lobe, sampler.get_2d(), mode, bs);
       if (sampled && bs.pass_through) {
+        if (mixed_ && !camera && visibility::is_mixed(scene_.instance_visibility(hit.instance))) return n;
         segment_cut = cut_before(kInf) || hit_mixed;
         beta *= bs.weight;
         if constexpr (kMedia) media.cross(scene_, hit, boundary, ray.d);
