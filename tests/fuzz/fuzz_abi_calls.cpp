@@ -70,7 +70,7 @@ const char *kColorSpaces[] = {"", "Non-Color", "sRGB", "Linear", "no such space"
 // numbers from the input, or (choice 0) raw input text.
 std::string material_params(Reader &in) {
   auto x = [&] { return in.json_number(); };
-  switch (in.small(19)) {
+  switch (in.small(20)) {
     case 0: return in.text(64);
     case 1: return R"({"type":"diffuse","color":[)" + x() + "," + x() + "," + x() + R"(],"roughness":)" + x() + "}";
     case 2: return R"({"type":"glossy","roughness":)" + x() + R"(,"anisotropy":)" + x() + "}";
@@ -115,6 +115,8 @@ std::string material_params(Reader &in) {
     case 17: return R"({"type":"diffuse","color":{"node":"ambient_occlusion","distance":)" + x() + R"(,"samples":)" + x() +
                     R"(,"only_local":)" + (in.small(2) ? "true" : "false") + R"(,"inside":)" +
                     (in.small(2) ? "true" : "false") + "}}";
+    case 18: return R"({"type":"glossy","roughness":)" + x() + R"(,"normal":{"node":"bevel","radius":)" + x() +
+                    R"(,"samples":)" + x() + R"(,"normal":{"node":"normal_map","strength":)" + x() + "}}}";
     case 16: return R"({"type":"emission","color":{"node":"texture_coordinate","output":"parametric"},"strength":)"
                     R"({"node":"wireframe","size":)" + x() + R"(,"pixel_size":)" + (in.small(2) ? "true" : "false") + "}}";
     default: return R"({"type":"volume","volume":{"grid":{"buffer":")" + std::string(kNames[in.small(4)]) +
@@ -278,7 +280,7 @@ struct State {
   void step(Reader &in) {
     uint32_t id;
     if (rdv_fuzz::tracing()) std::fprintf(stderr, "-- byte %zu\n", in.at);
-    switch (in.small(26)) {
+    switch (in.small(27)) {
       case 0:
         if (checked(rdv_scene_add_material(scene, kNames[in.small(4)], traced(material_params(in)), &id),
                     "rdv_scene_add_material") == RDV_OK)
@@ -371,6 +373,16 @@ struct State {
         }
         break;
       case 22: case 23: if (session) read_film(in); break;
+      case 26: {  // object settings: ray visibility per kind, look copies, holdout, catcher
+        static const char *kKinds[] = {"camera", "diffuse", "glossy", "transmission", "shadow", "volume_scatter"};
+        std::string params = "{\"visibility\":{";
+        for (int k = 0; k < 6; ++k) params += std::string(k ? "," : "") + "\"" + kKinds[k] + "\":" + (in.small(2) ? "true" : "false");
+        params += std::string("},\"look_copy\":") + (in.small(2) ? "true" : "false") +
+                  ",\"holdout\":" + (in.small(4) == 0 ? "true" : "false") +
+                  ",\"shadow_catcher\":" + (in.small(4) == 0 ? "true" : "false") + "}";
+        checked(rdv_scene_set_instance_params(scene, some(in, instances), traced(params)), "rdv_scene_set_instance_params");
+        break;
+      }
       case 24:
         if (session) {
           static const char *kFiles[] = {"fuzz.exr", "fuzz.png", "fuzz.nosuchformat"};
