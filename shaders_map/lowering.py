@@ -623,8 +623,9 @@ class _Lowerer:
 
     def _view_factor(self, fac):
         """The engine's view factor for a Mix Shader's factor that is a Fresnel / Layer Weight /
-        Geometry > Backfacing node, or one through nodes of constant settings (Color Ramp, Math, curves:
-        baked into a table over the node's [0, 1]; scene-format.md); else None."""
+        Geometry > Backfacing node or the Dot Product of Geometry's Incoming and Normal, or one
+        through nodes of constant settings (Color Ramp, Math, curves: baked into a table over the
+        node's [0, 1]; scene-format.md); else None."""
         view = self._view_leaf(fac)
         if view is None:
             return None
@@ -635,6 +636,14 @@ class _Lowerer:
                 return None
         if view.props.get("normal_linked"):
             self.approx(view.node, "Normal input approximated by the interpolated normal")
+        if view.op == "vector_math":  # Incoming . Normal: |cos| = 1 - Layer Weight's Facing at blend 0.5
+            normals = {self._unwrap(view.args.get(k)).props.get("output") for k in ("a", "b")}
+            if "True Normal" in normals:
+                self.approx(view.node, "Incoming . True Normal approximated with the interpolated normal (the same on "
+                                       "flat-shaded faces)")
+            d = {"node": "layer_weight", "output": "facing", "blend": 0.5}
+            d["table"] = self._view_table(fac, view, of=lambda y: 1.0 - y)
+            return d if d["table"] is not None else None
         if view.op == "geometry":
             d = {"node": "backfacing"}
         elif view.op == "fresnel":
@@ -646,9 +655,30 @@ class _Lowerer:
             d["table"] = table
         return d
 
+    @classmethod
+    def _is_view_node(cls, x):
+        return (x.op in ("fresnel", "layer_weight") or (x.op == "geometry" and x.props.get("output") == "Backfacing")
+                or cls._is_incoming_cosine(x))
+
     @staticmethod
-    def _is_view_node(x):
-        return x.op in ("fresnel", "layer_weight") or (x.op == "geometry" and x.props.get("output") == "Backfacing")
+    def _unwrap(x):
+        while isinstance(x, Expr) and x.op == "to_vec3":
+            x = x.args.get("value")
+        return x
+
+    @classmethod
+    def _is_incoming_cosine(cls, x):
+        """Vector Math's Dot Product of Geometry's Incoming and its Normal (or True Normal): the
+        cosine of the viewing direction, |cos| as Cycles flips the normal toward the viewer."""
+        if x.op != "vector_math" or x.props.get("operation") != "DOT_PRODUCT":
+            return False
+        outputs = []
+        for k in ("a", "b"):
+            arg = cls._unwrap(x.args.get(k))
+            if not (isinstance(arg, Expr) and arg.op == "geometry"):
+                return False
+            outputs.append(arg.props.get("output"))
+        return "Incoming" in outputs and ({"Normal", "True Normal"} & set(outputs)) != set()
 
     @classmethod
     def _view_leaf(cls, fac):
@@ -670,14 +700,14 @@ class _Lowerer:
             stack.extend(x.args.values())
         return views[0] if len(views) == 1 else None
 
-    def _view_table(self, fac, view, n=256):
-        """fac as a function of view's output x in [0, 1], at n points (None if some node on
-        the way cannot be evaluated exactly)."""
+    def _view_table(self, fac, view, n=256, of=lambda y: y):
+        """fac as a function of the engine's factor y in [0, 1] (view's output of(y)), at n points
+        (None if some node on the way cannot be evaluated exactly)."""
         table = []
         for i in range(n):
             issues = Issues()
             ev = Evaluator(issues, self.image_average)
-            ev.assume(view, i / (n - 1.0))
+            ev.assume(view, of(i / (n - 1.0)))
             v = ev.float(fac)
             if issues or not math.isfinite(v):
                 return None

@@ -1275,6 +1275,58 @@ def view_dependent_mixes():
     return scene
 
 
+def incoming_facing():
+    """Mix Shaders by the Dot Product of Geometry's Incoming and Normal (the facing cosine artists
+    build by hand): a red ball glossy toward its rim (Fac = (1 - cos)^3 by two Math nodes), a blue
+    ball through a Color Ramp of the cosine (0.3 gloss to 0.8 diffuse), a flat-shaded green ico
+    sphere by Incoming . True Normal (the faces' own normals), and a floor mixed by the cosine
+    itself; a blue world and a sun, as view_dependent_mixes."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.3, 0.4, 0.6, 1.0)
+
+    def facing_mix(name, color, roughness, shape, normal="Normal"):
+        m = mix_material(name, ("ShaderNodeBsdfDiffuse", {"Color": color + (1.0,)}),
+                         ("ShaderNodeBsdfGlossy", {"Color": (0.9, 0.9, 0.9, 1.0), "Roughness": roughness}), 0.5)
+        nt = m.node_tree
+        geometry = nt.nodes.new("ShaderNodeNewGeometry")
+        dot = nt.nodes.new("ShaderNodeVectorMath")
+        dot.operation = "DOT_PRODUCT"
+        nt.links.new(geometry.outputs["Incoming"], dot.inputs[0])
+        nt.links.new(geometry.outputs[normal], dot.inputs[1])
+        mix = next(n for n in nt.nodes if n.bl_idname == "ShaderNodeMixShader")
+        nt.links.new(shape(nt, dot.outputs["Value"]), mix.inputs["Fac"])
+        return m
+
+    def rim_cubed(nt, cosine):
+        flip = nt.nodes.new("ShaderNodeMath")
+        flip.operation = "SUBTRACT"
+        flip.inputs[0].default_value = 1.0
+        nt.links.new(cosine, flip.inputs[1])
+        cube = nt.nodes.new("ShaderNodeMath")
+        cube.operation = "POWER"
+        cube.inputs[1].default_value = 3.0
+        nt.links.new(flip.outputs["Value"], cube.inputs[0])
+        return cube.outputs["Value"]
+
+    def ramp(nt, cosine):
+        r = nt.nodes.new("ShaderNodeValToRGB")
+        els = r.color_ramp.elements
+        els[0].position, els[0].color = 0.3, (1.0, 1.0, 1.0, 1.0)  # glossy where the surface turns away
+        els[1].position, els[1].color = 0.8, (0.0, 0.0, 0.0, 1.0)
+        nt.links.new(cosine, r.inputs["Fac"])
+        return r.outputs["Color"]
+    plane("Floor", 6.0, facing_mix("FloorMat", (0.5, 0.45, 0.4), 0.15, lambda nt, c: c))
+    smooth_ball("RimBall", (-0.9, 0, 0.35), 0.35, facing_mix("Rim", (0.8, 0.2, 0.1), 0.2, rim_cubed))
+    smooth_ball("RampBall", (0.0, 0, 0.35), 0.35, facing_mix("Ramp", (0.1, 0.3, 0.8), 0.1, ramp))
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=1, radius=0.35, location=(0.9, 0, 0.35))
+    bpy.context.active_object.data.materials.append(
+        facing_mix("Facets", (0.2, 0.7, 0.2), 0.25, rim_cubed, normal="True Normal"))
+    light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(40), 0, math.radians(-30)), angle=math.radians(5))
+    camera_looking_at((0, -3.0, 1.0), (0, 0, 0.3), 32)
+    return scene
+
+
 def sky_world(sky_type):
     """A 128 x 64 scene whose World's Background takes a Sky Texture of sky_type (linked by the
     caller): (scene, world node tree, Background node, Sky Texture node)."""
@@ -1970,6 +2022,7 @@ SCENES = {
     "wireframe_parametric": wireframe_parametric,
     "ambient_occlusion": ambient_occlusion,
     "bevel": bevel,
+    "incoming_facing": incoming_facing,
     "mapped_normals": mapped_normals,
     "preetham_sky": preetham_sky,
     "plane_point": plane_point,
@@ -2024,7 +2077,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "mapped_normals", "preetham_sky", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "incoming_facing", "mapped_normals", "preetham_sky", "emissive_textured",
                      "volume_blackbody"]
 
 

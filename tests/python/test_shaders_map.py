@@ -293,6 +293,49 @@ class TestCombinators(unittest.TestCase):
         p, w = material_with(into_color)
         self.assertIn("Backfacing", w)
 
+    def test_incoming_dot_normal_is_a_view_factor(self):
+        # Vector Math's Dot Product of Geometry > Incoming and Normal (either order), through a
+        # Math node: |cos| = 1 - Layer Weight's Facing at blend 0.5, the Math baked over it.
+        for first, second in (("Incoming", "Normal"), ("Normal", "Incoming"), ("Incoming", "True Normal")):
+            with self.subTest(first=first, second=second):
+                def dot(t, first=first, second=second):
+                    g = t.new("ShaderNodeNewGeometry", "G")
+                    d = t.new("ShaderNodeVectorMath", "Dot", operation="DOT_PRODUCT")
+                    t.link(g.out(first), d.inp("Vector"))
+                    t.link(g.out(second), d.inp("Vector_001"))
+                    m = t.new("ShaderNodeMath", "Square", operation="POWER", use_clamp=False)
+                    t.link(d.out("Value"), m.inp("Value"))
+                    m.inp("Value_001").default_value = 2.0
+                    return m.out()
+                p, w = self._mix_by(dot)
+                fac = p["fac"]
+                self.assertEqual((fac["node"], fac["output"], fac["blend"]), ("layer_weight", "facing", 0.5))
+                table = fac["table"]
+                self.assertEqual(len(table), 256)
+                for i in (0, 51, 255):  # the table at facing y: (1 - y)^2
+                    self.assertAlmostEqual(table[i], (1.0 - i / 255.0) ** 2, places=5)
+                if "True Normal" in (first, second):
+                    self.assertIn("True Normal approximated", w)
+                else:
+                    self.assertIsNone(w)
+        # Straight into the Fac (no node between): the table is the cosine itself.
+        def bare(t):
+            g = t.new("ShaderNodeNewGeometry", "G")
+            d = t.new("ShaderNodeVectorMath", "Dot", operation="DOT_PRODUCT")
+            t.link(g.out("Incoming"), d.inp("Vector"))
+            t.link(g.out("Normal"), d.inp("Vector_001"))
+            return d.out("Value")
+        p, w = self._mix_by(bare)
+        self.assertAlmostEqual(p["fac"]["table"][64], 1.0 - 64 / 255.0, places=5)
+        self.assertIsNone(w)
+        # Incoming elsewhere (a colour) stays a constant, named.
+        def into_color(t):
+            d = t.new("ShaderNodeBsdfDiffuse", "D")
+            t.link(t.new("ShaderNodeNewGeometry", "G").out("Incoming"), d.inp("Color"))
+            return d.out()
+        p, w = material_with(into_color)
+        self.assertIn("Incoming", w)
+
     def test_view_factor_through_constant_nodes_is_baked(self):
         # Fresnel through a Math node of constant settings: the node's function of the
         # factor, baked over [0, 1] for the engine.
