@@ -8,7 +8,10 @@
 //
 // The sample points are a fixed set per point (PointSampleSet); Cycles draws them per
 // evaluation, so a bevelled edge here carries its noise as a fine grain of the surface,
-// averaged out over a pixel as Cycles' is over its samples.
+// averaged out over a pixel as Cycles' is over its samples. Cycles skips the node after a
+// blurry bounce (a bounce density below 8); here every ray sees it: a path's history is no
+// input of a material, and a look per kind of ray (copies of the object) would cost BDPT's
+// light walks there (README).
 #pragma once
 #include "core/math.h"
 
