@@ -233,6 +233,15 @@ class TestCombinators(unittest.TestCase):
             return m.out()
         return material_with(b)
 
+    @staticmethod
+    def _geometry_into_color(output):
+        """The warning of a Diffuse BSDF whose Color is Geometry's `output`."""
+        def b(t):
+            d = t.new("ShaderNodeBsdfDiffuse", "D")
+            t.link(t.new("ShaderNodeNewGeometry", "G").out(output), d.inp("Color"))
+            return d.out()
+        return material_with(b)[1]
+
     def test_fresnel_and_layer_weight_factors_go_to_the_engine(self):
         # Straight into a Mix Shader's Fac: the engine evaluates them per pair of directions.
         def fresnel(t):
@@ -286,12 +295,7 @@ class TestCombinators(unittest.TestCase):
         self.assertEqual(p["fac"], {"node": "backfacing"})
         self.assertIsNone(w)
         # Into a colour: the front's 0, named.
-        def into_color(t):
-            d = t.new("ShaderNodeBsdfDiffuse", "D")
-            t.link(t.new("ShaderNodeNewGeometry", "G").out("Backfacing"), d.inp("Color"))
-            return d.out()
-        p, w = material_with(into_color)
-        self.assertIn("Backfacing", w)
+        self.assertIn("Backfacing", self._geometry_into_color("Backfacing"))
 
     def test_incoming_dot_normal_is_a_view_factor(self):
         # Vector Math's Dot Product of Geometry > Incoming and Normal (either order), through a
@@ -329,12 +333,7 @@ class TestCombinators(unittest.TestCase):
         self.assertAlmostEqual(p["fac"]["table"][64], 1.0 - 64 / 255.0, places=5)
         self.assertIsNone(w)
         # Incoming elsewhere (a colour) stays a constant, named.
-        def into_color(t):
-            d = t.new("ShaderNodeBsdfDiffuse", "D")
-            t.link(t.new("ShaderNodeNewGeometry", "G").out("Incoming"), d.inp("Color"))
-            return d.out()
-        p, w = material_with(into_color)
-        self.assertIn("Incoming", w)
+        self.assertIn("Incoming", self._geometry_into_color("Incoming"))
 
     def test_view_factor_through_constant_nodes_is_baked(self):
         # Fresnel through a Math node of constant settings: the node's function of the

@@ -7,8 +7,8 @@
 // - beside a box's edge, I from quadrature over the two faces (the mean over points along
 //   the edge, 128 samples each, within 5 standard errors of that mean and 0.5 degrees);
 // - on the edge, 45 degrees by symmetry;
-// at 1 mm, 1 m and 1 km, and with another object lying on the box's side face (its own
-// surfaces only: Cycles' local intersection). Deterministic (each point's sample set is a fixed function of its
+// at 1 mm, 1 m and 1 km, 1 km from the origin, and with another object lying on the box's
+// side face (its own surfaces only: Cycles' local intersection). Deterministic (each point's sample set is a fixed function of its
 // position), so the outcome is reproducible; were the points' sets independent draws, the
 // 5-standard-error bound would fail by chance about once in 1.7 million runs.
 // Its agreement with Cycles in an image is blender.brightness.bevel.
@@ -32,28 +32,28 @@ struct LoadedScene {
   const Scene &scene() const { return *handle->scene; }
 };
 
-// A flat-shaded box 2 s wide around the origin, seen from above; with `lid`, another
-// object's quad lying on its side x = s (the local rays must still find the box's face).
-void load_box(LoadedScene &s, double scale, bool lid = false) {
+// A flat-shaded box 2 s wide around (far, far, 0), seen from above; with `lid`, another
+// object's quad lying on its side x = far + s (the local rays must still find the box's face).
+void load_box(LoadedScene &s, double scale, bool lid, double far) {
   json doc = {
       {"camera", {{"transform", {{"look_at", {{"from", {0, 0, 10 * scale}}, {"to", {0, 0, 0}}, {"up", {0, 1, 0}}}}}}}},
       {"world", {{"color", {1, 1, 1}}}},
       {"materials", {{{"name", "grey"}, {"type", "diffuse"}, {"color", {0.5, 0.5, 0.5}}}}},
       {"meshes", {{{"name", "box"}, {"shape", {{"type", "box"}, {"size", {2 * scale, 2 * scale, 2 * scale}}, {"smooth", false}}},
-                   {"materials", {"grey"}}}}}};
+                   {"materials", {"grey"}}, {"transform", {{"translate", {far, far, 0}}}}}}}};
   if (lid)
     doc["meshes"].push_back({{"name", "lid"}, {"materials", {"grey"}},
                              {"positions", {scale, -2 * scale, -2 * scale, scale, 2 * scale, -2 * scale,
                                             scale, 2 * scale, 2 * scale, scale, -2 * scale, 2 * scale}},
-                             {"indices", {0, 1, 2, 0, 2, 3}}});
+                             {"indices", {0, 1, 2, 0, 2, 3}}, {"transform", {{"translate", {far, far, 0}}}}});
   rdv_scene_create(&s.handle);
   rdv_tools::load_scene_json(doc.dump(), test::source_path("scenes"), s.handle);
   ASSERT_EQ(rdv_scene_commit(s.handle), RDV_OK);
 }
 
-// The box's top face (z = s) at (x, y), as a camera ray from above finds it.
-ShadingPoint top_point(const Scene &scene, float x, float y, float s) {
-  Ray ray{{x, y, 3 * s}, {0, 0, -1}};
+// The box's top face (z = s) at (far + x, far + y), as a camera ray from above finds it.
+ShadingPoint top_point(const Scene &scene, float x, float y, float s, double far) {
+  Ray ray{{float(far + x), float(far + y), 3 * s}, {0, 0, -1}};
   SurfaceHit hit;
   EXPECT_TRUE(scene.intersect(ray, hit));
   return scene.shading_point(hit, ray.d);
@@ -94,23 +94,26 @@ TEST(Bevel, FalloffRadiiInvertItsDistribution) {
 }
 
 TEST(Bevel, NormalIsTheFalloffWeightedMeanOfTheObjectsNormals) {
-  for (auto [scale, lid] : {std::pair{1e-3, false}, {1.0, false}, {1e3, false}, {1.0, true}}) {
-    SCOPED_TRACE("scale " + std::to_string(scale) + (lid ? ", a lid on the side" : ""));
+  struct Case { double scale; bool lid; double far; };
+  for (const Case c : {Case{1e-3, false, 0}, Case{1, false, 0}, Case{1e3, false, 0}, Case{1, true, 0}, Case{1, false, 1e3}}) {
+    const double scale = c.scale, far = c.far;
+    SCOPED_TRACE("scale " + std::to_string(scale) + (c.lid ? ", a lid on the side" : "") + ", " + std::to_string(far) +
+                 " from the origin");
     LoadedScene box;
-    load_box(box, scale, lid);
+    load_box(box, scale, c.lid, far);
     const Scene &scene = box.scene();
     const float s = float(scale), radius = 0.1f * s;
 
     // Farther than the radius from every edge: only the top face is within reach.
     for (float x : {-0.5f, 0.0f, 0.85f}) {
-      const ShadingPoint sp = top_point(scene, x * s, 0.1f * s, s);
+      const ShadingPoint sp = top_point(scene, x * s, 0.1f * s, s, far);
       const Vec3 n = bevel_normal(sp, radius, 8);
       EXPECT_NEAR(n.x, 0.0f, 1e-6f);
       EXPECT_NEAR(n.y, 0.0f, 1e-6f);
       EXPECT_NEAR(n.z, 1.0f, 1e-6f);
     }
     // Nothing to sample: the shading normal.
-    const ShadingPoint edge_point = top_point(scene, 0.97f * s, 0, s);
+    const ShadingPoint edge_point = top_point(scene, 0.97f * s, 0, s, far);
     EXPECT_EQ(bevel_normal(edge_point, radius, 0).z, 1.0f);
     EXPECT_EQ(bevel_normal(edge_point, 0.0f, 8).z, 1.0f);
     EXPECT_EQ(bevel_normal(edge_point, std::nanf(""), 8).z, 1.0f);
@@ -125,8 +128,8 @@ TEST(Bevel, NormalIsTheFalloffWeightedMeanOfTheObjectsNormals) {
       double sum = 0, sum2 = 0;
       for (int k = 0; k < points; ++k) {
         const float y = (-0.5f + (k + 0.5f) / points) * s;
-        const float x = d_over_r == 0 ? s * (1 - 1e-6f) : float(s - d_over_r * radius);
-        const Vec3 n = bevel_normal(top_point(scene, x, y, s), radius, 128);
+        const float x = d_over_r == 0 ? s * (1 - 1e-4f) : float(s - d_over_r * radius);
+        const Vec3 n = bevel_normal(top_point(scene, x, y, s, far), radius, 128);
         ASSERT_TRUE(std::isfinite(n.x) && std::isfinite(n.z));
         ASSERT_NEAR(length(n), 1.0f, 1e-5f);
         EXPECT_NEAR(n.y, 0.0f, 0.05f);  // along the edge: no turn but noise
