@@ -302,10 +302,11 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     // reaching it is, and so whether it meets this copy or another of the object's on the
     // same spot, is known only once the walk has scattered on; a vertex here would be on the
     // copy the BVH happened to report.
-    if (mixed_ && scene_.ends_light_walks(hit.instance) && !camera) return n;
+    const bool on_look_copy = mixed_ && scene_.ends_light_walks(hit.instance);
+    if (on_look_copy && !camera) return n;
     const Material &material = scene_.material(hit.material);
     fresh_surface_vertex(v, hit, ray.d, boundary, media);  // boundary: none without media
-    if (mixed_) v.look_copy = scene_.ends_light_walks(hit.instance);
+    v.look_copy = on_look_copy;
     count_before(v, prev);
     v.beta = beta;
     v.light_cut = cut_before(kInf);
