@@ -41,13 +41,14 @@ class MaterialDescription:
         self.name = name
         self.surface = None
         self.volume = None
-        self.displacement_linked = False
+        self.displacement = None  # IR of the Material Output's Displacement, when linked
+        self.displacement_method = "BUMP"  # Material > Settings > Displacement (Cycles')
         self.output_label = "Material Output"
         self.issues = Issues()
 
     def to_dict(self):
         return {"name": self.name, "surface": to_dict(self.surface), "volume": to_dict(self.volume),
-                "displacement": self.displacement_linked,
+                "displacement": to_dict(self.displacement),
                 "issues": {k: v for k, v in self.issues.items()}}
 
 
@@ -71,7 +72,7 @@ def _translate(tree, desc, output_ids):
         desc.surface = ctx.closure(out, "Surface")
         desc.volume = ctx.closure(out, "Volume")
         if ctx.socket(out, "Displacement") is not None and ctx.is_linked(out, "Displacement"):
-            desc.displacement_linked = True
+            desc.displacement = ctx.input(out, "Displacement", default=(0.0, 0.0, 0.0))
     except LimitError:
         raise  # the caller names the material
     except Exception as exc:  # never let a strange tree stop the render
@@ -142,12 +143,23 @@ def _convert_material(material, image_average, image_file, volume_grids):
                                                          (0.8, 0.8, 0.8))})], None
     try:
         desc = translate_material(tree, name)
+        desc.displacement_method = displacement_method(material)
         variants = _lower_by_ray_kind(desc, image_average, image_file, volume_grids)
         for _, params in variants:
             _check_written_size(params)
     except LimitError as exc:
         return [(None, dict(ERROR_SURFACE))], "Material '%s': %s; rendered magenta" % (name, exc)
     return variants, desc.issues.format("Material", name)
+
+
+def displacement_method(material):
+    """Material > Settings > Displacement: BUMP (Cycles' default), DISPLACEMENT or BOTH. Blender
+    3.x keeps it in the Cycles add-on's settings (material.cycles), 4.1 on in the material."""
+    for owner in (getattr(material, "cycles", None), material):
+        method = getattr(owner, "displacement_method", None)
+        if method in ("BUMP", "DISPLACEMENT", "BOTH"):
+            return method
+    return "BUMP"
 
 
 def _lower_by_ray_kind(desc, image_average, image_file, volume_grids):
@@ -159,8 +171,9 @@ def _lower_by_ray_kind(desc, image_average, image_file, volume_grids):
     def lower(flags):
         variant = MaterialDescription(desc.name)
         variant.issues, variant.output_label = desc.issues, desc.output_label
-        variant.displacement_linked = desc.displacement_linked
+        variant.displacement_method = desc.displacement_method
         memo = {}
+        variant.displacement = ray_kinds.substitute(desc.displacement, flags, memo)
         variant.surface = ray_kinds.substitute(desc.surface, flags, memo)
         variant.volume = ray_kinds.substitute(desc.volume, flags, memo)
         return lower_surface(variant, image_average, image_file, volume_grids)[0]

@@ -70,6 +70,7 @@ class _Lowerer:
         self.image_file = image_file
         self.context = context  # "surface" or "world"
         self.volume_grids = volume_grids  # the material fills a Volume object: attributes name its grids
+        self.surface_normal = None  # Cycles' sd->N where it is not the shading normal: a bump node
         self._memo = {}
 
     def approx(self, node, reason):
@@ -124,7 +125,7 @@ class _Lowerer:
         if op in ("tex_image", "tex_environment"):
             return op == "tex_image" and self._image_file(ir) is not None
         if op in ("texcoord", "uvmap", "tex_checker", "tex_noise", "tex_gradient", "vertex_color",
-                  "normal_map", "bump", "bevel", "object_info", "blackbody", "wavelength", "geometry", "wireframe",
+                  "normal_map", "bump", "bevel", "displacement", "object_info", "blackbody", "wavelength", "geometry", "wireframe",
                   "ao") + PROCEDURAL_TEXTURES:
             return True
         if op == "attribute":
@@ -442,16 +443,43 @@ class _Lowerer:
             space = space[8:]
         if e.props.get("uv_map"):
             self.approx(e.node, "tangents from the default UV map, not '%s'" % e.props["uv_map"])
-        return {"node": "normal_map", "space": space, "color": self.value(e.args["color"], True),
-                "strength": self.value(e.args["strength"])}
+        d = {"node": "normal_map", "space": space, "color": self.value(e.args["color"], True),
+             "strength": self.value(e.args["strength"])}
+        if self.surface_normal is not None and d["strength"] != 1.0:
+            d["normal"] = self.surface_normal  # Cycles blends toward sd->N, bumped by a displacement
+        return d
 
     def _n_bump(self, e):
         d = {"node": "bump", "height": self.value(e.args["height"]), "strength": self.value(e.args["strength"]),
              "distance": self.value(e.args["distance"]), "invert": bool(e.props.get("invert", False))}
         n = self.normal(e.args.get("normal"), e.node)
+        if n is None:
+            n = self.surface_normal  # Cycles bumps sd->N, which a displacement has bumped first
         if n is not None:
             d["normal"] = n
         return d
+
+    def _n_displacement(self, e):
+        d = {"node": "displacement", "space": e.props.get("space", "OBJECT")}
+        for k in ("height", "midlevel", "scale"):
+            d[k] = self.value(e.args[k])
+        if "normal" in e.args:
+            d["normal"] = self.value(e.args["normal"])
+        return d
+
+    def displacement_bump(self, desc):
+        """The Material Output's Displacement as Cycles renders it by default (Settings >
+        Displacement: Bump Only; shader_graph.cpp, bump_from_displacement): a bump of height
+        offset . normal, the normal of every shader and Bump without a Normal of their own.
+        None without a varying displacement."""
+        if desc.displacement is None or self.fold(desc.displacement) is not None:
+            return None  # a constant offset moves the surface and bumps nothing
+        if desc.displacement_method != "BUMP":
+            self.approx(desc.output_label, "%s displacement rendered as bump mapping: the surface is not moved"
+                        % {"DISPLACEMENT": "true", "BOTH": "Displacement and Bump"}[desc.displacement_method])
+        height = {"node": "vector_math", "operation": "DOT_PRODUCT", "vector1": self.value(desc.displacement),
+                  "vector2": {"node": "texture_coordinate", "output": "normal"}, "output": "value"}
+        return {"node": "bump", "height": height, "strength": 1.0, "distance": 1.0}
 
     def _n_bevel(self, e):
         samples = min(max(int(e.props.get("samples", 4)), 0), 128)
@@ -492,6 +520,8 @@ class _Lowerer:
     # ---- closures -----------------------------------------------------------------
     def _with_normal(self, d, c, key="normal"):
         n = self.normal(c.params.get("normal"), c.node)
+        if n is None:
+            n = self.surface_normal
         if n is not None:
             d[key] = n
         return d
@@ -940,6 +970,8 @@ def lower_surface(desc, image_average=None, image_file=None, volume_grids=False)
     Cycles ignores attributes a mesh does not have)."""
     low = _Lowerer(desc.issues, image_average, image_file, "surface", volume_grids)
     medium = low.medium(desc.volume) if desc.volume is not None else None
+    if desc.surface is not None:
+        low.surface_normal = low.displacement_bump(desc)
     if desc.surface is None:
         if medium is not None:
             params = {"type": "volume"}  # Cycles: volume only = a transparent boundary
@@ -951,8 +983,6 @@ def lower_surface(desc, image_average=None, image_file=None, volume_grids=False)
             params = {"type": "diffuse", "color": [0.0, 0.0, 0.0]}
     if medium is not None:
         params["volume"] = medium
-    if desc.displacement_linked:
-        desc.issues.add(desc.output_label, "displacement ignored")
     return params, desc.issues
 
 

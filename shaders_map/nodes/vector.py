@@ -1,4 +1,4 @@
-"""Vector nodes: Texture Coordinate, UV Map, Mapping, Normal Map, Bump, Bevel."""
+"""Vector nodes: Texture Coordinate, UV Map, Mapping, Normal Map, Bump, Bevel, Displacement."""
 
 import math
 
@@ -104,6 +104,26 @@ def bevel(ctx, node, socket):
         "radius": ctx.input(node, "Radius", default=0.05),
         "normal": ctx.input(node, "Normal", default=(0, 0, 0)),
     }, {"samples": int(getattr(node, "samples", 4))})
+
+
+# Displacement: the offset (Height - Midlevel) x Scale along the normal (Normal, else the shading
+# normal), in world space; taken in object space (the object's scale applies) when Space is Object.
+# Into the Material Output's Displacement it bumps the material's normal (lowering.py).
+@maps("ShaderNodeDisplacement")
+def displacement(ctx, node, socket):
+    args = {"height": ctx.input(node, "Height", default=0.0),
+            "midlevel": ctx.input(node, "Midlevel", default=0.5),
+            "scale": ctx.input(node, "Scale", default=1.0)}
+    if ctx.is_linked(node, "Normal"):
+        args["normal"] = ctx.input(node, "Normal", default=(0, 0, 0))
+    return Expr("displacement", ctx.label(node), args, {"space": getattr(node, "space", "OBJECT")})
+
+
+@evaluates("displacement")
+def eval_displacement(ev, e):
+    ev.approx(e, "displacement along the normal approximated by one along +Z")
+    k = (ev.float(e.args["height"]) - ev.float(e.args["midlevel"])) * ev.float(e.args["scale"])
+    return (0.0, 0.0, k)
 
 
 @evaluates("normal_map", "bump", "bevel")

@@ -7,6 +7,9 @@ EXTRA_SPECS = {
     "ShaderNodeOutputMaterial": ([("Surface", "Surface", "SHADER", None), ("Volume", "Volume", "SHADER", None),
                                   ("Displacement", "Displacement", "VECTOR", (0.0, 0.0, 0.0)),
                                   ("Thickness", "Thickness", "VALUE", 0.0)], []),
+    "ShaderNodeDisplacement": ([("Height", "Height", "VALUE", 0.0), ("Midlevel", "Midlevel", "VALUE", 0.5),
+                                ("Scale", "Scale", "VALUE", 1.0), ("Normal", "Normal", "VECTOR", (0.0, 0.0, 0.0))],
+                               [("Displacement", "Displacement", "VECTOR", (0.0, 0.0, 0.0))]),
     "ShaderNodeWireframe": ([("Size", "Size", "VALUE", 0.01)], [("Fac", "Fac", "VALUE", 0.0)]),
     "ShaderNodeHueSaturation": ([("Hue", "Hue", "VALUE", 0.5), ("Saturation", "Saturation", "VALUE", 1.0),
                                  ("Value", "Value", "VALUE", 1.0), ("Fac", "Fac", "VALUE", 1.0),
@@ -221,8 +224,10 @@ def group_tree(name, inputs, outputs):
 
 
 class Material:
-    def __init__(self, name, tree=None, use_nodes=True, diffuse_color=(0.8, 0.8, 0.8, 1.0)):
+    def __init__(self, name, tree=None, use_nodes=True, diffuse_color=(0.8, 0.8, 0.8, 1.0), displacement_method=None):
         self.name = name
+        if displacement_method is not None:  # Blender 3.x: the Cycles add-on's material settings
+            self.cycles = type("CyclesMaterialSettings", (), {"displacement_method": displacement_method})()
         self.node_tree = tree
         self.use_nodes = use_nodes
         self.diffuse_color = list(diffuse_color)

@@ -1080,13 +1080,75 @@ class TestGraph(unittest.TestCase):
         text = json.dumps(desc.to_dict())
         self.assertIn("principled", text)
 
-    def test_displacement_and_volume_warn(self):
+    @staticmethod
+    def _displaced(normal=None, method=None, space="OBJECT"):
+        """A Principled BSDF (Normal from normal(t) if given) over a Displacement of a noise's
+        height into the Material Output (Settings > Displacement: method)."""
+        t = Tree("M")
+        out = t.output()
+        p = t.new("ShaderNodeBsdfPrincipled", "P")
+        if normal is not None:
+            t.link(normal(t), p.inp("Normal"))
+        t.link(p.out(), out.inp("Surface"))
+        noise = t.new("ShaderNodeTexNoise", "Noise", noise_dimensions="3D")
+        disp = t.new("ShaderNodeDisplacement", "Disp", space=space)
+        disp.inp("Scale").default_value = 0.2
+        t.link(noise.out("Fac"), disp.inp("Height"))
+        t.link(disp.out(), out.inp("Displacement"))
+        return sm.convert_material(Material("M", t, displacement_method=method))
+
+    def test_displacement_bumps_the_material_normal(self):
+        # Cycles' Bump Only: height = offset . normal, a bump of distance 1 on every unlinked Normal.
+        p, w = self._displaced()
+        self.assertIsNone(w)
+        bump = p["normal"]
+        self.assertEqual((bump["node"], bump["strength"], bump["distance"]), ("bump", 1.0, 1.0))
+        dot = bump["height"]
+        self.assertEqual((dot["node"], dot["operation"], dot["output"]), ("vector_math", "DOT_PRODUCT", "value"))
+        self.assertEqual(dot["vector2"], {"node": "texture_coordinate", "output": "normal"})
+        disp = dot["vector1"]
+        self.assertEqual((disp["node"], disp["space"], disp["midlevel"], disp["scale"]),
+                         ("displacement", "OBJECT", 0.5, 0.2))
+        self.assertEqual(disp["height"]["node"], "noise")
+        self.assertEqual(self._displaced(space="WORLD")[0]["normal"]["height"]["vector1"]["space"], "WORLD")
+
+    def test_displacement_under_a_bump_and_a_normal_map(self):
+        # A Bump without a Normal bumps the displaced normal (Cycles' sd->N); a Normal Map at
+        # strength 1 replaces it (Cycles reads the mesh normal there), below 1 blends toward it.
+        def bump(t):
+            b = t.new("ShaderNodeBump", "Bumpy", invert=False)
+            t.link(t.new("ShaderNodeTexChecker", "Check").out("Fac"), b.inp("Height"))
+            return b.out()
+
+        def normal_map(strength):
+            def build(t):
+                nm = t.new("ShaderNodeNormalMap", "NMap", space="OBJECT", uv_map="")
+                nm.inp("Strength").default_value = strength
+                return nm.out()
+            return build
+        p, w = self._displaced(bump)
+        self.assertEqual(p["normal"]["height"]["node"], "checker")
+        self.assertEqual(p["normal"]["normal"]["height"]["vector1"]["node"], "displacement")
+        p, w = self._displaced(normal_map(1.0))
+        self.assertEqual(p["normal"]["node"], "normal_map")
+        self.assertNotIn("normal", p["normal"])
+        p, w = self._displaced(normal_map(0.5))
+        self.assertEqual(p["normal"]["normal"]["height"]["vector1"]["node"], "displacement")
+
+    def test_true_displacement_is_named(self):
+        for method, words in (("DISPLACEMENT", "true displacement"), ("BOTH", "Displacement and Bump")):
+            p, w = self._displaced(method=method)
+            self.assertIn(words + " displacement rendered as bump mapping" if method == "BOTH" else words, w)
+            self.assertEqual(p["normal"]["node"], "bump")
+
+    def test_constant_displacement_bumps_nothing(self):
         def b(t):
             out = next(n for n in t.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
             t.link(t.new("ShaderNodeValue", "H").out(), out.inp("Displacement"))
             return _diffuse(t, (0.5, 0.5, 0.5)).out()
         p, w = material_with(b)
-        self.assertIn("displacement ignored", w)
+        self.assertNotIn("normal", p)
+        self.assertIsNone(w)
 
 
 class TestWorld(unittest.TestCase):

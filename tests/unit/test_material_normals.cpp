@@ -63,6 +63,59 @@ TEST(ShadingNormals, BumpFromAHeightRamp) {
   expect_vec(chained, Vec3(1, 0, 0));
 }
 
+Vec3 vector_of(const std::string &node, const ShadingPoint &sp) {
+  TextureGraph g;
+  std::vector<std::string> w;
+  int n = g.parse(json::parse(node), "test", w);
+  return g.eval(n, sp);
+}
+
+// Blender's Displacement node as Cycles' svm_node_displacement: (height - midlevel) x scale
+// along the normal in the world, or in object space carried back (the object's scale applies).
+TEST(ShadingNormals, DisplacementIsAnOffsetAlongTheNormal) {
+  ShadingPoint sp = plane_point();
+  const char *world = R"({"node":"displacement","space":"WORLD","height":0.8,"midlevel":0.5,"scale":2})";
+  const char *object = R"({"node":"displacement","height":0.8,"midlevel":0.5,"scale":2})";
+  expect_vec(vector_of(world, sp), Vec3(0, 0, 0.6f));
+  expect_vec(vector_of(object, sp), Vec3(0, 0, 0.6f));  // no transform: object space is the world
+  // Object scaled (1, 1, 3) with a normal tilted in x-z: n_o = normalize(M^T n), offset M n_o k.
+  const float M[12] = {1, 0, 0, 5, 0, 1, 0, -2, 0, 0, 3, 7};
+  std::copy(M, M + 12, sp.object_to_world);
+  sp.has_object_to_world = true;
+  sp.ns = normalize(Vec3(1, 0, 1));
+  const Vec3 n_o = normalize(Vec3(sp.ns.x, sp.ns.y, 3 * sp.ns.z));
+  expect_vec(vector_of(object, sp), Vec3(n_o.x, n_o.y, 3 * n_o.z) * 0.6f);
+  expect_vec(vector_of(world, sp), sp.ns * 0.6f);
+  // A linked normal replaces the shading normal.
+  expect_vec(vector_of(R"({"node":"displacement","space":"WORLD","height":1,"midlevel":0,"normal":[0,1,0]})", sp),
+             Vec3(0, 1, 0));
+}
+
+// The Material Output's Displacement as the add-on lowers it (Cycles' Bump Only): a bump of
+// height offset . normal. A height of 0.5 u in world space tilts the normal as BumpFromAHeightRamp;
+// in object space under a uniform scale of 2 the offset doubles, and so does the slope.
+TEST(ShadingNormals, BumpFromADisplacement) {
+  ShadingPoint sp = plane_point();
+  auto bump = [](const char *space) {
+    return std::string(R"({"node":"bump","height":{"node":"vector_math","operation":"DOT_PRODUCT","output":"value",)"
+                       R"("vector2":{"node":"texture_coordinate","output":"normal"},"vector1":{"node":"displacement",)"
+                       R"("midlevel":0,"space":")") + space +
+           R"(","height":{"node":"math","operation":"MULTIPLY","value1":{"node":"separate_rgb","color":{"node":"uv"},"output":"r"},"value2":0.5}}}})";
+  };
+  expect_vec(normal_of(bump("WORLD"), sp), normalize(Vec3(-0.5f, 0, 1)), 2e-3f);
+  const float M[12] = {2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0};
+  std::copy(M, M + 12, sp.object_to_world);
+  sp.has_object_to_world = true;
+  expect_vec(normal_of(bump("OBJECT"), sp), normalize(Vec3(-1, 0, 1)), 2e-3f);
+  expect_vec(normal_of(bump("WORLD"), sp), normalize(Vec3(-0.5f, 0, 1)), 2e-3f);
+  // A normal map below strength 1 blends toward its `normal` (Cycles' sd->N), here that bump.
+  const Vec3 base = normalize(Vec3(-1, 0, 1));
+  expect_vec(normal_of(R"({"node":"normal_map","space":"WORLD","color":[0.5,1,0.5],"strength":0.5,"normal":)" +
+                           bump("OBJECT") + "}",
+                       sp),
+             normalize(base + (Vec3(0, 1, 0) - base) * 0.5f), 2e-3f);
+}
+
 TEST(ShadingNormals, BendingKeepsReflectionAboveTheSurface) {
   Vec3 ng(0, 0, 1);
   for (float tilt : {0.3f, 0.8f, 1.2f, 1.5f})

@@ -610,6 +610,16 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     const float samples = r.num("samples", 4.0f);  // Blender's default
     if (!(samples >= 0 && samples <= 128)) fail(what + ": 'samples' must be 0 to 128");
     n.depth = int(samples);
+  } else if (type == "displacement") {
+    // Blender's Displacement node (Cycles' svm_node_displacement): the world-space offset
+    // (height - midlevel) x scale along `normal` (default: the shading normal); in OBJECT space
+    // the normal is taken to the object and the offset back, so the object's scale applies.
+    n.type = TexNodeType::Displacement;
+    n.mode = r.choice("space", {"OBJECT", "WORLD"}, "OBJECT");
+    n.in[0] = input("height", 0.0);
+    n.in[1] = input("midlevel", 0.5);
+    n.in[2] = input("scale", 1.0);
+    if (r.has("normal")) n.in[3] = parse(j["normal"], what + " 'normal'", warnings);
   } else if (type == "wireframe") {
     n.type = TexNodeType::Wireframe;
     n.in[0] = input("size", 0.01);
@@ -714,6 +724,8 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.mode = r.choice("space", {"TANGENT", "OBJECT", "WORLD"}, "TANGENT");
     n.in[0] = input("color", json::array({0.5, 0.5, 1.0}));
     n.in[1] = input("strength", 1.0);
+    // `normal`: what a strength other than 1 blends toward (Cycles' sd->N; default the shading normal)
+    if (r.has("normal")) n.in[2] = parse(j["normal"], what + " 'normal'", warnings);
     std::string uv_map = r.str("uv_map", "");
     if (!uv_map.empty()) warnings.push_back(what + ": tangents come from the default UV map, not '" + uv_map + "'");
   } else if (type == "bump") {
@@ -749,7 +761,7 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
                    "only (docs/scene-format.md)");
   } else {
     fail(what_in + ": unknown texture node '" + type +
-         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, object_info, color_space, blackbody, wavelength, wireframe, ambient_occlusion, bevel, invert, hue_saturation, attribute, vertex_color, "
+         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, object_info, color_space, blackbody, wavelength, wireframe, ambient_occlusion, bevel, displacement, invert, hue_saturation, attribute, vertex_color, "
          "uv, texture_coordinate, mapping, normal_map, bump, separate_rgb, combine_rgb, rgb_to_bw, bright_contrast, gamma)");
   }
   r.used.insert("output");
@@ -1121,6 +1133,18 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
     case TexNodeType::NormalMap:
     case TexNodeType::Bump:
     case TexNodeType::Bevel: return eval_normal(idx, sp);
+    case TexNodeType::Displacement: {
+      const Vec3 normal = n.in[3] >= 0 ? Vec3(in(3)) : sp.ns;
+      const float offset = (inf(0) - inf(1)) * inf(2);
+      if (n.mode == 1 || !sp.has_object_to_world) return normal * offset;
+      const Vec3 o = normal_to_object(sp, normal);
+      const float len = length(o);
+      if (!(len > 0) || !std::isfinite(len)) return Vec3(0.0f);
+      const Vec3 d = o * (offset / len);
+      const float *M = sp.object_to_world;
+      return Vec3(M[0] * d.x + M[1] * d.y + M[2] * d.z, M[4] * d.x + M[5] * d.y + M[6] * d.z,
+                  M[8] * d.x + M[9] * d.y + M[10] * d.z);
+    }
     case TexNodeType::SeparateRgb: return Color(in(0)[n.output]);
     case TexNodeType::CombineRgb: return {inf(0), inf(1), inf(2)};
     case TexNodeType::RgbToBw: return Color(luminance(in(0)));
@@ -1167,6 +1191,7 @@ Vec3 TextureGraph::eval_normal(int idx, const ShadingPoint &sp) const {
     out = out / len;
     float strength = std::max(eval_float(n.in[1], sp), 0.0f);
     if (strength != 1.0f) {
+      if (n.in[2] >= 0) N = eval_normal(n.in[2], sp);
       out = N + (out - N) * strength;
       float l = length(out);
       out = l > 0 ? out / l : N;
