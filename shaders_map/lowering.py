@@ -70,7 +70,6 @@ class _Lowerer:
         self.image_file = image_file
         self.context = context  # "surface" or "world"
         self.volume_grids = volume_grids  # the material fills a Volume object: attributes name its grids
-        self.surface_normal = None  # Cycles' sd->N where it is not the shading normal: a bump node
         self._memo = {}
 
     def approx(self, node, reason):
@@ -443,18 +442,13 @@ class _Lowerer:
             space = space[8:]
         if e.props.get("uv_map"):
             self.approx(e.node, "tangents from the default UV map, not '%s'" % e.props["uv_map"])
-        d = {"node": "normal_map", "space": space, "color": self.value(e.args["color"], True),
-             "strength": self.value(e.args["strength"])}
-        if self.surface_normal is not None and d["strength"] != 1.0:
-            d["normal"] = self.surface_normal  # Cycles blends toward sd->N, bumped by a displacement
-        return d
+        return {"node": "normal_map", "space": space, "color": self.value(e.args["color"], True),
+                "strength": self.value(e.args["strength"])}
 
     def _n_bump(self, e):
         d = {"node": "bump", "height": self.value(e.args["height"]), "strength": self.value(e.args["strength"]),
              "distance": self.value(e.args["distance"]), "invert": bool(e.props.get("invert", False))}
         n = self.normal(e.args.get("normal"), e.node)
-        if n is None:
-            n = self.surface_normal  # Cycles bumps sd->N, which a displacement has bumped first
         if n is not None:
             d["normal"] = n
         return d
@@ -470,8 +464,9 @@ class _Lowerer:
     def displacement_bump(self, desc):
         """The Material Output's Displacement as Cycles renders it by default (Settings >
         Displacement: Bump Only; shader_graph.cpp, bump_from_displacement): a bump of height
-        offset . normal, the normal of every shader and Bump without a Normal of their own.
-        None without a varying displacement."""
+        offset . normal, which becomes the material's "surface_normal" (Cycles' SetNormal: the
+        normal of every shader and Bump without one of their own). None without a varying
+        displacement."""
         if desc.displacement is None or self.fold(desc.displacement) is not None:
             return None  # a constant offset moves the surface and bumps nothing
         if desc.displacement_method != "BUMP":
@@ -520,8 +515,6 @@ class _Lowerer:
     # ---- closures -----------------------------------------------------------------
     def _with_normal(self, d, c, key="normal"):
         n = self.normal(c.params.get("normal"), c.node)
-        if n is None:
-            n = self.surface_normal
         if n is not None:
             d[key] = n
         return d
@@ -970,8 +963,6 @@ def lower_surface(desc, image_average=None, image_file=None, volume_grids=False)
     Cycles ignores attributes a mesh does not have)."""
     low = _Lowerer(desc.issues, image_average, image_file, "surface", volume_grids)
     medium = low.medium(desc.volume) if desc.volume is not None else None
-    if desc.surface is not None:
-        low.surface_normal = low.displacement_bump(desc)
     if desc.surface is None:
         if medium is not None:
             params = {"type": "volume"}  # Cycles: volume only = a transparent boundary
@@ -981,6 +972,10 @@ def lower_surface(desc, image_average=None, image_file=None, volume_grids=False)
         params = low.shader(desc.surface)
         if params is None:
             params = {"type": "diffuse", "color": [0.0, 0.0, 0.0]}
+        else:
+            bump = low.displacement_bump(desc)
+            if bump is not None:
+                params["surface_normal"] = bump
     if medium is not None:
         params["volume"] = medium
     return params, desc.issues

@@ -1695,6 +1695,57 @@ def bevel():
     return scene
 
 
+def displacement():
+    """Displacement into the Material Output, Cycles' default Bump Only (the way texture sets from
+    Node Wrangler and asset libraries arrive), lit by a low sun and a dim sky: a Principled floor
+    displaced by Wave bands (object space, scale 0.04), a Principled ball scaled 0.45 by its object
+    and displaced by a Noise in object space (the scale applies to the offset), and a diffuse ball
+    displaced by a Noise in world space whose own Bump (Wave rings, Normal unlinked) bumps the
+    displaced normal further."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.1, 0.12, 0.16, 1.0)
+
+    def displaced(name, shader, inputs, texture, texture_inputs, space, scale, bump_rings=None):
+        m, nt, out = empty_material(name)
+        bsdf = nt.nodes.new(shader)
+        for k, v in inputs.items():
+            bsdf.inputs[k].default_value = v
+        tex = nt.nodes.new(texture)
+        for k, v in texture_inputs.items():
+            tex.inputs[k].default_value = v
+        disp = nt.nodes.new("ShaderNodeDisplacement")
+        disp.space = space
+        disp.inputs["Scale"].default_value = scale
+        nt.links.new(tex.outputs["Fac"], disp.inputs["Height"])
+        nt.links.new(disp.outputs["Displacement"], out.inputs["Displacement"])
+        if bump_rings is not None:
+            rings = nt.nodes.new("ShaderNodeTexWave")
+            rings.wave_type = "RINGS"
+            rings.inputs["Scale"].default_value = bump_rings
+            bump = nt.nodes.new("ShaderNodeBump")
+            bump.inputs["Strength"].default_value = 0.5
+            bump.inputs["Distance"].default_value = 0.02
+            nt.links.new(rings.outputs["Fac"], bump.inputs["Height"])
+            nt.links.new(bump.outputs["Normal"], bsdf.inputs["Normal"])
+        nt.links.new(bsdf.outputs[0], out.inputs["Surface"])
+        return m
+    smooth = {"Detail": 0.0, "Distortion": 0.0}
+    plane("Floor", 8.0, displaced("WavyFloor", "ShaderNodeBsdfPrincipled",
+                                  {"Base Color": (0.6, 0.6, 0.6, 1.0), "Roughness": 0.3},
+                                  "ShaderNodeTexWave", dict(smooth, Scale=1.5), "OBJECT", 0.04))
+    ball = smooth_ball("ScaledBall", (-0.6, 0, 0.45), 1.0, displaced(
+        "NoisyPrincipled", "ShaderNodeBsdfPrincipled", {"Base Color": (0.8, 0.35, 0.15, 1.0), "Roughness": 0.4},
+        "ShaderNodeTexNoise", dict(smooth, Scale=3.0), "OBJECT", 0.15))
+    ball.scale = (0.45, 0.45, 0.45)
+    smooth_ball("WorldBall", (0.6, 0.1, 0.4), 0.4, displaced(
+        "NoisyDiffuse", "ShaderNodeBsdfDiffuse", {"Color": (0.2, 0.45, 0.8, 1.0)},
+        "ShaderNodeTexNoise", dict(smooth, Scale=3.0), "WORLD", 0.05, bump_rings=1.0))
+    light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(62), 0, math.radians(-40)), angle=math.radians(3))
+    camera_looking_at((0, -3.2, 1.3), (0, 0, 0.35), 35)
+    return scene
+
+
 def principled_glass_tint():
     """Cycles 3.4's Principled glass with Specular Tint: its reflection runs from the base colour
     (tint 1) at normal incidence to white at grazing. Two orange glass balls (Transmission 1,
@@ -2024,6 +2075,7 @@ SCENES = {
     "bevel": bevel,
     "incoming_facing": incoming_facing,
     "mapped_normals": mapped_normals,
+    "displacement": displacement,
     "preetham_sky": preetham_sky,
     "plane_point": plane_point,
     "plane_spot": plane_spot,
@@ -2077,7 +2129,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "incoming_facing", "mapped_normals", "preetham_sky", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "incoming_facing", "mapped_normals", "displacement", "preetham_sky", "emissive_textured",
                      "volume_blackbody"]
 
 

@@ -70,7 +70,7 @@ const char *kColorSpaces[] = {"", "Non-Color", "sRGB", "Linear", "no such space"
 // numbers from the input, or (choice 0) raw input text.
 std::string material_params(Reader &in) {
   auto x = [&] { return in.json_number(); };
-  switch (in.small(20)) {
+  switch (in.small(21)) {
     case 0: return in.text(64);
     case 1: return R"({"type":"diffuse","color":[)" + x() + "," + x() + "," + x() + R"(],"roughness":)" + x() + "}";
     case 2: return R"({"type":"glossy","roughness":)" + x() + R"(,"anisotropy":)" + x() + "}";
@@ -117,6 +117,15 @@ std::string material_params(Reader &in) {
                     (in.small(2) ? "true" : "false") + "}}";
     case 18: return R"({"type":"glossy","roughness":)" + x() + R"(,"normal":{"node":"bevel","radius":)" + x() +
                     R"(,"samples":)" + x() + R"(,"normal":{"node":"normal_map","strength":)" + x() + "}}}";
+    case 19: {  // a displacement's bump as the surface normal (the add-on's Bump Only), a bump on top
+      const std::string disp = std::string(R"({"node":"displacement","space":")") + (in.small(2) ? "OBJECT" : "WORLD") +
+                               R"(","height":{"node":"noise","scale":)" + x() + R"(},"midlevel":)" + x() +
+                               R"(,"scale":)" + x() + "}";
+      return R"({"type":"principled","surface_normal":{"node":"bump","height":{"node":"vector_math","operation":)"
+             R"("DOT_PRODUCT","output":"value","vector1":)" + disp +
+             R"(,"vector2":{"node":"texture_coordinate","output":"normal"}}},"normal":{"node":"bump","strength":)" + x() +
+             R"(,"height":{"node":"checker","scale":)" + x() + "}}}";
+    }
     case 16: return R"({"type":"emission","color":{"node":"texture_coordinate","output":"parametric"},"strength":)"
                     R"({"node":"wireframe","size":)" + x() + R"(,"pixel_size":)" + (in.small(2) ? "true" : "false") + "}}";
     default: return R"({"type":"volume","volume":{"grid":{"buffer":")" + std::string(kNames[in.small(4)]) +

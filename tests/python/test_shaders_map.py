@@ -1098,10 +1098,12 @@ class TestGraph(unittest.TestCase):
         return sm.convert_material(Material("M", t, displacement_method=method))
 
     def test_displacement_bumps_the_material_normal(self):
-        # Cycles' Bump Only: height = offset . normal, a bump of distance 1 on every unlinked Normal.
+        # Cycles' Bump Only: height = offset . normal, a bump of distance 1 that becomes the
+        # surface normal (SetNormal), the material's "surface_normal".
         p, w = self._displaced()
         self.assertIsNone(w)
-        bump = p["normal"]
+        self.assertNotIn("normal", p)
+        bump = p["surface_normal"]
         self.assertEqual((bump["node"], bump["strength"], bump["distance"]), ("bump", 1.0, 1.0))
         dot = bump["height"]
         self.assertEqual((dot["node"], dot["operation"], dot["output"]), ("vector_math", "DOT_PRODUCT", "value"))
@@ -1110,36 +1112,29 @@ class TestGraph(unittest.TestCase):
         self.assertEqual((disp["node"], disp["space"], disp["midlevel"], disp["scale"]),
                          ("displacement", "OBJECT", 0.5, 0.2))
         self.assertEqual(disp["height"]["node"], "noise")
-        self.assertEqual(self._displaced(space="WORLD")[0]["normal"]["height"]["vector1"]["space"], "WORLD")
+        self.assertEqual(self._displaced(space="WORLD")[0]["surface_normal"]["height"]["vector1"]["space"], "WORLD")
 
     def test_displacement_under_a_bump_and_a_normal_map(self):
-        # A Bump without a Normal bumps the displaced normal (Cycles' sd->N); a Normal Map at
-        # strength 1 replaces it (Cycles reads the mesh normal there), below 1 blends toward it.
+        # A shader's own Normal (a Bump, a Normal Map) stays its own; the engine evaluates it
+        # at the displaced surface normal (a Bump without a Normal bumps it further, as Cycles).
         def bump(t):
             b = t.new("ShaderNodeBump", "Bumpy", invert=False)
             t.link(t.new("ShaderNodeTexChecker", "Check").out("Fac"), b.inp("Height"))
             return b.out()
 
-        def normal_map(strength):
-            def build(t):
-                nm = t.new("ShaderNodeNormalMap", "NMap", space="OBJECT", uv_map="")
-                nm.inp("Strength").default_value = strength
-                return nm.out()
-            return build
-        p, w = self._displaced(bump)
-        self.assertEqual(p["normal"]["height"]["node"], "checker")
-        self.assertEqual(p["normal"]["normal"]["height"]["vector1"]["node"], "displacement")
-        p, w = self._displaced(normal_map(1.0))
-        self.assertEqual(p["normal"]["node"], "normal_map")
-        self.assertNotIn("normal", p["normal"])
-        p, w = self._displaced(normal_map(0.5))
-        self.assertEqual(p["normal"]["normal"]["height"]["vector1"]["node"], "displacement")
+        def normal_map(t):
+            return t.new("ShaderNodeNormalMap", "NMap", space="OBJECT", uv_map="").out()
+        for build, node in ((bump, "bump"), (normal_map, "normal_map")):
+            p, w = self._displaced(build)
+            self.assertEqual(p["normal"]["node"], node)
+            self.assertNotIn("normal", p["normal"])
+            self.assertEqual(p["surface_normal"]["height"]["vector1"]["node"], "displacement")
 
     def test_true_displacement_is_named(self):
         for method, words in (("DISPLACEMENT", "true displacement"), ("BOTH", "Displacement and Bump")):
             p, w = self._displaced(method=method)
             self.assertIn(words + " displacement rendered as bump mapping" if method == "BOTH" else words, w)
-            self.assertEqual(p["normal"]["node"], "bump")
+            self.assertEqual(p["surface_normal"]["node"], "bump")
 
     def test_constant_displacement_bumps_nothing(self):
         def b(t):
@@ -1147,7 +1142,7 @@ class TestGraph(unittest.TestCase):
             t.link(t.new("ShaderNodeValue", "H").out(), out.inp("Displacement"))
             return _diffuse(t, (0.5, 0.5, 0.5)).out()
         p, w = material_with(b)
-        self.assertNotIn("normal", p)
+        self.assertNotIn("surface_normal", p)
         self.assertIsNone(w)
 
 

@@ -268,6 +268,7 @@ Material Material::from_params(Params &p, const std::string &name, const ImageBu
   for (auto &[n, t] : kTypes)
     if (type == n) m.type = t;
   Parser{m}.shader(p, type, {});
+  m.surface_normal = Parser{m}.normal(p, "surface_normal");
   m.graph.image_buffers = nullptr;  // only while parsing: the scene's buffers may change later
   p.check_all_used();
   for (const Closure &c : m.closures) {
@@ -785,9 +786,16 @@ Bsdf Material::make_bsdf(const ShadingPoint &sp, Vec3 wo) const {
 
 // Textures, normal maps and anisotropy evaluated at sp (one named result: built in place).
 Bsdf Material::shaded_bsdf(const ShadingPoint &sp, Vec3 wo) const {
+  if (surface_normal < 0) return shaded_bsdf_at(sp, wo, false);
+  ShadingPoint moved = sp;  // evaluated at the unmoved normal, as Cycles evaluates the bump first
+  moved.ns = graph.eval_normal(surface_normal, sp);
+  return shaded_bsdf_at(moved, wo, true);
+}
+
+Bsdf Material::shaded_bsdf_at(const ShadingPoint &sp, Vec3 wo, bool surface_normal_set) const {
   // One shading frame per Bsdf: the first closure with a normal input sets it.
   Vec3 ns = sp.ns;
-  bool mapped = false;
+  bool mapped = surface_normal_set;
   for (const Closure &c : closures)
     if (c.normal >= 0) { ns = graph.eval_normal(c.normal, sp); mapped = true; break; }
   // Anisotropy follows the default UV map's u direction, rotated about the normal.
@@ -807,6 +815,8 @@ Bsdf Material::shaded_bsdf(const ShadingPoint &sp, Vec3 wo) const {
   Bsdf bsdf(sp.ng, ns, wo, tangent);
   // A mapped normal that would reflect a viewer below the surface is bent (as Cycles),
   // for each direction that sees it: not only toward wo (light paths build toward the light).
+  // The diffuse lobes' bump shadowing measures against sp.ns, which a surface normal has set
+  // (Cycles' sd->N): under that normal alone there is none.
   if (mapped) bsdf.bend_for_each_viewer(sp.ns);
   add_closure_lobes(*this, sp, bsdf);
   return bsdf;

@@ -88,6 +88,11 @@ struct Material {
   // G1 G1 (microfacet.h) and rough glass split by the Fresnel at the shading normal
   // (dielectric.h), as Cycles 3.4; "physical" (default): height-correlated, Fresnel per facet.
   bool cycles34_microfacets = false;
+  // "surface_normal": a normal node (the add-on's bump from the Material Output's Displacement)
+  // that replaces the shading normal for all the material evaluates, as Cycles' SetNormal sets
+  // sd->N: closures without a normal of their own, the base of Bump nodes, Geometry > Normal,
+  // view factors, and the reference of the diffuse lobes' bump shadowing. -1: none.
+  int surface_normal = -1;
   // A constant material (no texture, normal map or anisotropy) has its lobes resolved
   // once, when parsed: shading a hit then copies them, and needs no ShadingPoint.
   struct ResolvedLobes {
@@ -135,6 +140,7 @@ struct Material {
   void warn_if_lobes_merge();
   Bsdf resolved_bsdf(Vec3 ng, Vec3 ns, Vec3 wo) const;
   Bsdf shaded_bsdf(const ShadingPoint &sp, Vec3 wo) const;
+  Bsdf shaded_bsdf_at(const ShadingPoint &sp, Vec3 wo, bool surface_normal_set) const;
 };
 
 }  // namespace rdv

@@ -724,8 +724,6 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.mode = r.choice("space", {"TANGENT", "OBJECT", "WORLD"}, "TANGENT");
     n.in[0] = input("color", json::array({0.5, 0.5, 1.0}));
     n.in[1] = input("strength", 1.0);
-    // `normal`: what a strength other than 1 blends toward (Cycles' sd->N; default the shading normal)
-    if (r.has("normal")) n.in[2] = parse(j["normal"], what + " 'normal'", warnings);
     std::string uv_map = r.str("uv_map", "");
     if (!uv_map.empty()) warnings.push_back(what + ": tangents come from the default UV map, not '" + uv_map + "'");
   } else if (type == "bump") {
@@ -1191,7 +1189,6 @@ Vec3 TextureGraph::eval_normal(int idx, const ShadingPoint &sp) const {
     out = out / len;
     float strength = std::max(eval_float(n.in[1], sp), 0.0f);
     if (strength != 1.0f) {
-      if (n.in[2] >= 0) N = eval_normal(n.in[2], sp);
       out = N + (out - N) * strength;
       float l = length(out);
       out = l > 0 ? out / l : N;
