@@ -461,30 +461,31 @@ class _Lowerer:
             d["normal"] = self.value(e.args["normal"])
         return d
 
-    def displacement_bump(self, desc):
-        """The Material Output's Displacement as Cycles renders it by default (Settings >
-        Displacement: Bump Only; shader_graph.cpp, bump_from_displacement): a bump of height
-        offset . normal, which becomes the material's "surface_normal" (Cycles' SetNormal: the
-        normal of every shader and Bump without one of their own). None without a varying
-        displacement."""
-        if desc.displacement is None or self.fold(desc.displacement) is not None:
-            return None  # a constant offset moves the surface and bumps nothing
-        if desc.displacement_method != "BUMP":
-            self.approx(desc.output_label, "%s displacement rendered as bump mapping: the surface is not moved"
-                        % {"DISPLACEMENT": "true", "BOTH": "Displacement and Bump"}[desc.displacement_method])
-        height = {"node": "vector_math", "operation": "DOT_PRODUCT", "vector1": self.value(desc.displacement),
-                  "vector2": {"node": "texture_coordinate", "output": "normal"}, "output": "value"}
-        return {"node": "bump", "height": height, "strength": 1.0, "distance": 1.0}
-
-    def _n_bevel(self, e):
-        samples = min(max(int(e.props.get("samples", 4)), 0), 128)
-        if samples != e.props.get("samples", 4):
-            self.approx(e.node, "Samples kept to 0..128")
-        d = {"node": "bevel", "radius": self.value(e.args["radius"]), "samples": samples}
-        n = self.normal(e.args.get("normal"), e.node)
-        if n is not None:
-            d["normal"] = n
-        return d
+    def displacement(self, desc):
+        """The Material Output's Displacement as the material's Settings > Displacement has Cycles
+        render it: {} without one; Bump Only (Cycles' default; shader_graph.cpp,
+        bump_from_displacement): a bump of height offset . normal as the "surface_normal" (Cycles'
+        SetNormal: the normal of every shader and Bump without one of their own); Displacement
+        Only: the offset as "displacement", moving the vertices (the engine's
+        scene/displacement.cpp); Displacement and Bump: both, the bump taken in object space."""
+        if desc.displacement is None:
+            return {}
+        method = desc.displacement_method
+        constant = self.fold(desc.displacement)
+        if constant is not None:  # moves the surface, bumps nothing
+            v = [float(x) for x in (constant if isinstance(constant, (list, tuple)) else [constant] * 3)][:3]
+            return {"displacement": v, "displacement_method": "true"} if method != "BUMP" and any(v) else {}
+        out = {}
+        if method != "DISPLACEMENT":
+            height = {"node": "vector_math", "operation": "DOT_PRODUCT", "vector1": self.value(desc.displacement),
+                      "vector2": {"node": "texture_coordinate", "output": "normal"}, "output": "value"}
+            out["surface_normal"] = {"node": "bump", "height": height, "strength": 1.0, "distance": 1.0}
+            if method == "BOTH":
+                out["surface_normal"]["space"] = "OBJECT"
+        if method != "BUMP":
+            out["displacement"] = self.value(desc.displacement)
+            out["displacement_method"] = "true" if method == "DISPLACEMENT" else "both"
+        return out
 
     def _n_vertex_color(self, e):
         d = {"node": "vertex_color", "layer": e.props.get("layer_name") or DEFAULT_COLOR_ATTRIBUTE}
@@ -973,9 +974,7 @@ def lower_surface(desc, image_average=None, image_file=None, volume_grids=False)
         if params is None:
             params = {"type": "diffuse", "color": [0.0, 0.0, 0.0]}
         else:
-            bump = low.displacement_bump(desc)
-            if bump is not None:
-                params["surface_normal"] = bump
+            params.update(low.displacement(desc))
     if medium is not None:
         params["volume"] = medium
     return params, desc.issues

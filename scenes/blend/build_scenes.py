@@ -1746,6 +1746,45 @@ def displacement():
     return scene
 
 
+def true_displacement():
+    """Material > Settings > Displacement set to move the surface, lit by a low sun: a 64 x 64
+    grid (flat shaded) whose Principled material is Displacement Only, a Noise's height in object
+    space (scale 0.3: hills that shadow one another), and a smooth ico sphere scaled 0.5 by its
+    object whose material is Displacement and Bump, Wave bands in object space (scale 0.15),
+    on it."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.1, 0.12, 0.16, 1.0)
+
+    def displaced(name, color, texture, texture_inputs, scale, method):
+        m, nt, out = empty_material(name)
+        m.cycles.displacement_method = method
+        bsdf = nt.nodes.new("ShaderNodeBsdfPrincipled")
+        bsdf.inputs["Base Color"].default_value = color + (1.0,)
+        bsdf.inputs["Roughness"].default_value = 0.5
+        tex = nt.nodes.new(texture)
+        for k, v in texture_inputs.items():
+            tex.inputs[k].default_value = v
+        disp = nt.nodes.new("ShaderNodeDisplacement")
+        disp.inputs["Scale"].default_value = scale
+        nt.links.new(tex.outputs["Fac"], disp.inputs["Height"])
+        nt.links.new(disp.outputs["Displacement"], out.inputs["Displacement"])
+        nt.links.new(bsdf.outputs[0], out.inputs["Surface"])
+        return m
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=64, y_subdivisions=64, size=5.0)
+    bpy.context.active_object.data.materials.append(displaced(
+        "Hills", (0.55, 0.5, 0.4), "ShaderNodeTexNoise", {"Scale": 3.0, "Detail": 0.0}, 0.8, "DISPLACEMENT"))
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=5, radius=1.0, location=(0.3, 0.2, 0.9))
+    ball = bpy.context.active_object
+    ball.scale = (0.5, 0.5, 0.5)
+    bpy.ops.object.shade_smooth()
+    ball.data.materials.append(displaced(
+        "Banded", (0.2, 0.4, 0.8), "ShaderNodeTexWave", {"Scale": 1.0, "Distortion": 0.0, "Detail": 0.0}, 0.15, "BOTH"))
+    light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(65), 0, math.radians(-50)), angle=math.radians(3))
+    camera_looking_at((0, -4.4, 2.2), (0, 0, 0.45), 35)
+    return scene
+
+
 def principled_glass_tint():
     """Cycles 3.4's Principled glass with Specular Tint: its reflection runs from the base colour
     (tint 1) at normal incidence to white at grazing. Two orange glass balls (Transmission 1,
@@ -2076,6 +2115,7 @@ SCENES = {
     "incoming_facing": incoming_facing,
     "mapped_normals": mapped_normals,
     "displacement": displacement,
+    "true_displacement": true_displacement,
     "preetham_sky": preetham_sky,
     "plane_point": plane_point,
     "plane_spot": plane_spot,
@@ -2129,7 +2169,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "incoming_facing", "mapped_normals", "displacement", "preetham_sky", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "incoming_facing", "mapped_normals", "displacement", "true_displacement", "preetham_sky", "emissive_textured",
                      "volume_blackbody"]
 
 

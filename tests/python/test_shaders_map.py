@@ -1130,11 +1130,18 @@ class TestGraph(unittest.TestCase):
             self.assertNotIn("normal", p["normal"])
             self.assertEqual(p["surface_normal"]["height"]["vector1"]["node"], "displacement")
 
-    def test_true_displacement_is_named(self):
-        for method, words in (("DISPLACEMENT", "true displacement"), ("BOTH", "Displacement and Bump")):
-            p, w = self._displaced(method=method)
-            self.assertIn(words + " displacement rendered as bump mapping" if method == "BOTH" else words, w)
-            self.assertEqual(p["surface_normal"]["node"], "bump")
+    def test_true_displacement_moves_the_vertices(self):
+        # Displacement Only: the offset as the material's "displacement" (the engine moves the
+        # vertices), no bump; Displacement and Bump: both, the bump in object space (Cycles').
+        p, w = self._displaced(method="DISPLACEMENT")
+        self.assertIsNone(w)
+        self.assertNotIn("surface_normal", p)
+        self.assertEqual((p["displacement"]["node"], p["displacement_method"]), ("displacement", "true"))
+        p, w = self._displaced(method="BOTH")
+        self.assertIsNone(w)
+        self.assertEqual((p["displacement"]["node"], p["displacement_method"]), ("displacement", "both"))
+        self.assertEqual((p["surface_normal"]["node"], p["surface_normal"]["space"]), ("bump", "OBJECT"))
+        self.assertNotIn("displacement", self._displaced(method="BUMP")[0])
 
     def test_constant_displacement_bumps_nothing(self):
         def b(t):
@@ -1143,7 +1150,17 @@ class TestGraph(unittest.TestCase):
             return _diffuse(t, (0.5, 0.5, 0.5)).out()
         p, w = material_with(b)
         self.assertNotIn("surface_normal", p)
+        self.assertNotIn("displacement", p)
         self.assertIsNone(w)
+        # Moved whole under true displacement (a float into the socket: that value on each axis).
+        t = Tree("M")
+        out = t.output()
+        h = t.new("ShaderNodeValue", "H")
+        h.outputs[0].default_value = 0.25
+        t.link(h.out(), out.inp("Displacement"))
+        t.link(_diffuse(t, (0.5, 0.5, 0.5)).out(), out.inp("Surface"))
+        p, w = sm.convert_material(Material("M", t, displacement_method="DISPLACEMENT"))
+        self.assertEqual((p["displacement"], p["displacement_method"]), ([0.25, 0.25, 0.25], "true"))
 
 
 class TestWorld(unittest.TestCase):

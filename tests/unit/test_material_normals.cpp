@@ -108,6 +108,13 @@ TEST(ShadingNormals, BumpFromADisplacement) {
   sp.has_object_to_world = true;
   expect_vec(normal_of(bump("OBJECT"), sp), normalize(Vec3(-1, 0, 1)), 2e-3f);
   expect_vec(normal_of(bump("WORLD"), sp), normalize(Vec3(-0.5f, 0, 1)), 2e-3f);
+  // Displacement and Bump: Cycles takes the bump's differences in object space, the heights
+  // still world units, so under a scale of 2 the same heights tilt the normal twice as much.
+  sp.dpdu_object = Vec3(0.5f, 0, 0);
+  sp.dpdv_object = Vec3(0, 0.5f, 0);
+  const char *world_ramp = R"({"node":"bump","space":"OBJECT","height":{"node":"math","operation":"MULTIPLY",)"
+                           R"("value1":{"node":"separate_rgb","color":{"node":"uv"},"output":"r"},"value2":0.5}})";
+  expect_vec(normal_of(world_ramp, sp), normalize(Vec3(-1, 0, 1)), 2e-3f);
 }
 
 TEST(ShadingNormals, BendingKeepsReflectionAboveTheSurface) {

@@ -269,6 +269,13 @@ Material Material::from_params(Params &p, const std::string &name, const ImageBu
     if (type == n) m.type = t;
   Parser{m}.shader(p, type, {});
   m.surface_normal = Parser{m}.normal(p, "surface_normal");
+  if (const json *d = p.get_json("displacement")) {
+    m.displacement = m.graph.parse(*d, p.what() + " 'displacement'", m.warnings);
+    const std::string method = p.get_string("displacement_method", "true");
+    if (method != "true" && method != "both")
+      fail(p.what() + ": 'displacement_method' must be true or both, got '" + method + "'");
+    m.displacement_keeps_normals = method == "both";
+  }
   m.graph.image_buffers = nullptr;  // only while parsing: the scene's buffers may change later
   p.check_all_used();
   for (const Closure &c : m.closures) {

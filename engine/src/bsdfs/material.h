@@ -93,6 +93,12 @@ struct Material {
   // sd->N: closures without a normal of their own, the base of Bump nodes, Geometry > Normal,
   // view factors, and the reference of the diffuse lobes' bump shadowing. -1: none.
   int surface_normal = -1;
+  // "displacement": a vector node (world-space offset, the add-on's Displacement output) that
+  // moves the vertices of the meshes using the material (scene/displacement.cpp), as Cycles'
+  // true displacement; "displacement_method": "true" recomputes the smooth normals from the
+  // moved faces, "both" keeps them (its bump is the surface_normal). -1: none.
+  int displacement = -1;
+  bool displacement_keeps_normals = false;
   // A constant material (no texture, normal map or anisotropy) has its lobes resolved
   // once, when parsed: shading a hit then copies them, and needs no ShadingPoint.
   struct ResolvedLobes {

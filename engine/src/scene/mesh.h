@@ -38,6 +38,12 @@ struct Mesh {
   // bounds and everything outside a sample use it.
   std::vector<std::vector<Vec3>> position_steps, normal_steps;
   bool deforming = false;
+  // True displacement (scene/displacement.cpp): while a material moves the vertices, the
+  // positions, their steps and the normals as given, to start from when it is redone;
+  // displacement_key: what the mesh was displaced by (0: not displaced).
+  std::vector<Vec3> given_positions, given_normals;
+  std::vector<std::vector<Vec3>> given_position_steps, given_normal_steps;
+  uint64_t displacement_key = 0;
 
   uint32_t num_vertices() const { return static_cast<uint32_t>(positions.size() - 1); }
   uint32_t num_triangles() const { return static_cast<uint32_t>(indices.size() / 3); }
@@ -45,6 +51,9 @@ struct Mesh {
     size_t steps = 0;
     for (const auto &v : position_steps) steps += v.capacity() * sizeof(Vec3);
     for (const auto &v : normal_steps) steps += v.capacity() * sizeof(Vec3);
+    for (const auto &v : given_position_steps) steps += v.capacity() * sizeof(Vec3);
+    for (const auto &v : given_normal_steps) steps += v.capacity() * sizeof(Vec3);
+    steps += (given_positions.capacity() + given_normals.capacity()) * sizeof(Vec3);
     return steps + positions.capacity() * sizeof(Vec3) + normals.capacity() * sizeof(Vec3) +
            uvs.capacity() * sizeof(Vec2) + (indices.capacity() + materials.capacity() + emissive_rank.capacity()) * 4 +
            attribute_bytes();

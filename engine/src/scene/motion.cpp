@@ -101,6 +101,7 @@ void Scene::set_mesh_motion(uint32_t id, const float *positions, const float *no
         }
     }
   }
+  restore_given_mesh(m);  // new steps: a displacement starts again from the mesh as given
   m.position_steps = std::move(position_steps);
   m.normal_steps = m.normals.empty() ? decltype(normal_steps)() : std::move(normal_steps);
   accel_.mark_mesh_dirty(id);

@@ -52,6 +52,7 @@ uint32_t Scene::add_material(const std::string &name, Params &params) {
   for (const std::string &w : pm.material.warnings) warn(w);
   for (const std::string &w : pm.medium.warnings) warn(w);
   materials_.push_back(std::move(pm.material));
+  material_edits_.push_back(0);
   material_interior_.push_back(pm.has_medium ? int(media_.size()) : -1);
   if (pm.has_medium) media_.push_back(pm.medium);
   material_boundary_.push_back(pm.boundary_only ? 1 : 0);
@@ -107,6 +108,7 @@ uint32_t Scene::add_image(const std::string &name, const float *pixels, uint32_t
 
 uint32_t Scene::add_error_material(const std::string &name) {
   materials_.push_back(Material::error_material(name));
+  material_edits_.push_back(0);
   material_interior_.push_back(-1);
   material_boundary_.push_back(0);
   return static_cast<uint32_t>(materials_.size() - 1);
@@ -119,6 +121,7 @@ void Scene::set_material(uint32_t id, Params &params) {
   for (const std::string &w : pm.material.warnings) warn(w);
   for (const std::string &w : pm.medium.warnings) warn(w);
   materials_[id] = std::move(pm.material);
+  ++material_edits_[id];
   if (material_boundary_[id] != uint8_t(pm.boundary_only)) {
     // Boundaries have BVHs of their own: the meshes using this material are rebuilt.
     material_boundary_[id] = pm.boundary_only ? 1 : 0;
@@ -477,6 +480,7 @@ void Scene::commit() {
     return;
   }
   find_motion();
+  displace_meshes();
   accel_.build(meshes_, instances_, material_boundary_);
   // Bounding sphere of the instanced geometry: sizes the power of infinite lights. A
   // moving instance or deforming mesh lies between its steps (linear interpolation) all
@@ -925,10 +929,16 @@ ShadingPoint Scene::shading_point(const SurfaceHit &hit, Vec3 dir, float width) 
   sp.p_object = p0 * sp.b[0] + p1 * sp.b[1] + p2 * sp.b[2];
   // Blender's texture space: the bounding box to 0..1; a flat axis counts as 2 units
   // wide around the box's middle (BKE_mesh_texspace_calc), so it maps to 0.5.
+  // A displaced mesh keeps the texture space of its positions as given (Blender's, which
+  // Cycles interpolates as the Generated attribute).
+  const Vec3 p_texture = m.given_positions.empty() ? sp.p_object
+                                                   : m.given_positions[tri[0]] * sp.b[0] +
+                                                         m.given_positions[tri[1]] * sp.b[1] +
+                                                         m.given_positions[tri[2]] * sp.b[2];
   Vec3 extent = m.bbox_hi - m.bbox_lo;
   for (int i = 0; i < 3; ++i) {
     sp.generated_scale[i] = extent[i] > 0 ? 1.0f / extent[i] : 0.5f;
-    sp.generated[i] = (sp.p_object[i] - m.bbox_lo[i]) * sp.generated_scale[i] + (extent[i] > 0 ? 0.0f : 0.5f);
+    sp.generated[i] = (p_texture[i] - m.bbox_lo[i]) * sp.generated_scale[i] + (extent[i] > 0 ? 0.0f : 0.5f);
   }
   InstancePlacement moved;
   const InstancePlacement &at = inst.moving ? (moved = placement_now(inst)) : placement(inst);
@@ -939,8 +949,15 @@ ShadingPoint Scene::shading_point(const SurfaceHit &hit, Vec3 dir, float width) 
   sp.object_alpha = inst.alpha;
   sp.object_index = inst.pass_index;
   sp.material_index = materials_[hit.material].pass_index;
-  // dp/du, dp/dv from the triangle's UVs (pbrt's triangle derivatives).
+  // dp/du, dp/dv from the triangle's UVs (pbrt's triangle derivatives). Displacement and Bump:
+  // over the triangle as given, where Cycles takes its bump's differences (the moved surface's
+  // slope is the displacement's, not to be counted twice).
+  const bool as_given = !m.given_positions.empty() && materials_[hit.material].displacement_keeps_normals;
   Vec3 e1 = p1 - p0, e2 = p2 - p0;
+  if (as_given) {
+    e1 = m.given_positions[tri[1]] - m.given_positions[tri[0]];
+    e2 = m.given_positions[tri[2]] - m.given_positions[tri[0]];
+  }
   bool frame = false;
   if (!m.uvs.empty()) {
     Vec2 t0 = m.uvs[tri[0]], t1 = m.uvs[tri[1]], t2 = m.uvs[tri[2]];

@@ -317,6 +317,13 @@ class Scene : private TextureRays {
   void build_lights();
   void build_volume_lights();
   void add_world_light(const WorldLook &look, uint32_t rays);
+  // ---- True displacement (scene/displacement.cpp), before the BVHs are built: moves the
+  // vertices of meshes whose materials displace them, from the positions as given, where the
+  // materials, the mesh or its first instance changed since it was last done.
+  void displace_meshes();
+  void displace_mesh(uint32_t mesh, uint32_t instance);
+  static void restore_given_mesh(Mesh &m);  // undoes a displacement (none: nothing)
+  std::vector<uint64_t> material_edits_;  // per material: set_material calls (displacement keys)
   // ---- Motion blur (scene/motion.cpp).
   // Which instances move (Instance::moving), before the BVHs are built.
   void find_motion();

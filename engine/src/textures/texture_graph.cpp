@@ -732,6 +732,8 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.in[1] = input("strength", 1.0);
     n.in[2] = input("distance", 1.0);
     n.clamp = r.flag("invert", false);  // clamp doubles as "invert" here
+    // OBJECT: the differences taken in object space (Cycles' bump of a Displacement and Bump)
+    n.mode = r.choice("space", {"WORLD", "OBJECT"}, "WORLD");
     if (r.has("normal")) n.in[3] = parse(j["normal"], what + " 'normal'", warnings);
   } else if (type == "separate_rgb" || type == "separate_color") {
     n.type = TexNodeType::SeparateRgb;
@@ -1212,6 +1214,16 @@ Vec3 TextureGraph::eval_normal(int idx, const ShadingPoint &sp) const {
     ShadingPoint sx = sp.shifted({h, 0}), sy = sp.shifted({0, h});
     float h0 = eval_float(n.in[0], sp), hx = eval_float(n.in[0], sx), hy = eval_float(n.in[0], sy);
     Vec3 dpdx = sp.dpdu * h, dpdy = sp.dpdv * h;
+    const Vec3 base = N;
+    const bool object_space = n.mode == 1 && sp.has_object_to_world;
+    if (object_space) {  // the same heights over object-space steps, the normal back to the world
+      const Vec3 o = normal_to_object(sp, N);
+      const float len = length(o);
+      if (!(len > 0) || !std::isfinite(len)) return base;
+      N = o / len;
+      dpdx = sp.dpdu_object * h;
+      dpdy = sp.dpdv_object * h;
+    }
     Vec3 rx = cross(dpdy, N), ry = cross(N, dpdx);
     float det = dot(dpdx, rx);
     Vec3 surfgrad = rx * (hx - h0) + ry * (hy - h0);
@@ -1219,11 +1231,12 @@ Vec3 TextureGraph::eval_normal(int idx, const ShadingPoint &sp) const {
     float distance = eval_float(n.in[2], sp) * (n.clamp ? -1.0f : 1.0f);
     Vec3 out = N * std::fabs(det) - surfgrad * (distance * (det < 0 ? -1.0f : 1.0f));
     float len = length(out);
-    if (!(len > 0) || !std::isfinite(len)) return N;
+    if (!(len > 0) || !std::isfinite(len)) return base;
     out = out / len;
     out = out * strength + N * (1 - strength);
+    if (object_space) out = normal_to_world(sp, out);
     len = length(out);
-    return len > 0 ? out / len : N;
+    return len > 0 && std::isfinite(len) ? out / len : base;
   }
   return N;
 }
