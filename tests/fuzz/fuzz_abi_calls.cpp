@@ -70,7 +70,7 @@ const char *kColorSpaces[] = {"", "Non-Color", "sRGB", "Linear", "no such space"
 // numbers from the input, or (choice 0) raw input text.
 std::string material_params(Reader &in) {
   auto x = [&] { return in.json_number(); };
-  switch (in.small(21)) {
+  switch (in.small(22)) {
     case 0: return in.text(64);
     case 1: return R"({"type":"diffuse","color":[)" + x() + "," + x() + "," + x() + R"(],"roughness":)" + x() + "}";
     case 2: return R"({"type":"glossy","roughness":)" + x() + R"(,"anisotropy":)" + x() + "}";
@@ -126,6 +126,10 @@ std::string material_params(Reader &in) {
              R"(,"vector2":{"node":"texture_coordinate","output":"normal"}}},"normal":{"node":"bump","strength":)" + x() +
              R"(,"height":{"node":"checker","scale":)" + x() + "}}}";
     }
+    case 20:  // true displacement: the vertices moved by a noise, normals rebuilt or kept
+      return R"({"type":"diffuse","displacement_method":")" + std::string(in.small(2) ? "true" : "both") +
+             R"(","displacement":{"node":"displacement","space":"OBJECT","height":{"node":"noise","scale":)" + x() +
+             R"(},"scale":)" + x() + "}}";
     case 16: return R"({"type":"emission","color":{"node":"texture_coordinate","output":"parametric"},"strength":)"
                     R"({"node":"wireframe","size":)" + x() + R"(,"pixel_size":)" + (in.small(2) ? "true" : "false") + "}}";
     default: return R"({"type":"volume","volume":{"grid":{"buffer":")" + std::string(kNames[in.small(4)]) +
