@@ -124,7 +124,7 @@ class _Lowerer:
         if op in ("tex_image", "tex_environment"):
             return op == "tex_image" and self._image_file(ir) is not None
         if op in ("texcoord", "uvmap", "tex_checker", "tex_noise", "tex_gradient", "vertex_color",
-                  "normal_map", "bump", "bevel", "displacement", "object_info", "blackbody", "wavelength", "geometry", "wireframe",
+                  "normal_map", "bump", "bevel", "displacement", "vector_displacement", "object_info", "blackbody", "wavelength", "geometry", "wireframe",
                   "ao") + PROCEDURAL_TEXTURES:
             return True
         if op == "attribute":
@@ -461,6 +461,11 @@ class _Lowerer:
             d["normal"] = self.value(e.args["normal"])
         return d
 
+    def _n_vector_displacement(self, e):
+        return {"node": "vector_displacement", "space": e.props.get("space", "TANGENT"),
+                "vector": self.value(e.args["vector"]), "midlevel": self.value(e.args["midlevel"]),
+                "scale": self.value(e.args["scale"])}
+
     def displacement(self, desc):
         """The Material Output's Displacement as the material's Settings > Displacement has Cycles
         render it: {} without one; Bump Only (Cycles' default; shader_graph.cpp,
@@ -486,6 +491,16 @@ class _Lowerer:
             out["displacement"] = self.value(desc.displacement)
             out["displacement_method"] = "true" if method == "DISPLACEMENT" else "both"
         return out
+
+    def _n_bevel(self, e):
+        samples = min(max(int(e.props.get("samples", 4)), 0), 128)
+        if samples != e.props.get("samples", 4):
+            self.approx(e.node, "Samples kept to 0..128")
+        d = {"node": "bevel", "radius": self.value(e.args["radius"]), "samples": samples}
+        n = self.normal(e.args.get("normal"), e.node)
+        if n is not None:
+            d["normal"] = n
+        return d
 
     def _n_vertex_color(self, e):
         d = {"node": "vertex_color", "layer": e.props.get("layer_name") or DEFAULT_COLOR_ATTRIBUTE}

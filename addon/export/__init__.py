@@ -20,7 +20,8 @@ from . import visibility
 from .settings import session_settings, resolution, border_rect, SettingsError  # noqa: F401
 
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
-UV_NODES = {"ShaderNodeTexImage", "ShaderNodeNormalMap", "ShaderNodeTexCoord", "ShaderNodeBsdfAnisotropic"}
+UV_NODES = {"ShaderNodeTexImage", "ShaderNodeNormalMap", "ShaderNodeTexCoord", "ShaderNodeBsdfAnisotropic",
+            "ShaderNodeVectorDisplacement"}
 
 
 class ExportStats:
@@ -50,7 +51,8 @@ def _tree_uses_uvs(tree, depth=0):
         idname = node.bl_idname
         if idname in UV_NODES:
             uses = True
-            if idname == "ShaderNodeNormalMap" and getattr(node, "space", "TANGENT") == "TANGENT":
+            if idname in ("ShaderNodeNormalMap", "ShaderNodeVectorDisplacement") and \
+                    getattr(node, "space", "TANGENT") == "TANGENT":
                 names.add(TANGENT_ATTRIBUTE)  # Blender's tangents, as Cycles maps with them
         elif idname == "ShaderNodeUVMap":
             if node.uv_map:

@@ -1751,7 +1751,7 @@ def true_displacement():
     grid (flat shaded) whose Principled material is Displacement Only, a Noise's height in object
     space (scale 0.3: hills that shadow one another), and a smooth ico sphere scaled 0.5 by its
     object whose material is Displacement and Bump, Wave bands in object space (scale 0.15),
-    on it."""
+    on it; a UV sphere moved by a Vector Displacement in tangent space (a Noise's colour)."""
     scene = reset(64)
     scene.render.resolution_x = 128
     scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.1, 0.12, 0.16, 1.0)
@@ -1780,6 +1780,23 @@ def true_displacement():
     bpy.ops.object.shade_smooth()
     ball.data.materials.append(displaced(
         "Banded", (0.2, 0.4, 0.8), "ShaderNodeTexWave", {"Scale": 1.0, "Distortion": 0.0, "Detail": 0.0}, 0.15, "BOTH"))
+    # A Vector Displacement in tangent space (Blender's tangents): a Noise's colour, centred.
+    m, nt, out = empty_material("Knobbly")
+    m.cycles.displacement_method = "DISPLACEMENT"
+    bsdf = nt.nodes.new("ShaderNodeBsdfPrincipled")
+    bsdf.inputs["Base Color"].default_value = (0.7, 0.25, 0.2, 1.0)
+    noise = nt.nodes.new("ShaderNodeTexNoise")
+    noise.inputs["Scale"].default_value = 2.0
+    noise.inputs["Detail"].default_value = 0.0
+    vdisp = nt.nodes.new("ShaderNodeVectorDisplacement")
+    vdisp.inputs["Midlevel"].default_value = 0.5
+    vdisp.inputs["Scale"].default_value = 0.3
+    nt.links.new(noise.outputs["Color"], vdisp.inputs["Vector"])
+    nt.links.new(vdisp.outputs["Displacement"], out.inputs["Displacement"])
+    nt.links.new(bsdf.outputs[0], out.inputs["Surface"])
+    ball = uv_sphere(segments=96, ring_count=48, radius=0.45, location=(-1.2, 0.5, 0.8))
+    bpy.ops.object.shade_smooth()
+    ball.data.materials.append(m)
     light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(65), 0, math.radians(-50)), angle=math.radians(3))
     camera_looking_at((0, -4.4, 2.2), (0, 0, 0.45), 35)
     return scene

@@ -1,4 +1,4 @@
-"""Vector nodes: Texture Coordinate, UV Map, Mapping, Normal Map, Bump, Bevel, Displacement."""
+"""Vector nodes: Texture Coordinate, UV Map, Mapping, Normal Map, Bump, Bevel, (Vector) Displacement."""
 
 import math
 
@@ -117,6 +117,23 @@ def displacement(ctx, node, socket):
     if ctx.is_linked(node, "Normal"):
         args["normal"] = ctx.input(node, "Normal", default=(0, 0, 0))
     return Expr("displacement", ctx.label(node), args, {"space": getattr(node, "space", "OBJECT")})
+
+
+# Vector Displacement: (Vector - Midlevel) x Scale, in tangent space (x along the tangent, y
+# along the normal, z along the bitangent: Blender's maps), object or world space.
+@maps("ShaderNodeVectorDisplacement")
+def vector_displacement(ctx, node, socket):
+    return Expr("vector_displacement", ctx.label(node), {
+        "vector": ctx.input(node, "Vector", default=(0.0, 0.0, 0.0)),
+        "midlevel": ctx.input(node, "Midlevel", default=0.0),
+        "scale": ctx.input(node, "Scale", default=1.0)}, {"space": getattr(node, "space", "TANGENT")})
+
+
+@evaluates("vector_displacement")
+def eval_vector_displacement(ev, e):
+    ev.approx(e, "vector displacement approximated by its vector in world space")
+    v, m, s = ev.color(e.args["vector"]), ev.float(e.args["midlevel"]), ev.float(e.args["scale"])
+    return tuple((x - m) * s for x in v)
 
 
 @evaluates("displacement")

@@ -1130,6 +1130,22 @@ class TestGraph(unittest.TestCase):
             self.assertNotIn("normal", p["normal"])
             self.assertEqual(p["surface_normal"]["height"]["vector1"]["node"], "displacement")
 
+    def test_vector_displacement(self):
+        t = Tree("M")
+        out = t.output()
+        t.link(t.new("ShaderNodeBsdfPrincipled", "P").out(), out.inp("Surface"))
+        noise = t.new("ShaderNodeTexNoise", "Noise", noise_dimensions="3D")
+        vd = t.new("ShaderNodeVectorDisplacement", "VDisp", space="TANGENT")
+        t.link(noise.out("Color"), vd.inp("Vector"))
+        t.link(vd.out(), out.inp("Displacement"))
+        p, w = sm.convert_material(Material("M", t, displacement_method="DISPLACEMENT"))
+        self.assertIsNone(w)
+        d = p["displacement"]
+        self.assertEqual((d["node"], d["space"], d["midlevel"], d["scale"], d["vector"]["node"]),
+                         ("vector_displacement", "TANGENT", 0.0, 1.0, "noise"))
+        p, w = sm.convert_material(Material("M", t))  # Bump Only: the offset's normal part
+        self.assertEqual(p["surface_normal"]["height"]["vector1"]["node"], "vector_displacement")
+
     def test_true_displacement_moves_the_vertices(self):
         # Displacement Only: the offset as the material's "displacement" (the engine moves the
         # vertices), no bump; Displacement and Bump: both, the bump in object space (Cycles').

@@ -6,7 +6,8 @@
 //   the mesh's (its bump is the material's surface normal);
 // - a second instance of the mesh carries the same object-space displacement;
 // - replacing the material with one without displacement restores the grid, and a material
-//   whose offset is not finite leaves those vertices where they were, with a warning.
+//   whose offset is not finite leaves those vertices where they were, with a warning;
+// - the displacement costs shading nothing: a displaced plain diffuse stays a constant material.
 // Deterministic.
 #include <gtest/gtest.h>
 #include <cmath>
@@ -99,6 +100,8 @@ TEST(Displacement, TrueDisplacementMovesTheVerticesAndRebuildsTheNormals) {
       // The copy 10 units along x carries the same object-space displacement.
       EXPECT_NEAR(g.down_at(x + 10, y).p.z, 0.8f * u, 2e-5f);
     }
+  // Only the vertices read the displacement: a plain diffuse is still resolved once.
+  EXPECT_TRUE(g.scene().material(0).is_constant());
   // In world space the offset is the scale itself: half the object-space one here.
   DisplacedGrid w;
   w.load(material("WORLD", "true"));

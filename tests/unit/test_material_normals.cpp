@@ -86,6 +86,15 @@ TEST(ShadingNormals, DisplacementIsAnOffsetAlongTheNormal) {
   const Vec3 n_o = normalize(Vec3(sp.ns.x, sp.ns.y, 3 * sp.ns.z));
   expect_vec(vector_of(object, sp), Vec3(n_o.x, n_o.y, 3 * n_o.z) * 0.6f);
   expect_vec(vector_of(world, sp), sp.ns * 0.6f);
+  // Vector Displacement: tangent space reads x along the tangent, y the normal, z the
+  // bitangent (Blender's maps; here no tangent attribute: dp/du's direction, object space).
+  ShadingPoint flat = plane_point();
+  const char *vec = R"({"node":"vector_displacement","vector":[0.8,1.0,0.7],"midlevel":0.5,"scale":2,"space":")";
+  expect_vec(vector_of(std::string(vec) + R"(TANGENT"})", flat), Vec3(0.6f, 0.4f, 1.0f));
+  expect_vec(vector_of(std::string(vec) + R"(WORLD"})", flat), Vec3(0.6f, 1.0f, 0.4f));
+  std::copy(M, M + 12, flat.object_to_world);
+  flat.has_object_to_world = true;
+  expect_vec(vector_of(std::string(vec) + R"(OBJECT"})", flat), Vec3(0.6f, 1.0f, 1.2f));
   // A linked normal replaces the shading normal.
   expect_vec(vector_of(R"({"node":"displacement","space":"WORLD","height":1,"midlevel":0,"normal":[0,1,0]})", sp),
              Vec3(0, 1, 0));

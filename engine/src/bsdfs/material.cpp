@@ -270,6 +270,7 @@ Material Material::from_params(Params &p, const std::string &name, const ImageBu
   Parser{m}.shader(p, type, {});
   m.surface_normal = Parser{m}.normal(p, "surface_normal");
   if (const json *d = p.get_json("displacement")) {
+    m.shading_nodes = m.graph.size();
     m.displacement = m.graph.parse(*d, p.what() + " 'displacement'", m.warnings);
     const std::string method = p.get_string("displacement_method", "true");
     if (method != "true" && method != "both")
@@ -411,7 +412,7 @@ void Material::average_textured_emission() {
 }
 
 bool Material::has_textures() const {
-  for (size_t i = 0; i < graph.size(); ++i)
+  for (size_t i = 0; i < std::min(graph.size(), shading_nodes); ++i)
     if (graph.node(int(i)).type != TexNodeType::Constant) return true;
   return false;
 }

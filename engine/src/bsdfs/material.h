@@ -8,6 +8,7 @@
 // point. Only the lobes a material needs are built: a diffuse material runs no
 // microfacet code. docs/scene-format.md lists the JSON keys.
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 #include "bsdfs/bsdf.h"
@@ -99,6 +100,9 @@ struct Material {
   // moved faces, "both" keeps them (its bump is the surface_normal). -1: none.
   int displacement = -1;
   bool displacement_keeps_normals = false;
+  // The graph's nodes that shading reads: those before the displacement's, which only
+  // the mesh's vertices see (a displaced material may still be resolved as constant).
+  size_t shading_nodes = SIZE_MAX;
   // A constant material (no texture, normal map or anisotropy) has its lobes resolved
   // once, when parsed: shading a hit then copies them, and needs no ShadingPoint.
   struct ResolvedLobes {

@@ -308,6 +308,37 @@ struct NodeReader {
   }
 };
 
+// Cycles' svm_node_vector_displacement: an offset d in tangent space (mode 0: x along the
+// tangent, y along the normal, z along the bitangent; the frame in object space, the tangent
+// and its sign Blender's, else dp/du), object space (1) or the world (2), as a world offset.
+Vec3 vector_displacement(const ShadingPoint &sp, Vec3 d, uint8_t mode) {
+  if (mode == 0) {
+    static const uint32_t kTangent = attribute_id("__rdv_tangent");
+    Vec3 normal = normal_to_object(sp, sp.ns);
+    const float len = length(normal);
+    normal = len > 0 && std::isfinite(len) ? normal / len : Vec3(0, 0, 1);
+    float a[4];
+    int components = 0;
+    Vec3 tangent;
+    float sign = 1;
+    if (sp.mesh && sp.attribute(kTangent, a, components) && components == 4) {
+      tangent = Vec3(a[0], a[1], a[2]);
+      sign = a[3];
+    } else {
+      const float l = length(sp.dpdu_object);
+      tangent = l > 0 ? sp.dpdu_object / l : Vec3(1, 0, 0);
+    }
+    Vec3 bitangent = cross(normal, tangent);
+    const float lb = length(bitangent);
+    bitangent = lb > 0 && std::isfinite(lb) ? bitangent * (sign / lb) : Vec3(0.0f);
+    d = tangent * d.x + normal * d.y + bitangent * d.z;
+  }
+  if (mode == 2 || !sp.has_object_to_world) return d;
+  const float *M = sp.object_to_world;
+  return Vec3(M[0] * d.x + M[1] * d.y + M[2] * d.z, M[4] * d.x + M[5] * d.y + M[6] * d.z,
+              M[8] * d.x + M[9] * d.y + M[10] * d.z);
+}
+
 }  // namespace
 
 int TextureGraph::add(const TexNode &n) {
@@ -620,6 +651,15 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.in[1] = input("midlevel", 0.5);
     n.in[2] = input("scale", 1.0);
     if (r.has("normal")) n.in[3] = parse(j["normal"], what + " 'normal'", warnings);
+  } else if (type == "vector_displacement") {
+    // Blender's Vector Displacement node (Cycles' svm_node_vector_displacement): (vector -
+    // midlevel) x scale in TANGENT space (x along the tangent, y the normal, z the bitangent),
+    // OBJECT or WORLD space, as a world-space offset.
+    n.type = TexNodeType::VectorDisplacement;
+    n.mode = r.choice("space", {"TANGENT", "OBJECT", "WORLD"}, "TANGENT");
+    n.in[0] = input("vector", json::array({0.0, 0.0, 0.0}));
+    n.in[1] = input("midlevel", 0.0);
+    n.in[2] = input("scale", 1.0);
   } else if (type == "wireframe") {
     n.type = TexNodeType::Wireframe;
     n.in[0] = input("size", 0.01);
@@ -761,7 +801,7 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
                    "only (docs/scene-format.md)");
   } else {
     fail(what_in + ": unknown texture node '" + type +
-         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, object_info, color_space, blackbody, wavelength, wireframe, ambient_occlusion, bevel, displacement, invert, hue_saturation, attribute, vertex_color, "
+         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, object_info, color_space, blackbody, wavelength, wireframe, ambient_occlusion, bevel, displacement, vector_displacement, invert, hue_saturation, attribute, vertex_color, "
          "uv, texture_coordinate, mapping, normal_map, bump, separate_rgb, combine_rgb, rgb_to_bw, bright_contrast, gamma)");
   }
   r.used.insert("output");
@@ -1133,6 +1173,7 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
     case TexNodeType::NormalMap:
     case TexNodeType::Bump:
     case TexNodeType::Bevel: return eval_normal(idx, sp);
+    case TexNodeType::VectorDisplacement: return vector_displacement(sp, (in(0) - Vec3(inf(1))) * inf(2), n.mode);
     case TexNodeType::Displacement: {
       const Vec3 normal = n.in[3] >= 0 ? Vec3(in(3)) : sp.ns;
       const float offset = (inf(0) - inf(1)) * inf(2);

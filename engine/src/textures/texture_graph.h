@@ -31,7 +31,8 @@ enum class TexNodeType : uint8_t {
   Wireframe,   // 1 within half a width of the triangle's edges (Cycles' Wireframe node)
   AmbientOcclusion,  // the unoccluded share of directions around the normal (textures/ambient_occlusion.h)
   Bevel,             // a normal averaged over the object's nearby surfaces (textures/bevel.h)
-  Displacement       // Blender's Displacement node: an offset along the normal, in the world
+  Displacement,       // Blender's Displacement node: an offset along the normal, in the world
+  VectorDisplacement  // Blender's Vector Displacement node: an offset in tangent / object / world space
 };
 
 constexpr int kTexNodeInputs = 10;  // the most any node has (Brick)
