@@ -63,6 +63,24 @@ def empty_material(name):
     return m, nt, nt.nodes.new("ShaderNodeOutputMaterial")
 
 
+def add_node(nt, idname, inputs=(), **props):
+    """A new node in tree nt with its input sockets' values from `inputs` (a dict) and its
+    properties (wave_type, space, ...) from props."""
+    node = nt.nodes.new(idname)
+    for k, v in dict(inputs).items():
+        node.inputs[k].default_value = v
+    for k, v in props.items():
+        setattr(node, k, v)
+    return node
+
+
+def shader_material(name, shader, inputs):
+    """empty_material with one shader node of type `shader`, its inputs set from `inputs` (not
+    linked yet): (material, tree, output, shader node)."""
+    m, nt, out = empty_material(name)
+    return m, nt, out, add_node(nt, shader, inputs)
+
+
 def node_material(name, node_type, inputs, output="BSDF", **props):
     """A material of one stock shader node (its inputs by name, its properties) into the output."""
     m, nt, out = empty_material(name)
@@ -1597,10 +1615,7 @@ def mapped_normals():
     scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.1, 0.12, 0.16, 1.0)
 
     def bumped(name, shader, inputs, noise_scale, strength, distance=0.1):
-        m, nt, out = empty_material(name)
-        bsdf = nt.nodes.new(shader)
-        for k, v in inputs.items():
-            bsdf.inputs[k].default_value = v
+        m, nt, out, bsdf = shader_material(name, shader, inputs)
         noise = nt.nodes.new("ShaderNodeTexNoise")
         noise.inputs["Scale"].default_value = noise_scale
         bump = nt.nodes.new("ShaderNodeBump")
@@ -1654,10 +1669,7 @@ def bevel():
     scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.1, 0.12, 0.16, 1.0)
 
     def bevelled(name, shader, inputs, radius, samples=8, noise_scale=None):
-        m, nt, out = empty_material(name)
-        bsdf = nt.nodes.new(shader)
-        for k, v in inputs.items():
-            bsdf.inputs[k].default_value = v
+        m, nt, out, bsdf = shader_material(name, shader, inputs)
         bev = nt.nodes.new("ShaderNodeBevel")
         bev.samples = samples
         bev.inputs["Radius"].default_value = radius
@@ -1707,25 +1719,14 @@ def displacement():
     scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.1, 0.12, 0.16, 1.0)
 
     def displaced(name, shader, inputs, texture, texture_inputs, space, scale, bump_rings=None):
-        m, nt, out = empty_material(name)
-        bsdf = nt.nodes.new(shader)
-        for k, v in inputs.items():
-            bsdf.inputs[k].default_value = v
-        tex = nt.nodes.new(texture)
-        for k, v in texture_inputs.items():
-            tex.inputs[k].default_value = v
-        disp = nt.nodes.new("ShaderNodeDisplacement")
-        disp.space = space
-        disp.inputs["Scale"].default_value = scale
+        m, nt, out, bsdf = shader_material(name, shader, inputs)
+        tex = add_node(nt, texture, texture_inputs)
+        disp = add_node(nt, "ShaderNodeDisplacement", {"Scale": scale}, space=space)
         nt.links.new(tex.outputs["Fac"], disp.inputs["Height"])
         nt.links.new(disp.outputs["Displacement"], out.inputs["Displacement"])
         if bump_rings is not None:
-            rings = nt.nodes.new("ShaderNodeTexWave")
-            rings.wave_type = "RINGS"
-            rings.inputs["Scale"].default_value = bump_rings
-            bump = nt.nodes.new("ShaderNodeBump")
-            bump.inputs["Strength"].default_value = 0.5
-            bump.inputs["Distance"].default_value = 0.02
+            rings = add_node(nt, "ShaderNodeTexWave", {"Scale": bump_rings}, wave_type="RINGS")
+            bump = add_node(nt, "ShaderNodeBump", {"Strength": 0.5, "Distance": 0.02})
             nt.links.new(rings.outputs["Fac"], bump.inputs["Height"])
             nt.links.new(bump.outputs["Normal"], bsdf.inputs["Normal"])
         nt.links.new(bsdf.outputs[0], out.inputs["Surface"])
@@ -1757,16 +1758,11 @@ def true_displacement():
     scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.1, 0.12, 0.16, 1.0)
 
     def displaced(name, color, texture, texture_inputs, scale, method):
-        m, nt, out = empty_material(name)
+        m, nt, out, bsdf = shader_material(name, "ShaderNodeBsdfPrincipled",
+                                           {"Base Color": color + (1.0,), "Roughness": 0.5})
         m.cycles.displacement_method = method
-        bsdf = nt.nodes.new("ShaderNodeBsdfPrincipled")
-        bsdf.inputs["Base Color"].default_value = color + (1.0,)
-        bsdf.inputs["Roughness"].default_value = 0.5
-        tex = nt.nodes.new(texture)
-        for k, v in texture_inputs.items():
-            tex.inputs[k].default_value = v
-        disp = nt.nodes.new("ShaderNodeDisplacement")
-        disp.inputs["Scale"].default_value = scale
+        tex = add_node(nt, texture, texture_inputs)
+        disp = add_node(nt, "ShaderNodeDisplacement", {"Scale": scale})
         nt.links.new(tex.outputs["Fac"], disp.inputs["Height"])
         nt.links.new(disp.outputs["Displacement"], out.inputs["Displacement"])
         nt.links.new(bsdf.outputs[0], out.inputs["Surface"])
@@ -1781,16 +1777,10 @@ def true_displacement():
     ball.data.materials.append(displaced(
         "Banded", (0.2, 0.4, 0.8), "ShaderNodeTexWave", {"Scale": 1.0, "Distortion": 0.0, "Detail": 0.0}, 0.15, "BOTH"))
     # A Vector Displacement in tangent space (Blender's tangents): a Noise's colour, centred.
-    m, nt, out = empty_material("Knobbly")
+    m, nt, out, bsdf = shader_material("Knobbly", "ShaderNodeBsdfPrincipled", {"Base Color": (0.7, 0.25, 0.2, 1.0)})
     m.cycles.displacement_method = "DISPLACEMENT"
-    bsdf = nt.nodes.new("ShaderNodeBsdfPrincipled")
-    bsdf.inputs["Base Color"].default_value = (0.7, 0.25, 0.2, 1.0)
-    noise = nt.nodes.new("ShaderNodeTexNoise")
-    noise.inputs["Scale"].default_value = 2.0
-    noise.inputs["Detail"].default_value = 0.0
-    vdisp = nt.nodes.new("ShaderNodeVectorDisplacement")
-    vdisp.inputs["Midlevel"].default_value = 0.5
-    vdisp.inputs["Scale"].default_value = 0.3
+    noise = add_node(nt, "ShaderNodeTexNoise", {"Scale": 2.0, "Detail": 0.0})
+    vdisp = add_node(nt, "ShaderNodeVectorDisplacement", {"Midlevel": 0.5, "Scale": 0.3})
     nt.links.new(noise.outputs["Color"], vdisp.inputs["Vector"])
     nt.links.new(vdisp.outputs["Displacement"], out.inputs["Displacement"])
     nt.links.new(bsdf.outputs[0], out.inputs["Surface"])
