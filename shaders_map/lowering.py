@@ -124,7 +124,7 @@ class _Lowerer:
         if op in ("tex_image", "tex_environment"):
             return op == "tex_image" and self._image_file(ir) is not None
         if op in ("texcoord", "uvmap", "tex_checker", "tex_noise", "tex_gradient", "vertex_color",
-                  "normal_map", "bump", "bevel", "displacement", "vector_displacement", "object_info", "blackbody", "wavelength", "geometry", "wireframe",
+                  "normal_map", "bump", "bevel", "displacement", "vector_displacement", "object_info", "camera_data", "blackbody", "wavelength", "geometry", "wireframe",
                   "ao") + PROCEDURAL_TEXTURES:
             return True
         if op == "attribute":
@@ -417,6 +417,9 @@ class _Lowerer:
         if out is None:
             return self._const_node(e)  # the evaluator records the approximation
         return {"node": "texture_coordinate", "output": out}
+
+    def _n_camera_data(self, e):
+        return {"node": "camera_data", "output": e.props.get("output", "view_vector")}
 
     def _n_object_info(self, e):
         return {"node": "object_info", "output": e.props.get("output", "random")}

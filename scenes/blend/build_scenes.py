@@ -1792,6 +1792,59 @@ def true_displacement():
     return scene
 
 
+def camera_data():
+    """Camera Data's three outputs, as artists use them for depth cues: a floor coloured by a
+    Color Ramp of its View Z Depth (through a Map Range from 2 to 9 units), a ball coloured by the
+    absolute View Vector, and a cube mixing a diffuse red and a glossy grey by its View Distance;
+    under a sun and a grey sky."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.25, 0.25, 0.3, 1.0)
+
+    def by_camera(name, output, shape):
+        """A material whose colour or Mix factor comes from Camera Data's output through shape(nt, socket)."""
+        m, nt, out = empty_material(name)
+        cam = add_node(nt, "ShaderNodeCameraData")
+        nt.links.new(shape(nt, cam.outputs[output]), out.inputs["Surface"])
+        return m
+
+    def ramped_depth(nt, depth):
+        rng = add_node(nt, "ShaderNodeMapRange", {"From Min": 2.0, "From Max": 9.0})
+        ramp = add_node(nt, "ShaderNodeValToRGB")
+        ramp.color_ramp.elements[0].color = (0.9, 0.85, 0.7, 1.0)
+        ramp.color_ramp.elements[1].color = (0.1, 0.2, 0.5, 1.0)
+        diffuse = add_node(nt, "ShaderNodeBsdfDiffuse")
+        nt.links.new(depth, rng.inputs["Value"])
+        nt.links.new(rng.outputs["Result"], ramp.inputs["Fac"])
+        nt.links.new(ramp.outputs["Color"], diffuse.inputs["Color"])
+        return diffuse.outputs[0]
+
+    def absolute_vector(nt, vector):
+        absolute = add_node(nt, "ShaderNodeVectorMath", operation="ABSOLUTE")
+        diffuse = add_node(nt, "ShaderNodeBsdfDiffuse")
+        nt.links.new(vector, absolute.inputs[0])
+        nt.links.new(absolute.outputs["Vector"], diffuse.inputs["Color"])
+        return diffuse.outputs[0]
+
+    def mixed_by_distance(nt, distance):
+        rng = add_node(nt, "ShaderNodeMapRange", {"From Min": 3.5, "From Max": 5.0})
+        mix = add_node(nt, "ShaderNodeMixShader")
+        red = add_node(nt, "ShaderNodeBsdfDiffuse", {"Color": (0.8, 0.1, 0.05, 1.0)})
+        grey = add_node(nt, "ShaderNodeBsdfGlossy", {"Color": (0.8, 0.8, 0.8, 1.0), "Roughness": 0.3})
+        nt.links.new(distance, rng.inputs["Value"])
+        nt.links.new(rng.outputs["Result"], mix.inputs["Fac"])
+        nt.links.new(red.outputs[0], mix.inputs[1])
+        nt.links.new(grey.outputs[0], mix.inputs[2])
+        return mix.outputs[0]
+    plane("Floor", 16.0, by_camera("DepthFloor", "View Z Depth", ramped_depth))
+    smooth_ball("ViewBall", (-0.8, 0.2, 0.5), 0.5, by_camera("ViewVector", "View Vector", absolute_vector))
+    bpy.ops.mesh.primitive_cube_add(size=0.9, location=(0.9, 0.6, 0.45), rotation=(0, 0, math.radians(25)))
+    bpy.context.active_object.data.materials.append(by_camera("DistanceCube", "View Distance", mixed_by_distance))
+    light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(40), 0, math.radians(30)), angle=math.radians(3))
+    camera_looking_at((0.5, -4.0, 1.6), (0, 0.5, 0.3), 35)
+    return scene
+
+
 def principled_glass_tint():
     """Cycles 3.4's Principled glass with Specular Tint: its reflection runs from the base colour
     (tint 1) at normal incidence to white at grazing. Two orange glass balls (Transmission 1,
@@ -2123,6 +2176,7 @@ SCENES = {
     "mapped_normals": mapped_normals,
     "displacement": displacement,
     "true_displacement": true_displacement,
+    "camera_data": camera_data,
     "preetham_sky": preetham_sky,
     "plane_point": plane_point,
     "plane_spot": plane_spot,
@@ -2176,7 +2230,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "incoming_facing", "mapped_normals", "displacement", "true_displacement", "preetham_sky", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "incoming_facing", "mapped_normals", "displacement", "true_displacement", "camera_data", "preetham_sky", "emissive_textured",
                      "volume_blackbody"]
 
 

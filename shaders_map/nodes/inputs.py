@@ -49,6 +49,23 @@ OBJECT_INFO_OUTPUTS = {"Location": "location", "Color": "color", "Alpha": "alpha
                        "Material Index": "material_index", "Random": "random"}
 
 
+# Camera Data: the shading point in the camera's space (Cycles' svm_node_camera: x right, y up,
+# z toward where the camera looks), a function of the point alone, whatever ray reached it.
+CAMERA_DATA_OUTPUTS = {"View Vector": "view_vector", "View Z Depth": "view_z_depth", "View Distance": "view_distance"}
+
+
+@maps("ShaderNodeCameraData")
+def camera_data(ctx, node, socket):
+    return Expr("camera_data", ctx.label(node), {},
+                {"output": CAMERA_DATA_OUTPUTS.get(getattr(socket, "identifier", "View Vector"), "view_vector")})
+
+
+@evaluates("camera_data")
+def eval_camera_data(ev, e):
+    ev.approx(e, "camera data approximated by a point 1 unit in front of the camera")
+    return (0.0, 0.0, 1.0) if e.props.get("output") == "view_vector" else 1.0
+
+
 @maps("ShaderNodeObjectInfo")
 def object_info(ctx, node, socket):
     return Expr("object_info", ctx.label(node), {},

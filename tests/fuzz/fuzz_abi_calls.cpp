@@ -111,7 +111,9 @@ std::string material_params(Reader &in) {
       return R"({"type":"mix","fac":)" + fac + R"(,"shader1":{"type":"transparent"},"shader2":{"type":"mix","fac":)" + fac +
              R"(,"shader1":{"type":"diffuse"},"shader2":{"type":"glossy","roughness":)" + x() + "}}}";
     }
-    case 15: return R"({"type":"emission","color":{"node":"wavelength","wavelength":)" + x() + R"(},"strength":1})";
+    case 15: return R"({"type":"emission","color":{"node":"wavelength","wavelength":)" + x() +
+                    R"(},"strength":{"node":"camera_data","output":")" + std::string(in.small(2) ? "view_z_depth" : "view_distance") +
+                    R"("}})";
     case 17: return R"({"type":"diffuse","color":{"node":"ambient_occlusion","distance":)" + x() + R"(,"samples":)" + x() +
                     R"(,"only_local":)" + (in.small(2) ? "true" : "false") + R"(,"inside":)" +
                     (in.small(2) ? "true" : "false") + "}}";

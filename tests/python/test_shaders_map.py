@@ -1,6 +1,7 @@
 """shaders_map with stand-in nodes: run with `python3 -m unittest discover -s tests/python`
 (from the repository root; the repository root must be importable)."""
 
+import json
 import os
 import sys
 import time
@@ -1129,6 +1130,19 @@ class TestGraph(unittest.TestCase):
             self.assertEqual(p["normal"]["node"], node)
             self.assertNotIn("normal", p["normal"])
             self.assertEqual(p["surface_normal"]["height"]["vector1"]["node"], "displacement")
+
+    def test_camera_data(self):
+        for output, engine in (("View Vector", "view_vector"), ("View Z Depth", "view_z_depth"),
+                               ("View Distance", "view_distance")):
+            def b(t):
+                cam = t.new("ShaderNodeCameraData", "Cam")
+                d = t.new("ShaderNodeBsdfDiffuse", "D")
+                t.link(cam.out(output), d.inp("Color"))
+                return d.out()
+            p, w = material_with(b)
+            self.assertIsNone(w)
+            text = json.dumps(p["color"])
+            self.assertIn('{"node": "camera_data", "output": "%s"}' % engine, text)
 
     def test_vector_displacement(self):
         t = Tree("M")

@@ -468,6 +468,7 @@ void Scene::set_camera(Params &params) {
     dirty_ = true;
   }
   camera_ = std::move(c);
+  world_to_camera_ = camera_.to_world.inverse();
   camera_generation_ = next_camera_generation();
   has_camera_ = true;
 }

@@ -306,6 +306,7 @@ class Scene : private TextureRays {
   bool texture_ray_occluded(const ShadingPoint &sp, Vec3 d, float tmax, bool only_local) const override;
   int texture_ray_local_hits(const ShadingPoint &sp, Vec3 o, Vec3 d, float tmax, LocalHit *hits, int max_hits,
                              uint32_t seed) const override;
+  Vec3 texture_camera_space(Vec3 p) const override { return world_to_camera_.point(p); }
   Ray to_object_now(uint32_t instance, const Ray &world) const;
   // What the world looks like: a constant radiance, or an HDRI / baked sky (map) times it.
   struct WorldLook {
@@ -393,6 +394,7 @@ class Scene : private TextureRays {
   std::string ray_visibility_object_, mixed_visibility_object_;
   bool has_heterogeneous_media_ = false;  // derived by commit()
   Camera camera_;
+  Transform world_to_camera_;  // camera_.to_world's inverse (the Camera Data node)
   bool has_camera_ = false;
   bool dirty_ = true;
 

@@ -1,4 +1,5 @@
 #include "textures/texture_graph.h"
+#include "textures/texture_rays.h"
 #include <algorithm>
 #include <cstdio>
 #include <map>
@@ -660,6 +661,11 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     n.in[0] = input("vector", json::array({0.0, 0.0, 0.0}));
     n.in[1] = input("midlevel", 0.0);
     n.in[2] = input("scale", 1.0);
+  } else if (type == "camera_data") {
+    // Blender's Camera Data node (Cycles' svm_node_camera): the point in the camera's space at
+    // its frame, z along the view: its direction, its depth z or its distance.
+    n.type = TexNodeType::CameraData;
+    n.mode = r.choice("output", {"VIEW_VECTOR", "VIEW_Z_DEPTH", "VIEW_DISTANCE"}, "VIEW_VECTOR");
   } else if (type == "wireframe") {
     n.type = TexNodeType::Wireframe;
     n.in[0] = input("size", 0.01);
@@ -801,7 +807,7 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
                    "only (docs/scene-format.md)");
   } else {
     fail(what_in + ": unknown texture node '" + type +
-         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, object_info, color_space, blackbody, wavelength, wireframe, ambient_occlusion, bevel, displacement, vector_displacement, invert, hue_saturation, attribute, vertex_color, "
+         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, object_info, color_space, blackbody, wavelength, wireframe, ambient_occlusion, bevel, displacement, vector_displacement, camera_data, invert, hue_saturation, attribute, vertex_color, "
          "uv, texture_coordinate, mapping, normal_map, bump, separate_rgb, combine_rgb, rgb_to_bw, bright_contrast, gamma)");
   }
   r.used.insert("output");
@@ -1173,6 +1179,16 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
     case TexNodeType::NormalMap:
     case TexNodeType::Bump:
     case TexNodeType::Bevel: return eval_normal(idx, sp);
+    case TexNodeType::CameraData: {
+      // Cycles' camera space looks down +z; the engine's (Blender's) down -z. No scene: the
+      // camera at the origin.
+      Vec3 c = sp.rays ? sp.rays->texture_camera_space(sp.p) : sp.p;
+      c.z = -c.z;
+      if (n.mode == 1) return Color(c.z);
+      if (n.mode == 2) return Color(length(c));
+      const float len = length(c);
+      return len > 0 ? c / len : Vec3(0.0f);
+    }
     case TexNodeType::VectorDisplacement: return vector_displacement(sp, (in(0) - Vec3(inf(1))) * inf(2), n.mode);
     case TexNodeType::Displacement: {
       const Vec3 normal = n.in[3] >= 0 ? Vec3(in(3)) : sp.ns;

@@ -32,7 +32,8 @@ enum class TexNodeType : uint8_t {
   AmbientOcclusion,  // the unoccluded share of directions around the normal (textures/ambient_occlusion.h)
   Bevel,             // a normal averaged over the object's nearby surfaces (textures/bevel.h)
   Displacement,       // Blender's Displacement node: an offset along the normal, in the world
-  VectorDisplacement  // Blender's Vector Displacement node: an offset in tangent / object / world space
+  VectorDisplacement,  // Blender's Vector Displacement node: an offset in tangent / object / world space
+  CameraData           // the point in the camera's space: view vector, z depth, distance
 };
 
 constexpr int kTexNodeInputs = 10;  // the most any node has (Brick)

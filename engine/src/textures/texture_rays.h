@@ -1,6 +1,7 @@
-// Rays that texture nodes trace from a shading point: the Ambient Occlusion node's
-// (textures/ambient_occlusion.h) and the Bevel node's (textures/bevel.h). The scene traces
-// them (textures sit below the scene); Scene::shading_point hands it over in ShadingPoint::rays.
+// What texture nodes ask of the scene: rays traced from a shading point, the Ambient
+// Occlusion node's (textures/ambient_occlusion.h) and the Bevel node's (textures/bevel.h), and
+// where the camera is (the Camera Data node). The scene answers (textures sit below the scene);
+// Scene::shading_point hands it over in ShadingPoint::rays.
 //
 // Cycles draws such a node's directions at random at every evaluation. Here they are a
 // stratified set shifted by a hash of the point's position (PointSampleSet): a fixed
@@ -37,6 +38,8 @@ class TextureRays {
   // receives min(that, max_hits) of them, a uniform choice by `seed` when there are more.
   virtual int texture_ray_local_hits(const ShadingPoint &sp, Vec3 o, Vec3 d, float tmax, LocalHit *hits,
                                      int max_hits, uint32_t seed) const = 0;
+  // A world point in the space of the camera at its frame (x right, y up, looking down -z).
+  virtual Vec3 texture_camera_space(Vec3 p) const = 0;
 };
 
 // `count` points in [0, 1)^2: a Hammersley set shifted (Cranley-Patterson) by a hash of a
