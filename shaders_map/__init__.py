@@ -17,13 +17,13 @@ from .graph import Context, find_output_node, find_socket, node_label
 from .ir import Const, Expr, Closure, to_dict
 from .issues import Issues
 from .limits import LimitError, written_size, MAX_WRITTEN_NODES
-from .lowering import lower_surface, lower_world, DEFAULT_SURFACE, ENGINE_TYPES, DEFAULT_COLOR_ATTRIBUTE
+from .lowering import lower_surface, lower_world, lower_light, DEFAULT_SURFACE, ENGINE_TYPES, DEFAULT_COLOR_ATTRIBUTE
 from .registry import maps, evaluates, supported_nodes, HANDLERS
 from . import ray_kinds
 from .nodes.inputs import MESH_DERIVED_ATTRIBUTES
 
 __all__ = [
-    "translate_material", "translate_world", "convert_material", "convert_material_variants", "convert_world",
+    "translate_material", "translate_world", "convert_material", "convert_light", "convert_material_variants", "convert_world",
     "MaterialDescription", "WorldDescription", "maps", "evaluates", "supported_nodes",
     "Const", "Expr", "Closure", "Issues", "DEFAULT_SURFACE", "ENGINE_TYPES", "DEFAULT_COLOR_ATTRIBUTE",
     "LimitError", "ERROR_SURFACE", "MESH_DERIVED_ATTRIBUTES",
@@ -204,6 +204,18 @@ def convert_world(world, image_average=None, image_file=None):
         params = dict(params, mist={"start": float(mist.start), "depth": float(mist.depth),
                                     "falloff": str(mist.falloff).lower()})
     return params, warning
+
+
+def convert_light(light):
+    """A bpy Light's node tree (when it uses nodes) -> ({"color", "strength"} of its Emission, the
+    engine's light "emission", or None) and one warning or None (docs/scene-format.md)."""
+    tree = getattr(light, "node_tree", None)
+    if light is None or not getattr(light, "use_nodes", False) or tree is None:
+        return None, None
+    name = getattr(light, "name", "?")
+    desc = _translate(tree, MaterialDescription(name), ("ShaderNodeOutputLight",))
+    emission, issues = lower_light(desc)
+    return emission, issues.format("Light", name)
 
 
 def _convert_world(world, image_average, image_file):

@@ -1113,3 +1113,38 @@ def _world_radiance(low, c, depth=0):
         return [max(x * s, 0.0) for x in col]
     low.approx(c.node, "%s shader on the world ignored" % c.kind)
     return [0.0, 0.0, 0.0]
+
+
+# Nodes whose value is the same all over a lamp (no texture coordinates, images or geometry):
+# a light's Emission may use them, the engine evaluating them once (Blackbody, Wavelength).
+_LAMP_CONSTANT_LEAVES = {"blackbody", "wavelength"}
+
+
+def _same_all_over(ir, depth=0):
+    if not isinstance(ir, Expr) or depth > 200:
+        return not isinstance(ir, Closure)
+    if ir.op in VARYING_OPS and ir.op not in _LAMP_CONSTANT_LEAVES:
+        return False
+    return all(_same_all_over(a, depth + 1) for a in ir.args.values())
+
+
+def lower_light(desc):
+    """A light's node tree (Cycles multiplies its Emission's Color and Strength into the lamp's
+    colour and power) -> ({"color": value, "strength": value} or None, Issues). Values that vary
+    over the lamp (textures, IES, Light Falloff's distance terms) are taken as constants, named."""
+    low = _Lowerer(desc.issues, None, None, "light")
+    c = desc.surface
+    if c is None:
+        return None, desc.issues
+    if not (isinstance(c, Closure) and c.kind == "emission"):
+        low.approx(getattr(c, "node", desc.output_label), "only an Emission shader is used by a light; ignored")
+        return None, desc.issues
+    out = {}
+    for key, color in (("color", True), ("strength", False)):
+        ir = c.params.get(key)
+        if ir is not None and not _same_all_over(ir):
+            out[key] = low.const(ir, "varies over the lamp: taken as a constant")
+            out[key] = _constant(out[key], color)
+        else:
+            out[key] = low.value(ir, color) if ir is not None else (1.0 if not color else [1.0, 1.0, 1.0])
+    return out, desc.issues

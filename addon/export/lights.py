@@ -5,6 +5,7 @@ radius = shadow_soft_size; area sizes include the object's scale (as Cycles does
 transform passed on is free of scale.
 """
 
+from .. import shaders_map
 from ..utils import normalize_frame, rgb
 
 AREA_SHAPES = {"SQUARE": "square", "RECTANGLE": "rectangle", "DISK": "disk", "ELLIPSE": "ellipse"}
@@ -43,9 +44,9 @@ def light_params(light, matrix16, name, warn):
     else:
         warn("Light '%s': light type %s not supported, skipped" % (name, kind))
         return None
-    if getattr(light, "use_nodes", False) and getattr(light, "node_tree", None) is not None:
-        for link in getattr(light.node_tree, "links", ()):
-            if getattr(link.to_node, "bl_idname", "") == "ShaderNodeEmission":
-                warn("Light '%s': light node tree ignored (only colour and power are used)" % name)
-                break
+    emission, warning = shaders_map.convert_light(light)
+    if warning:
+        warn(warning)
+    if emission is not None:
+        p["emission"] = emission  # its Emission's colour and strength, which Cycles multiplies in
     return p

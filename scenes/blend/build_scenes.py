@@ -1845,6 +1845,37 @@ def camera_data():
     return scene
 
 
+def light_nodes():
+    """Lamps whose node trees colour and scale them, as Cycles multiplies their Emission into the
+    lamp: a 120 W point lamp through a Blackbody of 2800 K and a Light Falloff's Quadratic output
+    (strength 1.8), and a 1 m square area lamp of 80 W whose Emission is a pale blue at strength 0.6,
+    over a grey floor, a white ball and a cube; a dim sky."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.02, 0.02, 0.03, 1.0)
+    plane("Floor", 10.0)
+    smooth_ball("Ball", (-0.6, 0.2, 0.5), 0.5, diffuse_material("White", (0.8, 0.8, 0.8)))
+    bpy.ops.mesh.primitive_cube_add(size=0.8, location=(0.8, 0.4, 0.4), rotation=(0, 0, math.radians(20)))
+    bpy.context.active_object.data.materials.append(diffuse_material("Cube", (0.7, 0.7, 0.6)))
+
+    def lamp_nodes(ob):
+        data = ob.data
+        data.use_nodes = True
+        nt = data.node_tree
+        return nt, next(n for n in nt.nodes if n.bl_idname == "ShaderNodeEmission")
+    nt, emission = lamp_nodes(light("POINT", "Warm", 120.0, (-1.5, -1.0, 2.2), shadow_soft_size=0.1))
+    blackbody = add_node(nt, "ShaderNodeBlackbody", {"Temperature": 2800.0})
+    falloff = add_node(nt, "ShaderNodeLightFalloff", {"Strength": 1.8})
+    nt.links.new(blackbody.outputs["Color"], emission.inputs["Color"])
+    nt.links.new(falloff.outputs["Quadratic"], emission.inputs["Strength"])
+    nt, emission = lamp_nodes(light("AREA", "Cool", 80.0, (1.6, -0.8, 1.8), rotation=(math.radians(50), 0, math.radians(60)),
+                                    size=1.0))
+    emission.inputs["Color"].default_value = (0.4, 0.7, 1.0, 1.0)
+    emission.inputs["Strength"].default_value = 0.6
+    camera_looking_at((0.2, -4.0, 1.8), (0, 0.3, 0.4), 35)
+    return scene
+
+
 def principled_glass_tint():
     """Cycles 3.4's Principled glass with Specular Tint: its reflection runs from the base colour
     (tint 1) at normal incidence to white at grazing. Two orange glass balls (Transmission 1,
@@ -2177,6 +2208,7 @@ SCENES = {
     "displacement": displacement,
     "true_displacement": true_displacement,
     "camera_data": camera_data,
+    "light_nodes": light_nodes,
     "preetham_sky": preetham_sky,
     "plane_point": plane_point,
     "plane_spot": plane_spot,
@@ -2230,7 +2262,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "incoming_facing", "mapped_normals", "displacement", "true_displacement", "camera_data", "preetham_sky", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "incoming_facing", "mapped_normals", "displacement", "true_displacement", "camera_data", "light_nodes", "preetham_sky", "emissive_textured",
                      "volume_blackbody"]
 
 

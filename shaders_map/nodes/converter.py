@@ -293,3 +293,17 @@ def eval_vector_math(ev, e):
     if e.props.get("output") == "Value":
         return r if isinstance(r, float) else 0.0
     return r if not isinstance(r, float) else (r, r, r)
+
+
+# Light Falloff: its Quadratic output is Strength itself (the physical falloff lamps already
+# have) when Smooth is 0; Linear and Constant multiply by the ray's length (and its square), which
+# the engine's lamps do not take: approximated by Strength, named.
+@maps("ShaderNodeLightFalloff")
+def light_falloff(ctx, node, socket):
+    output = getattr(socket, "identifier", "Quadratic")
+    smooth = ctx.input_const(node, "Smooth", default=0.0)
+    if output != "Quadratic":
+        ctx.warn(node, "%s falloff approximated by the physical (quadratic) one" % output)
+    elif smooth is None or smooth != 0.0:
+        ctx.warn(node, "Smooth approximated by 0")
+    return ctx.input(node, "Strength", default=100.0)

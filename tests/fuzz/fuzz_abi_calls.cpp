@@ -143,7 +143,8 @@ std::string light_params(Reader &in) {
   auto x = [&] { return in.json_number(); };
   switch (in.small(6)) {
     case 0: return in.text(64);
-    case 1: return R"({"type":"point","position":[0,0,)" + x() + R"(],"power":)" + x() + R"(,"radius":)" + x() + "}";
+    case 1: return R"({"type":"point","position":[0,0,)" + x() + R"(],"power":)" + x() + R"(,"radius":)" + x() +
+                   R"(,"emission":{"color":{"node":"blackbody","temperature":)" + x() + R"(},"strength":)" + x() + "}}";
     case 2: return R"({"type":"spot","position":[0,-2,1],"direction":[0,1,)" + x() + R"(],"power":)" + x() +
                    R"(,"spot_size":)" + x() + R"(,"spot_blend":)" + x() + R"(,"max_bounces":)" + x() + "}";
     case 3: return R"({"type":"sun","direction":[)" + x() + R"(,0,-1],"strength":)" + x() + R"(,"angle":)" + x() + "}";

@@ -1193,6 +1193,48 @@ class TestGraph(unittest.TestCase):
         self.assertEqual((p["displacement"], p["displacement_method"]), ([0.25, 0.25, 0.25], "true"))
 
 
+class TestLights(unittest.TestCase):
+    """A light's node tree: its Emission's colour and strength, which Cycles multiplies into the
+    lamp's, as the engine light's "emission"."""
+
+    @staticmethod
+    def _light(build, use_nodes=True):
+        t = Tree("L")
+        out = t.new("ShaderNodeOutputLight", "Light Output")
+        em = t.new("ShaderNodeEmission", "Emission")
+        t.link(em.out(), out.inp("Surface"))
+        build(t, em)
+        light = type("Light", (), {"name": "Lamp", "use_nodes": use_nodes, "node_tree": t})()
+        return sm.convert_light(light)
+
+    def test_default_tree_and_no_nodes(self):
+        self.assertEqual(self._light(lambda t, em: None), ({"color": [1.0, 1.0, 1.0], "strength": 1.0}, None))
+        self.assertEqual(self._light(lambda t, em: None, use_nodes=False), (None, None))
+
+    def test_blackbody_and_quadratic_falloff(self):
+        def b(t, em):
+            bb = t.new("ShaderNodeBlackbody", "BB")
+            bb.inp("Temperature").default_value = 3000.0
+            t.link(bb.out(), em.inp("Color"))
+            fall = t.new("ShaderNodeLightFalloff", "Falloff")
+            fall.inp("Strength").default_value = 2.5
+            t.link(fall.out("Quadratic"), em.inp("Strength"))
+        e, w = self._light(b)
+        self.assertIsNone(w)
+        self.assertEqual(e, {"color": {"node": "blackbody", "temperature": 3000.0}, "strength": 2.5})
+
+    def test_what_varies_over_the_lamp_is_named(self):
+        def b(t, em):
+            fall = t.new("ShaderNodeLightFalloff", "Falloff")
+            t.link(fall.out("Linear"), em.inp("Strength"))
+            t.link(t.new("ShaderNodeTexChecker", "Check").out("Color"), em.inp("Color"))
+        e, w = self._light(b)
+        self.assertIn("Linear falloff approximated by the physical (quadratic) one", w)
+        self.assertIn("Check", w)
+        self.assertIsInstance(e["color"], list)
+        self.assertEqual(e["strength"], 100.0)
+
+
 class TestWorld(unittest.TestCase):
     def _world(self, build):
         t = Tree("W")

@@ -4,6 +4,7 @@
 #include "lights/environment.h"
 #include "lights/sphere_lamp.h"
 #include "lights/volume_light.h"
+#include "textures/texture_graph.h"
 
 namespace rdv {
 
@@ -16,11 +17,32 @@ float spot_attenuation(const Light &l, Vec3 dir_from_light) {
   return c;
 }
 
+// A light's node tree as the add-on lowers it: its Emission's "color" and "strength", numbers
+// or texture graphs that do not vary over the lamp (Blackbody, Wavelength, Math, ...), evaluated
+// once; Cycles multiplies them into the lamp's colour and power.
+Color light_node_emission(const nlohmann::json &j, const std::string &what) {
+  if (!j.is_object()) fail(what + ": 'emission' must be an object with 'color' and 'strength'");
+  TextureGraph graph;
+  std::vector<std::string> warnings;
+  const ShadingPoint nowhere;
+  Color out(1.0f);
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    if (it.key() != "color" && it.key() != "strength")
+      fail(what + ": 'emission' has an unknown key '" + it.key() + "'", RDV_ERROR_UNKNOWN_PARAMETER);
+    const Color v = graph.eval(graph.parse(it.value(), what + " emission '" + it.key() + "'", warnings), nowhere);
+    if (!is_finite(v) || v.x < 0 || v.y < 0 || v.z < 0)
+      fail(what + ": emission '" + it.key() + "' must be finite and not negative");
+    out = out * v;
+  }
+  return out;
+}
+
 Light make_light(Params &p) {
   Light l;
   std::string type = p.get_string("type", "point");
   Color color = p.get_vec3("color", Color(1.0f));
   if (color.x < 0 || color.y < 0 || color.z < 0) fail(p.what() + ": 'color' must not be negative");
+  if (const nlohmann::json *e = p.get_json("emission")) color = color * light_node_emission(*e, p.what());
   Transform t;
   if (p.has("transform")) {
     t = p.get_transform("transform", Transform());
