@@ -8,7 +8,7 @@
 // - replacing the material with one without displacement restores the grid, and a material
 //   whose offset is not finite leaves those vertices where they were, with a warning;
 // - the displacement costs shading nothing: a displaced plain diffuse stays a constant material.
-// Deterministic.
+// At 1 m, 1 mm and 1 km scales (that one 1 km from the origin). Deterministic.
 #include <gtest/gtest.h>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -54,16 +54,20 @@ struct DisplacedGrid {
   rdv_scene *handle = nullptr;
   ~DisplacedGrid() { rdv_scene_destroy(handle); }
   const Scene &scene() const { return *handle->scene; }
-  void load(json mat) {
+  double s = 1, far = 0;  // the grid's scale / 2 and its distance from the origin in x and y
+  void load(json mat, double scale = 1, double distance = 0) {
+    s = scale;
+    far = distance;
     mat["name"] = "ground";
     json g = grid(16);
     g["name"] = "grid";
     g["materials"] = {"ground"};
-    g["transform"] = {{"scale", {2, 2, 2}}};
+    g["transform"] = {{"translate", {far, far, 0}}, {"scale", {2 * s, 2 * s, 2 * s}}};
     json copy = g;
     copy["name"] = "grid_copy";
-    copy["transform"] = {{"translate", {10, 0, 0}}, {"scale", {2, 2, 2}}};
-    json doc = {{"camera", {{"transform", {{"look_at", {{"from", {0, -8, 6}}, {"to", {0, 0, 0}}, {"up", {0, 0, 1}}}}}}}},
+    copy["transform"] = {{"translate", {far + 10 * s, far, 0}}, {"scale", {2 * s, 2 * s, 2 * s}}};
+    json doc = {{"camera", {{"transform", {{"look_at", {{"from", {far, far - 8 * s, 6 * s}}, {"to", {far, far, 0}},
+                                                         {"up", {0, 0, 1}}}}}}}},
                 {"world", {{"color", {1, 1, 1}}}},
                 {"materials", {mat}},
                 {"meshes", {g, copy}}};
@@ -71,12 +75,15 @@ struct DisplacedGrid {
     rdv_tools::load_scene_json(doc.dump(), test::source_path("scenes"), handle);
     ASSERT_EQ(rdv_scene_commit(handle), RDV_OK);
   }
-  // Where a ray straight down at world (x, y) meets the surface.
+  // Where a ray straight down at (x, y) in the grid's units (scale 1 at the origin) meets the
+  // surface; its height back in those units.
   SurfaceHit down_at(float x, float y) const {
     SurfaceHit hit;
-    EXPECT_TRUE(scene().intersect(Ray{{x, y, 10}, {0, 0, -1}}, hit)) << x << " " << y;
+    const Vec3 o(float(far + s * x), float(far + s * y), float(10 * s));
+    EXPECT_TRUE(scene().intersect(Ray{o, {0, 0, -1}}, hit)) << x << " " << y;
     return hit;
   }
+  float height_at(float x, float y) const { return float(down_at(x, y).p.z / s); }
 };
 
 void expect_vec(Vec3 a, Vec3 b, float tol) {
@@ -88,18 +95,23 @@ void expect_vec(Vec3 a, Vec3 b, float tol) {
 }  // namespace
 
 TEST(Displacement, TrueDisplacementMovesTheVerticesAndRebuildsTheNormals) {
+  // 2 units wide at the origin, 2 mm wide, and 2 km wide 1 km from the origin.
+  for (auto [scale, far] : {std::pair{1.0, 0.0}, std::pair{1e-3, 0.0}, std::pair{1e3, 1e3}}) {
+    DisplacedGrid g;
+    g.load(material("OBJECT", "true"), scale, far);
+    // x = 2 (2u - 1) in the grid's units: u = (x / 2 + 1) / 2; height 0.4 u in object space, 0.8 u there.
+    for (float x : {-1.9f, -0.77f, 0.0f, 0.31f, 1.6f})
+      for (float y : {-1.3f, 0.2f, 1.85f}) {
+        const float u = (x / 2 + 1) / 2;
+        const SurfaceHit hit = g.down_at(x, y);
+        EXPECT_NEAR(hit.p.z / scale, 0.8f * u, 2e-5f) << x << " " << y << " at scale " << scale;
+        expect_vec(hit.ns, normalize(Vec3(-0.2f, 0, 1)), 1e-5f);  // dz/dx = 0.8 / 4
+        // The copy 10 units along x carries the same object-space displacement.
+        EXPECT_NEAR(g.height_at(x + 10, y), 0.8f * u, 2e-5f) << "at scale " << scale;
+      }
+  }
   DisplacedGrid g;
   g.load(material("OBJECT", "true"));
-  // World x = 2 (2u - 1): u = (x / 2 + 1) / 2; height 0.4 u in object space, 0.8 u in the world.
-  for (float x : {-1.9f, -0.77f, 0.0f, 0.31f, 1.6f})
-    for (float y : {-1.3f, 0.2f, 1.85f}) {
-      const float u = (x / 2 + 1) / 2;
-      const SurfaceHit hit = g.down_at(x, y);
-      EXPECT_NEAR(hit.p.z, 0.8f * u, 2e-5f) << x << " " << y;
-      expect_vec(hit.ns, normalize(Vec3(-0.2f, 0, 1)), 1e-5f);  // dz/dx = 0.8 / 4
-      // The copy 10 units along x carries the same object-space displacement.
-      EXPECT_NEAR(g.down_at(x + 10, y).p.z, 0.8f * u, 2e-5f);
-    }
   // Only the vertices read the displacement: a plain diffuse is still resolved once.
   EXPECT_TRUE(g.scene().material(0).is_constant());
   // In world space the offset is the scale itself: half the object-space one here.
