@@ -33,6 +33,12 @@ Vec3 normal_to_world(const ShadingPoint &sp, Vec3 n) {
   const Vec3 c0 = cross(r1, r2), c1 = cross(r2, r0), c2 = cross(r0, r1);
   return Vec3(dot(c0, n), dot(c1, n), dot(c2, n)) * (dot(r0, c0) < 0 ? -1.0f : 1.0f);
 }
+// A direction (an offset) from object space to the world: by the object-to-world matrix.
+Vec3 direction_to_world(const ShadingPoint &sp, Vec3 d) {
+  if (!sp.has_object_to_world) return d;
+  const float *M = sp.object_to_world;
+  return {M[0] * d.x + M[1] * d.y + M[2] * d.z, M[4] * d.x + M[5] * d.y + M[6] * d.z, M[8] * d.x + M[9] * d.y + M[10] * d.z};
+}
 Vec3 normal_to_object(const ShadingPoint &sp, Vec3 n) {
   if (!sp.has_object_to_world) return n;
   const float *M = sp.object_to_world;
@@ -334,10 +340,7 @@ Vec3 vector_displacement(const ShadingPoint &sp, Vec3 d, uint8_t mode) {
     bitangent = lb > 0 && std::isfinite(lb) ? bitangent * (sign / lb) : Vec3(0.0f);
     d = tangent * d.x + normal * d.y + bitangent * d.z;
   }
-  if (mode == 2 || !sp.has_object_to_world) return d;
-  const float *M = sp.object_to_world;
-  return Vec3(M[0] * d.x + M[1] * d.y + M[2] * d.z, M[4] * d.x + M[5] * d.y + M[6] * d.z,
-              M[8] * d.x + M[9] * d.y + M[10] * d.z);
+  return mode == 2 ? d : direction_to_world(sp, d);
 }
 
 }  // namespace
@@ -1197,10 +1200,7 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
       const Vec3 o = normal_to_object(sp, normal);
       const float len = length(o);
       if (!(len > 0) || !std::isfinite(len)) return Vec3(0.0f);
-      const Vec3 d = o * (offset / len);
-      const float *M = sp.object_to_world;
-      return Vec3(M[0] * d.x + M[1] * d.y + M[2] * d.z, M[4] * d.x + M[5] * d.y + M[6] * d.z,
-                  M[8] * d.x + M[9] * d.y + M[10] * d.z);
+      return direction_to_world(sp, o * (offset / len));
     }
     case TexNodeType::SeparateRgb: return Color(in(0)[n.output]);
     case TexNodeType::CombineRgb: return {inf(0), inf(1), inf(2)};
@@ -1236,10 +1236,8 @@ Vec3 TextureGraph::eval_normal(int idx, const ShadingPoint &sp) const {
       Vec3 b = cross(N, t);
       if (dot(b, sp.dpdv) < 0) b = -b;
       out = t * m.x + b * m.y + N * m.z;
-    } else if (n.mode == 1 && sp.has_object_to_world) {
-      const float *M = sp.object_to_world;
-      out = {M[0] * m.x + M[1] * m.y + M[2] * m.z, M[4] * m.x + M[5] * m.y + M[6] * m.z,
-             M[8] * m.x + M[9] * m.y + M[10] * m.z};
+    } else if (n.mode == 1) {
+      out = direction_to_world(sp, m);
     } else {
       out = m;
     }
