@@ -86,7 +86,7 @@ PROCEDURAL_TEXTURES = ("tex_voronoi", "tex_musgrave", "tex_wave", "tex_magic", "
 
 VARYING_OPS = {
     *PROCEDURAL_TEXTURES,
-    "tex_image", "tex_environment", "tex_checker", "tex_noise", "tex_gradient",
+    "tex_image", "tex_environment", "tex_checker", "tex_noise", "tex_gradient", "tex_ies",
     "texcoord", "uvmap", "normal_map", "bump", "bevel", "displacement", "vector_displacement", "vertex_color", "attribute", "geometry", "object_info", "camera_data", "blackbody",
     "wavelength", "wireframe", "ao",
     "fresnel", "layer_weight",

@@ -206,6 +206,12 @@ class _Lowerer:
             d["output"] = "fac"
         return d
 
+    def _n_tex_ies(self, e):
+        d = {"node": "ies", "strength": self.value(e.args["strength"])}
+        self._vector(d, e)
+        d.update({k: e.props[k] for k in ("profile", "file") if k in e.props})
+        return d
+
     def _texture(self, e, node, keys, colors=(), props=()):
         """A procedural texture node: its inputs (numbers or nodes), its Vector when linked,
         and the named properties."""
@@ -1118,20 +1124,27 @@ def _world_radiance(low, c, depth=0):
 # Nodes whose value is the same all over a lamp (no texture coordinates, images or geometry):
 # a light's Emission may use them, the engine evaluating them once (Blackbody, Wavelength).
 _LAMP_CONSTANT_LEAVES = {"blackbody", "wavelength"}
+# What a lamp's shader sees vary: the direction light leaves it by (Cycles' normal on a lamp).
+_LAMP_DIRECTION_OUTPUTS = {"texcoord": {"Normal"}, "geometry": {"Normal", "True Normal"}}
 
 
-def _same_all_over(ir, depth=0):
+def _same_all_over(ir, directions=False, depth=0):
+    """Whether ir is the same all over a lamp (with directions: or varies only with the
+    direction light leaves it by: IES Texture, Texture Coordinate / Geometry normals)."""
     if not isinstance(ir, Expr) or depth > 200:
         return not isinstance(ir, Closure)
-    if ir.op in VARYING_OPS and ir.op not in _LAMP_CONSTANT_LEAVES:
+    if directions and (ir.op == "tex_ies" or ir.props.get("output") in _LAMP_DIRECTION_OUTPUTS.get(ir.op, ())):
+        pass
+    elif ir.op in VARYING_OPS and ir.op not in _LAMP_CONSTANT_LEAVES:
         return False
-    return all(_same_all_over(a, depth + 1) for a in ir.args.values())
+    return all(_same_all_over(a, directions, depth + 1) for a in ir.args.values())
 
 
 def lower_light(desc):
     """A light's node tree (Cycles multiplies its Emission's Color and Strength into the lamp's
     colour and power) -> ({"color": value, "strength": value} or None, Issues). Values that vary
-    over the lamp (textures, IES, Light Falloff's distance terms) are taken as constants, named."""
+    over the lamp other than by the direction light leaves it (textures, Light Falloff's distance
+    terms) are taken as constants, named; the engine evaluates the direction's (an IES Texture)."""
     low = _Lowerer(desc.issues, None, None, "light")
     c = desc.surface
     if c is None:
@@ -1142,7 +1155,7 @@ def lower_light(desc):
     out = {}
     for key, color in (("color", True), ("strength", False)):
         ir = c.params.get(key)
-        if ir is not None and not _same_all_over(ir):
+        if ir is not None and not _same_all_over(ir, directions=True):
             out[key] = low.const(ir, "varies over the lamp: taken as a constant")
             out[key] = _constant(out[key], color)
         else:

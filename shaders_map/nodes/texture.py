@@ -129,6 +129,46 @@ def eval_noise(ev, e):
     return 0.5 if e.props.get("output") == "Fac" else (0.5, 0.5, 0.5)
 
 
+# IES Texture: a luminaire's measured profile (engine/src/lights/ies_profile.h). Its text goes
+# to the engine inline, from the node's internal Text or its external file read here, so an
+# exported scene carries it; a file that cannot be read goes as its path, for the engine to
+# name in its warning.
+@maps("ShaderNodeTexIES")
+def tex_ies(ctx, node, socket):
+    return Expr("tex_ies", ctx.label(node), {"vector": ctx.input(node, "Vector", default=(0, 0, 0)),
+                                            "strength": ctx.input(node, "Strength", default=1.0)}, _ies_source(node))
+
+
+def _ies_source(node):
+    if getattr(node, "mode", "INTERNAL") != "EXTERNAL":
+        text = getattr(node, "ies", None)
+        return {"profile": text.as_string() if text is not None else ""}
+    path = _absolute_path(getattr(node, "filepath", "") or "")
+    try:
+        with open(path, encoding="latin-1") as f:  # LM-63 files are ASCII; some carry Latin-1 names
+            return {"profile": f.read()}
+    except OSError:
+        return {"file": path}
+
+
+def _absolute_path(path):
+    """A Blender path ("//" relative to the .blend) as a file-system one. bpy only inside
+    Blender (the graph walk needs none of it)."""
+    if not path.startswith("//"):
+        return path
+    try:
+        import bpy
+    except ImportError:
+        return path[2:]
+    return bpy.path.abspath(path)
+
+
+@evaluates("tex_ies")
+def eval_ies(ev, e):
+    ev.approx(e, "IES profile approximated by its strength alone")
+    return 1.0
+
+
 @maps("ShaderNodeTexGradient")
 def tex_gradient(ctx, node, socket):
     return Expr("tex_gradient", ctx.label(node), {"vector": ctx.input(node, "Vector", default=(0, 0, 0))},

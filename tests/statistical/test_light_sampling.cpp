@@ -12,7 +12,7 @@ namespace {
 
 Light light_from(const std::string &json) {
   Params p(json, "test light");
-  return make_light(p);
+  return make_light(p).light;
 }
 
 // Distance along wi to the light, or -1 if wi misses it (triangles: Moller-Trumbore).

@@ -14,7 +14,7 @@ namespace {
 
 Light light(const json &j) {
   Params p(j.dump(), "light 'Lamp'");
-  return make_light(p);
+  return make_light(p).light;
 }
 
 }  // namespace

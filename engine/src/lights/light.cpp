@@ -2,6 +2,7 @@
 #include <algorithm>
 #include "core/sampling.h"
 #include "lights/environment.h"
+#include "lights/lamp_emission.h"
 #include "lights/sphere_lamp.h"
 #include "lights/volume_light.h"
 #include "textures/texture_graph.h"
@@ -17,32 +18,24 @@ float spot_attenuation(const Light &l, Vec3 dir_from_light) {
   return c;
 }
 
-// A light's node tree as the add-on lowers it: its Emission's "color" and "strength", numbers
-// or texture graphs that do not vary over the lamp (Blackbody, Wavelength, Math, ...), evaluated
-// once; Cycles multiplies them into the lamp's colour and power.
-Color light_node_emission(const nlohmann::json &j, const std::string &what) {
-  if (!j.is_object()) fail(what + ": 'emission' must be an object with 'color' and 'strength'");
-  TextureGraph graph;
-  std::vector<std::string> warnings;
-  const ShadingPoint nowhere;
-  Color out(1.0f);
-  for (auto it = j.begin(); it != j.end(); ++it) {
-    if (it.key() != "color" && it.key() != "strength")
-      fail(what + ": 'emission' has an unknown key '" + it.key() + "'", RDV_ERROR_UNKNOWN_PARAMETER);
-    const Color v = graph.eval(graph.parse(it.value(), what + " emission '" + it.key() + "'", warnings), nowhere);
-    if (!is_finite(v) || v.x < 0 || v.y < 0 || v.z < 0)
-      fail(what + ": emission '" + it.key() + "' must be finite and not negative");
-    out = out * v;
-  }
-  return out;
+Color lamp_radiance(const Light &l, Vec3 dir) {
+  Color L = l.radiance;
+  if (l.type == LightType::Spot) L *= spot_attenuation(l, dir);
+  if (l.emission && !is_black(L)) L = L * l.emission->eval(dir);
+  return L;
 }
 
-Light make_light(Params &p) {
-  Light l;
+UserLight::UserLight() = default;
+UserLight::UserLight(UserLight &&) noexcept = default;
+UserLight &UserLight::operator=(UserLight &&) noexcept = default;
+UserLight::~UserLight() = default;
+
+UserLight make_light(Params &p) {
+  UserLight user;
+  Light &l = user.light;
   std::string type = p.get_string("type", "point");
   Color color = p.get_vec3("color", Color(1.0f));
   if (color.x < 0 || color.y < 0 || color.z < 0) fail(p.what() + ": 'color' must not be negative");
-  if (const nlohmann::json *e = p.get_json("emission")) color = color * light_node_emission(*e, p.what());
   Transform t;
   if (p.has("transform")) {
     t = p.get_transform("transform", Transform());
@@ -57,6 +50,14 @@ Light make_light(Params &p) {
   Vec3 z = t.column(2);
   if (length(z) == 0) fail(p.what() + ": 'transform' has a zero Z axis");
   l.axis = -normalize(z);
+  if (const nlohmann::json *e = p.get_json("emission")) {
+    // Only point and spot lamps emit along directions of their own (sun and area lamps: the
+    // tree along their axis, as Cycles' shader sees their constant normal).
+    Color along_axis;
+    user.emission = LampEmission::parse(*e, t, type == "point" || type == "spot", p.what(), user.warnings, along_axis);
+    l.emission = user.emission.get();
+    if (!l.emission) color = color * along_axis;
+  }
   auto non_negative = [&](const char *key, float fallback) {
     float v = p.get_float(key, fallback);
     if (v < 0) fail(p.what() + ": '" + key + "' must not be negative");
@@ -107,7 +108,7 @@ Light make_light(Params &p) {
   // Blender's default, 1024, is no limit in practice.
   l.max_bounces = std::max(-1, p.get_int("max_bounces", -1));
   p.check_all_used();
-  return l;
+  return user;
 }
 
 Light make_triangle_light(Vec3 a, Vec3 b, Vec3 c, Color radiance) {
@@ -152,7 +153,7 @@ void compute_light_power(Light &l, float scene_radius) {
   float disk = kPi * scene_radius * scene_radius;
   switch (l.type) {
     case LightType::Point:
-    case LightType::Spot: l.power = 4 * kPi * a / l.inv_area; break;
+    case LightType::Spot: l.power = 4 * kPi * a / l.inv_area * (l.emission ? l.emission->mean_luminance() : 1.0f); break;
     case LightType::Area: l.power = kPi * a / l.inv_area; break;
     case LightType::Triangle: l.power = 2 * kPi * a / l.inv_area; break;
     case LightType::Sun: l.power = a * disk; break;
@@ -203,8 +204,7 @@ bool sample_light(const Light &l, Vec3 ref, Vec2 u, Vec3 u_volume, LightSample &
       s.wi = -to_ref / s.dist;
       s.p = l.position;
       s.pdf = 1;
-      s.L = l.radiance / d2;  // intensity / r^2
-      if (l.type == LightType::Spot) s.L *= spot_attenuation(l, -s.wi);
+      s.L = lamp_radiance(l, -s.wi) / d2;  // intensity / r^2
       return !is_black(s.L);
     }
     case LightType::Sun: {

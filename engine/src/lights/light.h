@@ -11,7 +11,9 @@
 //              length from the medium, isotropic.
 // One plain struct, dispatched by a switch on the type.
 #pragma once
+#include <memory>
 #include <string>
+#include <vector>
 #include "core/math.h"
 #include "core/params.h"
 #include "scene/ray_visibility.h"
@@ -19,6 +21,7 @@
 namespace rdv {
 
 class EnvironmentMap;  // lights/environment.h
+class LampEmission;    // lights/lamp_emission.h
 class VolumeEmitter;   // lights/volume_light.h
 
 enum class LightType : uint8_t { Point, Spot, Sun, Area, Triangle, Background, Volume };
@@ -77,6 +80,9 @@ struct Light {
   const EnvironmentMap *env = nullptr;
   // Volume: the emitter (owned by the Scene); its medium is where the light emits.
   const VolumeEmitter *volume = nullptr;
+  // Point / spot: a node tree that shapes the emission by direction (an IES profile), owned
+  // with the light (UserLight); null: the same in every direction (folded into radiance).
+  const LampEmission *emission = nullptr;
 
   bool is_delta() const {
     return ((type == LightType::Point || type == LightType::Spot) && radius == 0) ||
@@ -100,8 +106,23 @@ struct LightSample {
 
 // Cycles 3.4's spot falloff along a direction leaving the light.
 float spot_attenuation(const Light &light, Vec3 dir_from_light);
+// What a point or spot lamp emits along a unit direction leaving it: its radiance (a delta
+// lamp: intensity), the spot's falloff and its node tree's share in that direction.
+Color lamp_radiance(const Light &light, Vec3 dir_from_light);
+
+// A user light as make_light builds it: the Light, the node tree it points to (keep them
+// together) and what the parameters made it warn of.
+struct UserLight {
+  UserLight();
+  UserLight(UserLight &&) noexcept;
+  UserLight &operator=(UserLight &&) noexcept;
+  ~UserLight();  // these four in light.cpp, where LampEmission is complete
+  Light light;
+  std::unique_ptr<LampEmission> emission;
+  std::vector<std::string> warnings;
+};
 // Builds a user light from its parameters (rdv_scene_add_light).
-Light make_light(Params &p);
+UserLight make_light(Params &p);
 Light make_triangle_light(Vec3 a, Vec3 b, Vec3 c, Color radiance);
 Light make_background_light(Color radiance);
 Light make_environment_light(const EnvironmentMap *env);

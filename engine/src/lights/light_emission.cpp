@@ -41,8 +41,7 @@ bool sample_emission(const Light &l, Vec2 u_pos, Vec2 u_dir, Vec3 u_volume, Vec3
       out.pdf_pos = 1;  // a delta position
       out.ray = {l.position, d, kInf};
       out.n = Vec3(0.0f);
-      out.Le = l.radiance;  // intensity
-      if (l.type == LightType::Spot) out.Le *= spot_attenuation(l, d);
+      out.Le = lamp_radiance(l, d);  // intensity
       return !is_black(out.Le);
     }
     case LightType::Area:

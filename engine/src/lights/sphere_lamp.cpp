@@ -42,7 +42,7 @@ float sphere_lamp_direction_pdf(const Light &l, Vec3 n, Vec3 d) {
 
 Color sphere_lamp_radiance(const Light &l, Vec3 n, Vec3 d) {
   if (!(dot(n, d) > 0)) return Color(0.0f);
-  return l.type == LightType::Spot ? l.radiance * spot_attenuation(l, d) : l.radiance;
+  return lamp_radiance(l, d);
 }
 
 namespace {

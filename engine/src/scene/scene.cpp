@@ -158,7 +158,10 @@ void Scene::drop_medium(int id) {
 void Scene::set_light(uint32_t id, Params &params) {
   if (id >= user_lights_.size())
     fail("light " + std::to_string(id) + ": no such light (" + std::to_string(user_lights_.size()) + " lights)");
-  user_lights_[id] = make_light(params);
+  UserLight made = make_light(params);
+  for (const std::string &w : made.warnings) warn(w);
+  user_lights_[id] = made.light;
+  user_light_emissions_[id] = std::move(made.emission);
   dirty_ = true;
 }
 
@@ -358,7 +361,10 @@ void Scene::set_instance_transform(uint32_t id, const Transform &to_world) {
 }
 
 uint32_t Scene::add_light(const std::string &name, Params &params) {
-  user_lights_.push_back(make_light(params));
+  UserLight made = make_light(params);
+  for (const std::string &w : made.warnings) warn(w);
+  user_lights_.push_back(made.light);
+  user_light_emissions_.push_back(std::move(made.emission));
   user_light_names_.push_back(name);
   dirty_ = true;
   return static_cast<uint32_t>(user_lights_.size() - 1);

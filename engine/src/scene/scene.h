@@ -12,6 +12,7 @@
 #include "core/distribution.h"
 #include "film/data_passes.h"
 #include "lights/environment.h"
+#include "lights/lamp_emission.h"
 #include "lights/light.h"
 #include "lights/volume_light.h"
 #include "media/medium.h"
@@ -380,6 +381,7 @@ class Scene : private TextureRays {
   std::vector<Mesh> meshes_;
   std::vector<Instance> instances_;
   std::vector<Light> user_lights_;
+  std::vector<std::unique_ptr<LampEmission>> user_light_emissions_;  // what user_lights_ point to
   std::vector<std::string> user_light_names_;
   WorldLook world_;
   // Light Path > Is Camera Ray in the World's nodes: what camera rays see, when it differs

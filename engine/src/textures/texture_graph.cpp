@@ -7,6 +7,7 @@
 #include "core/cie_1931.h"
 #include "core/error.h"
 #include "core/limits.h"
+#include "lights/ies_profile.h"
 #include "media/blackbody.h"
 #include "scene/mesh.h"
 #include "textures/ambient_occlusion.h"
@@ -669,6 +670,19 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     // its frame, z along the view: its direction, its depth z or its distance.
     n.type = TexNodeType::CameraData;
     n.mode = r.choice("output", {"VIEW_VECTOR", "VIEW_Z_DEPTH", "VIEW_DISTANCE"}, "VIEW_VECTOR");
+  } else if (type == "ies") {
+    // Blender's IES Texture (Cycles' svm_node_ies): `strength` x the profile's intensity along
+    // `vector` (default: the normal in object space; on a lamp, the direction light leaves it
+    // in the lamp's space). The profile is the .ies file's text ("profile") or its path ("file").
+    n.type = TexNodeType::Ies;
+    n.in[0] = input("strength", 1.0);
+    n.in[1] = vector_input("vector", kObjectNormal);
+    const std::string text = r.str("profile", ""), file = r.str("file", "");
+    auto profile = std::make_shared<IesProfile>();
+    std::string error;
+    if (file.empty() ? profile->parse(text, error) : profile->load(file, error)) n.ies = std::move(profile);
+    else warnings.push_back(what + ": " + (file.empty() ? "the IES profile" : "IES file '" + file + "'") + " cannot be read (" +
+                            error + "); a constant 100 used, as Cycles");
   } else if (type == "wireframe") {
     n.type = TexNodeType::Wireframe;
     n.in[0] = input("size", 0.01);
@@ -810,12 +824,24 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
                    "only (docs/scene-format.md)");
   } else {
     fail(what_in + ": unknown texture node '" + type +
-         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, object_info, color_space, blackbody, wavelength, wireframe, ambient_occlusion, bevel, displacement, vector_displacement, camera_data, invert, hue_saturation, attribute, vertex_color, "
+         "' (image, checker, noise, voronoi, musgrave, wave, magic, brick, white_noise, gradient, mix, math, color_ramp, rgb_curves, float_curve, vector_math, map_range, object_info, color_space, blackbody, wavelength, wireframe, ambient_occlusion, bevel, displacement, vector_displacement, camera_data, ies, invert, hue_saturation, attribute, vertex_color, "
          "uv, texture_coordinate, mapping, normal_map, bump, separate_rgb, combine_rgb, rgb_to_bw, bright_contrast, gamma)");
   }
   r.used.insert("output");
   r.check();
   return add(n);
+}
+
+bool TextureGraph::depends_on_normal(int node) const {
+  // Inputs refer to nodes parsed before them: the recursion ends.
+  const TexNode &n = nodes_[size_t(node)];
+  if (n.type == TexNodeType::TexCoord && (n.mode == kNormal || n.mode == kObjectNormal || n.mode == kTrueNormal))
+    return true;
+  if (n.type == TexNodeType::NormalMap || n.type == TexNodeType::Bump || n.type == TexNodeType::Bevel) return true;
+  if (n.type == TexNodeType::Ies && !n.ies) return depends_on_normal(n.in[0]);  // Cycles' 100 in every direction
+  for (int i : n.in)
+    if (i >= 0 && depends_on_normal(i)) return true;
+  return false;
 }
 
 // ---- evaluation ------------------------------------------------------------------------
@@ -1192,6 +1218,7 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
       const float len = length(c);
       return len > 0 ? c / len : Vec3(0.0f);
     }
+    case TexNodeType::Ies: return Color(inf(0) * (n.ies ? n.ies->eval(in(1)) : 100.0f));
     case TexNodeType::VectorDisplacement: return vector_displacement(sp, (in(0) - Vec3(inf(1))) * inf(2), n.mode);
     case TexNodeType::Displacement: {
       const Vec3 normal = n.in[3] >= 0 ? Vec3(in(3)) : sp.ns;

@@ -14,6 +14,8 @@
 #include "textures/image_texture.h"
 #include "textures/shading_point.h"
 
+namespace rdv { class IesProfile; }
+
 namespace rdv {
 
 enum class TexNodeType : uint8_t {
@@ -33,7 +35,8 @@ enum class TexNodeType : uint8_t {
   Bevel,             // a normal averaged over the object's nearby surfaces (textures/bevel.h)
   Displacement,       // Blender's Displacement node: an offset along the normal, in the world
   VectorDisplacement,  // Blender's Vector Displacement node: an offset in tangent / object / world space
-  CameraData           // the point in the camera's space: view vector, z depth, distance
+  CameraData,          // the point in the camera's space: view vector, z depth, distance
+  Ies                  // an IES profile's intensity along a direction (lights/ies_profile.h)
 };
 
 constexpr int kTexNodeInputs = 10;  // the most any node has (Brick)
@@ -70,6 +73,8 @@ struct TexNode {
   // stop's alpha), and Curves (x from min_x to max_x): looked up by ramp_lookup.
   std::vector<RampStop> table;
   float min_x = 0, max_x = 1;
+  // Ies: the profile (null: none could be read, Cycles' constant 100)
+  std::shared_ptr<const IesProfile> ies;
 };
 
 class TextureGraph {
@@ -86,6 +91,9 @@ class TextureGraph {
     return n.type == TexNodeType::Constant ? n.value : eval_node(n, node, sp);
   }
   float eval_float(int node, const ShadingPoint &sp) const { return luminance(eval(node, sp)); }
+  // Whether the node's value depends on the shading point's normal (Texture Coordinate's
+  // normals, or nodes fed by them): a lamp's tree then varies with the direction it emits in.
+  bool depends_on_normal(int node) const;
   bool is_constant(int node) const { return node >= 0 && nodes_[size_t(node)].type == TexNodeType::Constant; }
   const TexNode &node(int i) const { return nodes_[size_t(i)]; }
   size_t size() const { return nodes_.size(); }

@@ -714,8 +714,8 @@ Color PathSpace::emitted(const ExplicitVertex &light_vertex, Vec3 w, uint32_t ra
     case LightType::Area: return dot(l.axis, w) > 0 ? l.radiance : Color(0.0f);
     // Textured emission: the texture where the vertex is, unfiltered (f's rule).
     case LightType::Triangle: return l.textured ? scene_.triangle_emission(l, light_vertex.v.p) : l.radiance;
-    case LightType::Point: return l.radiance;
-    case LightType::Spot: return l.radiance * spot_attenuation(l, w);
+    case LightType::Point:
+    case LightType::Spot: return lamp_radiance(l, w);
     // Radiance per unit length at the point (the edge's column weighs the medium's own
     // absorption on the way out; a point outside the medium has f = 0 from trace_edge).
     case LightType::Volume: return l.volume->medium().emission_at(light_vertex.v.p);
