@@ -123,7 +123,7 @@ class _Lowerer:
         op = ir.op
         if op in ("tex_image", "tex_environment"):
             return op == "tex_image" and self._image_file(ir) is not None
-        if op in ("texcoord", "uvmap", "tex_checker", "tex_noise", "tex_gradient", "vertex_color",
+        if op in ("texcoord", "uvmap", "tex_checker", "tex_noise", "tex_gradient", "tex_ies", "vertex_color",
                   "normal_map", "bump", "bevel", "displacement", "vector_displacement", "object_info", "camera_data", "blackbody", "wavelength", "geometry", "wireframe",
                   "ao") + PROCEDURAL_TEXTURES:
             return True

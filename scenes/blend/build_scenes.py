@@ -22,7 +22,7 @@ def reset(res=RES):
     for ob in list(bpy.data.objects):
         bpy.data.objects.remove(ob, do_unlink=True)
     for coll in (bpy.data.meshes, bpy.data.lights, bpy.data.cameras, bpy.data.materials, bpy.data.images,
-                 bpy.data.node_groups, bpy.data.worlds, bpy.data.particles):
+                 bpy.data.node_groups, bpy.data.worlds, bpy.data.particles, bpy.data.texts):
         for block in list(coll):
             if getattr(block, "type", None) == "RENDER_RESULT":
                 continue
@@ -1876,6 +1876,51 @@ def light_nodes():
     return scene
 
 
+def ies_text(name, v_angles, h_angles, candela):
+    """A Text datablock holding an IES LM-63 profile (type C) of candela(v, h) in degrees."""
+    rows = ["IESNA:LM-63-2002", "[TEST] Rendezvous brightness test", "[LUMINAIRE] %s" % name, "TILT=NONE",
+            "1 -1 1.0 %d %d 1 2 0.0 0.0 0.0" % (len(v_angles), len(h_angles)), "1.0 1.0 60",
+            " ".join("%g" % v for v in v_angles), " ".join("%g" % h for h in h_angles)]
+    rows += [" ".join("%.2f" % candela(v, h) for v in v_angles) for h in h_angles]
+    text = bpy.data.texts.new(name)
+    text.write("\n".join(rows) + "\n")
+    return text
+
+
+def ies_lamps():
+    """Lamps shaped by IES profiles (an IES Texture into the Emission's Strength, as Blender's
+    manual wires it): a point lamp turned 30 degrees about z and tipped 25 degrees whose profile
+    (all 360 degrees given) throws a bright lobe to one side, also upward; a spot lamp of radius
+    0.1 whose quadrant-symmetric downlight profile has a Blackbody colour and Strength 2 on the
+    IES node. A grey floor, a back wall, a white ball; a dim sky."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.02, 0.02, 0.03, 1.0)
+    plane("Floor", 10.0)
+    quad_object("Wall", 10.0, 4.0, (0, 2.0, 2.0), (90, 0, 0), diffuse_material("WallMat", (0.6, 0.6, 0.6)))
+    smooth_ball("Ball", (0.3, 0.3, 0.45), 0.45, diffuse_material("White", (0.8, 0.8, 0.8)))
+
+    def ies_lamp(ob, text, strength=1.0):
+        data = ob.data
+        data.use_nodes = True
+        nt = data.node_tree
+        emission = next(n for n in nt.nodes if n.bl_idname == "ShaderNodeEmission")
+        ies = add_node(nt, "ShaderNodeTexIES", {"Strength": strength}, mode="INTERNAL", ies=text)
+        nt.links.new(ies.outputs["Fac"], emission.inputs["Strength"])
+        return nt, emission
+    lobe = ies_text("lobe.ies", [0, 15, 30, 45, 60, 75, 90, 105, 120, 135, 150, 165, 180], [0, 45, 90, 135, 180, 225, 270, 315, 360],
+                    lambda v, h: (60.0 + 500.0 * math.exp(-((v - 50.0) / 25.0) ** 2)) * (1.2 + math.cos(math.radians(h - 90.0))))
+    ies_lamp(light("POINT", "Lobe", 2.0, (-1.2, -0.2, 2.0), rotation=(math.radians(25), 0, math.radians(30)), shadow_soft_size=0.0), lobe)
+    down = ies_text("downlight.ies", [0, 10, 20, 30, 40, 50, 60, 70, 80, 90], [0, 30, 60, 90],
+                    lambda v, h: max(0.0, 800.0 * math.cos(math.radians(v)) ** 3) * (1.0 + 0.4 * math.sin(math.radians(h)) ** 2))
+    nt, emission = ies_lamp(light("SPOT", "Down", 2.0, (1.3, -0.4, 2.4), spot_size=math.radians(100), spot_blend=0.2,
+                                  shadow_soft_size=0.1), down, 2.0)
+    blackbody = add_node(nt, "ShaderNodeBlackbody", {"Temperature": 3500.0})
+    nt.links.new(blackbody.outputs["Color"], emission.inputs["Color"])
+    camera_looking_at((0.0, -5.0, 2.2), (0, 0.5, 0.8), 40)
+    return scene
+
+
 def principled_glass_tint():
     """Cycles 3.4's Principled glass with Specular Tint: its reflection runs from the base colour
     (tint 1) at normal incidence to white at grazing. Two orange glass balls (Transmission 1,
@@ -2209,6 +2254,7 @@ SCENES = {
     "true_displacement": true_displacement,
     "camera_data": camera_data,
     "light_nodes": light_nodes,
+    "ies_lamps": ies_lamps,
     "preetham_sky": preetham_sky,
     "plane_point": plane_point,
     "plane_spot": plane_spot,
@@ -2262,7 +2308,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "incoming_facing", "mapped_normals", "displacement", "true_displacement", "camera_data", "light_nodes", "preetham_sky", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "incoming_facing", "mapped_normals", "displacement", "true_displacement", "camera_data", "light_nodes", "ies_lamps", "preetham_sky", "emissive_textured",
                      "volume_blackbody"]
 
 

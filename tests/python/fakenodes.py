@@ -16,6 +16,8 @@ EXTRA_SPECS = {
     "ShaderNodeCameraData": ([], [("View Vector", "View Vector", "VECTOR", (0.0, 0.0, 0.0)),
                                   ("View Z Depth", "View Z Depth", "VALUE", 0.0),
                                   ("View Distance", "View Distance", "VALUE", 0.0)]),
+    "ShaderNodeTexIES": ([("Vector", "Vector", "VECTOR", (0.0, 0.0, 0.0)), ("Strength", "Strength", "VALUE", 1.0)],
+                         [("Fac", "Fac", "VALUE", 0.0)]),
     "ShaderNodeBlackbody": ([("Temperature", "Temperature", "VALUE", 1500.0)], [("Color", "Color", "RGBA", (0.0, 0.0, 0.0, 0.0))]),
     "ShaderNodeOutputLight": ([("Surface", "Surface", "SHADER", None)], []),
     "ShaderNodeLightFalloff": ([("Strength", "Strength", "VALUE", 100.0), ("Smooth", "Smooth", "VALUE", 0.0)],

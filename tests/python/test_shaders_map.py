@@ -1235,6 +1235,49 @@ class TestLights(unittest.TestCase):
         self.assertEqual(e["strength"], 100.0)
 
 
+    def test_ies_texture_by_direction(self):
+        """An IES Texture (here scaled by a Math node and rotated by a Mapping of the lamp's
+        normal) stays a graph the engine evaluates per direction; its profile goes inline."""
+        import tempfile
+
+        class Text:
+            def as_string(self):
+                return "IESNA:LM-63-2002\nTILT=NONE\n..."
+
+        def b(t, em):
+            ies = t.new("ShaderNodeTexIES", "IES")
+            ies.mode, ies.ies = "INTERNAL", Text()
+            ies.inp("Strength").default_value = 2.0
+            coords = t.new("ShaderNodeTexCoord", "Coords")
+            mapping = t.new("ShaderNodeMapping", "Turn")
+            t.link(coords.out("Normal"), mapping.inp("Vector"))
+            t.link(mapping.out("Vector"), ies.inp("Vector"))
+            mul = t.new("ShaderNodeMath", "Times")
+            mul.operation = "MULTIPLY"
+            mul.inputs[1].default_value = 3.0
+            t.link(ies.out("Fac"), mul.inputs[0])
+            t.link(mul.out(), em.inp("Strength"))
+        e, w = self._light(b)
+        self.assertIsNone(w)
+        text = json.dumps(e["strength"])
+        self.assertIn('"node": "ies"', text)
+        self.assertIn('"profile": "IESNA:LM-63-2002\\nTILT=NONE\\n..."', text)
+        self.assertIn('"output": "object_normal"', text)
+        self.assertIn('"strength": 2.0', text)
+        # An external file is read here; one that cannot be goes as its path (the engine names it).
+        with tempfile.NamedTemporaryFile("w", suffix=".ies", delete=False) as f:
+            f.write("IESNA91\nTILT=NONE\n1 1000 1 1 1 1 2 0 0 0\n1 1 10\n0\n0\n100\n")
+        for path, key in ((f.name, "profile"), ("/nonexistent/lamp.ies", "file")):
+            def ext(t, em):
+                ies = t.new("ShaderNodeTexIES", "IES")
+                ies.mode, ies.filepath = "EXTERNAL", path
+                t.link(ies.out("Fac"), em.inp("Strength"))
+            e, w = self._light(ext)
+            self.assertIsNone(w)
+            self.assertIn(key, e["strength"])
+        os.unlink(f.name)
+
+
 class TestWorld(unittest.TestCase):
     def _world(self, build):
         t = Tree("W")
