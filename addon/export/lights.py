@@ -36,8 +36,8 @@ def light_params(light, matrix16, name, warn):
             shape = "rectangle" if shape == "square" else "ellipse"
         p.update(type="area", power=float(light.energy), shape=shape, size=sx, size_y=sy)
         spread = getattr(light, "spread", None)
-        if spread is not None and spread < 3.14159:
-            warn("Light '%s': area light spread not supported yet, using 180 degrees" % name)
+        if spread is not None and float(spread) < 3.14159:
+            p["spread"] = float(spread)  # radians; Cycles' soft-box slats
         cyc = getattr(light, "cycles", None)
         if cyc is not None and getattr(cyc, "is_portal", False):
             return None

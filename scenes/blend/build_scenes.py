@@ -1921,6 +1921,24 @@ def ies_lamps():
     return scene
 
 
+def area_spread():
+    """Area lamps with Cycles' Spread (a soft box's slats): a 1 m square lamp of 30 W at 60
+    degrees, tipped toward a back wall, and a 0.6 m disk of 12 W at 25 degrees straight over the
+    floor, which light pools with sharp-edged falloff; a grey floor, the wall, a white ball; a dim
+    sky."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.02, 0.02, 0.03, 1.0)
+    plane("Floor", 10.0)
+    quad_object("Wall", 10.0, 4.0, (0, 2.0, 2.0), (90, 0, 0), diffuse_material("WallMat", (0.6, 0.6, 0.6)))
+    smooth_ball("Ball", (-0.4, 0.4, 0.45), 0.45, diffuse_material("White", (0.8, 0.8, 0.8)))
+    light("AREA", "Slats", 30.0, (-1.0, -0.8, 2.2), rotation=(math.radians(40), 0, math.radians(-15)), size=1.0,
+          spread=math.radians(60))
+    light("AREA", "Pool", 12.0, (1.1, 0.2, 1.8), shape="DISK", size=0.6, spread=math.radians(25))
+    camera_looking_at((0.0, -5.0, 2.2), (0, 0.5, 0.8), 40)
+    return scene
+
+
 def principled_glass_tint():
     """Cycles 3.4's Principled glass with Specular Tint: its reflection runs from the base colour
     (tint 1) at normal incidence to white at grazing. Two orange glass balls (Transmission 1,
@@ -2255,6 +2273,7 @@ SCENES = {
     "camera_data": camera_data,
     "light_nodes": light_nodes,
     "ies_lamps": ies_lamps,
+    "area_spread": area_spread,
     "preetham_sky": preetham_sky,
     "plane_point": plane_point,
     "plane_spot": plane_spot,
@@ -2308,7 +2327,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "incoming_facing", "mapped_normals", "displacement", "true_displacement", "camera_data", "light_nodes", "ies_lamps", "preetham_sky", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "incoming_facing", "mapped_normals", "displacement", "true_displacement", "camera_data", "light_nodes", "ies_lamps", "area_spread", "preetham_sky", "emissive_textured",
                      "volume_blackbody"]
 
 

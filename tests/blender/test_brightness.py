@@ -210,10 +210,11 @@ def run_test(title, body, samples, add_arguments=None, needs_oiiotool=False):
 
 
 # Scenes whose materials or world light paths see differently from camera paths (view factors,
-# the baked sky, looks by ray type, moved shading normals) or whose lamps emit by direction (IES):
+# the baked sky, looks by ray type, moved shading normals) or whose lamps emit by direction (IES,
+# an area lamp's spread):
 # BDPT against Cycles too, at half the samples.
 BDPT_TOO = ("view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mapped_normals", "bevel", "displacement", "true_displacement",
-            "incoming_facing", "ies_lamps")
+            "incoming_facing", "ies_lamps", "area_spread")
 
 
 def main():

@@ -87,6 +87,15 @@ class TestLights(unittest.TestCase):
         p, w = self.params(ns(type="AREA", color=(1, 1, 1), energy=10.0, shape="ELLIPSE", size=1.0, size_y=0.5))
         self.assertEqual((p["shape"], p["size"], p["size_y"]), ("ellipse", 1.0, 0.5))
 
+    def test_area_spread(self):
+        """Spread goes to the engine in radians, and only when narrower than Blender's 180 degrees."""
+        light = ns(type="AREA", color=(1, 1, 1), energy=10.0, shape="SQUARE", size=1.0, size_y=1.0, spread=0.5)
+        p, w = self.params(light)
+        self.assertAlmostEqual(p["spread"], 0.5)
+        self.assertEqual(w, [])
+        light.spread = 3.1415927
+        self.assertNotIn("spread", self.params(light)[0])
+
 
 @unittest.skipIf(np is None, "numpy not available")
 class TestRayVisibility(unittest.TestCase):

@@ -35,6 +35,9 @@ struct Light {
   float inv_area = 1;    // of the emitting disk / rectangle / triangle
   // spot
   float cos_half_spot = -1, spot_smooth = 0;
+  // area: Cycles' Spread, a soft box's slats: emission falls as 1 - tan_spread tan(angle off the
+  // axis), scaled by normalize_spread to keep the lamp's power; tan_spread 0: 180 degrees, none.
+  float tan_spread = 0, normalize_spread = 1;
   // area: centre = position, half axes; triangle: p0 + edges
   Vec3 edge_u{0.0f}, edge_v{0.0f};
   bool ellipse = false;
@@ -106,8 +109,9 @@ struct LightSample {
 
 // Cycles 3.4's spot falloff along a direction leaving the light.
 float spot_attenuation(const Light &light, Vec3 dir_from_light);
-// What a point or spot lamp emits along a unit direction leaving it: its radiance (a delta
-// lamp: intensity), the spot's falloff and its node tree's share in that direction.
+// What a point, spot or area lamp emits along a unit direction leaving it: its radiance (a
+// delta lamp: intensity), the spot's falloff, an area lamp's one side and spread, and its node
+// tree's share in that direction.
 Color lamp_radiance(const Light &light, Vec3 dir_from_light);
 
 // A user light as make_light builds it: the Light, the node tree it points to (keep them

@@ -15,6 +15,11 @@ bool light_is_delta_position(const Light &l) {
 }
 bool light_is_delta_direction(const Light &l) { return l.type == LightType::Sun && l.radius == 0; }
 
+namespace {
+// The sine of the widest angle off the axis a spread area lamp emits at: half its spread.
+float spread_sin_max(const Light &l) { return 1.0f / std::sqrt(1.0f + sqr(l.tan_spread)); }
+}  // namespace
+
 bool sample_emission(const Light &l, Vec2 u_pos, Vec2 u_dir, Vec3 u_volume, Vec3 center, float radius,
                      EmissionSample &out) {
   switch (l.type) {
@@ -68,13 +73,21 @@ bool sample_emission(const Light &l, Vec2 u_pos, Vec2 u_dir, Vec3 u_volume, Vec3
         ud.x = std::min(ud.x, 0.99999994f);
       }
       Vec3 local = cosine_hemisphere(ud);
+      float pdf_dir = cosine_hemisphere_pdf(local.z);
+      if (l.type == LightType::Area && l.tan_spread > 0) {
+        // A spread lamp emits only within the slats' cone: cosine-distributed within it (the
+        // disk cosine_hemisphere projects, shrunk to the cone's sine).
+        const float sin_max = spread_sin_max(l);
+        local = Vec3(local.x * sin_max, local.y * sin_max, safe_sqrt(1.0f - (sqr(local.x) + sqr(local.y)) * sqr(sin_max)));
+        pdf_dir = local.z * kInvPi / sqr(sin_max);
+      }
       Vec3 d = Frame(n).to_world(local);
       out.pdf_pos = l.inv_area;
-      out.pdf_dir = side_pdf * cosine_hemisphere_pdf(local.z);
+      out.pdf_dir = side_pdf * pdf_dir;
       out.ray = {p, d, kInf};
       out.n = n;
-      out.Le = l.radiance;
-      return out.pdf_dir > 0;
+      out.Le = l.type == LightType::Area ? lamp_radiance(l, d) : l.radiance;  // an area lamp's spread
+      return out.pdf_dir > 0 && !is_black(out.Le);
     }
     case LightType::Sun:
     case LightType::Background: {
@@ -140,6 +153,10 @@ void emission_pdf(const Light &l, Vec3 p, Vec3 n, Vec3 dir, float radius, float 
     case LightType::Area:
       pdf_pos = l.inv_area;
       pdf_dir = cosine_hemisphere_pdf(dot(l.axis, dir));
+      if (l.tan_spread > 0 && pdf_dir > 0) {  // within the spread's cone only (sample_emission)
+        const float c = dot(l.axis, dir), sin_max = spread_sin_max(l);
+        pdf_dir = 1.0f - c * c <= sqr(sin_max) ? c * kInvPi / sqr(sin_max) : 0.0f;
+      }
       break;
     case LightType::Triangle:
       pdf_pos = l.inv_area;

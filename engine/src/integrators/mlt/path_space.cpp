@@ -711,7 +711,7 @@ Color PathSpace::emitted(const ExplicitVertex &light_vertex, Vec3 w, uint32_t ra
   }
   if (is_sphere_lamp(l)) return sphere_lamp_radiance(l, light_vertex.v.ng, w);
   switch (l.type) {
-    case LightType::Area: return dot(l.axis, w) > 0 ? l.radiance : Color(0.0f);
+    case LightType::Area: return lamp_radiance(l, w);
     // Textured emission: the texture where the vertex is, unfiltered (f's rule).
     case LightType::Triangle: return l.textured ? scene_.triangle_emission(l, light_vertex.v.p) : l.radiance;
     case LightType::Point:
