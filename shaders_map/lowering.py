@@ -127,8 +127,9 @@ class _Lowerer:
                   "normal_map", "bump", "bevel", "displacement", "vector_displacement", "object_info", "camera_data", "blackbody", "wavelength", "geometry", "wireframe",
                   "ao") + PROCEDURAL_TEXTURES:
             return True
-        if op == "attribute":
-            return ir.props.get("attribute_type", "GEOMETRY") == "GEOMETRY" and bool(ir.props.get("attribute_name"))
+        if op == "attribute":  # a mesh's attribute, or an object's own value (Object / Instancer)
+            return ir.props.get("attribute_type", "GEOMETRY") in ("GEOMETRY", "OBJECT", "INSTANCER") and \
+                bool(ir.props.get("attribute_name"))
         return any(self._varies(a, depth + 1) for a in ir.args.values())
 
     def _const_node(self, e):
@@ -518,11 +519,15 @@ class _Lowerer:
         return d
 
     def _n_attribute(self, e):
-        if e.props.get("attribute_type", "GEOMETRY") != "GEOMETRY" or not e.props.get("attribute_name"):
+        kind = e.props.get("attribute_type", "GEOMETRY")
+        if kind not in ("GEOMETRY", "OBJECT", "INSTANCER") or not e.props.get("attribute_name"):
             return self._const_node(e)
         out = {"Color": "color", "Vector": "vector", "Fac": "fac", "Alpha": "alpha"}.get(e.props.get("output"),
                                                                                          "color")
-        return {"node": "attribute", "name": e.props["attribute_name"], "output": out}
+        d = {"node": "attribute", "name": e.props["attribute_name"], "output": out}
+        if kind != "GEOMETRY":  # the object's own value, which the exporter sends per instance
+            d["attribute_type"] = kind
+        return d
 
     def normal(self, ir, owner):
         """A Normal input -> a normal_map/bump/bevel node, or None (the shading normal)."""

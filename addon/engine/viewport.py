@@ -243,8 +243,8 @@ class ViewportExporter(SceneExporter):
                         r.m16 = m16
                     self.edits += 1
                     stats["transform_updates"] += 1
-                settings = self.object_settings(ob, inst, rec.kinds)
-                if settings != rec.settings:  # holdout or ray visibility toggled
+                settings = self.object_settings(ob, inst, rec.kinds, self.object_attribute_names(self._object_materials(ob)))
+                if settings != rec.settings:  # holdout, ray visibility or an object attribute changed
                     if rec.kinds is not None:
                         return False  # copies per look of its materials: which of them any ray sees may change
                     rscene.set_instance_params(rec.engine_id, settings)
@@ -372,6 +372,10 @@ class ViewportExporter(SceneExporter):
         if mid is None:
             return True  # no mesh uses it
         self._uv_cache.pop(material.name_full, None)
+        # Object / Instancer attributes it reads changed: every object's values must be sent again.
+        known = self._object_attribute_cache.pop(material.name_full, None)
+        if known is not None and known != self.object_attribute_names([material]):
+            return False
         try:
             variants, warning = shaders_map.convert_material_variants(material, image_average=self.image_average,
                                                                       image_file=self.image_file,

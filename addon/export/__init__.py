@@ -15,6 +15,7 @@ from .materials import MaterialCache, ray_kind_cells
 from . import images
 from . import motion
 from .mesh import mesh_arrays, TANGENT_ATTRIBUTE
+from .object_attributes import instance_attributes, tree_object_attributes
 from . import volumes
 from . import visibility
 from .settings import session_settings, resolution, border_rect, SettingsError  # noqa: F401
@@ -127,6 +128,7 @@ class SceneExporter:
         self._mesh_names = set()
         self._light_names = set()
         self._uv_cache = {}
+        self._object_attribute_cache = {}  # material name_full -> its Object / Instancer attribute names
         self.is_viewport = is_viewport
         self.motion = None  # motion.MotionSampler while exporting a frame with motion blur
         self.copy_kinds = None  # the ray kinds of the object copy being sent (None: the whole object)
@@ -275,12 +277,13 @@ class SceneExporter:
 
     # ---- geometry -------------------------------------------------------------------
     @staticmethod
-    def object_settings(ob, inst=None, kinds=None):
+    def object_settings(ob, inst=None, kinds=None, attributes=()):
         """rdv_scene_set_instance_params of a mesh object: holdout, shadow catcher, ray visibility,
-        pass index, and what an Object Info node reads: the depsgraph instance's random_id (inst)
-        and the object's colour ({}: defaults). kinds: the ray kinds one copy of it is seen by
-        (ray_kind_cells), None for all."""
-        settings = {}
+        pass index, what an Object Info node reads: the depsgraph instance's random_id (inst)
+        and the object's colour ({}: defaults), and the values of `attributes`, the (type, name)
+        pairs of its materials' Attribute nodes of type Object / Instancer (object_attributes.py).
+        kinds: the ray kinds one copy of it is seen by (ray_kind_cells), None for all."""
+        settings = instance_attributes(ob, inst, attributes) if attributes else {}
         if getattr(ob, "pass_index", 0):  # Object > Relations > Pass Index (the Object Index pass)
             settings["pass_index"] = int(ob.pass_index)
         # Object Info > Random, as Cycles takes it: an instance's random_id from the depsgraph
@@ -304,6 +307,18 @@ class SceneExporter:
         if kinds is not None:  # one of the object's copies on one spot, a look per ray kind
             settings["look_copy"] = True
         return settings
+
+    def object_attribute_names(self, mats):
+        """The (type, name) pairs of the Object / Instancer Attribute nodes in materials mats."""
+        found = set()
+        for m in mats:
+            if m is None or not m.use_nodes:
+                continue
+            key = m.name_full
+            if key not in self._object_attribute_cache:
+                self._object_attribute_cache[key] = tree_object_attributes(m.node_tree)
+            found |= self._object_attribute_cache[key]
+        return found
 
     def _object_materials(self, ob):
         mats = [slot.material for slot in ob.material_slots]
@@ -345,7 +360,7 @@ class SceneExporter:
         cells = ray_kind_cells([self.materials.looks(m) for m in mats]) if mats else [(None, None)]
         first_frame = None  # the first copy's arrays, which the other looks' copies send again
         for kinds, slot_ids in cells:
-            settings = self.object_settings(ob, inst, kinds)
+            settings = self.object_settings(ob, inst, kinds, self.object_attribute_names(mats))
             if kinds is not None and visibility.hidden_from_all(settings.get("visibility", {})):
                 continue  # a look no ray of the object's own visibility sees
             frame = None

@@ -1939,6 +1939,66 @@ def area_spread():
     return scene
 
 
+def object_attributes():
+    """Attribute nodes of type Object and Instancer: one material whose colour is the object's
+    custom property "tint" and whose mix toward a glossy coat is its property "coat" (an int) on
+    three balls: one with both, one with "tint" on its mesh data instead, one with neither
+    (black, as Cycles reads a missing name); a cube coloured by the RNA path "color" (Viewport
+    Display); two instances of a collection whose cube reads Instancer "tint", set on each
+    instancing empty. A grey floor under a sun, a sky."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.3, 0.35, 0.45, 1.0)
+    plane("Floor", 10.0)
+    light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(35), math.radians(10), math.radians(30)))
+
+    def attribute_material(name, kind, prop, coat=None):
+        m, nt, out = empty_material(name)
+        attr = add_node(nt, "ShaderNodeAttribute", attribute_type=kind, attribute_name=prop)
+        diffuse = add_node(nt, "ShaderNodeBsdfDiffuse")
+        nt.links.new(attr.outputs["Color"], diffuse.inputs["Color"])
+        if coat is None:
+            nt.links.new(diffuse.outputs["BSDF"], out.inputs["Surface"])
+            return m
+        glossy = add_node(nt, "ShaderNodeBsdfGlossy", {"Roughness": 0.2})
+        amount = add_node(nt, "ShaderNodeAttribute", attribute_type=kind, attribute_name=coat)
+        scale = add_node(nt, "ShaderNodeMath", operation="MULTIPLY")
+        scale.inputs[1].default_value = 0.3
+        nt.links.new(amount.outputs["Fac"], scale.inputs[0])
+        mix = add_node(nt, "ShaderNodeMixShader")
+        nt.links.new(scale.outputs["Value"], mix.inputs["Fac"])
+        nt.links.new(diffuse.outputs["BSDF"], mix.inputs[1])
+        nt.links.new(glossy.outputs["BSDF"], mix.inputs[2])
+        nt.links.new(mix.outputs["Shader"], out.inputs["Surface"])
+        return m
+    tinted = attribute_material("Tinted", "OBJECT", "tint", coat="coat")
+    both = smooth_ball("Both", (-1.3, 0.3, 0.45), 0.45, tinted)
+    both["tint"] = (0.9, 0.25, 0.1)
+    both["coat"] = 2
+    on_data = smooth_ball("OnData", (0.0, 0.3, 0.45), 0.45, tinted)
+    on_data.data["tint"] = (0.1, 0.5, 0.9)
+    smooth_ball("Neither", (1.3, 0.3, 0.45), 0.45, tinted)
+    bpy.ops.mesh.primitive_cube_add(size=0.5, location=(-0.6, -0.9, 0.25), rotation=(0, 0, math.radians(25)))
+    cube = bpy.context.active_object
+    cube.data.materials.append(attribute_material("ByDisplayColor", "OBJECT", "color"))
+    cube.color = (0.2, 0.8, 0.3, 1.0)
+    kit = bpy.data.collections.new("Kit")
+    bpy.ops.mesh.primitive_cube_add(size=0.4, location=(0, 0, 0.2))
+    part = bpy.context.active_object
+    for c in list(part.users_collection):
+        c.objects.unlink(part)
+    kit.objects.link(part)
+    part.data.materials.append(attribute_material("ByInstancer", "INSTANCER", "tint"))
+    for name, x, tint in (("KitA", 0.5, (0.95, 0.8, 0.1)), ("KitB", 1.3, (0.6, 0.1, 0.8))):
+        empty = link(bpy.data.objects.new(name, None))
+        empty.instance_type = "COLLECTION"
+        empty.instance_collection = kit
+        empty.location = (x, -1.0, 0.0)
+        empty["tint"] = tint
+    camera_looking_at((0.0, -5.0, 2.4), (0, 0.0, 0.4), 40)
+    return scene
+
+
 def principled_glass_tint():
     """Cycles 3.4's Principled glass with Specular Tint: its reflection runs from the base colour
     (tint 1) at normal incidence to white at grazing. Two orange glass balls (Transmission 1,
@@ -2274,6 +2334,7 @@ SCENES = {
     "light_nodes": light_nodes,
     "ies_lamps": ies_lamps,
     "area_spread": area_spread,
+    "object_attributes": object_attributes,
     "preetham_sky": preetham_sky,
     "plane_point": plane_point,
     "plane_spot": plane_spot,
@@ -2327,7 +2388,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "incoming_facing", "mapped_normals", "displacement", "true_displacement", "camera_data", "light_nodes", "ies_lamps", "area_spread", "preetham_sky", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "incoming_facing", "mapped_normals", "displacement", "true_displacement", "camera_data", "light_nodes", "ies_lamps", "area_spread", "object_attributes", "preetham_sky", "emissive_textured",
                      "volume_blackbody"]
 
 

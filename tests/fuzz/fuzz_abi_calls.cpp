@@ -71,8 +71,11 @@ const char *kColorSpaces[] = {"", "Non-Color", "sRGB", "Linear", "no such space"
 // numbers from the input, or (choice 0) raw input text.
 std::string material_params(Reader &in) {
   auto x = [&] { return in.json_number(); };
-  switch (in.small(22)) {
+  switch (in.small(23)) {
     case 0: return in.text(64);
+    case 22: return std::string(R"({"type":"diffuse","color":{"node":"attribute","attribute_type":")") +
+                    (in.small(2) ? "OBJECT" : "INSTANCER") + R"(","name":")" + kNames[in.small(3)] + R"(","output":")" +
+                    (in.small(2) ? "fac" : "color") + R"("}})";
     case 1: return R"({"type":"diffuse","color":[)" + x() + "," + x() + "," + x() + R"(],"roughness":)" + x() + "}";
     case 2: return R"({"type":"glossy","roughness":)" + x() + R"(,"anisotropy":)" + x() + "}";
     case 3: return R"({"type":"glass","ior":)" + x() + R"(,"roughness":)" + x() + "}";
@@ -422,7 +425,19 @@ struct State {
         for (int k = 0; k < 6; ++k) params += std::string(k ? "," : "") + "\"" + kKinds[k] + "\":" + (in.small(2) ? "true" : "false");
         params += std::string("},\"look_copy\":") + (in.small(2) ? "true" : "false") +
                   ",\"holdout\":" + (in.small(4) == 0 ? "true" : "false") +
-                  ",\"shadow_catcher\":" + (in.small(4) == 0 ? "true" : "false") + "}";
+                  ",\"shadow_catcher\":" + (in.small(4) == 0 ? "true" : "false");
+        if (in.small(2)) {  // what Attribute nodes of type Object / Instancer read
+          params += std::string(",\"") + (in.small(2) ? "object" : "instancer") + "_attributes\":{\"" + kNames[in.small(4)] + "\":";
+          const uint32_t n = in.small(6);
+          if (n == 0) params += in.json_number();
+          else {
+            params += "[";
+            for (uint32_t i = 0; i < n; ++i) params += (i ? "," : "") + in.json_number();
+            params += "]";
+          }
+          params += "}";
+        }
+        params += "}";
         checked(rdv_scene_set_instance_params(scene, some(in, instances), traced(params)), "rdv_scene_set_instance_params");
         break;
       }

@@ -175,6 +175,47 @@ class TestObjectInfo(unittest.TestCase):
         self.assertNotIn("color", self.export.SceneExporter.object_settings(ob))
 
 
+class TestObjectAttributes(unittest.TestCase):
+    """What Attribute nodes of type Object / Instancer read, looked up as Cycles does."""
+
+    @classmethod
+    def setUpClass(cls):
+        load_addon()
+        from rendezvous.export import object_attributes
+        cls.oa = object_attributes
+
+    class Block(dict):
+        """A stand-in ID: custom properties by name, RNA paths from `rna`."""
+        def __init__(self, props=None, rna=None, **kw):
+            super().__init__(props or {})
+            self.rna = rna or {}
+            self.__dict__.update(kw)
+
+        def path_resolve(self, name):
+            if name not in self.rna:
+                raise ValueError("could not be resolved")
+            return self.rna[name]
+
+    def test_lookup_order_and_values(self):
+        B = self.Block
+        mesh = B({"tint": (0.1, 0.2, 0.3), "level": 7})
+        ob = B({"tint": (0.9, 0.8, 0.7, 0.5), "name": "not a number"}, rna={"color": (0.2, 0.4, 0.6, 1.0)}, data=mesh)
+        value = self.oa.attribute_value
+        self.assertEqual(value(ob, None, "OBJECT", "tint"), [0.9, 0.8, 0.7, 0.5])  # the object before its data
+        self.assertEqual(value(ob, None, "OBJECT", "level"), [7.0, 7.0, 7.0, 1.0])  # then the data; n is (n, n, n, 1)
+        self.assertEqual(value(ob, None, "OBJECT", "color"), [0.2, 0.4, 0.6, 1.0])  # an RNA path
+        self.assertIsNone(value(ob, None, "OBJECT", "name"))  # text is not a value
+        self.assertIsNone(value(ob, None, "OBJECT", "missing"))
+        parent = B({"tint": (1.0, 0.0, 0.0)})
+        inst = types.SimpleNamespace(is_instance=True, particle_system=None, parent=parent)
+        self.assertEqual(value(ob, inst, "INSTANCER", "tint"), [1.0, 0.0, 0.0, 1.0])  # the instancer first
+        self.assertEqual(value(ob, inst, "OBJECT", "tint"), [0.9, 0.8, 0.7, 0.5])
+        self.assertEqual(value(ob, inst, "INSTANCER", "level"), [7.0, 7.0, 7.0, 1.0])  # then the object's own
+        params = self.oa.instance_attributes(ob, inst, {("OBJECT", "tint"), ("INSTANCER", "tint"), ("OBJECT", "x")})
+        self.assertEqual(params, {"object_attributes": {"tint": [0.9, 0.8, 0.7, 0.5]},
+                                  "instancer_attributes": {"tint": [1.0, 0.0, 0.0, 1.0]}})
+
+
 class TestCameraSettings(unittest.TestCase):
     @classmethod
     def setUpClass(cls):

@@ -1144,6 +1144,24 @@ class TestGraph(unittest.TestCase):
             text = json.dumps(p["color"])
             self.assertIn('{"node": "camera_data", "output": "%s"}' % engine, text)
 
+    def test_object_and_instancer_attributes(self):
+        """Attribute nodes of type Object / Instancer: the engine reads the instance's value (the
+        exporter sends it); View Layer stays an approximation."""
+        for kind, output in (("OBJECT", "Color"), ("INSTANCER", "Fac"), ("VIEW_LAYER", "Color")):
+            def b(t):
+                a = t.new("ShaderNodeAttribute", "A", attribute_name="tint", attribute_type=kind)
+                d = t.new("ShaderNodeBsdfDiffuse", "D")
+                t.link(a.out(output), d.inp("Color"))
+                return d.out()
+            p, w = material_with(b)
+            text = json.dumps(p["color"])
+            if kind == "VIEW_LAYER":
+                self.assertIn("approximated", w)
+                continue
+            self.assertIsNone(w)
+            self.assertIn('"name": "tint"', text)
+            self.assertIn('"attribute_type": "%s"' % kind, text)
+
     def test_vector_displacement(self):
         t = Tree("M")
         out = t.output()

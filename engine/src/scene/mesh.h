@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 #include "core/math.h"
+#include "textures/shading_point.h"
 
 namespace rdv {
 
@@ -105,6 +106,8 @@ struct Instance : InstancePlacement {
   float random = 0;
   Color color{1.0f};
   float alpha = 1;
+  // What Attribute nodes of type Object / Instancer read (textures/shading_point.h).
+  std::vector<ObjectAttribute> attributes;
 };
 
 }  // namespace rdv

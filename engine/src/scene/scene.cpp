@@ -954,6 +954,8 @@ ShadingPoint Scene::shading_point(const SurfaceHit &hit, Vec3 dir, float width) 
   sp.object_random = inst.random;
   sp.object_color = inst.color;
   sp.object_alpha = inst.alpha;
+  sp.object_attributes = inst.attributes.data();
+  sp.num_object_attributes = uint32_t(inst.attributes.size());
   sp.object_index = inst.pass_index;
   sp.material_index = materials_[hit.material].pass_index;
   // dp/du, dp/dv from the triangle's UVs (pbrt's triangle derivatives). Displacement and Bump:
@@ -1038,7 +1040,29 @@ void Scene::set_instance_params(uint32_t id, Params &params) {
     random_id = uint32_t(r->get<int64_t>());
   }
   const std::vector<float> color = params.get_floats("color", 4, {1, 1, 1, 1});
+  // Attribute nodes of type Object / Instancer: {"name": number or [up to 4 numbers]}.
+  std::vector<ObjectAttribute> attributes;
+  for (const char *key : {"object_attributes", "instancer_attributes"}) {
+    const nlohmann::json *j = params.get_json(key);
+    if (!j) continue;
+    if (!j->is_object()) fail(object + ": '" + key + "' must be an object of names and values", RDV_ERROR_INVALID_ARGUMENT);
+    const std::string prefix = key[0] == 'i' ? kInstancerPrefix : "";
+    for (auto it = j->begin(); it != j->end(); ++it) {
+      ObjectAttribute a{attribute_id(prefix + it.key()), {0, 0, 0, 1}};
+      const nlohmann::json &v = it.value();
+      bool ok = v.is_number() || (v.is_array() && !v.empty() && v.size() <= 4);
+      if (v.is_number()) a.value[0] = a.value[1] = a.value[2] = v.get<float>();
+      for (size_t c = 0; ok && v.is_array() && c < v.size(); ++c)
+        if ((ok = v[c].is_number())) a.value[c] = v[c].get<float>();
+      for (float f : a.value) ok = ok && std::isfinite(f);
+      if (!ok)
+        fail(object + ": attribute '" + it.key() + "' must be a finite number or 1 to 4 of them",
+             RDV_ERROR_INVALID_ARGUMENT);
+      attributes.push_back(a);
+    }
+  }
   params.check_all_used();
+  inst.attributes = std::move(attributes);
   inst.holdout = holdout;
   inst.pass_index = float(pass_index);
   inst.random = float(random_id) * (1.0f / float(0xFFFFFFFFu));

@@ -89,8 +89,9 @@ class Scene : private TextureRays {
   // "object 'Name' (instance 3)": the instance in messages.
   std::string instance_description(uint32_t id) const;
   // {"holdout": bool, "shadow_catcher": bool, "visibility": {...}, "pass_index": n,
-  //  "random_id": n, "color": [r, g, b, a]} (rdv_scene_set_instance_params;
-  // scene/ray_visibility.h; the last two for Object Info).
+  //  "random_id": n, "color": [r, g, b, a], "object_attributes" / "instancer_attributes": {name:
+  // value}} (rdv_scene_set_instance_params; scene/ray_visibility.h; Object Info reads random_id
+  // and color, Attribute nodes of type Object / Instancer the attributes).
   void set_instance_params(uint32_t instance, Params &params);
   uint32_t add_light(const std::string &name, Params &params);
   void set_world(Params &params);

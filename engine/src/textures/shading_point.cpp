@@ -1,4 +1,5 @@
 #include "textures/shading_point.h"
+#include <algorithm>
 #include <map>
 #include <mutex>
 #include "scene/mesh.h"
@@ -26,6 +27,16 @@ bool ShadingPoint::attribute(uint32_t id, float out[4], int &components) const {
                a.data[size_t(v[2]) * a.components + c] * b[2];
     return true;
   }
+  return false;
+}
+
+bool ShadingPoint::object_attribute(uint32_t id, float out[4]) const {
+  for (uint32_t i = 0; i < num_object_attributes; ++i)
+    if (object_attributes[i].id == id) {
+      std::copy(object_attributes[i].value, object_attributes[i].value + 4, out);
+      return true;
+    }
+  std::fill(out, out + 4, 0.0f);
   return false;
 }
 

@@ -12,6 +12,15 @@ namespace rdv {
 struct Mesh;
 class TextureRays;
 
+// A value of the object itself that an Attribute node of type Object or Instancer reads
+// (Blender's custom property or RNA path, looked up by the add-on per instance), as RGBA: a
+// number n as (n, n, n, 1), shorter arrays after (0, 0, 0, 1).
+struct ObjectAttribute {
+  uint32_t id;  // attribute_id of the name (Instancer lookups: of kInstancerPrefix + name)
+  float value[4];
+};
+constexpr const char *kInstancerPrefix = "\x1finstancer:";
+
 struct ShadingPoint {
   Vec3 p{0.0f};          // world position
   Vec3 ng{0, 0, 1};      // geometric normal (front side), world
@@ -31,6 +40,8 @@ struct ShadingPoint {
   float object_random = 0, object_alpha = 1, object_index = 0, material_index = 0;
   Color object_color{1.0f};
   const Mesh *mesh = nullptr;          // for named attributes
+  const ObjectAttribute *object_attributes = nullptr;  // the instance's (Attribute: Object / Instancer)
+  uint32_t num_object_attributes = 0;
   // The Ambient Occlusion and Bevel nodes' rays (textures/texture_rays.h): the scene that
   // traces them (null: none; AO 1, Bevel the shading normal), the point's rounding error (for
   // their origin) and its instance.
@@ -49,6 +60,8 @@ struct ShadingPoint {
 
   // Interpolated attribute (id from attribute_id()); false if the mesh lacks it.
   bool attribute(uint32_t id, float out[4], int &components) const;
+  // The instance's attribute `id`; false (and zeros, as Cycles) when the object has none.
+  bool object_attribute(uint32_t id, float out[4]) const;
   bool has_footprint() const { return dx.x != 0 || dx.y != 0 || dy.x != 0 || dy.y != 0; }
   // The point moved along the surface by duv (in the dpdu / dpdv parameters): for
   // finite differences (bump, footprints of mapped coordinates). Named attributes

@@ -758,6 +758,10 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
   } else if (type == "attribute" || type == "vertex_color" || type == "uv") {
     n.type = TexNodeType::Attribute;
     std::string name = r.str(type == "attribute" ? "name" : "layer", "");
+    // Attribute's type: GEOMETRY (the mesh's, interpolated), OBJECT / INSTANCER (the
+    // instance's own value, ShadingPoint::object_attribute).
+    if (type == "attribute") n.mode = r.choice("attribute_type", {"GEOMETRY", "OBJECT", "INSTANCER"}, "GEOMETRY");
+    if (n.mode == 2) name = kInstancerPrefix + name;
     n.default_uv = name.empty() && type != "vertex_color";
     if (name.empty() && type != "uv") fail(what + ": needs the attribute's name ('" + (type == "attribute" ? "name" : "layer") + "')");
     n.attribute = name.empty() ? 0 : attribute_id(name);
@@ -1168,13 +1172,16 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
       return lerp(c, r, inf(3));
     }
     case TexNodeType::Attribute: {
+      // Cycles' svm_node_attr: Fac is the average of a colour or vector (a UV's u), Alpha the
+      // fourth component (1 without one); nothing found reads 0.
       if (n.default_uv) return {sp.uv.x, sp.uv.y, 0};
       float v[4] = {0, 0, 0, 1};
-      int comps = 0;
-      if (!sp.attribute(n.attribute, v, comps)) return Color(0.0f);
+      int comps = 4;
+      if (n.mode != 0 ? !sp.object_attribute(n.attribute, v) : !sp.attribute(n.attribute, v, comps)) return Color(0.0f);
       if (n.output == 2) return Color(comps == 4 ? v[3] : 1.0f);
       Color c(v[0], v[1], comps >= 3 ? v[2] : 0.0f);
-      return n.output == 1 ? Color(luminance(c)) : c;
+      if (n.output != 1) return c;
+      return Color(comps == 2 ? v[0] : (c.x + c.y + c.z) / 3.0f);
     }
     case TexNodeType::TexCoord:
       switch (n.mode) {
