@@ -333,7 +333,16 @@ typedef enum rdv_pass {
    * holds every longer path (EXR "Strategy_rest"). All of them sum to Combined's RGB. Reading
    * one beyond the session's passes (or without them) gives zeros. */
   RDV_PASS_STRATEGY_FIRST = 64,
-  RDV_PASS_STRATEGY_LAST = 98 /* k = 34: the rest of D = 6 */
+  RDV_PASS_STRATEGY_LAST = 98, /* k = 34: the rest of D = 6 */
+  /* Shader AOVs (session setting "aovs": [{"name", "type": "color" | "value"}], at most 16;
+   * materials' "aovs"; Blender's View Layer > Shader AOV and AOV Output node): the session's
+   * AOV k reads as RDV_PASS_AOV_COLOR_FIRST + k (4 floats: the mean of the colours written and
+   * the share of samples that wrote one) when a colour pass, RDV_PASS_AOV_VALUE_FIRST + k (1
+   * float) when a value pass; the other range, or a k beyond the session's, reads zeros. */
+  RDV_PASS_AOV_COLOR_FIRST = 100,
+  RDV_PASS_AOV_COLOR_LAST = 115,
+  RDV_PASS_AOV_VALUE_FIRST = 116,
+  RDV_PASS_AOV_VALUE_LAST = 131
 } rdv_pass;
 RDV_API int rdv_pass_channels(rdv_pass pass);
 

@@ -185,6 +185,84 @@ TEST(DataPasses, IndicesExactOnCoveredPixelsEveryIntegrator) {
   }
 }
 
+// Shader AOVs (film/shader_aovs.h): a colour AOV and a value AOV written by the left quad's
+// material, the right quad's writing only the colour one; exact on the pixels one quad covers
+// (colour, 1 in alpha), 0 on the world, for every integrator; a half-transparent card in front
+// adds its own write (two writes: alpha 2) and lets the quad's through, as Cycles' chain does.
+TEST(ShaderAovs, WrittenWhereTheCameraSeesTheMaterialEveryIntegrator) {
+  json materials = {{{"name", "red"}, {"type", "diffuse"}, {"color", {0.8, 0.2, 0.2}},
+                     {"aovs", {{"mask", {{"color", {0.25, 0.5, 1.0}}, {"value", 9}}}, {"depth_v", {{"value", 0.75}}}}}},
+                    {{"name", "blue"}, {"type", "diffuse"}, {"color", {0.2, 0.2, 0.8}},
+                     {"aovs", {{"mask", {{"color", {1.0, 0.0, 0.0}}}}, {"unknown", {{"value", 3}}}}}}};
+  json left = {{"name", "left"}, {"shape", {{"type", "quad"}, {"size", 1}}},
+               {"transform", {{"translate", {-1.5, 0, 0}}, {"scale", {1.4, 2, 1}}}}, {"materials", {"red"}}};
+  json right = {{"name", "right"}, {"shape", {{"type", "quad"}, {"size", 1}}},
+                {"transform", {{"translate", {1.5, 0, 0}}, {"scale", {1.4, 2, 1}}}}, {"materials", {"blue"}}};
+  const json aovs = json::array({{{"name", "mask"}, {"type", "color"}}, {{"name", "depth_v"}, {"type", "value"}}});
+  for (const char *integrator : {"path", "bdpt", "pssmlt", "mmlt", "mlt"}) {
+    json scene = plane_scene(perspective_camera(6), json::object(), {{"integrator", integrator}, {"aovs", aovs}},
+                             json::array({left, right}), materials);
+    scene["meshes"].erase(0);
+    Image img = render_json(scene.dump());
+    ASSERT_EQ(img.shader_aovs.size(), 2u) << integrator;
+    int covered = 0;
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x) {
+        const double px = 0.27, cx = -(x + 0.5 - 8) * px, cy = (8 - y - 0.5) * px;
+        const double lo_x = cx - 1.5 * px, hi_x = cx + 1.5 * px, lo_y = cy - 1.5 * px, hi_y = cy + 1.5 * px;
+        const size_t i = size_t(y) * kSize + size_t(x);
+        const float *mask = &img.shader_aovs[0][i * 4];
+        const float value = img.shader_aovs[1][i];
+        const bool in_y = lo_y > -1 && hi_y < 1;
+        if (in_y && lo_x > -2.2 && hi_x < -0.8) {
+          EXPECT_NEAR(mask[0], 0.25f, 1e-6f) << integrator;
+          EXPECT_NEAR(mask[2], 1.0f, 1e-6f) << integrator;
+          EXPECT_NEAR(mask[3], 1.0f, 1e-6f) << integrator << ": every sample wrote it";
+          EXPECT_NEAR(value, 0.75f, 1e-6f) << integrator;
+          ++covered;
+        } else if (in_y && lo_x > 0.8 && hi_x < 2.2) {
+          EXPECT_NEAR(mask[0], 1.0f, 1e-6f) << integrator;
+          EXPECT_EQ(value, 0.0f) << integrator << ": the blue material writes no depth_v";
+          ++covered;
+        } else if (hi_x < -2.2 || lo_x > 2.2 || hi_y < -1 || lo_y > 1) {
+          for (int c = 0; c < 4; ++c) EXPECT_EQ(mask[c], 0.0f) << integrator << ": the world writes none";
+          EXPECT_EQ(value, 0.0f) << integrator;
+        }
+      }
+    EXPECT_GE(covered, 20) << integrator;
+  }
+  // A card in front of the left quad, 70% transparent, writing mask (0, 1, 0): every sample
+  // writes the card's (its alpha 0.3 is below the threshold, 0.5) and those that pass through
+  // it (about 70%: the transparent closure is picked by its weight, as in Cycles) the quad's
+  // too; at 50% the card alone writes (its alpha reaches the threshold).
+  materials.push_back({{"name", "card"}, {"type", "mix"}, {"fac", 0.7}, {"shader1", {{"type", "diffuse"}}},
+                       {"shader2", {{"type", "transparent"}}}, {"aovs", {{"mask", {{"color", {0, 1, 0}}}}}}});
+  json card = {{"name", "card"}, {"shape", {{"type", "quad"}, {"size", 1}}},
+               {"transform", {{"translate", {-1.5, 0, 1}}, {"scale", {1.4, 2, 1}}}}, {"materials", {"card"}}};
+  json scene = plane_scene(perspective_camera(6), json::object(), {{"aovs", aovs}}, json::array({left, right, card}), materials);
+  scene["meshes"].erase(0);
+  Image img = render_json(scene.dump());
+  const size_t centre = size_t(8) * kSize + 12;  // x = 12 is left of the image's centre: the left quad (image right is -x)
+  const float *mask = &img.shader_aovs[0][centre * 4];
+  EXPECT_GT(mask[3], 1.5f);
+  EXPECT_LT(mask[3], 1.9f);
+  EXPECT_NEAR(mask[1], 1.0f + 0.5f * (mask[3] - 1.0f), 1e-5f) << "the quad's 0.5 for each sample through";
+  EXPECT_NEAR(mask[0], 0.25f * (mask[3] - 1.0f), 1e-5f);
+  scene["materials"].back()["fac"] = 0.5;
+  img = render_json(scene.dump());
+  EXPECT_NEAR(img.shader_aovs[0][centre * 4 + 1], 1.0f, 1e-5f);
+  EXPECT_NEAR(img.shader_aovs[0][centre * 4 + 3], 1.0f, 1e-5f);
+}
+
+TEST(ShaderAovs, BadSettingsAreRefused) {
+  json scene = plane_scene(perspective_camera(6), json::object(), json::object());
+  for (const json &bad : {json("mask"), json::array({{{"type", "color"}}}), json::array({{{"name", "m"}, {"type", "vector"}}}),
+                          json::array({{{"name", "m"}}, {{"name", "m"}}})}) {
+    scene["settings"]["aovs"] = bad;
+    EXPECT_THROW(render_json(scene.dump()), std::runtime_error) << bad.dump();
+  }
+}
+
 // Object Info: each instance emits its own values (the same material on both quads): its
 // colour, its Blender random number (random_id / (2^32 - 1), as Cycles), its pass index, its
 // location; read on the pixels the quads cover alone. Blender's values against Cycles':

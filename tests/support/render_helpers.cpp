@@ -62,6 +62,14 @@ static Image render_scene(rdv_scene *scene, const rdv_tools::LoadedScene &loaded
     if (rdv_session_read_film(session, pass, 0, 0, img.width, img.height, 1, out->data()) != RDV_OK)
       throw std::runtime_error(std::string("read_film: ") + rdv_last_error());
   }
+  if (settings.contains("aovs"))
+    for (size_t k = 0; k < settings["aovs"].size(); ++k) {
+      const bool color = settings["aovs"][k].value("type", std::string("color")) == "color";
+      const rdv_pass pass = rdv_pass((color ? RDV_PASS_AOV_COLOR_FIRST : RDV_PASS_AOV_VALUE_FIRST) + int(k));
+      std::vector<float> &out = img.shader_aovs.emplace_back(size_t(img.width) * img.height * (color ? 4 : 1));
+      if (rdv_session_read_film(session, pass, 0, 0, img.width, img.height, 1, out.data()) != RDV_OK)
+        throw std::runtime_error(std::string("read_film: ") + rdv_last_error());
+    }
   // The 3-float passes of [first, last] a setting asks for.
   auto read_passes = [&](const char *setting, int first, int last, std::vector<std::vector<float>> &passes) {
     if (!settings.value(setting, false)) return;

@@ -45,6 +45,9 @@ struct Image {
   // Shadow catchers (film/shadow_catcher_passes.h), top-down: the Shadow Catcher pass, 3
   // floats per pixel, and the matte, RGBA.
   std::vector<float> shadow_catcher, shadow_catcher_matte;
+  // Shader AOVs (settings "aovs"; film/shader_aovs.h), in the settings' order, top-down: a
+  // colour pass 4 floats per pixel, a value pass 1; empty without them.
+  std::vector<std::vector<float>> shader_aovs;
   const float *light_pass(rdv_pass pass, int x, int y) const {
     return &light_passes[size_t(pass - RDV_PASS_EMISSION)][(size_t(y) * width + x) * 3];
   }

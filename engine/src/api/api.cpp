@@ -342,6 +342,8 @@ int rdv_pass_channels(rdv_pass pass) {
     case RDV_PASS_VOLUME_INDIRECT: return 3;
     default: break;
   }
+  if (pass >= RDV_PASS_AOV_COLOR_FIRST && pass <= RDV_PASS_AOV_COLOR_LAST) return 4;
+  if (pass >= RDV_PASS_AOV_VALUE_FIRST && pass <= RDV_PASS_AOV_VALUE_LAST) return 1;
   return pass >= RDV_PASS_STRATEGY_FIRST && pass <= RDV_PASS_STRATEGY_LAST ? 3 : 0;
 }
 

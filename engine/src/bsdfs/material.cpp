@@ -277,6 +277,22 @@ Material Material::from_params(Params &p, const std::string &name, const ImageBu
       fail(p.what() + ": 'displacement_method' must be true or both, got '" + method + "'");
     m.displacement_keeps_normals = method == "both";
   }
+  if (const json *a = p.get_json("aovs")) {
+    if (!a->is_object()) fail(p.what() + ": 'aovs' must be an object of AOV names and their outputs");
+    m.shading_nodes = std::min(m.shading_nodes, m.graph.size());
+    for (auto it = a->begin(); it != a->end(); ++it) {
+      const std::string what = p.what() + " AOV '" + it.key() + "'";
+      if (!it.value().is_object()) fail(what + ": must be an object with 'color' and / or 'value'");
+      Aov aov;
+      aov.id = attribute_id(it.key());
+      for (auto out = it.value().begin(); out != it.value().end(); ++out) {
+        if (out.key() != "color" && out.key() != "value")
+          fail(what + ": unknown output '" + out.key() + "' (color, value)", RDV_ERROR_UNKNOWN_PARAMETER);
+        (out.key() == "color" ? aov.color : aov.value) = m.graph.parse(out.value(), what + " " + out.key(), m.warnings);
+      }
+      m.aovs.push_back(aov);
+    }
+  }
   m.graph.image_buffers = nullptr;  // only while parsing: the scene's buffers may change later
   p.check_all_used();
   for (const Closure &c : m.closures) {
@@ -510,6 +526,23 @@ Color Material::shadow_transmission(const ShadingPoint &sp) const {
     else t += Color(w * (1.0f - clampf(graph.eval_float(c.in[kAlpha], sp), 0.0f, 1.0f)));
   }
   return vmin(t, Color(1.0f));
+}
+
+void Material::write_aovs(const ShadingPoint &sp, AovSample &sample) const {
+  for (const Aov &aov : aovs) {
+    const ShaderAovs::Pass *pass = sample.layout->find(aov.id);
+    if (!pass) continue;  // a name the view layer has no pass for
+    float *dst = sample.values + pass->offset;
+    if (pass->color) {
+      if (aov.color < 0) continue;
+      const Color c = graph.eval(aov.color, sp);
+      if (!is_finite(c)) continue;
+      dst[0] += c.x, dst[1] += c.y, dst[2] += c.z, dst[3] += 1.0f;
+    } else if (aov.value >= 0) {
+      const float v = graph.eval_float(aov.value, sp);
+      if (std::isfinite(v)) dst[0] += v;
+    }
+  }
 }
 
 float Material::holdout_at(const ShadingPoint &sp) const {

@@ -13,6 +13,7 @@
 #include <vector>
 #include "bsdfs/bsdf.h"
 #include "core/params.h"
+#include "film/shader_aovs.h"
 #include "textures/texture_graph.h"
 
 namespace rdv {
@@ -100,6 +101,16 @@ struct Material {
   // moved faces, "both" keeps them (its bump is the surface_normal). -1: none.
   int displacement = -1;
   bool displacement_keeps_normals = false;
+  // "aovs": {"name": {"color": node, "value": node}}: the material's AOV Output nodes
+  // (film/shader_aovs.h), written where the camera first sees it. Their nodes follow the
+  // shading nodes (shading_nodes), so a plain material stays constant.
+  struct Aov {
+    uint32_t id = 0;  // attribute_id of the name
+    int color = -1, value = -1;
+  };
+  std::vector<Aov> aovs;
+  // Adds this material's AOV Outputs at sp to the sample's passes of their names.
+  void write_aovs(const ShadingPoint &sp, AovSample &sample) const;
   // The graph's nodes that shading reads: those before the displacement's, which only
   // the mesh's vertices see (a displaced material may still be resolved as constant).
   size_t shading_nodes = SIZE_MAX;

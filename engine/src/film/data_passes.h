@@ -23,6 +23,7 @@
 #include "core/params.h"
 #include "film/denoising_passes.h"
 #include "film/light_passes.h"
+#include "film/shader_aovs.h"
 
 namespace rdv {
 
@@ -57,6 +58,8 @@ struct DataPassSample {
   // sees up to its first scattering, by what reaches them (bdpt/subpaths.cpp).
   static_assert(kColorKinds == 3);
   Color colors[kColorKinds] = {Color(0.0f), Color(0.0f), Color(0.0f)};
+  // Shader AOVs (film/shader_aovs.h), when the film keeps them (Scene::add_data_passes).
+  AovSample aovs;
 
   // A surface of the see-through chain: its distance from the camera (MistSettings), the
   // throughput reaching it times its alpha, its alpha's average and its pass indices.

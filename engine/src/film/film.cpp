@@ -12,18 +12,20 @@ static_assert(StrategyPasses::count_for(StrategyPasses::kMaxDepth) == RDV_PASS_S
               "the C ABI's range of strategy passes holds those of the deepest setting");
 
 Film::Film(int width, int height, Rect region, bool halves, bool light_passes, bool data_passes,
-           int strategy_max_depth, bool denoising_passes)
+           int strategy_max_depth, bool denoising_passes, const ShaderAovs &shader_aovs)
     : width_(width), height_(height), region_(region), pixels_(size_t(width) * height),
       aovs_(size_t(width) * height), splats_(size_t(width) * height),
       half_pixels_(halves ? size_t(width) * height : 0), half_splats_(halves ? size_t(width) * height : 0),
       light_(light_passes ? size_t(width) * height : 0), light_splats_(light_passes ? size_t(width) * height : 0),
-      data_passes_(data_passes), denoising_(denoising_passes ? size_t(width) * height : 0), strategies_{strategy_max_depth},
+      data_passes_(data_passes), denoising_(denoising_passes ? size_t(width) * height : 0), shader_aovs_(shader_aovs),
+      shader_aov_sums_(size_t(width) * height * size_t(shader_aovs.channels)), strategies_{strategy_max_depth},
       strategy_(size_t(width) * height * size_t(strategies_.count())),
       strategy_splats_(size_t(width) * height * size_t(strategies_.splat_count())) {}
 
-size_t Film::bytes_per_pixel(bool halves, bool light_passes, int strategy_max_depth, bool denoising_passes) {
+size_t Film::bytes_per_pixel(bool halves, bool light_passes, int strategy_max_depth, bool denoising_passes,
+                             int shader_aov_channels) {
   const StrategyPasses strategies{strategy_max_depth};
-  return sizeof(PixelSum) + sizeof(PixelAov) + sizeof(SplatSums) +
+  return sizeof(PixelSum) + sizeof(PixelAov) + sizeof(SplatSums) + size_t(shader_aov_channels) * sizeof(float) +
          (halves ? sizeof(HalfSum) + sizeof(SplatSums) : 0) +
          (light_passes ? sizeof(LightPassSums) + sizeof(LightSplatSums) : 0) +
          (denoising_passes ? sizeof(DenoisingSums) : 0) +
@@ -38,6 +40,9 @@ void Film::take_tile(const Rect &rect, FilmTile &tile) const {
   tile.aovs_.resize(n);
   tile.light_.resize(has_light_passes() ? n : 0);
   tile.denoising_.resize(has_denoising_passes() ? n : 0);
+  const size_t na = size_t(shader_aovs_.channels);  // shader AOV sums per pixel
+  tile.aov_channels_ = int(na);
+  tile.shader_aovs_.resize(n * na);
   tile.catcher_.resize(has_shadow_catcher() ? n : 0);
   const size_t ns = size_t(strategies_.count());  // strategy sums per pixel
   tile.strategy_count_ = int(ns);
@@ -52,6 +57,8 @@ void Film::take_tile(const Rect &rect, FilmTile &tile) const {
       std::copy_n(&light_[index(rect.x0, y)], rect.width(), &tile.light_[tile.index(rect.x0, y)]);
     if (has_denoising_passes())
       std::copy_n(&denoising_[index(rect.x0, y)], rect.width(), &tile.denoising_[tile.index(rect.x0, y)]);
+    if (na)
+      std::copy_n(&shader_aov_sums_[index(rect.x0, y) * na], rect.width() * na, &tile.shader_aovs_[tile.index(rect.x0, y) * na]);
     if (has_shadow_catcher())
       std::copy_n(&catcher_[index(rect.x0, y)], rect.width(), &tile.catcher_[tile.index(rect.x0, y)]);
     if (ns)
@@ -71,6 +78,8 @@ void Film::put_tile(const FilmTile &tile) {
       std::copy_n(&tile.light_[tile.index(rect.x0, y)], rect.width(), &light_[index(rect.x0, y)]);
     if (has_denoising_passes())
       std::copy_n(&tile.denoising_[tile.index(rect.x0, y)], rect.width(), &denoising_[index(rect.x0, y)]);
+    if (const size_t na = size_t(shader_aovs_.channels))
+      std::copy_n(&tile.shader_aovs_[tile.index(rect.x0, y) * na], rect.width() * na, &shader_aov_sums_[index(rect.x0, y) * na]);
     if (has_shadow_catcher())
       std::copy_n(&tile.catcher_[tile.index(rect.x0, y)], rect.width(), &catcher_[index(rect.x0, y)]);
     if (const size_t ns = size_t(strategies_.count()))
@@ -248,6 +257,20 @@ void Film::read_light_pass(rdv_pass pass, size_t i, float *dst) const {
   for (int c = 0; c < 3; ++c) dst[c] = out[c];
 }
 
+// Shader AOV k of the colour range (r, g, b and the share of samples that wrote it) or of the
+// value range: the sums over the pixel's samples; zeros for a k the film has no such pass for.
+void Film::read_shader_aov(rdv_pass pass, size_t i, double n, float *dst) const {
+  const bool color = pass <= RDV_PASS_AOV_COLOR_LAST;
+  const size_t k = size_t(pass - (color ? RDV_PASS_AOV_COLOR_FIRST : RDV_PASS_AOV_VALUE_FIRST));
+  const int channels = color ? 4 : 1;
+  if (k >= shader_aovs_.passes.size() || shader_aovs_.passes[k].color != color || !(n > 0)) {
+    std::fill_n(dst, channels, 0.0f);
+    return;
+  }
+  const float *sums = &shader_aov_sums_[i * size_t(shader_aovs_.channels) + size_t(shader_aovs_.passes[k].offset)];
+  for (int c = 0; c < channels; ++c) dst[c] = float(sums[c] / n);
+}
+
 void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float *out, FrameState *state) const {
   int channels = rdv_pass_channels(pass);
   std::lock_guard<std::mutex> frame(frame_mutex_);
@@ -331,7 +354,9 @@ void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float 
           break;
         }
         default:
-          if (pass >= RDV_PASS_STRATEGY_FIRST) {
+          if (pass >= RDV_PASS_AOV_COLOR_FIRST && pass <= RDV_PASS_AOV_VALUE_LAST) {
+            read_shader_aov(pass, i, n, dst);
+          } else if (pass >= RDV_PASS_STRATEGY_FIRST) {
             if (pass - RDV_PASS_STRATEGY_FIRST < strategies_.count()) read_strategy_pass(pass - RDV_PASS_STRATEGY_FIRST, i, dst);
             else std::fill_n(dst, channels, 0.0f);
           } else if (has_light_passes()) read_light_pass(pass, i, dst);

@@ -57,16 +57,19 @@ class Film {
   // strategy_max_depth: keep BDPT's strategy passes of paths up to this depth
   // (film/strategy_passes.h); -1: none, and the film stores and copies nothing of them.
   // denoising_passes: keep Cycles' denoising data (film/denoising_passes.h).
+  // shader_aovs: the view layer's shader AOVs (film/shader_aovs.h); none: the film stores
+  // and copies nothing of them.
   Film(int width, int height, Rect region, bool halves = false, bool light_passes = false, bool data_passes = false,
-       int strategy_max_depth = -1, bool denoising_passes = false);
+       int strategy_max_depth = -1, bool denoising_passes = false, const ShaderAovs &shader_aovs = ShaderAovs());
   // What one pixel costs (samples, splats, AOVs, halves, light and strategy passes): for
   // the memory check before a film is made.
   static size_t bytes_per_pixel(bool halves, bool light_passes = false, int strategy_max_depth = -1,
-                                bool denoising_passes = false);
+                                bool denoising_passes = false, int shader_aov_channels = 0);
   bool has_halves() const { return !half_splats_.empty(); }
   bool has_light_passes() const { return !light_.empty(); }
   bool writes_data_passes() const { return data_passes_; }
   bool has_denoising_passes() const { return !denoising_.empty(); }
+  const ShaderAovs &shader_aovs() const { return shader_aovs_; }
   // Shadow catchers (film/shadow_catcher_passes.h): from now on the film keeps their sums
   // (the path tracer's, BDPT's, pssmlt's and mmlt's in a scene with a catcher), and Combined reads as `display`
   // says. Call before rendering.
@@ -175,6 +178,9 @@ class Film {
   // Denoising data's sums (empty without them).
   std::vector<DenoisingSums> &denoising_sums() { return denoising_; }
   const std::vector<DenoisingSums> &denoising_sums() const { return denoising_; }
+  // Shader AOVs' sums: shader_aovs().channels per pixel (empty without them).
+  std::vector<float> &shader_aov_sums() { return shader_aov_sums_; }
+  const std::vector<float> &shader_aov_sums() const { return shader_aov_sums_; }
   // Strategy passes' sums: strategy_passes().count() per pixel of camera samples and
   // splat_count() of splats (empty without them).
   std::vector<StrategySums> &strategy_sums() { return strategy_; }
@@ -188,6 +194,8 @@ class Film {
                  const SplatLightPass &light_pass, const SlotShare *shares, CatcherSplat catcher, int y0, int y1);
   // Calls band(y0, y1) for disjoint bands of the region's rows that cover it, in parallel.
   void for_each_row_band(const std::function<void(int, int)> &band);
+  // One pixel of a shader AOV pass into dst (4 or 1 floats); n: the pixel's sample count.
+  void read_shader_aov(rdv_pass pass, size_t i, double n, float *dst) const;
   // One pixel of strategy pass k into dst (3 floats).
   void read_strategy_pass(int k, size_t i, float *dst) const;
   // One pixel of a light pass (RDV_PASS_EMISSION .. RDV_PASS_VOLUME_INDIRECT) into dst.
@@ -206,6 +214,8 @@ class Film {
   std::vector<LightSplatSums> light_splats_;
   bool data_passes_ = false;
   std::vector<DenoisingSums> denoising_;  // empty unless asked for
+  ShaderAovs shader_aovs_;
+  std::vector<float> shader_aov_sums_;  // shader_aovs_.channels per pixel
   std::vector<CatcherSums> catcher_;  // empty unless keep_shadow_catcher
   CatcherDisplay catcher_display_;
   // Strategy passes: count() sums per pixel of camera samples, splat_count() of splats;

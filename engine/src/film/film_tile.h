@@ -90,6 +90,10 @@ class FilmTile {
       a.material_index = data.material_index;
     }
     if (!denoising_.empty()) denoising_[index(x, y)].add(data.denoising);  // only when the film keeps them
+    if (aov_channels_ && data.aovs.active()) {  // shader AOVs (film/shader_aovs.h)
+      float *sums = &shader_aovs_[index(x, y) * size_t(aov_channels_)];
+      for (int c = 0; c < aov_channels_; ++c) sums[c] += data.aovs.values[c];
+    }
   }
   // Shadow catchers (film/shadow_catcher_passes.h): only when the film keeps them.
   void add_shadow_catcher(int x, int y, const CatcherSample &sample) { catcher_[index(x, y)].add(sample); }
@@ -111,6 +115,8 @@ class FilmTile {
   std::vector<PixelAov> aovs_;
   std::vector<LightPassSums> light_;  // empty unless the film keeps light passes
   std::vector<DenoisingSums> denoising_;  // empty unless the film keeps denoising data
+  std::vector<float> shader_aovs_;  // aov_channels_ per pixel (film/shader_aovs.h)
+  int aov_channels_ = 0;
   std::vector<CatcherSums> catcher_;  // empty unless the film keeps shadow catcher sums
   std::vector<StrategySums> strategy_;  // strategy_count_ per pixel (0 unless the film keeps them)
   int strategy_count_ = 0;

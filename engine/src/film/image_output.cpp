@@ -103,6 +103,12 @@ std::string write_image(const Film &film, const std::string &path, const std::st
     }
     if (film.has_shadow_catcher() && film.catcher_display().pass)  // Combined is the matte: the shadow's here
       layers.push_back({RDV_PASS_SHADOW_CATCHER, rgb("Shadow Catcher")});
+    const ShaderAovs &aovs = film.shader_aovs();  // Blender's layer names: the AOV's own
+    for (size_t k = 0; k < aovs.passes.size(); ++k) {
+      const ShaderAovs::Pass &a = aovs.passes[k];
+      if (a.color) layers.push_back({rdv_pass(RDV_PASS_AOV_COLOR_FIRST + k), {a.name + ".R", a.name + ".G", a.name + ".B", a.name + ".A"}});
+      else layers.push_back({rdv_pass(RDV_PASS_AOV_VALUE_FIRST + k), {a.name + ".X"}});
+    }
     const StrategyPasses &strategies = film.strategy_passes();
     for (int k = 0; k < strategies.count(); ++k)
       layers.push_back({rdv_pass(RDV_PASS_STRATEGY_FIRST + k), rgb(strategies.name(k))});

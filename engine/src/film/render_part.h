@@ -38,6 +38,8 @@ struct PartRecord {
   // there), BDPT's strategy passes' sums of paths up to this depth (-1: none),
   // Cycles' denoising data's sums (denoising_passes).
   bool light_passes = false, data_passes = false, denoising_passes = false;
+  // The render had shader AOVs (film/shader_aovs.h): in its image, but not carried for a merge.
+  bool shader_aovs = false;
   int strategy_max_depth = -1;
   // A shadow catcher's sums (film/shadow_catcher_passes.h) and how Combined reads with them.
   bool shadow_catcher = false;

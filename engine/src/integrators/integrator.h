@@ -68,6 +68,8 @@ struct RenderSettings {
   bool data_passes = false;
   // Cycles' denoising data (film/denoising_passes.h): the film keeps them (every integrator).
   bool denoising_passes = false;
+  // Shader AOVs (film/shader_aovs.h, setting "aovs"): the film keeps them (every integrator).
+  ShaderAovs shader_aovs;
   // View Layer > Passes > Shadow Catcher (film/shadow_catcher_passes.h): in a scene with a
   // shadow catcher Combined reads as the matte (else with the shadow in it, as Cycles'
   // approximate shadow catcher).

@@ -63,6 +63,7 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
         cr.ray = ctx.scene.camera_now().generate_ray(raster, u_lens, &cr.lens_point, &cr.cone);
         FirstHit first_hit;
         first_hit.data.denoising.active = denoising_passes;
+        first_hit.data.aovs.start(&ctx.film.shader_aovs());
         if (light_passes) {
           passes.clear();
           first_hit.passes = &passes;

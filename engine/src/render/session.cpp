@@ -10,7 +10,8 @@ namespace rdv {
 Session::Session(std::shared_ptr<Scene> scene, const RenderSettings &settings)
     : scene_(std::move(scene)), settings_(settings),
       film_(settings.width, settings.height, settings.border, settings.estimates_noise(), settings.light_passes,
-            settings.data_passes, settings.strategy_pass_depth(), settings.denoising_passes), filter_(settings.filter_width),
+            settings.data_passes, settings.strategy_pass_depth(), settings.denoising_passes, settings.shader_aovs),
+      filter_(settings.filter_width),
       control_(settings.time_limit, settings.noise_target) {
   scene_->commit();
   scene_->camera().set_resolution(settings.width, settings.height);
@@ -97,6 +98,7 @@ PartRecord Session::part_record() const {
   r.light_passes = film_.has_light_passes();
   r.data_passes = film_.writes_data_passes();
   r.denoising_passes = film_.has_denoising_passes();
+  r.shader_aovs = !film_.shader_aovs().empty();
   r.shadow_catcher = film_.has_shadow_catcher();
   r.catcher_display = film_.catcher_display();
   r.strategy_max_depth = film_.strategy_passes().max_depth;

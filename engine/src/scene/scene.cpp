@@ -1002,6 +1002,8 @@ void Scene::add_data_passes(const SurfaceHit &hit, Color beta, float alpha_thres
   const Camera &camera = camera_now();
   const Vec3 w = hit.p - camera.position();
   const float distance = camera.type == Camera::Type::Orthographic ? std::fabs(dot(w, camera.forward())) : length(w);
+  // Shader AOVs: every surface of the chain until the one that sets the indices, as Cycles.
+  if (data.aovs.active() && !data.indices_done && !m.aovs.empty()) m.write_aovs(shading_point(hit), data.aovs);
   data.add_surface(mist_, alpha_threshold, distance, beta * alpha, average(alpha), instances_[hit.instance].pass_index,
                    m.pass_index);
 }

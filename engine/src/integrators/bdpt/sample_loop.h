@@ -21,7 +21,10 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
   // The AOVs, data and colour passes, unless the caller makes its own (FirstHit::aovs).
   const bool aovs = first_hit && first_hit->aovs;
   DataPassSample data;  // the data passes (film/data_passes.h), gathered by the camera walk
-  if (first_hit) data.denoising.active = first_hit->data.denoising.active;
+  if (first_hit) {
+    data.denoising.active = first_hit->data.denoising.active;
+    data.aovs.start(first_hit->data.aovs.layout);
+  }
   int nc = camera_subpath<kMedia>(camera_ray, sampler, stats, camera_path.data(), emitted.data(), -1,
                                   aovs ? &data : nullptr);
   // Shadow catchers (shadow_catcher.cpp): the sample's catcher values (kept here: *first_hit

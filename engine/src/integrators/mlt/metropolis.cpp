@@ -201,6 +201,7 @@ void Metropolis::first_hit_pass(RenderContext &ctx) const {
             // The walk ends where the camera stops seeing through (its first scattering).
             DataPassSample data;
             data.denoising.active = denoising_passes;
+            data.aovs.start(&ctx.film.shader_aovs());
             int n = media ? bdpt_.camera_subpath<true>(cr, sampler, stats, path.data(), nullptr, kFirstHitVertices,
                                                        &data, true)
                           : bdpt_.camera_subpath<false>(cr, sampler, stats, path.data(), nullptr, kFirstHitVertices,
