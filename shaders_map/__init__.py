@@ -43,6 +43,8 @@ class MaterialDescription:
         self.volume = None
         self.displacement = None  # IR of the Material Output's Displacement, when linked
         self.displacement_method = "BUMP"  # Material > Settings > Displacement (Cycles')
+        # The tree's AOV Output nodes: [(AOV name, IR of Color, IR of Value)] (shader AOVs)
+        self.aovs = []
         self.output_label = "Material Output"
         self.issues = Issues()
 
@@ -73,6 +75,14 @@ def _translate(tree, desc, output_ids):
         desc.volume = ctx.closure(out, "Volume")
         if ctx.socket(out, "Displacement") is not None and ctx.is_linked(out, "Displacement"):
             desc.displacement = ctx.input(out, "Displacement", default=(0.0, 0.0, 0.0))
+        if isinstance(desc, MaterialDescription):
+            # AOV Output nodes (Blender 3.4 keeps the AOV's name in the node's `name`), each
+            # written to the view layer's shader AOV of its name (film/shader_aovs.h).
+            for node in tree.nodes:
+                if getattr(node, "bl_idname", "") == "ShaderNodeOutputAOV" and not getattr(node, "mute", False) \
+                        and getattr(node, "name", ""):
+                    desc.aovs.append((node.name, ctx.input(node, "Color", default=(0.0, 0.0, 0.0)),
+                                      ctx.input(node, "Value", default=0.0)))
     except LimitError:
         raise  # the caller names the material
     except Exception as exc:  # never let a strange tree stop the render
@@ -174,6 +184,8 @@ def _lower_by_ray_kind(desc, image_average, image_file, volume_grids):
         variant.displacement_method = desc.displacement_method
         memo = {}
         variant.displacement = ray_kinds.substitute(desc.displacement, flags, memo)
+        variant.aovs = [(name, ray_kinds.substitute(color, flags, memo), ray_kinds.substitute(value, flags, memo))
+                        for name, color, value in desc.aovs]
         variant.surface = ray_kinds.substitute(desc.surface, flags, memo)
         variant.volume = ray_kinds.substitute(desc.volume, flags, memo)
         return lower_surface(variant, image_average, image_file, volume_grids)[0]

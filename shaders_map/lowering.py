@@ -1006,6 +1006,9 @@ def lower_surface(desc, image_average=None, image_file=None, volume_grids=False)
             params.update(low.displacement(desc))
     if medium is not None:
         params["volume"] = medium
+    aovs = getattr(desc, "aovs", ())
+    if aovs:  # the engine writes the one its pass's type names (color or value)
+        params["aovs"] = {name: {"color": low.value(color, True), "value": low.value(value)} for name, color, value in aovs}
     return params, desc.issues
 
 
@@ -1103,6 +1106,9 @@ def lower_world(desc, image_average=None, image_file=None):
                   else {"color": radiance, "strength": 1.0})
     if medium is not None:
         params["volume"] = medium
+    aovs = getattr(desc, "aovs", ())
+    if aovs:  # the engine writes the one its pass's type names (color or value)
+        params["aovs"] = {name: {"color": low.value(color, True), "value": low.value(value)} for name, color, value in aovs}
     return params, desc.issues
 
 

@@ -78,6 +78,22 @@ def wants_light_passes(layer, scene=None):
     return any(_flag(layer, scene, prop, where) for _, prop, where, _ in LIGHT_PASSES)
 
 
+def shader_aovs(layer, warn=None):
+    """[(name, "color" | "value")] of the view layer's Shader AOVs (View Layer > Passes > Shader
+    AOV), in its order: the valid ones (Blender marks a name used twice or by a built-in pass
+    invalid), at most the engine's MAX_SHADER_AOVS (the rest named in a warning)."""
+    out = []
+    for aov in getattr(layer, "aovs", ()):
+        if not getattr(aov, "is_valid", True) or not aov.name:
+            continue
+        if len(out) == binding.MAX_SHADER_AOVS:
+            if warn:
+                warn("Passes: Shader AOV '%s' and those after it left out (at most %d)" % (aov.name, binding.MAX_SHADER_AOVS))
+            break
+        out.append((aov.name, "value" if aov.type == "VALUE" else "color"))
+    return out
+
+
 def enabled_passes(layer, scene):
     """[(Blender name, engine pass, channels, chan_id, type)] the layer renders, Combined first."""
     out = [("Combined", binding.PASS_COMBINED, 4, "RGBA", "COLOR")]
@@ -97,6 +113,11 @@ def enabled_passes(layer, scene):
     depth = wanted_strategy_depth(layer)
     if depth is not None:
         out += [(name, engine_pass, 3, "RGB", "COLOR") for name, engine_pass in strategy_passes(depth)]
+    for k, (name, kind) in enumerate(shader_aovs(layer)):  # as Cycles registers them
+        if kind == "color":
+            out.append((name, binding.PASS_AOV_COLOR_FIRST + k, 4, "RGBA", "COLOR"))
+        else:
+            out.append((name, binding.PASS_AOV_VALUE_FIRST + k, 1, "X", "VALUE"))
     return out
 
 
@@ -109,14 +130,17 @@ def register_passes(engine, scene, layer):
 
 def light_pass_settings(layer, scene, integrator, warn=print):
     """The session settings the layer's passes need: light passes ({} without any), BDPT's
-    strategy passes, the denoising data, the Shadow Catcher pass, and View Layer > Passes >
-    Alpha Threshold, which the Object and Material Index passes use."""
+    strategy passes, the denoising data, the Shadow Catcher pass, the Shader AOVs, and View
+    Layer > Passes > Alpha Threshold, which the Object and Material Index and the AOVs use."""
     threshold = getattr(layer, "pass_alpha_threshold", None)
     data = {"pass_alpha_threshold": float(threshold)} if threshold is not None else {}
     if _flag(layer, scene, "denoising_store_passes", "cycles"):
         data["denoising_passes"] = True
     if _flag(layer, scene, "use_pass_shadow_catcher", "cycles"):
         data["shadow_catcher_pass"] = True  # Combined: the matte, as Cycles (else the shadow is in it)
+    aovs = shader_aovs(layer, warn)
+    if aovs:
+        data["aovs"] = [{"name": name, "type": kind} for name, kind in aovs]
     depth = wanted_strategy_depth(layer)
     if depth is not None:
         if integrator == "bdpt":

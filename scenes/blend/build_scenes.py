@@ -45,6 +45,10 @@ def reset(res=RES):
     bg.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
     bg.inputs["Strength"].default_value = 1.0
     scene.world = world
+    layer = bpy.context.view_layer
+    while len(layer.aovs):  # Shader AOVs of an earlier scene (ViewLayer.aovs has no remove())
+        layer.active_aov_index = len(layer.aovs) - 1
+        bpy.ops.scene.view_layer_remove_aov()
     return scene
 
 
@@ -2121,6 +2125,54 @@ def data_passes():
     return scene
 
 
+def shader_aovs():
+    """Shader AOVs (View Layer > Shader AOV, AOV Output nodes): a colour AOV "tint" and a value
+    AOV "height". A ball writes a Noise texture's colour to tint and its Position's z to
+    height; a cube writes a constant tint; the floor writes height only (its z, 0, with an
+    offset of 0.25); a card 70% Transparent BSDF in front of the ball writes tint green (below
+    the alpha threshold, so the ball behind writes too); the world writes none. Under a sun."""
+    scene = reset(48)
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.4, 0.5, 0.7, 1.0)
+    layer = bpy.context.view_layer
+    for name, kind in (("tint", "COLOR"), ("height", "VALUE")):
+        aov = layer.aovs.add()
+        aov.name, aov.type = name, kind
+
+    def with_aovs(material, tint=None, height=None):
+        nt = material.node_tree
+        if tint is not None:
+            out = add_node(nt, "ShaderNodeOutputAOV", name="tint")
+            if isinstance(tint, tuple):
+                out.inputs["Color"].default_value = tint
+            else:
+                nt.links.new(tint(nt), out.inputs["Color"])
+        if height is not None:
+            out = add_node(nt, "ShaderNodeOutputAOV", name="height")
+            geometry = add_node(nt, "ShaderNodeNewGeometry")
+            split = add_node(nt, "ShaderNodeSeparateXYZ")
+            plus = add_node(nt, "ShaderNodeMath", operation="ADD")
+            plus.inputs[1].default_value = height
+            nt.links.new(geometry.outputs["Position"], split.inputs["Vector"])
+            nt.links.new(split.outputs["Z"], plus.inputs[0])
+            nt.links.new(plus.outputs["Value"], out.inputs["Value"])
+        return material
+    plane("Floor", 12.0, with_aovs(diffuse_material("FloorMat", (0.6, 0.55, 0.5)), height=0.25))
+    noise = lambda nt: add_node(nt, "ShaderNodeTexNoise", {"Scale": 4.0}).outputs["Color"]  # noqa: E731
+    smooth_ball("Ball", (-0.5, 0.5, 0.6), 0.6, with_aovs(diffuse_material("BallMat", (0.8, 0.3, 0.2)), noise, 0.0))
+    bpy.ops.mesh.primitive_cube_add(size=0.7, location=(1.0, 0.2, 0.35), rotation=(0, 0, math.radians(30)))
+    bpy.context.active_object.data.materials.append(
+        with_aovs(diffuse_material("CubeMat", (0.3, 0.5, 0.8)), (0.9, 0.6, 0.1, 1.0)))
+    # A grey card: Cycles picks the closure a sample follows by its weight's average, the engine
+    # by its luminance, alike for grey (a green card: 78% of Cycles' samples pass, 73% of ours).
+    card_mat = mix_material("Card", ("ShaderNodeBsdfDiffuse", {"Color": (0.5, 0.5, 0.5, 1)}),
+                            ("ShaderNodeBsdfTransparent", {"Color": (1, 1, 1, 1)}), 0.7)
+    card = plane("Card", 0.7, with_aovs(card_mat, (0.0, 1.0, 0.0, 1.0)), location=(-0.4, -1.0, 0.6))
+    card.rotation_euler = (math.radians(90), 0, 0)
+    light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(35), 0, math.radians(30)))
+    camera_looking_at((0, -4.5, 1.6), (0, 0.5, 0.5), 40)
+    return scene
+
+
 def denoising_data():
     """Cycles' denoising data: a smooth glass ball (IOR 1.5) and a diffuse ball on a diffuse
     floor, a tinted mirror (Glossy BSDF, roughness 0) standing behind them and a blue wall
@@ -2332,6 +2384,7 @@ SCENES = {
     "true_displacement": true_displacement,
     "camera_data": camera_data,
     "light_nodes": light_nodes,
+    "shader_aovs": shader_aovs,
     "ies_lamps": ies_lamps,
     "area_spread": area_spread,
     "object_attributes": object_attributes,

@@ -16,6 +16,7 @@ EXTRA_SPECS = {
     "ShaderNodeCameraData": ([], [("View Vector", "View Vector", "VECTOR", (0.0, 0.0, 0.0)),
                                   ("View Z Depth", "View Z Depth", "VALUE", 0.0),
                                   ("View Distance", "View Distance", "VALUE", 0.0)]),
+    "ShaderNodeOutputAOV": ([("Color", "Color", "RGBA", (0.0, 0.0, 0.0, 1.0)), ("Value", "Value", "VALUE", 0.0)], []),
     "ShaderNodeTexIES": ([("Vector", "Vector", "VECTOR", (0.0, 0.0, 0.0)), ("Strength", "Strength", "VALUE", 1.0)],
                          [("Fac", "Fac", "VALUE", 0.0)]),
     "ShaderNodeBlackbody": ([("Temperature", "Temperature", "VALUE", 1500.0)], [("Color", "Color", "RGBA", (0.0, 0.0, 0.0, 0.0))]),

@@ -216,6 +216,37 @@ class TestObjectAttributes(unittest.TestCase):
                                   "instancer_attributes": {"tint": [1.0, 0.0, 0.0, 1.0]}})
 
 
+class TestShaderAovPasses(unittest.TestCase):
+    """View Layer > Shader AOV: registered as Cycles registers them, the session's "aovs" in the
+    same order (the engine's pass of AOV k is its colour or value range + k)."""
+
+    def test_passes_and_settings(self):
+        load_addon()
+        # engine/passes.py alone: the engine package's __init__ needs bpy.
+        if "rendezvous.engine" not in sys.modules:
+            package = types.ModuleType("rendezvous.engine")
+            package.__path__ = [os.path.join(ROOT, "addon", "engine")]
+            sys.modules["rendezvous.engine"] = package
+        spec = importlib.util.spec_from_file_location("rendezvous.engine.passes",
+                                                      os.path.join(ROOT, "addon", "engine", "passes.py"))
+        passes = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(passes)
+        from rendezvous import binding
+        aovs = [ns(name="mask", type="COLOR", is_valid=True), ns(name="dup", type="VALUE", is_valid=False),
+                ns(name="depth", type="VALUE", is_valid=True)]
+        layer = ns(aovs=aovs, pass_alpha_threshold=0.5)
+        wanted = passes.enabled_passes(layer, ns())
+        self.assertIn(("mask", binding.PASS_AOV_COLOR_FIRST, 4, "RGBA", "COLOR"), wanted)
+        self.assertIn(("depth", binding.PASS_AOV_VALUE_FIRST + 1, 1, "X", "VALUE"), wanted)
+        self.assertNotIn("dup", [w[0] for w in wanted])
+        warnings = []
+        settings = passes.light_pass_settings(layer, ns(), "path", warnings.append)
+        self.assertEqual(settings["aovs"], [{"name": "mask", "type": "color"}, {"name": "depth", "type": "value"}])
+        many = ns(aovs=[ns(name="a%d" % k, type="COLOR", is_valid=True) for k in range(20)])
+        self.assertEqual(len(passes.light_pass_settings(many, ns(), "path", warnings.append)["aovs"]), 16)
+        self.assertIn("a16", warnings[-1])
+
+
 class TestCameraSettings(unittest.TestCase):
     @classmethod
     def setUpClass(cls):

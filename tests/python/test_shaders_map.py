@@ -1144,6 +1144,25 @@ class TestGraph(unittest.TestCase):
             text = json.dumps(p["color"])
             self.assertIn('{"node": "camera_data", "output": "%s"}' % engine, text)
 
+    def test_aov_outputs(self):
+        """AOV Output nodes (the AOV's name in the node's `name`, as Blender 3.4 keeps it) go to
+        the material's "aovs", both inputs, a texture or a constant; muted ones are left out."""
+        def b(t):
+            noise = t.new("ShaderNodeTexNoise", "Noise")
+            aov = t.new("ShaderNodeOutputAOV", "mask")
+            t.link(noise.out("Color"), aov.inp("Color"))
+            aov.inp("Value").default_value = 0.5
+            muted = t.new("ShaderNodeOutputAOV", "ignored")
+            muted.mute = True
+            return t.new("ShaderNodeBsdfDiffuse", "D").out()
+        p, w = material_with(b)
+        self.assertIsNone(w)
+        self.assertEqual(sorted(p["aovs"]), ["mask"])
+        self.assertEqual(p["aovs"]["mask"]["value"], 0.5)
+        self.assertIn('"node": "noise"', json.dumps(p["aovs"]["mask"]["color"]))
+        p, _ = material_with(lambda t: t.new("ShaderNodeBsdfDiffuse", "D").out())
+        self.assertNotIn("aovs", p)
+
     def test_object_and_instancer_attributes(self):
         """Attribute nodes of type Object / Instancer: the engine reads the instance's value (the
         exporter sends it); View Layer stays an approximation."""
