@@ -71,8 +71,11 @@ const char *kColorSpaces[] = {"", "Non-Color", "sRGB", "Linear", "no such space"
 // numbers from the input, or (choice 0) raw input text.
 std::string material_params(Reader &in) {
   auto x = [&] { return in.json_number(); };
-  switch (in.small(23)) {
+  switch (in.small(24)) {  // 23: the default
     case 0: return in.text(64);
+    case 21: return std::string(R"({"type":"mix","fac":)") + x() + R"(,"shader1":{"type":"transparent"},)" +
+                    R"("shader2":{"type":"diffuse"},"aovs":{")" + kNames[in.small(4)] + R"(":{"color":{"node":"noise","scale":)" +
+                    x() + R"(},"value":)" + x() + R"(},"B":{"value":{"node":"texture_coordinate","output":"position"}}}})";
     case 22: return std::string(R"({"type":"diffuse","color":{"node":"attribute","attribute_type":")") +
                     (in.small(2) ? "OBJECT" : "INSTANCER") + R"(","name":")" + kNames[in.small(3)] + R"(","output":")" +
                     (in.small(2) ? "fac" : "color") + R"("}})";
@@ -233,6 +236,10 @@ std::string session_settings(Reader &in, bool &from_text) {
     case 4: s += ",\"sample_offset\":" + std::to_string(in.small(5)); break;
     case 5: s += ",\"clamp\":" + in.json_number() + ",\"diffuse_bounces\":" + std::to_string(in.small(3)); break;
     case 6: s += ",\"noise_pass\":true"; break;
+    case 7:  // shader AOVs: names the materials' "aovs" write (A, B) and one none writes
+      s += std::string(",\"aovs\":[{\"name\":\"A\",\"type\":\"") + (in.small(2) ? "color" : "value") +
+           "\"},{\"name\":\"C\"},{\"name\":\"B\",\"type\":\"" + (in.small(2) ? "color" : "value") + "\"}]";
+      break;
     default: break;
   }
   return s + "}";
@@ -313,7 +320,10 @@ struct State {
   }
 
   void read_film(Reader &in) {
-    rdv_pass pass = rdv_pass(in.small(6));  // 5: not a pass
+    static const int kAovPasses[] = {RDV_PASS_AOV_COLOR_FIRST, RDV_PASS_AOV_COLOR_FIRST + 2, RDV_PASS_AOV_VALUE_FIRST,
+                                     RDV_PASS_AOV_VALUE_FIRST + 2};
+    const uint32_t pick = in.small(10);  // 5: not a pass; 6..9 shader AOVs
+    rdv_pass pass = rdv_pass(pick < 6 ? int(pick) : kAovPasses[pick - 6]);
     uint32_t x = in.small(film_width + 2), y = in.small(film_height + 2);
     uint32_t w = in.small(film_width + 2), h = in.small(film_height + 2);
     int channels = std::max(rdv_pass_channels(pass), 1);
