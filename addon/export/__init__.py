@@ -308,17 +308,19 @@ class SceneExporter:
             settings["look_copy"] = True
         return settings
 
-    def object_attribute_names(self, mats):
-        """The (type, name) pairs of the Object / Instancer Attribute nodes in materials mats."""
-        found = set()
+    @staticmethod
+    def _scanned(cache, mats, scan):
+        """scan(node_tree) of each node material of mats, cached by the material's name."""
         for m in mats:
             if m is None or not m.use_nodes:
                 continue
-            key = m.name_full
-            if key not in self._object_attribute_cache:
-                self._object_attribute_cache[key] = tree_object_attributes(m.node_tree)
-            found |= self._object_attribute_cache[key]
-        return found
+            if m.name_full not in cache:
+                cache[m.name_full] = scan(m.node_tree)
+            yield cache[m.name_full]
+
+    def object_attribute_names(self, mats):
+        """The (type, name) pairs of the Object / Instancer Attribute nodes in materials mats."""
+        return set().union(*self._scanned(self._object_attribute_cache, mats, tree_object_attributes))
 
     def _object_materials(self, ob):
         mats = [slot.material for slot in ob.material_slots]
@@ -328,13 +330,7 @@ class SceneExporter:
 
     def _uv_needs(self, mats):
         uses, names = False, set()
-        for m in mats:
-            if m is None or not m.use_nodes:
-                continue
-            key = m.name_full
-            if key not in self._uv_cache:
-                self._uv_cache[key] = _tree_uses_uvs(m.node_tree)
-            u, n = self._uv_cache[key]
+        for u, n in self._scanned(self._uv_cache, mats, _tree_uses_uvs):
             uses = uses or u
             names |= n
         return uses, sorted(names)
