@@ -22,7 +22,7 @@ def reset(res=RES):
     for ob in list(bpy.data.objects):
         bpy.data.objects.remove(ob, do_unlink=True)
     for coll in (bpy.data.meshes, bpy.data.lights, bpy.data.cameras, bpy.data.materials, bpy.data.images,
-                 bpy.data.node_groups, bpy.data.worlds, bpy.data.particles, bpy.data.texts):
+                 bpy.data.node_groups, bpy.data.worlds, bpy.data.particles):
         for block in list(coll):
             if getattr(block, "type", None) == "RENDER_RESULT":
                 continue
@@ -45,11 +45,17 @@ def reset(res=RES):
     bg.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
     bg.inputs["Strength"].default_value = 1.0
     scene.world = world
+    return scene
+
+
+def remove_shader_aovs():
+    """The view layer's Shader AOVs (shader_aovs adds them) taken away, so that a scene built
+    after it in the same process has none (ViewLayer.aovs has no remove()). Not in reset: the
+    Cycles references key on the code the scenes run (tests/blender/cycles_reference.py)."""
     layer = bpy.context.view_layer
-    while len(layer.aovs):  # Shader AOVs of an earlier scene (ViewLayer.aovs has no remove())
+    while len(layer.aovs):
         layer.active_aov_index = len(layer.aovs) - 1
         bpy.ops.scene.view_layer_remove_aov()
-    return scene
 
 
 def link(ob):
@@ -1886,6 +1892,9 @@ def ies_text(name, v_angles, h_angles, candela):
             "1 -1 1.0 %d %d 1 2 0.0 0.0 0.0" % (len(v_angles), len(h_angles)), "1.0 1.0 60",
             " ".join("%g" % v for v in v_angles), " ".join("%g" % h for h in h_angles)]
     rows += [" ".join("%.2f" % candela(v, h) for v in v_angles) for h in h_angles]
+    old = bpy.data.texts.get(name)  # from an earlier build in this process (reset keeps texts)
+    if old is not None:
+        bpy.data.texts.remove(old)
     text = bpy.data.texts.new(name)
     text.write("\n".join(rows) + "\n")
     return text
@@ -2133,6 +2142,7 @@ def shader_aovs():
     the alpha threshold, so the ball behind writes too); the world writes none. Under a sun."""
     scene = reset(48)
     scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.4, 0.5, 0.7, 1.0)
+    remove_shader_aovs()
     layer = bpy.context.view_layer
     for name, kind in (("tint", "COLOR"), ("height", "VALUE")):
         aov = layer.aovs.add()
@@ -2463,6 +2473,7 @@ def main(argv):
         path = os.path.join(os.path.abspath(a.out), name + ".blend")
         bpy.ops.wm.save_as_mainfile(filepath=path, copy=True)
         print("wrote", path)
+        remove_shader_aovs()
 
 
 if __name__ == "__main__":

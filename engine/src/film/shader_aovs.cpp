@@ -4,13 +4,17 @@
 
 namespace rdv {
 
+static_assert(ShaderAovs::kMaxPasses == 16, "the message below names it");
+
 ShaderAovs ShaderAovs::parse(const nlohmann::json *j) {
   ShaderAovs out;
   if (!j || j->is_null()) return out;
   if (!j->is_array()) fail("render settings: 'aovs' must be a list of {\"name\", \"type\"}", RDV_ERROR_INVALID_ARGUMENT);
-  if (j->size() > size_t(kMaxPasses))
-    fail("render settings: at most " + std::to_string(kMaxPasses) + " shader AOVs, got " + std::to_string(j->size()),
-         RDV_ERROR_INVALID_ARGUMENT);
+  if (j->size() > size_t(kMaxPasses)) {
+    std::string message = "render settings: at most 16 shader AOVs, got ";  // kMaxPasses
+    message += std::to_string(j->size());
+    fail(message, RDV_ERROR_INVALID_ARGUMENT);
+  }
   for (const nlohmann::json &a : *j) {
     if (!a.is_object() || !a.contains("name") || !a["name"].is_string() || a["name"].get<std::string>().empty())
       fail("render settings: each of 'aovs' needs a \"name\"", RDV_ERROR_INVALID_ARGUMENT);

@@ -5,7 +5,6 @@
 #include "lights/lamp_emission.h"
 #include "lights/sphere_lamp.h"
 #include "lights/volume_light.h"
-#include "textures/texture_graph.h"
 
 namespace rdv {
 

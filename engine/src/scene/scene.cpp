@@ -996,14 +996,18 @@ ShadingPoint Scene::shading_point(const SurfaceHit &hit, Vec3 dir, float width) 
 void Scene::add_data_passes(const SurfaceHit &hit, Color beta, float alpha_threshold, DataPassSample &data) const {
   const Material &m = materials_[hit.material];
   Color alpha(1.0f);  // Cycles' surface alpha: 1 - the Transparent closures' weight
-  if (m.transparent) alpha = vmax(Color(1.0f) - m.shadow_transmission(shading_point(hit)), Color(0.0f));
+  // Shader AOVs: every surface of the chain until the one that sets the indices, as Cycles.
+  const bool aovs = data.aovs.active() && !data.indices_done && !m.aovs.empty();
+  if (m.transparent || aovs) {
+    const ShadingPoint sp = shading_point(hit);
+    if (m.transparent) alpha = vmax(Color(1.0f) - m.shadow_transmission(sp), Color(0.0f));
+    if (aovs) m.write_aovs(sp, data.aovs);
+  }
   // Cycles' camera_distance: from the camera's position (orthographic: along its axis), at
   // the sample's shutter time.
   const Camera &camera = camera_now();
   const Vec3 w = hit.p - camera.position();
   const float distance = camera.type == Camera::Type::Orthographic ? std::fabs(dot(w, camera.forward())) : length(w);
-  // Shader AOVs: every surface of the chain until the one that sets the indices, as Cycles.
-  if (data.aovs.active() && !data.indices_done && !m.aovs.empty()) m.write_aovs(shading_point(hit), data.aovs);
   data.add_surface(mist_, alpha_threshold, distance, beta * alpha, average(alpha), instances_[hit.instance].pass_index,
                    m.pass_index);
 }
