@@ -118,6 +118,25 @@ TEST(FuzzFindings, RaysBeyondEmbreesRangeMissInsteadOfAborting) {
   }
 }
 
+// fuzz_abi_calls (2026-11-30, CI): a Noise texture of scale 5e29 (in a material's shader AOV,
+// a case the fuzzer had just been given) converted its lattice cell floor(x) to int (UBSan:
+// undefined behaviour). Cells beyond int's range are 0 now; the image stays finite, and so do
+// the AOV pass's values. Under the ASan + UBSan build this shows the conversion gone.
+TEST(FuzzFindings, HugeNoiseCoordinatesAreNotConvertedToInt) {
+  const std::string scene = R"({
+    "settings": {"width": 4, "height": 4, "samples": 2, "max_bounces": 2, "aovs": [{"name": "n"}]},
+    "camera": {"transform": {"look_at": {"from": [0, -3, 1], "to": [0, 0, 0]}}},
+    "world": {"color": [0.5, 0.5, 0.5]},
+    "materials": [{"name": "noisy", "type": "diffuse", "color": {"node": "noise", "scale": 5e29},
+                   "aovs": {"n": {"color": {"node": "noise", "scale": -5e29, "detail": 3}}}}],
+    "meshes": [{"name": "floor", "shape": {"type": "quad", "size": 2}, "materials": ["noisy"]}]
+  })";
+  Image img = render_json(scene, R"({"integrator": "path"})");
+  EXPECT_TRUE(img.all_finite());
+  ASSERT_EQ(img.shader_aovs.size(), 1u);
+  for (float v : img.shader_aovs[0]) EXPECT_TRUE(std::isfinite(v));
+}
+
 // fuzz_abi_calls (2026-11-25, CI): a Checker texture at a coordinate of 9e37 converted
 // floor(x) to int (UBSan: undefined behaviour). Its parity is now taken in float; UDIM tiles
 // and image texels are found without converting huge or NaN coordinates either. Under the

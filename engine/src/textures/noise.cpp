@@ -41,7 +41,9 @@ float gradient(uint32_t hash, float x, float y, float z) {
 
 float floor_frac(float x, int &i) {
   const float f = std::floor(x);
-  i = int(f);
+  // Lattice indices are ints: beyond their range (a huge scale or coordinate, or NaN) the cell
+  // is 0, a defined value where the conversion would be undefined (found by fuzz_abi_calls).
+  i = std::fabs(f) < 2147483520.0f ? int(f) : 0;
   return x - f;
 }
 
