@@ -269,3 +269,42 @@ TEST(LampEmission, AreaLampsTakeTheProfileAlongTheirAxisAndBadFilesAreNamed) {
   EXPECT_NEAR(m.light.radiance.y / lamp(plain).light.radiance.y, 50.0f, 1e-3f) << "constant: folded in";
   EXPECT_EQ(m.light.emission, nullptr);
 }
+
+// The extremes: the same turned lamp 1 km from the origin, lighting points 1 mm and 1 km away;
+// an area lamp of 1 mm with a 30-degree spread 1 km from the origin. Each emission as close
+// to the profile's (the spread's) as the directions' float rounding allows.
+TEST(LampEmission, FarFromTheOriginAtMillimetresAndKilometres) {
+  IesProfile profile;
+  std::string error;
+  ASSERT_TRUE(profile.parse(kProfile, error));
+  json far = ies_lamp("point", 1.0f);
+  far["transform"] = {0, -1, 0, 1000, 1, 0, 0, 1000, 0, 0, 1, 1000, 0, 0, 0, 1};
+  const UserLight l = lamp(far);
+  json plain_json = far;
+  plain_json.erase("emission");
+  const Color plain = lamp(plain_json).light.radiance;
+  const Vec3 at(1000, 1000, 1000);
+  for (const float d : {1e-3f, 1e3f}) {
+    for (const Vec3 dir : {Vec3(0.3f, -0.2f, -0.93f), Vec3(-0.7f, 0.1f, -0.7f)}) {
+      const Vec3 out = normalize(dir), ref = at + out * d;
+      LightSample s;
+      ASSERT_TRUE(sample_light(l.light, ref, {0.5f, 0.5f}, Vec3(0.5f), s)) << d;
+      const Vec3 w = -s.wi;  // the direction the engine found, from rounded positions
+      const float expected = plain.y * profile.eval(Vec3(w.y, -w.x, w.z)) / (s.dist * s.dist);
+      EXPECT_NEAR(s.L.y, expected, 1e-4f * expected) << d;
+      EXPECT_NEAR(length(w - out), 0.0f, d < 1 ? 0.2f : 1e-4f) << "1 mm at 1 km: float positions 6e-5 m apart";
+    }
+  }
+  const json area = {{"type", "area"}, {"power", 1}, {"size", 1e-3}, {"spread", 30 * kPi / 180},
+                     {"transform", {1, 0, 0, 1000, 0, 1, 0, -1000, 0, 0, 1, 1000, 0, 0, 0, 1}}};
+  const UserLight a = lamp(area);
+  const float t = 1.0f / std::tan(15.0f * kPi / 180.0f), norm = 2.0f / (2.0f - (30.0f * kPi / 180.0f) * t);
+  for (const float d : {2e-3f, 2e3f}) {
+    LightSample s;
+    const Vec3 ref = Vec3(1000, -1000, 1000) + normalize(Vec3(0.1f, 0.05f, -1.0f)) * d;
+    ASSERT_TRUE(sample_light(a.light, ref, {0.5f, 0.5f}, Vec3(0.5f), s)) << d;
+    const float c = dot(a.light.axis, -s.wi), tan_off = std::sqrt(1 - c * c) / c;
+    EXPECT_NEAR(s.L.y, a.light.radiance.y * std::max(0.0f, (1 - t * tan_off) * norm), 1e-4f * s.L.y + 1e-6f) << d;
+    EXPECT_GT(s.L.y, 0.0f) << d << ": 6 degrees off the axis is inside the 15-degree cone";
+  }
+}
