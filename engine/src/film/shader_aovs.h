@@ -37,8 +37,6 @@ struct ShaderAovs {
       if (p.id == id) return &p;
     return nullptr;
   }
-  // The channels of pass k (0: none such).
-  int pass_channels(int k) const { return k >= 0 && k < int(passes.size()) ? (passes[size_t(k)].color ? 4 : 1) : 0; }
 };
 
 // One camera sample's writes (DataPassSample::aovs): `values` holds layout->channels numbers

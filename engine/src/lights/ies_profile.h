@@ -31,7 +31,6 @@ class IesProfile {
   float eval(Vec3 dir) const;
   // The same at a vertical and a horizontal angle in radians (v from 0 to pi, h 0 to 2 pi).
   float eval_angles(float v_angle, float h_angle) const;
-  size_t num_vertical() const { return v_.size(); }
   size_t num_horizontal() const { return h_.size(); }
 
  private:
