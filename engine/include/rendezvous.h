@@ -342,7 +342,17 @@ typedef enum rdv_pass {
   RDV_PASS_AOV_COLOR_FIRST = 100,
   RDV_PASS_AOV_COLOR_LAST = 115,
   RDV_PASS_AOV_VALUE_FIRST = 116,
-  RDV_PASS_AOV_VALUE_LAST = 131
+  RDV_PASS_AOV_VALUE_LAST = 131,
+  /* Cryptomatte (session setting "cryptomatte": {"object", "material", "asset": true/false,
+   * "levels": 1..16, default 6, "view_layer": name for the metadata}; instances' and
+   * materials' "cryptomatte" names; Blender's View Layer > Passes > Cryptomatte): pass
+   * RDV_PASS_CRYPTOMATTE_FIRST + 8 kind + k (kind 0 object, 1 material, 2 asset; k below
+   * ceil(levels / 2)) is Blender's Crypto<Kind>0k, 4 floats: the ids (MurmurHash3_32 of
+   * the name as a float) and coverages of the pixel's ranks 2k and 2k + 1, heaviest first;
+   * zeros for an empty rank, a kind the session does not keep or k beyond its levels. The
+   * layers' metadata (names, manifests) is in rdv_session_stats' "cryptomatte". */
+  RDV_PASS_CRYPTOMATTE_FIRST = 140,
+  RDV_PASS_CRYPTOMATTE_LAST = 163
 } rdv_pass;
 RDV_API int rdv_pass_channels(rdv_pass pass);
 

@@ -61,6 +61,8 @@ void usage() {
                "         denoising       Denoising Normal / Albedo / Depth, Cycles' denoising data (every integrator)\n"
                "         shadowcatcher   path: a scene with a shadow catcher writes Combined as the matte and the\n"
                "                         layer 'Shadow Catcher' (else Combined holds the shadow, as Cycles)\n"
+               "         cryptomatte     CryptoObject00.., CryptoMaterial00.., CryptoAsset00.. (6 levels) with the\n"
+               "                         standard's metadata (every integrator; the instances' and materials' names)\n"
                "         strategies      bdpt: each strategy's MIS-weighted image, Strategy_s<S>t<T>, of paths up to\n"
                "                         --strategy-depth N bounces (default 3, at most 6), and Strategy_rest\n"
                "  --film-transparent     the world seen directly is transparent (alpha = coverage; PNG and EXR)\n"
@@ -202,8 +204,9 @@ int main(int argc, char **argv) {
           else if (item == "denoising") overrides["denoising_passes"] = true;
           else if (item == "shadowcatcher") overrides["shadow_catcher_pass"] = true;
           else if (item == "strategies") overrides["strategy_passes"] = true;
+          else if (item == "cryptomatte") overrides["cryptomatte"] = {{"object", true}, {"material", true}, {"asset", true}};
           else {
-            std::fprintf(stderr, "rendezvous: --passes: unknown pass set '%s' (available: light, data, denoising, shadowcatcher, strategies)\n",
+            std::fprintf(stderr, "rendezvous: --passes: unknown pass set '%s' (available: light, data, denoising, shadowcatcher, cryptomatte, strategies)\n",
                          item.c_str());
             return 2;
           }

@@ -341,7 +341,7 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
   };
 
   // An instance's object settings (rdv_scene_set_instance_params): "holdout", "shadow_catcher", "look_copy", "visibility",
-  // "pass_index", "random_id", "color", "object_attributes", "instancer_attributes"; and its "motion"
+  // "pass_index", "random_id", "color", "object_attributes", "instancer_attributes", "cryptomatte"; and its "motion"
   // (rdv_scene_set_instance_motion), unless motion blur is off.
   auto object_params = [&options](const json &j, const std::string &what) {
     json p = json::object();
@@ -352,7 +352,7 @@ LoadedScene load_scene_json(const std::string &text, const std::string &base_dir
     if (j.contains("pass_index")) p["pass_index"] = j["pass_index"];  // and these
     if (j.contains("random_id")) p["random_id"] = j["random_id"];
     if (j.contains("color")) p["color"] = j["color"];
-    for (const char *key : {"object_attributes", "instancer_attributes"})
+    for (const char *key : {"object_attributes", "instancer_attributes", "cryptomatte"})
       if (j.contains(key)) p[key] = j[key];
     if (j.contains("motion") && options.motion_blur) p["motion"] = j["motion"];
     return p;

@@ -70,6 +70,12 @@ static Image render_scene(rdv_scene *scene, const rdv_tools::LoadedScene &loaded
       if (rdv_session_read_film(session, pass, 0, 0, img.width, img.height, 1, out.data()) != RDV_OK)
         throw std::runtime_error(std::string("read_film: ") + rdv_last_error());
     }
+  if (settings.contains("cryptomatte"))
+    for (int pass = RDV_PASS_CRYPTOMATTE_FIRST; pass <= RDV_PASS_CRYPTOMATTE_LAST; ++pass) {
+      std::vector<float> &out = img.cryptomatte.emplace_back(size_t(img.width) * img.height * 4);
+      if (rdv_session_read_film(session, rdv_pass(pass), 0, 0, img.width, img.height, 1, out.data()) != RDV_OK)
+        throw std::runtime_error(std::string("read_film: ") + rdv_last_error());
+    }
   // The 3-float passes of [first, last] a setting asks for.
   auto read_passes = [&](const char *setting, int first, int last, std::vector<std::vector<float>> &passes) {
     if (!settings.value(setting, false)) return;

@@ -48,6 +48,12 @@ struct Image {
   // Shader AOVs (settings "aovs"; film/shader_aovs.h), in the settings' order, top-down: a
   // colour pass 4 floats per pixel, a value pass 1; empty without them.
   std::vector<std::vector<float>> shader_aovs;
+  // Cryptomatte (settings "cryptomatte"; film/cryptomatte.h), by rdv_pass -
+  // RDV_PASS_CRYPTOMATTE_FIRST over the whole range: 4 floats per pixel, top-down; empty without it.
+  std::vector<std::vector<float>> cryptomatte;
+  const float *crypto_pass(int kind, int k, int x, int y) const {
+    return &cryptomatte[size_t(kind * 8 + k)][(size_t(y) * width + x) * 4];
+  }
   const float *light_pass(rdv_pass pass, int x, int y) const {
     return &light_passes[size_t(pass - RDV_PASS_EMISSION)][(size_t(y) * width + x) * 3];
   }

@@ -307,7 +307,7 @@ rdv_status rdv_session_stats(rdv_session *s, const char **out) {
   return guarded([&] {
     require(s, "session");
     require(out, "out_json");
-    s->text = s->session->integrator_stats();
+    s->text = s->session->stats_json();
     *out = s->text.c_str();
   });
 }
@@ -344,6 +344,7 @@ int rdv_pass_channels(rdv_pass pass) {
   }
   if (pass >= RDV_PASS_AOV_COLOR_FIRST && pass <= RDV_PASS_AOV_COLOR_LAST) return 4;
   if (pass >= RDV_PASS_AOV_VALUE_FIRST && pass <= RDV_PASS_AOV_VALUE_LAST) return 1;
+  if (pass >= RDV_PASS_CRYPTOMATTE_FIRST && pass <= RDV_PASS_CRYPTOMATTE_LAST) return 4;
   return pass >= RDV_PASS_STRATEGY_FIRST && pass <= RDV_PASS_STRATEGY_LAST ? 3 : 0;
 }
 

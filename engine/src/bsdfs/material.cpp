@@ -255,6 +255,8 @@ Material Material::from_params(Params &p, const std::string &name, const ImageBu
   m.graph.image_buffers = images;
   std::string type = p.get_string("type", "diffuse");
   m.pass_index = float(pass_index_of(p, "material '" + name + "'"));
+  m.crypto_name = p.get_string("cryptomatte", name);
+  m.crypto_id = cryptomatte::id_of(m.crypto_name);
   const std::string microfacets = p.get_string("microfacets", "physical");
   if (microfacets == "cycles_3.4") m.cycles34_microfacets = true;
   else if (microfacets != "physical")
@@ -376,7 +378,8 @@ uint16_t Material::ResolvedLobes::add_layer(const LayerAbove &l) {
 
 Material Material::error_material(const std::string &name) {
   Material m;
-  m.name = name;
+  m.name = m.crypto_name = name;
+  m.crypto_id = cryptomatte::id_of(name);
   m.type = MaterialType::Diffuse;
   Closure c;
   c.type = MaterialType::Diffuse;

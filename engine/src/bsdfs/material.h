@@ -86,6 +86,10 @@ struct Material {
   bool transparent = false;  // may let shadow rays through (Transparent BSDF, Principled alpha)
   bool holdout = false;      // has a Holdout closure (integrators/film_alpha.h)
   float pass_index = 0;      // Material > Settings > Pass Index (film/data_passes.h)
+  // Cryptomatte (film/cryptomatte.h): the name its Material pass shows ("cryptomatte",
+  // default the material's own: the exporter names each look copy after its Blender material).
+  std::string crypto_name;
+  float crypto_id = 0;
   // "microfacets": "cycles_3.4" (Blender 3.x scenes): every GGX lobe shadowed by the separable
   // G1 G1 (microfacet.h) and rough glass split by the Fresnel at the shading normal
   // (dielectric.h), as Cycles 3.4; "physical" (default): height-correlated, Fresnel per facet.

@@ -21,6 +21,7 @@
 #include <cstdint>
 #include "core/math.h"
 #include "core/params.h"
+#include "film/cryptomatte.h"
 #include "film/denoising_passes.h"
 #include "film/light_passes.h"
 #include "film/shader_aovs.h"
@@ -60,6 +61,8 @@ struct DataPassSample {
   Color colors[kColorKinds] = {Color(0.0f), Color(0.0f), Color(0.0f)};
   // Shader AOVs (film/shader_aovs.h), when the film keeps them (Scene::add_data_passes).
   AovSample aovs;
+  // Cryptomatte (film/cryptomatte.h), when the film keeps it (Scene::add_data_passes).
+  CryptoSample crypto;
 
   // A surface of the see-through chain: its distance from the camera (MistSettings), the
   // throughput reaching it times its alpha, its alpha's average and its pass indices.

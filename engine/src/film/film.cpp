@@ -12,20 +12,22 @@ static_assert(StrategyPasses::count_for(StrategyPasses::kMaxDepth) == RDV_PASS_S
               "the C ABI's range of strategy passes holds those of the deepest setting");
 
 Film::Film(int width, int height, Rect region, bool halves, bool light_passes, bool data_passes,
-           int strategy_max_depth, bool denoising_passes, const ShaderAovs &shader_aovs)
+           int strategy_max_depth, bool denoising_passes, const ShaderAovs &shader_aovs, const Cryptomatte &cryptomatte)
     : width_(width), height_(height), region_(region), pixels_(size_t(width) * height),
       aovs_(size_t(width) * height), splats_(size_t(width) * height),
       half_pixels_(halves ? size_t(width) * height : 0), half_splats_(halves ? size_t(width) * height : 0),
       light_(light_passes ? size_t(width) * height : 0), light_splats_(light_passes ? size_t(width) * height : 0),
       data_passes_(data_passes), denoising_(denoising_passes ? size_t(width) * height : 0), shader_aovs_(shader_aovs),
-      shader_aov_sums_(size_t(width) * height * size_t(shader_aovs.channels)), strategies_{strategy_max_depth},
+      shader_aov_sums_(size_t(width) * height * size_t(shader_aovs.channels)), cryptomatte_(cryptomatte),
+      crypto_(size_t(width) * height * size_t(cryptomatte.slots_per_pixel())), strategies_{strategy_max_depth},
       strategy_(size_t(width) * height * size_t(strategies_.count())),
       strategy_splats_(size_t(width) * height * size_t(strategies_.splat_count())) {}
 
 size_t Film::bytes_per_pixel(bool halves, bool light_passes, int strategy_max_depth, bool denoising_passes,
-                             int shader_aov_channels) {
+                             int shader_aov_channels, int crypto_slots) {
   const StrategyPasses strategies{strategy_max_depth};
   return sizeof(PixelSum) + sizeof(PixelAov) + sizeof(SplatSums) + size_t(shader_aov_channels) * sizeof(float) +
+         size_t(crypto_slots) * sizeof(CryptoSlot) +
          (halves ? sizeof(HalfSum) + sizeof(SplatSums) : 0) +
          (light_passes ? sizeof(LightPassSums) + sizeof(LightSplatSums) : 0) +
          (denoising_passes ? sizeof(DenoisingSums) : 0) +
@@ -43,6 +45,9 @@ void Film::take_tile(const Rect &rect, FilmTile &tile) const {
   const size_t na = size_t(shader_aovs_.channels);  // shader AOV sums per pixel
   tile.aov_channels_ = int(na);
   tile.shader_aovs_.resize(n * na);
+  const size_t nc = size_t(cryptomatte_.slots_per_pixel());  // Cryptomatte slots per pixel
+  tile.crypto_slots_ = int(nc);
+  tile.crypto_.resize(n * nc);
   tile.catcher_.resize(has_shadow_catcher() ? n : 0);
   const size_t ns = size_t(strategies_.count());  // strategy sums per pixel
   tile.strategy_count_ = int(ns);
@@ -59,6 +64,7 @@ void Film::take_tile(const Rect &rect, FilmTile &tile) const {
       std::copy_n(&denoising_[index(rect.x0, y)], rect.width(), &tile.denoising_[tile.index(rect.x0, y)]);
     if (na)
       std::copy_n(&shader_aov_sums_[index(rect.x0, y) * na], rect.width() * na, &tile.shader_aovs_[tile.index(rect.x0, y) * na]);
+    if (nc) std::copy_n(&crypto_[index(rect.x0, y) * nc], rect.width() * nc, &tile.crypto_[tile.index(rect.x0, y) * nc]);
     if (has_shadow_catcher())
       std::copy_n(&catcher_[index(rect.x0, y)], rect.width(), &tile.catcher_[tile.index(rect.x0, y)]);
     if (ns)
@@ -80,6 +86,8 @@ void Film::put_tile(const FilmTile &tile) {
       std::copy_n(&tile.denoising_[tile.index(rect.x0, y)], rect.width(), &denoising_[index(rect.x0, y)]);
     if (const size_t na = size_t(shader_aovs_.channels))
       std::copy_n(&tile.shader_aovs_[tile.index(rect.x0, y) * na], rect.width() * na, &shader_aov_sums_[index(rect.x0, y) * na]);
+    if (const size_t nc = size_t(cryptomatte_.slots_per_pixel()))
+      std::copy_n(&tile.crypto_[tile.index(rect.x0, y) * nc], rect.width() * nc, &crypto_[index(rect.x0, y) * nc]);
     if (has_shadow_catcher())
       std::copy_n(&tile.catcher_[tile.index(rect.x0, y)], rect.width(), &catcher_[index(rect.x0, y)]);
     if (const size_t ns = size_t(strategies_.count()))
@@ -356,6 +364,12 @@ void Film::read(rdv_pass pass, int x, int y, int w, int h, bool top_down, float 
         default:
           if (pass >= RDV_PASS_AOV_COLOR_FIRST && pass <= RDV_PASS_AOV_VALUE_LAST) {
             read_shader_aov(pass, i, n, dst);
+          } else if (pass >= RDV_PASS_CRYPTOMATTE_FIRST && pass <= RDV_PASS_CRYPTOMATTE_LAST) {
+            const int k = pass - RDV_PASS_CRYPTOMATTE_FIRST;
+            const size_t slots = size_t(cryptomatte_.slots_per_pixel());
+            if (slots) read_crypto_pass(cryptomatte_, &crypto_[i * slots], Cryptomatte::Kind(k / Cryptomatte::kMaxPassesPerKind),
+                                        k % Cryptomatte::kMaxPassesPerKind, n, dst);
+            else std::fill_n(dst, 4, 0.0f);
           } else if (pass >= RDV_PASS_STRATEGY_FIRST) {
             if (pass - RDV_PASS_STRATEGY_FIRST < strategies_.count()) read_strategy_pass(pass - RDV_PASS_STRATEGY_FIRST, i, dst);
             else std::fill_n(dst, channels, 0.0f);

@@ -58,18 +58,24 @@ class Film {
   // (film/strategy_passes.h); -1: none, and the film stores and copies nothing of them.
   // denoising_passes: keep Cycles' denoising data (film/denoising_passes.h).
   // shader_aovs: the view layer's shader AOVs (film/shader_aovs.h); none: the film stores
-  // and copies nothing of them.
+  // and copies nothing of them. cryptomatte: the same for Cryptomatte (film/cryptomatte.h).
   Film(int width, int height, Rect region, bool halves = false, bool light_passes = false, bool data_passes = false,
-       int strategy_max_depth = -1, bool denoising_passes = false, const ShaderAovs &shader_aovs = ShaderAovs());
+       int strategy_max_depth = -1, bool denoising_passes = false, const ShaderAovs &shader_aovs = ShaderAovs(),
+       const Cryptomatte &cryptomatte = Cryptomatte());
   // What one pixel costs (samples, splats, AOVs, halves, light and strategy passes): for
   // the memory check before a film is made.
   static size_t bytes_per_pixel(bool halves, bool light_passes = false, int strategy_max_depth = -1,
-                                bool denoising_passes = false, int shader_aov_channels = 0);
+                                bool denoising_passes = false, int shader_aov_channels = 0, int crypto_slots = 0);
   bool has_halves() const { return !half_splats_.empty(); }
   bool has_light_passes() const { return !light_.empty(); }
   bool writes_data_passes() const { return data_passes_; }
   bool has_denoising_passes() const { return !denoising_.empty(); }
   const ShaderAovs &shader_aovs() const { return shader_aovs_; }
+  const Cryptomatte &cryptomatte() const { return cryptomatte_; }
+  // Cryptomatte's metadata (crypto_metadata: the layers' names and manifests), for the
+  // images the film makes; set by the session from its scene.
+  void set_crypto_metadata(nlohmann::json metadata) { crypto_metadata_ = std::move(metadata); }
+  const nlohmann::json &crypto_metadata() const { return crypto_metadata_; }
   // Shadow catchers (film/shadow_catcher_passes.h): from now on the film keeps their sums
   // (the path tracer's, BDPT's, pssmlt's and mmlt's in a scene with a catcher), and Combined reads as `display`
   // says. Call before rendering.
@@ -181,6 +187,9 @@ class Film {
   // Shader AOVs' sums: shader_aovs().channels per pixel (empty without them).
   std::vector<float> &shader_aov_sums() { return shader_aov_sums_; }
   const std::vector<float> &shader_aov_sums() const { return shader_aov_sums_; }
+  // Cryptomatte's slots: cryptomatte().slots_per_pixel() per pixel (empty without it).
+  std::vector<CryptoSlot> &crypto_slots() { return crypto_; }
+  const std::vector<CryptoSlot> &crypto_slots() const { return crypto_; }
   // Strategy passes' sums: strategy_passes().count() per pixel of camera samples and
   // splat_count() of splats (empty without them).
   std::vector<StrategySums> &strategy_sums() { return strategy_; }
@@ -216,6 +225,9 @@ class Film {
   std::vector<DenoisingSums> denoising_;  // empty unless asked for
   ShaderAovs shader_aovs_;
   std::vector<float> shader_aov_sums_;  // shader_aovs_.channels per pixel
+  Cryptomatte cryptomatte_;
+  std::vector<CryptoSlot> crypto_;  // cryptomatte_.slots_per_pixel() per pixel
+  nlohmann::json crypto_metadata_;
   std::vector<CatcherSums> catcher_;  // empty unless keep_shadow_catcher
   CatcherDisplay catcher_display_;
   // Strategy passes: count() sums per pixel of camera samples, splat_count() of splats;

@@ -94,6 +94,8 @@ class FilmTile {
       float *sums = &shader_aovs_[index(x, y) * size_t(aov_channels_)];
       for (int c = 0; c < aov_channels_; ++c) sums[c] += data.aovs.values[c];
     }
+    if (crypto_slots_ && data.crypto.active())  // Cryptomatte (film/cryptomatte.h)
+      add_crypto_sample(*data.crypto.layout, &crypto_[index(x, y) * size_t(crypto_slots_)], data.crypto);
   }
   // Shadow catchers (film/shadow_catcher_passes.h): only when the film keeps them.
   void add_shadow_catcher(int x, int y, const CatcherSample &sample) { catcher_[index(x, y)].add(sample); }
@@ -117,6 +119,8 @@ class FilmTile {
   std::vector<DenoisingSums> denoising_;  // empty unless the film keeps denoising data
   std::vector<float> shader_aovs_;  // aov_channels_ per pixel (film/shader_aovs.h)
   int aov_channels_ = 0;
+  std::vector<CryptoSlot> crypto_;  // crypto_slots_ per pixel (film/cryptomatte.h)
+  int crypto_slots_ = 0;
   std::vector<CatcherSums> catcher_;  // empty unless the film keeps shadow catcher sums
   std::vector<StrategySums> strategy_;  // strategy_count_ per pixel (0 unless the film keeps them)
   int strategy_count_ = 0;

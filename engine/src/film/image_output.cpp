@@ -1,6 +1,7 @@
 #include "film/image_output.h"
 #include <OpenColorIO/OpenColorIO.h>
 #include <OpenImageIO/imageio.h>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -109,6 +110,17 @@ std::string write_image(const Film &film, const std::string &path, const std::st
       if (a.color) layers.push_back({rdv_pass(RDV_PASS_AOV_COLOR_FIRST + k), {a.name + ".R", a.name + ".G", a.name + ".B", a.name + ".A"}});
       else layers.push_back({rdv_pass(RDV_PASS_AOV_VALUE_FIRST + k), {a.name + ".X"}});
     }
+    const Cryptomatte &crypto = film.cryptomatte();  // Blender's names: CryptoObject00.r, ...
+    for (int kind = 0; kind < Cryptomatte::kKinds; ++kind) {
+      if (!crypto.kinds[kind]) continue;
+      for (int k = 0; k < crypto.passes_per_kind(); ++k) {
+        char name[32];
+        std::snprintf(name, sizeof name, "%s%02d", Cryptomatte::pass_prefix(Cryptomatte::Kind(kind)), k);
+        const std::string layer = name;
+        layers.push_back({rdv_pass(RDV_PASS_CRYPTOMATTE_FIRST + kind * Cryptomatte::kMaxPassesPerKind + k),
+                          {layer + ".r", layer + ".g", layer + ".b", layer + ".a"}});
+      }
+    }
     const StrategyPasses &strategies = film.strategy_passes();
     for (int k = 0; k < strategies.count(); ++k)
       layers.push_back({rdv_pass(RDV_PASS_STRATEGY_FIRST + k), rgb(strategies.name(k))});
@@ -162,6 +174,9 @@ std::string write_image(const Film &film, const std::string &path, const std::st
     spec.z_channel = 4;
     spec.attribute("compression", "zip");
     if (part) spec.attribute(part_attribute_name(), part->to_json());
+    // Cryptomatte's metadata, as the standard has it (names, hash, conversion, manifest).
+    for (auto it = film.crypto_metadata().begin(); it != film.crypto_metadata().end(); ++it)
+      if (it->is_string()) spec.attribute(it.key(), it->get<std::string>());
     // TypeDesc::UNKNOWN: the buffer holds each channel in its own format.
     if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::UNKNOWN, all.data()) || !out->close())
       fail("cannot write '" + path + "': " + out->geterror(), RDV_ERROR_IO);

@@ -206,6 +206,7 @@ std::string PartRecord::to_json() const {
   if (data_passes) j["data_passes"] = true;
   if (denoising_passes) j["denoising_passes"] = true;
   if (shader_aovs) j["shader_aovs"] = true;
+  if (cryptomatte) j["cryptomatte"] = true;
   if (shadow_catcher)
     j["shadow_catcher"] = {{"pass", catcher_display.pass}, {"film_transparent", catcher_display.film_transparent}};
   if (strategy_max_depth >= 0) j["strategy_max_depth"] = strategy_max_depth;
@@ -236,6 +237,7 @@ PartRecord PartRecord::from_json(const std::string &text, const std::string &par
     r.data_passes = j.value("data_passes", false);
     r.denoising_passes = j.value("denoising_passes", false);
     r.shader_aovs = j.value("shader_aovs", false);
+    r.cryptomatte = j.value("cryptomatte", false);
     if (j.contains("shadow_catcher")) {
       r.shadow_catcher = true;
       r.catcher_display.pass = j["shadow_catcher"].at("pass").get<bool>();
@@ -434,6 +436,8 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
     result.warnings.push_back("some parts carry no denoising data (Denoising Normal, Albedo, Depth): the merged image has none");
   if (some_part([](const LoadedPart &p) { return p.record.shader_aovs; }))
     result.warnings.push_back("the parts' shader AOVs are not carried by render parts: the merged image has none");
+  if (some_part([](const LoadedPart &p) { return p.record.cryptomatte; }))
+    result.warnings.push_back("the parts' Cryptomatte passes are not carried by render parts: the merged image has none");
   const bool catcher = all_parts([&](const LoadedPart &p) {
     return p.record.shadow_catcher && p.record.catcher_display.pass == first.record.catcher_display.pass &&
            p.record.catcher_display.film_transparent == first.record.catcher_display.film_transparent;

@@ -70,6 +70,8 @@ struct RenderSettings {
   bool denoising_passes = false;
   // Shader AOVs (film/shader_aovs.h, setting "aovs"): the film keeps them (every integrator).
   ShaderAovs shader_aovs;
+  // Cryptomatte (film/cryptomatte.h, setting "cryptomatte"): the film keeps it (every integrator).
+  Cryptomatte cryptomatte;
   // View Layer > Passes > Shadow Catcher (film/shadow_catcher_passes.h): in a scene with a
   // shadow catcher Combined reads as the matte (else with the shadow in it, as Cycles'
   // approximate shadow catcher).

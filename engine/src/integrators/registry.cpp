@@ -168,6 +168,7 @@ RenderSettings RenderSettings::from_params(Params &p) {
   s.data_passes = p.get_bool("data_passes", false);
   s.denoising_passes = p.get_bool("denoising_passes", false);
   s.shader_aovs = ShaderAovs::parse(p.get_json("aovs"));
+  s.cryptomatte = Cryptomatte::parse(p.get_json("cryptomatte"));
   s.shadow_catcher_pass = p.get_bool("shadow_catcher_pass", false);
   s.strategy_passes = p.get_bool("strategy_passes", false);
   s.strategy_passes_max_depth = p.get_int("strategy_passes_max_depth", s.strategy_passes_max_depth);
@@ -298,7 +299,8 @@ RenderSettings RenderSettings::from_params(Params &p) {
   std::string film = std::to_string(s.width) + "x" + std::to_string(s.height) + " film";
   double bytes = double(s.width) * double(s.height) *
                  double(Film::bytes_per_pixel(s.estimates_noise(), s.light_passes, s.strategy_pass_depth(),
-                                                s.denoising_passes, s.shader_aovs.channels));
+                                                s.denoising_passes, s.shader_aovs.channels,
+                                                s.cryptomatte.slots_per_pixel()));
   if (s.integrator == "pssmlt" || s.integrator == "mmlt" || s.integrator == "mlt") {
     bytes += mlt::Metropolis::memory_estimate(s, s.integrator == "mmlt", s.integrator == "mlt");
     film += " with " + s.integrator + "'s bootstrap (" + std::to_string(s.mlt_bootstrap) + " per pixel) and " +

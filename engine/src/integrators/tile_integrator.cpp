@@ -64,6 +64,7 @@ void TileIntegrator::render_tile(RenderContext &ctx, const Rect &tile, uint32_t 
         FirstHit first_hit;
         first_hit.data.denoising.active = denoising_passes;
         first_hit.data.aovs.start(&ctx.film.shader_aovs());
+        first_hit.data.crypto.start(&ctx.film.cryptomatte());
         if (light_passes) {
           passes.clear();
           first_hit.passes = &passes;

@@ -10,11 +10,14 @@ namespace rdv {
 Session::Session(std::shared_ptr<Scene> scene, const RenderSettings &settings)
     : scene_(std::move(scene)), settings_(settings),
       film_(settings.width, settings.height, settings.border, settings.estimates_noise(), settings.light_passes,
-            settings.data_passes, settings.strategy_pass_depth(), settings.denoising_passes, settings.shader_aovs),
+            settings.data_passes, settings.strategy_pass_depth(), settings.denoising_passes, settings.shader_aovs,
+      settings.cryptomatte),
       filter_(settings.filter_width),
       control_(settings.time_limit, settings.noise_target) {
   scene_->commit();
   scene_->camera().set_resolution(settings.width, settings.height);
+  if (!settings.cryptomatte.empty())
+    film_.set_crypto_metadata(crypto_metadata(settings.cryptomatte, scene_->crypto_manifests()));
   // Shadow catchers (integrators/path/shadow_catcher.h, integrators/bdpt/shadow_catcher.cpp):
   // every integrator splits its paths at them (pssmlt and mmlt through BDPT's samples and
   // strategies, path-space mlt by each path's second contribution, mlt/path_space.h).
@@ -26,6 +29,14 @@ Session::Session(std::shared_ptr<Scene> scene, const RenderSettings &settings)
                    "that are not shadow catchers)");
   }
   integrator_ = make_integrator(settings_, *scene_);
+}
+
+std::string Session::stats_json() const {
+  const std::string stats = integrator_->stats_json();
+  if (film_.cryptomatte().empty()) return stats;
+  nlohmann::json j = nlohmann::json::parse(stats);
+  j["cryptomatte"] = film_.crypto_metadata();
+  return j.dump();
 }
 
 Session::~Session() {
@@ -99,6 +110,7 @@ PartRecord Session::part_record() const {
   r.data_passes = film_.writes_data_passes();
   r.denoising_passes = film_.has_denoising_passes();
   r.shader_aovs = !film_.shader_aovs().empty();
+  r.cryptomatte = !film_.cryptomatte().empty();
   r.shadow_catcher = film_.has_shadow_catcher();
   r.catcher_display = film_.catcher_display();
   r.strategy_max_depth = film_.strategy_passes().max_depth;

@@ -34,6 +34,8 @@ class Session {
   Progress progress() const;
   // The integrator's own figures (JSON object; MLT: acceptance, chains, b).
   std::string integrator_stats() const { return integrator_->stats_json(); }
+  // Those, and the Cryptomatte layers' metadata ("cryptomatte", when the film keeps it).
+  std::string stats_json() const;
   const Film &film() const { return film_; }
   // What a render part written now holds: samples [offset, offset + samples done).
   PartRecord part_record() const;

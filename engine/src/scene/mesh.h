@@ -108,6 +108,9 @@ struct Instance : InstancePlacement {
   float alpha = 1;
   // What Attribute nodes of type Object / Instancer read (textures/shading_point.h).
   std::vector<ObjectAttribute> attributes;
+  // Cryptomatte (film/cryptomatte.h): the names of the object and of its asset (topmost
+  // parent), as indices into the scene's names (Scene::crypto_name); both the mesh's by default.
+  uint32_t crypto_object = 0, crypto_asset = 0;
 };
 
 }  // namespace rdv

@@ -328,6 +328,7 @@ uint32_t Scene::add_instance(uint32_t mesh, const Transform &to_world) {
   if (!to_world.is_finite()) fail("instance of mesh '" + meshes_[mesh].name + "': transform is not finite");
   Instance inst;
   inst.mesh = mesh;
+  inst.crypto_object = inst.crypto_asset = crypto_name(meshes_[mesh].name);
   instances_.push_back(inst);
   set_instance_transform(static_cast<uint32_t>(instances_.size() - 1), to_world);
   return static_cast<uint32_t>(instances_.size() - 1);
@@ -1008,8 +1009,32 @@ void Scene::add_data_passes(const SurfaceHit &hit, Color beta, float alpha_thres
   const Camera &camera = camera_now();
   const Vec3 w = hit.p - camera.position();
   const float distance = camera.type == Camera::Type::Orthographic ? std::fabs(dot(w, camera.forward())) : length(w);
-  data.add_surface(mist_, alpha_threshold, distance, beta * alpha, average(alpha), instances_[hit.instance].pass_index,
-                   m.pass_index);
+  const Instance &inst = instances_[hit.instance];
+  data.add_surface(mist_, alpha_threshold, distance, beta * alpha, average(alpha), inst.pass_index, m.pass_index);
+  // Cryptomatte: every surface of the chain, as Cycles' average(throughput) x average(alpha).
+  if (data.crypto.active())
+    data.crypto.add(crypto_ids_[inst.crypto_object], m.crypto_id, crypto_ids_[inst.crypto_asset],
+                    average(beta) * average(alpha));
+}
+
+uint32_t Scene::crypto_name(const std::string &name) {
+  auto [it, added] = crypto_name_index_.emplace(name, uint32_t(crypto_names_.size()));
+  if (added) {
+    crypto_names_.push_back(name);
+    crypto_ids_.push_back(cryptomatte::id_of(name));
+  }
+  return it->second;
+}
+
+CryptoManifests Scene::crypto_manifests() const {
+  CryptoManifests out;
+  for (const Instance &inst : instances_) {
+    if (!inst.enabled) continue;
+    out.add(Cryptomatte::Object, crypto_names_[inst.crypto_object]);
+    out.add(Cryptomatte::Asset, crypto_names_[inst.crypto_asset]);
+  }
+  for (const Material &m : materials_) out.add(Cryptomatte::Material, m.crypto_name);
+  return out;
 }
 
 std::string Scene::shadow_catcher_object() const {
@@ -1045,6 +1070,18 @@ void Scene::set_instance_params(uint32_t id, Params &params) {
       fail(object + ": 'random_id' must be a whole number from 0 to 4294967295", RDV_ERROR_INVALID_ARGUMENT);
     random_id = uint32_t(r->get<int64_t>());
   }
+  // Cryptomatte's names: {"object": name, "asset": name} (each the mesh's name if not given).
+  std::string crypto_object = meshes_[inst.mesh].name, crypto_asset = crypto_object;
+  if (const nlohmann::json *c = params.get_json("cryptomatte")) {
+    bool ok = c->is_object();
+    for (auto it = ok ? c->begin() : c->end(); ok && it != c->end(); ++it)
+      ok = (it.key() == "object" || it.key() == "asset") && it->is_string();
+    if (!ok)
+      fail(object + ": 'cryptomatte' must be {\"object\": name, \"asset\": name}, got " + c->dump(),
+           RDV_ERROR_INVALID_ARGUMENT);
+    crypto_object = c->value("object", crypto_object);
+    crypto_asset = c->value("asset", crypto_asset);
+  }
   const std::vector<float> color = params.get_floats("color", 4, {1, 1, 1, 1});
   // Attribute nodes of type Object / Instancer: {"name": number or [up to 4 numbers]}.
   std::vector<ObjectAttribute> attributes;
@@ -1071,6 +1108,8 @@ void Scene::set_instance_params(uint32_t id, Params &params) {
   inst.attributes = std::move(attributes);
   inst.holdout = holdout;
   inst.pass_index = float(pass_index);
+  inst.crypto_object = crypto_name(crypto_object);
+  inst.crypto_asset = crypto_name(crypto_asset);
   inst.random = float(random_id) * (1.0f / float(0xFFFFFFFFu));
   inst.color = Color(color[0], color[1], color[2]);
   inst.alpha = color[3];

@@ -7,6 +7,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 #include "bsdfs/material.h"
 #include "core/distribution.h"
@@ -217,6 +218,9 @@ class Scene : private TextureRays {
   // from the camera, opacity and pass indices) added to data.
   const MistSettings &mist() const { return mist_; }
   void add_data_passes(const SurfaceHit &hit, Color beta, float alpha_threshold, DataPassSample &data) const;
+  // Cryptomatte's manifests (film/cryptomatte.h): the names of the enabled instances'
+  // objects and assets, and of the materials.
+  CryptoManifests crypto_manifests() const;
   // Denoising data (film/denoising_passes.h): a surface of BSDF bsdf seen from wo, reached
   // by a ray segment of length `segment`, added to a sample whose features are active.
   void add_denoising_surface(const Bsdf &bsdf, Vec3 wo, float segment, DenoisingSample &sample) const {
@@ -334,6 +338,11 @@ class Scene : private TextureRays {
   // A moving instance's placement at the sample's shutter time.
   InstancePlacement placement_now(const Instance &inst) const;
   std::string instance_name(uint32_t id) const;
+  // Cryptomatte: the index of an object or asset name among crypto_names_ (added once).
+  uint32_t crypto_name(const std::string &name);
+  std::vector<std::string> crypto_names_;
+  std::vector<float> crypto_ids_;  // cryptomatte::id_of each name
+  std::unordered_map<std::string, uint32_t> crypto_name_index_;
   // A triangle's vertices at the sample's shutter time: as stored unless the mesh deforms.
   static void triangle_now(const Mesh &m, const uint32_t *tri, Vec3 p[3]);
   // Its vertex normals at the same time (a smooth mesh's).

@@ -24,6 +24,7 @@ Color Bdpt::li(const CameraRay &camera_ray, Sampler &sampler, RayStats &stats, F
   if (first_hit) {
     data.denoising.active = first_hit->data.denoising.active;
     data.aovs.start(first_hit->data.aovs.layout);
+    data.crypto.start(first_hit->data.crypto.layout);
   }
   int nc = camera_subpath<kMedia>(camera_ray, sampler, stats, camera_path.data(), emitted.data(), -1,
                                   aovs ? &data : nullptr);

@@ -202,6 +202,7 @@ void Metropolis::first_hit_pass(RenderContext &ctx) const {
             DataPassSample data;
             data.denoising.active = denoising_passes;
             data.aovs.start(&ctx.film.shader_aovs());
+            data.crypto.start(&ctx.film.cryptomatte());
             int n = media ? bdpt_.camera_subpath<true>(cr, sampler, stats, path.data(), nullptr, kFirstHitVertices,
                                                        &data, true)
                           : bdpt_.camera_subpath<false>(cr, sampler, stats, path.data(), nullptr, kFirstHitVertices,
