@@ -65,6 +65,11 @@ PASS_AOV_VALUE_FIRST = 116
 MAX_SHADER_AOVS = 16
 PASS_CHANNELS.update({PASS_AOV_COLOR_FIRST + k: 4 for k in range(MAX_SHADER_AOVS)})
 PASS_CHANNELS.update({PASS_AOV_VALUE_FIRST + k: 1 for k in range(MAX_SHADER_AOVS)})
+# Cryptomatte (session setting "cryptomatte"): pass k of kind (0 object, 1 material, 2 asset) as
+# PASS_CRYPTOMATTE_FIRST + CRYPTO_PASSES_PER_KIND * kind + k, RGBA (id, coverage, id, coverage).
+PASS_CRYPTOMATTE_FIRST = 140
+CRYPTO_PASSES_PER_KIND = 8
+PASS_CHANNELS.update({PASS_CRYPTOMATTE_FIRST + k: 4 for k in range(3 * CRYPTO_PASSES_PER_KIND)})
 
 
 class EngineError(RuntimeError):

@@ -13,7 +13,7 @@ from ..binding import EngineError, LibraryError
 from ..export import SceneExporter, ExportError, SettingsError, session_settings, resolution, border_rect
 from ..export.settings import INTEGRATOR_LABELS, auto_choice_text, part_output_path, scene_hash
 from ..utils import Messages
-from .passes import enabled_passes, light_pass_settings
+from .passes import enabled_passes, light_pass_settings, wants_cryptomatte
 from ..utils.images import image_average, clear_cache
 
 PUSH_INTERVAL = 0.5   # seconds between film copies into Blender
@@ -167,7 +167,7 @@ def _render(engine, depsgraph):
     session = None
     try:
         exporter = SceneExporter(depsgraph, rscene, image_average=image_average, messages=messages,
-                                 frame_set=engine.frame_set)
+                                 frame_set=engine.frame_set, cryptomatte=wants_cryptomatte(depsgraph.view_layer))
         stats = exporter.export()
         if engine.test_break():
             return
@@ -223,6 +223,13 @@ def _render(engine, depsgraph):
         if choice:
             engine.report({"INFO"}, choice)
         film.push()
+        # Cryptomatte's metadata (layer names, manifests), which the compositor's Cryptomatte
+        # node and multilayer EXRs take, stamped on the render's whole result as Cycles does
+        # (a tile result's own stamps are not kept).
+        crypto = last_render["integrator_stats"].get("cryptomatte", {})
+        whole = engine.get_result() if crypto else None
+        for key, value in crypto.items():
+            whole.stamp_data_add_field(key, value)
         if props.part_output and not cancelled:
             _write_part(session, scene, props)
         engine.update_progress(1.0 if not cancelled else min(max(p.fraction_done, 0.0), 1.0))

@@ -94,6 +94,29 @@ def shader_aovs(layer, warn=None):
     return out
 
 
+# View Layer > Passes > Cryptomatte: (Blender's pass prefix, view layer property, setting key).
+CRYPTOMATTE_KINDS = [("CryptoObject", "use_pass_cryptomatte_object", "object"),
+                     ("CryptoMaterial", "use_pass_cryptomatte_material", "material"),
+                     ("CryptoAsset", "use_pass_cryptomatte_asset", "asset")]
+
+
+def wants_cryptomatte(layer):
+    return any(getattr(layer, prop, False) for _, prop, _ in CRYPTOMATTE_KINDS)
+
+
+def cryptomatte_passes(layer):
+    """[(Blender pass name, engine pass)] of the layer's Cryptomatte passes, as Cycles registers
+    them: ceil(Levels / 2) RGBA passes per kind (CryptoObject00, CryptoObject01, ...), each two
+    ranks of (id, coverage)."""
+    count = (min(16, max(1, int(getattr(layer, "pass_cryptomatte_depth", 6)))) + 1) // 2
+    out = []
+    for kind, (prefix, prop, _) in enumerate(CRYPTOMATTE_KINDS):
+        if getattr(layer, prop, False):
+            first = binding.PASS_CRYPTOMATTE_FIRST + binding.CRYPTO_PASSES_PER_KIND * kind
+            out += [("%s%02d" % (prefix, k), first + k) for k in range(count)]
+    return out
+
+
 def enabled_passes(layer, scene):
     """[(Blender name, engine pass, channels, chan_id, type)] the layer renders, Combined first."""
     out = [("Combined", binding.PASS_COMBINED, 4, "RGBA", "COLOR")]
@@ -118,6 +141,7 @@ def enabled_passes(layer, scene):
             out.append((name, binding.PASS_AOV_COLOR_FIRST + k, 4, "RGBA", "COLOR"))
         else:
             out.append((name, binding.PASS_AOV_VALUE_FIRST + k, 1, "X", "VALUE"))
+    out += [(name, engine_pass, 4, "RGBA", "COLOR") for name, engine_pass in cryptomatte_passes(layer)]
     return out
 
 
@@ -130,8 +154,8 @@ def register_passes(engine, scene, layer):
 
 def light_pass_settings(layer, scene, integrator, warn=print):
     """The session settings the layer's passes need: light passes ({} without any), BDPT's
-    strategy passes, the denoising data, the Shadow Catcher pass, the Shader AOVs, and View
-    Layer > Passes > Alpha Threshold, which the Object and Material Index and the AOVs use."""
+    strategy passes, the denoising data, the Shadow Catcher pass, the Shader AOVs, Cryptomatte, and
+    View Layer > Passes > Alpha Threshold, which the Object and Material Index and the AOVs use."""
     threshold = getattr(layer, "pass_alpha_threshold", None)
     data = {"pass_alpha_threshold": float(threshold)} if threshold is not None else {}
     if _flag(layer, scene, "denoising_store_passes", "cycles"):
@@ -141,6 +165,10 @@ def light_pass_settings(layer, scene, integrator, warn=print):
     aovs = shader_aovs(layer, warn)
     if aovs:
         data["aovs"] = [{"name": name, "type": kind} for name, kind in aovs]
+    if wants_cryptomatte(layer):  # the layer's name goes into the passes' metadata, as Cycles'
+        data["cryptomatte"] = dict({key: bool(getattr(layer, prop, False)) for _, prop, key in CRYPTOMATTE_KINDS},
+                                   levels=min(16, max(1, int(getattr(layer, "pass_cryptomatte_depth", 6)))),
+                                   view_layer=layer.name)
     depth = wanted_strategy_depth(layer)
     if depth is not None:
         if integrator == "bdpt":

@@ -108,9 +108,11 @@ def name_random_id(name):
 
 class SceneExporter:
     def __init__(self, depsgraph, sink, image_average=None, messages=None, is_viewport=False, image_file=None,
-                 frame_set=None):
+                 frame_set=None, cryptomatte=False):
         """frame_set(frame, subframe): evaluates the depsgraph at another time (RenderEngine.frame_set);
-        given, objects that move while the shutter is open are sent with their motion steps."""
+        given, objects that move while the shutter is open are sent with their motion steps.
+        cryptomatte: the render keeps Cryptomatte passes; objects and materials go with the names
+        they show there."""
         self.depsgraph = depsgraph
         self.frame_set = frame_set
         self.scene = depsgraph.scene
@@ -121,7 +123,8 @@ class SceneExporter:
             images.clear_cache()
             image_file = self.image_source
         self.image_file = image_file
-        self.materials = MaterialCache(sink, self.messages, image_average, image_file)
+        self.materials = MaterialCache(sink, self.messages, image_average, image_file, cryptomatte=cryptomatte)
+        self.cryptomatte = cryptomatte
         self.image_average = image_average
         self.stats = ExportStats()
         self._meshes = {}  # ((data pointer, materials), ray kinds of the copy or None) -> engine mesh id or None
@@ -277,12 +280,14 @@ class SceneExporter:
 
     # ---- geometry -------------------------------------------------------------------
     @staticmethod
-    def object_settings(ob, inst=None, kinds=None, attributes=()):
+    def object_settings(ob, inst=None, kinds=None, attributes=(), cryptomatte=False):
         """rdv_scene_set_instance_params of a mesh object: holdout, shadow catcher, ray visibility,
         pass index, what an Object Info node reads: the depsgraph instance's random_id (inst)
         and the object's colour ({}: defaults), and the values of `attributes`, the (type, name)
         pairs of its materials' Attribute nodes of type Object / Instancer (object_attributes.py).
-        kinds: the ray kinds one copy of it is seen by (ray_kind_cells), None for all."""
+        kinds: the ray kinds one copy of it is seen by (ray_kind_cells), None for all.
+        cryptomatte: with the names its Cryptomatte passes show, as Cycles': the object's, and
+        its asset's, the topmost of its parents (an instance's within what is instanced)."""
         settings = instance_attributes(ob, inst, attributes) if attributes else {}
         if getattr(ob, "pass_index", 0):  # Object > Relations > Pass Index (the Object Index pass)
             settings["pass_index"] = int(ob.pass_index)
@@ -306,6 +311,11 @@ class SceneExporter:
             settings["visibility"] = rays
         if kinds is not None:  # one of the object's copies on one spot, a look per ray kind
             settings["look_copy"] = True
+        if cryptomatte:
+            top = ob
+            while top.parent is not None:
+                top = top.parent
+            settings["cryptomatte"] = {"object": ob.name, "asset": top.name}
         return settings
 
     @staticmethod
@@ -356,7 +366,7 @@ class SceneExporter:
         cells = ray_kind_cells([self.materials.looks(m) for m in mats]) if mats else [(None, None)]
         first_frame = None  # the first copy's arrays, which the other looks' copies send again
         for kinds, slot_ids in cells:
-            settings = self.object_settings(ob, inst, kinds, self.object_attribute_names(mats))
+            settings = self.object_settings(ob, inst, kinds, self.object_attribute_names(mats), self.cryptomatte)
             if kinds is not None and visibility.hidden_from_all(settings.get("visibility", {})):
                 continue  # a look no ray of the object's own visibility sees
             frame = None

@@ -8,11 +8,14 @@ from .. import shaders_map
 from ..utils import blender_version
 
 DEFAULT_NAME = "__rendezvous_default"
+CRYPTOMATTE_DEFAULT = "default_surface"  # Cycles' name for the surface of objects without a material
 
 
 class MaterialCache:
-    def __init__(self, sink, messages, image_average=None, image_file=None):
+    def __init__(self, sink, messages, image_average=None, image_file=None, cryptomatte=False):
+        """cryptomatte: name each engine material after its Blender material ("cryptomatte")."""
         self.sink = sink
+        self.cryptomatte = cryptomatte
         self.messages = messages
         self.image_average = image_average
         self.image_file = image_file
@@ -23,7 +26,10 @@ class MaterialCache:
 
     def default(self):
         if self._default is None:
-            self._default = self.sink.add_material(DEFAULT_NAME, dict(shaders_map.DEFAULT_SURFACE))
+            params = dict(shaders_map.DEFAULT_SURFACE)
+            if self.cryptomatte:
+                params["cryptomatte"] = CRYPTOMATTE_DEFAULT
+            self._default = self.sink.add_material(DEFAULT_NAME, params)
         return self._default
 
     def get(self, material):
@@ -59,6 +65,8 @@ class MaterialCache:
                 n += 1
                 name = "%s#%d" % (base, n)
             self._names.add(name)
+            if self.cryptomatte:  # every look shows as its material (Cycles' shader name)
+                params = dict(params, cryptomatte=material.name)
             looks.append((kinds, self.sink.add_material(name, params)))
         self._looks[key] = looks
         self._ids[key] = shaders_map.ray_kinds.lighting_look(looks)

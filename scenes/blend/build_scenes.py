@@ -2183,6 +2183,46 @@ def shader_aovs():
     return scene
 
 
+def cryptomatte():
+    """View Layer > Passes > Cryptomatte (Object, Material, Asset; 6 levels): a ball with a cube
+    parented to it (the cube's asset is the ball), a second ball sharing the first one's
+    material, a cone without a material (Cycles' default_surface), a floor, and a card 70%
+    opaque (30% Transparent BSDF) in front of the ball, under a sun and a blue world."""
+    scene = reset(48)
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.4, 0.5, 0.7, 1.0)
+    layer = bpy.context.view_layer
+    layer.use_pass_cryptomatte_object = layer.use_pass_cryptomatte_material = True
+    layer.use_pass_cryptomatte_asset = True
+    layer.pass_cryptomatte_depth = 6
+    plane("Floor", 12.0, diffuse_material("FloorMat", (0.6, 0.55, 0.5)))
+    red = diffuse_material("Red", (0.8, 0.3, 0.2))
+    ball = smooth_ball("Ball", (-0.5, 0.5, 0.6), 0.6, red)
+    smooth_ball("Ball2", (1.6, 1.2, 0.4), 0.4, red)
+    bpy.ops.mesh.primitive_cube_add(size=0.5, location=(0.5, 0.2, 0.25), rotation=(0, 0, math.radians(30)))
+    cube = bpy.context.active_object
+    cube.name = "Cube"
+    cube.data.materials.append(diffuse_material("Blue", (0.3, 0.5, 0.8)))
+    cube.parent = ball
+    cube.matrix_parent_inverse = ball.matrix_world.inverted()
+    bpy.ops.mesh.primitive_cone_add(radius1=0.3, depth=0.8, location=(-1.6, 0.2, 0.4))
+    bpy.context.active_object.name = "Cone"
+    card_mat = mix_material("Card", ("ShaderNodeBsdfDiffuse", {"Color": (0.5, 0.5, 0.5, 1)}),
+                            ("ShaderNodeBsdfTransparent", {"Color": (1, 1, 1, 1)}), 0.3)
+    card = plane("CardPlane", 0.7, card_mat, location=(-0.4, -1.0, 0.6))
+    card.rotation_euler = (math.radians(90), 0, 0)
+    light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(35), 0, math.radians(30)))
+    camera_looking_at((0, -4.5, 1.6), (0, 0.5, 0.5), 40)
+    return scene
+
+
+def remove_cryptomatte():
+    """The view layer's Cryptomatte passes (cryptomatte turns them on) off again, for a scene
+    built after it in the same process (not in reset: see remove_shader_aovs)."""
+    layer = bpy.context.view_layer
+    layer.use_pass_cryptomatte_object = layer.use_pass_cryptomatte_material = False
+    layer.use_pass_cryptomatte_asset = False
+
+
 def denoising_data():
     """Cycles' denoising data: a smooth glass ball (IOR 1.5) and a diffuse ball on a diffuse
     floor, a tinted mirror (Glossy BSDF, roughness 0) standing behind them and a blue wall
@@ -2395,6 +2435,7 @@ SCENES = {
     "camera_data": camera_data,
     "light_nodes": light_nodes,
     "shader_aovs": shader_aovs,
+    "cryptomatte": cryptomatte,
     "ies_lamps": ies_lamps,
     "area_spread": area_spread,
     "object_attributes": object_attributes,
@@ -2474,6 +2515,7 @@ def main(argv):
         bpy.ops.wm.save_as_mainfile(filepath=path, copy=True)
         print("wrote", path)
         remove_shader_aovs()
+        remove_cryptomatte()
 
 
 if __name__ == "__main__":

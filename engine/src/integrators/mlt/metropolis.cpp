@@ -27,12 +27,13 @@ constexpr uint64_t kChainStreams = 1ull << 48;  // chain streams: apart from boo
 
 constexpr uint32_t kFirstHitSamples = 4;  // camera rays per pixel for the Depth / Normal / Albedo passes
 // With light passes, the colour passes divide Direct and Indirect: a pixel on a
-// silhouette needs more rays than the AOVs for its colour to converge as the light does.
-// One ray per 8 mutations per pixel, 4 .. 64 (64 with a time limit): 64 rays a pixel are
-// ~0.1% of 512 mutations' time.
+// silhouette needs more rays than the AOVs for its colour to converge as the light does;
+// and a compositor cuts objects out along Cryptomatte's and the shader AOVs' edges, which
+// 4 rays would step in quarters. One ray per 8 mutations per pixel, 4 .. 64 (64 with a time
+// limit): 64 rays a pixel are ~0.1% of 512 mutations' time.
 constexpr uint32_t kMaxColorSamples = 64;
-uint32_t first_hit_samples(bool light_passes, uint32_t mutations) {
-  if (!light_passes) return kFirstHitSamples;
+uint32_t first_hit_samples(bool edge_passes, uint32_t mutations) {
+  if (!edge_passes) return kFirstHitSamples;
   return mutations == 0 ? kMaxColorSamples : std::clamp(mutations / 8, kFirstHitSamples, kMaxColorSamples);
 }
 // Vertices of a first-hit walk: the camera and up to 16 surfaces it sees through (Cycles'
@@ -178,7 +179,8 @@ void Metropolis::first_hit_pass(RenderContext &ctx) const {
   const bool light_passes = ctx.film.has_light_passes();
   const bool denoising_passes = ctx.film.has_denoising_passes();
   const bool catchers = catchers_;
-  const uint32_t samples = first_hit_samples(light_passes, settings_.samples);
+  const bool edge_passes = light_passes || !ctx.film.cryptomatte().empty() || !ctx.film.shader_aovs().empty();
+  const uint32_t samples = first_hit_samples(edge_passes, settings_.samples);
   ctx.arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<int>(region.y0, region.y1, 1), [&](const tbb::blocked_range<int> &rows) {
       // Up to the camera's see-through chain's length (transparent layers in front).
