@@ -229,7 +229,7 @@ std::string session_settings(Reader &in, bool &from_text) {
                   ",\"max_bounces\":" + std::to_string(in.small(9)) + ",\"seed\":" + std::to_string(in.byte()) +
                   ",\"threads\":" + std::to_string(1 + in.small(2)) + ",\"mlt_bootstrap\":" +
                   std::to_string(1 + in.small(64)) + ",\"mlt_chains\":" + std::to_string(1 + in.small(4));
-  switch (in.small(8)) {
+  switch (in.small(9)) {
     case 1: s += ",\"noise_target\":" + in.json_number(); break;
     case 2: s += ",\"adaptive_sampling\":true,\"adaptive_threshold\":" + in.json_number(); break;
     case 3: s += ",\"border\":[" + in.json_number() + "," + in.json_number() + ",1,1]"; break;
@@ -239,6 +239,11 @@ std::string session_settings(Reader &in, bool &from_text) {
     case 7:  // shader AOVs: names the materials' "aovs" write (A, B) and one none writes
       s += std::string(",\"aovs\":[{\"name\":\"A\",\"type\":\"") + (in.small(2) ? "color" : "value") +
            "\"},{\"name\":\"C\"},{\"name\":\"B\",\"type\":\"" + (in.small(2) ? "color" : "value") + "\"}]";
+      break;
+    case 8:  // Cryptomatte: some kinds, any levels (out of range: refused)
+      s += std::string(",\"cryptomatte\":{\"object\":") + (in.small(2) ? "true" : "false") +
+           ",\"material\":" + (in.small(2) ? "true" : "false") + ",\"asset\":true,\"levels\":" +
+           std::to_string(int(in.small(18)) - 1) + "}";
       break;
     default: break;
   }
@@ -320,10 +325,11 @@ struct State {
   }
 
   void read_film(Reader &in) {
-    static const int kAovPasses[] = {RDV_PASS_AOV_COLOR_FIRST, RDV_PASS_AOV_COLOR_FIRST + 2, RDV_PASS_AOV_VALUE_FIRST,
-                                     RDV_PASS_AOV_VALUE_FIRST + 2};
-    const uint32_t pick = in.small(10);  // 5: not a pass; 6..9 shader AOVs
-    rdv_pass pass = rdv_pass(pick < 6 ? int(pick) : kAovPasses[pick - 6]);
+    static const int kMorePasses[] = {RDV_PASS_AOV_COLOR_FIRST,       RDV_PASS_AOV_COLOR_FIRST + 2, RDV_PASS_AOV_VALUE_FIRST,
+                                      RDV_PASS_AOV_VALUE_FIRST + 2,   RDV_PASS_CRYPTOMATTE_FIRST,   RDV_PASS_CRYPTOMATTE_FIRST + 9,
+                                      RDV_PASS_CRYPTOMATTE_LAST};
+    const uint32_t pick = in.small(13);  // 5: not a pass; 6..9 shader AOVs; 10..12 Cryptomatte
+    rdv_pass pass = rdv_pass(pick < 6 ? int(pick) : kMorePasses[pick - 6]);
     uint32_t x = in.small(film_width + 2), y = in.small(film_height + 2);
     uint32_t w = in.small(film_width + 2), h = in.small(film_height + 2);
     int channels = std::max(rdv_pass_channels(pass), 1);
@@ -447,6 +453,9 @@ struct State {
           }
           params += "}";
         }
+        if (in.small(2))  // Cryptomatte's names (a name of any bytes; not a string: refused)
+          params += ",\"cryptomatte\":{\"object\":" + (in.small(4) ? "\"" + std::string(kNames[in.small(4)]) + "\"" : in.json_number()) +
+                    ",\"asset\":\"" + kNames[in.small(4)] + "\"}";
         params += "}";
         checked(rdv_scene_set_instance_params(scene, some(in, instances), traced(params)), "rdv_scene_set_instance_params");
         break;

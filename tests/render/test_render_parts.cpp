@@ -99,7 +99,9 @@ MergedParts render_and_merge(const json &scene, json settings, int count, int sa
 // channels bit for bit, the raw double sums within the rounding of re-associated sums.
 // With the Noise pass (`halves`), the parts keep their half images and the merge has
 // the whole render's Noise channel and half sums. With `passes`, Cycles' light passes,
-// the data passes, the denoising data and (bdpt) the strategy passes: the merge has them all.
+// the data passes, the denoising data, Cryptomatte (the box's surfaces are opaque: its weights
+// are whole samples, whose float sums are exact in any order) and (bdpt) the strategy passes:
+// the merge has them all.
 // catcher: the box's first mesh is a shadow catcher, with the Shadow Catcher pass.
 void expect_merge_equals_whole(const std::string &integrator, bool halves = false, bool passes = false,
                                bool catcher = false) {
@@ -112,6 +114,7 @@ void expect_merge_equals_whole(const std::string &integrator, bool halves = fals
   if (halves) s["noise_pass"] = true;
   if (passes) {
     s["light_passes"] = s["data_passes"] = s["denoising_passes"] = true;
+    s["cryptomatte"] = {{"object", true}, {"material", true}, {"asset", true}, {"view_layer", "ViewLayer"}};
     if (integrator == "bdpt") s["strategy_passes"] = true;
   }
   s["samples"] = 16;
@@ -138,7 +141,8 @@ void expect_merge_equals_whole(const std::string &integrator, bool halves = fals
   EXPECT_EQ(has_noise, halves);
   EXPECT_EQ(std::find(a.names.begin(), a.names.end(), "RdvMerge.half_sample_count") != a.names.end(), halves);
   for (const char *pass :
-       {"DiffDir.R", "Mist.Z", "IndexOB.X", "Denoising Albedo.G", "Denoising Depth.Z", "Strategy_s2t1.R", "Strategy_rest.B"}) {
+       {"DiffDir.R", "Mist.Z", "IndexOB.X", "Denoising Albedo.G", "Denoising Depth.Z", "CryptoObject00.r",
+        "CryptoAsset02.a", "RdvMerge.crypto17_weight", "Strategy_s2t1.R", "Strategy_rest.B"}) {
     const bool expected = passes && (integrator == "bdpt" || std::string(pass).rfind("Strategy", 0) != 0);
     EXPECT_EQ(std::find(a.names.begin(), a.names.end(), pass) != a.names.end(), expected) << pass;
   }
@@ -192,12 +196,14 @@ TEST(RenderParts, FourRangesWithPassesEqualOneRenderBdpt) { expect_merge_equals_
 TEST(RenderParts, MergeKeepsThePassesEveryPartCarries) {
   json scene = load_scene("cornell_box.json");
   json s = {{"width", 16}, {"height", 12}, {"integrator", "bdpt"}, {"samples", 2}, {"light_passes", true},
-            {"data_passes", true}, {"strategy_passes", true}, {"denoising_passes", true}};
+            {"data_passes", true}, {"strategy_passes", true}, {"denoising_passes", true},
+            {"cryptomatte", {{"object", true}}}};
   const std::string p0 = temp_path("passes0.exr"), p1 = temp_path("passes1.exr"), out = temp_path("passes.exr");
   render_part(scene, s, p0);
   s["sample_offset"] = 2;
   s["light_passes"] = s["denoising_passes"] = false;
   s["strategy_passes_max_depth"] = 2;
+  s["cryptomatte"] = {{"object", true}, {"levels", 2}};
   render_part(scene, s, p1);
   rdv_status status;
   std::string report;
@@ -206,12 +212,14 @@ TEST(RenderParts, MergeKeepsThePassesEveryPartCarries) {
   EXPECT_NE(warnings.find("no light passes"), std::string::npos) << warnings;
   EXPECT_NE(warnings.find("strategy passes of different depths"), std::string::npos) << warnings;
   EXPECT_NE(warnings.find("no denoising data"), std::string::npos) << warnings;
+  EXPECT_NE(warnings.find("other Cryptomatte settings"), std::string::npos) << warnings;
   const Channels merged = read_channels(out);
   auto has = [&](const char *name) { return std::find(merged.names.begin(), merged.names.end(), name) != merged.names.end(); };
   EXPECT_TRUE(has("Mist.Z"));
   EXPECT_FALSE(has("DiffDir.R"));
   EXPECT_FALSE(has("Strategy_s2t1.R"));
   EXPECT_FALSE(has("Denoising Normal.X"));
+  EXPECT_FALSE(has("CryptoObject00.r"));
 }
 
 // Every refusal names the part and the problem; missing ranges are listed.

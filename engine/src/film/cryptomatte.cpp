@@ -70,6 +70,13 @@ Cryptomatte Cryptomatte::parse(const nlohmann::json *j) {
   return out;
 }
 
+nlohmann::json Cryptomatte::to_json() const {
+  if (empty()) return nullptr;
+  nlohmann::json j = {{"object", kinds[Object]}, {"material", kinds[Material]}, {"asset", kinds[Asset]}, {"levels", ranks}};
+  if (!layer.empty()) j["view_layer"] = layer.substr(0, layer.size() - 1);
+  return j;
+}
+
 int Cryptomatte::slot_offset(Kind kind) const {
   if (!kinds[kind]) return -1;
   int offset = 0;
@@ -91,21 +98,32 @@ void CryptoSample::add(float object, float material, float asset, float weight) 
   surfaces[count++] = {{object, material, asset}, weight};
 }
 
+// A weight for `id` into a kind's `ranks` slots: the id's slot, else the first free one,
+// else the last (Cycles' rule).
+static void add_to_slots(CryptoSlot *slots, int ranks, float id, float weight) {
+  for (int i = 0; i < ranks; ++i) {
+    if (slots[i].weight == 0 && slots[i].id == 0) slots[i].id = id;  // a free slot: the id's
+    if (slots[i].id == id || i == ranks - 1) {
+      slots[i].weight += weight;
+      return;
+    }
+  }
+}
+
 void add_crypto_sample(const Cryptomatte &layout, CryptoSlot *pixel, const CryptoSample &sample) {
   for (int kind = 0; kind < Cryptomatte::kKinds; ++kind) {
     const int offset = layout.slot_offset(Cryptomatte::Kind(kind));
     if (offset < 0) continue;
-    CryptoSlot *slots = pixel + offset;
-    for (int s = 0; s < sample.count; ++s) {
-      const float id = sample.surfaces[s].ids[kind];
-      for (int i = 0; i < layout.ranks; ++i) {
-        if (slots[i].weight == 0 && slots[i].id == 0) slots[i].id = id;  // a free slot: the id's
-        if (slots[i].id == id || i == layout.ranks - 1) {
-          slots[i].weight += sample.surfaces[s].weight;
-          break;
-        }
-      }
-    }
+    for (int s = 0; s < sample.count; ++s)
+      add_to_slots(pixel + offset, layout.ranks, sample.surfaces[s].ids[kind], sample.surfaces[s].weight);
+  }
+}
+
+void add_crypto_slots(const Cryptomatte &layout, CryptoSlot *pixel, const CryptoSlot *other) {
+  for (int s = 0; s < layout.slots_per_pixel(); ++s) {
+    if (!(other[s].weight > 0)) continue;
+    const int kind_start = s - s % layout.ranks;  // the kinds' slots lie one after the other
+    add_to_slots(pixel + kind_start, layout.ranks, other[s].id, other[s].weight);
   }
 }
 

@@ -44,6 +44,7 @@ struct Cryptomatte {
   // From the render setting "cryptomatte": {"object": bool, "material": bool, "asset": bool,
   // "levels": 1..16 (default 6), "view_layer": name} (null: none). Malformed input throws.
   static Cryptomatte parse(const nlohmann::json *j);
+  nlohmann::json to_json() const;  // parse's input again (render parts)
   bool empty() const { return ranks == 0; }
   int passes_per_kind() const { return ranks / 2; }
   int kind_count() const { return int(kinds[0]) + int(kinds[1]) + int(kinds[2]); }
@@ -79,6 +80,8 @@ struct CryptoSample {
 
 // Adds a sample's writes to a pixel's slots (layout.slots_per_pixel() of them).
 void add_crypto_sample(const Cryptomatte &layout, CryptoSlot *pixel, const CryptoSample &sample);
+// Adds another pixel's slots (a render part's, film/render_part.h) to a pixel's, by id.
+void add_crypto_slots(const Cryptomatte &layout, CryptoSlot *pixel, const CryptoSlot *other);
 // Pass k of `kind` at a pixel into dst (4 floats): ranks 2k and 2k + 1 as (id, weight / n);
 // zeros where the kind is off, the rank is empty or n is 0.
 void read_crypto_pass(const Cryptomatte &layout, const CryptoSlot *pixel, Cryptomatte::Kind kind, int k, double n,

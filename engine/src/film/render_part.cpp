@@ -68,9 +68,9 @@ std::vector<std::string> half_channel_names() {
 }
 
 // The passes' sums (PartRecord::light_passes, strategy_max_depth, denoising_passes,
-// shadow_catcher), after the halves'.
+// shadow_catcher), after the halves'; then Cryptomatte's slots (id and weight, float bits).
 std::vector<std::string> pass_channel_names(bool light_passes, int strategy_max_depth, bool denoising_passes,
-                                            bool shadow_catcher) {
+                                            bool shadow_catcher, int crypto_slots) {
   std::vector<std::string> names;
   auto doubles = [&](const std::string &group, const char *axes) {
     for (const char *a = axes; *a; ++a)
@@ -99,8 +99,11 @@ std::vector<std::string> pass_channel_names(bool light_passes, int strategy_max_
     doubles("catcher_matte_splat", "rgb");
     doubles("catcher_pass_splat", "rgb");
   }
+  for (int k = 0; k < crypto_slots; ++k)
+    for (const char *word : {"_id", "_weight"}) names.push_back(std::string(kLayer) + "crypto" + std::to_string(k) + word);
   return names;
 }
+int crypto_slots_of(const PartRecord &record) { return Cryptomatte::parse(&record.cryptomatte).slots_per_pixel(); }
 constexpr size_t kDenoisingDoubles = 7;  // normal, albedo, depth
 // matte, catcher pass, world behind, matte transparency, splits, matte and catcher pass splats
 constexpr size_t kCatcherDoubles = 17;
@@ -129,7 +132,7 @@ LoadedPart load_part(const std::string &path) {
   part.height = spec.height;
   const std::vector<std::string> pass_names =
       pass_channel_names(part.record.light_passes, part.record.strategy_max_depth, part.record.denoising_passes,
-                         part.record.shadow_catcher);
+                         part.record.shadow_catcher, crypto_slots_of(part.record));
   check_memory("part '" + path + "'", "its " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " sums",
                double(spec.width) * double(spec.height) *
                        double(spec.nchannels + kWordsPerPixel + (part.record.halves ? kHalfWordsPerPixel : 0) +
@@ -206,7 +209,7 @@ std::string PartRecord::to_json() const {
   if (data_passes) j["data_passes"] = true;
   if (denoising_passes) j["denoising_passes"] = true;
   if (shader_aovs) j["shader_aovs"] = true;
-  if (cryptomatte) j["cryptomatte"] = true;
+  if (!cryptomatte.is_null()) j["cryptomatte"] = {{"settings", cryptomatte}, {"metadata", crypto_metadata}};
   if (shadow_catcher)
     j["shadow_catcher"] = {{"pass", catcher_display.pass}, {"film_transparent", catcher_display.film_transparent}};
   if (strategy_max_depth >= 0) j["strategy_max_depth"] = strategy_max_depth;
@@ -237,7 +240,15 @@ PartRecord PartRecord::from_json(const std::string &text, const std::string &par
     r.data_passes = j.value("data_passes", false);
     r.denoising_passes = j.value("denoising_passes", false);
     r.shader_aovs = j.value("shader_aovs", false);
-    r.cryptomatte = j.value("cryptomatte", false);
+    if (j.contains("cryptomatte")) {
+      r.cryptomatte = j["cryptomatte"].at("settings");
+      r.crypto_metadata = j["cryptomatte"].at("metadata");
+      try {
+        Cryptomatte::parse(&r.cryptomatte);  // settings this engine reads
+      } catch (const Error &e) {
+        fail("part '" + part + "': " + e.what());
+      }
+    }
     if (j.contains("shadow_catcher")) {
       r.shadow_catcher = true;
       r.catcher_display.pass = j["shadow_catcher"].at("pass").get<bool>();
@@ -269,8 +280,9 @@ PartChannels part_channels(const Film &film, const PartRecord &record) {
   // the passes the film keeps (the record says the same: Session::part_record)
   const bool light_passes = film.has_light_passes(), denoising = film.has_denoising_passes(),
              catcher = film.has_shadow_catcher();
+  const int crypto_slots = film.cryptomatte().slots_per_pixel();
   const std::vector<std::string> pass_names =
-      pass_channel_names(light_passes, film.strategy_passes().max_depth, denoising, catcher);
+      pass_channel_names(light_passes, film.strategy_passes().max_depth, denoising, catcher, crypto_slots);
   out.names.insert(out.names.end(), pass_names.begin(), pass_names.end());
   const size_t n = size_t(film.width()) * film.height();
   const size_t strategies = size_t(film.strategy_passes().count()),
@@ -323,6 +335,11 @@ PartChannels part_channels(const Film &film, const PartRecord &record) {
       put_double(w, c.splits);
       for (const auto *sums : {&c.matte_splats, &c.catcher_splats})
         for (double v : *sums) put_double(w, v);
+    }
+    for (int k = 0; k < crypto_slots; ++k) {
+      const CryptoSlot &slot = film.crypto_slots()[i * size_t(crypto_slots) + size_t(k)];
+      std::memcpy(w++, &slot.id, 4);
+      std::memcpy(w++, &slot.weight, 4);
     }
   }
   return out;
@@ -436,8 +453,13 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
     result.warnings.push_back("some parts carry no denoising data (Denoising Normal, Albedo, Depth): the merged image has none");
   if (some_part([](const LoadedPart &p) { return p.record.shader_aovs; }))
     result.warnings.push_back("the parts' shader AOVs are not carried by render parts: the merged image has none");
-  if (some_part([](const LoadedPart &p) { return p.record.cryptomatte; }))
-    result.warnings.push_back("the parts' Cryptomatte passes are not carried by render parts: the merged image has none");
+  // Cryptomatte: kept when every part has it alike (the slots of each pixel combine by id).
+  const bool crypto = all_parts([&](const LoadedPart &p) {
+    return !p.record.cryptomatte.is_null() && p.record.cryptomatte == first.record.cryptomatte;
+  });
+  if (!crypto && some_part([](const LoadedPart &p) { return !p.record.cryptomatte.is_null(); }))
+    result.warnings.push_back("some parts carry no Cryptomatte, or other Cryptomatte settings: the merged image has none");
+  const Cryptomatte crypto_layout = crypto ? Cryptomatte::parse(&first.record.cryptomatte) : Cryptomatte();
   const bool catcher = all_parts([&](const LoadedPart &p) {
     return p.record.shadow_catcher && p.record.catcher_display.pass == first.record.catcher_display.pass &&
            p.record.catcher_display.film_transparent == first.record.catcher_display.film_transparent;
@@ -450,8 +472,9 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
 
   const auto &border = settings["border"];
   result.film = std::make_unique<Film>(width, height, Rect{border[0].get<int>(), border[1].get<int>(), border[2].get<int>(), border[3].get<int>()}, halves,
-                                       light_passes, data_passes, strategy_depth, denoising);
+                                       light_passes, data_passes, strategy_depth, denoising, ShaderAovs(), crypto_layout);
   Film &film = *result.film;
+  if (crypto) film.set_crypto_metadata(first.record.crypto_metadata);
   if (catcher) film.keep_shadow_catcher(first.record.catcher_display);
   const size_t n = size_t(width) * height;
   for (size_t k : order) {
@@ -577,6 +600,19 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
             }
         }
       }
+      // Cryptomatte: the part's slots added by id to the merged pixel's, kind by kind.
+      const int part_slots = crypto_slots_of(part.record);
+      if (part_slots) {
+        CryptoSlot slots[Cryptomatte::kKinds * 2 * Cryptomatte::kMaxPassesPerKind];
+        for (int k = 0; k < part_slots; ++k) {
+          CryptoSlot &slot = slots[k];
+          std::memcpy(&slot.id, w++, 4);
+          std::memcpy(&slot.weight, w++, 4);
+          check_finite(slot.id, i, "Cryptomatte id");
+          check_finite(slot.weight, i, "Cryptomatte weight");
+        }
+        if (crypto) add_crypto_slots(crypto_layout, &film.crypto_slots()[i * size_t(part_slots)], slots);
+      }
     }
   }
   {
@@ -598,6 +634,10 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
   result.record.data_passes = data_passes;
   result.record.denoising_passes = denoising;
   result.record.shadow_catcher = catcher;
+  if (crypto) {
+    result.record.cryptomatte = first.record.cryptomatte;
+    result.record.crypto_metadata = first.record.crypto_metadata;
+  }
   result.record.catcher_display = first.record.catcher_display;
   result.record.strategy_max_depth = strategy_depth;
   return result;

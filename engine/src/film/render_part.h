@@ -40,7 +40,9 @@ struct PartRecord {
   bool light_passes = false, data_passes = false, denoising_passes = false;
   // The render had shader AOVs (film/shader_aovs.h): in its image, but not carried for a merge.
   bool shader_aovs = false;
-  bool cryptomatte = false;  // the same for Cryptomatte (film/cryptomatte.h)
+  // Cryptomatte (film/cryptomatte.h): its settings (Cryptomatte::to_json; null: none) and
+  // metadata (names, manifests); its slots are carried, and a merge combines them by id.
+  nlohmann::json cryptomatte, crypto_metadata;
   int strategy_max_depth = -1;
   // A shadow catcher's sums (film/shadow_catcher_passes.h) and how Combined reads with them.
   bool shadow_catcher = false;

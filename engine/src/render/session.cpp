@@ -110,7 +110,8 @@ PartRecord Session::part_record() const {
   r.data_passes = film_.writes_data_passes();
   r.denoising_passes = film_.has_denoising_passes();
   r.shader_aovs = !film_.shader_aovs().empty();
-  r.cryptomatte = !film_.cryptomatte().empty();
+  r.cryptomatte = film_.cryptomatte().to_json();
+  r.crypto_metadata = film_.crypto_metadata();
   r.shadow_catcher = film_.has_shadow_catcher();
   r.catcher_display = film_.catcher_display();
   r.strategy_max_depth = film_.strategy_passes().max_depth;
