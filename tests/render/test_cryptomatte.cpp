@@ -137,6 +137,20 @@ TEST(CryptomatteRender, ACardSharesItsPixelsWithWhatIsBehind) {
   }
 }
 
+// A medium's boundary (a material of type volume) has no surface for a pass to see; Blender's
+// exporter names it all the same (it failed the render as an unknown parameter until fixed).
+TEST(CryptomatteRender, AVolumeOnlyMaterialTakesItsName) {
+  json scene = two_quads("path");
+  scene["materials"].push_back({{"name", "smoke"}, {"type", "volume"}, {"cryptomatte", "Smoke"},
+                                {"volume", {{"density", 0.5}, {"color", 0.8}}}});
+  scene["meshes"][1]["materials"] = {"smoke"};
+  Image img = render_json(scene.dump());
+  EXPECT_EQ(img.warnings.find("cryptomatte"), std::string::npos) << img.warnings;
+  EXPECT_TRUE(img.all_finite());
+  const json materials = json::parse(json::parse(img.stats)["cryptomatte"].value("cryptomatte/c7dbf5e/manifest", "{}"));
+  EXPECT_TRUE(materials.contains("red")) << materials.dump();
+}
+
 TEST(CryptomatteRender, AMalformedNameIsRefusedNamingTheObject) {
   json scene = two_quads("path");
   scene["meshes"][0]["cryptomatte"] = {{"asset", 3}};

@@ -99,9 +99,9 @@ MergedParts render_and_merge(const json &scene, json settings, int count, int sa
 // channels bit for bit, the raw double sums within the rounding of re-associated sums.
 // With the Noise pass (`halves`), the parts keep their half images and the merge has
 // the whole render's Noise channel and half sums. With `passes`, Cycles' light passes,
-// the data passes, the denoising data, Cryptomatte (the box's surfaces are opaque: its weights
-// are whole samples, whose float sums are exact in any order) and (bdpt) the strategy passes:
-// the merge has them all.
+// the data passes, the denoising data, shader AOVs, Cryptomatte (the box's surfaces are opaque:
+// its weights are whole samples, whose float sums are exact in any order) and (bdpt) the
+// strategy passes: the merge has them all.
 // catcher: the box's first mesh is a shadow catcher, with the Shadow Catcher pass.
 void expect_merge_equals_whole(const std::string &integrator, bool halves = false, bool passes = false,
                                bool catcher = false) {
@@ -115,6 +115,10 @@ void expect_merge_equals_whole(const std::string &integrator, bool halves = fals
   if (passes) {
     s["light_passes"] = s["data_passes"] = s["denoising_passes"] = true;
     s["cryptomatte"] = {{"object", true}, {"material", true}, {"asset", true}, {"view_layer", "ViewLayer"}};
+    s["aovs"] = json::array({{{"name", "tint"}, {"type", "color"}}, {{"name", "level"}, {"type", "value"}}});
+    double k = 0.1;
+    for (json &m : scene["materials"])  // values that are no sums of powers of 2
+      m["aovs"] = {{"tint", {{"color", {k, 0.3, 0.7 - k}}}}, {"level", {{"value", k += 0.13}}}};
     if (integrator == "bdpt") s["strategy_passes"] = true;
   }
   s["samples"] = 16;
@@ -142,7 +146,8 @@ void expect_merge_equals_whole(const std::string &integrator, bool halves = fals
   EXPECT_EQ(std::find(a.names.begin(), a.names.end(), "RdvMerge.half_sample_count") != a.names.end(), halves);
   for (const char *pass :
        {"DiffDir.R", "Mist.Z", "IndexOB.X", "Denoising Albedo.G", "Denoising Depth.Z", "CryptoObject00.r",
-        "CryptoAsset02.a", "RdvMerge.crypto17_weight", "Strategy_s2t1.R", "Strategy_rest.B"}) {
+        "CryptoAsset02.a", "RdvMerge.crypto17_weight", "tint.A", "level.X", "RdvMerge.aov4_v_lo", "Strategy_s2t1.R",
+        "Strategy_rest.B"}) {
     const bool expected = passes && (integrator == "bdpt" || std::string(pass).rfind("Strategy", 0) != 0);
     EXPECT_EQ(std::find(a.names.begin(), a.names.end(), pass) != a.names.end(), expected) << pass;
   }
@@ -197,13 +202,14 @@ TEST(RenderParts, MergeKeepsThePassesEveryPartCarries) {
   json scene = load_scene("cornell_box.json");
   json s = {{"width", 16}, {"height", 12}, {"integrator", "bdpt"}, {"samples", 2}, {"light_passes", true},
             {"data_passes", true}, {"strategy_passes", true}, {"denoising_passes", true},
-            {"cryptomatte", {{"object", true}}}};
+            {"cryptomatte", {{"object", true}}}, {"aovs", json::array({{{"name", "tint"}}})}};
   const std::string p0 = temp_path("passes0.exr"), p1 = temp_path("passes1.exr"), out = temp_path("passes.exr");
   render_part(scene, s, p0);
   s["sample_offset"] = 2;
   s["light_passes"] = s["denoising_passes"] = false;
   s["strategy_passes_max_depth"] = 2;
   s["cryptomatte"] = {{"object", true}, {"levels", 2}};
+  s.erase("aovs");
   render_part(scene, s, p1);
   rdv_status status;
   std::string report;
@@ -213,6 +219,7 @@ TEST(RenderParts, MergeKeepsThePassesEveryPartCarries) {
   EXPECT_NE(warnings.find("strategy passes of different depths"), std::string::npos) << warnings;
   EXPECT_NE(warnings.find("no denoising data"), std::string::npos) << warnings;
   EXPECT_NE(warnings.find("other Cryptomatte settings"), std::string::npos) << warnings;
+  EXPECT_NE(warnings.find("no shader AOVs"), std::string::npos) << warnings;
   const Channels merged = read_channels(out);
   auto has = [&](const char *name) { return std::find(merged.names.begin(), merged.names.end(), name) != merged.names.end(); };
   EXPECT_TRUE(has("Mist.Z"));

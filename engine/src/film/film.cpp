@@ -26,7 +26,7 @@ Film::Film(int width, int height, Rect region, bool halves, bool light_passes, b
 size_t Film::bytes_per_pixel(bool halves, bool light_passes, int strategy_max_depth, bool denoising_passes,
                              int shader_aov_channels, int crypto_slots) {
   const StrategyPasses strategies{strategy_max_depth};
-  return sizeof(PixelSum) + sizeof(PixelAov) + sizeof(SplatSums) + size_t(shader_aov_channels) * sizeof(float) +
+  return sizeof(PixelSum) + sizeof(PixelAov) + sizeof(SplatSums) + size_t(shader_aov_channels) * sizeof(double) +
          size_t(crypto_slots) * sizeof(CryptoSlot) +
          (halves ? sizeof(HalfSum) + sizeof(SplatSums) : 0) +
          (light_passes ? sizeof(LightPassSums) + sizeof(LightSplatSums) : 0) +
@@ -275,7 +275,7 @@ void Film::read_shader_aov(rdv_pass pass, size_t i, double n, float *dst) const 
     std::fill_n(dst, channels, 0.0f);
     return;
   }
-  const float *sums = &shader_aov_sums_[i * size_t(shader_aovs_.channels) + size_t(shader_aovs_.passes[k].offset)];
+  const double *sums = &shader_aov_sums_[i * size_t(shader_aovs_.channels) + size_t(shader_aovs_.passes[k].offset)];
   for (int c = 0; c < channels; ++c) dst[c] = float(sums[c] / n);
 }
 

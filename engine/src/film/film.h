@@ -184,9 +184,10 @@ class Film {
   // Denoising data's sums (empty without them).
   std::vector<DenoisingSums> &denoising_sums() { return denoising_; }
   const std::vector<DenoisingSums> &denoising_sums() const { return denoising_; }
-  // Shader AOVs' sums: shader_aovs().channels per pixel (empty without them).
-  std::vector<float> &shader_aov_sums() { return shader_aov_sums_; }
-  const std::vector<float> &shader_aov_sums() const { return shader_aov_sums_; }
+  // Shader AOVs' sums: shader_aovs().channels per pixel (empty without them); double, as
+  // the image's, so render parts add up to the whole render's.
+  std::vector<double> &shader_aov_sums() { return shader_aov_sums_; }
+  const std::vector<double> &shader_aov_sums() const { return shader_aov_sums_; }
   // Cryptomatte's slots: cryptomatte().slots_per_pixel() per pixel (empty without it).
   std::vector<CryptoSlot> &crypto_slots() { return crypto_; }
   const std::vector<CryptoSlot> &crypto_slots() const { return crypto_; }
@@ -224,7 +225,7 @@ class Film {
   bool data_passes_ = false;
   std::vector<DenoisingSums> denoising_;  // empty unless asked for
   ShaderAovs shader_aovs_;
-  std::vector<float> shader_aov_sums_;  // shader_aovs_.channels per pixel
+  std::vector<double> shader_aov_sums_;  // shader_aovs_.channels per pixel
   Cryptomatte cryptomatte_;
   std::vector<CryptoSlot> crypto_;  // cryptomatte_.slots_per_pixel() per pixel
   nlohmann::json crypto_metadata_;

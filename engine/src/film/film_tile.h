@@ -91,7 +91,7 @@ class FilmTile {
     }
     if (!denoising_.empty()) denoising_[index(x, y)].add(data.denoising);  // only when the film keeps them
     if (aov_channels_ && data.aovs.active()) {  // shader AOVs (film/shader_aovs.h)
-      float *sums = &shader_aovs_[index(x, y) * size_t(aov_channels_)];
+      double *sums = &shader_aovs_[index(x, y) * size_t(aov_channels_)];
       for (int c = 0; c < aov_channels_; ++c) sums[c] += data.aovs.values[c];
     }
     if (crypto_slots_ && data.crypto.active())  // Cryptomatte (film/cryptomatte.h)
@@ -117,7 +117,7 @@ class FilmTile {
   std::vector<PixelAov> aovs_;
   std::vector<LightPassSums> light_;  // empty unless the film keeps light passes
   std::vector<DenoisingSums> denoising_;  // empty unless the film keeps denoising data
-  std::vector<float> shader_aovs_;  // aov_channels_ per pixel (film/shader_aovs.h)
+  std::vector<double> shader_aovs_;  // aov_channels_ per pixel (film/shader_aovs.h)
   int aov_channels_ = 0;
   std::vector<CryptoSlot> crypto_;  // crypto_slots_ per pixel (film/cryptomatte.h)
   int crypto_slots_ = 0;

@@ -68,9 +68,10 @@ std::vector<std::string> half_channel_names() {
 }
 
 // The passes' sums (PartRecord::light_passes, strategy_max_depth, denoising_passes,
-// shadow_catcher), after the halves'; then Cryptomatte's slots (id and weight, float bits).
+// shadow_catcher), after the halves'; then the shader AOVs' sums and Cryptomatte's slots (id
+// and weight, float bits).
 std::vector<std::string> pass_channel_names(bool light_passes, int strategy_max_depth, bool denoising_passes,
-                                            bool shadow_catcher, int crypto_slots) {
+                                            bool shadow_catcher, int aov_channels, int crypto_slots) {
   std::vector<std::string> names;
   auto doubles = [&](const std::string &group, const char *axes) {
     for (const char *a = axes; *a; ++a)
@@ -99,11 +100,16 @@ std::vector<std::string> pass_channel_names(bool light_passes, int strategy_max_
     doubles("catcher_matte_splat", "rgb");
     doubles("catcher_pass_splat", "rgb");
   }
+  for (int k = 0; k < aov_channels; ++k) doubles("aov" + std::to_string(k), "v");
   for (int k = 0; k < crypto_slots; ++k)
     for (const char *word : {"_id", "_weight"}) names.push_back(std::string(kLayer) + "crypto" + std::to_string(k) + word);
   return names;
 }
 int crypto_slots_of(const PartRecord &record) { return Cryptomatte::parse(&record.cryptomatte).slots_per_pixel(); }
+// A part's shader AOV sums per pixel (0 for a part of an engine that did not carry them).
+int aov_channels_of(const PartRecord &record) {
+  return record.shader_aovs.is_array() ? ShaderAovs::parse(&record.shader_aovs).channels : 0;
+}
 constexpr size_t kDenoisingDoubles = 7;  // normal, albedo, depth
 // matte, catcher pass, world behind, matte transparency, splits, matte and catcher pass splats
 constexpr size_t kCatcherDoubles = 17;
@@ -132,7 +138,7 @@ LoadedPart load_part(const std::string &path) {
   part.height = spec.height;
   const std::vector<std::string> pass_names =
       pass_channel_names(part.record.light_passes, part.record.strategy_max_depth, part.record.denoising_passes,
-                         part.record.shadow_catcher, crypto_slots_of(part.record));
+                         part.record.shadow_catcher, aov_channels_of(part.record), crypto_slots_of(part.record));
   check_memory("part '" + path + "'", "its " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " sums",
                double(spec.width) * double(spec.height) *
                        double(spec.nchannels + kWordsPerPixel + (part.record.halves ? kHalfWordsPerPixel : 0) +
@@ -208,7 +214,7 @@ std::string PartRecord::to_json() const {
   if (light_passes) j["light_passes"] = true;
   if (data_passes) j["data_passes"] = true;
   if (denoising_passes) j["denoising_passes"] = true;
-  if (shader_aovs) j["shader_aovs"] = true;
+  if (!shader_aovs.is_null()) j["shader_aovs"] = shader_aovs;
   if (!cryptomatte.is_null()) j["cryptomatte"] = {{"settings", cryptomatte}, {"metadata", crypto_metadata}};
   if (shadow_catcher)
     j["shadow_catcher"] = {{"pass", catcher_display.pass}, {"film_transparent", catcher_display.film_transparent}};
@@ -239,7 +245,14 @@ PartRecord PartRecord::from_json(const std::string &text, const std::string &par
     r.light_passes = j.value("light_passes", false);
     r.data_passes = j.value("data_passes", false);
     r.denoising_passes = j.value("denoising_passes", false);
-    r.shader_aovs = j.value("shader_aovs", false);
+    if (j.contains("shader_aovs")) {
+      r.shader_aovs = j["shader_aovs"];
+      try {
+        if (!r.shader_aovs.is_boolean()) ShaderAovs::parse(&r.shader_aovs);  // settings this engine reads
+      } catch (const Error &e) {
+        fail("part '" + part + "': " + e.what());
+      }
+    }
     if (j.contains("cryptomatte")) {
       r.cryptomatte = j["cryptomatte"].at("settings");
       r.crypto_metadata = j["cryptomatte"].at("metadata");
@@ -280,9 +293,9 @@ PartChannels part_channels(const Film &film, const PartRecord &record) {
   // the passes the film keeps (the record says the same: Session::part_record)
   const bool light_passes = film.has_light_passes(), denoising = film.has_denoising_passes(),
              catcher = film.has_shadow_catcher();
-  const int crypto_slots = film.cryptomatte().slots_per_pixel();
-  const std::vector<std::string> pass_names =
-      pass_channel_names(light_passes, film.strategy_passes().max_depth, denoising, catcher, crypto_slots);
+  const int aov_channels = film.shader_aovs().channels, crypto_slots = film.cryptomatte().slots_per_pixel();
+  const std::vector<std::string> pass_names = pass_channel_names(light_passes, film.strategy_passes().max_depth, denoising,
+                                                                 catcher, aov_channels, crypto_slots);
   out.names.insert(out.names.end(), pass_names.begin(), pass_names.end());
   const size_t n = size_t(film.width()) * film.height();
   const size_t strategies = size_t(film.strategy_passes().count()),
@@ -336,6 +349,7 @@ PartChannels part_channels(const Film &film, const PartRecord &record) {
       for (const auto *sums : {&c.matte_splats, &c.catcher_splats})
         for (double v : *sums) put_double(w, v);
     }
+    for (int k = 0; k < aov_channels; ++k) put_double(w, film.shader_aov_sums()[i * size_t(aov_channels) + size_t(k)]);
     for (int k = 0; k < crypto_slots; ++k) {
       const CryptoSlot &slot = film.crypto_slots()[i * size_t(crypto_slots) + size_t(k)];
       std::memcpy(w++, &slot.id, 4);
@@ -451,8 +465,14 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
     result.warnings.push_back("some parts carry no data passes (Mist, IndexOB, IndexMA): the merged image has none");
   if (!denoising && some_part([](const LoadedPart &p) { return p.record.denoising_passes; }))
     result.warnings.push_back("some parts carry no denoising data (Denoising Normal, Albedo, Depth): the merged image has none");
-  if (some_part([](const LoadedPart &p) { return p.record.shader_aovs; }))
-    result.warnings.push_back("the parts' shader AOVs are not carried by render parts: the merged image has none");
+  // Shader AOVs: kept when every part has the same ones, with their sums.
+  const bool aovs = all_parts([&](const LoadedPart &p) {
+    return p.record.shader_aovs.is_array() && p.record.shader_aovs == first.record.shader_aovs;
+  });
+  if (!aovs && some_part([](const LoadedPart &p) { return !p.record.shader_aovs.is_null(); }))
+    result.warnings.push_back("some parts carry no shader AOVs, or other ones (or were written by an engine that did not "
+                              "carry them): the merged image has none");
+  const ShaderAovs aov_layout = aovs ? ShaderAovs::parse(&first.record.shader_aovs) : ShaderAovs();
   // Cryptomatte: kept when every part has it alike (the slots of each pixel combine by id).
   const bool crypto = all_parts([&](const LoadedPart &p) {
     return !p.record.cryptomatte.is_null() && p.record.cryptomatte == first.record.cryptomatte;
@@ -472,7 +492,7 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
 
   const auto &border = settings["border"];
   result.film = std::make_unique<Film>(width, height, Rect{border[0].get<int>(), border[1].get<int>(), border[2].get<int>(), border[3].get<int>()}, halves,
-                                       light_passes, data_passes, strategy_depth, denoising, ShaderAovs(), crypto_layout);
+                                       light_passes, data_passes, strategy_depth, denoising, aov_layout, crypto_layout);
   Film &film = *result.film;
   if (crypto) film.set_crypto_metadata(first.record.crypto_metadata);
   if (catcher) film.keep_shadow_catcher(first.record.catcher_display);
@@ -600,6 +620,13 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
             }
         }
       }
+      const int part_aovs = aov_channels_of(part.record);
+      if (part_aovs) {
+        double d[4 * ShaderAovs::kMaxPasses];
+        read_sums(d, size_t(part_aovs), "shader AOV sum");
+        if (aovs)
+          for (int c = 0; c < part_aovs; ++c) film.shader_aov_sums()[i * size_t(part_aovs) + size_t(c)] += d[c];
+      }
       // Cryptomatte: the part's slots added by id to the merged pixel's, kind by kind.
       const int part_slots = crypto_slots_of(part.record);
       if (part_slots) {
@@ -634,6 +661,7 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
   result.record.data_passes = data_passes;
   result.record.denoising_passes = denoising;
   result.record.shadow_catcher = catcher;
+  if (aovs) result.record.shader_aovs = first.record.shader_aovs;
   if (crypto) {
     result.record.cryptomatte = first.record.cryptomatte;
     result.record.crypto_metadata = first.record.crypto_metadata;

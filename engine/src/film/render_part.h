@@ -38,8 +38,9 @@ struct PartRecord {
   // there), BDPT's strategy passes' sums of paths up to this depth (-1: none),
   // Cycles' denoising data's sums (denoising_passes).
   bool light_passes = false, data_passes = false, denoising_passes = false;
-  // The render had shader AOVs (film/shader_aovs.h): in its image, but not carried for a merge.
-  bool shader_aovs = false;
+  // Shader AOVs (film/shader_aovs.h): their settings (ShaderAovs::to_json; null: none), with
+  // their sums carried. Parts of engines before 2026-11-30 wrote `true` here and no sums.
+  nlohmann::json shader_aovs;
   // Cryptomatte (film/cryptomatte.h): its settings (Cryptomatte::to_json; null: none) and
   // metadata (names, manifests); its slots are carried, and a merge combines them by id.
   nlohmann::json cryptomatte, crypto_metadata;

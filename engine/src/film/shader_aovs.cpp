@@ -34,4 +34,11 @@ ShaderAovs ShaderAovs::parse(const nlohmann::json *j) {
   return out;
 }
 
+nlohmann::json ShaderAovs::to_json() const {
+  if (empty()) return nullptr;
+  nlohmann::json j = nlohmann::json::array();
+  for (const Pass &p : passes) j.push_back({{"name", p.name}, {"type", p.color ? "color" : "value"}});
+  return j;
+}
+
 }  // namespace rdv

@@ -31,6 +31,7 @@ struct ShaderAovs {
   // From the render setting "aovs": [{"name": "mask", "type": "color" | "value"}, ...]
   // (null: none). Malformed input throws (fail()).
   static ShaderAovs parse(const nlohmann::json *j);
+  nlohmann::json to_json() const;  // parse's input again (null: none; render parts)
   bool empty() const { return passes.empty(); }
   const Pass *find(uint32_t id) const {
     for (const Pass &p : passes)

@@ -109,7 +109,7 @@ PartRecord Session::part_record() const {
   r.light_passes = film_.has_light_passes();
   r.data_passes = film_.writes_data_passes();
   r.denoising_passes = film_.has_denoising_passes();
-  r.shader_aovs = !film_.shader_aovs().empty();
+  r.shader_aovs = film_.shader_aovs().to_json();
   r.cryptomatte = film_.cryptomatte().to_json();
   r.crypto_metadata = film_.crypto_metadata();
   r.shadow_catcher = film_.has_shadow_catcher();

@@ -38,6 +38,7 @@ Scene::ParsedMaterial Scene::parse_material(const std::string &name, Params &par
   }
   pm.boundary_only = params.has("type") && params.get_string("type", "") == "volume";
   if (pm.boundary_only) {
+    params.get_string("cryptomatte", name);  // a boundary has no surface: no Cryptomatte pass sees it
     params.check_all_used();
     if (!pm.has_medium) fail(params.what() + ": type 'volume' needs a 'volume' object");
     pm.material = Material::error_material(name);  // never shaded: rays pass through
