@@ -77,12 +77,14 @@ def _translate(tree, desc, output_ids):
             desc.displacement = ctx.input(out, "Displacement", default=(0.0, 0.0, 0.0))
         if isinstance(desc, MaterialDescription):
             # AOV Output nodes (Blender 3.4 keeps the AOV's name in the node's `name`), each
-            # written to the view layer's shader AOV of its name (film/shader_aovs.h).
-            for node in tree.nodes:
+            # written to the view layer's shader AOV of its name (film/shader_aovs.h); those
+            # inside node groups too, as Cycles flattens the groups.
+            def aov_output(node):
                 if getattr(node, "bl_idname", "") == "ShaderNodeOutputAOV" and not getattr(node, "mute", False) \
                         and getattr(node, "name", ""):
                     desc.aovs.append((node.name, ctx.input(node, "Color", default=(0.0, 0.0, 0.0)),
                                       ctx.input(node, "Value", default=0.0)))
+            ctx.each_node(aov_output)
     except LimitError:
         raise  # the caller names the material
     except Exception as exc:  # never let a strange tree stop the render
@@ -172,9 +174,21 @@ def displacement_method(material):
     return "BUMP"
 
 
+def _camera_aovs(desc):
+    """The AOV Outputs of a description as camera rays read them (Cycles writes them for camera
+    rays and those that went on straight through transparent surfaces: Light Path's Is Camera
+    Ray is 1 there), when the shader itself reads no ray type."""
+    flags = ray_kinds.flag_outputs(*(x for _, color, value in desc.aovs for x in (color, value)))
+    if flags:
+        memo = {}
+        desc.aovs = [(name, ray_kinds.substitute(color, {"camera"}, memo), ray_kinds.substitute(value, {"camera"}, memo))
+                     for name, color, value in desc.aovs]
+
+
 def _lower_by_ray_kind(desc, image_average, image_file, volume_grids):
     """[(kinds or None, params)] of a translated material (ray_kinds.py)."""
     if not ray_kinds.flag_outputs(desc.surface, desc.volume):
+        _camera_aovs(desc)
         params, _ = lower_surface(desc, image_average, image_file, volume_grids)
         return [(None, params)]
 
@@ -251,12 +265,15 @@ def _lower_world_by_ray_kind(desc, image_average, image_file):
     read Light Path > Is Camera Ray (ray_kinds.py)."""
     used = ray_kinds.flag_outputs(desc.surface, desc.volume)
     if not used:
+        _camera_aovs(desc)
         return lower_world(desc, image_average, image_file)
 
     def lower(flags):
         variant = WorldDescription(desc.name)
         variant.issues, variant.output_label = desc.issues, desc.output_label
         memo = {}
+        variant.aovs = [(name, ray_kinds.substitute(color, flags, memo), ray_kinds.substitute(value, flags, memo))
+                        for name, color, value in desc.aovs]
         variant.surface = ray_kinds.substitute(desc.surface, flags, memo)
         variant.volume = ray_kinds.substitute(desc.volume, flags, memo)
         return lower_world(variant, image_average, image_file)[0]
@@ -266,7 +283,12 @@ def _lower_world_by_ray_kind(desc, image_average, image_file):
                                            "shows 1 to such rays that escape, weighed against that)" % output)
     # Next-event estimation and every ray but the camera's: no flag Cycles' world reads is set.
     params = lower(set())
-    camera = {k: v for k, v in lower({"camera"}).items() if k != "volume"}
-    if camera != {k: v for k, v in params.items() if k != "volume"}:
+    camera = lower({"camera"})
+    # The AOV Outputs are written for camera rays alone: the camera look's.
+    params.pop("aovs", None)
+    if "aovs" in camera:
+        params["aovs"] = camera.pop("aovs")
+    camera = {k: v for k, v in camera.items() if k != "volume"}
+    if camera != {k: v for k, v in params.items() if k not in ("volume", "aovs")}:
         params["camera"] = camera
     return params, desc.issues

@@ -205,6 +205,26 @@ class Context:
             return None
         return self.eval_input(node, s)
 
+    def each_node(self, visit):
+        """visit(node) for every node of the tree and of the node groups it uses (unmuted, each
+        use of a group on its own), with this context inside that use of the group: input()
+        of a node there reads what flows into it (Cycles flattens groups alike)."""
+        def walk(tree):
+            for node in list(getattr(tree, "nodes", ()) or ()):
+                if getattr(node, "bl_idname", "") in GROUP_NODES:
+                    inner = getattr(node, "node_tree", None)
+                    if inner is None or getattr(node, "mute", False) or self._frame.depth >= 16:
+                        continue
+                    saved = self._frame
+                    self._frame = _Frame(node, saved, inner)
+                    try:
+                        walk(inner)
+                    finally:
+                        self._frame = saved
+                else:
+                    visit(node)
+        walk(self._frame.tree)
+
     # ---- the walk ------------------------------------------------------------
     def eval_input(self, node, socket, passthrough=False):
         want = getattr(socket, "type", "VALUE")

@@ -2139,9 +2139,14 @@ def shader_aovs():
     AOV "height". A ball writes a Noise texture's colour to tint and its Position's z to
     height; a cube writes a constant tint; the floor writes height only (its z, 0, with an
     offset of 0.25); a card 70% Transparent BSDF in front of the ball writes tint green (below
-    the alpha threshold, so the ball behind writes too); the world writes none. Under a sun."""
+    the alpha threshold, so the ball behind writes too); the world writes tint from its
+    direction (Texture Coordinate > Generated) and a height of 7. Under a sun."""
     scene = reset(48)
     scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.4, 0.5, 0.7, 1.0)
+    world_tree = scene.world.node_tree
+    sky_tint = add_node(world_tree, "ShaderNodeOutputAOV", name="tint")
+    world_tree.links.new(add_node(world_tree, "ShaderNodeTexCoord").outputs["Generated"], sky_tint.inputs["Color"])
+    add_node(world_tree, "ShaderNodeOutputAOV", name="height").inputs["Value"].default_value = 7.0
     remove_shader_aovs()
     layer = bpy.context.view_layer
     for name, kind in (("tint", "COLOR"), ("height", "VALUE")):

@@ -1163,6 +1163,30 @@ class TestGraph(unittest.TestCase):
         p, _ = material_with(lambda t: t.new("ShaderNodeBsdfDiffuse", "D").out())
         self.assertNotIn("aovs", p)
 
+    def test_aov_outputs_inside_node_groups(self):
+        """An AOV Output inside a node group writes as Cycles' flattened groups do, reading what
+        flows into that use of the group; a muted group's are left out."""
+        inner, gin, gout = group_tree("Mask", [("Input_0", "Color", "RGBA", (1, 1, 1, 1))],
+                                      [("Output_0", "Shader", "SHADER", None)])
+        aov = inner.new("ShaderNodeOutputAOV", "inner")
+        inner.link(gin.out("Input_0"), aov.inp("Color"))
+        d = inner.new("ShaderNodeBsdfDiffuse", "D")
+        inner.link(d.out(), gout.inp("Output_0"))
+        muted_inner, _, muted_out = group_tree("Muted", [], [("Output_0", "Shader", "SHADER", None)])
+        muted_inner.new("ShaderNodeOutputAOV", "muted")
+
+        def b(t):
+            g = t.group_node(inner, "MaskGroup")
+            rgb = t.new("ShaderNodeRGB", "RGB")
+            rgb.out().default_value = [0.2, 0.4, 0.6, 1.0]
+            t.link(rgb.out(), g.inp("Input_0"))
+            t.group_node(muted_inner, "MutedGroup").mute = True
+            return g.out()
+        p, w = material_with(b)
+        self.assertIsNone(w)
+        self.assertEqual(sorted(p["aovs"]), ["inner"])
+        self.assertTrue(close(p["aovs"]["inner"]["color"], (0.2, 0.4, 0.6)), p["aovs"])
+
     def test_object_and_instancer_attributes(self):
         """Attribute nodes of type Object / Instancer: the engine reads the instance's value (the
         exporter sends it); View Layer stays an approximation."""
@@ -1366,6 +1390,36 @@ class TestWorld(unittest.TestCase):
         p, w = self._world(lambda t: b(t, "HOSEK_WILKIE"))
         self.assertNotIn("sky", p)
         self.assertIn("Sky Texture 'Sky'", w)
+
+    def test_world_aov_outputs(self):
+        """The World's AOV Outputs go to its "aovs" (written where camera rays leave for the
+        world); with Light Path > Is Camera Ray in the World, the camera look's, and not in
+        "camera" (the engine reads them at the top)."""
+        def b(t, camera_ray=False):
+            bg = t.new("ShaderNodeBackground", "Background")
+            aov = t.new("ShaderNodeOutputAOV", "sky")
+            aov.inp("Color").default_value = [0.1, 0.2, 0.3, 1.0]
+            if camera_ray:
+                t.link(t.new("ShaderNodeLightPath", "LP").out("Is Camera Ray"), aov.inp("Value"))
+                t.link(t.new("ShaderNodeLightPath", "LP2").out("Is Camera Ray"), bg.inp("Strength"))
+            else:
+                aov.inp("Value").default_value = 0.75
+            return bg.out()
+        p, w = self._world(b)
+        self.assertTrue(close(p["aovs"]["sky"]["color"], (0.1, 0.2, 0.3)), p)
+        self.assertEqual(p["aovs"]["sky"]["value"], 0.75)
+        p, w = self._world(lambda t: b(t, camera_ray=True))
+        self.assertEqual(p["aovs"]["sky"]["value"], 1.0)
+        self.assertIn("camera", p)
+        self.assertNotIn("aovs", p["camera"])
+
+        def aov_only(t):  # the AOV alone reads the ray type: no camera look, the AOV's camera value
+            aov = t.new("ShaderNodeOutputAOV", "sky")
+            t.link(t.new("ShaderNodeLightPath", "LP").out("Is Camera Ray"), aov.inp("Value"))
+            return t.new("ShaderNodeBackground", "Background").out()
+        p, w = self._world(aov_only)
+        self.assertEqual(p["aovs"]["sky"]["value"], 1.0)
+        self.assertNotIn("camera", p)
 
     def test_world_without_nodes_and_none(self):
         p, w = sm.convert_world(World("W", None, use_nodes=False, color=(0.1, 0.2, 0.3)))

@@ -254,6 +254,37 @@ TEST(ShaderAovs, WrittenWhereTheCameraSeesTheMaterialEveryIntegrator) {
   EXPECT_NEAR(img.shader_aovs[0][centre * 4 + 3], 1.0f, 1e-5f);
 }
 
+// The World's AOV Outputs (Cycles writes them where camera rays leave for the world): a
+// constant value, and a colour from Texture Coordinate > Generated, which is the ray's
+// direction there (an orthographic view: one direction for every pixel), every integrator.
+TEST(ShaderAovs, TheWorldWritesItsOwnAlongTheCameraRays) {
+  const json aovs = json::array({{{"name", "sky"}, {"type", "color"}}, {{"name", "far"}, {"type", "value"}}});
+  for (const char *integrator : {"path", "bdpt", "pssmlt", "mmlt", "mlt"}) {
+    json scene = plane_scene(ortho_camera(), json::object(), {{"integrator", integrator}, {"aovs", aovs}});
+    scene["meshes"].erase(0);  // nothing but the world
+    scene["meshes"].push_back({{"name", "speck"}, {"shape", {{"type", "quad"}, {"size", 0.01}}},
+                               {"transform", {{"translate", {0, 0, -5}}}}, {"materials", {"floor"}}});
+    scene["world"]["aovs"] = {{"sky", {{"color", {{"node", "texture_coordinate"}, {"output", "generated"}}}}},
+                              {"far", {{"value", 5}}}};
+    Image img = render_json(scene.dump());
+    ASSERT_EQ(img.shader_aovs.size(), 2u) << integrator;
+    // The view from (0, 0.001, 3) toward the origin: direction (0, -1/3000, -1), normalised.
+    const double dy = -0.001 / std::sqrt(9.0 + 1e-6), dz = -3.0 / std::sqrt(9.0 + 1e-6);
+    int world = 0;
+    for (int i = 0; i < kSize * kSize; ++i) {
+      const float *sky = &img.shader_aovs[0][size_t(i) * 4];
+      if (sky[3] == 0) continue;  // the speck's pixels
+      ++world;
+      EXPECT_NEAR(sky[0], 0.0, 1e-5) << integrator << " pixel " << i;
+      EXPECT_NEAR(sky[1], dy, 1e-5) << integrator << " pixel " << i;
+      EXPECT_NEAR(sky[2], dz, 1e-5) << integrator << " pixel " << i;
+      EXPECT_EQ(sky[3], 1.0f) << integrator << " pixel " << i;
+      EXPECT_EQ(img.shader_aovs[1][size_t(i)], 5.0f) << integrator << " pixel " << i;
+    }
+    EXPECT_GE(world, kSize * kSize - 9) << integrator;
+  }
+}
+
 TEST(ShaderAovs, BadSettingsAreRefused) {
   json scene = plane_scene(perspective_camera(6), json::object(), json::object());
   for (const json &bad : {json("mask"), json::array({{{"type", "color"}}}), json::array({{{"name", "m"}, {"type", "vector"}}}),

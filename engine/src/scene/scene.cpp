@@ -411,6 +411,14 @@ void Scene::set_world(Params &params) {
     camera_look = parse_world_look(c);
     c.check_all_used();
   }
+  // The World's AOV Outputs: a material's graph and AOV list (Material::aovs), shaded where a
+  // camera sample's see-through chain leaves for the world (add_world_data_passes).
+  std::optional<Material> world_aovs;
+  if (const nlohmann::json *aovs = params.get_json("aovs")) {
+    Params a(nlohmann::json{{"type", "diffuse"}, {"aovs", *aovs}}.dump(), params.what());
+    world_aovs = Material::from_params(a, "world", &image_buffers_);
+    for (const std::string &w : world_aovs->warnings) warn(w);
+  }
   const uint32_t world_visibility = visibility::from_params(params);
   if (!(world_visibility & visibility::kShadow))
     warn(params.what() + ": 'visibility.shadow' is no world setting in Cycles 3.4 (the world has no shadow rays of "
@@ -420,7 +428,20 @@ void Scene::set_world(Params &params) {
   mist_ = mist;
   world_ = std::move(look);
   camera_world_ = std::move(camera_look);
+  world_aovs_ = std::move(world_aovs);
   dirty_ = true;
+}
+
+void Scene::add_world_data_passes(Vec3 dir, DataPassSample &data) const {
+  // Cycles' background shading point: P the ray's direction (Generated and Object coordinates
+  // too), N facing back along it; written for the samples that set no index yet, as surfaces.
+  if (world_aovs_ && data.aovs.active() && !data.indices_done) {
+    ShadingPoint sp;
+    sp.p = sp.p_object = sp.generated = dir;
+    sp.ns = sp.ng = -dir;
+    world_aovs_->write_aovs(sp, data.aovs);
+  }
+  data.add_world();
 }
 
 // {"color", "strength", "environment" | "sky"}: the world's look (set_world's keys).

@@ -218,6 +218,9 @@ class Scene : private TextureRays {
   // from the camera, opacity and pass indices) added to data.
   const MistSettings &mist() const { return mist_; }
   void add_data_passes(const SurfaceHit &hit, Color beta, float alpha_threshold, DataPassSample &data) const;
+  // The world where the chain leaves along unit direction dir: its AOV Outputs, then
+  // DataPassSample::add_world.
+  void add_world_data_passes(Vec3 dir, DataPassSample &data) const;
   // Cryptomatte's manifests (film/cryptomatte.h): the names of the enabled instances'
   // objects and assets, and of the materials.
   CryptoManifests crypto_manifests() const;
@@ -397,6 +400,7 @@ class Scene : private TextureRays {
   // Light Path > Is Camera Ray in the World's nodes: what camera rays see, when it differs
   // from what every other ray sees (then the world above lights and this one is the backdrop).
   std::optional<WorldLook> camera_world_;
+  std::optional<Material> world_aovs_;  // the World's AOV Outputs (set_world's "aovs")
   bool has_transparency_ = false;
   bool has_transparent_non_layers_ = false;
   bool has_holdouts_ = false;

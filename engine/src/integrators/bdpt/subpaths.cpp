@@ -270,7 +270,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     if (!found) {
       // The world; with a transparent film, also where there is none (the alpha it leaves).
       const bool transparent_world = see_through && settings_.alpha.film_transparent;
-      if (see_through && data) data->add_world();
+      if (see_through && data) scene_.add_world_data_passes(ray.d, *data);
       if (mode == TransportMode::Radiance && (!scene_.infinite_lights().empty() || transparent_world)) {
         fresh_vertex(v);
         v.type = VertexType::Light;

@@ -316,7 +316,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       // The world seen through a transparent film is not there: only its alpha is.
       const bool transparent_world = see_through && alpha_.film_transparent;
       if (transparent_world) transparency += average(beta);
-      if (see_through && data) data->add_world();
+      if (see_through && data) scene_.add_world_data_passes(ray.d, *data);
       for (uint32_t li : scene_.infinite_lights()) {  // the world, beyond clip_end too
         const Light &light = scene_.lights()[li];
         if (!(light.visibility & ray.mask)) continue;  // camera rays: suns are not seen, the world is unless hidden
