@@ -192,7 +192,10 @@ std::string world_params(Reader &in) {
   auto x = [&] { return in.json_number(); };
   switch (in.small(6)) {
     case 0: return in.text(64);
-    case 1: return R"({"color":[)" + x() + ",0.1,0.1],\"strength\":" + x() + "}";
+    case 1:  // with the World's AOV Outputs (shader AOVs A and B): a texture of the direction, a number
+      return R"({"color":[)" + x() + ",0.1,0.1],\"strength\":" + x() + R"(,"aovs":{")" + kNames[in.small(4)] +
+             R"(":{"color":{"node":"noise","scale":)" + x() + R"(,"vector":{"node":"texture_coordinate"}},"value":)" +
+             x() + "}}}";
     case 5: return R"({"color":[0.5,0.5,0.5],"camera":{"color":[)" + x() + R"(,0.2,0.9],"strength":)" + x() +
                    R"(},"visibility":{"camera":)" + (in.small(2) ? "true" : "false") + "}}";
     case 2: return R"({"color":[0,0,0],"volume":{"density":)" + x() + R"(,"anisotropy":)" + x() + "}}";
