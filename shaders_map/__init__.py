@@ -108,7 +108,8 @@ def _rgb(v, default):
         return list(default)
 
 
-def convert_material(material, image_average=None, image_file=None, volume_grids=False, blender_version=None):
+def convert_material(material, image_average=None, image_file=None, volume_grids=False, blender_version=None,
+                     view_layer_attribute=None):
     """A bpy Material (or stand-in) -> (engine params, warning or None).  volume_grids: for a
     Volume object (grid references {"name": ...} in the medium, completed by the exporter).
     Material > Settings > Pass Index goes along as "pass_index" (the Material Index pass).
@@ -117,7 +118,8 @@ def convert_material(material, image_average=None, image_file=None, volume_grids
     shadowing, glass split by the shading normal's Fresnel), from 3.5 on the engine's default.
     A material that looks different to different kinds of ray (Light Path's ray types) is
     here the one diffuse rays see, with a warning: convert_material_variants gives them all."""
-    variants, warning = convert_material_variants(material, image_average, image_file, volume_grids, blender_version)
+    variants, warning = convert_material_variants(material, image_average, image_file, volume_grids, blender_version,
+                                                  view_layer_attribute)
     if len(variants) == 1:
         return variants[0][1], warning
     note = "Material '%s': its look for each kind of ray (Light Path) needs one object copy per look; here " \
@@ -127,12 +129,15 @@ def convert_material(material, image_average=None, image_file=None, volume_grids
 
 
 def convert_material_variants(material, image_average=None, image_file=None, volume_grids=False,
-                              blender_version=None):
+                              blender_version=None, view_layer_attribute=None):
     """A bpy Material -> ([(kinds, params)], warning or None): the material as convert_material
     gives it, once per group of the engine's ray kinds (ray_kinds.KINDS) that see it alike. One
     entry (kinds None) unless its surface reads Light Path's ray types (ray_kinds.py); the
-    exporter then sends the object once per entry, visible to those kinds alone."""
-    variants, warning = _convert_material(material, image_average, image_file, volume_grids)
+    exporter then sends the object once per entry, visible to those kinds alone.
+    view_layer_attribute(name): what an Attribute node of type View Layer reads, as RGBA (the
+    view layer's, else the scene's, else the world's property of that name), or None (not
+    found: 0, as Cycles); without it such a node is approximated, with a warning."""
+    variants, warning = _convert_material(material, image_average, image_file, volume_grids, view_layer_attribute)
     index = int(getattr(material, "pass_index", 0) or 0) if material is not None else 0
     out = []
     for kinds, params in variants:
@@ -144,7 +149,7 @@ def convert_material_variants(material, image_average=None, image_file=None, vol
     return out, warning
 
 
-def _convert_material(material, image_average, image_file, volume_grids):
+def _convert_material(material, image_average, image_file, volume_grids, view_layer_attribute=None):
     name = getattr(material, "name", "?")
     if material is None:
         return [(None, dict(DEFAULT_SURFACE))], None
@@ -154,7 +159,7 @@ def _convert_material(material, image_average, image_file, volume_grids):
         return [(None, {"type": "diffuse", "color": _rgb(getattr(material, "diffuse_color", None),
                                                          (0.8, 0.8, 0.8))})], None
     try:
-        desc = translate_material(tree, name)
+        desc = _with_view_layer_attributes(translate_material(tree, name), view_layer_attribute)
         desc.displacement_method = displacement_method(material)
         variants = _lower_by_ray_kind(desc, image_average, image_file, volume_grids)
         for _, params in variants:
@@ -162,6 +167,30 @@ def _convert_material(material, image_average, image_file, volume_grids):
     except LimitError as exc:
         return [(None, dict(ERROR_SURFACE))], "Material '%s': %s; rendered magenta" % (name, exc)
     return variants, desc.issues.format("Material", name)
+
+
+def _with_view_layer_attributes(desc, lookup):
+    """desc with its Attribute nodes of type View Layer made the constants they are for the whole
+    render (Cycles 3.4 reads them once: Color and Vector the value, Fac its RGB average, Alpha its
+    alpha; all 0 for a name found nowhere)."""
+    if lookup is None:
+        return desc
+
+    def leaf(e):
+        if e.op != "attribute" or e.props.get("attribute_type") != "VIEW_LAYER":
+            return None
+        rgba = lookup(e.props.get("attribute_name", "")) or (0.0, 0.0, 0.0, 0.0)
+        output = e.props.get("output", "Color")
+        if output == "Fac":
+            return Const(sum(rgba[:3]) / 3.0)
+        return Const(float(rgba[3])) if output == "Alpha" else Const(tuple(float(x) for x in rgba[:3]))
+    memo = {}
+    desc.surface = ray_kinds.replace_leaves(desc.surface, leaf, memo)
+    desc.volume = ray_kinds.replace_leaves(desc.volume, leaf, memo)
+    desc.displacement = ray_kinds.replace_leaves(desc.displacement, leaf, memo)
+    desc.aovs = [(name, ray_kinds.replace_leaves(color, leaf, memo), ray_kinds.replace_leaves(value, leaf, memo))
+                 for name, color, value in desc.aovs]
+    return desc
 
 
 def displacement_method(material):
@@ -221,10 +250,11 @@ def _check_written_size(params):
                          % MAX_WRITTEN_NODES)
 
 
-def convert_world(world, image_average=None, image_file=None):
+def convert_world(world, image_average=None, image_file=None, view_layer_attribute=None):
     """A bpy World (or stand-in, or None) -> ({"color", "strength", ...}, warning or None).
-    World > Mist Pass goes along as "mist" {"start", "depth", "falloff"} (the Mist pass)."""
-    params, warning = _convert_world(world, image_average, image_file)
+    World > Mist Pass goes along as "mist" {"start", "depth", "falloff"} (the Mist pass).
+    view_layer_attribute: as for convert_material_variants."""
+    params, warning = _convert_world(world, image_average, image_file, view_layer_attribute)
     mist = getattr(world, "mist_settings", None)
     if mist is not None:
         params = dict(params, mist={"start": float(mist.start), "depth": float(mist.depth),
@@ -232,19 +262,20 @@ def convert_world(world, image_average=None, image_file=None):
     return params, warning
 
 
-def convert_light(light):
+def convert_light(light, view_layer_attribute=None):
     """A bpy Light's node tree (when it uses nodes) -> ({"color", "strength"} of its Emission, the
     engine's light "emission", or None) and one warning or None (docs/scene-format.md)."""
     tree = getattr(light, "node_tree", None)
     if light is None or not getattr(light, "use_nodes", False) or tree is None:
         return None, None
     name = getattr(light, "name", "?")
-    desc = _translate(tree, MaterialDescription(name), ("ShaderNodeOutputLight",))
+    desc = _with_view_layer_attributes(_translate(tree, MaterialDescription(name), ("ShaderNodeOutputLight",)),
+                                       view_layer_attribute)
     emission, issues = lower_light(desc)
     return emission, issues.format("Light", name)
 
 
-def _convert_world(world, image_average, image_file):
+def _convert_world(world, image_average, image_file, view_layer_attribute=None):
     if world is None:
         return {"color": [0.0, 0.0, 0.0], "strength": 1.0}, None
     name = getattr(world, "name", "?")
@@ -252,7 +283,7 @@ def _convert_world(world, image_average, image_file):
     if not getattr(world, "use_nodes", False) or tree is None:
         return {"color": _rgb(getattr(world, "color", None), (0.05, 0.05, 0.05)), "strength": 1.0}, None
     try:
-        desc = translate_world(tree, name)
+        desc = _with_view_layer_attributes(translate_world(tree, name), view_layer_attribute)
         params, issues = _lower_world_by_ray_kind(desc, image_average, image_file)
         _check_written_size(params)
     except LimitError as exc:

@@ -71,8 +71,18 @@ def flag_outputs(*roots):
 
 def substitute(ir, flags, memo=None):
     """A copy of ir with each Light Path flag output the constant it has on a ray carrying
-    `flags`, and each Mix Shader whose factor became a constant 0 or 1 replaced by the shader
-    it picks (Cycles clamps the factor to [0, 1])."""
+    `flags` (replace_leaves)."""
+    def flag(e):
+        if e.op == "light_path" and e.props.get("output") in FLAG_OUTPUTS:
+            return Const(1.0 if FLAG_OUTPUTS[e.props["output"]] in flags else 0.0)
+        return None
+    return replace_leaves(ir, flag, memo)
+
+
+def replace_leaves(ir, leaf, memo=None):
+    """A copy of ir with each expression e for which leaf(e) is not None replaced by it, and each
+    Mix Shader whose factor became a constant 0 or 1 replaced by the shader it picks (Cycles
+    clamps the factor to [0, 1])."""
     memo = {} if memo is None else memo
     if ir is None or isinstance(ir, Const):
         return ir
@@ -80,13 +90,12 @@ def substitute(ir, flags, memo=None):
     if key in memo:
         return memo[key]
     if isinstance(ir, Expr):
-        if ir.op == "light_path" and ir.props.get("output") in FLAG_OUTPUTS:
-            out = Const(1.0 if FLAG_OUTPUTS[ir.props["output"]] in flags else 0.0)
-        else:
-            out = Expr(ir.op, ir.node, {k: substitute(v, flags, memo) for k, v in ir.args.items()}, ir.props)
+        out = leaf(ir)
+        if out is None:
+            out = Expr(ir.op, ir.node, {k: replace_leaves(v, leaf, memo) for k, v in ir.args.items()}, ir.props)
     elif isinstance(ir, Closure):
-        params = {k: substitute(v, flags, memo) for k, v in ir.params.items()}
-        children = [substitute(c, flags, memo) for c in ir.children]
+        params = {k: replace_leaves(v, leaf, memo) for k, v in ir.params.items()}
+        children = [replace_leaves(c, leaf, memo) for c in ir.children]
         out = Closure(ir.kind, ir.node, params, children, ir.props)
         fac = params.get("fac")
         if ir.kind == "mix" and fac is not None and is_constant(fac):

@@ -378,6 +378,7 @@ class ViewportExporter(SceneExporter):
             return False
         try:
             variants, warning = shaders_map.convert_material_variants(material, image_average=self.image_average,
+                                                                      view_layer_attribute=self.view_layer_attribute,
                                                                       image_file=self.image_file,
                                                                       blender_version=blender_version())
         except Exception as exc:  # a node handler bug must not break the viewport

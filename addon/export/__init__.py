@@ -15,7 +15,7 @@ from .materials import MaterialCache, ray_kind_cells
 from . import images
 from . import motion
 from .mesh import mesh_arrays, TANGENT_ATTRIBUTE
-from .object_attributes import instance_attributes, tree_object_attributes
+from .object_attributes import instance_attributes, tree_object_attributes, view_layer_lookup
 from . import volumes
 from . import visibility
 from .settings import session_settings, resolution, border_rect, SettingsError  # noqa: F401
@@ -123,7 +123,10 @@ class SceneExporter:
             images.clear_cache()
             image_file = self.image_source
         self.image_file = image_file
-        self.materials = MaterialCache(sink, self.messages, image_average, image_file, cryptomatte=cryptomatte)
+        # Attribute nodes of type View Layer: the view layer's, scene's or world's value.
+        self.view_layer_attribute = view_layer_lookup(depsgraph.view_layer, self.scene)
+        self.materials = MaterialCache(sink, self.messages, image_average, image_file, cryptomatte=cryptomatte,
+                                       view_layer_attribute=self.view_layer_attribute)
         self.cryptomatte = cryptomatte
         self.image_average = image_average
         self.stats = ExportStats()
@@ -216,6 +219,7 @@ class SceneExporter:
 
     def export_world(self):
         params, warning = shaders_map.convert_world(self.scene.world, image_average=self.image_average,
+                                                    view_layer_attribute=self.view_layer_attribute,
                                                     image_file=self.image_file)
         if warning:
             self.warn(warning)
@@ -260,7 +264,7 @@ class SceneExporter:
     def light_settings(self, ob, m16):
         """The light's engine parameters with its ray visibility and shadow-catcher flag (None:
         skipped, warned)."""
-        params = light_params(ob.data, m16, ob.name, self.warn)
+        params = light_params(ob.data, m16, ob.name, self.warn, self.view_layer_attribute)
         if params is not None:
             rays = visibility.light_visibility(ob, ob.data)
             if rays:  # Object > Visibility > Ray Visibility, Light > Cast Shadow

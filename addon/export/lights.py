@@ -11,7 +11,7 @@ from ..utils import normalize_frame, rgb
 AREA_SHAPES = {"SQUARE": "square", "RECTANGLE": "rectangle", "DISK": "disk", "ELLIPSE": "ellipse"}
 
 
-def light_params(light, matrix16, name, warn):
+def light_params(light, matrix16, name, warn, view_layer_attribute=None):
     """light: bpy.types.Light (or stand-in); matrix16: row-major world matrix."""
     frame, scale = normalize_frame(matrix16)
     kind = light.type
@@ -44,7 +44,7 @@ def light_params(light, matrix16, name, warn):
     else:
         warn("Light '%s': light type %s not supported, skipped" % (name, kind))
         return None
-    emission, warning = shaders_map.convert_light(light)
+    emission, warning = shaders_map.convert_light(light, view_layer_attribute)
     if warning:
         warn(warning)
     if emission is not None:

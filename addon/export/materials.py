@@ -12,8 +12,11 @@ CRYPTOMATTE_DEFAULT = "default_surface"  # Cycles' name for the surface of objec
 
 
 class MaterialCache:
-    def __init__(self, sink, messages, image_average=None, image_file=None, cryptomatte=False):
-        """cryptomatte: name each engine material after its Blender material ("cryptomatte")."""
+    def __init__(self, sink, messages, image_average=None, image_file=None, cryptomatte=False,
+                 view_layer_attribute=None):
+        """cryptomatte: name each engine material after its Blender material ("cryptomatte").
+        view_layer_attribute: what Attribute nodes of type View Layer read (shaders_map)."""
+        self.view_layer_attribute = view_layer_attribute
         self.sink = sink
         self.cryptomatte = cryptomatte
         self.messages = messages
@@ -50,6 +53,7 @@ class MaterialCache:
             return self._looks[key]
         try:
             variants, warning = shaders_map.convert_material_variants(material, image_average=self.image_average,
+                                                                      view_layer_attribute=self.view_layer_attribute,
                                                                       image_file=self.image_file,
                                                                       blender_version=blender_version())
         except Exception as exc:  # a bug in a node handler must not stop the render

@@ -7,7 +7,12 @@ find_rna_property_rgba): Instancer first tries the instance's particle system (i
 then itself) and the object that instances it; then both try the object and its data. On each,
 a custom property of that name first, then the name as an RNA path. A number n is
 (n, n, n, 1), an array of up to 4 numbers fills (0, 0, 0, 1); anything else is not found, and
-a name found nowhere reads 0 in the engine, as in Cycles."""
+a name found nowhere reads 0 in the engine, as in Cycles.
+
+Attribute nodes of type View Layer read one value for the whole render (view_layer_lookup):
+the view layer's, else the scene's, else its world's, found the same way (Cycles 3.4, measured:
+a view layer's custom property wins over the scene's, the scene's over the world's; an RNA path
+such as "render.resolution_x" reads the scene's setting; a name found nowhere reads 0)."""
 
 OBJECT_TYPES = ("OBJECT", "INSTANCER")
 
@@ -89,3 +94,17 @@ def instance_attributes(ob, inst, wanted):
         if value is not None:
             out.setdefault("instancer_attributes" if kind == "INSTANCER" else "object_attributes", {})[name] = value
     return out
+
+
+def view_layer_lookup(view_layer, scene):
+    """The lookup shaders_map's conversions take for Attribute nodes of type View Layer:
+    name -> RGBA or None."""
+    def lookup(name):
+        if not name:
+            return None
+        for block in (view_layer, scene, getattr(scene, "world", None)):
+            value = _lookup(block, name)
+            if value is not None:
+                return value
+        return None
+    return lookup

@@ -2220,6 +2220,60 @@ def cryptomatte():
     return scene
 
 
+def view_layer_attributes():
+    """Attribute nodes of type View Layer, which Cycles reads once for the render from the view
+    layer, else the scene, else the world: a ball coloured by "tint" (set on the view layer and,
+    differently, on the scene: the view layer's wins), a ball by "scene_tint" (the scene's only), a
+    ball by a name set nowhere (black), a cube whose mix toward a glossy coat is the scene's
+    "gloss" (Fac), a cube grey by the RNA path "render.resolution_percentage" (Fac x 0.005), and a
+    world coloured by the world's own "sky". A grey floor under a sun."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+    layer = bpy.context.view_layer
+    layer["tint"] = (0.9, 0.3, 0.1)
+    scene["tint"] = (0.0, 1.0, 0.0)
+    scene["scene_tint"] = (0.1, 0.5, 0.9)
+    scene["gloss"] = 0.6
+    scene.world["sky"] = (0.25, 0.3, 0.5)
+    wt = scene.world.node_tree
+    sky = add_node(wt, "ShaderNodeAttribute", attribute_type="VIEW_LAYER", attribute_name="sky")
+    wt.links.new(sky.outputs["Color"], wt.nodes["Background"].inputs["Color"])
+    plane("Floor", 10.0)
+    light("SUN", "Sun", 3.0, (0, 0, 5), rotation=(math.radians(35), math.radians(10), math.radians(30)))
+
+    def attribute_material(name, prop, output="Color", coat=False, scale=None):
+        m, nt, out = empty_material(name)
+        attr = add_node(nt, "ShaderNodeAttribute", attribute_type="VIEW_LAYER", attribute_name=prop)
+        diffuse = add_node(nt, "ShaderNodeBsdfDiffuse")
+        value = attr.outputs[output]
+        if scale is not None:
+            times = add_node(nt, "ShaderNodeMath", operation="MULTIPLY")
+            times.inputs[1].default_value = scale
+            nt.links.new(value, times.inputs[0])
+            value = times.outputs["Value"]
+        if not coat:
+            nt.links.new(value, diffuse.inputs["Color"])
+            nt.links.new(diffuse.outputs["BSDF"], out.inputs["Surface"])
+            return m
+        mix = add_node(nt, "ShaderNodeMixShader")
+        nt.links.new(value, mix.inputs["Fac"])
+        nt.links.new(diffuse.outputs["BSDF"], mix.inputs[1])
+        nt.links.new(add_node(nt, "ShaderNodeBsdfGlossy", {"Roughness": 0.2}).outputs["BSDF"], mix.inputs[2])
+        nt.links.new(mix.outputs["Shader"], out.inputs["Surface"])
+        return m
+    smooth_ball("LayerTint", (-1.3, 0.3, 0.45), 0.45, attribute_material("ByTint", "tint"))
+    smooth_ball("SceneTint", (0.0, 0.3, 0.45), 0.45, attribute_material("BySceneTint", "scene_tint"))
+    smooth_ball("Missing", (1.3, 0.3, 0.45), 0.45, attribute_material("ByMissing", "no_such_property"))
+    for name, x, material in (("Gloss", -0.7, attribute_material("ByGloss", "gloss", "Fac", coat=True)),
+                              ("Percentage", 0.7, attribute_material("ByPercentage", "render.resolution_percentage",
+                                                                     "Fac", scale=0.005))):
+        bpy.ops.mesh.primitive_cube_add(size=0.5, location=(x, -0.9, 0.25), rotation=(0, 0, math.radians(25)))
+        bpy.context.active_object.name = name
+        bpy.context.active_object.data.materials.append(material)
+    camera_looking_at((0, -4.2, 2.0), (0, 0.0, 0.3), 40)
+    return scene
+
+
 def remove_cryptomatte():
     """The view layer's Cryptomatte passes (cryptomatte turns them on) off again, for a scene
     built after it in the same process (not in reset: see remove_shader_aovs)."""
@@ -2441,6 +2495,7 @@ SCENES = {
     "light_nodes": light_nodes,
     "shader_aovs": shader_aovs,
     "cryptomatte": cryptomatte,
+    "view_layer_attributes": view_layer_attributes,
     "ies_lamps": ies_lamps,
     "area_spread": area_spread,
     "object_attributes": object_attributes,
@@ -2497,7 +2552,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "incoming_facing", "mapped_normals", "displacement", "true_displacement", "camera_data", "light_nodes", "ies_lamps", "area_spread", "object_attributes", "preetham_sky", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "incoming_facing", "mapped_normals", "displacement", "true_displacement", "camera_data", "light_nodes", "ies_lamps", "area_spread", "object_attributes", "view_layer_attributes", "preetham_sky", "emissive_textured",
                      "volume_blackbody"]
 
 

@@ -1187,6 +1187,29 @@ class TestGraph(unittest.TestCase):
         self.assertEqual(sorted(p["aovs"]), ["inner"])
         self.assertTrue(close(p["aovs"]["inner"]["color"], (0.2, 0.4, 0.6)), p["aovs"])
 
+    def test_view_layer_attributes_are_the_render_constants(self):
+        """Attribute nodes of type View Layer: the lookup's value (Color the RGB, Fac its average,
+        Alpha its alpha; a name found nowhere 0, as Cycles); without a lookup, approximated."""
+        values = {"tint": (0.9, 0.3, 0.0, 0.5)}
+
+        def b(output, name="tint"):
+            def build(t):
+                a = t.new("ShaderNodeAttribute", "VL", attribute_type="VIEW_LAYER", attribute_name=name)
+                d = t.new("ShaderNodeBsdfDiffuse", "D")
+                t.link(a.out(output), d.inp("Color"))
+                return d.out()
+            return build
+        for output, name, expected in (("Color", "tint", (0.9, 0.3, 0.0)), ("Fac", "tint", (0.4, 0.4, 0.4)),
+                                       ("Alpha", "tint", (0.5, 0.5, 0.5)), ("Color", "missing", (0.0, 0.0, 0.0))):
+            t = Tree("M")
+            t.link(b(output, name)(t), t.output().inp("Surface"))
+            p, w = sm.convert_material(Material("M", t), image_average=image_average,
+                                       view_layer_attribute=lambda n: values.get(n))
+            self.assertIsNone(w, output)
+            self.assertTrue(close(p["color"], expected), (output, name, p["color"]))
+        p, w = material_with(b("Color"))
+        self.assertIn("'VL'", w)
+
     def test_object_and_instancer_attributes(self):
         """Attribute nodes of type Object / Instancer: the engine reads the instance's value (the
         exporter sends it); View Layer stays an approximation."""
