@@ -173,8 +173,10 @@ def _with_view_layer_attributes(desc, lookup):
     """desc with its Attribute nodes of type View Layer made the constants they are for the whole
     render (Cycles 3.4 reads them once: Color and Vector the value, Fac its RGB average, Alpha its
     alpha; all 0 for a name found nowhere)."""
-    if lookup is None:
-        return desc
+    roots = [desc.surface, desc.volume, desc.displacement] + [x for _, color, value in desc.aovs for x in (color, value)]
+    if lookup is None or not any(isinstance(x, Expr) and x.op == "attribute" and
+                                 x.props.get("attribute_type") == "VIEW_LAYER" for x in ray_kinds.walk(roots)):
+        return desc  # nothing to resolve: the description as it is
 
     def leaf(e):
         if e.op != "attribute" or e.props.get("attribute_type") != "VIEW_LAYER":

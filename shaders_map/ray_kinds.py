@@ -51,7 +51,7 @@ def _children(ir):
     return []
 
 
-def _walk(roots):
+def walk(roots):
     """Each node of these IR trees once."""
     seen, stack = set(), [r for r in roots if r is not None]
     while stack:
@@ -65,7 +65,7 @@ def _walk(roots):
 
 def flag_outputs(*roots):
     """The Light Path flag outputs (FLAG_OUTPUTS' keys) these IR trees read."""
-    return {x.props["output"] for x in _walk(roots)
+    return {x.props["output"] for x in walk(roots)
             if isinstance(x, Expr) and x.op == "light_path" and x.props.get("output") in FLAG_OUTPUTS}
 
 
@@ -76,13 +76,14 @@ def substitute(ir, flags, memo=None):
         if e.op == "light_path" and e.props.get("output") in FLAG_OUTPUTS:
             return Const(1.0 if FLAG_OUTPUTS[e.props["output"]] in flags else 0.0)
         return None
-    return replace_leaves(ir, flag, memo)
+    return replace_leaves(ir, flag, memo, collapse_mixes=True)
 
 
-def replace_leaves(ir, leaf, memo=None):
-    """A copy of ir with each expression e for which leaf(e) is not None replaced by it, and each
-    Mix Shader whose factor became a constant 0 or 1 replaced by the shader it picks (Cycles
-    clamps the factor to [0, 1])."""
+def replace_leaves(ir, leaf, memo=None, collapse_mixes=False):
+    """A copy of ir with each expression e for which leaf(e) is not None replaced by it; with
+    collapse_mixes, each Mix Shader whose factor became a constant 0 or 1 replaced by the shader
+    it picks (Cycles clamps the factor to [0, 1]; only once no ray flag is left in the factor:
+    the evaluator reads a flag as one ray's)."""
     memo = {} if memo is None else memo
     if ir is None or isinstance(ir, Const):
         return ir
@@ -92,13 +93,14 @@ def replace_leaves(ir, leaf, memo=None):
     if isinstance(ir, Expr):
         out = leaf(ir)
         if out is None:
-            out = Expr(ir.op, ir.node, {k: replace_leaves(v, leaf, memo) for k, v in ir.args.items()}, ir.props)
+            out = Expr(ir.op, ir.node, {k: replace_leaves(v, leaf, memo, collapse_mixes) for k, v in ir.args.items()},
+                       ir.props)
     elif isinstance(ir, Closure):
-        params = {k: replace_leaves(v, leaf, memo) for k, v in ir.params.items()}
-        children = [replace_leaves(c, leaf, memo) for c in ir.children]
+        params = {k: replace_leaves(v, leaf, memo, collapse_mixes) for k, v in ir.params.items()}
+        children = [replace_leaves(c, leaf, memo, collapse_mixes) for c in ir.children]
         out = Closure(ir.kind, ir.node, params, children, ir.props)
         fac = params.get("fac")
-        if ir.kind == "mix" and fac is not None and is_constant(fac):
+        if collapse_mixes and ir.kind == "mix" and fac is not None and is_constant(fac):
             f = Evaluator(Issues()).float(fac)
             if f <= 0.0 or f >= 1.0:
                 out = (children + [None, None])[0 if f <= 0.0 else 1]

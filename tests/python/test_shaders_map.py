@@ -1209,6 +1209,16 @@ class TestGraph(unittest.TestCase):
             self.assertTrue(close(p["color"], expected), (output, name, p["color"]))
         p, w = material_with(b("Color"))
         self.assertIn("'VL'", w)
+        # With a ray type read beside it, the looks per kind of ray stay (the flag is no constant).
+        t = Tree("M")
+        m = t.new("ShaderNodeMixShader", "Mix")
+        t.link(t.new("ShaderNodeLightPath", "LP").out("Is Camera Ray"), m.inp("Fac"))
+        t.link(b("Color")(t), m.inp("Shader"))
+        t.link(t.new("ShaderNodeBsdfDiffuse", "Other").out(), m.inp("Shader_001"))
+        t.link(m.out(), t.output().inp("Surface"))
+        variants, w = sm.convert_material_variants(Material("M", t), image_average=image_average,
+                                                   view_layer_attribute=lambda n: values.get(n))
+        self.assertEqual(len(variants), 2)
 
     def test_object_and_instancer_attributes(self):
         """Attribute nodes of type Object / Instancer: the engine reads the instance's value (the
