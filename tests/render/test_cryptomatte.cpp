@@ -1,7 +1,8 @@
 // Cryptomatte (film/cryptomatte.h) in renders through the C ABI: on every pixel one object
 // covers whole, each kind's rank 0 is its id with coverage exactly 1 and the other ranks
 // are empty; the world writes nothing; at the quads' edges the ranks come heaviest first
-// and their coverages sum to at most 1; every integrator (their camera samples write it).
+// and their coverages sum to at most 1; every integrator (their camera samples write it), and
+// the scene at millimetres and at kilometres 1,000 km from the origin.
 // A card 70% opaque in front of a plane takes exactly 0.7 of its pixels and the plane
 // behind the rest (a mean within 4.5 standard errors of 0.3: false alarm < 1e-5). The
 // session's stats carry the standard's metadata; a malformed name is refused naming the
@@ -21,22 +22,28 @@ constexpr int kSize = 16;
 const json kAllKinds = {{"object", true}, {"material", true}, {"asset", true}, {"view_layer", "ViewLayer"}};
 
 // Two quads side by side (x in [-2.2, -0.8] and [0.8, 2.2], y in [-1, 1]) seen from z = 6
-// (0.27 units per pixel), both of the asset "group", the world around them.
-json two_quads(const std::string &integrator) {
+// (0.27 units per pixel), both of the asset "group", the world around them; the whole scene
+// scaled by `scale` and moved by `offset` (millimetres, kilometres far from the origin).
+json two_quads(const std::string &integrator, double scale = 1, double offset = 0) {
+  auto at = [&](double x, double y, double z) { return json{scale * x + offset, scale * y, scale * z}; };
   json quad = {{"shape", {{"type", "quad"}, {"size", 1}}}, {"cryptomatte", {{"asset", "group"}}}};
   json left = quad, right = quad;
-  left.update({{"name", "left"}, {"transform", {{"translate", {-1.5, 0, 0}}, {"scale", {1.4, 2, 1}}}}, {"materials", {"red"}}});
-  right.update({{"name", "right"}, {"transform", {{"translate", {1.5, 0, 0}}, {"scale", {1.4, 2, 1}}}}, {"materials", {"blue"}}});
+  left.update({{"name", "left"}, {"transform", {{"translate", at(-1.5, 0, 0)}, {"scale", {1.4 * scale, 2 * scale, scale}}}},
+               {"materials", {"red"}}});
+  right.update({{"name", "right"}, {"transform", {{"translate", at(1.5, 0, 0)}, {"scale", {1.4 * scale, 2 * scale, scale}}}},
+                {"materials", {"blue"}}});
   return {{"settings",
            {{"width", kSize}, {"height", kSize}, {"samples", 16}, {"max_bounces", 4}, {"mlt_chains", 16},
             {"integrator", integrator}, {"cryptomatte", kAllKinds}}},
-          {"camera", {{"type", "perspective"}, {"focal_length", 50}, {"sensor_width", 36},
-                      {"transform", {{"look_at", {{"from", {0, 0.001, 6}}, {"to", {0, 0, 0}}}}}}}},
+          {"camera", {{"type", "perspective"}, {"focal_length", 50}, {"sensor_width", 36}, {"clip_start", 0.01 * scale},
+                      {"clip_end", 100 * scale},
+                      {"transform", {{"look_at", {{"from", at(0, 0.001, 6)}, {"to", at(0, 0, 0)}}}}}}},
           {"world", {{"color", {0.1, 0.1, 0.1}}}},
           {"materials", {{{"name", "red"}, {"type", "diffuse"}, {"color", {0.8, 0.2, 0.2}}},
                          {{"name", "blue"}, {"type", "diffuse"}, {"color", {0.2, 0.2, 0.8}}}}},
           {"meshes", {left, right}},
-          {"lights", {{{"type", "point"}, {"power", 200}, {"radius", 0}, {"transform", {{"translate", {0.5, 0.3, 2.5}}}}}}}};
+          {"lights", {{{"type", "point"}, {"power", 200 * scale * scale}, {"radius", 0},
+                       {"transform", {{"translate", at(0.5, 0.3, 2.5)}}}}}}};
 }
 
 }  // namespace
@@ -45,8 +52,14 @@ TEST(CryptomatteRender, ExactCoverageOnCoveredPixelsEveryIntegrator) {
   const float left = rdv::cryptomatte::id_of("left"), right = rdv::cryptomatte::id_of("right");
   const float red = rdv::cryptomatte::id_of("red"), blue = rdv::cryptomatte::id_of("blue");
   const float group = rdv::cryptomatte::id_of("group");
-  for (const char *integrator : {"path", "bdpt", "pssmlt", "mmlt", "mlt"}) {
-    Image img = render_json(two_quads(integrator).dump());
+  // The scene as built, at millimetres, and at kilometres 1,000 km from the origin (path and
+  // BDPT there: the same camera samples every integrator's passes come from).
+  struct Case { const char *integrator; double scale, offset; };
+  const Case cases[] = {{"path", 1, 0}, {"bdpt", 1, 0}, {"pssmlt", 1, 0}, {"mmlt", 1, 0}, {"mlt", 1, 0},
+                        {"path", 1e-3, 0}, {"bdpt", 1e-3, 0}, {"path", 1e3, 1e6}, {"bdpt", 1e3, 1e6}};
+  for (const Case &c : cases) {
+    const std::string integrator = std::string(c.integrator) + " at scale " + std::to_string(c.scale);
+    Image img = render_json(two_quads(c.integrator, c.scale, c.offset).dump());
     ASSERT_EQ(img.cryptomatte.size(), 24u) << integrator;
     int covered = 0, world = 0, edges = 0;
     for (int y = 0; y < kSize; ++y)

@@ -499,6 +499,7 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
   const size_t n = size_t(width) * height;
   for (size_t k : order) {
     const LoadedPart &part = parts[k];
+    const int part_aovs = aov_channels_of(part.record), part_slots = crypto_slots_of(part.record);  // once a part
     const SplatNormalisation &sn = part.record.splats;
     const bool splats = sn.paths > 0;
     const bool same_numerator = sn.numerator == numerator;
@@ -620,7 +621,6 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
             }
         }
       }
-      const int part_aovs = aov_channels_of(part.record);
       if (part_aovs) {
         double d[4 * ShaderAovs::kMaxPasses];
         read_sums(d, size_t(part_aovs), "shader AOV sum");
@@ -628,7 +628,6 @@ MergeResult merge_parts(const std::vector<std::string> &paths, const MergeOption
           for (int c = 0; c < part_aovs; ++c) film.shader_aov_sums()[i * size_t(part_aovs) + size_t(c)] += d[c];
       }
       // Cryptomatte: the part's slots added by id to the merged pixel's, kind by kind.
-      const int part_slots = crypto_slots_of(part.record);
       if (part_slots) {
         CryptoSlot slots[Cryptomatte::kKinds * 2 * Cryptomatte::kMaxPassesPerKind];
         for (int k = 0; k < part_slots; ++k) {
