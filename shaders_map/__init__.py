@@ -169,6 +169,11 @@ def _convert_material(material, image_average, image_file, volume_grids, view_la
     return variants, desc.issues.format("Material", name)
 
 
+def _aovs_with(aovs, replace):
+    """AOV Outputs [(name, colour IR, value IR)] with replace(ir) applied to both inputs."""
+    return [(name, replace(color), replace(value)) for name, color, value in aovs]
+
+
 def _with_view_layer_attributes(desc, lookup):
     """desc with its Attribute nodes of type View Layer made the constants they are for the whole
     render (Cycles 3.4 reads them once: Color and Vector the value, Fac its RGB average, Alpha its
@@ -190,8 +195,7 @@ def _with_view_layer_attributes(desc, lookup):
     desc.surface = ray_kinds.replace_leaves(desc.surface, leaf, memo)
     desc.volume = ray_kinds.replace_leaves(desc.volume, leaf, memo)
     desc.displacement = ray_kinds.replace_leaves(desc.displacement, leaf, memo)
-    desc.aovs = [(name, ray_kinds.replace_leaves(color, leaf, memo), ray_kinds.replace_leaves(value, leaf, memo))
-                 for name, color, value in desc.aovs]
+    desc.aovs = _aovs_with(desc.aovs, lambda ir: ray_kinds.replace_leaves(ir, leaf, memo))
     return desc
 
 
@@ -212,8 +216,7 @@ def _camera_aovs(desc):
     flags = ray_kinds.flag_outputs(*(x for _, color, value in desc.aovs for x in (color, value)))
     if flags:
         memo = {}
-        desc.aovs = [(name, ray_kinds.substitute(color, {"camera"}, memo), ray_kinds.substitute(value, {"camera"}, memo))
-                     for name, color, value in desc.aovs]
+        desc.aovs = _aovs_with(desc.aovs, lambda ir: ray_kinds.substitute(ir, {"camera"}, memo))
 
 
 def _lower_by_ray_kind(desc, image_average, image_file, volume_grids):
@@ -229,8 +232,7 @@ def _lower_by_ray_kind(desc, image_average, image_file, volume_grids):
         variant.displacement_method = desc.displacement_method
         memo = {}
         variant.displacement = ray_kinds.substitute(desc.displacement, flags, memo)
-        variant.aovs = [(name, ray_kinds.substitute(color, flags, memo), ray_kinds.substitute(value, flags, memo))
-                        for name, color, value in desc.aovs]
+        variant.aovs = _aovs_with(desc.aovs, lambda ir: ray_kinds.substitute(ir, flags, memo))
         variant.surface = ray_kinds.substitute(desc.surface, flags, memo)
         variant.volume = ray_kinds.substitute(desc.volume, flags, memo)
         return lower_surface(variant, image_average, image_file, volume_grids)[0]
@@ -305,8 +307,7 @@ def _lower_world_by_ray_kind(desc, image_average, image_file):
         variant = WorldDescription(desc.name)
         variant.issues, variant.output_label = desc.issues, desc.output_label
         memo = {}
-        variant.aovs = [(name, ray_kinds.substitute(color, flags, memo), ray_kinds.substitute(value, flags, memo))
-                        for name, color, value in desc.aovs]
+        variant.aovs = _aovs_with(desc.aovs, lambda ir: ray_kinds.substitute(ir, flags, memo))
         variant.surface = ray_kinds.substitute(desc.surface, flags, memo)
         variant.volume = ray_kinds.substitute(desc.volume, flags, memo)
         return lower_world(variant, image_average, image_file)[0]
