@@ -15,9 +15,12 @@ MAGENTA = (1.0, 0.0, 1.0)
 
 
 class Evaluator:
-    def __init__(self, issues=None, image_average=None):
+    def __init__(self, issues=None, image_average=None, ray_length=None):
         self.issues = issues if issues is not None else Issues()
         self.image_average = image_average
+        # The length of the ray that reached the point, where it is the same everywhere (0 on
+        # the world and in volumes, as Cycles 3.4); None: not known (Light Falloff).
+        self.ray_length = ray_length
         self._memo = {}
 
     def approx(self, expr, reason):

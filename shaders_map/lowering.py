@@ -70,7 +70,12 @@ class _Lowerer:
         self.image_file = image_file
         self.context = context  # "surface" or "world"
         self.volume_grids = volume_grids  # the material fills a Volume object: attributes name its grids
+        # Lowering what an emitter emits (an Emission's colour and strength, a lamp's tree): the
+        # engine knows how far that light travels there, so a Light Falloff stays a node.
+        self.emitting = False
         self._memo = {}
+        if context == "world":  # Cycles 3.4 shades the world with a ray length of 0
+            self.ev.ray_length = 0.0
 
     def approx(self, node, reason):
         self.issues.add(node, reason)
@@ -85,7 +90,7 @@ class _Lowerer:
         if isinstance(ir, Closure) or not is_constant(ir):
             return None
         scratch = Issues()
-        v = Evaluator(scratch, self.image_average).value(ir)
+        v = Evaluator(scratch, self.image_average, self.ev.ray_length).value(ir)
         return None if scratch else v
 
     def const(self, ir, what=None):
@@ -105,7 +110,7 @@ class _Lowerer:
             return _constant(v, color)
         # The same IR may be lowered as a vector and as a colour: both forms are kept. The
         # memo holds ir itself, so its id is not reused while the key lives.
-        key = (id(ir), color)
+        key = (id(ir), color, self.emitting)
         if key in self._memo:
             return self._memo[key][1]
         if not self._varies(ir):
@@ -127,6 +132,9 @@ class _Lowerer:
                   "normal_map", "bump", "bevel", "displacement", "vector_displacement", "object_info", "camera_data", "blackbody", "wavelength", "geometry", "wireframe",
                   "ao") + PROCEDURAL_TEXTURES:
             return True
+        if op == "light_falloff" and self.emitting:  # by the ray's length unless Quadratic without Smooth
+            if ir.props.get("output") != "QUADRATIC" or self.fold(ir.args.get("smooth")) != 0.0:
+                return True
         if op == "attribute":  # a mesh's attribute, or an object's own value (Object / Instancer)
             return ir.props.get("attribute_type", "GEOMETRY") in ("GEOMETRY", "OBJECT", "INSTANCER") and \
                 bool(ir.props.get("attribute_name"))
@@ -194,6 +202,20 @@ class _Lowerer:
         if e.props.get("output") == "Alpha":
             d["output"] = "alpha"
         return d
+
+    def _n_light_falloff(self, e):
+        strength, smooth = e.args["strength"], e.args["smooth"]
+        if self.emitting:
+            return {"node": "light_falloff", "output": e.props.get("output", "QUADRATIC"),
+                    "strength": self.value(strength), "smooth": self.value(smooth)}
+        if self.ev.ray_length is not None:  # the world: Cycles 3.4's ray length 0 there
+            smooth_value = self.fold(smooth)
+            at_zero = e.props.get("output") == "QUADRATIC" and smooth_value is not None and smooth_value <= 0.0
+            return self.value(strength) if at_zero else 0.0
+        what = e.props.get("name") or "%s falloff" % e.props.get("output", "QUADRATIC").title()
+        self.approx(e.node, "%s outside an emitter's colour or strength: the ray's length is not known there; "
+                    "its Strength used" % what)
+        return self.value(strength)
 
     def _n_tex_environment(self, e):
         self.approx(e.node, "environment texture in a material approximated by its average")
@@ -613,8 +635,7 @@ class _Lowerer:
         if k in ("emission", "background"):
             if k == "background" and self.context == "surface":
                 self.approx(c.node, "Background shader in a material treated as emission")
-            col = self.value(p["color"], True)
-            s = self.value(p.get("strength", Const(1.0)))
+            col, s = self._emitted(p["color"], p.get("strength", Const(1.0)))
             if (isinstance(col, list) and max(col) <= 0.0) or s == 0.0:
                 return None
             return {"type": "emission", "color": col, "strength": s}
@@ -781,10 +802,10 @@ class _Lowerer:
         sub = self.fold(p.get("subsurface", Const(0.0)))
         if sub is None or sub > 0.0:
             self.approx(c.node, "subsurface approximated by diffuse")
-        em = self.value(p.get("emission", Const(0.0)), True)
+        em, em_strength = self._emitted(p.get("emission", Const(0.0)), p.get("emission_strength", Const(1.0)))
         if not isinstance(em, list) or max(em) > 0.0:
             d["emission"] = em
-            d["emission_strength"] = self.value(p.get("emission_strength", Const(1.0)))
+            d["emission_strength"] = em_strength
         self._with_normal(d, c)
         cn = p.get("clearcoat_normal")
         if cn is not None and not isinstance(cn, Const):
@@ -885,7 +906,23 @@ class _Lowerer:
         self.approx(c.node, "%s shader in a Volume socket ignored" % c.kind)
         return []
 
+    def _emitted(self, color, strength):
+        """An emitter's colour and strength, lowered where the ray's length is known."""
+        was, self.emitting = self.emitting, True
+        try:
+            return self.value(color, True), self.value(strength)
+        finally:
+            self.emitting = was
+
     def medium(self, c):
+        # Cycles 3.4 shades volumes with a ray length of 0 (Light Falloff's value there).
+        ev, self.ev = self.ev, Evaluator(self.issues, self.image_average, ray_length=0.0)
+        try:
+            return self._medium(c)
+        finally:
+            self.ev = ev
+
+    def _medium(self, c):
         parts = [(w, m) for w, m in self.volume(c) if w > 0.0]
         if not parts:
             return None
@@ -1154,9 +1191,11 @@ def _same_all_over(ir, directions=False, depth=0):
 def lower_light(desc):
     """A light's node tree (Cycles multiplies its Emission's Color and Strength into the lamp's
     colour and power) -> ({"color": value, "strength": value} or None, Issues). Values that vary
-    over the lamp other than by the direction light leaves it (textures, Light Falloff's distance
-    terms) are taken as constants, named; the engine evaluates the direction's (an IES Texture)."""
+    over the lamp other than by the direction light leaves it and the distance it travels
+    (textures) are taken as constants, named; the engine evaluates the direction's (an IES
+    Texture) and the distance's (a Light Falloff)."""
     low = _Lowerer(desc.issues, None, None, "light")
+    low.emitting = True
     c = desc.surface
     if c is None:
         return None, desc.issues

@@ -1886,6 +1886,41 @@ def light_nodes():
     return scene
 
 
+def light_falloff():
+    """Light Falloff by the length of the ray the emitted light travels: a 40 W point lamp
+    (radius 5 cm) through its Linear output (strength 1.5), a 0.6 m square area lamp of 60 W
+    through Quadratic with Smooth 1.0, and an emissive card facing the camera whose Emission
+    strength is the Constant output (0.4, so its brightness depends on the camera's distance
+    and on each lit point's), over a grey floor with a white ball; a dim sky."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.02, 0.02, 0.03, 1.0)
+    plane("Floor", 10.0)
+    smooth_ball("Ball", (-0.3, 0.3, 0.45), 0.45, diffuse_material("White", (0.8, 0.8, 0.8)))
+
+    def falloff_into(nt, emission, output, strength, smooth=0.0):
+        falloff = add_node(nt, "ShaderNodeLightFalloff", {"Strength": strength, "Smooth": smooth})
+        nt.links.new(falloff.outputs[output], emission.inputs["Strength"])
+
+    def lamp_nodes(ob):
+        ob.data.use_nodes = True
+        nt = ob.data.node_tree
+        return nt, next(n for n in nt.nodes if n.bl_idname == "ShaderNodeEmission")
+    falloff_into(*lamp_nodes(light("POINT", "Linear", 40.0, (-1.4, -0.8, 1.2), shadow_soft_size=0.05)), "Linear", 1.5)
+    falloff_into(*lamp_nodes(light("AREA", "Smooth", 60.0, (1.3, -0.4, 1.6), rotation=(math.radians(35), 0, math.radians(70)),
+                                   size=0.6)), "Quadratic", 1.0, smooth=1.0)
+    m, nt, out = empty_material("Card")
+    emission = add_node(nt, "ShaderNodeEmission", {"Color": (1.0, 0.75, 0.45, 1.0)})
+    falloff_into(nt, emission, "Constant", 0.4)
+    nt.links.new(emission.outputs["Emission"], out.inputs["Surface"])
+    card = link(bpy.data.objects.new("Card", quad_mesh("CardMesh", 0.5, 0.35)))
+    card.location = (0.7, 0.9, 0.6)
+    card.rotation_euler = (math.radians(80), 0, math.radians(-10))
+    card.data.materials.append(m)
+    camera_looking_at((0.2, -4.0, 1.8), (0, 0.3, 0.4), 35)
+    return scene
+
+
 def ies_text(name, v_angles, h_angles, candela):
     """A Text datablock holding an IES LM-63 profile (type C) of candela(v, h) in degrees."""
     rows = ["IESNA:LM-63-2002", "[TEST] Rendezvous brightness test", "[LUMINAIRE] %s" % name, "TILT=NONE",
@@ -2493,6 +2528,7 @@ SCENES = {
     "true_displacement": true_displacement,
     "camera_data": camera_data,
     "light_nodes": light_nodes,
+    "light_falloff": light_falloff,
     "shader_aovs": shader_aovs,
     "cryptomatte": cryptomatte,
     "view_layer_attributes": view_layer_attributes,
@@ -2552,7 +2588,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "incoming_facing", "mapped_normals", "displacement", "true_displacement", "camera_data", "light_nodes", "ies_lamps", "area_spread", "object_attributes", "view_layer_attributes", "preetham_sky", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "incoming_facing", "mapped_normals", "displacement", "true_displacement", "camera_data", "light_nodes", "light_falloff", "ies_lamps", "area_spread", "object_attributes", "view_layer_attributes", "preetham_sky", "emissive_textured",
                      "volume_blackbody"]
 
 

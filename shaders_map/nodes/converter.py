@@ -295,15 +295,40 @@ def eval_vector_math(ev, e):
     return r if not isinstance(r, float) else (r, r, r)
 
 
-# Light Falloff: its Quadratic output is Strength itself (the physical falloff lamps already
-# have) when Smooth is 0; Linear and Constant multiply by the ray's length (and its square), which
-# the engine's lamps do not take: approximated by Strength, named.
+# Light Falloff: Strength times the length of the ray the emitted light travels (Cycles' ray
+# length) to the power 0 (Quadratic: the physical falloff lamps already have), 1 (Linear) or 2
+# (Constant), times d^2 / (Smooth + d^2) when Smooth > 0. The engine knows that length where light
+# is emitted (lamps, emission shaders); the lowering reads it there (shaders_map/lowering.py).
 @maps("ShaderNodeLightFalloff")
 def light_falloff(ctx, node, socket):
-    output = getattr(socket, "identifier", "Quadratic")
-    smooth = ctx.input_const(node, "Smooth", default=0.0)
-    if output != "Quadratic":
-        ctx.warn(node, "%s falloff approximated by the physical (quadratic) one" % output)
-    elif smooth is None or smooth != 0.0:
-        ctx.warn(node, "Smooth approximated by 0")
-    return ctx.input(node, "Strength", default=100.0)
+    output = str(getattr(socket, "identifier", "Quadratic")).upper()
+    return Expr("light_falloff", ctx.label(node), {
+        "strength": ctx.input(node, "Strength", default=100.0),
+        "smooth": ctx.input(node, "Smooth", default=0.0)}, {"output": output})
+
+
+def falloff_at(output, strength, smooth, d):
+    """Cycles 3.4's svm_node_light_falloff at ray length d."""
+    if output == "LINEAR":
+        strength *= d
+    elif output == "CONSTANT":
+        strength *= d * d
+    if smooth > 0.0:
+        strength *= d * d / (smooth + d * d)
+    return strength
+
+
+@evaluates("light_falloff")
+def eval_light_falloff(ev, e):
+    """At the evaluator's ray length (0 on the world and in volumes, as Cycles 3.4 sets it);
+    unknown (None): Strength, an approximation unless the falloff is Quadratic without Smooth."""
+    output = e.props.get("output", "QUADRATIC")
+    strength, smooth = ev.float(e.args["strength"]), ev.float(e.args["smooth"])
+    d = getattr(ev, "ray_length", None)
+    if d is not None:
+        return falloff_at(output, strength, smooth, d)
+    if "name" in e.props:  # Light Path's Ray Length
+        ev.approx(e, "Ray Length outside an emitter's colour or strength: a constant 1")
+    elif output != "QUADRATIC" or smooth > 0.0:
+        ev.approx(e, "%s falloff where the ray's length is not known: its Strength used" % output.title())
+    return strength

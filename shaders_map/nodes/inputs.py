@@ -167,19 +167,21 @@ def eval_view_factor(ev, e):
 
 # Light Path: its ray-type outputs are constants per kind of ray; a material or world that reads
 # them is lowered once per kind (ray_kinds.py), which replaces them before evaluation. What is
-# left here is what that cannot make exact: the depths and the ray's length, and a ray type read
-# where no split applies (a volume shader).
+# left here is what that cannot make exact: the depths, and a ray type read where no split
+# applies (a volume shader). Ray Length is Light Falloff's d (Linear of strength 1): exact where
+# light is emitted, as the falloff is (converter.py).
 @maps("ShaderNodeLightPath")
 def light_path(ctx, node, socket):
-    return Expr("light_path", ctx.label(node), {}, {"output": getattr(socket, "identifier", "Is Camera Ray")})
+    output = getattr(socket, "identifier", "Is Camera Ray")
+    if output == "Ray Length":
+        return Expr("light_falloff", ctx.label(node), {"strength": Const(1.0), "smooth": Const(0.0)},
+                    {"output": "LINEAR", "name": "Ray Length"})
+    return Expr("light_path", ctx.label(node), {}, {"output": output})
 
 
 @evaluates("light_path")
 def eval_light_path(ev, e):
     out = e.props.get("output", "")
-    if out == "Ray Length":
-        ev.approx(e, "Ray Length is not supported, a constant 1")
-        return 1.0
     if out.endswith("Depth"):
         ev.approx(e, "%s is not supported, 0 (as on a camera ray)" % out)
         return 0.0

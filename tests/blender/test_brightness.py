@@ -214,7 +214,7 @@ def run_test(title, body, samples, add_arguments=None, needs_oiiotool=False):
 # an area lamp's spread):
 # BDPT against Cycles too, at half the samples.
 BDPT_TOO = ("view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mapped_normals", "bevel", "displacement", "true_displacement",
-            "incoming_facing", "ies_lamps", "area_spread")
+            "incoming_facing", "ies_lamps", "area_spread", "light_falloff")
 
 
 def main():

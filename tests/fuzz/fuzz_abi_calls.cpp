@@ -67,6 +67,14 @@ const char *traced(const std::string &params) {
 }
 const char *kColorSpaces[] = {"", "Non-Color", "sRGB", "Linear", "no such space"};
 
+// A Light Falloff node (emission by the distance its light travels), its output and numbers
+// from the input.
+std::string light_falloff(Reader &in) {
+  static const char *kOutputs[] = {"QUADRATIC", "LINEAR", "CONSTANT"};
+  return std::string(R"({"node":"light_falloff","output":")") + kOutputs[in.small(3)] + R"(","strength":)" +
+         in.json_number() + R"(,"smooth":)" + in.json_number() + "}";
+}
+
 // Parameter JSON for a material / light / world / camera / session: a template with
 // numbers from the input, or (choice 0) raw input text.
 std::string material_params(Reader &in) {
@@ -84,7 +92,7 @@ std::string material_params(Reader &in) {
     case 3: return R"({"type":"glass","ior":)" + x() + R"(,"roughness":)" + x() + "}";
     case 4: return R"({"type":"principled","metallic":)" + x() + R"(,"transmission":)" + x() + R"(,"clearcoat":)" +
                    x() + R"(,"sheen":)" + x() + "}";
-    case 5: return R"({"type":"emission","color":[1,0.5,0.2],"strength":)" + x() + "}";
+    case 5: return R"({"type":"emission","color":[1,0.5,0.2],"strength":)" + (in.small(2) ? light_falloff(in) : x()) + "}";
     case 6: return R"({"type":"mix","fac":)" + x() + R"(,"shader1":{"type":"diffuse"},"shader2":{"type":"glass"}})";
     case 7: return R"({"type":"volume","volume":{"density":)" + x() + R"(,"anisotropy":)" + x() + "}}";
     case 8: return R"({"type":"diffuse","volume":{"sigma_a":[)" + x() + ",0,0],\"sigma_s\":[1,1," + x() +
@@ -177,7 +185,8 @@ std::string light_params(Reader &in) {
              R"(,"emission":{"strength":)" + ies.dump() + "}}";
     }
     case 1: return R"({"type":"point","position":[0,0,)" + x() + R"(],"power":)" + x() + R"(,"radius":)" + x() +
-                   R"(,"emission":{"color":{"node":"blackbody","temperature":)" + x() + R"(},"strength":)" + x() + "}}";
+                   R"(,"emission":{"color":{"node":"blackbody","temperature":)" + x() + R"(},"strength":)" +
+                   (in.small(2) ? light_falloff(in) : x()) + "}}";
     case 2: return R"({"type":"spot","position":[0,-2,1],"direction":[0,1,)" + x() + R"(],"power":)" + x() +
                    R"(,"spot_size":)" + x() + R"(,"spot_blend":)" + x() + R"(,"max_bounces":)" + x() + "}";
     case 3: return R"({"type":"sun","direction":[)" + x() + R"(,0,-1],"strength":)" + x() + R"(,"angle":)" + x() + "}";

@@ -546,6 +546,88 @@ class TestWorld(unittest.TestCase):
         self.assertIsNone(w)
 
 
+class TestLightFalloff(unittest.TestCase):
+    """Light Falloff reads the length of the ray (Cycles' ray length): where a surface emits, the
+    engine knows it (the node stays); on the world and in volumes Cycles 3.4 sets it to 0 (exact
+    constants); elsewhere in a material it is Strength, named."""
+
+    @staticmethod
+    def _falloff(t, output, strength=30.0, smooth=0.0):
+        f = t.new("ShaderNodeLightFalloff", "Falloff")
+        f.inp("Strength").default_value = strength
+        f.inp("Smooth").default_value = smooth
+        return f.out(output)
+
+    def test_emission_strength_and_principled_emission(self):
+        def b(t):
+            em = t.new("ShaderNodeEmission", "Em")
+            t.link(self._falloff(t, "Linear"), em.inp("Strength"))
+            return em.out()
+        p, w = keep("falloff_emission", convert(b))
+        self.assertIsNone(w)
+        self.assertEqual(p["strength"], {"node": "light_falloff", "output": "LINEAR", "strength": 30.0, "smooth": 0.0})
+
+        def pr(t):
+            n = principled(t, Emission=(1.0, 0.5, 0.25))
+            t.link(self._falloff(t, "Quadratic", 5.0, smooth=1.5), n.inp("Emission Strength"))
+            return n.out()
+        p, w = keep("falloff_principled", convert(pr))
+        self.assertIsNone(w)
+        self.assertEqual(p["emission_strength"]["node"], "light_falloff")
+        self.assertEqual(p["emission_strength"]["smooth"], 1.5)
+
+    def test_light_paths_ray_length_is_the_distance_light_travels(self):
+        def b(t):
+            em = t.new("ShaderNodeEmission", "Em")
+            t.link(t.new("ShaderNodeLightPath", "LP").out("Ray Length"), em.inp("Strength"))
+            return em.out()
+        p, w = keep("ray_length_emission", convert(b))
+        self.assertIsNone(w)
+        self.assertEqual(p["strength"], {"node": "light_falloff", "output": "LINEAR", "strength": 1.0, "smooth": 0.0})
+
+        def d(t):
+            diffuse = t.new("ShaderNodeBsdfDiffuse", "D")
+            t.link(t.new("ShaderNodeLightPath", "LP").out("Ray Length"), diffuse.inp("Roughness"))
+            return diffuse.out()
+        p, w = convert(d)
+        self.assertEqual(p.get("roughness", 1.0), 1.0)
+        self.assertIn("Ray Length outside an emitter", w)
+
+    def test_outside_emission_it_is_strength_named(self):
+        def b(t):
+            d = t.new("ShaderNodeBsdfDiffuse", "D")
+            m = t.new("ShaderNodeMath", "Scale", operation="MULTIPLY", use_clamp=False)
+            t.link(self._falloff(t, "Constant", 0.5), m.inputs[0])
+            m.inputs[1].default_value = 1.0
+            t.link(m.out(), d.inp("Roughness"))
+            return d.out()
+        p, w = keep("falloff_roughness", convert(b))
+        self.assertEqual(p["roughness"], 0.5)
+        self.assertIn("Constant falloff", w)
+
+    def test_world_and_volumes_see_a_ray_length_of_zero(self):
+        for output, smooth, expect in (("Linear", 0.0, 0.0), ("Constant", 0.0, 0.0), ("Quadratic", 1.0, 0.0),
+                                       ("Quadratic", 0.0, 3.0)):
+            with self.subTest(output=output, smooth=smooth):
+                def b(t):
+                    bg = t.new("ShaderNodeBackground", "Background")
+                    bg.inp("Color").default_value = [1.0, 1.0, 1.0, 1.0]
+                    t.link(self._falloff(t, output, 3.0, smooth), bg.inp("Strength"))
+                    return bg.out()
+                p, w = TestWorld._world(None, b)
+                self.assertIsNone(w)
+                self.assertAlmostEqual(max(p["color"]) * p["strength"], expect)
+
+                def vol(t):
+                    v = t.new("ShaderNodeVolumePrincipled", "Glow")
+                    v.inp("Density").default_value = 0.5
+                    t.link(self._falloff(t, output, 3.0, smooth), v.inp("Emission Strength"))
+                    return v.out()
+                p, w = convert(None, volume=vol)
+                self.assertIsNone(w)
+                self.assertAlmostEqual(p["volume"].get("emission_strength", 0.0), expect)
+
+
 class TestMeshNodes(unittest.TestCase):
     """Nodes the engine computes from the hit's triangle: Wireframe, Geometry > Parametric."""
 

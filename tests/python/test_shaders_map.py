@@ -1323,10 +1323,32 @@ class TestLights(unittest.TestCase):
             t.link(fall.out("Linear"), em.inp("Strength"))
             t.link(t.new("ShaderNodeTexChecker", "Check").out("Color"), em.inp("Color"))
         e, w = self._light(b)
-        self.assertIn("Linear falloff approximated by the physical (quadratic) one", w)
         self.assertIn("Check", w)
+        self.assertNotIn("Falloff", w)
         self.assertIsInstance(e["color"], list)
-        self.assertEqual(e["strength"], 100.0)
+        self.assertEqual(e["strength"], {"node": "light_falloff", "output": "LINEAR", "strength": 100.0, "smooth": 0.0})
+
+    def test_light_falloff_stays_a_node_by_the_distance(self):
+        """Linear, Constant, and Quadratic with Smooth: the engine evaluates them at the distance
+        light travels; Quadratic without Smooth is Strength itself (no node, no warning)."""
+        for output, smooth, node in (("Linear", 0.0, True), ("Constant", 0.0, True), ("Quadratic", 2.0, True),
+                                     ("Quadratic", 0.0, False)):
+            with self.subTest(output=output, smooth=smooth):
+                def b(t, em):
+                    fall = t.new("ShaderNodeLightFalloff", "Falloff")
+                    fall.inp("Strength").default_value = 40.0
+                    fall.inp("Smooth").default_value = smooth
+                    m = t.new("ShaderNodeMath", "Twice", operation="MULTIPLY", use_clamp=False)
+                    t.link(fall.out(output), m.inputs[0])
+                    m.inputs[1].default_value = 2.0
+                    t.link(m.out(), em.inp("Strength"))
+                e, w = self._light(b)
+                self.assertIsNone(w)
+                if node:
+                    self.assertEqual(e["strength"]["value1"], {"node": "light_falloff", "output": output.upper(),
+                                                               "strength": 40.0, "smooth": smooth})
+                else:
+                    self.assertEqual(e["strength"], 80.0)
 
 
     def test_ies_texture_by_direction(self):

@@ -25,8 +25,9 @@ constexpr int kRuns = 8;
 // 4 scenes x 2 integrators with the default (relative) target, the door gap with the
 // luminance target, mlt on 17 scenes (luminance target) and the fog door twice more
 // (relative target; direct light left to the path tracer), an alpha card with direct light
-// left to the path tracer, and pssmlt with a sample clamp; 36 blocks each.
-constexpr int kBlockTestsInFile = 31 * 36;
+// left to the path tracer, pssmlt with a sample clamp, and pssmlt and mlt under Light
+// Falloff; 36 blocks each.
+constexpr int kBlockTestsInFile = 33 * 36;
 const double kAlphaPerBlock = 1.0 - std::pow(1.0 - 0.01, 1.0 / kBlockTestsInFile);
 
 struct Runs {
@@ -326,6 +327,14 @@ TEST(MltVsBdpt, PathSpaceTexturedLamp) {
   for (auto &m : j["materials"])
     if (m["name"] == "lamp") m["color"] = {{"node", "image"}, {"file", source_path("scenes/textures/tiles.png")}};
   expect_same_image(j, "textured lamp", 32, 64, "luminance", {"mlt"});
+}
+
+// Emission by the distance its light travels (Light Falloff, test_light_falloff.cpp): a
+// sphere lamp Linear, an area lamp with Smooth, an emissive panel Constant. pssmlt's states
+// are BDPT's samples (light subpaths weighed once their first segment is traced); mlt's f
+// takes each emitter's distance to the path's next vertex.
+TEST(MltVsBdpt, LightFalloff) {
+  expect_same_image(load_scene("light_falloff.json"), "light falloff", 32, 64, "relative", {"pssmlt", "mlt"});
 }
 
 // A fixed chain count gives the same image on any number of threads (chains seeded by

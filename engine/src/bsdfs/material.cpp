@@ -413,6 +413,15 @@ Color Material::emission_at(const ShadingPoint &sp) const {
   return e;
 }
 
+bool Material::emission_by_distance() const {
+  for (const EmissionTerm &t : textured_emission) {
+    if (graph.depends_on_ray_length(t.color) || graph.depends_on_ray_length(t.strength)) return true;
+    for (const Closure::Factor &f : t.weight)
+      if (f.node >= 0 && graph.depends_on_ray_length(f.node)) return true;
+  }
+  return false;
+}
+
 // The mean of the textured emission over the unit UV square (and the same square of
 // generated coordinates), 32 x 32 points: the power emissive triangles are chosen by.
 void Material::average_textured_emission() {

@@ -140,6 +140,8 @@ struct Material {
   // Radiance emitted at sp (textures evaluated there).
   Color emission_at(const ShadingPoint &sp) const;
   Color emission_of(const EmissionTerm &e, const ShadingPoint &sp) const;
+  // Whether the emission depends on how far its light travels (a Light Falloff: sp.ray_length).
+  bool emission_by_distance() const;
   // The product of the Mix Shader factors on a closure's path at sp, but for view factors
   // (which the Bsdf applies per direction).
   float mix_weight(const std::vector<Closure::Factor> &factors, const ShadingPoint &sp) const;

@@ -3,9 +3,9 @@
 
 namespace rdv {
 
-std::unique_ptr<LampEmission> LampEmission::parse(const nlohmann::json &j, const Transform &lamp_to_world,
-                                                  bool per_direction, const std::string &what,
-                                                  std::vector<std::string> &warnings, Color &constant) {
+std::unique_ptr<LampEmission> LampEmission::parse(const nlohmann::json &j, const Transform &lamp_to_world, Shape shape,
+                                                  const std::string &what, std::vector<std::string> &warnings,
+                                                  Color &constant) {
   if (!j.is_object()) fail(what + ": 'emission' must be an object with 'color' and 'strength'");
   auto e = std::make_unique<LampEmission>();
   for (auto it = j.begin(); it != j.end(); ++it) {
@@ -21,16 +21,22 @@ std::unique_ptr<LampEmission> LampEmission::parse(const nlohmann::json &j, const
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 4; ++c) sp.object_to_world[4 * r + c] = lamp_to_world.m[r][c];
   sp.has_object_to_world = true;
-  const bool varies = (e->color_ >= 0 && e->graph_.depends_on_normal(e->color_)) ||
-                      (e->strength_ >= 0 && e->graph_.depends_on_normal(e->strength_));
+  auto any_input = [&](bool (TextureGraph::*depends)(int) const) {
+    return (e->color_ >= 0 && (e->graph_.*depends)(e->color_)) ||
+           (e->strength_ >= 0 && (e->graph_.*depends)(e->strength_));
+  };
+  e->per_direction_ = shape == Shape::Point;
+  e->by_distance_ = shape != Shape::Sun && any_input(&TextureGraph::depends_on_ray_length);
+  const bool varies = (e->per_direction_ && any_input(&TextureGraph::depends_on_normal)) || e->by_distance_;
   auto finite_and_positive = [&](Color v) {
     if (!is_finite(v) || v.x < 0 || v.y < 0 || v.z < 0)
       fail(what + ": its emission must be finite and not negative (along the lamp's axis)");
   };
   const Vec3 axis = -normalize(lamp_to_world.column(2));
-  constant = e->eval_unclamped(axis);
+  e->at_lamp_.ns = e->at_lamp_.ng = axis;
+  constant = e->eval_unclamped(axis, shape == Shape::Sun ? kInf : 1.0f);
   finite_and_positive(constant);
-  if (!varies || !per_direction) return nullptr;
+  if (!varies) return nullptr;
   // The mean over the sphere: the midpoints of 64 x 32 cells of equal solid angle.
   constexpr int kPhi = 64, kCos = 32;
   double sum = 0;
@@ -38,7 +44,7 @@ std::unique_ptr<LampEmission> LampEmission::parse(const nlohmann::json &j, const
     const float z = 1.0f - 2.0f * (float(i) + 0.5f) / kCos, r = safe_sqrt(1.0f - z * z);
     for (int k = 0; k < kPhi; ++k) {
       const float phi = 2.0f * kPi * (float(k) + 0.5f) / kPhi;
-      const Color v = e->eval({r * std::cos(phi), r * std::sin(phi), z});
+      const Color v = e->eval({r * std::cos(phi), r * std::sin(phi), z}, 1.0f);
       if (!is_finite(v)) fail(what + ": its emission is not finite in some directions");
       sum += double(luminance(vmax(v, Color(0.0f))));
     }
@@ -47,14 +53,15 @@ std::unique_ptr<LampEmission> LampEmission::parse(const nlohmann::json &j, const
   return e;
 }
 
-Color LampEmission::eval(Vec3 dir) const {
-  const Color out = eval_unclamped(dir);
+Color LampEmission::eval(Vec3 dir, float distance) const {
+  const Color out = eval_unclamped(dir, distance);
   return is_finite(out) ? vmax(out, Color(0.0f)) : Color(0.0f);  // no negative light
 }
 
-Color LampEmission::eval_unclamped(Vec3 dir) const {
+Color LampEmission::eval_unclamped(Vec3 dir, float distance) const {
   ShadingPoint sp = at_lamp_;
-  sp.ns = sp.ng = dir;
+  if (per_direction_) sp.ns = sp.ng = dir;
+  sp.ray_length = distance;
   Color out(1.0f);
   if (color_ >= 0) out = graph_.eval(color_, sp);
   if (strength_ >= 0) out = out * graph_.eval(strength_, sp);

@@ -17,7 +17,7 @@ float spot_attenuation(const Light &l, Vec3 dir_from_light) {
   return c;
 }
 
-Color lamp_radiance(const Light &l, Vec3 dir) {
+Color lamp_radiance(const Light &l, Vec3 dir, float distance) {
   Color L = l.radiance;
   if (l.type == LightType::Spot) L *= spot_attenuation(l, dir);
   if (l.type == LightType::Area) {
@@ -28,7 +28,7 @@ Color lamp_radiance(const Light &l, Vec3 dir) {
       L *= std::max((1.0f - l.tan_spread * tan_off_axis) * l.normalize_spread, 0.0f);
     }
   }
-  if (l.emission && !is_black(L)) L = L * l.emission->eval(dir);
+  if (l.emission && !is_black(L)) L = L * l.emission->eval(dir, distance);
   return L;
 }
 
@@ -61,8 +61,12 @@ UserLight make_light(Params &p) {
     // Only point and spot lamps emit along directions of their own (sun and area lamps: the
     // tree along their axis, as Cycles' shader sees their constant normal).
     Color along_axis;
-    user.emission = LampEmission::parse(*e, t, type == "point" || type == "spot", p.what(), user.warnings, along_axis);
+    const LampEmission::Shape shape = type == "point" || type == "spot" ? LampEmission::Shape::Point
+                                      : type == "sun"                   ? LampEmission::Shape::Sun
+                                                                        : LampEmission::Shape::Area;
+    user.emission = LampEmission::parse(*e, t, shape, p.what(), user.warnings, along_axis);
     l.emission = user.emission.get();
+    l.by_distance = l.emission && l.emission->depends_on_distance();
     if (!l.emission) color = color * along_axis;
   }
   auto non_negative = [&](const char *key, float fallback) {
@@ -172,7 +176,7 @@ void compute_light_power(Light &l, float scene_radius) {
   switch (l.type) {
     case LightType::Point:
     case LightType::Spot: l.power = 4 * kPi * a / l.inv_area * (l.emission ? l.emission->mean_luminance() : 1.0f); break;
-    case LightType::Area: l.power = kPi * a / l.inv_area; break;
+    case LightType::Area: l.power = kPi * a / l.inv_area * (l.emission ? l.emission->mean_luminance() : 1.0f); break;
     case LightType::Triangle: l.power = 2 * kPi * a / l.inv_area; break;
     case LightType::Sun: l.power = a * disk; break;
     case LightType::Background: l.power = kPi * a * disk; break;
@@ -212,7 +216,7 @@ bool sample_light(const Light &l, Vec3 ref, Vec2 u, Vec3 u_volume, LightSample &
       if (l.radius > 0) {  // the lamp's sphere (sphere_lamp.h)
         if (!sample_sphere_lamp_from(l, ref, u, s.wi, s.dist, s.pdf)) return false;
         s.p = ref + s.wi * s.dist;
-        s.L = sphere_lamp_radiance(l, normalize(s.p - l.position), -s.wi);
+        s.L = sphere_lamp_radiance(l, normalize(s.p - l.position), -s.wi, length(ref - l.position));
         return !is_black(s.L);
       }
       Vec3 to_ref = ref - l.position;
@@ -222,7 +226,7 @@ bool sample_light(const Light &l, Vec3 ref, Vec2 u, Vec3 u_volume, LightSample &
       s.wi = -to_ref / s.dist;
       s.p = l.position;
       s.pdf = 1;
-      s.L = lamp_radiance(l, -s.wi) / d2;  // intensity / r^2
+      s.L = lamp_radiance(l, -s.wi, s.dist) / d2;  // intensity / r^2
       return !is_black(s.L);
     }
     case LightType::Sun: {
@@ -245,7 +249,7 @@ bool sample_light(const Light &l, Vec3 ref, Vec2 u, Vec3 u_volume, LightSample &
     case LightType::Area: {
       Vec3 p = l.position + area_offset(l, u);
       if (!to_solid_angle(ref, p, l.axis, l.inv_area, false, s)) return false;
-      s.L = lamp_radiance(l, -s.wi);
+      s.L = lamp_radiance(l, -s.wi, s.dist);
       return !is_black(s.L);
     }
     case LightType::Triangle: {
@@ -319,7 +323,7 @@ bool intersect_light(const Light &l, const Ray &ray, float tmax, float &t, Color
     case LightType::Point:
     case LightType::Spot: {
       if (l.radius == 0 || !intersect_sphere_lamp(l, ray.o, ray.d, tmax, t)) return false;
-      L = sphere_lamp_radiance(l, normalize(ray.o + ray.d * t - l.position), -ray.d);
+      L = sphere_lamp_radiance(l, normalize(ray.o + ray.d * t - l.position), -ray.d, length(ray.o - l.position));
       return !is_black(L);
     }
     case LightType::Area: {
@@ -332,7 +336,7 @@ bool intersect_light(const Light &l, const Ray &ray, float tmax, float &t, Color
       float vv = dot(q, l.edge_v) / length_squared(l.edge_v);
       bool inside = l.ellipse ? sqr(2 * uu) + sqr(2 * vv) <= 1.0f : std::fabs(uu) <= 0.5f && std::fabs(vv) <= 0.5f;
       if (!inside) return false;
-      L = lamp_radiance(l, -ray.d);
+      L = lamp_radiance(l, -ray.d, t);
       return !is_black(L);
     }
     default: return false;

@@ -56,6 +56,11 @@ struct Light {
   // "shadow_catcher", default true), an emissive triangle whose instance is a catcher, the
   // world always.
   bool shadow_catcher = false;  // (in the bools' padding)
+  // Its radiance depends on how far the light travels to the point it lights (a Light
+  // Falloff in its node tree or its material: Cycles' ray length; a sphere lamp's from its
+  // centre, sphere_lamp.h). Everything that evaluates emission passes that distance; a light
+  // subpath weighs its first segment by it once the segment is traced (bdpt/subpaths.cpp).
+  bool by_distance = false;
   Vec3 error{0.0f};      // triangle: rounding error bound of its points (core/ray_offset.h); Embree can hit it
   float power = 0;       // for light selection (scalar)
   // The kinds of ray that see it (scene/ray_visibility.h). Lamps: camera rays only when
@@ -109,10 +114,10 @@ struct LightSample {
 
 // Cycles 3.4's spot falloff along a direction leaving the light.
 float spot_attenuation(const Light &light, Vec3 dir_from_light);
-// What a point, spot or area lamp emits along a unit direction leaving it: its radiance (a
-// delta lamp: intensity), the spot's falloff, an area lamp's one side and spread, and its node
-// tree's share in that direction.
-Color lamp_radiance(const Light &light, Vec3 dir_from_light);
+// What a point, spot or area lamp emits along a unit direction leaving it toward a point
+// `distance` away: its radiance (a delta lamp: intensity), the spot's falloff, an area lamp's
+// one side and spread, and its node tree's share in that direction at that distance.
+Color lamp_radiance(const Light &light, Vec3 dir_from_light, float distance);
 
 // A user light as make_light builds it: the Light, the node tree it points to (keep them
 // together) and what the parameters made it warn of.
@@ -149,7 +154,8 @@ Color infinite_light_radiance(const Light &light, Vec3 d);
 struct EmissionSample {
   Ray ray;          // leaves the light
   Vec3 n{0.0f};     // emitting surface normal; zero for point-like lights (no cosine)
-  Color Le{0.0f};   // radiance (or intensity for delta-position lights) along ray
+  Color Le{0.0f};   // radiance (or intensity for delta-position lights) along ray; a light
+                    // whose emission depends on the distance (by_distance): toward a point 1 away
   float pdf_pos = 0;  // area density of the origin (1 for delta positions; 1/(pi R^2) for infinite lights)
   float pdf_dir = 0;  // solid-angle density of the direction (1 for delta directions)
 };

@@ -40,9 +40,9 @@ float sphere_lamp_direction_pdf(const Light &l, Vec3 n, Vec3 d) {
   return dot(l.axis, d) > l.cos_half_spot ? uniform_cone_pdf(l.cos_half_spot) : 0.0f;
 }
 
-Color sphere_lamp_radiance(const Light &l, Vec3 n, Vec3 d) {
+Color sphere_lamp_radiance(const Light &l, Vec3 n, Vec3 d, float distance) {
   if (!(dot(n, d) > 0)) return Color(0.0f);
-  return lamp_radiance(l, d);
+  return lamp_radiance(l, d, distance);
 }
 
 namespace {

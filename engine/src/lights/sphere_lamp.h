@@ -41,8 +41,10 @@ float sphere_lamp_point_pdf(const Light &l, Vec3 n);
 bool sample_sphere_lamp_direction(const Light &l, Vec3 n, Vec2 u, Vec3 &d);
 // The solid-angle density of sample_sphere_lamp_direction at d (0 below the horizon).
 float sphere_lamp_direction_pdf(const Light &l, Vec3 n, Vec3 d);
-// Radiance leaving the point of normal n along d.
-Color sphere_lamp_radiance(const Light &l, Vec3 n, Vec3 d);
+// Radiance leaving the point of normal n along d toward a point `distance` from the lamp's
+// centre (Light Falloff: Cycles 3.4's disk faces that point through the centre, so its rays
+// are as long as the centre's distance, to (r / distance)^2).
+Color sphere_lamp_radiance(const Light &l, Vec3 n, Vec3 d, float distance);
 // Next-event estimation from ref: a direction uniform in the cone of directions toward
 // the sphere, the distance to where it enters it, the solid-angle density; false from
 // inside the sphere.

@@ -5,6 +5,8 @@
 #include "core/log.h"
 #include "core/ray_offset.h"
 #include "lights/sky_nishita.h"
+#include "lights/sphere_lamp.h"
+#include "lights/volume_light.h"
 #include "lights/sky_preetham.h"
 #include "textures/image_texture.h"
 
@@ -652,6 +654,7 @@ void Scene::build_lights() {
       l.visibility = inst.visibility;
       l.shadow_catcher = inst.shadow_catcher;
       l.textured = !mat.textured_emission.empty();
+      l.by_distance = l.textured && mat.emission_by_distance();
       l.moves = inst.moving || m.deforming;  // motion blur: light_now places it
       lights_.push_back(l);
       ++emissive_triangles_;
@@ -802,7 +805,7 @@ void Scene::surface_at(uint32_t instance, uint32_t prim, float b1, float b2, Sur
   hit.material = m.materials[prim];
 }
 
-Color Scene::triangle_emission(const Light &l, Vec3 p) const {
+Color Scene::triangle_emission(const Light &l, Vec3 p, float distance) const {
   // Barycentrics of p: p = p0 + b1 edge_u + b2 edge_v (least squares).
   Vec3 d = p - l.p0;
   float uu = dot(l.edge_u, l.edge_u), uv = dot(l.edge_u, l.edge_v), vv = dot(l.edge_v, l.edge_v);
@@ -811,7 +814,23 @@ Color Scene::triangle_emission(const Light &l, Vec3 p) const {
   float b1 = clampf((vv * du - uv * dv) / det, 0.0f, 1.0f), b2 = clampf((uu * dv - uv * du) / det, 0.0f, 1.0f - b1);
   SurfaceHit hit;
   surface_at(l.instance, l.prim, b1, b2, hit);
-  return materials_[hit.material].emission_at(shading_point(hit));
+  ShadingPoint sp = shading_point(hit);
+  sp.ray_length = distance;
+  return materials_[hit.material].emission_at(sp);
+}
+
+Color Scene::light_radiance(const Light &l, Vec3 p, Vec3 n, Vec3 w, Vec3 receiver) const {
+  if (is_sphere_lamp(l)) return sphere_lamp_radiance(l, n, w, length(receiver - l.position));
+  const float distance = length(receiver - p);
+  switch (l.type) {
+    case LightType::Point:
+    case LightType::Spot:
+    case LightType::Area: return lamp_radiance(l, w, distance);
+    case LightType::Triangle: return l.textured ? triangle_emission(l, p, distance) : l.radiance;
+    // Radiance per unit length at the point (isotropic).
+    case LightType::Volume: return l.volume->medium().emission_at(p);
+    default: return Color(0.0f);  // lights at infinity: by the direction alone (infinite_light_radiance)
+  }
 }
 
 const Light &Scene::light_now(uint32_t light, Light &storage) const {
@@ -853,7 +872,7 @@ bool Scene::sample_light(uint32_t light, Vec3 ref, Vec2 u, Vec3 u_volume, LightS
   const Light &l = light_now(light, moved);
   if (l.moves && !(l.inv_area > 0)) return false;  // a moving triangle collapsed at this time
   if (!rdv::sample_light(l, ref, u, u_volume, out)) return false;
-  if (l.textured) out.L = triangle_emission(l, out.p);
+  if (l.textured) out.L = triangle_emission(l, out.p, out.dist);
   return true;
 }
 
@@ -862,7 +881,7 @@ bool Scene::sample_emission(uint32_t light, Vec2 u_pos, Vec2 u_dir, Vec3 u_volum
   const Light &l = light_now(light, moved);
   if (l.moves && !(l.inv_area > 0)) return false;  // a moving triangle collapsed at this time
   if (!rdv::sample_emission(l, u_pos, u_dir, u_volume, bounding_center_, bounding_radius_, out)) return false;
-  if (l.textured) out.Le = triangle_emission(l, out.ray.o);
+  if (l.textured) out.Le = triangle_emission(l, out.ray.o, 1.0f);  // by_distance: at 1 (EmissionSample)
   return true;
 }
 
@@ -1150,6 +1169,7 @@ Bsdf Scene::bsdf(const SurfaceHit &hit, Vec3 wo, float width, Color *Le) const {
     return m.make_bsdf(hit.ng, hit.ns, wo);
   }
   ShadingPoint sp = shading_point(hit, -wo, width);
+  sp.ray_length = hit.t;  // the light it emits travels the ray back (Light Falloff)
   if (Le) *Le = m.emission_at(sp);
   return m.make_bsdf(sp, wo);
 }

@@ -133,7 +133,7 @@ class Scene : private TextureRays {
   ShadingPoint shading_point(const SurfaceHit &hit, Vec3 dir = Vec3(0.0f), float width = 0) const;
   // The hit's material as a Bsdf toward wo, image textures filtered over a footprint
   // `width` wide (RayCone::width_at); constant materials need no ShadingPoint. Le, if
-  // given, receives the radiance the surface emits there.
+  // given, receives the radiance the surface emits there toward the ray's origin, hit.t away.
   Bsdf bsdf(const SurfaceHit &hit, Vec3 wo, float width = 0, Color *Le = nullptr) const;
   // The lights' sampling routines (lights/light.h) with textured emissive triangles
   // evaluated at the sampled point.
@@ -143,8 +143,13 @@ class Scene : private TextureRays {
   // triangle of a moving or deforming object (Light::moves) is placed in `storage`, as
   // surface_at places a hit on it; every other light is lights()[light] itself.
   const Light &light_now(uint32_t light, Light &storage) const;
-  // Radiance of a textured emissive triangle at point p on it (unfiltered texture lookup).
-  Color triangle_emission(const Light &light, Vec3 p) const;
+  // What a finite light sends from its point p (normal n: a sphere lamp's side) along w to
+  // the point `receiver` (lights/light.h's lamp_radiance, textured triangles, volumes: per
+  // unit length). Lights at infinity: 0 (infinite_light_radiance).
+  Color light_radiance(const Light &light, Vec3 p, Vec3 n, Vec3 w, Vec3 receiver) const;
+  // Radiance of a textured emissive triangle at point p on it (unfiltered texture lookup)
+  // toward a point `distance` away.
+  Color triangle_emission(const Light &light, Vec3 p, float distance) const;
 
   // The camera as set (at its "transform"). A sample traces with camera_now().
   const Camera &camera() const { return camera_; }

@@ -51,6 +51,11 @@ struct ShadingPoint {
   // The ray that reached the point came from behind the surface (against ng): Cycles turns
   // its normal toward that ray (a room's walls seen from inside), which the AO node follows.
   bool backfacing = false;
+  // How far the light a surface emits here travels to the point it reaches (Cycles' ray
+  // length, read by Light Falloff): the segment to the camera or to the point being lit. An
+  // emitter's value evaluated without one (power estimates) is the value at 1; infinite: a
+  // sun's or the world's distance, where Light Falloff is its Strength.
+  float ray_length = 1;
   uint32_t v[3] = {0, 0, 0};           // triangle vertex indices
   float b[3] = {1, 0, 0};              // barycentrics
   // Row-major 3x4 object-to-world transform (at the sample's shutter time for a moving

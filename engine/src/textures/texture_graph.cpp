@@ -683,6 +683,14 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
     if (file.empty() ? profile->parse(text, error) : profile->load(file, error)) n.ies = std::move(profile);
     else warnings.push_back(what + ": " + (file.empty() ? "the IES profile" : "IES file '" + file + "'") + " cannot be read (" +
                             error + "); a constant 100 used, as Cycles");
+  } else if (type == "light_falloff") {
+    // Blender's Light Falloff (Cycles' svm_node_light_falloff): `strength` times the ray's
+    // length to the power 0 (QUADRATIC: the physical falloff lamps already have), 1 (LINEAR) or
+    // 2 (CONSTANT), times d^2 / (smooth + d^2) when `smooth` > 0.
+    n.type = TexNodeType::LightFalloff;
+    n.mode = r.choice("output", {"QUADRATIC", "LINEAR", "CONSTANT"}, "QUADRATIC");
+    n.in[0] = input("strength", 100.0);
+    n.in[1] = input("smooth", 0.0);
   } else if (type == "wireframe") {
     n.type = TexNodeType::Wireframe;
     n.in[0] = input("size", 0.01);
@@ -848,8 +856,26 @@ bool TextureGraph::depends_on_normal(int node) const {
   return false;
 }
 
+bool TextureGraph::depends_on_ray_length(int node) const {
+  const TexNode &n = nodes_[size_t(node)];
+  if (n.type == TexNodeType::LightFalloff) return true;
+  for (int i : n.in)
+    if (i >= 0 && depends_on_ray_length(i)) return true;
+  return false;
+}
+
 // ---- evaluation ------------------------------------------------------------------------
 namespace {
+
+// Cycles 3.4's svm_node_light_falloff. A ray of infinite length (a sun, the world) leaves
+// Strength as it is: Cycles 3.4 multiplies by FLT_MAX there, later Cycles skip the node.
+float light_falloff(int output, float strength, float smooth, float d) {
+  if (!std::isfinite(d)) return strength;
+  if (output == 1) strength *= d;
+  if (output == 2) strength *= d * d;
+  if (smooth > 0) strength *= d * d / (smooth + d * d);
+  return std::isfinite(strength) ? strength : 0.0f;
+}
 
 float math_op(int op, float a, float b, float c) {
   switch (op) {
@@ -1226,6 +1252,7 @@ Color TextureGraph::eval_node(const TexNode &n, int idx, const ShadingPoint &sp)
       return len > 0 ? c / len : Vec3(0.0f);
     }
     case TexNodeType::Ies: return Color(inf(0) * (n.ies ? n.ies->eval(in(1)) : 100.0f));
+    case TexNodeType::LightFalloff: return Color(light_falloff(n.mode, inf(0), inf(1), sp.ray_length));
     case TexNodeType::VectorDisplacement: return vector_displacement(sp, (in(0) - Vec3(inf(1))) * inf(2), n.mode);
     case TexNodeType::Displacement: {
       const Vec3 normal = n.in[3] >= 0 ? Vec3(in(3)) : sp.ns;

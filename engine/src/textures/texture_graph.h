@@ -36,7 +36,8 @@ enum class TexNodeType : uint8_t {
   Displacement,       // Blender's Displacement node: an offset along the normal, in the world
   VectorDisplacement,  // Blender's Vector Displacement node: an offset in tangent / object / world space
   CameraData,          // the point in the camera's space: view vector, z depth, distance
-  Ies                  // an IES profile's intensity along a direction (lights/ies_profile.h)
+  Ies,                 // an IES profile's intensity along a direction (lights/ies_profile.h)
+  LightFalloff         // Blender's Light Falloff: Strength by the ray's length (ShadingPoint::ray_length)
 };
 
 constexpr int kTexNodeInputs = 10;  // the most any node has (Brick)
@@ -94,6 +95,9 @@ class TextureGraph {
   // Whether the node's value depends on the shading point's normal (Texture Coordinate's
   // normals, or nodes fed by them): a lamp's tree then varies with the direction it emits in.
   bool depends_on_normal(int node) const;
+  // Whether it depends on the length of the ray the emitted light travels (Light Falloff):
+  // an emitter's radiance then depends on the point it lights.
+  bool depends_on_ray_length(int node) const;
   bool is_constant(int node) const { return node >= 0 && nodes_[size_t(node)].type == TexNodeType::Constant; }
   const TexNode &node(int i) const { return nodes_[size_t(i)]; }
   size_t size() const { return nodes_.size(); }

@@ -553,7 +553,7 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int
     u_volume = dims::volume_point(sampler, SampleStream::Light, dims::kLightVolumePoint);
   EmissionSample es;
   if (!scene_.sample_emission(index, u_pos, u_dir, u_volume, es)) return 0;
-  if (!(es.pdf_pos > 0) || !(es.pdf_dir > 0) || is_black(es.Le)) return 0;
+  if (!(es.pdf_pos > 0) || !(es.pdf_dir > 0) || (is_black(es.Le) && !light.by_distance)) return 0;
   // Emissive triangles are in the BVH: leave them as any surface is left.
   Ray ray = es.ray;
   ray.mask = visibility::kNonCamera;
@@ -587,10 +587,17 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int
     }
   }
   float cos_emit = is_black(es.n) ? 1.0f : absdot(es.n, es.ray.d);
-  Color beta = es.Le * (cos_emit / (pmf * es.pdf_pos * es.pdf_dir));
+  // A light whose emission depends on the distance its light travels (Light Falloff) walks
+  // without it; the walk's vertices take it once the first segment is known (Russian
+  // roulette is relative to the start, so its decisions do not change).
+  Color beta = (light.by_distance ? Color(1.0f) : es.Le) * (cos_emit / (pmf * es.pdf_pos * es.pdf_dir));
   int walk = max_vertices >= 0 ? max_vertices - 1 : settings_.max_bounces;
   int n = random_walk<kMedia>(ray, sampler, stats, beta, es.pdf_dir, walk, TransportMode::Importance, path, nullptr,
                               {}, nullptr, false, catcher_copy);
+  if (light.by_distance && n > 0) {
+    const Color Le = scene_.light_radiance(light, v.p, es.n, es.ray.d, path[1].p);
+    for (int k = 1; k <= n; ++k) path[k].beta *= Le;
+  }
   if (v.infinite) {
     // Infinite lights: the first hit's density is the planar one of the emission disk,
     // and the light vertex's own density is directional.

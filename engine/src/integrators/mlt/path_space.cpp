@@ -689,7 +689,7 @@ bool PathSpace::regenerate(ExplicitPath &y, int l, int na, int j, Pcg32 &rng, Ra
 // ---- f and the densities ----
 
 Color PathSpace::emitted(const ExplicitVertex &light_vertex, Vec3 w, uint32_t ray_kind, bool background,
-                         int scatterings) const {
+                         int scatterings, Vec3 receiver) const {
   Light moved;
   const Light &l = scene_.light_now(uint32_t(light_vertex.v.light), moved);
   if (!l.lights_path(scatterings) && !(light_vertex.v.infinite && !light_is_delta_direction(l)))
@@ -709,18 +709,10 @@ Color PathSpace::emitted(const ExplicitVertex &light_vertex, Vec3 w, uint32_t ra
     }
     return L;
   }
-  if (is_sphere_lamp(l)) return sphere_lamp_radiance(l, light_vertex.v.ng, w);
-  switch (l.type) {
-    case LightType::Area: return lamp_radiance(l, w);
-    // Textured emission: the texture where the vertex is, unfiltered (f's rule).
-    case LightType::Triangle: return l.textured ? scene_.triangle_emission(l, light_vertex.v.p) : l.radiance;
-    case LightType::Point:
-    case LightType::Spot: return lamp_radiance(l, w);
-    // Radiance per unit length at the point (the edge's column weighs the medium's own
-    // absorption on the way out; a point outside the medium has f = 0 from trace_edge).
-    case LightType::Volume: return l.volume->medium().emission_at(light_vertex.v.p);
-    default: return Color(0.0f);
-  }
+  // Textured emission: the texture where the vertex is, unfiltered (f's rule). A volume's:
+  // per unit length at the point (the edge's column weighs the medium's own absorption on
+  // the way out; a point outside the medium has f = 0 from trace_edge).
+  return scene_.light_radiance(l, light_vertex.v.p, light_vertex.v.ng, w, receiver);
 }
 
 double PathSpace::light_position_density(const ExplicitVertex &light_vertex) const {
@@ -1241,9 +1233,10 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
   }
   const Vec3 w_light = -toward(y.x[size_t(n - 2)], last);
   const int scatterings = n - 2 - vertex_passes;
-  Color emission = emitted(last, w_light, kind_at_light, world_left_out < 1, scatterings);
+  const Vec3 receiver = y.x[size_t(n - 2)].v.p;
+  Color emission = emitted(last, w_light, kind_at_light, world_left_out < 1, scatterings, receiver);
   if (world_left_out > 0 && world_left_out < 1) {
-    const Color without_world = emitted(last, w_light, kind_at_light, false, scatterings);
+    const Color without_world = emitted(last, w_light, kind_at_light, false, scatterings, receiver);
     emission = emission - (emission - without_world) * float(world_left_out);
   }
   f *= emission;

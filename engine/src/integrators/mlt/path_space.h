@@ -407,8 +407,10 @@ class PathSpace {
   // w: from the light toward its camera-side neighbour; ray_kind: the kind of ray that meets
   // it (lights at infinity that kind does not see give nothing); background false: the world
   // (HDRI or colour) gives nothing (seen through a transparent film), suns still do.
-  // scatterings: the path's scattering vertices (each light's Max Bounces, Light::lights_path).
-  Color emitted(const ExplicitVertex &light, Vec3 w, uint32_t ray_kind, bool background, int scatterings) const;
+  // scatterings: the path's scattering vertices (each light's Max Bounces, Light::lights_path);
+  // receiver: that neighbour's point (Light Falloff's distance).
+  Color emitted(const ExplicitVertex &light, Vec3 w, uint32_t ray_kind, bool background, int scatterings,
+                Vec3 receiver) const;
   double light_position_density(const ExplicitVertex &light) const;
   // Film alpha, holdouts and shadow catchers: how much of the camera's seeing through goes on
   // past surface vertex v toward w. 1 through a Transparent BSDF or, with Transparent Glass, a
