@@ -492,7 +492,11 @@ Lobe dielectric_lobe(float roughness, float ior, Color color, bool separable) {
   return l;
 }
 
-float sample_weight(Color c) { return std::max(luminance(c), 1e-3f); }
+// How often a lobe is sampled: its weight's average, as Cycles 3.4 picks a closure (its
+// sample_weight), so which closure a path follows, and whether it passes through a coloured
+// transparent layer to write the passes behind it, matches Cycles' (by luminance a green card
+// 70% transparent let 73% of samples through, Cycles 78%).
+float sample_weight(Color c) { return std::max(average(c), 1e-3f); }
 
 // Pieces of the Principled BSDF shared by shading (textured inputs read at the point
 // through col / num) and by resolve_constants (constant inputs).
