@@ -183,15 +183,19 @@ struct BruteForce {
   // over the part of the segment inside the medium.
   // A walk draws its distances afresh after each plain layer it passes, as after a medium
   // boundary: the mixture is taken piece by piece between the layers on the segment.
-  double camera_flight(Vec3 a, Vec3 b, bool stops) const {
+  // stops: b is a point in the medium; a_in_medium: so is a (no surface at that end: the
+  // pieces run to it, as the walks' rays do).
+  double camera_flight(Vec3 a, Vec3 b, bool stops, bool a_in_medium = false) const {
     if (!layers) return camera_flight_piece(a, b, stops);
     const Vec3 d = normalize(b - a);
     double product = 1;
     Vec3 start = a;
-    for (;;) {
+    for (bool first = true;; first = false) {
       const float left = length(b - start);
+      const float gap_start = first ? end_gap(a_in_medium) : 1e-4f, gap_end = end_gap(stops);
       SurfaceHit hit;
-      if (!(left > 2e-4f) || !scene.intersect(Ray{start + d * 1e-4f, d, left - 2e-4f}, hit)) break;
+      if (!(left > gap_start + gap_end) || !scene.intersect(Ray{start + d * gap_start, d, left - gap_start - gap_end}, hit))
+        break;
       product *= camera_flight_piece(start, hit.p, false);
       start = hit.p;
     }
@@ -261,7 +265,7 @@ struct BruteForce {
   double camera_flight(const ExplicitPath &p, int a, int b, bool stops) const {
     const bdpt::PathVertex &va = p.x[size_t(a)].v, &vb = p.x[size_t(b)].v;
     if (vb.infinite) return box ? camera_flight(va.p, va.p + vb.dir * 1e4f, stops) : free_flight(p, a, b, stops);
-    return camera_flight(va.p, vb.p, stops);
+    return camera_flight(va.p, vb.p, stops, va.type == VertexType::Medium);
   }
   // A specular vertex's event from wo to wi (smooth glass of IOR 1.5, or a mirror): its
   // probability and d omega_wi / d omega_wo; 0 when wi is not where the event sends wo.
@@ -381,21 +385,61 @@ struct BruteForce {
     return scene.bsdf(hit, wo, 0).pass_probability(wo);
   }
   // The layers on the segment from o along d (unit) for `distance`, passed by a walk
-  // travelling along `travel` (d or -d); 0 where something else lies on it.
-  double layer_passes(Vec3 o, Vec3 d, double distance, Vec3 travel) const {
+  // travelling along `travel` (d or -d); 0 where something else lies on it. An end in a
+  // medium lies on no surface: the segment runs to it (a walk may stop microns past a layer).
+  static float end_gap(bool in_medium) { return in_medium ? 1e-6f : 1e-4f; }
+  double layer_passes(Vec3 o, Vec3 d, double distance, Vec3 travel, bool start_in_medium = false,
+                      bool end_in_medium = false) const {
     double product = 1;
-    constexpr float kGap = 1e-4f;  // the layers here are centimetres from any vertex
-    double left = distance - kGap;
-    o = o + d * kGap;
-    while (layers && left > kGap) {
+    constexpr float kGap = 1e-4f;  // beside a surface vertex or a layer just passed
+    const float end = end_gap(end_in_medium);
+    double left = distance - end_gap(start_in_medium);
+    o = o + d * end_gap(start_in_medium);
+    while (layers && left > end) {
       SurfaceHit hit;
-      if (!scene.intersect(Ray{o, d, float(left)}, hit) || !(hit.t < left - kGap)) break;
+      if (!scene.intersect(Ray{o, d, float(left)}, hit) || !(hit.t < left - end)) break;
       if (!scene.is_plain_layer(hit)) return 0;
       product *= pass_probability(hit, -travel);
       o = hit.p + d * kGap;
       left -= hit.t + kGap;
     }
     return product;
+  }
+  // The plain layers on the segment a -> b farther than a millimetre from its ends (where
+  // the vertices' own surfaces are), other surfaces passed over.
+  int layers_on(Vec3 a, Vec3 b) const {
+    const Vec3 d = normalize(b - a);
+    constexpr float kEnd = 1e-3f;
+    int count = 0;
+    Vec3 o = a + d * kEnd;
+    float left = length(b - a) - 2 * kEnd;
+    for (int guard = 0; guard < 64 && left > 0; ++guard) {
+      SurfaceHit hit;
+      if (!scene.intersect(Ray{o, d, left}, hit)) break;
+      count += scene.is_plain_layer(hit);
+      o = o + d * (hit.t + 1e-5f);
+      left -= hit.t + 1e-5f;
+    }
+    return count;
+  }
+  // Whether an edge of p passes within ~10 microns of a layer's edge: the engine's rays
+  // restart from each crossing's offset point (core/ray_offset.h), microns off the straight
+  // line traced here, so there the two may see the layer or not (a measure-zero set that a
+  // finite test still meets: the Cornell box sheet's front edge). Such proposals are left out.
+  bool grazes_layer(const ExplicitPath &p) const {
+    if (!layers) return false;
+    for (int i = 1; i < p.n; ++i) {
+      const bdpt::PathVertex &a = p.x[size_t(i - 1)].v, &b = p.x[size_t(i)].v;
+      if (a.infinite || b.infinite) continue;
+      const Vec3 d = normalize(b.p - a.p);
+      const Frame f(d);
+      const int straight = layers_on(a.p, b.p);
+      for (Vec3 shift : {f.s, -f.s, f.t, -f.t}) {
+        const Vec3 e = shift * 1e-5f;
+        if (layers_on(a.p + e, b.p + e) != straight) return true;
+      }
+    }
+    return false;
   }
   // Whether p's vertex i lies on a plain layer, and then the probability that a walk from
   // its camera (or light) side neighbour did not pass it.
@@ -417,7 +461,7 @@ struct BruteForce {
       from = b.p - camera.forward() * dot(b.p - camera.position(), camera.forward());
     }
     const Vec3 d = normalize(b.p - from);
-    return layer_passes(from, d, length(b.p - from), d);
+    return layer_passes(from, d, length(b.p - from), d, a.type == VertexType::Medium, b.type == VertexType::Medium);
   }
   // What a walk's density of x_i takes from the layers: the edge's passes, not passing x_i,
   // and the scattering at the neighbour it came from out of the rest of its sampling.
@@ -505,7 +549,8 @@ struct BruteForce {
     if (i == n - 1 && other_lamp_on_last_edge(p)) return 0;
     // A volume light's point: where the last step's free flight stops in its medium.
     const bool stops = v.type == VertexType::Medium || (i == n - 1 && end_type == LightType::Volume);
-    return pdf * to_area(p, i - 1, i) * camera_flight(from, v.p, stops);  // finite: as before
+    return pdf * to_area(p, i - 1, i) *
+           camera_flight(from, v.p, stops, i > 1 && p.x[size_t(i - 1)].v.type == VertexType::Medium);  // finite: as before
   }
   // The free flight that stops at medium vertex i from the camera side: from x_(i-1), the
   // camera's rays from the clip start (camera_side's).
@@ -521,7 +566,8 @@ struct BruteForce {
         from = from + w * float(camera.clip_start / dot(w, camera.forward()));
       }
     }
-    return camera_flight(from, to, true) * edge_layers(p, i, true);  // a kept distance's retrace draws neither
+    return camera_flight(from, to, true, i > 1 && p.x[size_t(i - 1)].v.type == VertexType::Medium) *
+           edge_layers(p, i, true);  // a kept distance's retrace draws neither
   }
   // A lamp with a radius is a sphere (lights/sphere_lamp.h): its point uniform over the
   // sphere (a point lamp) or over the cap of points whose normal is within pi/2 + the
@@ -774,6 +820,7 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
   Pcg32 rng(7, 11);
   RayStats stats;
   ExplicitPath x, y, z;
+  int grazing = 0;  // proposals left out: an edge grazes a layer's edge (BruteForce::grazes_layer)
   int checked = 0, worse = 0, medium_paths = 0, large = 0, lens = 0, specular = 0, lens_specular = 0, caustic = 0;
   int lens_subpaths = 0, multi_chain = 0, multi_chain_chains = 0, multi_chain_to_light = 0;
   int lens_subpath_new_shape = 0, lens_subpath_to_light = 0;  // another specular count; E S* L to E S* L
@@ -806,6 +853,10 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
       const bool whole = rng.next_float() < kLargeStep;
       Proposal p = space.bidirectional(x, whole, rng, stats, y);
       if (!(p.ratio > 0)) continue;
+      if (brute.grazes_layer(x) || brute.grazes_layer(y)) {
+        ++grazing;
+        continue;
+      }
       const int nd = p.m - p.l - 1;
       double t_xy = brute.transition(x.n, p.l, p.m, y, p.na);
       double t_yx = brute.transition(y.n, p.l, p.l + p.na + 1, x, nd);
@@ -860,6 +911,10 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
         p = space.perturb_lens(x, rng, stats, y);
       }
       if (!(p.ratio > 0)) continue;
+      if (brute.grazes_layer(x) || brute.grazes_layer(y)) {
+        ++grazing;
+        continue;
+      }
       int cy = 1;  // y's first non-specular vertex
       while (cy < y.n - 1 && y.x[size_t(cy)].v.delta) ++cy;
       double brute_ratio = 1;
@@ -987,9 +1042,11 @@ int check_scene(const std::string &name, const nlohmann::json &json, int starts,
               name.c_str(), lens_subpath_new_shape, lens_subpath_to_light, lens_subpath_to_light_specular,
               lens_subpath_short, kept_medium);
   if (brute.layers) {
-    std::printf("[ mlt densities ] %-12s %d bidirectional proposals across or on plain transparent layers\n",
-                name.c_str(), layered);
+    std::printf("[ mlt densities ] %-12s %d bidirectional proposals across or on plain transparent layers; %d "
+                "proposals left out, an edge grazing a layer's edge\n",
+                name.c_str(), layered, grazing);
     EXPECT_GT(layered, checked / 10) << name;
+    EXPECT_LT(grazing, checked / 50) << name;  // (a grazing state leaves out all its proposals)
   }
   if (scene.has_motion())
     std::printf("[ mlt densities ] %-12s motion: %d of %d large steps at a new shutter time\n", name.c_str(), time_moved,
