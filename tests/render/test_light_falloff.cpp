@@ -3,7 +3,8 @@
 // times d^2 / (Smooth + d^2) when Smooth > 0. The engine passes d wherever emission is evaluated.
 //  - A point lamp (radius 0) over a white floor, its Strength through each output: the floor's
 //    radiance seen straight down has the closed form rho / pi x I f(d) cos / d^2; path tracing
-//    and BDPT give it within 1e-3 (a delta lamp lighting a 2 cm view: every sample alike).
+//    and BDPT give it within 1e-3 (a delta lamp lighting a 2 cm view: every sample alike);
+//    and at millimetres, and at kilometres 1,000 km from the origin, within 2e-3.
 //  - scenes/light_falloff.json (a sphere lamp Linear, an area lamp Quadratic with Smooth, an
 //    emissive panel Constant): next-event estimation, rays that meet the lamps and the panel,
 //    and BDPT's light subpaths, whose first segment's length is known only once traced: path
@@ -13,6 +14,8 @@
 #include <gtest/gtest.h>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
 #include "render_helpers.h"
 #include "statistics.h"
 
@@ -21,16 +24,19 @@ using nlohmann::json;
 
 namespace {
 
-// A 100 W point lamp 1 m above a white floor, seen straight down at (0.75, 0, 0).
-json floor_under_point_lamp(const json &strength) {
-  json cam = {{"type", "orthographic"}, {"ortho_scale", 0.02}, {"clip_start", 0.001},
-              {"transform", {{"look_at", {{"from", {0.75, 0, 0.5}}, {"to", {0.75, 0, 0}}, {"up", {0, 1, 0}}}}}}};
+// A 100 W point lamp `scale` metres above a white floor, seen straight down at (0.75, 0, 0)
+// x scale, everything moved by `offset` along x.
+json floor_under_point_lamp(const json &strength, double scale = 1, double offset = 0) {
+  json cam = {{"type", "orthographic"}, {"ortho_scale", 0.02 * scale}, {"clip_start", 0.001 * scale},
+              {"transform", {{"look_at", {{"from", {offset + 0.75 * scale, 0, 0.5 * scale}},
+                                          {"to", {offset + 0.75 * scale, 0, 0}}, {"up", {0, 1, 0}}}}}}};
   return {{"settings", {{"width", 8}, {"height", 8}, {"samples", 16}, {"max_bounces", 1}}},
           {"camera", cam},
           {"world", {{"color", {0, 0, 0}}}},
           {"materials", {{{"name", "floor"}, {"type", "diffuse"}, {"color", {1, 1, 1}}}}},
-          {"meshes", {{{"name", "floor"}, {"shape", {{"type", "quad"}, {"size", 20}}}, {"materials", {"floor"}}}}},
-          {"lights", {{{"name", "Lamp"}, {"type", "point"}, {"position", {0, 0, 1}}, {"power", 100}, {"radius", 0},
+          {"meshes", {{{"name", "floor"}, {"shape", {{"type", "quad"}, {"size", 20 * scale}}}, {"materials", {"floor"}},
+                       {"transform", {{"translate", {offset, 0, 0}}}}}}},
+          {"lights", {{{"name", "Lamp"}, {"type", "point"}, {"position", {offset, 0, scale}}, {"power", 100}, {"radius", 0},
                        {"emission", {{"strength", strength}}}}}}};
 }
 
@@ -53,6 +59,21 @@ TEST(LightFalloff, PointLampMatchesTheClosedFormInPathAndBdpt) {
           << integrator << " " << c.output << " smooth " << c.smooth;
     }
   }
+  // Millimetres at the origin and kilometres 1,000 km from it: the same closed form with d
+  // scaled (Linear d, Constant d^2 over the inverse square).
+  for (const auto &[scale, offset] : {std::pair{1e-3, 0.0}, std::pair{1e3, 1e6}})
+    for (const char *output : {"LINEAR", "CONSTANT"}) {
+      const double ds = d * scale, factor = std::string(output) == "LINEAR" ? ds : ds * ds;
+      const double expected = intensity * factor * cos_floor / (ds * ds) / M_PI;
+      json strength = {{"node", "light_falloff"}, {"output", output}, {"strength", 1.0}, {"smooth", 0.0}};
+      for (const char *integrator : {"path", "bdpt"}) {
+        Image im = render_json(floor_under_point_lamp(strength, scale, offset).dump(),
+                               json({{"integrator", integrator}}).dump());
+        ASSERT_TRUE(im.all_finite());
+        EXPECT_NEAR(im.channel_mean(1), expected, 2e-3 * expected)
+            << integrator << " " << output << " at scale " << scale << " offset " << offset;
+      }
+    }
 }
 
 TEST(LightFalloff, PathAndBdptAgreeOnEveryKindOfEmitter) {

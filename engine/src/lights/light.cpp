@@ -216,7 +216,7 @@ bool sample_light(const Light &l, Vec3 ref, Vec2 u, Vec3 u_volume, LightSample &
       if (l.radius > 0) {  // the lamp's sphere (sphere_lamp.h)
         if (!sample_sphere_lamp_from(l, ref, u, s.wi, s.dist, s.pdf)) return false;
         s.p = ref + s.wi * s.dist;
-        s.L = sphere_lamp_radiance(l, normalize(s.p - l.position), -s.wi, length(ref - l.position));
+        s.L = sphere_lamp_radiance(l, normalize(s.p - l.position), -s.wi, sphere_lamp_distance(l, ref));
         return !is_black(s.L);
       }
       Vec3 to_ref = ref - l.position;
@@ -323,7 +323,7 @@ bool intersect_light(const Light &l, const Ray &ray, float tmax, float &t, Color
     case LightType::Point:
     case LightType::Spot: {
       if (l.radius == 0 || !intersect_sphere_lamp(l, ray.o, ray.d, tmax, t)) return false;
-      L = sphere_lamp_radiance(l, normalize(ray.o + ray.d * t - l.position), -ray.d, length(ray.o - l.position));
+      L = sphere_lamp_radiance(l, normalize(ray.o + ray.d * t - l.position), -ray.d, sphere_lamp_distance(l, ray.o));
       return !is_black(L);
     }
     case LightType::Area: {

@@ -45,6 +45,10 @@ float sphere_lamp_direction_pdf(const Light &l, Vec3 n, Vec3 d);
 // centre (Light Falloff: Cycles 3.4's disk faces that point through the centre, so its rays
 // are as long as the centre's distance, to (r / distance)^2).
 Color sphere_lamp_radiance(const Light &l, Vec3 n, Vec3 d, float distance);
+// That distance for a receiver (only a lamp whose emission depends on it pays the square root).
+inline float sphere_lamp_distance(const Light &l, Vec3 receiver) {
+  return l.by_distance ? length(receiver - l.position) : 1.0f;
+}
 // Next-event estimation from ref: a direction uniform in the cone of directions toward
 // the sphere, the distance to where it enters it, the solid-angle density; false from
 // inside the sphere.

@@ -632,6 +632,13 @@ void Scene::build_lights() {
     for (uint32_t t = 0; t < m.num_triangles(); ++t)
       if (materials_[m.materials[t]].emits()) m.emissive_rank[t] = m.num_emissive++;
   }
+  // Whether each material's emission depends on the distance its light travels (its graph
+  // read once, not per triangle).
+  std::vector<int8_t> falloff(materials_.size(), -1);
+  auto by_distance = [&](uint32_t material) {
+    if (falloff[material] < 0) falloff[material] = materials_[material].emission_by_distance();
+    return falloff[material] > 0;
+  };
   for (uint32_t i = 0; i < instances_.size(); ++i) {
     Instance &inst = instances_[i];
     const Mesh &m = meshes_[inst.mesh];
@@ -654,7 +661,7 @@ void Scene::build_lights() {
       l.visibility = inst.visibility;
       l.shadow_catcher = inst.shadow_catcher;
       l.textured = !mat.textured_emission.empty();
-      l.by_distance = l.textured && mat.emission_by_distance();
+      l.by_distance = l.textured && by_distance(m.materials[t]);
       l.moves = inst.moving || m.deforming;  // motion blur: light_now places it
       lights_.push_back(l);
       ++emissive_triangles_;
@@ -820,7 +827,7 @@ Color Scene::triangle_emission(const Light &l, Vec3 p, float distance) const {
 }
 
 Color Scene::light_radiance(const Light &l, Vec3 p, Vec3 n, Vec3 w, Vec3 receiver) const {
-  if (is_sphere_lamp(l)) return sphere_lamp_radiance(l, n, w, length(receiver - l.position));
+  if (is_sphere_lamp(l)) return sphere_lamp_radiance(l, n, w, sphere_lamp_distance(l, receiver));
   const float distance = length(receiver - p);
   switch (l.type) {
     case LightType::Point:
