@@ -18,6 +18,7 @@ from .ir import Const, Expr, Closure
 from .issues import Issues
 from .evaluate import Evaluator, is_constant, PROCEDURAL_TEXTURES, VARYING_OPS
 from .graph import LUMINANCE
+from .nodes.converter import falloff_at
 
 ENGINE_TYPES = ("diffuse", "emission", "glossy", "glass", "refraction", "principled", "transparent",
                 "translucent", "sheen", "mix", "add", "volume")
@@ -208,10 +209,11 @@ class _Lowerer:
         if self.emitting:
             return {"node": "light_falloff", "output": e.props.get("output", "QUADRATIC"),
                     "strength": self.value(strength), "smooth": self.value(smooth)}
-        if self.ev.ray_length is not None:  # the world: Cycles 3.4's ray length 0 there
+        if self.ev.ray_length is not None:  # the world: Cycles 3.4's ray length there, a factor of Strength
             smooth_value = self.fold(smooth)
-            at_zero = e.props.get("output") == "QUADRATIC" and smooth_value is not None and smooth_value <= 0.0
-            return self.value(strength) if at_zero else 0.0
+            factor = falloff_at(e.props.get("output", "QUADRATIC"), 1.0,
+                                1.0 if smooth_value is None else smooth_value, self.ev.ray_length)
+            return self.value(strength) if factor else 0.0  # (0 or 1 at a ray length of 0)
         what = e.props.get("name") or "%s falloff" % e.props.get("output", "QUADRATIC").title()
         self.approx(e.node, "%s outside an emitter's colour or strength: the ray's length is not known there; "
                     "its Strength used" % what)
