@@ -266,16 +266,17 @@ def convert_world(world, image_average=None, image_file=None, view_layer_attribu
     return params, warning
 
 
-def convert_light(light, view_layer_attribute=None):
+def convert_light(light, view_layer_attribute=None, image_average=None, image_file=None):
     """A bpy Light's node tree (when it uses nodes) -> ({"color", "strength"} of its Emission, the
-    engine's light "emission", or None) and one warning or None (docs/scene-format.md)."""
+    engine's light "emission", or None) and one warning or None (docs/scene-format.md).
+    image_average / image_file: as for convert_material_variants (an image over the lamp)."""
     tree = getattr(light, "node_tree", None)
     if light is None or not getattr(light, "use_nodes", False) or tree is None:
         return None, None
     name = getattr(light, "name", "?")
     desc = _with_view_layer_attributes(_translate(tree, MaterialDescription(name), ("ShaderNodeOutputLight",)),
                                        view_layer_attribute)
-    emission, issues = lower_light(desc)
+    emission, issues = lower_light(desc, image_average, image_file, sun=getattr(light, "type", "") == "SUN")
     return emission, issues.format("Light", name)
 
 

@@ -1176,27 +1176,38 @@ def _world_radiance(low, c, depth=0):
 _LAMP_CONSTANT_LEAVES = {"blackbody", "wavelength"}
 # What a lamp's shader sees vary: the direction light leaves it by (Cycles' normal on a lamp).
 _LAMP_DIRECTION_OUTPUTS = {"texcoord": {"Normal"}, "geometry": {"Normal", "True Normal"}}
+# ... and, but for a sun, the point light leaves it from: Cycles 3.4's lamp has no object, so
+# Position, Object and Generated are that point in the world, UV (any UV map) is 0, and
+# Parametric runs over an area lamp from 0 to 1 along its X and Y (lights/lamp_emission.h).
+_LAMP_POINT_OUTPUTS = {"texcoord": {"Generated", "Object", "UV"}, "geometry": {"Position", "Parametric"}}
+_LAMP_TEXTURES = {*PROCEDURAL_TEXTURES, "tex_image", "tex_checker", "tex_noise", "tex_gradient", "uvmap"}
 
 
-def _same_all_over(ir, directions=False, depth=0):
-    """Whether ir is the same all over a lamp (with directions: or varies only with the
-    direction light leaves it by: IES Texture, Texture Coordinate / Geometry normals)."""
+def _lamp_evaluates(ir, points, depth=0):
+    """Whether the engine evaluates ir on a lamp as Cycles does: the same all over it, or varying
+    with the direction light leaves by (IES Texture, Texture Coordinate / Geometry normals), and
+    with points: with the point it leaves from (textures of the point's coordinates)."""
     if not isinstance(ir, Expr) or depth > 200:
         return not isinstance(ir, Closure)
-    if directions and (ir.op == "tex_ies" or ir.props.get("output") in _LAMP_DIRECTION_OUTPUTS.get(ir.op, ())):
+    output = ir.props.get("output")
+    if ir.op == "tex_ies" or output in _LAMP_DIRECTION_OUTPUTS.get(ir.op, ()):
         pass
+    elif points and (ir.op in _LAMP_TEXTURES or output in _LAMP_POINT_OUTPUTS.get(ir.op, ())):
+        if ir.op == "texcoord" and ir.props.get("object"):
+            return False  # another object's space: not a lamp's
     elif ir.op in VARYING_OPS and ir.op not in _LAMP_CONSTANT_LEAVES:
         return False
-    return all(_same_all_over(a, directions, depth + 1) for a in ir.args.values())
+    return all(_lamp_evaluates(a, points, depth + 1) for a in ir.args.values())
 
 
-def lower_light(desc):
+def lower_light(desc, image_average=None, image_file=None, sun=False):
     """A light's node tree (Cycles multiplies its Emission's Color and Strength into the lamp's
-    colour and power) -> ({"color": value, "strength": value} or None, Issues). Values that vary
-    over the lamp other than by the direction light leaves it and the distance it travels
-    (textures) are taken as constants, named; the engine evaluates the direction's (an IES
-    Texture) and the distance's (a Light Falloff)."""
-    low = _Lowerer(desc.issues, None, None, "light")
+    colour and power) -> ({"color": value, "strength": value} or None, Issues). The engine
+    evaluates what varies with the direction light leaves by (an IES Texture), with the
+    distance it travels (a Light Falloff) and, but for a sun, with the point it leaves from (an
+    image over an area lamp); values that vary otherwise (a Fresnel, Object Info) are taken
+    as constants, named."""
+    low = _Lowerer(desc.issues, image_average, image_file, "light")
     low.emitting = True
     c = desc.surface
     if c is None:
@@ -1207,7 +1218,7 @@ def lower_light(desc):
     out = {}
     for key, color in (("color", True), ("strength", False)):
         ir = c.params.get(key)
-        if ir is not None and not _same_all_over(ir, directions=True):
+        if ir is not None and not _lamp_evaluates(ir, points=not sun):
             out[key] = low.const(ir, "varies over the lamp: taken as a constant")
             out[key] = _constant(out[key], color)
         else:

@@ -264,7 +264,8 @@ class SceneExporter:
     def light_settings(self, ob, m16):
         """The light's engine parameters with its ray visibility and shadow-catcher flag (None:
         skipped, warned)."""
-        params = light_params(ob.data, m16, ob.name, self.warn, self.view_layer_attribute)
+        params = light_params(ob.data, m16, ob.name, self.warn, self.view_layer_attribute, self.image_average,
+                              self.image_file)
         if params is not None:
             rays = visibility.light_visibility(ob, ob.data)
             if rays:  # Object > Visibility > Ray Visibility, Light > Cast Shadow

@@ -11,8 +11,9 @@ from ..utils import normalize_frame, rgb
 AREA_SHAPES = {"SQUARE": "square", "RECTANGLE": "rectangle", "DISK": "disk", "ELLIPSE": "ellipse"}
 
 
-def light_params(light, matrix16, name, warn, view_layer_attribute=None):
-    """light: bpy.types.Light (or stand-in); matrix16: row-major world matrix."""
+def light_params(light, matrix16, name, warn, view_layer_attribute=None, image_average=None, image_file=None):
+    """light: bpy.types.Light (or stand-in); matrix16: row-major world matrix; image_average /
+    image_file: shaders_map's image callbacks (an image in the light's node tree)."""
     frame, scale = normalize_frame(matrix16)
     kind = light.type
     p = {"color": rgb(light.color), "transform": frame}
@@ -44,7 +45,7 @@ def light_params(light, matrix16, name, warn, view_layer_attribute=None):
     else:
         warn("Light '%s': light type %s not supported, skipped" % (name, kind))
         return None
-    emission, warning = shaders_map.convert_light(light, view_layer_attribute)
+    emission, warning = shaders_map.convert_light(light, view_layer_attribute, image_average, image_file)
     if warning:
         warn(warning)
     if emission is not None:

@@ -1921,6 +1921,65 @@ def light_falloff():
     return scene
 
 
+def lamp_image_path():
+    d = os.environ.get("RDV_TEST_TMP") or bpy.app.tempdir or "/tmp"
+    return os.path.join(d, "rdv_test_lamp_cells.exr")
+
+
+def lamp_textures():
+    """Lamps whose emission varies over them, as Cycles shades the point light leaves from: a
+    1.2 x 0.8 m area lamp of 200 W tilted toward the camera, showing a 4 x 3 image of coloured
+    cells (Closest) over it through Geometry > Parametric, seen in a glossy floor (Principled,
+    roughness 0.08) and lighting it; a spot lamp of 400 W whose colour is a Color Ramp of a
+    Gradient of its Parametric (Cycles' spherical map of the direction light leaves by: a seam
+    where the direction's azimuth wraps); and a white ball; a dim sky."""
+    scene = reset(64)
+    scene.render.resolution_x = 128
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.02, 0.02, 0.03, 1.0)
+    floor = node_material("GlossyFloor", "ShaderNodeBsdfPrincipled",
+                          {"Base Color": (0.35, 0.35, 0.35, 1.0), "Roughness": 0.08})
+    plane("Floor", 10.0, material=floor)
+    smooth_ball("Ball", (-0.9, 0.6, 0.4), 0.4, diffuse_material("White", (0.8, 0.8, 0.8)))
+
+    def lamp_nodes(ob):
+        ob.data.use_nodes = True
+        nt = ob.data.node_tree
+        return nt, next(n for n in nt.nodes if n.bl_idname == "ShaderNodeEmission")
+    # The image: cells whose colours tell its corners apart (a mirrored or turned image differs).
+    import numpy as np
+    cells = np.array([[(1.0, 0.1, 0.1), (1.0, 1.0, 1.0), (0.1, 0.1, 1.0), (0.05, 0.05, 0.05)],
+                      [(0.1, 1.0, 0.1), (0.05, 0.05, 0.05), (1.0, 1.0, 0.1), (1.0, 0.5, 0.1)],
+                      [(0.05, 0.05, 0.05), (0.1, 1.0, 1.0), (1.0, 1.0, 1.0), (1.0, 0.1, 1.0)]], np.float32)
+    h, w = cells.shape[:2]
+    img = bpy.data.images.new("lamp_cells_src", w, h, float_buffer=True, alpha=False)
+    img.pixels.foreach_set(np.concatenate([cells, np.ones((h, w, 1), np.float32)], axis=2).reshape(-1))
+    path = lamp_image_path()
+    img.filepath_raw = path
+    img.file_format = "OPEN_EXR"
+    img.save()
+    bpy.data.images.remove(img)
+    nt, emission = lamp_nodes(light("AREA", "Cells", 200.0, (0.5, 1.2, 1.1), rotation=(math.radians(-40), 0, 0),
+                                    shape="RECTANGLE", size=1.2, size_y=0.8))
+    geometry = nt.nodes.new("ShaderNodeNewGeometry")
+    image = nt.nodes.new("ShaderNodeTexImage")
+    image.image = bpy.data.images.load(path)
+    image.interpolation = "Closest"
+    nt.links.new(geometry.outputs["Parametric"], image.inputs["Vector"])
+    nt.links.new(image.outputs["Color"], emission.inputs["Color"])
+    nt, emission = lamp_nodes(light("SPOT", "Swirl", 400.0, (-1.0, -0.2, 2.2), rotation=(math.radians(10), 0, 0),
+                                    spot_size=math.radians(80), spot_blend=0.1, shadow_soft_size=0.05))
+    geometry = nt.nodes.new("ShaderNodeNewGeometry")
+    gradient = nt.nodes.new("ShaderNodeTexGradient")
+    ramp = nt.nodes.new("ShaderNodeValToRGB")
+    ramp.color_ramp.elements[0].color = (1.0, 0.3, 0.05, 1.0)
+    ramp.color_ramp.elements[1].color = (0.1, 0.4, 1.0, 1.0)
+    nt.links.new(geometry.outputs["Parametric"], gradient.inputs["Vector"])
+    nt.links.new(gradient.outputs["Fac"], ramp.inputs["Fac"])
+    nt.links.new(ramp.outputs["Color"], emission.inputs["Color"])
+    camera_looking_at((0.2, -4.0, 1.5), (0.1, 0.4, 0.0), 35)
+    return scene
+
+
 def ies_text(name, v_angles, h_angles, candela):
     """A Text datablock holding an IES LM-63 profile (type C) of candela(v, h) in degrees."""
     rows = ["IESNA:LM-63-2002", "[TEST] Rendezvous brightness test", "[LUMINAIRE] %s" % name, "TILT=NONE",
@@ -2530,6 +2589,7 @@ SCENES = {
     "camera_data": camera_data,
     "light_nodes": light_nodes,
     "light_falloff": light_falloff,
+    "lamp_textures": lamp_textures,
     "shader_aovs": shader_aovs,
     "cryptomatte": cryptomatte,
     "view_layer_attributes": view_layer_attributes,
@@ -2589,7 +2649,7 @@ SCENES = {
 
 # Scenes whose brightness must agree with Cycles.
 BRIGHTNESS_SCENES = ["plane_point", "plane_spot", "plane_sun", "plane_area", "plane_area_disk_scaled",
-                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "incoming_facing", "mapped_normals", "displacement", "true_displacement", "camera_data", "light_nodes", "light_falloff", "ies_lamps", "area_spread", "object_attributes", "view_layer_attributes", "preetham_sky", "emissive_textured",
+                     "world_color", "emissive_mesh", "hdri", "principled_plane", "grazing_gloss", "noise_texture", "procedural_textures", "curves_and_ramps", "math_nodes", "object_info", "color_nodes", "geometry_coordinates", "view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mesh_derived_attributes", "principled_glass_tint", "wireframe_parametric", "ambient_occlusion", "bevel", "incoming_facing", "mapped_normals", "displacement", "true_displacement", "camera_data", "light_nodes", "light_falloff", "lamp_textures", "ies_lamps", "area_spread", "object_attributes", "view_layer_attributes", "preetham_sky", "emissive_textured",
                      "volume_blackbody"]
 
 

@@ -211,10 +211,10 @@ def run_test(title, body, samples, add_arguments=None, needs_oiiotool=False):
 
 # Scenes whose materials or world light paths see differently from camera paths (view factors,
 # the baked sky, looks by ray type, moved shading normals) or whose lamps emit by direction (IES,
-# an area lamp's spread):
+# an area lamp's spread, textures over a lamp):
 # BDPT against Cycles too, at half the samples.
 BDPT_TOO = ("view_dependent_mixes", "nishita_sky", "light_path_rays", "light_path_shadow_rays", "mapped_normals", "bevel", "displacement", "true_displacement",
-            "incoming_facing", "ies_lamps", "area_spread", "light_falloff")
+            "incoming_facing", "ies_lamps", "area_spread", "light_falloff", "lamp_textures")
 
 
 def main():

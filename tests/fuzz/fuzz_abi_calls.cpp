@@ -192,8 +192,15 @@ std::string light_params(Reader &in) {
     case 3: return R"({"type":"sun","direction":[)" + x() + R"(,0,-1],"strength":)" + x() + R"(,"angle":)" + x() + "}";
     case 4: return R"({"type":"area","position":[0,0,1.9],"direction":[0,0,-1],"shape":"disk","power":)" + x() +
                    R"(,"size":)" + x() + "}";
-    default: return R"({"type":"area","position":[0,0,1.9],"shape":"rectangle","size":)" + x() + R"(,"size_y":)" +
-                    x() + R"(,"visible_camera":true})";
+    default: {  // with a tree that varies over the lamp: a checker of its Parametric, a noise of the position
+      std::string emission;
+      if (in.small(2))
+        emission = R"(,"emission":{"color":{"node":"checker","scale":)" + x() +
+                   R"(,"vector":{"node":"texture_coordinate","output":"parametric"}},"strength":{"node":"noise","scale":)" +
+                   x() + R"(,"vector":{"node":"texture_coordinate","output":"position"}}})";
+      return R"({"type":"area","position":[0,0,1.9],"shape":"rectangle","size":)" + x() + R"(,"size_y":)" + x() +
+             R"(,"visible_camera":true)" + emission + "}";
+    }
   }
 }
 

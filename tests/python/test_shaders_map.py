@@ -1292,14 +1292,14 @@ class TestLights(unittest.TestCase):
     lamp's, as the engine light's "emission"."""
 
     @staticmethod
-    def _light(build, use_nodes=True):
+    def _light(build, use_nodes=True, kind="POINT", image_file=None):
         t = Tree("L")
         out = t.new("ShaderNodeOutputLight", "Light Output")
         em = t.new("ShaderNodeEmission", "Emission")
         t.link(em.out(), out.inp("Surface"))
         build(t, em)
-        light = type("Light", (), {"name": "Lamp", "use_nodes": use_nodes, "node_tree": t})()
-        return sm.convert_light(light)
+        light = type("Light", (), {"name": "Lamp", "use_nodes": use_nodes, "node_tree": t, "type": kind})()
+        return sm.convert_light(light, image_file=image_file)
 
     def test_default_tree_and_no_nodes(self):
         self.assertEqual(self._light(lambda t, em: None), ({"color": [1.0, 1.0, 1.0], "strength": 1.0}, None))
@@ -1318,15 +1318,43 @@ class TestLights(unittest.TestCase):
         self.assertEqual(e, {"color": {"node": "blackbody", "temperature": 3000.0}, "strength": 2.5})
 
     def test_what_varies_over_the_lamp_is_named(self):
+        """A texture of the point light leaves from stays a graph (the engine evaluates it there),
+        but on a sun, whose shader point is its direction; what a lamp's shader point does not
+        have as Cycles' (a Fresnel's incoming ray) is a named constant."""
         def b(t, em):
             fall = t.new("ShaderNodeLightFalloff", "Falloff")
             t.link(fall.out("Linear"), em.inp("Strength"))
             t.link(t.new("ShaderNodeTexChecker", "Check").out("Color"), em.inp("Color"))
-        e, w = self._light(b)
+        for kind in ("POINT", "SPOT", "AREA"):
+            e, w = self._light(b, kind=kind)
+            self.assertIsNone(w)
+            self.assertEqual(e["color"]["node"], "checker")  # of Generated (unlinked): the point in the world
+            self.assertNotIn("vector", e["color"])
+        e, w = self._light(b, kind="SUN")
         self.assertIn("Check", w)
         self.assertNotIn("Falloff", w)
         self.assertIsInstance(e["color"], list)
         self.assertEqual(e["strength"], {"node": "light_falloff", "output": "LINEAR", "strength": 100.0, "smooth": 0.0})
+
+        def fresnel(t, em):
+            t.link(t.new("ShaderNodeFresnel", "Fresnel").out(), em.inp("Strength"))
+        e, w = self._light(fresnel, kind="AREA")
+        self.assertIn("Fresnel", w)
+        self.assertIsInstance(e["strength"], float)
+
+    def test_an_image_over_an_area_lamp(self):
+        """Geometry > Parametric into an Image Texture: the image over the lamp (Cycles 3.4's
+        (0.5 + x, 0.5 + y) of an area lamp), its file from the image callback."""
+        def b(t, em):
+            geo = t.new("ShaderNodeNewGeometry", "Geometry")
+            img = t.new("ShaderNodeTexImage", "Gobo", image=type("Image", (), {"name": "gobo.png"})())
+            t.link(geo.out("Parametric"), img.inp("Vector"))
+            t.link(img.out("Color"), em.inp("Color"))
+        e, w = self._light(b, kind="AREA", image_file=lambda image, *user: "/maps/" + image.name)
+        self.assertIsNone(w)
+        self.assertEqual(e["color"]["node"], "image")
+        self.assertEqual(e["color"]["file"], "/maps/gobo.png")
+        self.assertEqual(e["color"]["vector"], {"node": "texture_coordinate", "output": "parametric"})
 
     def test_light_falloff_stays_a_node_by_the_distance(self):
         """Linear, Constant, and Quadratic with Smooth: the engine evaluates them at the distance

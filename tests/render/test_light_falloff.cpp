@@ -78,19 +78,10 @@ TEST(LightFalloff, PointLampMatchesTheClosedFormInPathAndBdpt) {
 
 TEST(LightFalloff, PathAndBdptAgreeOnEveryKindOfEmitter) {
   json scene = load_scene("light_falloff.json");
-  const int kRuns = 6;
   const double alpha_per_block = 1.0 - std::pow(1.0 - 0.01, 1.0 / 16);
   auto runs = [&](const char *integrator, int samples, uint32_t seed) {
-    std::vector<std::vector<double>> r;
-    for (int k = 0; k < kRuns; ++k) {
-      Image im = render_json(scene.dump(), json({{"integrator", integrator}, {"samples", samples}, {"seed", seed + k},
-                                                 {"width", 32}, {"height", 32}}).dump());
-      EXPECT_TRUE(im.all_finite()) << integrator;
-      std::vector<double> v(size_t(im.width) * im.height);
-      for (size_t i = 0; i < v.size(); ++i) v[i] = double(im.rgba[4 * i]) + im.rgba[4 * i + 1] + im.rgba[4 * i + 2];
-      r.push_back(v);
-    }
-    return r;
+    return seeded_renders(scene.dump(), json({{"integrator", integrator}, {"samples", samples}, {"width", 32},
+                                              {"height", 32}}).dump(), 6, seed);
   };
   const std::vector<std::vector<double>> bdpt = runs("bdpt", 16, 100), path = runs("path", 32, 200);
   BlockComparison c = compare_blocks(bdpt, path, 32, 32, 8, alpha_per_block);

@@ -26,8 +26,8 @@ constexpr int kRuns = 8;
 // luminance target, mlt on 17 scenes (luminance target) and the fog door twice more
 // (relative target; direct light left to the path tracer), an alpha card with direct light
 // left to the path tracer, pssmlt with a sample clamp, and pssmlt and mlt under Light
-// Falloff; 36 blocks each.
-constexpr int kBlockTestsInFile = 33 * 36;
+// Falloff and with lamp textures; 36 blocks each.
+constexpr int kBlockTestsInFile = 35 * 36;
 const double kAlphaPerBlock = 1.0 - std::pow(1.0 - 0.01, 1.0 / kBlockTestsInFile);
 
 struct Runs {
@@ -335,6 +335,13 @@ TEST(MltVsBdpt, PathSpaceTexturedLamp) {
 // takes each emitter's distance to the path's next vertex.
 TEST(MltVsBdpt, LightFalloff) {
   expect_same_image(load_scene("light_falloff.json"), "light falloff", 32, 64, "relative", {"pssmlt", "mlt"});
+}
+
+// Lamps whose tree varies over them (test_lamp_textures.cpp): a checker over an area lamp, a
+// spot's colour by direction, a sphere lamp's strength by position. mlt's f evaluates each at
+// the path's vertex on the lamp.
+TEST(MltVsBdpt, LampTextures) {
+  expect_same_image(load_scene("lamp_textures.json"), "lamp textures", 32, 64, "relative", {"pssmlt", "mlt"});
 }
 
 // A fixed chain count gives the same image on any number of threads (chains seeded by

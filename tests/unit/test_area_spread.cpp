@@ -20,7 +20,7 @@ Light area_lamp(double spread_degrees) {
 }
 
 // The radiance a direction at angle `a` off the axis carries (in the x-z plane).
-float along(const Light &l, float a) { return lamp_radiance(l, {std::sin(a), 0.0f, -std::cos(a)}, 1.0f).y; }
+float along(const Light &l, float a) { return lamp_radiance(l, l.position, {std::sin(a), 0.0f, -std::cos(a)}, 1.0f).y; }
 
 }  // namespace
 
@@ -61,7 +61,7 @@ TEST(AreaSpread, EveryRoutineSeesTheSameEmission) {
   for (float u : {0.2f, 0.5f, 0.8f}) {
     LightSample s;
     if (!sample_light(l, ref, {u, 1.0f - u}, Vec3(0.5f), s)) continue;
-    EXPECT_FLOAT_EQ(s.L.y, lamp_radiance(l, -s.wi, s.dist).y);
+    EXPECT_FLOAT_EQ(s.L.y, lamp_radiance(l, s.p, -s.wi, s.dist).y);
     // The ray back toward that point hits the lamp with the same radiance.
     float t;
     Color L;
@@ -74,7 +74,7 @@ TEST(AreaSpread, EveryRoutineSeesTheSameEmission) {
     for (float v : {0.1f, 0.6f, 0.97f}) {
       EmissionSample e;
       ASSERT_TRUE(sample_emission(l, {0.5f, 0.5f}, {u, v}, Vec3(0.5f), Vec3(0.0f), 10.0f, e)) << u << " " << v;
-      EXPECT_FLOAT_EQ(e.Le.y, lamp_radiance(l, e.ray.d, 1.0f).y);
+      EXPECT_FLOAT_EQ(e.Le.y, lamp_radiance(l, e.ray.o, e.ray.d, 1.0f).y);
       float pdf_pos, pdf_dir;
       emission_pdf(l, e.ray.o, e.n, e.ray.d, 10.0f, pdf_pos, pdf_dir);
       EXPECT_NEAR(pdf_dir, e.pdf_dir, 1e-4f * e.pdf_dir);

@@ -204,7 +204,7 @@ TEST(LampEmission, AnIesProfileShapesAPointLampInEveryRoutine) {
     ASSERT_TRUE(sample_light(ies.light, ref, {0.5f, 0.5f}, Vec3(0.5f), s) || expected_factor == 0);
     const Color expected = plain.light.radiance * expected_factor / length_squared(ref - at);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(s.L[c], expected[c], 1e-4f * expected[c] + 1e-9f);
-    EXPECT_NEAR(lamp_radiance(ies.light, out, 1.0f).y, plain.light.radiance.y * expected_factor, 1e-4f * expected.y + 1e-9f);
+    EXPECT_NEAR(lamp_radiance(ies.light, ies.light.position, out, 1.0f).y, plain.light.radiance.y * expected_factor, 1e-4f * expected.y + 1e-9f);
   }
   // Emission sampling: each sampled direction carries the profile along it.
   for (float u : {0.1f, 0.35f, 0.6f, 0.85f}) {
@@ -242,7 +242,7 @@ TEST(LampEmission, SphereLampsAndSpotsToo) {
   const UserLight sp = lamp(spot);
   const Vec3 down(0.2f, 0.1f, -1.0f);
   const Vec3 d = normalize(down);
-  EXPECT_NEAR(lamp_radiance(sp.light, d, 1.0f).y, sp.light.radiance.y * spot_attenuation(sp.light, d) * profile.eval(Vec3(d.y, -d.x, d.z)),
+  EXPECT_NEAR(lamp_radiance(sp.light, sp.light.position, d, 1.0f).y, sp.light.radiance.y * spot_attenuation(sp.light, d) * profile.eval(Vec3(d.y, -d.x, d.z)),
               1e-3f);
 }
 

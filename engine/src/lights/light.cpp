@@ -17,7 +17,7 @@ float spot_attenuation(const Light &l, Vec3 dir_from_light) {
   return c;
 }
 
-Color lamp_radiance(const Light &l, Vec3 dir, float distance) {
+Color lamp_radiance(const Light &l, Vec3 p, Vec3 dir, float distance) {
   Color L = l.radiance;
   if (l.type == LightType::Spot) L *= spot_attenuation(l, dir);
   if (l.type == LightType::Area) {
@@ -28,7 +28,7 @@ Color lamp_radiance(const Light &l, Vec3 dir, float distance) {
       L *= std::max((1.0f - l.tan_spread * tan_off_axis) * l.normalize_spread, 0.0f);
     }
   }
-  if (l.emission && !is_black(L)) L = L * l.emission->eval(dir, distance);
+  if (l.emission && !is_black(L)) L = L * l.emission->eval(p, dir, distance);
   return L;
 }
 
@@ -37,7 +37,7 @@ UserLight::UserLight(UserLight &&) noexcept = default;
 UserLight &UserLight::operator=(UserLight &&) noexcept = default;
 UserLight::~UserLight() = default;
 
-UserLight make_light(Params &p) {
+UserLight make_light(Params &p, const ImageBuffers *images) {
   UserLight user;
   Light &l = user.light;
   std::string type = p.get_string("type", "point");
@@ -57,18 +57,6 @@ UserLight make_light(Params &p) {
   Vec3 z = t.column(2);
   if (length(z) == 0) fail(p.what() + ": 'transform' has a zero Z axis");
   l.axis = -normalize(z);
-  if (const nlohmann::json *e = p.get_json("emission")) {
-    // Only point and spot lamps emit along directions of their own (sun and area lamps: the
-    // tree along their axis, as Cycles' shader sees their constant normal).
-    Color along_axis;
-    const LampEmission::Shape shape = type == "point" || type == "spot" ? LampEmission::Shape::Point
-                                      : type == "sun"                   ? LampEmission::Shape::Sun
-                                                                        : LampEmission::Shape::Area;
-    user.emission = LampEmission::parse(*e, t, shape, p.what(), user.warnings, along_axis);
-    l.emission = user.emission.get();
-    l.by_distance = l.emission && l.emission->depends_on_distance();
-    if (!l.emission) color = color * along_axis;
-  }
   auto non_negative = [&](const char *key, float fallback) {
     float v = p.get_float(key, fallback);
     if (v < 0) fail(p.what() + ": '" + key + "' must not be negative");
@@ -122,6 +110,15 @@ UserLight make_light(Params &p) {
     }
   } else {
     fail(p.what() + ": unknown light type '" + type + "' (point, spot, sun, area)");
+  }
+  if (const nlohmann::json *e = p.get_json("emission")) {
+    // The lamp's node tree, once its shape is known: what varies (by direction, over the
+    // lamp, with the distance) stays a graph; what does not is folded into the radiance.
+    Color constant;
+    user.emission = LampEmission::parse(*e, t, l, images, p.what(), user.warnings, constant);
+    l.emission = user.emission.get();
+    l.by_distance = l.emission && l.emission->depends_on_distance();
+    if (!l.emission) l.radiance = l.radiance * constant;
   }
   // "visible_camera" (older files) is the default of "visibility": {"camera": ...}.
   const bool camera = p.get_bool("visible_camera", false);
@@ -226,7 +223,7 @@ bool sample_light(const Light &l, Vec3 ref, Vec2 u, Vec3 u_volume, LightSample &
       s.wi = -to_ref / s.dist;
       s.p = l.position;
       s.pdf = 1;
-      s.L = lamp_radiance(l, -s.wi, s.dist) / d2;  // intensity / r^2
+      s.L = lamp_radiance(l, l.position, -s.wi, s.dist) / d2;  // intensity / r^2
       return !is_black(s.L);
     }
     case LightType::Sun: {
@@ -249,7 +246,7 @@ bool sample_light(const Light &l, Vec3 ref, Vec2 u, Vec3 u_volume, LightSample &
     case LightType::Area: {
       Vec3 p = l.position + area_offset(l, u);
       if (!to_solid_angle(ref, p, l.axis, l.inv_area, false, s)) return false;
-      s.L = lamp_radiance(l, -s.wi, s.dist);
+      s.L = lamp_radiance(l, p, -s.wi, s.dist);
       return !is_black(s.L);
     }
     case LightType::Triangle: {
@@ -336,7 +333,7 @@ bool intersect_light(const Light &l, const Ray &ray, float tmax, float &t, Color
       float vv = dot(q, l.edge_v) / length_squared(l.edge_v);
       bool inside = l.ellipse ? sqr(2 * uu) + sqr(2 * vv) <= 1.0f : std::fabs(uu) <= 0.5f && std::fabs(vv) <= 0.5f;
       if (!inside) return false;
-      L = lamp_radiance(l, -ray.d, t);
+      L = lamp_radiance(l, ray.o + ray.d * t, -ray.d, t);
       return !is_black(L);
     }
     default: return false;

@@ -17,6 +17,7 @@
 #include "core/math.h"
 #include "core/params.h"
 #include "scene/ray_visibility.h"
+#include "textures/image_buffers.h"
 
 namespace rdv {
 
@@ -114,10 +115,11 @@ struct LightSample {
 
 // Cycles 3.4's spot falloff along a direction leaving the light.
 float spot_attenuation(const Light &light, Vec3 dir_from_light);
-// What a point, spot or area lamp emits along a unit direction leaving it toward a point
-// `distance` away: its radiance (a delta lamp: intensity), the spot's falloff, an area lamp's
-// one side and spread, and its node tree's share in that direction at that distance.
-Color lamp_radiance(const Light &light, Vec3 dir_from_light, float distance);
+// What a point, spot or area lamp emits from its point p along a unit direction leaving it
+// toward a point `distance` away: its radiance (a delta lamp: intensity), the spot's falloff,
+// an area lamp's one side and spread, and its node tree's share there, in that direction at
+// that distance.
+Color lamp_radiance(const Light &light, Vec3 p, Vec3 dir_from_light, float distance);
 
 // A user light as make_light builds it: the Light, the node tree it points to (keep them
 // together) and what the parameters made it warn of.
@@ -131,7 +133,8 @@ struct UserLight {
   std::vector<std::string> warnings;
 };
 // Builds a user light from its parameters (rdv_scene_add_light).
-UserLight make_light(Params &p);
+// Image nodes in its tree naming a "buffer" find it in `images` (null: none).
+UserLight make_light(Params &p, const ImageBuffers *images = nullptr);
 Light make_triangle_light(Vec3 a, Vec3 b, Vec3 c, Color radiance);
 Light make_background_light(Color radiance);
 Light make_environment_light(const EnvironmentMap *env);

@@ -46,7 +46,7 @@ bool sample_emission(const Light &l, Vec2 u_pos, Vec2 u_dir, Vec3 u_volume, Vec3
       out.pdf_pos = 1;  // a delta position
       out.ray = {l.position, d, kInf};
       out.n = Vec3(0.0f);
-      out.Le = lamp_radiance(l, d, 1.0f);  // intensity
+      out.Le = lamp_radiance(l, l.position, d, 1.0f);  // intensity
       return !is_black(out.Le);
     }
     case LightType::Area:
@@ -86,7 +86,7 @@ bool sample_emission(const Light &l, Vec2 u_pos, Vec2 u_dir, Vec3 u_volume, Vec3
       out.pdf_dir = side_pdf * pdf_dir;
       out.ray = {p, d, kInf};
       out.n = n;
-      out.Le = l.type == LightType::Area ? lamp_radiance(l, d, 1.0f) : l.radiance;  // an area lamp's spread
+      out.Le = l.type == LightType::Area ? lamp_radiance(l, p, d, 1.0f) : l.radiance;  // an area lamp's spread
       return out.pdf_dir > 0 && !is_black(out.Le);
     }
     case LightType::Sun:

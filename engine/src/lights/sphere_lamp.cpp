@@ -42,7 +42,7 @@ float sphere_lamp_direction_pdf(const Light &l, Vec3 n, Vec3 d) {
 
 Color sphere_lamp_radiance(const Light &l, Vec3 n, Vec3 d, float distance) {
   if (!(dot(n, d) > 0)) return Color(0.0f);
-  return lamp_radiance(l, d, distance);
+  return lamp_radiance(l, l.position + n * l.radius, d, distance);
 }
 
 namespace {

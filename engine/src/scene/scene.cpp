@@ -161,7 +161,7 @@ void Scene::drop_medium(int id) {
 void Scene::set_light(uint32_t id, Params &params) {
   if (id >= user_lights_.size())
     fail("light " + std::to_string(id) + ": no such light (" + std::to_string(user_lights_.size()) + " lights)");
-  UserLight made = make_light(params);
+  UserLight made = make_light(params, &image_buffers_);
   for (const std::string &w : made.warnings) warn(w);
   user_lights_[id] = made.light;
   user_light_emissions_[id] = std::move(made.emission);
@@ -365,7 +365,7 @@ void Scene::set_instance_transform(uint32_t id, const Transform &to_world) {
 }
 
 uint32_t Scene::add_light(const std::string &name, Params &params) {
-  UserLight made = make_light(params);
+  UserLight made = make_light(params, &image_buffers_);
   for (const std::string &w : made.warnings) warn(w);
   user_lights_.push_back(made.light);
   user_light_emissions_.push_back(std::move(made.emission));
@@ -832,7 +832,7 @@ Color Scene::light_radiance(const Light &l, Vec3 p, Vec3 n, Vec3 w, Vec3 receive
   switch (l.type) {
     case LightType::Point:
     case LightType::Spot:
-    case LightType::Area: return lamp_radiance(l, w, distance);
+    case LightType::Area: return lamp_radiance(l, p, w, distance);
     case LightType::Triangle: return l.textured ? triangle_emission(l, p, distance) : l.radiance;
     // Radiance per unit length at the point (isotropic).
     case LightType::Volume: return l.volume->medium().emission_at(p);

@@ -844,24 +844,41 @@ int TextureGraph::parse_node(const json &j, const std::string &what_in, std::vec
   return add(n);
 }
 
-bool TextureGraph::depends_on_normal(int node) const {
+template <typename Leaf>
+bool TextureGraph::any_in_subgraph(int node, const Leaf &leaf) const {
   // Inputs refer to nodes parsed before them: the recursion ends.
   const TexNode &n = nodes_[size_t(node)];
-  if (n.type == TexNodeType::TexCoord && (n.mode == kNormal || n.mode == kObjectNormal || n.mode == kTrueNormal))
-    return true;
-  if (n.type == TexNodeType::NormalMap || n.type == TexNodeType::Bump || n.type == TexNodeType::Bevel) return true;
-  if (n.type == TexNodeType::Ies && !n.ies) return depends_on_normal(n.in[0]);  // Cycles' 100 in every direction
+  if (leaf(n)) return true;
+  // An IES Texture without a profile is Cycles' 100 in every direction: its vector unused.
+  if (n.type == TexNodeType::Ies && !n.ies) return any_in_subgraph(n.in[0], leaf);
   for (int i : n.in)
-    if (i >= 0 && depends_on_normal(i)) return true;
+    if (i >= 0 && any_in_subgraph(i, leaf)) return true;
   return false;
 }
 
+bool TextureGraph::depends_on_normal(int node) const {
+  return any_in_subgraph(node, [](const TexNode &n) {
+    return (n.type == TexNodeType::TexCoord && (n.mode == kNormal || n.mode == kObjectNormal || n.mode == kTrueNormal)) ||
+           n.type == TexNodeType::NormalMap || n.type == TexNodeType::Bump || n.type == TexNodeType::Bevel;
+  });
+}
+
 bool TextureGraph::depends_on_ray_length(int node) const {
-  const TexNode &n = nodes_[size_t(node)];
-  if (n.type == TexNodeType::LightFalloff) return true;
-  for (int i : n.in)
-    if (i >= 0 && depends_on_ray_length(i)) return true;
-  return false;
+  return any_in_subgraph(node, [](const TexNode &n) { return n.type == TexNodeType::LightFalloff; });
+}
+
+bool TextureGraph::depends_on_point(int node) const {
+  // Every texture reads its coordinates through an input (the parser fills the defaults in).
+  return any_in_subgraph(node, [](const TexNode &n) {
+    switch (n.type) {
+      case TexNodeType::TexCoord: return n.mode != kNormal && n.mode != kObjectNormal && n.mode != kTrueNormal;
+      case TexNodeType::Attribute:
+      case TexNodeType::CameraData:
+      case TexNodeType::Wireframe:
+      case TexNodeType::AmbientOcclusion: return true;
+      default: return false;
+    }
+  });
 }
 
 // ---- evaluation ------------------------------------------------------------------------

@@ -98,6 +98,9 @@ class TextureGraph {
   // Whether it depends on the length of the ray the emitted light travels (Light Falloff):
   // an emitter's radiance then depends on the point it lights.
   bool depends_on_ray_length(int node) const;
+  // Whether it depends on where the shading point is (its position, texture coordinates
+  // other than normals, attributes): a lamp's tree then varies over the lamp.
+  bool depends_on_point(int node) const;
   bool is_constant(int node) const { return node >= 0 && nodes_[size_t(node)].type == TexNodeType::Constant; }
   const TexNode &node(int i) const { return nodes_[size_t(i)]; }
   size_t size() const { return nodes_.size(); }
@@ -106,6 +109,8 @@ class TextureGraph {
   Vec3 eval_normal(int node, const ShadingPoint &sp) const;
 
  private:
+  template <typename Leaf>
+  bool any_in_subgraph(int node, const Leaf &leaf) const;  // leaf(n) for a node feeding `node`
   int add(const TexNode &n);  // bounds the evaluations per shading point (kMaxTextureEvaluations)
   Color eval_node(const TexNode &n, int idx, const ShadingPoint &sp) const;
   int parse_node(const nlohmann::json &j, const std::string &what, std::vector<std::string> &warnings);
