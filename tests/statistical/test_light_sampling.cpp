@@ -45,6 +45,10 @@ std::vector<Case> sampled_lights() {
       {"point_r0.5", light_from(R"({"type":"point","position":[0,0,2],"radius":0.5,"power":100})")},
       {"spot_r0.3", light_from(R"({"type":"spot","position":[0.5,0,1.5],"direction":[0,0,-1],"radius":0.3,"power":100,"spot_size":2.0})")},
       {"area_rect", light_from(R"({"type":"area","position":[0,0.5,1],"direction":[0,-0.3,-1],"shape":"rectangle","size":1.5,"size_y":0.5,"power":100})")},
+      // Rectangles by solid angle: one wide and close, one whose 40-degree spread lets only a
+      // corner of it light the point (lights/rectangle_lamp.h).
+      {"area_rect_close", light_from(R"({"type":"area","position":[0.3,0,0.25],"direction":[0.2,0,-1],"shape":"rectangle","size":2,"size_y":1.2,"power":100})")},
+      {"area_rect_spread", light_from(R"({"type":"area","position":[1.2,0.6,0.8],"direction":[0,0,-1],"shape":"rectangle","size":2,"size_y":1.5,"spread":0.7,"power":100})")},
       {"area_disk", light_from(R"({"type":"area","position":[0,0,0.6],"direction":[0,0,-1],"shape":"disk","size":2,"power":100})")},
       {"sun_10deg", light_from(R"({"type":"sun","direction":[0.2,0.1,-1],"angle":0.1745,"strength":3})")},
       {"triangle", make_triangle_light(Vec3(-1, -1, 1), Vec3(1, -0.5f, 1.2f), Vec3(0, 1, 0.8f), Color(2.0f))},
@@ -123,6 +127,18 @@ TEST(LightUnits, IrradianceMatchesClosedForms) {
     double F = (a / std::sqrt(a * a + d * d)) * std::atan(a / std::sqrt(a * a + d * d)) * 2 / (2 * pi);
     expect_irradiance(light_from(R"({"type":"area","position":[0,0,2],"direction":[0,0,-1],"shape":"square","size":1,"power":100})"),
                       pi * L * 4 * F, "area_square");
+  }
+  // The same square a quarter of a metre away (sampled by solid angle, 2.2 sr: the estimate is
+  // cos alone), and 1 cm wide 30 m away (1.1e-7 sr: by area, its form factor ~ A / (pi d^2)).
+  {
+    const double s = 1.0, a = s / 2, h = 0.25, L = 100 / (4 * s * s);
+    const double F = (a / std::sqrt(a * a + h * h)) * std::atan(a / std::sqrt(a * a + h * h)) * 2 / (2 * pi);
+    expect_irradiance(light_from(R"({"type":"area","position":[0,0,0.25],"direction":[0,0,-1],"shape":"square","size":1,"power":100})"),
+                      pi * L * 4 * F, "area_square_close");
+    const double w = 0.01, far = 30.0, L_far = 100 / (4 * w * w), b = w / 2;
+    const double F_far = (b / std::sqrt(b * b + far * far)) * std::atan(b / std::sqrt(b * b + far * far)) * 2 / (2 * pi);
+    expect_irradiance(light_from(R"({"type":"area","position":[0,0,30],"direction":[0,0,-1],"shape":"square","size":0.01,"power":100})"),
+                      pi * L_far * 4 * F_far, "area_square_far");
   }
   // Area disk of radius R: E = pi L R^2 / (R^2 + d^2), L = P / (4 A).
   {

@@ -3,6 +3,7 @@
 #include "core/sampling.h"
 #include "lights/environment.h"
 #include "lights/lamp_emission.h"
+#include "lights/rectangle_lamp.h"
 #include "lights/sphere_lamp.h"
 #include "lights/volume_light.h"
 
@@ -182,13 +183,10 @@ void compute_light_power(Light &l, float scene_radius) {
   if (!std::isfinite(l.power)) l.power = 0;
 }
 
-// Point on an area light from u, relative to its centre.
-static Vec3 area_offset(const Light &l, Vec2 u) {
-  if (l.ellipse) {
-    Vec2 d = concentric_disk(u);
-    return l.edge_u * (0.5f * d.x) + l.edge_v * (0.5f * d.y);
-  }
-  return l.edge_u * (u.x - 0.5f) + l.edge_v * (u.y - 0.5f);
+// Point on an elliptic area light from u, relative to its centre.
+static Vec3 ellipse_offset(const Light &l, Vec2 u) {
+  const Vec2 d = concentric_disk(u);
+  return l.edge_u * (0.5f * d.x) + l.edge_v * (0.5f * d.y);
 }
 
 // Converts an area density on a surface with normal n at point p into solid angle at ref.
@@ -244,9 +242,18 @@ bool sample_light(const Light &l, Vec3 ref, Vec2 u, Vec3 u_volume, LightSample &
       return true;
     }
     case LightType::Area: {
-      Vec3 p = l.position + area_offset(l, u);
-      if (!to_solid_angle(ref, p, l.axis, l.inv_area, false, s)) return false;
-      s.L = lamp_radiance(l, p, -s.wi, s.dist);
+      if (l.ellipse) {
+        const Vec3 p = l.position + ellipse_offset(l, u);
+        if (!to_solid_angle(ref, p, l.axis, l.inv_area, false, s)) return false;
+      } else {  // by solid angle, only the part whose light can reach ref (rectangle_lamp.h)
+        if (!sample_rectangle_lamp_from(l, ref, u, s.p, s.pdf)) return false;
+        const Vec3 d = s.p - ref;
+        const float dist2 = length_squared(d);
+        if (!(dist2 > 0)) return false;
+        s.dist = std::sqrt(dist2);
+        s.wi = d / s.dist;
+      }
+      s.L = lamp_radiance(l, s.p, -s.wi, s.dist);
       return !is_black(s.L);
     }
     case LightType::Triangle: {
@@ -302,6 +309,7 @@ float light_pdf(const Light &l, Vec3 ref, Vec3 wi, float dist) {
       return l.inv_area / (c * c * c);
     }
     case LightType::Area: {
+      if (!l.ellipse) return rectangle_lamp_pdf(l, ref, ref + wi * dist);
       float cos_l = -dot(l.axis, wi);
       return cos_l > 0 ? dist * dist * l.inv_area / cos_l : 0.0f;
     }
