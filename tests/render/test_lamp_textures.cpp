@@ -19,17 +19,5 @@ using namespace rdv::test;
 using nlohmann::json;
 
 TEST(LampTextures, PathAndBdptAgree) {
-  const json scene = load_scene("lamp_textures.json");
-  const double alpha_per_block = 1.0 - std::pow(1.0 - 0.01, 1.0 / 16);
-  auto runs = [&](const char *integrator, int samples, uint32_t seed) {
-    return seeded_renders(scene.dump(), json({{"integrator", integrator}, {"samples", samples}, {"width", 32},
-                                              {"height", 32}}).dump(), 6, seed);
-  };
-  const std::vector<std::vector<double>> bdpt = runs("bdpt", 16, 100), path = runs("path", 32, 200);
-  BlockComparison c = compare_blocks(bdpt, path, 32, 32, 8, alpha_per_block);
-  EXPECT_EQ(c.failed, 0) << c.detail;
-  const BrightnessComparison b = compare_brightness(bdpt, path);
-  EXPECT_LT(std::fabs(b.z), 3.3) << "bdpt " << b.mean_a << " path " << b.mean_b;
-  std::printf("[ lamp textures ] bdpt / path mean %.4f +- %.4f; %s\n", b.mean_a / b.mean_b, b.error / b.mean_b,
-              c.detail.substr(0, 100).c_str());
+  expect_small_bdpt_matches_path(load_scene("lamp_textures.json"), "lamp textures");
 }

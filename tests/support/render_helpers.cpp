@@ -1,12 +1,14 @@
 #include "render_helpers.h"
 #include <gtest/gtest.h>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
 #include <unistd.h>
+#include "statistics.h"
 
 namespace rdv::test {
 
@@ -160,6 +162,21 @@ std::vector<std::vector<double>> seeded_renders(const std::string &scene_json, c
     out.push_back(v);
   }
   return out;
+}
+
+void expect_small_bdpt_matches_path(const nlohmann::json &scene, const std::string &what) {
+  const double alpha_per_block = 1.0 - std::pow(1.0 - 0.01, 1.0 / 16);
+  auto runs = [&](const char *integrator, int samples, uint32_t seed) {
+    nlohmann::json settings = {{"integrator", integrator}, {"samples", samples}, {"width", 32}, {"height", 32}};
+    return seeded_renders(scene.dump(), settings.dump(), 6, seed);
+  };
+  const std::vector<std::vector<double>> bdpt = runs("bdpt", 16, 100), path = runs("path", 32, 200);
+  const BlockComparison c = compare_blocks(bdpt, path, 32, 32, 8, alpha_per_block);
+  EXPECT_EQ(c.failed, 0) << what << ": " << c.detail;
+  const BrightnessComparison b = compare_brightness(bdpt, path);
+  EXPECT_LT(std::fabs(b.z), 3.3) << what << ": bdpt " << b.mean_a << " path " << b.mean_b;
+  std::printf("[ %s ] bdpt / path mean %.4f +- %.4f; %s\n", what.c_str(), b.mean_a / b.mean_b, b.error / b.mean_b,
+              c.detail.substr(0, 100).c_str());
 }
 
 rdv_status session_status(rdv_scene *scene, const std::string &settings) {

@@ -82,6 +82,12 @@ Image render_json_prepared(const std::function<void(rdv_scene *)> &prepare, cons
 std::vector<std::vector<double>> seeded_renders(const std::string &scene_json, const std::string &settings, int runs,
                                                 uint32_t seed0);
 
+// Path tracing (32 spp) and BDPT (16 spp) render the scene at 32 x 32 six times each with
+// their own seeds: every 8x8 block must agree by Welch's t-test (1% false-alarm rate for the 16
+// blocks, Sidak-corrected) and the means within |z| < 3.3 (1e-3); prints "[ what ]" and the
+// BDPT / path ratio. For emitters every integrator must evaluate alike.
+void expect_small_bdpt_matches_path(const nlohmann::json &scene, const std::string &what);
+
 // Mean and standard error of the per-pixel means (pixels are independent estimates).
 struct MeanEstimate { double mean, standard_error; };
 MeanEstimate pixel_mean(const Image &img, int channel);
