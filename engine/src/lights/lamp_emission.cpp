@@ -56,20 +56,27 @@ std::unique_ptr<LampEmission> LampEmission::parse(const nlohmann::json &j, const
   }
   sp.ns = sp.ng = lamp.axis;
   constant = e->eval_unclamped(sun ? lamp.axis : lamp.position, lamp.axis, sun ? kInf : 1.0f);
-  if (!is_finite(constant) || constant.x < 0 || constant.y < 0 || constant.z < 0)
-    fail(what + ": its emission must be finite and not negative (along the lamp's axis)");
-  if (!varies) return nullptr;
-  e->mean_ = e->mean_over_lamp(lamp, what);
+  if (!varies) {
+    if (!is_finite(constant) || constant.x < 0 || constant.y < 0 || constant.z < 0)
+      fail(what + ": its emission must be finite and not negative (along the lamp's axis)");
+    return nullptr;
+  }
+  // What varies emits nothing where it is negative or not finite (eval): said once.
+  bool unphysical = false;
+  e->mean_ = e->mean_over_lamp(lamp, unphysical);
+  if (unphysical)
+    warnings.push_back(what + ": its emission is negative or not finite at some points or in some directions; "
+                              "no light there");
   return e;
 }
 
-float LampEmission::mean_over_lamp(const Light &lamp, const std::string &what) const {
+float LampEmission::mean_over_lamp(const Light &lamp, bool &unphysical) const {
   double sum = 0;
   int n = 0;
   auto add = [&](Vec3 p, Vec3 dir) {
     const Color v = eval_unclamped(p, dir, 1.0f);
-    if (!is_finite(v)) fail(what + ": its emission is not finite at some points or in some directions");
-    sum += double(luminance(vmax(v, Color(0.0f))));
+    if (!is_finite(v) || v.x < 0 || v.y < 0 || v.z < 0) unphysical = true;
+    sum += double(luminance(eval(p, dir, 1.0f)));
     ++n;
   };
   if (shape_ == Shape::Point) {

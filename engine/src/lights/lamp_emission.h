@@ -33,8 +33,9 @@ class LampEmission {
   // Parses "emission" for `lamp` (its type, position and size set) placed by lamp_to_world.
   // Returns the graph when it varies with the direction (a point or spot lamp), with the
   // distance to the point lit (not a sun) or over the lamp (not a sun); otherwise null, with
-  // the tree's value at the lamp's centre along its axis in `constant`. Image nodes naming a
-  // "buffer" find it in `images` (null: none). Malformed input throws (fail()).
+  // the tree's value at the lamp's centre along its axis in `constant` (which must be finite
+  // and not negative). Image nodes naming a "buffer" find it in `images` (null: none).
+  // Malformed input throws (fail()).
   static std::unique_ptr<LampEmission> parse(const nlohmann::json &j, const Transform &lamp_to_world,
                                              const Light &lamp, const ImageBuffers *images, const std::string &what,
                                              std::vector<std::string> &warnings, Color &constant);
@@ -50,7 +51,8 @@ class LampEmission {
 
  private:
   Color eval_unclamped(Vec3 p, Vec3 dir, float distance) const;
-  float mean_over_lamp(const Light &lamp, const std::string &what) const;
+  // unphysical: set when some value is negative or not finite (eval emits nothing there).
+  float mean_over_lamp(const Light &lamp, bool &unphysical) const;
   TextureGraph graph_;
   int color_ = -1, strength_ = -1;
   ShadingPoint at_lamp_;  // the lamp's transform; eval sets the point and the normal
