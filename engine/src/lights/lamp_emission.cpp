@@ -77,8 +77,9 @@ float LampEmission::mean_over_lamp(const Light &lamp, bool &unphysical) const {
   int n = 0;
   auto add = [&](Vec3 p, Vec3 dir) {
     const Color v = eval_unclamped(p, dir, 1.0f);
-    if (!is_finite(v) || v.x < 0 || v.y < 0 || v.z < 0) unphysical = true;
-    sum += double(luminance(eval(p, dir, 1.0f)));
+    const bool finite = is_finite(v);
+    if (!finite || v.x < 0 || v.y < 0 || v.z < 0) unphysical = true;
+    sum += finite ? double(luminance(vmax(v, Color(0.0f)))) : 0.0;  // as eval clamps it, without a second evaluation
     ++n;
   };
   if (shape_ == Shape::Point) {
