@@ -61,16 +61,15 @@ void expect_same_image(const json &scene, const json &limits, const std::string 
   auto got = runs_of(scene, limits, test.first, test.second, std::strcmp(test.first, "mlt") == 0 ? 2001 : 1001);
   BlockComparison c = compare_blocks(got, ref, kSize, kSize, 8, kAlphaPerBlock);
   EXPECT_EQ(c.failed, 0) << what << ": " << c.detail;
-  std::string mean;
-  if (brightness) {
-    const BrightnessComparison b = compare_brightness(got, ref);
+  // Each side's relative error of its mean printed: how the test's noise is shared.
+  const BrightnessComparison b = compare_brightness(got, ref);
+  if (brightness)
     EXPECT_LT(std::fabs(b.z), 3.3) << what << ": mean " << b.mean_a << " vs " << reference.first << " " << b.mean_b;
-    char text[96];
-    std::snprintf(text, sizeof text, "mean ratio %.4f +- %.4f (z %.2f); ", b.mean_a / b.mean_b, b.error / b.mean_b,
-                  b.z);
-    mean = text;
-  }
-  std::printf("[ light paths ] %s %-28s %s%s\n", test.first, what.c_str(), mean.c_str(),
+  char mean[160];
+  std::snprintf(mean, sizeof mean, "mean ratio %.4f +- %.4f (z %.2f; errors %s %.4f, %s %.4f); ",
+                b.mean_a / b.mean_b, b.error / b.mean_b, b.z, test.first, b.error_a / b.mean_a, reference.first,
+                b.error_b / b.mean_b);
+  std::printf("[ light paths ] %s %-28s %s%s\n", test.first, what.c_str(), mean,
               c.detail.substr(0, 120).c_str());
 }
 
@@ -80,7 +79,9 @@ void expect_bdpt_matches_path(const json &scene, const json &limits, const std::
 }
 
 // Path-space MLT (integrators/mlt/path_space.h) against BDPT: the limits make f = 0 outside
-// them, so the chains' image is BDPT's with the same limits.
+// them, so the chains' image is BDPT's with the same limits. Sample counts: each side's
+// error of its mean is printed; where the chains' runs spread 5-20x more than BDPT's at
+// 32-64 spp, BDPT renders 8-16 (its share of the comparison's variance stays a few %).
 void expect_mlt_matches_bdpt(const json &scene, const json &limits, const std::string &what, int samples_bdpt,
                              int mutations) {
   expect_same_image(scene, limits, what, {"bdpt", samples_bdpt}, {"mlt", mutations}, true);
@@ -149,14 +150,14 @@ TEST(LightPathLimits, FilterGlossyZeroChangesNothingAndOnBlursCaustics) {
 TEST(LightPathLimits, FilterGlossyInBdptAndMetropolisMatchesPath) {
   json caustic = load_scene("caustic.json");
   const json filtered = {{"max_bounces", 8}, {"filter_glossy", 2}};
-  expect_bdpt_matches_path(caustic, filtered, "filter glossy 2 caustic", 256, 64);
+  expect_bdpt_matches_path(caustic, filtered, "filter glossy 2 caustic", 256, 16);
   expect_bdpt_matches_path(load_scene("light_types.json"), {{"max_bounces", 8}, {"filter_glossy", 1}},
                            "filter glossy 1 light_types", 64, 16);
   for (const char *integrator : {"pssmlt", "mmlt"})
     expect_same_image(caustic, filtered, "filter glossy 2 caustic", {"path", 256}, {integrator, 64});
   expect_same_image(caustic, filtered, "filter glossy 2 caustic", {"path", 256}, {"mlt", 64}, true);
   expect_mlt_matches_bdpt(load_scene("light_types.json"), {{"max_bounces", 8}, {"filter_glossy", 1}},
-                          "filter glossy 1 light_types", 64, 64);
+                          "filter glossy 1 light_types", 32, 64);
   auto pt = runs_of(caustic, filtered, "path", 256, 1);
   json unfiltered = filtered;
   unfiltered["filter_glossy"] = 0;
@@ -190,7 +191,7 @@ TEST(LightPathLimits, FogAroundASphereLampBdptMatchesPath) {
   for (int volume : {0, 1, -1}) {
     json limits = {{"max_bounces", 8}};
     if (volume >= 0) limits["volume_bounces"] = volume;
-    expect_same_image(scene, limits, "fog sphere spot volume " + std::to_string(volume), {"path", 128}, {"bdpt", 32},
+    expect_same_image(scene, limits, "fog sphere spot volume " + std::to_string(volume), {"path", 128}, {"bdpt", 8},
                       true);
   }
 }
@@ -263,9 +264,9 @@ TEST(LightPathLimits, PathSpaceMltMatchesBdpt) {
   json caustic = load_scene("caustic.json");
   caustic["lights"][0]["radius"] = 0.4;
   expect_mlt_matches_bdpt(caustic, {{"max_bounces", 8}, {"caustics_refractive", false}, {"caustics_reflective", false}},
-                          "caustics off", 32, 64);
+                          "caustics off", 8, 64);
   expect_mlt_matches_bdpt(load_scene("fog_spot.json"), {{"max_bounces", 8}, {"volume_bounces", 1}}, "fog volume 1",
-                          32, 64);
+                          8, 64);
 }
 
 TEST(LightPathLimits, PathSpaceMltLimitsThatNeverBindChangeNothing) {
@@ -362,7 +363,7 @@ TEST(LightPathLimits, TransparentMaxBouncesInBdptAndMetropolis) {
   expect_bdpt_matches_path(staircase(6), {{"max_bounces", 12}, {"transparent_max_bounces", 4}},
                            "transparent 4, six cards", 128, 64);
   expect_mlt_matches_bdpt(staircase(2), {{"max_bounces", 12}, {"transparent_max_bounces", 1}},
-                          "transparent 1, two cards", 64, 256);
+                          "transparent 1, two cards", 8, 256);
   for (const char *integrator : {"path", "bdpt", "mlt"}) {
     json s = small({{"integrator", integrator}, {"samples", 8}, {"seed", 5}, {"max_bounces", 12}, {"mlt_chains", 16}});
     Image plain = render_json(staircase(3).dump(), s.dump());
@@ -444,7 +445,7 @@ TEST(LightPathLimits, LampMaxBouncesInBdptAndMetropolis) {
     const json scene = cornell_lamps(bounces);
     const std::string what = "lamp max bounces " + std::to_string(bounces);
     expect_same_image(scene, limits, what, {"path", 128}, {"bdpt", 32}, true);
-    expect_mlt_matches_bdpt(scene, limits, what, 32, 64);
+    expect_mlt_matches_bdpt(scene, limits, what, 8, 64);
   }
 }
 

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <thread>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include "media_grids.h"
@@ -61,15 +62,30 @@ void mean_and_error(const std::vector<double> &x, double &mean, double &error) {
   error = std::sqrt(std::max(0.0, s2 / double(x.size()) - mean * mean) / double(x.size() - 1));
 }
 
+// BDPT's K runs of a scene, rendered once per process: a test that compares several
+// Metropolis settings on one scene (the door gap's two targets, the fog door's three set-ups)
+// compares each with the same reference.
+const Runs &bdpt_runs(const json &scene, int samples) {
+  static std::map<std::string, Runs> rendered;
+  const json s = {{"width", 48}, {"height", 48}, {"max_bounces", 8}, {"integrator", "bdpt"}, {"samples", samples}};
+  const std::string key = scene.dump() + '\n' + s.dump();
+  auto it = rendered.find(key);
+  if (it == rendered.end()) it = rendered.emplace(key, render_runs(scene, s, 1)).first;
+  return it->second;
+}
+
 // Both Metropolis integrators against BDPT on one scene.
 // variants: settings each integrator also runs with, against the one BDPT reference
 // (named in the messages by their JSON).
+// bdpt_samples: the reference's; its run means spread 3-30x less than the Metropolis
+// integrators' at the mutations each test gives them (both printed), so its share of
+// each comparison's variance is small.
 void expect_same_image(const json &scene, const std::string &what, int bdpt_samples, int mutations,
                        const char *target = "relative",
                        std::initializer_list<const char *> integrators = {"pssmlt", "mmlt"},
                        const std::vector<json> &variants = {json::object()}) {
-  json s = {{"width", 48}, {"height", 48}, {"max_bounces", 8}, {"integrator", "bdpt"}, {"samples", bdpt_samples}};
-  Runs bdpt = render_runs(scene, s, 1);
+  const json s = {{"width", 48}, {"height", 48}, {"max_bounces", 8}};
+  const Runs &bdpt = bdpt_runs(scene, bdpt_samples);
   double bdpt_mean, bdpt_error;
   mean_and_error(bdpt.means, bdpt_mean, bdpt_error);
   for (const char *name : integrators)
@@ -96,26 +112,27 @@ void expect_same_image(const json &scene, const std::string &what, int bdpt_samp
       const double dof = (va + vb) * (va + vb) / ((va * va + vb * vb) / (kRuns - 1));
       EXPECT_GT(student_t_two_sided(z, dof), 1e-3) << what << " " << integrator << ": mean " << mean << " vs bdpt "
                                                    << bdpt_mean << " (t " << z << ", " << dof << " dof)";
-      std::printf("[ %-6s vs bdpt ] %-10s mean ratio %.4f +- %.4f; %s\n", integrator.c_str(), what.c_str(),
-                  mean / bdpt_mean, std::sqrt(error * error + bdpt_error * bdpt_error) / bdpt_mean,
+      std::printf("[ %-6s vs bdpt ] %-10s mean ratio %.4f +- %.4f (run means' errors: %.4f, bdpt %.4f); %s\n",
+                  integrator.c_str(), what.c_str(), mean / bdpt_mean,
+                  std::sqrt(error * error + bdpt_error * bdpt_error) / bdpt_mean, error / mean, bdpt_error / bdpt_mean,
                   c.detail.substr(0, 100).c_str());
     }
 }
 
 }  // namespace
 
-TEST(MltVsBdpt, CornellBox) { expect_same_image(load_scene("cornell_box.json"), "cornell", 32, 64); }
+TEST(MltVsBdpt, CornellBox) { expect_same_image(load_scene("cornell_box.json"), "cornell", 8, 64); }
 
 // A glass ball under a 3 cm lamp: the caustic BDPT finds by light tracing.
-TEST(MltVsBdpt, GlassCaustic) { expect_same_image(load_scene("caustic.json"), "caustic", 32, 64); }
+TEST(MltVsBdpt, GlassCaustic) { expect_same_image(load_scene("caustic.json"), "caustic", 16, 64); }
 
 // A room lit only through a door gap; and a spot lamp in fog (medium vertices, NEE and
-// connections through the medium).
-TEST(MltVsBdpt, DoorGap) { expect_same_image(load_scene("door_gap.json"), "door gap", 32, 64); }
-// Kelemen's and Hachisuka's own target (luminance), where it differs most from the
-// relative one (the lit room seen through the gap).
-TEST(MltVsBdpt, DoorGapLuminanceTarget) {
-  expect_same_image(load_scene("door_gap.json"), "door gap (luminance)", 32, 64, "luminance");
+// connections through the medium). The door gap also with Kelemen's and Hachisuka's own
+// target (luminance), where it differs most from the relative one (the lit room seen
+// through the gap).
+TEST(MltVsBdpt, DoorGap) {
+  expect_same_image(load_scene("door_gap.json"), "door gap", 16, 64);
+  expect_same_image(load_scene("door_gap.json"), "door gap (luminance)", 16, 64, "luminance");
 }
 // The sample clamp (settings "clamp") caps a camera sample's value: pssmlt's state holds
 // BDPT's camera sample, capped the same, so its chains render BDPT's clamped image. A
@@ -124,7 +141,7 @@ TEST(MltVsBdpt, DoorGapLuminanceTarget) {
 TEST(MltVsBdpt, GlassCausticWithSampleClamp) {
   json scene = load_scene("caustic.json");
   scene["settings"]["clamp"] = 0.3;
-  expect_same_image(scene, "caustic, clamp", 32, 64, "relative", {"pssmlt"});
+  expect_same_image(scene, "caustic, clamp", 16, 64, "relative", {"pssmlt"});
 }
 TEST(MltVsBdpt, FogAndSpot) { expect_same_image(load_scene("fog_spot.json"), "fog spot", 16, 32); }
 
@@ -132,25 +149,21 @@ TEST(MltVsBdpt, FogAndSpot) { expect_same_image(load_scene("fog_spot.json"), "fo
 // homogeneous world volume) lit through a door gap by an area lamp, medium vertices and
 // free-flight densities on both sides of every edge.
 TEST(MltVsBdpt, PathSpaceCornellBox) {
-  expect_same_image(load_scene("cornell_box.json"), "cornell", 32, 64, "luminance", {"mlt"});
+  expect_same_image(load_scene("cornell_box.json"), "cornell", 16, 64, "luminance", {"mlt"});
 }
 // The path-space tests run Veach's target, the path's luminance, whose image mean is b
 // itself (a sharp brightness check); the fog door also runs the default target, relative
 // to a pilot's image (importance_map.h), whose mean spreads ~5x wider between runs at
 // these lengths (48 px, volume caustic, 256 mutations per pixel, 16 seeds: 1.020 +- 0.025
-// of BDPT against the luminance target's 1.005 +- 0.005).
+// of BDPT against the luminance target's 1.005 +- 0.005). Last, direct light (paths of one
+// and two edges) left to the path tracer's 16 samples per pixel, the chains' paths three
+// edges or more (MltSettings::direct_samples, relative target).
 TEST(MltVsBdpt, PathSpaceFogDoor) {
-  expect_same_image(load_scene("fog_door.json"), "fog door", 32, 64, "luminance", {"mlt"});
-}
-TEST(MltVsBdpt, PathSpaceFogDoorRelativeTarget) {
-  expect_same_image(load_scene("fog_door.json"), "fog door (relative)", 32, 64, "relative", {"mlt"});
-}
-// Direct light (paths of one and two edges) left to the path tracer's 16 samples per
-// pixel, the chains' paths three edges or more (MltSettings::direct_samples).
-TEST(MltVsBdpt, PathSpaceFogDoorDirectLightByPathTracing) {
-  json scene = load_scene("fog_door.json");
-  scene["settings"]["mlt_direct_samples"] = 16;
-  expect_same_image(scene, "fog door (direct by path tracing)", 32, 64, "relative", {"mlt"});
+  const json scene = load_scene("fog_door.json");
+  expect_same_image(scene, "fog door", 16, 64, "luminance", {"mlt"});
+  expect_same_image(scene, "fog door (relative)", 16, 64, "relative", {"mlt"});
+  expect_same_image(scene, "fog door (direct by path tracing)", 16, 64, "relative", {"mlt"},
+                    {json{{"mlt_direct_samples", 16}}});
 }
 // The same over a floor seen and lit through a card half Transparent BSDF: the path tracer's
 // direct light is every path with one scattering vertex, however many layers it passes, so
@@ -192,42 +205,38 @@ TEST(MltVsBdpt, PathSpacePointLampThroughCards) {
                   {{"name", "sheet"}, {"shape", {{"type", "quad"}, {"size", 1}}}, {"materials", {"sheet"}},
                    {"transform", {{"translate", {0.3, 0, 2.2}}}}}}},
       {"lights", {{{"type", "point"}, {"power", 300}, {"radius", 0}, {"position", {0, 0, 2.5}}}}}};
-  expect_same_image(scene, "point lamp through cards", 32, 64, "luminance", {"mlt"});
+  expect_same_image(scene, "point lamp through cards", 8, 64, "luminance", {"mlt"});
 }
 // Specular vertices (delta lobes in paths): the caustic of a smooth glass ball seen directly
 // and in a mirror, its lamp made a point (radius 0), and the volume caustic (the ball
-// focusing a spot into fog). 4x the samples of the others (the mirror caustic's mean then has
+// focusing a spot into fog). 4x the mutations of the others (the mirror caustic's mean then has
 // a standard error of 0.5%; the volume caustic's run means spread about 2-3%; mlt refuses
 // its 2 cm spot in fog, docs/mlt.md, so it is made a point here). The mirror
 // caustic's own 3 cm lamp is not here: its image in the mirror and through the ball (paths
 // E S+ L, 7% of this 48 px image in about 1e-6 of path space) is reached only when a
 // camera-side walk hits the sphere, which mlt's chains rarely do (docs/mlt.md).
+// Then the multi-chain perturbation and the lens subpath mutation doing most of the small
+// steps (weight 3 each against 1 for the bidirectional mutation, lens and caustic
+// perturbations) on the same scene: the floor seen through the ball and the caustic seen in
+// the mirror (E D S S D L, E S D S S D L: the turned chains), every pixel swept by the lens
+// subpath mutation's stratified positions.
 TEST(MltVsBdpt, PathSpaceMirrorCaustic) {
   json scene = load_scene("mirror_caustic.json");
   for (auto &light : scene["lights"]) light["radius"] = 0;
-  expect_same_image(scene, "mirror caustic", 128, 256, "luminance", {"mlt"});
-}
-// The multi-chain perturbation and the lens subpath mutation doing most of the small steps
-// (weight 3 each against 1 for the bidirectional mutation, lens and caustic perturbations)
-// on the same scene: the floor seen through the ball and the caustic seen in the mirror
-// (E D S S D L, E S D S S D L: the turned chains), every pixel swept by the lens subpath
-// mutation's stratified positions.
-TEST(MltVsBdpt, PathSpaceMirrorCausticMultiChainAndLensSubpath) {
-  json scene = load_scene("mirror_caustic.json");
-  for (auto &light : scene["lights"]) light["radius"] = 0;
-  scene["settings"]["mlt_mutations"] = {{"bidirectional", 1}, {"lens", 1}, {"caustic", 1}, {"multi_chain", 3},
-                                        {"lens_subpath", 3}};
-  expect_same_image(scene, "mirror caustic (multi-chain, lens subpath)", 128, 256, "luminance", {"mlt"});
+  expect_same_image(scene, "mirror caustic", 16, 256, "luminance", {"mlt"});
+  const json mutations = {{"bidirectional", 1}, {"lens", 1}, {"caustic", 1}, {"multi_chain", 3}, {"lens_subpath", 3}};
+  expect_same_image(scene, "mirror caustic (multi-chain, lens subpath)", 16, 256, "luminance", {"mlt"},
+                    {json{{"mlt_mutations", mutations}}});
 }
 TEST(MltVsBdpt, PathSpaceVolumeCaustic) {
-  expect_same_image(load_scene("volume_caustic.json"), "volume caustic", 128, 256, "luminance", {"mlt"});
+  expect_same_image(load_scene("volume_caustic.json"), "volume caustic", 32, 256, "luminance", {"mlt"});
 }
 // Its spot made a point: the same paths without the lamp's sphere; and with equiangular
 // distances toward the lamp (mlt/equiangular.h, off by default), against the same BDPT runs.
 TEST(MltVsBdpt, PathSpaceVolumeCausticPointSpot) {
   json scene = load_scene("volume_caustic.json");
   for (auto &light : scene["lights"]) light["radius"] = 0;
-  expect_same_image(scene, "volume caustic (point spot)", 128, 256, "luminance", {"mlt"},
+  expect_same_image(scene, "volume caustic (point spot)", 32, 256, "luminance", {"mlt"},
                     {json::object(), json{{"mlt_equiangular", 0.25}}});
 }
 // Fog lit by a spot with a radius (fog_spot.json's 5 cm spot: a sphere lamp in a medium).
@@ -307,7 +316,7 @@ TEST(MltVsBdpt, PathSpaceEmissiveGridFog) {
   const json emission = {{"emission_color", {1.0, 0.6, 0.3}},
                          {"emission_strength", 1.5},
                          {"emission_grid", varied_grid(5, 4, 6, {{-0.9, -0.9, 1.3}, {0.9, 0.9, 1.9}})}};
-  expect_same_image(cornell_grid_fog(j, 2.0, emission), "emissive grid fog", 32, 64, "luminance", {"mlt"});
+  expect_same_image(cornell_grid_fog(j, 2.0, emission), "emissive grid fog", 8, 64, "luminance", {"mlt"});
 }
 // The same with ray visibility elsewhere in the scene (the tall block hidden from the
 // camera: the fog's emission and the walls behind the block seen through it): mlt refused
@@ -325,7 +334,7 @@ TEST(MltVsBdpt, PathSpaceEmissiveGridFogWithRayVisibility) {
   const json emission = {{"emission_color", {1.0, 0.6, 0.3}},
                          {"emission_strength", 1.5},
                          {"emission_grid", varied_grid(5, 4, 6, {{-0.9, -0.9, 1.3}, {0.9, 0.9, 1.9}})}};
-  expect_same_image(cornell_grid_fog(j, 2.0, emission), "emissive grid fog, block hidden from the camera", 32, 64,
+  expect_same_image(cornell_grid_fog(j, 2.0, emission), "emissive grid fog, block hidden from the camera", 8, 64,
                     "luminance", {"mlt"});
 }
 TEST(MltVsBdpt, PathSpaceTexturedLamp) {
@@ -340,7 +349,7 @@ TEST(MltVsBdpt, PathSpaceTexturedLamp) {
 // are BDPT's samples (light subpaths weighed once their first segment is traced); mlt's f
 // takes each emitter's distance to the path's next vertex.
 TEST(MltVsBdpt, LightFalloff) {
-  expect_same_image(load_scene("light_falloff.json"), "light falloff", 32, 64, "relative", {"pssmlt", "mlt"});
+  expect_same_image(load_scene("light_falloff.json"), "light falloff", 16, 64, "relative", {"pssmlt", "mlt"});
 }
 
 // Lamps whose tree varies over them (test_lamp_textures.cpp): a checker over an area lamp, a

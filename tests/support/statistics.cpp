@@ -61,6 +61,8 @@ BrightnessComparison compare_brightness(const std::vector<std::vector<double>> &
   mean_and_variance(runs_a, c.mean_a, va);
   mean_and_variance(runs_b, c.mean_b, vb);
   c.error = std::sqrt(va + vb);
+  c.error_a = std::sqrt(va);
+  c.error_b = std::sqrt(vb);
   c.z = c.error > 0 ? (c.mean_a - c.mean_b) / c.error : 0.0;
   return c;
 }

@@ -29,6 +29,7 @@ BlockComparison compare_blocks(const std::vector<std::vector<double>> &runs_a,
 // and its standard error, and z = (mean_a - mean_b) / (their combined standard error).
 struct BrightnessComparison {
   double mean_a = 0, mean_b = 0, error = 0, z = 0;
+  double error_a = 0, error_b = 0;  // each side's standard error of its mean (error: both)
 };
 BrightnessComparison compare_brightness(const std::vector<std::vector<double>> &runs_a,
                                         const std::vector<std::vector<double>> &runs_b);
