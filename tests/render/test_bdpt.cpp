@@ -48,7 +48,9 @@ void expect_same_image(const json &scene, const std::string &what, int samples_p
   auto bd = render_runs(scene, s, 1001);
   BlockComparison c = compare_blocks(bd, pt, 48, 48, 8, kAlphaPerBlock);
   EXPECT_EQ(c.failed, 0) << what << ": " << c.detail;
-  std::printf("[ bdpt vs path ] %-12s %s\n", what.c_str(), c.detail.substr(0, 120).c_str());
+  const BrightnessComparison b = compare_brightness(bd, pt);  // each side's share of the noise
+  std::printf("[ bdpt vs path ] %-12s errors of the run means: bdpt %.4f, path %.4f; %s\n", what.c_str(),
+              b.error_a / b.mean_a, b.error_b / b.mean_b, c.detail.substr(0, 120).c_str());
 }
 
 // Two BDPT weightings (both share each path among the strategies that can make it) on

@@ -105,6 +105,8 @@ json media_scene(const std::string &name) {
 
 // Blocks of 16x16 pixels: in-scattering near a lamp is heavy-tailed, and larger blocks
 // keep the block means close enough to normal for the t-test.
+// BDPT renders 8-16 spp where the path tracer's run means spread 5-10x more than its at 32
+// (each side's error is printed): its share of the comparison's variance stays a few %.
 constexpr int kMediaScenes = 8;
 const double kMediaAlpha = 1.0 - std::pow(1.0 - 0.01, 1.0 / (kMediaScenes * 4));
 
@@ -126,7 +128,9 @@ void expect_bdpt_matches_path(const json &scene, const std::string &what, int sp
   auto bd = runs("bdpt", spp_bdpt, 2001);
   BlockComparison c = compare_blocks(bd, pt, 32, 32, 16, kMediaAlpha);
   EXPECT_EQ(c.failed, 0) << what << ": " << c.detail;
-  std::printf("[ bdpt vs path ] %-16s %s\n", what.c_str(), c.detail.substr(0, 110).c_str());
+  const BrightnessComparison b = compare_brightness(bd, pt);  // each side's share of the noise
+  std::printf("[ bdpt vs path ] %-16s errors of the run means: bdpt %.4f, path %.4f; %s\n", what.c_str(),
+              b.error_a / b.mean_a, b.error_b / b.mean_b, c.detail.substr(0, 110).c_str());
 }
 
 }  // namespace
@@ -135,7 +139,7 @@ void expect_bdpt_matches_path(const json &scene, const std::string &what, int sp
 TEST(MediaBdptVsPath, FogLitBySpot) {
   json scene = media_scene("fog_spot.json");
   scene["lights"][0]["radius"] = 0.0;  // a delta spot: next-event estimation serves both integrators
-  expect_bdpt_matches_path(scene, "fog + spot", 256, 32);
+  expect_bdpt_matches_path(scene, "fog + spot", 256, 8);
 }
 
 // The same with the camera standing inside the fog.
@@ -143,7 +147,7 @@ TEST(MediaBdptVsPath, CameraInsideFog) {
   json scene = media_scene("fog_spot.json");
   scene["lights"][0]["radius"] = 0.0;
   scene["camera"]["transform"] = {{"look_at", {{"from", {0, -3, 1.6}}, {"to", {0, 0, 1.2}}}}};
-  expect_bdpt_matches_path(scene, "camera in fog", 256, 32);
+  expect_bdpt_matches_path(scene, "camera in fog", 256, 16);
 }
 
 // A glass ball in world fog: the volume caustic.
@@ -158,7 +162,7 @@ TEST(MediaBdptVsPath, ChromaticMedium) {
   json scene = media_scene("fog_spot.json");
   scene["lights"][0]["radius"] = 0.0;
   scene["materials"][3]["volume"] = {{"sigma_a", {0.02, 0.1, 0.3}}, {"sigma_s", {0.4, 0.2, 0.05}}, {"anisotropy", -0.4}};
-  expect_bdpt_matches_path(scene, "chromatic", 128, 32);
+  expect_bdpt_matches_path(scene, "chromatic", 128, 8);
 }
 
 // An emissive volume (a glowing ball of smoke) in fog, lighting the floor.
@@ -199,7 +203,7 @@ TEST(MediaBdptVsPath, GridCloudLitBySpot) {
   scene["lights"][0]["radius"] = 0.0;
   scene["materials"][3]["volume"] = {{"density", 3.0}, {"color", {0.9, 0.8, 0.7}}, {"anisotropy", 0.3},
                                      {"grid", puff_grid(32, {{-4, -4, -0.5}, {4, 4, 4}})}};
-  expect_bdpt_matches_path(scene, "grid cloud", 256, 32);
+  expect_bdpt_matches_path(scene, "grid cloud", 256, 8);
 }
 
 // Nested media: smoke inside a glass ball inside the fog.
