@@ -537,8 +537,13 @@ TEST(ShadowCatcher, PssmltMatchesBdpt) { expect_mlt_matches_bdpt("pssmlt", 2001)
 // 1024 against BDPT's 1.0035 at 256 samples. Since the area lamp is sampled by solid angle
 // (2026-12-01) blocks 32,16 and 32,24 came out 0.51% and 0.54% below BDPT's at 32 mutations
 // (t -14 and -10); at 128 mutations against BDPT at 32 or 128 samples 0/25 blocks differ at
-// all (worst t -3.5, -4.1): the ratio's bias at this budget, hence 0.6%.
-TEST(ShadowCatcher, MmltMatchesBdpt) { expect_mlt_matches_bdpt("mmlt", 5001, 6e-3); }
+// all (worst t -3.5, -4.1): the ratio's bias at this budget. Since BDPT's weights take an area
+// lamp's point at next-event estimation's density (2026-12-01; mmlt's states are weighted
+// strategies), the floor's brightest blocks by the lamp came out up to 0.86% below BDPT's at 32
+// mutations (4 blocks, t -10 to -28), 0.56% at 64 (one block), 0.5% at 128 (one), and at 512
+// mutations 0/25 blocks differ at all (worst t -3.3): the same bias, falling with the budget,
+// hence 1%.
+TEST(ShadowCatcher, MmltMatchesBdpt) { expect_mlt_matches_bdpt("mmlt", 5001, 1e-2); }
 // mlt: a path is a state with its catcher-pass contribution (path_space.h), so a path in
 // the ball's shadow (blocked in the image, lit in the pass) is a state the chains visit.
 TEST(ShadowCatcher, MltMatchesBdpt) { expect_mlt_matches_bdpt("mlt", 7001); }

@@ -17,6 +17,9 @@ namespace rdv {
 
 constexpr double kMinSphericalRectangle = 1e-4;  // steradians
 
+// A square or rectangular area lamp: next-event estimation samples it as below.
+inline bool is_rectangle_lamp(const Light &l) { return l.type == LightType::Area && !l.ellipse; }
+
 // A point p of the lamp for the point ref and its solid-angle density there; false when no
 // part of the lamp can light ref (behind it, or beyond its spread).
 bool sample_rectangle_lamp_from(const Light &l, Vec3 ref, Vec2 u, Vec3 &p, float &pdf);

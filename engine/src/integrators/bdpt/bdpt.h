@@ -214,9 +214,12 @@ class Bdpt final : public TileIntegrator {
                               PathVertex *path, int n, int layers, float pdf_dir, float cut_from,
                               Color &emitted) const;
   // Densities (mis.cpp), area measure at the receiving vertex.
-  void light_densities(const PathVertex &light_vertex, const PathVertex &v, float &origin, float &toward) const;
-  void split_sphere_lamp_density(const Light &lamp, const PathVertex &light_vertex, Vec3 v, float &origin,
-                                 float &toward) const;
+  // nee_pdf: next-event estimation's solid-angle density of the light vertex from v where
+  // the caller sampled it so (s = 1), else < 0 (found afresh where it matters).
+  void light_densities(const PathVertex &light_vertex, const PathVertex &v, float &origin, float &toward,
+                       float nee_pdf = -1) const;
+  void split_next_event_density(const Light &lamp, const PathVertex &light_vertex, Vec3 v, float &origin,
+                                float &toward, float nee_pdf = -1) const;
   float infinite_light_density(Vec3 dir) const;
   bool light_start_is_delta(const PathVertex &light_vertex) const;
   float lafortune_willems_weight(const PathVertex *light_path, const PathVertex *camera_path,

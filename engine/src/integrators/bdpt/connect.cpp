@@ -225,7 +225,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
       if (!(light.visibility & kind)) return L;
     }
     if (connection_dir) *connection_dir = direction_to(pt, sampled);
-    light_densities(sampled, pt, sampled.pdf_fwd, densities.pt_rev);
+    light_densities(sampled, pt, sampled.pdf_fwd, densities.pt_rev, ls.pdf);
     Scattering sp = scatter(pt, direction_to(pt, sampled), TransportMode::Radiance);
     L = pt.beta * sp.f * sampled.beta;
     densities.pt_minus_rev = pt.to_prev_density(sp.pdf_rev);

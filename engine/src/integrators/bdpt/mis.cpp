@@ -3,6 +3,7 @@
 // is 1 / sum_i (p_i / p_s)^2, built from running products of reverse/forward density
 // ratios along each subpath, so no product of densities ever overflows.
 #include "integrators/bdpt/bdpt.h"
+#include "lights/rectangle_lamp.h"
 #include "lights/sphere_lamp.h"
 
 namespace rdv::bdpt {
@@ -17,7 +18,8 @@ float Bdpt::infinite_light_density(Vec3 dir) const {
 // The densities of light vertex lv as the start of a light subpath that goes to v:
 // of choosing it (light choice x position; for infinite lights, of the direction) and
 // of emitting toward v (area measure at v).
-void Bdpt::light_densities(const PathVertex &lv, const PathVertex &v, float &origin, float &toward) const {
+void Bdpt::light_densities(const PathVertex &lv, const PathVertex &v, float &origin, float &toward,
+                           float nee_pdf) const {
   float radius = scene_.bounding_radius();
   if (lv.infinite) {
     origin = infinite_light_density(lv.dir);
@@ -37,30 +39,40 @@ void Bdpt::light_densities(const PathVertex &lv, const PathVertex &v, float &ori
   if (!(d2 > 0)) return;
   toward = pdf_dir / d2;
   if (v.on_surface()) toward *= absdot(v.ng, w);
-  if (is_sphere_lamp(light)) split_sphere_lamp_density(light, lv, v.p, origin, toward);
+  if (is_sphere_lamp(light) || is_rectangle_lamp(light))
+    split_next_event_density(light, lv, v.p, origin, toward, nee_pdf);
 }
 
-// A lamp's sphere (sphere_lamp.h): next-event estimation (s = 1) samples its point from
-// the cone the sphere subtends at v, up to 4x denser on the visible cap than the
-// emission's uniform point, which the longer light subpaths (s >= 2) start from. Each
-// strategy keeps its own density: `origin` becomes the cone's (area measure at the lamp
-// point) and `toward`, v's density from the lamp, takes the inverse ratio, so that
-// origin x toward, all the strategies s >= 2 see of the lamp, is still the emission's.
-// The power heuristic then weighs every strategy by its true density; with the
-// emission's point density for s = 1 (pbrt's choice) next-event estimation was
+// Lamps whose point next-event estimation (s = 1) samples otherwise than the emission
+// does, which the longer light subpaths (s >= 2) start from: a lamp's sphere from the cone
+// it subtends at v (sphere_lamp.h; up to 4x denser on the visible cap than the emission's
+// uniform point), a square or rectangle by the solid angle of the part that can light v
+// (rectangle_lamp.h; far denser near v than its uniform point when v is close). Each
+// strategy keeps its own density: `origin` becomes next-event estimation's (area measure
+// at the lamp point) and `toward`, v's density from the lamp, takes the inverse ratio, so
+// that origin x toward, all the strategies s >= 2 see of the lamp, is still the
+// emission's. The power heuristic then weighs every strategy by its true density; with
+// the emission's point density for s = 1 (pbrt's choice) next-event estimation was
 // under-weighted on glossy highlights, with the cone's for every s (no ratio moved to
 // v) light tracing was over-weighted, noisy on diffuse surfaces (2.8x the MSE of
 // the disk model on the caustic scene).
-void Bdpt::split_sphere_lamp_density(const Light &lamp, const PathVertex &lv, Vec3 v, float &origin,
-                                     float &toward) const {
+void Bdpt::split_next_event_density(const Light &lamp, const PathVertex &lv, Vec3 v, float &origin, float &toward,
+                                    float nee_pdf) const {
   Vec3 w = v - lv.p;
   const float d2 = length_squared(w);
   if (!(d2 > 0) || !(origin > 0)) return;
+  // (A rectangle's density is a spherical rectangle's solid angle: not found twice for the
+  // point next-event estimation has just sampled.)
+  const float pdf_solid_angle = nee_pdf >= 0           ? nee_pdf
+                                : is_sphere_lamp(lamp) ? sphere_lamp_cone_pdf(lamp, v)
+                                                       : rectangle_lamp_pdf(lamp, v, lv.p);
   const float pmf = scene_.light_distribution().pmf(lv.light);
-  const float cone = pmf * sphere_lamp_cone_pdf(lamp, v) * absdot(lv.ng, w / std::sqrt(d2)) / d2;
-  if (!(cone > 0)) return;  // v inside the sphere or on its horizon: no next-event estimation
-  toward *= origin / cone;
-  origin = cone;
+  const float nee = pmf * pdf_solid_angle * absdot(lv.ng, w / std::sqrt(d2)) / d2;
+  // v inside the sphere, on its horizon, behind the lamp or beyond the part whose light
+  // reaches it: no next-event estimation there, and no light from this point either.
+  if (!(nee > 0) || !std::isfinite(nee)) return;
+  toward *= origin / nee;
+  origin = nee;
 }
 
 namespace {

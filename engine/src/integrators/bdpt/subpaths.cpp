@@ -3,6 +3,7 @@
 // before it (pbrt-v3's RandomWalk), plus Russian roulette.
 #include "core/ray_offset.h"
 #include "integrators/bdpt/bdpt.h"
+#include "lights/rectangle_lamp.h"
 #include "lights/sphere_lamp.h"
 #include "integrators/filter_glossy.h"
 #include "integrators/visibility_clear.h"
@@ -606,10 +607,11 @@ int Bdpt::light_subpath(Sampler &sampler, RayStats &stats, PathVertex *path, int
       if (path[1].on_surface()) path[1].pdf_fwd *= absdot(es.ray.d, path[1].ng);
     }
     v.pdf_fwd = infinite_light_density(v.dir);
-  } else if (n > 0 && is_sphere_lamp(light)) {
-    // A lamp's sphere: next-event estimation's density for its point, the rest moved to
-    // the first vertex, as every strategy reckons it (Bdpt::split_sphere_lamp_density).
-    split_sphere_lamp_density(light, v, path[1].p, v.pdf_fwd, path[1].pdf_fwd);
+  } else if (n > 0 && (is_sphere_lamp(light) || is_rectangle_lamp(light))) {
+    // A lamp's sphere, a square or rectangle: next-event estimation's density for its
+    // point, the rest moved to the first vertex, as every strategy reckons it
+    // (Bdpt::split_next_event_density).
+    split_next_event_density(light, v, path[1].p, v.pdf_fwd, path[1].pdf_fwd);
   }
   // The MIS sums, now that every density is final (the last vertex's is never read).
   set_mis_sum(path, 0, light_start_is_delta(path[0]), balance());
