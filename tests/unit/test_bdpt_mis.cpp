@@ -334,12 +334,19 @@ TEST(BdptMisWeights, LafortuneWillemsMirrorGlassAndPointLampMatchDefinition) {
 // emission's for next-event estimation too (pbrt's choice), or the cone's for light
 // subpaths too, most weights of paths near the lamp differ here; a glossy floor and walls
 // so that the light side's density matters.
-TEST(BdptMisWeights, SphereLampCornellBoxMatchesBruteForce) {
+// The Cornell box with glossy white surfaces and its lamp quad taken out, for lamps of
+// other kinds.
+static nlohmann::json glossy_cornell_box_without_its_lamp() {
   nlohmann::json doc = cornell_box();
   for (auto &m : doc["materials"])
     if (m["name"] == "white") m = {{"name", "white"}, {"type", "glossy"}, {"color", {0.8, 0.8, 0.8}}, {"roughness", 0.3}};
   auto &meshes = doc["meshes"];
   meshes.erase(meshes.end() - 1);  // the lamp quad
+  return doc;
+}
+
+TEST(BdptMisWeights, SphereLampCornellBoxMatchesBruteForce) {
+  nlohmann::json doc = glossy_cornell_box_without_its_lamp();
   doc["lights"] = {{{"name", "bulb"}, {"type", "point"}, {"position", {0.1, -0.2, 1.5}}, {"power", 100}, {"radius", 0.3}}};
   expect_weights_match_brute_force(doc, 2000);
 }
@@ -350,11 +357,7 @@ TEST(BdptMisWeights, SphereLampCornellBoxMatchesBruteForce) {
 // ceiling and a 1.2 x 0.4 m rectangle with a 50-degree spread (only the square around the
 // disk of points that reach the point is sampled) on the left wall; glossy walls and floor.
 TEST(BdptMisWeights, RectangleLampsCornellBoxMatchesBruteForce) {
-  nlohmann::json doc = cornell_box();
-  for (auto &m : doc["materials"])
-    if (m["name"] == "white") m = {{"name", "white"}, {"type", "glossy"}, {"color", {0.8, 0.8, 0.8}}, {"roughness", 0.3}};
-  auto &meshes = doc["meshes"];
-  meshes.erase(meshes.end() - 1);  // the lamp quad
+  nlohmann::json doc = glossy_cornell_box_without_its_lamp();
   doc["lights"] = {{{"name", "panel"}, {"type", "area"}, {"shape", "square"}, {"size", 1.0}, {"power", 60},
                     {"position", {0.0, 0.0, 1.95}}, {"direction", {0, 0, -1}}},
                    {{"name", "softbox"}, {"type", "area"}, {"shape", "rectangle"}, {"size", 1.2}, {"size_y", 0.4},
