@@ -171,6 +171,40 @@ TEST(PixelFilter, ChiSquareBlackmanHarris) {
   EXPECT_GT(filter.evaluate(0.75f), 0.2f) << "the 3.4 filter is twice Blender's width wide";
 }
 
+// sample() inverts the CDF of the density pdf() reports: the integral of pdf() from -radius to
+// sample(u) is u, on a dense grid of u and at the edges of sample()'s guide cells (k / 1024,
+// and the float just below) where a search that starts in the wrong cell would show.
+// Deterministic.
+TEST(PixelFilter, SampleInvertsTheCdfOfItsPdf) {
+  for (float width : {1.5f, 0.3f, 10.0f}) {
+    PixelFilter filter(width);
+    const int bins = 1024;  // pdf() is constant over each of the table's bins
+    const double bin = 2.0 * width / bins;
+    std::vector<double> below(bins + 1, 0.0);  // the CDF at each bin's left edge
+    for (int j = 0; j < bins; ++j) below[j + 1] = below[j] + filter.pdf(float(-width + (j + 0.5) * bin)) * bin;
+    ASSERT_NEAR(below[bins], 1.0, 1e-4) << "width " << width;
+    auto cdf = [&](double x) {
+      int j = std::clamp(int((x + width) / bin), 0, bins - 1);
+      return below[j] + filter.pdf(float(-width + (j + 0.5) * bin)) * (x - (-width + j * bin));
+    };
+    std::vector<float> us;
+    for (int k = 0; k < 65536; ++k) us.push_back((k + 0.37f) / 65536);
+    for (int g = 1; g < 1024; ++g) {
+      us.push_back(g / 1024.0f);
+      us.push_back(std::nextafter(g / 1024.0f, 0.0f));
+    }
+    int wrong = 0;
+    double worst = 0;
+    for (float u : us) {
+      float x = filter.sample(u);
+      double error = std::fabs(cdf(x) - u);
+      worst = std::max(worst, error);
+      wrong += !(x >= -width && x <= width) || error > 2e-5;
+    }
+    EXPECT_EQ(wrong, 0) << "width " << width << ": worst |CDF(sample(u)) - u| " << worst;
+  }
+}
+
 // A point feature's energy in the image does not depend on where it falls in a pixel:
 // the filter's copies over the pixel lattice sum to nearly 1 (0.967..1.033 per axis for
 // Cycles' 3.4 filter; the half-width filter summed to 0.21..1.86, losing most of a

@@ -8,6 +8,7 @@
 // (A filter half as wide sums to far from 1 over the pixel lattice: a sub-pixel
 // highlight, e.g. a 1 cm lamp seen in a mirror, then lost up to 85% of its energy.)
 #pragma once
+#include <array>
 #include <vector>
 #include "core/math.h"
 
@@ -33,9 +34,10 @@ class PixelFilter {
 
  private:
   float width_;
+  static constexpr int kTableSize = 1024, kGuideSize = 1024;
   std::vector<float> cdf_;  // tabulated, kTableSize + 1 entries
+  std::array<int, kGuideSize> guide_;  // where sample() starts its search, per cell of u
   float integral_ = 1;
-  static constexpr int kTableSize = 1024;
 };
 
 }  // namespace rdv
