@@ -2,7 +2,10 @@
 this Blender process; the image means must agree within 2% and 8x8-pixel block means
 within their noise.
 
-    run_blender.py --script test_brightness.py -- [--samples N] SCENE [SCENE ...]
+    run_blender.py --script test_brightness.py -- [--samples N] [--verdicts DIR] SCENE [SCENE ...]
+
+ctest runs every scene in one Blender process, each scene's verdict a test of its own
+(verdicts.py; tests/blender/CMakeLists.txt, rdv_blender_family).
 """
 
 import argparse
@@ -18,6 +21,9 @@ import numpy as np
 ROOT = os.environ.get("RDV_REPO_ROOT") or os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "scenes", "blend"))
 import build_scenes  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import verdicts  # noqa: E402
 
 MEAN_TOLERANCE = 0.02
 BLOCK = 8
@@ -187,13 +193,20 @@ def brightness_failures(label, ref, test, blocks=True):
     return failures
 
 
-def run_test(title, body, samples, add_arguments=None, needs_oiiotool=False):
+def run_test(title, body, samples, add_arguments=None, needs_oiiotool=False, members=None):
     """main() of a test against Cycles: parses the arguments after '--' (--samples N, `samples`
     by default, and those add_arguments(parser) adds), checks for oiiotool if asked, calls
-    body(args, odir, failures) and prints the verdict (exit 1 on failures or an exception)."""
+    body(args, odir, failures) and prints the verdict (exit 1 on failures or an exception).
+    members: the name of a positional argument naming what to check (a scene, a variant): one or
+    more may be given, body runs for each in this process with args.<members> set to it
+    (verdicts.run_members), and with --verdicts DIR each one's verdict is written there for its
+    own ctest test (the process then exits 0 once every verdict is written)."""
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     ap = argparse.ArgumentParser()
     ap.add_argument("--samples", type=int, default=samples)
+    if members:
+        ap.add_argument(members, nargs="+")
+        ap.add_argument("--verdicts", help="write each member's verdict into this directory (verdicts.py)")
     if add_arguments:
         add_arguments(ap)
     a = ap.parse_args(argv)
@@ -201,11 +214,40 @@ def run_test(title, body, samples, add_arguments=None, needs_oiiotool=False):
     failures = []
     if needs_oiiotool and not shutil.which("oiiotool"):
         finish(title, ["oiiotool (Debian's openimageio-tools) is needed to read the passes"], odir)
+    if members:
+        def check_member(member, member_failures):
+            setattr(a, members, member)
+            body(a, odir, member_failures)
+        names = getattr(a, members)
+        failures = verdicts.run_members(names, check_member, a.verdicts, factory_state)
+        finish_family(title, names, failures, odir, a.verdicts)
+        return
     try:
         body(a, odir, failures)
     except Exception as exc:
         traceback.print_exc()
         failures.append("%s: %s (traceback above)" % (title.lower(), exc))
+    finish(title, failures, odir)
+
+
+def factory_state():
+    """Blender as it started (--factory-startup), the add-on enabled again if it was: each member
+    of a family starts from what a process of its own would (a scene's setting that the
+    scene builders do not reset, such as Light Paths' refractive caustics, stays otherwise)."""
+    import addon_utils
+    enabled = addon_utils.check("rendezvous")[1]
+    bpy.ops.wm.read_factory_settings(use_empty=False)
+    if enabled:
+        addon_utils.enable("rendezvous", default_set=True)
+
+
+def finish_family(title, members, failures, odir, verdict_dir):
+    """The end of a family's process: with verdict_dir its members' tests give the verdicts (exit
+    0 here), else as finish()."""
+    if verdict_dir:
+        print("%s: %d members, %d failures; each member's verdict is its own test (%s)"
+              % (title, len(members), len(failures), verdict_dir))
+        sys.exit(0)
     finish(title, failures, odir)
 
 
@@ -217,35 +259,35 @@ BDPT_TOO = ("view_dependent_mixes", "nishita_sky", "light_path_rays", "light_pat
             "incoming_facing", "ies_lamps", "area_spread", "light_falloff", "lamp_textures")
 
 
+def check_scene(name, samples, odir, failures):
+    """One brightness scene: Rendezvous' path tracer (and BDPT for BDPT_TOO) against Cycles."""
+    scene = build_scenes.build(name)
+    ref, tc = render_cycles(scene, samples, os.path.join(odir, name + "_cycles.exr"))
+    test, tr = render_rendezvous(scene, samples, os.path.join(odir, name + "_rendezvous.exr"))
+    print("  %s: Cycles %.2f s, Rendezvous %.2f s" % (name, tc, tr))
+    ok_mean, ok_blocks, ratio = compare(name, ref, test)
+    if not ok_mean:
+        failures.append("%s: mean ratio Rendezvous/Cycles = %.4f (tolerance %.0f%%)" % (name, ratio, 100 * MEAN_TOLERANCE))
+    if not ok_blocks:
+        failures.append("%s: block means differ beyond noise" % name)
+    if name in BDPT_TOO:
+        test, tr = render_rendezvous(scene, samples // 2, os.path.join(odir, name + "_bdpt.exr"), "BDPT")
+        print("  %s: Rendezvous BDPT %.2f s" % (name, tr))
+        failures += brightness_failures(name + " BDPT", ref, test)
+
+
 def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     ap = argparse.ArgumentParser()
     ap.add_argument("--samples", type=int, default=128)
+    ap.add_argument("--verdicts", help="write each scene's verdict into this directory (verdicts.py)")
     ap.add_argument("scenes", nargs="*")
     a = ap.parse_args(argv)
     names = a.scenes or build_scenes.BRIGHTNESS_SCENES
-    failures = []
     odir = out_dir()
-    for name in names:
-        try:
-            scene = build_scenes.build(name)
-            ref, tc = render_cycles(scene, a.samples, os.path.join(odir, name + "_cycles.exr"))
-            test, tr = render_rendezvous(scene, a.samples, os.path.join(odir, name + "_rendezvous.exr"))
-            print("  %s: Cycles %.2f s, Rendezvous %.2f s" % (name, tc, tr))
-            ok_mean, ok_blocks, ratio = compare(name, ref, test)
-            if not ok_mean:
-                failures.append("%s: mean ratio Rendezvous/Cycles = %.4f (tolerance %.0f%%)"
-                                % (name, ratio, 100 * MEAN_TOLERANCE))
-            if not ok_blocks:
-                failures.append("%s: block means differ beyond noise" % name)
-            if name in BDPT_TOO:
-                test, tr = render_rendezvous(scene, a.samples // 2, os.path.join(odir, name + "_bdpt.exr"), "BDPT")
-                print("  %s: Rendezvous BDPT %.2f s" % (name, tr))
-                failures += brightness_failures(name + " BDPT", ref, test)
-        except Exception as exc:
-            traceback.print_exc()
-            failures.append("%s: %s" % (name, exc))
-    finish("BRIGHTNESS", failures, odir)
+    failures = verdicts.run_members(names, lambda name, f: check_scene(name, a.samples, odir, f), a.verdicts,
+                                   factory_state)
+    finish_family("BRIGHTNESS", names, failures, odir, a.verdicts)
 
 
 if __name__ == "__main__":

@@ -10,7 +10,7 @@ BDPT in this process. Per integrator:
   colour 0 in both; pixels 2 px or more from any partial alpha in Cycles' image have alpha 1;
 - the film opaque again (Film > Transparent off): alpha exactly 1 everywhere.
 
-    run_blender.py --script test_film.py -- VARIANT [--samples N]
+    run_blender.py --script test_film.py -- VARIANT [VARIANT ...] [--samples N] [--verdicts DIR]
 VARIANT: transparent (Transparent Glass off), transparent_glass, or holdout (the opaque film with
 the diffuse ball a holdout object and the card's Transparent BSDF a Holdout shader).
 """
@@ -64,7 +64,12 @@ def exact_checks(name, ref, test):
     return failures
 
 
+VARIANTS = ("transparent", "transparent_glass", "holdout")
+
+
 def check(a, odir, failures):
+    if a.variant not in VARIANTS:
+        raise ValueError("unknown variant %r (one of %s)" % (a.variant, ", ".join(VARIANTS)))
     scene = build_scenes.build("film_transparent")
     scene.cycles.film_transparent_glass = a.variant == "transparent_glass"
     scene.rendezvous.film_transparent_glass = a.variant == "transparent_glass"  # unused while Cycles is on
@@ -97,5 +102,4 @@ def check(a, odir, failures):
 
 
 if __name__ == "__main__":
-    run_test("FILM", check, samples=256,
-             add_arguments=lambda ap: ap.add_argument("variant", choices=["transparent", "transparent_glass", "holdout"]))
+    run_test("FILM", check, samples=256, members="variant")

@@ -15,7 +15,6 @@ tiles on a plane spanning both), movie (a movie's frame, read by OpenImageIO).
 import argparse
 import os
 import sys
-import traceback
 
 import bpy
 import numpy as np
@@ -24,7 +23,8 @@ ROOT = os.environ.get("RDV_REPO_ROOT") or os.path.dirname(os.path.dirname(os.pat
 sys.path.insert(0, os.path.join(ROOT, "scenes", "blend"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import build_scenes  # noqa: E402
-from test_brightness import out_dir, render_cycles, render_rendezvous  # noqa: E402
+import verdicts  # noqa: E402
+from test_brightness import factory_state, finish_family, out_dir, render_cycles, render_rendezvous  # noqa: E402
 
 TMP = os.environ.get("RDV_TEST_TMP") or bpy.app.tempdir
 MEAN_TOLERANCE = 0.01
@@ -228,34 +228,31 @@ def compare(name, ref, test):
     return ok, worst_ratio, worst_block
 
 
+def check_scene(name, samples, odir, failures):
+    SCENES[name]()
+    scene = bpy.context.scene
+    bpy.context.view_layer.update()
+    ref, tc = render_cycles(scene, samples, os.path.join(odir, "images_%s_cycles.exr" % name))
+    test, tr = render_rendezvous(scene, samples, os.path.join(odir, "images_%s_rendezvous.exr" % name))
+    print("  %s: Cycles %.2f s, Rendezvous %.2f s" % (name, tc, tr))
+    ok, ratio, block = compare(name, ref, test)
+    if not ok:
+        failures.append("%s: mean ratio %.4f, worst bright block %.1f%% off" % (name, ratio, 100 * block))
+    if name == "sequence":
+        failures += ["sequence " + f for f in check_sequence_frames()]
+
+
 def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     ap = argparse.ArgumentParser()
     ap.add_argument("--samples", type=int, default=32)
+    ap.add_argument("--verdicts", help="write each scene's verdict into this directory (verdicts.py)")
     ap.add_argument("scenes", nargs="*")
     a = ap.parse_args(argv)
-    failures = []
     odir = out_dir()
-    for name in a.scenes or list(SCENES):
-        try:
-            SCENES[name]()
-            scene = bpy.context.scene
-            bpy.context.view_layer.update()
-            ref, tc = render_cycles(scene, a.samples, os.path.join(odir, "images_%s_cycles.exr" % name))
-            test, tr = render_rendezvous(scene, a.samples, os.path.join(odir, "images_%s_rendezvous.exr" % name))
-            print("  %s: Cycles %.2f s, Rendezvous %.2f s" % (name, tc, tr))
-            ok, ratio, block = compare(name, ref, test)
-            if not ok:
-                failures.append("%s: mean ratio %.4f, worst bright block %.1f%% off" % (name, ratio, 100 * block))
-            if name == "sequence":
-                failures += ["sequence " + f for f in check_sequence_frames()]
-        except Exception as exc:
-            traceback.print_exc()
-            failures.append("%s: %s" % (name, exc))
-    if failures:
-        print("IMAGES TEST FAILED (images in %s):\n  %s" % (odir, "\n  ".join(failures)))
-        sys.exit(1)
-    print("IMAGES TEST PASSED")
-
+    names = a.scenes or list(SCENES)
+    failures = verdicts.run_members(names, lambda name, f: check_scene(name, a.samples, odir, f), a.verdicts,
+                                   factory_state)
+    finish_family("IMAGES", names, failures, odir, a.verdicts)
 
 main()

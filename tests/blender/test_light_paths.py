@@ -14,7 +14,7 @@ sampling differs (Cycles 3.4 samples a nearby emissive triangle by solid angle, 
 fewer of its contributions exceed the cap). The clamp scene compares the path tracer's mean
 only, within 3% (measured 0.979; unclamped, the box is within 0.5%).
 
-    run_blender.py --script test_light_paths.py -- SCENE [--samples N]
+    run_blender.py --script test_light_paths.py -- SCENE [SCENE ...] [--samples N] [--verdicts DIR]
 """
 
 import os
@@ -91,4 +91,4 @@ def check(a, odir, failures):
 
 
 if __name__ == "__main__":
-    run_test("LIGHT PATHS", check, samples=1024, add_arguments=lambda ap: ap.add_argument("scene"))
+    run_test("LIGHT PATHS", check, samples=1024, members="scene")

@@ -15,7 +15,7 @@ Cycles' step times). Per integrator: image mean within 2% of Cycles', 8x8 blocks
 5 standard errors (test_brightness.check_setting). Cycles also renders the scene with motion
 blur off, to show that motion blur changes the image (some lit 8x8 block by at least 5%).
 
-    run_blender.py --script test_motion_blur.py -- VARIANT [--samples N]
+    run_blender.py --script test_motion_blur.py -- VARIANT [VARIANT ...] [--samples N] [--verdicts DIR]
 """
 
 import os
@@ -82,4 +82,4 @@ def check(a, odir, failures):
 
 
 if __name__ == "__main__":
-    run_test("MOTION BLUR", check, samples=512, add_arguments=lambda ap: ap.add_argument("variant"))
+    run_test("MOTION BLUR", check, samples=512, members="variant")

@@ -16,7 +16,7 @@ with visible_camera on: Cycles 3.4 shows it), lamp_diffuse (the lamp lights no d
 surface: the world alone lights the scene), world_camera (the world hidden from the camera:
 black background, the world still lights the scene).
 
-    run_blender.py --script test_ray_visibility.py -- VARIANT [--samples N]
+    run_blender.py --script test_ray_visibility.py -- VARIANT [VARIANT ...] [--samples N] [--verdicts DIR]
 """
 
 import math
@@ -110,4 +110,4 @@ def check(a, odir, failures):
 
 
 if __name__ == "__main__":
-    run_test("RAY VISIBILITY", check, samples=512, add_arguments=lambda ap: ap.add_argument("variant"))
+    run_test("RAY VISIBILITY", check, samples=512, members="variant")
