@@ -1,4 +1,5 @@
-"""Rendezvous renders under `blender -b --factory-startup`:
+"""Rendezvous renders under `blender -b --factory-startup` (one or more modes, in order; ctest runs
+all but nolib in one process, each mode's verdict a test of its own: verdicts.py):
 
     run_blender.py --script test_render.py -- scenes        every scene of scenes/blend renders
     run_blender.py --script test_render.py -- bad_input     warnings name the bad objects, render goes on
@@ -10,16 +11,16 @@
     run_blender.py --script test_render.py -- farm --cli build/engine/rendezvous
                                                             sample ranges rendered as parts and merged
                                                             equal one render of all the samples
-    run_blender.py --script test_render.py -- volume --vdb-writer build/tests/blender/write_test_vdb
+    run_blender.py --script test_render.py -- volume_object --vdb-writer build/tests/blender/write_test_vdb
                                                             a Volume object from a .vdb (written by the
                                                             test) is visible, the image finite; a missing
                                                             file is a warning naming the object
-    run_blender.py --script test_render.py -- fire --vdb-writer build/tests/blender/write_test_vdb
+    run_blender.py --script test_render.py -- volume_fire --vdb-writer build/tests/blender/write_test_vdb
                                                             blackbody / emission from a Volume object's
                                                             grids glows where the temperature is, as
                                                             bright as in Cycles; a missing grid is a
                                                             warning naming the object and the grid
-    run_blender.py --script test_render.py -- fluid         a tiny fire simulation (Replay cache) renders
+    run_blender.py --script test_render.py -- fluid_fire    a tiny fire simulation (Replay cache) renders
                                                             where and as bright as in Cycles
 """
 
@@ -31,7 +32,6 @@ import shutil
 import subprocess
 import sys
 import time
-import traceback
 
 import bpy
 import numpy as np
@@ -39,6 +39,10 @@ import numpy as np
 ROOT = os.environ.get("RDV_REPO_ROOT") or os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "scenes", "blend"))
 import build_scenes  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import verdicts  # noqa: E402
+from test_brightness import factory_state, finish_family  # noqa: E402
 
 from rendezvous.engine import final  # noqa: E402
 from rendezvous.export import settings as settings_mod  # noqa: E402
@@ -661,24 +665,21 @@ def test_farm(args):
     print("FARM TEST PASSED")
 
 
-MODES = {"farm": test_farm, "border": test_border, "metropolis": test_metropolis, "scenes": test_scenes, "bad_input": test_bad_input, "cancel": test_cancel, "passes": test_passes,
-         "dump": test_dump, "nolib": test_nolib, "volume": test_volume, "fire": test_fire,
-         "fluid": test_fluid, "auto": test_auto, "noise": test_noise}
+MODES = {"farm": test_farm, "border": test_border, "metropolis": test_metropolis, "scenes": test_scenes,
+         "bad_input": test_bad_input, "cancel": test_cancel, "passes": test_passes, "dump": test_dump, "nolib": test_nolib,
+         "volume_object": test_volume, "volume_fire": test_fire, "fluid_fire": test_fluid, "auto_integrator": test_auto,
+         "noise": test_noise}
 
 
 def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     ap = argparse.ArgumentParser()
-    ap.add_argument("mode", choices=sorted(MODES))
+    ap.add_argument("modes", nargs="+", choices=sorted(MODES))
     ap.add_argument("--cli", default=None)
     ap.add_argument("--vdb-writer", default=None)
+    ap.add_argument("--verdicts", help="write each mode's verdict into this directory (verdicts.py)")
     a = ap.parse_args(argv)
-    try:
-        MODES[a.mode](a)
-    except Exception:
-        traceback.print_exc()
-        print("TEST FAILED: %s" % a.mode)
-        sys.exit(1)
-
+    failures = verdicts.run_members(a.modes, lambda mode, f: MODES[mode](a), a.verdicts, factory_state)
+    finish_family("RENDER", a.modes, failures, TMP, a.verdicts)
 
 main()
