@@ -19,17 +19,21 @@ void PssSampler::grow() {
   }
 }
 
-double PssSampler::normal() {
-  // Box-Muller makes two independent normals: the second serves the next call.
+float PssSampler::normal() {
+  // Box-Muller makes two independent normals: the second serves the next call. In
+  // float: a step is ~1% of the unit interval, and libm's float log and sincos cost
+  // half the double ones (in double they were 4.5% of pssmlt's time on the door gap).
   if (has_spare_normal_) {
     has_spare_normal_ = false;
     return spare_normal_;
   }
-  double u1 = 1.0 - double(rng_.next_u32()) * 0x1p-32, u2 = double(rng_.next_u32()) * 0x1p-32;
-  double r = std::sqrt(-2.0 * std::log(u1)), phi = 2.0 * M_PI * u2;
-  spare_normal_ = r * std::sin(phi);
+  const float u1 = 1.0f - rng_.next_float(), u2 = rng_.next_float();  // u1 in (0, 1]
+  const float r = std::sqrt(-2.0f * std::log(u1));
+  float sin_phi, cos_phi;
+  sincosf(2.0f * kPi * u2, &sin_phi, &cos_phi);
+  spare_normal_ = r * sin_phi;
   has_spare_normal_ = true;
-  return r * std::cos(phi);
+  return r * cos_phi;
 }
 
 float PssSampler::value(uint32_t dimension) {

@@ -105,7 +105,7 @@ class PssSampler final : public Sampler {
   static constexpr uint32_t kDepthChoice = uint32_t(SampleStream::Strategy) << (kStreamShift + 1);
   float value(uint32_t dimension);
   float uniform() { return rng_.next_float(); }
-  double normal();
+  float normal();
   // The table: keys_ holds dimension + 1 (0: empty slot), indices_ the value's index.
   uint32_t slot(uint32_t key) const { return (key * 0x9e3779b1u) >> (32 - table_bits_); }
   // Index of the dimension's value in values_, created (never drawn) if new.
@@ -130,7 +130,7 @@ class PssSampler final : public Sampler {
   uint32_t table_bits_ = 8;
   std::vector<uint32_t> keys_ = std::vector<uint32_t>(256, 0), indices_ = std::vector<uint32_t>(256, 0);
   std::vector<uint32_t> changed_;  // values the current proposal changed
-  double spare_normal_ = 0;
+  float spare_normal_ = 0;
   bool has_spare_normal_ = false;
   int64_t iteration_ = 0, last_large_step_ = 0;
   bool large_step_ = true;
