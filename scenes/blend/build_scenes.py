@@ -1160,6 +1160,27 @@ def light_paths_lamp_bounces():
     return scene
 
 
+def light_paths_principled():
+    """The Cornell box with Principled BSDFs (their stock Specular 0.5, Roughness 0.3): each
+    bounce is a diffuse or a glossy one by the closure Cycles samples there, so under glossy
+    bounces 0 a path is kept with the odds that every bounce before its last vertex was diffuse
+    (counted as their BSDF's dominant kind, diffuse, every path was kept)."""
+    scene = cornell_box(lamp_gap=0.01, res=48)
+    for m in ("White", "Red", "Green"):
+        mat = bpy.data.materials[m]
+        nt = mat.node_tree
+        diffuse = next(n for n in nt.nodes if n.type == "BSDF_DIFFUSE")
+        p = nt.nodes.new("ShaderNodeBsdfPrincipled")
+        p.inputs["Base Color"].default_value = diffuse.inputs["Color"].default_value
+        p.inputs["Roughness"].default_value = 0.3
+        out = next(n for n in nt.nodes if n.type == "OUTPUT_MATERIAL")
+        nt.links.new(p.outputs["BSDF"], out.inputs["Surface"])
+        nt.nodes.remove(diffuse)
+    scene.cycles.diffuse_bounces = 4
+    scene.cycles.glossy_bounces = 0
+    return scene
+
+
 def light_paths_transparent():
     """Transparent max bounces 3: a floor seen through a staircase of Transparent BSDF cards
     (behind 0 .. 5 of them across the image), lit by an area lamp that shines under the cards,
@@ -2436,7 +2457,8 @@ def shadow_catcher():
 
 
 LIGHT_PATH_SCENES = ["light_paths_diffuse", "light_paths_mirror", "light_paths_caustics", "light_paths_clamp",
-                     "light_paths_filter_glossy", "light_paths_transparent", "light_paths_lamp_bounces"]
+                     "light_paths_filter_glossy", "light_paths_transparent", "light_paths_lamp_bounces",
+                     "light_paths_principled"]
 
 
 # ---- motion blur (tests/blender/test_motion_blur.py) ----------------------------------------
@@ -2632,6 +2654,7 @@ SCENES = {
     "light_paths_filter_glossy": light_paths_filter_glossy,
     "light_paths_transparent": light_paths_transparent,
     "light_paths_lamp_bounces": light_paths_lamp_bounces,
+    "light_paths_principled": light_paths_principled,
     "alpha_leaves": alpha_leaves,
     "film_transparent": film_transparent,
     "light_passes": light_passes,

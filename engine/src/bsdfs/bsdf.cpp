@@ -635,6 +635,54 @@ ScatterKind Bsdf::scatter_kind(Vec3 wo, Vec3 wi) const {
   return translucent > refracting ? ScatterKind::Translucent : ScatterKind::Transmission;
 }
 
+float Bsdf::glossy_odds(Vec3 camera_side, Vec3 light_side, bool delta, bool defensive) const {
+  if (dot(camera_side, ng_) * dot(light_side, ng_) <= 0) return -1;
+  auto glossy_kind = [](LobeType t) {
+    return t == LobeType::GgxConductor || t == LobeType::Clearcoat || t == LobeType::SpecularConductor ||
+           t == LobeType::SmoothDielectric || t == LobeType::GgxDielectric;
+  };
+  auto diffuse_kind = [](LobeType t) {
+    return t == LobeType::Lambert || t == LobeType::OrenNayar || t == LobeType::PrincipledDiffuse ||
+           t == LobeType::Sheen;
+  };
+  bool any_glossy = false, any_diffuse = false;
+  for (int i = 0; i < n_; ++i) {
+    any_glossy = any_glossy || glossy_kind(lobes_[i].type);
+    any_diffuse = any_diffuse || diffuse_kind(lobes_[i].type);
+  }
+  if (!any_diffuse || delta) return 1;  // a delta reflection is a mirror's or glass's: glossy
+  if (!any_glossy) return 0;
+  Vec3 wo, wi;
+  bool flipped;
+  Frame bent;
+  if (!local_pair(frame_toward(camera_side, bent), camera_side, light_side, wo, wi, flipped)) return 0;
+  ViewScales view_scratch;
+  const ViewScales *views = view_scales(camera_side, view_scratch);
+  // Cycles' sample weight of each closure: the average of its weight, which holds its
+  // colour (and, for the Fresnel-coloured Principled lobes, their Fresnel at the viewer).
+  std::array<float, kMaxLobes> weight;
+  float sum = 0;
+  for (int i = 0; i < n_; ++i) {
+    const Lobe &lobe = lobes_[i];
+    Color albedo = lobe.color;
+    if ((lobe.type == LobeType::GgxConductor || lobe.type == LobeType::Clearcoat ||
+         lobe.type == LobeType::SpecularConductor) && lobe.fresnel_mode != FresnelMode::Tint)
+      albedo = lobe.fresnel(std::fabs(wo.z));
+    weight[size_t(i)] = std::max(0.0f, average(albedo) * lobe.scale * (views ? views->of(lobe) : 1.0f));
+    sum += weight[size_t(i)];
+  }
+  float glossy = 0, all = 0;
+  LobeScratch scratch;
+  for (int i = 0; i < n_; ++i) {
+    const Lobe &lobe = lobe_from_side(lobes_[i], flipped, scratch);
+    const float w = defensive ? std::max(weight[size_t(i)], 0.125f * sum) : weight[size_t(i)];
+    const float p = w * lobe_pdf(lobe, wo, wi);
+    all += p;
+    if (glossy_kind(lobe.type)) glossy += p;
+  }
+  return all > 0 ? clampf(glossy / all, 0.0f, 1.0f) : 0.0f;
+}
+
 Color Bsdf::albedo(Vec3 wo) const {
   ViewScales view_scratch;
   const ViewScales *views = view_scales(wo, view_scratch);

@@ -225,8 +225,18 @@ class Bsdf {
   // reflection or transmission by the sides of the geometric normal; then the lobes of
   // that side with the larger total selection weight decide (diffuse or glossy
   // reflection; translucent, refracting or transparent transmission). Exact for BSDFs of
-  // one kind; a mixture counts as its dominant kind.
+  // one kind; a mixture counts as its dominant kind (the caustics switches; bounce limits
+  // weigh a diffuse-and-glossy reflection by glossy_odds).
   ScatterKind scatter_kind(Vec3 wo, Vec3 wi) const;
+  // Cycles counts a bounce as diffuse or glossy by the closure it sampled there. For a
+  // reflection from camera_side to light_side off a mixture of both kinds, the odds that
+  // this was a glossy closure given the direction: each closure's share of the density
+  // of sampling light_side, with Cycles 3.4's selection weights (a closure's albedo seen
+  // from camera_side: Fresnel-weighted for Principled specular and clearcoat) and, at a
+  // camera path's first scattering (defensive), its floor of 1/8 of their sum. 0 or 1
+  // where the reflecting lobes are of one kind, or where a delta lobe reflected; -1 for
+  // a transmission. (Bounce limits, integrators/light_path_limits.h.)
+  float glossy_odds(Vec3 camera_side, Vec3 light_side, bool delta, bool defensive) const;
   // Cycles' light passes (film/light_passes.h), camera side: the share of each kind in f
   // from wo to wi (delta: the sampled lobe was delta, so the side decides: glossy
   // reflection or transmission), and the colour passes' closure colours seen from wo

@@ -12,6 +12,7 @@
 // camera side drops the path. Clamps act on each contribution (sum of its RGB, as Cycles):
 // direct = paths with at most one scattering vertex.
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include "bsdfs/scatter_kind.h"
 #include "core/math.h"
@@ -19,8 +20,20 @@
 namespace rdv {
 
 // Bounces of each counted kind so far (diffuse, glossy, transmission, volume).
+// A reflection off a mixture of diffuse and glossy closures (a Principled BSDF) is one or
+// the other in Cycles by the closure it sampled: as a function of the path, a diffuse
+// bounce with odds 1 - g and a glossy one with odds g (Bsdf::glossy_odds). Such mixed
+// reflections are counted apart: their number and the distribution of how many of them
+// were diffuse, so the limits keep the share of the path Cycles keeps (kept_share).
 struct BounceCounts {
-  uint16_t n[4] = {0, 0, 0, 0};
+  // Distributions are kept up to this many diffuse reflections among the mixed ones;
+  // more are lumped into the last entry (paths that long exceed any limit that small).
+  static constexpr int kMaxMixedDiffuse = 31;
+  uint16_t n[4] = {0, 0, 0, 0};  // scatterings of one kind (and mixed ones: in `mixed`)
+  uint16_t mixed = 0;
+  // diffuse_of_mixed[j]: the odds that j of the mixed reflections were diffuse (only the
+  // first min(mixed, kMaxMixedDiffuse) + 1 entries are meaningful; none while mixed is 0).
+  float diffuse_of_mixed[kMaxMixedDiffuse + 1];
 
   void add(ScatterKind k) {
     switch (k) {
@@ -32,10 +45,43 @@ struct BounceCounts {
       case ScatterKind::Transparent: break;
     }
   }
+  // A scattering of kind k whose glossy odds are g (Bsdf::glossy_odds; < 0 or k not a
+  // reflection: k alone decides).
+  void add(ScatterKind k, float g) {
+    if ((k != ScatterKind::Diffuse && k != ScatterKind::Glossy) || g < 0) return add(k);
+    if (g <= 0) return add(ScatterKind::Diffuse);
+    if (g >= 1) return add(ScatterKind::Glossy);
+    if (mixed == 0) diffuse_of_mixed[0] = 1;
+    const int top = std::min<int>(mixed, kMaxMixedDiffuse);
+    if (top < kMaxMixedDiffuse) diffuse_of_mixed[top + 1] = diffuse_of_mixed[top] * (1 - g);
+    else diffuse_of_mixed[top] += diffuse_of_mixed[top - 1] * (1 - g);  // the lump keeps its mass
+    for (int j = std::min(top, kMaxMixedDiffuse - 1); j >= 1; --j)
+      diffuse_of_mixed[j] = diffuse_of_mixed[j] * g + diffuse_of_mixed[j - 1] * (1 - g);
+    diffuse_of_mixed[0] *= g;
+    ++mixed;
+  }
   BounceCounts operator+(const BounceCounts &o) const {
     BounceCounts c;
     for (int i = 0; i < 4; ++i) c.n[i] = uint16_t(n[i] + o.n[i]);
+    if (mixed == 0 && o.mixed == 0) return c;
+    if (o.mixed == 0) return c.with_mixed_of(*this);
+    if (mixed == 0) return c.with_mixed_of(o);
+    c.mixed = uint16_t(mixed + o.mixed);
+    const int ta = std::min<int>(mixed, kMaxMixedDiffuse), tb = std::min<int>(o.mixed, kMaxMixedDiffuse);
+    const int tc = std::min<int>(c.mixed, kMaxMixedDiffuse);
+    for (int j = 0; j <= tc; ++j) c.diffuse_of_mixed[j] = 0;
+    for (int a = 0; a <= ta; ++a)
+      for (int b = 0; b <= tb; ++b)
+        c.diffuse_of_mixed[std::min(a + b, kMaxMixedDiffuse)] += diffuse_of_mixed[a] * o.diffuse_of_mixed[b];
     return c;
+  }
+
+ private:
+  BounceCounts with_mixed_of(const BounceCounts &o) {
+    mixed = o.mixed;
+    const int top = std::min<int>(mixed, kMaxMixedDiffuse);
+    for (int j = 0; j <= top; ++j) diffuse_of_mixed[j] = o.diffuse_of_mixed[j];
+    return *this;
   }
 };
 
@@ -78,9 +124,20 @@ struct LightPathLimits {
   int layers_left(int passes, int unlimited) const {
     return transparent < kNoLimit ? (passes < transparent ? transparent - passes : 0) : unlimited;
   }
-  bool within(const BounceCounts &c) const {
-    return c.n[0] <= diffuse && c.n[1] <= glossy && c.n[2] <= transmission && c.n[3] <= volume;
+  // The share of paths with these counts that the limits keep: 0 or 1, or with mixed
+  // reflections the odds that as many of them were diffuse as the diffuse and glossy
+  // limits both allow.
+  float kept_share(const BounceCounts &c) const {
+    if (c.n[2] > transmission || c.n[3] > volume || c.n[0] > diffuse || c.n[1] > glossy) return 0;
+    if (c.mixed == 0) return 1;
+    // j diffuse among the m mixed: n0 + j <= diffuse and n1 + m - j <= glossy.
+    const int m = c.mixed, top = std::min(m, BounceCounts::kMaxMixedDiffuse);
+    const int lo = std::max(0, m - (glossy - c.n[1])), hi = std::min(top, diffuse - c.n[0]);
+    float kept = 0;
+    for (int j = lo; j <= hi; ++j) kept += c.diffuse_of_mixed[j];
+    return std::min(kept, 1.0f);
   }
+  bool within(const BounceCounts &c) const { return kept_share(c) > 0; }
   // Whether `next` may follow `before` (its neighbour on the camera side) with the
   // caustics switches as they are.
   bool caustic_allowed(ScatterKind before, ScatterKind next) const {

@@ -229,18 +229,23 @@ class Bdpt final : public TileIntegrator {
   float mis_weight(const PathVertex *light_path, const PathVertex *camera_path, const PathVertex &sampled, int s,
                    int t, const ConnectionDensities &densities) const;
   // Cycles' Light Paths (light_path_limits.cpp): the kind of v's scattering toward wi;
-  // recording a walk's vertex v = path[n] once its next direction wi is chosen (returns
-  // false when no longer subpath can make a path the limits keep); whether the limits keep
-  // the path of strategy (s, t), given the connection vertices' kinds toward each other
-  // (kc: camera_path[t - 1]'s, kl: light_path[s - 1]'s; unused where there is none).
+  // Cycles' odds that it sampled a glossy closure there (Bsdf::glossy_odds; camera: v is
+  // on the camera side's subpath); recording a walk's vertex v = path[n] once its next
+  // direction wi is chosen (delta: by a delta lobe; returns false when no longer subpath
+  // can make a path the limits keep); the share of the path of strategy (s, t) the limits
+  // keep, given the connection vertices' kinds toward each other (kc: camera_path[t - 1]'s,
+  // kl: light_path[s - 1]'s; unused where there is none) and the direction from the
+  // camera side's connection vertex to the light side's (or to the lens from
+  // light_path[s - 1], negated, for t = 1).
   ScatterKind kind_toward(const PathVertex &v, Vec3 wi) const;
-  bool record_kind(PathVertex *path, int n, Vec3 wi, bool camera) const;
+  float glossy_odds_toward(const PathVertex &v, Vec3 w, bool camera, bool delta, bool defensive) const;
+  bool record_kind(PathVertex *path, int n, Vec3 wi, bool camera, bool delta) const;
   // The straight passes of the path of strategy (s, t) on its two subpaths (Transparent
   // max bounces; a connection adds those it passes) and its scattering vertices (the clamps).
   static int path_passes(const PathVertex *light_path, const PathVertex *camera_path, int s, int t);
   static int path_scatterings(const PathVertex *light_path, const PathVertex *camera_path, int s, int t);
-  bool limits_keep(const PathVertex *light_path, const PathVertex *camera_path, int s, int t, ScatterKind kc,
-                   ScatterKind kl) const;
+  float limits_share(const PathVertex *light_path, const PathVertex *camera_path, int s, int t, ScatterKind kc,
+                     ScatterKind kl, Vec3 to_light = Vec3(0.0f)) const;
   // Vertex helpers (connect.cpp).
   // bsdf: the BSDF to use at a surface instead of v's (Filter Glossy's blurred one).
   Scattering scatter(const PathVertex &v, Vec3 wi, TransportMode mode, const Bsdf *bsdf = nullptr) const;

@@ -11,7 +11,13 @@ ScatterKind Bdpt::kind_toward(const PathVertex &v, Vec3 wi) const {
   return v.type == VertexType::Medium ? ScatterKind::Volume : v.bsdf.scatter_kind(v.wo, wi);
 }
 
-bool Bdpt::record_kind(PathVertex *path, int n, Vec3 wi, bool camera) const {
+float Bdpt::glossy_odds_toward(const PathVertex &v, Vec3 w, bool camera, bool delta, bool defensive) const {
+  if (v.type != VertexType::Surface) return -1;
+  // The pair's camera-side direction first: a camera vertex's wo, a light vertex's w.
+  return camera ? v.bsdf.glossy_odds(v.wo, w, delta, defensive) : v.bsdf.glossy_odds(w, v.wo, delta, defensive);
+}
+
+bool Bdpt::record_kind(PathVertex *path, int n, Vec3 wi, bool camera, bool delta) const {
   const LightPathLimits &limits = settings_.limits;
   PathVertex &v = path[n];
   v.kind = kind_toward(v, wi);
@@ -24,7 +30,8 @@ bool Bdpt::record_kind(PathVertex *path, int n, Vec3 wi, bool camera) const {
     v.caustics_ok = prev.caustics_ok && (camera ? limits.caustic_allowed(prev.kind, v.kind)
                                                 : limits.caustic_allowed(v.kind, prev.kind));
   }
-  if (camera || n >= 2) v.counts.add(v.kind);
+  // Cycles' defensive sampling: at a camera path's first scattering with no pass before it.
+  if (camera || n >= 2) v.counts.add(v.kind, glossy_odds_toward(v, wi, camera, delta, camera && n == 1 && v.passes == 0));
   return v.caustics_ok && limits.within(v.counts);
 }
 
@@ -39,8 +46,8 @@ int Bdpt::path_scatterings(const PathVertex *light_path, const PathVertex *camer
   return camera_path[t - 1].scatterings + (t >= 2 ? 1 : 0) + (s >= 2 ? light_path[s - 1].scatterings + 1 : 0);
 }
 
-bool Bdpt::limits_keep(const PathVertex *light_path, const PathVertex *camera_path, int s, int t, ScatterKind kc,
-                       ScatterKind kl) const {
+float Bdpt::limits_share(const PathVertex *light_path, const PathVertex *camera_path, int s, int t,
+                         ScatterKind kc, ScatterKind kl, Vec3 to_light) const {
   const LightPathLimits &limits = settings_.limits;
   BounceCounts counts;  // over every scattering vertex but the last
   bool ok = true;
@@ -48,7 +55,7 @@ bool Bdpt::limits_keep(const PathVertex *light_path, const PathVertex *camera_pa
     const int last = t - 2;
     if (last >= 2) counts = camera_path[last - 1].counts;
     if (last >= 1) ok = camera_path[last].caustics_ok;
-    return ok && limits.within(counts);
+    return ok ? limits.kept_share(counts) : 0.0f;
   }
   if (t >= 2) {
     const int m = t - 1;  // the camera vertex of the connection
@@ -56,17 +63,22 @@ bool Bdpt::limits_keep(const PathVertex *light_path, const PathVertex *camera_pa
       counts = camera_path[m - 1].counts;
       ok = camera_path[m - 1].caustics_ok && limits.caustic_allowed(camera_path[m - 1].kind, kc);
     }
-    if (s == 1) return ok && limits.within(counts);  // c(t-1) meets the light: the last
-    counts.add(kc);
+    if (s == 1) return ok ? limits.kept_share(counts) : 0.0f;  // c(t-1) meets the light: the last
+    const PathVertex &c = camera_path[m];
+    counts.add(kc, glossy_odds_toward(c, to_light, true, false, m == 1 && c.passes == 0));
     ok = ok && limits.caustic_allowed(kc, kl);
   }
-  if (s - 1 >= 2) counts.add(kl);  // l1 is the last scattering vertex: never counted
+  if (s - 1 >= 2) {  // l1 is the last scattering vertex: never counted
+    // With t = 1 the light vertex is the camera's first scattering (defensive sampling).
+    const PathVertex &l = light_path[s - 1];
+    counts.add(kl, glossy_odds_toward(l, -to_light, false, false, t == 1));
+  }
   if (s - 2 >= 1) {
     const PathVertex &l = light_path[s - 2];
     ok = ok && l.caustics_ok && limits.caustic_allowed(kl, l.kind);
     counts = counts + l.counts;
   }
-  return ok && limits.within(counts);
+  return ok ? limits.kept_share(counts) : 0.0f;
 }
 
 }  // namespace rdv::bdpt

@@ -133,8 +133,8 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
     v.passes = uint16_t(before.passes_after() + layers);
     v.scatterings = uint16_t(before.scatterings_after());
   };
-  auto limits_end_walk = [&](Vec3 wi) {
-    if (record_kind(path, n, wi, camera)) return false;
+  auto limits_end_walk = [&](Vec3 wi, bool delta) {
+    if (record_kind(path, n, wi, camera, delta)) return false;
     if (camera) max_vertices = std::min(max_vertices, n + 1);
     return !camera;
   };
@@ -240,7 +240,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
             if (camera) filter.scattered(pdf_fwd);
             else v.filter_pdf = pdf_fwd;
           }
-          if (classify && limits_end_walk(wi)) return n;
+          if (classify && limits_end_walk(wi, false)) return n;
           if (light_segment_hidden(wi)) return n;
           prev.pdf_rev = v.to_prev_density(pdf_fwd);
           if (mode == TransportMode::Radiance && n >= 2) set_mis_sum(path, n - 1, path[n - 2].delta, balance());
@@ -387,7 +387,7 @@ int Bdpt::random_walk(Ray ray, Sampler &sampler, RayStats &stats, Color beta, fl
       const float u_lobe = sampler.get_1d();
       if (!v.bsdf.sample(v.wo, u_lobe, sampler.get_2d(), mode, bs)) return n;
     }
-    if (classify && limits_end_walk(bs.wi)) return n;
+    if (classify && limits_end_walk(bs.wi, bs.is_delta)) return n;
     if (light_segment_hidden(bs.wi)) return n;
     // A vertex passed through (not a plain layer).
     if (limited_passes && bs.pass_through && passes_end_walk(v.passes + 1, v.scatterings > 0)) return n;
@@ -463,8 +463,9 @@ Color Bdpt::lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathV
                                              occluders, false, stats.rays))
     return Color(0.0f);
   const LightPathLimits &limits = settings_.limits;
-  if (limits.classify && !limits_keep(path, path, 0, n + 2, ScatterKind::Transparent, ScatterKind::Transparent))
-    return Color(0.0f);
+  const float kept = limits.classify ? limits_share(path, path, 0, n + 2, ScatterKind::Transparent, ScatterKind::Transparent) : 1.0f;
+  if (!(kept > 0)) return Color(0.0f);
+  c *= kept;
   const int scatterings = path[n].scatterings_after();
   if (!limits.transparent_within(path[n].passes_after() + layers, scatterings > 0)) return Color(0.0f);
   bool one_strategy = settings_.strategy_s >= 0;
@@ -486,8 +487,10 @@ void Bdpt::gather_volume_emission(const Medium &medium, const Ray &ray, float tm
   const PathVertex &prev = path[n];
   PathVertex &point = path[n + 1];
   const LightPathLimits &limits = settings_.limits;
-  if (limits.classify && n > 0 && !limits_keep(path, path, 0, n + 2, ScatterKind::Transparent, ScatterKind::Transparent))
-    return;
+  const float kept =
+      limits.classify && n > 0 ? limits_share(path, path, 0, n + 2, ScatterKind::Transparent, ScatterKind::Transparent) : 1.0f;
+  if (!(kept > 0)) return;
+  beta *= kept;
   const int scatterings = path[n].scatterings_after();
   if (!limits.transparent_within(path[n].passes_after() + layers, scatterings > 0)) return;
   const bool one_strategy = settings_.strategy_s >= 0;  // the debug view of one strategy (s, t)

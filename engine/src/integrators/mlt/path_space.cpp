@@ -1086,7 +1086,12 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
       if (limits_.classify) {
         if (i >= 2 && !limits_.caustic_allowed(before, kind)) return;
         if (i + 1 < n - 1) {  // not the vertex that meets the light
-          counts.add(kind);
+          // A mixed reflection by Cycles' odds (BounceCounts): at x_1 with no pass before it,
+          // with its defensive sampling.
+          const float glossy = a.v.type == VertexType::Surface
+                                   ? a.v.bsdf.glossy_odds(a.v.wo, w, a.v.delta, i == 1 && passes + vertex_passes == 0)
+                                   : -1.0f;
+          counts.add(kind, glossy);
           if (!limits_.within(counts)) return;
         }
         before = kind;
@@ -1244,6 +1249,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     emission = emission - (emission - without_world) * float(world_left_out);
   }
   f *= emission;
+  if (limits_.classify) f *= limits_.kept_share(counts);  // below 1 with mixed reflections
   Color f_catcher = copy && y.split >= 0 && light.shadow_catcher ? f : Color(0.0f);
   f *= layers_past_split;
   if (!image) f = Color(0.0f);

@@ -160,7 +160,12 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
   // Cycles' Light Paths (light_path_limits.h): the bounces of each kind so far; once one
   // is over its limit the path still collects emission at its next vertex, then ends
   // (stop_after). last_kind: the last scattering's kind, for the caustics switches.
+  // kept: the share of the path the limits keep with every scattering so far counted
+  // (what next-event estimation from the current vertex carries); kept_found: without the
+  // last one (what emission found by the segment leaving it carries). Below 1 only where
+  // mixed reflections (a Principled BSDF) were diffuse or glossy by Cycles' odds.
   BounceCounts counts;
+  float kept = 1, kept_found = 1;
   FilterGlossy filter(limits_.filter_glossy);  // Filter Glossy (filter_glossy.h)
   // Transparent max bounces (light_path_limits.h): the path's passes through transparent
   // layers so far. A scattering vertex needs at most the limit behind it, shadow rays pass only
@@ -170,9 +175,11 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
   auto shadow_layers = [&]() { return limits_.layers_left(transparent_passes, kShadowLayers); };
   bool stop_after = false;
   ScatterKind last_kind = ScatterKind::Transparent;
-  auto count_bounce = [&](ScatterKind kind) {
-    counts.add(kind);
-    if (!limits_.within(counts)) stop_after = true;
+  auto count_bounce = [&](ScatterKind kind, float glossy_odds = -1) {
+    counts.add(kind, glossy_odds);
+    kept_found = kept;
+    kept = limits_.kept_share(counts);
+    if (!(kept > 0)) stop_after = true;
     last_kind = kind;
   };
   // Light passes (film/light_passes.h), when the film keeps them: each contribution's
@@ -189,12 +196,12 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     if (passes && !(kCatcher && split)) passes->add(v, vertices, first_split, background);  // none after a split, as Cycles
     return v;
   };
-  auto add = [&](const Color &c, int vertices) { add_to_passes(c, vertices, false); };
+  auto add = [&](const Color &c, int vertices) { add_to_passes(c * kept, vertices, false); };
   // Emission the path itself finds (not next-event estimation's): the denoising albedo
   // takes it too while its features are active (film/denoising_passes.h).
   DenoisingSample *const denoising = first_hit ? &first_hit->data.denoising : nullptr;
   auto add_found = [&](const Color &c, int vertices, bool background = false) {
-    const Color v = add_to_passes(c, vertices, background);
+    const Color v = add_to_passes(c * kept_found, vertices, background);
     if (denoising && denoising->active) denoising->add_emission(v);
     return v;
   };
@@ -466,7 +473,9 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       if (classify_rays) next_mask = visibility::after(kind);
       if (limits_.classify) {
         if (!limits_.caustic_allowed(last_kind, kind)) break;
-        count_bounce(kind);
+        // Cycles' defensive sampling floors the closures' weights at a camera path's first
+        // scattering (no bounce or transparent pass before it).
+        count_bounce(kind, bsdf.glossy_odds(wo, bs.wi, bs.is_delta, depth == 0 && transparent_passes == 0));
       }
     }
     specular_bounce = bs.is_delta;
