@@ -167,3 +167,30 @@ TEST(BounceCounts, GlossyOddsOfOneKind) {
   EXPECT_EQ(principled.glossy_odds(wo, wi, true, false), 1.0f);
   EXPECT_EQ(principled.glossy_odds(wo, Vec3(wi.x, wi.y, -wi.z), false, false), -1.0f);
 }
+
+// The path tracer takes the odds from sample() (the pass over the lobes that weighs the
+// sampled mixture): they must be glossy_odds' of the sampled direction, plain and defensive,
+// for mixtures, single lobes, delta reflections and transmissions alike.
+TEST(BounceCounts, SampledOddsAreGlossyOddsOfTheSampledDirection) {
+  const ShadingPoint sp = plane_point();
+  const Vec3 wo = normalize(Vec3(0.4f, 0.1f, 0.8f));
+  for (const char *json :
+       {R"({"type":"principled","roughness":0.3})", R"({"type":"principled","roughness":0.2,"clearcoat":0.5,"sheen":0.5})",
+        R"({"type":"principled","roughness":0.3,"transmission":0.5})", R"({"type":"diffuse"})",
+        R"({"type":"mix","fac":0.4,"shader1":{"type":"diffuse"},"shader2":{"type":"glass","roughness":0}})"}) {
+    const Bsdf b = material(json).make_bsdf(sp, wo);
+    int mixed = 0;
+    for (int i = 0; i < 256; ++i) {
+      const float u_lobe = (float(i) + 0.5f) / 256.0f;
+      const Vec2 u{float((i * 37) % 256) / 256.0f + 0.001f, float((i * 101) % 256) / 256.0f + 0.001f};
+      for (Bsdf::Odds odds : {Bsdf::Odds::Plain, Bsdf::Odds::Defensive}) {
+        BsdfSample s;
+        if (!b.sample(wo, u_lobe, u, TransportMode::Radiance, s, odds)) continue;
+        const float expected = b.glossy_odds(wo, s.wi, s.is_delta, odds == Bsdf::Odds::Defensive);
+        EXPECT_NEAR(s.glossy_odds, expected, 1e-6f) << json << " sample " << i;
+        mixed += s.glossy_odds > 0 && s.glossy_odds < 1;
+      }
+    }
+    if (std::string(json).find("principled") != std::string::npos) EXPECT_GT(mixed, 100) << json;
+  }
+}

@@ -298,6 +298,16 @@ static const Lobe &lobe_from_side(const Lobe &lobe, bool flipped, LobeScratch &s
   return *seen;
 }
 
+// The lobes Cycles labels a glossy or a diffuse reflection (bounce limits: glossy_odds).
+static bool is_glossy_reflector(LobeType t) {
+  return t == LobeType::GgxConductor || t == LobeType::Clearcoat || t == LobeType::SpecularConductor ||
+         t == LobeType::SmoothDielectric || t == LobeType::GgxDielectric;
+}
+static bool is_diffuse_reflector(LobeType t) {
+  return t == LobeType::Lambert || t == LobeType::OrenNayar || t == LobeType::PrincipledDiffuse ||
+         t == LobeType::Sheen;
+}
+
 // What local_pair and the Lambert lobe decide, on the normal components alone: seen
 // from wo's side of the geometry, both directions must be above both normals. On
 // success the cosines are those of that side (all positive).
@@ -334,7 +344,7 @@ Color Bsdf::f(Vec3 wo_w, Vec3 wi_w, TransportMode mode) const {
 }
 
 Color Bsdf::local_f(Vec3 wo, Vec3 wi, bool flipped, TransportMode mode, float *pdf, const float *pick,
-                    float diffuse_scale, const ViewScales *views) const {
+                    float diffuse_scale, const ViewScales *views, GlossyShare *glossy) const {
   Color f(0.0f);
   LobeScratch scratch;
   LayerScales layers;
@@ -346,6 +356,11 @@ Color Bsdf::local_f(Vec3 wo, Vec3 wi, bool flipped, TransportMode mode, float *p
       float p;
       fi = lobe_eval_and_pdf(lobe, wo, wi, mode, p);
       *pdf += pick[i] * p;
+      if (glossy) {
+        const float wp = glossy->weight[size_t(i)] * p;
+        glossy->all += wp;
+        if (is_glossy_reflector(lobe.type)) glossy->glossy += wp;
+      }
     } else {
       fi = lobe_eval(lobe, wo, wi, mode);
     }
@@ -387,6 +402,31 @@ Color Bsdf::eval_and_pdf(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf) c
   const float *pick = picks_from(wo_w, picks, mode == TransportMode::Radiance ? views : nullptr);
   return local_f(wo, wi, flipped, mode, &pdf, pick, bump_shadowing(frame.n, wo_w, wi_w, mode), views) *
          shading_correction(wo_w, wi_w, mode, frame) * absdot(wi_w, frame.n);
+}
+
+Color Bsdf::eval_pdf_and_odds(Vec3 wo_w, Vec3 wi_w, float &pdf, bool defensive, float &glossy_odds) const {
+  pdf = 0;
+  glossy_odds = 0;
+  constexpr TransportMode mode = TransportMode::Radiance;
+  Frame bent, bent_seen;
+  const Frame &frame = frame_toward(wo_w, bent);
+  if (!same_frame(camera_side_frame(wo_w, wi_w, mode, bent_seen), frame)) {  // rare: two passes
+    glossy_odds = this->glossy_odds(wo_w, wi_w, false, defensive);
+    return eval_and_pdf(wo_w, wi_w, mode, pdf);
+  }
+  Vec3 wo, wi;
+  bool flipped;
+  if (!local_pair(frame, wo_w, wi_w, wo, wi, flipped)) return Color(0.0f);
+  Picks picks;
+  ViewScales view_scratch;
+  const ViewScales *views = view_scales(wo_w, view_scratch);
+  const float *pick = picks_from(wo_w, picks, views);
+  GlossyShare share;
+  odds_weights(std::fabs(wo.z), views, defensive, share.weight.data());
+  const Color f = local_f(wo, wi, flipped, mode, &pdf, pick, bump_shadowing(frame.n, wo_w, wi_w, mode), views, &share) *
+                  shading_correction(wo_w, wi_w, mode, frame) * absdot(wi_w, frame.n);
+  glossy_odds = share.all > 0 ? clampf(share.glossy / share.all, 0.0f, 1.0f) : 0.0f;
+  return f;
 }
 
 Color Bsdf::f_and_pdfs(Vec3 wo_w, Vec3 wi_w, TransportMode mode, float &pdf_fwd, float &pdf_rev) const {
@@ -481,7 +521,7 @@ float Bsdf::share_refracted_below(Vec3 wo_w, Vec3 wi_w, float alpha2_max) const 
   return all > 0 ? std::min(1.0f, below / all) : 0.0f;
 }
 
-bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSample &out) const {
+bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSample &out, Odds odds) const {
   if (n_ == 0 || dot(wo_w, ng_) <= 0) return false;
   Picks picks;
   const float *pick = picks_from(wo_w, picks);
@@ -534,6 +574,7 @@ bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSampl
     out.pass_through = lobe.type == LobeType::Transparent;
     out.pdf = pick[chosen] * pdf;
     out.weight = weight * (shading_correction(wo_w, out.wi, mode, frame) / pick[chosen]);
+    if (odds != Odds::None) out.glossy_odds = glossy_odds(wo_w, out.wi, true, false);
     return true;
   }
   out.is_delta = false;
@@ -542,10 +583,17 @@ bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSampl
     out.weight = weight * shading_correction(wo_w, out.wi, mode, frame);
     if (lobe.is_diffuse_like()) out.weight *= bump_shadowing(frame.n, wo_w, out.wi, mode);
   } else {  // mixture: the weight must use the full f and the mixture pdf
-    Color f = eval_and_pdf(wo_w, out.wi, mode, out.pdf);
+    const bool defensive = odds == Odds::Defensive;
+    // The glossy odds of a diffuse-and-glossy reflection from the same pass over the lobes.
+    const bool mixed_reflection = odds != Odds::None && mode == TransportMode::Radiance && wi.z * wo.z > 0 &&
+                                  one_kind_odds(false) < 0;
+    Color f = mixed_reflection ? eval_pdf_and_odds(wo_w, out.wi, out.pdf, defensive, out.glossy_odds)
+                               : eval_and_pdf(wo_w, out.wi, mode, out.pdf);
     if (!(out.pdf > 0)) return false;
     out.weight = f / out.pdf;
+    if (odds != Odds::None && !mixed_reflection) out.glossy_odds = glossy_odds(wo_w, out.wi, false, defensive);
   }
+  if (odds != Odds::None && n_ == 1) out.glossy_odds = glossy_odds(wo_w, out.wi, false, false);
   return true;
 }
 
@@ -635,52 +683,51 @@ ScatterKind Bsdf::scatter_kind(Vec3 wo, Vec3 wi) const {
   return translucent > refracting ? ScatterKind::Translucent : ScatterKind::Transmission;
 }
 
-float Bsdf::glossy_odds(Vec3 camera_side, Vec3 light_side, bool delta, bool defensive) const {
-  if (dot(camera_side, ng_) * dot(light_side, ng_) <= 0) return -1;
-  auto glossy_kind = [](LobeType t) {
-    return t == LobeType::GgxConductor || t == LobeType::Clearcoat || t == LobeType::SpecularConductor ||
-           t == LobeType::SmoothDielectric || t == LobeType::GgxDielectric;
-  };
-  auto diffuse_kind = [](LobeType t) {
-    return t == LobeType::Lambert || t == LobeType::OrenNayar || t == LobeType::PrincipledDiffuse ||
-           t == LobeType::Sheen;
-  };
+float Bsdf::one_kind_odds(bool delta) const {
   bool any_glossy = false, any_diffuse = false;
   for (int i = 0; i < n_; ++i) {
-    any_glossy = any_glossy || glossy_kind(lobes_[i].type);
-    any_diffuse = any_diffuse || diffuse_kind(lobes_[i].type);
+    any_glossy = any_glossy || is_glossy_reflector(lobes_[i].type);
+    any_diffuse = any_diffuse || is_diffuse_reflector(lobes_[i].type);
   }
   if (!any_diffuse || delta) return 1;  // a delta reflection is a mirror's or glass's: glossy
-  if (!any_glossy) return 0;
-  Vec3 wo, wi;
-  bool flipped;
-  Frame bent;
-  if (!local_pair(frame_toward(camera_side, bent), camera_side, light_side, wo, wi, flipped)) return 0;
-  ViewScales view_scratch;
-  const ViewScales *views = view_scales(camera_side, view_scratch);
+  return any_glossy ? -1.0f : 0.0f;
+}
+
+void Bsdf::odds_weights(float cos_o, const ViewScales *views, bool defensive, float *weight) const {
   // Cycles' sample weight of each closure: the average of its weight, which holds its
   // colour (and, for the Fresnel-coloured Principled lobes, their Fresnel at the viewer).
-  std::array<float, kMaxLobes> weight;
   float sum = 0;
   for (int i = 0; i < n_; ++i) {
     const Lobe &lobe = lobes_[i];
     Color albedo = lobe.color;
     if ((lobe.type == LobeType::GgxConductor || lobe.type == LobeType::Clearcoat ||
          lobe.type == LobeType::SpecularConductor) && lobe.fresnel_mode != FresnelMode::Tint)
-      albedo = lobe.fresnel(std::fabs(wo.z));
-    weight[size_t(i)] = std::max(0.0f, average(albedo) * lobe.scale * (views ? views->of(lobe) : 1.0f));
-    sum += weight[size_t(i)];
+      albedo = lobe.fresnel(cos_o);
+    weight[i] = std::max(0.0f, average(albedo) * lobe.scale * (views ? views->of(lobe) : 1.0f));
+    sum += weight[i];
   }
-  float glossy = 0, all = 0;
+  if (defensive)
+    for (int i = 0; i < n_; ++i) weight[i] = std::max(weight[i], 0.125f * sum);
+}
+
+float Bsdf::glossy_odds(Vec3 camera_side, Vec3 light_side, bool delta, bool defensive) const {
+  if (dot(camera_side, ng_) * dot(light_side, ng_) <= 0) return -1;
+  const float one_kind = one_kind_odds(delta);
+  if (one_kind >= 0) return one_kind;
+  Vec3 wo, wi;
+  bool flipped;
+  Frame bent;
+  if (!local_pair(frame_toward(camera_side, bent), camera_side, light_side, wo, wi, flipped)) return 0;
+  ViewScales view_scratch;
+  GlossyShare share;
+  odds_weights(std::fabs(wo.z), view_scales(camera_side, view_scratch), defensive, share.weight.data());
   LobeScratch scratch;
   for (int i = 0; i < n_; ++i) {
-    const Lobe &lobe = lobe_from_side(lobes_[i], flipped, scratch);
-    const float w = defensive ? std::max(weight[size_t(i)], 0.125f * sum) : weight[size_t(i)];
-    const float p = w * lobe_pdf(lobe, wo, wi);
-    all += p;
-    if (glossy_kind(lobe.type)) glossy += p;
+    const float p = share.weight[size_t(i)] * lobe_pdf(lobe_from_side(lobes_[i], flipped, scratch), wo, wi);
+    share.all += p;
+    if (is_glossy_reflector(lobes_[i].type)) share.glossy += p;
   }
-  return all > 0 ? clampf(glossy / all, 0.0f, 1.0f) : 0.0f;
+  return share.all > 0 ? clampf(share.glossy / share.all, 0.0f, 1.0f) : 0.0f;
 }
 
 Color Bsdf::albedo(Vec3 wo) const {

@@ -132,6 +132,9 @@ struct BsdfSample {
   Vec3 wi;            // world space
   Color weight;       // f * |cos| / pdf, including the transport-mode correction
   float pdf = 0;      // solid angle; for delta lobes the discrete selection probability
+  // Bsdf::glossy_odds of (wo, wi) when sample() was asked for them (camera paths under
+  // bounce limits: from the pass over the lobes that weighs a mixture), else -1.
+  float glossy_odds = -1;
   bool is_delta = false;
   // A straight pass-through (Transparent BSDF, alpha): not a scattering event. The
   // path tracer keeps its MIS state across it, as transparent shadows see through it.
@@ -205,7 +208,10 @@ class Bsdf {
   // BDPT connection needs at each end (its value and its MIS densities both ways).
   // The densities are left 0 where f is 0 (the connection contributes nothing).
   Color f_and_pdfs(Vec3 wo, Vec3 wi, TransportMode mode, float &pdf_fwd, float &pdf_rev) const;
-  bool sample(Vec3 wo, float u_lobe, Vec2 u, TransportMode mode, BsdfSample &out) const;
+  // odds (Radiance mode): also out.glossy_odds, as glossy_odds(wo, out.wi, ...) gives them
+  // (defensive as there), at no second pass over the lobes.
+  enum class Odds { None, Plain, Defensive };
+  bool sample(Vec3 wo, float u_lobe, Vec2 u, TransportMode mode, BsdfSample &out, Odds odds = Odds::None) const;
   // The delta lobes' events (mirror reflection, smooth reflection and refraction, pass-
   // through) that send wo to wi, up to an angle of about 4e-3 (vertices rounded to
   // floats): f * |cos(wi)| summed over them as the coefficient of a Dirac delta in solid
@@ -377,8 +383,21 @@ class Bsdf {
   // layers and view factors (views, may be nullptr) applied; with pdf, their mixture density
   // by `pick` added into *pdf as well.
   // diffuse_scale: what the diffuse-like lobes' f is multiplied by (bump_shadowing).
+  // glossy: with pdf, each lobe's density weighted by glossy->weight summed into all and,
+  // for glossy lobes, into glossy (glossy_odds' two sums).
+  struct GlossyShare {
+    std::array<float, kMaxLobes> weight;
+    float glossy = 0, all = 0;
+  };
   Color local_f(Vec3 wo, Vec3 wi, bool flipped, TransportMode mode, float *pdf, const float *pick,
-                float diffuse_scale, const ViewScales *views) const;
+                float diffuse_scale, const ViewScales *views, GlossyShare *glossy = nullptr) const;
+  // glossy_odds' parts: 1 or 0 where one kind decides (delta: a mirror's or glass's; no
+  // diffuse lobe; no glossy lobe), -1 for a mixture; Cycles' selection weight of each lobe
+  // seen from the camera side (cos_o: its local cosine; views: its view scales).
+  float one_kind_odds(bool delta) const;
+  void odds_weights(float cos_o, const ViewScales *views, bool defensive, float *weight) const;
+  // eval_and_pdf with the glossy odds of (wo, wi) too, for a sampled mixture (Radiance).
+  Color eval_pdf_and_odds(Vec3 wo, Vec3 wi, float &pdf, bool defensive, float &glossy_odds) const;
   // Cycles darkens diffuse closures whose normal a normal map or bump moved (its
   // bump_shadowing_term, after Chiang et al. 2019): by a smooth step of g = cos(N0, I) /
   // (cos(N, I) cos(N0, N)), N0 the mesh's normal, N the mapped one (n, as the frame f uses),

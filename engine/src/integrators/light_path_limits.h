@@ -27,8 +27,9 @@ namespace rdv {
 // were diffuse, so the limits keep the share of the path Cycles keeps (kept_share).
 struct BounceCounts {
   // Distributions are kept up to this many diffuse reflections among the mixed ones;
-  // more are lumped into the last entry (paths that long exceed any limit that small).
-  static constexpr int kMaxMixedDiffuse = 31;
+  // more are lumped into the last entry (exact up to 15 mixed reflections, beyond Cycles'
+  // default of 12 bounces in all; smaller than 31 for BDPT's vertices, which carry them).
+  static constexpr int kMaxMixedDiffuse = 15;
   uint16_t n[4] = {0, 0, 0, 0};  // scatterings of one kind (and mixed ones: in `mixed`)
   uint16_t mixed = 0;
   // diffuse_of_mixed[j]: the odds that j of the mixed reflections were diffuse (only the
@@ -45,6 +46,8 @@ struct BounceCounts {
       case ScatterKind::Transparent: break;
     }
   }
+  // Diffuse, glossy and mixed reflections: an upper bound on either kind's count.
+  int reflections() const { return n[0] + n[1] + mixed; }
   // A scattering of kind k whose glossy odds are g (Bsdf::glossy_odds; < 0 or k not a
   // reflection: k alone decides).
   void add(ScatterKind k, float g) {

@@ -57,6 +57,14 @@ float Bdpt::limits_share(const PathVertex *light_path, const PathVertex *camera_
     if (last >= 1) ok = camera_path[last].caustics_ok;
     return ok ? limits.kept_share(counts) : 0.0f;
   }
+  // A connection vertex's glossy odds matter only where the path's reflections could number
+  // more than the smaller of the diffuse and glossy limits (else every assignment of its mixed
+  // reflections is kept): short paths skip that pass over the vertex's lobes (-1: counted
+  // by its dominant kind, which keeps them within both limits).
+  const int light_reflections = s - 2 >= 1 ? light_path[s - 2].counts.reflections() : 0;
+  auto odds_matter = [&]() {
+    return counts.reflections() + light_reflections + 2 > std::min(limits.diffuse, limits.glossy);
+  };
   if (t >= 2) {
     const int m = t - 1;  // the camera vertex of the connection
     if (m >= 2) {
@@ -65,13 +73,13 @@ float Bdpt::limits_share(const PathVertex *light_path, const PathVertex *camera_
     }
     if (s == 1) return ok ? limits.kept_share(counts) : 0.0f;  // c(t-1) meets the light: the last
     const PathVertex &c = camera_path[m];
-    counts.add(kc, glossy_odds_toward(c, to_light, true, false, m == 1 && c.passes == 0));
+    counts.add(kc, odds_matter() ? glossy_odds_toward(c, to_light, true, false, m == 1 && c.passes == 0) : -1.0f);
     ok = ok && limits.caustic_allowed(kc, kl);
   }
   if (s - 1 >= 2) {  // l1 is the last scattering vertex: never counted
     // With t = 1 the light vertex is the camera's first scattering (defensive sampling).
     const PathVertex &l = light_path[s - 1];
-    counts.add(kl, glossy_odds_toward(l, -to_light, false, false, t == 1));
+    counts.add(kl, odds_matter() ? glossy_odds_toward(l, -to_light, false, false, t == 1) : -1.0f);
   }
   if (s - 2 >= 1) {
     const PathVertex &l = light_path[s - 2];

@@ -451,7 +451,13 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     start_scatter(dims::kScatterLobe);
     float u_lobe = sampler.get_1d();
     Vec2 u = sampler.get_2d();
-    if (!bsdf.sample(wo, u_lobe, u, TransportMode::Radiance, bs) || (last && !bs.pass_through)) break;
+    // Under bounce limits the sample brings Cycles' odds that this bounce was glossy; its
+    // defensive sampling floors the closures' weights at a camera path's first scattering
+    // (no bounce or transparent pass before it).
+    const Bsdf::Odds odds = !limits_.classify ? Bsdf::Odds::None
+                            : depth == 0 && transparent_passes == 0 ? Bsdf::Odds::Defensive
+                                                                    : Bsdf::Odds::Plain;
+    if (!bsdf.sample(wo, u_lobe, u, TransportMode::Radiance, bs, odds) || (last && !bs.pass_through)) break;
     beta *= bs.weight;
     if (see_through) see_through = alpha_.keeps_seeing_through(bs);
     if (bs.pass_through) {
@@ -473,9 +479,7 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       if (classify_rays) next_mask = visibility::after(kind);
       if (limits_.classify) {
         if (!limits_.caustic_allowed(last_kind, kind)) break;
-        // Cycles' defensive sampling floors the closures' weights at a camera path's first
-        // scattering (no bounce or transparent pass before it).
-        count_bounce(kind, bsdf.glossy_odds(wo, bs.wi, bs.is_delta, depth == 0 && transparent_passes == 0));
+        count_bounce(kind, bs.glossy_odds);
       }
     }
     specular_bounce = bs.is_delta;
