@@ -6,6 +6,7 @@
 // checks are deterministic with fixed seeds and 4-sigma margins.
 #include <gtest/gtest.h>
 #include "bsdfs/material.h"
+#include "test_materials.h"
 #include "fresnel_reference.h"
 #include "chi_square.h"
 #include "core/hash.h"
@@ -53,21 +54,8 @@ const std::vector<Vec3> &incident() {
   return d;
 }
 
-Material material(const char *json) {
-  Params p(json, "material 'test'");
-  return Material::from_params(p, "test");
-}
-
-ShadingPoint point() {
-  ShadingPoint sp;
-  sp.ng = sp.ns = Vec3(0, 0, 1);
-  sp.dpdu = {1, 0, 0};
-  sp.dpdv = {0, 1, 0};
-  sp.has_uv_frame = true;
-  sp.uv = {0.3f, 0.6f};
-  sp.generated = {0.3f, 0.6f, 0.5f};
-  return sp;
-}
+Material material(const char *json) { return test::material_from_json(json); }
+ShadingPoint point() { return test::flat_point(); }
 
 }  // namespace
 

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <limits>
 #include "bsdfs/material.h"
+#include "test_materials.h"
 #include "fresnel_reference.h"
 #include "core/hash.h"
 
@@ -15,20 +16,8 @@ using namespace rdv;
 
 namespace {
 
-Material material(const std::string &json) {
-  Params p(json, "material 'test'");
-  return Material::from_params(p, "test");
-}
-
-ShadingPoint point(Vec3 ns = Vec3(0, 0, 1)) {
-  ShadingPoint sp;
-  sp.ng = Vec3(0, 0, 1);
-  sp.ns = normalize(ns);
-  sp.dpdu = {1, 0, 0};
-  sp.dpdv = {0, 1, 0};
-  sp.has_uv_frame = true;
-  return sp;
-}
+Material material(const std::string &json) { return test::material_from_json(json); }
+ShadingPoint point(Vec3 ns = Vec3(0, 0, 1)) { return test::flat_point(ns); }
 
 Vec3 direction(Pcg32 &rng, bool upper) {
   const float z = std::max(rng.next_float(), 1e-3f), phi = 2 * kPi * rng.next_float();

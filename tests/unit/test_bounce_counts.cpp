@@ -9,8 +9,11 @@
 #include <vector>
 #include "bsdfs/material.h"
 #include "integrators/light_path_limits.h"
+#include "test_materials.h"
 
 using namespace rdv;
+using rdv::test::flat_point;
+using rdv::test::material_from_json;
 
 namespace {
 
@@ -62,21 +65,6 @@ LightPathLimits limits_of(int diffuse, int glossy, int transmission = LightPathL
   l.glossy = glossy;
   l.transmission = transmission;
   return l;
-}
-
-Material material(const char *json) {
-  Params p(json, "material 'test'");
-  return Material::from_params(p, "test");
-}
-
-ShadingPoint plane_point() {
-  ShadingPoint sp;
-  sp.ng = sp.ns = Vec3(0, 0, 1);
-  sp.dpdu = {1, 0, 0};
-  sp.dpdv = {0, 1, 0};
-  sp.has_uv_frame = true;
-  sp.uv = {0.3f, 0.6f};
-  return sp;
 }
 
 }  // namespace
@@ -134,14 +122,14 @@ TEST(BounceCounts, LongPathsKeepTheirMass) {
 // density of the direction: fac pg / (fac pg + (1 - fac) pd), pg and pd the densities of
 // each closure alone; with the defensive floor, a weight no smaller than 1/8 of the sum.
 TEST(BounceCounts, GlossyOddsAreTheClosuresShareOfTheDensity) {
-  const ShadingPoint sp = plane_point();
-  Material diffuse = material(R"({"type":"diffuse","color":[1,1,1]})");
-  Material glossy = material(R"({"type":"glossy","color":[1,1,1],"roughness":0.4})");
+  const ShadingPoint sp = flat_point();
+  Material diffuse = material_from_json(R"({"type":"diffuse","color":[1,1,1]})");
+  Material glossy = material_from_json(R"({"type":"glossy","color":[1,1,1],"roughness":0.4})");
   const Vec3 wo = normalize(Vec3(0.4f, 0.1f, 0.8f));
   for (float fac : {0.05f, 0.3f, 0.8f}) {
     const std::string json = R"({"type":"mix","fac":)" + std::to_string(fac) +
                              R"(,"shader1":{"type":"diffuse","color":[1,1,1]},"shader2":{"type":"glossy","color":[1,1,1],"roughness":0.4}})";
-    Material mix = material(json.c_str());
+    Material mix = material_from_json(json);
     const Bsdf b = mix.make_bsdf(sp, wo);
     for (Vec3 wi : {normalize(Vec3(-0.4f, -0.1f, 0.8f)), normalize(Vec3(0.3f, -0.6f, 0.3f)), Vec3(0, 0, 1)}) {
       const float pg = glossy.make_bsdf(sp, wo).pdf(wo, wi), pd = diffuse.make_bsdf(sp, wo).pdf(wo, wi);
@@ -156,11 +144,11 @@ TEST(BounceCounts, GlossyOddsAreTheClosuresShareOfTheDensity) {
 // One kind decides alone: 0 for a diffuse BSDF, 1 for a glossy one and for any delta
 // reflection, -1 for a transmission.
 TEST(BounceCounts, GlossyOddsOfOneKind) {
-  const ShadingPoint sp = plane_point();
+  const ShadingPoint sp = flat_point();
   const Vec3 wo = normalize(Vec3(0.4f, 0.1f, 0.8f)), wi = normalize(Vec3(-0.2f, 0.3f, 0.7f));
-  EXPECT_EQ(material(R"({"type":"diffuse"})").make_bsdf(sp, wo).glossy_odds(wo, wi, false, true), 0.0f);
-  EXPECT_EQ(material(R"({"type":"glossy","roughness":0.3})").make_bsdf(sp, wo).glossy_odds(wo, wi, false, true), 1.0f);
-  const Bsdf principled = material(R"({"type":"principled","roughness":0.3})").make_bsdf(sp, wo);
+  EXPECT_EQ(material_from_json(R"({"type":"diffuse"})").make_bsdf(sp, wo).glossy_odds(wo, wi, false, true), 0.0f);
+  EXPECT_EQ(material_from_json(R"({"type":"glossy","roughness":0.3})").make_bsdf(sp, wo).glossy_odds(wo, wi, false, true), 1.0f);
+  const Bsdf principled = material_from_json(R"({"type":"principled","roughness":0.3})").make_bsdf(sp, wo);
   const float g = principled.glossy_odds(wo, wi, false, false);
   EXPECT_GT(g, 0.0f);
   EXPECT_LT(g, 1.0f);
@@ -172,13 +160,13 @@ TEST(BounceCounts, GlossyOddsOfOneKind) {
 // sampled mixture): they must be glossy_odds' of the sampled direction, plain and defensive,
 // for mixtures, single lobes, delta reflections and transmissions alike.
 TEST(BounceCounts, SampledOddsAreGlossyOddsOfTheSampledDirection) {
-  const ShadingPoint sp = plane_point();
+  const ShadingPoint sp = flat_point();
   const Vec3 wo = normalize(Vec3(0.4f, 0.1f, 0.8f));
   for (const char *json :
        {R"({"type":"principled","roughness":0.3})", R"({"type":"principled","roughness":0.2,"clearcoat":0.5,"sheen":0.5})",
         R"({"type":"principled","roughness":0.3,"transmission":0.5})", R"({"type":"diffuse"})",
         R"({"type":"mix","fac":0.4,"shader1":{"type":"diffuse"},"shader2":{"type":"glass","roughness":0}})"}) {
-    const Bsdf b = material(json).make_bsdf(sp, wo);
+    const Bsdf b = material_from_json(json).make_bsdf(sp, wo);
     int mixed = 0;
     for (int i = 0; i < 256; ++i) {
       const float u_lobe = (float(i) + 0.5f) / 256.0f;
