@@ -425,7 +425,7 @@ Color Bsdf::eval_pdf_and_odds(Vec3 wo_w, Vec3 wi_w, float &pdf, bool defensive, 
   odds_weights(std::fabs(wo.z), views, defensive, share.weight.data());
   const Color f = local_f(wo, wi, flipped, mode, &pdf, pick, bump_shadowing(frame.n, wo_w, wi_w, mode), views, &share) *
                   shading_correction(wo_w, wi_w, mode, frame) * absdot(wi_w, frame.n);
-  glossy_odds = share.all > 0 ? clampf(share.glossy / share.all, 0.0f, 1.0f) : 0.0f;
+  glossy_odds = share.odds();
   return f;
 }
 
@@ -582,6 +582,7 @@ bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSampl
     out.pdf = pdf;
     out.weight = weight * shading_correction(wo_w, out.wi, mode, frame);
     if (lobe.is_diffuse_like()) out.weight *= bump_shadowing(frame.n, wo_w, out.wi, mode);
+    if (odds != Odds::None) out.glossy_odds = glossy_odds(wo_w, out.wi, false, false);  // one kind
   } else {  // mixture: the weight must use the full f and the mixture pdf
     const bool defensive = odds == Odds::Defensive;
     // The glossy odds of a diffuse-and-glossy reflection from the same pass over the lobes.
@@ -593,7 +594,6 @@ bool Bsdf::sample(Vec3 wo_w, float u_lobe, Vec2 u, TransportMode mode, BsdfSampl
     out.weight = f / out.pdf;
     if (odds != Odds::None && !mixed_reflection) out.glossy_odds = glossy_odds(wo_w, out.wi, false, defensive);
   }
-  if (odds != Odds::None && n_ == 1) out.glossy_odds = glossy_odds(wo_w, out.wi, false, false);
   return true;
 }
 
@@ -727,7 +727,7 @@ float Bsdf::glossy_odds(Vec3 camera_side, Vec3 light_side, bool delta, bool defe
     share.all += p;
     if (is_glossy_reflector(lobes_[i].type)) share.glossy += p;
   }
-  return share.all > 0 ? clampf(share.glossy / share.all, 0.0f, 1.0f) : 0.0f;
+  return share.odds();
 }
 
 Color Bsdf::albedo(Vec3 wo) const {

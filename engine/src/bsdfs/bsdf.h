@@ -388,6 +388,7 @@ class Bsdf {
   struct GlossyShare {
     std::array<float, kMaxLobes> weight;
     float glossy = 0, all = 0;
+    float odds() const { return all > 0 ? clampf(glossy / all, 0.0f, 1.0f) : 0.0f; }
   };
   Color local_f(Vec3 wo, Vec3 wi, bool flipped, TransportMode mode, float *pdf, const float *pick,
                 float diffuse_scale, const ViewScales *views, GlossyShare *glossy = nullptr) const;
