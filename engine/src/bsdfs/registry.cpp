@@ -48,7 +48,7 @@ static Lobe gtr1_clearcoat(float roughness) {
 }
 
 // Glass: ior is relative (inside / outside); < 1 is the view from inside.
-static Lobe dielectric(float roughness, float ior) {
+static Lobe dielectric_lobe(float roughness, float ior) {
   Lobe l;
   l.ggx = {roughness * roughness, roughness * roughness};
   l.type = l.ggx.is_smooth() ? LobeType::SmoothDielectric : LobeType::GgxDielectric;
@@ -58,7 +58,7 @@ static Lobe dielectric(float roughness, float ior) {
 }
 
 static Lobe refraction(float roughness, float ior) {
-  Lobe l = dielectric(roughness, ior);
+  Lobe l = dielectric_lobe(roughness, ior);
   l.refraction_only = true;
   return l;
 }
@@ -125,35 +125,35 @@ const std::vector<LobeTestCase> &lobe_test_cases() {
       {"clearcoat_gtr1_r0.3", gtr1_clearcoat(0.3f), false},
       {"clearcoat_gtr1_r1", gtr1_clearcoat(1.0f), false},
       // Dielectrics: smooth (delta) and rough, entering (ior > 1) and leaving (ior < 1).
-      {"glass_smooth_1.5", dielectric(0.0f, 1.5f), true},
-      {"glass_smooth_inside_1.5", dielectric(0.0f, 1.0f / 1.5f), false},
-      {"glass_smooth_1.0001", dielectric(0.0f, 1.0001f), true},
-      {"glass_smooth_4", dielectric(0.0f, 4.0f), true},
-      {"glass_r1e-4_1.5", dielectric(1e-4f, 1.5f), true},
+      {"glass_smooth_1.5", dielectric_lobe(0.0f, 1.5f), true},
+      {"glass_smooth_inside_1.5", dielectric_lobe(0.0f, 1.0f / 1.5f), false},
+      {"glass_smooth_1.0001", dielectric_lobe(0.0f, 1.0001f), true},
+      {"glass_smooth_4", dielectric_lobe(0.0f, 4.0f), true},
+      {"glass_r1e-4_1.5", dielectric_lobe(1e-4f, 1.5f), true},
       // Rough glass below roughness 0.2 (or with IOR near 1) refracts into a spike at
       // the pole at normal incidence that the chi-square grid's cell integration cannot
       // resolve; those limits are covered by the smooth cases (the model switches at
       // Cycles' smoothness limit) and by test_material_dielectric.cpp.
-      {"glass_r0.2_1.5", dielectric(0.2f, 1.5f), false},
-      {"glass_r0.3_1.5", dielectric(0.3f, 1.5f), false},
-      {"glass_r0.3_inside_1.5", dielectric(0.3f, 1.0f / 1.5f), false},
-      {"glass_r1_1.5", dielectric(1.0f, 1.5f), false},
-      {"glass_r0.5_4", dielectric(0.5f, 4.0f), false},
-      {"glass_r0.5_inside_4", dielectric(0.5f, 0.25f), false},
-      {"glass_r0.5_1.1", dielectric(0.5f, 1.1f), false},
-      {"glass_r0.5_1.5_cycles34", cycles34(dielectric(0.5f, 1.5f)), false},
-      {"glass_r0.5_inside_1.5_cycles34", cycles34(dielectric(0.5f, 1.0f / 1.5f)), false},
-      {"glass_r0.2_1.5_cycles34", cycles34(dielectric(0.2f, 1.5f)), false},
+      {"glass_r0.2_1.5", dielectric_lobe(0.2f, 1.5f), false},
+      {"glass_r0.3_1.5", dielectric_lobe(0.3f, 1.5f), false},
+      {"glass_r0.3_inside_1.5", dielectric_lobe(0.3f, 1.0f / 1.5f), false},
+      {"glass_r1_1.5", dielectric_lobe(1.0f, 1.5f), false},
+      {"glass_r0.5_4", dielectric_lobe(0.5f, 4.0f), false},
+      {"glass_r0.5_inside_4", dielectric_lobe(0.5f, 0.25f), false},
+      {"glass_r0.5_1.1", dielectric_lobe(0.5f, 1.1f), false},
+      {"glass_r0.5_1.5_cycles34", cycles34(dielectric_lobe(0.5f, 1.5f)), false},
+      {"glass_r0.5_inside_1.5_cycles34", cycles34(dielectric_lobe(0.5f, 1.0f / 1.5f)), false},
+      {"glass_r0.2_1.5_cycles34", cycles34(dielectric_lobe(0.2f, 1.5f)), false},
       // Cycles 3.4's Principled glass: its reflection and its refraction as lobes of their own.
-      {"glass_reflection_r0.3_1.5_cycles34", part(cycles34(dielectric(0.3f, 1.5f)), true), false},
-      {"glass_refraction_r0.6_1.5_cycles34", part(cycles34(dielectric(0.6f, 1.5f)), false), false},
-      {"glass_refraction_r1_inside_1.3_cycles34", part(cycles34(dielectric(1.0f, 1.0f / 1.3f)), false), false},
-      {"glass_smooth_reflection_1.5_cycles34", part(cycles34(dielectric(0.0f, 1.5f)), true), false},
+      {"glass_reflection_r0.3_1.5_cycles34", part(cycles34(dielectric_lobe(0.3f, 1.5f)), true), false},
+      {"glass_refraction_r0.6_1.5_cycles34", part(cycles34(dielectric_lobe(0.6f, 1.5f)), false), false},
+      {"glass_refraction_r1_inside_1.3_cycles34", part(cycles34(dielectric_lobe(1.0f, 1.0f / 1.3f)), false), false},
+      {"glass_smooth_reflection_1.5_cycles34", part(cycles34(dielectric_lobe(0.0f, 1.5f)), true), false},
       {"glass_tinted_reflection_r0.3_1.5_cycles34",
-       tinted(part(cycles34(dielectric(0.3f, 1.5f)), true), Color(0.9f, 0.6f, 0.3f)), false},
+       tinted(part(cycles34(dielectric_lobe(0.3f, 1.5f)), true), Color(0.9f, 0.6f, 0.3f)), false},
       {"glass_tinted_smooth_reflection_1.5_cycles34",
-       tinted(part(cycles34(dielectric(0.0f, 1.5f)), true), Color(0.9f, 0.6f, 0.3f)), false},
-      {"glass_smooth_refraction_1.5_cycles34", part(cycles34(dielectric(0.0f, 1.5f)), false), false},
+       tinted(part(cycles34(dielectric_lobe(0.0f, 1.5f)), true), Color(0.9f, 0.6f, 0.3f)), false},
+      {"glass_smooth_refraction_1.5_cycles34", part(cycles34(dielectric_lobe(0.0f, 1.5f)), false), false},
       // Refraction BSDF (transmission only, no Fresnel): lossless except total internal reflection.
       {"refraction_smooth_1.5", refraction(0.0f, 1.5f), true},
       {"refraction_r0.4_1.5", refraction(0.4f, 1.5f), false},
