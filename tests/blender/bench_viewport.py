@@ -1,7 +1,7 @@
 """Viewport benchmark (label bench), in a real Blender window on Xvfb (run_viewport.py):
 
     run_viewport.py --screen 1280x800 --script bench_viewport.py [-- 100000 1000000]
-    run_viewport.py --screen 1280x800 --script bench_viewport.py -- volumes --vdb-writer build/tests/blender/write_test_vdb [32 128]
+    run_viewport.py --screen 1280x800 --script bench_viewport.py -- volumes --vdb-writer build/tests/write_test_vdb [32 128]
 
 Volumes: build_scenes.cloud_and_fog with a Volume object whose ball is N voxels across its
 radius (write_test_vdb ball N), prints the time from Rendered on to the first frame drawn

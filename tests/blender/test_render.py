@@ -11,11 +11,11 @@ all but nolib in one process, each mode's verdict a test of its own: verdicts.py
     run_blender.py --script test_render.py -- farm --cli build/engine/rendezvous
                                                             sample ranges rendered as parts and merged
                                                             equal one render of all the samples
-    run_blender.py --script test_render.py -- volume_object --vdb-writer build/tests/blender/write_test_vdb
+    run_blender.py --script test_render.py -- volume_object --vdb-writer build/tests/write_test_vdb
                                                             a Volume object from a .vdb (written by the
                                                             test) is visible, the image finite; a missing
                                                             file is a warning naming the object
-    run_blender.py --script test_render.py -- volume_fire --vdb-writer build/tests/blender/write_test_vdb
+    run_blender.py --script test_render.py -- volume_fire --vdb-writer build/tests/write_test_vdb
                                                             blackbody / emission from a Volume object's
                                                             grids glows where the temperature is, as
                                                             bright as in Cycles; a missing grid is a

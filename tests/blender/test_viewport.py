@@ -5,12 +5,12 @@
                                                              follow, updated in place (no re-export)
     run_viewport.py --script test_viewport.py -- reopen      close/reopen 20x: no session/memory growth
     run_viewport.py --script test_viewport.py -- preview     material previews (principled, glass, emission)
-    run_viewport.py --script test_viewport.py -- volumes --vdb-writer build/tests/blender/write_test_vdb
+    run_viewport.py --script test_viewport.py -- volumes --vdb-writer build/tests/write_test_vdb
                                           a Volume object and a mesh volume show, as bright as in a final
                                           render; Principled Volume edits (density, colour, emission,
                                           blackbody) re-export only that medium; a missing .vdb gives the
                                           final render's warning naming the object, the rest renders
-    run_viewport.py --script test_viewport.py -- volume_edits --vdb-writer build/tests/blender/write_test_vdb
+    run_viewport.py --script test_viewport.py -- volume_edits --vdb-writer build/tests/write_test_vdb
                                           moving / scaling a Volume object, another file, another frame of
                                           a sequence (in place), hiding it, adding / removing a World volume
     run_viewport.py --script test_viewport.py -- images      a generated image a script paints: as bright

@@ -5,11 +5,11 @@
 #include <gtest/gtest.h>
 #include <array>
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <unistd.h>
 #include <nlohmann/json.hpp>
-#include <openvdb/openvdb.h>
 #include "media_grids.h"
 #include "render_helpers.h"
 
@@ -57,23 +57,12 @@ double profile_depth() {
 
 // Writes a VDB with a "density" grid (voxel size 0.1) holding kProfile along y over
 // x, z in [-1.5, 1.5), plus a far block of active zero tiles (empty tiles) and a
-// "smoke" grid of constant 0.5.
+// "smoke" grid of constant 0.5, by the tests' VDB tool (tests/support/write_test_vdb.cpp).
 std::string write_test_vdb() {
-  openvdb::initialize();
-  openvdb::FloatGrid::Ptr density = openvdb::FloatGrid::create(0.0f);
-  density->setName("density");
-  density->setTransform(openvdb::math::Transform::createLinearTransform(0.1));
-  auto acc = density->getAccessor();
-  for (int i = -15; i < 15; ++i)
-    for (int k = -15; k < 15; ++k)
-      for (int j = 0; j < 8; ++j) acc.setValue(openvdb::Coord(i, j - 4, k), kProfile[j]);
-  density->fill(openvdb::CoordBBox(openvdb::Coord(64, 0, 0), openvdb::Coord(127, 63, 63)), 0.0f, true);  // empty tiles
-  openvdb::FloatGrid::Ptr smoke = openvdb::FloatGrid::create(0.0f);
-  smoke->setName("smoke");
-  smoke->setTransform(openvdb::math::Transform::createLinearTransform(0.1));
-  smoke->fill(openvdb::CoordBBox(openvdb::Coord(-16, -4, -16), openvdb::Coord(15, 3, 15)), 0.5f, true);
   std::string path = temp_path("density.vdb");
-  openvdb::io::File(path).write({density, smoke});
+  std::string command = std::string("\"") + RDV_WRITE_TEST_VDB + "\" \"" + path + "\" slab";
+  for (float v : kProfile) command += " " + std::to_string(v);
+  EXPECT_EQ(std::system(command.c_str()), 0) << command;
   return path;
 }
 

@@ -1,5 +1,6 @@
-// Writes the .vdb files of the Blender volume tests (Blender 3.4 on Debian has no
-// pyopenvdb), with voxel size 0.05:
+// Writes the .vdb files of the tests: the Blender volume tests' (Blender 3.4 on Debian has
+// no pyopenvdb), with voxel size 0.05, and the grid media render test's. One tool, so that
+// OpenVDB's headers (28 s of compiling) are compiled once:
 //   write_test_vdb out.vdb        "density": a ball of smoke of radius 0.8 (density 1 at the
 //                                 centre, falling to 0 at the rim), plus a block of active
 //                                 empty (zero) tiles beside it.
@@ -39,12 +40,25 @@ void ball(openvdb::FloatGrid &grid, openvdb::Coord centre, int radius, F value) 
 
 int main(int argc, char **argv) {
   bool fire = argc == 3 && std::strcmp(argv[2], "fire") == 0;
+  bool slab = argc == 11 && std::strcmp(argv[2], "slab") == 0;
   int ball_voxels = argc == 4 && std::strcmp(argv[2], "ball") == 0 ? std::atoi(argv[3]) : 0;
-  if (argc != 2 && !fire && ball_voxels < 1) {
-    std::fprintf(stderr, "usage: write_test_vdb out.vdb [fire | ball N]\n");
+  if (argc != 2 && !fire && !slab && ball_voxels < 1) {
+    std::fprintf(stderr, "usage: write_test_vdb out.vdb [fire | ball N | slab V0 .. V7]\n");
     return 2;
   }
   openvdb::initialize();
+  if (slab) {
+    openvdb::FloatGrid::Ptr density = make_grid("density", 0.1);
+    auto acc = density->getAccessor();
+    for (int i = -15; i < 15; ++i)
+      for (int k = -15; k < 15; ++k)
+        for (int j = 0; j < 8; ++j) acc.setValue(openvdb::Coord(i, j - 4, k), float(std::atof(argv[3 + j])));
+    density->fill(openvdb::CoordBBox(openvdb::Coord(64, 0, 0), openvdb::Coord(127, 63, 63)), 0.0f, true);
+    openvdb::FloatGrid::Ptr smoke = make_grid("smoke", 0.1);
+    smoke->fill(openvdb::CoordBBox(openvdb::Coord(-16, -4, -16), openvdb::Coord(15, 3, 15)), 0.5f, true);
+    openvdb::io::File(argv[1]).write({density, smoke});
+    return 0;
+  }
   if (ball_voxels > 0) {
     openvdb::FloatGrid::Ptr grid = make_grid("density", 0.8 / ball_voxels);
     ball(*grid, openvdb::Coord(0), ball_voxels, [](double r) { return 1 - r * r; });
