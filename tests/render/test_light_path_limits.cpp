@@ -150,9 +150,9 @@ TEST(LightPathLimits, FilterGlossyZeroChangesNothingAndOnBlursCaustics) {
 TEST(LightPathLimits, FilterGlossyInBdptAndMetropolisMatchesPath) {
   json caustic = load_scene("caustic.json");
   const json filtered = {{"max_bounces", 8}, {"filter_glossy", 2}};
-  expect_bdpt_matches_path(caustic, filtered, "filter glossy 2 caustic", 256, 16);
+  expect_bdpt_matches_path(caustic, filtered, "filter glossy 2 caustic", 256, 4);
   expect_bdpt_matches_path(load_scene("light_types.json"), {{"max_bounces", 8}, {"filter_glossy", 1}},
-                           "filter glossy 1 light_types", 64, 16);
+                           "filter glossy 1 light_types", 32, 16);
   for (const char *integrator : {"pssmlt", "mmlt"})
     expect_same_image(caustic, filtered, "filter glossy 2 caustic", {"path", 256}, {integrator, 64});
   expect_same_image(caustic, filtered, "filter glossy 2 caustic", {"path", 256}, {"mlt", 64}, true);
@@ -168,15 +168,17 @@ TEST(LightPathLimits, FilterGlossyInBdptAndMetropolisMatchesPath) {
 }
 
 // Every BDPT strategy keeps the paths the path tracer keeps: diffuse bounces 1 in the
-// Cornell box; glossy and transmission limits on glass and glossy spheres.
+// Cornell box; glossy and transmission limits on glass and glossy spheres; volume bounces in
+// fog. Samples sized by each side's printed error of its mean: where one side's was 3-15x
+// the other's, the more precise side renders fewer (the comparison's error grows < 6%).
 TEST(LightPathLimits, BdptMatchesPathWithBounceLimits) {
   expect_bdpt_matches_path(load_scene("cornell_box.json"), {{"max_bounces", 8}, {"diffuse_bounces", 1}},
                            "cornell diffuse 1", 64, 32);
   expect_bdpt_matches_path(load_scene("glass_sphere.json"),
                            {{"max_bounces", 8}, {"transmission_bounces", 1}, {"glossy_bounces", 0}},
-                           "glass transmission 1 glossy 0", 128, 32);
+                           "glass transmission 1 glossy 0", 64, 32);
   expect_bdpt_matches_path(load_scene("fog_spot.json"), {{"max_bounces", 8}, {"volume_bounces", 1}},
-                           "fog volume 1", 128, 32);
+                           "fog volume 1", 128, 8);
 }
 
 // Fog around a spot lamp with a radius, at volume bounces 0, 1 and unlimited: BDPT (its
