@@ -9,6 +9,11 @@
 //                                 in the left ball only; the right ball is cold (no voxels).
 //   write_test_vdb out.vdb ball N "density": the first file's ball (radius 0.8, no empty
 //                                 tiles) resolved by N voxels across its radius (benchmarks).
+//   write_test_vdb out.vdb slab V0 .. V7
+//                                 voxel size 0.1: "density" V0 .. V7 along y (j = -4 .. 3) over
+//                                 x, z in [-15, 15) voxels, plus a far block of active zero tiles;
+//                                 "smoke" a constant 0.5 over [-16, 15] x [-4, 3] x [-16, 15]
+//                                 (the grid media render test, test_media_grid_render.cpp).
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
