@@ -10,6 +10,8 @@
 #include "render_helpers.h"
 #include "statistics.h"
 
+namespace test_adaptive_sampling {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -96,3 +98,5 @@ TEST(AdaptiveSampling, BadSettingsAreRefused) {
     EXPECT_NE(std::string(rdv_last_error()).find(name), std::string::npos) << rdv_last_error();
   }
 }
+
+}  // namespace test_adaptive_sampling

@@ -10,6 +10,8 @@
 #include <nlohmann/json.hpp>
 #include "render_helpers.h"
 
+namespace test_ambient_occlusion {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -76,3 +78,5 @@ TEST(AmbientOcclusion, ExactWhereTheAnswerIsKnown) {
   Image img = render_json(bad.dump());
   EXPECT_NE(img.warnings.find("'samples' must be 1 to 128"), std::string::npos) << img.warnings;
 }
+
+}  // namespace test_ambient_occlusion

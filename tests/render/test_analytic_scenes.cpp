@@ -5,6 +5,8 @@
 #include <nlohmann/json.hpp>
 #include "render_helpers.h"
 
+namespace test_analytic_scenes {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -87,3 +89,5 @@ TEST(LightUnits, RenderedFloorRadiance) {
   expect_mean(render_json(floor_with(R"({"type":"area","position":[0,0,2],"direction":[0,0,-1],"shape":"disk","size":1.5,"power":100})")),
               L * R * R / (R * R + d * d), "disk area light");
 }
+
+}  // namespace test_analytic_scenes

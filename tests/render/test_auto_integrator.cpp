@@ -10,6 +10,8 @@
 #include <thread>
 #include "equal_time.h"
 
+namespace test_auto_integrator {
+
 using nlohmann::json;
 
 namespace {
@@ -155,3 +157,5 @@ TEST(AutoIntegrator, RefusesWithoutATimeLimitOrWithAnUnknownCandidate) {
     EXPECT_NE(std::string(rdv_last_error()).find(message), std::string::npos) << rdv_last_error();
   }
 }
+
+}  // namespace test_auto_integrator

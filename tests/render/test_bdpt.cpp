@@ -10,6 +10,8 @@
 #include "render_helpers.h"
 #include "statistics.h"
 
+namespace test_bdpt {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -261,3 +263,5 @@ TEST(BdptVsPath, OrthographicCamera) {
   scene["camera"] = {{"type", "orthographic"}, {"ortho_scale", 2.2}, {"transform", {{"look_at", {{"from", {0, -3.9, 1}}, {"to", {0, 0, 1}}}}}}};
   expect_same_image(scene, "ortho", 64, 32);
 }
+
+}  // namespace test_bdpt

@@ -13,6 +13,8 @@
 #include "film/cryptomatte.h"
 #include "render_helpers.h"
 
+namespace test_cryptomatte {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -172,3 +174,5 @@ TEST(CryptomatteRender, AMalformedNameIsRefusedNamingTheObject) {
   EXPECT_NE(img.warnings.find("'cryptomatte'"), std::string::npos) << img.warnings;
   EXPECT_TRUE(img.all_finite());
 }
+
+}  // namespace test_cryptomatte

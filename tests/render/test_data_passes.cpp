@@ -11,6 +11,8 @@
 #include <nlohmann/json.hpp>
 #include "render_helpers.h"
 
+namespace test_data_passes {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -421,3 +423,5 @@ TEST(DataPasses, BadPassIndexOrMistNamesTheObject) {
     EXPECT_NE(std::string(rdv_last_error()).find("mist"), std::string::npos) << rdv_last_error();
   }
 }
+
+}  // namespace test_data_passes

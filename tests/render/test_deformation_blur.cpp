@@ -11,6 +11,8 @@
 #include "render_helpers.h"
 #include "statistics.h"
 
+namespace test_deformation_blur {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -303,3 +305,5 @@ TEST(DeformationBlur, EmissiveMeshDeformsWithItsLight) {
                 c.detail.substr(0, 120).c_str());
   }
 }
+
+}  // namespace test_deformation_blur

@@ -18,6 +18,8 @@
 #include <nlohmann/json.hpp>
 #include "render_helpers.h"
 
+namespace test_denoising_passes {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -221,3 +223,5 @@ TEST(DenoisingPasses, ImageUnchangedByThem) {
     }
   }
 }
+
+}  // namespace test_denoising_passes

@@ -4,6 +4,8 @@
 #include <cstring>
 #include "render_helpers.h"
 
+namespace test_determinism {
+
 using namespace rdv::test;
 
 TEST(Determinism, SameImageOnOneAndTwoThreads) {
@@ -22,3 +24,5 @@ TEST(Determinism, IndependentSamplerToo) {
   Image b = render_file(scene, R"({"width":32,"height":32,"samples":4,"threads":2,"sampler":"independent"})");
   EXPECT_EQ(0, std::memcmp(a.rgba.data(), b.rgba.data(), a.rgba.size() * sizeof(float)));
 }
+
+}  // namespace test_determinism

@@ -12,6 +12,8 @@
 #include "lights/environment.h"
 #include "render_helpers.h"
 
+namespace test_environment_furnace {
+
 using namespace rdv;
 using namespace rdv::test;
 using nlohmann::json;
@@ -133,3 +135,5 @@ TEST(EnvironmentFurnace, MissingHdriWarnsAndRendersMagenta) {
   EXPECT_LT(img.channel_mean(1), 0.05f);
   EXPECT_GT(img.channel_mean(2), 0.5f);
 }
+
+}  // namespace test_environment_furnace

@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 #include "render_helpers.h"
 
+namespace test_extremes {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -243,3 +245,5 @@ TEST(Extremes, SliverTrianglesShadeLikeTheSurfaceTheyTile) {
               a.standard_error, b.mean, b.standard_error);
   EXPECT_LT(std::fabs(a.mean - b.mean) / std::hypot(a.standard_error, b.standard_error), 4.5);
 }
+
+}  // namespace test_extremes

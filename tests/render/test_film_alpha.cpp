@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 #include "render_helpers.h"
 
+namespace test_film_alpha {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -191,3 +193,5 @@ TEST(FilmAlpha, OpaqueFilmHasAlphaOne) {
   for (size_t i = 0; i < img.rgba.size(); i += 4) ASSERT_EQ(img.rgba[i + 3], 1.0f);
   EXPECT_GT(img.rgba[3 * 0 + 0], 0.0f);  // the world is there
 }
+
+}  // namespace test_film_alpha

@@ -7,6 +7,8 @@
 #include "media_grids.h"
 #include "render_helpers.h"
 
+namespace test_grid_buffers {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -80,3 +82,5 @@ TEST(GridBuffers, BadBuffersAreRejected) {
   EXPECT_EQ(RDV_ERROR_INVALID_ARGUMENT, rdv_scene_add_grid(s, nullptr, v.data(), 1, 1, 1, nullptr));
   rdv_scene_destroy(s);
 }
+
+}  // namespace test_grid_buffers

@@ -10,6 +10,8 @@
 #include "bsdfs/microfacet.h"
 #include "render_helpers.h"
 
+namespace test_lamp_reflections {
+
 using namespace rdv;
 using namespace rdv::test;
 using nlohmann::json;
@@ -126,3 +128,5 @@ TEST(LampReflections, LampsAreTransparent) {
     expect_radiance(render_json(j.dump()), lamp + 0.5, std::string(integrator) + " lamp in front of a wall");
   }
 }
+
+}  // namespace test_lamp_reflections

@@ -15,9 +15,13 @@
 #include "render_helpers.h"
 #include "statistics.h"
 
+namespace test_lamp_textures {
+
 using namespace rdv::test;
 using nlohmann::json;
 
 TEST(LampTextures, PathAndBdptAgree) {
   expect_small_bdpt_matches_path(load_scene("lamp_textures.json"), "lamp textures");
 }
+
+}  // namespace test_lamp_textures

@@ -19,6 +19,8 @@
 #include "render_helpers.h"
 #include "statistics.h"
 
+namespace test_light_falloff {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -79,3 +81,5 @@ TEST(LightFalloff, PointLampMatchesTheClosedFormInPathAndBdpt) {
 TEST(LightFalloff, PathAndBdptAgreeOnEveryKindOfEmitter) {
   expect_small_bdpt_matches_path(load_scene("light_falloff.json"), "light falloff");
 }
+
+}  // namespace test_light_falloff

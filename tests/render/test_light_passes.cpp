@@ -16,6 +16,8 @@
 #include "render_helpers.h"
 #include "statistics.h"
 
+namespace test_light_passes {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -252,3 +254,5 @@ TEST(LightPasses, MetropolisAgreesWithBdpt) {
     }
   }
 }
+
+}  // namespace test_light_passes

@@ -14,6 +14,8 @@
 #include "render_helpers.h"
 #include "statistics.h"
 
+namespace test_light_path_limits {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -470,3 +472,4 @@ TEST(LightPathLimits, LampMaxBouncesInBdptAndMetropolis) {
   }
 }
 
+}  // namespace test_light_path_limits

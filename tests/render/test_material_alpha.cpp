@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 #include "render_helpers.h"
 
+namespace test_material_alpha {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -73,3 +75,5 @@ TEST(TransparentShadows, BdptSeesTheSunThroughCardsAsThePathTracerDoes) {
   const double full[3] = {lit, lit, lit};
   expect_mean(floor_under({{"type", "transparent"}}, "bdpt"), full, "bdpt, fully transparent card");
 }
+
+}  // namespace test_material_alpha

@@ -10,6 +10,8 @@
 #include <nlohmann/json.hpp>
 #include "render_helpers.h"
 
+namespace test_material_bump {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -31,3 +33,5 @@ TEST(BumpFurnace, BumpedSphereUnderUniformWorld) {
     for (int x = 0; x < img.width; ++x) darkest = std::min(darkest, img.luminance(x, y));
   EXPECT_GT(darkest, 0.8f * 0.4f) << "a nearly black pixel: terminator artefact";
 }
+
+}  // namespace test_material_bump

@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 #include "render_helpers.h"
 
+namespace test_material_glass {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -64,3 +66,5 @@ TEST(GlassFurnace, SmoothNormalsDoNotLeakOrDarkenMuch) {
   EXPECT_LT(m.mean, 0.8 + 4.5 * m.standard_error + 1e-4);
   EXPECT_GT(m.mean, 0.8 * 0.95);
 }
+
+}  // namespace test_material_glass

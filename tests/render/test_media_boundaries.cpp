@@ -16,6 +16,8 @@
 #include "render_helpers.h"
 #include "statistics.h"
 
+namespace test_media_boundaries {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -101,3 +103,5 @@ TEST(MediaBoundaries, FireSceneStandsOnTheFloor) {
   compare(renders(scene, "path", 64, 101), reference, "fire scene: path, on the floor vs sunk");
   compare(renders(scene, "bdpt", 32, 201), reference, "fire scene: bdpt, on the floor vs sunk");
 }
+
+}  // namespace test_media_boundaries

@@ -13,6 +13,8 @@
 #include "media_grids.h"
 #include "render_helpers.h"
 
+namespace test_media_grid_render {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -167,3 +169,5 @@ TEST(GridMediaRender, ExtremesStayFinite) {
   EXPECT_LT(seconds, 120.0) << "the extremes took too long";
   std::printf("[ grid extremes ] 96 renders in %.1f s\n", seconds);
 }
+
+}  // namespace test_media_grid_render

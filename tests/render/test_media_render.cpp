@@ -2,9 +2,14 @@
 // over pixels at |z| < 4.5 (false alarm < 1e-5 per check); fixed seeds.
 #include <gtest/gtest.h>
 #include <array>
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include "media_grids.h"
 #include "render_helpers.h"
+#include "statistics.h"
+
+namespace test_media_render {
 
 using namespace rdv::test;
 using nlohmann::json;
@@ -90,9 +95,6 @@ TEST(MediaRender, ExtremesStayFinite) {
 // ---- BDPT with media against path tracing -----------------------------------------
 // K = 8 renders per integrator with independent seeds, 8x8-pixel blocks compared with
 // Welch's t-test; false-alarm rate 1% over all blocks of these scenes (Sidak).
-#include <fstream>
-#include <sstream>
-#include "statistics.h"
 
 namespace {
 
@@ -248,3 +250,5 @@ TEST(MediaRender, SetMaterialReplacesTheMedium) {
   rdv_session_destroy(session);
   rdv_scene_destroy(scene);
 }
+
+}  // namespace test_media_render

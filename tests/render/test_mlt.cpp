@@ -17,6 +17,8 @@
 #include "render_helpers.h"
 #include "statistics.h"
 
+namespace test_mlt {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -510,3 +512,5 @@ TEST(MltRobustness, CancelStopsCleanly) {
     }
   }
 }
+
+}  // namespace test_mlt

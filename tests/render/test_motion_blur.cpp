@@ -11,6 +11,8 @@
 #include "render_helpers.h"
 #include "statistics.h"
 
+namespace test_motion_blur {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -275,3 +277,5 @@ TEST(MotionBlur, PathSpaceMltMatchesBdpt) {
                 b.error / b.mean_b, c.detail.substr(0, 100).c_str());
   }
 }
+
+}  // namespace test_motion_blur

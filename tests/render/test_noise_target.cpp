@@ -12,6 +12,8 @@
 #include "film/image_error.h"
 #include "render_helpers.h"
 
+namespace test_noise_target {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -158,3 +160,5 @@ TEST(NoiseTarget, BadTargetsAreRefused) {
     EXPECT_NE(std::string(rdv_last_error()).find("noise_target"), std::string::npos) << rdv_last_error();
   }
 }
+
+}  // namespace test_noise_target

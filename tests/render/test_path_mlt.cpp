@@ -15,6 +15,8 @@
 #include "render_helpers.h"
 #include "statistics.h"
 
+namespace test_path_mlt {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -208,3 +210,5 @@ TEST(MltVsPath, GlassBallUnderMeshLamp) {
               "%.2f (p %.1e)\n",
               mm / mp, std::sqrt(ep * ep + em * em) / mp, c.failed, c.blocks, c.worst_t, c.worst_p);
 }
+
+}  // namespace test_path_mlt

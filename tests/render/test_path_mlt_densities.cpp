@@ -32,6 +32,8 @@
 #include "media_grids.h"
 #include "render_helpers.h"
 
+namespace test_path_mlt_densities {
+
 using namespace rdv;
 using namespace rdv::mlt;
 using bdpt::VertexType;
@@ -1860,3 +1862,5 @@ TEST(PathMltSampling, EquiangularDistancesFollowTheirDensity) {
     EXPECT_LT(p_shifted, 1e-6) << "the test cannot tell lamps 5 cm off";
   }
 }
+
+}  // namespace test_path_mlt_densities

@@ -14,6 +14,8 @@
 #include <thread>
 #include "render_helpers.h"
 
+namespace test_progressive_reads {
+
 using namespace rdv;
 
 namespace {
@@ -141,3 +143,5 @@ TEST(ProgressiveReads, BdptLightTracingFramesAreScaledForTheirSamples) {
 TEST(ProgressiveReads, BdptFramesAreScaledForTheirSamples) { check_reads({{"integrator", "bdpt"}}, 512, 4, 1); }
 
 TEST(ProgressiveReads, PssmltFramesAreScaledForTheirMutations) { check_reads({{"integrator", "pssmlt"}}, 256, 4, 1); }
+
+}  // namespace test_progressive_reads

@@ -12,6 +12,8 @@
 #include "render_helpers.h"
 #include "statistics.h"
 
+namespace test_ray_visibility {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -328,3 +330,5 @@ TEST(RayVisibility, LookCopiesOnOneSpot) {
   expect_bdpt_matches_path(scene, "a ball in two looks on one spot", 96, 32, true);
   expect_matches_path(scene, "a ball in two looks on one spot", "mlt", 96, 128, true);
 }
+
+}  // namespace test_ray_visibility

@@ -10,6 +10,8 @@
 #include <nlohmann/json.hpp>
 #include "render_helpers.h"
 
+namespace test_render_parts {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -398,3 +400,5 @@ TEST(RenderParts, MetropolisPartsWithShadowCatcherMergeTheirSums) {
                 name.c_str(), matte_values, worst_matte, lit, worst_lit);
   }
 }
+
+}  // namespace test_render_parts

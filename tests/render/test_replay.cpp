@@ -23,6 +23,8 @@
 #include "render_helpers.h"
 #include "samplers/dimension_layout.h"
 
+namespace test_replay {
+
 using namespace rdv;
 using nlohmann::json;
 
@@ -421,3 +423,5 @@ TEST(Replay, AMediumDoesNotShiftLaterDimensions) {
   EXPECT_GT(medium_draws, kWidth * kHeight * kSamples);  // the medium did draw (tracking, shadow rays)
   EXPECT_GT(compared, kWidth * kHeight * kSamples / 2);
 }
+
+}  // namespace test_replay

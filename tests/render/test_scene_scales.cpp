@@ -21,6 +21,8 @@
 #include "render_helpers.h"
 #include "statistics.h"
 
+namespace test_scene_scales {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -94,3 +96,5 @@ TEST(SceneScales, UnitBox1e4FromTheOriginOnEveryAxis) { expect_like_unit_box(1, 
 // 2-3%; Blender stores its vertices in float32 too.)
 TEST(SceneScales, Block1e5FromTheOrigin) { expect_like_unit_box(100, {1e5, -1e5, 0}, "200 m block at 1e5 (x, y)"); }
 TEST(SceneScales, MillimetreBoxOneUnitFromTheOrigin) { expect_like_unit_box(1e-3, {1, 0, 1}, "mm box at 1 (x, z)"); }
+
+}  // namespace test_scene_scales

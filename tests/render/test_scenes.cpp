@@ -3,6 +3,8 @@
 #include <filesystem>
 #include "render_helpers.h"
 
+namespace test_scenes {
+
 using namespace rdv::test;
 
 TEST(Scenes, EveryShippedSceneRendersFinite) {
@@ -20,3 +22,5 @@ TEST(Scenes, EveryShippedSceneRendersFinite) {
   }
   EXPECT_GE(count, 3);
 }
+
+}  // namespace test_scenes

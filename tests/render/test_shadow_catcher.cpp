@@ -29,6 +29,8 @@
 #include "render_helpers.h"
 #include "statistics.h"
 
+namespace test_shadow_catcher {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -573,3 +575,5 @@ TEST(ShadowCatcher, MltSunLitFloorIsOneAndUmbraZero) {
   settings["shadow_catcher_pass"] = true;
   EXPECT_GT(expect_sun_lit_floor_one(settings).umbra_zero, 4);
 }
+
+}  // namespace test_shadow_catcher

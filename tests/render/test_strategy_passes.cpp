@@ -15,6 +15,8 @@
 #include "film/strategy_passes.h"
 #include "render_helpers.h"
 
+namespace test_strategy_passes {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -170,3 +172,5 @@ TEST(StrategyPasses, RefusedWhereThereAreNoStrategies) {
 }
 
 }  // namespace
+
+}  // namespace test_strategy_passes

@@ -11,6 +11,8 @@
 #include "equal_time.h"
 #include "study.h"
 
+namespace test_study {
+
 namespace fs = std::filesystem;
 using rdv_tools::StudyOptions;
 
@@ -252,3 +254,5 @@ TEST(Study, MissingSceneOrUnknownIntegratorStopsBeforeRendering) {
   EXPECT_FALSE(fs::exists(dir / "cache")) << "nothing rendered";
   fs::remove_all(dir);
 }
+
+}  // namespace test_study

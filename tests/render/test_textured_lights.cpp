@@ -22,6 +22,8 @@
 #include "render_helpers.h"
 #include "statistics.h"
 
+namespace test_textured_lights {
+
 using namespace rdv::test;
 using nlohmann::json;
 
@@ -211,3 +213,5 @@ TEST(TextureFiltering, RoughReflectionLooksTheTextureUpAtACoarserLevel) {
     EXPECT_LT(rough, 0.04) << name << ": through a rough reflection the checker should be looked up at its mean";
   }
 }
+
+}  // namespace test_textured_lights

@@ -7,6 +7,8 @@
 #include "core/hash.h"
 #include "core/sampling.h"
 
+namespace test_bsdf_sampling {
+
 using namespace rdv;
 
 namespace {
@@ -211,3 +213,5 @@ TEST(BsdfEvaluation, LambertFastPathMatchesGeneralPath) {
   }
   EXPECT_GT(nonzero, 5000);
 }
+
+}  // namespace test_bsdf_sampling

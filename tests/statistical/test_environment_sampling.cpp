@@ -9,6 +9,8 @@
 #include "lights/environment.h"
 #include "lights/light.h"
 
+namespace test_environment_sampling {
+
 using namespace rdv;
 
 namespace {
@@ -94,3 +96,5 @@ TEST(EnvironmentSampling, BlenderEquirectangularOrientation) {
     }
   EXPECT_NEAR(sum * 4 * M_PI / (double(nt) * np), 1.0, 5e-3);
 }
+
+}  // namespace test_environment_sampling

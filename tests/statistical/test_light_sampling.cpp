@@ -6,6 +6,8 @@
 #include "film/pixel_filter.h"
 #include "lights/light.h"
 
+namespace test_light_sampling {
+
 using namespace rdv;
 
 namespace {
@@ -221,3 +223,5 @@ TEST(PixelFilter, PartitionOfUnity) {
     EXPECT_NEAR(sum, 1.0, 0.035) << "offset " << x;
   }
 }
+
+}  // namespace test_light_sampling

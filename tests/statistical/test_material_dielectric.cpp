@@ -9,6 +9,8 @@
 #include "chi_square.h"
 #include "core/hash.h"
 
+namespace test_material_dielectric {
+
 using namespace rdv;
 
 namespace {
@@ -143,3 +145,5 @@ TEST(Dielectric, SmoothLimit) {
   EXPECT_EQ(glass(1e-4f, 1.5f).type, LobeType::SmoothDielectric);
   EXPECT_EQ(glass(0.05f, 1.5f).type, LobeType::GgxDielectric);
 }
+
+}  // namespace test_material_dielectric

@@ -11,6 +11,8 @@
 #include "chi_square.h"
 #include "core/hash.h"
 
+namespace test_material_principled {
+
 using namespace rdv;
 
 namespace {
@@ -385,3 +387,5 @@ TEST(MaterialMicrofacets, Cycles34LobesAreCycles34s) {
     }
   }
 }
+
+}  // namespace test_material_principled

@@ -12,6 +12,8 @@
 #include "fresnel_reference.h"
 #include "core/hash.h"
 
+namespace test_material_view_factors {
+
 using namespace rdv;
 
 namespace {
@@ -222,3 +224,5 @@ TEST(ViewFactors, FallbacksAndBadInput) {
   EXPECT_THROW(material(R"({"type":"mix","fac":{"node":"layer_weight","output":"rim"},"shader1":{"type":"diffuse"}})"), Error);
   EXPECT_THROW(material(R"({"type":"mix","fac":{"node":"fresnel","iorr":1.5},"shader1":{"type":"diffuse"}})"), Error);
 }
+
+}  // namespace test_material_view_factors

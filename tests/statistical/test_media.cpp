@@ -5,6 +5,8 @@
 #include "core/hash.h"
 #include "media/medium.h"
 
+namespace test_media {
+
 using namespace rdv;
 
 // False-alarm rate 1% over the set of g values (Sidak).
@@ -93,3 +95,5 @@ TEST(Medium, CyclesParametersAndBadInput) {
   Params bad(R"({"density":-1})", "volume 'Smoke'");
   EXPECT_THROW(Medium::from_params(bad, "Smoke"), Error);
 }
+
+}  // namespace test_media

@@ -8,6 +8,8 @@
 #include "media/emission_gather.h"
 #include "media/medium.h"
 
+namespace test_media_grid {
+
 using namespace rdv;
 using nlohmann::json;
 
@@ -264,3 +266,5 @@ TEST(GridTracking, PeakAtAMajorantCellEdge) {
     expect_z(pass, expected, dir > 0 ? "delta tracking +x" : "delta tracking -x");
   }
 }
+
+}  // namespace test_media_grid

@@ -10,7 +10,7 @@
 #include "lights/volume_light.h"
 #include "media/blackbody.h"
 
-namespace rdv {
+namespace rdv::test_volume_light {
 namespace {
 
 using nlohmann::json;
@@ -135,4 +135,4 @@ TEST(Blackbody, ColoursMatchCycles) {
 }
 
 }  // namespace
-}  // namespace rdv
+}  // namespace rdv::test_volume_light

@@ -7,6 +7,8 @@
 #include "core/params.h"
 #include "lights/light.h"
 
+namespace test_area_spread {
+
 using namespace rdv;
 using nlohmann::json;
 
@@ -90,3 +92,5 @@ TEST(AreaSpread, EveryRoutineSeesTheSameEmission) {
   }
   EXPECT_NEAR(total, 1.0, 1e-3);
 }
+
+}  // namespace test_area_spread

@@ -8,6 +8,8 @@
 #include <random>
 #include "integrators/auto/auto_integrator.h"
 
+namespace test_auto_pilot_errors {
+
 namespace {
 
 constexpr size_t kValues = 120000;
@@ -75,3 +77,5 @@ TEST(AutoPilotErrors, NeedsThreeCandidatesWithSamples) {
   for (double v : rdv::errors_against_each_other(images, reference, {true, false, true})) EXPECT_EQ(v, -1.0);
   for (double v : rdv::errors_against_each_other({images[0], images[1]}, reference, {true, true})) EXPECT_EQ(v, -1.0);
 }
+
+}  // namespace test_auto_pilot_errors

@@ -6,6 +6,8 @@
 #include "render_helpers.h"
 #include "rendezvous.h"
 
+namespace test_bad_input {
+
 using namespace rdv::test;
 
 namespace {
@@ -292,3 +294,5 @@ TEST(Api, VersionAndSummary) {
   EXPECT_NE(s.find("\"media\":\"none\""), std::string::npos) << s;
   EXPECT_NE(s.find("\"emissive_triangles\":2"), std::string::npos) << s;
 }
+
+}  // namespace test_bad_input

@@ -29,6 +29,8 @@
 #include "render_helpers.h"
 #include "samplers/sampler.h"
 
+namespace test_bdpt_mis {
+
 using namespace rdv;
 using namespace rdv::bdpt;
 
@@ -394,3 +396,5 @@ TEST(BdptMisWeights, MixedVisibilityCornellBoxMatchesBruteForce) {
     }
   expect_weights_match_brute_force(doc, 2000);
 }
+
+}  // namespace test_bdpt_mis

@@ -21,6 +21,8 @@
 #include "textures/bevel.h"
 #include "textures/shading_point.h"
 
+namespace test_bevel {
+
 using namespace rdv;
 using nlohmann::json;
 
@@ -162,3 +164,5 @@ TEST(Bevel, ParsedAsAMaterialsNormal) {
   img = test::render_json(doc.dump());
   EXPECT_NE(img.warnings.find("'samples' must be 0 to 128"), std::string::npos) << img.warnings;
 }
+
+}  // namespace test_bevel

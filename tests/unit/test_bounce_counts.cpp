@@ -11,6 +11,8 @@
 #include "integrators/light_path_limits.h"
 #include "test_materials.h"
 
+namespace test_bounce_counts {
+
 using namespace rdv;
 using rdv::test::flat_point;
 using rdv::test::material_from_json;
@@ -182,3 +184,5 @@ TEST(BounceCounts, SampledOddsAreGlossyOddsOfTheSampledDirection) {
     if (std::string(json).find("principled") != std::string::npos) EXPECT_GT(mixed, 100) << json;
   }
 }
+
+}  // namespace test_bounce_counts

@@ -10,6 +10,8 @@
 #include "media/medium_stack.h"
 #include "render_helpers.h"
 
+namespace test_boundary_hits {
+
 using namespace rdv;
 using nlohmann::json;
 
@@ -113,3 +115,5 @@ TEST(BoundaryHits, MaterialEditMovesTrianglesBetweenBvhs) {
   EXPECT_EQ(hit.material, 0u);
   EXPECT_EQ(hit_boundary.material, 1);
 }
+
+}  // namespace test_boundary_hits

@@ -11,6 +11,8 @@
 #include "scene_file.h"
 #include "textures/texture_graph.h"
 
+namespace test_camera_data {
+
 using namespace rdv;
 using nlohmann::json;
 
@@ -61,3 +63,5 @@ TEST(CameraData, DepthAndDistanceFromTheScenesCamera) {
   }
   rdv_scene_destroy(handle);
 }
+
+}  // namespace test_camera_data

@@ -7,6 +7,8 @@
 #include "samplers/sampler.h"
 #include "scene/camera.h"
 
+namespace test_core {
+
 using namespace rdv;
 
 static Camera camera(const std::string &json, int w, int h) {
@@ -212,3 +214,5 @@ TEST(GgxAlbedo, NanCoordinatesStayInsideTheTable) {
   EXPECT_EQ(rdv::clamp_unit(2.0f), 1.0f);
   EXPECT_EQ(rdv::clamp_unit(0.25f), 0.25f);
 }
+
+}  // namespace test_core

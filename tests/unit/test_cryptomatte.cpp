@@ -10,6 +10,8 @@
 #include "core/error.h"
 #include "film/cryptomatte.h"
 
+namespace test_cryptomatte {
+
 using namespace rdv;
 
 namespace {
@@ -130,3 +132,5 @@ TEST(Cryptomatte, BadSettingsAreRefusedWithTheReason) {
     }
   }
 }
+
+}  // namespace test_cryptomatte

@@ -16,6 +16,8 @@
 #include "render_helpers.h"
 #include "scene_file.h"
 
+namespace test_displacement {
+
 using namespace rdv;
 using nlohmann::json;
 
@@ -157,3 +159,5 @@ TEST(Displacement, OffsetsThatAreNotFiniteLeaveTheirVertices) {
   EXPECT_NE(std::string(messages).find("mesh 'grid': the displacement of"), std::string::npos) << messages;
   EXPECT_NEAR(g.down_at(0.31f, 0.2f).p.z, 0.0f, 1e-6f);
 }
+
+}  // namespace test_displacement

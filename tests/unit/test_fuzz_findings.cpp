@@ -9,6 +9,8 @@
 #include "rendezvous.h"
 #include "scene_file.h"
 
+namespace test_fuzz_findings {
+
 using rdv::test::Image;
 using rdv::test::render_json;
 using rdv::test::SceneHandle;
@@ -160,3 +162,5 @@ TEST(FuzzFindings, HugeTextureCoordinatesAreNotConvertedToInt) {
   EXPECT_TRUE(img.all_finite());
   EXPECT_FALSE(has(img.warnings, "tiles.png")) << img.warnings;  // the image was read
 }
+
+}  // namespace test_fuzz_findings

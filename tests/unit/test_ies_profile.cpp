@@ -12,6 +12,8 @@
 #include "lights/lamp_emission.h"
 #include "lights/light.h"
 
+namespace test_ies_profile {
+
 using namespace rdv;
 using nlohmann::json;
 
@@ -308,3 +310,5 @@ TEST(LampEmission, FarFromTheOriginAtMillimetresAndKilometres) {
     EXPECT_GT(s.L.y, 0.0f) << d << ": 6 degrees off the axis is inside the 15-degree cone";
   }
 }
+
+}  // namespace test_ies_profile

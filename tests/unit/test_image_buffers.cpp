@@ -10,6 +10,8 @@
 #include "rendezvous.h"
 #include "textures/image_texture.h"
 
+namespace test_image_buffers {
+
 using namespace rdv;
 using nlohmann::json;
 
@@ -202,3 +204,5 @@ TEST(ImageBuffers, UnknownBufferWarnsAndRendersMagenta) {
   rdv::test::Image bad = rdv::test::render_json(both.dump());
   EXPECT_NE(bad.warnings.find("not both"), std::string::npos) << bad.warnings;
 }
+
+}  // namespace test_image_buffers

@@ -7,6 +7,8 @@
 #include <vector>
 #include "film/image_error.h"
 
+namespace test_image_error {
+
 using rdv::relative_mse;
 
 TEST(ImageError, KnownValues) {
@@ -52,3 +54,5 @@ TEST(ImageError, RefusesMismatchedOrNonFiniteInput) {
     EXPECT_NE(std::string(e.what()).find("value 1"), std::string::npos) << e.what();
   }
 }
+
+}  // namespace test_image_error

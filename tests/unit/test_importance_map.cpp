@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 #include "integrators/mlt/importance_map.h"
 
+namespace test_importance_map {
+
 using rdv::Vec2;
 using rdv::mlt::ImportanceMap;
 
@@ -61,3 +63,5 @@ TEST(ImportanceMap, NoLightAtAllGivesFiniteEvenWeights) {
   ImportanceMap map(lum, hits, kW, kH, {0, 0}, 1.0);
   EXPECT_FLOAT_EQ(map.weight(centre_of(2, 2)), 1.0f);
 }
+
+}  // namespace test_importance_map

@@ -9,6 +9,8 @@
 #include "core/ray_offset.h"
 #include "render_helpers.h"
 
+namespace test_light_media {
+
 using namespace rdv;
 using nlohmann::json;
 
@@ -106,3 +108,5 @@ TEST(LightMedia, LampsInAndAcrossAFogBox) {
   EXPECT_EQ(scene.light_media(uint32_t(smoke)), nullptr);
   EXPECT_EQ(check_fixed_media(scene), 2 + 12);  // spot, outside and the cube's 12 triangles
 }
+
+}  // namespace test_light_media

@@ -9,6 +9,8 @@
 #include "lights/light.h"
 #include "textures/texture_graph.h"
 
+namespace test_light_nodes {
+
 using namespace rdv;
 using nlohmann::json;
 
@@ -165,3 +167,5 @@ TEST(LampTextures, APointLampsParametricIsTheSphericalMapOfTheDirection) {
       EXPECT_NEAR(got[k], intensity * c.parametric[k], 1e-5f * intensity) << c.dir.x << c.dir.y << c.dir.z << " " << k;
   }
 }
+
+}  // namespace test_light_nodes

@@ -13,6 +13,8 @@
 #include "rendezvous.h"
 #include "scene_file.h"
 
+namespace test_limits {
+
 using rdv::test::SceneHandle;
 
 namespace {
@@ -265,3 +267,5 @@ TEST(Limits, ImageFileHeadersAreCheckedBeforeReading) {
     EXPECT_TRUE(has(text, "magenta")) << text;
   }
 }
+
+}  // namespace test_limits

@@ -5,6 +5,8 @@
 #include "bsdfs/shading_normal.h"
 #include "textures/texture_graph.h"
 
+namespace test_material_normals {
+
 using namespace rdv;
 using nlohmann::json;
 
@@ -292,3 +294,5 @@ TEST(ShadingNormals, SurfaceNormalMovesEverythingAfterIt) {
   }
   EXPECT_GE(shadowed_against_the_mesh, 2) << "directions where the mesh normal would have shadowed";
 }
+
+}  // namespace test_material_normals

@@ -9,6 +9,8 @@
 #include "scene_file.h"
 #include "textures/texture_graph.h"
 
+namespace test_object_attributes {
+
 using namespace rdv;
 using nlohmann::json;
 
@@ -90,3 +92,5 @@ TEST(ObjectAttributes, BadValuesNameTheObject) {
   EXPECT_EQ(rdv_scene_set_instance_params(handle, inst, R"({"object_attributes": {"tint": 0.5}})"), RDV_OK);
   rdv_scene_destroy(handle);
 }
+
+}  // namespace test_object_attributes

@@ -8,6 +8,8 @@
 #include <vector>
 #include "samplers/pss_sampler.h"
 
+namespace test_pss_sampler {
+
 using rdv::PssSampler;
 using rdv::SampleStream;
 
@@ -172,3 +174,5 @@ TEST(PssSampler, LargeStepsAreFresh) {
   EXPECT_LT(same, 3);
   EXPECT_NEAR(sum / n, 0.5, 4.4 * std::sqrt(1.0 / 12 / n));  // false alarm 1e-5
 }
+
+}  // namespace test_pss_sampler

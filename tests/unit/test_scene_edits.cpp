@@ -8,6 +8,8 @@
 #include <vector>
 #include "rendezvous.h"
 
+namespace test_scene_edits {
+
 namespace {
 
 const float kIdentity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
@@ -246,3 +248,5 @@ TEST(SceneEdits, DroppedMediaKeepTheOthersRendering) {
   ASSERT_EQ(RDV_OK, rdv_scene_set_material(f.s, fog, kDiffuse));
   EXPECT_EQ(0, f.media_count());
 }
+
+}  // namespace test_scene_edits

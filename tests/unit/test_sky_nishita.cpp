@@ -6,6 +6,8 @@
 #include "core/error.h"
 #include "lights/sky_nishita.h"
 
+namespace test_sky_nishita {
+
 using namespace rdv;
 
 namespace {
@@ -122,3 +124,5 @@ TEST(NishitaSky, BadSettingsAreNamed) {
     }
   }
 }
+
+}  // namespace test_sky_nishita

@@ -7,6 +7,8 @@
 #include "core/error.h"
 #include "lights/sky_preetham.h"
 
+namespace test_sky_preetham {
+
 using namespace rdv;
 
 namespace {
@@ -59,3 +61,5 @@ TEST(PreethamSky, BadSettingsAreNamed) {
     }
   }
 }
+
+}  // namespace test_sky_preetham

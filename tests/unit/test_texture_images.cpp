@@ -16,6 +16,8 @@
 #include "textures/math_nodes.h"
 #include "textures/texture_graph.h"
 
+namespace test_texture_images {
+
 using namespace rdv;
 using rdv::test::temp_path;
 using nlohmann::json;
@@ -487,3 +489,5 @@ TEST(TextureImages, FootprintLookupsReturnTheMipAverage) {
     EXPECT_NEAR(ts.lookup(srgb, u, v, TexInterp::Closest, TexExtension::Repeat, nullptr, big, big).x, texel, 1e-5f);
   }
 }
+
+}  // namespace test_texture_images
