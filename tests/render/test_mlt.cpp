@@ -257,7 +257,7 @@ TEST(MltVsBdpt, PathSpaceOrthographic) {
   json scene = load_scene("cornell_box.json");
   scene["camera"].update({{"type", "orthographic"}, {"ortho_scale", 2.8}});
   scene["world"] = {{"color", {0.2, 0.25, 0.3}}};
-  expect_same_image(scene, "cornell (orthographic, world)", 32, 64, "luminance", {"mlt"});
+  expect_same_image(scene, "cornell (orthographic, world)", 8, 64, "luminance", {"mlt"});
 }
 // Orthographic with depth of field: x_0 a point of the image plane (path_space.h), the
 // aperture 0.5 m wide (Blender's 1 / (2 fstop) at f/1), a pentagon, focused on the back wall.
@@ -285,10 +285,10 @@ json cornell_window(double sun_angle) {
   return j;
 }
 TEST(MltVsBdpt, PathSpaceWindowSkyAndSun) {
-  expect_same_image(cornell_window(0.1), "window (sky, 0.1 rad sun)", 32, 64, "luminance", {"mlt"});
+  expect_same_image(cornell_window(0.1), "window (sky, 0.1 rad sun)", 8, 64, "luminance", {"mlt"});
 }
 TEST(MltVsBdpt, PathSpaceWindowSkyAndDeltaSun) {
-  expect_same_image(cornell_window(0.0), "window (sky, delta sun)", 32, 64, "luminance", {"mlt"});
+  expect_same_image(cornell_window(0.0), "window (sky, delta sun)", 16, 64, "luminance", {"mlt"});
 }
 // A box of fog under the window: medium vertices whose light-side neighbour is at infinity
 // (the propagation perturbation moves them along its direction, the scattering one turns it).
@@ -298,7 +298,7 @@ TEST(MltVsBdpt, PathSpaceWindowFogBox) {
       {{"name", "fog"}, {"type", "volume"}, {"volume", {{"density", 0.8}, {"color", {0.9, 0.9, 0.9}}, {"anisotropy", 0.3}}}});
   j["meshes"].push_back({{"name", "fog_box"}, {"shape", {{"type", "box"}, {"size", {1.6, 1.6, 0.5}}}},
                          {"materials", {"fog"}}, {"transform", {{"translate", {0, 0, 1.6}}}}});
-  expect_same_image(j, "window fog box", 32, 64, "luminance", {"mlt"});
+  expect_same_image(j, "window fog box", 8, 64, "luminance", {"mlt"});
 }
 // Grid fog (integrators/mlt/free_flights.h): a box of it under the Cornell box's ceiling,
 // its density varying from voxel to voxel; BDPT samples it by delta and ratio tracking.
@@ -343,7 +343,7 @@ TEST(MltVsBdpt, PathSpaceTexturedLamp) {
   json j = load_scene("cornell_box.json");
   for (auto &m : j["materials"])
     if (m["name"] == "lamp") m["color"] = {{"node", "image"}, {"file", source_path("scenes/textures/tiles.png")}};
-  expect_same_image(j, "textured lamp", 32, 64, "luminance", {"mlt"});
+  expect_same_image(j, "textured lamp", 16, 64, "luminance", {"mlt"});
 }
 
 // Emission by the distance its light travels (Light Falloff, test_light_falloff.cpp): a
