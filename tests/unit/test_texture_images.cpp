@@ -449,9 +449,12 @@ TEST(TextureGraphs, MeshAttributesThroughTheCAbi) {
 }
 
 // Filtered lookups: a footprint of many texels on a one-texel checker (sRGB 0 / 255,
-// i.e. linear 0 / 1) gives its mean, 0.5 in scene-linear (an average of the encoded
-// values would give 0.21); no footprint keeps the texels; Closest is never filtered.
-// The OIIO path (Cubic) MIP-maps too. Deterministic.
+// i.e. linear 0 / 1) gives the mean of what unfiltered lookups see, the values
+// interpolated in sRGB and then converted as Cycles converts them (0.5 would be the
+// texels' own mean, 0.21 the encoded values' mean converted): a camera path's ray cone and
+// a light path's unfiltered lookup see one texture. No footprint keeps the texels;
+// Closest is never filtered. The OIIO path (Cubic, Non-Color) MIP-maps too.
+// Deterministic.
 TEST(TextureImages, FootprintLookupsReturnTheMipAverage) {
   const int w = 64;
   std::vector<uint8_t> px(size_t(w) * w);
@@ -469,14 +472,22 @@ TEST(TextureImages, FootprintLookupsReturnTheMipAverage) {
   ASSERT_GE(data, 0) << problem;
   auto &ts = ImageTextures::instance();
   const Vec2 none(0.0f, 0.0f);
+  // The unfiltered mean: 64 x 64 points over one period (2 x 2 texels).
+  double unfiltered = 0;
+  for (int j = 0; j < 64; ++j)
+    for (int i = 0; i < 64; ++i)
+      unfiltered += ts.lookup(srgb, (10 + (i + 0.5) / 32.0) / w, (20 + (j + 0.5) / 32.0) / w, TexInterp::Linear,
+                              TexExtension::Repeat, nullptr, none, none).x / (64.0 * 64.0);
+  EXPECT_NEAR(unfiltered, 0.246, 0.002);
   for (float footprint : {4.0f, 8.0f, 16.0f, 64.0f}) {  // in texels
     Vec2 dx(footprint / w, 0.0f), dy(0.0f, footprint / w);
     for (float u : {0.13f, 0.5f, 0.77f}) {
-      EXPECT_NEAR(ts.lookup(srgb, u, 0.31f, TexInterp::Linear, TexExtension::Repeat, nullptr, dx, dy).x, 0.5f, 0.01f)
+      EXPECT_NEAR(ts.lookup(srgb, u, 0.31f, TexInterp::Linear, TexExtension::Repeat, nullptr, dx, dy).x, unfiltered,
+                  0.002f)
           << footprint << " texels at u " << u;
       // Grazing: a long and a short axis.
-      EXPECT_NEAR(ts.lookup(srgb, u, 0.6f, TexInterp::Linear, TexExtension::Repeat, nullptr, dx, dy * 0.1f).x, 0.5f,
-                  0.01f);
+      EXPECT_NEAR(ts.lookup(srgb, u, 0.6f, TexInterp::Linear, TexExtension::Repeat, nullptr, dx, dy * 0.1f).x,
+                  unfiltered, 0.002f);
       EXPECT_NEAR(ts.lookup(data, u, 0.31f, TexInterp::Cubic, TexExtension::Repeat, nullptr, dx, dy).x, 0.5f, 0.03f)
           << "OIIO's MIP filtering, " << footprint << " texels";
     }
