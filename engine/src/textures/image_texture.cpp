@@ -242,88 +242,106 @@ static Color finish(const Image &img, const float r[4], float *alpha, bool linea
   return linear ? c : to_linear(img, c);
 }
 
-// Level 0's texels in scene-linear floats, then 2 x 2 box-filtered levels down to 1 x 1
-// (odd sizes: the last row / column joins the one before).
-//
-// Where the file's colour space is not linear (8-bit sRGB, most of Blender's spaces), a
-// lookup without a footprint interpolates the file's values and converts the result, as
-// Cycles does; where neighbours differ, a texel's square then averages less in
-// scene-linear than its own converted value (a one-texel checker of sRGB 0 and 255: 0.246,
-// not 0.5). Levels 1, 2, ... average that function instead, each texel's square by 2 x 2
-// Gauss points in each of its four quarters (the interpolant is smooth within each), so a
-// filtered lookup (a camera path's ray cone) sees the mean of what an unfiltered one (light
-// paths, mlt) sees: one texture for every strategy. Texels whose neighbours are all within
-// 2/255 of them keep their converted value (a checker of +-1/255: the mean 2e-3 off at sRGB
-// 0.05, 7e-5 at 0.5). Cost: 0.55 s more for a 2048 x 2048 sRGB image of noise on 2 cores.
-static void build_mips(Image &img) {
-  const int nc = img.channels;
-  auto raw = [&](int x, int y, float r[4]) {
-    // Borders as Repeat (Blender's default; the levels serve every extension alike).
-    x = x < 0 ? x + img.w : (x >= img.w ? x - img.w : x);
-    y = y < 0 ? y + img.h : (y >= img.h ? y - img.h : y);
-    size_t o = (size_t(y) * img.w + x) * nc;
-    r[0] = r[1] = r[2] = 0;
-    r[3] = 1;
-    for (int c = 0; c < nc; ++c) r[c] = img.bytes.empty() ? img.floats[o + c] : img.bytes[o + c] * (1.0f / 255.0f);
-  };
-  const bool nonlinear = img.builtin_srgb || img.processor || !img.lut.empty();
-  // The sRGB curve as a table for the quadrature (its lookups already use one otherwise).
-  std::vector<float> srgb_table;
-  if (img.builtin_srgb) {
-    srgb_table.resize(4097);
-    for (size_t i = 0; i < srgb_table.size(); ++i) srgb_table[i] = srgb_to_linear(float(i) / 4096.0f);
-  }
-  auto to_scene_linear = [&](const float r[4]) {
-    if (srgb_table.empty()) return finish(img, r, nullptr, false);
-    Color c = finish(img, r, nullptr, true);
-    for (int k = 0; k < 3; ++k) {
-      float x = c[k];
-      if (!(x >= 0 && x <= 1)) { c[k] = srgb_to_linear(x); continue; }
-      float f = x * 4096.0f;
-      int i = std::min(int(f), 4095);
-      c[k] = srgb_table[size_t(i)] + (srgb_table[size_t(i) + 1] - srgb_table[size_t(i)]) * (f - float(i));
+// Level 0 averaged over each texel's square as a lookup without a footprint sees it. Where
+// the file's colour space is not linear (8-bit sRGB, most of Blender's spaces), such a lookup
+// interpolates the file's values and converts the result, as Cycles does, so where neighbours
+// differ the mean over a texel's square is not the texel's converted value (over a one-texel
+// checker of sRGB 0 and 255 the mean is 0.246, not the texels' 0.5). Each square is
+// integrated by 2 x 2 Gauss points in each of its four quarters (the interpolant is smooth
+// within each); texels whose neighbours are all within 2/255 of them keep their converted
+// value (a checker of +-1/255: the mean 2e-3 off at sRGB 0.05, 7e-5 at 0.5).
+class InterpolatedTexelMeans {
+ public:
+  explicit InterpolatedTexelMeans(const Image &img)
+      : img_(img), nonlinear_(img.builtin_srgb || img.processor || !img.lut.empty()) {
+    if (img.builtin_srgb) {  // the sRGB curve as a table (the other spaces' lookups use one already)
+      srgb_table_.resize(kTable + 1);
+      for (int i = 0; i <= kTable; ++i) srgb_table_[size_t(i)] = srgb_to_linear(float(i) / kTable);
     }
-    return c;
-  };
-  // Gauss-Legendre points along one axis of a texel's square, two in each half: the
-  // offset d of the neighbour that bilinear interpolation blends in there and its weight
-  // in the blend (a one-texel checker's mean within 1e-4 of its exact 0.24627).
-  constexpr float g = 0.14433757f;  // 0.25 / sqrt(3)
-  constexpr int kD[4] = {-1, -1, 1, 1};
-  constexpr float kA[4] = {0.25f + g, 0.25f - g, 0.25f - g, 0.25f + g};
-  auto level0 = [&](int x, int y, float out[4]) {
+  }
+
+  // Scene-linear colour channels and the alpha, as build_mips stores them.
+  void operator()(int x, int y, float out[4]) const {
+    const int nc = img_.channels;
     float nb[3][3][4];  // the texel and its neighbours, nb[1 + dy][1 + dx]
     bool flat = true;
     for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        float *n = nb[1 + dy][1 + dx];
-        if (!nonlinear && (dx || dy)) continue;
-        raw(x + dx, y + dy, n);
-      }
+      for (int dx = -1; dx <= 1; ++dx)
+        if (nonlinear_ || (dx == 0 && dy == 0)) texel(x + dx, y + dy, nb[1 + dy][1 + dx]);
     const float *centre = nb[1][1];
-    if (nonlinear)
+    if (nonlinear_)
       for (int i = 0; i < 9 && flat; ++i)
         for (int c = 0; c < std::min(nc, 3); ++c) flat = flat && std::fabs(nb[i / 3][i % 3][c] - centre[c]) <= 2.0f / 255.0f;
-    Color lin;
+    Color mean;
     if (flat) {
-      lin = to_scene_linear(centre);
+      mean = to_scene_linear(centre);
     } else {
+      // Gauss-Legendre points along one axis, two in each half of the square: the offset of
+      // the neighbour bilinear interpolation blends in there and its weight in the blend (a
+      // one-texel checker's mean within 1e-4 of its exact 0.24627).
+      constexpr float g = 0.14433757f;  // 0.25 / sqrt(3)
+      constexpr int kD[4] = {-1, -1, 1, 1};
+      constexpr float kA[4] = {0.25f + g, 0.25f - g, 0.25f - g, 0.25f + g};
       for (int ky = 0; ky < 4; ++ky)
         for (int kx = 0; kx < 4; ++kx) {
-          const float *v00 = centre, *v10 = nb[1][1 + kD[kx]], *v01 = nb[1 + kD[ky]][1],
-                      *v11 = nb[1 + kD[ky]][1 + kD[kx]];
+          const float *v10 = nb[1][1 + kD[kx]], *v01 = nb[1 + kD[ky]][1], *v11 = nb[1 + kD[ky]][1 + kD[kx]];
           const float ax = kA[kx], ay = kA[ky];
           float r[4];
           for (int c = 0; c < 4; ++c)
-            r[c] = (1 - ax) * (1 - ay) * v00[c] + ax * (1 - ay) * v10[c] + (1 - ax) * ay * v01[c] + ax * ay * v11[c];
-          lin += to_scene_linear(r) * (1.0f / 16.0f);
+            r[c] = (1 - ax) * (1 - ay) * centre[c] + ax * (1 - ay) * v10[c] + (1 - ax) * ay * v01[c] + ax * ay * v11[c];
+          mean += to_scene_linear(r) * (1.0f / 16.0f);
         }
     }
-    out[0] = lin.x;
+    out[0] = mean.x;
     if (nc == 2) out[1] = centre[1];
-    if (nc >= 3) { out[1] = lin.y; out[2] = lin.z; }
+    if (nc >= 3) { out[1] = mean.y; out[2] = mean.z; }
     if (nc == 4) out[3] = centre[3];
-  };
+  }
+
+ private:
+  static constexpr int kTable = 4096;
+
+  // The file's values of texel (x, y), borders as Repeat (Blender's default; the levels
+  // serve every extension alike).
+  void texel(int x, int y, float r[4]) const {
+    x = x < 0 ? x + img_.w : (x >= img_.w ? x - img_.w : x);
+    y = y < 0 ? y + img_.h : (y >= img_.h ? y - img_.h : y);
+    const size_t o = (size_t(y) * img_.w + x) * img_.channels;
+    r[0] = r[1] = r[2] = 0;
+    r[3] = 1;
+    for (int c = 0; c < img_.channels; ++c)
+      r[c] = img_.bytes.empty() ? img_.floats[o + c] : img_.bytes[o + c] * (1.0f / 255.0f);
+  }
+
+  Color to_scene_linear(const float r[4]) const {
+    if (srgb_table_.empty()) return finish(img_, r, nullptr, false);
+    Color c = finish(img_, r, nullptr, true);
+    for (int k = 0; k < 3; ++k) {
+      const float x = c[k];
+      if (!(x >= 0 && x <= 1)) {
+        c[k] = srgb_to_linear(x);
+        continue;
+      }
+      const float f = x * kTable;
+      const int i = std::min(int(f), kTable - 1);
+      c[k] = srgb_table_[size_t(i)] + (srgb_table_[size_t(i) + 1] - srgb_table_[size_t(i)]) * (f - float(i));
+    }
+    return c;
+  }
+
+  const Image &img_;
+  const bool nonlinear_;
+  std::vector<float> srgb_table_;
+};
+
+// Levels 1, 2, ... of a resident image: 2 x 2 box-filtered down to 1 x 1 (odd sizes: the last
+// row / column joins the one before), level 1 from InterpolatedTexelMeans, so a filtered
+// lookup (a camera path's ray cone) sees the mean of what an unfiltered one (light paths,
+// mlt) sees: one texture for every strategy. Cost: 0.55 s more for a 2048 x 2048 sRGB image
+// of noise on 2 cores than with the texels' converted values.
+static void build_mips(Image &img) {
+  const int nc = img.channels;
+  const InterpolatedTexelMeans level0(img);
   int w = img.w, h = img.h;
   const Image::Level *prev = nullptr;
   while (w > 1 || h > 1) {
