@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 #include <cstring>
 #include <fstream>
-#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include "render_helpers.h"
@@ -28,36 +27,15 @@ std::vector<double> luminance_sum(const Image &img) {
   return v;
 }
 
-std::vector<std::vector<double>> render_runs(const json &scene, json settings, uint32_t first_seed) {
-  std::vector<std::vector<double>> runs;
-  for (int k = 0; k < kRuns; ++k) {
-    settings["seed"] = first_seed + k;
-    Image img = render_json(scene.dump(), settings.dump());
-    EXPECT_TRUE(img.all_finite());
-    EXPECT_EQ(img.progress.samples_dropped, 0u);
-    runs.push_back(luminance_sum(img));
-  }
-  return runs;
-}
-
-// The path tracer's K runs of a scene, rendered once per process: the weightings' tests
-// (BalanceHeuristic, LafortuneWillemsWeights) compare BDPT with the same reference as
-// CornellBox and GlossyAndEveryLightType (the path tracer has no MIS weights to choose).
-const std::vector<std::vector<double>> &path_runs(const json &scene, int samples) {
-  static std::map<std::string, std::vector<std::vector<double>>> rendered;
-  const json s = {{"width", 48}, {"height", 48}, {"max_bounces", 8}, {"integrator", "path"}, {"samples", samples}};
-  const std::string key = scene.dump() + '\n' + s.dump();
-  auto it = rendered.find(key);
-  if (it == rendered.end()) it = rendered.emplace(key, render_runs(scene, s, 1)).first;
-  return it->second;
-}
-
 void expect_same_image(const json &scene, const std::string &what, int samples_pt, int samples_bdpt,
                        const char *mis = "power") {
-  const auto &pt = path_runs(scene, samples_pt);
+  // The path tracer's runs are rendered once per process: the weightings' tests
+  // (BalanceHeuristic, LafortuneWillemsWeights) share CornellBox's and GlossyAndEveryLightType's.
+  const json p = {{"width", 48}, {"height", 48}, {"max_bounces", 8}, {"integrator", "path"}, {"samples", samples_pt}};
+  const auto &pt = seeded_renders_once(scene.dump(), p.dump(), kRuns, 1);
   const json s = {{"width", 48}, {"height", 48}, {"max_bounces", 8}, {"mis", mis}, {"integrator", "bdpt"},
                   {"samples", samples_bdpt}};
-  auto bd = render_runs(scene, s, 1001);
+  auto bd = seeded_renders(scene.dump(), s.dump(), kRuns, 1001);
   BlockComparison c = compare_blocks(bd, pt, 48, 48, 8, kAlphaPerBlock);
   EXPECT_EQ(c.failed, 0) << what << ": " << c.detail;
   const BrightnessComparison b = compare_brightness(bd, pt);  // each side's share of the noise
@@ -71,9 +49,9 @@ void expect_same_bdpt_image(const json &scene, const std::string &what, int samp
                             const char *mis_b) {
   json s = {{"width", 48}, {"height", 48}, {"max_bounces", 8}, {"integrator", "bdpt"}, {"samples", samples}};
   s["mis"] = mis_a;
-  auto a = render_runs(scene, s, 1);
+  auto a = seeded_renders(scene.dump(), s.dump(), kRuns, 1);
   s["mis"] = mis_b;
-  auto b = render_runs(scene, s, 1001);
+  auto b = seeded_renders(scene.dump(), s.dump(), kRuns, 1001);
   BlockComparison c = compare_blocks(a, b, 48, 48, 8, kAlphaPerBlock);
   EXPECT_EQ(c.failed, 0) << what << ": " << c.detail;
   std::printf("[ bdpt weights ] %-12s %s\n", what.c_str(), c.detail.substr(0, 120).c_str());
@@ -186,7 +164,7 @@ TEST(BdptStrategies, EachAloneMatchesPathTracingAtDepthTwo) {
   for (auto [st_s, st_t] : {std::pair{0, 4}, {1, 3}, {2, 2}, {3, 1}}) {
     json b = {{"width", 32}, {"height", 32}, {"integrator", "bdpt"}, {"samples", st_s == 0 ? 256 : 64},
               {"max_bounces", 2}, {"strategy", {st_s, st_t}}, {"strategy_unweighted", true}};
-    auto runs = render_runs(scene, b, 500 + 10 * st_s);
+    auto runs = seeded_renders(scene.dump(), b.dump(), kRuns, 500 + 10 * st_s);
     BlockComparison c = compare_blocks(runs, depth2, 32, 32, 16, kAlphaPerBlock);
     EXPECT_EQ(c.failed, 0) << "strategy s=" << st_s << " t=" << st_t << ": " << c.detail;
   }

@@ -7,7 +7,6 @@
 #include <gtest/gtest.h>
 #include <cmath>
 #include <cstring>
-#include <map>
 #include <string>
 #include <stdexcept>
 #include <nlohmann/json.hpp>
@@ -47,11 +46,7 @@ std::vector<std::vector<double>> runs_of(const json &scene, const json &limits, 
     s["mlt_bootstrap"] = 4;
     s["mlt_chains"] = 64;
   }
-  static std::map<std::string, std::vector<std::vector<double>>> rendered;
-  const std::string key = scene.dump() + '\n' + s.dump() + '\n' + std::to_string(first_seed);
-  auto it = rendered.find(key);
-  if (it == rendered.end()) it = rendered.emplace(key, seeded_renders(scene.dump(), s.dump(), kRuns, first_seed)).first;
-  return it->second;
+  return seeded_renders_once(scene.dump(), s.dump(), kRuns, first_seed);
 }
 
 // `test` (integrator, samples) against `reference` on every 8x8 block; with `brightness`

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
@@ -162,6 +163,15 @@ std::vector<std::vector<double>> seeded_renders(const std::string &scene_json, c
     out.push_back(v);
   }
   return out;
+}
+
+const std::vector<std::vector<double>> &seeded_renders_once(const std::string &scene_json, const std::string &settings,
+                                                            int runs, uint32_t seed0) {
+  static std::map<std::string, std::vector<std::vector<double>>> rendered;
+  const std::string key = scene_json + '\n' + settings + '\n' + std::to_string(runs) + ' ' + std::to_string(seed0);
+  auto it = rendered.find(key);
+  if (it == rendered.end()) it = rendered.emplace(key, seeded_renders(scene_json, settings, runs, seed0)).first;
+  return it->second;
 }
 
 void expect_small_bdpt_matches_path(const nlohmann::json &scene, const std::string &what) {

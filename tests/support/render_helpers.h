@@ -81,6 +81,10 @@ Image render_json_prepared(const std::function<void(rdv_scene *)> &prepare, cons
 // compare_blocks (statistics.h). Expects every image finite with no dropped sample.
 std::vector<std::vector<double>> seeded_renders(const std::string &scene_json, const std::string &settings, int runs,
                                                 uint32_t seed0);
+// The same, rendered once per process for each (scene, settings, runs, seed0): a reference
+// that several comparisons share (renders with fixed seeds are deterministic).
+const std::vector<std::vector<double>> &seeded_renders_once(const std::string &scene_json, const std::string &settings,
+                                                            int runs, uint32_t seed0);
 
 // Path tracing (32 spp) and BDPT (16 spp) render the scene at 32 x 32 six times each with
 // their own seeds: every 8x8 block must agree by Welch's t-test (1% false-alarm rate for the 16
