@@ -253,12 +253,7 @@ static Color finish(const Image &img, const float r[4], float *alpha, bool linea
 class InterpolatedTexelMeans {
  public:
   explicit InterpolatedTexelMeans(const Image &img)
-      : img_(img), nonlinear_(img.builtin_srgb || img.processor || !img.lut.empty()) {
-    if (img.builtin_srgb) {  // the sRGB curve as a table (the other spaces' lookups use one already)
-      srgb_table_.resize(kTable + 1);
-      for (int i = 0; i <= kTable; ++i) srgb_table_[size_t(i)] = srgb_to_linear(float(i) / kTable);
-    }
-  }
+      : img_(img), nonlinear_(img.builtin_srgb || img.processor || !img.lut.empty()) {}
 
   // Scene-linear colour channels and the alpha, as build_mips stores them.
   void operator()(int x, int y, float out[4]) const {
@@ -299,8 +294,6 @@ class InterpolatedTexelMeans {
   }
 
  private:
-  static constexpr int kTable = 4096;
-
   // The file's values of texel (x, y), borders as Repeat (Blender's default; the levels
   // serve every extension alike).
   void texel(int x, int y, float r[4]) const {
@@ -313,25 +306,12 @@ class InterpolatedTexelMeans {
       r[c] = img_.bytes.empty() ? img_.floats[o + c] : img_.bytes[o + c] * (1.0f / 255.0f);
   }
 
-  Color to_scene_linear(const float r[4]) const {
-    if (srgb_table_.empty()) return finish(img_, r, nullptr, false);
-    Color c = finish(img_, r, nullptr, true);
-    for (int k = 0; k < 3; ++k) {
-      const float x = c[k];
-      if (!(x >= 0 && x <= 1)) {
-        c[k] = srgb_to_linear(x);
-        continue;
-      }
-      const float f = x * kTable;
-      const int i = std::min(int(f), kTable - 1);
-      c[k] = srgb_table_[size_t(i)] + (srgb_table_[size_t(i) + 1] - srgb_table_[size_t(i)]) * (f - float(i));
-    }
-    return c;
-  }
+  // Through the lookups' own conversion (a table for most spaces), so the means are of
+  // exactly what they return.
+  Color to_scene_linear(const float r[4]) const { return finish(img_, r, nullptr, false); }
 
   const Image &img_;
   const bool nonlinear_;
-  std::vector<float> srgb_table_;
 };
 
 // Levels 1, 2, ... of a resident image: 2 x 2 box-filtered down to 1 x 1 (odd sizes: the last
