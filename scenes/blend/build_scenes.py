@@ -1181,6 +1181,19 @@ def light_paths_principled():
     return scene
 
 
+def light_paths_principled_caustics():
+    """The Principled Cornell box (light_paths_principled) with both caustics switches off and
+    Cycles' default bounces: right after a diffuse bounce Cycles drops the glossy closures, so
+    each wall's specular reflection of light from another wall is dropped with the odds that the
+    bounce before it sampled a diffuse closure."""
+    scene = light_paths_principled()
+    scene.cycles.property_unset("diffuse_bounces")
+    scene.cycles.property_unset("glossy_bounces")
+    scene.cycles.caustics_reflective = False
+    scene.cycles.caustics_refractive = False
+    return scene
+
+
 def light_paths_transparent():
     """Transparent max bounces 3: a floor seen through a staircase of Transparent BSDF cards
     (behind 0 .. 5 of them across the image), lit by an area lamp that shines under the cards,
@@ -2458,7 +2471,7 @@ def shadow_catcher():
 
 LIGHT_PATH_SCENES = ["light_paths_diffuse", "light_paths_mirror", "light_paths_caustics", "light_paths_clamp",
                      "light_paths_filter_glossy", "light_paths_transparent", "light_paths_lamp_bounces",
-                     "light_paths_principled"]
+                     "light_paths_principled", "light_paths_principled_caustics"]
 
 
 # ---- motion blur (tests/blender/test_motion_blur.py) ----------------------------------------
@@ -2655,6 +2668,7 @@ SCENES = {
     "light_paths_transparent": light_paths_transparent,
     "light_paths_lamp_bounces": light_paths_lamp_bounces,
     "light_paths_principled": light_paths_principled,
+    "light_paths_principled_caustics": light_paths_principled_caustics,
     "alpha_leaves": alpha_leaves,
     "film_transparent": film_transparent,
     "light_passes": light_passes,

@@ -761,60 +761,92 @@ static int pass_kind(LobeType type, bool reflection) {
   return reflection ? 1 : 2;
 }
 
-KindSplit Bsdf::kind_split(Vec3 wo_w, Vec3 wi_w, bool delta) const {
+int Bsdf::kind_parts(Vec3 wo_w, Vec3 wi_w, Color parts[3]) const {
   const bool reflection = dot(wo_w, ng_) * dot(wi_w, ng_) > 0;
+  // Lobes all of one kind on this side (a plain diffuse surface): that kind, with no lobe
+  // to evaluate (a path with a share has f > 0 here), where local_pair would find a pair;
+  // only its test is made, on the normal components.
+  int single = -1;
+  for (int i = 0; i < n_ && single != -2; ++i)
+    if (!lobes_[i].is_delta()) {
+      const int k = pass_kind(lobes_[i].type, reflection);
+      single = single == -1 || single == k ? k : -2;
+    }
+  if (single >= 0) {
+    const float side = dot(wo_w, ng_);
+    Frame bent;
+    const float wi_z = dot(wi_w, frame_toward(wo_w, bent).n);
+    return side != 0 && consistent_side(wi_w, side < 0 ? -ng_ : ng_, side < 0 ? -wi_z : wi_z) ? single : -1;
+  }
+  if (single == -1) return -1;  // no lobe that is not delta
+  Vec3 wo, wi;
+  bool flipped;
+  Frame bent;
+  const Frame &frame = frame_toward(wo_w, bent);
+  if (!local_pair(frame, wo_w, wi_w, wo, wi, flipped)) return -1;
+  LobeScratch scratch;
+  LayerScales layers;
+  if (num_layers_) layer_scales(wo, wi, layers);
+  const float diffuse_scale = bump_shadowing(frame.n, wo_w, wi_w, TransportMode::Radiance);
+  ViewScales view_scratch;
+  const ViewScales *views = view_scales(wo_w, view_scratch);
+  for (int k = 0; k < 3; ++k) parts[k] = Color(0.0f);
+  for (int i = 0; i < n_; ++i) {
+    const Lobe &lobe = lobe_from_side(lobes_[i], flipped, scratch);
+    if (lobe.is_delta()) continue;
+    Color fi = lobe_eval(lobe, wo, wi, TransportMode::Radiance);
+    if (views && lobe.view_factors) fi *= views->of(lobe);
+    if (lobe.is_diffuse_like()) fi *= diffuse_scale;
+    if (lobe.layers_above) fi *= layers.of(lobe.layers_above);
+    parts[pass_kind(lobe.type, reflection)] += vmax(fi, Color(0.0f));
+  }
+  return kSplitKinds;
+}
+
+// The kind a scattering counts as where its lobes were not split (kind_parts found none,
+// or f is 0 there): the side's kind for a delta event, else the dominant one.
+int Bsdf::whole_kind(Vec3 wo_w, Vec3 wi_w, bool delta) const {
+  if (delta) return dot(wo_w, ng_) * dot(wi_w, ng_) > 0 ? 1 : 2;
+  const ScatterKind kind = scatter_kind(wo_w, wi_w);
+  return kind == ScatterKind::Diffuse || kind == ScatterKind::Translucent ? 0 : kind == ScatterKind::Glossy ? 1 : 2;
+}
+
+KindSplit Bsdf::kind_split(Vec3 wo_w, Vec3 wi_w, bool delta) const {
   if (!delta && n_ > 0) {
-    // Lobes all of one kind on this side (a plain diffuse surface): the split is that
-    // kind's whole, with no lobe to evaluate (a path with a share has f > 0 here), where
-    // local_pair would find a pair; only its test is made, on the normal components.
-    int single = -1;
-    for (int i = 0; i < n_ && single != -2; ++i)
-      if (!lobes_[i].is_delta()) {
-        const int k = pass_kind(lobes_[i].type, reflection);
-        single = single == -1 || single == k ? k : -2;
-      }
-    if (single >= 0) {
-      const float side = dot(wo_w, ng_);
-      Frame bent;
-      const float wi_z = dot(wi_w, frame_toward(wo_w, bent).n);
-      if (side != 0 && consistent_side(wi_w, side < 0 ? -ng_ : ng_, side < 0 ? -wi_z : wi_z))
-        return KindSplit::only(single);
-    } else {
-      Vec3 wo, wi;
-      bool flipped;
-      Frame bent;
-      const Frame &frame = frame_toward(wo_w, bent);
-      if (local_pair(frame, wo_w, wi_w, wo, wi, flipped)) {
-        LobeScratch scratch;
-        LayerScales layers;
-        if (num_layers_) layer_scales(wo, wi, layers);
-        const float diffuse_scale = bump_shadowing(frame.n, wo_w, wi_w, TransportMode::Radiance);
-        ViewScales view_scratch;
-        const ViewScales *views = view_scales(wo_w, view_scratch);
-        float w[3] = {0, 0, 0};
-        for (int i = 0; i < n_; ++i) {
-          const Lobe &lobe = lobe_from_side(lobes_[i], flipped, scratch);
-          if (lobe.is_delta()) continue;
-          Color fi = lobe_eval(lobe, wo, wi, TransportMode::Radiance);
-          if (views && lobe.view_factors) fi *= views->of(lobe);
-          if (lobe.is_diffuse_like()) fi *= diffuse_scale;
-          if (lobe.layers_above) fi *= layers.of(lobe.layers_above);
-          w[pass_kind(lobe.type, reflection)] += std::max(average(fi), 0.0f);
-        }
-        const float total = w[0] + w[1] + w[2];
-        if (total > 0) {
-          KindSplit s;
-          for (int k = 0; k < 3; ++k) s.w[k] = w[k] / total;
-          return s;
-        }
+    Color parts[3];
+    const int k = kind_parts(wo_w, wi_w, parts);
+    if (k >= 0 && k < kSplitKinds) return KindSplit::only(k);
+    if (k == kSplitKinds) {
+      float w[3], total = 0;
+      for (int j = 0; j < 3; ++j) total += (w[j] = average(parts[j]));
+      if (total > 0) {
+        KindSplit s;
+        for (int j = 0; j < 3; ++j) s.w[j] = w[j] / total;
+        return s;
       }
     }
   }
-  if (delta) return KindSplit::only(reflection ? 1 : 2);
-  const ScatterKind kind = scatter_kind(wo_w, wi_w);
-  return KindSplit::only(kind == ScatterKind::Diffuse || kind == ScatterKind::Translucent ? 0
-                         : kind == ScatterKind::Glossy                                   ? 1
-                                                                                         : 2);
+  return KindSplit::only(whole_kind(wo_w, wi_w, delta));
+}
+
+Color Bsdf::caustic_share(Vec3 camera_side, Vec3 light_side, bool delta, bool keep_glossy, bool keep_refraction) const {
+  const bool keeps[3] = {true, keep_glossy, keep_refraction};
+  if (!delta && n_ > 0) {
+    Color parts[3];
+    const int k = kind_parts(camera_side, light_side, parts);
+    if (k >= 0 && k < kSplitKinds) return Color(keeps[k] ? 1.0f : 0.0f);
+    if (k == kSplitKinds) {
+      const Color all = parts[0] + parts[1] + parts[2];
+      if (!is_black(all)) {
+        Color kept(0.0f);
+        for (int j = 0; j < 3; ++j)
+          if (keeps[j]) kept += parts[j];
+        auto share = [](float a, float b) { return b > 0 ? clampf(a / b, 0.0f, 1.0f) : 0.0f; };
+        return Color(share(kept.x, all.x), share(kept.y, all.y), share(kept.z, all.z));
+      }
+    }
+  }
+  return Color(keeps[whole_kind(camera_side, light_side, delta)] ? 1.0f : 0.0f);
 }
 
 float Bsdf::transparent_pick(const float *pick) const {

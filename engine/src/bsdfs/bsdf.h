@@ -249,6 +249,11 @@ class Bsdf {
   // (diffuse, glossy, transmission; a dielectric's colour split by its Fresnel at wo,
   // as Cycles 3.4's Glass BSDF weights its reflection and refraction closures).
   KindSplit kind_split(Vec3 wo, Vec3 wi, bool delta) const;
+  // Cycles' caustics switches (integrators/caustics_switches.h): the share of f from
+  // camera_side to light_side, per colour channel, that is left after a diffuse bounce, where
+  // the glossy reflection closures (keep_glossy false) or the refracting ones (keep_refraction
+  // false) are gone; by the same kinds as kind_split (delta: the side's kind).
+  Color caustic_share(Vec3 camera_side, Vec3 light_side, bool delta, bool keep_glossy, bool keep_refraction) const;
   // The probability that sample() from wo passes straight through (its Transparent lobes'
   // selection): BDPT's walks keep a plain transparent layer as a vertex only otherwise.
   float pass_probability(Vec3 wo) const;
@@ -396,6 +401,12 @@ class Bsdf {
   // diffuse lobe; no glossy lobe), -1 for a mixture; Cycles' selection weight of each lobe
   // seen from the camera side (cos_o: its local cosine; views: its view scales).
   float one_kind_odds(bool delta) const;
+  // f from wo to wi by light-pass kind (diffuse, glossy, transmission) over the non-delta
+  // lobes: that kind where they are all of one kind on that side (nothing evaluated),
+  // kSplitKinds with parts filled where they are not, -1 where no lobe scatters so.
+  static constexpr int kSplitKinds = 3;
+  int kind_parts(Vec3 wo, Vec3 wi, Color parts[kSplitKinds]) const;
+  int whole_kind(Vec3 wo, Vec3 wi, bool delta) const;
   void odds_weights(float cos_o, const ViewScales *views, bool defensive, float *weight) const;
   // eval_and_pdf with the glossy odds of (wo, wi) too, for a sampled mixture (Radiance).
   Color eval_pdf_and_odds(Vec3 wo, Vec3 wi, float &pdf, bool defensive, float &glossy_odds) const;

@@ -9,8 +9,9 @@
 // glossy reflections, transmissions and volume scatterings each stays within its limit:
 // diffuse bounces 0 still gives direct diffuse light. With a caustics switch off, a glossy
 // reflection (reflective) or a refraction (refractive) right after a diffuse bounce on the
-// camera side drops the path. Clamps act on each contribution (sum of its RGB, as Cycles):
-// direct = paths with at most one scattering vertex.
+// camera side drops the path (caustics_switches.h: for mixtures, the share Cycles drops).
+// Clamps act on each contribution (sum of its RGB, as Cycles): direct = paths with at most
+// one scattering vertex.
 #pragma once
 #include <algorithm>
 #include <cstdint>
@@ -111,12 +112,13 @@ struct LightPathLimits {
   // strategies (path-space mlt: a function of each path's camera-side prefix).
   float filter_glossy = 0;
   // Set by finish(): whether paths must be classified / contributions clamped at all
-  // (a scene that uses none of these renders exactly as without them).
-  bool classify = false, clamps = false;
+  // (a scene that uses none of these renders exactly as without them), and whether a
+  // caustics switch is off (caustics_switches.h weighs each path then).
+  bool classify = false, clamps = false, caustics = false;
 
   void finish() {
-    classify = diffuse < kNoLimit || glossy < kNoLimit || transmission < kNoLimit || volume < kNoLimit ||
-               !caustics_reflective || !caustics_refractive;
+    caustics = !caustics_reflective || !caustics_refractive;
+    classify = diffuse < kNoLimit || glossy < kNoLimit || transmission < kNoLimit || volume < kNoLimit || caustics;
     clamps = clamp_direct > 0 || clamp_indirect > 0;
   }
   // Whether a path that passes through `passes` transparent layers in all, and has a
@@ -141,14 +143,6 @@ struct LightPathLimits {
     return std::min(kept, 1.0f);
   }
   bool within(const BounceCounts &c) const { return kept_share(c) > 0; }
-  // Whether `next` may follow `before` (its neighbour on the camera side) with the
-  // caustics switches as they are.
-  bool caustic_allowed(ScatterKind before, ScatterKind next) const {
-    if (before != ScatterKind::Diffuse && before != ScatterKind::Translucent) return true;
-    if (next == ScatterKind::Glossy) return caustics_reflective;
-    if (next == ScatterKind::Transmission) return caustics_refractive;
-    return true;
-  }
   // A contribution of a path with `scattering_vertices` scattering vertices, clamped.
   Color clamp(Color c, int scattering_vertices) const {
     float limit = scattering_vertices <= 1 ? clamp_direct : clamp_indirect;

@@ -239,12 +239,14 @@ class Bdpt final : public TileIntegrator {
   // light_path[s - 1], negated, for t = 1).
   ScatterKind kind_toward(const PathVertex &v, Vec3 wi) const;
   float glossy_odds_toward(const PathVertex &v, Vec3 w, bool camera, bool delta, bool defensive) const;
+  CausticStep caustic_step_toward(const PathVertex &v, Vec3 w, bool camera, bool delta, ScatterKind kind,
+                                  float glossy_odds) const;
   bool record_kind(PathVertex *path, int n, Vec3 wi, bool camera, bool delta) const;
   // The straight passes of the path of strategy (s, t) on its two subpaths (Transparent
   // max bounces; a connection adds those it passes) and its scattering vertices (the clamps).
   static int path_passes(const PathVertex *light_path, const PathVertex *camera_path, int s, int t);
   static int path_scatterings(const PathVertex *light_path, const PathVertex *camera_path, int s, int t);
-  float limits_share(const PathVertex *light_path, const PathVertex *camera_path, int s, int t, ScatterKind kc,
+  Color limits_share(const PathVertex *light_path, const PathVertex *camera_path, int s, int t, ScatterKind kc,
                      ScatterKind kl, Vec3 to_light = Vec3(0.0f)) const;
   // Vertex helpers (connect.cpp).
   // bsdf: the BSDF to use at a surface instead of v's (Filter Glossy's blurred one).

@@ -143,9 +143,9 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
   PathVertex sampled;
   ConnectionDensities densities;
   constexpr ScatterKind kNone = ScatterKind::Transparent;
-  float kept = 1;  // the share of the path Cycles' Light Paths limits keep
+  Color kept(1.0f);  // the share of the path Cycles' Light Paths limits keep
   if (s == 0) {
-    if (limits.classify && !((kept = limits_share(light_path, camera_path, 0, t, kNone, kNone)) > 0)) return L;
+    if (limits.classify && is_black(kept = limits_share(light_path, camera_path, 0, t, kNone, kNone))) return L;
     L = Le(pt, camera_path[t - 2], stats, catcher_copy, scatterings) * pt.beta;
     if (!is_black(L) && t > 2) {
       light_densities(pt, camera_path[t - 2], densities.pt_rev, densities.pt_minus_rev);
@@ -164,7 +164,8 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     sampler.start_stream(SampleStream::Lens, dims::lens(uint32_t(s) - 1, dims::kLensPoint));
     Vec2 u = sampler.get_2d();
     if (!camera.can_be_connected() || !camera.sample_importance(qs.p, u, is) || !(is.pdf > 0)) return L;
-    if (limits.classify && !((kept = limits_share(light_path, camera_path, s, 1, kNone, kind_toward(qs, is.wi), -is.wi)) > 0))
+    if (limits.classify &&
+        is_black(kept = limits_share(light_path, camera_path, s, 1, kNone, kind_toward(qs, is.wi), -is.wi)))
       return L;
     if (!light_start_visible(light_path, s, is.wi)) return L;
     sampled.type = VertexType::Camera;
@@ -218,9 +219,11 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
       if (is_sphere_lamp(light)) sampled.ng = sampled.ns = normalize(ls.p - light.position);
       if (light.type == LightType::Volume) sampled.gather_rate = 1.0f / light.volume->medium().emission_step;
     }
-    if (limits.classify && !((kept = limits_share(light_path, camera_path, 1, t, kind_toward(pt, direction_to(pt, sampled)),
-                                                  kNone)) > 0))
-      return L;
+    if (limits.classify) {
+      const Vec3 to_light = direction_to(pt, sampled);
+      kept = limits_share(light_path, camera_path, 1, t, kind_toward(pt, to_light), kNone, to_light);
+      if (is_black(kept)) return L;
+    }
     // Ray visibility: the light must be visible to the kind of the scattering toward it.
     uint32_t kind = visibility::kAnyRay;
     if (scene_.has_ray_visibility()) {
@@ -269,7 +272,7 @@ Color Bdpt::connect(PathVertex *light_path, PathVertex *camera_path, int s, int 
     Vec3 dir = normalize(pt.p - qs.p);
     if (connection_dir) *connection_dir = -dir;
     if (limits.classify &&
-        !((kept = limits_share(light_path, camera_path, s, t, kind_toward(pt, -dir), kind_toward(qs, dir), -dir)) > 0))
+        is_black(kept = limits_share(light_path, camera_path, s, t, kind_toward(pt, -dir), kind_toward(qs, dir), -dir)))
       return L;
     if (!light_start_visible(light_path, s, dir)) return L;
     Scattering sq, sp;

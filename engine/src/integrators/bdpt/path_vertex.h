@@ -6,6 +6,7 @@
 #include <new>
 #include <type_traits>
 #include "bsdfs/bsdf.h"
+#include "integrators/caustics_switches.h"
 #include "integrators/light_path_limits.h"
 #include "media/medium_stack.h"
 #include "scene/scene.h"
@@ -54,8 +55,7 @@ struct PathVertex {
   // Cycles' Light Paths (set only when the settings classify paths, light_path_limits.h):
   // the kind of this vertex's scattering along its subpath (toward the next vertex), the
   // bounces of each kind on its subpath up to and including it (light subpaths leave out
-  // their first vertex after the light: it is always a path's last scattering vertex),
-  // and whether the caustics switches allow the subpath's pairs so far.
+  // their first vertex after the light: it is always a path's last scattering vertex).
   ScatterKind kind = ScatterKind::Transparent;
   // Camera subpaths with a transparent film or holdouts (integrators/film_alpha.h): every
   // scattering between the camera and this vertex kept the background seen through.
@@ -64,7 +64,12 @@ struct PathVertex {
   // holdout object.
   bool catcher = false;
   float holdout = 0;  // scenes with holdouts: what of this surface is held out (Scene::holdout_weight)
-  bool caustics_ok = true;
+  // The caustics switches (caustics_switches.h; set only when one is off): on a camera
+  // subpath the chain's state past this vertex and the share of f the switches keep here
+  // after a diffuse bounce; on a light subpath the weight of the rest of the path, from this
+  // vertex toward the light, by the state in which a path enters it.
+  CausticState caustics;
+  Color caustic_kept = Color(1.0f);
   BounceCounts counts;
   // Filter Glossy (integrators/filter_glossy.h; set only when it is on). Camera subpaths:
   // filter_pdf, the smallest density of the scatterings before this vertex (what its BSDF

@@ -463,8 +463,9 @@ Color Bdpt::lamp_emission(int lamp, Vec3 q, Vec3 wo, Color Le, Color beta, PathV
                                              occluders, false, stats.rays))
     return Color(0.0f);
   const LightPathLimits &limits = settings_.limits;
-  const float kept = limits.classify ? limits_share(path, path, 0, n + 2, ScatterKind::Transparent, ScatterKind::Transparent) : 1.0f;
-  if (!(kept > 0)) return Color(0.0f);
+  constexpr ScatterKind kNone = ScatterKind::Transparent;
+  const Color kept = limits.classify ? limits_share(path, path, 0, n + 2, kNone, kNone) : Color(1.0f);
+  if (is_black(kept)) return Color(0.0f);
   c *= kept;
   const int scatterings = path[n].scatterings_after();
   if (!limits.transparent_within(path[n].passes_after() + layers, scatterings > 0)) return Color(0.0f);
@@ -487,9 +488,10 @@ void Bdpt::gather_volume_emission(const Medium &medium, const Ray &ray, float tm
   const PathVertex &prev = path[n];
   PathVertex &point = path[n + 1];
   const LightPathLimits &limits = settings_.limits;
-  const float kept =
-      limits.classify && n > 0 ? limits_share(path, path, 0, n + 2, ScatterKind::Transparent, ScatterKind::Transparent) : 1.0f;
-  if (!(kept > 0)) return;
+  const Color kept = limits.classify && n > 0
+                         ? limits_share(path, path, 0, n + 2, ScatterKind::Transparent, ScatterKind::Transparent)
+                         : Color(1.0f);
+  if (is_black(kept)) return;
   beta *= kept;
   const int scatterings = path[n].scatterings_after();
   if (!limits.transparent_within(path[n].passes_after() + layers, scatterings > 0)) return;

@@ -1005,10 +1005,12 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
 
   // Cycles' Light Paths limits: each scattering vertex's kind, as the path tracer labels it
   // (its BSDF built toward the camera, the direction toward the light), counted over every
-  // scattering vertex but the one that meets the light; the caustics switches over each
-  // pair of neighbours (integrators/light_path_limits.h).
+  // scattering vertex but the one that meets the light (integrators/light_path_limits.h);
+  // the caustics switches' chain from the camera (integrators/caustics_switches.h), whose
+  // weight at the last scattering vertex is f's share.
   BounceCounts counts;
-  ScatterKind before = ScatterKind::Diffuse;
+  CausticState caustic;
+  Color caustic_weight(1.0f);
   // Ray visibility (scene/ray_visibility.h): the kind of ray each edge stands for, camera
   // rays from x_0, then each scattering's kind (a pass-through keeps the kind it had).
   uint32_t ray_kind = visibility_ ? visibility::kCamera : visibility::kAnyRay;
@@ -1079,22 +1081,33 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     if (i >= 1 && (limits_.classify || visibility_)) {
       // The kind of scattering at a toward b, as the path tracer labels it (its BSDF built
       // toward the camera): Cycles' Light Paths limits count it over every scattering
-      // vertex but the one that meets the light, the caustics switches check each pair of
-      // neighbours (integrators/light_path_limits.h); it sets the kind of ray toward b.
+      // vertex but the one that meets the light, the caustics switches weigh each vertex by
+      // the chain's state (integrators/light_path_limits.h); it sets the kind of ray toward b.
       const ScatterKind kind =
           a.v.type == VertexType::Medium ? ScatterKind::Volume : a.v.bsdf.scatter_kind(a.v.wo, w);
       if (limits_.classify) {
-        if (i >= 2 && !limits_.caustic_allowed(before, kind)) return;
-        if (i + 1 < n - 1) {  // not the vertex that meets the light
-          // A mixed reflection by Cycles' odds (BounceCounts): at x_1 with no pass before it,
-          // with its defensive sampling.
-          const float glossy = a.v.type == VertexType::Surface
-                                   ? a.v.bsdf.glossy_odds(a.v.wo, w, a.v.delta, i == 1 && passes + vertex_passes == 0)
-                                   : -1.0f;
+        const bool last_scattering = i + 1 == n - 1;  // the vertex that meets the light
+        // A mixed reflection by Cycles' odds (BounceCounts): at x_1 with no pass before it,
+        // with its defensive sampling.
+        const float glossy = a.v.type == VertexType::Surface && (!last_scattering || limits_.caustics)
+                                 ? a.v.bsdf.glossy_odds(a.v.wo, w, a.v.delta, i == 1 && passes + vertex_passes == 0)
+                                 : -1.0f;
+        if (limits_.caustics) {
+          const CausticStep step = a.v.type == VertexType::Surface
+                                       ? caustic_step(limits_, a.v.bsdf, a.v.wo, w, a.v.delta, kind, glossy)
+                                       : caustic_step(limits_, kind, -1, Color(1.0f));
+          if (last_scattering) {
+            caustic_weight = caustic.at_last(step.kept);
+            if (is_black(caustic_weight)) return;
+          } else {
+            caustic = caustic.after(step);
+            if (caustic.none()) return;
+          }
+        }
+        if (!last_scattering) {
           counts.add(kind, glossy);
           if (!limits_.within(counts)) return;
         }
-        before = kind;
       }
       if (visibility_ && kind != ScatterKind::Transparent) ray_kind = visibility::after(kind);
     }
@@ -1249,7 +1262,7 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
     emission = emission - (emission - without_world) * float(world_left_out);
   }
   f *= emission;
-  if (limits_.classify) f *= limits_.kept_share(counts);  // below 1 with mixed reflections
+  if (limits_.classify) f *= limits_.kept_share(counts) * caustic_weight;  // below 1 with mixed reflections
   Color f_catcher = copy && y.split >= 0 && light.shadow_catcher ? f : Color(0.0f);
   f *= layers_past_split;
   if (!image) f = Color(0.0f);

@@ -7,6 +7,7 @@
 #include "bsdfs/transparency.h"
 #include "core/ray_offset.h"
 #include "core/sampling.h"
+#include "integrators/caustics_switches.h"
 #include "integrators/filter_glossy.h"
 #include "integrators/visibility_clear.h"
 #include "media/emission_gather.h"
@@ -159,11 +160,12 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
   };
   // Cycles' Light Paths (light_path_limits.h): the bounces of each kind so far; once one
   // is over its limit the path still collects emission at its next vertex, then ends
-  // (stop_after). last_kind: the last scattering's kind, for the caustics switches.
-  // kept: the share of the path the limits keep with every scattering so far counted
-  // (what next-event estimation from the current vertex carries); kept_found: without the
-  // last one (what emission found by the segment leaving it carries). Below 1 only where
-  // mixed reflections (a Principled BSDF) were diffuse or glossy by Cycles' odds.
+  // (stop_after). kept: the share of the path the limits keep with every scattering so
+  // far counted (what next-event estimation from the current vertex carries); kept_found:
+  // without the last one (what emission found by the segment leaving it carries). Below 1
+  // only where mixed reflections (a Principled BSDF) were diffuse or glossy by Cycles' odds.
+  // caustic: the caustics switches' chain (caustics_switches.h) past the last scattering;
+  // caustic_found: the weight it gives emission found by the segment leaving it.
   BounceCounts counts;
   float kept = 1, kept_found = 1;
   FilterGlossy filter(limits_.filter_glossy);  // Filter Glossy (filter_glossy.h)
@@ -174,13 +176,18 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
   int transparent_passes = 0;
   auto shadow_layers = [&]() { return limits_.layers_left(transparent_passes, kShadowLayers); };
   bool stop_after = false;
-  ScatterKind last_kind = ScatterKind::Transparent;
-  auto count_bounce = [&](ScatterKind kind, float glossy_odds = -1) {
+  CausticState caustic;
+  Color caustic_found(1.0f);
+  auto count_bounce = [&](ScatterKind kind, float glossy_odds, const CausticStep &step) {
     counts.add(kind, glossy_odds);
     kept_found = kept;
     kept = limits_.kept_share(counts);
     if (!(kept > 0)) stop_after = true;
-    last_kind = kind;
+    if (limits_.caustics) {
+      caustic_found = caustic.at_last(step.kept);
+      caustic = caustic.after(step);
+      if (caustic.none()) stop_after = true;
+    }
   };
   // Light passes (film/light_passes.h), when the film keeps them: each contribution's
   // share by the first scattering vertex, split as first_split (at depth 0 set for the
@@ -201,7 +208,8 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
   // takes it too while its features are active (film/denoising_passes.h).
   DenoisingSample *const denoising = first_hit ? &first_hit->data.denoising : nullptr;
   auto add_found = [&](const Color &c, int vertices, bool background = false) {
-    const Color v = add_to_passes(c * kept_found, vertices, background);
+    const Color kept_c = limits_.caustics ? caustic_found * kept_found : Color(kept_found);
+    const Color v = add_to_passes(c * kept_c, vertices, background);
     if (denoising && denoising->active) denoising->add_emission(v);
     return v;
   };
@@ -283,8 +291,11 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           auto same_medium = [&](Vec3) { return stack; };
           if (passes && depth == 0) first_split = KindSplit::only(3);  // a volume scattering
           auto scatter_kind = [](Vec3) { return visibility::after(ScatterKind::Volume); };
-          add(beta * sample_direct_light<true, kCatcher>(scene_, uint32_t(depth) + 1, p, Vec3(0.0f), Vec3(0.0f), phase,
-                                               same_medium, scatter_kind, sampler, stats, catcher_only, shadow_layers()),
+          const Color caustic_weight = limits_.caustics ? caustic.at_last(Color(1.0f)) : Color(1.0f);
+          add(beta * caustic_weight *
+                  sample_direct_light<true, kCatcher>(scene_, uint32_t(depth) + 1, p, Vec3(0.0f), Vec3(0.0f), phase,
+                                                      same_medium, scatter_kind, sampler, stats, catcher_only,
+                                                      shadow_layers()),
               depth + 1);
           start_scatter(dims::kScatterDirection);
           Vec3 wi = medium.phase.sample(wo, sampler.get_2d());
@@ -294,7 +305,8 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
           filter.scattered(prev_pdf);
           prev_p = p;
           prev_ng = prev_error = Vec3(0.0f);
-          if (limits_.classify) count_bounce(ScatterKind::Volume);
+          if (limits_.classify)
+            count_bounce(ScatterKind::Volume, -1, caustic_step(limits_, ScatterKind::Volume, -1, Color(1.0f)));
           new_ray(Ray{p, wi, kInf, classify_rays ? visibility::after(ScatterKind::Volume) : visibility::kAnyRay});
           cone = cone.after(ms.t).scattered(kRoughConeSpread);
           if (!russian_roulette(depth) || is_black(beta)) break;
@@ -415,17 +427,16 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
     if (!bsdf.has_lobes() || (last && !scene_.is_plain_layer(hit))) break;
 
     if (!last && !bsdf.is_delta()) {
-      // With a caustics switch off, a glossy reflection or refraction right after a
-      // diffuse bounce scatters nothing.
-      const bool caustic_filter = limits_.classify && (!limits_.caustic_allowed(last_kind, ScatterKind::Glossy) ||
-                                                       !limits_.caustic_allowed(last_kind, ScatterKind::Transmission));
+      // With a caustics switch off, after a diffuse bounce only the share of f the switches
+      // keep scatters (caustics_switches.h).
+      const bool caustic_filter = limits_.caustics && !is_black(caustic.diffuse);
       auto surface = [&](Vec3 wi, float *pdf) {
-        if (caustic_filter && !limits_.caustic_allowed(last_kind, bsdf.scatter_kind(wo, wi))) {
-          *pdf = 0;
-          return Color(0.0f);
-        }
         if (passes && depth == 0) first_split = bsdf.kind_split(wo, wi, false);
-        return bsdf.eval_and_pdf(wo, wi, TransportMode::Radiance, *pdf);
+        const Color f = bsdf.eval_and_pdf(wo, wi, TransportMode::Radiance, *pdf);
+        if (!limits_.caustics) return f;
+        if (!caustic_filter) return f * caustic.other;
+        const ScatterKind kind = bsdf.scatter_kind(wo, wi);
+        return f * caustic.at_last(caustic_step(limits_, bsdf, wo, wi, false, kind, -1).kept);
       };
       auto scatter_kind = [&](Vec3 wi) { return visibility::after(bsdf.scatter_kind(wo, wi)); };
       if constexpr (kMedia) {
@@ -478,8 +489,10 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       ScatterKind kind = bsdf.scatter_kind(wo, bs.wi);
       if (classify_rays) next_mask = visibility::after(kind);
       if (limits_.classify) {
-        if (!limits_.caustic_allowed(last_kind, kind)) break;
-        count_bounce(kind, bs.glossy_odds);
+        count_bounce(kind, bs.glossy_odds,
+                     limits_.caustics ? caustic_step(limits_, bsdf, wo, bs.wi, bs.is_delta, kind, bs.glossy_odds)
+                                      : CausticStep{});
+        if (limits_.caustics && is_black(caustic_found) && caustic.none()) break;
       }
     }
     specular_bounce = bs.is_delta;
