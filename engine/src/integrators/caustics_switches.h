@@ -92,10 +92,12 @@ inline bool caustic_share_needed(const LightPathLimits &limits, ScatterKind kind
 }
 
 // The step of a surface vertex scattering from camera_side to light_side (delta: by a delta
-// lobe), of kind `kind` with glossy odds `glossy_odds`.
+// lobe), of kind `kind` with glossy odds `glossy_odds`. after_diffuse: whether a path may
+// reach it after a diffuse bounce (a camera side's state with a diffuse weight; unknown on a
+// light subpath); where not, its kept share weighs nothing and is not computed.
 inline CausticStep caustic_step(const LightPathLimits &limits, const Bsdf &bsdf, Vec3 camera_side, Vec3 light_side,
-                                bool delta, ScatterKind kind, float glossy_odds) {
-  const Color kept = caustic_share_needed(limits, kind)
+                                bool delta, ScatterKind kind, float glossy_odds, bool after_diffuse = true) {
+  const Color kept = after_diffuse && caustic_share_needed(limits, kind)
                          ? bsdf.caustic_share(camera_side, light_side, delta, limits.caustics_reflective,
                                               limits.caustics_refractive)
                          : Color(1.0f);

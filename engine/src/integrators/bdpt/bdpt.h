@@ -240,7 +240,7 @@ class Bdpt final : public TileIntegrator {
   ScatterKind kind_toward(const PathVertex &v, Vec3 wi) const;
   float glossy_odds_toward(const PathVertex &v, Vec3 w, bool camera, bool delta, bool defensive) const;
   CausticStep caustic_step_toward(const PathVertex &v, Vec3 w, bool camera, bool delta, ScatterKind kind,
-                                  float glossy_odds) const;
+                                  float glossy_odds, bool after_diffuse = true) const;
   bool record_kind(PathVertex *path, int n, Vec3 wi, bool camera, bool delta) const;
   // The straight passes of the path of strategy (s, t) on its two subpaths (Transparent
   // max bounces; a connection adds those it passes) and its scattering vertices (the clamps).

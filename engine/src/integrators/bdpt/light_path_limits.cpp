@@ -20,11 +20,11 @@ float Bdpt::glossy_odds_toward(const PathVertex &v, Vec3 w, bool camera, bool de
 }
 
 CausticStep Bdpt::caustic_step_toward(const PathVertex &v, Vec3 w, bool camera, bool delta, ScatterKind kind,
-                                      float glossy_odds) const {
+                                      float glossy_odds, bool after_diffuse) const {
   if (v.type != VertexType::Surface) return caustic_step(settings_.limits, kind, -1, Color(1.0f));
   // The pair's camera-side direction first: a camera vertex's wo, a light vertex's w.
-  return camera ? caustic_step(settings_.limits, v.bsdf, v.wo, w, delta, kind, glossy_odds)
-                : caustic_step(settings_.limits, v.bsdf, w, v.wo, delta, kind, glossy_odds);
+  return camera ? caustic_step(settings_.limits, v.bsdf, v.wo, w, delta, kind, glossy_odds, after_diffuse)
+                : caustic_step(settings_.limits, v.bsdf, w, v.wo, delta, kind, glossy_odds, after_diffuse);
 }
 
 bool Bdpt::record_kind(PathVertex *path, int n, Vec3 wi, bool camera, bool delta) const {
@@ -38,11 +38,13 @@ bool Bdpt::record_kind(PathVertex *path, int n, Vec3 wi, bool camera, bool delta
   const float glossy = labelled ? glossy_odds_toward(v, wi, camera, delta, camera && n == 1 && v.passes == 0) : -1.0f;
   if (labelled) v.counts.add(v.kind, glossy);
   if (limits.caustics) {
-    const CausticStep step = caustic_step_toward(v, wi, camera, delta, v.kind, glossy);
     if (camera) {
+      const CausticState before = n >= 2 ? path[n - 1].caustics : CausticState{};
+      const CausticStep step = caustic_step_toward(v, wi, true, delta, v.kind, glossy, !is_black(before.diffuse));
       v.caustic_kept = step.kept;
-      v.caustics = (n >= 2 ? path[n - 1].caustics : CausticState{}).after(step);
+      v.caustics = before.after(step);
     } else {
+      const CausticStep step = caustic_step_toward(v, wi, false, delta, v.kind, glossy);
       v.caustics = n >= 2 ? path[n - 1].caustics.before(step) : CausticState::last(step.kept);
     }
     if (v.caustics.none()) return false;
@@ -92,13 +94,14 @@ Color Bdpt::limits_share(const PathVertex *light_path, const PathVertex *camera_
     if (s == 1) {  // c(t-1) meets the light: the last
       const Color share(limits.kept_share(counts));
       if (!limits.caustics) return share;
-      return share * state.at_last(caustic_step_toward(c, to_light, true, false, kc, -1).kept);
+      return share * state.at_last(caustic_step_toward(c, to_light, true, false, kc, -1, !is_black(state.diffuse)).kept);
     }
     const bool counted = odds_matter();
     const bool defensive = m == 1 && c.passes == 0;
     const float glossy = counted || limits.caustics ? glossy_odds_toward(c, to_light, true, false, defensive) : -1.0f;
     counts.add(kc, counted ? glossy : -1.0f);
-    if (limits.caustics) state = state.after(caustic_step_toward(c, to_light, true, false, kc, glossy));
+    if (limits.caustics)
+      state = state.after(caustic_step_toward(c, to_light, true, false, kc, glossy, !is_black(state.diffuse)));
   }
   // With t = 1 the light vertex is the camera's first scattering (defensive sampling).
   const PathVertex &l = light_path[s - 1];
@@ -107,7 +110,7 @@ Color Bdpt::limits_share(const PathVertex *light_path, const PathVertex *camera_
   const float glossy = labelled ? glossy_odds_toward(l, -to_light, false, false, t == 1) : -1.0f;
   if (s - 1 >= 2) counts.add(kl, counted ? glossy : -1.0f);
   if (limits.caustics) {
-    const CausticStep step = caustic_step_toward(l, -to_light, false, false, kl, glossy);
+    const CausticStep step = caustic_step_toward(l, -to_light, false, false, kl, glossy, !is_black(state.diffuse));
     rest = s - 1 >= 2 ? light_path[s - 2].caustics.before(step) : CausticState::last(step.kept);
   }
   if (s - 2 >= 1) counts = counts + light_path[s - 2].counts;

@@ -1094,7 +1094,8 @@ void PathSpace::evaluate(ExplicitPath &y, RayStats &stats) const {
                                  : -1.0f;
         if (limits_.caustics) {
           const CausticStep step = a.v.type == VertexType::Surface
-                                       ? caustic_step(limits_, a.v.bsdf, a.v.wo, w, a.v.delta, kind, glossy)
+                                       ? caustic_step(limits_, a.v.bsdf, a.v.wo, w, a.v.delta, kind, glossy,
+                                                      !is_black(caustic.diffuse))
                                        : caustic_step(limits_, kind, -1, Color(1.0f));
           if (last_scattering) {
             caustic_weight = caustic.at_last(step.kept);

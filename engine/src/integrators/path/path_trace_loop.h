@@ -490,7 +490,8 @@ Color PathTracer::trace(const CameraRay &camera_ray, Sampler &sampler, RayStats 
       if (classify_rays) next_mask = visibility::after(kind);
       if (limits_.classify) {
         count_bounce(kind, bs.glossy_odds,
-                     limits_.caustics ? caustic_step(limits_, bsdf, wo, bs.wi, bs.is_delta, kind, bs.glossy_odds)
+                     limits_.caustics ? caustic_step(limits_, bsdf, wo, bs.wi, bs.is_delta, kind, bs.glossy_odds,
+                                                     !is_black(caustic.diffuse))
                                       : CausticStep{});
         if (limits_.caustics && is_black(caustic_found) && caustic.none()) break;
       }
