@@ -448,23 +448,47 @@ TEST(TextureGraphs, MeshAttributesThroughTheCAbi) {
   rdv_scene_destroy(scene);
 }
 
+namespace {
+
+// A w x w one-texel checker of 8-bit grey 0 / 255, written as a PNG.
+std::string write_checker(const std::string &name, int w) {
+  std::vector<uint8_t> px(size_t(w) * w);
+  for (int y = 0; y < w; ++y)
+    for (int x = 0; x < w; ++x) px[size_t(y) * w + x] = (x + y) % 2 ? 255 : 0;
+  std::string path = temp_path(name);
+  auto out = OIIO::ImageOutput::create(path);
+  EXPECT_TRUE(out && out->open(path, OIIO::ImageSpec(w, w, 1, OIIO::TypeDesc::UINT8)));
+  EXPECT_TRUE(out && out->write_image(OIIO::TypeDesc::UINT8, px.data()));
+  if (out) out->close();
+  return path;
+}
+
+// The mean of unfiltered lookups of image `id` (w texels wide) over one period of the checker
+// (2 x 2 texels), 64 x 64 points.
+double unfiltered_mean(int id, int w) {
+  const Vec2 none(0.0f, 0.0f);
+  double mean = 0;
+  for (int j = 0; j < 64; ++j)
+    for (int i = 0; i < 64; ++i)
+      mean += ImageTextures::instance().lookup(id, (10 + (i + 0.5) / 32.0) / w, (20 + (j + 0.5) / 32.0) / w,
+                                               TexInterp::Linear, TexExtension::Repeat, nullptr, none, none).x /
+              (64.0 * 64.0);
+  return mean;
+}
+
+}  // namespace
+
 // Filtered lookups: a footprint of many texels on a one-texel checker (sRGB 0 / 255,
 // i.e. linear 0 / 1) gives the mean of what unfiltered lookups see, the values
 // interpolated in sRGB and then converted as Cycles converts them (0.5 would be the
 // texels' own mean, 0.21 the encoded values' mean converted): a camera path's ray cone and
 // a light path's unfiltered lookup see one texture. No footprint keeps the texels;
-// Closest is never filtered. The OIIO path (Cubic, Non-Color) MIP-maps too.
+// Closest is never filtered. Cubic (its finest level through OIIO) uses the same levels: it
+// averaged the sRGB values through OIIO's levels before (0.214).
 // Deterministic.
 TEST(TextureImages, FootprintLookupsReturnTheMipAverage) {
   const int w = 64;
-  std::vector<uint8_t> px(size_t(w) * w);
-  for (int y = 0; y < w; ++y)
-    for (int x = 0; x < w; ++x) px[size_t(y) * w + x] = (x + y) % 2 ? 255 : 0;
-  std::string path = temp_path("checker1.png");
-  auto out = OIIO::ImageOutput::create(path);
-  ASSERT_TRUE(out && out->open(path, OIIO::ImageSpec(w, w, 1, OIIO::TypeDesc::UINT8)));
-  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px.data()));
-  out->close();
+  const std::string path = write_checker("checker1.png", w);
   std::string problem;
   int srgb = ImageTextures::instance().load(path, "sRGB", problem);
   int data = ImageTextures::instance().load(path, "Non-Color", problem);
@@ -472,12 +496,7 @@ TEST(TextureImages, FootprintLookupsReturnTheMipAverage) {
   ASSERT_GE(data, 0) << problem;
   auto &ts = ImageTextures::instance();
   const Vec2 none(0.0f, 0.0f);
-  // The unfiltered mean: 64 x 64 points over one period (2 x 2 texels).
-  double unfiltered = 0;
-  for (int j = 0; j < 64; ++j)
-    for (int i = 0; i < 64; ++i)
-      unfiltered += ts.lookup(srgb, (10 + (i + 0.5) / 32.0) / w, (20 + (j + 0.5) / 32.0) / w, TexInterp::Linear,
-                              TexExtension::Repeat, nullptr, none, none).x / (64.0 * 64.0);
+  const double unfiltered = unfiltered_mean(srgb, w);
   EXPECT_NEAR(unfiltered, 0.246, 0.002);
   for (float footprint : {4.0f, 8.0f, 16.0f, 64.0f}) {  // in texels
     Vec2 dx(footprint / w, 0.0f), dy(0.0f, footprint / w);
@@ -488,8 +507,11 @@ TEST(TextureImages, FootprintLookupsReturnTheMipAverage) {
       // Grazing: a long and a short axis.
       EXPECT_NEAR(ts.lookup(srgb, u, 0.6f, TexInterp::Linear, TexExtension::Repeat, nullptr, dx, dy * 0.1f).x,
                   unfiltered, 0.002f);
-      EXPECT_NEAR(ts.lookup(data, u, 0.31f, TexInterp::Cubic, TexExtension::Repeat, nullptr, dx, dy).x, 0.5f, 0.03f)
-          << "OIIO's MIP filtering, " << footprint << " texels";
+      EXPECT_NEAR(ts.lookup(data, u, 0.31f, TexInterp::Cubic, TexExtension::Repeat, nullptr, dx, dy).x, 0.5f, 0.002f)
+          << "Non-Color, cubic, " << footprint << " texels";
+      EXPECT_NEAR(ts.lookup(srgb, u, 0.31f, TexInterp::Cubic, TexExtension::Repeat, nullptr, dx, dy).x, unfiltered,
+                  0.002f)
+          << "sRGB, cubic, " << footprint << " texels";
     }
   }
   for (int x = 0; x < 4; ++x) {
@@ -498,6 +520,31 @@ TEST(TextureImages, FootprintLookupsReturnTheMipAverage) {
     EXPECT_NEAR(ts.lookup(srgb, u, v, TexInterp::Linear, TexExtension::Repeat, nullptr, none, none).x, texel, 1e-5f);
     Vec2 big(0.5f, 0.0f);
     EXPECT_NEAR(ts.lookup(srgb, u, v, TexInterp::Closest, TexExtension::Repeat, nullptr, big, big).x, texel, 1e-5f);
+  }
+}
+
+// The same one-texel checker too large to stay resident (2112 x 2112 texels, read through
+// OpenImageIO's tile cache): its footprint lookups come from its own coarse levels (the first
+// of at most 1024 x 1024 texels, here 528 x 528, and a blend toward the finest below it), so
+// they return the mean of unfiltered lookups, 0.2463, where OIIO's levels average the sRGB
+// values (0.5, converted 0.214). Deterministic.
+TEST(TextureImages, CachedImagesFootprintLookupsReturnTheMipAverage) {
+  const int w = 2112;
+  const std::string path = write_checker("checker_cached.png", w);
+  auto &ts = ImageTextures::instance();
+  const size_t resident = ts.resident_bytes();
+  std::string problem;
+  const int srgb = ts.load(path, "sRGB", problem);
+  ASSERT_GE(srgb, 0) << problem;
+  EXPECT_EQ(ts.resident_bytes(), resident) << "the image should be read through the cache";
+  const double unfiltered = unfiltered_mean(srgb, w);
+  EXPECT_NEAR(unfiltered, 0.246, 0.002);
+  for (float footprint : {4.0f, 6.0f, 16.0f, 300.0f, 5000.0f}) {  // in texels
+    const Vec2 dx(footprint / w, 0.0f), dy(0.0f, footprint / w);
+    for (TexInterp interp : {TexInterp::Linear, TexInterp::Cubic})
+      for (float u : {0.13f, 0.5f, 0.77f})
+        EXPECT_NEAR(ts.lookup(srgb, u, 0.31f, interp, TexExtension::Repeat, nullptr, dx, dy).x, unfiltered, 0.002f)
+            << footprint << " texels at u " << u << (interp == TexInterp::Cubic ? " (cubic)" : "");
   }
 }
 

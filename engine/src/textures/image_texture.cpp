@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/limits.h"
 #include "film/image_output.h"
+#include "textures/image_mips.h"
 
 namespace rdv {
 
@@ -104,13 +105,13 @@ struct ImageTextures::Impl {
     int w = 0, h = 0;
     std::vector<uint8_t> bytes;  // 8-bit files
     std::vector<float> floats;   // everything else
-    // MIP levels 1, 2, ... of a resident image: 2 x 2 box-filtered, scene-linear floats
-    // (the colour-space conversion is not linear, so averages are taken after it: build_mips).
-    struct Level {
-      int w = 0, h = 0;
-      std::vector<float> texels;
-    };
-    std::vector<Level> mips;
+    // MIP levels first_mip, first_mip + 1, ... in scene-linear floats (image_mips.h): a
+    // resident image's from level 1, a cached one's from the first of at most
+    // kCoarseTexels texels where its colour space is not linear (OpenImageIO's own levels
+    // average the file's values, which a nonlinear conversion makes darker than the mean of
+    // unfiltered lookups); empty: OpenImageIO's levels.
+    std::vector<MipLevel> mips;
+    int first_mip = 1;
     // The colour-space conversion as a per-channel table over [0, 1] when it is one
     // (sRGB, most of Blender's spaces), else null (OCIO per lookup).
     std::vector<float> lut;
@@ -119,6 +120,10 @@ struct ImageTextures::Impl {
   };
   static constexpr size_t kResidentTexels = size_t(1) << 22;      // up to 2048 x 2048
   static constexpr size_t kResidentBudget = size_t(128) << 20;    // bytes over all images
+  // Cached images' own coarse levels (build_coarse_mips): the finest kept has at most
+  // kCoarseTexels texels (RGB: 12 MB, 16 MB with the rest), for files up to kCoarseSourceTexels.
+  static constexpr size_t kCoarseTexels = size_t(1) << 20;        // 1024 x 1024
+  static constexpr size_t kCoarseSourceTexels = size_t(1) << 26;  // 8192 x 8192
   static constexpr int kLutSize = 4096;
   size_t resident_bytes = 0;
   TextureSystem *ts = nullptr;
@@ -242,114 +247,37 @@ static Color finish(const Image &img, const float r[4], float *alpha, bool linea
   return linear ? c : to_linear(img, c);
 }
 
-// Level 0 averaged over each texel's square as a lookup without a footprint sees it. Where
-// the file's colour space is not linear (8-bit sRGB, most of Blender's spaces), such a lookup
-// interpolates the file's values and converts the result, as Cycles does, so where neighbours
-// differ the mean over a texel's square is not the texel's converted value (over a one-texel
-// checker of sRGB 0 and 255 the mean is 0.246, not the texels' 0.5). Each square is
-// integrated by 2 x 2 Gauss points in each of its four quarters (the interpolant is smooth
-// within each); texels whose neighbours are all within 2/255 of them keep their converted
-// value (a checker of +-1/255: the mean 2e-3 off at sRGB 0.05, 7e-5 at 0.5).
-class InterpolatedTexelMeans {
- public:
-  explicit InterpolatedTexelMeans(const Image &img)
-      : img_(img), nonlinear_(img.builtin_srgb || img.processor || !img.lut.empty()) {}
+// Whether the conversion to scene-linear is not linear: MIP levels are then built here
+// (image_mips.h), so that a filtered lookup sees the mean of unfiltered ones.
+static bool nonlinear(const Image &img) { return img.builtin_srgb || img.processor || !img.lut.empty(); }
 
-  // Scene-linear colour channels and the alpha, as build_mips stores them.
-  void operator()(int x, int y, float out[4]) const {
-    const int nc = img_.channels;
-    float nb[3][3][4];  // the texel and its neighbours, nb[1 + dy][1 + dx]
-    bool flat = true;
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx)
-        if (nonlinear_ || (dx == 0 && dy == 0)) texel(x + dx, y + dy, nb[1 + dy][1 + dx]);
-    const float *centre = nb[1][1];
-    if (nonlinear_)
-      for (int i = 0; i < 9 && flat; ++i)
-        for (int c = 0; c < std::min(nc, 3); ++c) flat = flat && std::fabs(nb[i / 3][i % 3][c] - centre[c]) <= 2.0f / 255.0f;
-    Color mean;
-    if (flat) {
-      mean = to_scene_linear(centre);
-    } else {
-      // Gauss-Legendre points along one axis, two in each half of the square: the offset of
-      // the neighbour bilinear interpolation blends in there and its weight in the blend (a
-      // one-texel checker's mean within 1e-4 of its exact 0.24627).
-      constexpr float g = 0.14433757f;  // 0.25 / sqrt(3)
-      constexpr int kD[4] = {-1, -1, 1, 1};
-      constexpr float kA[4] = {0.25f + g, 0.25f - g, 0.25f - g, 0.25f + g};
-      for (int ky = 0; ky < 4; ++ky)
-        for (int kx = 0; kx < 4; ++kx) {
-          const float *v10 = nb[1][1 + kD[kx]], *v01 = nb[1 + kD[ky]][1], *v11 = nb[1 + kD[ky]][1 + kD[kx]];
-          const float ax = kA[kx], ay = kA[ky];
-          float r[4];
-          for (int c = 0; c < 4; ++c)
-            r[c] = (1 - ax) * (1 - ay) * centre[c] + ax * (1 - ay) * v10[c] + (1 - ax) * ay * v01[c] + ax * ay * v11[c];
-          mean += to_scene_linear(r) * (1.0f / 16.0f);
-        }
-    }
-    out[0] = mean.x;
-    if (nc == 2) out[1] = centre[1];
-    if (nc >= 3) { out[1] = mean.y; out[2] = mean.z; }
-    if (nc == 4) out[3] = centre[3];
-  }
-
- private:
-  // The file's values of texel (x, y), borders as Repeat (Blender's default; the levels
-  // serve every extension alike).
-  void texel(int x, int y, float r[4]) const {
-    x = x < 0 ? x + img_.w : (x >= img_.w ? x - img_.w : x);
-    y = y < 0 ? y + img_.h : (y >= img_.h ? y - img_.h : y);
-    const size_t o = (size_t(y) * img_.w + x) * img_.channels;
-    r[0] = r[1] = r[2] = 0;
-    r[3] = 1;
-    for (int c = 0; c < img_.channels; ++c)
-      r[c] = img_.bytes.empty() ? img_.floats[o + c] : img_.bytes[o + c] * (1.0f / 255.0f);
-  }
-
+static MipSource mip_source(const Image &img) {
+  MipSource s;
+  s.w = img.w;
+  s.h = img.h;
+  s.channels = img.channels;
+  s.nonlinear = nonlinear(img);
   // Through the lookups' own conversion (a table for most spaces), so the means are of
   // exactly what they return.
-  Color to_scene_linear(const float r[4]) const { return finish(img_, r, nullptr, false); }
+  s.to_scene_linear = [&img](const float r[4]) { return finish(img, r, nullptr, false); };
+  return s;
+}
 
-  const Image &img_;
-  const bool nonlinear_;
-};
-
-// Levels 1, 2, ... of a resident image: 2 x 2 box-filtered down to 1 x 1 (odd sizes: the last
-// row / column joins the one before), level 1 from InterpolatedTexelMeans, so a filtered
-// lookup (a camera path's ray cone) sees the mean of what an unfiltered one (light paths,
-// mlt) sees: one texture for every strategy. Cost: 0.55 s more for a 2048 x 2048 sRGB image
-// of noise on 2 cores than with the texels' converted values.
+// Levels 1, 2, ... of a resident image (image_mips.h): a filtered lookup (a camera path's ray
+// cone) sees the mean of what an unfiltered one (light paths, mlt) sees. Cost: 0.55 s more for
+// a 2048 x 2048 sRGB image of noise on 2 cores than with the texels' converted values.
 static void build_mips(Image &img) {
-  const int nc = img.channels;
-  const InterpolatedTexelMeans level0(img);
-  int w = img.w, h = img.h;
-  const Image::Level *prev = nullptr;
-  while (w > 1 || h > 1) {
-    Image::Level l;
-    l.w = std::max(w / 2, 1);
-    l.h = std::max(h / 2, 1);
-    l.texels.assign(size_t(l.w) * l.h * nc, 0.0f);
-    // Rows in parallel: level 1's quadrature takes ~0.3 us per texel where neighbours differ.
-    tbb::parallel_for(0, l.h, [&](int y) {
-      for (int x = 0; x < l.w; ++x) {
-        float *dst = &l.texels[(size_t(y) * l.w + x) * nc];
-        int x1 = x == l.w - 1 ? w - 1 : 2 * x + 1, y1 = y == l.h - 1 ? h - 1 : 2 * y + 1;
-        int count = 0;
-        for (int yy = 2 * y; yy <= y1; ++yy)
-          for (int xx = 2 * x; xx <= x1; ++xx, ++count) {
-            float t[4];
-            if (prev) std::copy_n(&prev->texels[(size_t(yy) * w + xx) * nc], nc, t);
-            else level0(xx, yy, t);
-            for (int c = 0; c < nc; ++c) dst[c] += t[c];
-          }
-        for (int c = 0; c < nc; ++c) dst[c] /= float(count);
-      }
-    });
-    img.mips.push_back(std::move(l));
-    prev = &img.mips.back();
-    w = prev->w;
-    h = prev->h;
-  }
+  MipSource s = mip_source(img);
+  const size_t row = size_t(img.w) * size_t(img.channels);
+  s.read = [&img, row](int y0, int y1, float *dst) {
+    const size_t n = size_t(y1 - y0) * row, o = size_t(y0) * row;
+    if (img.bytes.empty()) std::copy_n(&img.floats[o], n, dst);
+    else
+      for (size_t i = 0; i < n; ++i) dst[i] = img.bytes[o + i] * (1.0f / 255.0f);
+    return true;
+  };
+  build_mip_levels(s, 1, img.mips);
+  img.first_mip = 1;
 }
 
 // An image read whole (untiled files: OpenImageIO's automip builds the MIP levels in memory;
@@ -398,6 +326,38 @@ static void make_resident(ImageTextures::Impl &impl, Image &img, const OIIO::Ima
   impl.resident_bytes += bytes;
 }
 
+// A cached image in a nonlinear colour space: its own levels from the first of at most
+// kCoarseTexels texels down (the finer ones: OpenImageIO's finest level and a blend toward the
+// first, between_levels), its rows read once through the cache at load. A far view of a
+// 4096 x 4096 sRGB PNG of noise rendered in 3.3 s where OIIO's own levels took 4.7 s (its
+// automip of an untiled file). Files larger than kCoarseSourceTexels keep OIIO's levels.
+static void build_coarse_mips(ImageTextures::Impl &impl, Image &img, const OIIO::ImageSpec &spec) {
+  using Impl = ImageTextures::Impl;
+  if (!nonlinear(img) || spec.depth > 1 || size_t(spec.width) * size_t(spec.height) > Impl::kCoarseSourceTexels) return;
+  int first = 1;
+  for (int w = spec.width, h = spec.height; size_t(std::max(w / 2, 1)) * size_t(std::max(h / 2, 1)) > Impl::kCoarseTexels;
+       ++first) {
+    w = std::max(w / 2, 1);
+    h = std::max(h / 2, 1);
+  }
+  img.w = spec.width;
+  img.h = spec.height;
+  MipSource s = mip_source(img);
+  OIIO::ImageCache *cache = impl.ts->imagecache();
+  const ustring file(img.path);
+  s.read = [&](int y0, int y1, float *dst) {
+    return cache->get_pixels(file, 0, 0, spec.x, spec.x + spec.width, spec.y + y0, spec.y + y1, 0, 1, 0, img.channels,
+                             OIIO::TypeDesc::FLOAT, dst);
+  };
+  std::vector<MipLevel> levels;
+  if (!build_mip_levels(s, first, levels)) {
+    (void)cache->geterror();
+    return;  // OpenImageIO's levels, as before
+  }
+  img.mips = std::move(levels);
+  img.first_mip = first;
+}
+
 size_t ImageTextures::resident_bytes() const { return impl_->resident_bytes; }
 
 int ImageTextures::load(const std::string &path, const std::string &colorspace, std::string &problem) {
@@ -433,6 +393,7 @@ int ImageTextures::load(const std::string &path, const std::string &colorspace, 
   img.builtin_srgb = cs == "sRGB" && !proc && !color_spaces().config;
   if (img.processor) make_lut(img);
   make_resident(*impl_, img, spec);
+  if (!img.resident) build_coarse_mips(*impl_, img, spec);
   impl_->images.push_back(img);
   int id = int(impl_->images.size() - 1);
   impl_->by_key[key] = id;
@@ -628,12 +589,13 @@ void filter_texels(int nc, const T *texels, float scale, int w, int h, float u, 
   }
 }
 
-// Level l of a resident image (0: the file's texels), filtered, in scene-linear colour.
+// Level l of a resident image (0: the file's texels) or a coarse level of a cached one
+// (l >= first_mip), filtered, in scene-linear colour.
 Color lookup_level(const Image &img, int l, float u, float v, bool closest, TexExtension ext, float *alpha) {
   const int nc = img.channels;
   float r[4] = {0, 0, 0, 0};
   if (l > 0) {
-    const Image::Level &level = img.mips[size_t(l - 1)];
+    const MipLevel &level = img.mips[size_t(l - img.first_mip)];
     filter_texels(nc, level.texels.data(), 1.0f, level.w, level.h, u, v, closest, ext, r);
     return finish(img, r, alpha, true);
   }
@@ -687,6 +649,30 @@ Color bicubic_level0(const Image &img, float u, float v, TexExtension ext, float
   }
 }
 
+// The MIP level of a footprint whose longer axis is sqrt(w2) texels wide (> 1): log2 of that,
+// at most the coarsest level's.
+float mip_level(const Image &img, float w2) {
+  return std::min(0.5f * std::log2(w2), float(img.first_mip + int(img.mips.size()) - 1));
+}
+
+// Trilinear between the MIP levels around `level` (> 0); level 0 from finest(&alpha), which
+// interpolates as asked. Where levels 1 .. first_mip - 1 are not kept (cached images), a
+// blend of level 0 and first_mip by the level.
+template <class Finest>
+Color between_levels(const Image &img, float level, float u, float v, TexExtension ext, float *alpha, Finest finest) {
+  const int l0 = level < float(img.first_mip) ? 0 : int(level);
+  const int l1 = l0 == 0 ? img.first_mip : l0 + 1;
+  const float t = l0 == 0 ? level / float(img.first_mip) : level - float(l0);
+  Color c = l0 == 0 ? finest(alpha) : lookup_level(img, l0, u, v, false, ext, alpha);
+  if (t > 0 && l1 < img.first_mip + int(img.mips.size())) {
+    float a1;
+    Color c1 = lookup_level(img, l1, u, v, false, ext, &a1);
+    c = c * (1 - t) + c1 * t;
+    *alpha = *alpha * (1 - t) + a1 * t;
+  }
+  return c;
+}
+
 // Trilinear MIP filtering over the footprint's longer axis (wider than a texel), else
 // level 0 with the requested interpolation.
 Color lookup_resident(const Image &img, float u, float v, TexInterp interp, TexExtension ext, float *alpha, Vec2 dx,
@@ -700,18 +686,10 @@ Color lookup_resident(const Image &img, float u, float v, TexInterp interp, TexE
   } else if (closest || !(w2 > 1.0f)) {
     c = lookup_level(img, 0, u, v, closest, ext, &a);
   } else {
-    float level = std::min(0.5f * std::log2(w2), float(img.mips.size()));  // log2 of the width in texels
-    int l0 = int(level);
-    float t = level - float(l0);
     // Cubic (images without an OIIO handle) keeps its B-spline on the finest level.
-    c = interp == TexInterp::Cubic && l0 == 0 ? bicubic_level0(img, u, v, ext, &a)
-                                               : lookup_level(img, l0, u, v, false, ext, &a);
-    if (t > 0 && l0 < int(img.mips.size())) {
-      float a1;
-      Color c1 = lookup_level(img, l0 + 1, u, v, false, ext, &a1);
-      c = c * (1 - t) + c1 * t;
-      a = a * (1 - t) + a1 * t;
-    }
+    c = between_levels(img, mip_level(img, w2), u, v, ext, &a, [&](float *a0) {
+      return interp == TexInterp::Cubic ? bicubic_level0(img, u, v, ext, a0) : lookup_level(img, 0, u, v, false, ext, a0);
+    });
   }
   if (ext == TexExtension::Clip && (u < 0 || u > 1 || v < 0 || v > 1)) a = 0;
   if (alpha) *alpha = a;
@@ -737,19 +715,34 @@ Color ImageTextures::lookup(int id, float u, float v, TexInterp interp, TexExten
     case TexInterp::Cubic: opt.interpmode = TextureOpt::InterpBicubic; break;
   }
   bool footprint = interp != TexInterp::Closest && (dx.x != 0 || dx.y != 0 || dy.x != 0 || dy.y != 0);
-  // Without a footprint (or Closest): the finest level. With one: OIIO's anisotropic
-  // MIP filtering. OIIO's t runs down from the top row; Blender's v runs up.
+  // Without a footprint (or Closest): the finest level. With one: our own levels where the
+  // image has them (a nonlinear colour space: resident images with Cubic, cached ones;
+  // between_levels), else OIIO's anisotropic MIP filtering. OIIO's t runs down from the top
+  // row; Blender's v runs up.
+  float w2 = 0;  // the footprint's longer axis, squared, in texels (images with own levels)
+  if (footprint && !img.mips.empty()) {
+    w2 = std::max(sqr(dx.x * img.w) + sqr(dx.y * img.h), sqr(dy.x * img.w) + sqr(dy.y * img.h));
+    footprint = false;
+  }
   opt.mipmode = footprint ? TextureOpt::MipModeDefault : TextureOpt::MipModeNoMIP;
   if (!footprint) dx = dy = Vec2(0.0f, 0.0f);
-  float r[4] = {0, 0, 0, 1};
-  TextureSystem *ts = impl_->ts;
-  if (!ts->texture(img.handle, ts->get_perthread_info(), opt, u, 1.0f - v, dx.x, -dx.y, dy.x, -dy.y, img.channels, r)) {
-    (void)ts->geterror();
+  bool failed = false;
+  auto finest = [&](float *a) {
+    float r[4] = {0, 0, 0, 1};
+    TextureSystem *ts = impl_->ts;
+    if (!ts->texture(img.handle, ts->get_perthread_info(), opt, u, 1.0f - v, dx.x, -dx.y, dy.x, -dy.y, img.channels, r)) {
+      (void)ts->geterror();
+      failed = true;
+      return Color(1, 0, 1);
+    }
+    return finish(img, r, a, false);
+  };
+  float a = 1;
+  const Color c = w2 > 1 ? between_levels(img, mip_level(img, w2), u, v, ext, &a, finest) : finest(&a);
+  if (failed) {
     if (alpha) *alpha = 1;
     return Color(1, 0, 1);
   }
-  float a;
-  Color c = finish(img, r, &a, false);
   if (ext == TexExtension::Clip && (u < 0 || u > 1 || v < 0 || v > 1)) a = 0;
   if (alpha) *alpha = a;
   return c;
