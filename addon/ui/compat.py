@@ -1,6 +1,8 @@
 """Let Cycles' material, light, world, object and pass panels show for our engine, and
 offer the shader nodes in the node editor's Add menu (3.x hides them for other engines)."""
 
+import sys
+
 import bpy
 
 ENGINE_ID = "RENDEZVOUS"
@@ -30,31 +32,58 @@ def _all_panels():
         yield cls
 
 
+def _cycles_base():
+    """Cycles' panel base class (cycles.ui.CyclesButtonsPanel), or None without Cycles."""
+    ui = sys.modules.get("cycles.ui")
+    return getattr(ui, "CyclesButtonsPanel", None)
+
+
+def _hidden_for_us(poll):
+    """A poll that keeps a Cycles-only panel hidden under our engine, whatever it checks."""
+    @classmethod
+    def hidden(cls, context):
+        return context.engine != ENGINE_ID and poll(context)
+    return hidden
+
+
 def register():
+    base = _cycles_base()
     for panel in _all_panels():
         engines = getattr(panel, "COMPAT_ENGINES", None)
         if not isinstance(engines, set) or "CYCLES" not in engines or ENGINE_ID in engines:
             continue
-        if not _wanted(panel.__name__):
-            continue
         # Cycles' panels share one COMPAT_ENGINES set through their base class: give each
         # patched panel its own copy, and remember what it had, so unregister restores it.
-        _patched.append((panel, panel.__dict__.get("COMPAT_ENGINES")))
+        _patched.append((panel, "COMPAT_ENGINES", panel.__dict__.get("COMPAT_ENGINES")))
+        if not _wanted(panel.__name__):
+            # Cycles' own render settings stay Cycles': their set without us, and a poll that
+            # says so (some call the base's poll by name, which lets us in below).
+            panel.COMPAT_ENGINES = set(engines)
+            if base is not None and issubclass(panel, base):
+                _patched.append((panel, "poll", panel.__dict__.get("poll")))
+                panel.poll = _hidden_for_us(panel.poll)
+            continue
         panel.COMPAT_ENGINES = set(engines) | {ENGINE_ID}
+    if base is not None and ENGINE_ID not in base.COMPAT_ENGINES:
+        # Most of Cycles' panels poll through CyclesButtonsPanel.poll(context) called by name,
+        # which reads the base's own set: without us in it their material, light, world,
+        # object visibility and motion blur panels stayed hidden under our engine.
+        _patched.append((base, "COMPAT_ENGINES", base.__dict__.get("COMPAT_ENGINES")))
+        base.COMPAT_ENGINES = set(base.COMPAT_ENGINES) | {ENGINE_ID}
     _register_node_categories()
 
 
 def unregister():
     _unregister_node_categories()
     while _patched:
-        panel, original = _patched.pop()
+        panel, name, original = _patched.pop()
         if original is None:
             try:
-                del panel.COMPAT_ENGINES
+                delattr(panel, name)
             except AttributeError:
                 pass
         else:
-            panel.COMPAT_ENGINES = original
+            setattr(panel, name, original)
 
 
 # ---- node editor Add menu -------------------------------------------------------------

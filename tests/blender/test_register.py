@@ -110,6 +110,37 @@ def check_render_properties_layout():
               % (prop.identifier, prop.description))
 
 
+# Cycles' panels a Rendezvous user needs (their poll, not only their engine set: most call
+# CyclesButtonsPanel.poll(context) by name, which reads the base class's set), and Cycles'
+# own render settings, which stay hidden.
+SHOWN_PANELS = ("CYCLES_PT_context_material", "CYCLES_MATERIAL_PT_surface", "CYCLES_LIGHT_PT_light",
+                "CYCLES_WORLD_PT_surface", "CYCLES_WORLD_PT_ray_visibility", "CYCLES_OBJECT_PT_visibility",
+                "CYCLES_OBJECT_PT_visibility_ray_visibility", "CYCLES_OBJECT_PT_motion_blur", "CYCLES_CAMERA_PT_dof",
+                "CYCLES_RENDER_PT_passes_light")
+HIDDEN_PANELS = ("CYCLES_RENDER_PT_sampling", "CYCLES_RENDER_PT_light_paths", "CYCLES_RENDER_PT_motion_blur",
+                 "CYCLES_RENDER_PT_film")
+
+
+def panel_polls(engine):
+    """Each listed panel's poll with the default scene's cube, lamp, camera and world in context."""
+    scene = bpy.context.scene
+    scene.render.engine = engine
+    cube, lamp, camera = (bpy.data.objects[n] for n in ("Cube", "Light", "Camera"))
+    with bpy.context.temp_override(object=cube, active_object=cube, material=cube.active_material, world=scene.world,
+                                   light=lamp.data, camera=camera.data):
+        return {name: bool(getattr(bpy.types, name).poll(bpy.context)) for name in SHOWN_PANELS + HIDDEN_PANELS}
+
+
+def check_panel_polls():
+    polls = panel_polls("RENDEZVOUS")
+    for name in SHOWN_PANELS:
+        check(polls[name], "%s is hidden under Rendezvous" % name)
+    for name in HIDDEN_PANELS:
+        check(not polls[name], "%s (Cycles' own setting) shows under Rendezvous" % name)
+    cycles = panel_polls("CYCLES")
+    check(all(cycles.values()), "Cycles' panels under Cycles: %r" % cycles)
+
+
 def main():
     try:
         addon_utils.enable("cycles", default_set=True)
@@ -136,11 +167,18 @@ def main():
                          "CYCLES_WORLD_PT_surface"):
                 check(want in panels, "%s does not list RENDEZVOUS" % want)
             check("CYCLES_RENDER_PT_sampling" not in panels, "Cycles' sampling panel must stay Cycles'")
+            check_panel_polls()
+            bpy.context.scene.render.engine = "RENDEZVOUS"
             check_render_properties_layout()
             print("round %d ok: %d compatible panels" % (i, len(panels)))
         addon_utils.disable("rendezvous", default_set=True, handle_error=None)
         s = registered_state()
         check(all_off(s), "state after final disable: %r" % (s,))
+        base = sys.modules["cycles.ui"].CyclesButtonsPanel
+        check(base.COMPAT_ENGINES == {"CYCLES"}, "Cycles' base panel set after disable: %r" % base.COMPAT_ENGINES)
+        check(all(panel_polls("CYCLES").values()), "Cycles' panels after disable")
+        check(not any(panel_polls("BLENDER_EEVEE")[n] for n in HIDDEN_PANELS),
+              "Cycles' render panels under Eevee after disable")
         print("REGISTER TEST PASSED")
     except Exception:
         traceback.print_exc()
