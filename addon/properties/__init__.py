@@ -178,6 +178,10 @@ class RendezvousRenderSettings(bpy.types.PropertyGroup):
     caustics_refractive: BoolProperty(name="Refractive Caustics", default=True,
                                       description="Light refracted by glass onto diffuse surfaces: off removes "
                                                   "that noise, and the light (shadows of glass stay dark)")
+    blur_glossy: FloatProperty(name="Filter Glossy", default=1.0, min=0.0, soft_max=10.0,
+                               description="Roughens glossy and glass surfaces seen after unlikely bounces "
+                                           "(0 = off): less noise in caustics and glossy reflections of "
+                                           "diffuse light, which blur (biased)")
     sample_clamp_direct: FloatProperty(name="Clamp Direct", default=0.0, min=0.0,
                                        description="Cap on the brightness of light arriving after at most one "
                                                    "bounce (0 = off): fewer fireflies, darker highlights")

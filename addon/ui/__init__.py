@@ -190,9 +190,30 @@ class RENDEZVOUS_PT_light_paths_caustics(RendezvousSubpanel, bpy.types.Panel):
     def draw(self, context):
         layout = _split(self.layout)
         src = light_path_source(context.scene)
+        layout.prop(src, "blur_glossy", text="Filter Glossy")
         col = layout.column(heading="Caustics", align=True)
         col.prop(src, "caustics_reflective", text="Reflective")
         col.prop(src, "caustics_refractive", text="Refractive")
+
+
+class RENDEZVOUS_PT_motion_blur(RendezvousPanel, bpy.types.Panel):
+    """Cycles' Motion Blur panel: Blender's switch and shutter (scene.render), Cycles'
+    Position (scene.cycles while its add-on is enabled: the shutter centred on the frame
+    otherwise)."""
+    bl_label = "Motion Blur"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw_header(self, context):
+        self.layout.prop(context.scene.render, "use_motion_blur", text="")
+
+    def draw(self, context):
+        layout = _split(self.layout)
+        scene = context.scene
+        layout.active = scene.render.use_motion_blur
+        cycles = getattr(scene, "cycles", None)
+        if cycles is not None and hasattr(cycles, "motion_blur_position"):
+            layout.prop(cycles, "motion_blur_position", text="Position")
+        layout.prop(scene.render, "motion_blur_shutter")
 
 
 class RENDEZVOUS_PT_film(RendezvousPanel, bpy.types.Panel):
@@ -268,7 +289,7 @@ class RENDEZVOUS_PT_passes(RendezvousPanel, bpy.types.Panel):
 classes = (RENDEZVOUS_PT_sampling, RENDEZVOUS_PT_sampling_viewport, RENDEZVOUS_PT_sampling_render,
            RENDEZVOUS_PT_sampling_metropolis, RENDEZVOUS_PT_sampling_advanced, RENDEZVOUS_PT_sampling_farm,
            RENDEZVOUS_PT_light_paths, RENDEZVOUS_PT_light_paths_max_bounces, RENDEZVOUS_PT_light_paths_clamping,
-           RENDEZVOUS_PT_light_paths_caustics, RENDEZVOUS_PT_film,
+           RENDEZVOUS_PT_light_paths_caustics, RENDEZVOUS_PT_motion_blur, RENDEZVOUS_PT_film,
            RENDEZVOUS_PT_performance, RENDEZVOUS_PT_passes)
 
 

@@ -79,6 +79,7 @@ LAYOUT = [
     ("RENDEZVOUS_PT_light_paths_max_bounces", "Max Bounces", "RENDEZVOUS_PT_light_paths"),
     ("RENDEZVOUS_PT_light_paths_clamping", "Clamping", "RENDEZVOUS_PT_light_paths"),
     ("RENDEZVOUS_PT_light_paths_caustics", "Caustics", "RENDEZVOUS_PT_light_paths"),
+    ("RENDEZVOUS_PT_motion_blur", "Motion Blur", None),
 ]
 
 
@@ -99,8 +100,10 @@ def check_render_properties_layout():
         check(("rendezvous", want) in shown, "no panel shows scene.rendezvous.%s" % want)
     # Light Paths: Cycles' own settings while Cycles is enabled (shared, as Cycles shares them).
     for want in ("max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces",
-                 "caustics_reflective", "caustics_refractive", "sample_clamp_direct", "sample_clamp_indirect"):
-        check(("CyclesRenderSettings", want) in shown, "the Light Paths panels do not show scene.cycles.%s" % want)
+                 "caustics_reflective", "caustics_refractive", "sample_clamp_direct", "sample_clamp_indirect",
+                 "blur_glossy", "motion_blur_position"):
+        check(("CyclesRenderSettings", want) in shown, "the render panels do not show scene.cycles.%s" % want)
+    check(("RenderSettings", "motion_blur_shutter") in shown, "the Motion Blur panel does not show the shutter")
     # Every setting says what it trades: a tooltip of a sentence at least.
     props = bpy.context.scene.rendezvous
     for prop in props.bl_rna.properties:
