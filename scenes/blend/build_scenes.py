@@ -1125,6 +1125,22 @@ def light_paths_caustics():
     return scene
 
 
+def light_paths_transmission():
+    """A smooth glass ball on a floor under an area lamp with transmission bounces 1 (Cycles'
+    default is 12): the floor seen through the ball (two refractions before the floor's bounce)
+    goes dark, as does its caustic; its reflections and the lamp's reflection in it stay."""
+    reset(48)
+    plane("Floor", 10.0, diffuse_material("FloorMat", (0.7, 0.7, 0.7)))
+    back = plane("Wall", 10.0, diffuse_material("WallMat", (0.5, 0.55, 0.6)), location=(0, 3, 5))
+    back.rotation_euler = (math.radians(90), 0, 0)
+    smooth_glass_ball()
+    light("AREA", "Lamp", 300.0, (-1.2, -0.6, 3.2), size=0.3)
+    camera_looking_at((0, -4.5, 2.6), (0, 0, 0.4), 35)
+    scene = bpy.context.scene
+    scene.cycles.transmission_bounces = 1
+    return scene
+
+
 def light_paths_filter_glossy():
     """Filter Glossy 1 (Cycles' default): a smooth glass ball on a diffuse floor under a small
     area lamp; the caustic under it is seen after the floor's diffuse bounce, so the glass
@@ -2471,7 +2487,7 @@ def shadow_catcher():
 
 LIGHT_PATH_SCENES = ["light_paths_diffuse", "light_paths_mirror", "light_paths_caustics", "light_paths_clamp",
                      "light_paths_filter_glossy", "light_paths_transparent", "light_paths_lamp_bounces",
-                     "light_paths_principled", "light_paths_principled_caustics"]
+                     "light_paths_principled", "light_paths_principled_caustics", "light_paths_transmission"]
 
 
 # ---- motion blur (tests/blender/test_motion_blur.py) ----------------------------------------
@@ -2665,6 +2681,7 @@ SCENES = {
     "light_paths_caustics": light_paths_caustics,
     "light_paths_clamp": light_paths_clamp,
     "light_paths_filter_glossy": light_paths_filter_glossy,
+    "light_paths_transmission": light_paths_transmission,
     "light_paths_transparent": light_paths_transparent,
     "light_paths_lamp_bounces": light_paths_lamp_bounces,
     "light_paths_principled": light_paths_principled,
