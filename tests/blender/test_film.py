@@ -11,8 +11,10 @@ BDPT in this process. Per integrator:
 - the film opaque again (Film > Transparent off): alpha exactly 1 everywhere.
 
     run_blender.py --script test_film.py -- VARIANT [VARIANT ...] [--samples N] [--verdicts DIR]
-VARIANT: transparent (Transparent Glass off), transparent_glass, or holdout (the opaque film with
-the diffuse ball a holdout object and the card's Transparent BSDF a Holdout shader).
+VARIANT: transparent (Transparent Glass off), transparent_glass, transparent_fog (a cube of fog
+in front of the sky and the glass ball: the world seen through it partly transparent, as its
+transmittance), or holdout (the opaque film with the diffuse ball a holdout object and the
+card's Transparent BSDF a Holdout shader).
 """
 
 import os
@@ -64,7 +66,7 @@ def exact_checks(name, ref, test):
     return failures
 
 
-VARIANTS = ("transparent", "transparent_glass", "holdout")
+VARIANTS = ("transparent", "transparent_glass", "transparent_fog", "holdout")
 
 
 def check(a, odir, failures):
@@ -73,6 +75,12 @@ def check(a, odir, failures):
     scene = build_scenes.build("film_transparent")
     scene.cycles.film_transparent_glass = a.variant == "transparent_glass"
     scene.rendezvous.film_transparent_glass = a.variant == "transparent_glass"  # unused while Cycles is on
+    if a.variant == "transparent_fog":
+        fog = build_scenes.link(bpy.data.objects.new("Fog", build_scenes.box_mesh("FogMesh", 0.5)))
+        fog.location = (0.6, -1.5, 1.5)
+        fog.data.materials.append(build_scenes.principled_volume_material("FogMat", Density=1.5,
+                                                                          Color=(0.9, 0.9, 0.8, 1.0))[0])
+        scene.cycles.volume_bounces = 1
     if a.variant == "holdout":
         scene.render.film_transparent = False
         bpy.data.objects["Ball"].is_holdout = True
