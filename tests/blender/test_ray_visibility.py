@@ -11,7 +11,8 @@ stay), ball_diffuse (hidden from diffuse rays, lit from below by a lamp facing u
 around it loses the light it bounced), ball_shadow (casts
 no shadow), ball_glossy (a glossy floor does not reflect it; not in ctest: where the floor's
 reflection of the lamp passes through the ball, Cycles mixes its blocked shadow ray and its
-unblocked glossy ray by their MIS weights and we block it, docs/scene-format.md), lamp_camera (an area lamp in view
+unblocked glossy ray by their MIS weights and we block it, docs/scene-format.md), ball_transmission (a pane of smooth glass between the camera and the ball, hidden from shadow
+and diffuse rays: seen through it the ball is gone, the floor behind it shows), lamp_camera (an area lamp in view
 with visible_camera on: Cycles 3.4 shows it), lamp_diffuse (the lamp lights no diffuse
 surface: the world alone lights the scene), world_camera (the world hidden from the camera:
 black background, the world still lights the scene).
@@ -77,6 +78,17 @@ def build(variant):
         lamp.rotation_euler = (math.pi, 0, 0)
         ball.location = (0, 0, 1.0)
         world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+    if variant == "ball_transmission":  # a glass pane in front of the ball: rays through it are transmission rays
+        bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.0, -1.4, 0.75))
+        pane = bpy.context.object
+        pane.scale = (1.8, 0.08, 1.4)
+        glass = material("Pane", "ShaderNodeBsdfGlass", (1.0, 1.0, 1.0), 0.0)
+        next(n for n in glass.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfGlass").distribution = "SHARP"
+        pane.data.materials.append(glass)
+        # No shadow and nothing for diffuse bounces: the floor is lit as without the pane (no
+        # caustic of the lamp through or off it, which only Filter Glossy's blur would tame).
+        pane.visible_shadow = False
+        pane.visible_diffuse = False
     if variant == "lamp_camera":  # in view, facing the camera, 45 degrees up
         lamp.location = (-1.2, 0.8, 1.4)
         build_scenes.look_at(lamp, (0, -4.2, 2.8))
@@ -92,6 +104,7 @@ def build(variant):
     # What each variant sets: (owner, property, value).
     settings = {"ball_camera": (ball, "visible_camera", False), "ball_diffuse": (ball, "visible_diffuse", False),
                 "ball_shadow": (ball, "visible_shadow", False), "ball_glossy": (ball, "visible_glossy", False),
+                "ball_transmission": (ball, "visible_transmission", False),
                 "lamp_camera": (lamp, "visible_camera", True), "lamp_diffuse": (lamp, "visible_diffuse", False),
                 "world_camera": (world.cycles_visibility, "camera", False)}
     if variant not in settings:
