@@ -1109,9 +1109,8 @@ def smooth_glass_ball():
     return ball
 
 
-def light_paths_caustics():
-    """A smooth glass ball on a floor under an area lamp with both caustics switches off:
-    the floor under it stays in shadow, the ball still shows the floor and the lamp."""
+def glass_ball_on_floor():
+    """A smooth glass ball on a floor before a wall, under a small area lamp (48x48)."""
     reset(48)
     plane("Floor", 10.0, diffuse_material("FloorMat", (0.7, 0.7, 0.7)))
     back = plane("Wall", 10.0, diffuse_material("WallMat", (0.5, 0.55, 0.6)), location=(0, 3, 5))
@@ -1119,7 +1118,13 @@ def light_paths_caustics():
     smooth_glass_ball()
     light("AREA", "Lamp", 300.0, (-1.2, -0.6, 3.2), size=0.3)
     camera_looking_at((0, -4.5, 2.6), (0, 0, 0.4), 35)
-    scene = bpy.context.scene
+    return bpy.context.scene
+
+
+def light_paths_caustics():
+    """A smooth glass ball on a floor under an area lamp with both caustics switches off:
+    the floor under it stays in shadow, the ball still shows the floor and the lamp."""
+    scene = glass_ball_on_floor()
     scene.cycles.caustics_reflective = False
     scene.cycles.caustics_refractive = False
     return scene
@@ -1129,14 +1134,7 @@ def light_paths_transmission():
     """A smooth glass ball on a floor under an area lamp with transmission bounces 1 (Cycles'
     default is 12): the floor seen through the ball (two refractions before the floor's bounce)
     goes dark, as does its caustic; its reflections and the lamp's reflection in it stay."""
-    reset(48)
-    plane("Floor", 10.0, diffuse_material("FloorMat", (0.7, 0.7, 0.7)))
-    back = plane("Wall", 10.0, diffuse_material("WallMat", (0.5, 0.55, 0.6)), location=(0, 3, 5))
-    back.rotation_euler = (math.radians(90), 0, 0)
-    smooth_glass_ball()
-    light("AREA", "Lamp", 300.0, (-1.2, -0.6, 3.2), size=0.3)
-    camera_looking_at((0, -4.5, 2.6), (0, 0, 0.4), 35)
-    scene = bpy.context.scene
+    scene = glass_ball_on_floor()
     scene.cycles.transmission_bounces = 1
     return scene
 

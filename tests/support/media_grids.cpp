@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include "lcg.h"
 
 namespace rdv::test {
 
@@ -24,12 +25,11 @@ nlohmann::json puff_grid(int n, const nlohmann::json &bounds) {
 
 nlohmann::json varied_grid(int nx, int ny, int nz, const nlohmann::json &bounds) {
   std::vector<float> v;
-  uint32_t state = 12345;
+  Lcg random{12345};
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
-        state = state * 1664525u + 1013904223u;
-        const double noise = double(state >> 8) / double(1u << 24);
+        const double noise = random.next();
         const double wave = std::sin(1.3 * i + 0.4) * std::cos(0.9 * j - 0.3) * std::sin(1.7 * k + 1.1);
         v.push_back(float(std::clamp(1.0 + 0.5 * wave + 0.8 * (noise - 0.5), 0.1, 1.9)));
       }

@@ -9,6 +9,7 @@
 #include <vector>
 #include "bsdfs/material.h"
 #include "integrators/light_path_limits.h"
+#include "lcg.h"
 #include "test_materials.h"
 
 namespace test_bounce_counts {
@@ -75,11 +76,8 @@ LightPathLimits limits_of(int diffuse, int glossy, int transmission = LightPathL
 // up to 6: kept_share equals the enumerated odds, whether the counts were built one bounce at
 // a time or as the sum (operator+) of a camera-side and a light-side part, as BDPT joins them.
 TEST(BounceCounts, KeptShareIsTheEnumeratedOdds) {
-  uint32_t state = 12345;
-  auto next = [&]() {
-    state = state * 1664525u + 1013904223u;
-    return float(state >> 8) / float(1 << 24);
-  };
+  rdv::test::Lcg random{12345};
+  auto next = [&]() { return random.next(); };
   for (int trial = 0; trial < 300; ++trial) {
     std::vector<Bounce> bounces;
     const int length = 1 + int(next() * 12);

@@ -10,6 +10,7 @@
 #include <vector>
 #include "bsdfs/material.h"
 #include "integrators/caustics_switches.h"
+#include "lcg.h"
 #include "test_materials.h"
 
 namespace test_caustics_switches {
@@ -66,11 +67,8 @@ void expect_near(Color a, Color b, float tolerance, const std::string &what) {
 // meeting point (a camera side past vertex j, a light side from vertex j + 1 on) equal the
 // enumeration.
 TEST(CausticsSwitches, ChainIsTheEnumeratedExpectation) {
-  uint32_t state = 777;
-  auto next = [&]() {
-    state = state * 1664525u + 1013904223u;
-    return float(state >> 8) / float(1 << 24);
-  };
+  rdv::test::Lcg random{777};
+  auto next = [&]() { return random.next(); };
   const ScatterKind kinds[] = {ScatterKind::Diffuse,     ScatterKind::Glossy, ScatterKind::Transmission,
                                ScatterKind::Translucent, ScatterKind::Volume, ScatterKind::Transparent};
   for (int trial = 0; trial < 400; ++trial) {
