@@ -11,7 +11,8 @@ stay), ball_diffuse (hidden from diffuse rays, lit from below by a lamp facing u
 around it loses the light it bounced), ball_shadow (casts
 no shadow), ball_glossy (a glossy floor does not reflect it; not in ctest: where the floor's
 reflection of the lamp passes through the ball, Cycles mixes its blocked shadow ray and its
-unblocked glossy ray by their MIS weights and we block it, docs/scene-format.md), ball_transmission (a pane of smooth glass between the camera and the ball, hidden from shadow
+unblocked glossy ray by their MIS weights and we block it, docs/scene-format.md),
+ball_transmission (a pane of smooth glass between the camera and the ball, hidden from shadow
 and diffuse rays: seen through it the ball is gone, the floor behind it shows), lamp_camera (an area lamp in view
 with visible_camera on: Cycles 3.4 shows it), lamp_diffuse (the lamp lights no diffuse
 surface: the world alone lights the scene), world_camera (the world hidden from the camera:

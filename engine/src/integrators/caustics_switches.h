@@ -47,7 +47,8 @@ struct CausticState {
   }
   // The rest of the path from vertex v on, given this rest past v (light side).
   CausticState before(const CausticStep &v) const {
-    return {other * (1 - v.diffuse) + diffuse * v.diffuse, v.kept * (other * (1 - v.diffuse_kept) + diffuse * v.diffuse_kept)};
+    return {other * (1 - v.diffuse) + diffuse * v.diffuse,
+            v.kept * (other * (1 - v.diffuse_kept) + diffuse * v.diffuse_kept)};
   }
   // The rest of a path whose last scattering vertex keeps `kept` (its bounce meets the light).
   static CausticState last(Color kept) { return {Color(1.0f), kept}; }

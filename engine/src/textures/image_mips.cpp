@@ -137,7 +137,10 @@ class MipCascade {
         sum = 0;
       }
     }
-    if (s.kept >= 0) std::copy(s.row.begin(), s.row.end(), levels_[size_t(s.kept)].texels.begin() + ptrdiff_t(y) * s.w * nc_);
+    if (s.kept >= 0) {
+      auto &texels = levels_[size_t(s.kept)].texels;
+      std::copy(s.row.begin(), s.row.end(), texels.begin() + ptrdiff_t(y) * s.w * nc_);
+    }
     feed(k + 1, s.row.data());
   }
 

@@ -334,8 +334,8 @@ static void make_resident(ImageTextures::Impl &impl, Image &img, const OIIO::Ima
 static void build_coarse_mips(ImageTextures::Impl &impl, Image &img, const OIIO::ImageSpec &spec) {
   using Impl = ImageTextures::Impl;
   if (!nonlinear(img) || spec.depth > 1 || size_t(spec.width) * size_t(spec.height) > Impl::kCoarseSourceTexels) return;
-  int first = 1;
-  for (int w = spec.width, h = spec.height; size_t(std::max(w / 2, 1)) * size_t(std::max(h / 2, 1)) > Impl::kCoarseTexels;
+  int first = 1;  // the first level of at most kCoarseTexels texels
+  for (int w = std::max(spec.width / 2, 1), h = std::max(spec.height / 2, 1); size_t(w) * size_t(h) > Impl::kCoarseTexels;
        ++first) {
     w = std::max(w / 2, 1);
     h = std::max(h / 2, 1);

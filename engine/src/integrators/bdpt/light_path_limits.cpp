@@ -94,7 +94,8 @@ Color Bdpt::limits_share(const PathVertex *light_path, const PathVertex *camera_
     if (s == 1) {  // c(t-1) meets the light: the last
       const Color share(limits.kept_share(counts));
       if (!limits.caustics) return share;
-      return share * state.at_last(caustic_step_toward(c, to_light, true, false, kc, -1, !is_black(state.diffuse)).kept);
+      const CausticStep step = caustic_step_toward(c, to_light, true, false, kc, -1, !is_black(state.diffuse));
+      return share * state.at_last(step.kept);
     }
     const bool counted = odds_matter();
     const bool defensive = m == 1 && c.passes == 0;
